@@ -1,0 +1,45 @@
+# Every third-party dependency, found once, from Debian 12's packages
+# (scripts/setup.sh installs them). Each is linked PRIVATE by the one target
+# whose source file uses it.
+
+find_package(Threads REQUIRED)
+find_package(TBB REQUIRED)
+find_package(nlohmann_json 3.10 REQUIRED)
+
+# Embree 3: imported target `embree`.
+find_package(embree 3 REQUIRED)
+
+find_package(OpenEXR 3 REQUIRED)
+
+# OpenImageIO's package config needs openimageio-tools installed, and Debian's
+# imported target lists /usr/include/opencv4, which does not exist unless
+# OpenCV's headers are installed: CMake's generate step then fails. Keep only
+# the include directories that exist.
+find_package(OpenImageIO REQUIRED)
+foreach(prop INTERFACE_INCLUDE_DIRECTORIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES)
+  get_target_property(dirs OpenImageIO::OpenImageIO ${prop})
+  if(dirs)
+    set(kept "")
+    foreach(d IN LISTS dirs)
+      if(EXISTS "${d}")
+        list(APPEND kept "${d}")
+      endif()
+    endforeach()
+    set_target_properties(OpenImageIO::OpenImageIO PROPERTIES ${prop} "${kept}")
+  endif()
+endforeach()
+
+# CGAL is header-only; it warns about the build type unless told not to.
+set(CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE TRUE)
+find_package(CGAL REQUIRED)
+
+# tinygltf is a compiled library in Debian: never define TINYGLTF_IMPLEMENTATION.
+find_package(TinyGLTF REQUIRED)
+
+if(GONIO_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+  include(GoogleTest)
+endif()
+if(GONIO_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,27 @@
+// Whole-file reading with the checks every reader needs, and atomic writes.
+//
+// Outputs are written to a temporary file beside the target and renamed over
+// it, so a failure never leaves a half-written file and a reader of the path
+// (a viewer watching a preview) sees either the old or the new contents.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+#include "photometry/diagnostics.h"
+
+namespace gonio::io {
+
+// Reads a regular file whole. Errors name the path: missing, a directory or
+// other non-regular file, unreadable, or larger than `max_bytes`.
+Result<std::string> read_file(const std::string& path, std::size_t max_bytes);
+
+// Writes `bytes` to `path` atomically (temporary file in the same directory,
+// flushed, then renamed). The directory must exist.
+Status write_file_atomic(const std::string& path, std::string_view bytes);
+
+// Creates a directory and its parents if missing.
+Status make_directories(const std::string& path);
+
+}  // namespace gonio::io

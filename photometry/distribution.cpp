@@ -1,0 +1,310 @@
+#include "photometry/distribution.h"
+
+#include <algorithm>
+#include <utility>
+
+namespace gonio::photometry {
+namespace {
+
+constexpr double kAngleTol = 1e-9;  // [deg] angles closer than this are one angle
+
+bool strictly_increasing_finite(const std::vector<double>& v) {
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i])) return false;
+    if (i > 0 && !(v[i] > v[i - 1])) return false;
+  }
+  return true;
+}
+
+bool near(double a, double b) { return std::abs(a - b) <= kAngleTol; }
+
+Status fail(std::string message) { return Error{{}, std::move(message)}; }
+
+std::string deg(double a) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", a);
+  return buf;
+}
+
+Status validate_horizontal_c(const Distribution& d) {
+  const auto& h = d.horizontal_deg;
+  const double first = h.front(), last = h.back();
+  const auto range = [&](double lo, double hi, const char* what) -> Status {
+    if (!near(first, lo) || !near(last, hi))
+      return fail(std::string("symmetry ") + what + " needs horizontal angles from " + deg(lo) +
+                  " to " + deg(hi) + ", found " + deg(first) + " to " + deg(last));
+    return Ok{};
+  };
+  switch (d.symmetry) {
+    case Symmetry::Rotational:
+      if (h.size() != 1)
+        return fail("a rotationally symmetric distribution has exactly one C-plane, found " +
+                    std::to_string(h.size()));
+      if (first < -kAngleTol || first > 360.0 + kAngleTol)
+        return fail("C-plane angle " + deg(first) + " outside 0..360");
+      return Ok{};
+    case Symmetry::Quadrant: return range(0.0, 90.0, "quadrant");
+    case Symmetry::C0_C180: return range(0.0, 180.0, "C0-C180");
+    case Symmetry::C90_C270: return range(90.0, 270.0, "C90-C270");
+    case Symmetry::None:
+      if (h.size() < 2) return fail("a distribution without symmetry needs at least two C-planes");
+      if (first < -kAngleTol || last > 360.0 + kAngleTol)
+        return fail("C-plane angles must lie in 0..360, found " + deg(first) + " to " + deg(last));
+      return Ok{};
+    case Symmetry::Lateral:
+      return fail("lateral symmetry applies to Types A and B, not Type C");
+  }
+  return Ok{};
+}
+
+Status validate_horizontal_ab(const Distribution& d) {
+  const auto& h = d.horizontal_deg;
+  if (d.symmetry == Symmetry::Lateral) {
+    if (!near(h.front(), 0.0))
+      return fail("lateral symmetry needs horizontal angles starting at 0, found " + deg(h.front()));
+  } else if (d.symmetry != Symmetry::None) {
+    return fail(std::string("symmetry ") + to_string(d.symmetry) + " applies to Type C only");
+  }
+  if (h.front() < -90.0 - kAngleTol || h.back() > 90.0 + kAngleTol)
+    return fail("horizontal angles of Types A and B must lie in -90..90, found " + deg(h.front()) +
+                " to " + deg(h.back()));
+  return Ok{};
+}
+
+// Trapezoidal mean over the full circle of row values at one vertical index,
+// on an expanded Type C grid whose planes run from 0 to 360.
+double circular_mean(const Distribution& e, std::size_t v) {
+  const auto& c = e.horizontal_deg;
+  double sum = 0.0;
+  for (std::size_t h = 0; h + 1 < c.size(); ++h)
+    sum += 0.5 * (e.at(h, v) + e.at(h + 1, v)) * (c[h + 1] - c[h]);
+  return sum / 360.0;
+}
+
+// Index i with a[i] <= x <= a[i+1] (a has >= 2 entries, x within range) and
+// the fraction of the way from a[i] to a[i+1].
+std::pair<std::size_t, double> bracket(const std::vector<double>& a, double x) {
+  auto it = std::upper_bound(a.begin(), a.end(), x);
+  std::size_t i = it == a.begin() ? 0 : static_cast<std::size_t>(it - a.begin()) - 1;
+  i = std::min(i, a.size() - 2);
+  const double t = (x - a[i]) / (a[i + 1] - a[i]);
+  return {i, std::clamp(t, 0.0, 1.0)};
+}
+
+
+}  // namespace
+
+const char* to_string(PhotometricType type) {
+  switch (type) {
+    case PhotometricType::C: return "C";
+    case PhotometricType::B: return "B";
+    case PhotometricType::A: return "A";
+  }
+  return "?";
+}
+
+const char* to_string(Symmetry symmetry) {
+  switch (symmetry) {
+    case Symmetry::None: return "none";
+    case Symmetry::Rotational: return "rotational";
+    case Symmetry::C0_C180: return "C0-C180";
+    case Symmetry::C90_C270: return "C90-C270";
+    case Symmetry::Quadrant: return "quadrant";
+    case Symmetry::Lateral: return "lateral";
+  }
+  return "?";
+}
+
+const char* to_string(OpeningShape shape) {
+  switch (shape) {
+    case OpeningShape::Point: return "point";
+    case OpeningShape::Rectangular: return "rectangular";
+    case OpeningShape::RectangularWithSides: return "rectangular with luminous sides";
+    case OpeningShape::Circular: return "circular";
+    case OpeningShape::Ellipse: return "ellipse";
+    case OpeningShape::VerticalCylinder: return "vertical cylinder";
+    case OpeningShape::VerticalEllipticalCylinder: return "vertical elliptical cylinder";
+    case OpeningShape::Sphere: return "sphere";
+    case OpeningShape::Ellipsoid: return "ellipsoid";
+    case OpeningShape::HorizontalCylinderAlongLength: return "horizontal cylinder along length";
+    case OpeningShape::HorizontalEllipticalCylinderAlongLength:
+      return "horizontal elliptical cylinder along length";
+    case OpeningShape::HorizontalCylinderAlongWidth: return "horizontal cylinder along width";
+    case OpeningShape::HorizontalEllipticalCylinderAlongWidth:
+      return "horizontal elliptical cylinder along width";
+    case OpeningShape::VerticalCircle: return "vertical circle";
+    case OpeningShape::VerticalEllipse: return "vertical ellipse";
+  }
+  return "?";
+}
+
+double Distribution::rated_lamp_flux_lm() const {
+  if (absolute || lamps.empty()) return kNaN;
+  double sum = 0.0;
+  for (const LampSet& l : lamps) sum += l.flux_lm;
+  return sum;
+}
+
+const Keyword* Distribution::find_keyword(std::string_view key) const {
+  for (const Keyword& k : keywords)
+    if (k.key == key) return &k;
+  return nullptr;
+}
+
+void Distribution::set_keyword(std::string_view key, std::string value) {
+  for (Keyword& k : keywords) {
+    if (k.key == key) {
+      k.value = std::move(value);
+      return;
+    }
+  }
+  keywords.push_back({std::string(key), std::move(value)});
+}
+
+Status validate(const Distribution& d) {
+  if (d.vertical_deg.empty()) return fail("no vertical angles");
+  if (d.horizontal_deg.empty()) return fail("no horizontal angles");
+  if (!strictly_increasing_finite(d.vertical_deg))
+    return fail("vertical angles must be finite and strictly increasing");
+  if (!strictly_increasing_finite(d.horizontal_deg))
+    return fail("horizontal angles must be finite and strictly increasing");
+
+  if (d.type == PhotometricType::C) {
+    if (d.vertical_deg.front() < -kAngleTol || d.vertical_deg.back() > 180.0 + kAngleTol)
+      return fail("Type C vertical angles must lie in 0..180, found " + deg(d.vertical_deg.front()) +
+                  " to " + deg(d.vertical_deg.back()));
+    if (Status s = validate_horizontal_c(d); !s.ok()) return s;
+  } else {
+    if (d.vertical_deg.front() < -90.0 - kAngleTol || d.vertical_deg.back() > 90.0 + kAngleTol)
+      return fail("vertical angles of Types A and B must lie in -90..90, found " +
+                  deg(d.vertical_deg.front()) + " to " + deg(d.vertical_deg.back()));
+    if (Status s = validate_horizontal_ab(d); !s.ok()) return s;
+  }
+
+  const std::size_t expected = d.vertical_deg.size() * d.horizontal_deg.size();
+  if (d.candela.size() != expected)
+    return fail("expected " + std::to_string(expected) + " intensities, found " +
+                std::to_string(d.candela.size()));
+  for (double v : d.candela)
+    if (!std::isfinite(v)) return fail("intensities must be finite");
+
+  for (const LampSet& l : d.lamps) {
+    if (l.count <= 0) return fail("a lamp set needs a positive lamp count");
+    if (!d.absolute && !(std::isfinite(l.flux_lm) && l.flux_lm > 0.0))
+      return fail("relative photometry needs a positive rated lamp flux");
+  }
+  return Ok{};
+}
+
+Distribution expand_symmetry(const Distribution& d) {
+  GONIO_CHECK_MSG(validate(d).ok(), "expand_symmetry needs a valid distribution");
+  Distribution e = d;
+  e.symmetry = Symmetry::None;
+  const std::size_t nv = d.vertical_deg.size();
+
+  // (angle, source row) pairs, stored planes first so that they win ties.
+  std::vector<std::pair<double, std::size_t>> planes;
+
+  if (d.type != PhotometricType::C) {
+    for (std::size_t h = 0; h < d.horizontal_deg.size(); ++h) {
+      planes.emplace_back(d.horizontal_deg[h], h);
+      if (d.symmetry == Symmetry::Lateral && d.horizontal_deg[h] > kAngleTol)
+        planes.emplace_back(-d.horizontal_deg[h], h);
+    }
+  } else if (d.symmetry == Symmetry::Rotational) {
+    planes = {{0.0, 0}, {360.0, 0}};
+  } else {
+    std::vector<double (*)(double)> images = {[](double c) { return c; }};
+    if (d.symmetry == Symmetry::C0_C180 || d.symmetry == Symmetry::Quadrant)
+      images.push_back([](double c) { return 360.0 - c; });
+    if (d.symmetry == Symmetry::C90_C270 || d.symmetry == Symmetry::Quadrant)
+      images.push_back([](double c) { return 180.0 - c; });
+    if (d.symmetry == Symmetry::Quadrant) images.push_back([](double c) { return 180.0 + c; });
+    for (auto image : images) {
+      for (std::size_t h = 0; h < d.horizontal_deg.size(); ++h) {
+        double c = std::fmod(image(d.horizontal_deg[h]), 360.0);
+        if (c < 0.0) c += 360.0;
+        if (c > 360.0 - kAngleTol) c = 0.0;
+        planes.emplace_back(c, h);
+      }
+    }
+  }
+
+  // Keep the first of near-equal angles, then sort.
+  std::vector<std::pair<double, std::size_t>> unique;
+  for (const auto& p : planes) {
+    bool seen = false;
+    for (const auto& u : unique) seen = seen || near(u.first, p.first);
+    if (!seen) unique.push_back(p);
+  }
+  std::stable_sort(unique.begin(), unique.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+
+  std::vector<double> angles;
+  std::vector<double> values;
+  angles.reserve(unique.size() + 2);
+  values.reserve((unique.size() + 2) * nv);
+  for (const auto& [angle, row] : unique) {
+    angles.push_back(angle);
+    values.insert(values.end(), d.candela.begin() + static_cast<std::ptrdiff_t>(row * nv),
+                  d.candela.begin() + static_cast<std::ptrdiff_t>((row + 1) * nv));
+  }
+
+  if (d.type == PhotometricType::C && d.symmetry != Symmetry::Rotational) {
+    // Close the circle: a plane at 0 (interpolated across the seam if the data
+    // has none) and its copy at 360.
+    if (angles.front() > kAngleTol) {
+      const double lo = angles.back() - 360.0, hi = angles.front();
+      const double t = (0.0 - lo) / (hi - lo);
+      std::vector<double> row(nv);
+      const std::size_t last = angles.size() - 1;
+      for (std::size_t v = 0; v < nv; ++v)
+        row[v] = values[last * nv + v] * (1.0 - t) + values[v] * t;
+      angles.insert(angles.begin(), 0.0);
+      values.insert(values.begin(), row.begin(), row.end());
+    }
+    angles.push_back(360.0);
+    values.insert(values.end(), values.begin(), values.begin() + static_cast<std::ptrdiff_t>(nv));
+  }
+
+  e.horizontal_deg = std::move(angles);
+  e.candela = std::move(values);
+  return e;
+}
+
+double interpolate(const Distribution& e, double horizontal_deg, double vertical_deg) {
+  GONIO_CHECK(e.symmetry == Symmetry::None);
+  const auto& vert = e.vertical_deg;
+  const auto& hor = e.horizontal_deg;
+  const std::size_t nv = vert.size();
+  if (!(vertical_deg >= vert.front() - kAngleTol && vertical_deg <= vert.back() + kAngleTol))
+    return 0.0;
+  vertical_deg = std::clamp(vertical_deg, vert.front(), vert.back());
+
+  double h = horizontal_deg;
+  if (e.type == PhotometricType::C) {
+    if (near(vertical_deg, 0.0) || near(vertical_deg, 180.0)) {
+      const std::size_t v = near(vertical_deg, 0.0) ? 0 : nv - 1;
+      if (near(vert[v], vertical_deg)) return circular_mean(e, v);
+    }
+    h = std::fmod(h, 360.0);
+    if (h < 0.0) h += 360.0;
+  } else if (!(h >= hor.front() - kAngleTol && h <= hor.back() + kAngleTol)) {
+    return 0.0;
+  }
+  h = std::clamp(h, hor.front(), hor.back());
+
+  // Interpolate along the vertical axis in the two bracketing planes, then
+  // between the planes.
+  auto column = [&](std::size_t row) {
+    const double* r = e.candela.data() + row * nv;
+    if (nv == 1) return r[0];
+    auto [i, t] = bracket(vert, vertical_deg);
+    return r[i] * (1.0 - t) + r[i + 1] * t;
+  };
+  if (hor.size() == 1) return column(0);
+  auto [j, s] = bracket(hor, h);
+  return column(j) * (1.0 - s) + column(j + 1) * s;
+}
+
+}  // namespace gonio::photometry

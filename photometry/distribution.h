@@ -1,0 +1,198 @@
+// The data model of a measured or simulated light distribution: the common
+// ground of IES LM-63 and EULUMDAT files and of simulation results.
+//
+// Conventions (see README "Conventions"):
+// - Angles in this model are degrees, exactly as files carry them, so that a
+//   round trip through a file is exact. Functions that take directions take
+//   unit vectors or radians and say so.
+// - Intensities are candela, multipliers and conversion factors applied.
+//   For relative photometry they are the candela of the luminaire fitted with
+//   the rated lamps (`lamps[*].flux_lm`); for absolute photometry
+//   (`absolute == true`) they are the candela measured, and no lamp flux exists.
+// - Type C: vertical angle γ, 0° = nadir, 180° = zenith; horizontal angle C,
+//   the C-plane, counter-clockwise seen from above, C0 along the luminaire's
+//   length axis. Local photometric frame: x = C0, y = C90, z = up (zenith),
+//   so the direction (C, γ) is (sin γ cos C, sin γ sin C, −cos γ).
+// - Types A and B: horizontal angle H (−90…90 or 0…90 with lateral symmetry)
+//   and vertical angle V (−90…90); see photometry/angles.h for the frames.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "photometry/diagnostics.h"
+
+namespace gonio::photometry {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// LM-63 photometric type codes: C = 1, B = 2, A = 3. EULUMDAT is always Type C.
+enum class PhotometricType { C = 1, B = 2, A = 3 };
+
+// Which part of the horizontal range the stored planes cover.
+enum class Symmetry {
+  None,        // Type C: C 0…360 (LM-63 last angle 360, LDT Isym 0).
+               // Types A/B: H −90…90.
+  Rotational,  // Type C: one plane for all C (LM-63 single angle 0, LDT Isym 1).
+  C0_C180,     // Type C: mirror about the C0–C180 plane, I(C) = I(360° − C);
+               // planes C 0…180 (LM-63 last angle 180, LDT Isym 2).
+  C90_C270,    // Type C: mirror about the C90–C270 plane, I(C) = I(180° − C);
+               // planes C 90…270 (LM-63-1995 range 90–270, LDT Isym 3).
+  Quadrant,    // Type C: mirror about both planes; planes C 0…90
+               // (LM-63 last angle 90, LDT Isym 4).
+  Lateral,     // Types A/B: I(−H, V) = I(H, V); H 0…90.
+};
+
+const char* to_string(PhotometricType type);
+const char* to_string(Symmetry symmetry);
+
+// Shape of the luminous opening (LM-63-2002/2019 table of signed dimensions;
+// EULUMDAT: rectangular, or circular when its width is 0).
+enum class OpeningShape {
+  Point,                      // all dimensions zero
+  Rectangular,                // flat, width × length, height 0
+  RectangularWithSides,       // box, width × length × height
+  Circular,                   // flat disc, diameter = width = length
+  Ellipse,                    // flat, axes width × length
+  VerticalCylinder,           // diameter × height
+  VerticalEllipticalCylinder, // width × length × height
+  Sphere,                     // diameter
+  Ellipsoid,                  // width × length × height
+  HorizontalCylinderAlongLength,     // axis along C0–C180
+  HorizontalEllipticalCylinderAlongLength,
+  HorizontalCylinderAlongWidth,      // axis along C90–C270
+  HorizontalEllipticalCylinderAlongWidth,
+  VerticalCircle,             // disc facing the horizon (LM-63-2019)
+  VerticalEllipse,
+};
+
+const char* to_string(OpeningShape shape);
+
+// Luminous opening. Dimensions are positive, in metres, whatever sign
+// encoding the file used. `length_m` runs along C0–C180, `width_m` along
+// C90–C270, `height_m` vertically.
+struct LuminousOpening {
+  OpeningShape shape = OpeningShape::Point;
+  double length_m = 0.0;  // [m]
+  double width_m = 0.0;   // [m]
+  double height_m = 0.0;  // [m]
+  // EULUMDAT only: heights of the luminous area in the C0, C90, C180 and
+  // C270 planes [m]; NaN where unknown.
+  double side_height_m[4] = {kNaN, kNaN, kNaN, kNaN};
+};
+
+// Outer dimensions of the luminaire body (EULUMDAT fields 13–15). A width of
+// zero means a round luminaire of diameter `length_m`. NaN where unknown.
+struct LuminaireDimensions {
+  double length_m = kNaN;  // [m] along C0–C180, or the diameter
+  double width_m = kNaN;   // [m] along C90–C270; 0 for round luminaires
+  double height_m = kNaN;  // [m]
+};
+
+// One set of identical lamps (EULUMDAT 26a–f; LM-63 has exactly one set).
+struct LampSet {
+  int count = 1;                  // number of lamps, > 0
+  std::string type;               // lamp type or description
+  double flux_lm = kNaN;          // rated flux of the whole set [lm]; NaN for absolute photometry
+  std::string color;              // colour appearance / correlated colour temperature
+  std::string color_rendering;    // colour rendering group or index
+  double power_w = kNaN;          // wattage including ballast [W]; NaN if unknown
+};
+
+// LM-63 TILT: how output changes with the lamp's tilt.
+struct Tilt {
+  enum class Kind { None, Include, File };
+  Kind kind = Kind::None;
+  std::string file;               // TILT=<file>: the name as written in the file
+  int lamp_geometry = 0;          // lamp-to-luminaire geometry 1, 2 or 3; 0 if none
+  std::vector<double> angles_deg; // tilt angles [deg], increasing
+  std::vector<double> factors;    // multiplying factor per angle
+};
+
+// One LM-63 keyword line, `[KEY] value`; [MORE] continuations are joined into
+// the preceding keyword's value with '\n'. EULUMDAT header strings are mapped
+// onto the same keys (see io/ldt.h), so both formats share one list.
+struct Keyword {
+  std::string key;    // without brackets, upper case, e.g. "MANUFAC", "_USER"
+  std::string value;
+};
+
+// A light distribution as files exchange it.
+struct Distribution {
+  PhotometricType type = PhotometricType::C;
+  Symmetry symmetry = Symmetry::None;
+
+  // Strictly increasing angle lists [deg]. Type C: vertical = γ in [0, 180],
+  // horizontal = C in the range `symmetry` implies. Types A/B: V in [−90, 90],
+  // H in [−90, 90] (or [0, 90] with Symmetry::Lateral).
+  std::vector<double> vertical_deg;
+  std::vector<double> horizontal_deg;
+
+  // Intensities [cd], one row per horizontal angle:
+  // candela[h * vertical_deg.size() + v].
+  std::vector<double> candela;
+
+  bool absolute = false;          // absolute photometry: no rated lamp flux
+  std::vector<LampSet> lamps;     // at least one set when read from a file
+
+  double ballast_factor = 1.0;    // LM-63 ballast factor (kept, not applied)
+  double input_watts = kNaN;      // luminaire input power [W]; NaN if unknown
+
+  LuminousOpening opening;
+  LuminaireDimensions luminaire;
+  Tilt tilt;
+  std::vector<Keyword> keywords;
+
+  // EULUMDAT fields without an LM-63 counterpart; NaN / empty where unknown.
+  double declared_dff_percent = kNaN;   // downward flux fraction as declared [%]
+  double declared_lor_percent = kNaN;   // light output ratio as declared [%]
+  double measurement_tilt_deg = kNaN;   // tilt of the luminaire during measurement [deg]
+  std::vector<double> direct_ratios;    // utilisation direct ratios for k = 0.6…5 (10 values)
+
+  std::size_t vertical_count() const { return vertical_deg.size(); }
+  std::size_t horizontal_count() const { return horizontal_deg.size(); }
+
+  // Intensity at grid point (h, v) [cd].
+  double at(std::size_t h, std::size_t v) const { return candela[h * vertical_deg.size() + v]; }
+  double& at(std::size_t h, std::size_t v) { return candela[h * vertical_deg.size() + v]; }
+
+  // Sum of the rated flux of every lamp set [lm]; NaN for absolute photometry.
+  double rated_lamp_flux_lm() const;
+
+  // First keyword with this key (case-sensitive, without brackets), if any.
+  const Keyword* find_keyword(std::string_view key) const;
+  // Sets the first keyword with this key, or appends it.
+  void set_keyword(std::string_view key, std::string value);
+};
+
+// Structural invariants every model must satisfy before anything is derived
+// from it: non-empty strictly increasing finite angle lists within their
+// ranges, horizontal range consistent with `symmetry` and `type`, candela
+// count = horizontal × vertical, all intensities finite and ≥ 0, lamp sets
+// valid. Returns the first violation (without a file location; readers add it).
+Status validate(const Distribution& d);
+
+// The same distribution over the whole horizontal range, Symmetry::None.
+// Type C: planes cover C in [0, 360] with C = 360 a copy of C = 0, every
+// stored plane mirrored by the symmetry's reflections (a rotational
+// distribution becomes the two planes 0 and 360). A full-range input whose
+// last plane is below 360 gains a closing plane at 360 copied from 0.
+// Types A/B with Symmetry::Lateral: H mirrored to −H.
+// Requires validate(d).ok().
+Distribution expand_symmetry(const Distribution& d);
+
+// Intensity [cd] at a direction given by grid angles [deg], by bilinear
+// interpolation on a distribution returned by expand_symmetry():
+// Type C: (c_deg, gamma_deg), C taken modulo 360 so the seam is continuous;
+//   exactly at γ = 0° or 180° the mean over the planes [0, 360) is returned,
+//   so the poles have one value whatever C is asked for. Outside the stored γ
+//   range the intensity is 0 (LM-63: unmeasured directions emit nothing).
+// Types A/B: (h_deg, v_deg); 0 outside the stored ranges.
+double interpolate(const Distribution& expanded, double horizontal_deg, double vertical_deg);
+
+}  // namespace gonio::photometry

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# README command (2): installs what is missing, builds, and runs every test:
+# the photometry and io suites under AddressSanitizer and
+# UndefinedBehaviorSanitizer, then the whole ctest suite on the Release build.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=$(nproc 2>/dev/null || echo 2)
+
+bash scripts/setup.sh
+
+echo "== sanitizer build (AddressSanitizer + UndefinedBehaviorSanitizer)"
+if [ ! -f build-asan/CMakeCache.txt ]; then
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DGONIO_SANITIZE=ON \
+    -DGONIO_BUILD_BENCHMARKS=OFF >/dev/null
+fi
+cmake --build build-asan -j"$jobs" --target gonio_photometry_tests gonio_io_tests
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+for suite in gonio_photometry_tests gonio_io_tests; do
+  echo "== $suite (sanitizers)"
+  ./build-asan/tests/$suite --gtest_brief=1
+done
+
+echo "== release build"
+bash scripts/build.sh
+echo "== ctest"
+ctest --test-dir build --output-on-failure -j"$jobs"

@@ -1,0 +1,22 @@
+// The `gonio` subcommands. Each lives in tools/cmd_<name>.cpp, parses its own
+// arguments with cli::ArgParser and returns the process exit code.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+namespace gonio::cli {
+
+using Args = std::vector<std::string>;
+
+struct Command {
+  const char* name;
+  const char* summary;  // one line for `gonio --help`
+  int (*run)(const Args& args);
+};
+
+// Every subcommand, in the order `gonio --help` lists them.
+std::span<const Command> commands();
+
+}  // namespace gonio::cli

@@ -1,0 +1,57 @@
+// gonio: the command line. Thin by design: each subcommand parses its
+// arguments, calls the libraries, prints, and chooses the exit code.
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "gonio/version.h"
+#include "tools/cli.h"
+#include "tools/commands.h"
+
+namespace gonio::cli {
+namespace {
+
+// Subcommands in the order `gonio --help` lists them.
+const std::vector<Command> kCommands = {
+};
+
+void print_help() {
+  std::printf(
+      "Usage: gonio COMMAND [ARGS...]\n\n"
+      "Gonio %s, a virtual goniophotometer: reads, checks and converts IES LM-63 and\n"
+      "EULUMDAT files, and simulates luminaire models into them.\n\nCommands:\n",
+      kVersion);
+  for (const Command& c : commands()) std::printf("  %-10s %s\n", c.name, c.summary);
+  std::printf(
+      "\nOptions:\n  --help     Show this help.\n  --version  Show the version.\n\n"
+      "Run 'gonio COMMAND --help' for a command's options.\n");
+}
+
+}  // namespace
+
+std::span<const Command> commands() { return kCommands; }
+
+}  // namespace gonio::cli
+
+int main(int argc, char** argv) {
+  using namespace gonio::cli;
+  if (argc < 2) {
+    print_help();
+    return kExitUsage;
+  }
+  const std::string first = argv[1];
+  if (first == "--help" || first == "-h" || first == "help") {
+    print_help();
+    return kExitOk;
+  }
+  if (first == "--version") {
+    std::printf("gonio %s\n", gonio::kVersion);
+    return kExitOk;
+  }
+  for (const Command& c : commands()) {
+    if (first == c.name) return c.run(Args(argv + 2, argv + argc));
+  }
+  print_error("unknown command '" + first + "'; see 'gonio --help'");
+  return kExitUsage;
+}
