@@ -1,0 +1,295 @@
+#include "sim/preview_filter.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "photometry/diagnostics.h"
+#include "sim/cube_neighbours.h"
+
+namespace gonio::sim {
+namespace {
+
+void check_params(const PreviewFilterParams& p) {
+  GONIO_CHECK_MSG(p.threshold_photons >= 0.0 && std::isfinite(p.threshold_photons),
+                  "preview threshold must be a finite count ≥ 0");
+  GONIO_CHECK_MSG(p.levels >= 1, "preview levels must be ≥ 1");
+  GONIO_CHECK_MSG(p.sigma_d > 0.0 && std::isfinite(p.sigma_d), "sigma_d must be > 0");
+  GONIO_CHECK_MSG(p.sigma_r > 0.0 && std::isfinite(p.sigma_r), "sigma_r must be > 0");
+  GONIO_CHECK_MSG(p.adaptive_z > 0.0 && std::isfinite(p.adaptive_z), "adaptive_z must be > 0");
+}
+
+std::size_t padded_size(int m) {
+  const std::size_t s = static_cast<std::size_t>(m) + 2;
+  return static_cast<std::size_t>(kCubeFaces) * s * s;
+}
+
+// Runs body(row_begin, row_end) over rows, in parallel when there are enough
+// texels to pay for it. Each row is written by one task only.
+template <class Body>
+void for_rows(std::size_t rows, std::size_t row_length, const Body& body) {
+  if (rows * row_length < 16384) {
+    body(std::size_t{0}, rows);
+    return;
+  }
+  const std::size_t grain = std::max<std::size_t>(1, 4096 / row_length);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows, grain),
+                    [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+}
+
+// The interpolation of one fine texel from the 2 × 2 coarse texels around
+// its centre. The fine texel centre sits a quarter of a coarse texel from the
+// nearest coarse centre, so the bilinear weights are 3/4 and 1/4 per axis
+// and the closeness terms take four values per parity of (x, y).
+struct Kernel {
+  Interpolation kind = Interpolation::Bilinear;
+  RangeScale scale = RangeScale::Estimate;
+  double inv_two_sigma_r2 = 0.0;
+  std::array<std::array<double, 4>, 4> closeness{};  // [2 · (y & 1) + (x & 1)][corner]: d² / 2σ_d²
+
+  explicit Kernel(const PreviewFilterParams& p) : kind(p.interpolation), scale(p.range_scale) {
+    inv_two_sigma_r2 = 0.5 / (p.sigma_r * p.sigma_r);
+    const double inv_two_sigma_d2 = 0.5 / (p.sigma_d * p.sigma_d);
+    for (int parity = 0; parity < 4; ++parity) {
+      const double fx = (parity & 1) ? 0.25 : 0.75, fy = (parity & 2) ? 0.25 : 0.75;
+      const double gx = 1.0 - fx, gy = 1.0 - fy;
+      closeness[static_cast<std::size_t>(parity)] = {(fx * fx + fy * fy) * inv_two_sigma_d2,
+                                                     (gx * gx + fy * fy) * inv_two_sigma_d2,
+                                                     (fx * fx + gy * gy) * inv_two_sigma_d2,
+                                                     (gx * gx + gy * gy) * inv_two_sigma_d2};
+    }
+  }
+
+  // `face` is the coarse level's padded face block, `stride` its row length.
+  double operator()(const double* face, std::size_t stride, int x, int y) const {
+    const double* p = face + static_cast<std::size_t>((y + 1) >> 1) * stride +
+                      static_cast<std::size_t>((x + 1) >> 1);
+    const double v[4] = {p[0], p[1], p[stride], p[stride + 1]};
+    const double fx = (x & 1) ? 0.25 : 0.75, fy = (y & 1) ? 0.25 : 0.75;
+    const double bilinear =
+        (1.0 - fy) * ((1.0 - fx) * v[0] + fx * v[1]) + fy * ((1.0 - fx) * v[2] + fx * v[3]);
+    if (kind != Interpolation::Bilateral) return bilinear;
+    const double s = scale == RangeScale::Estimate ? bilinear : std::max({v[0], v[1], v[2], v[3]});
+    if (!(s > 0.0)) return bilinear;  // all four are zero
+    const double k = inv_two_sigma_r2 / (s * s);
+    const std::array<double, 4>& c = closeness[static_cast<std::size_t>((x & 1) | ((y & 1) << 1))];
+    double e[4];
+    for (int i = 0; i < 4; ++i) {
+      const double d = v[i] - bilinear;
+      e[i] = c[static_cast<std::size_t>(i)] + k * d * d;
+    }
+    // Weights relative to the largest one, so they never all underflow.
+    const double e_min = std::min({e[0], e[1], e[2], e[3]});
+    double sum_w = 0.0, sum_wv = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      const double w = std::exp(e_min - e[i]);
+      sum_w += w;
+      sum_wv += w * v[i];
+    }
+    return sum_wv / sum_w;
+  }
+};
+
+}  // namespace
+
+bool is_shadow_border(double photons, std::span<const double> neighbour_photons,
+                      double threshold_photons) {
+  int stable = 0;
+  for (double n : neighbour_photons) stable += (photons + n >= 2.0 * threshold_photons) ? 1 : 0;
+  return stable >= 3 && stable <= 6;
+}
+
+PreviewFilter::PreviewFilter(int face_size, const PreviewFilterParams& params)
+    : PreviewFilter(face_size, params, {}) {}
+
+PreviewFilter::PreviewFilter(int face_size, const PreviewFilterParams& params,
+                             std::span<const double> face_solid_angle_sr)
+    : n_(face_size),
+      params_(params),
+      pyramid_(face_solid_angle_sr.empty()
+                   ? CubePyramid(face_size, CubePyramid::max_levels(face_size))
+                   : CubePyramid(face_size, CubePyramid::max_levels(face_size),
+                                 face_solid_angle_sr)) {
+  check_params(params_);
+  const int levels = pyramid_.levels();
+  filtered_.resize(static_cast<std::size_t>(levels));
+  counts_.resize(static_cast<std::size_t>(levels));
+  halo_source_.resize(static_cast<std::size_t>(levels));
+  for (int k = 1; k < levels; ++k) {
+    const int m = pyramid_.face_size(k);
+    filtered_[static_cast<std::size_t>(k)].assign(padded_size(m), 0.0);
+    if (k >= 2) counts_[static_cast<std::size_t>(k)].assign(padded_size(m), 0.0);
+    const CubeNeighbours neighbours(m);
+    const std::size_t mm = static_cast<std::size_t>(m), stride = mm + 2;
+    std::vector<std::uint32_t>& source = halo_source_[static_cast<std::size_t>(k)];
+    source.resize(static_cast<std::size_t>(kCubeFaces) * 4 * mm);
+    for (int face = 0; face < kCubeFaces; ++face) {
+      for (int edge = 0; edge < 4; ++edge) {
+        for (int p = 0; p < m; ++p) {
+          const std::size_t t = neighbours.across_edge(face, static_cast<FaceEdge>(edge), p);
+          const std::size_t f = t / (mm * mm), x = t % mm, y = (t / mm) % mm;
+          source[(static_cast<std::size_t>(face) * 4 + static_cast<std::size_t>(edge)) * mm +
+                 static_cast<std::size_t>(p)] =
+              static_cast<std::uint32_t>(f * stride * stride + (y + 1) * stride + (x + 1));
+        }
+      }
+    }
+  }
+  output_.assign(pyramid_.texel_count(0), 0.0);
+  row_flux_.assign(static_cast<std::size_t>(kCubeFaces) * static_cast<std::size_t>(n_), 0.0);
+  row_stable_.assign(row_flux_.size(), 0);
+}
+
+void PreviewFilter::set_params(const PreviewFilterParams& params) {
+  check_params(params);
+  params_ = params;
+}
+
+int PreviewFilter::levels_used() const {
+  if (params_.interpolation == Interpolation::None) return 1;
+  return std::min(params_.levels, pyramid_.levels());
+}
+
+void PreviewFilter::fill_halo(int level, std::vector<double>& padded, bool corners) const {
+  const std::size_t m = static_cast<std::size_t>(pyramid_.face_size(level)), stride = m + 2;
+  const std::vector<std::uint32_t>& source = halo_source_[static_cast<std::size_t>(level)];
+  for (std::size_t face = 0; face < static_cast<std::size_t>(kCubeFaces); ++face) {
+    double* block = padded.data() + face * stride * stride;
+    const std::uint32_t* src = source.data() + face * 4 * m;
+    for (std::size_t p = 0; p < m; ++p) {
+      block[(p + 1) * stride] = padded[src[p]];                   // left:   x = −1
+      block[(p + 1) * stride + m + 1] = padded[src[m + p]];       // right:  x = M
+      block[p + 1] = padded[src[2 * m + p]];                      // top:    y = −1
+      block[(m + 1) * stride + p + 1] = padded[src[3 * m + p]];   // bottom: y = M
+    }
+    if (!corners) continue;
+    // Past a cube corner: the mean of the three texels that meet there.
+    auto corner = [&](std::size_t cx, std::size_t cy, std::size_t ix, std::size_t iy) {
+      block[cy * stride + cx] =
+          (block[iy * stride + ix] + block[iy * stride + cx] + block[cy * stride + ix]) / 3.0;
+    };
+    corner(0, 0, 1, 1);
+    corner(m + 1, 0, m, 1);
+    corner(0, m + 1, 1, m);
+    corner(m + 1, m + 1, m, m);
+  }
+}
+
+void PreviewFilter::push_level(int level, int top, double mean_photon_flux_lm) {
+  const int m = pyramid_.face_size(level);
+  const std::size_t mm = static_cast<std::size_t>(m);
+  const std::span<const double> flux = pyramid_.flux_lm(level);
+  const std::span<const std::uint64_t> photons = pyramid_.photons(level);
+  const std::span<const double> omega = pyramid_.face_solid_angle_sr(level);
+  const double threshold = params_.threshold_photons;
+  const bool adaptive = params_.adaptive;
+  const double half_z = 0.5 * params_.adaptive_z;
+  const bool borders = params_.shadow_borders && level >= 2 && level < top;
+  const bool upsample = level < top;
+  const Kernel kernel(params_);
+
+  const std::size_t mc = mm / 2, coarse_stride = mc + 2;
+  const double* coarse = upsample ? filtered_[static_cast<std::size_t>(level) + 1].data() : nullptr;
+  const std::size_t stride = mm + 2;
+  double* out = level == 0 ? output_.data() : filtered_[static_cast<std::size_t>(level)].data();
+  const double* count = borders ? counts_[static_cast<std::size_t>(level)].data() : nullptr;
+
+  if (borders) {
+    std::vector<double>& c = counts_[static_cast<std::size_t>(level)];
+    for (std::size_t r = 0; r < 6 * mm; ++r) {
+      const std::size_t face = r / mm, y = r % mm;
+      for (std::size_t x = 0; x < mm; ++x)
+        c[face * stride * stride + (y + 1) * stride + x + 1] =
+            static_cast<double>(photons[r * mm + x]);
+    }
+    fill_halo(level, c, false);
+  }
+
+  for_rows(6 * mm, mm, [&](std::size_t row_begin, std::size_t row_end) {
+    for (std::size_t r = row_begin; r < row_end; ++r) {
+      const std::size_t face = r / mm, y = r % mm;
+      const double* coarse_face =
+          upsample ? coarse + face * coarse_stride * coarse_stride : nullptr;
+      double* out_row = level == 0 ? out + r * mm : out + face * stride * stride + (y + 1) * stride + 1;
+      double row_flux = 0.0;
+      std::uint32_t row_stable = 0;
+      for (std::size_t x = 0; x < mm; ++x) {
+        const std::size_t t = r * mm + x;
+        const double n = static_cast<double>(photons[t]);
+        const double w = omega[y * mm + x];
+        const double raw = flux[t] / w;
+        double value = raw;
+        bool keep = !upsample || n > threshold;
+        if (!keep) {
+          const double estimate =
+              kernel(coarse_face, coarse_stride, static_cast<int>(x), static_cast<int>(y));
+          if (adaptive) {
+            const double expected = mean_photon_flux_lm > 0.0 ? estimate * w / mean_photon_flux_lm : 0.0;
+            keep = std::abs(std::sqrt(n + 0.375) - std::sqrt(expected + 0.375)) > half_z;
+          }
+          if (!keep && borders) {
+            const double* c = count + face * stride * stride + (y + 1) * stride + x + 1;
+            const bool edge_x = x == 0 || x + 1 == mm, edge_y = y == 0 || y + 1 == mm;
+            std::array<double, 8> nb{};
+            std::size_t k = 0;
+            for (int dy = -1; dy <= 1; ++dy) {
+              for (int dx = -1; dx <= 1; ++dx) {
+                if (dx == 0 && dy == 0) continue;
+                const bool out_x = edge_x && ((dx < 0 && x == 0) || (dx > 0 && x + 1 == mm));
+                const bool out_y = edge_y && ((dy < 0 && y == 0) || (dy > 0 && y + 1 == mm));
+                if (out_x && out_y) continue;  // past a cube corner
+                nb[k++] = c[static_cast<std::ptrdiff_t>(dy) * static_cast<std::ptrdiff_t>(stride) + dx];
+              }
+            }
+            keep = is_shadow_border(n, std::span<const double>(nb.data(), k), threshold);
+          }
+          if (!keep) value = estimate;
+        }
+        out_row[x] = value;
+        if (level == 0) {
+          row_flux += value * w;
+          row_stable += keep ? 1u : 0u;
+        }
+      }
+      if (level == 0) {
+        row_flux_[r] = row_flux;
+        row_stable_[r] = row_stable;
+      }
+    }
+  });
+  if (level > 0) fill_halo(level, filtered_[static_cast<std::size_t>(level)], true);
+}
+
+const PreviewStats& PreviewFilter::apply(const FarField& field) {
+  GONIO_CHECK_MSG(field.face_size() == n_, "far field and preview filter differ in face size");
+  const int top = levels_used() - 1;
+  stats_ = PreviewStats{};
+  stats_.levels_used = top + 1;
+  if (top == 0) {
+    for (std::size_t t = 0; t < output_.size(); ++t) output_[t] = field.intensity_cd(t);
+    stats_.raw_flux_lm = stats_.preview_flux_lm = field.total_flux_lm();
+    stats_.stable_texels = output_.size();
+    return stats_;
+  }
+  pyramid_.pull(field);
+  const int coarsest = pyramid_.levels() - 1;
+  const std::span<const double> top_flux = pyramid_.flux_lm(coarsest);
+  const std::span<const std::uint64_t> top_photons = pyramid_.photons(coarsest);
+  stats_.raw_flux_lm = std::accumulate(top_flux.begin(), top_flux.end(), 0.0);
+  const double total_photons =
+      static_cast<double>(std::accumulate(top_photons.begin(), top_photons.end(), std::uint64_t{0}));
+  const double mean_photon_flux = total_photons > 0.0 ? stats_.raw_flux_lm / total_photons : 0.0;
+
+  for (int k = top; k >= 0; --k) push_level(k, top, mean_photon_flux);
+
+  stats_.preview_flux_lm = std::accumulate(row_flux_.begin(), row_flux_.end(), 0.0);
+  stats_.stable_texels = std::accumulate(row_stable_.begin(), row_stable_.end(), std::size_t{0});
+  stats_.upsampled_texels = output_.size() - stats_.stable_texels;
+  return stats_;
+}
+
+}  // namespace gonio::sim
