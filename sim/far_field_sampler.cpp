@@ -65,8 +65,12 @@ FarFieldSampler::FarFieldSampler(std::span<const double> weights) {
     }
   }
   // What is left is 1 up to rounding.
-  for (std::uint32_t i : large) accept_[i] = 1.0, alias_[i] = i;
-  for (std::uint32_t i : small) accept_[i] = 1.0, alias_[i] = i;
+  for (const std::vector<std::uint32_t>* rest : {&large, &small}) {
+    for (std::uint32_t i : *rest) {
+      accept_[i] = 1.0;
+      alias_[i] = i;
+    }
+  }
 }
 
 std::size_t FarFieldSampler::sample(double u1, double u2) const {

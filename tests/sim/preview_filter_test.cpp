@@ -1,0 +1,299 @@
+#include "sim/preview_filter.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <new>
+#include <random>
+#include <vector>
+
+#include "sim/far_field_sampler.h"
+
+// Counts every allocation of this test program, to show that apply()
+// allocates nothing once the filter exists. (GCC cannot see that the
+// replaced operator new is malloc, hence the pragma.)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace gonio::sim {
+namespace {
+
+PreviewFilterParams params_with(Interpolation interpolation, double threshold, int levels) {
+  PreviewFilterParams p;
+  p.interpolation = interpolation;
+  p.threshold_photons = threshold;
+  p.levels = levels;
+  return p;
+}
+
+// The reference thesis's worked example (figures 6.5–6.8) on face 0 of an
+// 8-texel cube map whose texels all have solid angle 1, photons of 1 lm:
+// columns 0–2 dark, columns 3–7 with 200 photons each, as in figure 6.5.
+// With two levels the coarser one holds the raw sums 0 | 400 | 800 … of
+// figure 6.6b. The highlighted texel is column 1 of an inner row.
+struct WorkedExample {
+  static constexpr int kN = 8;
+  std::vector<double> equal_texels = std::vector<double>(kN * kN, 1.0);
+  FarField field{kN};
+  WorkedExample() {
+    for (int y = 0; y < kN; ++y)
+      for (int x = 3; x < kN; ++x) field.add(field.grid().index(0, x, y), 200.0, 200);
+  }
+  double filtered(const PreviewFilterParams& p, int x = 1, int y = 3) const {
+    PreviewFilter filter(kN, p, equal_texels);
+    filter.apply(field);
+    return filter.intensity_cd()[field.grid().index(0, x, y)];
+  }
+};
+
+TEST(PreviewFilter, WorkedExampleBilinearGivesTwentyFive) {
+  // Thesis 6.4.3: the bilinear interpolation of 0 and 400 a quarter of the
+  // way, divided by four: 25 photons' worth in the shadow texel.
+  const WorkedExample ex;
+  EXPECT_EQ(ex.filtered(params_with(Interpolation::Bilinear, 100.0, 2)), 25.0);
+  // The dark column at the face edge interpolates dark texels only.
+  EXPECT_EQ(ex.filtered(params_with(Interpolation::Bilinear, 100.0, 2), 0, 3), 0.0);
+}
+
+TEST(PreviewFilter, WorkedExampleBilateralStopsTheLeak) {
+  // Thesis 6.4.4 with σ_d = 0.5, σ_r = 0.2, written out: closeness
+  // exp(−d²/2σ_d²) at the four coarse centres, d² = 1/8, 5/8, 5/8, 9/8 (the
+  // texel centre is a quarter texel from the nearest coarse centre); range
+  // exp(−δ²/2σ_r²) with δ the difference from the bilinear estimate 25 over
+  // the range scale; coarse intensities 0, 100 (sums over 4 texels of 1 sr).
+  const WorkedExample ex;
+  const auto closed_form = [](double scale) {
+    const double sd2 = 2.0 * 0.5 * 0.5, sr2 = 2.0 * 0.2 * 0.2;
+    const double d0 = 25.0 / scale, d1 = 75.0 / scale;
+    const double w_dark = std::exp(-0.125 / sd2 - d0 * d0 / sr2) + std::exp(-0.625 / sd2 - d0 * d0 / sr2);
+    const double w_lit = std::exp(-0.625 / sd2 - d1 * d1 / sr2) + std::exp(-1.125 / sd2 - d1 * d1 / sr2);
+    return 100.0 * w_lit / (w_dark + w_lit);
+  };
+  PreviewFilterParams p = params_with(Interpolation::Bilateral, 100.0, 2);
+  p.range_scale = RangeScale::LocalMax;
+  const double local_max = ex.filtered(p);
+  EXPECT_NEAR(local_max, closed_form(100.0), 1e-12);
+  EXPECT_NEAR(local_max, 0.0710, 0.0005);  // the thesis's "about 0.1"
+  p.range_scale = RangeScale::Estimate;
+  const double estimate = ex.filtered(p);
+  EXPECT_NEAR(estimate, closed_form(25.0), 1e-50);
+  EXPECT_LT(estimate, 1e-40);
+}
+
+TEST(PreviewFilter, ShadowBorderRuleCountsStableNeighbourPairs) {
+  // 6.4.2: pairs summing to at least 2 × threshold; three to six of them.
+  const double t = 100.0;
+  EXPECT_FALSE(is_shadow_border(0, std::vector<double>{0, 0, 0, 0, 0, 0, 0, 0}, t));
+  EXPECT_FALSE(is_shadow_border(0, std::vector<double>{200, 200, 0, 0, 0, 0, 0, 0}, t));
+  EXPECT_TRUE(is_shadow_border(0, std::vector<double>{200, 200, 200, 0, 0, 0, 0, 0}, t));
+  EXPECT_TRUE(is_shadow_border(10, std::vector<double>{190, 190, 190, 190, 190, 190, 0, 0}, t));
+  EXPECT_FALSE(is_shadow_border(10, std::vector<double>{190, 190, 190, 190, 190, 190, 190, 0}, t));
+  EXPECT_FALSE(is_shadow_border(0, std::vector<double>{199, 199, 199, 199, 0, 0, 0, 0}, t));
+  // A cube-corner texel has seven neighbours; the rule is the same.
+  EXPECT_TRUE(is_shadow_border(0, std::vector<double>{200, 200, 200, 200, 200, 200, 0}, t));
+  EXPECT_FALSE(is_shadow_border(0, std::vector<double>{200, 200, 200, 200, 200, 200, 200}, t));
+}
+
+TEST(PreviewFilter, ShadowBordersOnCoarseLevelsKeepDarkRegionsDark) {
+  // Face 0 of 16 equal texels: left half dark, right half 50 photons per
+  // texel; threshold 300, so the bright region is stable on level 2 (800
+  // photons per texel) and above, unstable below. With the rule, the dark
+  // level-2 texels beside the border keep their 0, and the bilinear leak on
+  // levels 1 and 0 reaches only the dark level-0 column next to the border;
+  // without it, light leaks from level 3 down into the whole dark half.
+  // Rows 7 and 8 are the ones whose interpolation never reaches the level-2
+  // texels at the face's top and bottom edges (where the other, dark faces
+  // leave fewer than three bright neighbours, so the rule does not apply).
+  const int n = 16;
+  std::vector<double> equal(n * n, 1.0);
+  FarField field(n);
+  for (int y = 0; y < n; ++y)
+    for (int x = n / 2; x < n; ++x) field.add(field.grid().index(0, x, y), 50.0, 50);
+  PreviewFilterParams p = params_with(Interpolation::Bilinear, 300.0, 4);
+  PreviewFilter with_rule(n, p, equal);
+  p.shadow_borders = false;
+  PreviewFilter without_rule(n, p, equal);
+  with_rule.apply(field);
+  without_rule.apply(field);
+  for (int y = 7; y <= 8; ++y) {
+    for (int x = 1; x < 5; ++x) {
+      const std::size_t t = field.grid().index(0, x, y);
+      EXPECT_EQ(with_rule.intensity_cd()[t], 0.0) << x << "," << y;
+      EXPECT_GT(without_rule.intensity_cd()[t], 0.01) << x << "," << y;
+    }
+    EXPECT_GT(with_rule.intensity_cd()[field.grid().index(0, 5, y)], 1.0);
+  }
+}
+
+// A field where every texel holds at least `min_photons`, with random flux.
+FarField busy_field(int n, std::uint64_t min_photons, unsigned seed) {
+  FarField field(n);
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::uint64_t> extra(0, 50);
+  std::uniform_real_distribution<double> flux(0.5, 1.5);
+  for (std::size_t t = 0; t < field.texel_count(); ++t) {
+    const std::uint64_t k = min_photons + extra(rng);
+    field.add(t, static_cast<double>(k) * flux(rng), k);
+  }
+  return field;
+}
+
+TEST(PreviewFilter, EqualsTheRawMapOnceEveryTexelIsStable) {
+  const int n = 32;
+  const FarField field = busy_field(n, 101, 1);
+  for (Interpolation kind : {Interpolation::Bilinear, Interpolation::Bilateral}) {
+    for (bool adaptive : {false, true}) {
+      PreviewFilterParams p = params_with(kind, 100.0, 99);
+      p.adaptive = adaptive;
+      PreviewFilter filter(n, p);
+      const PreviewStats& s = filter.apply(field);
+      EXPECT_EQ(s.levels_used, 6);
+      EXPECT_EQ(s.stable_texels, field.texel_count());
+      EXPECT_EQ(s.upsampled_texels, 0u);
+      for (std::size_t t = 0; t < field.texel_count(); ++t)
+        ASSERT_EQ(filter.intensity_cd()[t], field.intensity_cd(t)) << t;
+      EXPECT_NEAR(s.preview_flux_lm / s.raw_flux_lm, 1.0, 1e-12);
+    }
+  }
+}
+
+TEST(PreviewFilter, StabilityNeedsMoreThanTheThreshold) {
+  // A texel with exactly the threshold's count is not stable (thesis: "more
+  // photons than the threshold").
+  const int n = 16;
+  FarField field = busy_field(n, 101, 2);
+  const std::size_t t = field.grid().index(3, 5, 6);
+  std::vector<double> flux(field.flux_lm().begin(), field.flux_lm().end());
+  std::vector<std::uint64_t> photons(field.photons().begin(), field.photons().end());
+  photons[t] = 100;
+  flux[t] = 1000.0;  // far brighter than its neighbourhood
+  const FarField edge(n, flux, photons);
+  PreviewFilter filter(n, params_with(Interpolation::Bilinear, 100.0, 99));
+  const PreviewStats& s = filter.apply(edge);
+  EXPECT_EQ(s.upsampled_texels, 1u);
+  EXPECT_LT(filter.intensity_cd()[t], edge.intensity_cd(t) / 2.0);
+  for (std::size_t u = 0; u < edge.texel_count(); ++u) {
+    if (u != t) ASSERT_EQ(filter.intensity_cd()[u], edge.intensity_cd(u));
+  }
+}
+
+TEST(PreviewFilter, NoneAndOneLevelGiveTheRawMap) {
+  const int n = 16;
+  const FarField field = busy_field(n, 0, 3);
+  for (const PreviewFilterParams& p :
+       {params_with(Interpolation::None, 1e9, 99), params_with(Interpolation::Bilateral, 1e9, 1)}) {
+    PreviewFilter filter(n, p);
+    EXPECT_EQ(filter.apply(field).levels_used, 1);
+    for (std::size_t t = 0; t < field.texel_count(); ++t)
+      ASSERT_EQ(filter.intensity_cd()[t], field.intensity_cd(t));
+  }
+}
+
+TEST(PreviewFilter, EmptyFieldGivesAnEmptyPreview) {
+  const int n = 16;
+  const FarField field(n);
+  for (Interpolation kind : {Interpolation::Bilinear, Interpolation::Bilateral}) {
+    for (bool adaptive : {false, true}) {
+      PreviewFilterParams p = params_with(kind, 100.0, 99);
+      p.adaptive = adaptive;
+      PreviewFilter filter(n, p);
+      const PreviewStats& s = filter.apply(field);
+      EXPECT_EQ(s.preview_flux_lm, 0.0);
+      for (double v : filter.intensity_cd()) ASSERT_EQ(v, 0.0);
+    }
+  }
+}
+
+TEST(PreviewFilter, ExtremeThresholdsStayFiniteAndBounded) {
+  // Threshold 0: only empty texels are filled in. A threshold no texel
+  // reaches: the whole map comes from the coarsest level, a smooth map with
+  // no NaN and intensities within the raw map's range of coarse means.
+  const int n = 32;
+  const CubeMapGrid grid(n);
+  const std::vector<double> expected =
+      expected_texel_flux(grid, [](const Vec3& d) { return 1.0 + d.y * d.y; }, 2);
+  FarField field(n);
+  std::mt19937_64 rng(4);
+  FarFieldSampler(expected).add_photons(field, 3000, 1.0, rng);
+  for (Interpolation kind : {Interpolation::Bilinear, Interpolation::Bilateral}) {
+    PreviewFilter zero(n, params_with(kind, 0.0, 99));
+    const PreviewStats& s0 = zero.apply(field);
+    std::size_t empty = 0;
+    for (std::size_t t = 0; t < field.texel_count(); ++t) {
+      if (field.photons(t) == 0) {
+        ++empty;
+      } else {
+        ASSERT_EQ(zero.intensity_cd()[t], field.intensity_cd(t));
+      }
+    }
+    EXPECT_EQ(s0.upsampled_texels, empty);
+
+    PreviewFilter all(n, params_with(kind, std::numeric_limits<double>::max(), 99));
+    const PreviewStats& s = all.apply(field);
+    EXPECT_EQ(s.upsampled_texels, field.texel_count());
+    const double mean = field.total_flux_lm() / (4.0 * std::numbers::pi);
+    for (double v : all.intensity_cd()) {
+      ASSERT_TRUE(std::isfinite(v));
+      ASSERT_GT(v, 0.5 * mean);
+      ASSERT_LT(v, 2.0 * mean);
+    }
+    EXPECT_NEAR(s.preview_flux_lm / s.raw_flux_lm, 1.0, 0.02);
+  }
+}
+
+TEST(PreviewFilter, SameResultWithOneThreadOrMany) {
+  const int n = 128;
+  const CubeMapGrid grid(n);
+  const std::vector<double> expected =
+      expected_texel_flux(grid, [](const Vec3& d) { return d.y < -0.3 ? 1.0 : 0.05; }, 1);
+  FarField field(n);
+  std::mt19937_64 rng(6);
+  FarFieldSampler(expected).add_photons(field, 200'000, 1.0, rng);
+  PreviewFilterParams p;
+  p.adaptive = true;
+  PreviewFilter many(n, p), one(n, p);
+  const PreviewStats s_many = many.apply(field);
+  PreviewStats s_one;
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    s_one = one.apply(field);
+  }
+  EXPECT_EQ(s_one.preview_flux_lm, s_many.preview_flux_lm);
+  EXPECT_EQ(s_one.stable_texels, s_many.stable_texels);
+  for (std::size_t t = 0; t < field.texel_count(); ++t)
+    ASSERT_EQ(one.intensity_cd()[t], many.intensity_cd()[t]);
+}
+
+TEST(PreviewFilter, ApplyAllocatesNothing) {
+  const int n = 64;
+  const FarField field = busy_field(n, 0, 7);
+  PreviewFilterParams p;
+  p.adaptive = true;
+  PreviewFilter filter(n, p);
+  filter.apply(field);
+  const long before = g_allocations.load();
+  for (int i = 0; i < 3; ++i) {
+    filter.apply(field);
+    p.interpolation = i == 1 ? Interpolation::Bilinear : Interpolation::Bilateral;
+    p.levels = 3 + i;
+    filter.set_params(p);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+}  // namespace
+}  // namespace gonio::sim
