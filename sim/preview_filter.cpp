@@ -75,12 +75,13 @@ struct Kernel {
     if (kind != Interpolation::Bilateral) return bilinear;
     const double s = scale == RangeScale::Estimate ? bilinear : std::max({v[0], v[1], v[2], v[3]});
     if (!(s > 0.0)) return bilinear;  // all four are zero
-    const double k = inv_two_sigma_r2 / (s * s);
     const std::array<double, 4>& c = closeness[static_cast<std::size_t>((x & 1) | ((y & 1) << 1))];
     double e[4];
     for (int i = 0; i < 4; ++i) {
-      const double d = v[i] - bilinear;
-      e[i] = c[static_cast<std::size_t>(i)] + k * d * d;
+      // Divided before squaring: s may be tiny where a dark region was
+      // filled in from dark coarse texels, and s² would underflow.
+      const double d = (v[i] - bilinear) / s;
+      e[i] = c[static_cast<std::size_t>(i)] + inv_two_sigma_r2 * d * d;
     }
     // Weights relative to the largest one, so they never all underflow.
     const double e_min = std::min({e[0], e[1], e[2], e[3]});
