@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <tbb/blocked_range.h>
@@ -17,7 +19,7 @@ namespace {
 void check_params(const PreviewFilterParams& p) {
   GONIO_CHECK_MSG(p.threshold_photons >= 0.0 && std::isfinite(p.threshold_photons),
                   "preview threshold must be a finite count ≥ 0");
-  GONIO_CHECK_MSG(p.levels >= 1, "preview levels must be ≥ 1");
+  GONIO_CHECK_MSG(p.levels >= 0, "preview levels must be ≥ 0 (0: automatic)");
   GONIO_CHECK_MSG(p.sigma_d > 0.0 && std::isfinite(p.sigma_d), "sigma_d must be > 0");
   GONIO_CHECK_MSG(p.sigma_r > 0.0 && std::isfinite(p.sigma_r), "sigma_r must be > 0");
   GONIO_CHECK_MSG(p.adaptive_z > 0.0 && std::isfinite(p.adaptive_z), "adaptive_z must be > 0");
@@ -41,15 +43,50 @@ void for_rows(std::size_t rows, std::size_t row_length, const Body& body) {
                     [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
 }
 
-// The interpolation of one fine texel from the 2 × 2 coarse texels around
-// its centre. The fine texel centre sits a quarter of a coarse texel from the
+// e^(−x) for x ≥ 0 to a relative 1e-9, branch-free so that loops over a
+// row vectorise: 2^(−x·log₂e) = 2^(−i) · e^z with i = round(x·log₂e) and
+// |z| ≤ ln2 / 2, 2^(−i) built from its bits and e^z by a degree-8 Taylor
+// polynomial. x is clipped at 700 (e^−700 = 1e-304). The range weights are
+// most of the filter's time; std::exp, one value at a time, made the whole
+// filter three times slower (measured), and its last digits buy nothing in
+// weights that are normalised anyway.
+// Minimum and maximum by value: std::min and std::max select references,
+// which keeps GCC from vectorising the loops below.
+inline double min2(double a, double b) { return a < b ? a : b; }
+inline double max2(double a, double b) { return a > b ? a : b; }
+
+inline double exp_neg(double x) {
+  constexpr double kShift = 6755399441055744.0;  // 1.5 · 2^52: adding it rounds to an integer
+  const double t = min2(x, 700.0) * 1.4426950408889634;
+  const double shifted = t + kShift;
+  const double i = shifted - kShift;  // round(t)
+  const double z = (i - t) * 0.6931471805599453;
+  const double z2 = z * z, z4 = z2 * z2;
+  const double p = ((1.0 + z) + z2 * (1.0 / 2 + z * (1.0 / 6))) +
+                   z4 * (((1.0 / 24 + z * (1.0 / 120)) + z2 * (1.0 / 720 + z * (1.0 / 5040))) +
+                         z4 * (1.0 / 40320));
+  // round(t) sits in the low bits of `shifted`; 2^(−i) has exponent field 1023 − i.
+  const std::uint64_t n = std::bit_cast<std::uint64_t>(shifted) - std::bit_cast<std::uint64_t>(kShift);
+  const double two_to_minus_i = std::bit_cast<double>((std::uint64_t{1023} - n) << 52);
+  return p * two_to_minus_i;
+}
+
+// Fine texels are interpolated a row chunk at a time: the arithmetic runs in
+// loops over the chunk that the compiler vectorises, instead of one long
+// dependency chain per texel.
+constexpr int kChunk = 32;
+
+// The interpolation of fine texels from the 2 × 2 coarse texels around each
+// centre. A fine texel centre sits a quarter of a coarse texel from the
 // nearest coarse centre, so the bilinear weights are 3/4 and 1/4 per axis
 // and the closeness terms take four values per parity of (x, y).
 struct Kernel {
   Interpolation kind = Interpolation::Bilinear;
   RangeScale scale = RangeScale::Estimate;
   double inv_two_sigma_r2 = 0.0;
-  std::array<std::array<double, 4>, 4> closeness{};  // [2 · (y & 1) + (x & 1)][corner]: d² / 2σ_d²
+  // [2 · (y & 1) + (x & 1)][corner]: exp(−d² / 2σ_d²) with d the distance
+  // to the coarse centre [coarse texels], scaled so the largest is 1.
+  std::array<std::array<double, 4>, 4> closeness{};
 
   explicit Kernel(const PreviewFilterParams& p) : kind(p.interpolation), scale(p.range_scale) {
     inv_two_sigma_r2 = 0.5 / (p.sigma_r * p.sigma_r);
@@ -57,41 +94,74 @@ struct Kernel {
     for (int parity = 0; parity < 4; ++parity) {
       const double fx = (parity & 1) ? 0.25 : 0.75, fy = (parity & 2) ? 0.25 : 0.75;
       const double gx = 1.0 - fx, gy = 1.0 - fy;
-      closeness[static_cast<std::size_t>(parity)] = {(fx * fx + fy * fy) * inv_two_sigma_d2,
-                                                     (gx * gx + fy * fy) * inv_two_sigma_d2,
-                                                     (fx * fx + gy * gy) * inv_two_sigma_d2,
-                                                     (gx * gx + gy * gy) * inv_two_sigma_d2};
+      const double d2[4] = {fx * fx + fy * fy, gx * gx + fy * fy, fx * fx + gy * gy, gx * gx + gy * gy};
+      const double d2_min = std::min({d2[0], d2[1], d2[2], d2[3]});
+      for (std::size_t i = 0; i < 4; ++i)
+        closeness[static_cast<std::size_t>(parity)][i] = std::exp(-(d2[i] - d2_min) * inv_two_sigma_d2);
     }
   }
 
-  // `face` is the coarse level's padded face block, `stride` its row length.
-  double operator()(const double* face, std::size_t stride, int x, int y) const {
-    const double* p = face + static_cast<std::size_t>((y + 1) >> 1) * stride +
-                      static_cast<std::size_t>((x + 1) >> 1);
-    const double v[4] = {p[0], p[1], p[stride], p[stride + 1]};
-    const double fx = (x & 1) ? 0.25 : 0.75, fy = (y & 1) ? 0.25 : 0.75;
-    const double bilinear =
-        (1.0 - fy) * ((1.0 - fx) * v[0] + fx * v[1]) + fy * ((1.0 - fx) * v[2] + fx * v[3]);
-    if (kind != Interpolation::Bilateral) return bilinear;
-    const double s = scale == RangeScale::Estimate ? bilinear : std::max({v[0], v[1], v[2], v[3]});
-    if (!(s > 0.0)) return bilinear;  // all four are zero
-    const std::array<double, 4>& c = closeness[static_cast<std::size_t>((x & 1) | ((y & 1) << 1))];
-    double e[4];
-    for (int i = 0; i < 4; ++i) {
-      // Divided before squaring: s may be tiny where a dark region was
-      // filled in from dark coarse texels, and s² would underflow.
-      const double d = (v[i] - bilinear) / s;
-      e[i] = c[static_cast<std::size_t>(i)] + inv_two_sigma_r2 * d * d;
+  // Interpolates fine texels x0 … x0 + count − 1 (count ≤ kChunk) of fine row
+  // y into out. `face` is the coarse level's padded face block, `stride` its
+  // row length.
+  void operator()(const double* face, std::size_t stride, int x0, int y, int count, double* out) const {
+    const double* row0 = face + static_cast<std::size_t>((y + 1) >> 1) * stride;
+    const double* row1 = row0 + stride;
+    const double fy = (y & 1) ? 0.25 : 0.75;
+    alignas(16) double v0[kChunk], v1[kChunk], v2[kChunk], v3[kChunk], fx[kChunk];
+    for (int k = 0; k < count; ++k) {
+      const int x = x0 + k;
+      const std::size_t col = static_cast<std::size_t>((x + 1) >> 1);
+      v0[k] = row0[col];
+      v1[k] = row0[col + 1];
+      v2[k] = row1[col];
+      v3[k] = row1[col + 1];
+      fx[k] = (x & 1) ? 0.25 : 0.75;
     }
-    // Weights relative to the largest one, so they never all underflow.
-    const double e_min = std::min({e[0], e[1], e[2], e[3]});
-    double sum_w = 0.0, sum_wv = 0.0;
-    for (int i = 0; i < 4; ++i) {
-      const double w = std::exp(e_min - e[i]);
-      sum_w += w;
-      sum_wv += w * v[i];
+    for (int k = 0; k < count; ++k)
+      out[k] = (1.0 - fy) * ((1.0 - fx[k]) * v0[k] + fx[k] * v1[k]) + fy * ((1.0 - fx[k]) * v2[k] + fx[k] * v3[k]);
+    if (kind != Interpolation::Bilateral) return;
+
+    // Closeness weights by x parity for this row's y parity.
+    alignas(16) double c0[kChunk], c1[kChunk], c2[kChunk], c3[kChunk];
+    for (int k = 0; k < count; ++k) {
+      const std::array<double, 4>& c = closeness[static_cast<std::size_t>(((y & 1) << 1) | ((x0 + k) & 1))];
+      c0[k] = c[0];
+      c1[k] = c[1];
+      c2[k] = c[2];
+      c3[k] = c[3];
     }
-    return sum_wv / sum_w;
+    // Branch-free from here, so that it vectorises. Scaled before squaring:
+    // the scale may be tiny where a dark region was filled in from dark
+    // coarse texels, and its square would underflow. It is 0 only when all
+    // four are 0, and then any finite scale does.
+    alignas(16) double inv_scale[kChunk];
+    if (scale == RangeScale::LocalMax) {
+      for (int k = 0; k < count; ++k)
+        inv_scale[k] = 1.0 / max2(max2(max2(v0[k], v1[k]), max2(v2[k], v3[k])),
+                                  std::numeric_limits<double>::min());
+    } else {
+      for (int k = 0; k < count; ++k) inv_scale[k] = 1.0 / max2(out[k], std::numeric_limits<double>::min());
+    }
+    for (int k = 0; k < count; ++k) {
+      const double bilinear = out[k];
+      const double inv_s = inv_scale[k];
+      const double d0 = (v0[k] - bilinear) * inv_s, d1 = (v1[k] - bilinear) * inv_s;
+      const double d2 = (v2[k] - bilinear) * inv_s, d3 = (v3[k] - bilinear) * inv_s;
+      const double r0 = inv_two_sigma_r2 * d0 * d0, r1 = inv_two_sigma_r2 * d1 * d1;
+      const double r2 = inv_two_sigma_r2 * d2 * d2, r3 = inv_two_sigma_r2 * d3 * d3;
+      // Range weights relative to the largest (which is then 1), closeness
+      // weights relative to the nearest centre's: nothing underflows for
+      // sensible σ. The bilinear estimate enters with a negligible weight,
+      // so that it stands where a tiny σ_d and σ_r leave no other.
+      const double r_min = min2(min2(r0, r1), min2(r2, r3));
+      const double w0 = c0[k] * exp_neg(r0 - r_min), w1 = c1[k] * exp_neg(r1 - r_min);
+      const double w2 = c2[k] * exp_neg(r2 - r_min), w3 = c3[k] * exp_neg(r3 - r_min);
+      constexpr double kTiny = 1e-300;
+      const double sum_w = ((w0 + w1) + (w2 + w3)) + kTiny;
+      const double sum_wv = ((w0 * v0[k] + w1 * v1[k]) + (w2 * v2[k] + w3 * v3[k])) + kTiny * bilinear;
+      out[k] = sum_wv / sum_w;
+    }
   }
 };
 
@@ -150,9 +220,15 @@ void PreviewFilter::set_params(const PreviewFilterParams& params) {
   params_ = params;
 }
 
+int PreviewFilter::auto_levels(int face_size) {
+  int levels = 1;
+  for (int m = face_size; m > 16 && m % 2 == 0; m /= 2) ++levels;
+  return std::min(std::max(levels, 2), CubePyramid::max_levels(face_size));
+}
+
 int PreviewFilter::levels_used() const {
   if (params_.interpolation == Interpolation::None) return 1;
-  return std::min(params_.levels, pyramid_.levels());
+  return std::min(params_.levels == 0 ? auto_levels(n_) : params_.levels, pyramid_.levels());
 }
 
 void PreviewFilter::fill_halo(int level, std::vector<double>& padded, bool corners) const {
@@ -180,7 +256,7 @@ void PreviewFilter::fill_halo(int level, std::vector<double>& padded, bool corne
   }
 }
 
-void PreviewFilter::push_level(int level, int top, double mean_photon_flux_lm) {
+void PreviewFilter::push_level(int level, int top, double photons_per_lm) {
   const int m = pyramid_.face_size(level);
   const std::size_t mm = static_cast<std::size_t>(m);
   const std::span<const double> flux = pyramid_.flux_lm(level);
@@ -197,7 +273,7 @@ void PreviewFilter::push_level(int level, int top, double mean_photon_flux_lm) {
   const double* coarse = upsample ? filtered_[static_cast<std::size_t>(level) + 1].data() : nullptr;
   const std::size_t stride = mm + 2;
   double* out = level == 0 ? output_.data() : filtered_[static_cast<std::size_t>(level)].data();
-  const double* count = borders ? counts_[static_cast<std::size_t>(level)].data() : nullptr;
+  const double* counts = borders ? counts_[static_cast<std::size_t>(level)].data() : nullptr;
 
   if (borders) {
     std::vector<double>& c = counts_[static_cast<std::size_t>(level)];
@@ -218,38 +294,38 @@ void PreviewFilter::push_level(int level, int top, double mean_photon_flux_lm) {
       double* out_row = level == 0 ? out + r * mm : out + face * stride * stride + (y + 1) * stride + 1;
       double row_flux = 0.0;
       std::uint32_t row_stable = 0;
+      alignas(16) double estimates[kChunk];
       for (std::size_t x = 0; x < mm; ++x) {
+        const std::size_t k = x % kChunk;
+        if (k == 0 && upsample) {
+          const int count = static_cast<int>(std::min<std::size_t>(kChunk, mm - x));
+          kernel(coarse_face, coarse_stride, static_cast<int>(x), static_cast<int>(y), count, estimates);
+        }
         const std::size_t t = r * mm + x;
         const double n = static_cast<double>(photons[t]);
         const double w = omega[y * mm + x];
-        const double raw = flux[t] / w;
-        double value = raw;
         bool keep = !upsample || n > threshold;
-        if (!keep) {
-          const double estimate =
-              kernel(coarse_face, coarse_stride, static_cast<int>(x), static_cast<int>(y));
-          if (adaptive) {
-            const double expected = mean_photon_flux_lm > 0.0 ? estimate * w / mean_photon_flux_lm : 0.0;
-            keep = std::abs(std::sqrt(n + 0.375) - std::sqrt(expected + 0.375)) > half_z;
-          }
-          if (!keep && borders) {
-            const double* c = count + face * stride * stride + (y + 1) * stride + x + 1;
-            const bool edge_x = x == 0 || x + 1 == mm, edge_y = y == 0 || y + 1 == mm;
-            std::array<double, 8> nb{};
-            std::size_t k = 0;
-            for (int dy = -1; dy <= 1; ++dy) {
-              for (int dx = -1; dx <= 1; ++dx) {
-                if (dx == 0 && dy == 0) continue;
-                const bool out_x = edge_x && ((dx < 0 && x == 0) || (dx > 0 && x + 1 == mm));
-                const bool out_y = edge_y && ((dy < 0 && y == 0) || (dy > 0 && y + 1 == mm));
-                if (out_x && out_y) continue;  // past a cube corner
-                nb[k++] = c[static_cast<std::ptrdiff_t>(dy) * static_cast<std::ptrdiff_t>(stride) + dx];
-              }
-            }
-            keep = is_shadow_border(n, std::span<const double>(nb.data(), k), threshold);
-          }
-          if (!keep) value = estimate;
+        if (!keep && adaptive) {
+          const double expected = estimates[k] * w * photons_per_lm;
+          keep = std::abs(std::sqrt(n + 0.375) - std::sqrt(expected + 0.375)) > half_z;
         }
+        if (!keep && borders) {
+          const double* c = counts + face * stride * stride + (y + 1) * stride + x + 1;
+          const bool edge_x = x == 0 || x + 1 == mm, edge_y = y == 0 || y + 1 == mm;
+          std::array<double, 8> nb{};
+          std::size_t found = 0;
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+              if (dx == 0 && dy == 0) continue;
+              const bool out_x = edge_x && ((dx < 0 && x == 0) || (dx > 0 && x + 1 == mm));
+              const bool out_y = edge_y && ((dy < 0 && y == 0) || (dy > 0 && y + 1 == mm));
+              if (out_x && out_y) continue;  // past a cube corner
+              nb[found++] = c[static_cast<std::ptrdiff_t>(dy) * static_cast<std::ptrdiff_t>(stride) + dx];
+            }
+          }
+          keep = is_shadow_border(n, std::span<const double>(nb.data(), found), threshold);
+        }
+        const double value = keep ? flux[t] / w : estimates[k];
         out_row[x] = value;
         if (level == 0) {
           row_flux += value * w;
@@ -283,9 +359,10 @@ const PreviewStats& PreviewFilter::apply(const FarField& field) {
   stats_.raw_flux_lm = std::accumulate(top_flux.begin(), top_flux.end(), 0.0);
   const double total_photons =
       static_cast<double>(std::accumulate(top_photons.begin(), top_photons.end(), std::uint64_t{0}));
-  const double mean_photon_flux = total_photons > 0.0 ? stats_.raw_flux_lm / total_photons : 0.0;
+  // Photons per lumen: what an intensity estimate predicts as a photon count.
+  const double photons_per_lm = stats_.raw_flux_lm > 0.0 ? total_photons / stats_.raw_flux_lm : 0.0;
 
-  for (int k = top; k >= 0; --k) push_level(k, top, mean_photon_flux);
+  for (int k = top; k >= 0; --k) push_level(k, top, photons_per_lm);
 
   stats_.preview_flux_lm = std::accumulate(row_flux_.begin(), row_flux_.end(), 0.0);
   stats_.stable_texels = std::accumulate(row_stable_.begin(), row_stable_.end(), std::size_t{0});
