@@ -10,9 +10,10 @@
 // geometric mean over fields and densities of its error divided by the raw
 // map's error: below 1 the preview is better than the histogram.
 //
-// Usage: gonio_filter_study [--face-size N] [--seed S] [--broad] [--detail NAME]...
+// Usage: gonio_filter_study [--face-size N] [--seed S] [--broad | --confirm] [--detail NAME]...
 //   --broad sweeps every family of configurations in coarse steps (which
-//   families work); the default sweeps around the winners (the defaults).
+//   families work); the default sweeps around the winners; --confirm checks
+//   the chosen defaults against their neighbours (run it with other seeds).
 //   --detail prints a configuration's error ratio per field and density.
 #include <algorithm>
 #include <chrono>
@@ -82,6 +83,7 @@ struct Config {
   PreviewFilterParams params;
   double density_kappa = 0.0;  // > 0: threshold = κ · mean photons per texel
   bool raw = false;
+  int level_delta = 0;         // ≠ 0: the automatic levels for the face size + this
 };
 
 std::string fmt(double v) {
@@ -99,7 +101,7 @@ std::string describe(const PreviewFilterParams& p, double kappa) {
            : (p.range_scale == RangeScale::Estimate ? "bilateral/est" : "bilateral/max");
   s += kappa > 0.0 ? " T=" + fmt(kappa) + "·n̄"
                    : " T=" + (p.threshold_photons > 1e100 ? std::string("inf") : fmt(p.threshold_photons));
-  s += " L=" + (p.levels >= 16 ? std::string("all") : std::to_string(p.levels));
+  s += " L=" + (p.levels >= 16 ? std::string("all") : (p.levels == 0 ? std::string("auto") : std::to_string(p.levels)));
   if (p.adaptive) s += " z=" + fmt(p.adaptive_z);
   if (p.interpolation == Interpolation::Bilateral && (p.sigma_d != 0.5 || p.sigma_r != 0.2))
     s += " sd=" + fmt(p.sigma_d) + " sr=" + fmt(p.sigma_r);
@@ -166,6 +168,39 @@ std::vector<Config> broad() {
   return b.out;
 }
 
+// The confirmation: the defaults against their neighbours and the thesis's
+// fixed threshold, for other seeds and face sizes.
+std::vector<Config> confirm() {
+  Builder b;
+  b.out.push_back({"raw", {}, 0.0, true});
+  const PreviewFilterParams defaults;
+  b.add(defaults);
+  for (double z : {3.0, 4.0}) {
+    PreviewFilterParams p = defaults;
+    p.adaptive_z = z;
+    b.add(p);
+  }
+  for (double cap : {1600.0, 25600.0, 1e300}) {
+    PreviewFilterParams p = defaults;
+    p.threshold_photons = cap;
+    b.add(p);
+  }
+  for (int delta : {-1, 1}) {
+    b.out.push_back({"", defaults, 0.0, false, delta});  // resolved in main()
+  }
+  PreviewFilterParams bilinear = defaults;
+  bilinear.interpolation = kBilinear;
+  b.add(bilinear);
+  PreviewFilterParams thesis = defaults;
+  thesis.adaptive = false;
+  thesis.threshold_photons = PreviewFilterParams::kFixedThreshold;
+  b.add(thesis);
+  thesis.interpolation = kBilinear;
+  b.add(thesis);
+  b.add(make(kBilateral, kMax, 0.0, 0, false), 2.0);
+  return b.out;
+}
+
 // The focused sweep around the families that won the broad one: levels,
 // thresholds, σ_d and σ_r for the fixed and the adaptive filter.
 std::vector<Config> focused() {
@@ -220,23 +255,31 @@ int main(int argc, char** argv) {
   int n = 128;
   unsigned seed = 1;
   std::vector<std::string> detail;
-  bool broad_sweep = false;
+  int sweep = 0;  // focused, broad, confirm
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--face-size") && i + 1 < argc) {
       n = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc) {
       seed = static_cast<unsigned>(std::atoi(argv[++i]));
     } else if (!std::strcmp(argv[i], "--broad")) {
-      broad_sweep = true;
+      sweep = 1;
+    } else if (!std::strcmp(argv[i], "--confirm")) {
+      sweep = 2;
     } else if (!std::strcmp(argv[i], "--detail") && i + 1 < argc) {
       detail.push_back(argv[++i]);
     } else {
-      std::fprintf(stderr, "usage: gonio_filter_study [--face-size N] [--seed S] [--broad] [--detail NAME]...\n");
+      std::fprintf(stderr, "usage: gonio_filter_study [--face-size N] [--seed S] [--broad | --confirm] [--detail NAME]...\n");
       return 2;
     }
   }
   const CubeMapGrid grid(n);
-  const std::vector<Config> configs = broad_sweep ? broad() : focused();
+  std::vector<Config> configs = sweep == 1 ? broad() : (sweep == 2 ? confirm() : focused());
+  for (Config& c : configs) {
+    if (c.level_delta != 0) {
+      c.params.levels = PreviewFilter::auto_levels(n) + c.level_delta;
+      c.name = describe(c.params, c.density_kappa);
+    }
+  }
   const std::vector<double> densities = {0.25, 1.0, 2.5, 10.0, 40.0, 160.0, 640.0};  // photons per texel
   // log(error / raw error) per config, field, density.
   std::vector<std::vector<double>> log_ratio(configs.size());

@@ -4,10 +4,13 @@
 #include <tbb/global_control.h>
 
 #include <atomic>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <new>
+#include <numbers>
+#include <utility>
 #include <random>
 #include <vector>
 
@@ -255,6 +258,183 @@ TEST(PreviewFilter, ExtremeThresholdsStayFiniteAndBounded) {
       ASSERT_LT(v, 2.0 * mean);
     }
     EXPECT_NEAR(s.preview_flux_lm / s.raw_flux_lm, 1.0, 0.02);
+  }
+}
+
+// Texels by where they sit on their face: 0 the centre (at least a quarter
+// of the face from every edge), 1 along an edge (outermost ring, not a
+// corner), 2 at a cube corner (2 × 2 at each face corner); −1 the rest.
+int band_of(int n, std::size_t t) {
+  const int x = static_cast<int>(t % n), y = static_cast<int>((t / n) % n);
+  const int dx = std::min(x, n - 1 - x), dy = std::min(y, n - 1 - y);
+  if (dx < 2 && dy < 2) return 2;
+  if (dx < 1 || dy < 1) return 1;
+  return dx >= n / 4 && dy >= n / 4 ? 0 : -1;
+}
+
+double smooth_lobe(const Vec3& d) { return 1.0 + 0.5 * d.x + 0.3 * d.y * d.z + 0.2 * d.z * d.z; }
+
+TEST(PreviewFilter, ConstantFieldStaysConstantAcrossEdgesAndCorners) {
+  // The exact map of an isotropic source, every texel forced through
+  // interpolation from the coarsest level down: a wrong neighbour across an
+  // edge or a missing one at a cube corner would show as a seam or a dark
+  // corner; the preview is the constant everywhere.
+  const int n = 32;
+  FarField field(n);
+  for (std::size_t t = 0; t < field.texel_count(); ++t) field.add(t, 7.0 * field.grid().texel_solid_angle(t), 1);
+  for (Interpolation kind : {Interpolation::Bilinear, Interpolation::Bilateral}) {
+    PreviewFilter filter(n, params_with(kind, 1e9, 99));
+    EXPECT_EQ(filter.apply(field).upsampled_texels, field.texel_count());
+    for (std::size_t t = 0; t < field.texel_count(); ++t) ASSERT_NEAR(filter.intensity_cd()[t], 7.0, 1e-12) << t;
+  }
+}
+
+TEST(PreviewFilter, InterpolationBiasIsNoLargerAtFaceEdgesAndCorners) {
+  // The exact (noise-free) map of a smooth lobe with gradients across every
+  // face edge, every texel interpolated: what remains is the interpolation's
+  // bias. Measured RMS relative bias (faces of 64, automatic 3 levels):
+  // centre 0.0022, edges 0.0025, cube corners 0.0019 (bilinear; bilateral
+  // within 0.0001). A wrong neighbour across an edge costs several percent.
+  const int n = 64;
+  const CubeMapGrid grid(n);
+  const std::vector<double> expected = expected_texel_flux(grid, smooth_lobe, 4);
+  const FarField field(n, expected, std::vector<std::uint64_t>(expected.size(), 1));
+  for (Interpolation kind : {Interpolation::Bilinear, Interpolation::Bilateral}) {
+    PreviewFilter filter(n, params_with(kind, 1e9, 0));
+    filter.apply(field);
+    double sum[3] = {0, 0, 0}, count[3] = {0, 0, 0};
+    for (std::size_t t = 0; t < field.texel_count(); ++t) {
+      const int band = band_of(n, t);
+      if (band < 0) continue;
+      const double r = filter.intensity_cd()[t] / field.intensity_cd(t) - 1.0;
+      sum[band] += r * r;
+      count[band] += 1.0;
+    }
+    const double centre = std::sqrt(sum[0] / count[0]), edge = std::sqrt(sum[1] / count[1]),
+                 corner = std::sqrt(sum[2] / count[2]);
+    EXPECT_LT(centre, 0.005);
+    EXPECT_LT(edge, 1.3 * centre);
+    EXPECT_LT(corner, 1.3 * centre);
+  }
+}
+
+TEST(PreviewFilter, SparseSmoothFieldHasNoSeams) {
+  // Photons drawn from a smooth lobe, 2 per texel on average, filtered with
+  // the defaults; four seeds. Cube-corner texels are 5.2× smaller than centre
+  // ones and so hold 5.2× fewer photons: the raw histogram's relative error
+  // is 1.6× (edges) and 2.0× (corners) that of the centres, and the coarse
+  // levels the preview draws on inherit it (measured preview ratios 1.51 and
+  // 2.05). A seam would make the filter help less at edges and corners than
+  // at centres; it helps as much: measured improvement over the raw map
+  // 6.3× at centres, 6.8× along edges, 6.2× at cube corners (ratios 1.08 and
+  // 0.98).
+  const int n = 64;
+  const CubeMapGrid grid(n);
+  const std::vector<double> expected = expected_texel_flux(grid, smooth_lobe, 4);
+  double total = 0.0;
+  for (double f : expected) total += f;
+  const FarFieldSampler sampler(expected);
+  double preview[3] = {0, 0, 0}, raw[3] = {0, 0, 0};
+  PreviewFilter filter(n, PreviewFilterParams{});
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    FarField field(n);
+    std::mt19937_64 rng(seed);
+    const std::uint64_t photons = 2 * field.texel_count();
+    sampler.add_photons(field, photons, total / static_cast<double>(photons), rng);
+    filter.apply(field);
+    for (std::size_t t = 0; t < field.texel_count(); ++t) {
+      const int band = band_of(n, t);
+      if (band < 0) continue;
+      const double truth = expected[t] / grid.texel_solid_angle(t);
+      const double p = filter.intensity_cd()[t] / truth - 1.0, r = field.intensity_cd(t) / truth - 1.0;
+      preview[band] += p * p;
+      raw[band] += r * r;
+    }
+  }
+  double improvement[3];
+  for (int b = 0; b < 3; ++b) improvement[b] = std::sqrt(raw[b] / preview[b]);
+  EXPECT_GT(improvement[0], 4.0);
+  EXPECT_GT(improvement[1], 0.9 * improvement[0]);
+  EXPECT_GT(improvement[2], 0.85 * improvement[0]);
+}
+
+TEST(PreviewFilter, BilateralLeaksLessThanBilinearAcrossASharpEdge) {
+  // A 30° spot (1 inside, 0.01 outside) at 2.5 photons per texel on faces
+  // of 64 (automatic levels). Leak: the preview's flux more than 3° outside
+  // the cut-off over the raw map's there, − 1. Measured with the thesis's
+  // fixed threshold: bilinear +12.3 %, bilateral +2.9 %; with the adaptive
+  // default +1.0 % (bilateral) and +1.9 % (bilinear). Total flux of the
+  // preview against the raw map: fixed +3.6 % (bilateral), +4.7 %
+  // (bilinear); adaptive −2.1 % (bilateral), −3.0 % (bilinear): unstable
+  // texels on the bright side of the cut-off take in some of the dark.
+  const int n = 64;
+  const CubeMapGrid grid(n);
+  const double cut = 30.0 * std::numbers::pi / 180.0, margin = 3.0 * std::numbers::pi / 180.0;
+  const auto angle = [](const Vec3& d) { return std::acos(std::clamp(-d.y, -1.0, 1.0)); };
+  const std::vector<double> expected =
+      expected_texel_flux(grid, [&](const Vec3& d) { return angle(d) < cut ? 1.0 : 0.01; }, 4);
+  double total = 0.0;
+  for (double f : expected) total += f;
+  FarField field(n);
+  std::mt19937_64 rng(1);
+  const std::uint64_t photons = 5 * field.texel_count() / 2;
+  FarFieldSampler(expected).add_photons(field, photons, total / static_cast<double>(photons), rng);
+  const auto leak_and_flux = [&](const PreviewFilterParams& p) {
+    PreviewFilter filter(n, p);
+    const PreviewStats& s = filter.apply(field);
+    double dark = 0.0, dark_raw = 0.0;
+    for (std::size_t t = 0; t < field.texel_count(); ++t) {
+      if (angle(grid.texel_direction(t)) < cut + margin) continue;
+      dark += filter.intensity_cd()[t] * grid.texel_solid_angle(t);
+      dark_raw += field.flux_lm(t);
+    }
+    return std::pair{dark / dark_raw - 1.0, s.preview_flux_lm / s.raw_flux_lm};
+  };
+  const auto [bilinear_leak, bilinear_flux] = leak_and_flux(params_with(Interpolation::Bilinear, 100.0, 0));
+  const auto [bilateral_leak, bilateral_flux] = leak_and_flux(params_with(Interpolation::Bilateral, 100.0, 0));
+  EXPECT_GT(bilinear_leak, 0.08);
+  EXPECT_LT(bilateral_leak, 0.5 * bilinear_leak);
+  EXPECT_GT(bilinear_flux, 1.0);
+  EXPECT_LT(bilinear_flux, 1.08);
+  EXPECT_GT(bilateral_flux, 1.0);
+  EXPECT_LT(bilateral_flux, bilinear_flux);
+  for (Interpolation kind : {Interpolation::Bilinear, Interpolation::Bilateral}) {
+    PreviewFilterParams p;
+    p.interpolation = kind;
+    const auto [leak, flux] = leak_and_flux(p);
+    EXPECT_LT(std::abs(leak), 0.03);
+    EXPECT_NEAR(flux, 0.975, 0.02);
+  }
+}
+
+TEST(PreviewFilter, SparseMapsGiveFiniteIntensitiesInEveryConfiguration) {
+  // Single photons in a dark sky: repeated bilateral interpolation drives
+  // values towards 1e-200 and below; nothing may turn into NaN.
+  const int n = 64;
+  FarField field(n);
+  std::mt19937_64 rng(9);
+  std::uniform_int_distribution<std::size_t> texel(0, field.texel_count() - 1);
+  for (int i = 0; i < 40; ++i) field.add(texel(rng), 1.0);
+  for (Interpolation kind : {Interpolation::Bilinear, Interpolation::Bilateral}) {
+    for (RangeScale scale : {RangeScale::LocalMax, RangeScale::Estimate}) {
+      for (bool adaptive : {false, true}) {
+        for (int levels : {0, 3, 99}) {
+          PreviewFilterParams p;
+          p.interpolation = kind;
+          p.range_scale = scale;
+          p.adaptive = adaptive;
+          p.levels = levels;
+          p.threshold_photons = adaptive ? 6400.0 : 100.0;
+          for (double sigma : {0.5, 0.01}) {
+            p.sigma_d = p.sigma_r = sigma;
+            PreviewFilter filter(n, p);
+            const PreviewStats& s = filter.apply(field);
+            ASSERT_TRUE(std::isfinite(s.preview_flux_lm));
+            for (double v : filter.intensity_cd()) ASSERT_TRUE(std::isfinite(v) && v >= 0.0);
+          }
+        }
+      }
+    }
   }
 }
 
