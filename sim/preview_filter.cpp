@@ -43,6 +43,11 @@ void for_rows(std::size_t rows, std::size_t row_length, const Body& body) {
                     [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
 }
 
+// Minimum and maximum by value: std::min and std::max select references,
+// which keeps GCC from vectorising the loops below.
+inline double min2(double a, double b) { return a < b ? a : b; }
+inline double max2(double a, double b) { return a > b ? a : b; }
+
 // e^(−x) for x ≥ 0 to a relative 1e-9, branch-free so that loops over a
 // row vectorise: 2^(−x·log₂e) = 2^(−i) · e^z with i = round(x·log₂e) and
 // |z| ≤ ln2 / 2, 2^(−i) built from its bits and e^z by a degree-8 Taylor
@@ -50,11 +55,6 @@ void for_rows(std::size_t rows, std::size_t row_length, const Body& body) {
 // most of the filter's time; std::exp, one value at a time, made the whole
 // filter three times slower (measured), and its last digits buy nothing in
 // weights that are normalised anyway.
-// Minimum and maximum by value: std::min and std::max select references,
-// which keeps GCC from vectorising the loops below.
-inline double min2(double a, double b) { return a < b ? a : b; }
-inline double max2(double a, double b) { return a > b ? a : b; }
-
 inline double exp_neg(double x) {
   constexpr double kShift = 6755399441055744.0;  // 1.5 · 2^52: adding it rounds to an integer
   const double t = min2(x, 700.0) * 1.4426950408889634;
@@ -347,7 +347,7 @@ const PreviewStats& PreviewFilter::apply(const FarField& field) {
   stats_ = PreviewStats{};
   stats_.levels_used = top + 1;
   if (top == 0) {
-    for (std::size_t t = 0; t < output_.size(); ++t) output_[t] = field.intensity_cd(t);
+    for (std::size_t t = 0; t < output_.size(); ++t) output_[t] = field.flux_lm(t) / pyramid_.solid_angle_sr(0, t);
     stats_.raw_flux_lm = stats_.preview_flux_lm = field.total_flux_lm();
     stats_.stable_texels = output_.size();
     return stats_;
