@@ -70,4 +70,9 @@ double solid_angle_jacobian(PhotometricType type, double horizontal_rad, double 
   return std::sin(vertical_rad);
 }
 
+double intensity_toward(const Distribution& expanded, const Vec3& local) {
+  const GridAngles a = grid_from_direction(expanded.type, local);
+  return interpolate(expanded, a.horizontal_deg, a.vertical_deg);
+}
+
 }  // namespace gonio::photometry

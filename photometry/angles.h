@@ -77,4 +77,9 @@ GridAngles grid_from_direction(PhotometricType type, const Vec3& local);
 // [rad]: sin γ for Type C, cos V for Type A, cos H for Type B.
 double solid_angle_jacobian(PhotometricType type, double horizontal_rad, double vertical_rad);
 
+// Intensity [cd] of a distribution returned by expand_symmetry() toward a
+// local direction (need not be unit, must be non-zero): interpolate() at the
+// direction's grid angles, so 0 where the grid holds no data.
+double intensity_toward(const Distribution& expanded, const Vec3& local);
+
 }  // namespace gonio::photometry

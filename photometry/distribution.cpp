@@ -196,15 +196,10 @@ Status validate(const Distribution& d) {
   return Ok{};
 }
 
-Distribution expand_symmetry(const Distribution& d) {
-  GONIO_CHECK_MSG(validate(d).ok(), "expand_symmetry needs a valid distribution");
-  Distribution e = d;
-  e.symmetry = Symmetry::None;
-  const std::size_t nv = d.vertical_deg.size();
-
+std::vector<ExpandedPlane> expanded_planes(const Distribution& d) {
+  GONIO_CHECK_MSG(validate(d).ok(), "expanded_planes needs a valid distribution");
   // (angle, source row) pairs, stored planes first so that they win ties.
   std::vector<std::pair<double, std::size_t>> planes;
-
   if (d.type != PhotometricType::C) {
     for (std::size_t h = 0; h < d.horizontal_deg.size(); ++h) {
       planes.emplace_back(d.horizontal_deg[h], h);
@@ -212,7 +207,7 @@ Distribution expand_symmetry(const Distribution& d) {
         planes.emplace_back(-d.horizontal_deg[h], h);
     }
   } else if (d.symmetry == Symmetry::Rotational) {
-    planes = {{0.0, 0}, {360.0, 0}};
+    return {{0.0, 0, 0, 0.0}, {360.0, 0, 0, 0.0}};
   } else {
     std::vector<double (*)(double)> images = {[](double c) { return c; }};
     if (d.symmetry == Symmetry::C0_C180 || d.symmetry == Symmetry::Quadrant)
@@ -230,45 +225,55 @@ Distribution expand_symmetry(const Distribution& d) {
     }
   }
 
-  // Keep the first of near-equal angles, then sort.
-  std::vector<std::pair<double, std::size_t>> unique;
-  for (const auto& p : planes) {
-    bool seen = false;
-    for (const auto& u : unique) seen = seen || near(u.first, p.first);
-    if (!seen) unique.push_back(p);
-  }
-  std::stable_sort(unique.begin(), unique.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
-
-  std::vector<double> angles;
-  std::vector<double> values;
-  angles.reserve(unique.size() + 2);
-  values.reserve((unique.size() + 2) * nv);
-  for (const auto& [angle, row] : unique) {
-    angles.push_back(angle);
-    values.insert(values.end(), d.candela.begin() + static_cast<std::ptrdiff_t>(row * nv),
-                  d.candela.begin() + static_cast<std::ptrdiff_t>((row + 1) * nv));
-  }
-
-  if (d.type == PhotometricType::C && d.symmetry != Symmetry::Rotational) {
-    // Close the circle: a plane at 0 (interpolated across the seam if the data
-    // has none) and its copy at 360.
-    if (angles.front() > kAngleTol) {
-      const double lo = angles.back() - 360.0, hi = angles.front();
-      const double t = (0.0 - lo) / (hi - lo);
-      std::vector<double> row(nv);
-      const std::size_t last = angles.size() - 1;
-      for (std::size_t v = 0; v < nv; ++v)
-        row[v] = values[last * nv + v] * (1.0 - t) + values[v] * t;
-      angles.insert(angles.begin(), 0.0);
-      values.insert(values.begin(), row.begin(), row.end());
+  // Sort by angle; of each run of near-equal angles keep the one listed
+  // first (a stored plane before its mirror images).
+  std::vector<std::size_t> order(planes.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return planes[a].first < planes[b].first; });
+  std::vector<ExpandedPlane> out;
+  out.reserve(order.size() + 2);
+  for (std::size_t i = 0; i < order.size();) {
+    std::size_t best = order[i], j = i + 1;
+    while (j < order.size() && near(planes[order[j]].first, planes[order[j - 1]].first)) {
+      best = std::min(best, order[j]);
+      ++j;
     }
-    angles.push_back(360.0);
-    values.insert(values.end(), values.begin(), values.begin() + static_cast<std::ptrdiff_t>(nv));
+    out.push_back({planes[best].first, planes[best].second, planes[best].second, 0.0});
+    i = j;
   }
 
-  e.horizontal_deg = std::move(angles);
-  e.candela = std::move(values);
+  if (d.type == PhotometricType::C) {
+    // Close the circle: a plane at 0 (blended across the seam if the data
+    // has none) and its copy at 360.
+    if (out.front().angle_deg > kAngleTol) {
+      const double lo = out.back().angle_deg - 360.0, hi = out.front().angle_deg;
+      const double t = (0.0 - lo) / (hi - lo);
+      out.insert(out.begin(), {0.0, out.back().row, out.front().row, t});
+    }
+    ExpandedPlane closing = out.front();
+    closing.angle_deg = 360.0;
+    out.push_back(closing);
+  }
+  return out;
+}
+
+Distribution expand_symmetry(const Distribution& d) {
+  const std::vector<ExpandedPlane> planes = expanded_planes(d);
+  Distribution e = d;
+  e.symmetry = Symmetry::None;
+  const std::size_t nv = d.vertical_deg.size();
+  e.horizontal_deg.resize(planes.size());
+  e.candela.resize(planes.size() * nv);
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    const ExpandedPlane& plane = planes[p];
+    e.horizontal_deg[p] = plane.angle_deg;
+    const double* a = d.candela.data() + plane.row * nv;
+    const double* b = d.candela.data() + plane.row_b * nv;
+    double* out = e.candela.data() + p * nv;
+    for (std::size_t v = 0; v < nv; ++v)
+      out[v] = plane.t == 0.0 ? a[v] : a[v] * (1.0 - plane.t) + b[v] * plane.t;
+  }
   return e;
 }
 

@@ -186,6 +186,23 @@ Status validate(const Distribution& d);
 // Requires validate(d).ok().
 Distribution expand_symmetry(const Distribution& d);
 
+// One plane of expand_symmetry(d): its horizontal angle and the stored rows
+// its intensities come from, (1 − t)·row + t·row_b. Planes copied from a
+// stored row (the usual case) have row_b = row and t = 0; only the plane at
+// C = 0 that closes a full-range Type C input without one is a blend of the
+// two planes beside the seam (and so is its copy at C = 360).
+struct ExpandedPlane {
+  double angle_deg;   // C or H of the expanded plane [deg]
+  std::size_t row;    // stored row (index into horizontal_deg)
+  std::size_t row_b;  // second stored row of a blend; = row otherwise
+  double t;           // blend weight of row_b, in [0, 1)
+};
+
+// The planes of expand_symmetry(d), in increasing angle, without building the
+// expanded intensities (what integration and resampling need). O(n log n) in
+// the number of stored planes. Requires validate(d).ok().
+std::vector<ExpandedPlane> expanded_planes(const Distribution& d);
+
 // Intensity [cd] at a direction given by grid angles [deg], by bilinear
 // interpolation on a distribution returned by expand_symmetry():
 // Type C: (c_deg, gamma_deg), C taken modulo 360 so the seam is continuous;

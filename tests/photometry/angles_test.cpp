@@ -167,5 +167,46 @@ TEST(Angles, SolidAngleJacobianMatchesTheMapping) {
   EXPECT_NEAR(c, 4 * kPi, 1e-5);
 }
 
+// A smooth, asymmetric intensity of the local direction.
+double field(const Vec3& d) { return 100.0 + 40.0 * d.x + 25.0 * d.y - 30.0 * d.z + 10.0 * d.x * d.y; }
+
+Distribution sample(PhotometricType type, std::vector<double> h, std::vector<double> v) {
+  Distribution d;
+  d.type = type;
+  d.symmetry = Symmetry::None;
+  d.horizontal_deg = std::move(h);
+  d.vertical_deg = std::move(v);
+  for (double hh : d.horizontal_deg)
+    for (double vv : d.vertical_deg) d.candela.push_back(field(direction_from_grid(type, hh, vv)));
+  d.absolute = true;
+  d.lamps = {LampSet{}};
+  return d;
+}
+
+std::vector<double> steps(double from, double to, double step) {
+  std::vector<double> out;
+  for (int i = 0; from + i * step <= to + 1e-9; ++i) out.push_back(from + i * step);
+  return out;
+}
+
+TEST(Angles, IntensityTowardADirectionReadsTheRightGridCell) {
+  const Distribution b = expand_symmetry(sample(PhotometricType::B, steps(-90, 90, 1), steps(-90, 90, 1)));
+  const Distribution a = expand_symmetry(sample(PhotometricType::A, steps(-90, 90, 1), steps(-90, 90, 1)));
+  const Distribution c = expand_symmetry(sample(PhotometricType::C, steps(0, 360, 1), steps(0, 180, 1)));
+  for (double u = -0.9; u <= 0.9; u += 0.3) {
+    for (double w = -0.9; w <= 0.9; w += 0.3) {
+      const Vec3 down = normalize(Vec3{u, w, -1.0});   // lower hemisphere: inside Type B's grid
+      const Vec3 front = normalize(Vec3{1.0, u, w});   // x > 0: inside Type A's grid
+      EXPECT_NEAR(intensity_toward(b, down), field(down), 0.02);
+      EXPECT_NEAR(intensity_toward(a, front), field(front), 0.02);
+      EXPECT_NEAR(intensity_toward(c, down), field(down), 0.02);
+      EXPECT_NEAR(intensity_toward(c, -front), field(-front), 0.02);
+      // Outside the LM-63 grids nothing is measured, so nothing is emitted.
+      EXPECT_EQ(intensity_toward(b, -down), 0.0);
+      EXPECT_EQ(intensity_toward(a, -front), 0.0);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gonio::photometry
