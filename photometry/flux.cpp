@@ -233,24 +233,37 @@ double total_flux_lm(const Distribution& d) {
   return d.type == PhotometricType::C ? flux_c(d, -inf, inf) : flux_ab(d, -inf, inf);
 }
 
-double zonal_flux_lm(const Distribution& d, double gamma_from_deg, double gamma_to_deg) {
-  GONIO_CHECK_MSG(validate(d).ok(), "zonal_flux_lm needs a valid distribution");
-  const double from = std::clamp(gamma_from_deg, 0.0, 180.0), to = std::clamp(gamma_to_deg, 0.0, 180.0);
-  if (!(to > from)) return 0.0;
-  switch (d.type) {
-    case PhotometricType::C: return flux_c(d, from * kDeg, to * kDeg);
-    case PhotometricType::A: return flux_ab(d, (from - 90.0) * kDeg, (to - 90.0) * kDeg);
-    case PhotometricType::B: break;
+ZonalFlux::ZonalFlux(const Distribution& d) : total_lm_(total_flux_lm(d)) {
+  if (d.type != PhotometricType::B) {
+    grid_ = d;
+    return;
   }
-  const double total = total_flux_lm(d);
-  if (total == 0.0) return 0.0;
   TypeCGrid fine;
   fine.c_step_deg = 0.5;
   fine.gamma_step_deg = 0.5;
-  const Result<Distribution> c = to_type_c(d, fine);
+  Result<Distribution> c = to_type_c(d, fine);
   GONIO_CHECK(c.ok());
-  const double whole = total_flux_lm(*c);
-  return whole == 0.0 ? 0.0 : total * flux_c(*c, from * kDeg, to * kDeg) / whole;
+  grid_ = std::move(c).value();
+  const double whole = total_flux_lm(grid_);
+  scale_ = whole != 0.0 ? total_lm_ / whole : 0.0;
+}
+
+double ZonalFlux::zone_lm(double gamma_from_deg, double gamma_to_deg) const {
+  const double from = std::clamp(gamma_from_deg, 0.0, 180.0), to = std::clamp(gamma_to_deg, 0.0, 180.0);
+  if (!(to > from)) return 0.0;
+  if (grid_.type == PhotometricType::A) return flux_ab(grid_, (from - 90.0) * kDeg, (to - 90.0) * kDeg);
+  return scale_ * flux_c(grid_, from * kDeg, to * kDeg);
+}
+
+double zonal_flux_lm(const Distribution& d, double gamma_from_deg, double gamma_to_deg) {
+  GONIO_CHECK_MSG(validate(d).ok(), "zonal_flux_lm needs a valid distribution");
+  if (d.type != PhotometricType::B) {
+    const double from = std::clamp(gamma_from_deg, 0.0, 180.0), to = std::clamp(gamma_to_deg, 0.0, 180.0);
+    if (!(to > from)) return 0.0;
+    return d.type == PhotometricType::C ? flux_c(d, from * kDeg, to * kDeg)
+                                        : flux_ab(d, (from - 90.0) * kDeg, (to - 90.0) * kDeg);
+  }
+  return ZonalFlux(d).zone_lm(gamma_from_deg, gamma_to_deg);
 }
 
 double downward_flux_lm(const Distribution& d) { return zonal_flux_lm(d, 0.0, 90.0); }

@@ -67,4 +67,20 @@ double zonal_flux_lm(const Distribution& d, double gamma_from_deg, double gamma_
 double downward_flux_lm(const Distribution& d);
 double upward_flux_lm(const Distribution& d);
 
+// Many zones of one distribution: the preparation (for Type B, the
+// resampling) is done once. zone_lm(a, b) == zonal_flux_lm(d, a, b) and
+// total_lm() == total_flux_lm(d). Holds a copy of what it needs, so `d` may
+// go away. Requires validate(d).ok().
+class ZonalFlux {
+ public:
+  explicit ZonalFlux(const Distribution& d);
+  double total_lm() const { return total_lm_; }
+  double zone_lm(double gamma_from_deg, double gamma_to_deg) const;
+
+ private:
+  Distribution grid_;   // d, or for Type B its Type C resampling
+  double total_lm_;     // total_flux_lm(d)
+  double scale_ = 1.0;  // total_lm_ over the flux of grid_ (Type B)
+};
+
 }  // namespace gonio::photometry
