@@ -87,7 +87,7 @@ Result<Distribution> to_type_c(const Distribution& d, const TypeCGrid& grid) {
     return fail("the C-plane step " + deg(cs) + " deg does not divide the C range " + deg(cr.from) + ".." +
                 deg(cr.to) + " deg into whole steps");
   const long nc = sym == Symmetry::Rotational ? 1 : steps + 1;
-  const Range gr = gamma_range(d, gs);
+  const Range gr = grid.whole_sphere ? Range{0.0, 180.0} : gamma_range(d, gs);
   const long ng = std::lround((gr.to - gr.from) / gs) + 1;
   // Intensities sampled: the rotational mean samples a whole circle per γ.
   const double sampled = static_cast<double>(ng) * static_cast<double>(sym == Symmetry::Rotational ? steps : nc);

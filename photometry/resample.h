@@ -23,15 +23,18 @@ struct TypeCGrid {
   // Asking for more symmetry than the data has keeps only the stored range
   // of C (Symmetry::Rotational keeps the mean over C at each γ).
   std::optional<Symmetry> symmetry;
+  // Cover γ 0…180° whatever the data measured (unmeasured directions are 0),
+  // so that grids of different distributions coincide.
+  bool whole_sphere = false;
 };
 
 // The distribution `d` sampled on `grid`: planes C = 0, step, … over the
 // symmetry's range (0…360° inclusive for Symmetry::None, 0…90° for
 // quadrant, 0…180° for C0–C180, 90…270° for C90–C270, the single plane 0° for
 // rotational), and γ over the smallest whole-step range that holds every
-// measured direction (Type B: 0…90°; Type A: V + 90° snapped outwards; Type C:
-// its γ range snapped outwards). Each value is interpolate() of the expanded
-// input at that direction (bilinear in the input's own grid angles), so a
+// measured direction (Type B: 0…90°; Type A: V + 90° snapped outwards;
+// Type C: its γ range snapped outwards), or 0…180° with `whole_sphere`.
+// Each value is interpolate() of the expanded input at that direction (bilinear in the input's own grid angles), so a
 // Type C input on a grid that contains the output's angles comes back
 // unchanged, and directions the input never measured are 0.
 //
