@@ -12,7 +12,9 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-double input_power(const Distribution& d) {
+}  // namespace
+
+double input_power_w(const Distribution& d) {
   if (std::isfinite(d.input_watts) && d.input_watts > 0.0) return d.input_watts;
   if (d.lamps.empty()) return kNaN;
   double sum = 0.0;
@@ -22,8 +24,6 @@ double input_power(const Distribution& d) {
   }
   return sum;
 }
-
-}  // namespace
 
 Summary summarize(const Distribution& d) {
   GONIO_CHECK_MSG(validate(d).ok(), "summarize needs a valid distribution");
@@ -63,7 +63,7 @@ Summary summarize(const Distribution& d) {
   s.field_c90_c270 = field_angle(d, 90.0);
 
   s.cie_flux_code = cie_flux_code(zones, s.lor);
-  s.input_power_w = input_power(d);
+  s.input_power_w = input_power_w(d);
   if (std::isfinite(s.input_power_w)) s.efficacy_lm_per_w = s.flux_lm / s.input_power_w;
   return s;
 }

@@ -51,13 +51,15 @@ struct Summary {
 
   CieFluxCode cie_flux_code;
 
-  // Electrical input: `input_watts`, or else the sum of the lamp sets'
-  // wattage where every set has one; NaN if unknown.
-  double input_power_w = kNaN;          // [W]
+  double input_power_w = kNaN;          // input_power_w(d) [W]; NaN if unknown
   double efficacy_lm_per_w = kNaN;      // flux_lm / input_power_w [lm/W]; NaN if the power is unknown
 };
 
 // Every value above for `d`. Requires validate(d).ok().
 Summary summarize(const Distribution& d);
+
+// The luminaire's electrical input [W]: `input_watts` if it is a positive
+// number, else the sum of the lamp sets' wattage if every set has one, else NaN.
+double input_power_w(const Distribution& d);
 
 }  // namespace gonio::photometry
