@@ -197,7 +197,11 @@ Status validate(const Distribution& d) {
 }
 
 std::vector<ExpandedPlane> expanded_planes(const Distribution& d) {
-  GONIO_CHECK_MSG(validate(d).ok(), "expanded_planes needs a valid distribution");
+  // The full precondition costs a pass over the data; callers have checked
+  // it. Sizes are what memory safety rests on.
+  GONIO_CHECK_MSG(!d.horizontal_deg.empty() && !d.vertical_deg.empty() &&
+                      d.candela.size() == d.horizontal_deg.size() * d.vertical_deg.size(),
+                  "expanded_planes needs a valid distribution");
   // (angle, source row) pairs, stored planes first so that they win ties.
   std::vector<std::pair<double, std::size_t>> planes;
   if (d.type != PhotometricType::C) {
@@ -259,6 +263,7 @@ std::vector<ExpandedPlane> expanded_planes(const Distribution& d) {
 }
 
 Distribution expand_symmetry(const Distribution& d) {
+  GONIO_CHECK_MSG(validate(d).ok(), "expand_symmetry needs a valid distribution");
   const std::vector<ExpandedPlane> planes = expanded_planes(d);
   Distribution e = d;
   e.symmetry = Symmetry::None;

@@ -200,7 +200,8 @@ struct ExpandedPlane {
 
 // The planes of expand_symmetry(d), in increasing angle, without building the
 // expanded intensities (what integration and resampling need). O(n log n) in
-// the number of stored planes. Requires validate(d).ok().
+// the number of stored planes. Requires validate(d).ok() (only the sizes are
+// checked here: the full check is a pass over the data).
 std::vector<ExpandedPlane> expanded_planes(const Distribution& d);
 
 // Intensity [cd] at a direction given by grid angles [deg], by bilinear

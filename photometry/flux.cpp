@@ -84,8 +84,12 @@ class Axis {
     const std::size_t n = x_.size();
     for (std::size_t k = 0; k + 1 < n; ++k) {
       h_.push_back(x_[k + 1] - x_[k]);
+      inv_h_.push_back(1.0 / h_.back());
       m_.push_back(moments(x_[k], x_[k + 1], x_[k], x_[k + 1], w));
     }
+    // Weights of the three-point slope at interior nodes.
+    left_.assign(n, 0.0);
+    for (std::size_t k = 1; k + 1 < n; ++k) left_[k] = h_[k] / (h_[k - 1] + h_[k]);
     s_.resize(n);
     dl_.resize(n);
     dr_.resize(n);
@@ -136,10 +140,8 @@ class Axis {
     const double tiny = 1e-12 * scale;
     for (std::size_t k = 0; k + 1 < n; ++k) {
       const double df = f[k + 1] - f[k];
-      s_[k] = std::abs(df) <= tiny ? 0.0 : df / h_[k];
+      s_[k] = std::abs(df) <= tiny ? 0.0 : df * inv_h_[k];
     }
-    std::fill(dl_.begin(), dl_.end(), 0.0);
-    std::fill(dr_.begin(), dr_.end(), 0.0);
     // Boundary nodes: the parabola through the first (last) three nodes.
     dr_[0] = n > 2 ? limit(end_slope(h_[0], h_[1], s_[0], s_[1]), s_[0], s_[0]) : s_[0];
     dl_[n - 1] = n > 2 ? limit(end_slope(h_[n - 2], h_[n - 3], s_[n - 2], s_[n - 3]), s_[n - 2], s_[n - 2])
@@ -147,20 +149,24 @@ class Axis {
     for (std::size_t k = 1; k + 1 < n; ++k) {
       const double l = s_[k - 1], r = s_[k];
       if (l * r > 0.0) {
-        const double d = (h_[k] * l + h_[k - 1] * r) / (h_[k - 1] + h_[k]);
-        dl_[k] = dr_[k] = limit(d, l, r);
+        // Three-point slope, limited to three times the smaller secant.
+        const double d = l + left_[k] * (r - l);
+        const double bound = 3.0 * std::min(std::abs(l), std::abs(r));
+        dl_[k] = dr_[k] = std::abs(d) <= bound ? d : std::copysign(bound, l);
       } else if (std::abs(f[k]) <= tiny && ((l == 0.0) != (r == 0.0))) {
         // Edge of a dark run: the lit side keeps the slope of its own
         // parabola if it is monotone over two segments (a smooth flank, not
         // an under-resolved step).
-        if (l != 0.0 && k >= 2) dl_[k] = limit(end_slope(h_[k - 1], h_[k - 2], l, s_[k - 2]), l, s_[k - 2]);
-        if (r != 0.0 && k + 2 < n) dr_[k] = limit(end_slope(h_[k], h_[k + 1], r, s_[k + 1]), r, s_[k + 1]);
+        dl_[k] = l != 0.0 && k >= 2 ? limit(end_slope(h_[k - 1], h_[k - 2], l, s_[k - 2]), l, s_[k - 2]) : 0.0;
+        dr_[k] = r != 0.0 && k + 2 < n ? limit(end_slope(h_[k], h_[k + 1], r, s_[k + 1]), r, s_[k + 1]) : 0.0;
+      } else {
+        dl_[k] = dr_[k] = 0.0;
       }
     }
   }
 
   Weight w_;
-  std::vector<double> x_, h_;
+  std::vector<double> x_, h_, inv_h_, left_;
   std::vector<Moments> m_;
   std::vector<double> s_, dl_, dr_;
 };
