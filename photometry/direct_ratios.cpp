@@ -23,22 +23,31 @@ std::array<double, N> ratios(const Distribution& d, const std::array<double, N>&
   std::array<double, N> direct{};
   double total = 0.0;
   const double dc = 2 * kPi / kPlanes, dg = kPi / kRings;
+  std::vector<double> c_deg(kPlanes), g_deg(kRings);
+  for (int i = 0; i < kPlanes; ++i) c_deg[i] = (i + 0.5) * dc / kDeg;
+  for (int j = 0; j < kRings; ++j) g_deg[j] = (j + 0.5) * dg / kDeg;
+  std::vector<double> intensity;
+  if (d.type == PhotometricType::C) {
+    intensity = interpolate_grid(e, c_deg, g_deg);
+  } else {
+    intensity.resize(c_deg.size() * g_deg.size());
+    for (int i = 0; i < kPlanes; ++i)
+      for (int j = 0; j < kRings; ++j)
+        intensity[i * kRings + j] = intensity_toward(e, direction_from_c_gamma(c_deg[i] * kDeg, g_deg[j] * kDeg));
+  }
+  // u = tan γ / (2k) per ring and room index.
+  std::vector<std::array<double, N>> u(kRings / 2);
+  for (int j = 0; j < kRings / 2; ++j)
+    for (std::size_t q = 0; q < N; ++q) u[j][q] = std::tan(g_deg[j] * kDeg) / (2.0 * room_index[q]);
   for (int i = 0; i < kPlanes; ++i) {
-    const double c = (i + 0.5) * dc;
+    const double c = c_deg[i] * kDeg;
     const double ac = std::abs(std::cos(c)), as = std::abs(std::sin(c));
     for (int j = 0; j < kRings; ++j) {
-      const double g = (j + 0.5) * dg;
-      const double intensity = d.type == PhotometricType::C
-                                   ? interpolate(e, c / kDeg, g / kDeg)
-                                   : intensity_toward(e, direction_from_c_gamma(c, g));
-      const double flux = intensity * std::sin(g) * dc * dg;
+      const double flux = intensity[i * kRings + j] * std::sin(g_deg[j] * kDeg) * dc * dg;
       total += flux;
-      if (g >= kPi / 2 || flux == 0.0) continue;
-      const double t = std::tan(g);
-      for (std::size_t q = 0; q < N; ++q) {
-        const double u = t / (2.0 * room_index[q]);
-        direct[q] += flux * std::max(0.0, 1.0 - u * ac) * std::max(0.0, 1.0 - u * as);
-      }
+      if (j >= kRings / 2 || flux == 0.0) continue;  // the upper hemisphere never lands
+      for (std::size_t q = 0; q < N; ++q)
+        direct[q] += flux * std::max(0.0, 1.0 - u[j][q] * ac) * std::max(0.0, 1.0 - u[j][q] * as);
     }
   }
   for (double& r : direct) r = total > 0.0 ? r / total : 0.0;

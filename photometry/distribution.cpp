@@ -1,6 +1,7 @@
 #include "photometry/distribution.h"
 
 #include <algorithm>
+#include <tuple>
 #include <utility>
 
 namespace gonio::photometry {
@@ -315,6 +316,76 @@ double interpolate(const Distribution& e, double horizontal_deg, double vertical
   if (hor.size() == 1) return column(0);
   auto [j, s] = bracket(hor, h);
   return column(j) * (1.0 - s) + column(j + 1) * s;
+}
+
+std::vector<double> interpolate_grid(const Distribution& e, const std::vector<double>& horizontal_deg,
+                                     const std::vector<double>& vertical_deg) {
+  GONIO_CHECK(e.symmetry == Symmetry::None);
+  const auto& vert = e.vertical_deg;
+  const auto& hor = e.horizontal_deg;
+  const std::size_t nv = vert.size();
+
+  // Per vertical angle: outside (0), a pole of Type C (one value), or a
+  // bracket in the stored angles.
+  enum class Kind { Outside, Pole, Inside };
+  struct Line {
+    Kind kind = Kind::Outside;
+    std::size_t i = 0;
+    double t = 0.0;
+    double pole = 0.0;
+  };
+  std::vector<Line> rows(vertical_deg.size());
+  for (std::size_t j = 0; j < vertical_deg.size(); ++j) {
+    double v = vertical_deg[j];
+    Line& line = rows[j];
+    if (!(v >= vert.front() - kAngleTol && v <= vert.back() + kAngleTol)) continue;
+    v = std::clamp(v, vert.front(), vert.back());
+    if (e.type == PhotometricType::C && (near(v, 0.0) || near(v, 180.0))) {
+      const std::size_t k = near(v, 0.0) ? 0 : nv - 1;
+      if (near(vert[k], v)) {
+        line.kind = Kind::Pole;
+        line.pole = circular_mean(e, k);
+        continue;
+      }
+    }
+    line.kind = Kind::Inside;
+    if (nv > 1) std::tie(line.i, line.t) = bracket(vert, v);
+  }
+  std::vector<Line> cols(horizontal_deg.size());
+  for (std::size_t i = 0; i < horizontal_deg.size(); ++i) {
+    double h = horizontal_deg[i];
+    Line& line = cols[i];
+    if (e.type == PhotometricType::C) {
+      h = std::fmod(h, 360.0);
+      if (h < 0.0) h += 360.0;
+    } else if (!(h >= hor.front() - kAngleTol && h <= hor.back() + kAngleTol)) {
+      continue;
+    }
+    line.kind = Kind::Inside;
+    if (hor.size() > 1) std::tie(line.i, line.t) = bracket(hor, std::clamp(h, hor.front(), hor.back()));
+  }
+
+  std::vector<double> out(horizontal_deg.size() * vertical_deg.size(), 0.0);
+  for (std::size_t i = 0; i < cols.size(); ++i) {
+    if (cols[i].kind == Kind::Outside) continue;
+    const std::size_t j0 = cols[i].i, j1 = hor.size() > 1 ? j0 + 1 : j0;
+    const double s = cols[i].t;
+    const double* r0 = e.candela.data() + j0 * nv;
+    const double* r1 = e.candela.data() + j1 * nv;
+    double* o = out.data() + i * vertical_deg.size();
+    for (std::size_t j = 0; j < rows.size(); ++j) {
+      const Line& row = rows[j];
+      if (row.kind == Kind::Pole) {
+        o[j] = row.pole;
+      } else if (row.kind == Kind::Inside) {
+        const std::size_t k0 = row.i, k1 = nv > 1 ? k0 + 1 : k0;
+        const double a = r0[k0] * (1.0 - row.t) + r0[k1] * row.t;
+        const double b = r1[k0] * (1.0 - row.t) + r1[k1] * row.t;
+        o[j] = hor.size() > 1 ? a * (1.0 - s) + b * s : a;
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace gonio::photometry

@@ -213,4 +213,10 @@ std::vector<ExpandedPlane> expanded_planes(const Distribution& d);
 // Types A/B: (h_deg, v_deg); 0 outside the stored ranges.
 double interpolate(const Distribution& expanded, double horizontal_deg, double vertical_deg);
 
+// interpolate() at every point of the tensor grid horizontal_deg × vertical_deg,
+// as out[i * vertical_deg.size() + j] for (horizontal_deg[i], vertical_deg[j]):
+// the same values, with one search per grid line instead of two per point.
+std::vector<double> interpolate_grid(const Distribution& expanded, const std::vector<double>& horizontal_deg,
+                                     const std::vector<double>& vertical_deg);
+
 }  // namespace gonio::photometry

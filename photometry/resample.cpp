@@ -95,9 +95,13 @@ Result<Distribution> to_type_c(const Distribution& d, const TypeCGrid& grid) {
     return fail("a " + deg(cs) + " x " + deg(gs) + " deg grid would hold more than 10^7 intensities");
 
   const Distribution e = expand_symmetry(d);
-  auto sample = [&](double c, double g) {
-    if (d.type == PhotometricType::C) return interpolate(e, c, g);
-    return intensity_toward(e, direction_from_c_gamma(c * kDeg, g * kDeg));
+  auto sample_grid = [&](const std::vector<double>& c, const std::vector<double>& g) {
+    if (d.type == PhotometricType::C) return interpolate_grid(e, c, g);
+    std::vector<double> values(c.size() * g.size());
+    for (std::size_t i = 0; i < c.size(); ++i)
+      for (std::size_t j = 0; j < g.size(); ++j)
+        values[i * g.size() + j] = intensity_toward(e, direction_from_c_gamma(c[i] * kDeg, g[j] * kDeg));
+    return values;
   };
 
   Distribution out = d;
@@ -114,16 +118,16 @@ Result<Distribution> to_type_c(const Distribution& d, const TypeCGrid& grid) {
 
   if (sym == Symmetry::Rotational) {
     // The mean over C (trapezoid on a circle: every plane weighs the same).
-    const long planes = steps;
+    std::vector<double> circle(static_cast<std::size_t>(steps));
+    for (long i = 0; i < steps; ++i) circle[static_cast<std::size_t>(i)] = 360.0 * i / steps;
+    const std::vector<double> values = sample_grid(circle, out.vertical_deg);
     for (std::size_t v = 0; v < out.vertical_count(); ++v) {
       double sum = 0.0;
-      for (long i = 0; i < planes; ++i) sum += sample(360.0 * i / planes, out.vertical_deg[v]);
-      out.at(0, v) = sum / planes;
+      for (std::size_t i = 0; i < circle.size(); ++i) sum += values[i * out.vertical_count() + v];
+      out.at(0, v) = sum / static_cast<double>(steps);
     }
   } else {
-    for (std::size_t h = 0; h < out.horizontal_count(); ++h)
-      for (std::size_t v = 0; v < out.vertical_count(); ++v)
-        out.at(h, v) = sample(out.horizontal_deg[h], out.vertical_deg[v]);
+    out.candela = sample_grid(out.horizontal_deg, out.vertical_deg);
   }
   return out;
 }

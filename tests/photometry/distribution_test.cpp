@@ -214,6 +214,36 @@ TEST(Distribution, ExpansionOfManyPlanesKeepsEveryAngleOnce) {
     EXPECT_NEAR(e.horizontal_deg[h] - e.horizontal_deg[h - 1], 0.25, 1e-9);
 }
 
+TEST(Distribution, InterpolateGridEqualsInterpolateAtEveryPoint) {
+  // Grid lines inside, outside, on the poles, across the seam, and for Types A/B.
+  const std::vector<double> hs = {-725, -90, -45.5, -0.0, 0, 3.3, 89.99, 90, 90.01, 179, 359.5, 360, 361, 1e3};
+  const std::vector<double> vs = {-100, -90, -12.5, 0, 1e-12, 7.7, 90, 123.4, 180, 180.5};
+  Distribution c = make_c(Symmetry::None, {0, 40, 90, 200, 270, 360}, {0, 30, 90, 180},
+                          [](double cc, double g) { return 1 + cc + 10 * std::sin(g); });
+  Distribution partial = make_c(Symmetry::C0_C180, range(0, 180, 45), range(10, 120, 10), asym);
+  Distribution rot = make_c(Symmetry::Rotational, {0}, {0, 45, 90}, asym);
+  Distribution b;
+  b.type = PhotometricType::B;
+  b.symmetry = Symmetry::Lateral;
+  b.horizontal_deg = {0, 30, 90};
+  b.vertical_deg = {-90, -10, 0, 45, 90};
+  for (int i = 0; i < 15; ++i) b.candela.push_back(3.0 * i + 1);
+  b.absolute = true;
+  Distribution a = b;
+  a.type = PhotometricType::A;
+  a.symmetry = Symmetry::None;
+  a.horizontal_deg = {-60, 0, 60};
+  for (const Distribution* d : {&c, &partial, &rot, &b, &a}) {
+    const Distribution e = expand_symmetry(*d);
+    const std::vector<double> grid = interpolate_grid(e, hs, vs);
+    ASSERT_EQ(grid.size(), hs.size() * vs.size());
+    for (std::size_t i = 0; i < hs.size(); ++i)
+      for (std::size_t j = 0; j < vs.size(); ++j)
+        EXPECT_NEAR(grid[i * vs.size() + j], interpolate(e, hs[i], vs[j]), 1e-12)
+            << to_string(d->type) << " " << hs[i] << " " << vs[j];
+  }
+}
+
 TEST(Distribution, KeywordsAndLampFlux) {
   Distribution d;
   d.set_keyword("MANUFAC", "Acme");
