@@ -27,14 +27,16 @@ std::vector<double> steps(double from, double to, double step) {
 }
 
 // A smooth asymmetric downlight with some uplight, on a full C 0..360 grid.
-Distribution grid(double c_step, double gamma_step, Symmetry sym = Symmetry::None, double c_to = 360.0) {
+Distribution grid(double c_step, double gamma_step, Symmetry sym = Symmetry::None,
+                  double c_to = 360.0) {
   Distribution d;
   d.symmetry = sym;
   d.horizontal_deg = steps(0, c_to, c_step);
   d.vertical_deg = steps(0, 180, gamma_step);
   for (double c : d.horizontal_deg)
     for (double g : d.vertical_deg) {
-      const double cg = std::cos(g * std::numbers::pi / 180), cc = std::cos(c * std::numbers::pi / 180);
+      const double cg = std::cos(g * std::numbers::pi / 180),
+                   cc = std::cos(c * std::numbers::pi / 180);
       d.candela.push_back(cg > 0 ? 1000 * std::pow(cg, 4) * (1 + 0.3 * cc * cc) : 40 * -cg);
     }
   d.lamps = {LampSet{1, "LED", 5000.0, "", "", 40.0}};
@@ -42,9 +44,7 @@ Distribution grid(double c_step, double gamma_step, Symmetry sym = Symmetry::Non
 }
 
 // Grid sizes as (C step, γ step): 361 × 181 (1°), 73 × 37 (5°).
-void grids(benchmark::internal::Benchmark* b) {
-  b->Args({1, 1})->Args({5, 5});
-}
+void grids(benchmark::internal::Benchmark* b) { b->Args({1, 1})->Args({5, 5}); }
 
 void BM_SumCandelaBaseline(benchmark::State& state) {
   const Distribution d = grid(state.range(0), state.range(1));
@@ -61,8 +61,8 @@ void BM_TotalFlux(benchmark::State& state) {
   const Distribution d = grid(state.range(0), state.range(1));
   for (auto _ : state) benchmark::DoNotOptimize(total_flux_lm(d));
   state.SetLabel(std::to_string(d.horizontal_count()) + "x" + std::to_string(d.vertical_count()));
-  state.counters["intensities/s"] =
-      benchmark::Counter(static_cast<double>(d.candela.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["intensities/s"] = benchmark::Counter(
+      static_cast<double>(d.candela.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_TotalFlux)->Apply(grids)->Unit(benchmark::kMicrosecond);
 

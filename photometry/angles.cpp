@@ -38,9 +38,12 @@ HV type_b_from_direction(const Vec3& local) {
 
 Vec3 direction_from_grid(PhotometricType type, double horizontal_deg, double vertical_deg) {
   switch (type) {
-    case PhotometricType::A: return direction_from_type_a(horizontal_deg * kDeg, vertical_deg * kDeg);
-    case PhotometricType::B: return direction_from_type_b(horizontal_deg * kDeg, vertical_deg * kDeg);
-    case PhotometricType::C: break;
+    case PhotometricType::A:
+      return direction_from_type_a(horizontal_deg * kDeg, vertical_deg * kDeg);
+    case PhotometricType::B:
+      return direction_from_type_b(horizontal_deg * kDeg, vertical_deg * kDeg);
+    case PhotometricType::C:
+      break;
   }
   return direction_from_c_gamma(horizontal_deg * kDeg, vertical_deg * kDeg);
 }
@@ -55,7 +58,8 @@ GridAngles grid_from_direction(PhotometricType type, const Vec3& local) {
       const HV b = type_b_from_direction(local);
       return {b.h_rad / kDeg, b.v_rad / kDeg};
     }
-    case PhotometricType::C: break;
+    case PhotometricType::C:
+      break;
   }
   const CGamma c = c_gamma_from_direction(local);
   return {c.c_rad / kDeg, c.gamma_rad / kDeg};
@@ -63,9 +67,12 @@ GridAngles grid_from_direction(PhotometricType type, const Vec3& local) {
 
 double solid_angle_jacobian(PhotometricType type, double horizontal_rad, double vertical_rad) {
   switch (type) {
-    case PhotometricType::A: return std::cos(vertical_rad);
-    case PhotometricType::B: return std::cos(horizontal_rad);
-    case PhotometricType::C: break;
+    case PhotometricType::A:
+      return std::cos(vertical_rad);
+    case PhotometricType::B:
+      return std::cos(horizontal_rad);
+    case PhotometricType::C:
+      break;
   }
   return std::sin(vertical_rad);
 }

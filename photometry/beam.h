@@ -51,7 +51,11 @@ struct BeamSpread {
 BeamSpread beam_spread(const Distribution& d, double c_deg, double fraction);
 
 // beam_spread() at 50 % (beam angle) and 10 % (field angle).
-inline BeamSpread beam_angle(const Distribution& d, double c_deg) { return beam_spread(d, c_deg, 0.5); }
-inline BeamSpread field_angle(const Distribution& d, double c_deg) { return beam_spread(d, c_deg, 0.1); }
+inline BeamSpread beam_angle(const Distribution& d, double c_deg) {
+  return beam_spread(d, c_deg, 0.5);
+}
+inline BeamSpread field_angle(const Distribution& d, double c_deg) {
+  return beam_spread(d, c_deg, 0.1);
+}
 
 }  // namespace gonio::photometry

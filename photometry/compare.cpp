@@ -38,7 +38,8 @@ double difference(const BeamSpread& a, const BeamSpread& b) { return b.angle_deg
 
 }  // namespace
 
-Result<Comparison> compare(const Distribution& a, const Distribution& b, const CompareOptions& options) {
+Result<Comparison> compare(const Distribution& a, const Distribution& b,
+                           const CompareOptions& options) {
   TypeCGrid grid;
   grid.c_step_deg = options.c_step_deg;
   grid.gamma_step_deg = options.gamma_step_deg;
@@ -53,7 +54,8 @@ Result<Comparison> compare(const Distribution& a, const Distribution& b, const C
   r.flux_a_lm = total_flux_lm(a);
   r.flux_b_lm = total_flux_lm(b);
   if (r.flux_a_lm != 0.0) r.flux_ratio = r.flux_b_lm / r.flux_a_lm;
-  if (options.normalize_flux && r.flux_a_lm != 0.0 && r.flux_b_lm != 0.0) r.scale = r.flux_a_lm / r.flux_b_lm;
+  if (options.normalize_flux && r.flux_a_lm != 0.0 && r.flux_b_lm != 0.0)
+    r.scale = r.flux_a_lm / r.flux_b_lm;
 
   const std::vector<double>& ia = ga->candela;
   const std::vector<double>& ib = gb->candela;

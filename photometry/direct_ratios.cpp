@@ -33,7 +33,8 @@ std::array<double, N> ratios(const Distribution& d, const std::array<double, N>&
     intensity.resize(c_deg.size() * g_deg.size());
     for (int i = 0; i < kPlanes; ++i)
       for (int j = 0; j < kRings; ++j)
-        intensity[i * kRings + j] = intensity_toward(e, direction_from_c_gamma(c_deg[i] * kDeg, g_deg[j] * kDeg));
+        intensity[i * kRings + j] =
+            intensity_toward(e, direction_from_c_gamma(c_deg[i] * kDeg, g_deg[j] * kDeg));
   }
   // u = tan γ / (2k) per ring and room index.
   std::vector<std::array<double, N>> u(kRings / 2);
@@ -56,7 +57,9 @@ std::array<double, N> ratios(const Distribution& d, const std::array<double, N>&
 
 }  // namespace
 
-std::array<double, 10> direct_ratios(const Distribution& d) { return ratios(d, kDirectRatioRoomIndices); }
+std::array<double, 10> direct_ratios(const Distribution& d) {
+  return ratios(d, kDirectRatioRoomIndices);
+}
 
 double direct_ratio(const Distribution& d, double room_index) {
   GONIO_CHECK_MSG(room_index > 0.0, "direct_ratio needs a positive room index");

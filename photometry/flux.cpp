@@ -19,9 +19,12 @@ enum class Weight { One, Sin, Cos };
 
 double weight(Weight w, double x) {
   switch (w) {
-    case Weight::Sin: return std::sin(x);
-    case Weight::Cos: return std::cos(x);
-    case Weight::One: break;
+    case Weight::Sin:
+      return std::sin(x);
+    case Weight::Cos:
+      return std::cos(x);
+    case Weight::One:
+      break;
   }
   return 1.0;
 }
@@ -33,10 +36,10 @@ constexpr std::array<double, 8> kGaussX = {
     0.5 - 0.5 * 0.9602898564975363, 0.5 - 0.5 * 0.7966664774136267, 0.5 - 0.5 * 0.5255324099163290,
     0.5 - 0.5 * 0.1834346424956498, 0.5 + 0.5 * 0.1834346424956498, 0.5 + 0.5 * 0.5255324099163290,
     0.5 + 0.5 * 0.7966664774136267, 0.5 + 0.5 * 0.9602898564975363};
-constexpr std::array<double, 8> kGaussW = {
-    0.5 * 0.1012285362903763, 0.5 * 0.2223810344533745, 0.5 * 0.3137066458778873,
-    0.5 * 0.3626837833783620, 0.5 * 0.3626837833783620, 0.5 * 0.3137066458778873,
-    0.5 * 0.2223810344533745, 0.5 * 0.1012285362903763};
+constexpr std::array<double, 8> kGaussW = {0.5 * 0.1012285362903763, 0.5 * 0.2223810344533745,
+                                           0.5 * 0.3137066458778873, 0.5 * 0.3626837833783620,
+                                           0.5 * 0.3626837833783620, 0.5 * 0.3137066458778873,
+                                           0.5 * 0.2223810344533745, 0.5 * 0.1012285362903763};
 
 // Integrals over [lo, hi] ⊆ [a, b] of the cubic Hermite basis functions of the
 // segment [a, b] (in t = (x − a)/(b − a)) times the weight:
@@ -118,8 +121,10 @@ class Axis {
     for (std::size_t k = 0; k + 1 < x_.size(); ++k) {
       const double a = x_[k], b = x_[k + 1];
       if (b <= lo || a >= hi) continue;
-      if (a >= lo && b <= hi) sum += segment(f, k, m_[k]);
-      else sum += segment(f, k, moments(a, b, std::max(a, lo), std::min(b, hi), w_));
+      if (a >= lo && b <= hi)
+        sum += segment(f, k, m_[k]);
+      else
+        sum += segment(f, k, moments(a, b, std::max(a, lo), std::min(b, hi), w_));
     }
     return sum;
   }
@@ -144,8 +149,9 @@ class Axis {
     }
     // Boundary nodes: the parabola through the first (last) three nodes.
     dr_[0] = n > 2 ? limit(end_slope(h_[0], h_[1], s_[0], s_[1]), s_[0], s_[0]) : s_[0];
-    dl_[n - 1] = n > 2 ? limit(end_slope(h_[n - 2], h_[n - 3], s_[n - 2], s_[n - 3]), s_[n - 2], s_[n - 2])
-                       : s_[n - 2];
+    dl_[n - 1] =
+        n > 2 ? limit(end_slope(h_[n - 2], h_[n - 3], s_[n - 2], s_[n - 3]), s_[n - 2], s_[n - 2])
+              : s_[n - 2];
     for (std::size_t k = 1; k + 1 < n; ++k) {
       const double l = s_[k - 1], r = s_[k];
       if (l * r > 0.0) {
@@ -157,8 +163,12 @@ class Axis {
         // Edge of a dark run: the lit side keeps the slope of its own
         // parabola if it is monotone over two segments (a smooth flank, not
         // an under-resolved step).
-        dl_[k] = l != 0.0 && k >= 2 ? limit(end_slope(h_[k - 1], h_[k - 2], l, s_[k - 2]), l, s_[k - 2]) : 0.0;
-        dr_[k] = r != 0.0 && k + 2 < n ? limit(end_slope(h_[k], h_[k + 1], r, s_[k + 1]), r, s_[k + 1]) : 0.0;
+        dl_[k] = l != 0.0 && k >= 2
+                     ? limit(end_slope(h_[k - 1], h_[k - 2], l, s_[k - 2]), l, s_[k - 2])
+                     : 0.0;
+        dr_[k] = r != 0.0 && k + 2 < n
+                     ? limit(end_slope(h_[k], h_[k + 1], r, s_[k + 1]), r, s_[k + 1])
+                     : 0.0;
       } else {
         dl_[k] = dr_[k] = 0.0;
       }
@@ -224,7 +234,8 @@ double flux_ab(const Distribution& d, double lo, double hi) {
   const std::vector<ExpandedPlane> planes = expanded_planes(d);
   const bool type_a = d.type == PhotometricType::A;
   Axis vertical(d.vertical_deg, type_a ? Weight::Cos : Weight::One);
-  const auto g = plane_integrals(d, planes, [&](const double* row) { return vertical.integrate(row, lo, hi); });
+  const auto g = plane_integrals(
+      d, planes, [&](const double* row) { return vertical.integrate(row, lo, hi); });
   std::vector<double> h_deg(planes.size());
   for (std::size_t p = 0; p < planes.size(); ++p) h_deg[p] = planes[p].angle_deg;
   Axis horizontal(h_deg, type_a ? Weight::One : Weight::Cos);
@@ -255,16 +266,19 @@ ZonalFlux::ZonalFlux(const Distribution& d) : total_lm_(total_flux_lm(d)) {
 }
 
 double ZonalFlux::zone_lm(double gamma_from_deg, double gamma_to_deg) const {
-  const double from = std::clamp(gamma_from_deg, 0.0, 180.0), to = std::clamp(gamma_to_deg, 0.0, 180.0);
+  const double from = std::clamp(gamma_from_deg, 0.0, 180.0),
+               to = std::clamp(gamma_to_deg, 0.0, 180.0);
   if (!(to > from)) return 0.0;
-  if (grid_.type == PhotometricType::A) return flux_ab(grid_, (from - 90.0) * kDeg, (to - 90.0) * kDeg);
+  if (grid_.type == PhotometricType::A)
+    return flux_ab(grid_, (from - 90.0) * kDeg, (to - 90.0) * kDeg);
   return scale_ * flux_c(grid_, from * kDeg, to * kDeg);
 }
 
 double zonal_flux_lm(const Distribution& d, double gamma_from_deg, double gamma_to_deg) {
   GONIO_CHECK_MSG(validate(d).ok(), "zonal_flux_lm needs a valid distribution");
   if (d.type != PhotometricType::B) {
-    const double from = std::clamp(gamma_from_deg, 0.0, 180.0), to = std::clamp(gamma_to_deg, 0.0, 180.0);
+    const double from = std::clamp(gamma_from_deg, 0.0, 180.0),
+                 to = std::clamp(gamma_to_deg, 0.0, 180.0);
     if (!(to > from)) return 0.0;
     return d.type == PhotometricType::C ? flux_c(d, from * kDeg, to * kDeg)
                                         : flux_ab(d, (from - 90.0) * kDeg, (to - 90.0) * kDeg);

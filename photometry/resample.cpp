@@ -40,12 +40,16 @@ struct Range {
 
 Range c_range(Symmetry s) {
   switch (s) {
-    case Symmetry::Quadrant: return {0.0, 90.0};
-    case Symmetry::C0_C180: return {0.0, 180.0};
-    case Symmetry::C90_C270: return {90.0, 270.0};
+    case Symmetry::Quadrant:
+      return {0.0, 90.0};
+    case Symmetry::C0_C180:
+      return {0.0, 180.0};
+    case Symmetry::C90_C270:
+      return {90.0, 270.0};
     case Symmetry::Rotational:
     case Symmetry::None:
-    case Symmetry::Lateral: break;
+    case Symmetry::Lateral:
+      break;
   }
   return {0.0, 360.0};
 }
@@ -76,7 +80,8 @@ Result<Distribution> to_type_c(const Distribution& d, const TypeCGrid& grid) {
   if (!(std::isfinite(gs) && gs > 0.0))
     return fail("the gamma step must be a positive number of degrees, found " + deg(gs));
   const Symmetry sym = grid.symmetry.value_or(default_symmetry(d));
-  if (sym == Symmetry::Lateral) return fail("lateral symmetry applies to Types A and B, not Type C");
+  if (sym == Symmetry::Lateral)
+    return fail("lateral symmetry applies to Types A and B, not Type C");
 
   if (whole_steps(90.0, gs) <= 0)
     return fail("the gamma step " + deg(gs) + " deg does not divide 90 deg into whole steps");
@@ -84,15 +89,17 @@ Result<Distribution> to_type_c(const Distribution& d, const TypeCGrid& grid) {
   // (A rotational output averages planes 0, step, … around the whole circle.)
   const long steps = whole_steps(cr.to - cr.from, cs);
   if (steps <= 0)
-    return fail("the C-plane step " + deg(cs) + " deg does not divide the C range " + deg(cr.from) + ".." +
-                deg(cr.to) + " deg into whole steps");
+    return fail("the C-plane step " + deg(cs) + " deg does not divide the C range " + deg(cr.from) +
+                ".." + deg(cr.to) + " deg into whole steps");
   const long nc = sym == Symmetry::Rotational ? 1 : steps + 1;
   const Range gr = grid.whole_sphere ? Range{0.0, 180.0} : gamma_range(d, gs);
   const long ng = std::lround((gr.to - gr.from) / gs) + 1;
   // Intensities sampled: the rotational mean samples a whole circle per γ.
-  const double sampled = static_cast<double>(ng) * static_cast<double>(sym == Symmetry::Rotational ? steps : nc);
+  const double sampled =
+      static_cast<double>(ng) * static_cast<double>(sym == Symmetry::Rotational ? steps : nc);
   if (sampled > kMaxIntensities)
-    return fail("a " + deg(cs) + " x " + deg(gs) + " deg grid would hold more than 10^7 intensities");
+    return fail("a " + deg(cs) + " x " + deg(gs) +
+                " deg grid would hold more than 10^7 intensities");
 
   const Distribution e = expand_symmetry(d);
   auto sample_grid = [&](const std::vector<double>& c, const std::vector<double>& g) {
@@ -100,7 +107,8 @@ Result<Distribution> to_type_c(const Distribution& d, const TypeCGrid& grid) {
     std::vector<double> values(c.size() * g.size());
     for (std::size_t i = 0; i < c.size(); ++i)
       for (std::size_t j = 0; j < g.size(); ++j)
-        values[i * g.size() + j] = intensity_toward(e, direction_from_c_gamma(c[i] * kDeg, g[j] * kDeg));
+        values[i * g.size() + j] =
+            intensity_toward(e, direction_from_c_gamma(c[i] * kDeg, g[j] * kDeg));
     return values;
   };
 
@@ -112,8 +120,10 @@ Result<Distribution> to_type_c(const Distribution& d, const TypeCGrid& grid) {
   out.vertical_deg.back() = gr.to;
   out.horizontal_deg.resize(static_cast<std::size_t>(nc));
   for (long i = 0; i < nc; ++i) out.horizontal_deg[static_cast<std::size_t>(i)] = cr.from + i * cs;
-  if (sym != Symmetry::Rotational) out.horizontal_deg.back() = cr.to;
-  else out.horizontal_deg = {0.0};
+  if (sym != Symmetry::Rotational)
+    out.horizontal_deg.back() = cr.to;
+  else
+    out.horizontal_deg = {0.0};
   out.candela.assign(out.horizontal_deg.size() * out.vertical_deg.size(), 0.0);
 
   if (sym == Symmetry::Rotational) {

@@ -34,9 +34,9 @@ struct TypeCGrid {
 // rotational), and γ over the smallest whole-step range that holds every
 // measured direction (Type B: 0…90°; Type A: V + 90° snapped outwards;
 // Type C: its γ range snapped outwards), or 0…180° with `whole_sphere`.
-// Each value is interpolate() of the expanded input at that direction (bilinear in the input's own grid angles), so a
-// Type C input on a grid that contains the output's angles comes back
-// unchanged, and directions the input never measured are 0.
+// Each value is interpolate() of the expanded input at that direction (bilinear in the input's own
+// grid angles), so a Type C input on a grid that contains the output's angles comes back unchanged,
+// and directions the input never measured are 0.
 //
 // Flux is kept to within the interpolation error of the input grid and the
 // quadrature error of both grids (see tests/photometry/resample_test.cpp); it

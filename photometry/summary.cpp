@@ -36,7 +36,8 @@ Summary summarize(const Distribution& d) {
   s.downward_flux_lm = zones.zone_lm(0.0, 90.0);
   s.upward_flux_lm = zones.zone_lm(90.0, 180.0);
   if (s.flux_lm != 0.0) s.dff = s.downward_flux_lm / s.flux_lm;
-  for (auto [from, to] : {std::pair{0.0, 30.0}, {0.0, 40.0}, {0.0, 60.0}, {0.0, 90.0}, {90.0, 180.0}, {0.0, 180.0}})
+  for (auto [from, to] :
+       {std::pair{0.0, 30.0}, {0.0, 40.0}, {0.0, 60.0}, {0.0, 90.0}, {90.0, 180.0}, {0.0, 180.0}})
     s.zones.push_back({from, to, zones.zone_lm(from, to)});
   for (int i = 0; i < 18; ++i)
     s.zones_10deg.push_back({10.0 * i, 10.0 * (i + 1), zones.zone_lm(10.0 * i, 10.0 * (i + 1))});
@@ -52,7 +53,8 @@ Summary summarize(const Distribution& d) {
     s.max_c_deg = s.max_horizontal_deg;
     s.max_gamma_deg = s.max_vertical_deg;
   } else {
-    const CGamma cg = c_gamma_from_direction(direction_from_grid(d.type, s.max_horizontal_deg, s.max_vertical_deg));
+    const CGamma cg = c_gamma_from_direction(
+        direction_from_grid(d.type, s.max_horizontal_deg, s.max_vertical_deg));
     s.max_c_deg = cg.c_rad / kDeg;
     s.max_gamma_deg = cg.gamma_rad / kDeg;
   }

@@ -22,16 +22,16 @@ struct Summary {
   // Total luminous flux of the distribution in absolute lumens: for relative
   // photometry the luminaire fitted with its rated lamps, for absolute
   // photometry as measured. This is `flux_lm` in `gonio info --json`.
-  double flux_lm = kNaN;                // [lm]
-  double rated_lamp_flux_lm = kNaN;     // sum over lamp sets [lm]; NaN for absolute photometry
+  double flux_lm = kNaN;             // [lm]
+  double rated_lamp_flux_lm = kNaN;  // sum over lamp sets [lm]; NaN for absolute photometry
   // Light output ratio, flux_lm / rated_lamp_flux_lm. Only relative
   // photometry has one: for absolute photometry (no rated lamp flux) it is
   // NaN and lor_defined is false.
   bool lor_defined = false;
-  double lor = kNaN;                    // [1]
-  double downward_flux_lm = kNaN;       // γ 0…90° [lm]
-  double upward_flux_lm = kNaN;         // γ 90…180° [lm]
-  double dff = kNaN;                    // downward flux fraction [1]; NaN when flux_lm is 0
+  double lor = kNaN;               // [1]
+  double downward_flux_lm = kNaN;  // γ 0…90° [lm]
+  double upward_flux_lm = kNaN;    // γ 90…180° [lm]
+  double dff = kNaN;               // downward flux fraction [1]; NaN when flux_lm is 0
   // Standard zones 0–30°, 0–40°, 0–60°, 0–90°, 90–180°, 0–180°, in that order.
   std::vector<Zone> zones;
   // The 18 zones of 10°: 0–10°, 10–20°, …, 170–180°.
@@ -39,11 +39,11 @@ struct Summary {
 
   // The largest stored intensity and where it is: in the file's own grid
   // angles, and as Type C angles (the same for Type C files).
-  double max_intensity_cd = kNaN;       // [cd]
-  double max_horizontal_deg = kNaN;     // C or H of the maximum [deg]
-  double max_vertical_deg = kNaN;       // γ or V of the maximum [deg]
-  double max_c_deg = kNaN;              // C of the maximum [deg]
-  double max_gamma_deg = kNaN;          // γ of the maximum [deg]
+  double max_intensity_cd = kNaN;    // [cd]
+  double max_horizontal_deg = kNaN;  // C or H of the maximum [deg]
+  double max_vertical_deg = kNaN;    // γ or V of the maximum [deg]
+  double max_c_deg = kNaN;           // C of the maximum [deg]
+  double max_gamma_deg = kNaN;       // γ of the maximum [deg]
 
   // Beam (50 %) and field (10 %) angles, photometry/beam.h.
   BeamSpread beam_c0_c180, beam_c90_c270;
@@ -51,8 +51,8 @@ struct Summary {
 
   CieFluxCode cie_flux_code;
 
-  double input_power_w = kNaN;          // input_power_w(d) [W]; NaN if unknown
-  double efficacy_lm_per_w = kNaN;      // flux_lm / input_power_w [lm/W]; NaN if the power is unknown
+  double input_power_w = kNaN;      // input_power_w(d) [W]; NaN if unknown
+  double efficacy_lm_per_w = kNaN;  // flux_lm / input_power_w [lm/W]; NaN if the power is unknown
 };
 
 // Every value above for `d`. Requires validate(d).ok().

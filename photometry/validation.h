@@ -67,9 +67,9 @@ struct CheckOptions {
   // Difference between declared and integrated DFF that is reported
   // [percentage points].
   double declared_dff_tolerance_percent = 2.0;
-  double max_intensity_cd = 1e9;     // brighter than a searchlight [cd]
-  double min_peak_intensity_cd = 1e-6;  // a peak dimmer than this is a unit error [cd]
-  double max_flux_lm = 1e7;          // [lm]
+  double max_intensity_cd = 1e9;         // brighter than a searchlight [cd]
+  double min_peak_intensity_cd = 1e-6;   // a peak dimmer than this is a unit error [cd]
+  double max_flux_lm = 1e7;              // [lm]
   double max_efficacy_lm_per_w = 300.0;  // white light cannot do much better [lm/W]
 };
 

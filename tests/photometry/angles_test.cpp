@@ -21,7 +21,7 @@ void expect_near(const Vec3& a, const Vec3& b, double tol = 1e-12) {
 
 const Vec3 kNadir{0, 0, -1};
 const Vec3 kZenith{0, 0, 1};
-const Vec3 kC0{1, 0, 0};    // LM-63 "photometric horizontal"
+const Vec3 kC0{1, 0, 0};  // LM-63 "photometric horizontal"
 const Vec3 kC90{0, 1, 0};
 const Vec3 kC270{0, -1, 0};
 
@@ -74,7 +74,8 @@ TEST(Angles, TypeBMatchesTheCieConversionFormulas) {
     for (double g = 2.5; g < 90; g += 7.5) {
       const GridAngles b =
           grid_from_direction(PhotometricType::B, direction_from_c_gamma(c * kDeg, g * kDeg));
-      EXPECT_NEAR(std::sin(b.horizontal_deg * kDeg), -std::sin(g * kDeg) * std::sin(c * kDeg), 1e-12);
+      EXPECT_NEAR(std::sin(b.horizontal_deg * kDeg), -std::sin(g * kDeg) * std::sin(c * kDeg),
+                  1e-12);
       EXPECT_NEAR(std::tan(b.vertical_deg * kDeg), std::tan(g * kDeg) * std::cos(c * kDeg), 1e-9);
     }
   }
@@ -83,21 +84,24 @@ TEST(Angles, TypeBMatchesTheCieConversionFormulas) {
 TEST(Angles, RoundTrips) {
   for (double h = -89; h <= 89; h += 8) {
     for (double v = -179; v <= 179; v += 11) {
-      const GridAngles b = grid_from_direction(PhotometricType::B, direction_from_grid(PhotometricType::B, h, v));
+      const GridAngles b =
+          grid_from_direction(PhotometricType::B, direction_from_grid(PhotometricType::B, h, v));
       EXPECT_NEAR(b.horizontal_deg, h, 1e-10);
       EXPECT_NEAR(b.vertical_deg, v, 1e-10);
     }
   }
   for (double h = -179; h <= 179; h += 11) {
     for (double v = -89; v <= 89; v += 8) {
-      const GridAngles a = grid_from_direction(PhotometricType::A, direction_from_grid(PhotometricType::A, h, v));
+      const GridAngles a =
+          grid_from_direction(PhotometricType::A, direction_from_grid(PhotometricType::A, h, v));
       EXPECT_NEAR(a.horizontal_deg, h, 1e-10);
       EXPECT_NEAR(a.vertical_deg, v, 1e-10);
     }
   }
   for (double c = 0; c < 360; c += 13) {
     for (double g = 1; g < 180; g += 9) {
-      const GridAngles k = grid_from_direction(PhotometricType::C, direction_from_grid(PhotometricType::C, c, g));
+      const GridAngles k =
+          grid_from_direction(PhotometricType::C, direction_from_grid(PhotometricType::C, c, g));
       EXPECT_NEAR(k.horizontal_deg, c, 1e-10);
       EXPECT_NEAR(k.vertical_deg, g, 1e-10);
     }
@@ -168,7 +172,9 @@ TEST(Angles, SolidAngleJacobianMatchesTheMapping) {
 }
 
 // A smooth, asymmetric intensity of the local direction.
-double field(const Vec3& d) { return 100.0 + 40.0 * d.x + 25.0 * d.y - 30.0 * d.z + 10.0 * d.x * d.y; }
+double field(const Vec3& d) {
+  return 100.0 + 40.0 * d.x + 25.0 * d.y - 30.0 * d.z + 10.0 * d.x * d.y;
+}
 
 Distribution sample(PhotometricType type, std::vector<double> h, std::vector<double> v) {
   Distribution d;
@@ -190,13 +196,16 @@ std::vector<double> steps(double from, double to, double step) {
 }
 
 TEST(Angles, IntensityTowardADirectionReadsTheRightGridCell) {
-  const Distribution b = expand_symmetry(sample(PhotometricType::B, steps(-90, 90, 1), steps(-90, 90, 1)));
-  const Distribution a = expand_symmetry(sample(PhotometricType::A, steps(-90, 90, 1), steps(-90, 90, 1)));
-  const Distribution c = expand_symmetry(sample(PhotometricType::C, steps(0, 360, 1), steps(0, 180, 1)));
+  const Distribution b =
+      expand_symmetry(sample(PhotometricType::B, steps(-90, 90, 1), steps(-90, 90, 1)));
+  const Distribution a =
+      expand_symmetry(sample(PhotometricType::A, steps(-90, 90, 1), steps(-90, 90, 1)));
+  const Distribution c =
+      expand_symmetry(sample(PhotometricType::C, steps(0, 360, 1), steps(0, 180, 1)));
   for (double u = -0.9; u <= 0.9; u += 0.3) {
     for (double w = -0.9; w <= 0.9; w += 0.3) {
-      const Vec3 down = normalize(Vec3{u, w, -1.0});   // lower hemisphere: inside Type B's grid
-      const Vec3 front = normalize(Vec3{1.0, u, w});   // x > 0: inside Type A's grid
+      const Vec3 down = normalize(Vec3{u, w, -1.0});  // lower hemisphere: inside Type B's grid
+      const Vec3 front = normalize(Vec3{1.0, u, w});  // x > 0: inside Type A's grid
       EXPECT_NEAR(intensity_toward(b, down), field(down), 0.02);
       EXPECT_NEAR(intensity_toward(a, front), field(front), 0.02);
       EXPECT_NEAR(intensity_toward(c, down), field(down), 0.02);

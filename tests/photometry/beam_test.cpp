@@ -18,13 +18,15 @@ using test::sample_direction;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 // Full width of cosⁿγ at `fraction` of its peak: 2 acos(fraction^(1/n)).
-double lobe_width(double n, double fraction) { return 2 * std::acos(std::pow(fraction, 1 / n)) / kDeg; }
+double lobe_width(double n, double fraction) {
+  return 2 * std::acos(std::pow(fraction, 1 / n)) / kDeg;
+}
 
 TEST(Beam, CosineLobesMatchTheirAnalyticWidths) {
   for (double n : {1.0, 2.0, 5.0, 10.0, 20.0, 50.0}) {
     for (double step : {2.5, 0.5}) {
-      const Distribution d = sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(0, 180, step),
-                                              cos_lobe(1000, n));
+      const Distribution d = sample_direction(PhotometricType::C, Symmetry::Rotational, {0},
+                                              angles(0, 180, step), cos_lobe(1000, n));
       const BeamSpread beam = beam_angle(d, 0), field = field_angle(d, 90);
       SCOPED_TRACE("n " + std::to_string(n) + " step " + std::to_string(step));
       // Linear interpolation between samples: the error falls as step².
@@ -91,16 +93,19 @@ TEST(Beam, LobesAndDips) {
   EXPECT_LT(whole.lower_edge_deg, -30.0);
   EXPECT_NEAR(whole.lower_edge_deg, -whole.upper_edge_deg, 1e-9);
   // A side lobe beyond the edge does not widen the beam.
-  const Distribution side = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 1), [](double, double g) {
-    return 1000 * std::exp(-std::pow(g / 10, 2)) + 800 * std::exp(-std::pow((g - 60) / 5, 2));
-  });
+  const Distribution side =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 1), [](double, double g) {
+        return 1000 * std::exp(-std::pow(g / 10, 2)) + 800 * std::exp(-std::pow((g - 60) / 5, 2));
+      });
   EXPECT_NEAR(beam_angle(side, 0).angle_deg, 2 * 10 * std::sqrt(std::log(2.0)), 0.05);
 }
 
 TEST(Beam, NoBeamOpenBeamsAndUplights) {
-  const Distribution iso = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 50.0; });
+  const Distribution iso =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 50.0; });
   EXPECT_TRUE(std::isnan(beam_angle(iso, 0).angle_deg));
-  const Distribution dark = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 0.0; });
+  const Distribution dark =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 0.0; });
   EXPECT_TRUE(std::isnan(beam_angle(dark, 0).angle_deg));
   // Measured to 90° only and still at 70 % there: the beam ends with the data.
   const Distribution wide = sample_c(Symmetry::Rotational, {0}, angles(0, 90, 5),
@@ -109,14 +114,16 @@ TEST(Beam, NoBeamOpenBeamsAndUplights) {
   EXPECT_TRUE(open.lower_open && open.upper_open);
   EXPECT_DOUBLE_EQ(open.angle_deg, 180.0);
   // An uplight: the beam wraps around the zenith (θ = ±180°).
-  const Distribution up = sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(0, 180, 0.5),
-                                           [](const Vec3& v) { return v.z > 0 ? 500 * std::pow(v.z, 8) : 0.0; });
+  const Distribution up =
+      sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(0, 180, 0.5),
+                       [](const Vec3& v) { return v.z > 0 ? 500 * std::pow(v.z, 8) : 0.0; });
   const BeamSpread u = beam_angle(up, 0);
   EXPECT_NEAR(std::abs(u.axis_deg), 180.0, 1e-9);
   EXPECT_NEAR(u.angle_deg, lobe_width(8, 0.5), 0.01);
   // Only the upper hemisphere measured (γ 90..180): same beam.
-  const Distribution up_only = sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(90, 180, 0.5),
-                                                [](const Vec3& v) { return v.z > 0 ? 500 * std::pow(v.z, 8) : 0.0; });
+  const Distribution up_only =
+      sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(90, 180, 0.5),
+                       [](const Vec3& v) { return v.z > 0 ? 500 * std::pow(v.z, 8) : 0.0; });
   EXPECT_NEAR(beam_angle(up_only, 0).angle_deg, u.angle_deg, 1e-9);
 }
 

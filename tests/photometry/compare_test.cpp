@@ -19,7 +19,8 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 Distribution asymmetric() {
   return sample_c(Symmetry::None, angles(0, 360, 5), angles(0, 180, 2.5), [](double c, double g) {
-    return g < 90 ? 800 * std::pow(std::cos(g * kDeg), 4) * (1 + 0.4 * std::cos(c * kDeg)) + 5 : 5.0;
+    return g < 90 ? 800 * std::pow(std::cos(g * kDeg), 4) * (1 + 0.4 * std::cos(c * kDeg)) + 5
+                  : 5.0;
   });
 }
 
@@ -63,7 +64,8 @@ TEST(Compare, AScaledCopyReportsTheScale) {
   }
   // A uniform offset δ everywhere: RMS = max = δ / I_ref (the weights are
   // normalised over the sphere).
-  const Distribution iso = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 100.0; });
+  const Distribution iso =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 100.0; });
   const Result<Comparison> r = compare(iso, scaled(iso, 1.1));
   ASSERT_TRUE(r.ok());
   EXPECT_NEAR(r->rms_relative, 0.1, 1e-12);
@@ -74,7 +76,8 @@ TEST(Compare, RmsIsWeightedBySolidAngle) {
   // B differs from A only in the polar cap γ < 30° (a solid angle of
   // 2π(1 − cos 30°)): RMS² ≈ δ² × cap / 4π, however densely the cap is
   // sampled.
-  const Distribution a = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 1), [](double, double) { return 100.0; });
+  const Distribution a =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 1), [](double, double) { return 100.0; });
   const Distribution b = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 1),
                                   [](double, double g) { return g < 30 ? 120.0 : 100.0; });
   CompareOptions o;
@@ -93,10 +96,11 @@ TEST(Compare, DifferentTypesAndGridsOfOneFunction) {
   // closer on finer source grids.
   double previous = 1;
   for (double step : {5.0, 2.5, 1.0}) {
-    const Distribution c = sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(0, 180, step),
-                                            cos_lobe(1000, 8));
-    const Distribution b = sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, step),
-                                            angles(-90, 90, step), cos_lobe(1000, 8));
+    const Distribution c = sample_direction(PhotometricType::C, Symmetry::Rotational, {0},
+                                            angles(0, 180, step), cos_lobe(1000, 8));
+    const Distribution b =
+        sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, step),
+                         angles(-90, 90, step), cos_lobe(1000, 8));
     const Result<Comparison> r = compare(c, b);
     ASSERT_TRUE(r.ok());
     EXPECT_LT(r->rms_relative, 0.01);

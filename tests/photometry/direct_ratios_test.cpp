@@ -26,8 +26,8 @@ double facing_rectangles(double x, double y) {
 }
 
 TEST(DirectRatios, LambertianEqualsTheViewFactorOfFacingSquares) {
-  const Distribution d = sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(0, 180, 1),
-                                          cos_lobe(1000, 1));
+  const Distribution d = sample_direction(PhotometricType::C, Symmetry::Rotational, {0},
+                                          angles(0, 180, 1), cos_lobe(1000, 1));
   const std::array<double, 10> dr = direct_ratios(d);
   for (std::size_t i = 0; i < dr.size(); ++i) {
     const double k = kDirectRatioRoomIndices[i];
@@ -56,36 +56,41 @@ double isotropic_from_the_floor(double k) {
 }
 
 TEST(DirectRatios, IsotropicDownlightMatchesAnIndependentIntegral) {
-  const Distribution d = sample_c(Symmetry::Rotational, {0}, angles(0, 90, 5), [](double, double) { return 50.0; });
-  for (double k : {0.6, 1.5, 5.0}) EXPECT_NEAR(direct_ratio(d, k), isotropic_from_the_floor(k), 5e-4) << k;
+  const Distribution d =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 90, 5), [](double, double) { return 50.0; });
+  for (double k : {0.6, 1.5, 5.0})
+    EXPECT_NEAR(direct_ratio(d, k), isotropic_from_the_floor(k), 5e-4) << k;
 }
 
 TEST(DirectRatios, BoundsAndLimits) {
   // Half the flux upward: ratios grow with k towards the downward fraction
   // (0.5) and never exceed it; an uplight sends nothing down; a dark
   // distribution has ratios of 0.
-  const Distribution half = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 2.5), [](double, double g) {
-    return g < 90 ? 100 * std::cos(g * kPi / 180) : 100 * -std::cos(g * kPi / 180);
-  });
+  const Distribution half =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 2.5), [](double, double g) {
+        return g < 90 ? 100 * std::cos(g * kPi / 180) : 100 * -std::cos(g * kPi / 180);
+      });
   const std::array<double, 10> dr = direct_ratios(half);
   for (std::size_t i = 1; i < dr.size(); ++i) EXPECT_GT(dr[i], dr[i - 1]);
   EXPECT_LT(dr.back(), 0.5);
   EXPECT_NEAR(direct_ratio(half, 500), 0.5, 2e-3);
-  const Distribution up = sample_c(Symmetry::Rotational, {0}, angles(90, 180, 5), [](double, double) { return 5.0; });
+  const Distribution up =
+      sample_c(Symmetry::Rotational, {0}, angles(90, 180, 5), [](double, double) { return 5.0; });
   for (double r : direct_ratios(up)) EXPECT_EQ(r, 0.0);
-  const Distribution dark = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 0.0; });
+  const Distribution dark =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 0.0; });
   for (double r : direct_ratios(dark)) EXPECT_EQ(r, 0.0);
   // A narrow beam lands almost entirely on the working plane even at k = 0.6.
-  const Distribution spot = sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(0, 180, 0.5),
-                                             cos_lobe(1e4, 2000));
+  const Distribution spot = sample_direction(PhotometricType::C, Symmetry::Rotational, {0},
+                                             angles(0, 180, 0.5), cos_lobe(1e4, 2000));
   EXPECT_GT(direct_ratios(spot)[0], 0.97);
 }
 
 TEST(DirectRatios, TypeBFloodlightEqualsItsTypeCForm) {
   const Distribution b = sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, 1),
                                           angles(-90, 90, 1), cos_lobe(1000, 4));
-  const Distribution c = sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(0, 180, 1),
-                                          cos_lobe(1000, 4));
+  const Distribution c = sample_direction(PhotometricType::C, Symmetry::Rotational, {0},
+                                          angles(0, 180, 1), cos_lobe(1000, 4));
   const std::array<double, 10> rb = direct_ratios(b), rc = direct_ratios(c);
   for (std::size_t i = 0; i < 10; ++i) EXPECT_NEAR(rb[i], rc[i], 1e-3);
 }

@@ -23,9 +23,10 @@ double rel(double value, double expected) { return std::abs(value / expected - 1
 
 Distribution lobe_c(double n, double c_step, double gamma_step, Symmetry sym = Symmetry::None) {
   const double c_to = sym == Symmetry::Quadrant ? 90 : sym == Symmetry::C0_C180 ? 180 : 360;
-  return sample_direction(PhotometricType::C, sym,
-                          sym == Symmetry::Rotational ? std::vector<double>{0} : angles(0, c_to, c_step),
-                          angles(0, 180, gamma_step), cos_lobe(1000.0, n));
+  return sample_direction(
+      PhotometricType::C, sym,
+      sym == Symmetry::Rotational ? std::vector<double>{0} : angles(0, c_to, c_step),
+      angles(0, 180, gamma_step), cos_lobe(1000.0, n));
 }
 
 TEST(Flux, IsotropicIsExact) {
@@ -76,8 +77,8 @@ TEST(Flux, ErrorFallsWithTheStepAtFourthOrder) {
     const double e25 = rel(total_flux_lm(lobe_c(n, 15, 2.5)), exact);
     const double e125 = rel(total_flux_lm(lobe_c(n, 15, 1.25)), exact);
     SCOPED_TRACE("n " + std::to_string(n));
-    EXPECT_GT(e10 / e5, 3.0);     // coarse grids: pre-asymptotic
-    EXPECT_GT(e5 / e25, 8.0);     // 16 for a clean fourth order
+    EXPECT_GT(e10 / e5, 3.0);  // coarse grids: pre-asymptotic
+    EXPECT_GT(e5 / e25, 8.0);  // 16 for a clean fourth order
     EXPECT_GT(e25 / e125, 12.0);
     EXPECT_LT(e125, 2e-6);
   }
@@ -90,7 +91,8 @@ TEST(Flux, NonUniformAngleListsStayAccurate) {
   for (double a : angles(65, 90, 5)) g.push_back(a);
   for (double a : {105.0, 120.0, 150.0, 180.0}) g.push_back(a);
   for (double n : {1.0, 5.0, 20.0}) {
-    const Distribution d = sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, g, cos_lobe(1000, n));
+    const Distribution d =
+        sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, g, cos_lobe(1000, n));
     EXPECT_LT(rel(total_flux_lm(d), 2 * kPi * 1000.0 / (n + 1)), 1e-4) << n;
   }
 }
@@ -98,10 +100,12 @@ TEST(Flux, NonUniformAngleListsStayAccurate) {
 TEST(Flux, PartialVerticalRanges) {
   // Uplight only (γ 90..180) and downlight only (γ 0..90).
   for (double n : {1.0, 3.0, 10.0}) {
-    const Distribution up = sample_c(Symmetry::Quadrant, angles(0, 90, 15), angles(90, 180, 2.5),
-                                     [&](double, double g) { return 500.0 * std::pow(-std::cos(g * kDeg), n); });
-    const Distribution down = sample_c(Symmetry::Quadrant, angles(0, 90, 15), angles(0, 90, 2.5),
-                                       [&](double, double g) { return 500.0 * std::pow(std::cos(g * kDeg), n); });
+    const Distribution up =
+        sample_c(Symmetry::Quadrant, angles(0, 90, 15), angles(90, 180, 2.5),
+                 [&](double, double g) { return 500.0 * std::pow(-std::cos(g * kDeg), n); });
+    const Distribution down =
+        sample_c(Symmetry::Quadrant, angles(0, 90, 15), angles(0, 90, 2.5),
+                 [&](double, double g) { return 500.0 * std::pow(std::cos(g * kDeg), n); });
     const double exact = 2 * kPi * 500.0 / (n + 1);
     EXPECT_LT(rel(total_flux_lm(up), exact), 2e-5) << n;
     EXPECT_LT(rel(total_flux_lm(down), exact), 2e-5) << n;
@@ -113,7 +117,8 @@ TEST(Flux, PartialVerticalRanges) {
 // An asymmetric lobe with a closed form: I = I₀ cosⁿγ (1 + cos²C) below the
 // horizon, Φ = 3π I₀ / (n + 1).
 double asym_lobe(double c, double g, double n) {
-  return g < 90 ? 1000.0 * std::pow(std::cos(g * kDeg), n) * (1.0 + std::pow(std::cos(c * kDeg), 2)) : 0.0;
+  return g < 90 ? 1000.0 * std::pow(std::cos(g * kDeg), n) * (1.0 + std::pow(std::cos(c * kDeg), 2))
+                : 0.0;
 }
 
 TEST(Flux, AsymmetricDistributionAndEverySymmetryAgree) {
@@ -125,7 +130,8 @@ TEST(Flux, AsymmetricDistributionAndEverySymmetryAgree) {
   EXPECT_LT(rel(phi, exact), 1e-5);
   // cos²C is mirror-symmetric about both planes: every stored form of it
   // integrates as its expansion, to rounding.
-  const Distribution quadrant = sample_c(Symmetry::Quadrant, angles(0, 90, 5), angles(0, 180, 2.5), f);
+  const Distribution quadrant =
+      sample_c(Symmetry::Quadrant, angles(0, 90, 5), angles(0, 180, 2.5), f);
   const Distribution c0 = sample_c(Symmetry::C0_C180, angles(0, 180, 5), angles(0, 180, 2.5), f);
   const Distribution c90 = sample_c(Symmetry::C90_C270, angles(90, 270, 5), angles(0, 180, 2.5), f);
   for (const Distribution* d : {&quadrant, &c0, &c90}) {
@@ -154,9 +160,11 @@ TEST(Flux, ZonesMatchTheirClosedFormsAndAddUp) {
   // Zone [a, b] of the lobe: 2π I₀ (cos^{n+1} a − cos^{n+1} b) / (n + 1),
   // also across grid lines (41.4°, 75.5° are the CIE zone limits).
   auto exact = [&](double a, double b) {
-    return 2 * kPi * 1000.0 * (std::pow(std::cos(a * kDeg), n + 1) - std::pow(std::cos(b * kDeg), n + 1)) / (n + 1);
+    return 2 * kPi * 1000.0 *
+           (std::pow(std::cos(a * kDeg), n + 1) - std::pow(std::cos(b * kDeg), n + 1)) / (n + 1);
   };
-  for (auto [a, b] : {std::pair{0.0, 30.0}, {0.0, 41.41}, {12.3, 47.9}, {0.0, 60.0}, {60.0, 75.52}, {0.0, 90.0}})
+  for (auto [a, b] :
+       {std::pair{0.0, 30.0}, {0.0, 41.41}, {12.3, 47.9}, {0.0, 60.0}, {60.0, 75.52}, {0.0, 90.0}})
     EXPECT_NEAR(zonal_flux_lm(d, a, b), exact(a, b), 3e-5 * total) << a << ".." << b;
   // Zones that tile the sphere add up to the total.
   double sum = 0;
@@ -169,8 +177,10 @@ TEST(Flux, ZonesMatchTheirClosedFormsAndAddUp) {
   EXPECT_EQ(zonal_flux_lm(d, 50, 50), 0.0);
   EXPECT_EQ(zonal_flux_lm(d, 60, 30), 0.0);
   // Isotropic zones are exact: 2π I (cos a − cos b).
-  const Distribution iso = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 10.0; });
-  EXPECT_NEAR(zonal_flux_lm(iso, 41.41, 75.52), 2 * kPi * 10 * (std::cos(41.41 * kDeg) - std::cos(75.52 * kDeg)), 1e-9);
+  const Distribution iso =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 10.0; });
+  EXPECT_NEAR(zonal_flux_lm(iso, 41.41, 75.52),
+              2 * kPi * 10 * (std::cos(41.41 * kDeg) - std::cos(75.52 * kDeg)), 1e-9);
 }
 
 TEST(Flux, TypesAAndBMeetTheClosedForms) {
@@ -179,13 +189,15 @@ TEST(Flux, TypesAAndBMeetTheClosedForms) {
   const double ns[] = {1, 2, 5, 10, 20};
   for (double n : ns) {
     const double exact = 2 * kPi * 1000.0 / (n + 1);
-    const Distribution b = sample_direction(PhotometricType::B, Symmetry::None, angles(-90, 90, 2.5),
-                                            angles(-90, 90, 2.5), cos_lobe(1000, n));
-    const Distribution b_lateral = sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, 2.5),
-                                                    angles(-90, 90, 2.5), cos_lobe(1000, n));
+    const Distribution b =
+        sample_direction(PhotometricType::B, Symmetry::None, angles(-90, 90, 2.5),
+                         angles(-90, 90, 2.5), cos_lobe(1000, n));
+    const Distribution b_lateral =
+        sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, 2.5),
+                         angles(-90, 90, 2.5), cos_lobe(1000, n));
     auto forward = [&](const Vec3& v) { return cos_lobe(1000, n)(Vec3{v.z, v.y, -v.x}); };
-    const Distribution a = sample_direction(PhotometricType::A, Symmetry::Lateral, angles(0, 90, 2.5),
-                                            angles(-90, 90, 2.5), forward);
+    const Distribution a = sample_direction(PhotometricType::A, Symmetry::Lateral,
+                                            angles(0, 90, 2.5), angles(-90, 90, 2.5), forward);
     SCOPED_TRACE("n " + std::to_string(n));
     EXPECT_LT(rel(total_flux_lm(b), exact), 1e-4);
     EXPECT_NEAR(total_flux_lm(b_lateral), total_flux_lm(b), 1e-12 * exact);
@@ -205,11 +217,13 @@ TEST(Flux, TypeBZonesFollowTheDirectionsNotTheGrid) {
                                           angles(-90, 90, 2.5), cos_lobe(1000, n));
   const double total = total_flux_lm(b);
   auto exact = [&](double a, double z) {
-    return 2 * kPi * 1000.0 * (std::pow(std::cos(a * kDeg), n + 1) - std::pow(std::cos(z * kDeg), n + 1)) / (n + 1);
+    return 2 * kPi * 1000.0 *
+           (std::pow(std::cos(a * kDeg), n + 1) - std::pow(std::cos(z * kDeg), n + 1)) / (n + 1);
   };
   EXPECT_NEAR(zonal_flux_lm(b, 0, 30), exact(0, 30), 2e-3 * total);
   EXPECT_NEAR(zonal_flux_lm(b, 30, 60), exact(30, 60), 2e-3 * total);
-  EXPECT_NEAR(zonal_flux_lm(b, 0, 30) + zonal_flux_lm(b, 30, 90) + zonal_flux_lm(b, 90, 180), total, 1e-9 * total);
+  EXPECT_NEAR(zonal_flux_lm(b, 0, 30) + zonal_flux_lm(b, 30, 90) + zonal_flux_lm(b, 90, 180), total,
+              1e-9 * total);
 }
 
 TEST(Flux, DegenerateAndHostileData) {
@@ -217,8 +231,11 @@ TEST(Flux, DegenerateAndHostileData) {
   EXPECT_EQ(total_flux_lm(sample_c(Symmetry::None, angles(0, 360, 30), angles(0, 180, 10),
                                    [](double, double) { return 0.0; })),
             0.0);
-  EXPECT_EQ(total_flux_lm(sample_c(Symmetry::Rotational, {0}, {45}, [](double, double) { return 7.0; })), 0.0);
-  const Distribution two = sample_c(Symmetry::Rotational, {0}, {0, 90}, [](double, double g) { return g == 0 ? 2.0 : 0.0; });
+  EXPECT_EQ(
+      total_flux_lm(sample_c(Symmetry::Rotational, {0}, {45}, [](double, double) { return 7.0; })),
+      0.0);
+  const Distribution two = sample_c(Symmetry::Rotational, {0}, {0, 90},
+                                    [](double, double g) { return g == 0 ? 2.0 : 0.0; });
   // I = 2 (1 − γ/(π/2)) on [0, π/2]: 2π ∫ I sin γ dγ = 4π (1 − 2/π).
   EXPECT_NEAR(total_flux_lm(two), 4 * kPi * (1 - 2 / kPi), 1e-10);
 }
@@ -253,10 +270,11 @@ TEST(Flux, NeverGoesBadlyWrongOnSpikesStepsAndNoise) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0, 1);
   for (int trial = 0; trial < 50; ++trial) {
-    const Distribution noise = sample_c(Symmetry::None, angles(0, 360, 30), angles(0, 180, 5), [&](double, double) {
-      const double r = u(rng);
-      return r < 0.4 ? 0.0 : 1000.0 * u(rng);
-    });
+    const Distribution noise =
+        sample_c(Symmetry::None, angles(0, 360, 30), angles(0, 180, 5), [&](double, double) {
+          const double r = u(rng);
+          return r < 0.4 ? 0.0 : 1000.0 * u(rng);
+        });
     const double phi = total_flux_lm(noise);
     EXPECT_GE(phi, 0.0);
     EXPECT_LT(rel(phi, trapezoid(noise)), 0.15);

@@ -39,7 +39,8 @@ TEST(Resample, TypeCOnAFinerGridComesBackUnchanged) {
   ASSERT_EQ(r->vertical_count(), 73u);
   for (std::size_t h = 0; h + 1 < r->horizontal_count(); ++h)
     for (std::size_t v = 1; v + 1 < r->vertical_count(); ++v)
-      EXPECT_DOUBLE_EQ(r->at(h, v), 100 + r->horizontal_deg[h] + std::pow(r->vertical_deg[v], 2) / 100);
+      EXPECT_DOUBLE_EQ(r->at(h, v),
+                       100 + r->horizontal_deg[h] + std::pow(r->vertical_deg[v], 2) / 100);
   EXPECT_EQ(r->type, PhotometricType::C);
   EXPECT_EQ(r->lamps.size(), 1u);  // metadata is carried over
 }
@@ -50,8 +51,8 @@ TEST(Resample, TypeBOfAKnownFunctionMapsBack) {
   // falls with its step as h².
   double previous = 0;
   for (double step : {2.0, 1.0, 0.5}) {
-    const Distribution b = sample_direction(PhotometricType::B, Symmetry::None, angles(-90, 90, step),
-                                            angles(-90, 90, step), beam);
+    const Distribution b = sample_direction(PhotometricType::B, Symmetry::None,
+                                            angles(-90, 90, step), angles(-90, 90, step), beam);
     const Result<Distribution> c = to_type_c(b);
     ASSERT_TRUE(c.ok());
     EXPECT_EQ(c->symmetry, Symmetry::None);
@@ -60,8 +61,9 @@ TEST(Resample, TypeBOfAKnownFunctionMapsBack) {
     double worst = 0;
     for (std::size_t h = 0; h < c->horizontal_count(); ++h)
       for (std::size_t v = 0; v < c->vertical_count(); ++v)
-        worst = std::max(worst, std::abs(c->at(h, v) - beam(direction_from_c_gamma(c->horizontal_deg[h] * kDeg,
-                                                                                      c->vertical_deg[v] * kDeg))));
+        worst = std::max(
+            worst, std::abs(c->at(h, v) - beam(direction_from_c_gamma(c->horizontal_deg[h] * kDeg,
+                                                                      c->vertical_deg[v] * kDeg))));
     EXPECT_LT(worst, 0.01 * 800 * step * step) << step;
     if (previous > 0) {
       EXPECT_GT(previous / worst, 3.0) << step;
@@ -72,12 +74,14 @@ TEST(Resample, TypeBOfAKnownFunctionMapsBack) {
 
 TEST(Resample, FluxIsKeptWithinTheQuadratureError) {
   for (double n : {2.0, 10.0}) {
-    const Distribution b = sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, 2.5),
-                                            angles(-90, 90, 2.5), cos_lobe(1000, n));
+    const Distribution b =
+        sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, 2.5),
+                         angles(-90, 90, 2.5), cos_lobe(1000, n));
     const Result<Distribution> c = to_type_c(b);
     ASSERT_TRUE(c.ok());
     EXPECT_EQ(c->symmetry, Symmetry::C0_C180);  // lateral symmetry is the C0-C180 mirror
-    const double before = total_flux_lm(b), after = total_flux_lm(*c), exact = 2 * kPi * 1000 / (n + 1);
+    const double before = total_flux_lm(b), after = total_flux_lm(*c),
+                 exact = 2 * kPi * 1000 / (n + 1);
     EXPECT_LT(std::abs(before / exact - 1), 1e-5);
     // The 2.5° B grid's bilinear interpolation costs up to ~0.1 % for n = 10.
     EXPECT_LT(std::abs(after / before - 1), n <= 2 ? 2e-4 : 2e-3) << n;
@@ -102,7 +106,8 @@ TEST(Resample, TypeAIsTypeCRelabelled) {
     const double cc = c->horizontal_deg[h];
     const bool front = cc <= 90 || cc >= 270;  // Type A's grid covers x >= 0
     for (std::size_t v = 1; v + 1 < c->vertical_count(); ++v) {
-      const double expected = front ? f(direction_from_c_gamma(cc * kDeg, c->vertical_deg[v] * kDeg)) : 0.0;
+      const double expected =
+          front ? f(direction_from_c_gamma(cc * kDeg, c->vertical_deg[v] * kDeg)) : 0.0;
       if (cc == 90 || cc == 270) continue;  // the edge of the grid: either value is right
       EXPECT_NEAR(c->at(h, v), expected, 1e-9) << cc << " " << c->vertical_deg[v];
     }
@@ -110,8 +115,9 @@ TEST(Resample, TypeAIsTypeCRelabelled) {
 }
 
 TEST(Resample, SymmetryOfTheOutput) {
-  const Distribution d = sample_c(Symmetry::None, angles(0, 360, 5), angles(0, 90, 5),
-                                  [](double c, double g) { return 10 + std::cos(c * kDeg) + g / 10; });
+  const Distribution d =
+      sample_c(Symmetry::None, angles(0, 360, 5), angles(0, 90, 5),
+               [](double c, double g) { return 10 + std::cos(c * kDeg) + g / 10; });
   TypeCGrid quadrant{10, 5, Symmetry::Quadrant};
   const Result<Distribution> q = to_type_c(d, quadrant);
   ASSERT_TRUE(q.ok());
@@ -130,9 +136,11 @@ TEST(Resample, SymmetryOfTheOutput) {
 }
 
 TEST(Resample, BadGridsAreErrorsNotCrashes) {
-  const Distribution d = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 1.0; });
-  const TypeCGrid bad[] = {{0, 2.5, {}}, {-5, 2.5, {}}, {5, 0, {}}, {5, kNaN, {}}, {7, 2.5, {}},
-                           {5, 4, {}},   {0.001, 0.001, {}}, {5, 2.5, Symmetry::Lateral}};
+  const Distribution d =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 1.0; });
+  const TypeCGrid bad[] = {
+      {0, 2.5, {}}, {-5, 2.5, {}}, {5, 0, {}},         {5, kNaN, {}},
+      {7, 2.5, {}}, {5, 4, {}},    {0.001, 0.001, {}}, {5, 2.5, Symmetry::Lateral}};
   for (const TypeCGrid& g : bad) {
     const Result<Distribution> r = to_type_c(d, g);
     ASSERT_FALSE(r.ok()) << g.c_step_deg << " " << g.gamma_step_deg;

@@ -20,8 +20,8 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 
 Distribution lambertian(double i0) {
-  return sample_direction(PhotometricType::C, Symmetry::Quadrant, angles(0, 90, 15), angles(0, 180, 2.5),
-                          cos_lobe(i0, 1));
+  return sample_direction(PhotometricType::C, Symmetry::Quadrant, angles(0, 90, 15),
+                          angles(0, 180, 2.5), cos_lobe(i0, 1));
 }
 
 TEST(CieFluxCode, ClosedForms) {
@@ -38,7 +38,8 @@ TEST(CieFluxCode, ClosedForms) {
   EXPECT_EQ(to_string(c), "44 75 94 100 80");
   // Isotropic: the cones hold 1/4, 1/2, 3/4 of the lower hemisphere, which
   // holds half the flux. Absolute photometry has no LOR.
-  Distribution iso = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 1.0; });
+  Distribution iso =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 1.0; });
   iso.absolute = true;
   const CieFluxCode i = cie_flux_code(iso);
   EXPECT_NEAR(i.n1, 25.0, 1e-9);
@@ -48,12 +49,13 @@ TEST(CieFluxCode, ClosedForms) {
   EXPECT_TRUE(std::isnan(i.n5));
   EXPECT_EQ(to_string(i), "25 50 75 50 -");
   // cosⁿ: 100 (1 − cos^{n+1} of the cone angle).
-  const Distribution narrow = sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(0, 180, 1),
-                                               cos_lobe(1000, 9));
+  const Distribution narrow = sample_direction(PhotometricType::C, Symmetry::Rotational, {0},
+                                               angles(0, 180, 1), cos_lobe(1000, 9));
   EXPECT_NEAR(cie_flux_code(narrow).n1, 100 * (1 - std::pow(0.75, 10)), 1e-3);
   EXPECT_NEAR(cie_flux_code(narrow).n3, 100 * (1 - std::pow(0.25, 10)), 1e-3);
   // A pure uplight has no downward flux to share out.
-  const Distribution up = sample_c(Symmetry::Rotational, {0}, angles(90, 180, 5), [](double, double) { return 3.0; });
+  const Distribution up =
+      sample_c(Symmetry::Rotational, {0}, angles(90, 180, 5), [](double, double) { return 3.0; });
   EXPECT_TRUE(std::isnan(cie_flux_code(up).n1));
   EXPECT_NEAR(cie_flux_code(up).n4, 0.0, 1e-12);
 }
@@ -99,13 +101,16 @@ TEST(Summary, DerivedValuesOfALambertianDownlight) {
 
 TEST(Summary, SymmetricAndExpandedFilesAgree) {
   auto f = [](double c, double g) {
-    return g < 90 ? 500 * std::pow(std::cos(g * kDeg), 3) * (1 + 0.5 * std::pow(std::cos(c * kDeg), 2)) : 20.0;
+    return g < 90
+               ? 500 * std::pow(std::cos(g * kDeg), 3) * (1 + 0.5 * std::pow(std::cos(c * kDeg), 2))
+               : 20.0;
   };
   const Distribution q = sample_c(Symmetry::Quadrant, angles(0, 90, 10), angles(0, 180, 5), f);
   const Summary a = summarize(q), b = summarize(expand_symmetry(q));
   EXPECT_NEAR(a.flux_lm, b.flux_lm, 1e-12 * a.flux_lm);
   EXPECT_NEAR(a.dff, b.dff, 1e-12);
-  for (std::size_t i = 0; i < a.zones.size(); ++i) EXPECT_NEAR(a.zones[i].flux_lm, b.zones[i].flux_lm, 1e-9);
+  for (std::size_t i = 0; i < a.zones.size(); ++i)
+    EXPECT_NEAR(a.zones[i].flux_lm, b.zones[i].flux_lm, 1e-9);
   EXPECT_EQ(a.max_intensity_cd, b.max_intensity_cd);
   EXPECT_DOUBLE_EQ(a.beam_c0_c180.angle_deg, b.beam_c0_c180.angle_deg);
   EXPECT_DOUBLE_EQ(a.field_c90_c270.angle_deg, b.field_c90_c270.angle_deg);

@@ -20,8 +20,8 @@ constexpr double kPi = std::numbers::pi;
 
 // A clean relative-photometry downlight: LOR 0.8, declared values that match.
 Distribution clean() {
-  Distribution d = sample_direction(PhotometricType::C, Symmetry::Quadrant, angles(0, 90, 15), angles(0, 180, 2.5),
-                                    cos_lobe(1000, 2));
+  Distribution d = sample_direction(PhotometricType::C, Symmetry::Quadrant, angles(0, 90, 15),
+                                    angles(0, 180, 2.5), cos_lobe(1000, 2));
   const double flux = 2 * kPi * 1000 / 3;
   d.lamps[0].flux_lm = flux / 0.8;
   d.lamps[0].power_w = 20;
@@ -63,12 +63,13 @@ TEST(Validation, CleanModelsGiveNoFindings) {
   abs.absolute = true;
   abs.lamps[0].flux_lm = kNaN;
   expect_codes(abs, {});
-  Distribution b = sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, 5), angles(-90, 90, 5),
-                                    cos_lobe(4000, 10));
+  Distribution b = sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, 5),
+                                    angles(-90, 90, 5), cos_lobe(4000, 10));
   b.absolute = true;
   expect_codes(b, {});
-  Distribution a = sample_direction(PhotometricType::A, Symmetry::None, angles(-90, 90, 5), angles(-90, 90, 5),
-                                    [](const Vec3& v) { return v.x > 0 ? 100 * v.x : 0.0; });
+  Distribution a =
+      sample_direction(PhotometricType::A, Symmetry::None, angles(-90, 90, 5), angles(-90, 90, 5),
+                       [](const Vec3& v) { return v.x > 0 ? 100 * v.x : 0.0; });
   expect_codes(a, {});
 }
 
@@ -95,7 +96,8 @@ TEST(Validation, StructuralErrors) {
   d.vertical_deg.back() = 190;
   expect_codes(d, {"vertical-angle-range"});
 
-  d = sample_c(Symmetry::None, {0, 90, 180, 270, 370}, angles(0, 90, 45), [](double, double) { return 1.0; });
+  d = sample_c(Symmetry::None, {0, 90, 180, 270, 370}, angles(0, 90, 45),
+               [](double, double) { return 1.0; });
   expect_codes(d, {"horizontal-angle-range"});
 
   d = clean();
@@ -105,7 +107,8 @@ TEST(Validation, StructuralErrors) {
   d = clean();
   d.symmetry = Symmetry::Lateral;
   expect_codes(d, {"symmetry-range"});
-  d = sample_direction(PhotometricType::B, Symmetry::Quadrant, angles(0, 90, 30), angles(-90, 90, 30), cos_lobe(1, 1));
+  d = sample_direction(PhotometricType::B, Symmetry::Quadrant, angles(0, 90, 30),
+                       angles(-90, 90, 30), cos_lobe(1, 1));
   expect_codes(d, {"symmetry-range"});
 
   d = clean();
@@ -152,13 +155,13 @@ TEST(Validation, SymmetryConsistency) {
   quiet.absolute = true;
   expect_codes(quiet, {});
   // Type B values at the pole H = 90 depend on V although it is one direction.
-  Distribution b = sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, 30), angles(-90, 90, 30),
-                                    [](const Vec3&) { return 10.0; });
+  Distribution b = sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, 30),
+                                    angles(-90, 90, 30), [](const Vec3&) { return 10.0; });
   b.absolute = true;
   b.at(3, 2) = 12.0;
   expect_codes(b, {"pole-mismatch"});
-  Distribution a = sample_direction(PhotometricType::A, Symmetry::None, angles(-90, 90, 30), angles(-90, 90, 30),
-                                    [](const Vec3&) { return 10.0; });
+  Distribution a = sample_direction(PhotometricType::A, Symmetry::None, angles(-90, 90, 30),
+                                    angles(-90, 90, 30), [](const Vec3&) { return 10.0; });
   a.absolute = true;
   a.at(2, 0) = 11.0;  // V = -90, the nadir, for one H
   expect_codes(a, {"pole-mismatch"});
@@ -176,7 +179,7 @@ TEST(Validation, DeclaredAndIntegratedValues) {
   expect_codes(d, {"lor-mismatch"});
   d.declared_lor_percent = 79;  // within 3 %
   expect_codes(d, {});
-  d.declared_lor_percent = 0;   // an unfilled field
+  d.declared_lor_percent = 0;  // an unfilled field
   expect_codes(d, {"lor-mismatch"});
 
   d = clean();
@@ -209,10 +212,12 @@ TEST(Validation, AbsurdMagnitudesAndThinGrids) {
   Distribution ring = sample_c(Symmetry::Rotational, {0}, {45}, [](double, double) { return 5.0; });
   ring.absolute = true;
   expect_codes(ring, {"no-solid-angle", "vertical-range-nonstandard"});
-  Distribution plane = sample_direction(PhotometricType::B, Symmetry::None, {0}, angles(-90, 90, 10), cos_lobe(10, 1));
+  Distribution plane = sample_direction(PhotometricType::B, Symmetry::None, {0},
+                                        angles(-90, 90, 10), cos_lobe(10, 1));
   plane.absolute = true;
   expect_codes(plane, {"no-solid-angle"});
-  Distribution odd = sample_c(Symmetry::Rotational, {0}, angles(0, 85, 5), [](double, double) { return 5.0; });
+  Distribution odd =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 85, 5), [](double, double) { return 5.0; });
   odd.absolute = true;
   expect_codes(odd, {"vertical-range-nonstandard"});
 }

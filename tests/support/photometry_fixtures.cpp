@@ -15,8 +15,9 @@ std::vector<double> angles(double from, double to, double step) {
   return out;
 }
 
-Distribution sample_direction(PhotometricType type, Symmetry symmetry, std::vector<double> horizontal_deg,
-                              std::vector<double> vertical_deg, const std::function<double(const Vec3&)>& f) {
+Distribution sample_direction(PhotometricType type, Symmetry symmetry,
+                              std::vector<double> horizontal_deg, std::vector<double> vertical_deg,
+                              const std::function<double(const Vec3&)>& f) {
   Distribution d;
   d.type = type;
   d.symmetry = symmetry;
