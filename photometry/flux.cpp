@@ -154,12 +154,13 @@ class Axis {
               : s_[n - 2];
     for (std::size_t k = 1; k + 1 < n; ++k) {
       const double l = s_[k - 1], r = s_[k];
-      if (l * r > 0.0) {
-        // Three-point slope, limited to three times the smaller secant.
-        const double d = l + left_[k] * (r - l);
-        const double bound = 3.0 * std::min(std::abs(l), std::abs(r));
-        dl_[k] = dr_[k] = std::abs(d) <= bound ? d : std::copysign(bound, l);
-      } else if (std::abs(f[k]) <= tiny && ((l == 0.0) != (r == 0.0))) {
+      // Three-point slope, limited to three times the smaller secant; it has
+      // the sign of both secants where they agree (a convex combination),
+      // and is zero at extrema and flat runs.
+      const double d = l + left_[k] * (r - l);
+      const double limited = std::copysign(std::min(std::abs(d), 3.0 * std::min(std::abs(l), std::abs(r))), l);
+      dl_[k] = dr_[k] = l * r > 0.0 ? limited : 0.0;
+      if (l * r <= 0.0 && std::abs(f[k]) <= tiny && ((l == 0.0) != (r == 0.0))) {
         // Edge of a dark run: the lit side keeps the slope of its own
         // parabola if it is monotone over two segments (a smooth flank, not
         // an under-resolved step).
@@ -169,8 +170,6 @@ class Axis {
         dr_[k] = r != 0.0 && k + 2 < n
                      ? limit(end_slope(h_[k], h_[k + 1], r, s_[k + 1]), r, s_[k + 1])
                      : 0.0;
-      } else {
-        dl_[k] = dr_[k] = 0.0;
       }
     }
   }
