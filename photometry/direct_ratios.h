@@ -37,7 +37,8 @@ inline constexpr std::array<double, 10> kDirectRatioRoomIndices = {0.6, 0.8, 1.0
                                                                    2.0, 2.5, 3.0, 4.0,  5.0};
 
 // DR at each of kDirectRatioRoomIndices [1], integrated on a 1° (C) × 0.25° (γ)
-// midpoint grid of interpolate()'s model (absolute accuracy about 1e-4).
+// midpoint grid of interpolate()'s model (within 1e-5 of the closed form for
+// a Lambertian luminaire).
 // All zero for a dark distribution. Requires validate(d).ok().
 std::array<double, 10> direct_ratios(const Distribution& d);
 

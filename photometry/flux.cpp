@@ -158,7 +158,8 @@ class Axis {
       // the sign of both secants where they agree (a convex combination),
       // and is zero at extrema and flat runs.
       const double d = l + left_[k] * (r - l);
-      const double limited = std::copysign(std::min(std::abs(d), 3.0 * std::min(std::abs(l), std::abs(r))), l);
+      const double limited =
+          std::copysign(std::min(std::abs(d), 3.0 * std::min(std::abs(l), std::abs(r))), l);
       dl_[k] = dr_[k] = l * r > 0.0 ? limited : 0.0;
       if (l * r <= 0.0 && std::abs(f[k]) <= tiny && ((l == 0.0) != (r == 0.0))) {
         // Edge of a dark run: the lit side keeps the slope of its own

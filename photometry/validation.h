@@ -18,7 +18,8 @@
 //     lamp-count                a lamp set with a count ≤ 0
 //     lamp-flux                 relative photometry with a rated lamp flux
 //                               that is not a positive number
-//     invalid-model             anything else validate() refuses
+//     invalid-model             anything else validate() refuses (a safety net:
+//                               the codes above cover all its rules today)
 //   error — the data is physically impossible or useless
 //     negative-intensity        an intensity below 0 cd
 //     all-zero                  every intensity is 0: the luminaire emits nothing

@@ -31,7 +31,7 @@ TEST(DirectRatios, LambertianEqualsTheViewFactorOfFacingSquares) {
   const std::array<double, 10> dr = direct_ratios(d);
   for (std::size_t i = 0; i < dr.size(); ++i) {
     const double k = kDirectRatioRoomIndices[i];
-    EXPECT_NEAR(dr[i], facing_rectangles(2 * k, 2 * k), 3e-4) << "k " << k;
+    EXPECT_NEAR(dr[i], facing_rectangles(2 * k, 2 * k), 2e-5) << "k " << k;
   }
   EXPECT_NEAR(direct_ratio(d, 0.6), dr[0], 1e-15);
 }
@@ -59,7 +59,8 @@ TEST(DirectRatios, IsotropicDownlightMatchesAnIndependentIntegral) {
   const Distribution d =
       sample_c(Symmetry::Rotational, {0}, angles(0, 90, 5), [](double, double) { return 50.0; });
   for (double k : {0.6, 1.5, 5.0})
-    EXPECT_NEAR(direct_ratio(d, k), isotropic_from_the_floor(k), 5e-4) << k;
+    EXPECT_NEAR(direct_ratio(d, k), isotropic_from_the_floor(k), 5e-4)
+        << k;  // the reference errs most
 }
 
 TEST(DirectRatios, BoundsAndLimits) {
