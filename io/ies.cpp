@@ -126,8 +126,10 @@ class LineCursor {
 // Numbers separated by blanks, commas and line ends, with the line of each.
 class NumberStream {
  public:
+  // Before any token, errors point at the line before the first (the TILT
+  // line for photometric data).
   NumberStream(std::string_view text, int first_line, std::string file)
-      : text_(text), line_(first_line), last_line_(first_line), file_(std::move(file)) {}
+      : text_(text), line_(first_line), last_line_(std::max(1, first_line - 1)), file_(std::move(file)) {}
 
   // The next number; on failure `error()` says what was expected (`what()`)
   // and what was found.
@@ -301,13 +303,15 @@ struct VersionLine {
 };
 
 std::optional<VersionLine> detect_version(std::string_view line) {
-  const std::string u = upper(trim(line));
+  std::string u = upper(trim(line));
   if (!(u.rfind("IESNA", 0) == 0 || u.rfind("IES:", 0) == 0)) return std::nullopt;
   if (u == "IESNA91") return VersionLine{IesVersion::LM63_1991, true, true};
   if (u == "IESNA:LM-63-1995") return VersionLine{IesVersion::LM63_1995, true, true};
   if (u == "IESNA:LM-63-2002") return VersionLine{IesVersion::LM63_2002, true, true};
   if (u == "IES:LM-63-2019") return VersionLine{IesVersion::LM63_2019, true, true};
-  // The year it names: the last run of digits (two or four of them).
+  // The year it names: the last run of digits (two or four of them) once
+  // the standard's name "LM-63" is out of the way.
+  if (const std::size_t lm = u.find("LM-63"); lm != std::string::npos) u.erase(lm, 5);
   std::size_t end = u.size();
   while (end > 0 && !std::isdigit(static_cast<unsigned char>(u[end - 1]))) --end;
   std::size_t begin = end;
