@@ -38,10 +38,13 @@ std::vector<Sample> largest_ies_files(std::size_t count) {
   if (!fs::is_directory(root, ec)) return {};
   for (const auto& entry : fs::recursive_directory_iterator(root, ec)) {
     std::string ext = entry.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (entry.is_regular_file() && ext == ".ies") files.emplace_back(entry.file_size(), entry.path());
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    if (entry.is_regular_file() && ext == ".ies")
+      files.emplace_back(entry.file_size(), entry.path());
   }
-  std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::sort(files.begin(), files.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<Sample> out;
   for (std::size_t i = 0; i < files.size() && i < count; ++i) {
     auto bytes = gonio::io::read_file(files[i].second.string(), gonio::io::kMaxIesFileBytes);
@@ -108,8 +111,8 @@ const std::vector<Sample>& samples() {
 const bool registered = [] {
   if (samples().empty()) {
     benchmark::RegisterBenchmark("ies/corpus_missing", [](benchmark::State& state) {
-      state.SkipWithError(("no IES files under " + corpus_dir().string() +
-                           " (set GONIO_CORPUS)").c_str());
+      state.SkipWithError(
+          ("no IES files under " + corpus_dir().string() + " (set GONIO_CORPUS)").c_str());
     });
     return true;
   }

@@ -36,14 +36,14 @@ constexpr double kAngleTol = 1e-9;  // [deg] as photometry::validate
 
 // Keywords LM-63-2002 defines (LM-63-2019 adds FILEGENINFO).
 constexpr std::array<std::string_view, 19> kKeywords2002 = {
-    "TEST",     "TESTLAB",  "TESTDATE",      "ISSUEDATE",    "MANUFAC",
-    "LUMCAT",   "LUMINAIRE", "LAMPCAT",      "LAMP",         "BALLASTCAT",
-    "BALLAST",  "MAINTCAT", "DISTRIBUTION",  "FLASHAREA",    "COLORCONSTANT",
-    "LAMPPOSITION", "NEARFIELD", "SEARCH",   "OTHER"};
+    "TEST",         "TESTLAB",   "TESTDATE",     "ISSUEDATE", "MANUFAC",
+    "LUMCAT",       "LUMINAIRE", "LAMPCAT",      "LAMP",      "BALLASTCAT",
+    "BALLAST",      "MAINTCAT",  "DISTRIBUTION", "FLASHAREA", "COLORCONSTANT",
+    "LAMPPOSITION", "NEARFIELD", "SEARCH",       "OTHER"};
 // Accepted without an "unknown-keyword" warning when reading: those above,
 // FILEGENINFO and the 1991/1995 keywords later versions dropped.
 constexpr std::array<std::string_view, 4> kKeywordsOther = {"FILEGENINFO", "DATE", "BLOCK",
-                                                           "ENDBLOCK"};
+                                                            "ENDBLOCK"};
 
 bool in(std::string_view key, std::span<const std::string_view> list) {
   return std::find(list.begin(), list.end(), key) != list.end();
@@ -90,7 +90,7 @@ std::string shown(std::string_view token) {
 
 std::string num(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
+  std::snprintf(buf, sizeof buf, "%.10g", v);
   return buf;
 }
 
@@ -129,7 +129,10 @@ class NumberStream {
   // Before any token, errors point at the line before the first (the TILT
   // line for photometric data).
   NumberStream(std::string_view text, int first_line, std::string file)
-      : text_(text), line_(first_line), last_line_(std::max(1, first_line - 1)), file_(std::move(file)) {}
+      : text_(text),
+        line_(first_line),
+        last_line_(std::max(1, first_line - 1)),
+        file_(std::move(file)) {}
 
   // The next number; on failure `error()` says what was expected (`what()`)
   // and what was found.
@@ -145,8 +148,8 @@ class NumberStream {
       return true;
     }
     const std::string low = upper(token);
-    const bool not_finite = low.find("NAN") != std::string::npos ||
-                            low.find("INF") != std::string::npos;
+    const bool not_finite =
+        low.find("NAN") != std::string::npos || low.find("INF") != std::string::npos;
     set_error("expected " + what() + ", found '" + shown(token) + "'" +
               (not_finite ? " (not a finite number)" : ""));
     return false;
@@ -254,9 +257,9 @@ std::optional<LuminousOpening> opening_2019(double w, double l, double h) {
     if (h == 0)
       return opening(same(w, l) ? OpeningShape::Circular : OpeningShape::Ellipse, w, l, 0);
     if (h > 0)
-      return opening(same(w, l) ? OpeningShape::VerticalCylinder
-                                : OpeningShape::VerticalEllipticalCylinder,
-                     w, l, h);
+      return opening(
+          same(w, l) ? OpeningShape::VerticalCylinder : OpeningShape::VerticalEllipticalCylinder, w,
+          l, h);
     return opening(same(w, l) && same(w, h) ? OpeningShape::Sphere : OpeningShape::Ellipsoid, w, l,
                    h);
   }
@@ -283,7 +286,8 @@ std::optional<LuminousOpening> opening_1995(double w, double l, double h) {
     if (same(w, h)) return opening(OpeningShape::Sphere, w, w, w);
     return std::nullopt;
   }
-  if (w == 0 && l > 0 && h < 0) return opening(OpeningShape::HorizontalCylinderAlongLength, h, l, h);
+  if (w == 0 && l > 0 && h < 0)
+    return opening(OpeningShape::HorizontalCylinderAlongLength, h, l, h);
   if (w > 0 && l == 0 && h < 0) return opening(OpeningShape::HorizontalCylinderAlongWidth, w, h, h);
   if ((w < 0 && l > 0) || (w > 0 && l < 0)) {
     if (h == 0) return opening(OpeningShape::Ellipse, w, l, 0);
@@ -391,8 +395,8 @@ Status IesReader::check_bytes(std::string_view text) {
   if (std::all_of(text.begin(), text.end(),
                   [](char c) { return is_blank(c) || c == '\r' || c == '\n' || c == '\x1a'; }))
     return fail(1, "empty file: expected an IES LM-63 photometric file");
-  if (text.size() >= 2 && ((text[0] == '\xff' && text[1] == '\xfe') ||
-                           (text[0] == '\xfe' && text[1] == '\xff')))
+  if (text.size() >= 2 &&
+      ((text[0] == '\xff' && text[1] == '\xfe') || (text[0] == '\xfe' && text[1] == '\xff')))
     return fail(1, "UTF-16 text: IES files are ASCII or Latin-1");
   if (looks_binary(text)) {
     // Name the line of the first byte that no text file holds.
@@ -446,7 +450,8 @@ void IesReader::add_keyword(std::string_view t, int number) {
         return;
       }
       if (key.front() != '_' && !in(key, kKeywords2002) && !in(key, kKeywordsOther))
-        warn(number, "unknown-keyword", "[" + key + "] is not an LM-63 keyword (user keywords start with '_')");
+        warn(number, "unknown-keyword",
+             "[" + key + "] is not an LM-63 keyword (user keywords start with '_')");
       keywords.push_back({key, std::move(value)});
       return;
     }
@@ -560,8 +565,8 @@ Status IesReader::read_tilt_file(const std::string& file_name, int tilt_line, Ti
   if (tilt_dir_.empty())
     return fail(tilt_line, "TILT=" + file_name +
                                " names a tilt file, but no directory to look for it was given");
-  const fs::path p = fs::path(file_name).is_absolute() ? fs::path(file_name)
-                                                       : fs::path(tilt_dir_) / file_name;
+  const fs::path p =
+      fs::path(file_name).is_absolute() ? fs::path(file_name) : fs::path(tilt_dir_) / file_name;
   const std::string path = p.string();
   auto bytes = read_file(path, kMaxIesFileBytes);
   if (!bytes.ok())
@@ -616,8 +621,9 @@ Status IesReader::set_symmetry(int first_line, int last_line) {
                  std::string(to_string(version_)) + "; read as symmetric about C90-C270");
       return Ok{};
     }
-    return fail(first_line, "Type C horizontal angles must start at 0 (or run from 90 to 270), found " +
-                                num(first) + " to " + num(last));
+    return fail(first_line,
+                "Type C horizontal angles must start at 0 (or run from 90 to 270), found " +
+                    num(first) + " to " + num(last));
   }
   if (near(first, 0.0)) {
     d_.symmetry = Symmetry::Lateral;
@@ -650,11 +656,13 @@ void IesReader::set_opening(double w, double l, double h, int line) {
                photometry::to_string(o->shape));
     } else if (h == 0 && ((w < 0 && l == 0) || (w == 0 && l < 0))) {
       o = opening(OpeningShape::Circular, w + l, w + l, 0);
-      warn(line, "opening-shape", "luminous opening " + dims + " matches no LM-63 shape; read as circular");
+      warn(line, "opening-shape",
+           "luminous opening " + dims + " matches no LM-63 shape; read as circular");
     } else {
       o = opening(h == 0 ? OpeningShape::Rectangular : OpeningShape::RectangularWithSides, w, l, h);
       warn(line, "opening-shape",
-           "luminous opening " + dims + " matches no LM-63 shape; read as a rectangle of its absolute values");
+           "luminous opening " + dims +
+               " matches no LM-63 shape; read as a rectangle of its absolute values");
     }
   }
   d_.opening = *o;
@@ -677,7 +685,8 @@ Status IesReader::read_data(NumberStream& in) {
   const int count_line = in.line();
   if (!in.next_int(nh, 1, kMaxCount, [] { return std::string("number of horizontal angles"); }))
     return in.error();
-  if (!in.next_int(type, 1, 3, [] { return std::string("photometric type (1 = C, 2 = B, 3 = A)"); }))
+  if (!in.next_int(type, 1, 3,
+                   [] { return std::string("photometric type (1 = C, 2 = B, 3 = A)"); }))
     return in.error();
   if (!in.next_int(units, 1, 2, [] { return std::string("units type (1 = feet, 2 = metres)"); }))
     return in.error();
@@ -704,11 +713,10 @@ Status IesReader::read_data(NumberStream& in) {
   const double needed = static_cast<double>(nv) + static_cast<double>(nh) +
                         static_cast<double>(nv) * static_cast<double>(nh);
   if (!in.can_hold(needed))
-    return in.fail(count_line, std::to_string(nv) + " vertical × " + std::to_string(nh) +
-                                   " horizontal angles need " + num(needed) +
-                                   " more numbers, more than the " +
-                                   std::to_string(in.remaining_bytes()) +
-                                   " bytes left in the file can hold");
+    return in.fail(count_line,
+                   std::to_string(nv) + " vertical × " + std::to_string(nh) +
+                       " horizontal angles need " + num(needed) + " more numbers, more than the " +
+                       std::to_string(in.remaining_bytes()) + " bytes left in the file can hold");
 
   d_.type = static_cast<PhotometricType>(type);
   const bool c = d_.type == PhotometricType::C;
@@ -806,7 +814,8 @@ Status IesReader::read_data(NumberStream& in) {
       d_.file_generation = *g;
     } else {
       warn(second_line, "file-generation-type",
-           "file generation type " + num(second) + " is not in the LM-63-2019 table; read as undefined");
+           "file generation type " + num(second) +
+               " is not in the LM-63-2019 table; read as undefined");
     }
   } else {
     d_.ballast_lamp_factor = second;
@@ -853,6 +862,13 @@ Result<IesFile> IesReader::read() {
 
   if (Status s = photometry::validate(d_); !s.ok())
     return fail(0, "inconsistent photometric data: " + s.error().message);
+  // File order: this file's findings by line, then the tilt file's.
+  std::stable_sort(result_.findings.begin(), result_.findings.end(),
+                   [this](const Finding& a, const Finding& b) {
+                     const bool a_other = a.where.file != name_, b_other = b.where.file != name_;
+                     if (a_other != b_other) return b_other;
+                     return a.where.line < b.where.line;
+                   });
   return std::move(result_);
 }
 
@@ -975,8 +991,8 @@ void IesWriter::keywords() {
       value = date->value;
     } else {
       value = "not stated";
-      warn("default-keyword", "required keyword [" + std::string(key) + "] missing; written as '" +
-                                  value + "'");
+      warn("default-keyword",
+           "required keyword [" + std::string(key) + "] missing; written as '" + value + "'");
     }
     keyword(std::string(key), value);
   }
@@ -1006,7 +1022,8 @@ void IesWriter::keywords() {
       key = "OTHER";
     } else if (key != "MORE" && key.front() != '_' && !in(key, kKeywords2002) &&
                !(v2019 && key == "FILEGENINFO")) {
-      warn("keyword-renamed", "[" + key + "] is not an " + std::string(to_string(options_.version)) +
+      warn("keyword-renamed", "[" + key + "] is not an " +
+                                  std::string(to_string(options_.version)) +
                                   " keyword; written as user keyword [_" + key + "]");
       key = "_" + key;
     }
@@ -1024,8 +1041,8 @@ void IesWriter::tilt() {
   }
   if (t.angles_deg.empty() || t.angles_deg.size() != t.factors.size() || t.lamp_geometry < 1 ||
       t.lamp_geometry > 3) {
-    warn("tilt-invalid", "TILT data incomplete (geometry " + std::to_string(t.lamp_geometry) + ", " +
-                             std::to_string(t.angles_deg.size()) + " angles, " +
+    warn("tilt-invalid", "TILT data incomplete (geometry " + std::to_string(t.lamp_geometry) +
+                             ", " + std::to_string(t.angles_deg.size()) + " angles, " +
                              std::to_string(t.factors.size()) + " factors); written as TILT=NONE");
     line("TILT=NONE");
     return;
@@ -1047,8 +1064,8 @@ void IesWriter::unsupported_fields() {
   for (std::size_t i = 0; i < d_.lamps.size(); ++i) {
     const LampSet& l = d_.lamps[i];
     if (!l.color.empty())
-      warn("lamp-color", "lamp set " + std::to_string(i + 1) + " colour '" + l.color +
-                             "' has no IES field");
+      warn("lamp-color",
+           "lamp set " + std::to_string(i + 1) + " colour '" + l.color + "' has no IES field");
     if (!l.color_rendering.empty())
       warn("lamp-color-rendering", "lamp set " + std::to_string(i + 1) + " colour rendering '" +
                                        l.color_rendering + "' has no IES field");
@@ -1068,13 +1085,20 @@ void IesWriter::unsupported_fields() {
            "luminous area side heights");
   if (d_.ballast_lamp_factor != 1.0)
     warn("ballast-lamp-factor", "ballast-lamp photometric factor " + num(d_.ballast_lamp_factor) +
-                                    " (LM-63-1995) has no field in " +
-                                    to_string(options_.version) + "; not written");
+                                    " (LM-63-1995) has no field in " + to_string(options_.version) +
+                                    "; not written");
 }
 
 // The distribution on the horizontal range the file will hold.
 Distribution IesWriter::grid() {
-  if (d_.type != PhotometricType::C) return d_;
+  if (d_.type != PhotometricType::C) {
+    if (d_.symmetry == Symmetry::None && d_.horizontal_deg.front() >= -kAngleTol)
+      warn("lateral-range", "horizontal angles " + num(d_.horizontal_deg.front()) + " to " +
+                                num(d_.horizontal_deg.back()) +
+                                " without symmetry will read back as lateral symmetry (LM-63 "
+                                "reads a range starting at 0 so)");
+    return d_;
+  }
   if (d_.symmetry == Symmetry::Rotational) {
     Distribution g = d_;
     g.horizontal_deg = {0.0};
@@ -1083,22 +1107,27 @@ Distribution IesWriter::grid() {
   if (d_.symmetry == Symmetry::C90_C270) {
     warn("symmetry-expanded", std::string("C90-C270 symmetry (horizontal angles 90 to 270) exists "
                                           "only in LM-63-1995; written as the full range 0 to 360 "
-                                          "for ") + to_string(options_.version));
+                                          "for ") +
+                                  to_string(options_.version));
     return photometry::expand_symmetry(d_);
   }
-  if (d_.symmetry == Symmetry::None && d_.horizontal_deg.front() > kAngleTol) {
-    warn("symmetry-expanded", "horizontal angles start at " + num(d_.horizontal_deg.front()) +
-                                  ", LM-63 needs 0: written as 0 to 360 with the C0 plane "
-                                  "interpolated across the seam");
+  // Without symmetry LM-63 needs planes from 0 to beyond 180; anything else
+  // is closed over the full circle as interpolate() reads it.
+  if (d_.symmetry == Symmetry::None &&
+      (d_.horizontal_deg.front() > kAngleTol || d_.horizontal_deg.back() <= 180.0 + kAngleTol)) {
+    warn("symmetry-expanded", "horizontal angles " + num(d_.horizontal_deg.front()) + " to " +
+                                  num(d_.horizontal_deg.back()) +
+                                  " without symmetry are no LM-63 range: written as 0 to 360, "
+                                  "planes added across the seam");
     return photometry::expand_symmetry(d_);
   }
   return d_;
 }
 
 std::string IesWriter::write() {
-  GONIO_CHECK_MSG(options_.version == IesVersion::LM63_2019 ||
-                      options_.version == IesVersion::LM63_2002,
-                  "write_ies writes LM-63-2019 or LM-63-2002");
+  GONIO_CHECK_MSG(
+      options_.version == IesVersion::LM63_2019 || options_.version == IesVersion::LM63_2002,
+      "write_ies writes LM-63-2019 or LM-63-2002");
   GONIO_CHECK_MSG(photometry::validate(d_).ok(), "write_ies needs a valid distribution");
 
   line(options_.version == IesVersion::LM63_2019 ? "IES:LM-63-2019" : "IESNA:LM-63-2002");
@@ -1157,18 +1186,45 @@ std::string IesWriter::write() {
     case S::Point: w = l = h = 0.0; break;
     case S::Rectangular: h = 0.0; break;
     case S::RectangularWithSides: break;
-    case S::Circular: w = l = -std::max(w, l); h = 0.0; break;
-    case S::Ellipse: w = -w; l = -l; h = 0.0; break;
+    case S::Circular:
+      w = l = -std::max(w, l);
+      h = 0.0;
+      break;
+    case S::Ellipse:
+      w = -w;
+      l = -l;
+      h = 0.0;
+      break;
     case S::VerticalCylinder: w = l = -std::max(w, l); break;
-    case S::VerticalEllipticalCylinder: w = -w; l = -l; break;
+    case S::VerticalEllipticalCylinder:
+      w = -w;
+      l = -l;
+      break;
     case S::Sphere: w = l = h = -std::max({w, l, h}); break;
-    case S::Ellipsoid: w = -w; l = -l; h = -h; break;
+    case S::Ellipsoid:
+      w = -w;
+      l = -l;
+      h = -h;
+      break;
     case S::HorizontalCylinderAlongLength: w = h = -std::max(w, h); break;
-    case S::HorizontalEllipticalCylinderAlongLength: w = -w; h = -h; break;
+    case S::HorizontalEllipticalCylinderAlongLength:
+      w = -w;
+      h = -h;
+      break;
     case S::HorizontalCylinderAlongWidth: l = h = -std::max(l, h); break;
-    case S::HorizontalEllipticalCylinderAlongWidth: l = -l; h = -h; break;
-    case S::VerticalCircle: w = h = -std::max(w, h); l = 0.0; break;
-    case S::VerticalEllipse: w = -w; h = -h; l = 0.0; break;
+    case S::HorizontalEllipticalCylinderAlongWidth:
+      l = -l;
+      h = -h;
+      break;
+    case S::VerticalCircle:
+      w = h = -std::max(w, h);
+      l = 0.0;
+      break;
+    case S::VerticalEllipse:
+      w = -w;
+      h = -h;
+      l = 0.0;
+      break;
   }
 
   const double lumens = absolute ? -1.0 : flux / static_cast<double>(lamp_count);

@@ -84,7 +84,8 @@
 //   except [FILEGENINFO] in 2002, written as [OTHER].
 // - Type C is written with the smallest horizontal range its symmetry
 //   allows: rotational → 0; quadrant → 0–90; C0-C180 → 0–180; none → as
-//   stored (expanded to 0–360 with a warning if it does not start at 0).
+//   stored (expanded to 0–360 with a warning if it does not start at 0 or
+//   ends at or below 180, which LM-63 would read as a symmetry).
 //   C90-C270 (valid only in LM-63-1995's 90–270 range) is expanded to the
 //   full 0–360 (warning "symmetry-expanded"): a 0–180 range would mean the
 //   other mirror plane, and rotating the frame would move C0.
@@ -94,7 +95,8 @@
 //   ratios, luminaire body dimensions, luminous-area side heights,
 //   measurement tilt), a ballast-lamp photometric factor other than 1,
 //   TILT=<file> (written as TILT=INCLUDE), unknown input watts (written as
-//   0; the sum of the lamp sets' powers is used where known).
+//   0; the sum of the lamp sets' powers is used where known), Types A/B
+//   without symmetry on H ≥ 0 only (read back as lateral symmetry).
 #pragma once
 
 #include <cstddef>
@@ -133,8 +135,8 @@ Result<IesFile> parse_ies(std::string_view bytes, const std::string& name,
 
 struct IesWriteOptions {
   IesVersion version = IesVersion::LM63_2019;  // LM63_2019 or LM63_2002
-  std::string issue_date;            // [ISSUEDATE] when the model has none
-  std::string file_generation_info;  // [FILEGENINFO] (2019) when the model has none
+  std::string issue_date;                      // [ISSUEDATE] when the model has none
+  std::string file_generation_info;            // [FILEGENINFO] (2019) when the model has none
 };
 
 // The file text (Latin-1, CR LF). Requires photometry::validate(d).ok() and

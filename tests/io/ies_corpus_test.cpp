@@ -46,9 +46,9 @@ double quadrature_flux_lm(const Distribution& d) {
   for (std::size_t h = 0; h + 1 < e.horizontal_count(); ++h) {
     const double dc = (e.horizontal_deg[h + 1] - e.horizontal_deg[h]) * deg;
     for (std::size_t v = 0; v + 1 < e.vertical_count(); ++v) {
-      const double band =
-          std::cos(e.vertical_deg[v] * deg) - std::cos(e.vertical_deg[v + 1] * deg);
-      const double mean = 0.25 * (e.at(h, v) + e.at(h, v + 1) + e.at(h + 1, v) + e.at(h + 1, v + 1));
+      const double band = std::cos(e.vertical_deg[v] * deg) - std::cos(e.vertical_deg[v + 1] * deg);
+      const double mean =
+          0.25 * (e.at(h, v) + e.at(h, v + 1) + e.at(h + 1, v) + e.at(h + 1, v + 1));
       sum += mean * dc * band;
     }
   }
@@ -95,17 +95,17 @@ TEST(IesCorpus, LuminousOpeningShapes) {
       {"point_opening.ies", OpeningShape::Point, 0, 0, 0},
       {"rectangular_opening.ies", OpeningShape::Rectangular, 0.12, 0.34, 0},
       {"rectangular_opening_with_height.ies", OpeningShape::RectangularWithSides, 0.12, 0.34, 0.56},
-      {"round_opening.ies", OpeningShape::Circular, 0.12, 0.12, 0},                 // -0.12 0 0
+      {"round_opening.ies", OpeningShape::Circular, 0.12, 0.12, 0},  // -0.12 0 0
       {"round_opening_with_height.ies", OpeningShape::VerticalCylinder, 0.12, 0.12, 0.34},
-      {"sphere_opening.ies", OpeningShape::Sphere, 0.12, 0.12, 0.12},               // -0.12 0 -0.12
+      {"sphere_opening.ies", OpeningShape::Sphere, 0.12, 0.12, 0.12},  // -0.12 0 -0.12
       {"horizontal_cylinder_opening_along_length.ies", OpeningShape::HorizontalCylinderAlongLength,
-       0.34, 0.12, 0.34},                                                            // 0 0.12 -0.34
+       0.34, 0.12, 0.34},  // 0 0.12 -0.34
       {"horizontal_cylinder_opening_along_width.ies", OpeningShape::HorizontalCylinderAlongWidth,
-       0.12, 0.34, 0.34},                                                            // 0.12 0 -0.34
+       0.12, 0.34, 0.34},  // 0.12 0 -0.34
       {"ellipse_opening_along_length.ies", OpeningShape::VerticalEllipticalCylinder, 0.12, 0.34,
-       0.56},                                                                        // -0.12 0.34 0.56
+       0.56},  // -0.12 0.34 0.56
       {"ellipse_opening_along_width.ies", OpeningShape::VerticalEllipticalCylinder, 0.12, 0.34,
-       0.56},                                                                        // 0.12 -0.34 0.56
+       0.56},  // 0.12 -0.34 0.56
       {"ellipsoid_opening_along_length.ies", OpeningShape::Ellipsoid, 0.12, 0.34, 0.56},
       {"ellipsoid_opening_along_width.ies", OpeningShape::Ellipsoid, 0.12, 0.34, 0.56},
   };
@@ -140,14 +140,16 @@ TEST(IesCorpus, UnitsMultiplierAndAbsolutePhotometry) {
   const IesFile imperial = read_ok(corpus("photometric-viewer/imperial_units.ies"));
   EXPECT_EQ(metric.distribution.opening.file_unit, LengthUnit::Metre);
   EXPECT_EQ(imperial.distribution.opening.file_unit, LengthUnit::Foot);
-  EXPECT_DOUBLE_EQ(imperial.distribution.opening.length_m, metric.distribution.opening.length_m * 0.3048);
+  EXPECT_DOUBLE_EQ(imperial.distribution.opening.length_m,
+                   metric.distribution.opening.length_m * 0.3048);
   EXPECT_EQ(imperial.distribution.candela, metric.distribution.candela);
 
   // The same file with multiplier 1 and 1.5: candela × 1.5, flux × 1.5.
   for (const std::string kind : {"absolute", "relative"}) {
     SCOPED_TRACE(kind);
     const IesFile one = read_ok(corpus("photometric-viewer/" + kind + "_photometry.ies"));
-    const IesFile more = read_ok(corpus("photometric-viewer/" + kind + "_photometry_with_multiplier.ies"));
+    const IesFile more =
+        read_ok(corpus("photometric-viewer/" + kind + "_photometry_with_multiplier.ies"));
     ASSERT_EQ(one.distribution.candela.size(), more.distribution.candela.size());
     for (std::size_t i = 0; i < one.distribution.candela.size(); ++i)
       EXPECT_EQ(more.distribution.candela[i], 1.5 * one.distribution.candela[i]);
@@ -168,7 +170,8 @@ TEST(IesCorpus, QuirksOfRealFiles) {
   const IesFile label = read_ok(corpus("photometric-viewer/label_lines.ies"));
   const photometry::Keyword* multi = label.distribution.find_keyword("MULTILINE");
   ASSERT_NE(multi, nullptr);
-  EXPECT_EQ(multi->value, "Test multiline metadata\nShould contain three lines\nDivided by LF characters");
+  EXPECT_EQ(multi->value,
+            "Test multiline metadata\nShould contain three lines\nDivided by LF characters");
   EXPECT_EQ(label.distribution.lamps[0].type, "Generic 15W LED module");
 
   // "IESNA95", a label line without brackets, keywords beyond the standard.

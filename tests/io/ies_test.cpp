@@ -159,7 +159,8 @@ TEST(IesRead, Lm63_1986LabelLines) {
 }
 
 TEST(IesRead, LabelLineInLaterVersionsWarns) {
-  const std::string text = "IESNA:LM-63-1995\r\n[TEST] 1\r\nfree text\r\n[MANUFAC] M\r\nTILT=NONE\r\n" + kData;
+  const std::string text =
+      "IESNA:LM-63-1995\r\n[TEST] 1\r\nfree text\r\n[MANUFAC] M\r\nTILT=NONE\r\n" + kData;
   const IesFile f = parse_ok(text);
   EXPECT_TRUE(has_finding(f, "label-line", 3));
   ASSERT_EQ(f.distribution.keywords.size(), 3u);
@@ -214,7 +215,8 @@ TEST(IesRead, KeywordsInFileOrderWithMoreJoined) {
 
 TEST(IesRead, UnknownKeywordAndOrphanMoreWarn) {
   const std::string text =
-      "IESNA:LM-63-1995\r\n[MORE] orphan\r\n[TEST] 1\r\n[MANUFAC] M\r\n[FIXTURE] x\r\nTILT=NONE\r\n" +
+      "IESNA:LM-63-1995\r\n[MORE] orphan\r\n[TEST] 1\r\n[MANUFAC] M\r\n[FIXTURE] "
+      "x\r\nTILT=NONE\r\n" +
       kData;
   const IesFile f = parse_ok(text);
   EXPECT_TRUE(has_finding(f, "more-without-keyword", 2));
@@ -269,6 +271,23 @@ TEST(IesRead, SeparatorsAndLineEnds) {
   EXPECT_EQ(parse_ok(lf).distribution.candela, f.distribution.candela);
 }
 
+TEST(IesRead, FindingsComeInFileOrder) {
+  std::string long_line(300, ' ');
+  long_line += "0 90";
+  const std::string text =
+      "IESNA:LM-63-2002\r\n[TEST] 1\r\n[FOO] x\r\nTILT=NONE\r\n"
+      "1 1000 1 3 2 1 2 0 0 0\r\n1 1 10\r\n0 45 90\r\n" +
+      long_line + "\r\n100 80 10\r\n100 70 5\r\nEND\r\n";
+  const IesFile f = parse_ok(text);
+  std::vector<std::string> codes;
+  for (const Finding& x : f.findings) codes.push_back(x.code);
+  EXPECT_EQ(codes,
+            (std::vector<std::string>{"unknown-keyword", "missing-keyword", "missing-keyword",
+                                      "missing-keyword", "long-line", "trailing-data"}));
+  for (std::size_t i = 1; i < f.findings.size(); ++i)
+    EXPECT_LE(f.findings[i - 1].where.line, f.findings[i].where.line);
+}
+
 TEST(IesRead, LongLinesWarnOnceAndAreRead) {
   std::string values;
   for (int i = 0; i < 60; ++i) values += "100.25 ";  // 420 characters
@@ -296,15 +315,17 @@ TEST(IesRead, MultiplierAppliedBallastAndFactorsKept) {
   EXPECT_EQ(d.ballast_lamp_factor, 1.0);
 
   // LM-63-1995: the second value is the ballast-lamp photometric factor.
-  const std::string text95 = "IESNA:LM-63-1995\r\n[TEST] 1\r\n[MANUFAC] M\r\nTILT=NONE\r\n"
-                             "1 1000 1 3 2 1 2 0 0 0\r\n1 0.9 10\r\n0 45 90\r\n0 90\r\n1 2 3 4 5 6\r\n";
+  const std::string text95 =
+      "IESNA:LM-63-1995\r\n[TEST] 1\r\n[MANUFAC] M\r\nTILT=NONE\r\n"
+      "1 1000 1 3 2 1 2 0 0 0\r\n1 0.9 10\r\n0 45 90\r\n0 90\r\n1 2 3 4 5 6\r\n";
   const IesFile f95 = parse_ok(text95);
   EXPECT_EQ(f95.distribution.ballast_lamp_factor, 0.9);
   EXPECT_EQ(f95.distribution.candela[5], 6.0);  // kept, not applied
   EXPECT_TRUE(f95.findings.empty());
 
   // LM-63-2002 calls it "future use": anything but 1 is worth a warning.
-  const std::string text02 = kHead2002 + "1 1000 1 3 2 1 2 0 0 0\r\n1 0.9 10\r\n0 45 90\r\n0 90\r\n1 2 3 4 5 6\r\n";
+  const std::string text02 =
+      kHead2002 + "1 1000 1 3 2 1 2 0 0 0\r\n1 0.9 10\r\n0 45 90\r\n0 90\r\n1 2 3 4 5 6\r\n";
   const IesFile f02 = parse_ok(text02);
   EXPECT_TRUE(has_finding(f02, "future-use", 9));
   EXPECT_EQ(f02.distribution.ballast_lamp_factor, 0.9);
@@ -343,22 +364,25 @@ TEST(IesRead, FileGenerationType2019) {
 }
 
 TEST(IesRead, AbsolutePhotometry) {
-  const std::string text = kHead2002 + "1 -1 1 3 2 1 2 0 0 0\r\n1 1 10\r\n0 45 90\r\n0 90\r\n1 2 3 4 5 6\r\n";
+  const std::string text =
+      kHead2002 + "1 -1 1 3 2 1 2 0 0 0\r\n1 1 10\r\n0 45 90\r\n0 90\r\n1 2 3 4 5 6\r\n";
   const IesFile f = parse_ok(text);
   EXPECT_TRUE(f.distribution.absolute);
   EXPECT_TRUE(std::isnan(f.distribution.lamps[0].flux_lm));
   EXPECT_TRUE(std::isnan(f.distribution.rated_lamp_flux_lm()));
   EXPECT_TRUE(f.findings.empty());
 
-  const std::string odd = kHead2002 + "1 -2 1 3 2 1 2 0 0 0\r\n1 1 10\r\n0 45 90\r\n0 90\r\n1 2 3 4 5 6\r\n";
+  const std::string odd =
+      kHead2002 + "1 -2 1 3 2 1 2 0 0 0\r\n1 1 10\r\n0 45 90\r\n0 90\r\n1 2 3 4 5 6\r\n";
   const IesFile g = parse_ok(odd);
   EXPECT_TRUE(g.distribution.absolute);
   EXPECT_TRUE(has_finding(g, "absolute-flux", 8));
 }
 
 TEST(IesRead, NegativeIntensitiesReadAsZeroWithWarning) {
-  const std::string text = kHead2002 + "1 1000 1 3 2 1 2 0 0 0\r\n1 1 10\r\n0 45 90\r\n0 90\r\n"
-                                       "1 -0.5 3\r\n4 5 -6\r\n";
+  const std::string text = kHead2002 +
+                           "1 1000 1 3 2 1 2 0 0 0\r\n1 1 10\r\n0 45 90\r\n0 90\r\n"
+                           "1 -0.5 3\r\n4 5 -6\r\n";
   const IesFile f = parse_ok(text);
   EXPECT_EQ(f.distribution.candela, (std::vector<double>{1, 0, 3, 4, 5, 0}));
   ASSERT_TRUE(has_finding(f, "negative-intensity", 12));
@@ -376,12 +400,14 @@ TEST(IesRead, TrailingDataWarns) {
 // ---------------------------------------------------------------------------
 // Reading: angle ranges and symmetry
 
-std::string type_c(const std::string& h_angles, int nh, const std::string& version = "IESNA:LM-63-2002") {
+std::string type_c(const std::string& h_angles, int nh,
+                   const std::string& version = "IESNA:LM-63-2002") {
   std::string text = version +
                      "\r\n[TEST] 1\r\n[TESTLAB] L\r\n[ISSUEDATE] D\r\n[MANUFAC] M\r\nTILT=NONE\r\n"
                      "1 1000 1 2 " +
                      std::to_string(nh) + " 1 2 0 0 0\r\n1 1 10\r\n0 90\r\n" + h_angles + "\r\n";
-  for (int i = 0; i < nh; ++i) text += std::to_string(10 * i + 1) + " " + std::to_string(10 * i + 2) + "\r\n";
+  for (int i = 0; i < nh; ++i)
+    text += std::to_string(10 * i + 1) + " " + std::to_string(10 * i + 2) + "\r\n";
   return text;
 }
 
@@ -427,7 +453,8 @@ TEST(IesRead, TypeCVerticalRange) {
   EXPECT_TRUE(contains(e.message, "-5")) << e.message;
 
   // Inside 0–180 but not one of the standard ranges: read, with a warning.
-  const IesFile f = parse_ok(kHead2002 + "1 1000 1 3 1 1 2 0 0 0\r\n1 1 10\r\n0 40 85\r\n0\r\n1 2 3\r\n");
+  const IesFile f =
+      parse_ok(kHead2002 + "1 1000 1 3 1 1 2 0 0 0\r\n1 1 10\r\n0 40 85\r\n0\r\n1 2 3\r\n");
   EXPECT_TRUE(has_finding(f, "vertical-range", 10));
 }
 
@@ -478,10 +505,11 @@ LengthUnit unit_of(const IesFile& f) { return f.distribution.opening.file_unit; 
 
 void expect_opening(const std::string& version, const OpeningCase& c, int units = 2) {
   SCOPED_TRACE(version + " " + c.dims);
-  const std::string text = version +
-                           "\r\n[TEST] 1\r\n[TESTLAB] L\r\n[ISSUEDATE] D\r\n[MANUFAC] M\r\nTILT=NONE\r\n"
-                           "1 1000 1 2 1 1 " +
-                           std::to_string(units) + " " + c.dims + "\r\n1 1 10\r\n0 90\r\n0\r\n1 2\r\n";
+  const std::string text =
+      version +
+      "\r\n[TEST] 1\r\n[TESTLAB] L\r\n[ISSUEDATE] D\r\n[MANUFAC] M\r\nTILT=NONE\r\n"
+      "1 1000 1 2 1 1 " +
+      std::to_string(units) + " " + c.dims + "\r\n1 1 10\r\n0 90\r\n0\r\n1 2\r\n";
   const IesFile f = parse_ok(text);
   EXPECT_FALSE(has_finding(f, "opening-shape"));
   const auto& o = f.distribution.opening;
@@ -547,8 +575,8 @@ TEST(IesRead, LuminousOpeningTable1995) {
 
 TEST(IesRead, LuminousOpeningOutsideTheTables) {
   const auto read = [](const std::string& version, const std::string& dims) {
-    return parse_ok(version + "\r\n[TEST] 1\r\n[MANUFAC] M\r\nTILT=NONE\r\n1 1000 1 2 1 1 2 " + dims +
-                    "\r\n1 1 10\r\n0 90\r\n0\r\n1 2\r\n");
+    return parse_ok(version + "\r\n[TEST] 1\r\n[MANUFAC] M\r\nTILT=NONE\r\n1 1000 1 2 1 1 2 " +
+                    dims + "\r\n1 1 10\r\n0 90\r\n0\r\n1 2\r\n");
   };
   // A 1995 encoding in a 2002 file: read by the 1995 table, with a warning.
   IesFile f = read("IESNA:LM-63-2002", "-0.3 0 0");
@@ -578,7 +606,8 @@ const std::string kTiltData = "1\r\n5\r\n0 15 30 60 90\r\n1 0.98 0.95 0.9 0.85\r
 
 TEST(IesRead, TiltInclude) {
   const std::string text =
-      "IESNA:LM-63-2002\r\n[TEST] 1\r\n[TESTLAB] L\r\n[ISSUEDATE] D\r\n[MANUFAC] M\r\nTILT=INCLUDE\r\n" +
+      "IESNA:LM-63-2002\r\n[TEST] 1\r\n[TESTLAB] L\r\n[ISSUEDATE] D\r\n[MANUFAC] "
+      "M\r\nTILT=INCLUDE\r\n" +
       kTiltData + kData;
   const IesFile f = parse_ok(text);
   const Tilt& t = f.distribution.tilt;
@@ -602,9 +631,10 @@ TEST(IesRead, TiltInclude) {
 TEST(IesRead, TiltFileResolvedBesideTheIesFile) {
   test::TempDir dir;
   test::write_file(dir / "lamp.tlt", kTiltData);
-  const std::string text = "IESNA:LM-63-2002\r\n[TEST] 1\r\n[TESTLAB] L\r\n[ISSUEDATE] D\r\n[MANUFAC] M\r\n"
-                           "TILT=lamp.tlt\r\n" +
-                           kData;
+  const std::string text =
+      "IESNA:LM-63-2002\r\n[TEST] 1\r\n[TESTLAB] L\r\n[ISSUEDATE] D\r\n[MANUFAC] M\r\n"
+      "TILT=lamp.tlt\r\n" +
+      kData;
   test::write_file(dir / "a.ies", text);
   auto r = read_ies((dir / "a.ies").string());
   ASSERT_TRUE(r.ok()) << to_string(r.error());
@@ -679,7 +709,8 @@ TEST(IesHostile, MissingTiltLine) {
 
 TEST(IesHostile, TruncatedFiles) {
   const std::string full = kHead2002 + kData;
-  expect_error(full.substr(0, full.size() - 3), 13, "unexpected end of file: expected candela value 3 of 3");
+  expect_error(full.substr(0, full.size() - 3), 13,
+               "unexpected end of file: expected candela value 3 of 3");
   expect_error(kHead2002, 7, "unexpected end of file: expected number of lamps");
   expect_error(kHead2002 + "1 1000 1 3 2 1 2 0 0 0\r\n1 1", 9, "expected input watts");
   // Every prefix of a valid file either parses or fails with a located error.
@@ -696,13 +727,16 @@ TEST(IesHostile, AbsurdCountsFailBeforeAllocating) {
   // 10^9 × 10^9 angles in a file of a few hundred bytes: refused at once.
   expect_error(kHead2002 + "1 1000 1 1000000000 1000000000 1 2 0 0 0\r\n1 1 10\r\n0 45 90\r\n", 8,
                "more than the");
-  expect_error(kHead2002 + "1 1000 1 3 1000000 1 2 0 0 0\r\n1 1 10\r\n0 45 90\r\n", 8, "more than the");
-  expect_error(kHead2002 + "1 1000 1 3 1e300 1 2 0 0 0\r\n1 1 10\r\n", 8, "number of horizontal angles");
+  expect_error(kHead2002 + "1 1000 1 3 1000000 1 2 0 0 0\r\n1 1 10\r\n0 45 90\r\n", 8,
+               "more than the");
+  expect_error(kHead2002 + "1 1000 1 3 1e300 1 2 0 0 0\r\n1 1 10\r\n", 8,
+               "number of horizontal angles");
   expect_error(kHead2002 + "1 1000 1 -3 2 1 2 0 0 0\r\n1 1 10\r\n", 8, "number of vertical angles");
   expect_error(kHead2002 + "1 1000 1 0 2 1 2 0 0 0\r\n1 1 10\r\n", 8, "an integer from 1");
   expect_error(kHead2002 + "1 1000 1 2.5 2 1 2 0 0 0\r\n1 1 10\r\n", 8, "found 2.5");
   expect_error(kHead2002 + "-1 1000 1 3 2 1 2 0 0 0\r\n1 1 10\r\n", 8, "number of lamps");
-  expect_error("IESNA:LM-63-2002\r\nTILT=INCLUDE\r\n1\r\n2000000000\r\n0 1\r\n", 4, "TILT angles need");
+  expect_error("IESNA:LM-63-2002\r\nTILT=INCLUDE\r\n1\r\n2000000000\r\n0 1\r\n", 4,
+               "TILT angles need");
 }
 
 // kHead2002 and a photometric line for 3 vertical × 2 horizontal angles,
@@ -823,7 +857,8 @@ TEST(IesNumber, ReadingBackGivesWhatWasWrittenAndIsStable) {
     std::string d = std::to_string(digits(rng));
     const int p = point(rng) % static_cast<int>(d.size() + 1);
     std::string s = d;
-    if (p > 0 && p < static_cast<int>(d.size())) s.insert(d.size() - static_cast<std::size_t>(p), ".");
+    if (p > 0 && p < static_cast<int>(d.size()))
+      s.insert(d.size() - static_cast<std::size_t>(p), ".");
     while (s.find('.') != std::string::npos && (s.back() == '0' || s.back() == '.')) s.pop_back();
     EXPECT_EQ(format_ies_number(*parse_number(s)), s);
   }
@@ -846,11 +881,16 @@ Distribution sample(Symmetry symmetry = Symmetry::C0_C180) {
   }
   for (double c : d.horizontal_deg)
     for (double g : d.vertical_deg)
-      d.candela.push_back(1000.0 / 3.0 * std::cos(g * std::numbers::pi / 360.0) * (1.0 + c / 1000.0) + g / 7.0);
+      d.candela.push_back(
+          1000.0 / 3.0 * std::cos(g * std::numbers::pi / 360.0) * (1.0 + c / 1000.0) + g / 7.0);
   d.lamps = {photometry::LampSet{2, "LED", 3000.0, "", "", kNaN}};
   d.input_watts = 31.5;
-  d.keywords = {{"TEST", "R-17"}, {"TESTLAB", "Lab"}, {"ISSUEDATE", "2024-05-01"},
-                {"MANUFAC", "ACME"}, {"LUMINAIRE", "Downlight\nwith two lines"}, {"_COLOUR", "warm"}};
+  d.keywords = {{"TEST", "R-17"},
+                {"TESTLAB", "Lab"},
+                {"ISSUEDATE", "2024-05-01"},
+                {"MANUFAC", "ACME"},
+                {"LUMINAIRE", "Downlight\nwith two lines"},
+                {"_COLOUR", "warm"}};
   d.file_generation = FileGenerationType::ComputerSimulation;
   return d;
 }
@@ -1000,6 +1040,22 @@ TEST(IesWrite, FullRangeNotStartingAtZeroIsClosed) {
   EXPECT_EQ(f.distribution.horizontal_deg.back(), 360.0);
 }
 
+TEST(IesWrite, FullRangeEndingAt180IsClosed) {
+  // Symmetry::None on 0–180 would read back as C0-C180 symmetry.
+  Distribution d = sample(Symmetry::None);
+  d.horizontal_deg = {0, 60, 120, 180};
+  d.candela.resize(4 * d.vertical_deg.size());
+  std::vector<Finding> warnings;
+  const IesFile f = write_and_read(d, &warnings);
+  EXPECT_TRUE(has_warning(warnings, "symmetry-expanded"));
+  EXPECT_EQ(f.distribution.symmetry, Symmetry::None);
+  EXPECT_EQ(f.distribution.horizontal_deg.back(), 360.0);
+  const Distribution a = photometry::expand_symmetry(d);
+  for (double c = 0; c < 360; c += 10)
+    EXPECT_NEAR(photometry::interpolate(a, c, 45), photometry::interpolate(f.distribution, c, 45),
+                1e-9);
+}
+
 TEST(IesWrite, TypesAAndBRoundTrip) {
   for (PhotometricType t : {PhotometricType::A, PhotometricType::B}) {
     Distribution d = sample();
@@ -1013,8 +1069,15 @@ TEST(IesWrite, TypesAAndBRoundTrip) {
     expect_same(d, f.distribution);
     d.symmetry = Symmetry::None;
     d.horizontal_deg = {-90, -30, 30, 90};
-    f = write_and_read(d);
+    std::vector<Finding> warnings;
+    f = write_and_read(d, &warnings);
     expect_same(d, f.distribution);
+    EXPECT_TRUE(warnings.empty());
+    // No symmetry on H ≥ 0 only: LM-63 cannot say so; reported.
+    d.horizontal_deg = {0, 30, 60, 90};
+    f = write_and_read(d, &warnings);
+    EXPECT_TRUE(has_warning(warnings, "lateral-range"));
+    EXPECT_EQ(f.distribution.symmetry, Symmetry::Lateral);
   }
 }
 
@@ -1054,7 +1117,8 @@ TEST(IesWrite, LuminousOpeningEncodingsRoundTrip) {
       d.opening.height_m = c.height * k;
       d.opening.file_unit = unit;
       const std::string text = write_ies(d, {}, nullptr);
-      EXPECT_TRUE(contains(text, std::string(unit == LengthUnit::Foot ? " 1 " : " 2 ") + c.dims + "\r\n"))
+      EXPECT_TRUE(
+          contains(text, std::string(unit == LengthUnit::Foot ? " 1 " : " 2 ") + c.dims + "\r\n"))
           << text.substr(0, 600);
       const IesFile f = parse_ok(text);
       EXPECT_FALSE(has_finding(f, "opening-shape"));
@@ -1066,8 +1130,9 @@ TEST(IesWrite, LuminousOpeningEncodingsRoundTrip) {
     }
   }
   // A 1995 file written as 2019 changes encoding, not geometry.
-  const IesFile old = parse_ok("IESNA:LM-63-1995\r\n[TEST] 1\r\n[MANUFAC] M\r\nTILT=NONE\r\n"
-                               "1 1000 1 2 1 1 1 -0.5 0 0.25\r\n1 1 10\r\n0 90\r\n0\r\n1 2\r\n");
+  const IesFile old = parse_ok(
+      "IESNA:LM-63-1995\r\n[TEST] 1\r\n[MANUFAC] M\r\nTILT=NONE\r\n"
+      "1 1000 1 2 1 1 1 -0.5 0 0.25\r\n1 1 10\r\n0 90\r\n0\r\n1 2\r\n");
   EXPECT_TRUE(contains(write_ies(old.distribution, {}, nullptr), " 1 1 -0.5 -0.5 0.25\r\n"));
 }
 
@@ -1136,8 +1201,8 @@ TEST(IesWrite, WhatIesCannotCarryIsReported) {
   d.ballast_lamp_factor = 0.95;
   std::vector<Finding> warnings;
   const IesFile f = write_and_read(d, &warnings);
-  for (const char* code : {"lamp-sets-merged", "lamp-color", "lamp-color-rendering", "ldt-only-field",
-                           "ballast-lamp-factor"})
+  for (const char* code : {"lamp-sets-merged", "lamp-color", "lamp-color-rendering",
+                           "ldt-only-field", "ballast-lamp-factor"})
     EXPECT_TRUE(has_warning(warnings, code)) << code;
   EXPECT_EQ(std::count_if(warnings.begin(), warnings.end(),
                           [](const Finding& w) { return w.code == "ldt-only-field"; }),
@@ -1147,6 +1212,15 @@ TEST(IesWrite, WhatIesCannotCarryIsReported) {
   EXPECT_NEAR(f.distribution.lamps[0].flux_lm, 6550.0, 1e-10);  // 3 × 2183.33333333333
   EXPECT_EQ(f.distribution.input_watts, 49.0);
   EXPECT_FALSE(has_warning(warnings, "input-watts-unknown"));
+}
+
+TEST(IesWriteDeathTest, BrokenPreconditionsStop) {
+  IesWriteOptions options;
+  options.version = IesVersion::LM63_1995;
+  EXPECT_DEATH(write_ies(sample(), options, nullptr), "LM-63-2019 or LM-63-2002");
+  Distribution broken = sample();
+  broken.candela.pop_back();
+  EXPECT_DEATH(write_ies(broken, {}, nullptr), "valid distribution");
 }
 
 TEST(IesWrite, AbsolutePhotometryRoundTrip) {
