@@ -29,8 +29,12 @@ using photometry::PhotometricType;
 using photometry::Symmetry;
 using photometry::Tilt;
 
-constexpr std::size_t kLongLine = 256;       // LM-63-2002/2019 line limit [characters]
-constexpr std::size_t kDataLineWidth = 132;  // written data lines [characters]
+constexpr std::size_t kLongLine = 256;  // LM-63-2002/2019 line limit [characters]
+// Written lines, without their CR LF [characters]: keyword lines stay within
+// 256 and data lines within the 132 of LM-63-1991/1995 with the line end
+// counted, so that readers with fixed line buffers of those sizes cope.
+constexpr std::size_t kKeywordLineWidth = 254;
+constexpr std::size_t kDataLineWidth = 128;
 constexpr double kMetresPerFoot = 0.3048;
 constexpr double kAngleTol = 1e-9;  // [deg] as photometry::validate
 
@@ -935,8 +939,8 @@ void IesWriter::keyword(std::string key, std::string_view value) {
     std::string_view part = std::string_view(latin).substr(
         start, end == std::string::npos ? std::string::npos : end - start);
     // Longer than a line may be: continue on [MORE] lines, at a space if any.
-    while (prefix.size() + 1 + part.size() > kLongLine) {
-      const std::size_t room = kLongLine - prefix.size() - 1;
+    while (prefix.size() + 1 + part.size() > kKeywordLineWidth) {
+      const std::size_t room = kKeywordLineWidth - prefix.size() - 1;
       std::size_t cut = part.substr(0, room + 1).rfind(' ');
       if (cut == std::string_view::npos || cut == 0) cut = room;
       line(prefix + " " + std::string(trim(part.substr(0, cut))));

@@ -64,16 +64,17 @@
 //
 // Writing (LM-63-2019 by default, LM-63-2002 on request)
 // - Lines end with CR LF (the standard's delimiter). Data lines hold at most
-//   132 characters (the LM-63-1991/1995 limit, well inside the 256 of later
-//   versions, so that old readers with 132-character buffers cope); keyword
-//   lines at most 256, longer values continue on [MORE] lines. Each list
-//   (angles, each plane's candela values) starts on a new line.
+//   128 characters, 130 with CR LF: inside the 132 of LM-63-1991/1995 as
+//   well as the 256 of later versions, so that old readers with fixed line
+//   buffers cope. Keyword lines hold at most 254 (256 with CR LF); longer
+//   values continue on [MORE] lines. Each list (vertical angles, horizontal
+//   angles, each plane's candela values) starts on a new line.
 // - Text is written as Latin-1; characters outside it become '?' (warning).
 // - Numbers: at most 15 significant digits, fixed notation (scientific only
 //   below 1e-10 or from 1e16), trailing zeros dropped. Any number that itself
 //   has at most 15 significant digits is written exactly as read, so
 //   IES → IES round trips are exact and repeated round trips are stable;
-//   any other double changes by at most 5 parts in 10^16. The file
+//   any other double changes by at most 5 parts in 10^15. The file
 //   generation type is written with five decimals (1.00010).
 // - Required keywords [TEST], [TESTLAB], [ISSUEDATE], [MANUFAC]: the
 //   model's values, else [ISSUEDATE] from the options or a 1991/1995 [DATE],
