@@ -139,6 +139,27 @@ const char* to_string(OpeningShape shape) {
   return "?";
 }
 
+const char* to_string(FileGenerationType type) {
+  switch (type) {
+    case FileGenerationType::Undefined: return "undefined";
+    case FileGenerationType::ComputerSimulation: return "computer simulation";
+    case FileGenerationType::UnaccreditedLab: return "test at an unaccredited lab";
+    case FileGenerationType::UnaccreditedLabScaled:
+      return "test at an unaccredited lab, lumen scaled";
+    case FileGenerationType::UnaccreditedLabInterpolated:
+      return "test at an unaccredited lab, interpolated angle set";
+    case FileGenerationType::UnaccreditedLabInterpolatedScaled:
+      return "test at an unaccredited lab, interpolated angle set, lumen scaled";
+    case FileGenerationType::AccreditedLab: return "test at an accredited lab";
+    case FileGenerationType::AccreditedLabScaled: return "test at an accredited lab, lumen scaled";
+    case FileGenerationType::AccreditedLabInterpolated:
+      return "test at an accredited lab, interpolated angle set";
+    case FileGenerationType::AccreditedLabInterpolatedScaled:
+      return "test at an accredited lab, interpolated angle set, lumen scaled";
+  }
+  return "?";
+}
+
 double Distribution::rated_lamp_flux_lm() const {
   if (absolute || lamps.empty()) return kNaN;
   double sum = 0.0;

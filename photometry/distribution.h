@@ -73,6 +73,9 @@ enum class OpeningShape {
 
 const char* to_string(OpeningShape shape);
 
+// Unit of length a file gave dimensions in.
+enum class LengthUnit { Metre, Foot };
+
 // Luminous opening. Dimensions are positive, in metres, whatever sign
 // encoding the file used. `length_m` runs along C0–C180, `width_m` along
 // C90–C270, `height_m` vertically.
@@ -84,7 +87,30 @@ struct LuminousOpening {
   // EULUMDAT only: heights of the luminous area in the C0, C90, C180 and
   // C270 planes [m]; NaN where unknown.
   double side_height_m[4] = {kNaN, kNaN, kNaN, kNaN};
+  // LM-63 units type (1 feet, 2 metres) the dimensions were read in; an IES
+  // writer gives them back in this unit so that a round trip writes the
+  // same numbers.
+  LengthUnit file_unit = LengthUnit::Metre;
 };
+
+// LM-63-2019 file generation type (its Table 2): how the data was produced.
+// The LM-63 code is 1.ABCDE with one flag per digit: A accredited lab,
+// B interpolated angle set, C lumen scaled, D computer simulation,
+// E undefined (io/ies.h converts codes).
+enum class FileGenerationType {
+  Undefined,                          // 1.00001: unknown, e.g. converted from an older file
+  ComputerSimulation,                 // 1.00010
+  UnaccreditedLab,                    // 1.00000
+  UnaccreditedLabScaled,              // 1.00100: lumen scaled
+  UnaccreditedLabInterpolated,        // 1.01000: interpolated angle set
+  UnaccreditedLabInterpolatedScaled,  // 1.01100
+  AccreditedLab,                      // 1.10000
+  AccreditedLabScaled,                // 1.10100
+  AccreditedLabInterpolated,          // 1.11000
+  AccreditedLabInterpolatedScaled,    // 1.11100
+};
+
+const char* to_string(FileGenerationType type);
 
 // Outer dimensions of the luminaire body (EULUMDAT fields 13–15). A width of
 // zero means a round luminaire of diameter `length_m`. NaN where unknown.
@@ -153,6 +179,13 @@ struct Distribution {
   double declared_lor_percent = kNaN;   // light output ratio as declared [%]
   double measurement_tilt_deg = kNaN;   // tilt of the luminaire during measurement [deg]
   std::vector<double> direct_ratios;    // utilisation direct ratios for k = 0.6…5 (10 values)
+
+  // LM-63 fields without an EULUMDAT counterpart, kept for round trips.
+  // LM-63-1986…1995 "ballast-lamp photometric factor" (second value of the
+  // line after the photometric line; LM-63-2002 calls it "future use" and
+  // LM-63-2019 puts the file generation type there). Kept, not applied.
+  double ballast_lamp_factor = 1.0;
+  FileGenerationType file_generation = FileGenerationType::Undefined;  // LM-63-2019
 
   std::size_t vertical_count() const { return vertical_deg.size(); }
   std::size_t horizontal_count() const { return horizontal_deg.size(); }
