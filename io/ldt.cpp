@@ -23,7 +23,9 @@ constexpr double kFluxTol = 1e-12;   // relative: planes this close are copies o
 
 // Standard field lengths [characters].
 constexpr std::size_t kTextChars = 78;
-constexpr std::size_t kFileNameChars = 8;
+// Field 11 has 8 characters: a DOS file name. Files name it with its
+// extension ("BD0150.ldt"), so the 8.3 form, 12 characters, is allowed.
+constexpr std::size_t kFileNameChars = 12;
 constexpr std::size_t kLampTypeChars = 24;
 constexpr std::size_t kColorChars = 16;
 constexpr std::size_t kColorRenderingChars = 6;
@@ -182,8 +184,8 @@ class FieldReader {
     *out = std::string(trim(l->text));
     if (utf8_chars(*out) > max_chars)
       note(Severity::Info, "ldt-field-too-long",
-           what + " has " + std::to_string(utf8_chars(*out)) + " characters, more than the " +
-               std::to_string(max_chars) + " the standard allows",
+           what + " has " + std::to_string(utf8_chars(*out)) +
+               " characters; the standard's field holds " + std::to_string(max_chars),
            l->number);
     return true;
   }
@@ -520,7 +522,7 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
     default: break;
   }
 
-  if ((ityp == 1) != (d.symmetry == Symmetry::Rotational) || (ityp == 0 && isym != 0))
+  if ((ityp == 1) != (isym == 1) || (ityp == 0 && isym != 0))
     r.note(Severity::Warning, "ldt-ityp-isym-mismatch",
            "type indicator Ityp " + std::to_string(ityp) + " does not fit Isym " +
                std::to_string(isym) + " (" + isym_name(static_cast<int>(isym)) + ")",

@@ -77,8 +77,9 @@
 //   numeric field that is empty is an error, never a silent 0.
 //
 // Writer: one field per line, CRLF, Latin-1. Text longer than the standard's
-// field lengths (78 characters; file name 8; lamp type 24, colour 16, colour
-// rendering 6) is truncated with a warning. Numbers are printed in plain
+// field lengths (78 characters; lamp type 24, colour 16, colour rendering 6;
+// file name 8, read as a DOS 8.3 name, so 12 with the extension, because
+// files give it as "BD0150.ldt") is truncated with a warning. Numbers are printed in plain
 // decimal notation rounded to `significant_digits` (default 12) with
 // trailing zeros dropped, so a value read back differs from the one written
 // by at most half a unit in the 12th digit, and numbers read from a file with

@@ -762,7 +762,7 @@ TEST(LdtWrite, TruncatesLongTextWithAWarning) {
   ASSERT_TRUE(text.ok());
   const auto lines = split_lines(*text);
   EXPECT_EQ(lines[8].text, std::string(78, 'L'));
-  EXPECT_EQ(lines[10].text, "a_long_f");
+  EXPECT_EQ(lines[10].text, "a_long_file_");
   EXPECT_EQ(lines[27].text, std::string(24, 'T'));
   EXPECT_EQ(lines[9].text, "two lines");
   EXPECT_EQ(lines[7].text, "? 5");
