@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <concepts>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -191,14 +192,18 @@ class FieldReader {
   }
 
   // One number on its own line (decimal comma allowed), within [lo, hi].
-  bool number(double* out, const std::string& what, double lo = -HUGE_VAL, double hi = HUGE_VAL) {
+  // `what` is a string or, where building it for every value would cost, a
+  // function returning it, called only for the message.
+  template <class What>
+  bool number(double* out, const What& what, double lo = -HUGE_VAL, double hi = HUGE_VAL) {
     const TextLine* l = take(what);
     if (!l) return false;
     const std::string_view token = trim(l->text);
     const std::optional<double> v = parse_number(token, true);
     if (!v || *v < lo || *v > hi) {
-      if (token.empty()) return fail(l->number, "expected " + what + ", found an empty line");
-      return fail(l->number, "expected " + what + ", found " + shown(token));
+      if (token.empty())
+        return fail(l->number, "expected " + describe(what) + ", found an empty line");
+      return fail(l->number, "expected " + describe(what) + ", found " + shown(token));
     }
     *out = *v;
     return true;
@@ -223,9 +228,17 @@ class FieldReader {
   }
 
  private:
-  const TextLine* take(const std::string& what) {
+  static std::string describe(std::string_view what) { return std::string(what); }
+  template <class F>
+    requires std::invocable<const F&>
+  static std::string describe(const F& what) {
+    return what();
+  }
+
+  template <class What>
+  const TextLine* take(const What& what) {
     if (next_ >= lines_.size()) {
-      fail(line(), "expected " + what + ", found the end of the file");
+      fail(line(), "expected " + describe(what) + ", found the end of the file");
       return nullptr;
     }
     return &lines_[next_++];
@@ -395,9 +408,10 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
   for (std::size_t i = 0; i < nc; ++i) {
     const int at = r.line();
     double c = 0.0;
-    if (!r.number(&c, "C angle " + std::to_string(i + 1) + " of " + std::to_string(nc) +
-                          " [deg] (0-360)",
-                  0.0, 360.0))
+    const auto what = [&] {
+      return "C angle " + std::to_string(i + 1) + " of " + std::to_string(nc) + " [deg] (0-360)";
+    };
+    if (!r.number(&c, what, 0.0, 360.0))
       return r.error();
     if (i > 0 && !(c > c_angles.back()))
       return fail(at, "C angles must increase: " + deg(c) + " follows " + deg(c_angles.back()));
@@ -408,9 +422,11 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
   for (std::size_t i = 0; i < nv; ++i) {
     const int at = r.line();
     double g = 0.0;
-    if (!r.number(&g, "gamma angle " + std::to_string(i + 1) + " of " + std::to_string(nv) +
-                          " [deg] (0-180)",
-                  0.0, 180.0))
+    const auto what = [&] {
+      return "gamma angle " + std::to_string(i + 1) + " of " + std::to_string(nv) +
+             " [deg] (0-180)";
+    };
+    if (!r.number(&g, what, 0.0, 180.0))
       return r.error();
     if (i > 0 && !(g > gammas.back()))
       return fail(at, "gamma angles must increase: " + deg(g) + " follows " + deg(gammas.back()));
@@ -464,9 +480,10 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
     const double c = c_angles[stored[p]];
     for (std::size_t v = 0; v < nv; ++v) {
       double x = 0.0;
-      if (!r.number(&x, "the intensity at C " + deg(c) + ", gamma " + deg(gammas[v]) +
-                            " [cd/klm] (>= 0)",
-                    0.0))
+      const auto what = [&] {
+        return "the intensity at C " + deg(c) + ", gamma " + deg(gammas[v]) + " [cd/klm] (>= 0)";
+      };
+      if (!r.number(&x, what, 0.0))
         return r.error();
       values.push_back(x * scale);
     }
@@ -770,6 +787,13 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
                 photometry::to_string(input.type) + ": resample it to Type C first");
   if (Status s = photometry::validate(input); !s.ok())
     return fail("cannot write an invalid distribution: " + s.error().message);
+  for (std::size_t i = 0; i < input.candela.size(); ++i)
+    if (input.candela[i] < 0.0) {
+      const std::size_t nv = input.vertical_count();
+      return fail("intensity " + deg(input.candela[i]) + " cd at C " +
+                  deg(input.horizontal_deg[i / nv]) + ", gamma " + deg(input.vertical_deg[i % nv]) +
+                  " is negative; EULUMDAT holds intensities >= 0");
+    }
   if (!input.absolute && input.lamps.empty())
     return fail("relative photometry needs a lamp set with a rated flux");
 

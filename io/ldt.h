@@ -27,7 +27,12 @@
 //   photometric-viewer and pyldt do: the first stored plane is C270, the
 //   last C90. QLumEdit stores C90 … C180 … C270 instead, which read the
 //   standard way turns the luminaire by 180°; LdtIsym3Order selects it for
-//   files known to come from such a tool. The model keeps the planes it
+//   files known to come from such a tool. No field tells the two apart. The
+//   one real Isym 3 file at hand (a road luminaire among QLumEdit's
+//   templates) read the standard way sends twice as much flux to the C270
+//   half as to the C90 half, its peak at C190/C350, γ 65°: plausible only if
+//   its maker put the street side at C270, so that file probably follows
+//   QLumEdit's order. The model keeps the planes it
 //   defines for C90_C270, C 90…270 ascending: each stored plane C is the
 //   mirror image 180° − C of the plane the model holds.
 //   Isym 2 needs Mc even, Isym 3 and 4 Mc divisible by 4, and the C list must

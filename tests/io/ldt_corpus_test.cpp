@@ -117,6 +117,32 @@ TEST(LdtCorpus, Isym3PlanesLandOnC270ThroughC0ToC90) {
   EXPECT_NEAR(at(240), plane(3), 1e-9);   // C240 = C300
 }
 
+TEST(LdtCorpus, QLumEditsIsym3OrderIsTheStandardReadingTurnedHalfway) {
+  GONIO_REQUIRE_CORPUS();
+  // A real road luminaire with Isym 3 and Dc = 0. Read QLumEdit's way
+  // (C90 … C270 stored), every direction gets the intensity the standard's
+  // reading gives 180° away: the two conventions differ by a half turn.
+  const std::string path = corpus("qlumedit/road_luminaire.ldt");
+  const Distribution s = read_ok(path).distribution;
+  LdtReadOptions q;
+  q.isym3_order = LdtIsym3Order::C90_C180_C270;
+  auto rq = read_ldt(path, q);
+  ASSERT_TRUE(rq.ok());
+  const Distribution es = photometry::expand_symmetry(s);
+  const Distribution eq = photometry::expand_symmetry(rq->distribution);
+  ASSERT_EQ(es.horizontal_deg, eq.horizontal_deg);
+  int differing = 0;
+  for (double c : es.horizontal_deg) {
+    for (double g : s.vertical_deg) {
+      if (g == 0 || c == 360) continue;  // the pole value is a mean over C
+      const double turned = std::fmod(c + 180.0, 360.0);
+      EXPECT_DOUBLE_EQ(photometry::interpolate(eq, c, g), photometry::interpolate(es, turned, g));
+      differing += photometry::interpolate(eq, c, g) != photometry::interpolate(es, c, g);
+    }
+  }
+  EXPECT_GT(differing, 100);  // the luminaire is not symmetric front to back
+}
+
 TEST(LdtCorpus, SymmetryFilesMapOntoTheModel) {
   GONIO_REQUIRE_CORPUS();
   struct Case {

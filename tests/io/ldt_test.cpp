@@ -820,6 +820,13 @@ TEST(LdtWrite, RefusesWhatEulumdatCannotHold) {
   no_lamps.lamps.clear();
   EXPECT_FALSE(write_ldt(no_lamps, {}, nullptr).ok());
 
+  Distribution negative = model_c0_c180();
+  negative.at(2, 12) = -1e-4;
+  r = write_ldt(negative, {}, nullptr);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("C 60, gamma 180 is negative"), std::string::npos)
+      << r.error().message;
+
   Distribution invalid = model_c0_c180();
   invalid.candela.pop_back();
   EXPECT_FALSE(write_ldt(invalid, {}, nullptr).ok());
