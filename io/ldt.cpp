@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <charconv>
-#include <concepts>
 #include <cmath>
+#include <concepts>
 #include <numbers>
 #include <optional>
 #include <utility>
@@ -19,8 +19,8 @@ using photometry::LampSet;
 using photometry::OpeningShape;
 using photometry::Symmetry;
 
-constexpr double kAngleTol = 1e-6;   // [deg] two C angles closer than this are one angle
-constexpr double kFluxTol = 1e-12;   // relative: planes this close are copies of each other
+constexpr double kAngleTol = 1e-6;  // [deg] two C angles closer than this are one angle
+constexpr double kFluxTol = 1e-12;  // relative: planes this close are copies of each other
 
 // Standard field lengths [characters].
 constexpr std::size_t kTextChars = 78;
@@ -230,10 +230,8 @@ class FieldReader {
  private:
   static std::string describe(std::string_view what) { return std::string(what); }
   template <class F>
-    requires std::invocable<const F&>
-  static std::string describe(const F& what) {
-    return what();
-  }
+  requires std::invocable<const F&>
+  static std::string describe(const F& what) { return what(); }
 
   template <class What>
   const TextLine* take(const What& what) {
@@ -288,6 +286,14 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
   if (!r.integer(&mc, "the number of C-planes Mc (1-" + std::to_string(kMaxLdtCPlanes) + ")", 1,
                  kMaxLdtCPlanes))
     return r.error();
+  const std::size_t nc = static_cast<std::size_t>(mc);
+  const std::vector<std::size_t> stored =
+      stored_plane_indices(static_cast<int>(isym), nc, options.isym3_order);
+  if (stored.empty()) {
+    const char* need = isym == 2 ? "an even Mc" : "an Mc divisible by 4";
+    return fail(mc_line, "Isym " + std::to_string(isym) + " (" + isym_name(static_cast<int>(isym)) +
+                             ") needs " + need + ", found Mc = " + std::to_string(mc));
+  }
   const int dc_line = r.line();
   if (!r.number(&dc, "the distance between C-planes Dc [deg] (0-360)", 0.0, 360.0))
     return r.error();
@@ -351,8 +357,7 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
 
   // 26: lamp sets.
   long nsets = 0;
-  if (!r.integer(&nsets,
-                 "the number of lamp sets (1-" + std::to_string(kMaxLdtLampSets) + ")", 1,
+  if (!r.integer(&nsets, "the number of lamp sets (1-" + std::to_string(kMaxLdtLampSets) + ")", 1,
                  kMaxLdtLampSets))
     return r.error();
   std::vector<RawLampSet> sets(static_cast<std::size_t>(nsets));
@@ -364,16 +369,17 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
                    "the number of lamps" + k + " (non-zero; negative for absolute photometry)",
                    -1000000, 1000000))
       return r.error();
-    if (s.count == 0) return fail(s.line, "expected the number of lamps" + k + " (non-zero), found '0'");
+    if (s.count == 0)
+      return fail(s.line, "expected the number of lamps" + k + " (non-zero), found '0'");
     const int flux_line = r.line() + 1;
     if (!r.text(&s.set.type, "the type of lamps" + k, kLampTypeChars)) return r.error();
     if (!r.number(&s.set.flux_lm, "the total luminous flux" + k + " [lm] (>= 0)", 0.0))
       return r.error();
     if (i == 0 && !(s.set.flux_lm > 0.0))
-      return fail(flux_line, std::string("expected the total luminous flux of lamp set 1 [lm] ") +
-                                 (s.count < 0 ? "(for absolute photometry: the luminaire's flux) "
-                                              : "") +
-                                 "(> 0), found 0");
+      return fail(flux_line,
+                  std::string("expected the total luminous flux of lamp set 1 [lm] ") +
+                      (s.count < 0 ? "(for absolute photometry: the luminaire's flux) " : "") +
+                      "(> 0), found 0");
     if (!r.text(&s.set.color, "the colour appearance" + k, kColorChars) ||
         !r.text(&s.set.color_rendering, "the colour rendering" + k, kColorRenderingChars) ||
         !r.number(&s.set.power_w, "the wattage including ballast" + k + " [W] (>= 0)", 0.0))
@@ -395,14 +401,8 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
 
   // 28-29: angles. Counts are bounded above, and nothing larger than the
   // lines left in the file is reserved.
-  const std::size_t nc = static_cast<std::size_t>(mc), nv = static_cast<std::size_t>(ng);
-  std::vector<std::size_t> stored = stored_plane_indices(static_cast<int>(isym), nc, options.isym3_order);
-  if (stored.empty()) {
-    const char* need = isym == 2 ? "an even Mc" : "an Mc divisible by 4";
-    return fail(mc_line, "Isym " + std::to_string(isym) + " (" + isym_name(static_cast<int>(isym)) +
-                             ") needs " + need + ", found Mc = " + std::to_string(mc));
-  }
   const int c_first_line = r.line();
+  const std::size_t nv = static_cast<std::size_t>(ng);
   std::vector<double> c_angles;
   c_angles.reserve(std::min(nc, r.remaining()));
   for (std::size_t i = 0; i < nc; ++i) {
@@ -411,8 +411,7 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
     const auto what = [&] {
       return "C angle " + std::to_string(i + 1) + " of " + std::to_string(nc) + " [deg] (0-360)";
     };
-    if (!r.number(&c, what, 0.0, 360.0))
-      return r.error();
+    if (!r.number(&c, what, 0.0, 360.0)) return r.error();
     if (i > 0 && !(c > c_angles.back()))
       return fail(at, "C angles must increase: " + deg(c) + " follows " + deg(c_angles.back()));
     c_angles.push_back(c);
@@ -426,8 +425,7 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
       return "gamma angle " + std::to_string(i + 1) + " of " + std::to_string(nv) +
              " [deg] (0-180)";
     };
-    if (!r.number(&g, what, 0.0, 180.0))
-      return r.error();
+    if (!r.number(&g, what, 0.0, 180.0)) return r.error();
     if (i > 0 && !(g > gammas.back()))
       return fail(at, "gamma angles must increase: " + deg(g) + " follows " + deg(gammas.back()));
     gammas.push_back(g);
@@ -452,10 +450,10 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
   if (dc > 0.0) {
     for (std::size_t i = 0; i < nc; ++i)
       if (std::abs(c_angles[i] - c_angles[0] - static_cast<double>(i) * dc) > kAngleTol) {
-        r.note(Severity::Warning, "ldt-dc-mismatch",
-               "Dc = " + deg(dc) + " but C angle " + std::to_string(i + 1) + " is " +
-                   deg(c_angles[i]),
-               dc_line);
+        r.note(
+            Severity::Warning, "ldt-dc-mismatch",
+            "Dc = " + deg(dc) + " but C angle " + std::to_string(i + 1) + " is " + deg(c_angles[i]),
+            dc_line);
         break;
       }
   }
@@ -483,8 +481,7 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
       const auto what = [&] {
         return "the intensity at C " + deg(c) + ", gamma " + deg(gammas[v]) + " [cd/klm] (>= 0)";
       };
-      if (!r.number(&x, what, 0.0))
-        return r.error();
+      if (!r.number(&x, what, 0.0)) return r.error();
       values.push_back(x * scale);
     }
   }
@@ -584,8 +581,8 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
 
   // Header strings, in the order LM-63 lists its keywords.
   const std::pair<const char*, const std::string*> keys[] = {
-      {"TEST", &report},          {"MANUFAC", &company},   {"LUMCAT", &lum_number},
-      {"LUMINAIRE", &lum_name},   {"ISSUEDATE", &date_user}, {kLdtFileNameKeyword, &file_name}};
+      {"TEST", &report},        {"MANUFAC", &company},     {"LUMCAT", &lum_number},
+      {"LUMINAIRE", &lum_name}, {"ISSUEDATE", &date_user}, {kLdtFileNameKeyword, &file_name}};
   for (const auto& [key, value] : keys)
     if (!value->empty()) d.keywords.push_back({key, *value});
 
@@ -652,8 +649,8 @@ class LdtWriter {
            what + " has characters outside Latin-1, written as '?'");
     if (latin1.size() > max_chars) {
       warn(Severity::Warning, "ldt-truncated",
-           what + " truncated to the standard's " + std::to_string(max_chars) + " characters: " +
-               shown(latin1_to_utf8(latin1)));
+           what + " truncated to the standard's " + std::to_string(max_chars) +
+               " characters: " + shown(latin1_to_utf8(latin1)));
       latin1.resize(max_chars);
     }
     line(latin1);
@@ -840,9 +837,9 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
     if (layout.c_list.size() == 1) {
       layout.isym = 1;  // a single plane left: rotational
     } else if (layout.c_list.front() > kAngleTol) {
-      w.warn(Severity::Warning, "ldt-first-plane-not-c0",
-             "the C-planes begin at " + deg(layout.c_list.front()) +
-                 ", not at 0 as EULUMDAT expects");
+      w.warn(
+          Severity::Warning, "ldt-first-plane-not-c0",
+          "the C-planes begin at " + deg(layout.c_list.front()) + ", not at 0 as EULUMDAT expects");
     }
   }
 
@@ -902,7 +899,7 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
     std::string value;
     bool set = false;
   };
-  Slot slots[] = {{"MANUFAC", {}}, {"TEST", {}}, {"LUMINAIRE", {}},
+  Slot slots[] = {{"MANUFAC", {}}, {"TEST", {}},      {"LUMINAIRE", {}},
                   {"LUMCAT", {}},  {"ISSUEDATE", {}}, {kLdtFileNameKeyword, {}}};
   const photometry::Keyword* date_kw = nullptr;
   for (const photometry::Keyword& k : d.keywords) {
@@ -920,8 +917,7 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
     if (!used && k.key == "LAMP" && &k == lamp_kw && first.type == k.value) used = true;
     if (!used)
       w.warn(Severity::Warning, "ldt-keyword-dropped",
-             "keyword [" + k.key + "] has no EULUMDAT field and is not written: " +
-                 shown(k.value));
+             "keyword [" + k.key + "] has no EULUMDAT field and is not written: " + shown(k.value));
   }
   if (date_kw) {
     if (slots[4].set)
@@ -945,7 +941,8 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   w.text(slots[1].value, kTextChars, "the measurement report number (TEST)");
   w.text(slots[2].value, kTextChars, "the luminaire name (LUMINAIRE)");
   w.text(slots[3].value, kTextChars, "the luminaire number (LUMCAT)");
-  w.text(slots[5].value, kFileNameChars, "the file name (" + std::string(kLdtFileNameKeyword) + ")");
+  w.text(slots[5].value, kFileNameChars,
+         "the file name (" + std::string(kLdtFileNameKeyword) + ")");
   w.text(slots[4].value, kTextChars, "the date/user (ISSUEDATE)");
 
   // 13-21: dimensions [mm].
@@ -976,8 +973,8 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
       has_height = o.height_m > 0.0;
       w.warn(Severity::Warning, "ldt-opening-approximated",
              std::string("EULUMDAT has no ") + photometry::to_string(o.shape) +
-                 " luminous area; written as " +
-                 (area_width == 0.0 ? "a circle" : "a rectangle") + " of the same extent");
+                 " luminous area; written as " + (area_width == 0.0 ? "a circle" : "a rectangle") +
+                 " of the same extent");
       break;
   }
   mm(area_length);

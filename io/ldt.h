@@ -142,7 +142,7 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
 struct LdtWriteOptions {
   int significant_digits = 12;  // 1…17; 17 makes every double read back exactly
   LdtIsym3Order isym3_order = LdtIsym3Order::C270_C0_C90;
-  int type_indicator = -1;      // Ityp 0–3 to write; −1: the model's, else derived
+  int type_indicator = -1;  // Ityp 0–3 to write; −1: the model's, else derived
 };
 
 // The .ldt bytes for a Type C distribution (Types A and B must be resampled to

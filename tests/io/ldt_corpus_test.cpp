@@ -107,9 +107,9 @@ TEST(LdtCorpus, Isym3PlanesLandOnC270ThroughC0ToC90) {
   const Distribution e = photometry::expand_symmetry(d);
   const auto at = [&](double c) { return photometry::interpolate(e, c, 7.5); };
   const auto plane = [](int k) { return 1703.1 + 37.0 * k; };  // k-th stored plane
-  EXPECT_NEAR(at(270), plane(0), 1e-9);   // first stored: C270
+  EXPECT_NEAR(at(270), plane(0), 1e-9);                        // first stored: C270
   EXPECT_NEAR(at(300), plane(3), 1e-9);
-  EXPECT_NEAR(at(0), plane(9), 1e-9);     // middle: C0
+  EXPECT_NEAR(at(0), plane(9), 1e-9);  // middle: C0
   EXPECT_NEAR(at(60), plane(15), 1e-9);
   EXPECT_NEAR(at(90), plane(18), 1e-9);   // last: C90
   EXPECT_NEAR(at(180), plane(9), 1e-9);   // mirrors: C180 = C0,
@@ -210,9 +210,10 @@ TEST(LdtCorpus, MetadataAndLampSets) {
   // Same table, same flux field (500 lm): the same candela either way.
   EXPECT_EQ(rel.candela, abs.candela);
 
-  const Distribution heights = read_ok(corpus(
-      "photometric-viewer/rectangular_luminaire_rectangular_luminous_opening_with_heights.ldt"))
-                                   .distribution;
+  const Distribution heights =
+      read_ok(corpus("photometric-viewer/"
+                     "rectangular_luminaire_rectangular_luminous_opening_with_heights.ldt"))
+          .distribution;
   EXPECT_EQ(heights.opening.shape, photometry::OpeningShape::RectangularWithSides);
   EXPECT_DOUBLE_EQ(heights.opening.side_height_m[0], 0.011);
   EXPECT_DOUBLE_EQ(heights.opening.side_height_m[3], 0.014);

@@ -36,8 +36,8 @@ struct Spec {
   std::vector<std::string> dims = {"600", "300", "80", "500", "250", "10", "20", "30", "40"};
   std::string dff = "95", lorl = "80", cfli = "1", tilt = "0";
   std::vector<LampSpec> sets = {{"2", "LED 830", "4000", "3000 K", "80", "35"}};
-  std::vector<std::string> dr = {"0.5", "0.55", "0.6", "0.65", "0.7",
-                                 "0.75", "0.8", "0.85", "0.9", "0.95"};
+  std::vector<std::string> dr = {"0.5",  "0.55", "0.6",  "0.65", "0.7",
+                                 "0.75", "0.8",  "0.85", "0.9",  "0.95"};
   std::vector<double> c, g;
   std::vector<double> values;  // stored planes × Ng [cd/klm], file order
 };
@@ -49,15 +49,22 @@ std::string num(double x) {
 }
 
 std::vector<std::string> lines_of(const Spec& s) {
-  std::vector<std::string> l = {s.company, s.ityp, s.isym,
+  std::vector<std::string> l = {s.company,
+                                s.ityp,
+                                s.isym,
                                 s.mc.empty() ? std::to_string(s.c.size()) : s.mc,
                                 s.dc.empty() ? "0" : s.dc,
                                 s.ng.empty() ? std::to_string(s.g.size()) : s.ng,
                                 s.dg.empty() ? "0" : s.dg,
-                                s.report, s.name, s.number, s.file, s.date};
+                                s.report,
+                                s.name,
+                                s.number,
+                                s.file,
+                                s.date};
   l.insert(l.end(), s.dims.begin(), s.dims.end());
   l.insert(l.end(), {s.dff, s.lorl, s.cfli, s.tilt, std::to_string(s.sets.size())});
-  for (const LampSpec& k : s.sets) l.insert(l.end(), {k.count, k.type, k.flux, k.color, k.cri, k.watt});
+  for (const LampSpec& k : s.sets)
+    l.insert(l.end(), {k.count, k.type, k.flux, k.color, k.cri, k.watt});
   l.insert(l.end(), s.dr.begin(), s.dr.end());
   for (double x : s.c) l.push_back(num(x));
   for (double x : s.g) l.push_back(num(x));
@@ -370,9 +377,12 @@ void check_isym(int isym, double (*fold)(double), Symmetry expected) {
   s.sets = {{"1", "LED", "1000", "", "", "10"}};  // scale 1
   const std::size_t mc = s.c.size();
   std::vector<std::size_t> planes;
-  if (isym == 2) for (std::size_t i = 0; i <= mc / 2; ++i) planes.push_back(i);
-  if (isym == 3) for (std::size_t i = 3 * mc / 4; i <= 3 * mc / 4 + mc / 2; ++i) planes.push_back(i % mc);
-  if (isym == 4) for (std::size_t i = 0; i <= mc / 4; ++i) planes.push_back(i);
+  if (isym == 2)
+    for (std::size_t i = 0; i <= mc / 2; ++i) planes.push_back(i);
+  if (isym == 3)
+    for (std::size_t i = 3 * mc / 4; i <= 3 * mc / 4 + mc / 2; ++i) planes.push_back(i % mc);
+  if (isym == 4)
+    for (std::size_t i = 0; i <= mc / 4; ++i) planes.push_back(i);
   for (std::size_t p : planes)
     for (double g : s.g) s.values.push_back(asym(fold(s.c[p]), g));
   const LdtFile f = parse_ok(join(lines_of(s)));
@@ -387,7 +397,8 @@ void check_isym(int isym, double (*fold)(double), Symmetry expected) {
 }
 
 TEST(LdtSymmetry, Isym2StoresC0ToC180) {
-  check_isym(2, [](double c) { return c <= 180 ? c : 360 - c; }, Symmetry::C0_C180);
+  check_isym(
+      2, [](double c) { return c <= 180 ? c : 360 - c; }, Symmetry::C0_C180);
 }
 
 TEST(LdtSymmetry, Isym4StoresC0ToC90) {
@@ -402,12 +413,13 @@ TEST(LdtSymmetry, Isym4StoresC0ToC90) {
 
 TEST(LdtSymmetry, Isym3StoresC270ThroughC0ToC90) {
   // asym() folded onto C270…C360…C90 by the mirror C -> 180 - C.
-  check_isym(3,
-             [](double c) {
-               if (c > 90 && c < 270) c = 180 - c;
-               return c < 0 ? c + 360 : c;
-             },
-             Symmetry::C90_C270);
+  check_isym(
+      3,
+      [](double c) {
+        if (c > 90 && c < 270) c = 180 - c;
+        return c < 0 ? c + 360 : c;
+      },
+      Symmetry::C90_C270);
 }
 
 TEST(LdtSymmetry, Isym3PlanesLandOnTheStandardsHalf) {
@@ -451,8 +463,7 @@ TEST(LdtSymmetry, Isym3NonEquidistantPlanes) {
   for (double c : stored)
     for (double g : s.g) s.values.push_back(asym(c, g));
   const Distribution d = parse_ok(join(lines_of(s))).distribution;
-  EXPECT_EQ(d.horizontal_deg,
-            (std::vector<double>{90, 135, 160, 170, 180, 190, 200, 225, 270}));
+  EXPECT_EQ(d.horizontal_deg, (std::vector<double>{90, 135, 160, 170, 180, 190, 200, 225, 270}));
   const Distribution e = photometry::expand_symmetry(d);
   for (double c : stored)
     for (double g : {45.0, 90.0}) EXPECT_NEAR(photometry::interpolate(e, c, g), asym(c, g), 1e-9);
@@ -475,8 +486,11 @@ Distribution model_c0_c180() {
   l.color_rendering = "Ra 85";
   l.power_w = 29.5;
   d.lamps = {l};
-  d.keywords = {{"TEST", "T-1"}, {"MANUFAC", "ACME"}, {"LUMCAT", "X-1"},
-                {"LUMINAIRE", "Wall washer"}, {"ISSUEDATE", "2024-06-01"},
+  d.keywords = {{"TEST", "T-1"},
+                {"MANUFAC", "ACME"},
+                {"LUMCAT", "X-1"},
+                {"LUMINAIRE", "Wall washer"},
+                {"ISSUEDATE", "2024-06-01"},
                 {kLdtFileNameKeyword, "ww.ldt"}};
   d.luminaire = {0.6, 0.1, 0.05};
   d.opening.shape = photometry::OpeningShape::Rectangular;
@@ -554,19 +568,19 @@ TEST(LdtWrite, FixedLayoutCrlfLatin1) {
   }
   const auto lines = split_lines(*text);
   EXPECT_EQ(lines[0].text, "Leuchten M\xfcller");  // Latin-1 byte
-  EXPECT_EQ(lines[1].text, "3");                    // Ityp
-  EXPECT_EQ(lines[2].text, "2");                    // Isym
-  EXPECT_EQ(lines[3].text, "12");                   // Mc: C 0…330
-  EXPECT_EQ(lines[4].text, "30");                   // Dc
-  EXPECT_EQ(lines[5].text, "13");                   // Ng
-  EXPECT_EQ(lines[6].text, "15");                   // Dg
+  EXPECT_EQ(lines[1].text, "3");                   // Ityp
+  EXPECT_EQ(lines[2].text, "2");                   // Isym
+  EXPECT_EQ(lines[3].text, "12");                  // Mc: C 0…330
+  EXPECT_EQ(lines[4].text, "30");                  // Dc
+  EXPECT_EQ(lines[5].text, "13");                  // Ng
+  EXPECT_EQ(lines[6].text, "15");                  // Dg
   EXPECT_EQ(lines[7].text, "T-1");
   EXPECT_EQ(lines[10].text, "ww.ldt");
   EXPECT_EQ(lines[11].text, "2024-06-01");
   EXPECT_EQ(lines[12].text, "600");
-  EXPECT_EQ(lines[23].text, "1");   // conversion factor
-  EXPECT_EQ(lines[25].text, "1");   // one lamp set
-  EXPECT_EQ(lines[26].text, "2");   // lamps
+  EXPECT_EQ(lines[23].text, "1");  // conversion factor
+  EXPECT_EQ(lines[25].text, "1");  // one lamp set
+  EXPECT_EQ(lines[26].text, "2");  // lamps
   EXPECT_EQ(lines[28].text, "3700");
   // 42 header lines, 12 C angles, 13 γ angles, 7 stored planes × 13 values.
   EXPECT_EQ(lines.size(), 42u + 12 + 13 + 7 * 13);
@@ -739,7 +753,7 @@ TEST(LdtWrite, ComputesLorlAndDffForModelsFromIes) {
     }
   EXPECT_EQ(dropped, 2);  // [LAMP] became the lamp type
   const auto lines = split_lines(*text);
-  EXPECT_EQ(lines[1].text, "3");  // Ityp derived
+  EXPECT_EQ(lines[1].text, "3");                                    // Ityp derived
   EXPECT_NEAR(std::stod(std::string(lines[22].text)), 80.0, 0.08);  // LORL within 0.1 %
   EXPECT_NEAR(std::stod(std::string(lines[21].text)), 100.0, 1e-9);
   EXPECT_EQ(lines[27].text, "LED");
@@ -897,8 +911,8 @@ TEST(LdtBadInput, EveryTruncationNamesTheMissingLine) {
 
 struct BadCase {
   const char* what;
-  int line;                 // 1-based line that must be named
-  const char* fragment;     // text the message must contain
+  int line;              // 1-based line that must be named
+  const char* fragment;  // text the message must contain
   void (*edit)(Spec&, std::vector<std::string>&);
 };
 
@@ -936,7 +950,8 @@ TEST(LdtBadInput, EachFieldNamesLineAndExpectation) {
        [](Spec&, std::vector<std::string>& l) { l[28] = "0"; }},
       {"NaN intensity", 50, "intensity at C 0, gamma 0 [cd/klm] (>= 0), found 'nan'",
        [](Spec&, std::vector<std::string>& l) { l[49] = "nan"; }},
-      {"inf intensity", 51, "found 'inf'", [](Spec&, std::vector<std::string>& l) { l[50] = "inf"; }},
+      {"inf intensity", 51, "found 'inf'",
+       [](Spec&, std::vector<std::string>& l) { l[50] = "inf"; }},
       {"negative intensity", 52, "(>= 0), found '-3'",
        [](Spec&, std::vector<std::string>& l) { l[51] = "-3"; }},
       {"unsorted C", 45, "C angles must increase: 90 follows 180",
@@ -945,8 +960,11 @@ TEST(LdtBadInput, EachFieldNamesLineAndExpectation) {
        [](Spec&, std::vector<std::string>& l) { std::swap(l[47], l[48]); }},
       {"gamma beyond 180", 49, "gamma angle 3 of 3 [deg] (0-180), found '190'",
        [](Spec&, std::vector<std::string>& l) { l[48] = "190"; }},
-      {"C beyond 360", 46, "found '400'", [](Spec&, std::vector<std::string>& l) { l[45] = "400"; }},
-      {"Isym 4 with Mc 30", 4, "Isym 4 (symmetry to the C0-C180 and C90-C270 planes) needs an Mc divisible by 4, found Mc = 30",
+      {"C beyond 360", 46, "found '400'",
+       [](Spec&, std::vector<std::string>& l) { l[45] = "400"; }},
+      {"Isym 4 with Mc 30", 4,
+       "Isym 4 (symmetry to the C0-C180 and C90-C270 planes) needs an Mc divisible by 4, found Mc "
+       "= 30",
        [](Spec&, std::vector<std::string>& l) {
          l[2] = "4";
          l[3] = "30";
@@ -986,7 +1004,10 @@ TEST(LdtBadInput, EachFieldNamesLineAndExpectation) {
 }
 
 TEST(LdtBadInput, BinaryJunkDirectoriesAndMissingFiles) {
-  EXPECT_NE(parse_error(std::string("\x7f" "ELF\x02\x01\x01\0\0\0\0", 12)).message.find("binary"),
+  EXPECT_NE(parse_error(std::string("\x7f"
+                                    "ELF\x02\x01\x01\0\0\0\0",
+                                    12))
+                .message.find("binary"),
             std::string::npos);
   std::string junk;
   std::mt19937 rng(7);
@@ -1012,8 +1033,9 @@ TEST(LdtBadInput, MutatedFilesNeverCrash) {
   // a valid model or fails with an error that names a line.
   const std::vector<std::string> base = lines_of(small_spec());
   std::mt19937 rng(2024);
-  const std::vector<std::string> tokens = {"", "-1", "0", "1e9", "nan", "x", "3", "2,5", "\x01\x02",
-                                           "999999999999", "4", "-0", "360", "180.0"};
+  const std::vector<std::string> tokens = {"",  "-1", "0",   "1e9",      "nan",
+                                           "x", "3",  "2,5", "\x01\x02", "999999999999",
+                                           "4", "-0", "360", "180.0"};
   int parsed = 0;
   for (int iter = 0; iter < 3000; ++iter) {
     std::vector<std::string> l = base;
