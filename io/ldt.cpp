@@ -903,12 +903,20 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
                   {"LUMCAT", {}},  {"ISSUEDATE", {}}, {kLdtFileNameKeyword, {}}};
   const photometry::Keyword* date_kw = nullptr;
   for (const photometry::Keyword& k : d.keywords) {
-    bool used = false;
+    bool used = false, repeated = false;
     for (Slot& s : slots) {
-      if (k.key == s.key && !s.set) {
+      if (k.key != s.key) continue;
+      repeated = s.set;
+      if (!s.set) {
         s.value = k.value;
         s.set = used = true;
       }
+    }
+    if (repeated) {
+      w.warn(Severity::Warning, "ldt-keyword-dropped",
+             "a repeated keyword [" + k.key +
+                 "] is not written: its field holds the first: " + shown(k.value));
+      continue;
     }
     if (!used && k.key == "DATE" && !date_kw) {
       date_kw = &k;
