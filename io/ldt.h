@@ -32,9 +32,9 @@
 //   templates) read the standard way sends twice as much flux to the C270
 //   half as to the C90 half, its peak at C190/C350, γ 65°: plausible only if
 //   its maker put the street side at C270, so that file probably follows
-//   QLumEdit's order. The model keeps the planes it
-//   defines for C90_C270, C 90…270 ascending: each stored plane C is the
-//   mirror image 180° − C of the plane the model holds.
+//   QLumEdit's order. The model keeps the planes it defines for C90_C270,
+//   C 90…270 ascending: each stored plane C is the mirror image 180° − C of
+//   the plane the model holds.
 //   Isym 2 needs Mc even, Isym 3 and 4 Mc divisible by 4, and the C list must
 //   hold 0°, 90°, 180° and 270° at the indices these ranges imply.
 //   Isym 0 with a single C-plane (Mc = 1) is read as rotationally symmetric,
@@ -53,16 +53,16 @@
 // - Absolute photometry: a negative lamp count in the first set. Its flux
 //   field then holds the luminaire's measured flux Φ_lum and the intensities
 //   are cd per 1000 lm of it (cd = value × Φ_lum / 1000 × conversion
-//   factor), the convention of photometric-viewer and most writers; the model
-//   gets absolute = true, lamps[0].flux_lm = NaN. The writer recomputes Φ_lum
+//   factor), as photometric-viewer reads it and the Aardvark photometry
+//   library documents it; the model gets absolute = true, lamps[0].flux_lm =
+//   NaN. The writer recomputes Φ_lum
 //   by integrating the distribution, so only the candela are kept exactly.
 // - Conversion factor (field 24, "depending on measurement"): read as the
 //   factor that turns the tabulated values into cd/klm, so it multiplies the
 //   intensities; values other than 1 are reported as a note. A factor of 0,
 //   which would erase the data, is read as 1 with a warning; a negative one
-//   is an error. The
-//   writer always writes 1 and the intensities with the factor applied, so
-//   readers that ignore the field still get the right values.
+//   is an error. The writer always writes 1 and the intensities with the
+//   factor applied, so readers that ignore the field still get them right.
 // - Header strings become keywords (Distribution::keywords) so IES ⇄ LDT
 //   conversion carries them: company → MANUFAC, measurement report → TEST,
 //   luminaire name → LUMINAIRE, luminaire number → LUMCAT, date/user →
@@ -84,11 +84,12 @@
 // Writer: one field per line, CRLF, Latin-1. Text longer than the standard's
 // field lengths (78 characters; lamp type 24, colour 16, colour rendering 6;
 // file name 8, read as a DOS 8.3 name, so 12 with the extension, because
-// files give it as "BD0150.ldt") is truncated with a warning. Numbers are printed in plain
-// decimal notation rounded to `significant_digits` (default 12) with
-// trailing zeros dropped, so a value read back differs from the one written
-// by at most half a unit in the 12th digit, and numbers read from a file with
-// up to 12 significant digits are written back digit for digit. Isym, Mc, Dc
+// files give it as "BD0150.ldt") is truncated with a warning. Numbers are
+// printed in plain decimal notation rounded to `significant_digits` (default
+// 12), trailing zeros dropped: intensities read back differ from the model's
+// by less than 1e-11 relative, and numbers read from a file with up to 12
+// significant digits are written back digit for digit, so writing what was
+// read gives the same bytes again. Negative intensities are refused. Isym, Mc, Dc
 // (0 unless the C list is equidistant), Ng and Dg (likewise) are derived from
 // the model. DFF and LORL come from the declared values, or are computed by
 // integrating the distribution when the model has none (IES input).
@@ -140,7 +141,7 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
                           const LdtReadOptions& options = {});
 
 struct LdtWriteOptions {
-  int significant_digits = 12;  // 1…17; 17 makes every double read back exactly
+  int significant_digits = 12;  // 1…17; with 17 every number in the file reads back bit for bit
   LdtIsym3Order isym3_order = LdtIsym3Order::C270_C0_C90;
   int type_indicator = -1;  // Ityp 0–3 to write; −1: the model's, else derived
 };
