@@ -266,6 +266,17 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
   if (looks_binary(bytes)) return fail(0, "binary data, not an EULUMDAT (.ldt) text file");
   if (bytes.size() >= 3 && bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);
 
+  std::size_t line_count = 0;
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    if (bytes[i] == '\n' || (bytes[i] == '\r' && (i + 1 == bytes.size() || bytes[i + 1] != '\n')))
+      ++line_count;
+  }
+  if (line_count > kMaxLdtLines)
+    return fail(0, "more than " + std::to_string(kMaxLdtLines) +
+                       " lines: longer than any EULUMDAT file can be (" +
+                       std::to_string(kMaxLdtCPlanes) + " C-planes by " +
+                       std::to_string(kMaxLdtGammaAngles) + " gamma angles)");
+
   const std::string text = decode_text(bytes);
   FieldReader r(split_lines(text), name);
   Distribution d;

@@ -105,13 +105,18 @@
 
 namespace gonio::io {
 
-// Largest .ldt file read_ldt() accepts [bytes]. 3600 C-planes × 1801 γ
-// angles at 12 characters a value stay below it.
-inline constexpr std::size_t kMaxLdtBytes = std::size_t{96} << 20;
-
-// Largest counts accepted: 0.1° steps over the whole circle and half circle.
-inline constexpr int kMaxLdtCPlanes = 3600;
+// Largest counts accepted: C-planes every 0.25°, γ every 0.1°.
+inline constexpr int kMaxLdtCPlanes = 1440;
 inline constexpr int kMaxLdtGammaAngles = 1801;
+// Most lines an EULUMDAT file can need (header with 20 lamp sets, both angle
+// lists, every intensity), plus room for trailing notes. Longer input is
+// refused before its lines are indexed, so hostile input cannot make the
+// reader's memory grow beyond what the largest real file would need.
+inline constexpr std::size_t kMaxLdtLines =
+    std::size_t{kMaxLdtCPlanes} * kMaxLdtGammaAngles + kMaxLdtCPlanes + kMaxLdtGammaAngles + 1000;
+// Largest .ldt file read_ldt() accepts [bytes]: every value of the largest
+// file at 24 characters.
+inline constexpr std::size_t kMaxLdtBytes = kMaxLdtLines * 24;
 inline constexpr int kMaxLdtLampSets = 20;
 
 // The keyword that carries the LDT file name field (11).

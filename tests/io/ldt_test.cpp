@@ -919,7 +919,7 @@ struct BadCase {
 
 TEST(LdtBadInput, EachFieldNamesLineAndExpectation) {
   const BadCase cases[] = {
-      {"absurd Mc", 4, "number of C-planes Mc (1-3600), found '1000000000'",
+      {"absurd Mc", 4, "number of C-planes Mc (1-1440), found '1000000000'",
        [](Spec&, std::vector<std::string>& l) { l[3] = "1000000000"; }},
       {"absurd Ng", 6, "per C-plane Ng (1-1801), found '1e9'",
        [](Spec&, std::vector<std::string>& l) { l[5] = "1e9"; }},
@@ -1027,6 +1027,12 @@ TEST(LdtBadInput, BinaryJunkDirectoriesAndMissingFiles) {
   r = read_ldt((dir / "ok.ldt").string());
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->distribution.horizontal_count(), 4u);
+}
+
+TEST(LdtBadInput, EndlessLinesAreRefusedBeforeTheyAreIndexed) {
+  const std::string lines(kMaxLdtLines + 1, '\n');
+  const Error e = parse_error(join(lines_of(small_spec())) + lines);
+  EXPECT_NE(e.message.find("longer than any EULUMDAT file"), std::string::npos) << e.message;
 }
 
 TEST(LdtBadInput, MutatedFilesNeverCrash) {
