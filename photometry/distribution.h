@@ -165,6 +165,10 @@ struct Distribution {
 
   bool absolute = false;          // absolute photometry: no rated lamp flux
   std::vector<LampSet> lamps;     // at least one set when read from a file
+  // EULUMDAT standard sets 2…n: alternative equipment of the same luminaire
+  // for which the relative distribution also holds. They are not part of
+  // `lamps`: the candela and rated_lamp_flux_lm() refer to `lamps` alone.
+  std::vector<LampSet> alternative_lamps;
 
   double ballast_factor = 1.0;    // LM-63 ballast factor (kept, not applied)
   double input_watts = kNaN;      // luminaire input power [W]; NaN if unknown
@@ -179,6 +183,10 @@ struct Distribution {
   double declared_lor_percent = kNaN;   // light output ratio as declared [%]
   double measurement_tilt_deg = kNaN;   // tilt of the luminaire during measurement [deg]
   std::vector<double> direct_ratios;    // utilisation direct ratios for k = 0.6…5 (10 values)
+  // EULUMDAT type indicator Ityp as read: 0 point source without symmetry,
+  // 1 rotationally symmetric, 2 linear luminaire, 3 point source with other
+  // symmetry. Empty where unknown: the LDT writer then derives one.
+  std::optional<int> ldt_type_indicator;
 
   // LM-63 fields without an EULUMDAT counterpart, kept for round trips.
   // LM-63-1986…1995 "ballast-lamp photometric factor" (second value of the
