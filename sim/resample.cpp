@@ -361,7 +361,9 @@ Resampler::Resampler(int face_size, const photometry::PhotometricFrame& frame,
                      const CGammaGrid& grid)
     : face_size_(face_size), grid_(grid) {
   GONIO_CHECK_MSG(validate(grid).ok(), "Resampler needs a valid grid");
-  GONIO_CHECK(std::abs(dot(frame.c0, frame.c90)) < 1e-9 && std::abs(length(frame.up) - 1.0) < 1e-9);
+  GONIO_CHECK_MSG(std::abs(dot(frame.c0, frame.c90)) < 1e-9 && std::abs(length(frame.up) - 1.0) < 1e-9 &&
+                      dot(cross(frame.c0, frame.c90), frame.up) > 1.0 - 1e-9,
+                  "the photometric frame must be orthonormal and right-handed");
   const CubeMapGrid cube(face_size);
   const OverlapBuilder builder(frame, grid);
   const std::size_t bins = grid.bin_count();
