@@ -136,6 +136,19 @@ bool grid_supports(const CGammaGrid& grid, Symmetry symmetry) {
   return false;
 }
 
+Status check_grid_supports(const CGammaGrid& grid, Symmetry symmetry) {
+  if (grid_supports(grid, symmetry)) return Ok{};
+  Error e;
+  if (symmetry == Symmetry::Lateral) {
+    e.message = "lateral symmetry belongs to Types A and B; simulations write Type C";
+  } else {
+    const char* whole = symmetry == Symmetry::C0_C180 ? "180" : "90";
+    e.message = std::string("symmetry ") + photometry::to_string(symmetry) +
+                " needs a C step dividing " + whole + "°, not " + fmt_g(grid.c_step_deg) + "°";
+  }
+  return e;
+}
+
 int symmetry_order(const CGammaGrid& grid, Symmetry symmetry) {
   switch (symmetry) {
     case Symmetry::None: return 1;

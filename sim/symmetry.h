@@ -44,6 +44,10 @@ std::optional<Symmetry> parse_symmetry(std::string_view name);
 // Rotational. Lateral (Types A/B) is never supported here.
 bool grid_supports(const CGammaGrid& grid, Symmetry symmetry);
 
+// grid_supports as a Status whose error says what the symmetry needs, for
+// command-line checks ("symmetry quadrant needs a C step dividing 90°, not 40°").
+Status check_grid_supports(const CGammaGrid& grid, Symmetry symmetry);
+
 // Number of directions the symmetry makes equivalent to a general one:
 // 1, 2, 2, 4, or the number of C-planes for Rotational.
 int symmetry_order(const CGammaGrid& grid, Symmetry symmetry);
