@@ -35,16 +35,20 @@ std::string fmt(double v) {
   return buf;
 }
 
-
-// A convex polygon in face coordinates (a, b): a rectangle cut by at most
-// two lines has at most six vertices.
+// A polygon in face coordinates (a, b): a rectangle cut once along a
+// γ-boundary and once along a C-boundary. Each cut adds one vertex per sign
+// change, so even a boundary crossing every edge twice stays within 16.
 struct Polygon {
+  static constexpr int kMaxVertices = 16;
   struct Point {
     double a, b;
   };
-  std::array<Point, 8> v{};
+  std::array<Point, kMaxVertices> v{};
   int n = 0;
-  void push(Point p) { v[static_cast<std::size_t>(n++)] = p; }
+  void push(Point p) {
+    GONIO_CHECK(n < kMaxVertices);
+    v[static_cast<std::size_t>(n++)] = p;
+  }
 };
 
 // Splits `in` where `f` changes sign. Where f is affine in a and b
@@ -53,7 +57,7 @@ struct Polygon {
 template <class F>
 void cut(const Polygon& in, const F& f, bool affine, Polygon& negative, Polygon& positive) {
   negative.n = positive.n = 0;
-  std::array<double, 8> value{};
+  std::array<double, Polygon::kMaxVertices> value{};
   for (int k = 0; k < in.n; ++k) value[static_cast<std::size_t>(k)] = f(in.v[static_cast<std::size_t>(k)]);
   for (int k = 0; k < in.n; ++k) {
     const auto cur = static_cast<std::size_t>(k), nxt = static_cast<std::size_t>((k + 1) % in.n);
@@ -265,8 +269,9 @@ class OverlapBuilder {
       const Polygon& p = parts[static_cast<std::size_t>(k)];
       if (p.n < 3) continue;
       // Exact solid angle of the spherical polygon (the face polygon seen
-      // from the centre), by a fan of triangles (Van Oosterom & Strackee).
-      std::array<Vec3, 8> u;
+      // from the centre), by a fan of signed triangles (Van Oosterom &
+      // Strackee), which also holds for the rare non-convex part.
+      std::array<Vec3, Polygon::kMaxVertices> u;
       Vec3 mean;
       for (int m = 0; m < p.n; ++m) {
         const auto mi = static_cast<std::size_t>(m);
@@ -277,10 +282,11 @@ class OverlapBuilder {
       for (int m = 1; m + 1 < p.n; ++m) {
         const Vec3& v1 = u[static_cast<std::size_t>(m)];
         const Vec3& v2 = u[static_cast<std::size_t>(m + 1)];
-        const double num = std::abs(dot(u[0], cross(v1, v2)));
+        const double num = dot(u[0], cross(v1, v2));
         const double den = 1.0 + dot(u[0], v1) + dot(v1, v2) + dot(v2, u[0]);
         omega += 2.0 * std::atan2(num, den);
       }
+      omega = std::abs(omega);
       if (!(omega > 0.0)) continue;
       // Vertex mean: inside a convex polygon, so in the piece's bin.
       const Where pw = where(frame_.to_local(normalize(mean)));
