@@ -26,10 +26,11 @@
 // region whose flux the bin collects.
 //
 // Cost. The overlap is a sparse matrix built once per (face size, frame,
-// grid), in parallel and deterministic: about 0.2 s of CPU at the defaults
-// (5° × 2.5°, face 128, 155 k non-zeros); applying it to a map costs one
-// multiply-add per non-zero (under a millisecond), so a simulation can
-// resample after every iteration.
+// grid), in parallel and deterministic: about 0.3 s on two cores at the
+// defaults (5° × 2.5°, face 128, 155 k non-zeros), about 4 s at 1° × 1°
+// (face 256); applying it to a map costs one multiply-add per non-zero
+// (0.3 ms at the defaults, three times one read of the map), so a
+// simulation can resample after every iteration (sim/resample_bench.cpp).
 #pragma once
 
 #include <cstddef>
