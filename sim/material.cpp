@@ -156,13 +156,14 @@ bool dielectric_event(const Vec3& wi, const Vec3& n, const Vec3& ng_in, double e
 
 }  // namespace
 
-ScatterResult scatter(const Material& m, const SurfaceFrame& f, const Vec3& d, PhotonRandom& rng) {
+ScatterResult scatter(const Material& m, const SurfaceFrame& f, const Vec3& d, PhotonRandom& rng,
+                      Polarization* polarization) {
   const Lobe lobe = choose_lobe(m, rng.uniform());
-  return scatter(m, lobe, f, d, rng);
+  return scatter(m, lobe, f, d, rng, polarization);
 }
 
 ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& f, const Vec3& d,
-                      PhotonRandom& rng) {
+                      PhotonRandom& rng, Polarization* polarization) {
   ScatterResult r{lobe, false, d, 1.0};
   const bool front = dot(d, f.geometric_normal) < 0.0;
   // Normals on the side the photon arrives from.
@@ -177,6 +178,7 @@ ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& f, const
       return r;
     case Lobe::DiffuseReflect:
     case Lobe::DiffuseTransmit: {
+      if (polarization) polarization->polarized = false;
       const Vec3 local = sample_cosine_hemisphere(rng);
       const Vec3 axis = r.lobe == Lobe::DiffuseReflect ? ng : -ng;
       // Unit to rounding: an orthonormal basis applied to a unit vector.
@@ -184,12 +186,15 @@ ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& f, const
       return r;
     }
     case Lobe::Mirror: {
-      Vec3 o = reflect(wi, ns);
-      if (dot(o, ng) <= 0.0) o = reflect(wi, ng);
+      Vec3 n = ns;
+      Vec3 o = reflect(wi, n);
+      if (dot(o, ng) <= 0.0) o = reflect(wi, n = ng);
       r.direction = normalize(o);
+      if (polarization) reflect_field(*polarization, n);
       return r;
     }
     case Lobe::Glossy: {
+      if (polarization) polarization->polarized = false;
       const Basis basis = basis_from_normal_tangent(ns, f.tangent);
       double c, s;
       sample_unit_circle(rng, &c, &s);
@@ -209,6 +214,22 @@ ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& f, const
     }
     case Lobe::Dielectric: {
       const double eta_i = front ? 1.0 : m.ior, eta_t = front ? m.ior : 1.0;
+      if (polarization) {
+        polarize_randomly(*polarization, d, rng);
+        const double u = rng.uniform();
+        for (const Vec3& n : {ns, ng}) {
+          if (dot(d, n) >= 0.0) continue;
+          const InterfaceOutcome e = interface_event(*polarization, d, n, eta_i, eta_t, u);
+          const double side = dot(e.direction, ng);
+          if (e.reflected ? side > 0.0 : side < 0.0) {
+            r.direction = e.direction;
+            *polarization = e.state;
+            return r;
+          }
+        }
+        r.direction = d;  // exactly grazing the geometric plane: pass by
+        return r;
+      }
       const double u = rng.uniform();
       Vec3 o = d;
       if (!dielectric_event(wi, ns, ng, eta_i, eta_t, u, &o) &&

@@ -14,6 +14,7 @@
 
 #include "photometry/diagnostics.h"
 #include "photometry/vec3.h"
+#include "sim/polarization.h"
 #include "sim/random.h"
 #include "sim/scene.h"
 
@@ -110,12 +111,17 @@ struct ScatterResult {
 // the geometric surface to the wrong side is recomputed with the geometric
 // normal. Dielectrics: the front side faces air (n = 1), the back side the
 // volume of index `ior`.
+// `polarization` (optional) is the photon's state (sim/polarization.h): the
+// dielectric then reflects with the photon's own R and updates the state,
+// the mirror reflects the field, diffuse and glossy lobes depolarise.
+// Without it the dielectric uses the unpolarised R̄ = (Rs + Rp)/2.
 ScatterResult scatter(const Material& m, const SurfaceFrame& frame, const Vec3& direction,
-                      PhotonRandom& rng);
+                      PhotonRandom& rng, Polarization* polarization = nullptr);
 // The same for a lobe already chosen (choose_lobe), so that callers can skip
 // interpolating a shading frame for lobes that do not use it.
 ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& frame,
-                      const Vec3& direction, PhotonRandom& rng);
+                      const Vec3& direction, PhotonRandom& rng,
+                      Polarization* polarization = nullptr);
 // Whether a lobe reads the shading normal and tangent (specular lobes).
 inline bool uses_shading_frame(Lobe lobe) {
   return lobe == Lobe::Mirror || lobe == Lobe::Glossy || lobe == Lobe::Dielectric;

@@ -105,6 +105,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   RayQuery ray;
   RayHit hit;
   std::uint64_t power = kPowerUnits;
+  Polarization polarization;
   for (;;) {
     ray.origin[0] = static_cast<float>(origin.x);
     ray.origin[1] = static_cast<float>(origin.y);
@@ -158,7 +159,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
         frame.tangent = w0 * to_double(t3[0]) + u * to_double(t3[1]) + v * to_double(t3[2]);
       }
     }
-    const ScatterResult s = scatter(material, lobe, frame, direction, rng);
+    const ScatterResult s = scatter(material, lobe, frame, direction, rng, &polarization);
     if (s.absorbed) {
       r.fate = Fate::Absorbed;
       return r;
