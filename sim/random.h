@@ -31,6 +31,13 @@ class PhotonRandom {
   double uniform_open0() {
     return static_cast<double>(static_cast<std::int64_t>(next_u64() >> 11) + 1) * 0x1.0p-53;
   }
+  // Two uniforms in [0, 1) with 32 random bits each from one draw (enough
+  // for directions: steps of 2⁻³² ≈ 2.3·10⁻¹⁰).
+  void uniform_pair(double* a, double* b) {
+    const std::uint64_t x = next_u64();
+    *a = static_cast<double>(static_cast<std::int64_t>(x >> 32)) * 0x1.0p-32;
+    *b = static_cast<double>(static_cast<std::int64_t>(x & 0xffffffffULL)) * 0x1.0p-32;
+  }
   // Number of draws so far.
   std::uint64_t draws() const { return counter_; }
 

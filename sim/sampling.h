@@ -42,7 +42,9 @@ inline Basis basis_from_normal_tangent(const Vec3& n, const Vec3& tangent) {
 // (π/4 of the tries are kept): no trigonometry, exact.
 inline void sample_unit_disc(PhotonRandom& rng, double* x, double* y) {
   for (;;) {
-    const double a = 2.0 * rng.uniform() - 1.0, b = 2.0 * rng.uniform() - 1.0;
+    double u, v;
+    rng.uniform_pair(&u, &v);
+    const double a = 2.0 * u - 1.0, b = 2.0 * v - 1.0;
     if (a * a + b * b < 1.0) {
       *x = a;
       *y = b;

@@ -122,6 +122,9 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       return r;
     }
     const MeshData& mesh = meshes_[hit.mesh];
+    // The shading normals are a likely cache miss: start loading them now.
+    if (!mesh.corner_normals.empty())
+      __builtin_prefetch(&mesh.corner_normals[3 * static_cast<std::size_t>(hit.triangle)]);
     const Material& material = materials_[mesh.material];
     const double t = hit.t;
     const Vec3 ng_raw{hit.ng[0], hit.ng[1], hit.ng[2]};
