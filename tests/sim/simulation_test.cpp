@@ -147,6 +147,10 @@ TEST(Simulation, ProgressAfterEveryIteration) {
   EXPECT_EQ(seen, (std::vector<int>{1, 2, 3}));
 }
 
+TEST(Simulation, DefaultFaceSizeServesA2Point5DegreeGrid) {
+  EXPECT_EQ(SimulationSettings{}.face_size, CubeMapGrid::face_size_for_step(2.5));
+}
+
 TEST(Simulation, RejectsBadSettings) {
   EXPECT_FALSE(Simulation::create(mixed_scene(), settings(1, 0, 1)).ok());
   EXPECT_FALSE(Simulation::create(mixed_scene(), settings(1, 10, 0)).ok());
