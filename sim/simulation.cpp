@@ -49,6 +49,9 @@ Result<Simulation> Simulation::create(const SceneDesc& scene, const SimulationSe
   if (settings.photons_per_iteration < 1 || settings.photons_per_iteration >= (std::uint64_t{1} << 32))
     return error("photons per iteration must lie in 1..4294967295");
   if (settings.iterations < 1) return error("at least one iteration is needed");
+  // Power is counted in 2^-24 photon units in 64-bit integers.
+  if (static_cast<double>(settings.photons_per_iteration) * settings.iterations > 0x1.0p39)
+    return error("at most 2^39 (5.5e11) photons per run");
   if (settings.threads < 0) return error("the thread count must be >= 0");
   const auto start = std::chrono::steady_clock::now();
   TracerSettings ts;

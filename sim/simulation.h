@@ -24,7 +24,7 @@ inline constexpr std::uint64_t kChunkPhotons = 4096;
 
 struct SimulationSettings {
   std::uint64_t photons_per_iteration = 1'000'000;  // ≥ 1, < 2³²
-  int iterations = 10;                               // ≥ 1
+  int iterations = 10;                               // ≥ 1; at most 2³⁹ photons in all
   std::uint64_t seed = 1;
   int threads = 0;                                   // 0: every core
   int max_bounces = 100;                             // see TracerSettings
