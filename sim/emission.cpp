@@ -148,6 +148,12 @@ Result<EmissionSampler> EmissionSampler::create(const SceneDesc& scene) {
       src.frame = e.frame;
       if (!std::isfinite(e.position.x) || !std::isfinite(e.position.y) || !std::isfinite(e.position.z))
         return error(what + ": position is not finite");
+      const photometry::PhotometricFrame& f = e.frame;
+      const double tol = 1e-6;
+      if (!(std::abs(length(f.c0) - 1.0) < tol && std::abs(length(f.c90) - 1.0) < tol &&
+            std::abs(length(f.up) - 1.0) < tol && std::abs(dot(f.c0, f.c90)) < tol &&
+            std::abs(dot(f.c0, f.up)) < tol && dot(cross(f.c0, f.c90), f.up) > 1.0 - tol))
+        return error(what + ": photometric frame is not orthonormal and right-handed");
       if (e.profile) {
         auto p = ProfileSampler::create(*e.profile);
         if (!p.ok()) return error(what + ": " + p.error().message);

@@ -102,7 +102,8 @@ struct EmittedPhoton {
 class EmissionSampler {
  public:
   // Errors name the emitter: non-finite or negative flux, no flux in total,
-  // a missing mesh, a profile that cannot be sampled.
+  // a missing mesh, a profile that cannot be sampled, a point emitter's
+  // frame that is not orthonormal and right-handed (photometry/frame.h).
   static Result<EmissionSampler> create(const SceneDesc& scene);
 
   EmittedPhoton sample(PhotonRandom& rng) const;

@@ -308,6 +308,12 @@ TEST(EmissionSampler, ErrorsNameTheEmitter) {
   scene.emitters[0].flux_lm = 0.0;
   EXPECT_FALSE(EmissionSampler::create(scene).ok());  // no flux in total
   scene.emitters[0].flux_lm = 1.0;
+  scene.emitters[0].frame.c0 = {2.0, 0.0, 0.0};
+  r = EmissionSampler::create(scene);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("orthonormal"), std::string::npos);
+  scene.emitters[0].frame = {};
+  EXPECT_TRUE(EmissionSampler::create(scene).ok());
   scene.emitters[0].kind = Emitter::Kind::Area;
   scene.emitters[0].mesh = 3;
   r = EmissionSampler::create(scene);
