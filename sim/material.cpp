@@ -59,6 +59,16 @@ Lobe choose_lobe(const Material& m, double u) {
   return Lobe::Absorb;
 }
 
+LobeCdf lobe_cdf(const Material& m) {
+  LobeCdf c;
+  c.bounds[0] = m.diffuse_reflect;
+  c.bounds[1] = c.bounds[0] + m.diffuse_transmit;
+  c.bounds[2] = c.bounds[1] + m.mirror;
+  c.bounds[3] = c.bounds[2] + m.glossy;
+  c.bounds[4] = c.bounds[3] + m.dielectric;
+  return c;
+}
+
 double beckmann_d(double mx, double my, const Vec3& h) {
   if (h.z <= 0.0) return 0.0;
   const double z2 = h.z * h.z;

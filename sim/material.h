@@ -33,6 +33,18 @@ const char* to_string(Lobe lobe);
 // the probability of its weight, Absorb with 1 − total().
 Lobe choose_lobe(const Material& m, double u);
 
+// The same from cumulative weights computed once per material (the tracer's
+// per-hit path): bounds[k] = weight of lobes 1..k+1 in Lobe order.
+struct LobeCdf {
+  double bounds[5];
+};
+LobeCdf lobe_cdf(const Material& m);
+inline Lobe choose_lobe(const LobeCdf& cdf, double u) {
+  int k = 0;
+  while (k < 5 && u >= cdf.bounds[k]) ++k;
+  return static_cast<Lobe>((k + 1) % 6);  // 5 (past every lobe) → Absorb
+}
+
 // --- Glossy lobe: anisotropic Beckmann distribution with Schlick Fresnel
 // (Kurt et al. 2010 as the thesis gives it), with the exponent α = ½:
 //   f(wi, wo) = F(wo·h) D(h) / (4 (wi·h) √((wi·n)(wo·n)))     [1/sr]

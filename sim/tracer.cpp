@@ -73,6 +73,7 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   Tracer tracer(CubeMapGrid(face_size), std::move(embree.value()), std::move(emission.value()),
                 settings);
   tracer.materials_ = scene.materials;
+  for (const Material& m : scene.materials) tracer.lobe_cdfs_.push_back(lobe_cdf(m));
   tracer.meshes_.reserve(scene.meshes.size());
   for (const Mesh& m : scene.meshes) {
     MeshData d;
@@ -147,7 +148,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
 
     const Vec3 ng = ng_raw * (1.0 / std::sqrt(dot(ng_raw, ng_raw)));
     SurfaceFrame frame{ng, ng, {}};
-    const Lobe lobe = choose_lobe(material, rng.uniform());
+    const Lobe lobe = choose_lobe(lobe_cdfs_[mesh.material], rng.uniform());
     if (uses_shading_frame(lobe)) {
       const std::size_t c = 3 * static_cast<std::size_t>(hit.triangle);
       const double u = hit.u, v = hit.v, w0 = 1.0 - u - v;

@@ -24,6 +24,7 @@
 #include "sim/embree_scene.h"
 #include "sim/emission.h"
 #include "sim/ledger.h"
+#include "sim/material.h"
 #include "sim/random.h"
 #include "sim/scene.h"
 
@@ -122,6 +123,7 @@ class Tracer {
   TracerSettings settings_;
   std::vector<MeshData> meshes_;
   std::vector<Material> materials_;
+  std::vector<LobeCdf> lobe_cdfs_;  // per material
   double offset_floor_m_ = 0.0;
 };
 

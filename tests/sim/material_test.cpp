@@ -80,6 +80,15 @@ TEST(Material, LobesAreChosenByTheirWeights) {
   EXPECT_EQ(choose_lobe(m, 0.96), Lobe::Absorb);
   Material black;
   EXPECT_EQ(choose_lobe(black, 0.0), Lobe::Absorb);
+  // The precomputed form agrees everywhere.
+  m.glossy = 0.02;
+  m.dielectric = 0.01;
+  const LobeCdf cdf = lobe_cdf(m);
+  for (int i = 0; i < 1000; ++i) {
+    const double u = i / 1000.0;
+    EXPECT_EQ(choose_lobe(cdf, u), choose_lobe(m, u)) << u;
+  }
+  EXPECT_EQ(choose_lobe(lobe_cdf(black), 0.0), Lobe::Absorb);
 }
 
 TEST(Dielectric, FresnelClosedForms) {
