@@ -1,7 +1,5 @@
 #include "sim/far_field_sampler.h"
 
-#include <algorithm>
-#include <numeric>
 
 #include "photometry/diagnostics.h"
 
@@ -35,58 +33,13 @@ std::vector<double> expected_texel_flux(const CubeMapGrid& grid,
   return flux;
 }
 
-FarFieldSampler::FarFieldSampler(std::span<const double> weights) {
-  GONIO_CHECK(!weights.empty() && weights.size() < (std::size_t{1} << 32));
-  const double total = std::accumulate(weights.begin(), weights.end(), 0.0);
-  GONIO_CHECK_MSG(total > 0.0 && std::all_of(weights.begin(), weights.end(),
-                                             [](double w) { return w >= 0.0; }),
-                  "sampler weights must be ≥ 0 with a positive sum");
-  const std::size_t n = weights.size();
-  probability_.resize(n);
-  accept_.resize(n);
-  alias_.resize(n);
-  // Vose's construction of Walker's alias table.
-  std::vector<double> scaled(n);
-  std::vector<std::uint32_t> small, large;
-  for (std::size_t i = 0; i < n; ++i) {
-    probability_[i] = weights[i] / total;
-    scaled[i] = probability_[i] * static_cast<double>(n);
-    (scaled[i] < 1.0 ? small : large).push_back(static_cast<std::uint32_t>(i));
-  }
-  while (!small.empty() && !large.empty()) {
-    const std::uint32_t s = small.back(), l = large.back();
-    small.pop_back();
-    accept_[s] = scaled[s];
-    alias_[s] = l;
-    scaled[l] = (scaled[l] + scaled[s]) - 1.0;
-    if (scaled[l] < 1.0) {
-      large.pop_back();
-      small.push_back(l);
-    }
-  }
-  // What is left is 1 up to rounding.
-  for (const std::vector<std::uint32_t>* rest : {&large, &small}) {
-    for (std::uint32_t i : *rest) {
-      accept_[i] = 1.0;
-      alias_[i] = i;
-    }
-  }
-}
-
-std::size_t FarFieldSampler::sample(double u1, double u2) const {
-  const std::size_t n = accept_.size();
-  const std::size_t column = std::min(n - 1, static_cast<std::size_t>(u1 * static_cast<double>(n)));
-  return u2 < accept_[column] ? column : alias_[column];
-}
+FarFieldSampler::FarFieldSampler(std::span<const double> weights) : table_(weights) {}
 
 void FarFieldSampler::add_photons(FarField& field, std::uint64_t photons, double flux_per_photon_lm,
                                   std::mt19937_64& rng) const {
   GONIO_CHECK(field.texel_count() == texel_count());
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (std::uint64_t i = 0; i < photons; ++i) {
-    const double u1 = u(rng), u2 = u(rng);
-    field.add(sample(u1, u2), flux_per_photon_lm);
-  }
+  for (std::uint64_t i = 0; i < photons; ++i) field.add(sample(u(rng)), flux_per_photon_lm);
 }
 
 }  // namespace gonio::sim

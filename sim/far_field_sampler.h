@@ -4,7 +4,7 @@
 // expected_texel_flux integrates an intensity function over every texel (the
 // converged map, exactly what an infinitely long run would hold), and
 // FarFieldSampler draws photons from it: each photon lands in texel t with
-// probability expected[t] / Σ expected (Walker's alias method, O(1) per
+// probability expected[t] / Σ expected (sim/alias_table.h, O(1) per
 // photon), which is how a photon tracer's histogram fills.
 #pragma once
 
@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "photometry/vec3.h"
+#include "sim/alias_table.h"
 #include "sim/far_field.h"
 
 namespace gonio::sim {
@@ -33,11 +34,11 @@ class FarFieldSampler {
   // Texel weights ≥ 0 with a positive sum (e.g. expected_texel_flux).
   explicit FarFieldSampler(std::span<const double> weights);
 
-  std::size_t texel_count() const { return probability_.size(); }
+  std::size_t texel_count() const { return table_.size(); }
   // The probability that a photon lands in texel t: its density.
-  double probability(std::size_t t) const { return probability_[t]; }
-  // The texel of one photon, from two uniform numbers in [0, 1).
-  std::size_t sample(double u1, double u2) const;
+  double probability(std::size_t t) const { return table_.pmf(t); }
+  // The texel of one photon, from a uniform number in [0, 1).
+  std::size_t sample(double u) const { return table_.sample(u); }
 
   // Adds `photons` photons of `flux_per_photon_lm` each to the field, drawn
   // with `rng` (deterministic for a given seed).
@@ -45,9 +46,7 @@ class FarFieldSampler {
                    std::mt19937_64& rng) const;
 
  private:
-  std::vector<double> probability_;
-  std::vector<double> accept_;          // alias table: keep column i with this probability
-  std::vector<std::uint32_t> alias_;    // otherwise take this one
+  AliasTable table_;
 };
 
 }  // namespace gonio::sim
