@@ -1,0 +1,92 @@
+#include "tools/preview_output.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <utility>
+
+#include "io/cube_cross.h"
+#include "io/image.h"
+
+namespace gonio::cli {
+
+void add_preview_options(ArgParser& parser, PreviewOptions* o) {
+  parser.flag("preview", &o->enabled,
+              "After every iteration write the filtered preview as DIR/preview.exr and an "
+              "unfolded, tone-mapped cube as DIR/preview.png.");
+  parser.choice("filter", &o->filter, {"none", "bilinear", "bilateral"},
+                "Preview interpolation (default bilateral).");
+  parser.option("threshold", &o->threshold, 0.0, 1e15, "PHOTONS",
+                "A texel with more photons is stable (default 6400 adaptive, 100 with --no-adaptive).");
+  parser.option("levels", &o->levels, 0, 15, "N",
+                "Pyramid levels in use, level 0 included (default 0: down to faces of 16 texels).");
+  parser.option("sigma-d", &o->sigma_d, 1e-3, 100.0, "S",
+                "Bilateral closeness sigma, in coarse texels (default 0.5).");
+  parser.option("sigma-r", &o->sigma_r, 1e-3, 100.0, "S",
+                "Bilateral range sigma, relative to the brightest coarse texel (default 0.2).");
+  parser.flag("adaptive", &o->adaptive,
+              "Adaptive stability (the default): below the threshold a texel is kept where its "
+              "photons contradict the smoothed estimate by more than 3.5 sigma.");
+  parser.flag("no-adaptive", &o->no_adaptive, "The reference thesis's fixed threshold only.");
+}
+
+Result<sim::PreviewFilterParams> preview_params(const PreviewOptions& o, const ArgParser& parser) {
+  if (o.adaptive && o.no_adaptive) {
+    Error error;
+    error.message = "--adaptive and --no-adaptive exclude each other";
+    return error;
+  }
+  sim::PreviewFilterParams p;
+  p.interpolation = o.filter == "none"       ? sim::Interpolation::None
+                    : o.filter == "bilinear" ? sim::Interpolation::Bilinear
+                                             : sim::Interpolation::Bilateral;
+  p.adaptive = !o.no_adaptive;
+  if (parser.given("threshold")) {
+    p.threshold_photons = o.threshold;
+  } else if (!p.adaptive) {
+    p.threshold_photons = sim::PreviewFilterParams::kFixedThreshold;
+  }
+  p.levels = static_cast<int>(o.levels);
+  p.sigma_d = o.sigma_d;
+  p.sigma_r = o.sigma_r;
+  return p;
+}
+
+std::string describe(const sim::PreviewFilterParams& p, int face_size) {
+  const char* kind = p.interpolation == sim::Interpolation::None       ? "none"
+                     : p.interpolation == sim::Interpolation::Bilinear ? "bilinear"
+                                                                       : "bilateral";
+  int levels = p.levels == 0 ? sim::PreviewFilter::auto_levels(face_size) : p.levels;
+  levels = std::min(levels, sim::CubePyramid::max_levels(face_size));
+  char buf[256];
+  if (p.adaptive) {
+    std::snprintf(buf, sizeof buf, "%s, adaptive (z = %g, always kept above %g photons), %d levels", kind,
+                  p.adaptive_z, p.threshold_photons, levels);
+  } else {
+    std::snprintf(buf, sizeof buf, "%s, fixed threshold %g photons, %d levels", kind, p.threshold_photons, levels);
+  }
+  std::string text = buf;
+  if (p.interpolation == sim::Interpolation::Bilateral) {
+    std::snprintf(buf, sizeof buf, ", sigma_d %g, sigma_r %g", p.sigma_d, p.sigma_r);
+    text += buf;
+  }
+  return text;
+}
+
+PreviewOutput::PreviewOutput(std::string directory, int face_size, const sim::PreviewFilterParams& params)
+    : directory_(std::move(directory)), filter_(face_size, params), image_(io::cube_image(face_size)) {
+  image_.float_channels.push_back({"Y", std::vector<float>(filter_.intensity_cd().size())});
+  image_.attributes = {{"gonio:quantity", "preview of the far-field luminous intensity (filtered; not a measurement)"},
+                       {"gonio:units", "Y: cd"},
+                       {"gonio:filter", describe(params, face_size)}};
+}
+
+Status PreviewOutput::write(const sim::FarField& far_field) {
+  filter_.apply(far_field);
+  const std::span<const double> preview = filter_.intensity_cd();
+  std::vector<float>& y = image_.float_channels.front().values;
+  for (std::size_t t = 0; t < preview.size(); ++t) y[t] = static_cast<float>(preview[t]);
+  if (Status s = io::write_exr(exr_path(), image_); !s.ok()) return s;
+  return io::write_png(png_path(), io::cube_cross_image(filter_.face_size(), preview));
+}
+
+}  // namespace gonio::cli

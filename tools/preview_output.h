@@ -1,0 +1,61 @@
+// The progressive preview of `gonio simulate --preview`: after every
+// iteration the far field is filtered (sim/preview_filter.h) and written as
+//   DIR/preview.exr — the filtered cube map (OpenEXR cube environment map,
+//                     like farfield.exr), channel Y = intensity [cd];
+//   DIR/preview.png — the unfolded cube (io/cube_cross.h), tone-mapped,
+// each replaced atomically, so a viewer can watch the files. The preview is
+// for looking at: farfield.exr and the photometric files come from the raw
+// histogram, never from the preview.
+#pragma once
+
+#include <string>
+
+#include "io/exr.h"
+#include "photometry/diagnostics.h"
+#include "sim/far_field.h"
+#include "sim/preview_filter.h"
+#include "tools/cli.h"
+
+namespace gonio::cli {
+
+// The preview's command-line options, as parsed.
+struct PreviewOptions {
+  bool enabled = false;             // --preview
+  std::string filter = "bilateral"; // --filter none|bilinear|bilateral
+  double threshold = 0.0;           // --threshold PHOTONS (default: per mode)
+  long long levels = 0;             // --levels N (0: automatic)
+  double sigma_d = 0.5;             // --sigma-d
+  double sigma_r = 0.2;             // --sigma-r
+  bool adaptive = false;            // --adaptive (the default)
+  bool no_adaptive = false;         // --no-adaptive: the thesis's fixed threshold
+};
+
+// Registers --preview and the filter's options on a subcommand's parser.
+void add_preview_options(ArgParser& parser, PreviewOptions* options);
+
+// The filter parameters the options ask for; `parser` tells which options
+// were given. Error: --adaptive with --no-adaptive.
+Result<sim::PreviewFilterParams> preview_params(const PreviewOptions& options, const ArgParser& parser);
+
+// One line describing the filter settings (report, EXR attribute).
+std::string describe(const sim::PreviewFilterParams& params, int face_size);
+
+class PreviewOutput {
+ public:
+  PreviewOutput(std::string directory, int face_size, const sim::PreviewFilterParams& params);
+
+  // Filters the far field and replaces preview.exr and preview.png.
+  Status write(const sim::FarField& far_field);
+
+  const sim::PreviewStats& stats() const { return filter_.stats(); }
+  std::span<const double> intensity_cd() const { return filter_.intensity_cd(); }
+  std::string exr_path() const { return directory_ + "/preview.exr"; }
+  std::string png_path() const { return directory_ + "/preview.png"; }
+
+ private:
+  std::string directory_;
+  sim::PreviewFilter filter_;
+  io::ExrImage image_;
+};
+
+}  // namespace gonio::cli
