@@ -10,11 +10,14 @@
 // geometric mean over fields and densities of its error divided by the raw
 // map's error: below 1 the preview is better than the histogram.
 //
-// Usage: gonio_filter_study [--face-size N] [--seed S] [--broad | --confirm] [--detail NAME]...
+// Usage: gonio_filter_study [--face-size N] [--seed S] [--broad | --confirm] [--traced] [--detail NAME]...
 //   --broad sweeps every family of configurations in coarse steps (which
 //   families work); the default sweeps around the winners; --confirm checks
 //   the chosen defaults against their neighbours (run it with other seeds).
-//   --detail prints a configuration's error ratio per field and density.
+//   --traced measures on luminaires traced by the photon tracer (a bell with
+//   an opal shade, a reflector spot) against a run of 1000 photons per
+//   texel, up to 40 photons per texel (minutes); --detail prints a
+//   configuration's error ratio per field and density.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -23,18 +26,25 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "benchmarks/bench_scenes.h"
 #include "sim/far_field_sampler.h"
 #include "sim/preview_filter.h"
+#include "sim/shapes.h"
+#include "sim/simulation.h"
 
 namespace {
 
+using gonio::Result;
 using gonio::Vec3;
 using namespace gonio::sim;
+namespace sim = gonio::sim;
+namespace bench = gonio::bench;
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
@@ -234,20 +244,81 @@ std::vector<Config> focused() {
 }
 
 struct Truth {
-  std::vector<double> intensity;  // exact texel mean [cd]
+  std::vector<double> intensity;  // exact texel mean [cd], or a long run's
   std::vector<double> omega;      // [sr]
   double flux = 0.0;              // [lm]
   double norm = 0.0;              // Σ Ω R²
+  double noise = 0.0;             // Σ Ω var(R): a long run's own photon noise, 0 if exact
 };
 
+// The relative RMS error; a reference's own noise, independent of the
+// estimate's, adds Σ Ω var(R) to the squared error and is taken out.
 double rel_rms(const Truth& truth, std::span<const double> estimate, double scale) {
   double err = 0.0;
   for (std::size_t t = 0; t < estimate.size(); ++t) {
     const double d = estimate[t] * scale - truth.intensity[t];
     err += truth.omega[t] * d * d;
   }
-  return std::sqrt(err / truth.norm);
+  return std::sqrt(std::max(err - truth.noise, 0.0) / truth.norm);
 }
+
+// Traced far fields: luminaires built in code, a long run as the reference.
+struct TracedCase {
+  std::string name;
+  sim::SceneDesc scene;
+};
+
+std::vector<TracedCase> traced_cases() {
+  std::vector<TracedCase> out;
+  out.push_back({"bell (opal)", bench::bell_scene(128, 48)});
+  // A spot: a Lambertian sphere of 1 cm radius at the focus of a mirror
+  // paraboloid (f = 5 cm, aperture 10 cm, hole 2 cm, ρ = 0.9) opening down.
+  sim::SceneDesc spot;
+  spot.name = "reflector spot";
+  sim::Material black, mirror;
+  black.name = "black";
+  mirror.name = "mirror";
+  mirror.mirror = 0.9;
+  spot.materials = {black, mirror};
+  sim::Mesh source = sim::sphere(0.01, 64, 32);
+  source.material = 0;
+  sim::Mesh reflector = sim::paraboloid(0.05, 0.1, 0.02, 96, 192);
+  reflector.material = 1;
+  spot.meshes = {source, reflector};
+  sim::Emitter e;
+  e.kind = sim::Emitter::Kind::Area;
+  e.mesh = 0;
+  e.flux_lm = 1000.0;
+  spot.emitters = {e};
+  out.push_back({"reflector spot", spot});
+  return out;
+}
+
+// Runs `scene` until its far field holds `photons` photons (emitted) and
+// returns it; iterations of `per_iteration` photons.
+class TracedRun {
+ public:
+  TracedRun(const sim::SceneDesc& scene, int face_size, std::uint64_t per_iteration, std::uint64_t seed) {
+    sim::SimulationSettings settings;
+    settings.photons_per_iteration = per_iteration;
+    settings.iterations = 1;
+    settings.seed = seed;
+    settings.face_size = face_size;
+    Result<sim::Simulation> sim = sim::Simulation::create(scene, settings);
+    if (!sim.ok()) {
+      std::fprintf(stderr, "gonio_filter_study: %s\n", gonio::to_string(sim.error()).c_str());
+      std::exit(1);
+    }
+    sim_ = std::make_unique<sim::Simulation>(std::move(sim.value()));
+  }
+  sim::FarField until(std::uint64_t photons) {
+    while (sim_->stats().photons < photons) sim_->run_iteration();
+    return sim_->far_field();
+  }
+
+ private:
+  std::unique_ptr<sim::Simulation> sim_;
+};
 
 }  // namespace
 
@@ -256,6 +327,8 @@ int main(int argc, char** argv) {
   unsigned seed = 1;
   std::vector<std::string> detail;
   int sweep = 0;  // focused, broad, confirm
+  bool traced = false;
+  const double reference_density = 1000.0;  // photons per texel of a traced reference
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--face-size") && i + 1 < argc) {
       n = std::atoi(argv[++i]);
@@ -265,10 +338,12 @@ int main(int argc, char** argv) {
       sweep = 1;
     } else if (!std::strcmp(argv[i], "--confirm")) {
       sweep = 2;
+    } else if (!std::strcmp(argv[i], "--traced")) {
+      traced = true;
     } else if (!std::strcmp(argv[i], "--detail") && i + 1 < argc) {
       detail.push_back(argv[++i]);
     } else {
-      std::fprintf(stderr, "usage: gonio_filter_study [--face-size N] [--seed S] [--broad | --confirm] [--detail NAME]...\n");
+      std::fprintf(stderr, "usage: gonio_filter_study [--face-size N] [--seed S] [--broad | --confirm] [--traced] [--detail NAME]...\n");
       return 2;
     }
   }
@@ -280,7 +355,9 @@ int main(int argc, char** argv) {
       c.name = describe(c.params, c.density_kappa);
     }
   }
-  const std::vector<double> densities = {0.25, 1.0, 2.5, 10.0, 40.0, 160.0, 640.0};  // photons per texel
+  // Photons per texel; the traced references (1000) limit those to 40.
+  const std::vector<double> densities = traced ? std::vector<double>{0.25, 1.0, 2.5, 10.0, 40.0}
+                                               : std::vector<double>{0.25, 1.0, 2.5, 10.0, 40.0, 160.0, 640.0};
   // log(error / raw error) per config, field, density.
   std::vector<std::vector<double>> log_ratio(configs.size());
   std::vector<std::vector<double>> flux_ratio(configs.size());
@@ -288,26 +365,83 @@ int main(int argc, char** argv) {
               seed);
   double filter_seconds = 0.0;
   std::size_t filter_calls = 0;
-  for (const Field& field : fields()) {
-    Truth truth;
-    const std::vector<double> expected = expected_texel_flux(grid, field.intensity, 4);
-    truth.intensity.resize(expected.size());
-    truth.omega.resize(expected.size());
-    for (std::size_t t = 0; t < expected.size(); ++t) {
-      truth.omega[t] = grid.texel_solid_angle(t);
-      truth.intensity[t] = expected[t] / truth.omega[t];
-      truth.flux += expected[t];
-      truth.norm += truth.omega[t] * truth.intensity[t] * truth.intensity[t];
+  // Each case: a name, the truth, and the histogram at a photon density.
+  struct Case {
+    std::string name;
+    std::function<Truth()> truth;
+    std::function<FarField(std::uint64_t photons)> histogram;
+  };
+  std::vector<Case> cases;
+  if (!traced) {
+    for (const Field& field : fields()) {
+      auto expected = std::make_shared<std::vector<double>>(expected_texel_flux(grid, field.intensity, 4));
+      auto sampler = std::make_shared<FarFieldSampler>(*expected);
+      auto histogram = std::make_shared<FarField>(n);
+      auto rng = std::make_shared<std::mt19937_64>(seed);
+      cases.push_back({field.name,
+                       [=] {
+                         Truth truth;
+                         truth.intensity.resize(expected->size());
+                         truth.omega.resize(expected->size());
+                         for (std::size_t t = 0; t < expected->size(); ++t) {
+                           truth.omega[t] = grid.texel_solid_angle(t);
+                           truth.intensity[t] = (*expected)[t] / truth.omega[t];
+                           truth.flux += (*expected)[t];
+                         }
+                         return truth;
+                       },
+                       [=](std::uint64_t photons) {
+                         sampler->add_photons(*histogram, photons - histogram->total_photons(), 1.0, *rng);
+                         return *histogram;
+                       }});
     }
-    const FarFieldSampler sampler(expected);
-    FarField histogram(n);
-    std::mt19937_64 rng(seed);
+  } else {
+    // Iterations of a quarter photon per texel (a multiple of the tracer's
+    // 4096-photon chunks for faces of 128 and 256); the reference is a run
+    // with another seed and `reference_density` photons per texel.
+    const std::uint64_t quarter = grid.texel_count() / 4;
+    for (const TracedCase& c : traced_cases()) {
+      auto run = std::make_shared<TracedRun>(c.scene, n, quarter, seed);
+      const sim::SceneDesc scene = c.scene;
+      cases.push_back({c.name,
+                       [=] {
+                         const auto start = std::chrono::steady_clock::now();
+                         TracedRun reference(scene, n, 64 * quarter, seed + 1000);
+                         const FarField r = reference.until(static_cast<std::uint64_t>(
+                             reference_density * static_cast<double>(grid.texel_count())));
+                         Truth truth;
+                         truth.intensity.resize(r.texel_count());
+                         truth.omega.resize(r.texel_count());
+                         for (std::size_t t = 0; t < r.texel_count(); ++t) {
+                           truth.omega[t] = grid.texel_solid_angle(t);
+                           truth.intensity[t] = r.intensity_cd(t);
+                           truth.flux += r.flux_lm(t);
+                           // Photons of equal flux: var(I) = I² / n.
+                           if (r.photons(t) > 0)
+                             truth.noise += truth.omega[t] * truth.intensity[t] * truth.intensity[t] /
+                                            static_cast<double>(r.photons(t));
+                         }
+                         std::fprintf(stderr, "  reference %s: %.0f s\n", scene.name.c_str(),
+                                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+                         return truth;
+                       },
+                       [=](std::uint64_t photons) { return run->until(photons); }});
+    }
+  }
+  for (const Case& one : cases) {
+    Truth truth = one.truth();
+    for (std::size_t t = 0; t < truth.intensity.size(); ++t)
+      truth.norm += truth.omega[t] * truth.intensity[t] * truth.intensity[t];
     PreviewFilter filter(n, configs[1].params);
-    std::printf("\n%-14s", field.name.c_str());
+    std::printf("\n%-14s", one.name.c_str());
     for (double density : densities) {
       const auto target = static_cast<std::uint64_t>(density * static_cast<double>(grid.texel_count()));
-      sampler.add_photons(histogram, target - histogram.total_photons(), 1.0, rng);
-      const double scale = truth.flux / static_cast<double>(histogram.total_photons());
+      const FarField histogram = one.histogram(target);
+      // Intensities to the truth's scale: the synthetic histograms carry
+      // photons of 1 lm, the traced ones the emitted flux already.
+      double histogram_flux = 0.0;
+      for (double f : histogram.flux_lm()) histogram_flux += f;
+      const double scale = truth.flux / histogram_flux;
       double raw_error = 0.0;
       for (std::size_t c = 0; c < configs.size(); ++c) {
         double error;
