@@ -468,7 +468,7 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   std::vector<std::string> field_names;
-  for (const Field& f : fields()) field_names.push_back(f.name);
+  for (const Case& c : cases) field_names.push_back(c.name);
   for (const std::string& name : detail) {
     for (std::size_t c = 0; c < configs.size(); ++c) {
       if (configs[c].name != name) continue;
