@@ -457,6 +457,29 @@ TEST(PreviewFilter, SparseMapsGiveFiniteIntensitiesInEveryConfiguration) {
   }
 }
 
+TEST(PreviewFilter, FaceSizesThatAreNotPowersOfTwoUseTheLevelsTheyHave) {
+  // 24 halves to 12, 6 and 3: four levels at most, two automatically (the
+  // automatic choice stops at 16 texels or the first odd size). An odd face
+  // size has level 0 only: the preview is the raw map.
+  EXPECT_EQ(PreviewFilter::auto_levels(24), 2);
+  EXPECT_EQ(PreviewFilter::auto_levels(128), 4);
+  EXPECT_EQ(PreviewFilter::auto_levels(256), 5);
+  EXPECT_EQ(PreviewFilter::auto_levels(16), 2);
+  EXPECT_EQ(PreviewFilter::auto_levels(9), 1);
+  for (int n : {24, 9}) {
+    const FarField field = busy_field(n, 0, 11);
+    PreviewFilter filter(n, params_with(Interpolation::Bilateral, 1e9, 99));
+    const PreviewStats& s = filter.apply(field);
+    EXPECT_EQ(s.levels_used, n == 24 ? 4 : 1);
+    for (std::size_t t = 0; t < field.texel_count(); ++t) {
+      ASSERT_TRUE(std::isfinite(filter.intensity_cd()[t]));
+      if (n == 9) {
+        ASSERT_EQ(filter.intensity_cd()[t], field.intensity_cd(t));
+      }
+    }
+  }
+}
+
 TEST(PreviewFilter, SameResultWithOneThreadOrMany) {
   const int n = 128;
   const CubeMapGrid grid(n);
