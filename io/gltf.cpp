@@ -308,6 +308,13 @@ struct IesLight {
   std::optional<double> flux_lm;  // integrated, cached
 };
 
+// Where an accessor's elements lie, checked against their bufferView before
+// anything is allocated for them: the count must be backed by bytes.
+struct ElementSource {
+  const unsigned char* data = nullptr;  // null: zeros (no bufferView)
+  std::size_t stride = 0;
+};
+
 class Loader {
  public:
   Loader(std::string path, std::vector<Finding>& findings)
@@ -349,6 +356,8 @@ class Loader {
   Result<std::vector<std::uint32_t>> read_indices(int accessor, const std::string& what);
   Result<std::pair<const unsigned char*, std::size_t>> view_bytes(int view,
                                                                   const std::string& what) const;
+  Result<ElementSource> source(const tinygltf::Accessor& a, std::size_t elem,
+                               const std::string& what) const;
   Status read_elements(const tinygltf::Accessor& a, std::size_t elem, const std::string& what,
                        unsigned char* out);
 
@@ -731,21 +740,11 @@ std::uint32_t read_index(const unsigned char* p, int type) {
 // `out`, which holds a.count * elem bytes, applying sparse substitution.
 Status Loader::read_elements(const tinygltf::Accessor& a, std::size_t elem,
                              const std::string& what, unsigned char* out) {
-  if (a.bufferView >= 0) {
-    auto bytes = view_bytes(a.bufferView, what);
-    if (!bytes.ok()) return bytes.error();
-    const auto& bv = model_.bufferViews[static_cast<std::size_t>(a.bufferView)];
-    const std::size_t stride = bv.byteStride ? bv.byteStride : elem;
-    if (stride < elem)
-      return fail(what + ": bufferView " + std::to_string(a.bufferView) + " has byteStride " +
-                  std::to_string(stride) + ", less than the element size " + std::to_string(elem));
-    if (!fits(a.byteOffset, a.count, stride, elem, bytes->second))
-      return fail(what + ": " + std::to_string(a.count) + " elements of " + std::to_string(elem) +
-                  " bytes (stride " + std::to_string(stride) + ", offset " +
-                  std::to_string(a.byteOffset) + ") do not fit in bufferView " +
-                  std::to_string(a.bufferView) + " (" + std::to_string(bytes->second) + " bytes)");
-    const unsigned char* src = bytes->first + a.byteOffset;
-    for (std::size_t i = 0; i < a.count; ++i) std::memcpy(out + i * elem, src + i * stride, elem);
+  Result<ElementSource> src = source(a, elem, what);
+  if (!src.ok()) return src.error();
+  if (src->data) {
+    for (std::size_t i = 0; i < a.count; ++i)
+      std::memcpy(out + i * elem, src->data + i * src->stride, elem);
   } else {
     std::memset(out, 0, a.count * elem);
   }
@@ -780,6 +779,29 @@ Status Loader::read_elements(const tinygltf::Accessor& a, std::size_t elem,
   return Ok{};
 }
 
+Result<ElementSource> Loader::source(const tinygltf::Accessor& a, std::size_t elem,
+                                     const std::string& what) const {
+  if (a.bufferView < 0) {
+    // Not backed by data (zeros, perhaps with sparse values): bound the count.
+    if (a.count > 3 * kMaxTriangles)
+      return fail(what + ": count " + std::to_string(a.count) + " is absurd");
+    return ElementSource{};
+  }
+  auto bytes = view_bytes(a.bufferView, what);
+  if (!bytes.ok()) return bytes.error();
+  const auto& bv = model_.bufferViews[static_cast<std::size_t>(a.bufferView)];
+  const std::size_t stride = bv.byteStride ? bv.byteStride : elem;
+  if (stride < elem)
+    return fail(what + ": bufferView " + std::to_string(a.bufferView) + " has byteStride " +
+                std::to_string(stride) + ", less than the element size " + std::to_string(elem));
+  if (!fits(a.byteOffset, a.count, stride, elem, bytes->second))
+    return fail(what + ": " + std::to_string(a.count) + " elements of " + std::to_string(elem) +
+                " bytes (stride " + std::to_string(stride) + ", offset " +
+                std::to_string(a.byteOffset) + ") do not fit in bufferView " +
+                std::to_string(a.bufferView) + " (" + std::to_string(bytes->second) + " bytes)");
+  return ElementSource{bytes->first + a.byteOffset, stride};
+}
+
 const char* type_name(int type) {
   switch (type) {
     case TINYGLTF_TYPE_SCALAR: return "SCALAR";
@@ -806,9 +828,7 @@ Result<std::vector<float>> Loader::read_floats(int index, int type, const std::s
                 "; Gonio reads float vertex data only (no KHR_mesh_quantization)");
   const std::size_t comps = static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(type)));
   const std::size_t elem = comps * 4;
-  // Without a bufferView the count is not backed by data: bound it before allocating.
-  if (a.bufferView < 0 && a.count > 3 * kMaxTriangles)
-    return fail(what + ": count " + std::to_string(a.count) + " is absurd");
+  if (Result<ElementSource> src = source(a, elem, what); !src.ok()) return src.error();
   std::vector<float> out(a.count * comps);
   if (Status s = read_elements(a, elem, what, reinterpret_cast<unsigned char*>(out.data())); !s.ok())
     return s.error();
@@ -832,9 +852,8 @@ Result<std::vector<std::uint32_t>> Loader::read_indices(int index, const std::st
       ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
     return fail(what + ": indices must be unsigned byte, short or int, found component type " +
                 std::to_string(ct));
-  if (a.bufferView < 0 && a.count > 3 * kMaxTriangles)
-    return fail(what + ": count " + std::to_string(a.count) + " is absurd");
   const std::size_t size = component_size(ct);
+  if (Result<ElementSource> src = source(a, size, what); !src.ok()) return src.error();
   std::vector<unsigned char> raw(a.count * size);
   if (Status s = read_elements(a, size, what, raw.data()); !s.ok()) return s.error();
   std::vector<std::uint32_t> out(a.count);
@@ -1310,7 +1329,7 @@ Status Loader::load_ies_profile(IesLight& light) {
       eulumdat = lower(file.extension().string()) == ".ldt";
       Result<std::string> read = read_file(name, kMaxFileBytes);
       if (!read.ok())
-        return fail(light.what + ": light profile '" + u + "': " + read.error().message);
+        return fail(light.what + ": light profile '" + u + "': " + to_string(read.error()));
       bytes = std::move(*read);
     }
   } else if (view != def.end()) {
