@@ -555,6 +555,58 @@ TEST(Gltf, TruncatedGlbIsAnErrorAtEveryLength) {
   EXPECT_CONTAINS(load_error((dir / "liar.glb").string()), "declares");
 }
 
+// Random corruption of a valid model, text and binary: every load ends in a
+// scene or an error, never a crash (the suite also runs under the sanitizers).
+TEST(Gltf, CorruptedModelsNeverCrash) {
+  test::TempDir dir;
+  Doc d;
+  const int mat = d.material({{"emissiveFactor", {1, 1, 1}}, {"doubleSided", true}});
+  d.node({{"mesh", d.mesh(kQuad, kQuadIdx, mat, 4, "q", {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1})},
+          {"rotation", {0, 0.6, 0, 0.8}},
+          {"children", {1}}});
+  d.j["nodes"].push_back({{"mesh", 0}, {"scale", {2, 2, 2}}});
+  d.point_light(5.0);
+  const std::string glb = test::read_file(d.write(dir, "base", Doc::Form::Glb));
+  const std::string text = test::read_file(d.write(dir, "text", Doc::Form::DataUri));
+  std::uint32_t state = 12345;
+  auto next = [&] {
+    state = state * 1664525u + 1013904223u;
+    return state >> 8;
+  };
+  int loaded = 0, failed = 0;
+  for (int round = 0; round < 400; ++round) {
+    const bool binary = round % 2 == 0;
+    std::string bytes = binary ? glb : text;
+    const int edits = 1 + static_cast<int>(next() % 4);
+    for (int e = 0; e < edits; ++e) {
+      const std::size_t at = next() % bytes.size();
+      if (binary) {
+        bytes[at] = static_cast<char>(next() & 0xFF);
+      } else {
+        // Digits for digits keeps the JSON valid more often and reaches
+        // counts, offsets and indices.
+        const char c = bytes[at];
+        bytes[at] = (c >= '0' && c <= '9') ? static_cast<char>('0' + next() % 10)
+                                           : static_cast<char>(next() & 0x7F);
+      }
+    }
+    const std::string path = (dir / (binary ? "fuzz.glb" : "fuzz.gltf")).string();
+    test::write_file(path, bytes);
+    Result<sim::SceneDesc> r = load_gltf(path, nullptr);
+    if (r.ok()) {
+      ++loaded;
+      for (const sim::Mesh& m : r->meshes)
+        for (std::uint32_t i : m.indices) ASSERT_LT(i, m.positions.size());
+    } else {
+      ++failed;
+      EXPECT_EQ(r.error().where.file, path);
+      EXPECT_FALSE(r.error().message.empty());
+    }
+  }
+  EXPECT_GT(failed, 0);
+  EXPECT_GT(loaded, 0);
+}
+
 TEST(Gltf, UnsupportedRequiredGeometryExtensionsAreErrors) {
   test::TempDir dir;
   Doc d;
