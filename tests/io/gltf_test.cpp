@@ -410,6 +410,57 @@ TEST(Gltf, UnitScaleAndModelFrameComeFromExtras) {
   EXPECT_CONTAINS(load_error(d.write(dir, "negative-unit")), "unit_m");
 }
 
+TEST(Gltf, TheDefaultSceneChoosesTheNodesElseEveryRootIsLoaded) {
+  test::TempDir dir;
+  Doc d;
+  const int m = d.mesh(kQuad, kQuadIdx);
+  d.node({{"name", "in-scene"}, {"mesh", m}});
+  d.point_light(1.0);
+  d.j["nodes"].push_back({{"name", "elsewhere"}, {"mesh", m}});  // root of no scene
+  d.j["scenes"].push_back({{"nodes", {2}}});
+  const sim::SceneDesc s = load_ok(d.write(dir, "scene0"));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_EQ(s.meshes[0].name, "in-scene/mesh-0/0");
+
+  d.j.erase("scene");
+  std::vector<Finding> findings;
+  const sim::SceneDesc all = load_ok(d.write(dir, "roots"), &findings);
+  EXPECT_EQ(all.meshes.size(), 2u);
+  EXPECT_TRUE(has_code(findings, "no-default-scene"));
+
+  d.j["scene"] = 7;
+  EXPECT_CONTAINS(load_error(d.write(dir, "scene7")), "default scene 7 does not exist");
+}
+
+// Images only texture a model: undecodable or missing ones must not stop a
+// load (tinygltf would decode them with stb_image).
+TEST(Gltf, ImagesAreNeitherDecodedNorRequired) {
+  test::TempDir dir;
+  Doc d;
+  test::write_file(dir / "broken.png", "\x89PNG but not really");
+  const std::string junk = "not an image at all";
+  const int view = d.view(junk.data(), junk.size());
+  d.j["images"] = {{{"uri", "broken.png"}}, {{"uri", "missing.jpg"}},
+                   {{"bufferView", view}, {"mimeType", "image/png"}}};
+  d.j["textures"] = {{{"source", 0}}};
+  const int mat = d.material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+  d.node({{"mesh", d.mesh(kQuad, kQuadIdx, mat)}});
+  d.point_light(1.0);
+  std::vector<Finding> findings;
+  load_ok(d.write(dir, "images"), &findings);
+  EXPECT_TRUE(has_code(findings, "textures-ignored"));
+}
+
+// tinygltf 2.7 refuses a spot light without its "spot" object (the extension
+// would default the cones); the error must still name the file and say why.
+TEST(Gltf, ASpotLightWithoutItsSpotObjectIsAClearError) {
+  test::TempDir dir;
+  Doc d;
+  const int l = d.khr_light({{"type", "spot"}});
+  d.node({{"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}});
+  EXPECT_CONTAINS(load_error(d.write(dir, "bare-spot")), "Spot light description not found");
+}
+
 // --- hostile input ---------------------------------------------------------
 
 TEST(Gltf, BadGeometryIsAnErrorNamingThePart) {
