@@ -258,7 +258,8 @@ bool fs_exists(const std::string& path, void* user) {
   const auto* ctx = static_cast<const FsContext*>(user);
   // tinygltf also looks in the working directory; a model's buffers live
   // beside the model.
-  if (path.rfind(ctx->base_dir + "/", 0) != 0) return false;
+  const std::string prefix = ctx->base_dir.back() == '/' ? ctx->base_dir : ctx->base_dir + "/";
+  if (path.rfind(prefix, 0) != 0) return false;
   std::error_code ec;
   return fs::is_regular_file(path, ec);
 }
@@ -1084,14 +1085,26 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
   if (singular)
     note(Severity::Warning, "singular-transform",
          what + ": the node's transform is singular; the primitive is flat or a point");
-  mesh.positions.resize(vertex_count);
-  for (std::size_t v = 0; v < vertex_count; ++v) {
+  // Keep only the vertices the triangles use, in order of first use: many
+  // primitives may share one large vertex accessor.
+  std::vector<std::uint32_t> remap(vertex_count, UINT32_MAX);
+  std::vector<std::uint32_t> used;
+  for (std::uint32_t& i : tri) {
+    if (remap[i] == UINT32_MAX) {
+      remap[i] = static_cast<std::uint32_t>(used.size());
+      used.push_back(i);
+    }
+    i = remap[i];
+  }
+  mesh.positions.resize(used.size());
+  for (std::size_t k = 0; k < used.size(); ++k) {
+    const std::size_t v = used[k];
     const Vec3 p = transform_point(world, {(*positions)[3 * v], (*positions)[3 * v + 1],
                                            (*positions)[3 * v + 2]});
     const sim::Vec3f f{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
     if (!(std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z)))
       return fail(what + ": vertex " + std::to_string(v) + " is not finite in world space");
-    mesh.positions[v] = f;
+    mesh.positions[k] = f;
   }
   if (det < 0.0)
     for (std::size_t k = 0; k < tri.size(); k += 3) std::swap(tri[k + 1], tri[k + 2]);
@@ -1106,8 +1119,9 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
     bool usable = !singular;
     if (usable) {
       const NormalMatrix nm = normal_matrix(world, det);
-      mesh.normals.resize(vertex_count);
-      for (std::size_t v = 0; v < vertex_count && usable; ++v) {
+      mesh.normals.resize(used.size());
+      for (std::size_t k = 0; k < used.size() && usable; ++k) {
+        const std::size_t v = used[k];
         const Vec3 n = nm.apply({(*normals)[3 * v], (*normals)[3 * v + 1], (*normals)[3 * v + 2]});
         const double len = length(n);
         if (!(len > 0.0) || !std::isfinite(len)) {
@@ -1116,7 +1130,7 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
                what + ": normal " + std::to_string(v) + " has zero length; normals dropped");
           break;
         }
-        mesh.normals[v] = {static_cast<float>(n.x / len), static_cast<float>(n.y / len),
+        mesh.normals[k] = {static_cast<float>(n.x / len), static_cast<float>(n.y / len),
                            static_cast<float>(n.z / len)};
       }
     }
@@ -1128,8 +1142,9 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
     if (tangents->size() / 4 != vertex_count)
       return fail(what + ": TANGENT has " + std::to_string(tangents->size() / 4) +
                   " elements, POSITION " + std::to_string(vertex_count));
-    mesh.tangents.resize(vertex_count);
-    for (std::size_t v = 0; v < vertex_count; ++v) {
+    mesh.tangents.resize(used.size());
+    for (std::size_t k = 0; k < used.size(); ++k) {
+      const std::size_t v = used[k];
       const Vec3 t = transform_vector(
           world, {(*tangents)[4 * v], (*tangents)[4 * v + 1], (*tangents)[4 * v + 2]});
       const double len = length(t);
@@ -1139,7 +1154,7 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
         mesh.tangents.clear();
         break;
       }
-      mesh.tangents[v] = {static_cast<float>(t.x / len), static_cast<float>(t.y / len),
+      mesh.tangents[k] = {static_cast<float>(t.x / len), static_cast<float>(t.y / len),
                           static_cast<float>(t.z / len)};
     }
   }

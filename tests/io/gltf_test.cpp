@@ -344,6 +344,26 @@ TEST(Gltf, StripsAndFansBecomeConsistentlyWoundTriangles) {
       EXPECT_NEAR(face_normal(m, t).z, 1.0, 1e-6) << m.name << " triangle " << t;
 }
 
+TEST(Gltf, PrimitivesSharingAVertexAccessorKeepOnlyTheirVertices) {
+  test::TempDir dir;
+  Doc d;
+  std::vector<float> grid;  // 1000 vertices in a row
+  for (int i = 0; i < 1000; ++i) grid.insert(grid.end(), {float(i), float(i % 2), 0.0f});
+  const int m = d.mesh(grid, {10, 11, 12});
+  json second = d.j["meshes"][m]["primitives"][0];
+  second["indices"] = d.indices({500, 502, 501});
+  d.j["meshes"][m]["primitives"].push_back(second);
+  d.node({{"mesh", m}});
+  d.point_light(1.0);
+  const sim::SceneDesc s = load_ok(d.write(dir, "shared"));
+  ASSERT_EQ(s.meshes.size(), 2u);
+  EXPECT_EQ(s.meshes[0].positions.size(), 3u);
+  EXPECT_EQ(s.meshes[1].positions.size(), 3u);
+  EXPECT_EQ(s.meshes[1].indices, (std::vector<std::uint32_t>{0, 1, 2}));
+  expect_near(pos(s.meshes[1], 1), {502, 0, 0});
+  expect_near(pos(s.meshes[1], 2), {501, 1, 0});
+}
+
 TEST(Gltf, PointsAndLinesAreErrorsNamingNodeMeshAndPrimitive) {
   test::TempDir dir;
   for (int mode : {0, 1, 2, 3}) {
