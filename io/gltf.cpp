@@ -1405,6 +1405,11 @@ Status Loader::add_ies_light(const json& ext, const Mat4& world, const std::stri
                 "not mirrored");
 
   if (Status s = load_ies_profile(light); !s.ok()) return s;
+  if (light.profile->type == photometry::PhotometricType::A)
+    note(Severity::Warning, "type-a-profile",
+         what + ": a Type A profile; EXT_lights_ies leaves Type A optional and Gonio places it "
+                "with its own Type A frame about the node's axes (photometric zero at the node's "
+                "-Z, horizontal (0°, 0°) at +X), which other viewers may not share");
 
   sim::Emitter e;
   e.kind = sim::Emitter::Kind::Point;
