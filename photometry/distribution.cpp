@@ -1,6 +1,7 @@
 #include "photometry/distribution.h"
 
 #include <algorithm>
+#include <tuple>
 #include <utility>
 
 namespace gonio::photometry {
@@ -138,6 +139,27 @@ const char* to_string(OpeningShape shape) {
   return "?";
 }
 
+const char* to_string(FileGenerationType type) {
+  switch (type) {
+    case FileGenerationType::Undefined: return "undefined";
+    case FileGenerationType::ComputerSimulation: return "computer simulation";
+    case FileGenerationType::UnaccreditedLab: return "test at an unaccredited lab";
+    case FileGenerationType::UnaccreditedLabScaled:
+      return "test at an unaccredited lab, lumen scaled";
+    case FileGenerationType::UnaccreditedLabInterpolated:
+      return "test at an unaccredited lab, interpolated angle set";
+    case FileGenerationType::UnaccreditedLabInterpolatedScaled:
+      return "test at an unaccredited lab, interpolated angle set, lumen scaled";
+    case FileGenerationType::AccreditedLab: return "test at an accredited lab";
+    case FileGenerationType::AccreditedLabScaled: return "test at an accredited lab, lumen scaled";
+    case FileGenerationType::AccreditedLabInterpolated:
+      return "test at an accredited lab, interpolated angle set";
+    case FileGenerationType::AccreditedLabInterpolatedScaled:
+      return "test at an accredited lab, interpolated angle set, lumen scaled";
+  }
+  return "?";
+}
+
 double Distribution::rated_lamp_flux_lm() const {
   if (absolute || lamps.empty()) return kNaN;
   double sum = 0.0;
@@ -196,15 +218,14 @@ Status validate(const Distribution& d) {
   return Ok{};
 }
 
-Distribution expand_symmetry(const Distribution& d) {
-  GONIO_CHECK_MSG(validate(d).ok(), "expand_symmetry needs a valid distribution");
-  Distribution e = d;
-  e.symmetry = Symmetry::None;
-  const std::size_t nv = d.vertical_deg.size();
-
+std::vector<ExpandedPlane> expanded_planes(const Distribution& d) {
+  // The full precondition costs a pass over the data; callers have checked
+  // it. Sizes are what memory safety rests on.
+  GONIO_CHECK_MSG(!d.horizontal_deg.empty() && !d.vertical_deg.empty() &&
+                      d.candela.size() == d.horizontal_deg.size() * d.vertical_deg.size(),
+                  "expanded_planes needs a valid distribution");
   // (angle, source row) pairs, stored planes first so that they win ties.
   std::vector<std::pair<double, std::size_t>> planes;
-
   if (d.type != PhotometricType::C) {
     for (std::size_t h = 0; h < d.horizontal_deg.size(); ++h) {
       planes.emplace_back(d.horizontal_deg[h], h);
@@ -212,7 +233,7 @@ Distribution expand_symmetry(const Distribution& d) {
         planes.emplace_back(-d.horizontal_deg[h], h);
     }
   } else if (d.symmetry == Symmetry::Rotational) {
-    planes = {{0.0, 0}, {360.0, 0}};
+    return {{0.0, 0, 0, 0.0}, {360.0, 0, 0, 0.0}};
   } else {
     std::vector<double (*)(double)> images = {[](double c) { return c; }};
     if (d.symmetry == Symmetry::C0_C180 || d.symmetry == Symmetry::Quadrant)
@@ -230,45 +251,56 @@ Distribution expand_symmetry(const Distribution& d) {
     }
   }
 
-  // Keep the first of near-equal angles, then sort.
-  std::vector<std::pair<double, std::size_t>> unique;
-  for (const auto& p : planes) {
-    bool seen = false;
-    for (const auto& u : unique) seen = seen || near(u.first, p.first);
-    if (!seen) unique.push_back(p);
-  }
-  std::stable_sort(unique.begin(), unique.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
-
-  std::vector<double> angles;
-  std::vector<double> values;
-  angles.reserve(unique.size() + 2);
-  values.reserve((unique.size() + 2) * nv);
-  for (const auto& [angle, row] : unique) {
-    angles.push_back(angle);
-    values.insert(values.end(), d.candela.begin() + static_cast<std::ptrdiff_t>(row * nv),
-                  d.candela.begin() + static_cast<std::ptrdiff_t>((row + 1) * nv));
-  }
-
-  if (d.type == PhotometricType::C && d.symmetry != Symmetry::Rotational) {
-    // Close the circle: a plane at 0 (interpolated across the seam if the data
-    // has none) and its copy at 360.
-    if (angles.front() > kAngleTol) {
-      const double lo = angles.back() - 360.0, hi = angles.front();
-      const double t = (0.0 - lo) / (hi - lo);
-      std::vector<double> row(nv);
-      const std::size_t last = angles.size() - 1;
-      for (std::size_t v = 0; v < nv; ++v)
-        row[v] = values[last * nv + v] * (1.0 - t) + values[v] * t;
-      angles.insert(angles.begin(), 0.0);
-      values.insert(values.begin(), row.begin(), row.end());
+  // Sort by angle; of each run of near-equal angles keep the one listed
+  // first (a stored plane before its mirror images).
+  std::vector<std::size_t> order(planes.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return planes[a].first < planes[b].first; });
+  std::vector<ExpandedPlane> out;
+  out.reserve(order.size() + 2);
+  for (std::size_t i = 0; i < order.size();) {
+    std::size_t best = order[i], j = i + 1;
+    while (j < order.size() && near(planes[order[j]].first, planes[order[j - 1]].first)) {
+      best = std::min(best, order[j]);
+      ++j;
     }
-    angles.push_back(360.0);
-    values.insert(values.end(), values.begin(), values.begin() + static_cast<std::ptrdiff_t>(nv));
+    out.push_back({planes[best].first, planes[best].second, planes[best].second, 0.0});
+    i = j;
   }
 
-  e.horizontal_deg = std::move(angles);
-  e.candela = std::move(values);
+  if (d.type == PhotometricType::C) {
+    // Close the circle: a plane at 0 (blended across the seam if the data
+    // has none) and its copy at 360.
+    if (out.front().angle_deg > kAngleTol) {
+      const double lo = out.back().angle_deg - 360.0, hi = out.front().angle_deg;
+      const double t = (0.0 - lo) / (hi - lo);
+      out.insert(out.begin(), {0.0, out.back().row, out.front().row, t});
+    }
+    ExpandedPlane closing = out.front();
+    closing.angle_deg = 360.0;
+    out.push_back(closing);
+  }
+  return out;
+}
+
+Distribution expand_symmetry(const Distribution& d) {
+  GONIO_CHECK_MSG(validate(d).ok(), "expand_symmetry needs a valid distribution");
+  const std::vector<ExpandedPlane> planes = expanded_planes(d);
+  Distribution e = d;
+  e.symmetry = Symmetry::None;
+  const std::size_t nv = d.vertical_deg.size();
+  e.horizontal_deg.resize(planes.size());
+  e.candela.resize(planes.size() * nv);
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    const ExpandedPlane& plane = planes[p];
+    e.horizontal_deg[p] = plane.angle_deg;
+    const double* a = d.candela.data() + plane.row * nv;
+    const double* b = d.candela.data() + plane.row_b * nv;
+    double* out = e.candela.data() + p * nv;
+    for (std::size_t v = 0; v < nv; ++v)
+      out[v] = plane.t == 0.0 ? a[v] : a[v] * (1.0 - plane.t) + b[v] * plane.t;
+  }
   return e;
 }
 
@@ -305,6 +337,76 @@ double interpolate(const Distribution& e, double horizontal_deg, double vertical
   if (hor.size() == 1) return column(0);
   auto [j, s] = bracket(hor, h);
   return column(j) * (1.0 - s) + column(j + 1) * s;
+}
+
+std::vector<double> interpolate_grid(const Distribution& e, const std::vector<double>& horizontal_deg,
+                                     const std::vector<double>& vertical_deg) {
+  GONIO_CHECK(e.symmetry == Symmetry::None);
+  const auto& vert = e.vertical_deg;
+  const auto& hor = e.horizontal_deg;
+  const std::size_t nv = vert.size();
+
+  // Per vertical angle: outside (0), a pole of Type C (one value), or a
+  // bracket in the stored angles.
+  enum class Kind { Outside, Pole, Inside };
+  struct Line {
+    Kind kind = Kind::Outside;
+    std::size_t i = 0;
+    double t = 0.0;
+    double pole = 0.0;
+  };
+  std::vector<Line> rows(vertical_deg.size());
+  for (std::size_t j = 0; j < vertical_deg.size(); ++j) {
+    double v = vertical_deg[j];
+    Line& line = rows[j];
+    if (!(v >= vert.front() - kAngleTol && v <= vert.back() + kAngleTol)) continue;
+    v = std::clamp(v, vert.front(), vert.back());
+    if (e.type == PhotometricType::C && (near(v, 0.0) || near(v, 180.0))) {
+      const std::size_t k = near(v, 0.0) ? 0 : nv - 1;
+      if (near(vert[k], v)) {
+        line.kind = Kind::Pole;
+        line.pole = circular_mean(e, k);
+        continue;
+      }
+    }
+    line.kind = Kind::Inside;
+    if (nv > 1) std::tie(line.i, line.t) = bracket(vert, v);
+  }
+  std::vector<Line> cols(horizontal_deg.size());
+  for (std::size_t i = 0; i < horizontal_deg.size(); ++i) {
+    double h = horizontal_deg[i];
+    Line& line = cols[i];
+    if (e.type == PhotometricType::C) {
+      h = std::fmod(h, 360.0);
+      if (h < 0.0) h += 360.0;
+    } else if (!(h >= hor.front() - kAngleTol && h <= hor.back() + kAngleTol)) {
+      continue;
+    }
+    line.kind = Kind::Inside;
+    if (hor.size() > 1) std::tie(line.i, line.t) = bracket(hor, std::clamp(h, hor.front(), hor.back()));
+  }
+
+  std::vector<double> out(horizontal_deg.size() * vertical_deg.size(), 0.0);
+  for (std::size_t i = 0; i < cols.size(); ++i) {
+    if (cols[i].kind == Kind::Outside) continue;
+    const std::size_t j0 = cols[i].i, j1 = hor.size() > 1 ? j0 + 1 : j0;
+    const double s = cols[i].t;
+    const double* r0 = e.candela.data() + j0 * nv;
+    const double* r1 = e.candela.data() + j1 * nv;
+    double* o = out.data() + i * vertical_deg.size();
+    for (std::size_t j = 0; j < rows.size(); ++j) {
+      const Line& row = rows[j];
+      if (row.kind == Kind::Pole) {
+        o[j] = row.pole;
+      } else if (row.kind == Kind::Inside) {
+        const std::size_t k0 = row.i, k1 = nv > 1 ? k0 + 1 : k0;
+        const double a = r0[k0] * (1.0 - row.t) + r0[k1] * row.t;
+        const double b = r1[k0] * (1.0 - row.t) + r1[k1] * row.t;
+        o[j] = hor.size() > 1 ? a * (1.0 - s) + b * s : a;
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace gonio::photometry

@@ -73,6 +73,9 @@ enum class OpeningShape {
 
 const char* to_string(OpeningShape shape);
 
+// Unit of length a file gave dimensions in.
+enum class LengthUnit { Metre, Foot };
+
 // Luminous opening. Dimensions are positive, in metres, whatever sign
 // encoding the file used. `length_m` runs along C0–C180, `width_m` along
 // C90–C270, `height_m` vertically.
@@ -84,7 +87,30 @@ struct LuminousOpening {
   // EULUMDAT only: heights of the luminous area in the C0, C90, C180 and
   // C270 planes [m]; NaN where unknown.
   double side_height_m[4] = {kNaN, kNaN, kNaN, kNaN};
+  // LM-63 units type (1 feet, 2 metres) the dimensions were read in; an IES
+  // writer gives them back in this unit so that a round trip writes the
+  // same numbers.
+  LengthUnit file_unit = LengthUnit::Metre;
 };
+
+// LM-63-2019 file generation type (its Table 2): how the data was produced.
+// The LM-63 code is 1.ABCDE with one flag per digit: A accredited lab,
+// B interpolated angle set, C lumen scaled, D computer simulation,
+// E undefined (io/ies.h converts codes).
+enum class FileGenerationType {
+  Undefined,                          // 1.00001: unknown, e.g. converted from an older file
+  ComputerSimulation,                 // 1.00010
+  UnaccreditedLab,                    // 1.00000
+  UnaccreditedLabScaled,              // 1.00100: lumen scaled
+  UnaccreditedLabInterpolated,        // 1.01000: interpolated angle set
+  UnaccreditedLabInterpolatedScaled,  // 1.01100
+  AccreditedLab,                      // 1.10000
+  AccreditedLabScaled,                // 1.10100
+  AccreditedLabInterpolated,          // 1.11000
+  AccreditedLabInterpolatedScaled,    // 1.11100
+};
+
+const char* to_string(FileGenerationType type);
 
 // Outer dimensions of the luminaire body (EULUMDAT fields 13–15). A width of
 // zero means a round luminaire of diameter `length_m`. NaN where unknown.
@@ -139,6 +165,10 @@ struct Distribution {
 
   bool absolute = false;          // absolute photometry: no rated lamp flux
   std::vector<LampSet> lamps;     // at least one set when read from a file
+  // EULUMDAT standard sets 2…n: alternative equipment of the same luminaire
+  // for which the relative distribution also holds. They are not part of
+  // `lamps`: the candela and rated_lamp_flux_lm() refer to `lamps` alone.
+  std::vector<LampSet> alternative_lamps;
 
   double ballast_factor = 1.0;    // LM-63 ballast factor (kept, not applied)
   double input_watts = kNaN;      // luminaire input power [W]; NaN if unknown
@@ -153,6 +183,17 @@ struct Distribution {
   double declared_lor_percent = kNaN;   // light output ratio as declared [%]
   double measurement_tilt_deg = kNaN;   // tilt of the luminaire during measurement [deg]
   std::vector<double> direct_ratios;    // utilisation direct ratios for k = 0.6…5 (10 values)
+  // EULUMDAT type indicator Ityp as read: 0 point source without symmetry,
+  // 1 rotationally symmetric, 2 linear luminaire, 3 point source with other
+  // symmetry. Empty where unknown: the LDT writer then derives one.
+  std::optional<int> ldt_type_indicator;
+
+  // LM-63 fields without an EULUMDAT counterpart, kept for round trips.
+  // LM-63-1986…1995 "ballast-lamp photometric factor" (second value of the
+  // line after the photometric line; LM-63-2002 calls it "future use" and
+  // LM-63-2019 puts the file generation type there). Kept, not applied.
+  double ballast_lamp_factor = 1.0;
+  FileGenerationType file_generation = FileGenerationType::Undefined;  // LM-63-2019
 
   std::size_t vertical_count() const { return vertical_deg.size(); }
   std::size_t horizontal_count() const { return horizontal_deg.size(); }
@@ -186,6 +227,24 @@ Status validate(const Distribution& d);
 // Requires validate(d).ok().
 Distribution expand_symmetry(const Distribution& d);
 
+// One plane of expand_symmetry(d): its horizontal angle and the stored rows
+// its intensities come from, (1 − t)·row + t·row_b. Planes copied from a
+// stored row (the usual case) have row_b = row and t = 0; only the plane at
+// C = 0 that closes a full-range Type C input without one is a blend of the
+// two planes beside the seam (and so is its copy at C = 360).
+struct ExpandedPlane {
+  double angle_deg;   // C or H of the expanded plane [deg]
+  std::size_t row;    // stored row (index into horizontal_deg)
+  std::size_t row_b;  // second stored row of a blend; = row otherwise
+  double t;           // blend weight of row_b, in [0, 1)
+};
+
+// The planes of expand_symmetry(d), in increasing angle, without building the
+// expanded intensities (what integration and resampling need). O(n log n) in
+// the number of stored planes. Requires validate(d).ok() (only the sizes are
+// checked here: the full check is a pass over the data).
+std::vector<ExpandedPlane> expanded_planes(const Distribution& d);
+
 // Intensity [cd] at a direction given by grid angles [deg], by bilinear
 // interpolation on a distribution returned by expand_symmetry():
 // Type C: (c_deg, gamma_deg), C taken modulo 360 so the seam is continuous;
@@ -194,5 +253,11 @@ Distribution expand_symmetry(const Distribution& d);
 //   range the intensity is 0 (LM-63: unmeasured directions emit nothing).
 // Types A/B: (h_deg, v_deg); 0 outside the stored ranges.
 double interpolate(const Distribution& expanded, double horizontal_deg, double vertical_deg);
+
+// interpolate() at every point of the tensor grid horizontal_deg × vertical_deg,
+// as out[i * vertical_deg.size() + j] for (horizontal_deg[i], vertical_deg[j]):
+// the same values, with one search per grid line instead of two per point.
+std::vector<double> interpolate_grid(const Distribution& expanded, const std::vector<double>& horizontal_deg,
+                                     const std::vector<double>& vertical_deg);
 
 }  // namespace gonio::photometry

@@ -172,6 +172,78 @@ TEST(Distribution, LateralSymmetryMirrorsTypeB) {
   EXPECT_DOUBLE_EQ(interpolate(e, 45.0, 95.0), 0.0);
 }
 
+TEST(Distribution, ExpandedPlanesDescribeExpandSymmetry) {
+  struct Case {
+    Symmetry sym;
+    std::vector<double> planes;
+  };
+  const Case cases[] = {
+      {Symmetry::None, range(0, 360, 20)},     {Symmetry::None, range(10, 350, 20)},
+      {Symmetry::Quadrant, range(0, 90, 15)},  {Symmetry::C0_C180, range(0, 180, 30)},
+      {Symmetry::C90_C270, range(90, 270, 10)}, {Symmetry::Rotational, {0}},
+  };
+  for (const Case& k : cases) {
+    SCOPED_TRACE(to_string(k.sym));
+    const Distribution d = make_c(k.sym, k.planes, range(0, 180, 30), asym);
+    const Distribution e = expand_symmetry(d);
+    const std::vector<ExpandedPlane> planes = expanded_planes(d);
+    ASSERT_EQ(planes.size(), e.horizontal_count());
+    for (std::size_t p = 0; p < planes.size(); ++p) {
+      EXPECT_EQ(planes[p].angle_deg, e.horizontal_deg[p]);
+      for (std::size_t v = 0; v < d.vertical_count(); ++v)
+        EXPECT_DOUBLE_EQ(e.at(p, v), (1 - planes[p].t) * d.at(planes[p].row, v) +
+                                         planes[p].t * d.at(planes[p].row_b, v));
+    }
+  }
+  // A seam blend appears only where the data has no plane at 0.
+  const auto blends = [](const Distribution& d) {
+    int n = 0;
+    for (const ExpandedPlane& p : expanded_planes(d)) n += p.t != 0.0;
+    return n;
+  };
+  EXPECT_EQ(blends(make_c(Symmetry::None, range(10, 350, 20), {0, 90}, asym)), 2);
+  EXPECT_EQ(blends(make_c(Symmetry::None, range(0, 340, 20), {0, 90}, asym)), 0);
+}
+
+TEST(Distribution, ExpansionOfManyPlanesKeepsEveryAngleOnce) {
+  // 0.25 degree quadrant data: 361 stored planes become 1441 (0..360).
+  const Distribution d = make_c(Symmetry::Quadrant, range(0, 90, 0.25), {0, 90, 180}, asym);
+  const Distribution e = expand_symmetry(d);
+  ASSERT_EQ(e.horizontal_count(), 1441u);
+  for (std::size_t h = 1; h < e.horizontal_count(); ++h)
+    EXPECT_NEAR(e.horizontal_deg[h] - e.horizontal_deg[h - 1], 0.25, 1e-9);
+}
+
+TEST(Distribution, InterpolateGridEqualsInterpolateAtEveryPoint) {
+  // Grid lines inside, outside, on the poles, across the seam, and for Types A/B.
+  const std::vector<double> hs = {-725, -90, -45.5, -0.0, 0, 3.3, 89.99, 90, 90.01, 179, 359.5, 360, 361, 1e3};
+  const std::vector<double> vs = {-100, -90, -12.5, 0, 1e-12, 7.7, 90, 123.4, 180, 180.5};
+  Distribution c = make_c(Symmetry::None, {0, 40, 90, 200, 270, 360}, {0, 30, 90, 180},
+                          [](double cc, double g) { return 1 + cc + 10 * std::sin(g); });
+  Distribution partial = make_c(Symmetry::C0_C180, range(0, 180, 45), range(10, 120, 10), asym);
+  Distribution rot = make_c(Symmetry::Rotational, {0}, {0, 45, 90}, asym);
+  Distribution b;
+  b.type = PhotometricType::B;
+  b.symmetry = Symmetry::Lateral;
+  b.horizontal_deg = {0, 30, 90};
+  b.vertical_deg = {-90, -10, 0, 45, 90};
+  for (int i = 0; i < 15; ++i) b.candela.push_back(3.0 * i + 1);
+  b.absolute = true;
+  Distribution a = b;
+  a.type = PhotometricType::A;
+  a.symmetry = Symmetry::None;
+  a.horizontal_deg = {-60, 0, 60};
+  for (const Distribution* d : {&c, &partial, &rot, &b, &a}) {
+    const Distribution e = expand_symmetry(*d);
+    const std::vector<double> grid = interpolate_grid(e, hs, vs);
+    ASSERT_EQ(grid.size(), hs.size() * vs.size());
+    for (std::size_t i = 0; i < hs.size(); ++i)
+      for (std::size_t j = 0; j < vs.size(); ++j)
+        EXPECT_NEAR(grid[i * vs.size() + j], interpolate(e, hs[i], vs[j]), 1e-12)
+            << to_string(d->type) << " " << hs[i] << " " << vs[j];
+  }
+}
+
 TEST(Distribution, KeywordsAndLampFlux) {
   Distribution d;
   d.set_keyword("MANUFAC", "Acme");

@@ -1,0 +1,69 @@
+#include "benchmarks/bench_scenes.h"
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "sim/shapes.h"
+
+namespace gonio::bench {
+
+sim::SceneDesc bell_scene(int segments, int rings) {
+  sim::SceneDesc scene;
+  scene.name = "bell (built in code)";
+  sim::Material opal;
+  opal.name = "opal glass";
+  opal.diffuse_transmit = 0.6;
+  opal.diffuse_reflect = 0.3;
+  opal.mirror = 0.1;
+  sim::Material grey;
+  grey.name = "grey socket";
+  grey.diffuse_reflect = 0.5;
+  scene.materials = {opal, grey};
+
+  // The shade: from the rim (r = 0.2 m, y = 0) up to the crown (r = 0.05 m,
+  // y = 0.25 m) along a flared bell curve, then a flat crown to the axis.
+  std::vector<sim::ProfilePoint> profile;
+  for (int k = 0; k <= rings; ++k) {
+    const double s = static_cast<double>(k) / rings;
+    const double flare = std::pow(1.0 - s, 2.2);
+    profile.push_back({0.05 + 0.15 * flare + 0.01 * std::sin(std::numbers::pi * s), 0.25 * s});
+  }
+  profile.push_back({0.0, 0.25});
+  sim::LatheOptions options;
+  options.segments = segments;
+  sim::Mesh shade = sim::lathe(profile, options);
+  shade.name = "shade";
+  shade.material = 0;
+
+  sim::Mesh socket = sim::box(0.04, 0.06, 0.04);
+  sim::transform(socket, sim::translation({0.0, 0.21, 0.0}));
+  socket.name = "socket";
+  socket.material = 1;
+  scene.meshes = {shade, socket};
+
+  sim::Emitter lamp;
+  lamp.name = "lamp";
+  lamp.kind = sim::Emitter::Kind::Point;
+  lamp.position = {0.0, 0.14, 0.0};
+  lamp.flux_lm = 1000.0;
+  scene.emitters = {lamp};
+  return scene;
+}
+
+sim::SceneDesc sphere_scene(int segments, int rings) {
+  sim::SceneDesc scene;
+  scene.name = "sphere";
+  sim::Material white;
+  white.name = "white";
+  white.diffuse_reflect = 0.8;
+  scene.materials = {white};
+  sim::Mesh s = sim::sphere(0.1, segments, rings);
+  scene.meshes = {s};
+  sim::Emitter e;
+  e.flux_lm = 1.0;
+  scene.emitters = {e};
+  return scene;
+}
+
+}  // namespace gonio::bench

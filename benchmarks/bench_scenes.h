@@ -1,0 +1,19 @@
+// Scenes built in code for the benchmarks (and the tests that time or
+// compare them): stand-ins for the glTF samples until those are on main.
+#pragma once
+
+#include "sim/scene.h"
+
+namespace gonio::bench {
+
+// The thesis' test luminaire: a bell-shaped pendant shade of opal glass
+// (60 % diffuse transmission, 30 % diffuse reflection, 10 % mirror), open at
+// the bottom, 0.4 m across and 0.25 m tall, with an isotropic 1000 lm point
+// emitter inside and a grey socket above it. `segments` facets around the
+// axis, `rings` along the profile (≈ 2·segments·rings triangles).
+sim::SceneDesc bell_scene(int segments = 256, int rings = 96);
+
+// A scene of about `triangles` triangles for raw Embree rates: a sphere.
+sim::SceneDesc sphere_scene(int segments, int rings);
+
+}  // namespace gonio::bench

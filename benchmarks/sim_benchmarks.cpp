@@ -1,0 +1,100 @@
+// The tracer's speed against the physical limit measured in the same run:
+// bare rtcIntersect1 on the same scene with random rays (origins uniform in
+// the bounding box, uniform directions).
+//
+//   build/benchmarks/gonio_sim_benchmarks --benchmark_min_time=2
+//
+// Counters: photons_per_s and rays_per_s of the tracer (wall clock),
+// photons_per_cpu_s (per CPU-second of all threads), raw_rays_per_s of
+// bare Embree on the same scene and thread count, and ratio = rays_per_s /
+// raw_rays_per_s (goal ≥ 0.8); replay_rays_per_s of bare rtcIntersect1 on
+// the tracer's own recorded rays and replay_ratio = rays_per_s / that (what
+// the tracer's own work costs on top of Embree's).
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <string>
+
+#include "benchmarks/bench_scenes.h"
+#include "sim/simulation.h"
+
+namespace gonio::bench {
+namespace {
+
+constexpr std::uint64_t kPhotonsPerIteration = 1u << 20;
+
+// CPU time of the whole process (all threads) [s]: on a shared machine the
+// wall-clock rate depends on who else runs; photons per CPU-second do less.
+double process_cpu_s() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+sim::Simulation make_simulation(const sim::SceneDesc& scene, int threads) {
+  sim::SimulationSettings s;
+  s.photons_per_iteration = kPhotonsPerIteration;
+  s.iterations = 1;
+  s.threads = threads;
+  auto sim = sim::Simulation::create(scene, s);
+  if (!sim.ok()) {
+    std::fprintf(stderr, "benchmark scene: %s\n", to_string(sim.error()).c_str());
+    std::abort();
+  }
+  return std::move(sim.value());
+}
+
+void run_tracer(benchmark::State& state, const sim::SceneDesc& scene) {
+  const int threads = static_cast<int>(state.range(0));
+  sim::Simulation sim = make_simulation(scene, threads);
+  const double cpu0 = process_cpu_s();
+  for (auto _ : state) sim.run_iteration();
+  const double cpu = process_cpu_s() - cpu0;
+  const sim::SimulationStats st = sim.stats();
+  // The raw rate on the same scene and threads, right after.
+  const auto raw = sim.tracer().embree().measure_random_rays(2'000'000, 7, threads);
+  // Bare rtcIntersect1 on the tracer's own rays (the first 2^19 photons').
+  std::vector<sim::RayQuery> rays;
+  sim.tracer().record_rays(sim.settings().seed, 0, 1u << 19, &rays);
+  const auto replay = sim.tracer().embree().measure_rays(rays, threads);
+  state.counters["photons_per_s"] = st.photons_per_s();
+  state.counters["photons_per_cpu_s"] = static_cast<double>(st.photons) / cpu;
+  state.counters["rays_per_s"] = st.rays_per_s();
+  state.counters["rays_per_photon"] = static_cast<double>(st.rays) / static_cast<double>(st.photons);
+  state.counters["raw_rays_per_s"] = raw.rays_per_s();
+  state.counters["ratio"] = st.rays_per_s() / raw.rays_per_s();
+  state.counters["replay_rays_per_s"] = replay.rays_per_s();
+  state.counters["replay_ratio"] = st.rays_per_s() / replay.rays_per_s();
+  state.counters["triangles"] = static_cast<double>(sim.tracer().embree().triangle_count());
+  state.SetItemsProcessed(static_cast<std::int64_t>(st.photons));
+}
+
+void BM_TracerBell(benchmark::State& state) { run_tracer(state, bell_scene()); }
+BENCHMARK(BM_TracerBell)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// A 100k-triangle white sphere (ρ = 0.8, closed) around an isotropic point:
+// every ray hits, about five per photon.
+void BM_TracerSphere100k(benchmark::State& state) { run_tracer(state, sphere_scene(317, 158)); }
+BENCHMARK(BM_TracerSphere100k)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Bare Embree on a 100k-triangle sphere (the reference figure of the brief).
+void BM_RawEmbreeSphere100k(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  sim::Simulation sim = make_simulation(sphere_scene(317, 158), threads);
+  double rays = 0, seconds = 0;
+  for (auto _ : state) {
+    const auto raw = sim.tracer().embree().measure_random_rays(1'000'000, 11, threads);
+    rays += static_cast<double>(raw.rays);
+    seconds += raw.seconds;
+  }
+  state.counters["raw_rays_per_s"] = rays / seconds;
+  state.counters["triangles"] = static_cast<double>(sim.tracer().embree().triangle_count());
+}
+BENCHMARK(BM_RawEmbreeSphere100k)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace gonio::bench
+
+BENCHMARK_MAIN();

@@ -1,0 +1,71 @@
+#include "io/intensity_diagram.h"
+
+#include <cmath>
+
+namespace gonio::io {
+namespace {
+
+// One plane pair as a single curve through the nadir: the second plane at
+// negative angles (γ from 180 down to 0), then the first at positive ones.
+Series plane_pair(const photometry::Distribution& expanded, double c_right, double c_left,
+                  double scale, std::string label, LineStyle style) {
+  Series s;
+  s.label = std::move(label);
+  s.style = style;
+  const auto& gammas = expanded.vertical_deg;
+  for (std::size_t k = gammas.size(); k-- > 0;) {
+    if (gammas[k] == 0.0) continue;  // the nadir comes once, from the right-hand plane
+    s.x.push_back(-gammas[k]);
+    s.y.push_back(scale * photometry::interpolate(expanded, c_left, gammas[k]));
+  }
+  for (double g : gammas) {
+    s.x.push_back(g);
+    s.y.push_back(scale * photometry::interpolate(expanded, c_right, g));
+  }
+  return s;
+}
+
+}  // namespace
+
+Result<Figure> intensity_diagram(const photometry::Distribution& d, const DiagramOptions& options) {
+  if (d.type != photometry::PhotometricType::C) {
+    Error e;
+    e.message = std::string("intensity diagrams are drawn for Type C photometry; this is Type ") +
+                photometry::to_string(d.type);
+    return e;
+  }
+  if (Status s = photometry::validate(d); !s.ok()) return s.error();
+  const bool relative = std::isfinite(options.per_klm_of_lm);
+  if (relative && !(options.per_klm_of_lm > 0.0)) {
+    Error e;
+    e.message = "cd/klm needs a positive flux";
+    return e;
+  }
+  const double scale = relative ? 1000.0 / options.per_klm_of_lm : 1.0;
+  const std::string unit = relative ? "cd/klm" : "cd";
+  const photometry::Distribution expanded = photometry::expand_symmetry(d);
+
+  const Series c0 = plane_pair(expanded, 0.0, 180.0, scale, "C0–C180", LineStyle::Solid);
+  const Series c90 = plane_pair(expanded, 90.0, 270.0, scale, "C90–C270", LineStyle::Dashed);
+
+  PolarChart polar;
+  polar.radius_label = unit;
+  polar.series = {c0, c90};
+
+  LineChart line;
+  line.x_label = "γ [°]  (C180, C270 left; C0, C90 right)";
+  line.y_label = "I [" + unit + "]";
+  line.x_min = -180.0;
+  line.x_max = 180.0;
+  line.y_min = 0.0;
+  line.series = {c0, c90};
+
+  Figure f;
+  f.title = options.title;
+  f.charts = {polar, line};
+  f.width_px = 1200;
+  f.height_px = 560;
+  return f;
+}
+
+}  // namespace gonio::io

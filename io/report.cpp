@@ -1,0 +1,83 @@
+#include "io/report.h"
+
+#include "io/file_io.h"
+
+namespace gonio::io {
+namespace {
+
+double per_second(double count, double seconds) { return seconds > 0.0 ? count / seconds : 0.0; }
+
+void put_line(nlohmann::json& j, const char* what, const sim::LedgerLine& line) {
+  j[std::string(what) + "_lm"] = line.flux_lm;
+  j[std::string("photons_") + what] = line.photons;
+}
+
+}  // namespace
+
+nlohmann::json to_json(const SimulationReport& r) {
+  using nlohmann::json;
+  const sim::Ledger& l = r.ledger;
+  json j;
+  j["program"] = {{"name", "gonio"}, {"version", r.program_version}};
+  j["model"] = r.model;
+  j["seed"] = r.seed;
+  j["settings"] = {{"photons_per_iteration", r.photons_per_iteration},
+                   {"iterations", r.iterations},
+                   {"seed", r.seed},
+                   {"threads", r.threads},
+                   {"max_bounces", r.max_bounces},
+                   {"face_size", r.face_size},
+                   {"robust_embree", r.robust_embree}};
+  put_line(j, "emitted", l.emitted);
+  put_line(j, "escaped", l.escaped);
+  put_line(j, "absorbed", l.absorbed);
+  put_line(j, "cutoff", l.cutoff);
+  j["glossy_gain_lm"] = l.glossy_gain_lm;
+  j["glossy_gain_events"] = l.glossy_gain_events;
+  j["photon_power_lm"] = l.photon_power_lm;
+  j["ledger"] = {{"photons_close", l.photons_close()}, {"flux_imbalance_lm", l.flux_imbalance_lm()}};
+
+  j["photons_per_s"] = per_second(static_cast<double>(r.photons), r.trace_s);
+  j["rays_per_s"] = per_second(static_cast<double>(r.rays), r.trace_s);
+  j["rays"] = r.rays;
+  j["rays_per_photon"] = r.photons > 0 ? static_cast<double>(r.rays) / static_cast<double>(r.photons) : 0.0;
+  j["wall_s"] = r.wall_s;
+  j["trace_s"] = r.trace_s;
+  j["setup_s"] = r.setup_s;
+  j["threads"] = r.threads;
+  j["iterations_done"] = r.iterations_done;
+
+  json emitters = json::array();
+  for (const sim::EmitterLedger& e : l.emitters) {
+    json x = {{"name", e.name}};
+    put_line(x, "emitted", e.emitted);
+    put_line(x, "escaped", e.escaped);
+    put_line(x, "absorbed", e.absorbed);
+    put_line(x, "cutoff", e.cutoff);
+    emitters.push_back(std::move(x));
+  }
+  j["emitters"] = std::move(emitters);
+  json meshes = json::array();
+  for (const sim::MeshLedger& m : l.meshes) {
+    json x = {{"name", m.name}, {"material", m.material}, {"hits", m.hits}};
+    put_line(x, "absorbed", m.absorbed);
+    put_line(x, "cutoff", m.cutoff);
+    meshes.push_back(std::move(x));
+  }
+  j["meshes"] = std::move(meshes);
+  json materials = json::array();
+  for (const sim::MaterialLedger& m : l.materials) {
+    json x = {{"name", m.name}, {"hits", m.hits}};
+    put_line(x, "absorbed", m.absorbed);
+    put_line(x, "cutoff", m.cutoff);
+    materials.push_back(std::move(x));
+  }
+  j["materials"] = std::move(materials);
+  return j;
+}
+
+Status write_json(const std::string& path, const nlohmann::json& json) {
+  return write_file_atomic(path, json.dump(2) + "\n");
+}
+
+}  // namespace gonio::io

@@ -1,0 +1,59 @@
+// report.json of a simulation: the settings, the speed, and the energy
+// ledger, as nlohmann::json so that later stages (outputs, filter) can add
+// their own fields before it is written.
+//
+// Field names and units (every flux in lumens):
+//   program {name, version}, model, seed, settings {...},
+//   emitted_lm, escaped_lm, absorbed_lm, cutoff_lm, glossy_gain_lm,
+//   photons_emitted, photons_escaped, photons_absorbed, photons_cutoff,
+//   photon_power_lm, ledger {photons_close, flux_imbalance_lm},
+//   photons_per_s, rays_per_s, rays, rays_per_photon, wall_s, trace_s,
+//   setup_s, threads, iterations_done,
+//   emitters [{name, emitted_lm, escaped_lm, absorbed_lm, cutoff_lm,
+//              photons_emitted, photons_escaped, photons_absorbed, photons_cutoff}],
+//   meshes [{name, material, hits, absorbed_lm, cutoff_lm, photons_absorbed,
+//            photons_cutoff}],
+//   materials [{name, hits, absorbed_lm, cutoff_lm, photons_absorbed, photons_cutoff}].
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "photometry/diagnostics.h"
+#include "sim/ledger.h"
+
+namespace gonio::io {
+
+// What a run reports, as plain data.
+struct SimulationReport {
+  std::string program_version;
+  std::string model;  // the model file (or scene name)
+
+  // Settings.
+  std::uint64_t photons_per_iteration = 0;
+  int iterations = 0;
+  std::uint64_t seed = 0;
+  int threads = 0;
+  int max_bounces = 0;
+  int face_size = 0;
+  bool robust_embree = true;
+
+  // Speed.
+  int iterations_done = 0;
+  std::uint64_t photons = 0;
+  std::uint64_t rays = 0;
+  double wall_s = 0.0;   // the whole command [s]
+  double trace_s = 0.0;  // tracing alone [s]
+  double setup_s = 0.0;  // scene checks and BVH build [s]
+
+  sim::Ledger ledger;
+};
+
+nlohmann::json to_json(const SimulationReport& report);
+
+// Writes JSON (indented, trailing newline) atomically.
+Status write_json(const std::string& path, const nlohmann::json& json);
+
+}  // namespace gonio::io

@@ -1,0 +1,102 @@
+// The scene's triangles in an Embree 3 BVH, behind Gonio types only:
+// sim/embree_scene.cpp is the one file that includes Embree.
+//
+// One Embree geometry per sim::Mesh (geometry id = mesh index), built with
+// high quality; single-ray incoherent queries (rtcIntersect1). Callers set
+// flush-to-zero and denormals-are-zero on their threads (FloatModeGuard).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "photometry/diagnostics.h"
+#include "sim/scene.h"
+
+namespace gonio::sim {
+
+struct EmbreeSceneOptions {
+  // RTC_SCENE_FLAG_ROBUST: watertight triangle tests. Without it a ray
+  // through a shared edge or vertex can miss both triangles and leave a
+  // closed mesh (seen: photons trapped by total internal reflection in a
+  // glass sphere escaping after ~90 reflections). Costs ~5 % of Embree's rate.
+  bool robust = true;
+};
+
+// A ray query: origin and direction (need not be unit; t is measured in
+// direction lengths), and the interval (t_near, t_far).
+struct RayQuery {
+  float origin[3];
+  float direction[3];
+  float t_near = 0.0f;
+  float t_far = 3.0e38f;
+};
+
+struct RayHit {
+  std::uint32_t mesh;      // index in SceneDesc::meshes
+  std::uint32_t triangle;  // index in that mesh
+  float t;                 // distance along the ray, in direction lengths
+  float u, v;              // barycentrics: p = (1 − u − v)·p0 + u·p1 + v·p2
+  float ng[3];             // geometric normal, unnormalised, towards the front
+                           // side (counter-clockwise winding)
+};
+
+// Axis-aligned box [m].
+struct Bounds {
+  Vec3 lower, upper;
+  double diagonal() const { return length(upper - lower); }
+};
+
+class EmbreeScene {
+ public:
+  // Errors: Embree's own (device creation, out of memory), named.
+  // The meshes must be valid (indices in range, finite positions).
+  static Result<EmbreeScene> build(const std::vector<Mesh>& meshes,
+                                   const EmbreeSceneOptions& options = {});
+  ~EmbreeScene();
+  EmbreeScene(EmbreeScene&&) noexcept;
+  EmbreeScene& operator=(EmbreeScene&&) noexcept;
+
+  // Closest hit, if any.
+  bool intersect(const RayQuery& ray, RayHit* hit) const;
+
+  // Bounds of every triangle; empty scenes give a zero box at the origin.
+  const Bounds& bounds() const;
+  std::size_t triangle_count() const;
+
+  // The physical limit of the tracer on this scene: `count` rays with
+  // origins uniform in the bounding box and uniform directions, traced with
+  // bare rtcIntersect1 on `threads` threads (0: all). Returns the rays
+  // that hit and the wall time of the tracing alone (rays generated first).
+  struct RawRate {
+    std::uint64_t rays = 0;
+    std::uint64_t hits = 0;
+    double seconds = 0.0;
+    double rays_per_s() const { return seconds > 0.0 ? static_cast<double>(rays) / seconds : 0.0; }
+  };
+  RawRate measure_random_rays(std::uint64_t count, std::uint64_t seed, int threads) const;
+  // The same for given rays (e.g. the tracer's own, recorded): the cost of
+  // bare rtcIntersect1 on exactly the queries a simulation makes.
+  RawRate measure_rays(const std::vector<RayQuery>& rays, int threads) const;
+
+ private:
+  struct Impl;
+  explicit EmbreeScene(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// Sets flush-to-zero and denormals-are-zero on this thread for its lifetime
+// (Embree's recommendation; denormal floats are slow) and restores the
+// previous mode after.
+class FloatModeGuard {
+ public:
+  FloatModeGuard();
+  ~FloatModeGuard();
+  FloatModeGuard(const FloatModeGuard&) = delete;
+  FloatModeGuard& operator=(const FloatModeGuard&) = delete;
+
+ private:
+  unsigned int saved_;
+};
+
+}  // namespace gonio::sim

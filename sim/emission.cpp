@@ -1,0 +1,201 @@
+#include "sim/emission.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "photometry/frame.h"
+#include "sim/sampling.h"
+
+namespace gonio::sim {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+Error error(std::string message) { return Error{{}, std::move(message)}; }
+
+Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
+
+}  // namespace
+
+Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& profile) {
+  if (Status s = photometry::validate(profile); !s.ok())
+    return error("invalid emission profile: " + s.error().message);
+  if (profile.type != photometry::PhotometricType::C)
+    return error(std::string("emission profiles of Type ") + photometry::to_string(profile.type) +
+                 " are not supported yet (Type C only)");
+
+  ProfileSampler s;
+  auto expanded = std::make_shared<photometry::Distribution>(photometry::expand_symmetry(profile));
+  const auto& cs = expanded->horizontal_deg;
+  const auto& gs = expanded->vertical_deg;
+  std::vector<double> flux;
+  for (std::size_t h = 0; h + 1 < cs.size(); ++h) {
+    for (std::size_t v = 0; v + 1 < gs.size(); ++v) {
+      Cell c;
+      c.c0_rad = cs[h] * kDeg;
+      c.dc_rad = (cs[h + 1] - cs[h]) * kDeg;
+      c.g0_rad = gs[v] * kDeg;
+      const double g1 = gs[v + 1] * kDeg;
+      c.dg_rad = g1 - c.g0_rad;
+      c.cos_g0 = std::cos(c.g0_rad);
+      c.cos_g1 = std::cos(g1);
+      c.i00 = expanded->at(h, v);
+      c.i10 = expanded->at(h + 1, v);
+      c.i01 = expanded->at(h, v + 1);
+      c.i11 = expanded->at(h + 1, v + 1);
+      c.i_max = std::max({c.i00, c.i10, c.i01, c.i11});
+      // ∫∫ I sin γ dγ dC of the bilinear interpolant: the C integral of each
+      // corner's weight is ΔC/2; along γ, ∫ t sin γ dγ = (sin γ1 − sin γ0)/Δγ
+      // − cos γ1 and ∫ (1 − t) sin γ dγ = cos γ0 − cos γ1 − that.
+      const double a1 = (std::sin(g1) - std::sin(c.g0_rad)) / c.dg_rad - c.cos_g1;
+      const double a0 = (c.cos_g0 - c.cos_g1) - a1;
+      const double f = 0.5 * c.dc_rad * ((c.i00 + c.i10) * a0 + (c.i01 + c.i11) * a1);
+      if (!(f > 0.0)) continue;  // emits nothing: never chosen
+      s.cells_.push_back(c);
+      flux.push_back(f);
+    }
+  }
+  if (flux.empty()) return error("emission profile has no flux (all intensities zero)");
+  s.cell_table_ = AliasTable(flux);
+  s.flux_lm_ = s.cell_table_.total_weight();
+  s.expanded_ = std::move(expanded);
+  return s;
+}
+
+Vec3 ProfileSampler::sample(PhotonRandom& rng) const {
+  const Cell& c = cells_[cell_table_.sample(rng.uniform())];
+  for (;;) {
+    const double s = rng.uniform();
+    const double cos_g = c.cos_g1 + rng.uniform() * (c.cos_g0 - c.cos_g1);
+    const double g = std::acos(std::clamp(cos_g, -1.0, 1.0));
+    const double t = std::clamp((g - c.g0_rad) / c.dg_rad, 0.0, 1.0);
+    const double i = (1.0 - t) * ((1.0 - s) * c.i00 + s * c.i10) + t * ((1.0 - s) * c.i01 + s * c.i11);
+    if (rng.uniform() * c.i_max < i) {
+      const double phi = c.c0_rad + s * c.dc_rad;
+      const double sin_g = std::sqrt(std::max(0.0, 1.0 - cos_g * cos_g));
+      return {sin_g * std::cos(phi), sin_g * std::sin(phi), -cos_g};
+    }
+  }
+}
+
+double ProfileSampler::intensity_cd(const Vec3& local) const {
+  const photometry::CGamma a = photometry::c_gamma_from_direction(local);
+  return photometry::interpolate(*expanded_, a.c_rad / kDeg, a.gamma_rad / kDeg);
+}
+
+Result<AreaSampler> AreaSampler::create(const Mesh& mesh, bool two_sided) {
+  if (mesh.indices.size() % 3 != 0)
+    return error("mesh '" + mesh.name + "': index count is not a multiple of 3");
+  AreaSampler s;
+  s.two_sided_ = two_sided;
+  std::vector<double> areas;
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    Vec3 p[3];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t i = mesh.indices[3 * t + k];
+      if (i >= mesh.positions.size())
+        return error("mesh '" + mesh.name + "': vertex index out of range");
+      p[k] = to_double(mesh.positions[i]);
+    }
+    const Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
+    const double area = 0.5 * length(n);
+    if (!(area > 0.0) || !std::isfinite(area)) continue;  // degenerate: emits nothing
+    s.corners_.insert(s.corners_.end(), {p[0], p[1], p[2]});
+    s.normals_.push_back(n / (2.0 * area));
+    s.triangle_index_.push_back(static_cast<std::uint32_t>(t));
+    areas.push_back(area);
+  }
+  if (areas.empty()) return error("emitting mesh '" + mesh.name + "' has no area");
+  s.triangle_table_ = AliasTable(areas);
+  s.area_m2_ = s.triangle_table_.total_weight();
+  return s;
+}
+
+AreaSampler::Sample AreaSampler::sample(PhotonRandom& rng) const {
+  const std::uint32_t k = triangle_table_.sample(rng.uniform());
+  const Barycentric b = sample_uniform_triangle(rng.uniform(), rng.uniform());
+  const Vec3* p = &corners_[3 * static_cast<std::size_t>(k)];
+  Sample out;
+  out.position = b.b0 * p[0] + b.b1 * p[1] + b.b2 * p[2];
+  out.normal = normals_[k];
+  if (two_sided_ && rng.uniform() < 0.5) out.normal = -out.normal;
+  const Vec3 local = sample_cosine_hemisphere(rng);
+  out.direction = normalize(basis_from_normal(out.normal).to_world(local));
+  out.triangle = triangle_index_[k];
+  return out;
+}
+
+double AreaSampler::pdf(const Vec3& front_normal, const Vec3& direction) const {
+  const double c = dot(front_normal, direction);
+  if (two_sided_) return 0.5 / area_m2_ * std::abs(c) / std::numbers::pi;
+  return c > 0.0 ? c / (area_m2_ * std::numbers::pi) : 0.0;
+}
+
+Result<EmissionSampler> EmissionSampler::create(const SceneDesc& scene) {
+  EmissionSampler s;
+  std::vector<double> flux;
+  for (std::size_t i = 0; i < scene.emitters.size(); ++i) {
+    const Emitter& e = scene.emitters[i];
+    const std::string what = "emitter " + std::to_string(i) + (e.name.empty() ? "" : " '" + e.name + "'");
+    if (!std::isfinite(e.flux_lm) || e.flux_lm < 0.0)
+      return error(what + ": flux must be finite and >= 0 lm");
+    Source src;
+    src.kind = e.kind;
+    if (e.kind == Emitter::Kind::Point) {
+      src.position = e.position;
+      src.frame = e.frame;
+      if (!std::isfinite(e.position.x) || !std::isfinite(e.position.y) || !std::isfinite(e.position.z))
+        return error(what + ": position is not finite");
+      const photometry::PhotometricFrame& f = e.frame;
+      const double tol = 1e-6;
+      if (!(std::abs(length(f.c0) - 1.0) < tol && std::abs(length(f.c90) - 1.0) < tol &&
+            std::abs(length(f.up) - 1.0) < tol && std::abs(dot(f.c0, f.c90)) < tol &&
+            std::abs(dot(f.c0, f.up)) < tol && dot(cross(f.c0, f.c90), f.up) > 1.0 - tol))
+        return error(what + ": photometric frame is not orthonormal and right-handed");
+      if (e.profile) {
+        auto p = ProfileSampler::create(*e.profile);
+        if (!p.ok()) return error(what + ": " + p.error().message);
+        src.profile = std::make_shared<const ProfileSampler>(std::move(p.value()));
+      }
+    } else {
+      if (e.mesh >= scene.meshes.size())
+        return error(what + ": mesh " + std::to_string(e.mesh) + " does not exist");
+      auto a = AreaSampler::create(scene.meshes[e.mesh], e.two_sided);
+      if (!a.ok()) return error(what + ": " + a.error().message);
+      src.area = std::make_shared<const AreaSampler>(std::move(a.value()));
+    }
+    s.emitters_.push_back(std::move(src));
+    flux.push_back(e.flux_lm);
+  }
+  if (flux.empty()) return error("the scene has no emitter");
+  double total = 0.0;
+  for (double f : flux) total += f;
+  if (!(total > 0.0) || !std::isfinite(total))
+    return error("the scene's emitters have no flux in total");
+  s.emitter_table_ = AliasTable(flux);
+  s.total_flux_lm_ = total;
+  return s;
+}
+
+EmittedPhoton EmissionSampler::sample(PhotonRandom& rng) const {
+  EmittedPhoton out;
+  out.emitter = emitters_.size() == 1 ? 0 : emitter_table_.sample(rng.uniform());
+  const Source& src = emitters_[out.emitter];
+  if (src.kind == Emitter::Kind::Point) {
+    out.origin = src.position;
+    const Vec3 local = src.profile ? src.profile->sample(rng)
+                                   : sample_uniform_sphere(rng);
+    out.direction = src.frame.to_world(local);
+  } else {
+    const AreaSampler::Sample a = src.area->sample(rng);
+    out.origin = a.position;
+    out.direction = a.direction;
+    out.on_surface = true;
+    out.surface_normal = a.normal;
+  }
+  return out;
+}
+
+}  // namespace gonio::sim

@@ -1,0 +1,129 @@
+// Emission: where photons start and in which direction, sampled exactly
+// from each emitter's distribution, with the densities of those samplers.
+//
+// Every photon of a run carries the same power (total flux / photons): the
+// emitter is chosen in proportion to its flux, then a position and a
+// direction are drawn from that emitter's own distribution.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "photometry/diagnostics.h"
+#include "photometry/distribution.h"
+#include "sim/alias_table.h"
+#include "sim/random.h"
+#include "sim/scene.h"
+
+namespace gonio::sim {
+
+// Directions from a Type C intensity distribution, in its local photometric
+// frame (x = C0, y = C90, z = zenith; photometry/frame.h), with density
+// exactly proportional to the intensity photometry::interpolate() gives on
+// the symmetry-expanded grid (bilinear in C and γ; zero outside the stored γ
+// range).
+//
+// A grid cell is chosen in proportion to the exact flux of the bilinear
+// interpolant over it (alias table, O(1)); inside the cell a direction is
+// drawn uniformly in solid angle (uniform in C and cos γ) and accepted with
+// probability I/I_max of the cell, so each try costs three uniform numbers
+// and at least one try in four is accepted (one in 1.1 for smooth profiles).
+class ProfileSampler {
+ public:
+  // Errors: an invalid distribution, Type A or B (Type B waits for the
+  // photometry engineer's photometry/angles.h frames), no flux at all.
+  static Result<ProfileSampler> create(const photometry::Distribution& profile);
+
+  // Unit direction in the local photometric frame.
+  Vec3 sample(PhotonRandom& rng) const;
+  // Density of sample() at a local direction (need not be unit) [1/sr].
+  double pdf(const Vec3& local) const { return intensity_cd(local) / flux_lm_; }
+  // Interpolated intensity at a local direction [cd].
+  double intensity_cd(const Vec3& local) const;
+  // ∫ I dΩ of the interpolant over the sphere [lm]: the profile's own flux.
+  double flux_lm() const { return flux_lm_; }
+  std::size_t cell_count() const { return cells_.size(); }
+
+ private:
+  struct Cell {
+    double c0_rad, dc_rad;          // C range [rad]
+    double g0_rad, dg_rad;          // γ range [rad]
+    double cos_g0, cos_g1;          // cos γ at the ends, cos_g0 > cos_g1
+    double i00, i10, i01, i11;      // corners (C0,γ0), (C1,γ0), (C0,γ1), (C1,γ1) [cd]
+    double i_max;                   // largest corner [cd]
+  };
+  std::shared_ptr<const photometry::Distribution> expanded_;
+  std::vector<Cell> cells_;
+  AliasTable cell_table_;
+  double flux_lm_ = 0.0;
+};
+
+// Points uniform in area over a mesh and cosine-weighted directions about
+// each triangle's front normal (either side with equal chance if two-sided):
+// a Lambertian emitter of uniform luminance.
+// Density: 1/A · cos θ/π [1/(m²·sr)], or 1/(2A) · |cos θ|/π two-sided.
+class AreaSampler {
+ public:
+  // Errors: a mesh without triangles of positive area, bad indices.
+  static Result<AreaSampler> create(const Mesh& mesh, bool two_sided);
+
+  struct Sample {
+    Vec3 position;       // on the mesh [m]
+    Vec3 normal;         // unit normal of the side it leaves from
+    Vec3 direction;      // unit, dot(direction, normal) > 0
+    std::uint32_t triangle;
+  };
+  Sample sample(PhotonRandom& rng) const;
+  // Density of a direction leaving a point of the mesh whose front normal is
+  // `front_normal` [1/(m²·sr)].
+  double pdf(const Vec3& front_normal, const Vec3& direction) const;
+  double area_m2() const { return area_m2_; }
+
+ private:
+  std::vector<Vec3> corners_;   // three per triangle with positive area
+  std::vector<Vec3> normals_;   // front unit normal per such triangle
+  std::vector<std::uint32_t> triangle_index_;  // index in the mesh
+  AliasTable triangle_table_;
+  double area_m2_ = 0.0;
+  bool two_sided_ = false;
+};
+
+// One emitted photon.
+struct EmittedPhoton {
+  Vec3 origin;             // [m]
+  Vec3 direction;          // unit
+  std::uint32_t emitter;   // index in SceneDesc::emitters
+  bool on_surface = false; // leaves the surface of an area emitter's mesh
+  Vec3 surface_normal;     // on_surface: unit normal of the side it leaves
+};
+
+// All emitters of a scene. Emitters with zero flux never emit.
+class EmissionSampler {
+ public:
+  // Errors name the emitter: non-finite or negative flux, no flux in total,
+  // a missing mesh, a profile that cannot be sampled, a point emitter's
+  // frame that is not orthonormal and right-handed (photometry/frame.h).
+  static Result<EmissionSampler> create(const SceneDesc& scene);
+
+  EmittedPhoton sample(PhotonRandom& rng) const;
+
+  std::size_t emitter_count() const { return emitters_.size(); }
+  // Chance that a photon comes from emitter i: flux_i / Σ flux.
+  double emitter_probability(std::size_t i) const { return emitter_table_.pmf(i); }
+  double total_flux_lm() const { return total_flux_lm_; }
+
+ private:
+  struct Source {
+    Emitter::Kind kind;
+    Vec3 position;
+    photometry::PhotometricFrame frame;
+    std::shared_ptr<const ProfileSampler> profile;  // null: isotropic point
+    std::shared_ptr<const AreaSampler> area;
+  };
+  std::vector<Source> emitters_;
+  AliasTable emitter_table_;
+  double total_flux_lm_ = 0.0;
+};
+
+}  // namespace gonio::sim

@@ -1,0 +1,255 @@
+#include "sim/material.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "sim/sampling.h"
+
+namespace gonio::sim {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+Status fail(const Material& m, const char* what) {
+  Error e;
+  e.message = "material '" + m.name + "': " + what;
+  return e;
+}
+
+bool finite_nonneg(double x) { return std::isfinite(x) && x >= 0.0; }
+
+}  // namespace
+
+Status validate(const Material& m) {
+  for (double w : {m.diffuse_reflect, m.diffuse_transmit, m.mirror, m.glossy, m.dielectric})
+    if (!finite_nonneg(w)) return fail(m, "lobe weights must be finite and >= 0");
+  if (m.total() > 1.0 + 1e-9) return fail(m, "lobe weights sum to more than 1");
+  if (m.glossy > 0.0) {
+    if (!(std::isfinite(m.glossy_mx) && m.glossy_mx > 0.0 && std::isfinite(m.glossy_my) &&
+          m.glossy_my > 0.0))
+      return fail(m, "glossy roughness mx, my must be finite and > 0");
+    if (!(m.glossy_f0 >= 0.0 && m.glossy_f0 <= 1.0)) return fail(m, "glossy f0 must lie in 0..1");
+  }
+  if (!(std::isfinite(m.ior) && m.ior > 0.0)) return fail(m, "ior must be finite and > 0");
+  if (!finite_nonneg(m.attenuation_per_m))
+    return fail(m, "attenuation must be finite and >= 0 per metre");
+  return Ok{};
+}
+
+const char* to_string(Lobe lobe) {
+  switch (lobe) {
+    case Lobe::Absorb: return "absorb";
+    case Lobe::DiffuseReflect: return "diffuse reflection";
+    case Lobe::DiffuseTransmit: return "diffuse transmission";
+    case Lobe::Mirror: return "mirror";
+    case Lobe::Glossy: return "glossy";
+    case Lobe::Dielectric: return "dielectric";
+  }
+  return "?";
+}
+
+Lobe choose_lobe(const Material& m, double u) {
+  double c = m.diffuse_reflect;
+  if (u < c) return Lobe::DiffuseReflect;
+  if (u < (c += m.diffuse_transmit)) return Lobe::DiffuseTransmit;
+  if (u < (c += m.mirror)) return Lobe::Mirror;
+  if (u < (c += m.glossy)) return Lobe::Glossy;
+  if (u < (c += m.dielectric)) return Lobe::Dielectric;
+  return Lobe::Absorb;
+}
+
+LobeCdf lobe_cdf(const Material& m) {
+  LobeCdf c;
+  c.bounds[0] = m.diffuse_reflect;
+  c.bounds[1] = c.bounds[0] + m.diffuse_transmit;
+  c.bounds[2] = c.bounds[1] + m.mirror;
+  c.bounds[3] = c.bounds[2] + m.glossy;
+  c.bounds[4] = c.bounds[3] + m.dielectric;
+  return c;
+}
+
+double beckmann_d(double mx, double my, const Vec3& h) {
+  if (h.z <= 0.0) return 0.0;
+  const double z2 = h.z * h.z;
+  const double e = (h.x * h.x / (mx * mx) + h.y * h.y / (my * my)) / z2;
+  return std::exp(-e) / (kPi * mx * my * z2 * z2);
+}
+
+double schlick_fresnel(double f0, double c) {
+  const double k = 1.0 - std::clamp(c, 0.0, 1.0);
+  const double k2 = k * k;
+  return f0 + (1.0 - f0) * k2 * k2 * k;
+}
+
+double glossy_brdf(const Material& m, const Vec3& wi, const Vec3& wo) {
+  if (wi.z <= 0.0 || wo.z <= 0.0) return 0.0;
+  const Vec3 h = normalize(wi + wo);
+  const double ih = dot(wi, h);
+  return schlick_fresnel(m.glossy_f0, ih) * beckmann_d(m.glossy_mx, m.glossy_my, h) /
+         (4.0 * ih * std::sqrt(wi.z * wo.z));
+}
+
+Vec3 sample_beckmann_half_vector(double mx, double my, double u, double cos_2piv,
+                                 double sin_2piv) {
+  // (cos φh, sin φh) ∝ (mx cos 2πv, my sin 2πv): Walter's φh without the
+  // arctangent's quadrant ambiguity.
+  double cx = mx * cos_2piv, sy = my * sin_2piv;
+  const double inv = 1.0 / std::sqrt(cx * cx + sy * sy);
+  cx *= inv;
+  sy *= inv;
+  const double tan2 = -std::log(u) / (cx * cx / (mx * mx) + sy * sy / (my * my));
+  const double cos_t = 1.0 / std::sqrt(1.0 + tan2);
+  const double sin_t = std::sqrt(tan2) * cos_t;
+  return {sin_t * cx, sin_t * sy, cos_t};
+}
+
+double glossy_pdf(const Material& m, const Vec3& wi, const Vec3& wo) {
+  if (wi.z <= 0.0) return 0.0;
+  const Vec3 sum = wi + wo;
+  const double len = length(sum);
+  if (!(len > 0.0)) return 0.0;
+  const Vec3 h = sum / len;
+  const double oh = dot(wo, h);
+  if (oh <= 0.0) return 0.0;
+  return beckmann_d(m.glossy_mx, m.glossy_my, h) * h.z / (4.0 * oh);
+}
+
+GlossySample sample_glossy(const Material& m, const Vec3& wi, double u, double cos_2piv,
+                           double sin_2piv) {
+  const Vec3 h = sample_beckmann_half_vector(m.glossy_mx, m.glossy_my, u, cos_2piv, sin_2piv);
+  const double ih = dot(wi, h);
+  if (ih <= 0.0 || wi.z <= 0.0) return {h, 0.0};
+  const Vec3 wo = 2.0 * ih * h - wi;
+  if (wo.z <= 0.0) return {wo, 0.0};
+  const double w = schlick_fresnel(m.glossy_f0, ih) * std::sqrt(wo.z / wi.z) / h.z;
+  return {wo, w};
+}
+
+double fresnel_dielectric(double cos_i, double eta_i, double eta_t) {
+  cos_i = std::clamp(cos_i, 0.0, 1.0);
+  const double sin_t = eta_i / eta_t * std::sqrt(std::max(0.0, 1.0 - cos_i * cos_i));
+  if (sin_t >= 1.0) return 1.0;
+  const double cos_t = std::sqrt(std::max(0.0, 1.0 - sin_t * sin_t));
+  const double rs = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
+  const double rp = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+bool refract(const Vec3& wi, const Vec3& n, double eta, Vec3* wt) {
+  const double cos_i = dot(wi, n);
+  const double sin2_t = eta * eta * std::max(0.0, 1.0 - cos_i * cos_i);
+  if (sin2_t >= 1.0) return false;
+  const double cos_t = std::sqrt(1.0 - sin2_t);
+  *wt = -eta * wi + (eta * cos_i - cos_t) * n;
+  return true;
+}
+
+namespace {
+
+// Dielectric event about normal n on the incident side; false if the chosen
+// direction ends on the wrong side of the geometric surface `ng_in`.
+bool dielectric_event(const Vec3& wi, const Vec3& n, const Vec3& ng_in, double eta_i,
+                      double eta_t, double u, Vec3* out) {
+  const double cos_i = dot(wi, n);
+  if (cos_i <= 0.0) return false;
+  const double r = fresnel_dielectric(cos_i, eta_i, eta_t);
+  if (u < r) {
+    *out = reflect(wi, n);
+    return dot(*out, ng_in) > 0.0;
+  }
+  Vec3 t;
+  if (!refract(wi, n, eta_i / eta_t, &t)) return false;  // r == 1 handled above
+  *out = t;
+  return dot(t, ng_in) < 0.0;
+}
+
+}  // namespace
+
+ScatterResult scatter(const Material& m, const SurfaceFrame& f, const Vec3& d, PhotonRandom& rng,
+                      Polarization* polarization) {
+  const Lobe lobe = choose_lobe(m, rng.uniform());
+  return scatter(m, lobe, f, d, rng, polarization);
+}
+
+ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& f, const Vec3& d,
+                      PhotonRandom& rng, Polarization* polarization) {
+  ScatterResult r{lobe, false, d, 1.0};
+  const bool front = dot(d, f.geometric_normal) < 0.0;
+  // Normals on the side the photon arrives from.
+  const Vec3 ng = front ? f.geometric_normal : -f.geometric_normal;
+  Vec3 ns = front ? f.shading_normal : -f.shading_normal;
+  if (dot(ns, ng) <= 0.0) ns = ng;
+  const Vec3 wi = -d;
+
+  switch (r.lobe) {
+    case Lobe::Absorb:
+      r.absorbed = true;
+      return r;
+    case Lobe::DiffuseReflect:
+    case Lobe::DiffuseTransmit: {
+      if (polarization) polarization->polarized = false;
+      const Vec3 local = sample_cosine_hemisphere(rng);
+      const Vec3 axis = r.lobe == Lobe::DiffuseReflect ? ng : -ng;
+      // Unit to rounding: an orthonormal basis applied to a unit vector.
+      r.direction = basis_from_normal(axis).to_world(local);
+      return r;
+    }
+    case Lobe::Mirror: {
+      Vec3 n = ns;
+      Vec3 o = reflect(wi, n);
+      if (dot(o, ng) <= 0.0) o = reflect(wi, n = ng);
+      r.direction = normalize(o);
+      if (polarization) reflect_field(*polarization, n);
+      return r;
+    }
+    case Lobe::Glossy: {
+      if (polarization) polarization->polarized = false;
+      const Basis basis = basis_from_normal_tangent(ns, f.tangent);
+      double c, s;
+      sample_unit_circle(rng, &c, &s);
+      const GlossySample g = sample_glossy(m, basis.to_local(wi), rng.uniform_open0(), c, s);
+      const Vec3 o = basis.to_world(g.wo);
+      if (!(g.weight > 0.0) || dot(o, ng) <= 0.0) {
+        r.absorbed = true;
+        return r;
+      }
+      r.direction = normalize(o);
+      if (g.weight <= 1.0) {
+        r.absorbed = rng.uniform() >= g.weight;
+      } else {
+        r.power_factor = g.weight;
+      }
+      return r;
+    }
+    case Lobe::Dielectric: {
+      const double eta_i = front ? 1.0 : m.ior, eta_t = front ? m.ior : 1.0;
+      if (polarization) {
+        polarize_randomly(*polarization, d, rng);
+        const double u = rng.uniform();
+        for (const Vec3& n : {ns, ng}) {
+          if (dot(d, n) >= 0.0) continue;
+          const InterfaceOutcome e = interface_event(*polarization, d, n, eta_i, eta_t, u);
+          const double side = dot(e.direction, ng);
+          if (e.reflected ? side > 0.0 : side < 0.0) {
+            r.direction = e.direction;
+            *polarization = e.state;
+            return r;
+          }
+        }
+        r.direction = d;  // exactly grazing the geometric plane: pass by
+        return r;
+      }
+      const double u = rng.uniform();
+      Vec3 o = d;
+      if (!dielectric_event(wi, ns, ng, eta_i, eta_t, u, &o) &&
+          !dielectric_event(wi, ng, ng, eta_i, eta_t, u, &o))
+        o = d;  // exactly grazing the geometric plane: pass by
+      r.direction = normalize(o);
+      return r;
+    }
+  }
+  return r;
+}
+
+}  // namespace gonio::sim

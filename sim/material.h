@@ -1,0 +1,142 @@
+// Scattering of photons at surfaces: the lobes of sim::Material (the
+// reference thesis' material model, section 5.2, with a smooth dielectric),
+// each sampling routine with its density, and the Russian roulette that
+// keeps every photon's power equal wherever the lobe allows.
+//
+// Directions: `wi` points away from the surface towards where the photon
+// came from; `wo` away from the surface where it goes. Local frames have the
+// normal as z and the tangent (the direction of `glossy_mx`) as x.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "photometry/diagnostics.h"
+#include "photometry/vec3.h"
+#include "sim/polarization.h"
+#include "sim/random.h"
+#include "sim/scene.h"
+
+namespace gonio::sim {
+
+// Structural checks: weights finite, ≥ 0, summing to at most 1; roughness
+// > 0; f0 in [0, 1]; ior finite and > 0; attenuation finite and ≥ 0. The
+// error names the material.
+Status validate(const Material& material);
+
+enum class Lobe : std::uint8_t { Absorb, DiffuseReflect, DiffuseTransmit, Mirror, Glossy, Dielectric };
+
+const char* to_string(Lobe lobe);
+
+// The lobe that scatters a photon, for u uniform in [0, 1): each lobe with
+// the probability of its weight, Absorb with 1 − total().
+Lobe choose_lobe(const Material& m, double u);
+
+// The same from cumulative weights computed once per material (the tracer's
+// per-hit path): bounds[k] = weight of lobes 1..k+1 in Lobe order.
+struct LobeCdf {
+  double bounds[5];
+};
+LobeCdf lobe_cdf(const Material& m);
+inline Lobe choose_lobe(const LobeCdf& cdf, double u) {
+  int k = 0;
+  while (k < 5 && u >= cdf.bounds[k]) ++k;
+  return static_cast<Lobe>((k + 1) % 6);  // 5 (past every lobe) → Absorb
+}
+
+// --- Glossy lobe: anisotropic Beckmann distribution with Schlick Fresnel
+// (Kurt et al. 2010 as the thesis gives it), with the exponent α = ½:
+//   f(wi, wo) = F(wo·h) D(h) / (4 (wi·h) √((wi·n)(wo·n)))     [1/sr]
+//   D(h) = exp(−tan²θh (cos²φh/mx² + sin²φh/my²)) / (π mx my cos⁴θh)
+//   F(c) = f0 + (1 − f0)(1 − c)⁵.
+// α = ½ (Ward's normalisation) keeps f reciprocal, and the lobe's albedo is
+// ≈ f0 for smooth lobes at every incidence; α = 0 loses most of the light
+// at oblique incidence and α = 1 creates it. The lobe's weight `glossy` is
+// the chance of choosing it; these functions describe the lobe alone.
+
+// D(h) for a unit half vector in the local frame [1/sr]: ∫ D cos θh dω = 1.
+double beckmann_d(double mx, double my, const Vec3& h_local);
+double schlick_fresnel(double f0, double cos_theta);
+// f(wi, wo) in the local frame; 0 unless both are above the surface.
+double glossy_brdf(const Material& m, const Vec3& wi_local, const Vec3& wo_local);
+// Half vector drawn with density D(h) cos θh by Walter's formulas (thesis
+// 5.2): φh = atan(my/mx · tan 2πv) (in the quadrant of 2πv),
+// θh = atan √(−log u / (cos²φh/mx² + sin²φh/my²)); u in (0, 1]. The angle
+// 2πv is given as its unit vector (cos 2πv, sin 2πv), which the tracer
+// draws without trigonometry (sample_unit_circle).
+Vec3 sample_beckmann_half_vector(double mx, double my, double u, double cos_2piv,
+                                 double sin_2piv);
+// Density of sample_glossy's outgoing direction: D(h) cos θh / (4 wo·h) [1/sr].
+double glossy_pdf(const Material& m, const Vec3& wi_local, const Vec3& wo_local);
+
+struct GlossySample {
+  Vec3 wo;        // local frame; may point below the surface (weight 0)
+  double weight;  // f · cos θo / pdf = F(wo·h) √(wo·n / wi·n) / cos θh, or 0
+};
+GlossySample sample_glossy(const Material& m, const Vec3& wi_local, double u, double cos_2piv,
+                           double sin_2piv);
+
+// --- Smooth dielectric interface.
+// Unpolarised Fresnel reflectance (mean of s and p) for light arriving at
+// cos θi > 0 from index eta_i onto index eta_t; 1 under total internal
+// reflection.
+double fresnel_dielectric(double cos_i, double eta_i, double eta_t);
+// Mirror direction of wi about the unit normal n: 2(wi·n)n − wi.
+inline Vec3 reflect(const Vec3& wi, const Vec3& n) { return 2.0 * dot(wi, n) * n - wi; }
+// Refracted direction of wi through the unit normal n on wi's side, with
+// eta = eta_i / eta_t; false under total internal reflection.
+bool refract(const Vec3& wi, const Vec3& n, double eta, Vec3* wt);
+
+// --- Volumes: Beer–Lambert internal transmittance over a path [m].
+inline double internal_transmittance(double attenuation_per_m, double distance_m) {
+  return std::exp(-attenuation_per_m * distance_m);
+}
+
+// --- One scattering event, as the tracer uses it.
+
+// The surface where a photon hits: unit geometric normal of the triangle's
+// front side, unit shading normal on the same side (= geometric without
+// shading normals) and the tangent for anisotropic lobes (zero if none).
+struct SurfaceFrame {
+  Vec3 geometric_normal;
+  Vec3 shading_normal;
+  Vec3 tangent;
+};
+
+struct ScatterResult {
+  Lobe lobe;             // the lobe chosen (Absorb: the photon ends here)
+  bool absorbed;         // absorbed by the lobe choice or the roulette
+  Vec3 direction;        // unit, where it goes on (unless absorbed)
+  double power_factor;   // 1, or the glossy weight when it exceeds 1
+};
+
+// Scatters a photon travelling along unit `direction` into the surface.
+// Photon power stays equal: the lobe is chosen by its weight (the rest is
+// absorbed); diffuse lobes, the mirror and the dielectric (reflection with
+// chance R, refraction with 1 − R) keep full power; the glossy lobe survives
+// with chance w = f·cos/pdf when w ≤ 1, and when w > 1 (the model's sample
+// weights straddle 1 for oblique incidence) it survives with its power
+// multiplied by w (power_factor), so the estimate stays unbiased; the
+// tracer books the excess as `glossy_gain` in the ledger.
+// Specular directions use the shading normal; a direction that would cross
+// the geometric surface to the wrong side is recomputed with the geometric
+// normal. Dielectrics: the front side faces air (n = 1), the back side the
+// volume of index `ior`.
+// `polarization` (optional) is the photon's state (sim/polarization.h): the
+// dielectric then reflects with the photon's own R and updates the state,
+// the mirror reflects the field, diffuse and glossy lobes depolarise.
+// Without it the dielectric uses the unpolarised R̄ = (Rs + Rp)/2.
+ScatterResult scatter(const Material& m, const SurfaceFrame& frame, const Vec3& direction,
+                      PhotonRandom& rng, Polarization* polarization = nullptr);
+// The same for a lobe already chosen (choose_lobe), so that callers can skip
+// interpolating a shading frame for lobes that do not use it.
+ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& frame,
+                      const Vec3& direction, PhotonRandom& rng,
+                      Polarization* polarization = nullptr);
+// Whether a lobe reads the shading normal and tangent (specular lobes).
+inline bool uses_shading_frame(Lobe lobe) {
+  return lobe == Lobe::Mirror || lobe == Lobe::Glossy || lobe == Lobe::Dielectric;
+}
+
+}  // namespace gonio::sim

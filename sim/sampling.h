@@ -1,0 +1,104 @@
+// Sampling warps from uniform numbers to directions and points, each with
+// its density. Local directions use z as the pole (a surface normal).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "photometry/vec3.h"
+#include "sim/random.h"
+
+namespace gonio::sim {
+
+// Right-handed orthonormal basis (t, b, n) with t × b = n.
+struct Basis {
+  Vec3 t, b, n;
+  Vec3 to_world(const Vec3& l) const { return l.x * t + l.y * b + l.z * n; }
+  Vec3 to_local(const Vec3& w) const { return {dot(w, t), dot(w, b), dot(w, n)}; }
+};
+
+// A basis around a unit normal, continuous except across n.z = 0 (Duff et al.
+// 2017, "Building an orthonormal basis, revisited").
+inline Basis basis_from_normal(const Vec3& n) {
+  const double sign = std::copysign(1.0, n.z);
+  const double a = -1.0 / (sign + n.z);
+  const double b = n.x * n.y * a;
+  return {{1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x}, {b, sign + n.y * n.y * a, -n.y}, n};
+}
+
+// A basis around a unit normal whose first axis follows `tangent` projected
+// onto the tangent plane; falls back to basis_from_normal when the tangent is
+// (nearly) parallel to the normal or zero.
+inline Basis basis_from_normal_tangent(const Vec3& n, const Vec3& tangent) {
+  const Vec3 t = tangent - dot(tangent, n) * n;
+  const double len2 = dot(t, t);
+  if (!(len2 > 1e-12)) return basis_from_normal(n);
+  const Vec3 tu = t / std::sqrt(len2);
+  return {tu, cross(n, tu), n};
+}
+
+// Uniform point (x, y) in the unit disc, by rejection from the square
+// (π/4 of the tries are kept): no trigonometry, exact.
+inline void sample_unit_disc(PhotonRandom& rng, double* x, double* y) {
+  for (;;) {
+    double u, v;
+    rng.uniform_pair(&u, &v);
+    const double a = 2.0 * u - 1.0, b = 2.0 * v - 1.0;
+    if (a * a + b * b < 1.0) {
+      *x = a;
+      *y = b;
+      return;
+    }
+  }
+}
+
+// Uniform unit vector (cos φ, sin φ), φ uniform in [0, 2π): a disc point
+// normalised (the centre itself is rejected).
+inline void sample_unit_circle(PhotonRandom& rng, double* c, double* s) {
+  for (;;) {
+    double a, b;
+    sample_unit_disc(rng, &a, &b);
+    const double r2 = a * a + b * b;
+    if (r2 > 1e-12) {
+      const double inv = 1.0 / std::sqrt(r2);
+      *c = a * inv;
+      *s = b * inv;
+      return;
+    }
+  }
+}
+
+// Cosine-weighted direction on the hemisphere z > 0 (Malley's method: a
+// uniform disc point lifted onto the hemisphere); density cos θ / π [1/sr].
+inline Vec3 sample_cosine_hemisphere(PhotonRandom& rng) {
+  double x, y;
+  sample_unit_disc(rng, &x, &y);
+  return {x, y, std::sqrt(std::max(0.0, 1.0 - x * x - y * y))};
+}
+inline double cosine_hemisphere_pdf(double cos_theta) {
+  return cos_theta > 0.0 ? cos_theta / std::numbers::pi : 0.0;
+}
+
+// Uniform direction on the unit sphere (Marsaglia 1972: from a disc point
+// with s = x² + y², (2x√(1−s), 2y√(1−s), 1 − 2s)); density 1/(4π) [1/sr].
+inline Vec3 sample_uniform_sphere(PhotonRandom& rng) {
+  double x, y;
+  sample_unit_disc(rng, &x, &y);
+  const double s = x * x + y * y;
+  const double k = 2.0 * std::sqrt(1.0 - s);
+  return {k * x, k * y, 1.0 - 2.0 * s};
+}
+inline double uniform_sphere_pdf() { return 1.0 / (4.0 * std::numbers::pi); }
+
+// Uniform point in a triangle as barycentric weights of its corners (density
+// 1/area).
+struct Barycentric {
+  double b0, b1, b2;
+};
+inline Barycentric sample_uniform_triangle(double u1, double u2) {
+  const double s = std::sqrt(u1);
+  return {1.0 - s, s * (1.0 - u2), s * u2};
+}
+
+}  // namespace gonio::sim

@@ -1,0 +1,159 @@
+#include "sim/simulation.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+
+namespace gonio::sim {
+namespace {
+
+Error error(std::string message) { return Error{{}, std::move(message)}; }
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+struct Simulation::Impl {
+  SceneDesc scene;
+  SimulationSettings settings;
+  Tracer tracer;
+  tbb::task_arena arena;
+  tbb::enumerable_thread_specific<TracerTally> tallies;
+
+  std::vector<std::uint64_t> texel_photons;  // over all iterations
+  std::vector<std::uint64_t> texel_units;    // power units, ledger.h
+  LedgerTally books;
+  SimulationStats stats;
+
+  Impl(SceneDesc s, const SimulationSettings& set, Tracer t, int threads)
+      : scene(std::move(s)), settings(set), tracer(std::move(t)), arena(threads),
+        tallies([this] { return tracer.make_tally(); }),
+        texel_photons(tracer.grid().texel_count(), 0),
+        texel_units(tracer.grid().texel_count(), 0),
+        books(tracer.emitter_count(), tracer.mesh_count()) {}
+};
+
+Simulation::Simulation(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+
+Result<Simulation> Simulation::create(const SceneDesc& scene, const SimulationSettings& settings) {
+  if (settings.photons_per_iteration < 1 || settings.photons_per_iteration >= (std::uint64_t{1} << 32))
+    return error("photons per iteration must lie in 1..4294967295");
+  if (settings.iterations < 1) return error("at least one iteration is needed");
+  // Power is counted in 2^-24 photon units in 64-bit integers.
+  if (static_cast<double>(settings.photons_per_iteration) * settings.iterations > 0x1.0p39)
+    return error("at most 2^39 (5.5e11) photons per run");
+  if (settings.threads < 0) return error("the thread count must be >= 0");
+  const auto start = std::chrono::steady_clock::now();
+  TracerSettings ts;
+  ts.max_bounces = settings.max_bounces;
+  ts.embree.robust = settings.robust_embree;
+  auto tracer = Tracer::create(scene, settings.face_size, ts);
+  if (!tracer.ok()) return tracer.error();
+  const int threads =
+      settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+  auto impl = std::make_unique<Impl>(scene, settings, std::move(tracer.value()), threads);
+  impl->stats.threads = threads;
+  impl->stats.setup_s = seconds_since(start);
+  return Simulation(std::move(impl));
+}
+
+void Simulation::run_iteration() {
+  Impl& s = *impl_;
+  const std::uint64_t n = s.settings.photons_per_iteration;
+  const std::uint64_t first = s.stats.photons;
+  const std::uint64_t chunks = (n + kChunkPhotons - 1) / kChunkPhotons;
+  const auto start = std::chrono::steady_clock::now();
+  s.arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::uint64_t>(0, chunks, 1),
+        [&](const tbb::blocked_range<std::uint64_t>& range) {
+          TracerTally& tally = s.tallies.local();
+          for (std::uint64_t c = range.begin(); c != range.end(); ++c) {
+            const std::uint64_t begin = c * kChunkPhotons;
+            const std::uint64_t count = std::min(kChunkPhotons, n - begin);
+            s.tracer.trace_photons(s.settings.seed, first + begin, count, tally);
+          }
+        },
+        tbb::simple_partitioner());
+  });
+  // Integer sums: the order of threads does not matter.
+  for (TracerTally& t : s.tallies) {
+    for (std::size_t i = 0; i < t.texel_photons.size(); ++i) {
+      s.texel_photons[i] += t.texel_photons[i];
+      s.texel_units[i] += std::uint64_t{t.texel_photons[i]} * kPowerUnits;
+    }
+    for (std::uint32_t texel : t.texel_wraps) {
+      s.texel_photons[texel] += 65536u;
+      s.texel_units[texel] += 65536u * kPowerUnits;
+    }
+    for (const auto& [texel, units] : t.uneven_escapes) {
+      s.texel_units[texel] += units;
+      s.texel_units[texel] -= kPowerUnits;
+    }
+    s.books.add(t.ledger);
+    t.clear();
+  }
+  s.stats.trace_s += seconds_since(start);
+  s.stats.photons += n;
+  s.stats.rays = s.books.rays;
+  ++s.stats.iterations_done;
+}
+
+const SimulationSettings& Simulation::settings() const { return impl_->settings; }
+const SceneDesc& Simulation::scene() const { return impl_->scene; }
+const Tracer& Simulation::tracer() const { return impl_->tracer; }
+SimulationStats Simulation::stats() const { return impl_->stats; }
+double Simulation::total_flux_lm() const { return impl_->tracer.emission().total_flux_lm(); }
+
+FarField Simulation::far_field() const {
+  const Impl& s = *impl_;
+  const std::size_t n = s.texel_units.size();
+  std::vector<double> flux(n, 0.0);
+  if (s.stats.photons > 0) {
+    const double per_unit = total_flux_lm() / static_cast<double>(s.stats.photons) /
+                            static_cast<double>(kPowerUnits);
+    for (std::size_t i = 0; i < n; ++i) flux[i] = static_cast<double>(s.texel_units[i]) * per_unit;
+  }
+  return FarField(s.tracer.grid().face_size(), std::move(flux), s.texel_photons);
+}
+
+Ledger Simulation::ledger() const { return make_ledger(impl_->books, impl_->scene, total_flux_lm()); }
+
+Result<Simulation> simulate(
+    const SceneDesc& scene, const SimulationSettings& settings,
+    const std::function<void(const SimulationProgress&, const Simulation&)>& on_iteration) {
+  auto sim = Simulation::create(scene, settings);
+  if (!sim.ok()) return sim;
+  Simulation& s = sim.value();
+  const std::uint64_t total = settings.photons_per_iteration * static_cast<std::uint64_t>(settings.iterations);
+  for (int k = 0; k < settings.iterations; ++k) {
+    s.run_iteration();
+    if (on_iteration) {
+      const SimulationStats st = s.stats();
+      SimulationProgress p;
+      p.iteration = k + 1;
+      p.iterations = settings.iterations;
+      p.photons_done = st.photons;
+      p.photons_total = total;
+      p.elapsed_s = st.trace_s;
+      p.photons_per_s = st.photons_per_s();
+      p.remaining_s = p.photons_per_s > 0.0
+                          ? static_cast<double>(total - st.photons) / p.photons_per_s
+                          : 0.0;
+      on_iteration(p, s);
+    }
+  }
+  return sim;
+}
+
+}  // namespace gonio::sim

@@ -1,0 +1,92 @@
+// A progressive simulation: iterations of N photons traced on T threads into
+// one far field and one set of books, with a callback after each iteration
+// (progress, previews).
+//
+// Photons are traced in fixed chunks of kChunkPhotons; photon i of the run
+// (counting across iterations) draws from (seed, i). All accumulators are
+// integers, so the far field and the ledger are identical bytes for any
+// thread count, and K iterations of N photons equal one of K·N.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+
+#include "photometry/diagnostics.h"
+#include "sim/far_field.h"
+#include "sim/ledger.h"
+#include "sim/scene.h"
+#include "sim/tracer.h"
+
+namespace gonio::sim {
+
+inline constexpr std::uint64_t kChunkPhotons = 4096;
+
+struct SimulationSettings {
+  std::uint64_t photons_per_iteration = 1'000'000;  // ≥ 1, < 2³²
+  int iterations = 10;                               // ≥ 1; at most 2³⁹ photons in all
+  std::uint64_t seed = 1;
+  int threads = 0;                                   // 0: every core
+  int max_bounces = 100;                             // see TracerSettings
+  int face_size = 128;  // texels per cube face edge: CubeMapGrid::face_size_for_step(2.5)
+  bool robust_embree = true;                         // see EmbreeSceneOptions
+};
+
+struct SimulationStats {
+  int iterations_done = 0;
+  std::uint64_t photons = 0;   // traced so far
+  std::uint64_t rays = 0;      // ray queries so far
+  double trace_s = 0.0;        // wall time spent tracing [s]
+  double setup_s = 0.0;        // wall time to check the scene and build the BVH [s]
+  int threads = 0;             // threads used
+  double photons_per_s() const { return trace_s > 0.0 ? static_cast<double>(photons) / trace_s : 0.0; }
+  double rays_per_s() const { return trace_s > 0.0 ? static_cast<double>(rays) / trace_s : 0.0; }
+};
+
+class Simulation {
+ public:
+  // Checks the settings and the scene (errors name the part at fault) and
+  // builds the tracer.
+  static Result<Simulation> create(const SceneDesc& scene, const SimulationSettings& settings);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
+  // Traces one more iteration of photons_per_iteration photons.
+  void run_iteration();
+
+  const SimulationSettings& settings() const;
+  const SceneDesc& scene() const;
+  const Tracer& tracer() const;
+  SimulationStats stats() const;
+
+  // The far field of every photon so far: per texel the escaped photons and
+  // their flux, each photon carrying total flux / photons emitted.
+  FarField far_field() const;
+  // The books of every photon so far.
+  Ledger ledger() const;
+  // Total flux of the scene's emitters [lm].
+  double total_flux_lm() const;
+
+ private:
+  struct Impl;
+  explicit Simulation(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+struct SimulationProgress {
+  int iteration = 0;             // iterations done
+  int iterations = 0;            // planned
+  std::uint64_t photons_done = 0;
+  std::uint64_t photons_total = 0;
+  double elapsed_s = 0.0;        // since tracing began [s]
+  double photons_per_s = 0.0;    // mean rate so far
+  double remaining_s = 0.0;      // estimate at that rate [s]
+};
+
+// Runs all iterations, calling `on_iteration` (if set) after each.
+Result<Simulation> simulate(
+    const SceneDesc& scene, const SimulationSettings& settings,
+    const std::function<void(const SimulationProgress&, const Simulation&)>& on_iteration = {});
+
+}  // namespace gonio::sim

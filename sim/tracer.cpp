@@ -1,0 +1,243 @@
+#include "sim/tracer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "sim/material.h"
+
+namespace gonio::sim {
+namespace {
+
+Error error(std::string message) { return Error{{}, std::move(message)}; }
+
+bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
+
+std::string mesh_label(const Mesh& m, std::size_t i) {
+  return "mesh " + std::to_string(i) + (m.name.empty() ? "" : " '" + m.name + "'");
+}
+
+Status validate_mesh(const Mesh& m, std::size_t i, std::size_t material_count) {
+  const std::string what = mesh_label(m, i);
+  if (m.indices.size() % 3 != 0) return error(what + ": index count is not a multiple of 3");
+  if (m.positions.size() > (std::size_t{1} << 32) || m.triangle_count() > (std::size_t{1} << 32))
+    return error(what + ": too many vertices or triangles");
+  for (std::uint32_t idx : m.indices)
+    if (idx >= m.positions.size())
+      return error(what + ": vertex index " + std::to_string(idx) + " out of range");
+  for (const Vec3f& p : m.positions)
+    if (!finite(p)) return error(what + ": vertex position is not finite");
+  if (!m.normals.empty() && m.normals.size() != m.positions.size())
+    return error(what + ": normal count differs from vertex count");
+  if (!m.tangents.empty() && m.tangents.size() != m.positions.size())
+    return error(what + ": tangent count differs from vertex count");
+  for (const Vec3f& n : m.normals)
+    if (!finite(n)) return error(what + ": shading normal is not finite");
+  for (const Vec3f& t : m.tangents)
+    if (!finite(t)) return error(what + ": tangent is not finite");
+  if (m.material >= material_count)
+    return error(what + ": material " + std::to_string(m.material) + " does not exist");
+  return Ok{};
+}
+
+}  // namespace
+
+std::uint64_t TracerTally::photons(std::size_t texel) const {
+  std::uint64_t n = texel_photons[texel];
+  for (std::uint32_t w : texel_wraps) n += w == texel ? 65536u : 0u;
+  return n;
+}
+
+void TracerTally::clear() {
+  std::fill(texel_photons.begin(), texel_photons.end(), std::uint16_t{0});
+  texel_wraps.clear();
+  uneven_escapes.clear();
+  ledger.clear();
+}
+
+Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const TracerSettings& settings) {
+  if (face_size < 1 || face_size > 16384) return error("cube-map face size must lie in 1..16384");
+  if (settings.max_bounces < 0) return error("the bounce limit must be >= 0");
+  for (const Material& m : scene.materials)
+    if (Status s = validate(m); !s.ok()) return s.error();
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i)
+    if (Status s = validate_mesh(scene.meshes[i], i, scene.materials.size()); !s.ok())
+      return s.error();
+  auto emission = EmissionSampler::create(scene);
+  if (!emission.ok()) return emission.error();
+  auto embree = EmbreeScene::build(scene.meshes, settings.embree);
+  if (!embree.ok()) return embree.error();
+
+  Tracer tracer(CubeMapGrid(face_size), std::move(embree.value()), std::move(emission.value()),
+                settings);
+  tracer.materials_ = scene.materials;
+  for (const Material& m : scene.materials) tracer.lobe_cdfs_.push_back(lobe_cdf(m));
+  tracer.meshes_.reserve(scene.meshes.size());
+  for (const Mesh& m : scene.meshes) {
+    MeshData d;
+    d.material = m.material;
+    for (std::uint32_t i : m.indices) {
+      if (!m.normals.empty()) d.corner_normals.push_back(m.normals[i]);
+      if (!m.tangents.empty()) d.corner_tangents.push_back(m.tangents[i]);
+    }
+    tracer.meshes_.push_back(std::move(d));
+  }
+  tracer.offset_floor_m_ = 0x1.0p-24 * tracer.embree_.bounds().diagonal();
+  return tracer;
+}
+
+TracerTally Tracer::make_tally() const {
+  TracerTally t;
+  t.texel_photons.assign(grid_.texel_count(), std::uint16_t{0});
+  t.ledger = LedgerTally(emission_.emitter_count(), meshes_.size());
+  return t;
+}
+
+Vec3 Tracer::offset(const Vec3& p, const Vec3& side_normal, double t) const {
+  const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  return p + side_normal * (0x1.0p-18 * (m + t) + offset_floor_m_);
+}
+
+TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
+                           std::vector<RayQuery>* record) const {
+  TraceResult r;
+  RayQuery ray;
+  RayHit hit;
+  std::uint64_t power = kPowerUnits;
+  Polarization polarization;
+  for (;;) {
+    ray.origin[0] = static_cast<float>(origin.x);
+    ray.origin[1] = static_cast<float>(origin.y);
+    ray.origin[2] = static_cast<float>(origin.z);
+    ray.direction[0] = static_cast<float>(direction.x);
+    ray.direction[1] = static_cast<float>(direction.y);
+    ray.direction[2] = static_cast<float>(direction.z);
+    if (books) ++books->rays;
+    if (record) record->push_back(ray);
+    if (!embree_.intersect(ray, &hit)) {
+      r.fate = Fate::Escaped;
+      r.direction = direction;
+      r.power_units = power;
+      return r;
+    }
+    const MeshData& mesh = meshes_[hit.mesh];
+    // The shading normals are a likely cache miss: start loading them now.
+    if (!mesh.corner_normals.empty())
+      __builtin_prefetch(&mesh.corner_normals[3 * static_cast<std::size_t>(hit.triangle)]);
+    const Material& material = materials_[mesh.material];
+    const double t = hit.t;
+    const Vec3 ng_raw{hit.ng[0], hit.ng[1], hit.ng[2]};
+    const bool from_back = dot(ng_raw, direction) > 0.0;
+    r.mesh = hit.mesh;
+    r.power_units = power;
+    // Beer–Lambert: a photon reaching a surface from its back has crossed
+    // that mesh's volume.
+    if (from_back && material.attenuation_per_m > 0.0 &&
+        rng.uniform() >= internal_transmittance(material.attenuation_per_m, t)) {
+      r.fate = Fate::Absorbed;
+      return r;
+    }
+    ++r.hits;
+    if (books) ++books->meshes[hit.mesh].hits;
+    if (r.hits > settings_.max_bounces) {
+      r.fate = Fate::CutOff;
+      return r;
+    }
+
+    const Vec3 ng = ng_raw * (1.0 / std::sqrt(dot(ng_raw, ng_raw)));
+    SurfaceFrame frame{ng, ng, {}};
+    const Lobe lobe = choose_lobe(lobe_cdfs_[mesh.material], rng.uniform());
+    if (uses_shading_frame(lobe)) {
+      const std::size_t c = 3 * static_cast<std::size_t>(hit.triangle);
+      const double u = hit.u, v = hit.v, w0 = 1.0 - u - v;
+      if (!mesh.corner_normals.empty()) {
+        const Vec3f* n3 = &mesh.corner_normals[c];
+        const Vec3 n = w0 * to_double(n3[0]) + u * to_double(n3[1]) + v * to_double(n3[2]);
+        const double len = length(n);
+        if (len > 0.0) frame.shading_normal = n / len;
+      }
+      if (!mesh.corner_tangents.empty()) {
+        const Vec3f* t3 = &mesh.corner_tangents[c];
+        frame.tangent = w0 * to_double(t3[0]) + u * to_double(t3[1]) + v * to_double(t3[2]);
+      }
+    }
+    const ScatterResult s = scatter(material, lobe, frame, direction, rng, &polarization);
+    if (s.absorbed) {
+      r.fate = Fate::Absorbed;
+      return r;
+    }
+    if (s.power_factor != 1.0) {
+      const double scaled = std::min(static_cast<double>(power) * s.power_factor, 0x1.0p60);
+      const auto next = static_cast<std::uint64_t>(scaled);
+      if (books && next > power) {
+        books->glossy_gain_units += next - power;
+        ++books->glossy_gain_events;
+      }
+      power = std::max(next, power);
+    }
+    const Vec3 p = origin + t * direction;
+    origin = offset(p, dot(s.direction, ng) > 0.0 ? ng : -ng, t);
+    direction = s.direction;
+  }
+}
+
+TraceResult Tracer::trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng) const {
+  FloatModeGuard float_mode;
+  return follow(origin, normalize(direction), rng, nullptr);
+}
+
+void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
+                         std::vector<RayQuery>* rays) const {
+  FloatModeGuard float_mode;
+  for (std::uint64_t i = first; i < first + count; ++i) {
+    PhotonRandom rng(seed, i);
+    const EmittedPhoton e = emission_.sample(rng);
+    const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
+    follow(origin, e.direction, rng, nullptr, rays);
+  }
+}
+
+void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
+                           TracerTally& tally) const {
+  FloatModeGuard float_mode;
+  LedgerTally& books = tally.ledger;
+  // Escapes land on random texels: each count is incremented one escape
+  // later, after a prefetch, so that the cache miss overlaps tracing.
+  constexpr std::uint32_t kNone = ~0u;
+  std::uint32_t pending = kNone;
+  auto count_escape = [&tally](std::uint32_t texel) {
+    if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
+  };
+  for (std::uint64_t i = first; i < first + count; ++i) {
+    PhotonRandom rng(seed, i);
+    const EmittedPhoton e = emission_.sample(rng);
+    LedgerTally::PerEmitter& eb = books.emitters[e.emitter];
+    eb.emitted.add(kPowerUnits);
+    const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
+    const TraceResult r = follow(origin, e.direction, rng, &books);
+    switch (r.fate) {
+      case Fate::Escaped: {
+        const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));
+        __builtin_prefetch(&tally.texel_photons[texel], 1);
+        if (pending != kNone) count_escape(pending);
+        pending = texel;
+        if (r.power_units != kPowerUnits) tally.uneven_escapes.emplace_back(texel, r.power_units);
+        eb.escaped.add(r.power_units);
+        break;
+      }
+      case Fate::Absorbed:
+        eb.absorbed.add(r.power_units);
+        books.meshes[r.mesh].absorbed.add(r.power_units);
+        break;
+      case Fate::CutOff:
+        eb.cutoff.add(r.power_units);
+        books.meshes[r.mesh].cutoff.add(r.power_units);
+        break;
+    }
+  }
+  if (pending != kNone) count_escape(pending);
+}
+
+}  // namespace gonio::sim

@@ -1,0 +1,130 @@
+// The photon tracer: emits photons, follows them through the luminaire with
+// Embree and the material model, and bins the escaped ones by direction into
+// a far-field cube map, keeping the energy ledger.
+//
+// Determinism: photon i of a run draws its random numbers from (seed, i)
+// alone (sim/random.h), and everything a photon leaves behind is an integer
+// (texel photon counts, power units, ledger counts), so sums do not depend
+// on how photons are split between threads or chunks: same seed, same bytes.
+//
+// Robustness against self-intersection: a scattered ray starts at the hit
+// point moved off the surface along the geometric normal, to the side the
+// ray leaves towards, by 2⁻¹⁸·(max |coordinate| + hit distance) plus
+// 2⁻²⁴ of the scene's diagonal: ~30 float ulps of the point's magnitude,
+// far above Embree's rounding and far below any luminaire feature.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "photometry/diagnostics.h"
+#include "sim/cube_map.h"
+#include "sim/embree_scene.h"
+#include "sim/emission.h"
+#include "sim/ledger.h"
+#include "sim/material.h"
+#include "sim/random.h"
+#include "sim/scene.h"
+
+namespace gonio::sim {
+
+struct TracerSettings {
+  // Surface interactions a photon may scatter at; on reaching a surface
+  // once more it is cut off (booked as `cutoff`, not absorbed). 0: every
+  // photon that meets any surface is cut off.
+  int max_bounces = 100;
+  EmbreeSceneOptions embree;
+};
+
+// What one photon did.
+enum class Fate : std::uint8_t { Escaped, Absorbed, CutOff };
+
+struct TraceResult {
+  Fate fate = Fate::Escaped;
+  Vec3 direction;               // unit direction it escaped along (Escaped)
+  std::uint32_t mesh = 0;       // where it was absorbed or cut off
+  int hits = 0;                 // surfaces reached (scattered or absorbed at)
+  std::uint64_t power_units = kPowerUnits;  // its power at the end (ledger.h units)
+};
+
+// What a thread accumulates: escaped photons per texel and the books.
+// Counts are 16-bit to halve the histogram's cache footprint (escapes land
+// on random texels); each wrap-around of a texel's count is listed in
+// `texel_wraps` and stands for 65536 more photons.
+struct TracerTally {
+  std::vector<std::uint16_t> texel_photons;  // photons escaped per texel, mod 65536
+  std::vector<std::uint32_t> texel_wraps;    // a texel per 65536 photons
+  std::uint64_t photons(std::size_t texel) const;  // for tests: the full count (slow)
+  // Escaped photons whose power is not nominal (after glossy weights > 1):
+  // (texel, power units). Empty for scenes without glossy lobes.
+  std::vector<std::pair<std::uint32_t, std::uint64_t>> uneven_escapes;
+  LedgerTally ledger;
+
+  void clear();
+};
+
+class Tracer {
+ public:
+  // Checks the scene (mesh indices, finite positions, normals and tangents
+  // per vertex, material indices, materials, emitters) and builds the Embree
+  // scene and the emission samplers. Errors name the mesh, material or
+  // emitter at fault. `face_size`: texels along a cube-map face edge.
+  static Result<Tracer> create(const SceneDesc& scene, int face_size,
+                               const TracerSettings& settings = {});
+
+  // An empty tally for this scene and grid.
+  TracerTally make_tally() const;
+
+  // Emits and traces photons [first, first + count) of the run `seed`,
+  // adding them to `tally`. Thread-safe (const); sets flush-to-zero and
+  // denormals-are-zero for its duration.
+  void trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
+                     TracerTally& tally) const;
+
+  // Follows one photon from a given start off any surface (validation cases
+  // with beams); books nothing. `direction` need not be unit.
+  TraceResult trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng) const;
+
+  // Emits and traces photons [first, first + count) like trace_photons but
+  // records every ray query instead of booking (benchmarks replay them with
+  // EmbreeScene::measure_rays to separate Embree's cost from the tracer's).
+  void record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
+                   std::vector<RayQuery>* rays) const;
+
+  const CubeMapGrid& grid() const { return grid_; }
+  const EmbreeScene& embree() const { return embree_; }
+  const EmissionSampler& emission() const { return emission_; }
+  std::size_t mesh_count() const { return meshes_.size(); }
+  std::size_t emitter_count() const { return emission_.emitter_count(); }
+  const TracerSettings& settings() const { return settings_; }
+
+ private:
+  struct MeshData {
+    std::uint32_t material;
+    // Shading normals and tangents at the three corners of each triangle,
+    // stored by triangle so that a hit reads one or two cache lines.
+    std::vector<Vec3f> corner_normals;    // 3 per triangle, may be empty
+    std::vector<Vec3f> corner_tangents;   // 3 per triangle, may be empty
+  };
+
+  Tracer(CubeMapGrid grid, EmbreeScene embree, EmissionSampler emission, TracerSettings settings)
+      : grid_(std::move(grid)), embree_(std::move(embree)), emission_(std::move(emission)),
+        settings_(settings) {}
+
+  TraceResult follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
+                     std::vector<RayQuery>* record = nullptr) const;
+  Vec3 offset(const Vec3& p, const Vec3& side_normal, double t) const;
+
+  CubeMapGrid grid_;
+  EmbreeScene embree_;
+  EmissionSampler emission_;
+  TracerSettings settings_;
+  std::vector<MeshData> meshes_;
+  std::vector<Material> materials_;
+  std::vector<LobeCdf> lobe_cdfs_;  // per material
+  double offset_floor_m_ = 0.0;
+};
+
+}  // namespace gonio::sim

@@ -1,0 +1,154 @@
+#include "photometry/resample.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "photometry/angles.h"
+#include "photometry/flux.h"
+#include "photometry/frame.h"
+#include "tests/support/photometry_fixtures.h"
+
+namespace gonio::photometry {
+namespace {
+
+using test::angles;
+using test::cos_lobe;
+using test::sample_c;
+using test::sample_direction;
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+// A smooth asymmetric beam, tilted towards C30 and wider along C90.
+double beam(const Vec3& d) {
+  const Vec3 axis = normalize(Vec3{0.3 * std::cos(30 * kDeg), 0.3 * std::sin(30 * kDeg), -1.0});
+  const double c = dot(normalize(d), axis);
+  return c > 0 ? 800.0 * std::pow(c, 6) * (1.0 + 0.3 * d.y * d.y) : 0.0;
+}
+
+TEST(Resample, TypeCOnAFinerGridComesBackUnchanged) {
+  const Distribution d = sample_c(Symmetry::None, angles(0, 360, 2.5), angles(0, 180, 1.25),
+                                  [](double c, double g) { return 100 + c + g * g / 100; });
+  TypeCGrid grid;
+  grid.c_step_deg = 5;
+  grid.gamma_step_deg = 2.5;
+  const Result<Distribution> r = to_type_c(d, grid);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->horizontal_count(), 73u);
+  ASSERT_EQ(r->vertical_count(), 73u);
+  for (std::size_t h = 0; h + 1 < r->horizontal_count(); ++h)
+    for (std::size_t v = 1; v + 1 < r->vertical_count(); ++v)
+      EXPECT_DOUBLE_EQ(r->at(h, v),
+                       100 + r->horizontal_deg[h] + std::pow(r->vertical_deg[v], 2) / 100);
+  EXPECT_EQ(r->type, PhotometricType::C);
+  EXPECT_EQ(r->lamps.size(), 1u);  // metadata is carried over
+}
+
+TEST(Resample, TypeBOfAKnownFunctionMapsBack) {
+  // Type B samples of beam(direction), resampled to Type C, equal beam() at
+  // the Type C directions to within the bilinear error of the B grid, which
+  // falls with its step as h².
+  double previous = 0;
+  for (double step : {2.0, 1.0, 0.5}) {
+    const Distribution b = sample_direction(PhotometricType::B, Symmetry::None,
+                                            angles(-90, 90, step), angles(-90, 90, step), beam);
+    const Result<Distribution> c = to_type_c(b);
+    ASSERT_TRUE(c.ok());
+    EXPECT_EQ(c->symmetry, Symmetry::None);
+    EXPECT_DOUBLE_EQ(c->horizontal_deg.back(), 360.0);
+    EXPECT_DOUBLE_EQ(c->vertical_deg.back(), 90.0);  // Type B lies below the horizon
+    double worst = 0;
+    for (std::size_t h = 0; h < c->horizontal_count(); ++h)
+      for (std::size_t v = 0; v < c->vertical_count(); ++v)
+        worst = std::max(
+            worst, std::abs(c->at(h, v) - beam(direction_from_c_gamma(c->horizontal_deg[h] * kDeg,
+                                                                      c->vertical_deg[v] * kDeg))));
+    EXPECT_LT(worst, 0.01 * 800 * step * step) << step;
+    if (previous > 0) {
+      EXPECT_GT(previous / worst, 3.0) << step;
+    }
+    previous = worst;
+  }
+}
+
+TEST(Resample, FluxIsKeptWithinTheQuadratureError) {
+  for (double n : {2.0, 10.0}) {
+    const Distribution b =
+        sample_direction(PhotometricType::B, Symmetry::Lateral, angles(0, 90, 2.5),
+                         angles(-90, 90, 2.5), cos_lobe(1000, n));
+    const Result<Distribution> c = to_type_c(b);
+    ASSERT_TRUE(c.ok());
+    EXPECT_EQ(c->symmetry, Symmetry::C0_C180);  // lateral symmetry is the C0-C180 mirror
+    const double before = total_flux_lm(b), after = total_flux_lm(*c),
+                 exact = 2 * kPi * 1000 / (n + 1);
+    EXPECT_LT(std::abs(before / exact - 1), 1e-5);
+    // The 2.5° B grid's bilinear interpolation costs up to ~0.1 % for n = 10.
+    EXPECT_LT(std::abs(after / before - 1), n <= 2 ? 2e-4 : 2e-3) << n;
+  }
+  const Distribution asym = sample_direction(PhotometricType::B, Symmetry::None, angles(-90, 90, 1),
+                                             angles(-90, 90, 1), beam);
+  const Result<Distribution> c = to_type_c(asym, {2.5, 1.25, std::nullopt});
+  ASSERT_TRUE(c.ok());
+  EXPECT_LT(std::abs(total_flux_lm(*c) / total_flux_lm(asym) - 1), 1e-3);
+}
+
+TEST(Resample, TypeAIsTypeCRelabelled) {
+  // On grids that line up (C = −H, γ = V + 90) the values are copied exactly.
+  auto f = [](const Vec3& d) { return 50 + 20 * d.x + 5 * d.y * d.z; };
+  const Distribution a = sample_direction(PhotometricType::A, Symmetry::None, angles(-90, 90, 5),
+                                          angles(-90, 90, 2.5), f);
+  const Result<Distribution> c = to_type_c(a);
+  ASSERT_TRUE(c.ok());
+  ASSERT_DOUBLE_EQ(c->vertical_deg.front(), 0.0);
+  ASSERT_DOUBLE_EQ(c->vertical_deg.back(), 180.0);
+  for (std::size_t h = 0; h < c->horizontal_count(); ++h) {
+    const double cc = c->horizontal_deg[h];
+    const bool front = cc <= 90 || cc >= 270;  // Type A's grid covers x >= 0
+    for (std::size_t v = 1; v + 1 < c->vertical_count(); ++v) {
+      const double expected =
+          front ? f(direction_from_c_gamma(cc * kDeg, c->vertical_deg[v] * kDeg)) : 0.0;
+      if (cc == 90 || cc == 270) continue;  // the edge of the grid: either value is right
+      EXPECT_NEAR(c->at(h, v), expected, 1e-9) << cc << " " << c->vertical_deg[v];
+    }
+  }
+}
+
+TEST(Resample, SymmetryOfTheOutput) {
+  const Distribution d =
+      sample_c(Symmetry::None, angles(0, 360, 5), angles(0, 90, 5),
+               [](double c, double g) { return 10 + std::cos(c * kDeg) + g / 10; });
+  TypeCGrid quadrant{10, 5, Symmetry::Quadrant};
+  const Result<Distribution> q = to_type_c(d, quadrant);
+  ASSERT_TRUE(q.ok());
+  EXPECT_EQ(q->horizontal_deg, angles(0, 90, 10));
+  EXPECT_EQ(q->vertical_deg, angles(0, 90, 5));  // γ range of the data
+  EXPECT_DOUBLE_EQ(q->at(3, 4), 10 + std::cos(30 * kDeg) + 2);
+  const Result<Distribution> c90 = to_type_c(d, {10, 5, Symmetry::C90_C270});
+  ASSERT_TRUE(c90.ok());
+  EXPECT_EQ(c90->horizontal_deg, angles(90, 270, 10));
+  // Rotational: the mean over C at each γ (cos C averages to 0).
+  const Result<Distribution> rot = to_type_c(d, {5, 5, Symmetry::Rotational});
+  ASSERT_TRUE(rot.ok());
+  ASSERT_EQ(rot->horizontal_deg, std::vector<double>{0.0});
+  for (std::size_t v = 0; v < rot->vertical_count(); ++v)
+    EXPECT_NEAR(rot->at(0, v), 10 + rot->vertical_deg[v] / 10, 1e-12);
+}
+
+TEST(Resample, BadGridsAreErrorsNotCrashes) {
+  const Distribution d =
+      sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5), [](double, double) { return 1.0; });
+  const TypeCGrid bad[] = {
+      {0, 2.5, {}}, {-5, 2.5, {}}, {5, 0, {}},         {5, kNaN, {}},
+      {7, 2.5, {}}, {5, 4, {}},    {0.001, 0.001, {}}, {5, 2.5, Symmetry::Lateral}};
+  for (const TypeCGrid& g : bad) {
+    const Result<Distribution> r = to_type_c(d, g);
+    ASSERT_FALSE(r.ok()) << g.c_step_deg << " " << g.gamma_step_deg;
+    EXPECT_FALSE(r.error().message.empty());
+  }
+  EXPECT_NE(to_type_c(d, {7, 2.5, {}}).error().message.find("does not divide"), std::string::npos);
+  EXPECT_NE(to_type_c(d, {0.001, 0.001, {}}).error().message.find("10^7"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gonio::photometry

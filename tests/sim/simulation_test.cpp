@@ -1,0 +1,167 @@
+#include "sim/simulation.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "sim/shapes.h"
+
+namespace gonio::sim {
+namespace {
+
+// A small luminaire with every lobe: an opal bowl, a glossy reflector, a
+// glass disc and two emitters.
+SceneDesc mixed_scene() {
+  SceneDesc s;
+  Material opal{"opal", 0.3, 0.6, 0.1};
+  Material metal;
+  metal.name = "brushed";
+  metal.glossy = 0.9;
+  metal.glossy_mx = 0.3;
+  metal.glossy_my = 0.1;
+  Material glass;
+  glass.name = "glass";
+  glass.dielectric = 1.0;
+  glass.ior = 1.5;
+  glass.attenuation_per_m = 5.0;
+  s.materials = {opal, metal, glass};
+
+  const ProfilePoint bowl[] = {{0.0, -0.1}, {0.08, -0.08}, {0.1, 0.0}};
+  Mesh m0 = lathe(bowl, {});
+  m0.name = "bowl";
+  m0.material = 0;
+  Mesh m1 = paraboloid(0.03, 0.1, 0.01, 16, 48);
+  transform(m1, translation({0.0, 0.05, 0.0}));
+  m1.name = "reflector";
+  m1.material = 1;
+  Mesh m2 = slab(0.05, 0.05, 0.01);
+  transform(m2, translation({0.0, -0.03, 0.0}));
+  m2.name = "lens";
+  m2.material = 2;
+  s.meshes = {m0, m1, m2};
+
+  Emitter a;
+  a.name = "lamp";
+  a.position = {0.0, 0.02, 0.0};
+  a.flux_lm = 800.0;
+  Emitter b;
+  b.name = "glow";
+  b.kind = Emitter::Kind::Area;
+  b.mesh = 2;
+  b.flux_lm = 200.0;
+  s.emitters = {a, b};
+  return s;
+}
+
+SimulationSettings settings(int threads, std::uint64_t per_iteration, int iterations) {
+  SimulationSettings s;
+  s.threads = threads;
+  s.photons_per_iteration = per_iteration;
+  s.iterations = iterations;
+  s.face_size = 16;
+  s.seed = 77;
+  return s;
+}
+
+void expect_identical(const Simulation& a, const Simulation& b) {
+  const FarField fa = a.far_field(), fb = b.far_field();
+  ASSERT_EQ(fa.texel_count(), fb.texel_count());
+  EXPECT_EQ(std::memcmp(fa.flux_lm().data(), fb.flux_lm().data(), fa.texel_count() * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(fa.photons().data(), fb.photons().data(),
+                        fa.texel_count() * sizeof(std::uint64_t)), 0);
+  const Ledger la = a.ledger(), lb = b.ledger();
+  EXPECT_EQ(la.escaped.photons, lb.escaped.photons);
+  EXPECT_EQ(std::memcmp(&la.escaped.flux_lm, &lb.escaped.flux_lm, sizeof(double)), 0);
+  EXPECT_EQ(la.glossy_gain_events, lb.glossy_gain_events);
+  EXPECT_EQ(std::memcmp(&la.glossy_gain_lm, &lb.glossy_gain_lm, sizeof(double)), 0);
+  ASSERT_EQ(la.meshes.size(), lb.meshes.size());
+  for (std::size_t i = 0; i < la.meshes.size(); ++i) {
+    EXPECT_EQ(la.meshes[i].hits, lb.meshes[i].hits);
+    EXPECT_EQ(la.meshes[i].absorbed.photons, lb.meshes[i].absorbed.photons);
+    EXPECT_EQ(std::memcmp(&la.meshes[i].absorbed.flux_lm, &lb.meshes[i].absorbed.flux_lm, sizeof(double)), 0);
+  }
+}
+
+TEST(Simulation, SameBytesWithOneOrTwoThreadsAndAnySplit) {
+  const SceneDesc scene = mixed_scene();
+  auto one = simulate(scene, settings(1, 30000, 2));
+  auto two = simulate(scene, settings(2, 30000, 2));
+  auto whole = simulate(scene, settings(2, 60000, 1));
+  ASSERT_TRUE(one.ok()) << one.error().message;
+  ASSERT_TRUE(two.ok());
+  ASSERT_TRUE(whole.ok());
+  expect_identical(one.value(), two.value());
+  expect_identical(one.value(), whole.value());
+  EXPECT_EQ(two->stats().threads, 2);
+  // A different seed gives a different far field.
+  SimulationSettings other = settings(2, 30000, 2);
+  other.seed = 78;
+  auto three = simulate(scene, other);
+  ASSERT_TRUE(three.ok());
+  EXPECT_NE(three->ledger().escaped.photons, one->ledger().escaped.photons);
+}
+
+TEST(Simulation, LedgerClosesAndTheFarFieldHoldsTheEscapedFlux) {
+  auto r = simulate(mixed_scene(), settings(2, 40000, 2));
+  ASSERT_TRUE(r.ok());
+  const Ledger l = r->ledger();
+  EXPECT_TRUE(l.photons_close());
+  EXPECT_EQ(l.emitted.photons, 80000u);
+  EXPECT_NEAR(l.emitted.flux_lm, 1000.0, 1e-9);
+  EXPECT_NEAR(l.flux_imbalance_lm(), 0.0, 1e-9);
+  EXPECT_GT(l.glossy_gain_events, 0u);  // the brushed reflector's weights above 1
+  EXPECT_GT(l.absorbed.photons, 0u);
+  // Per emitter: chosen by flux (800 : 200), each closing.
+  ASSERT_EQ(l.emitters.size(), 2u);
+  EXPECT_NEAR(l.emitters[0].emitted.photons / 80000.0, 0.8, 0.01);
+  for (const EmitterLedger& e : l.emitters)
+    EXPECT_EQ(e.emitted.photons, e.escaped.photons + e.absorbed.photons + e.cutoff.photons);
+  // Per mesh and per material the absorbed photons add up to the total.
+  std::uint64_t mesh_absorbed = 0, material_absorbed = 0;
+  for (const MeshLedger& m : l.meshes) mesh_absorbed += m.absorbed.photons;
+  for (const MaterialLedger& m : l.materials) material_absorbed += m.absorbed.photons;
+  EXPECT_EQ(mesh_absorbed, l.absorbed.photons);
+  EXPECT_EQ(material_absorbed, l.absorbed.photons);
+  EXPECT_EQ(l.meshes[1].material, "brushed");
+  const FarField f = r->far_field();
+  EXPECT_EQ(f.total_photons(), l.escaped.photons);
+  EXPECT_NEAR(f.total_flux_lm(), l.escaped.flux_lm, 1e-9 * l.escaped.flux_lm);
+  const SimulationStats st = r->stats();
+  EXPECT_EQ(st.photons, 80000u);
+  EXPECT_EQ(st.iterations_done, 2);
+  EXPECT_GE(st.rays, st.photons);
+}
+
+TEST(Simulation, ProgressAfterEveryIteration) {
+  std::vector<int> seen;
+  auto r = simulate(mixed_scene(), settings(1, 5000, 3),
+                    [&](const SimulationProgress& p, const Simulation& s) {
+                      seen.push_back(p.iteration);
+                      EXPECT_EQ(p.iterations, 3);
+                      EXPECT_EQ(p.photons_done, 5000u * p.iteration);
+                      EXPECT_EQ(p.photons_total, 15000u);
+                      EXPECT_EQ(s.stats().photons, p.photons_done);
+                      EXPECT_GE(p.remaining_s, 0.0);
+                    });
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(seen, (std::vector<int>{1, 2, 3}));
+}
+
+TEST(Simulation, DefaultFaceSizeServesA2Point5DegreeGrid) {
+  EXPECT_EQ(SimulationSettings{}.face_size, CubeMapGrid::face_size_for_step(2.5));
+}
+
+TEST(Simulation, RejectsBadSettings) {
+  EXPECT_FALSE(Simulation::create(mixed_scene(), settings(1, 0, 1)).ok());
+  EXPECT_FALSE(Simulation::create(mixed_scene(), settings(1, 10, 0)).ok());
+  EXPECT_FALSE(Simulation::create(mixed_scene(), settings(-1, 10, 1)).ok());
+  SimulationSettings s = settings(1, 10, 1);
+  s.max_bounces = -1;
+  EXPECT_FALSE(Simulation::create(mixed_scene(), s).ok());
+  s = settings(1, 10, 1);
+  s.face_size = 0;
+  EXPECT_FALSE(Simulation::create(mixed_scene(), s).ok());
+}
+
+}  // namespace
+}  // namespace gonio::sim
