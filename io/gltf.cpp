@@ -26,6 +26,9 @@
 #include "io/file_io.h"
 #include "io/gltf_lights.h"
 #include "io/gltf_material.h"
+#include "io/ies.h"
+#include "io/ldt.h"
+#include "photometry/flux.h"
 
 namespace gonio::io {
 namespace {
@@ -53,23 +56,31 @@ std::string num(double v) {
 // and a distribution into its flux.
 
 // Reads an IES LM-63 (or, with `eulumdat`, an EULUMDAT) profile. `name` is
-// the file name used in messages; `dir` resolves TILT=<file> references.
+// the file name used in messages; `dir` resolves TILT=<file> references. The
+// reader's own findings (with their file and line) are appended.
 Result<photometry::Distribution> parse_profile(std::string_view bytes, const std::string& name,
-                                               const std::string& dir, bool eulumdat) {
-  (void)bytes;
-  (void)dir;
-  return error_at(name,
-               std::string("reading ") + (eulumdat ? "EULUMDAT" : "IES") +
-                   " light profiles is not available in this build yet (io/" +
-                   (eulumdat ? "ldt" : "ies") + ".h)");
+                                               const std::string& dir, bool eulumdat,
+                                               std::vector<Finding>& findings) {
+  if (eulumdat) {
+    Result<LdtFile> ldt = parse_ldt(bytes, name);
+    if (!ldt.ok()) return ldt.error();
+    findings.insert(findings.end(), ldt->findings.begin(), ldt->findings.end());
+    return std::move(ldt->distribution);
+  }
+  Result<IesFile> ies = parse_ies(bytes, name, dir);
+  if (!ies.ok()) return ies.error();
+  findings.insert(findings.end(), ies->findings.begin(), ies->findings.end());
+  return std::move(ies->distribution);
 }
 
 // Total luminous flux of a profile [lm] by solid-angle integration.
 Result<double> profile_flux_lm(const photometry::Distribution& d, const std::string& name) {
-  (void)d;
-  return error_at(name,
-               "the flux of a light profile needs photometric integration, not available in "
-               "this build yet; give the light \"extras\": {\"gonio\": {\"flux_lm\": ...}}");
+  if (Status valid = photometry::validate(d); !valid.ok())
+    return error_at(name, "invalid light profile: " + valid.error().message);
+  const double flux = photometry::total_flux_lm(d);
+  if (!(std::isfinite(flux) && flux > 0.0))
+    return error_at(name, "the light profile emits no flux (" + num(flux) + " lm)");
+  return flux;
 }
 
 // ---------------------------------------------------------------------------
@@ -1369,8 +1380,12 @@ Status Loader::load_ies_profile(IesLight& light) {
   } else {
     return fail(light.what + ": needs a 'uri' or a 'bufferView'");
   }
-  Result<photometry::Distribution> d = parse_profile(bytes, name, dir, eulumdat);
+  Result<photometry::Distribution> d = parse_profile(bytes, name, dir, eulumdat, findings_);
   if (!d.ok()) return fail(light.what + ": " + to_string(d.error()));
+  if (d->tilt.kind != photometry::Tilt::Kind::None)
+    note(Severity::Info, "tilt-ignored",
+         light.what + ": the profile's TILT data is not applied (EXT_lights_ies does not "
+                      "require it); the profile is used as measured");
   light.profile = std::make_shared<const photometry::Distribution>(std::move(*d));
   return Ok{};
 }

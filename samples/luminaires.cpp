@@ -231,6 +231,7 @@ SampleFile led_profile() {
   d.lamps[0].type = "mid-power LED, cos^1.5";
   d.lamps[0].flux_lm = flux;
   d.input_watts = 9.0;
+  d.file_generation = photometry::FileGenerationType::ComputerSimulation;  // analytic, not measured
   d.set_keyword("TEST", "GONIO-SAMPLE-LED");
   d.set_keyword("TESTLAB", "Gonio sample generator (analytic profile)");
   d.set_keyword("MANUFAC", "Gonio samples");

@@ -12,6 +12,9 @@
 #include <numbers>
 
 #include "io/gltf_lights.h"
+#include "io/ies.h"
+#include "io/ldt.h"
+#include "photometry/flux.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -897,6 +900,214 @@ TEST(Gltf, MaterialsAndTheirExtensionsReachTheScene) {
 }
 
 // --- EXT_lights_ies --------------------------------------------------------
+
+// An isotropic 100 cd profile written by hand in LM-63-2002 (independent of
+// Gonio's IES writer): Φ = 4π · 100 lm.
+const char* kIsotropicIes =
+    "IESNA:LM-63-2002\r\n"
+    "[TEST] GLTF-TEST\r\n"
+    "[MANUFAC] gonio tests\r\n"
+    "TILT=NONE\r\n"
+    "1 1000 1 3 1 1 2 0 0 0\r\n"
+    "1 1 10\r\n"
+    "0 90 180\r\n"
+    "0\r\n"
+    "100 100 100\r\n";
+
+void add_ies_lights(Doc& d, json lights) {
+  d.use("EXT_lights_ies");
+  d.j["extensions"]["EXT_lights_ies"]["lights"] = std::move(lights);
+}
+
+int ies_node(Doc& d, int light, json instance = json::object(), json node = json::object()) {
+  instance["light"] = light;
+  node["extensions"]["EXT_lights_ies"] = instance;
+  return d.node(node);
+}
+
+TEST(Gltf, IesProfilesByUriCarryTheirIntegratedFluxTimesTheMultiplier) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "profiles");
+  test::write_file(dir / "profiles" / "iso lamp.ies", kIsotropicIes);
+  Doc d;
+  add_ies_lights(d, {{{"name", "iso"}, {"uri", "profiles/iso%20lamp.ies"}}});
+  ies_node(d, 0, {{"multiplier", 2.0}, {"color", {1.0, 0.9, 0.8}}});
+  ies_node(d, 0);
+  std::vector<Finding> findings;
+  const sim::SceneDesc s = load_ok(d.write(dir, "iso"), &findings);
+  ASSERT_EQ(s.emitters.size(), 2u);
+  EXPECT_EQ(s.emitters[0].name, "iso");
+  EXPECT_NEAR(s.emitters[0].flux_lm, 2 * 4 * kPi * 100.0, 1e-9 * 2513.0);
+  EXPECT_NEAR(s.emitters[1].flux_lm, 4 * kPi * 100.0, 1e-9 * 1257.0);
+  ASSERT_NE(s.emitters[0].profile, nullptr);
+  EXPECT_EQ(s.emitters[0].profile, s.emitters[1].profile);  // read once, shared
+  EXPECT_EQ(s.emitters[0].profile->candela, (std::vector<double>{100, 100, 100}));
+  EXPECT_TRUE(has_code(findings, "light-color-ignored"));
+}
+
+TEST(Gltf, IesFluxExtrasOnTheProfileScaleWithTheMultiplierOnTheNodeTheyAreFinal) {
+  test::TempDir dir;
+  test::write_file(dir / "iso.ies", kIsotropicIes);
+  Doc d;
+  add_ies_lights(d, {{{"uri", "iso.ies"}, {"extras", {{"gonio", {{"flux_lm", 800.0}}}}}}});
+  ies_node(d, 0, {{"multiplier", 0.5}});
+  ies_node(d, 0, {{"multiplier", 0.5}}, {{"extras", {{"gonio", {{"flux_lm", 123.0}}}}}});
+  const sim::SceneDesc s = load_ok(d.write(dir, "extras"));
+  ASSERT_EQ(s.emitters.size(), 2u);
+  EXPECT_EQ(s.emitters[0].flux_lm, 400.0);
+  EXPECT_EQ(s.emitters[1].flux_lm, 123.0);
+}
+
+TEST(Gltf, IesProfilesFromBufferViewsAndDataUris) {
+  test::TempDir dir;
+  Doc d;
+  const std::string ies = kIsotropicIes;
+  const int view = d.view(ies.data(), ies.size());
+  add_ies_lights(d, {{{"bufferView", view}, {"mimeType", "application/x-ies-lm-63"}},
+                     {{"uri", "data:application/x-ies-lm-63;base64," + Doc::base64(ies)}}});
+  ies_node(d, 0);
+  ies_node(d, 1);
+  for (Doc::Form form : {Doc::Form::ExternalBin, Doc::Form::Glb}) {
+    const sim::SceneDesc s = load_ok(d.write(dir, "embedded", form));
+    ASSERT_EQ(s.emitters.size(), 2u);
+    for (const sim::Emitter& e : s.emitters) EXPECT_NEAR(e.flux_lm, 4 * kPi * 100.0, 1e-6);
+  }
+}
+
+// An asymmetric profile for the orientation test: a narrow peak at
+// (C 60°, γ 30°) over a weak isotropic floor, every C-plane stored.
+photometry::Distribution peaked_profile(double peak_c_deg, double peak_gamma_deg) {
+  photometry::Distribution p;
+  p.type = photometry::PhotometricType::C;
+  p.symmetry = photometry::Symmetry::None;
+  for (int c = 0; c <= 360; c += 5) p.horizontal_deg.push_back(c);
+  for (int g = 0; g <= 180; g += 2) p.vertical_deg.push_back(g);
+  const Vec3 peak = photometry::direction_from_c_gamma(peak_c_deg * kPi / 180, peak_gamma_deg * kPi / 180);
+  for (double c : p.horizontal_deg)
+    for (double g : p.vertical_deg) {
+      const Vec3 dir = photometry::direction_from_c_gamma(c * kPi / 180, g * kPi / 180);
+      const double angle = std::acos(std::clamp(dot(dir, peak), -1.0, 1.0));
+      p.candela.push_back(10.0 + 1000.0 * std::exp(-angle * angle / (2 * 0.1 * 0.1)));
+    }
+  p.absolute = true;
+  p.lamps = {photometry::LampSet{}};
+  p.set_keyword("TEST", "ORIENTATION");
+  p.set_keyword("TESTLAB", "gonio tests");
+  p.set_keyword("MANUFAC", "gonio tests");
+  p.set_keyword("ISSUEDATE", "2024-01-01");
+  return p;
+}
+
+// 3×3 rotation matrix of a unit quaternion (x, y, z, w), row-major.
+std::array<Vec3, 3> quaternion_rows(double x, double y, double z, double w) {
+  return {Vec3{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+          Vec3{2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+          Vec3{2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+}
+Vec3 rotate(const std::array<Vec3, 3>& r, const Vec3& v) { return {dot(r[0], v), dot(r[1], v), dot(r[2], v)}; }
+
+// The extension's mapping end to end: (0°, 0°) along the node's −Z, the
+// X/Z plane the vertical photometric plane of C0 (+X), C90 on +Y; the node's
+// rotation (here a parent's and a child's, with scale) turns it all. The
+// profile's peak must come out where that puts it in world space.
+TEST(Gltf, IesOrientationFollowsTheExtensionThroughNodeRotations) {
+  test::TempDir dir;
+  const double pc = 60.0, pg = 30.0;
+  const photometry::Distribution profile = peaked_profile(pc, pg);
+  ASSERT_TRUE(photometry::validate(profile).ok());
+  io::IesWriteOptions options;
+  test::write_file(dir / "peak.ies", io::write_ies(profile, options, nullptr));
+
+  Doc d;
+  add_ies_lights(d, {{{"uri", "peak.ies"}}});
+  // Parent: 40° about (1, 2, 3); child: 75° about +Y, scaled non-uniformly.
+  const Vec3 axis = normalize(Vec3{1, 2, 3});
+  const double a = 40 * kPi / 180, b = 75 * kPi / 180;
+  const double qp[4] = {axis.x * std::sin(a / 2), axis.y * std::sin(a / 2), axis.z * std::sin(a / 2),
+                        std::cos(a / 2)};
+  const double qc[4] = {0, std::sin(b / 2), 0, std::cos(b / 2)};
+  const int child = d.node({{"name", "led"},
+                            {"rotation", {qc[0], qc[1], qc[2], qc[3]}},
+                            {"scale", {3, 0.5, 2}},
+                            {"translation", {0.1, 0, 0}},
+                            {"extensions", {{"EXT_lights_ies", {{"light", 0}}}}}},
+                           false);
+  d.node({{"rotation", {qp[0], qp[1], qp[2], qp[3]}}, {"children", {child}}});
+  const sim::SceneDesc s = load_ok(d.write(dir, "oriented"));
+  ASSERT_EQ(s.emitters.size(), 1u);
+  const sim::Emitter& e = s.emitters[0];
+  EXPECT_NEAR(e.flux_lm, photometry::total_flux_lm(profile), 1e-3 * e.flux_lm);
+
+  // Where the extension puts the peak: node-local (sin γ cos C, sin γ sin C,
+  // −cos γ) in (X, Y, Z), then the child's and the parent's rotations.
+  const auto rp = quaternion_rows(qp[0], qp[1], qp[2], qp[3]);
+  const auto rc = quaternion_rows(qc[0], qc[1], qc[2], qc[3]);
+  auto world_of = [&](double c_deg, double g_deg) {
+    const double c = c_deg * kPi / 180, g = g_deg * kPi / 180;
+    return rotate(rp, rotate(rc, Vec3{std::sin(g) * std::cos(c), std::sin(g) * std::sin(c), -std::cos(g)}));
+  };
+  for (auto [c, g] : {std::pair{0.0, 0.0}, std::pair{0.0, 90.0}, std::pair{90.0, 90.0},
+                      std::pair{pc, pg}, std::pair{200.0, 120.0}})
+    expect_near(e.frame.to_world(photometry::direction_from_c_gamma(c * kPi / 180, g * kPi / 180)),
+                world_of(c, g), 1e-12);
+
+  // The brightest world direction, searched over the sphere through the
+  // emitter's frame and profile, is the extension's peak.
+  const photometry::Distribution x = photometry::expand_symmetry(*e.profile);
+  Vec3 best;
+  double best_i = -1;
+  for (int i = 0; i < 400; ++i)
+    for (int j = 0; j < 800; ++j) {
+      const double theta = kPi * (i + 0.5) / 400, phi = 2 * kPi * j / 800;
+      const Vec3 w{std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)};
+      const photometry::CGamma cg = photometry::c_gamma_from_direction(e.frame.to_local(w));
+      const double v = photometry::interpolate(x, cg.c_rad * 180 / kPi, cg.gamma_rad * 180 / kPi);
+      if (v > best_i) {
+        best_i = v;
+        best = w;
+      }
+    }
+  EXPECT_GT(dot(best, world_of(pc, pg)), std::cos(1.0 * kPi / 180));
+}
+
+TEST(Gltf, EulumdatProfilesByUriAndDataUri) {
+  test::TempDir dir;
+  photometry::Distribution iso;
+  iso.type = photometry::PhotometricType::C;
+  iso.symmetry = photometry::Symmetry::Rotational;
+  iso.horizontal_deg = {0};
+  for (int g = 0; g <= 180; g += 5) iso.vertical_deg.push_back(g);
+  iso.candela.assign(iso.vertical_deg.size(), 50.0);
+  iso.lamps = {photometry::LampSet{}};
+  iso.lamps[0].flux_lm = 4 * kPi * 50.0;
+  Result<std::string> ldt = io::write_ldt(iso, {}, nullptr);
+  ASSERT_TRUE(ldt.ok()) << to_string(ldt.error());
+  test::write_file(dir / "iso.LDT", *ldt);
+  Doc d;
+  add_ies_lights(d, {{{"uri", "iso.LDT"}},
+                     {{"uri", "data:application/x-eulumdat;base64," + Doc::base64(*ldt)}}});
+  ies_node(d, 0);
+  ies_node(d, 1);
+  const sim::SceneDesc s = load_ok(d.write(dir, "ldt"));
+  ASSERT_EQ(s.emitters.size(), 2u);
+  for (const sim::Emitter& e : s.emitters) {
+    EXPECT_NEAR(e.flux_lm, 4 * kPi * 50.0, 1e-6 * e.flux_lm);
+    EXPECT_NEAR(photometry::interpolate(photometry::expand_symmetry(*e.profile), 0, 77), 50.0, 1e-9);
+  }
+}
+
+TEST(Gltf, BrokenIesProfilesAreErrorsNamingLightFileAndLine) {
+  test::TempDir dir;
+  std::string broken = kIsotropicIes;
+  broken.replace(broken.find("100 100 100"), 11, "100 oops 100");
+  test::write_file(dir / "broken.ies", broken);
+  Doc d;
+  add_ies_lights(d, {{{"name", "bad"}, {"uri", "broken.ies"}}});
+  ies_node(d, 0);
+  const std::string e = load_error(d.write(dir, "broken"));
+  EXPECT_CONTAINS(e, "EXT_lights_ies light 'bad'");
+  EXPECT_CONTAINS(e, "broken.ies:9");
+}
 
 TEST(Gltf, IesLightsWithMissingProfilesAreErrorsNamingLightAndFile) {
   test::TempDir dir;
