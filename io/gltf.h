@@ -1,6 +1,11 @@
 // glTF 2.0 luminaire models (.gltf with external or data-URI buffers, .glb)
 // into the simulation's scene description (sim/scene.h).
 //
+// Files: the model, its buffers and profiles are read whole, each at most
+// kMaxFileBytes, and only from the model's folder (relative URIs) or data
+// URIs. Textures are not used: external image files are opened by the
+// parser but never decoded, and a missing or broken image is only a warning.
+//
 // Geometry
 // - Every triangle primitive of the nodes of the default scene (`scene`), or
 //   of every root node when the file names no default scene, with node
@@ -12,7 +17,8 @@
 // - Triangle strips and fans are converted to triangles with glTF's vertex
 //   order rules (strip triangles with a repeated index, the usual stitching,
 //   are dropped). Points and lines are an error naming node, mesh and
-//   primitive. Sparse accessors are applied. Positions, normals and tangents
+//   primitive. Sparse accessors are applied. Each primitive keeps only the
+//   vertices its triangles use. Positions, normals and tangents
 //   must be float accessors (KHR_mesh_quantization, Draco and meshopt
 //   compression are refused with an error).
 // - Errors (file and model part named): unreadable or truncated files, bad
@@ -28,11 +34,18 @@
 //   "application/x-eulumdat", is read as EULUMDAT. The node's `multiplier`
 //   scales the flux; its `color` is ignored (photometry is luminous) with an
 //   info finding. Orientation as the extension defines it: the profile's
-//   (0°, 0°) is the node's −Z, C0 its +X, C90 its +Y (see io/gltf_lights.h).
+//   (0°, 0°) is the node's −Z, C0 its +X, C90 its +Y (see io/gltf_lights.h);
+//   Types B and A use photometry/angles.h's frames about the same axes (Type
+//   A, optional in the extension, with a warning). Scale is removed; a
+//   mirroring node transform cannot mirror a profile (warning). TILT data in
+//   a profile is not applied (info). Each profile is read once and shared by
+//   every node that uses it; the reader's own warnings are passed on.
 // - KHR_lights_punctual: point lights are isotropic, Φ = 4πI; spot lights get
 //   a rotational Type C profile with the extension's smooth falloff and its
 //   exact flux (io/gltf_lights.h). Directional lights are not parts of a
-//   luminaire: ignored with a warning. `range` and `color` are ignored.
+//   luminaire: ignored with a warning. `range` and `color` are ignored. A
+//   spot light must carry its `spot` object: tinygltf 2.7 refuses one
+//   without it (the extension would default the cones).
 // - Emissive materials (emissiveFactor × KHR_materials_emissive_strength
 //   read as luminance L in cd/m², or extras.gonio.luminance_cd_m2): every
 //   emissive primitive is a Lambertian area emitter with Φ = π·L·A, from the
