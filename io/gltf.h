@@ -2,8 +2,8 @@
 // into the simulation's scene description (sim/scene.h).
 //
 // Files: the model, its buffers and profiles are read whole, each at most
-// kMaxFileBytes, and only from the model's folder (relative URIs) or data
-// URIs. Textures are not used: external image files are opened by the
+// kMaxFileBytes; URIs are data URIs or paths relative to the model's folder
+// (never the working directory). Textures are not used: external image files are opened by the
 // parser but never decoded, and a missing or broken image is only a warning.
 //
 // Geometry
