@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <map>
@@ -80,6 +81,57 @@ Welded weld(const sim::Mesh& mesh) {
   return w;
 }
 
+// A floating-point filter in front of the exact fold test: true when p and q
+// are certainly not coplanar with the edge (u, v) on the same side, with
+// margins far above the rounding error of these few products. Neighbours in
+// flat regions are exactly coplanar, where the exact predicates would fall
+// back to multi-precision arithmetic; here they are decided by the side test.
+bool clearly_not_folded(const Point& u, const Point& v, const Point& p, const Point& q) {
+  const Kernel::Vector_3 e = v - u, a = p - u, b = q - u;
+  const Kernel::Vector_3 na = CGAL::cross_product(e, a), nb = CGAL::cross_product(e, b);
+  const double scale = std::sqrt(e.squared_length() * a.squared_length() * b.squared_length());
+  const double margin = 1e-9 * scale;
+  if (std::abs(na * b) > margin) return true;  // q off the plane of (u, v, p)
+  return na * nb < -margin * std::sqrt(e.squared_length());  // opposite sides of the edge
+}
+
+// The same kind of filter for two triangles (v, a1, a2) and (v, b1, b2) that
+// share only v: true when they certainly meet in v alone — one lies on one
+// side of the other's plane, or, coplanar, a line through v along one of
+// their edges separates them.
+bool clearly_apart_at_vertex(const Point& v, const Point& a1, const Point& a2, const Point& b1,
+                             const Point& b2) {
+  const Kernel::Vector_3 ea1 = a1 - v, ea2 = a2 - v, eb1 = b1 - v, eb2 = b2 - v;
+  const double la1 = std::sqrt(ea1.squared_length()), la2 = std::sqrt(ea2.squared_length());
+  const double lb1 = std::sqrt(eb1.squared_length()), lb2 = std::sqrt(eb2.squared_length());
+  const Kernel::Vector_3 na = CGAL::cross_product(ea1, ea2), nb = CGAL::cross_product(eb1, eb2);
+  constexpr double k = 1e-9;
+  // One triangle on one side of the other's plane, touching it only at v.
+  auto one_side = [&](const Kernel::Vector_3& n, double ln, const Kernel::Vector_3& x1, double l1,
+                      const Kernel::Vector_3& x2, double l2) {
+    const double s1 = n * x1, s2 = n * x2;
+    const double m1 = k * ln * l1, m2 = k * ln * l2;
+    return (s1 > m1 && s2 > m2) || (s1 < -m1 && s2 < -m2);
+  };
+  if (one_side(na, la1 * la2, eb1, lb1, eb2, lb2) || one_side(nb, lb1 * lb2, ea1, la1, ea2, la2))
+    return true;
+  // Coplanar: both of one triangle's far corners strictly outside the other's
+  // wedge across the line of one of its edges. The wedge of (v, e1, e2) lies
+  // where (e1 × x)·n ≥ 0 and (x × e2)·n ≥ 0 with n = e1 × e2.
+  auto outside = [&](const Kernel::Vector_3& e1, double l1, const Kernel::Vector_3& e2, double l2,
+                     const Kernel::Vector_3& n, double ln, const Kernel::Vector_3& x1, double lx1,
+                     const Kernel::Vector_3& x2, double lx2) {
+    const double m1 = k * ln * lx1, m2 = k * ln * lx2;
+    const bool beyond_e1 = CGAL::cross_product(e1, x1) * n < -m1 * l1 &&
+                           CGAL::cross_product(e1, x2) * n < -m2 * l1;
+    const bool beyond_e2 = CGAL::cross_product(x1, e2) * n < -m1 * l2 &&
+                           CGAL::cross_product(x2, e2) * n < -m2 * l2;
+    return beyond_e1 || beyond_e2;
+  };
+  return outside(ea1, la1, ea2, la2, na, la1 * la2, eb1, lb1, eb2, lb2) ||
+         outside(eb1, lb1, eb2, lb2, nb, lb1 * lb2, ea1, la1, ea2, la2);
+}
+
 // Whether two non-degenerate triangles of one mesh intersect other than in
 // the vertices and edge they share.
 bool faces_intersect(const Welded& w, const Tri& a, const Tri& b) {
@@ -104,6 +156,7 @@ bool faces_intersect(const Welded& w, const Tri& a, const Tri& b) {
     const std::uint32_t p = a[static_cast<std::size_t>(ia)];
     const std::uint32_t u = a[static_cast<std::size_t>((ia + 1) % 3)];
     const std::uint32_t v = a[static_cast<std::size_t>((ia + 2) % 3)];
+    if (clearly_not_folded(P(u), P(v), P(p), P(q))) return false;
     return CGAL::coplanar(P(u), P(v), P(p), P(q)) &&
            CGAL::coplanar_orientation(P(u), P(v), P(p), P(q)) == CGAL::POSITIVE;
   }
@@ -119,6 +172,9 @@ bool faces_intersect(const Welded& w, const Tri& a, const Tri& b) {
                              P(a[static_cast<std::size_t>((ia + 2) % 3)]));
     const Segment opposite_b(P(b[static_cast<std::size_t>((ib + 1) % 3)]),
                              P(b[static_cast<std::size_t>((ib + 2) % 3)]));
+    if (clearly_apart_at_vertex(P(a[static_cast<std::size_t>(ia)]), opposite_a.source(),
+                                opposite_a.target(), opposite_b.source(), opposite_b.target()))
+      return false;
     return CGAL::do_intersect(ta, opposite_b) || CGAL::do_intersect(tb, opposite_a);
   }
   return CGAL::do_intersect(ta, tb);
