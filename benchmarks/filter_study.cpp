@@ -10,14 +10,16 @@
 // geometric mean over fields and densities of its error divided by the raw
 // map's error: below 1 the preview is better than the histogram.
 //
-// Usage: gonio_filter_study [--face-size N] [--seed S] [--broad | --confirm] [--traced] [--detail NAME]...
+// Usage: gonio_filter_study [--face-size N] [--seed S] [--broad | --confirm] [--traced]
+//                           [--gltf MODEL]... [--reference PHOTONS_PER_TEXEL] [--detail NAME]...
 //   --broad sweeps every family of configurations in coarse steps (which
 //   families work); the default sweeps around the winners; --confirm checks
 //   the chosen defaults against their neighbours (run it with other seeds).
 //   --traced measures on luminaires traced by the photon tracer (a bell with
-//   an opal shade, a reflector spot) against a run of 1000 photons per
-//   texel, up to 40 photons per texel (minutes); --detail prints a
-//   configuration's error ratio per field and density.
+//   an opal shade, a reflector spot, built in code; or the glTF models given
+//   with --gltf) against a run of --reference photons per texel (1000), up to
+//   40 photons per texel (minutes); --detail prints a configuration's error
+//   ratio per field and density.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -33,6 +35,7 @@
 #include <vector>
 
 #include "benchmarks/bench_scenes.h"
+#include "io/gltf.h"
 #include "sim/far_field_sampler.h"
 #include "sim/preview_filter.h"
 #include "sim/shapes.h"
@@ -268,8 +271,20 @@ struct TracedCase {
   sim::SceneDesc scene;
 };
 
-std::vector<TracedCase> traced_cases() {
+// The luminaire models given with --gltf, or two built in code.
+std::vector<TracedCase> traced_cases(const std::vector<std::string>& models) {
   std::vector<TracedCase> out;
+  for (const std::string& path : models) {
+    std::vector<gonio::Finding> findings;
+    Result<sim::SceneDesc> scene = gonio::io::load_gltf(path, &findings);
+    if (!scene.ok()) {
+      std::fprintf(stderr, "gonio_filter_study: %s\n", gonio::to_string(scene.error()).c_str());
+      std::exit(1);
+    }
+    const std::size_t slash = path.find_last_of('/');
+    out.push_back({path.substr(slash == std::string::npos ? 0 : slash + 1), std::move(scene.value())});
+  }
+  if (!models.empty()) return out;
   out.push_back({"bell (opal)", bench::bell_scene(128, 48)});
   // A spot: a Lambertian sphere of 1 cm radius at the focus of a mirror
   // paraboloid (f = 5 cm, aperture 10 cm, hole 2 cm, ρ = 0.9) opening down.
@@ -328,7 +343,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> detail;
   int sweep = 0;  // focused, broad, confirm
   bool traced = false;
-  const double reference_density = 1000.0;  // photons per texel of a traced reference
+  std::vector<std::string> models;
+  double reference_density = 1000.0;  // photons per texel of a traced reference
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--face-size") && i + 1 < argc) {
       n = std::atoi(argv[++i]);
@@ -340,10 +356,16 @@ int main(int argc, char** argv) {
       sweep = 2;
     } else if (!std::strcmp(argv[i], "--traced")) {
       traced = true;
+    } else if (!std::strcmp(argv[i], "--gltf") && i + 1 < argc) {
+      traced = true;
+      models.push_back(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--reference") && i + 1 < argc) {
+      reference_density = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--detail") && i + 1 < argc) {
       detail.push_back(argv[++i]);
     } else {
-      std::fprintf(stderr, "usage: gonio_filter_study [--face-size N] [--seed S] [--broad | --confirm] [--traced] [--detail NAME]...\n");
+      std::fprintf(stderr, "usage: gonio_filter_study [--face-size N] [--seed S] [--broad | --confirm] [--traced] [--gltf MODEL]... "
+                   "[--reference PHOTONS_PER_TEXEL] [--detail NAME]...\n");
       return 2;
     }
   }
@@ -356,7 +378,8 @@ int main(int argc, char** argv) {
     }
   }
   // Photons per texel; the traced references (1000) limit those to 40.
-  const std::vector<double> densities = traced ? std::vector<double>{0.25, 1.0, 2.5, 10.0, 40.0}
+  const std::vector<double> densities = traced ? (reference_density >= 1000.0 ? std::vector<double>{0.25, 1.0, 2.5, 10.0, 40.0}
+                                                                              : std::vector<double>{0.25, 1.0, 2.5, 10.0})
                                                : std::vector<double>{0.25, 1.0, 2.5, 10.0, 40.0, 160.0, 640.0};
   // log(error / raw error) per config, field, density.
   std::vector<std::vector<double>> log_ratio(configs.size());
@@ -400,7 +423,7 @@ int main(int argc, char** argv) {
     // 4096-photon chunks for faces of 128 and 256); the reference is a run
     // with another seed and `reference_density` photons per texel.
     const std::uint64_t quarter = grid.texel_count() / 4;
-    for (const TracedCase& c : traced_cases()) {
+    for (const TracedCase& c : traced_cases(models)) {
       auto run = std::make_shared<TracedRun>(c.scene, n, quarter, seed);
       const sim::SceneDesc scene = c.scene;
       cases.push_back({c.name,
@@ -496,7 +519,7 @@ int main(int argc, char** argv) {
       const double v = log_ratio[c][i], d = densities[i % per_field];
       r.all += v;
       if (d <= 2.5) r.early += v, ++ne;
-      if (d >= 40.0) r.late += v, ++nl;
+      if (d >= std::min(40.0, densities.back())) r.late += v, ++nl;
       r.worst = std::max(r.worst, v);
       r.flux_lo = std::min(r.flux_lo, flux_ratio[c][i]);
       r.flux_hi = std::max(r.flux_hi, flux_ratio[c][i]);
@@ -508,7 +531,9 @@ int main(int argc, char** argv) {
     rows.push_back(r);
   }
   std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.all < b.all; });
-  std::printf("\n%-52s %7s %7s %7s %7s  %s\n", "configuration", "all", "early", "late", "worst", "preview/raw flux");
+  std::printf("\nerror / raw error, geometric means: all; early (≤ 2.5 photons per texel); late (≥ %g)\n",
+              std::min(40.0, densities.back()));
+  std::printf("%-52s %7s %7s %7s %7s  %s\n", "configuration", "all", "early", "late", "worst", "preview/raw flux");
   for (const Row& r : rows)
     std::printf("%-52s %7.3f %7.3f %7.3f %7.3f  %.3f…%.3f\n", configs[r.c].name.c_str(), r.all, r.early, r.late,
                 r.worst, r.flux_lo, r.flux_hi);
