@@ -10,8 +10,12 @@
 // (the coarsest level keeps its own values):
 //   - a texel with more photons than the threshold is stable and keeps its
 //     own intensity (flux / solid angle of that level);
+//   - with adaptive stability (the default; beyond the thesis) so is a texel
+//     whose photon count contradicts the interpolated estimate (see
+//     PreviewFilterParams::adaptive);
 //   - on levels ≥ 2 an unstable texel on a shadow border keeps its own
-//     intensity too (is_shadow_border below);
+//     intensity too (is_shadow_border below; with the adaptive default's
+//     high threshold it rarely applies, and made no measurable difference);
 //   - every other texel is upsampled: its intensity is interpolated from the
 //     next coarser level's filtered intensities around the texel's centre.
 //
