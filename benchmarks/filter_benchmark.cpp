@@ -10,6 +10,9 @@
 #include <tbb/global_control.h>
 
 #include <chrono>
+#include <filesystem>
+#include <string>
+#include <unistd.h>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -19,6 +22,7 @@
 #include "sim/far_field_sampler.h"
 #include "sim/preview_filter.h"
 #include "sim/pyramid.h"
+#include "tools/preview_output.h"
 
 namespace {
 
@@ -97,6 +101,23 @@ void BM_PreviewFilterOneThread(benchmark::State& state) {
   });
 }
 BENCHMARK(BM_PreviewFilterOneThread)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Everything `--preview` does per iteration: the filter, preview.exr
+// (OpenEXR, ZIP) and preview.png (OpenImageIO), written atomically to a
+// temporary folder.
+void BM_PreviewOutput(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const FarField& field = histogram(n, 2.5);
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("gonio_preview_bench_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  gonio::cli::PreviewOutput output(dir.string(), n, PreviewFilterParams{});
+  run_timed(state, [&] {
+    if (!output.write(field).ok()) state.SkipWithError("preview write failed");
+  });
+  std::filesystem::remove_all(dir);
+}
+BENCHMARK(BM_PreviewOutput)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The pull phase alone, and a plain pass over the histogram (intensity of
 // every texel) as the floor any filter pays for reading its input.

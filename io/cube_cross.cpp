@@ -1,6 +1,7 @@
 #include "io/cube_cross.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "photometry/diagnostics.h"
@@ -8,10 +9,28 @@
 namespace gonio::io {
 namespace {
 
+// sRGB encoding of linear values in [0, 1] quantised to 16 bits: a table,
+// because a pow per texel was most of the cost of drawing the cross. The
+// quantisation changes no 8-bit output by more than the rounding (an 8-bit
+// step is at least 20 table steps, at black).
+constexpr int kTableSize = 65536;
+
+const std::array<std::uint8_t, kTableSize>& srgb_table() {
+  static const std::array<std::uint8_t, kTableSize> table = [] {
+    std::array<std::uint8_t, kTableSize> t{};
+    for (int i = 0; i < kTableSize; ++i) {
+      const double v = static_cast<double>(i) / (kTableSize - 1);
+      const double encoded = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+      t[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(std::lround(255.0 * encoded));
+    }
+    return t;
+  }();
+  return table;
+}
+
 std::uint8_t srgb8(double linear) {
   const double v = std::clamp(linear, 0.0, 1.0);
-  const double encoded = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-  return static_cast<std::uint8_t>(std::lround(255.0 * encoded));
+  return srgb_table()[static_cast<std::size_t>(std::lround(v * (kTableSize - 1)))];
 }
 
 }  // namespace
@@ -23,7 +42,7 @@ CrossSlot cross_slot(int face) {
   return kSlots[face];
 }
 
-Rgba8Image cube_cross_image(int face_size, std::span<const double> intensity_cd, double white_cd) {
+Image8 cube_cross_image(int face_size, std::span<const double> intensity_cd, double white_cd) {
   GONIO_CHECK(face_size >= 1 && face_size <= 16384);
   const std::size_t n = static_cast<std::size_t>(face_size);
   GONIO_CHECK(intensity_cd.size() == 6 * n * n);
@@ -33,21 +52,22 @@ Rgba8Image cube_cross_image(int face_size, std::span<const double> intensity_cd,
       if (std::isfinite(v)) white_cd = std::max(white_cd, v);
   }
   const double scale = white_cd > 0.0 ? 1.0 / white_cd : 0.0;
-  Rgba8Image image;
+  Image8 image;
   image.width = 4 * face_size;
   image.height = 3 * face_size;
-  image.rgba.assign(static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4, 0);
+  image.channels = 2;
+  image.pixels.assign(static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 2, 0);
   for (int face = 0; face < 6; ++face) {
     const CrossSlot slot = cross_slot(face);
     for (std::size_t y = 0; y < n; ++y) {
       const std::size_t row = static_cast<std::size_t>(slot.row) * n + y;
-      std::uint8_t* out = image.rgba.data() +
-                          (row * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(slot.column) * n) * 4;
+      std::uint8_t* out = image.pixels.data() +
+                          (row * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(slot.column) * n) * 2;
       for (std::size_t x = 0; x < n; ++x) {
         const double v = intensity_cd[(static_cast<std::size_t>(face) * n + y) * n + x];
         const std::uint8_t g = std::isfinite(v) ? srgb8(v * scale) : 0;
-        out[4 * x + 0] = out[4 * x + 1] = out[4 * x + 2] = g;
-        out[4 * x + 3] = 255;
+        out[2 * x] = g;
+        out[2 * x + 1] = 255;
       }
     }
   }

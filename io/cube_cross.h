@@ -12,21 +12,14 @@
 // centre face's lower neighbour.
 //
 // Tone mapping for previews: intensity / white, clipped to [0, 1], sRGB
-// encoded, grey; texels outside the cross are transparent.
+// encoded, grey with alpha; texels outside the cross are transparent.
 #pragma once
 
-#include <cstdint>
 #include <span>
-#include <vector>
+
+#include "io/image8.h"
 
 namespace gonio::io {
-
-// 8-bit RGBA pixels, row by row from the top.
-struct Rgba8Image {
-  int width = 0;
-  int height = 0;
-  std::vector<std::uint8_t> rgba;  // width · height · 4
-};
 
 // Where face `face` (0..5: +X, −X, +Y, −Y, +Z, −Z) sits in the cross, in
 // face units: column 0..3, row 0..2.
@@ -37,10 +30,10 @@ struct CrossSlot {
 CrossSlot cross_slot(int face);
 
 // The tone-mapped cross of a cube map of `face_size` texels per edge with
-// one value per texel in cube-map order (6 · face_size² values [cd]).
-// `white_cd` ≤ 0 picks the largest value as white. Non-finite values are
-// drawn black.
-Rgba8Image cube_cross_image(int face_size, std::span<const double> intensity_cd,
+// one value per texel in cube-map order (6 · face_size² values [cd]), as a
+// grey-and-alpha image. `white_cd` ≤ 0 picks the largest value as white.
+// Non-finite values are drawn black.
+Image8 cube_cross_image(int face_size, std::span<const double> intensity_cd,
                             double white_cd = 0.0);
 
 }  // namespace gonio::io

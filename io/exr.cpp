@@ -126,7 +126,7 @@ Status write_exr(const std::string& path, const ExrImage& image) {
   MemoryOStream stream;
   try {
     Imf::Header header(image.width, image.height);
-    header.compression() = Imf::ZIP_COMPRESSION;
+    header.compression() = image.compress ? Imf::ZIP_COMPRESSION : Imf::NO_COMPRESSION;
     if (image.envmap == Envmap::Cube) Imf::addEnvmap(header, Imf::ENVMAP_CUBE);
     if (image.envmap == Envmap::LatLong) Imf::addEnvmap(header, Imf::ENVMAP_LATLONG);
     for (const auto& [k, v] : image.attributes) header.insert(k, Imf::StringAttribute(v));

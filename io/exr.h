@@ -40,6 +40,9 @@ struct ExrImage {
   std::vector<UintChannel> uint_channels;
   // Free-form string attributes (units, software, settings): name → value.
   std::vector<std::pair<std::string, std::string>> attributes;
+  // ZIP compression (lossless, the default); off for files rewritten every
+  // iteration (previews), where it cost more than the filter itself.
+  bool compress = true;
 
   const FloatChannel* find_float(const std::string& name) const;
   const UintChannel* find_uint(const std::string& name) const;

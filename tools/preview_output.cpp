@@ -75,6 +75,7 @@ std::string describe(const sim::PreviewFilterParams& p, int face_size) {
 PreviewOutput::PreviewOutput(std::string directory, int face_size, const sim::PreviewFilterParams& params)
     : directory_(std::move(directory)), filter_(face_size, params), image_(io::cube_image(face_size)) {
   image_.float_channels.push_back({"Y", std::vector<float>(filter_.intensity_cd().size())});
+  image_.compress = false;
   image_.attributes = {{"gonio:quantity", "preview of the far-field luminous intensity (filtered; not a measurement)"},
                        {"gonio:units", "Y: cd"},
                        {"gonio:filter", describe(params, face_size)}};

@@ -56,17 +56,28 @@ TEST(CubeCross, ToneMapsToSrgbGreyWithTransparentBackground) {
   v[sim::CubeMapGrid(n).index(3, 1, 0)] = 10.0;                             // −Y: the white point
   v[sim::CubeMapGrid(n).index(3, 0, 1)] = 5.0;                              // half
   v[sim::CubeMapGrid(n).index(0, 0, 0)] = std::numeric_limits<double>::quiet_NaN();
-  const Rgba8Image img = cube_cross_image(n, v);
+  const Image8 img = cube_cross_image(n, v);
   ASSERT_EQ(img.width, 8);
   ASSERT_EQ(img.height, 6);
-  auto at = [&](int x, int y, int c) { return img.rgba[static_cast<std::size_t>((y * img.width + x) * 4 + c)]; };
+  ASSERT_EQ(img.channels, 2);  // grey, alpha
+  auto at = [&](int x, int y, int c) { return img.pixels[static_cast<std::size_t>((y * img.width + x) * 2 + c)]; };
   EXPECT_EQ(at(3, 4, 0), 255);  // −Y sits at column 1, row 2
-  EXPECT_EQ(at(2, 5, 1), 188);  // sRGB(0.5) = 0.7354
+  EXPECT_EQ(at(2, 5, 0), 188);  // sRGB(0.5) = 0.7354
   EXPECT_EQ(at(4, 2, 0), 0);    // +X (column 2, row 1), the NaN texel
-  EXPECT_EQ(at(4, 2, 3), 255);
-  EXPECT_EQ(at(0, 0, 3), 0);    // outside the cross
+  EXPECT_EQ(at(4, 2, 1), 255);
+  EXPECT_EQ(at(0, 0, 1), 0);    // outside the cross
   // An explicit white point.
-  EXPECT_EQ(cube_cross_image(n, v, 20.0).rgba[static_cast<std::size_t>((4 * img.width + 3) * 4)], 188);
+  EXPECT_EQ(cube_cross_image(n, v, 20.0).pixels[static_cast<std::size_t>((4 * img.width + 3) * 2)], 188);
+  // The sRGB curve at every 8-bit step against its closed form.
+  for (int i = 0; i <= 1000; ++i) {
+    const double linear = i / 1000.0;
+    std::vector<double> one(6 * n * n, 0.0);
+    one[0] = linear;
+    const double encoded = linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1 / 2.4) - 0.055;
+    const Image8 g = cube_cross_image(n, one, 1.0);
+    const auto [px, py] = pixel_of(n, 0, 0, 0);
+    EXPECT_NEAR(g.pixels[static_cast<std::size_t>((py * g.width + px) * 2)], 255.0 * encoded, 0.5 + 1e-9) << linear;
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <random>
 
+#include "io/cube_cross.h"
 #include "io/exr.h"
 #include "io/image.h"
 #include "tests/support/test_support.h"
@@ -45,11 +46,11 @@ TEST(PreviewOutput, WritesTheFilteredCubeAsExrAndTheCrossAsPng) {
   ASSERT_NE(exr->find_attribute("gonio:filter"), nullptr);
   EXPECT_NE(exr->find_attribute("gonio:filter")->find("adaptive"), std::string::npos);
 
-  const Result<io::Rgba8Image> png = io::read_png(out.png_path());
+  const Result<io::Image8> png = io::read_png(out.png_path());
   ASSERT_TRUE(png.ok()) << png.error().message;
   EXPECT_EQ(png->width, 4 * n);
   EXPECT_EQ(png->height, 3 * n);
-  EXPECT_EQ(png->rgba, io::cube_cross_image(n, out.intensity_cd()).rgba);
+  EXPECT_EQ(png->pixels, io::cube_cross_image(n, out.intensity_cd()).pixels);
 }
 
 TEST(PreviewOutput, AnUnwritableDirectoryIsAnErrorNamingThePath) {
