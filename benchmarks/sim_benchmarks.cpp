@@ -75,17 +75,26 @@ void run_tracer(benchmark::State& state, const sim::SceneDesc& scene) {
 void BM_TracerBell(benchmark::State& state) { run_tracer(state, bell_scene()); }
 BENCHMARK(BM_TracerBell)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The bell sample itself (target gonio_samples writes it).
-void BM_TracerBellSample(benchmark::State& state) {
-  const std::string path = std::string(GONIO_SAMPLES_DIR) + "/bell/bell.gltf";
+// The sample luminaires themselves (target gonio_samples writes them).
+void run_sample(benchmark::State& state, const std::string& name) {
+  const std::string path = std::string(GONIO_SAMPLES_DIR) + "/" + name + "/" + name + ".gltf";
   auto scene = io::load_gltf(path, nullptr);
   if (!scene.ok()) {
-    state.SkipWithError(("cannot load the bell sample: " + to_string(scene.error())).c_str());
+    state.SkipWithError(("cannot load the sample: " + to_string(scene.error())).c_str());
     return;
   }
   run_tracer(state, scene.value());
 }
-BENCHMARK(BM_TracerBellSample)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+const bool kSamplesRegistered = [] {
+  for (const char* name : {"bell", "downlight", "spotlight", "led-array"})
+    benchmark::RegisterBenchmark((std::string("BM_TracerSample/") + name).c_str(),
+                                 [name](benchmark::State& st) { run_sample(st, name); })
+        ->Arg(1)
+        ->Arg(2)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  return true;
+}();
 
 // A 100k-triangle white sphere (ρ = 0.8, closed) around an isotropic point:
 // every ray hits, about five per photon.
