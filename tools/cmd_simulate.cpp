@@ -181,10 +181,10 @@ int run_simulate(const Args& args) {
   }
 
   const sim::Ledger& l = report.ledger;
-  std::printf("%s: %llu photons in %d iterations, %sphotons/s, %srays/s, %d threads\n",
+  std::printf("%s: %llu photons in %d iteration%s, %sphotons/s, %srays/s, %d thread%s\n",
               model.c_str(), static_cast<unsigned long long>(st.photons), st.iterations_done,
-              format_rate(st.photons_per_s()).c_str(), format_rate(st.rays_per_s()).c_str(),
-              st.threads);
+              st.iterations_done == 1 ? "" : "s", format_rate(st.photons_per_s()).c_str(),
+              format_rate(st.rays_per_s()).c_str(), st.threads, st.threads == 1 ? "" : "s");
   std::printf("  emitted %.6g lm: escaped %.6g lm (%.2f %%), absorbed %.6g lm (%.2f %%), cut off %.6g lm (%.2f %%)\n",
               l.emitted.flux_lm, l.escaped.flux_lm, percent(l.escaped.flux_lm, l.emitted.flux_lm),
               l.absorbed.flux_lm, percent(l.absorbed.flux_lm, l.emitted.flux_lm), l.cutoff.flux_lm,
