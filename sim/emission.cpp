@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string>
 
+#include "photometry/angles.h"
 #include "photometry/frame.h"
 #include "sim/sampling.h"
 
@@ -22,36 +23,49 @@ Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
 Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& profile) {
   if (Status s = photometry::validate(profile); !s.ok())
     return error("invalid emission profile: " + s.error().message);
-  if (profile.type != photometry::PhotometricType::C)
-    return error(std::string("emission profiles of Type ") + photometry::to_string(profile.type) +
-                 " are not supported yet (Type C only)");
 
   ProfileSampler s;
+  s.type_ = profile.type;
+  // Which grid axis is the polar one, and its solid-angle measure μ(p) with
+  // dΩ = dμ dq (q the other, azimuthal axis):
+  //   Type C: p = γ (vertical), μ = −cos γ;  Type B: p = H (horizontal),
+  //   μ = sin H;  Type A: p = V (vertical), μ = sin V  (photometry/angles.h).
+  s.polar_is_vertical_ = profile.type != photometry::PhotometricType::B;
+  s.polar_is_gamma_ = profile.type == photometry::PhotometricType::C;
   auto expanded = std::make_shared<photometry::Distribution>(photometry::expand_symmetry(profile));
-  const auto& cs = expanded->horizontal_deg;
-  const auto& gs = expanded->vertical_deg;
+  const auto& hs = expanded->horizontal_deg;
+  const auto& vs = expanded->vertical_deg;
+  auto mu = [&](double p) { return s.polar_is_gamma_ ? -std::cos(p) : std::sin(p); };
   std::vector<double> flux;
-  for (std::size_t h = 0; h + 1 < cs.size(); ++h) {
-    for (std::size_t v = 0; v + 1 < gs.size(); ++v) {
+  for (std::size_t h = 0; h + 1 < hs.size(); ++h) {
+    for (std::size_t v = 0; v + 1 < vs.size(); ++v) {
       Cell c;
-      c.c0_rad = cs[h] * kDeg;
-      c.dc_rad = (cs[h + 1] - cs[h]) * kDeg;
-      c.g0_rad = gs[v] * kDeg;
-      const double g1 = gs[v + 1] * kDeg;
-      c.dg_rad = g1 - c.g0_rad;
-      c.cos_g0 = std::cos(c.g0_rad);
-      c.cos_g1 = std::cos(g1);
+      c.h0_rad = hs[h] * kDeg;
+      c.dh_rad = (hs[h + 1] - hs[h]) * kDeg;
+      c.v0_rad = vs[v] * kDeg;
+      c.dv_rad = (vs[v + 1] - vs[v]) * kDeg;
       c.i00 = expanded->at(h, v);
       c.i10 = expanded->at(h + 1, v);
       c.i01 = expanded->at(h, v + 1);
       c.i11 = expanded->at(h + 1, v + 1);
       c.i_max = std::max({c.i00, c.i10, c.i01, c.i11});
-      // ∫∫ I sin γ dγ dC of the bilinear interpolant: the C integral of each
-      // corner's weight is ΔC/2; along γ, ∫ t sin γ dγ = (sin γ1 − sin γ0)/Δγ
-      // − cos γ1 and ∫ (1 − t) sin γ dγ = cos γ0 − cos γ1 − that.
-      const double a1 = (std::sin(g1) - std::sin(c.g0_rad)) / c.dg_rad - c.cos_g1;
-      const double a0 = (c.cos_g0 - c.cos_g1) - a1;
-      const double f = 0.5 * c.dc_rad * ((c.i00 + c.i10) * a0 + (c.i01 + c.i11) * a1);
+      const double p0 = s.polar_is_vertical_ ? c.v0_rad : c.h0_rad;
+      const double dp = s.polar_is_vertical_ ? c.dv_rad : c.dh_rad;
+      const double dq = s.polar_is_vertical_ ? c.dh_rad : c.dv_rad;
+      const double p1 = p0 + dp;
+      c.mu0 = mu(p0);
+      c.mu1 = mu(p1);
+      // ∫∫ I dμ dq of the bilinear interpolant: along q each corner's weight
+      // integrates to Δq/2; along p, a1 = ∫ t dμ (t = (p − p0)/Δp) is
+      //   (sin p1 − sin p0)/Δp − cos p1      for μ = −cos p,
+      //   sin p1 + (cos p1 − cos p0)/Δp      for μ = sin p,
+      // and ∫ (1 − t) dμ = μ1 − μ0 − a1.
+      const double a1 = s.polar_is_gamma_ ? (std::sin(p1) - std::sin(p0)) / dp - std::cos(p1)
+                                          : std::sin(p1) + (std::cos(p1) - std::cos(p0)) / dp;
+      const double a0 = (c.mu1 - c.mu0) - a1;
+      const double at_p0 = s.polar_is_vertical_ ? c.i00 + c.i10 : c.i00 + c.i01;
+      const double at_p1 = s.polar_is_vertical_ ? c.i01 + c.i11 : c.i10 + c.i11;
+      const double f = 0.5 * dq * (at_p0 * a0 + at_p1 * a1);
       if (!(f > 0.0)) continue;  // emits nothing: never chosen
       s.cells_.push_back(c);
       flux.push_back(f);
@@ -67,22 +81,31 @@ Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& pr
 Vec3 ProfileSampler::sample(PhotonRandom& rng) const {
   const Cell& c = cells_[cell_table_.sample(rng.uniform())];
   for (;;) {
-    const double s = rng.uniform();
-    const double cos_g = c.cos_g1 + rng.uniform() * (c.cos_g0 - c.cos_g1);
-    const double g = std::acos(std::clamp(cos_g, -1.0, 1.0));
-    const double t = std::clamp((g - c.g0_rad) / c.dg_rad, 0.0, 1.0);
+    // Uniform in solid angle over the cell: uniform along q and in μ.
+    const double u = rng.uniform();
+    const double m = c.mu0 + rng.uniform() * (c.mu1 - c.mu0);
+    const double p = polar_is_gamma_ ? std::acos(std::clamp(-m, -1.0, 1.0))
+                                     : std::asin(std::clamp(m, -1.0, 1.0));
+    const double p0 = polar_is_vertical_ ? c.v0_rad : c.h0_rad;
+    const double dp = polar_is_vertical_ ? c.dv_rad : c.dh_rad;
+    const double tp = std::clamp((p - p0) / dp, 0.0, 1.0);
+    const double s = polar_is_vertical_ ? u : tp;  // along H (or C)
+    const double t = polar_is_vertical_ ? tp : u;  // along V (or γ)
     const double i = (1.0 - t) * ((1.0 - s) * c.i00 + s * c.i10) + t * ((1.0 - s) * c.i01 + s * c.i11);
     if (rng.uniform() * c.i_max < i) {
-      const double phi = c.c0_rad + s * c.dc_rad;
-      const double sin_g = std::sqrt(std::max(0.0, 1.0 - cos_g * cos_g));
-      return {sin_g * std::cos(phi), sin_g * std::sin(phi), -cos_g};
+      if (polar_is_gamma_) {
+        const double phi = c.h0_rad + s * c.dh_rad;
+        const double sin_g = std::sqrt(std::max(0.0, 1.0 - m * m));
+        return {sin_g * std::cos(phi), sin_g * std::sin(phi), m};  // z = −cos γ = μ
+      }
+      return photometry::direction_from_grid(type_, (c.h0_rad + s * c.dh_rad) / kDeg,
+                                             (c.v0_rad + t * c.dv_rad) / kDeg);
     }
   }
 }
 
 double ProfileSampler::intensity_cd(const Vec3& local) const {
-  const photometry::CGamma a = photometry::c_gamma_from_direction(local);
-  return photometry::interpolate(*expanded_, a.c_rad / kDeg, a.gamma_rad / kDeg);
+  return photometry::intensity_toward(*expanded_, local);
 }
 
 Result<AreaSampler> AreaSampler::create(const Mesh& mesh, bool two_sided) {

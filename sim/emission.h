@@ -18,21 +18,22 @@
 
 namespace gonio::sim {
 
-// Directions from a Type C intensity distribution, in its local photometric
-// frame (x = C0, y = C90, z = zenith; photometry/frame.h), with density
-// exactly proportional to the intensity photometry::interpolate() gives on
-// the symmetry-expanded grid (bilinear in C and γ; zero outside the stored γ
-// range).
+// Directions from an intensity distribution of Type C, B or A, in its local
+// photometric frame (x = C0, y = C90, z = zenith; photometry/frame.h and,
+// for Types A and B, photometry/angles.h), with density exactly proportional
+// to the intensity photometry::interpolate() gives on the symmetry-expanded
+// grid (bilinear in the grid angles; zero where the grid holds no data).
 //
 // A grid cell is chosen in proportion to the exact flux of the bilinear
 // interpolant over it (alias table, O(1)); inside the cell a direction is
-// drawn uniformly in solid angle (uniform in C and cos γ) and accepted with
-// probability I/I_max of the cell, so each try costs three uniform numbers
-// and at least one try in four is accepted (one in 1.1 for smooth profiles).
+// drawn uniformly in solid angle (uniform along the azimuthal grid angle and
+// in μ of the polar one: −cos γ for Type C, sin H for Type B, sin V for
+// Type A) and accepted with probability I/I_max of the cell, so each try
+// costs three uniform numbers and at least one try in four is accepted (one
+// in 1.1 for smooth profiles).
 class ProfileSampler {
  public:
-  // Errors: an invalid distribution, Type A or B (Type B waits for the
-  // photometry engineer's photometry/angles.h frames), no flux at all.
+  // Errors: an invalid distribution, no flux at all.
   static Result<ProfileSampler> create(const photometry::Distribution& profile);
 
   // Unit direction in the local photometric frame.
@@ -47,12 +48,15 @@ class ProfileSampler {
 
  private:
   struct Cell {
-    double c0_rad, dc_rad;          // C range [rad]
-    double g0_rad, dg_rad;          // γ range [rad]
-    double cos_g0, cos_g1;          // cos γ at the ends, cos_g0 > cos_g1
-    double i00, i10, i01, i11;      // corners (C0,γ0), (C1,γ0), (C0,γ1), (C1,γ1) [cd]
+    double h0_rad, dh_rad;          // horizontal grid angle range (C or H) [rad]
+    double v0_rad, dv_rad;          // vertical grid angle range (γ or V) [rad]
+    double mu0, mu1;                // μ of the polar angle at its ends, mu0 < mu1
+    double i00, i10, i01, i11;      // corners (h0,v0), (h1,v0), (h0,v1), (h1,v1) [cd]
     double i_max;                   // largest corner [cd]
   };
+  photometry::PhotometricType type_ = photometry::PhotometricType::C;
+  bool polar_is_vertical_ = true;   // Types C and A; Type B's polar angle is H
+  bool polar_is_gamma_ = true;      // Type C: μ = −cos γ; A and B: μ = sin
   std::shared_ptr<const photometry::Distribution> expanded_;
   std::vector<Cell> cells_;
   AliasTable cell_table_;

@@ -227,7 +227,10 @@ ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& f, const
       if (polarization) {
         polarize_randomly(*polarization, d, rng);
         const double u = rng.uniform();
-        for (const Vec3& n : {ns, ng}) {
+        // The shading normal first; the geometric one if that would send
+        // the photon to the wrong side of the surface.
+        for (int pass = 0; pass < 2; ++pass) {
+          const Vec3& n = pass == 0 ? ns : ng;
           if (dot(d, n) >= 0.0) continue;
           const InterfaceOutcome e = interface_event(*polarization, d, n, eta_i, eta_t, u);
           const double side = dot(e.direction, ng);

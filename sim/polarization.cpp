@@ -12,6 +12,12 @@ using C = std::complex<double>;
 
 C dot(const C e[3], const Vec3& v) { return e[0] * v.x + e[1] * v.y + e[2] * v.z; }
 
+// Complex product without the C99 Annex G NaN recovery for which GCC calls
+// __muldc3 (the operands here are always finite).
+C mul(const C& a, const C& b) {
+  return {a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real()};
+}
+
 // s axis for direction k onto normal n; any perpendicular of k at normal
 // incidence, where s and p are interchangeable.
 Vec3 s_axis(const Vec3& k, const Vec3& n) {
@@ -47,15 +53,23 @@ FresnelAmplitudes fresnel_amplitudes(double cos_i, double eta_i, double eta_t) {
   FresnelAmplitudes a;
   cos_i = std::clamp(cos_i, 0.0, 1.0);
   const double sin_t = eta_i / eta_t * std::sqrt(std::max(0.0, 1.0 - cos_i * cos_i));
-  C cos_t;
   if (sin_t >= 1.0) {
+    // cos t = i·k: r = (x − i·y)/(x + i·y) = ((x² − y²) − 2i·x·y)/(x² + y²),
+    // of unit modulus (real arithmetic: no complex division).
     a.total_internal_reflection = true;
-    cos_t = C(0.0, std::sqrt(sin_t * sin_t - 1.0));
-  } else {
-    a.cos_t = std::sqrt(1.0 - sin_t * sin_t);
-    cos_t = a.cos_t;
+    const double k = std::sqrt(sin_t * sin_t - 1.0);
+    auto unit = [](double x, double y) {
+      const double d = x * x + y * y;
+      return d > 0.0 ? C((x * x - y * y) / d, -2.0 * x * y / d) : C(1.0, 0.0);
+    };
+    a.rs = unit(eta_i * cos_i, eta_t * k);
+    a.rp = unit(eta_t * cos_i, eta_i * k);
+    a.ts = a.tp = 0.0;
+    return a;
   }
-  const C n1ci = eta_i * cos_i, n2ct = eta_t * cos_t, n2ci = eta_t * cos_i, n1ct = eta_i * cos_t;
+  const double cos_t = std::sqrt(1.0 - sin_t * sin_t);
+  a.cos_t = cos_t;
+  const double n1ci = eta_i * cos_i, n2ct = eta_t * cos_t, n2ci = eta_t * cos_i, n1ct = eta_i * cos_t;
   a.rs = (n1ci - n2ct) / (n1ci + n2ct);
   a.rp = (n2ci - n1ct) / (n2ci + n1ct);
   a.ts = 2.0 * n1ci / (n1ci + n2ct);
@@ -82,14 +96,14 @@ InterfaceOutcome interface_event(const Polarization& state, const Vec3& k, const
   if (u < r) {
     out.reflected = true;
     out.direction = k + 2.0 * cos_i * n;
-    fs = a.rs * es;
-    fp = a.rp * ep;
+    fs = mul(a.rs, es);
+    fp = mul(a.rp, ep);
   } else {
     out.reflected = false;
     const double eta = eta_i / eta_t;
     out.direction = eta * k + (eta * cos_i - a.cos_t) * n;
-    fs = a.ts * es;
-    fp = a.tp * ep;
+    fs = mul(a.ts, es);
+    fp = mul(a.tp, ep);
   }
   out.direction = normalize(out.direction);
   p_out = cross(out.direction, s);

@@ -19,4 +19,7 @@ struct Command {
 // Every subcommand, in the order `gonio --help` lists them.
 std::span<const Command> commands();
 
+// The subcommands' entry points (tools/cmd_<name>.cpp).
+int run_simulate(const Args& args);
+
 }  // namespace gonio::cli

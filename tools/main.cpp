@@ -14,6 +14,7 @@ namespace {
 
 // Subcommands in the order `gonio --help` lists them.
 const std::vector<Command> kCommands = {
+    {"simulate", "Trace a luminaire model (glTF) into its far field and energy ledger", run_simulate},
 };
 
 void print_help() {
