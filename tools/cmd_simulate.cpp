@@ -1,15 +1,19 @@
 // gonio simulate: traces a luminaire model into its far field.
 //
 //   gonio simulate MODEL [--photons N] [--iterations K] [--seed S]
-//                  [--threads T] [--max-bounces B] [--face-size F] --out DIR
+//                  [--threads T] [--max-bounces B] [--face-size F]
+//                  [--preview [filter options]] --out DIR
 //
 // Writes DIR/farfield.exr (the far field as an OpenEXR cube map: Y in cd,
 // flux in lm, photons per texel) and DIR/report.json (settings, speed and
-// the energy ledger). Progress goes to stderr when it is a terminal.
+// the energy ledger). With --preview, DIR/preview.exr and DIR/preview.png
+// are replaced after every iteration (tools/preview_output.h). Progress goes
+// to stderr when it is a terminal.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "gonio/version.h"
@@ -21,6 +25,7 @@
 #include "sim/simulation.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/preview_output.h"
 
 namespace gonio::cli {
 namespace {
@@ -75,8 +80,16 @@ int run_simulate(const Args& args) {
            "surface interactions before a photon is cut off (default 100)");
   p.option("face-size", &face_size, 1, 4096, "F",
            "cube-map texels per face edge (default 128: enough for a 2.5° grid)");
+  PreviewOptions preview_options;
+  add_preview_options(p, &preview_options);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
+  const Result<sim::PreviewFilterParams> preview_params_result = preview_params(preview_options, p);
+  if (!preview_params_result.ok()) {
+    print_error("simulate: " + preview_params_result.error().message);
+    std::fprintf(stderr, "%s\n", p.usage().c_str());
+    return kExitUsage;
+  }
   if (out_dir.empty()) {
     print_error("simulate: --out DIR is required");
     std::fprintf(stderr, "%s\n", p.usage().c_str());
@@ -118,8 +131,19 @@ int run_simulate(const Args& args) {
   settings.max_bounces = static_cast<int>(max_bounces);
   settings.face_size = static_cast<int>(face_size);
 
+  // The output directory is made before tracing so that previews can land in it.
+  if (Status s = io::make_directories(out_dir); !s.ok()) {
+    print_error(s.error());
+    return kExitFailure;
+  }
+  std::optional<PreviewOutput> preview;
+  if (preview_options.enabled)
+    preview.emplace(out_dir, settings.face_size, preview_params_result.value());
+  Status preview_status = Ok{};
+
   const bool show_progress = stderr_is_terminal();
-  auto progress = [&](const sim::SimulationProgress& pr, const sim::Simulation&) {
+  auto progress = [&](const sim::SimulationProgress& pr, const sim::Simulation& simulation) {
+    if (preview && preview_status.ok()) preview_status = preview->write(simulation.far_field());
     if (!show_progress) return;
     std::fprintf(stderr, "\r%s: simulate: iteration %d/%d, %sphotons/s, %s left   ", kProgramName,
                  pr.iteration, pr.iterations, format_rate(pr.photons_per_s).c_str(),
@@ -135,8 +159,8 @@ int run_simulate(const Args& args) {
     return kExitFailure;
   }
 
-  if (Status s = io::make_directories(out_dir); !s.ok()) {
-    print_error(s.error());
+  if (!preview_status.ok()) {
+    print_error(preview_status.error());
     return kExitFailure;
   }
   const std::string exr_path = (std::filesystem::path(out_dir) / "farfield.exr").string();
@@ -171,6 +195,13 @@ int run_simulate(const Args& args) {
   report.ledger = sim->ledger();
   report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json json = io::to_json(report);
+  if (preview) {
+    const sim::PreviewStats& ps = preview->stats();
+    json["preview"] = {{"exr", "preview.exr"},
+                       {"png", "preview.png"},
+                       {"filter", describe(preview_params_result.value(), settings.face_size)},
+                       {"flux_lm", ps.preview_flux_lm}};
+  }
   json["far_field"] = {{"file", "farfield.exr"},
                        {"face_size", settings.face_size},
                        {"texels", far_field.texel_count()},
@@ -193,6 +224,8 @@ int run_simulate(const Args& args) {
     std::printf("  glossy lobe weights above 1 added %.6g lm (%.3f %% of the emitted flux)\n",
                 l.glossy_gain_lm, percent(l.glossy_gain_lm, l.emitted.flux_lm));
   std::printf("  wrote %s and %s\n", exr_path.c_str(), report_path.c_str());
+  if (preview)
+    std::printf("  preview: %s and %s\n", preview->exr_path().c_str(), preview->png_path().c_str());
 
   // The books must close: anything else is a bug, and the files say so too.
   if (!l.photons_close() || std::abs(l.flux_imbalance_lm()) > 1e-9 * l.emitted.flux_lm) {

@@ -184,6 +184,40 @@ TEST(Simulate, BadInputsAndUsage) {
   EXPECT_EQ(r.exit_code, 1);
 }
 
+TEST(Simulate, PreviewFilesFollowEveryIteration) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  // Without filtering the preview is the raw far field, texel for texel.
+  auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "20000", "--iterations", "2",
+                  "--face-size", "16", "--preview", "--filter", "none"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto raw = io::read_exr((out / "farfield.exr").string());
+  const auto preview = io::read_exr((out / "preview.exr").string());
+  ASSERT_TRUE(raw.ok() && preview.ok());
+  ASSERT_NE(raw->find_float("Y"), nullptr);
+  ASSERT_NE(preview->find_float("Y"), nullptr);
+  EXPECT_EQ(raw->find_float("Y")->values, preview->find_float("Y")->values);
+  EXPECT_EQ(test::read_file(out / "preview.png").substr(1, 3), "PNG");
+  const auto report = nlohmann::json::parse(test::read_file(out / "report.json"));
+  EXPECT_NEAR(report["preview"]["flux_lm"].get<double>(), report["escaped_lm"].get<double>(),
+              1e-6 * report["escaped_lm"].get<double>());
+
+  // The default filter smooths but keeps the flux within a few percent.
+  r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "20000", "--iterations", "1",
+             "--face-size", "16", "--preview"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto filtered = nlohmann::json::parse(test::read_file(out / "report.json"));
+  EXPECT_NEAR(filtered["preview"]["flux_lm"].get<double>(), filtered["escaped_lm"].get<double>(),
+              0.05 * filtered["escaped_lm"].get<double>());
+
+  EXPECT_EQ(gonio({"simulate", model.string(), "--out", out.string(), "--preview", "--adaptive", "--no-adaptive"})
+                .exit_code,
+            2);
+  EXPECT_EQ(gonio({"simulate", model.string(), "--out", out.string(), "--preview", "--filter", "box"}).exit_code, 2);
+}
+
 TEST(Simulate, HelpNamesEveryOption) {
   auto r = gonio({"simulate", "--help"});
   EXPECT_EQ(r.exit_code, 0);
