@@ -31,9 +31,14 @@ void LedgerTally::clear() {
 Ledger make_ledger(const LedgerTally& t, const SceneDesc& scene, double total_flux_lm) {
   GONIO_CHECK(t.emitters.size() == scene.emitters.size() && t.meshes.size() == scene.meshes.size());
   Ledger l;
-  std::uint64_t emitted = 0;
-  for (const auto& e : t.emitters) emitted += e.emitted.photons;
-  l.photon_power_lm = emitted > 0 ? total_flux_lm / static_cast<double>(emitted) : 0.0;
+  // Power units, not photons: under guided emission photons start with
+  // unequal power. For plain emission (kPowerUnits each, a power of two) this
+  // is bit for bit total / photons.
+  std::uint64_t emitted_units = 0;
+  for (const auto& e : t.emitters) emitted_units += e.emitted.power_units;
+  l.photon_power_lm = emitted_units > 0 ? total_flux_lm * static_cast<double>(kPowerUnits) /
+                                              static_cast<double>(emitted_units)
+                                        : 0.0;
   const double per_unit = l.photon_power_lm / static_cast<double>(kPowerUnits);
   auto line = [&](const TallyLine& x) {
     return LedgerLine{x.photons, static_cast<double>(x.power_units) * per_unit};

@@ -86,7 +86,7 @@ struct MaterialLedger {
 };
 
 struct Ledger {
-  double photon_power_lm = 0.0;  // nominal power of one photon [lm]
+  double photon_power_lm = 0.0;  // power of a photon of kPowerUnits (nominal) [lm]
   LedgerLine emitted, escaped, absorbed, cutoff;
   double glossy_gain_lm = 0.0;          // [lm] see material.h scatter()
   std::uint64_t glossy_gain_events = 0;
@@ -105,7 +105,8 @@ struct Ledger {
 };
 
 // Lumens from the integer books: `total_flux_lm` is the flux the emitters
-// send out, shared equally by the photons emitted.
+// send out, shared by the photons emitted in proportion to the power units
+// they started with (equally, unless emission is guided: sim/emission_guide.h).
 Ledger make_ledger(const LedgerTally& tally, const SceneDesc& scene, double total_flux_lm);
 
 }  // namespace gonio::sim

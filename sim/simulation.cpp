@@ -32,12 +32,23 @@ struct Simulation::Impl {
   LedgerTally books;
   SimulationStats stats;
 
+  // Guided emission only.
+  std::unique_ptr<EmissionGuide> guide;
+  tbb::enumerable_thread_specific<GuideTally> guide_tallies;
+  GuideTally guide_iteration;
+
   Impl(SceneDesc s, const SimulationSettings& set, Tracer t, int threads)
       : scene(std::move(s)), settings(set), tracer(std::move(t)), arena(threads),
         tallies([this] { return tracer.make_tally(); }),
         texel_photons(tracer.grid().texel_count(), 0),
         texel_units(tracer.grid().texel_count(), 0),
-        books(tracer.emitter_count(), tracer.mesh_count()) {}
+        books(tracer.emitter_count(), tracer.mesh_count()),
+        guide(set.importance.enabled
+                  ? std::make_unique<EmissionGuide>(set.importance, set.face_size)
+                  : nullptr),
+        guide_tallies([this] { return guide->make_tally(); }) {
+    if (guide) guide_iteration = guide->make_tally();
+  }
 };
 
 Simulation::Simulation(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -53,6 +64,12 @@ Result<Simulation> Simulation::create(const SceneDesc& scene, const SimulationSe
   if (static_cast<double>(settings.photons_per_iteration) * settings.iterations > 0x1.0p39)
     return error("at most 2^39 (5.5e11) photons per run");
   if (settings.threads < 0) return error("the thread count must be >= 0");
+  if (settings.importance.enabled) {
+    if (settings.importance.emission_face_size < 1 || settings.importance.emission_face_size > 1024)
+      return error("the emission grid of guided emission needs 1..1024 texels per face edge");
+    if (!(settings.importance.min_acceptance > 0.0 && settings.importance.min_acceptance <= 1.0))
+      return error("the smallest acceptance of guided emission must lie in (0, 1]");
+  }
   const auto start = std::chrono::steady_clock::now();
   TracerSettings ts;
   ts.max_bounces = settings.max_bounces;
@@ -67,9 +84,12 @@ Result<Simulation> Simulation::create(const SceneDesc& scene, const SimulationSe
   return Simulation(std::move(impl));
 }
 
-void Simulation::run_iteration() {
+void Simulation::run_iteration() { run_iteration(impl_->settings.photons_per_iteration); }
+
+void Simulation::run_iteration(std::uint64_t n) {
   Impl& s = *impl_;
-  const std::uint64_t n = s.settings.photons_per_iteration;
+  GONIO_CHECK(n >= 1 && n < (std::uint64_t{1} << 32));
+  GONIO_CHECK(static_cast<double>(s.stats.photons) + static_cast<double>(n) <= 0x1.0p39);
   const std::uint64_t first = s.stats.photons;
   const std::uint64_t chunks = (n + kChunkPhotons - 1) / kChunkPhotons;
   const auto start = std::chrono::steady_clock::now();
@@ -78,10 +98,15 @@ void Simulation::run_iteration() {
         tbb::blocked_range<std::uint64_t>(0, chunks, 1),
         [&](const tbb::blocked_range<std::uint64_t>& range) {
           TracerTally& tally = s.tallies.local();
+          GuideTally* guide_tally = s.guide ? &s.guide_tallies.local() : nullptr;
           for (std::uint64_t c = range.begin(); c != range.end(); ++c) {
             const std::uint64_t begin = c * kChunkPhotons;
             const std::uint64_t count = std::min(kChunkPhotons, n - begin);
-            s.tracer.trace_photons(s.settings.seed, first + begin, count, tally);
+            if (guide_tally)
+              s.tracer.trace_photons_guided(s.settings.seed, first + begin, count, *s.guide, tally,
+                                            *guide_tally);
+            else
+              s.tracer.trace_photons(s.settings.seed, first + begin, count, tally);
           }
         },
         tbb::simple_partitioner());
@@ -103,11 +128,28 @@ void Simulation::run_iteration() {
     s.books.add(t.ledger);
     t.clear();
   }
-  s.stats.trace_s += seconds_since(start);
+  std::uint64_t dropped = 0;
+  if (s.guide) {
+    s.guide_iteration.clear();
+    for (GuideTally& t : s.guide_tallies) {
+      s.guide_iteration.add(t);
+      t.clear();
+    }
+    for (std::size_t i = 0; i < s.texel_units.size(); ++i)
+      s.texel_units[i] += s.guide_iteration.extra_units[i];
+    dropped = s.guide_iteration.dropped;
+  }
   s.stats.photons += n;
+  s.stats.photons_traced += n - dropped;
   s.stats.rays = s.books.rays;
   ++s.stats.iterations_done;
+  // The guide learns from this iteration for the next: part of the cost of
+  // guided emission, so inside the timed span.
+  if (s.guide) s.guide->update(s.guide_iteration, far_field());
+  s.stats.trace_s += seconds_since(start);
 }
+
+const EmissionGuide* Simulation::emission_guide() const { return impl_->guide.get(); }
 
 const SimulationSettings& Simulation::settings() const { return impl_->settings; }
 const SceneDesc& Simulation::scene() const { return impl_->scene; }
@@ -119,7 +161,15 @@ FarField Simulation::far_field() const {
   const Impl& s = *impl_;
   const std::size_t n = s.texel_units.size();
   std::vector<double> flux(n, 0.0);
-  if (s.stats.photons > 0) {
+  if (s.guide) {
+    // Photons started with unequal power: share the flux by power emitted.
+    std::uint64_t emitted_units = 0;
+    for (const auto& e : s.books.emitters) emitted_units += e.emitted.power_units;
+    if (emitted_units > 0) {
+      const double per_unit = total_flux_lm() / static_cast<double>(emitted_units);
+      for (std::size_t i = 0; i < n; ++i) flux[i] = static_cast<double>(s.texel_units[i]) * per_unit;
+    }
+  } else if (s.stats.photons > 0) {
     const double per_unit = total_flux_lm() / static_cast<double>(s.stats.photons) /
                             static_cast<double>(kPowerUnits);
     for (std::size_t i = 0; i < n; ++i) flux[i] = static_cast<double>(s.texel_units[i]) * per_unit;

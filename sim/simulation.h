@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "photometry/diagnostics.h"
+#include "sim/emission_guide.h"
 #include "sim/far_field.h"
 #include "sim/ledger.h"
 #include "sim/scene.h"
@@ -30,11 +31,14 @@ struct SimulationSettings {
   int max_bounces = 100;                             // see TracerSettings
   int face_size = 128;  // texels per cube face edge: CubeMapGrid::face_size_for_step(2.5)
   bool robust_embree = true;                         // see EmbreeSceneOptions
+  // Importance-guided emission (sim/emission_guide.h); off: plain emission.
+  ImportanceSettings importance;
 };
 
 struct SimulationStats {
   int iterations_done = 0;
-  std::uint64_t photons = 0;   // traced so far
+  std::uint64_t photons = 0;   // drawn from the emitters so far
+  std::uint64_t photons_traced = 0;  // traced so far: = photons unless guided emission dropped some
   std::uint64_t rays = 0;      // ray queries so far
   double trace_s = 0.0;        // wall time spent tracing [s]
   double setup_s = 0.0;        // wall time to check the scene and build the BVH [s]
@@ -54,6 +58,11 @@ class Simulation {
 
   // Traces one more iteration of photons_per_iteration photons.
   void run_iteration();
+  // Traces one more iteration of `photons` photons (1 ≤ photons < 2³², and
+  // at most 2³⁹ in all: GONIO_CHECK): photons keep their run-wide indices,
+  // so iterations of any sizes that add up to the same count give the same
+  // far field (progressive schedules, `gonio bench`).
+  void run_iteration(std::uint64_t photons);
 
   const SimulationSettings& settings() const;
   const SceneDesc& scene() const;
@@ -61,8 +70,11 @@ class Simulation {
   SimulationStats stats() const;
 
   // The far field of every photon so far: per texel the escaped photons and
-  // their flux, each photon carrying total flux / photons emitted.
+  // their flux, each photon carrying total flux / photons emitted (guided
+  // emission: total flux × its power units / all power units emitted).
   FarField far_field() const;
+  // The emission guide (null unless settings().importance.enabled).
+  const EmissionGuide* emission_guide() const;
   // The books of every photon so far.
   Ledger ledger() const;
   // Total flux of the scene's emitters [lm].

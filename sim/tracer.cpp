@@ -101,11 +101,10 @@ Vec3 Tracer::offset(const Vec3& p, const Vec3& side_normal, double t) const {
 }
 
 TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
-                           std::vector<RayQuery>* record) const {
+                           std::vector<RayQuery>* record, std::uint64_t power) const {
   TraceResult r;
   RayQuery ray;
   RayHit hit;
-  std::uint64_t power = kPowerUnits;
   Polarization polarization;
   for (;;) {
     ray.origin[0] = static_cast<float>(origin.x);
@@ -238,6 +237,46 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     }
   }
   if (pending != kNone) count_escape(pending);
+}
+
+void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
+                                  const EmissionGuide& guide, TracerTally& tally,
+                                  GuideTally& guide_tally) const {
+  FloatModeGuard float_mode;
+  LedgerTally& books = tally.ledger;
+  for (std::uint64_t i = first; i < first + count; ++i) {
+    PhotonRandom rng(seed, i);
+    const EmittedPhoton e = emission_.sample(rng);
+    const std::uint32_t source_texel = guide.emission_texel(e.direction);
+    if (!guide.accept(source_texel, rng)) {
+      ++guide_tally.dropped;
+      continue;
+    }
+    const std::uint64_t power = guide.power_units(source_texel);
+    LedgerTally::PerEmitter& eb = books.emitters[e.emitter];
+    eb.emitted.add(power);
+    ++guide_tally.traced[source_texel];
+    const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
+    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, power);
+    switch (r.fate) {
+      case Fate::Escaped: {
+        const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));
+        if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
+        guide_tally.extra_units[texel] += r.power_units - kPowerUnits;
+        guide_tally.importance_sum[source_texel] += guide.importance(texel);
+        eb.escaped.add(r.power_units);
+        break;
+      }
+      case Fate::Absorbed:
+        eb.absorbed.add(r.power_units);
+        books.meshes[r.mesh].absorbed.add(r.power_units);
+        break;
+      case Fate::CutOff:
+        eb.cutoff.add(r.power_units);
+        books.meshes[r.mesh].cutoff.add(r.power_units);
+        break;
+    }
+  }
 }
 
 }  // namespace gonio::sim

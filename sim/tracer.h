@@ -23,6 +23,7 @@
 #include "sim/cube_map.h"
 #include "sim/embree_scene.h"
 #include "sim/emission.h"
+#include "sim/emission_guide.h"
 #include "sim/ledger.h"
 #include "sim/material.h"
 #include "sim/random.h"
@@ -83,6 +84,18 @@ class Tracer {
   void trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
                      TracerTally& tally) const;
 
+  // Importance-guided emission (sim/emission_guide.h): draws photons
+  // [first, first + count) like trace_photons, traces each with the guide's
+  // acceptance probability for its emission direction, starting with the
+  // guide's power, and books what the guide needs in `guide_tally` (the
+  // power of escapes above kPowerUnits goes there, not to
+  // tally.uneven_escapes). The ledger books each traced photon's power as
+  // emitted, so it closes exactly; dropped photons are counted in
+  // guide_tally.dropped only.
+  void trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
+                            const EmissionGuide& guide, TracerTally& tally,
+                            GuideTally& guide_tally) const;
+
   // Follows one photon from a given start off any surface (validation cases
   // with beams); books nothing. `direction` need not be unit.
   TraceResult trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng) const;
@@ -114,7 +127,8 @@ class Tracer {
         settings_(settings) {}
 
   TraceResult follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
-                     std::vector<RayQuery>* record = nullptr) const;
+                     std::vector<RayQuery>* record = nullptr,
+                     std::uint64_t power = kPowerUnits) const;
   Vec3 offset(const Vec3& p, const Vec3& side_normal, double t) const;
 
   CubeMapGrid grid_;
