@@ -104,6 +104,7 @@ TableError ConvergenceReference::table_error(std::span<const double> intensity_c
   TableError e;
   const double ms = (sum - table_noise_) / table_solid_angle_;
   e.rms_pct = ms > 0.0 ? 100.0 * std::sqrt(ms) / peak_cd_ : kNaN;
+  e.raw_rms_pct = 100.0 * std::sqrt(sum / table_solid_angle_) / peak_cd_;
   e.max_pct = 100.0 * worst / peak_cd_;
   const double flux_ref = table_.total_flux_lm();
   e.flux_pct = 100.0 * (table.total_flux_lm() - flux_ref) / flux_ref;

@@ -54,6 +54,7 @@ struct CubeMapError {
 
 struct TableError {
   double rms_pct = 0.0;   // RMS error relative to the reference peak [%] (NaN: below its noise)
+  double raw_rms_pct = 0.0;  // the same before taking out the reference's noise [%]
   double max_pct = 0.0;   // largest error relative to the reference peak [%]
   double flux_pct = 0.0;  // flux error [%]
 };

@@ -21,5 +21,6 @@ std::span<const Command> commands();
 
 // The subcommands' entry points (tools/cmd_<name>.cpp).
 int run_simulate(const Args& args);
+int run_bench(const Args& args);
 
 }  // namespace gonio::cli

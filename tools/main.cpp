@@ -15,6 +15,7 @@ namespace {
 // Subcommands in the order `gonio --help` lists them.
 const std::vector<Command> kCommands = {
     {"simulate", "Trace a luminaire model (glTF) into its far field and energy ledger", run_simulate},
+    {"bench", "Measure speed against accuracy on luminaire models (error vs time and photons)", run_bench},
 };
 
 void print_help() {

@@ -1,0 +1,139 @@
+#include "tools/bench_series.h"
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include "sim/simulation.h"
+
+namespace gonio::cli {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+void summarise(SeriesResult& r, double target_pct) {
+  std::vector<double> time, traced, cube, table;
+  for (const SeriesPoint& p : r.points) {
+    time.push_back(p.time_s);
+    traced.push_back(static_cast<double>(p.photons_traced));
+    cube.push_back(p.cube.rmse);
+    table.push_back(p.table.rms_pct);
+  }
+  r.time_to_target_s = sim::crossing(time, table, target_pct);
+  r.photons_to_target = sim::crossing(traced, table, target_pct);
+  r.cube_slope = sim::log_log_slope(traced, cube);
+  r.table_slope = sim::log_log_slope(traced, table);
+  r.filter_ms_per_iteration =
+      r.points.empty() ? 0.0 : 1e3 * r.points.back().filter_s / static_cast<double>(r.points.size());
+}
+
+}  // namespace
+
+std::vector<std::uint64_t> photon_schedule(std::uint64_t first, std::uint64_t photons, int steps_per_doubling) {
+  GONIO_CHECK(first >= 1 && photons >= 1 && steps_per_doubling >= 1);
+  std::vector<std::uint64_t> out;
+  for (int k = 0;; ++k) {
+    const double p = static_cast<double>(first) * std::exp2(static_cast<double>(k) / steps_per_doubling);
+    if (!(p < static_cast<double>(photons))) break;
+    const auto n = static_cast<std::uint64_t>(std::llround(p));
+    if (out.empty() || n > out.back()) out.push_back(n);
+  }
+  out.push_back(photons);
+  return out;
+}
+
+std::vector<SeriesSpec> default_series(bool importance) {
+  std::vector<SeriesSpec> out;
+  out.push_back({"raw", "raw", false, {}, false});
+  for (const auto& [interp, word] :
+       {std::pair{sim::Interpolation::Bilinear, "bilinear"}, std::pair{sim::Interpolation::Bilateral, "bilateral"}}) {
+    for (int threshold : {50, 100, 150, 200, 300}) {
+      sim::PreviewFilterParams p;
+      p.interpolation = interp;
+      p.adaptive = false;
+      p.threshold_photons = threshold;
+      out.push_back({std::string(word) + "-" + std::to_string(threshold),
+                     std::string(word) + " " + std::to_string(threshold), true, p, false});
+    }
+  }
+  out.push_back({"adaptive", "adaptive (default filter)", true, sim::PreviewFilterParams{}, false});
+  if (importance) {
+    out.push_back({"guided", "guided emission, raw", false, {}, true});
+    out.push_back({"guided-adaptive", "guided emission, adaptive", true, sim::PreviewFilterParams{}, true});
+  }
+  return out;
+}
+
+Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const BenchSettings& settings,
+                                             const std::vector<SeriesSpec>& specs,
+                                             const sim::ConvergenceReference& reference,
+                                             const std::function<void(const BenchProgress&)>& progress) {
+  const std::vector<std::uint64_t> schedule =
+      photon_schedule(settings.first_photons, settings.photons, settings.steps_per_doubling);
+  std::vector<SeriesResult> results(specs.size());
+  for (std::size_t i = 0; i < specs.size(); ++i) results[i].spec = specs[i];
+
+  for (const bool guided : {false, true}) {
+    std::vector<std::size_t> mine;
+    for (std::size_t i = 0; i < specs.size(); ++i)
+      if (specs[i].guided == guided) mine.push_back(i);
+    if (mine.empty()) continue;
+
+    sim::SimulationSettings s;
+    s.photons_per_iteration = 1;  // every iteration below names its size
+    s.iterations = 1;
+    s.seed = settings.seed;
+    s.threads = settings.threads;
+    s.max_bounces = settings.max_bounces;
+    s.face_size = settings.face_size;
+    if (guided) {
+      s.importance = settings.importance_settings;
+      s.importance.enabled = true;
+    }
+    auto created = sim::Simulation::create(scene, s);
+    if (!created.ok()) return created.error();
+    sim::Simulation& sim = created.value();
+    std::optional<sim::PreviewFilter> filter;
+    for (std::size_t i : mine)
+      if (specs[i].filtered && !filter) filter.emplace(settings.face_size, specs[i].filter);
+    std::vector<double> filter_s(specs.size(), 0.0);
+
+    for (std::size_t k = 0; k < schedule.size(); ++k) {
+      // One iteration; run_iteration takes < 2³² photons at a time.
+      while (sim.stats().photons < schedule[k])
+        sim.run_iteration(std::min<std::uint64_t>(schedule[k] - sim.stats().photons, 0xffffffffu));
+      const sim::SimulationStats st = sim.stats();
+      const sim::FarField field = sim.far_field();
+      const std::vector<double> raw = sim::texel_intensities(field);
+      for (std::size_t i : mine) {
+        std::span<const double> map = raw;
+        if (specs[i].filtered) {
+          filter->set_params(specs[i].filter);
+          const auto start = std::chrono::steady_clock::now();
+          filter->apply(field);
+          filter_s[i] += seconds_since(start);
+          map = filter->intensity_cd();
+        }
+        SeriesPoint p;
+        p.iteration = static_cast<int>(k) + 1;
+        p.photons = st.photons;
+        p.photons_traced = st.photons_traced;
+        p.trace_s = st.trace_s;
+        p.filter_s = filter_s[i];
+        p.time_s = p.trace_s + p.filter_s;
+        p.cube = reference.cube_map_error(map);
+        p.table = reference.table_error(map);
+        results[i].points.push_back(p);
+      }
+      if (progress)
+        progress({guided ? "guided" : "plain", static_cast<int>(k) + 1, static_cast<int>(schedule.size()),
+                  st.photons});
+    }
+  }
+  for (SeriesResult& r : results) summarise(r, settings.target_pct);
+  return results;
+}
+
+}  // namespace gonio::cli
