@@ -176,7 +176,13 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       }
       power = std::max(next, power);
     }
-    const Vec3 p = origin + t * direction;
+    // Back along the incoming ray before the offset: near an edge the hit
+    // point can lie a rounding error beyond the neighbouring face, and an
+    // offset along this face's normal alone would start the next ray behind
+    // that face (a closed box leaked there). A quarter of the offset, so a
+    // transmitted ray still starts on the far side.
+    Vec3 p = origin + t * direction;
+    p = p - direction * (0x1.0p-20 * (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) + t));
     origin = offset(p, dot(s.direction, ng) > 0.0 ? ng : -ng, t);
     direction = s.direction;
   }
