@@ -38,6 +38,7 @@ std::vector<std::uint64_t> photon_schedule(std::uint64_t first, std::uint64_t ph
     const double p = static_cast<double>(first) * std::exp2(static_cast<double>(k) / steps_per_doubling);
     if (!(p < static_cast<double>(photons))) break;
     const auto n = static_cast<std::uint64_t>(std::llround(p));
+    if (n >= photons) break;
     if (out.empty() || n > out.back()) out.push_back(n);
   }
   out.push_back(photons);
