@@ -7,13 +7,18 @@
 //   - the energy ledger closes (photons exactly, flux to rounding);
 //   - each preview filter's cube-map error (RMSE after mean scaling,
 //     sim/convergence.h) stays within a stated factor of the raw map's at the
-//     same photons, at every iteration (the factors are in kFilters and the
-//     cases below, with what was measured);
-//   - the raw error falls with slope −0.5 ± 0.1 against photons (least
-//     squares over 7 iterations doubling from 2¹⁴ to 2²⁰ photons; the
-//     reference has 2²³, its noise variance taken out).
-// The photon counts were chosen so that the slope is reliable: with 20 seeds
-// per case (GONIO_STABILITY_SEED) every slope stayed within ±0.05 of −0.5.
+//     same photons, at every iteration (Case's factors, with what was
+//     measured); the one setting that never converges by design, a fixed
+//     threshold no texel reaches (everything upsampled from the coarsest
+//     level), is held to never growing its error instead;
+//   - the raw error, of the cube map and of the candela table, falls with
+//     slope −0.5 ± 0.1 against photons (least squares over 7 iterations
+//     doubling from 2¹⁴ to 2²⁰ photons, fewer for the slow scenes; the
+//     reference has 8 times the last iteration's photons, its noise
+//     variance taken out).
+// The photon counts were chosen so that the slope is reliable: over 20
+// seeds per case (GONIO_STABILITY_SEED=101…120; GONIO_STABILITY_VERBOSE=1
+// prints slopes and ratios) every slope lay in [−0.54, −0.46].
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -84,11 +89,13 @@ struct Case {
   int face_size = 64;
   CGammaGrid grid{10.0, 5.0};
   int max_bounces = 100;
-  // Factors for the thesis's fixed-threshold filters (bilinear and
-  // bilateral, threshold 100), which leak light across sharp features.
-  double fixed_factor = 1.5;
-  // The adaptive default and the adaptive filter with an unreachable threshold.
-  double adaptive_factor = 1.25;
+  // Factors of the preview's error over the raw map's at the same photons.
+  // The defaults hold for smooth far fields (globe, TIR cube, degenerate
+  // shade: measured at most 0.26, 0.40 and 1.00 over 20 seeds), where the
+  // filters help; the spot and the cut-off state their own.
+  double adaptive_factor = 0.5;  // adaptive default, and adaptive with an unreachable threshold
+  double fixed_factor = 0.6;     // the thesis's bilinear and bilateral at threshold 100
+  double zero_factor = 1.02;     // threshold 0: only texels without photons are upsampled
   bool sealed = false;  // nothing escapes
   // Photons of the first iteration (the last has 2⁶ times as many) and of
   // the reference; slow scenes use fewer.
@@ -178,7 +185,7 @@ CaseRun run_case(const Case& c) {
       {"adaptive, threshold never reached", adaptive_with(1e30), c.adaptive_factor},
       {"bilateral 100", fixed(Interpolation::Bilateral, 100.0), c.fixed_factor},
       {"bilinear 100", fixed(Interpolation::Bilinear, 100.0), c.fixed_factor},
-      {"threshold 0", fixed(Interpolation::Bilateral, 0.0), 1.0 + 1e-9},
+      {"threshold 0", fixed(Interpolation::Bilateral, 0.0), c.zero_factor},
       {"threshold never reached", fixed(Interpolation::Bilateral, 1e30), std::nan("")},
   };
   PreviewFilter filter(c.face_size, filters.front().params);
@@ -279,11 +286,17 @@ SceneDesc narrow_spot() {
 
 TEST(Stability, NarrowSpotBeam) {
   Case c{"narrow spot (10° beam)", narrow_spot()};
-  // A 10° beam covers ~100 texels of a face of 128; on the coarse levels a
-  // handful, so the fixed thresholds smear it over its surroundings.
+  // A 10° beam covers ~100 texels of a face of 128 and a handful on the
+  // coarse levels: every filter blurs its flanks, and filtering does not
+  // help here. Over 20 seeds the preview's error reached 2.30 × the raw
+  // map's (adaptive: its test keeps the beam's core but smooths the flanks,
+  // where the counts are high and the raw map is already good), 1.80 ×
+  // (bilinear 100), 1.39 × (bilateral 100) and 1.003 × (threshold 0).
   c.face_size = 128;
   c.grid = {5.0, 2.5};
-  c.fixed_factor = 40.0;
+  c.adaptive_factor = 2.75;
+  c.fixed_factor = 2.3;
+  c.zero_factor = 1.05;
   const CaseRun run = run_case(c);
   expect_slope(run, c.name);
 }
@@ -311,7 +324,12 @@ TEST(Stability, SharpCutOff) {
   e.position = {0.0, -1e-4, 0.0};
   s.emitters = {e};
   Case c{"sharp cut-off", s};
-  c.fixed_factor = 6.0;
+  // Measured over 20 seeds: adaptive 0.71 × the raw error, the fixed
+  // thresholds 1.56 × (light upsampled across the cut-off into the dark),
+  // threshold 0 1.32 × (the empty texels beyond the cut-off get light).
+  c.adaptive_factor = 1.0;
+  c.fixed_factor = 2.0;
+  c.zero_factor = 1.6;
   const CaseRun run = run_case(c);
   // A third of a per cent of the cone's cap is the tube's mouth polygon.
   EXPECT_NEAR(run.ledger.escaped.flux_lm / 1000.0, (1.0 - std::cos(30.0 * kDeg)) / 2.0, 0.002);
@@ -464,7 +482,6 @@ TEST(Stability, DegenerateGeometry) {
   Case c{"degenerate geometry", s};
   c.first = std::uint64_t{1} << 13;
   c.reference = std::uint64_t{1} << 22;
-  c.fixed_factor = 2.0;
   const CaseRun run = run_case(c);
   EXPECT_GT(run.ledger.escaped.flux_lm, 0.0);
   expect_slope(run, c.name);
