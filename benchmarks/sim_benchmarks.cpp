@@ -7,7 +7,8 @@
 //
 // Scenes: the four sample luminaires (build/samples/*), the bell built in
 // code (49k triangles), a closed 100k-triangle white sphere, and bare Embree
-// on that sphere. Each tracer benchmark runs 2^20 photons per iteration on
+// on that sphere; and the samples with importance-guided emission
+// (BM_TracerSampleGuided, counters below). Each tracer benchmark runs 2^20 photons per iteration on
 // 1 and 2 threads.
 //
 // Counters: photons_per_s and rays_per_s of the tracer (wall clock),
@@ -121,6 +122,65 @@ void BM_RawEmbreeSphere100k(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(sim.tracer().embree().triangle_count());
 }
 BENCHMARK(BM_RawEmbreeSphere100k)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Importance-guided emission (sim/emission_guide.h) on the samples, after the
+// two plain iterations the guide learns from: photons drawn per
+// second (the rate the far field's noise depends on, with unequal power),
+// photons traced per second, and plain_ratio = photons drawn per CPU-second
+// over the plain path's on the same scene in the same run (the guide's own
+// cost per photon, < 1, against the tracing it saves by dropping photons).
+void run_guided(benchmark::State& state, const std::string& name) {
+  const std::string path = std::string(GONIO_SAMPLES_DIR) + "/" + name + "/" + name + ".gltf";
+  auto scene = io::load_gltf(path, nullptr);
+  if (!scene.ok()) {
+    state.SkipWithError(("cannot load the sample: " + to_string(scene.error())).c_str());
+    return;
+  }
+  const int threads = static_cast<int>(state.range(0));
+  sim::SimulationSettings s;
+  s.photons_per_iteration = kPhotonsPerIteration;
+  s.iterations = 1;
+  s.threads = threads;
+  s.importance.enabled = true;
+  auto guided = sim::Simulation::create(scene.value(), s);
+  if (!guided.ok()) {
+    state.SkipWithError(to_string(guided.error()).c_str());
+    return;
+  }
+  guided->run_iteration();  // the far field for imp(T)
+  guided->run_iteration();  // back-projected: guidance starts now
+  const sim::SimulationStats before = guided->stats();
+  const double cpu0 = process_cpu_s();
+  for (auto _ : state) guided->run_iteration();
+  const double cpu = process_cpu_s() - cpu0;
+  const sim::SimulationStats after = guided->stats();
+  const double drawn = static_cast<double>(after.photons - before.photons);
+  const double traced = static_cast<double>(after.photons_traced - before.photons_traced);
+  const double wall = after.trace_s - before.trace_s;
+  // The plain path on the same scene, right after.
+  sim::Simulation plain = make_simulation(scene.value(), threads);
+  const double plain_cpu0 = process_cpu_s();
+  plain.run_iteration();
+  plain.run_iteration();
+  const double plain_cpu = process_cpu_s() - plain_cpu0;
+  const double plain_per_cpu_s = 2.0 * static_cast<double>(kPhotonsPerIteration) / plain_cpu;
+  state.counters["photons_per_s"] = drawn / wall;
+  state.counters["traced_per_s"] = traced / wall;
+  state.counters["traced_fraction"] = traced / drawn;
+  state.counters["photons_per_cpu_s"] = drawn / cpu;
+  state.counters["plain_ratio"] = drawn / cpu / plain_per_cpu_s;
+  state.SetItemsProcessed(static_cast<std::int64_t>(drawn));
+}
+const bool kGuidedRegistered = [] {
+  for (const char* name : {"bell", "downlight", "spotlight", "led-array"})
+    benchmark::RegisterBenchmark((std::string("BM_TracerSampleGuided/") + name).c_str(),
+                                 [name](benchmark::State& st) { run_guided(st, name); })
+        ->Arg(1)
+        ->Arg(2)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  return true;
+}();
 
 }  // namespace
 }  // namespace gonio::bench

@@ -41,8 +41,9 @@
 //      thesis filters its importance image the same way), giving g_e, and
 //        a_e = max(min_acceptance, g_e / max g)
 //      The floor bounds the photons' power at 1/min_acceptance times nominal.
-//   Before the first update (the first iteration) every a_e is 1: plain
-//   emission.
+//   The first two iterations are plain emission (every a_e = 1): the first
+//   gives the far field for imp(T), the second back-projects it; guidance
+//   starts with the third.
 //
 // Determinism: the acceptance test draws from the photon's own random
 // numbers (seed, i), importance sums are integers (fixed point, 2⁻²⁴), the
