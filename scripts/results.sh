@@ -18,4 +18,4 @@ for name in bell downlight spotlight led-array; do
   models+=("build/samples/$name/$name.gltf")
 done
 ./build/tools/gonio bench "${models[@]}" --out docs/results --page docs/results.md \
-  --photons 67108864 --importance "$@"
+  --importance "$@"

@@ -13,7 +13,7 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-void summarise(SeriesResult& r, double target_pct) {
+void summarise(SeriesResult& r, double target_pct, double cube_target) {
   std::vector<double> time, traced, cube, table;
   for (const SeriesPoint& p : r.points) {
     time.push_back(p.time_s);
@@ -23,6 +23,8 @@ void summarise(SeriesResult& r, double target_pct) {
   }
   r.time_to_target_s = sim::crossing(time, table, target_pct);
   r.photons_to_target = sim::crossing(traced, table, target_pct);
+  r.time_to_cube_target_s = sim::crossing(time, cube, cube_target);
+  r.photons_to_cube_target = sim::crossing(traced, cube, cube_target);
   r.cube_slope = sim::log_log_slope(traced, cube);
   r.table_slope = sim::log_log_slope(traced, table);
   r.filter_ms_per_iteration =
@@ -133,7 +135,7 @@ Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const 
                   st.photons});
     }
   }
-  for (SeriesResult& r : results) summarise(r, settings.target_pct);
+  for (SeriesResult& r : results) summarise(r, settings.target_pct, settings.cube_target);
   return results;
 }
 

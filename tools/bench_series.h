@@ -42,6 +42,7 @@ struct BenchSettings {
   bool importance = false;                              // add the guided series
   sim::ImportanceSettings importance_settings{true};    // for them
   double target_pct = 1.0;                              // candela RMS error to time [%]
+  double cube_target = 0.1;                             // cube-map RMSE to time [1]
 };
 
 // Photons after each iteration: strictly increasing, ending at `photons`.
@@ -77,6 +78,8 @@ struct SeriesResult {
   // Summary (NaN where it does not apply or was not reached).
   double time_to_target_s = 0.0;        // table RMS error below target_pct for good [s]
   double photons_to_target = 0.0;       // the same in photons traced
+  double time_to_cube_target_s = 0.0;   // cube-map RMSE below cube_target for good [s]
+  double photons_to_cube_target = 0.0;  // the same in photons traced
   double cube_slope = 0.0;              // log-log slope of cube-map RMSE against photons traced
   double table_slope = 0.0;             // the same for the table's RMS error
   double filter_ms_per_iteration = 0.0; // mean filter time per iteration [ms]
