@@ -61,7 +61,7 @@ std::string path_in(const std::string& dir, const char* name) {
 }
 
 ReferenceNoise measure_noise(const sim::FarField& half, const sim::FarField& full,
-                             const sim::Resampler& resampler) {
+                             const std::shared_ptr<const sim::Resampler>& resampler) {
   // The second half as a run of its own: 2·full − first half (flux), full −
   // first half (photons).
   std::vector<double> flux(full.texel_count());
@@ -72,10 +72,8 @@ ReferenceNoise measure_noise(const sim::FarField& half, const sim::FarField& ful
   }
   const sim::FarField second(full.face_size(), std::move(flux), std::move(photons));
   ReferenceNoise n;
-  // Shared, not owned: the resampler outlives this call.
-  const std::shared_ptr<const sim::Resampler> shared(&resampler, [](const sim::Resampler*) {});
-  auto whole = sim::ConvergenceReference::create(full, shared);
-  auto other = sim::ConvergenceReference::create(second, shared);
+  auto whole = sim::ConvergenceReference::create(full, resampler);
+  auto other = sim::ConvergenceReference::create(second, resampler);
   if (!whole.ok() || !other.ok() || !(half.total_flux_lm() > 0.0)) return n;
   n.cube_map_estimated = whole->cube_map_noise();
   n.table_estimated_pct = whole->table_noise_pct();
@@ -183,7 +181,7 @@ std::string scene_hash(const sim::SceneDesc& scene) {
 
 Result<Reference> load_or_make_reference(const std::string& dir, const ReferenceKey& key,
                                          const sim::SceneDesc& scene, int threads,
-                                         const sim::Resampler& resampler,
+                                         std::shared_ptr<const sim::Resampler> resampler,
                                          const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
   if (std::optional<Reference> cached = load_cached(dir, key)) return std::move(*cached);
   if (key.photons < 2) return error("the reference needs at least 2 photons");

@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -72,7 +73,7 @@ struct Reference {
 // cache is not an error (it is traced again); a failed trace or write is.
 Result<Reference> load_or_make_reference(const std::string& dir, const ReferenceKey& key,
                                          const sim::SceneDesc& scene, int threads,
-                                         const sim::Resampler& resampler,
+                                         std::shared_ptr<const sim::Resampler> resampler,
                                          const std::function<void(std::uint64_t, std::uint64_t)>& progress);
 
 }  // namespace gonio::cli

@@ -105,9 +105,10 @@ io::LineChart photons_panel(const BenchOutcome& o, const Metric& metric, const s
   for (const char* name : {"raw", "bilinear-100", "bilateral-100", "adaptive", "guided", "guided-adaptive"})
     if (const SeriesResult* r = find(o.series, name)) c.series.push_back(curve(*r, traced_of, metric));
   if (const SeriesResult* raw = find(o.series, "raw"); raw && !raw->points.empty()) {
-    // Slope −½ through the first point that has a value.
+    // Slope −½ through half the first raw point that has a value (below
+    // the raw curve, which it would hide otherwise).
     for (const SeriesPoint& p : raw->points) {
-      const double y0 = metric(p);
+      const double y0 = 0.5 * metric(p);
       if (!(std::isfinite(y0) && y0 > 0.0)) continue;
       io::Series half;
       half.label = "slope −1/2";
@@ -179,6 +180,15 @@ std::string photons_text(double n) {
   else
     std::snprintf(buf, sizeof buf, "%.0f", n);
   return buf;
+}
+
+// A headline cell: the time and, since timings depend on the machine's
+// load, the photons traced (deterministic for a seed).
+std::string headline_cell(const SeriesResult& r, double level, bool cube) {
+  std::string cell = time_to_target(r, level, cube);
+  const double n = cube ? r.photons_to_cube_target : r.photons_to_target;
+  if (!std::isnan(n)) cell += ", " + photons_text(n);
+  return cell;
 }
 
 }  // namespace
@@ -333,30 +343,33 @@ std::string results_page(const std::vector<BenchOutcome>& outcomes, const std::s
   const double target = outcomes.empty() ? 1.0 : outcomes.front().settings.target_pct;
   const double cube_target = outcomes.empty() ? 0.1 : outcomes.front().settings.cube_target;
   for (const bool cube : {false, true}) {
+    const char* cells =
+        "Each cell: time, and photons traced (timings depend on the machine's load; photon counts do not, "
+        "for a seed). ≤: already at the first iteration; >: not reached in the run.\n\n";
     if (cube)
       s << "## Time to cube-map RMSE " << format_value(cube_target, 3)
         << " (the thesis's measure)\n\nRelative to the peak, a candela error is small wherever the peak "
            "towers over the rest (the downlight's collimated beam); the thesis's RMSE after mean scaling "
            "weighs every texel alike and tells the settings apart there too.\n\n";
     else
-      s << "## Time to " << format_value(target, 3) << " % RMS candela error\n\n";
+      s << "## Time to " << format_value(target, 3) << " % RMS candela error\n\n" << cells;
     s << "| sample | raw | best fixed-threshold filter | adaptive filter |"
       << (guided ? " guided, raw | guided, adaptive |" : "") << "\n|---|---|---|---|" << (guided ? "---|---|" : "")
       << "\n";
     const double level = cube ? cube_target : target;
     for (const BenchOutcome& o : outcomes) {
       s << "| " << o.name << " | ";
-      if (const SeriesResult* raw = find(o.series, "raw")) s << time_to_target(*raw, level, cube);
+      if (const SeriesResult* raw = find(o.series, "raw")) s << headline_cell(*raw, level, cube);
       s << " | ";
       if (const SeriesResult* best = best_fixed(o.series, cube))
-        s << time_to_target(*best, level, cube) << " (" << best->spec.label << ")";
+        s << headline_cell(*best, level, cube) << " (" << best->spec.label << ")";
       s << " | ";
-      if (const SeriesResult* a = find(o.series, "adaptive")) s << time_to_target(*a, level, cube);
+      if (const SeriesResult* a = find(o.series, "adaptive")) s << headline_cell(*a, level, cube);
       s << " |";
       if (guided) {
         for (const char* name : {"guided", "guided-adaptive"}) {
           s << " ";
-          if (const SeriesResult* g = find(o.series, name)) s << time_to_target(*g, level, cube);
+          if (const SeriesResult* g = find(o.series, name)) s << headline_cell(*g, level, cube);
           s << " |";
         }
       }

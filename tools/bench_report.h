@@ -14,7 +14,7 @@
 //                 filter family (bilinear, bilateral, guided emission)
 //   cubemap-time  cube-map RMSE after mean scaling against time, the same
 //   photons       both errors against photons traced, log-log, with a line
-//                 of slope −½ through the raw series's first point
+//                 of slope −½ through half the raw series's first point
 //   psnr-snr      PSNR and SNR of the cube map against time (thesis 8.7, 8.8)
 #pragma once
 

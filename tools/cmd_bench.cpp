@@ -243,7 +243,7 @@ int run_bench(const Args& args) {
     key.max_bounces = settings.max_bounces;
     key.robust_embree = true;
     auto reference = load_or_make_reference(
-        o.directory, key, scene.value(), settings.threads, *resampler,
+        o.directory, key, scene.value(), settings.threads, resampler,
         [&](std::uint64_t done, std::uint64_t total) {
           if (!show_progress) return;
           std::fprintf(stderr, "\r%s: bench %s: reference %.0f %%   ", kProgramName, o.name.c_str(),
