@@ -4,12 +4,12 @@
 #include <charconv>
 #include <cmath>
 #include <concepts>
-#include <numbers>
 #include <optional>
 #include <utility>
 
 #include "io/file_io.h"
 #include "io/text.h"
+#include "photometry/flux.h"
 
 namespace gonio::io {
 namespace {
@@ -119,38 +119,6 @@ const char* isym_name(int isym) {
     case 4: return "symmetry to the C0-C180 and C90-C270 planes";
     default: return "?";
   }
-}
-
-// ∫ I(γ) sin γ dγ over [0, γmax] along one plane, I linear between the
-// samples and 0 outside the measured range (exact for that interpolant).
-double plane_integral(const double* row, const std::vector<double>& gamma_deg, double gmax_deg) {
-  constexpr double r = std::numbers::pi / 180.0;
-  double sum = 0.0;
-  for (std::size_t i = 0; i + 1 < gamma_deg.size(); ++i) {
-    const double g0 = gamma_deg[i], g1full = gamma_deg[i + 1];
-    if (g0 >= gmax_deg) break;
-    const double g1 = std::min(g1full, gmax_deg);
-    const double slope = (row[i + 1] - row[i]) / ((g1full - g0) * r);  // [cd/rad]
-    const double a = g0 * r, b = g1 * r;
-    sum += row[i] * (std::cos(a) - std::cos(b)) +
-           slope * (-(b - a) * std::cos(b) + std::sin(b) - std::sin(a));
-  }
-  return sum;
-}
-
-// Flux [lm] emitted at γ ≤ gmax_deg by a valid Type C distribution:
-// trapezoid rule across the C-planes, exact integration along each plane.
-double flux_lm(const Distribution& d, double gmax_deg) {
-  const Distribution e = photometry::expand_symmetry(d);
-  const std::size_t nv = e.vertical_count();
-  std::vector<double> per_plane(e.horizontal_count());
-  for (std::size_t h = 0; h < per_plane.size(); ++h)
-    per_plane[h] = plane_integral(e.candela.data() + h * nv, e.vertical_deg, gmax_deg);
-  double sum = 0.0;
-  for (std::size_t h = 0; h + 1 < per_plane.size(); ++h)
-    sum += (e.horizontal_deg[h + 1] - e.horizontal_deg[h]) * std::numbers::pi / 180.0 * 0.5 *
-           (per_plane[h] + per_plane[h + 1]);
-  return sum;
 }
 
 // ---------------------------------------------------------------- reading
@@ -872,8 +840,9 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
                "alternatives");
   }
   // Photometric scale: cd = value × flux / 1000.
-  const double total_flux = flux_lm(d, 180.0);
-  const double down_flux = flux_lm(d, 90.0);
+  const photometry::ZonalFlux zones(d);
+  const double total_flux = zones.total_lm();
+  const double down_flux = zones.zone_lm(0.0, 90.0);
   double set1_flux = 0.0;
   if (d.absolute) {
     set1_flux = total_flux;
@@ -889,6 +858,13 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   } else {
     set1_flux = first.flux_lm;  // the merged sets' flux when several light together
   }
+  // The scale uses the flux as the file will state it, so that a reader
+  // multiplies by exactly what was divided here. A computed luminaire flux is
+  // stated to 6 digits: written values rounded to 12 digits change the
+  // integral in its 12th digit, and a coarser flux keeps rewriting stable
+  // (the candela do not depend on it).
+  const int flux_digits = std::min(options.significant_digits, d.absolute ? 6 : 17);
+  set1_flux = parse_number(format_number(set1_flux, flux_digits)).value_or(set1_flux);
   const double scale = set1_flux / 1000.0;  // the reader's conversion factor 1 × Φ / 1000
 
   // [LAMP] fills an empty lamp type.

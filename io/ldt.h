@@ -56,7 +56,9 @@
 //   factor), as photometric-viewer reads it and the Aardvark photometry
 //   library documents it; the model gets absolute = true, lamps[0].flux_lm =
 //   NaN. The writer recomputes Φ_lum
-//   by integrating the distribution, so only the candela are kept exactly.
+//   by integrating the distribution (photometry::total_flux_lm) and states it
+//   to 6 significant digits, dividing by exactly that value, so only the
+//   candela are kept exactly and rewriting a file gives the same bytes.
 // - Conversion factor (field 24, "depending on measurement"): read as the
 //   factor that turns the tabulated values into cd/klm, so it multiplies the
 //   intensities; values other than 1 are reported as a note. A factor of 0,
@@ -92,7 +94,8 @@
 // read gives the same bytes again. Negative intensities are refused. Isym, Mc, Dc
 // (0 unless the C list is equidistant), Ng and Dg (likewise) are derived from
 // the model. DFF and LORL come from the declared values, or are computed by
-// integrating the distribution when the model has none (IES input).
+// integrating the distribution (photometry/flux.h) when the model has none
+// (IES input).
 #pragma once
 
 #include <cstddef>

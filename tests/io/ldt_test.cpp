@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "io/text.h"
+#include "photometry/flux.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -716,7 +717,8 @@ TEST(LdtWrite, AbsolutePhotometryWritesTheIntegratedLuminaireFlux) {
   EXPECT_EQ(lines[2].text, "1");    // Isym
   EXPECT_EQ(lines[1].text, "1");    // Ityp derived: rotational
   EXPECT_EQ(lines[26].text, "-1");  // negative count: absolute
-  EXPECT_NEAR(std::stod(std::string(lines[28].text)), 400 * kPi, 1e-6);
+  // Stated to 6 significant digits (the candela are scaled by that value).
+  EXPECT_EQ(lines[28].text, "1256.64");
   EXPECT_EQ(lines[22].text, "100");  // LORL of absolute photometry
   EXPECT_EQ(lines[21].text, "50");   // DFF of an isotropic source
   const Distribution r = parse_ok(*text).distribution;
@@ -853,22 +855,6 @@ TEST(LdtWrite, RefusesWhatEulumdatCannotHold) {
 
 // ------------------------------------------------------------ VALIDATION.md
 
-// ∫ I dΩ by the plain trapezoid rule over a full-circle grid [lm].
-double trapezoid_flux(const Distribution& e) {
-  double sum = 0;
-  for (std::size_t h = 0; h + 1 < e.horizontal_count(); ++h) {
-    const double dc = (e.horizontal_deg[h + 1] - e.horizontal_deg[h]) * kRad;
-    for (std::size_t v = 0; v + 1 < e.vertical_count(); ++v) {
-      const double dg = (e.vertical_deg[v + 1] - e.vertical_deg[v]) * kRad;
-      double s = 0;
-      for (std::size_t hh : {h, h + 1})
-        for (std::size_t vv : {v, v + 1}) s += e.at(hh, vv) * std::sin(e.vertical_deg[vv] * kRad);
-      sum += s / 4 * dc * dg;
-    }
-  }
-  return sum;
-}
-
 TEST(LdtValidation, RelativeIntensitiesIntegrateToTheLightOutputRatio) {
   // cd/klm of a Lambertian luminaire of LORL 80 %: I = 800/π cos γ.
   Spec s;
@@ -884,7 +870,7 @@ TEST(LdtValidation, RelativeIntensitiesIntegrateToTheLightOutputRatio) {
   const Distribution d = parse_ok(join(lines_of(s))).distribution;
   const double phi_lamps = d.rated_lamp_flux_lm();
   const double cd_per_klm_integral =
-      trapezoid_flux(photometry::expand_symmetry(d)) / (phi_lamps / 1000);
+      photometry::total_flux_lm(d) / (phi_lamps / 1000);
   EXPECT_NEAR(cd_per_klm_integral / 1000, d.declared_lor_percent / 100, 0.001);
 }
 
