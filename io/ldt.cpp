@@ -9,6 +9,7 @@
 
 #include "io/file_io.h"
 #include "io/text.h"
+#include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
 
 namespace gonio::io {
@@ -867,6 +868,31 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   set1_flux = parse_number(format_number(set1_flux, flux_digits)).value_or(set1_flux);
   const double scale = set1_flux / 1000.0;  // the reader's conversion factor 1 × Φ / 1000
 
+  // LM-63 fields without an EULUMDAT counterpart.
+  if (d.tilt.kind != photometry::Tilt::Kind::None)
+    w.warn(Severity::Warning, "ldt-tilt-dropped",
+           "TILT data (" + std::to_string(d.tilt.angles_deg.size()) +
+               " tilt angles, lamp geometry " + std::to_string(d.tilt.lamp_geometry) +
+               ") has no EULUMDAT field and is not written");
+  if (d.ballast_factor != 1.0)
+    w.warn(Severity::Warning, "ldt-ballast-factor",
+           "ballast factor " + format_number(d.ballast_factor, 6) +
+               " has no EULUMDAT field and is not written (it was not applied to the intensities)");
+  if (d.ballast_lamp_factor != 1.0)
+    w.warn(Severity::Warning, "ldt-ballast-factor",
+           "ballast-lamp photometric factor " + format_number(d.ballast_lamp_factor, 6) +
+               " has no EULUMDAT field and is not written (it was not applied to the intensities)");
+  if (d.file_generation != photometry::FileGenerationType::Undefined)
+    w.warn(Severity::Warning, "ldt-file-generation",
+           std::string("LM-63-2019 file generation type '") +
+               photometry::to_string(d.file_generation) + "' has no EULUMDAT field");
+  if (std::isfinite(first.power_w) && std::isfinite(d.input_watts) && d.input_watts > 0.0 &&
+      std::abs(first.power_w - d.input_watts) > 1e-9 * std::max(first.power_w, d.input_watts))
+    w.warn(Severity::Warning, "ldt-input-watts",
+           "input watts " + format_number(d.input_watts, 6) +
+               " W differ from the lamp set's wattage " + format_number(first.power_w, 6) +
+               " W, which EULUMDAT keeps");
+
   // [LAMP] fills an empty lamp type.
   const photometry::Keyword* lamp_kw = d.find_keyword("LAMP");
   if (first.type.empty() && lamp_kw) first.type = lamp_kw->value;
@@ -1013,12 +1039,14 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   if (d.direct_ratios.size() == 10) {
     for (double x : d.direct_ratios) w.number(x);
   } else {
-    if (!d.direct_ratios.empty())
-      w.warn(Severity::Warning, "ldt-direct-ratios",
-             std::to_string(d.direct_ratios.size()) + " direct ratios instead of 10; written as 0");
-    else
-      w.warn(Severity::Info, "ldt-direct-ratios", "direct ratios unknown; written as 0");
-    for (int i = 0; i < 10; ++i) w.number(0.0);
+    const std::string why = d.direct_ratios.empty()
+                                ? std::string("unknown")
+                                : std::to_string(d.direct_ratios.size()) + " instead of 10";
+    w.warn(d.direct_ratios.empty() ? Severity::Info : Severity::Warning, "ldt-direct-ratios",
+           "direct ratios " + why +
+               ": computed from the distribution with Gonio's room model "
+               "(photometry/direct_ratios.h, not CIE 52's tables)");
+    for (double x : photometry::direct_ratios(d)) w.number(x);
   }
 
   // 28-30.

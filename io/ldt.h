@@ -83,6 +83,15 @@
 //   CR; numbers may use a decimal comma and carry surrounding blanks. A
 //   numeric field that is empty is an error, never a silent 0.
 //
+// LM-63 fields without an EULUMDAT counterpart are reported, not written:
+// TILT data ("ldt-tilt-dropped"), a ballast factor or ballast-lamp factor
+// other than 1 ("ldt-ballast-factor"), the LM-63-2019 file generation type
+// ("ldt-file-generation"), input watts that differ from the first lamp set's
+// wattage ("ldt-input-watts"; input watts fill a wattage that is unknown).
+// Direct ratios the model lacks (IES input) are computed with
+// photometry::direct_ratios() (Gonio's stated room model, not CIE 52's
+// tables) and said so in an "ldt-direct-ratios" note.
+//
 // Writer: one field per line, CRLF, Latin-1. Text longer than the standard's
 // field lengths (78 characters; lamp type 24, colour 16, colour rendering 6;
 // file name 8, read as a DOS 8.3 name, so 12 with the extension, because

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <numbers>
 #include <random>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "io/text.h"
+#include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
 #include "tests/support/test_support.h"
 
@@ -765,6 +767,67 @@ TEST(LdtWrite, ComputesLorlAndDffForModelsFromIes) {
   auto linear = write_ldt(d, o, nullptr);
   ASSERT_TRUE(linear.ok());
   EXPECT_EQ(split_lines(*linear)[1].text, "2");
+}
+
+TEST(LdtWrite, ReportsLm63FieldsItCannotHold) {
+  Distribution d = model_c0_c180();
+  std::vector<Finding> w;
+  ASSERT_TRUE(write_ldt(d, {}, &w).ok());
+  for (const char* code :
+       {"ldt-tilt-dropped", "ldt-ballast-factor", "ldt-file-generation", "ldt-input-watts"})
+    EXPECT_FALSE(has_finding(w, code)) << code;
+
+  d.tilt.kind = photometry::Tilt::Kind::Include;
+  d.tilt.lamp_geometry = 1;
+  d.tilt.angles_deg = {0, 45, 90};
+  d.tilt.factors = {1, 0.9, 0.8};
+  d.ballast_factor = 0.95;
+  d.ballast_lamp_factor = 0.9;
+  d.file_generation = photometry::FileGenerationType::AccreditedLab;
+  d.input_watts = 31.0;  // the lamp set says 29.5 W
+  w.clear();
+  auto text = write_ldt(d, {}, &w);
+  ASSERT_TRUE(text.ok());
+  for (const char* code :
+       {"ldt-tilt-dropped", "ldt-ballast-factor", "ldt-file-generation", "ldt-input-watts"}) {
+    const Finding* f = finding(w, code);
+    ASSERT_NE(f, nullptr) << code;
+    EXPECT_EQ(f->severity, Severity::Warning);
+  }
+  EXPECT_EQ(std::count_if(w.begin(), w.end(),
+                          [](const Finding& f) { return f.code == "ldt-ballast-factor"; }),
+            2);
+  // EULUMDAT keeps the lamp set's wattage.
+  EXPECT_EQ(parse_ok(*text).distribution.lamps[0].power_w, 29.5);
+}
+
+TEST(LdtWrite, ComputesMissingDirectRatiosFromTheDistribution) {
+  Distribution d = model_c0_c180();
+  d.direct_ratios.clear();  // as read from IES
+  std::vector<Finding> w;
+  auto text = write_ldt(d, {}, &w);
+  ASSERT_TRUE(text.ok());
+  const Finding* note = finding(w, "ldt-direct-ratios");
+  ASSERT_NE(note, nullptr);
+  EXPECT_EQ(note->severity, Severity::Info);
+  const auto expected = photometry::direct_ratios(d);
+  const Distribution r = parse_ok(*text).distribution;
+  ASSERT_EQ(r.direct_ratios.size(), 10u);
+  for (std::size_t i = 0; i < 10; ++i) {
+    EXPECT_NEAR(r.direct_ratios[i], expected[i], 1e-11) << i;
+    if (i > 0) {
+      EXPECT_GE(r.direct_ratios[i], r.direct_ratios[i - 1]);  // grows with k
+    }
+  }
+  // Below the downward flux fraction, which they approach for large rooms.
+  EXPECT_LE(r.direct_ratios[9], photometry::downward_flux_lm(d) / photometry::total_flux_lm(d));
+  EXPECT_GT(r.direct_ratios[0], 0.0);
+
+  d.direct_ratios = {0.5, 0.6};  // not ten: a warning, and computed ones instead
+  w.clear();
+  ASSERT_TRUE(write_ldt(d, {}, &w).ok());
+  ASSERT_NE(finding(w, "ldt-direct-ratios"), nullptr);
+  EXPECT_EQ(finding(w, "ldt-direct-ratios")->severity, Severity::Warning);
 }
 
 TEST(LdtWrite, TruncatesLongTextWithAWarning) {
