@@ -402,17 +402,7 @@ Status IesReader::check_bytes(std::string_view text) {
   if (text.size() >= 2 &&
       ((text[0] == '\xff' && text[1] == '\xfe') || (text[0] == '\xfe' && text[1] == '\xff')))
     return fail(1, "UTF-16 text: IES files are ASCII or Latin-1");
-  if (looks_binary(text)) {
-    // Name the line of the first byte that no text file holds.
-    int line = 1;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-      const auto c = static_cast<unsigned char>(text[i]);
-      if (c == '\n' || (c == '\r' && !(i + 1 < text.size() && text[i + 1] == '\n'))) ++line;
-      if (c == 0 || (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != 0x1a))
-        break;
-    }
-    return fail(line, "binary data, not an IES LM-63 text file");
-  }
+  if (looks_binary(text)) return fail(first_binary_line(text), "binary data, not an IES LM-63 text file");
   // Long lines: one warning for the file, not one per line.
   LineCursor lines(text);
   TextLine line{};

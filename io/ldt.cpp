@@ -232,7 +232,8 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
     return Error{SourceLoc{name, line, 0}, std::move(message)};
   };
   if (bytes.empty()) return fail(1, "empty file: expected an EULUMDAT file");
-  if (looks_binary(bytes)) return fail(0, "binary data, not an EULUMDAT (.ldt) text file");
+  if (looks_binary(bytes))
+    return fail(first_binary_line(bytes), "binary data, not an EULUMDAT (.ldt) text file");
   if (bytes.size() >= 3 && bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);
 
   std::size_t line_count = 0;

@@ -60,6 +60,9 @@ Result<PhotometricFile> read_photometric_file(const std::string& path,
                                               const PhotometricReadOptions& options) {
   const auto format = format_for_path(path);
   if (!format) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+      return Error{SourceLoc{path, 0, 0}, "is a directory, not a file"};
     const std::string ext = lower_extension(path);
     return Error{SourceLoc{path, 0, 0}, (ext.empty() ? std::string("no file extension")
                                                      : "unknown file extension '" + ext + "'") +

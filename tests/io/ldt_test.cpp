@@ -1054,11 +1054,12 @@ TEST(LdtBadInput, EachFieldNamesLineAndExpectation) {
 }
 
 TEST(LdtBadInput, BinaryJunkDirectoriesAndMissingFiles) {
-  EXPECT_NE(parse_error(std::string("\x7f"
-                                    "ELF\x02\x01\x01\0\0\0\0",
-                                    12))
-                .message.find("binary"),
-            std::string::npos);
+  const Error elf = parse_error(std::string("\x7f"
+                                            "ELF\x02\x01\x01\0\0\0\0",
+                                            12));
+  EXPECT_NE(elf.message.find("binary"), std::string::npos);
+  EXPECT_EQ(elf.where.line, 1);
+  EXPECT_EQ(parse_error(std::string("Company\r\n1\r\n\0\0\0\0\0\0\0\0\0", 21)).where.line, 3);
   std::string junk;
   std::mt19937 rng(7);
   for (int i = 0; i < 4096; ++i) junk.push_back(static_cast<char>(rng() & 0xFF));
