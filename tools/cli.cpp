@@ -29,6 +29,15 @@ void print_warning(const std::string& message) {
   std::fprintf(stderr, "%s: warning: %s\n", kProgramName, message.c_str());
 }
 
+std::string format_finding(const Finding& finding) {
+  std::string out = to_string(finding.where) + ": " + to_string(finding.severity) + ": " +
+                    finding.message;
+  if (!finding.code.empty()) out += " [" + finding.code + "]";
+  return out;
+}
+
+void print_finding(const Finding& finding) { print_error(format_finding(finding)); }
+
 bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
 
 ArgParser::ArgParser(std::string command, std::string synopsis, std::string description)

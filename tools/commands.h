@@ -19,4 +19,9 @@ struct Command {
 // Every subcommand, in the order `gonio --help` lists them.
 std::span<const Command> commands();
 
+// The subcommands (tools/cmd_<name>.cpp). Each returns the process exit code.
+int run_info(const Args& args);     // gonio info FILE [--json]
+int run_convert(const Args& args);  // gonio convert IN OUT
+int run_check(const Args& args);    // gonio check FILE...
+
 }  // namespace gonio::cli
