@@ -21,18 +21,25 @@ using photometry::Distribution;
 using photometry::Summary;
 
 constexpr const char* kDescription =
-    "Prints what an IES LM-63 (.ies) or EULUMDAT (.ldt) file holds and what follows from it:\n"
-    "format and version, photometric type, symmetry, angle grid, lamp data, luminous\n"
-    "opening, total luminous flux (solid-angle integral of the candela grid), light output\n"
-    "ratio (LOR, relative photometry only), downward flux fraction (DFF), zonal flux, maximum\n"
-    "intensity and its direction, beam (50 %) and field (10 %) angles in the C0-C180 and\n"
-    "C90-C270 planes, CIE flux code and efficacy where the input watts are known.\n"
-    "Reader warnings go to stderr as 'gonio: FILE:LINE: warning: message [code]'.\n\n"
-    "With --json, stdout is one JSON object; units are in the key names (flux_lm, max_cd,\n"
-    "*_deg, *_m, *_w); lor and dff are fractions (0.85, not 85 %); null marks a value that\n"
-    "is undefined (e.g. lor of absolute photometry, a beam angle where there is no beam).\n\n"
-    "Exit status: 0 success, 1 the file could not be read, 2 usage error.\n\n"
-    "Example:\n  gonio info samples/curves/downlight.ldt\n  gonio info lamp.ies --json";
+    "Prints what an IES LM-63 (.ies) or EULUMDAT (.ldt) file holds and what follows\n"
+    "from it: format and version, photometric type, symmetry, angle grid, lamp data,\n"
+    "luminous opening, total luminous flux (solid-angle integral of the candela\n"
+    "grid), light output ratio (LOR, relative photometry only), downward flux\n"
+    "fraction (DFF), zonal flux, maximum intensity and its direction, beam (50 %) and\n"
+    "field (10 %) angles in the C0-C180 and C90-C270 planes, CIE flux code, and\n"
+    "efficacy where the input watts are known. Reader warnings go to stderr as\n"
+    "'gonio: FILE:LINE: warning: message [code]'.\n"
+    "\n"
+    "With --json, stdout is one JSON object; units are in the key names (flux_lm,\n"
+    "max_cd, *_deg, *_m, *_w); lor and dff are fractions (0.85, not 85 %); null marks\n"
+    "a value that is undefined (e.g. lor of absolute photometry, a beam angle where\n"
+    "there is no beam).\n"
+    "\n"
+    "Exit status: 0 success, 1 the file could not be read, 2 usage error.\n"
+    "\n"
+    "Examples:\n"
+    "  gonio info samples/curves/downlight.ldt\n"
+    "  gonio info lamp.ies --json";
 
 // ------------------------------------------------------------ formatting
 

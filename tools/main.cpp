@@ -14,11 +14,9 @@ namespace {
 
 // Subcommands in the order `gonio --help` lists them.
 const std::vector<Command> kCommands = {
-    {"info", "Show what a photometric file holds: grid, lamps, flux, LOR, beam angles",
-     run_info},
+    {"info", "Show what a photometric file holds: grid, lamps, flux, LOR, beam angles", run_info},
     {"check", "Check photometric files for format and plausibility problems", run_check},
-    {"convert", "Convert between IES LM-63 and EULUMDAT (and between their versions)",
-     run_convert},
+    {"convert", "Convert between IES LM-63 and EULUMDAT (and between their versions)", run_convert},
 };
 
 void print_help() {

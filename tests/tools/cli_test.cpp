@@ -43,6 +43,13 @@ TEST(Cli, EverySubcommandHasHelp) {
       EXPECT_TRUE(contains(r.out, "Exit status")) << r.out;
       EXPECT_TRUE(contains(r.out, "--ldt-isym3")) << r.out;
       EXPECT_TRUE(r.err.empty()) << r.err;
+      // Fits an 80-column terminal, but for the usage line.
+      std::size_t start = r.out.find('\n') + 1;
+      while (start < r.out.size()) {
+        const std::size_t end = r.out.find('\n', start);
+        EXPECT_LE(end - start, 80u) << r.out.substr(start, end - start);
+        start = end + 1;
+      }
     }
     // --help wins over anything else on the line.
     EXPECT_EQ(gonio({c, "no-such-file.ies", "--help"}).exit_code, 0);
