@@ -6,6 +6,7 @@
 #include <system_error>
 #include <vector>
 
+#include "gonio/version.h"
 #include "io/photometric_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
@@ -98,13 +99,17 @@ int run_convert(const Args& args) {
     return kExitFailure;
   }
 
-  auto file = read_input(in_path, input);
+  auto file = read_input(in_path, input, !quiet);
   if (!file.ok()) return kExitFailure;
 
   io::PhotometricWriteOptions options;
   options.ies.version =
       ies_version == "2002" ? io::IesVersion::LM63_2002 : io::IesVersion::LM63_2019;
   options.ldt.isym3_order = isym3_order(isym3_out);
+  // [FILEGENINFO] of LM-63-2019 output where the input has none.
+  options.ies.file_generation_info = std::string("Converted by Gonio ") + kVersion + " from " +
+                                     fs::path(in_path).filename().string() + " (" +
+                                     io::to_string(file->format) + ")";
   options.type_c_grid.c_step_deg = c_step;
   options.type_c_grid.gamma_step_deg = gamma_step;
   options.always_resample = parser.given("c-step") || parser.given("gamma-step");

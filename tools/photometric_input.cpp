@@ -20,13 +20,15 @@ io::PhotometricReadOptions read_options(const InputOptions& options) {
   return r;
 }
 
-Result<io::PhotometricFile> read_input(const std::string& path, const InputOptions& options) {
+Result<io::PhotometricFile> read_input(const std::string& path, const InputOptions& options,
+                                       bool print_info) {
   auto file = io::read_photometric_file(path, read_options(options));
   if (!file.ok()) {
     print_error(file.error());
     return file.error();
   }
-  for (const Finding& f : file->findings) print_finding(f);
+  for (const Finding& f : file->findings)
+    if (print_info || f.severity != Severity::Info) print_finding(f);
   return file;
 }
 

@@ -23,8 +23,9 @@ void add_input_options(ArgParser& parser, InputOptions* options);
 io::LdtIsym3Order isym3_order(const std::string& word);
 io::PhotometricReadOptions read_options(const InputOptions& options);
 
-// Reads a file and prints the reader's warnings and notes to stderr
-// (print_finding); on failure prints the error and returns it.
-Result<io::PhotometricFile> read_input(const std::string& path, const InputOptions& options);
+// Reads a file and prints the reader's warnings (and, with `print_info`, its
+// notes) to stderr (print_finding); on failure prints the error and returns it.
+Result<io::PhotometricFile> read_input(const std::string& path, const InputOptions& options,
+                                       bool print_info = true);
 
 }  // namespace gonio::cli

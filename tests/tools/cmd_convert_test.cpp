@@ -63,6 +63,10 @@ TEST(CliConvert, IesToLdtAndBackKeepsIntensitiesAndFlux) {
   EXPECT_EQ(c.find_keyword("LUMCAT")->value, "DL-800");
   EXPECT_EQ(c.find_keyword("MANUFAC")->value, "Gonio");
   EXPECT_EQ(c.opening.shape, photometry::OpeningShape::Circular);
+  // LM-63-2019 output says where it came from when the input does not.
+  const std::string info = c.find_keyword("FILEGENINFO")->value;
+  EXPECT_EQ(info.rfind("Converted by Gonio ", 0), 0u) << info;
+  EXPECT_TRUE(info.ends_with(" from out.LDT (EULUMDAT)")) << info;
   // Only the outputs were added to the directory: no temporaries left.
   EXPECT_EQ(test::directory_entries(dir.path()),
             (std::vector<std::string>{"back.Ies", "in.ies", "out.LDT"}));
