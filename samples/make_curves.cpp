@@ -38,9 +38,10 @@ void common_keywords(Distribution& d, const std::string& catalogue, const std::s
   };
 }
 
-// A recessed LED downlight with a faceted reflector: a 60° beam (cos⁴ core)
-// over a little diffuse spill, cut off at 85°; rotationally symmetric.
-// 3000 lm module, 24.5 W; the reflector passes about 84 % of it.
+// A recessed LED downlight with a faceted reflector: a cos⁴ beam over a
+// little diffuse spill, cut off at 85°; rotationally symmetric. Beam angle
+// 67.5°, field angle 117.5°. 3000 lm module, 24.5 W; the reflector passes
+// about 83 % of it.
 Distribution downlight() {
   Distribution d;
   d.symmetry = Symmetry::Rotational;
@@ -59,7 +60,7 @@ Distribution downlight() {
   d.opening.length_m = d.opening.width_m = 0.15;
   d.luminaire = {0.2, 0.0, 0.11};  // round, 200 mm diameter
   d.file_generation = gonio::photometry::FileGenerationType::ComputerSimulation;
-  common_keywords(d, "DL-60", "Sample downlight, 60 deg reflector");
+  common_keywords(d, "DL-68", "Sample downlight, 68 deg beam");
   return d;
 }
 
