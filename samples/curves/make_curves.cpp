@@ -34,7 +34,7 @@ void common_keywords(Distribution& d, const std::string& catalogue, const std::s
       {"MANUFAC", "Gonio sample luminaires"},
       {"LUMCAT", catalogue},
       {"LUMINAIRE", name},
-      {"FILEGENINFO", "Synthetic curve written by samples/make_curves.cpp (Gonio)"},
+      {"FILEGENINFO", "Synthetic curve written by samples/curves/make_curves.cpp (Gonio)"},
   };
 }
 

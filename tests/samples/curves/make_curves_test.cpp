@@ -1,4 +1,4 @@
-// samples/make_curves.cpp: the committed sample curves are what the
+// samples/curves/make_curves.cpp: the committed sample curves are what the
 // generator writes, and they are what their README says.
 #include <gtest/gtest.h>
 
@@ -34,7 +34,7 @@ TEST(SampleCurves, GeneratorWritesTheCommittedBytes) {
   for (const char* name : kCurves) {
     SCOPED_TRACE(name);
     EXPECT_EQ(test::read_file(dir / name), test::read_file(committed(name)))
-        << "regenerate with: ./build/samples/gonio_make_curves samples/curves";
+        << "regenerate with: ./build/samples/curves/gonio_make_curves samples/curves";
   }
   EXPECT_EQ(test::gonio({"--version"}).exit_code, 0);
   EXPECT_EQ(test::run_process({GONIO_MAKE_CURVES}).exit_code, 2);  // usage
