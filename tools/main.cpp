@@ -14,6 +14,9 @@ namespace {
 
 // Subcommands in the order `gonio --help` lists them.
 const std::vector<Command> kCommands = {
+    {"info", "Show what a photometric file holds: grid, lamps, flux, LOR, beam angles", run_info},
+    {"check", "Check photometric files for format and plausibility problems", run_check},
+    {"convert", "Convert between IES LM-63 and EULUMDAT (and between their versions)", run_convert},
     {"simulate", "Trace a luminaire model (glTF) into its far field and energy ledger", run_simulate},
 };
 
