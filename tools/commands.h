@@ -21,5 +21,7 @@ std::span<const Command> commands();
 
 // The subcommands' entry points (tools/cmd_<name>.cpp).
 int run_simulate(const Args& args);
+int run_plot(const Args& args);
+int run_compare(const Args& args);
 
 }  // namespace gonio::cli

@@ -14,7 +14,9 @@ namespace {
 
 // Subcommands in the order `gonio --help` lists them.
 const std::vector<Command> kCommands = {
-    {"simulate", "Trace a luminaire model (glTF) into its far field and energy ledger", run_simulate},
+    {"simulate", "Trace a luminaire model (glTF) into IES, LDT and EXR files, checked", run_simulate},
+    {"plot", "Draw the intensity diagram of an IES or LDT file (SVG or PNG)", run_plot},
+    {"compare", "Compare two photometric files: RMS, peak, flux and beam differences", run_compare},
 };
 
 void print_help() {
