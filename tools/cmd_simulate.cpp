@@ -344,8 +344,10 @@ int run_simulate(const Args& args) {
                 l.glossy_gain_lm, percent(l.glossy_gain_lm, l.emitted.flux_lm));
   std::printf("  light output ratio %.4f (escaped / emitted)\n", lor);
   if (!outputs->symmetry_reason.empty()) {
-    std::printf("  %s\n", outputs->symmetry_reason.c_str());
-    if (!symmetry) std::fprintf(stderr, "%s: simulate: %s\n", kProgramName, outputs->symmetry_reason.c_str());
+    if (symmetry)
+      std::printf("  %s\n", outputs->symmetry_reason.c_str());
+    else  // the reasoning is long: stderr (and the report) only
+      std::fprintf(stderr, "%s: simulate: %s\n", kProgramName, outputs->symmetry_reason.c_str());
   }
   for (const WrittenFile& f : outputs->files) {
     if (std::isfinite(f.flux_lm))
