@@ -206,7 +206,10 @@ Status write_latlong_file(const sim::FarField& far_field, const OutputRequest& r
     const int j = 2 * m - row;
     for (int x = 0; x < width; ++x) {
       const int i = ((2 * m - x) % c_count + c_count) % c_count;
-      y.values[static_cast<std::size_t>(row) * width + x] = static_cast<float>(binned.intensity_cd(grid.bin(i, j)));
+      // Over the exact region the reader integrates, so the flux reads back exactly.
+      const std::size_t bin = grid.bin(i, j);
+      y.values[static_cast<std::size_t>(row) * width + x] =
+          static_cast<float>(binned.flux_lm[bin] / sim::exact_bin_solid_angle(grid, bin));
     }
   }
   image.float_channels.push_back(std::move(y));
