@@ -309,7 +309,9 @@ int run_simulate(const Args& args) {
     if (!flux_ok)
       failures.push_back(f.path + ": flux " + std::to_string(f.flux_lm) + " lm read back differs from the escaped " +
                          std::to_string(l.escaped.flux_lm) + " lm by " + signed_percent(f.flux_difference) +
-                         ", more than --flux-tolerance " + std::to_string(100.0 * flux_tolerance) + " %");
+                         ", more than --flux-tolerance " + std::to_string(100.0 * flux_tolerance) +
+                         " %: the grid cannot carry this distribution (a beam narrower than the steps?); a finer "
+                         "--gamma-step/--c-step may, or accept it with a larger --flux-tolerance");
     if (!f.clean()) {
       for (const Finding& x : f.findings)
         if (x.severity >= Severity::Warning)
