@@ -15,6 +15,13 @@
 // are replaced after every iteration (tools/preview_output.h). Progress goes
 // to stderr when it is a terminal.
 //
+// report.json adds to io/report.h's fields: "outputs" {grid, symmetry
+// {chosen, reason, tests [{symmetry, chi_square, degrees_of_freedom,
+// p_value, groups, rejected}]}, escaped_lm, files [{path, format, flux_lm,
+// flux_difference, clean, findings, writer_notes}]} and "energy"
+// {photons_close, flux_imbalance_lm, lor, min_lor, flux_tolerance,
+// files [{path, flux_ok, clean}], passed, failures [text]}.
+//
 // Energy checks (exit 1 after everything is written, with a message):
 // emitted = escaped + absorbed + cut off in photons, LOR = escaped / emitted
 // at least --min-lor, every written file's flux within --flux-tolerance of
@@ -287,6 +294,8 @@ int run_simulate(const Args& args) {
   json["far_field"] = {{"face_size", settings.face_size},
                        {"texels", far_field.texel_count()},
                        {"flux_lm", far_field.total_flux_lm()}};
+  for (const WrittenFile& f : outputs->files)
+    if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
   json["outputs"] = to_json(outputs.value(), grid, ledger.escaped.flux_lm);
 
   // The energy checks, each with what it found.

@@ -47,6 +47,18 @@ void expect_files_carry_the_escaped_flux(const SampleRun& s, const std::string& 
   }
   EXPECT_TRUE(s.report["energy"]["passed"].get<bool>());
   EXPECT_TRUE(s.report["energy"]["photons_close"].get<bool>());
+  // The losses are complete: per mesh and per material they add up to the
+  // absorbed and cut-off photons, exactly.
+  for (const char* part : {"meshes", "materials"}) {
+    std::uint64_t absorbed = 0, cutoff = 0;
+    for (const auto& m : s.report[part]) {
+      absorbed += m["photons_absorbed"].get<std::uint64_t>();
+      cutoff += m["photons_cutoff"].get<std::uint64_t>();
+      EXPECT_FALSE(m["name"].get<std::string>().empty());
+    }
+    EXPECT_EQ(absorbed, s.report["photons_absorbed"].get<std::uint64_t>()) << name << " " << part;
+    EXPECT_EQ(cutoff, s.report["photons_cutoff"].get<std::uint64_t>()) << name << " " << part;
+  }
 }
 
 TEST(SampleOutputs, BellIsRotationalAndItsFilesCarryTheEscapedFlux) {
@@ -74,9 +86,12 @@ TEST(SampleOutputs, DownlightBeamNarrowerThanTheGridFailsTheFluxCheckLoudly) {
   EXPECT_NE(s.err.find("finer"), std::string::npos) << s.err;
   const double escaped = s.report["escaped_lm"].get<double>();
   for (const auto& f : s.report["outputs"]["files"]) {
-    if (f["format"] == "exr" || f["format"] == "latlong")
+    if (f["format"] == "exr" || f["format"] == "latlong") {
       EXPECT_NEAR(f["flux_lm"].get<double>(), escaped, 1e-5 * escaped);
-    if (f["format"] == "ies") EXPECT_LT(f["flux_difference"].get<double>(), -0.005);
+    }
+    if (f["format"] == "ies") {
+      EXPECT_LT(f["flux_difference"].get<double>(), -0.005);
+    }
   }
   EXPECT_FALSE(s.report["energy"]["passed"].get<bool>());
 }
