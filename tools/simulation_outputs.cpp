@@ -74,9 +74,11 @@ photometry::LuminaireDimensions bounding_box(const sim::SceneDesc& scene) {
   }
   photometry::LuminaireDimensions d;
   if (!any) return d;
-  d.length_m = hi[0] - lo[0];
-  d.width_m = hi[1] - lo[1];
-  d.height_m = hi[2] - lo[2];
+  // To 0.1 mm: the mesh positions are floats, whose rounding is no dimension.
+  const auto mm10 = [](double m) { return std::round(m * 1e4) / 1e4; };
+  d.length_m = mm10(hi[0] - lo[0]);
+  d.width_m = mm10(hi[1] - lo[1]);
+  d.height_m = mm10(hi[2] - lo[2]);
   return d;
 }
 
