@@ -24,5 +24,7 @@ int run_info(const Args& args);      // gonio info FILE [--json]
 int run_convert(const Args& args);   // gonio convert IN OUT
 int run_check(const Args& args);     // gonio check FILE...
 int run_simulate(const Args& args);  // gonio simulate MODEL --out DIR
+int run_plot(const Args& args);      // gonio plot FILE
+int run_compare(const Args& args);   // gonio compare A B
 
 }  // namespace gonio::cli

@@ -17,7 +17,9 @@ const std::vector<Command> kCommands = {
     {"info", "Show what a photometric file holds: grid, lamps, flux, LOR, beam angles", run_info},
     {"check", "Check photometric files for format and plausibility problems", run_check},
     {"convert", "Convert between IES LM-63 and EULUMDAT (and between their versions)", run_convert},
-    {"simulate", "Trace a luminaire model (glTF) into its far field and energy ledger", run_simulate},
+        {"simulate", "Trace a luminaire model (glTF) into IES, LDT and EXR files, checked", run_simulate},
+    {"plot", "Draw the intensity diagram of an IES or LDT file (SVG or PNG)", run_plot},
+    {"compare", "Compare two photometric files: RMS, peak, flux and beam differences", run_compare},
 };
 
 void print_help() {
