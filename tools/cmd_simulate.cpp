@@ -8,7 +8,7 @@
 //                  [--min-lor X] [--flux-tolerance X]
 //                  [--preview [filter options]]
 //
-// Writes DIR/STEM.ies, .ldt, .exr (cube), -latlong.exr, .svg (the
+// Writes DIR/STEM.ies, STEM.ldt, farfield.exr (cube), farfield-latlong.exr, STEM.svg (the
 // intensity diagram; tools/simulation_outputs.h) and DIR/report.json
 // (settings, speed, the energy ledger, and each file read back: its flux and
 // its check findings). With --preview, DIR/preview.exr and DIR/preview.png
@@ -111,14 +111,15 @@ int run_simulate(const Args& args) {
   ArgParser p("simulate", "MODEL --out DIR [options]",
               "Traces photons through a luminaire model (glTF 2.0: .gltf or .glb) and writes\n"
               "what light-planning programs and renderers read, each file read back and\n"
-              "checked: DIR/STEM.ies (LM-63-2019, computer simulation), DIR/STEM.ldt (EULUMDAT,\n"
-              "cd/klm of the emitters' flux), DIR/STEM.exr (far-field cube map: Y = intensity\n"
-              "in cd, flux in lm and photons per texel), DIR/STEM-latlong.exr (equirectangular),\n"
-              "DIR/STEM.svg (intensity diagram), and DIR/report.json (settings, speed, the\n"
-              "energy ledger per emitter, mesh and material, and every file's flux read back).\n"
-              "Fails (exit 1) when the books do not close, the LOR is under --min-lor, a file's\n"
-              "flux misses the escaped flux by more than --flux-tolerance, or a file is not\n"
-              "clean. The same seed gives the same files whatever the thread count.");
+              "checked: DIR/STEM.ies (LM-63-2019, computer simulation), DIR/STEM.ldt\n"
+              "(EULUMDAT, cd/klm of the emitters' flux), DIR/farfield.exr (far-field cube\n"
+              "map: Y = intensity in cd, flux in lm and photons per texel),\n"
+              "DIR/farfield-latlong.exr (equirectangular), DIR/STEM.svg (intensity diagram),\n"
+              "and DIR/report.json (settings, speed, the energy ledger per emitter, mesh and\n"
+              "material, and every file's flux read back). Fails (exit 1) when the books do\n"
+              "not close, the LOR is under --min-lor, a file's flux misses the escaped flux\n"
+              "by more than --flux-tolerance, or a file is not clean. The same seed gives the\n"
+              "same files whatever the thread count.");
   p.positional("MODEL", &model, "the luminaire model (.gltf or .glb)");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
   p.option("photons", &photons, 1, 4'294'967'295LL, "N", "photons per iteration (default 1000000)");

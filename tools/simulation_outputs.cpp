@@ -387,11 +387,11 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
         s = write_ldt_file(result.distribution, &file);
         break;
       case OutputFormat::Exr:
-        file.path = (dir / (request.stem + ".exr")).string();
+        file.path = (dir / "farfield.exr").string();
         s = write_cube_file(far_field, request, &file);
         break;
       case OutputFormat::LatLong:
-        file.path = (dir / (request.stem + "-latlong.exr")).string();
+        file.path = (dir / "farfield-latlong.exr").string();
         s = write_latlong_file(far_field, request, &file);
         break;
       case OutputFormat::Plot:

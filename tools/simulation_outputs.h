@@ -6,9 +6,9 @@
 //   STEM.ldt          EULUMDAT: cd/klm of the emitters' flux, so LORL is
 //                     escaped / emitted; DFF and the direct ratios computed
 //                     (photometry/direct_ratios.h, Gonio's room model)
-//   STEM.exr          the far field as an OpenEXR cube map (Y [cd], flux
+//   farfield.exr      the far field as an OpenEXR cube map (Y [cd], flux
 //                     [lm], photons per texel), world directions
-//   STEM-latlong.exr  the same as an equirectangular map (io/exr.h), world
+//   farfield-latlong.exr the same as an equirectangular map (io/exr.h), world
 //                     directions, for renderers
 //   STEM.svg          the intensity diagram (C0–C180 and C90–C270, polar and
 //                     cartesian), io/intensity_diagram.h

@@ -128,9 +128,9 @@ TEST(Simulate, WritesTheFarFieldAndAReportThatCloses) {
   EXPECT_EQ(report["settings"]["face_size"], 16);
   EXPECT_EQ(report["program"]["name"], "gonio");
 
-  auto image = io::read_exr((out / "shade.exr").string());
+  auto image = io::read_exr((out / "farfield.exr").string());
   ASSERT_TRUE(image.ok()) << image.error().message;
-  auto field = io::far_field_from_image(*image, "shade.exr");
+  auto field = io::far_field_from_image(*image, "farfield.exr");
   ASSERT_TRUE(field.ok());
   EXPECT_EQ(field->total_photons(), report["photons_escaped"].get<std::uint64_t>());
   EXPECT_NEAR(field->total_flux_lm(), report["escaped_lm"].get<double>(), 1e-4 * 1000.0);
@@ -152,7 +152,7 @@ TEST(Simulate, SameSeedSameBytesWithOneOrTwoThreads) {
                     "--threads", t, "--seed", "42", "--face-size", "16"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
-  EXPECT_EQ(test::read_file(dir / "1" / "shade.exr"), test::read_file(dir / "2" / "shade.exr"));
+  EXPECT_EQ(test::read_file(dir / "1" / "farfield.exr"), test::read_file(dir / "2" / "farfield.exr"));
   auto a = nlohmann::json::parse(test::read_file(dir / "1" / "report.json"));
   auto b = nlohmann::json::parse(test::read_file(dir / "2" / "report.json"));
   EXPECT_EQ(a["meshes"], b["meshes"]);
@@ -195,7 +195,7 @@ TEST(Simulate, PreviewFilesFollowEveryIteration) {
   auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "20000", "--iterations", "2",
                   "--face-size", "16", "--preview", "--filter", "none"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto raw = io::read_exr((out / "shade.exr").string());
+  const auto raw = io::read_exr((out / "farfield.exr").string());
   const auto preview = io::read_exr((out / "preview.exr").string());
   ASSERT_TRUE(raw.ok() && preview.ok());
   ASSERT_NE(raw->find_float("Y"), nullptr);
@@ -237,7 +237,7 @@ TEST(SimulateOutputs, EveryFormatIsWrittenReadBackCleanAndCarriesTheEscapedFlux)
   const auto out = dir / "out";
   auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "200000", "--iterations", "2"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* name : {"shade.ies", "shade.ldt", "shade.exr", "shade-latlong.exr", "shade.svg", "report.json"})
+  for (const char* name : {"shade.ies", "shade.ldt", "farfield.exr", "farfield-latlong.exr", "shade.svg", "report.json"})
     EXPECT_TRUE(std::filesystem::exists(out / name)) << name;
   EXPECT_NE(r.out.find("shade.ies"), std::string::npos) << r.out;
 
@@ -281,7 +281,7 @@ TEST(SimulateOutputs, EveryFormatIsWrittenReadBackCleanAndCarriesTheEscapedFlux)
   EXPECT_EQ(lines[2], "4");                                                                  // Isym 4: quadrant
   EXPECT_NEAR(std::stod(lines[28]), 1000.0, 1e-6);                                          // lamp set flux
 
-  const auto latlong = io::read_exr((out / "shade-latlong.exr").string());
+  const auto latlong = io::read_exr((out / "farfield-latlong.exr").string());
   ASSERT_TRUE(latlong.ok());
   EXPECT_EQ(latlong->envmap, io::Envmap::LatLong);
   EXPECT_EQ(latlong->width, 2 * latlong->height - 1);

@@ -73,7 +73,7 @@ TEST(SimulationOutputs, LatLongAndCandelaTablesPutALobeWhereTheFramesSay) {
   ASSERT_TRUE(result.ok()) << result.error().message;
   ASSERT_EQ(result->files.size(), 2u);
 
-  auto image = io::read_exr((dir / "spot-latlong.exr").string());
+  auto image = io::read_exr((dir / "farfield-latlong.exr").string());
   ASSERT_TRUE(image.ok());
   const auto& y = image->find_float("Y")->values;
   std::size_t best = 0;
