@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "sim/sampling.h"
@@ -82,12 +83,32 @@ double schlick_fresnel(double f0, double c) {
   return f0 + (1.0 - f0) * k2 * k2 * k;
 }
 
+double beckmann_lambda(double mx, double my, const Vec3& w) {
+  if (!(w.z > 0.0)) return std::numeric_limits<double>::infinity();
+  const double r2 = mx * mx * w.x * w.x + my * my * w.y * w.y;
+  if (!(r2 > 0.0)) return 0.0;  // along the normal: nothing masks it
+  // a = 1 / (projected roughness · tan θ) (Heitz 2014, anisotropic Beckmann).
+  const double a = w.z / std::sqrt(r2);
+  // (erf(a) − 1)/2 + exp(−a²)/(2a√π), written with erfc so that the two
+  // small terms of large a do not cancel against 1.
+  constexpr double kInvSqrtPi = std::numbers::inv_sqrtpi;
+  return std::max(0.0, 0.5 * (std::exp(-a * a) * kInvSqrtPi / a - std::erfc(a)));
+}
+
+double smith_g1(double mx, double my, const Vec3& w) {
+  return 1.0 / (1.0 + beckmann_lambda(mx, my, w));
+}
+
+double smith_g2(double mx, double my, const Vec3& wi, const Vec3& wo) {
+  return 1.0 / (1.0 + beckmann_lambda(mx, my, wi) + beckmann_lambda(mx, my, wo));
+}
+
 double glossy_brdf(const Material& m, const Vec3& wi, const Vec3& wo) {
   if (wi.z <= 0.0 || wo.z <= 0.0) return 0.0;
   const Vec3 h = normalize(wi + wo);
   const double ih = dot(wi, h);
-  return schlick_fresnel(m.glossy_f0, ih) * beckmann_d(m.glossy_mx, m.glossy_my, h) /
-         (4.0 * ih * std::sqrt(wi.z * wo.z));
+  return schlick_fresnel(m.glossy_f0, ih) * beckmann_d(m.glossy_mx, m.glossy_my, h) *
+         smith_g2(m.glossy_mx, m.glossy_my, wi, wo) / (4.0 * wi.z * wo.z);
 }
 
 Vec3 sample_beckmann_half_vector(double mx, double my, double u, double cos_2piv,
@@ -122,7 +143,10 @@ GlossySample sample_glossy(const Material& m, const Vec3& wi, double u, double c
   if (ih <= 0.0 || wi.z <= 0.0) return {h, 0.0};
   const Vec3 wo = 2.0 * ih * h - wi;
   if (wo.z <= 0.0) return {wo, 0.0};
-  const double w = schlick_fresnel(m.glossy_f0, ih) * std::sqrt(wo.z / wi.z) / h.z;
+  // f cos θo / pdf = F D G2 / (4 (i·n)(o·n)) · (o·n) · 4 (o·h) / (D (h·n)),
+  // with o·h = i·h for a reflection.
+  const double w = schlick_fresnel(m.glossy_f0, ih) * smith_g2(m.glossy_mx, m.glossy_my, wi, wo) *
+                   ih / (wi.z * h.z);
   return {wo, w};
 }
 
@@ -215,11 +239,8 @@ ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& f, const
         return r;
       }
       r.direction = normalize(o);
-      if (g.weight <= 1.0) {
-        r.absorbed = rng.uniform() >= g.weight;
-      } else {
-        r.power_factor = g.weight;
-      }
+      // Survival with chance min(w, 1): uniform() < 1 ≤ w always survives.
+      r.absorbed = rng.uniform() >= g.weight;
       return r;
     }
     case Lobe::Dielectric: {

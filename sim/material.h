@@ -45,19 +45,29 @@ inline Lobe choose_lobe(const LobeCdf& cdf, double u) {
   return static_cast<Lobe>((k + 1) % 6);  // 5 (past every lobe) → Absorb
 }
 
-// --- Glossy lobe: anisotropic Beckmann distribution with Schlick Fresnel
-// (Kurt et al. 2010 as the thesis gives it), with the exponent α = ½:
-//   f(wi, wo) = F(wo·h) D(h) / (4 (wi·h) √((wi·n)(wo·n)))     [1/sr]
+// --- Glossy lobe: a microfacet BRDF on the anisotropic Beckmann
+// distribution with Schlick's Fresnel and Smith's height-correlated
+// masking-shadowing (Walter et al. 2007; Heitz 2014 for the anisotropic Λ):
+//   f(wi, wo) = F(wi·h) D(h) G2(wi, wo) / (4 (wi·n)(wo·n))          [1/sr]
 //   D(h) = exp(−tan²θh (cos²φh/mx² + sin²φh/my²)) / (π mx my cos⁴θh)
-//   F(c) = f0 + (1 − f0)(1 − c)⁵.
-// α = ½ (Ward's normalisation) keeps f reciprocal, and the lobe's albedo is
-// ≈ f0 for smooth lobes at every incidence; α = 0 loses most of the light
-// at oblique incidence and α = 1 creates it. The lobe's weight `glossy` is
-// the chance of choosing it; these functions describe the lobe alone.
+//   F(c) = f0 + (1 − f0)(1 − c)⁵
+//   G2 = 1 / (1 + Λ(wi) + Λ(wo)),  G1(w) = 1 / (1 + Λ(w))
+// Its albedo ∫ f cos θo dωo is at most 1 for every roughness and
+// incidence. The lobe's weight `glossy` is the chance of choosing it; these
+// functions describe the lobe alone.
 
 // D(h) for a unit half vector in the local frame [1/sr]: ∫ D cos θh dω = 1.
 double beckmann_d(double mx, double my, const Vec3& h_local);
 double schlick_fresnel(double f0, double cos_theta);
+// Smith's Λ of the anisotropic Beckmann distribution for a unit direction w
+// (exact, with erfc): a = cos θ / (sin θ √(mx² cos²φ + my² sin²φ)),
+//   Λ = (erf(a) − 1)/2 + exp(−a²) / (2a√π);
+// 0 along the normal, +∞ at or below the horizon.
+double beckmann_lambda(double mx, double my, const Vec3& w_local);
+// Masking of one direction, G1 = 1 / (1 + Λ), and the height-correlated
+// masking-shadowing of a pair, G2 = 1 / (1 + Λ(wi) + Λ(wo)).
+double smith_g1(double mx, double my, const Vec3& w_local);
+double smith_g2(double mx, double my, const Vec3& wi_local, const Vec3& wo_local);
 // f(wi, wo) in the local frame; 0 unless both are above the surface.
 double glossy_brdf(const Material& m, const Vec3& wi_local, const Vec3& wo_local);
 // Half vector drawn with density D(h) cos θh by Walter's formulas (thesis
@@ -72,7 +82,7 @@ double glossy_pdf(const Material& m, const Vec3& wi_local, const Vec3& wo_local)
 
 struct GlossySample {
   Vec3 wo;        // local frame; may point below the surface (weight 0)
-  double weight;  // f · cos θo / pdf = F(wo·h) √(wo·n / wi·n) / cos θh, or 0
+  double weight;  // f · cos θo / pdf = F(wi·h) G2 (wi·h) / ((wi·n)(h·n)), or 0
 };
 GlossySample sample_glossy(const Material& m, const Vec3& wi_local, double u, double cos_2piv,
                            double sin_2piv);
@@ -108,17 +118,14 @@ struct ScatterResult {
   Lobe lobe;             // the lobe chosen (Absorb: the photon ends here)
   bool absorbed;         // absorbed by the lobe choice or the roulette
   Vec3 direction;        // unit, where it goes on (unless absorbed)
-  double power_factor;   // 1, or the glossy weight when it exceeds 1
+  double power_factor;   // always 1: no lobe raises a photon's power
 };
 
 // Scatters a photon travelling along unit `direction` into the surface.
 // Photon power stays equal: the lobe is chosen by its weight (the rest is
 // absorbed); diffuse lobes, the mirror and the dielectric (reflection with
 // chance R, refraction with 1 − R) keep full power; the glossy lobe survives
-// with chance w = f·cos/pdf when w ≤ 1, and when w > 1 (the model's sample
-// weights straddle 1 for oblique incidence) it survives with its power
-// multiplied by w (power_factor), so the estimate stays unbiased; the
-// tracer books the excess as `glossy_gain` in the ledger.
+// with chance min(w, 1), w = f·cos/pdf.
 // Specular directions use the shading normal; a direction that would cross
 // the geometric surface to the wrong side is recomputed with the geometric
 // normal. Dielectrics: the front side faces air (n = 1), the back side the
