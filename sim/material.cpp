@@ -85,26 +85,23 @@ double schlick_fresnel(double f0, double c) {
 
 namespace {
 
-// Smith's Λ of the Beckmann distribution at a = 1 / (roughness · tan θ):
+// Smith's Λ of the Beckmann distribution for a direction with
+// a² = z² / r2 (r2 = mx² x² + my² y²; a = 1 / (roughness · tan θ)):
 // (erf(a) − 1)/2 + exp(−a²)/(2a√π), written with erfc so that the two
-// small terms of large a do not cancel against 1.
-double lambda_at(double a) {
+// small terms of large a do not cancel against 1. From a = 5.5 on,
+// Λ < 6·10⁻¹⁷ vanishes beside 1 in G = 1/(1 + Λ) and is 0.
+double lambda_of(double z2, double r2) {
+  if (!(z2 < 30.25 * r2)) return 0.0;  // includes r2 = 0: along the normal
+  const double a = std::sqrt(z2 / r2);
   if (!(a > 0.0)) return std::numeric_limits<double>::infinity();
   return std::max(0.0, 0.5 * (std::exp(-a * a) * std::numbers::inv_sqrtpi / a - std::erfc(a)));
-}
-
-// tan θ times the roughness projected onto w's azimuth: 1/a (Heitz 2014's
-// anisotropic Beckmann); 0 along the normal.
-double inverse_a(double mx, double my, const Vec3& w) {
-  return std::sqrt(mx * mx * w.x * w.x + my * my * w.y * w.y) / w.z;
 }
 
 }  // namespace
 
 double beckmann_lambda(double mx, double my, const Vec3& w) {
   if (!(w.z > 0.0)) return std::numeric_limits<double>::infinity();
-  const double inv_a = inverse_a(mx, my, w);
-  return inv_a > 0.0 ? lambda_at(1.0 / inv_a) : 0.0;
+  return lambda_of(w.z * w.z, mx * mx * w.x * w.x + my * my * w.y * w.y);
 }
 
 double smith_g1(double mx, double my, const Vec3& w) {
@@ -161,7 +158,8 @@ double sample_slope_tail(double a, PhotonRandom& rng) {
 // the (never observed) case that the tail's rejection gives up.
 //
 // In slopes stretched by the roughness, (P, Q) = (tan θh cos φh / mx,
-// tan θh sin φh / my), Walter's formulas draw the Gaussian exp(−P² − Q²)/π.
+// tan θh sin φh / my), Walter's formulas draw the Gaussian exp(−P² − Q²)/π
+// (h ∝ (mx P, my Q, 1)).
 // The visible normals have that density times G1(wi) (1 + t)⁺ with
 // t = X / a, X the stretched slope along k = (mx wi.x, my wi.y). Walter's h
 // and its mirror image (the same formulas at v + ½: X → −X) are equally
@@ -173,25 +171,30 @@ double sample_slope_tail(double a, PhotonRandom& rng) {
 // Walter's draw.
 Vec3 visible_half_vector(double mx, double my, const Vec3& wi, double lambda_i,
                          PhotonRandom& rng) {
+  // Walter's formulas in stretched slopes: tan²θh (cos²φh/mx² + sin²φh/my²)
+  // = −log u is P² + Q², and (P, Q) points along (cos 2πv, sin 2πv).
   double c, s;
   sample_unit_circle(rng, &c, &s);
-  const Vec3 h = sample_beckmann_half_vector(mx, my, rng.uniform_open0(), c, s);
+  const double r = std::sqrt(-std::log(rng.uniform_open0()));
+  double p = r * c, q = r * s;
   const double kx = mx * wi.x, ky = my * wi.y;
-  const double k = std::sqrt(kx * kx + ky * ky);
-  const double inv_a = k / wi.z;
-  if (!(inv_a > 0.0)) return h;  // normal incidence: every facet is visible
-  const double ex = kx / k, ey = ky / k;
-  const double p = h.x / (h.z * mx), q = h.y / (h.z * my);
-  double x = ex * p + ey * q;
-  const double y = ey * p - ex * q;
-  double xi = std::abs(x);
-  if (rng.uniform() * (1.0 + lambda_i) >= 1.0) {
-    xi = sample_slope_tail(1.0 / inv_a, rng);
-    if (xi < 0.0) return {};
+  const double k2 = kx * kx + ky * ky;
+  if (k2 > 0.0) {  // else normal incidence: every facet is visible
+    const double inv_k = 1.0 / std::sqrt(k2);
+    const double ex = kx * inv_k, ey = ky * inv_k;
+    const double inv_a = k2 * inv_k / wi.z;
+    const double y = ey * p - ex * q;
+    double xi = std::abs(ex * p + ey * q);
+    if (lambda_i > 0.0 && rng.uniform() * (1.0 + lambda_i) >= 1.0) {
+      xi = sample_slope_tail(1.0 / inv_a, rng);
+      if (xi < 0.0) return {};
+    }
+    const double t = xi * inv_a;
+    const double x = (t >= 1.0 || 2.0 * rng.uniform() < 1.0 + t) ? xi : -xi;
+    p = ex * x + ey * y;
+    q = ey * x - ex * y;
   }
-  const double t = xi * inv_a;
-  x = (t >= 1.0 || 2.0 * rng.uniform() < 1.0 + t) ? xi : -xi;
-  return normalize(Vec3{mx * (ex * x + ey * y), my * (ey * x - ex * y), 1.0});
+  return normalize(Vec3{mx * p, my * q, 1.0});
 }
 
 }  // namespace

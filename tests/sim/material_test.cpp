@@ -318,6 +318,24 @@ TEST(Glossy, PdfIntegratesToOneAndMatchesTheSampleWeights) {
   }
 }
 
+TEST(Glossy, ExtremeRoughnessStaysFinite) {
+  // From a near-mirror (glTF's floor, 1e-4) to extras far beyond glTF's
+  // range: unit directions, weights in [0, 1], never NaN.
+  for (auto [mx, my] : {std::pair{1e-4, 1e-4}, std::pair{1e-4, 2.0}, std::pair{3.0, 3.0}, std::pair{100.0, 0.5}}) {
+    const Material m = glossy(mx, my, 0.9);
+    for (int k = 0; k < 5000; ++k) {
+      PhotonRandom rng(43, static_cast<std::uint64_t>(k));
+      const Vec3 wi = sample_cosine_hemisphere(rng);
+      const GlossySample g = sample_glossy(m, wi, rng);
+      ASSERT_TRUE(g.weight >= 0.0 && g.weight <= 1.0) << mx << " " << my << " " << g.weight;
+      if (g.weight > 0.0) {
+        ASSERT_NEAR(length(g.wo), 1.0, 1e-9);
+        ASSERT_GT(g.wo.z, 0.0);
+      }
+    }
+  }
+}
+
 TEST(Glossy, Reciprocity) {
   for (const Material& m : {glossy(0.25, 0.1, 0.6), glossy(0.8, 0.8, 0.04), glossy(0.02, 0.3, 1.0)}) {
     for (int k = 0; k < 200; ++k) {
