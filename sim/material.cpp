@@ -154,21 +154,21 @@ double sample_slope_tail(double a, PhotonRandom& rng) {
   return -1.0;
 }
 
-// A visible half vector of wi (wi.z > 0) given Λ(wi); the zero vector in
-// the (never observed) case that the tail's rejection gives up.
+// The visible half vectors of wi (wi.z > 0), given Λ(wi).
 //
 // In slopes stretched by the roughness, (P, Q) = (tan θh cos φh / mx,
-// tan θh sin φh / my), Walter's formulas draw the Gaussian exp(−P² − Q²)/π
-// (h ∝ (mx P, my Q, 1)).
-// The visible normals have that density times G1(wi) (1 + t)⁺ with
-// t = X / a, X the stretched slope along k = (mx wi.x, my wi.y). Walter's h
-// and its mirror image (the same formulas at v + ½: X → −X) are equally
-// likely, so keeping X with probability (1 + t)/2 and −X otherwise is
-// exact where |t| ≤ 1. Where |t| > 1 the pair's visible density is
-// (1 + |t|)/2 against Walter's 1: the excess, (|t| − 1)/2 over |X| > a,
-// holds Λ(wi) of mass against Walter's 1, and is drawn as a second
-// component with probability Λ / (1 + Λ), with the other slope Y from
-// Walter's draw.
+// tan θh sin φh / my) and h ∝ (mx P, my Q, 1), Walter's formulas draw the
+// Gaussian exp(−P² − Q²)/π. The visible normals have that density times
+// G1(wi) (1 + t)⁺, where 1 + t = (wi·h) / ((wi·n)(h·n)) and t = X / a with
+// X the stretched slope along k = (mx wi.x, my wi.y). Walter's h and its
+// mirror image h' (P, Q → −P, −Q: t → −t) are equally likely, so keeping
+// h with probability (1 + t)/2 (capped at 1) and h' otherwise is exact
+// where |t| ≤ 1. Where |t| > 1 the pair's visible density is (1 + |t|)/2
+// against Walter's 1: the excess, (X/a − 1) over X > a, holds Λ(wi) of
+// mass against Walter's 1 and is drawn as a second component with
+// probability Λ / (1 + Λ): X from the tail, the slope across k from
+// Walter's draw. Returns the zero vector in the (never observed) case that
+// the tail's rejection gives up.
 Vec3 visible_half_vector(double mx, double my, const Vec3& wi, double lambda_i,
                          PhotonRandom& rng) {
   // Walter's formulas in stretched slopes: tan²θh (cos²φh/mx² + sin²φh/my²)
@@ -176,25 +176,21 @@ Vec3 visible_half_vector(double mx, double my, const Vec3& wi, double lambda_i,
   double c, s;
   sample_unit_circle(rng, &c, &s);
   const double r = std::sqrt(-std::log(rng.uniform_open0()));
-  double p = r * c, q = r * s;
+  const double p = r * c, q = r * s;
   const double kx = mx * wi.x, ky = my * wi.y;
-  const double k2 = kx * kx + ky * ky;
-  if (k2 > 0.0) {  // else normal incidence: every facet is visible
-    const double inv_k = 1.0 / std::sqrt(k2);
-    const double ex = kx * inv_k, ey = ky * inv_k;
-    const double inv_a = k2 * inv_k / wi.z;
+  if (lambda_i > 0.0 && rng.uniform() * (1.0 + lambda_i) >= 1.0) {
+    // Λ > 0 implies k ≠ 0.
+    const double k = std::sqrt(kx * kx + ky * ky);
+    const double ex = kx / k, ey = ky / k;
     const double y = ey * p - ex * q;
-    double xi = std::abs(ex * p + ey * q);
-    if (lambda_i > 0.0 && rng.uniform() * (1.0 + lambda_i) >= 1.0) {
-      xi = sample_slope_tail(1.0 / inv_a, rng);
-      if (xi < 0.0) return {};
-    }
-    const double t = xi * inv_a;
-    const double x = (t >= 1.0 || 2.0 * rng.uniform() < 1.0 + t) ? xi : -xi;
-    p = ex * x + ey * y;
-    q = ey * x - ex * y;
+    const double x = sample_slope_tail(wi.z / k, rng);
+    if (x < 0.0) return {};
+    return normalize(Vec3{mx * (ex * x + ey * y), my * (ey * x - ex * y), 1.0});
   }
-  return normalize(Vec3{mx * p, my * q, 1.0});
+  // Keep h where 2 uniform() < 1 + t = 1 + (kx P + ky Q) / wi.z, written
+  // without dividing (and without a branch: the choice is a coin toss).
+  const double keep = std::copysign(1.0, wi.z + kx * p + ky * q - 2.0 * rng.uniform() * wi.z);
+  return normalize(Vec3{keep * mx * p, keep * my * q, 1.0});
 }
 
 }  // namespace

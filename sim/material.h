@@ -57,7 +57,7 @@ inline Lobe choose_lobe(const LobeCdf& cdf, double u) {
 // it; these functions describe the lobe alone, so the surface reflects
 // ks · albedo(wi) through it.
 //
-// Energy. With the exact Λ, ∫ G1(wi) D(h) max(0, wi·h) dωh = wi·n (the
+// Energy. With the exact Λ (below), ∫ G1(wi) D(h) max(0, wi·h) dωh = wi·n (the
 // facets' projected area is the surface's), and G2 ≤ G1(wi), F ≤ 1 give
 // albedo(wi) = ∫ f cos θo dωo ≤ 1 for every roughness and incidence. For
 // f0 = 1 it is 1 − 3·10⁻⁵ for mx = my ≤ 0.1 up to 60° from the normal and
@@ -80,11 +80,12 @@ inline Lobe choose_lobe(const LobeCdf& cdf, double u) {
 double beckmann_d(double mx, double my, const Vec3& h_local);
 double schlick_fresnel(double f0, double cos_theta);
 // Smith's Λ of the anisotropic Beckmann distribution for a unit direction w
-// (exact, with erfc; a rational approximation would break the projected-
-// area identity above by up to 0.2 %): with
+// (exact, with erfc: Walter's rational approximation of G1 is off by up to
+// 0.3 %, enough to break the projected-area identity above): with
 // a = cos θ / (sin θ √(mx² cos²φ + my² sin²φ)),
 //   Λ = (erf(a) − 1)/2 + exp(−a²) / (2a√π);
-// 0 along the normal, +∞ at or below the horizon.
+// 0 along the normal and wherever a ≥ 5.5 (Λ < 6·10⁻¹⁷ vanishes beside 1
+// and is not computed), +∞ at or below the horizon.
 double beckmann_lambda(double mx, double my, const Vec3& w_local);
 // Masking of one direction, G1 = 1 / (1 + Λ), and the height-correlated
 // masking-shadowing of a pair, G2 = 1 / (1 + Λ(wi) + Λ(wo)).
@@ -105,17 +106,20 @@ Vec3 sample_beckmann_half_vector(double mx, double my, double u, double cos_2piv
 // normal density (Heitz & d'Eon 2014)
 //   D_wi(h) = G1(wi) D(h) max(0, wi·h) / (wi·n)                    [1/sr],
 // built on Walter's draw above: Walter's h or its mirror image h' = (−hx,
-// −hy, hz) (Walter's formulas at v + ½, equally likely), the one facing wi
-// more often; and, with probability Λ(wi) / (1 + Λ(wi)), a slope from the
-// tail that masking reveals beyond what Walter's D cos θh reaches (closed
-// form with rejection). Exact for every roughness and incidence; the zero
-// vector for wi.z ≤ 0.
+// −hy, hz) (Walter's formulas at v + ½, exactly as likely), chosen in
+// proportion to max(0, wi·h) and max(0, wi·h'); and, with probability
+// Λ(wi) / (1 + Λ(wi)), a slope from the tail that masking lets through
+// beyond what that choice reaches (closed form with rejection; Λ = 0, and
+// this never happens, unless wi is within about atan(5.5 · roughness) of
+// the horizon). Exact for every roughness and incidence; the zero vector
+// for wi.z ≤ 0.
 //
 // Why not Walter's h alone: reflecting wi about it gives the sample weight
 // f cos θo / pdf = F G2 (wi·h) / ((wi·n)(h·n)), which exceeds 1 for about
 // half the samples at any oblique incidence. Surviving with min(w, 1)
 // would lose (and reshape) 1.5 % of an mx = my = 0.09 lobe's light at 30°,
-// 4.4 % at 60°, 27 % at 85°; carrying w as power creates light.
+// 4.4 % at 60°, 29 % at 85° (benchmarks/glossy_study.cpp); carrying w as
+// power creates light.
 Vec3 sample_visible_half_vector(double mx, double my, const Vec3& wi_local, PhotonRandom& rng);
 double visible_half_vector_pdf(double mx, double my, const Vec3& wi_local, const Vec3& h_local);
 

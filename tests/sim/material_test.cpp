@@ -254,6 +254,41 @@ double half_vector_chi2_sigma(Sample sample, Density density, double tmax, int n
   return (chi2 - dof) / std::sqrt(2.0 * dof);
 }
 
+TEST(Glossy, VisibleHalfVectorsStartFromWaltersFormulas) {
+  // Where masking hides nothing (normal incidence, or Λ vanishing beside 1)
+  // the draw is Walter's half vector h or its mirror image (−hx, −hy, hz)
+  // from the same random numbers, the mirror half the time (t is symmetric)
+  // and, away from the normal, more often the one that faces wi more.
+  for (const Vec3& wi : {Vec3{0, 0, 1}, incident(30.0, 70.0)}) {
+    int mirrored = 0, facing = 0;
+    const int n = 40000;
+    ASSERT_EQ(beckmann_lambda(0.3, 0.1, wi), 0.0);
+    for (int k = 0; k < n; ++k) {
+      PhotonRandom a(47, static_cast<std::uint64_t>(k)), b(47, static_cast<std::uint64_t>(k));
+      const Vec3 h = sample_visible_half_vector(0.3, 0.1, wi, a);
+      double c, s;
+      sample_unit_circle(b, &c, &s);
+      const Vec3 w = sample_beckmann_half_vector(0.3, 0.1, b.uniform_open0(), c, s);
+      const bool mirror = h.x * w.x + h.y * w.y < 0.0;
+      const double sign = mirror ? -1.0 : 1.0;
+      ASSERT_NEAR(h.x, sign * w.x, 1e-12);
+      ASSERT_NEAR(h.y, sign * w.y, 1e-12);
+      ASSERT_NEAR(h.z, w.z, 1e-12);
+      mirrored += mirror;
+      facing += dot(wi, h) > dot(wi, Vec3{-h.x, -h.y, h.z});
+    }
+    const double sigma = 0.5 / std::sqrt(n);
+    EXPECT_NEAR(mirrored / static_cast<double>(n), 0.5, 5.0 * sigma);
+    if (wi.z == 1.0) {
+      EXPECT_EQ(facing, 0);  // a tie every time
+    } else {
+      // P = E[(1 + |t|)/2] with t = X/a, E|X| = 1/√π for Walter's slopes.
+      const double inv_a = std::hypot(0.3 * wi.x, 0.1 * wi.y) / wi.z;
+      EXPECT_NEAR(facing / static_cast<double>(n), 0.5 + inv_a / (2.0 * std::sqrt(kPi)), 5.0 * sigma);
+    }
+  }
+}
+
 TEST(Glossy, VisibleHalfVectorsFollowTheirDensity) {
   // Normal incidence (Walter's draw itself), oblique, and grazing where the
   // tail component carries much of the mass (Λ = 0.62 for the third case,
