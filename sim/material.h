@@ -1,7 +1,8 @@
 // Scattering of photons at surfaces: the lobes of sim::Material (the
-// reference thesis' material model, section 5.2, with a smooth dielectric),
+// reference thesis' material model, section 5.2, with its glossy lobe made
+// a microfacet BRDF that conserves energy, and a smooth dielectric),
 // each sampling routine with its density, and the Russian roulette that
-// keeps every photon's power equal wherever the lobe allows.
+// keeps every photon's power equal on every lobe.
 //
 // Directions: `wi` points away from the surface towards where the photon
 // came from; `wo` away from the surface where it goes. Local frames have the
