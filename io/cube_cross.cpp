@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
+
+#include "sim/cube_map.h"
 
 #include "photometry/diagnostics.h"
 
@@ -42,7 +45,51 @@ CrossSlot cross_slot(int face) {
   return kSlots[face];
 }
 
+double soft_shoulder(double x, double knee) {
+  GONIO_CHECK(knee > 0.0 && knee < 1.0);
+  if (!(x > knee)) return x;
+  const double room = 1.0 - knee;
+  return knee + room * -std::expm1(-(x - knee) / room);
+}
+
+double flux_quantile_cd(int face_size, std::span<const double> intensity_cd, double quantile) {
+  GONIO_CHECK(quantile > 0.0 && quantile <= 1.0);
+  const sim::CubeMapGrid grid(face_size);
+  GONIO_CHECK(intensity_cd.size() == grid.texel_count());
+  struct Texel {
+    double intensity, flux;
+  };
+  std::vector<Texel> texels;
+  texels.reserve(intensity_cd.size());
+  double total = 0.0;
+  for (std::size_t t = 0; t < intensity_cd.size(); ++t) {
+    const double v = intensity_cd[t];
+    if (!std::isfinite(v) || !(v > 0.0)) continue;
+    const double flux = v * grid.texel_solid_angle(t);
+    texels.push_back({v, flux});
+    total += flux;
+  }
+  if (!(total > 0.0)) return 0.0;
+  std::sort(texels.begin(), texels.end(), [](const Texel& a, const Texel& b) { return a.intensity < b.intensity; });
+  double sum = 0.0;
+  for (const Texel& t : texels) {
+    sum += t.flux;
+    if (sum >= quantile * total) return t.intensity;
+  }
+  return texels.back().intensity;
+}
+
+Image8 cube_cross_preview(int face_size, std::span<const double> intensity_cd) {
+  double white = flux_quantile_cd(face_size, intensity_cd, kPreviewQuantile);
+  if (!(white > 0.0)) white = 0.0;  // cube_cross_image then takes the maximum
+  return cube_cross_image(face_size, intensity_cd, white, kPreviewKnee);
+}
+
 Image8 cube_cross_image(int face_size, std::span<const double> intensity_cd, double white_cd) {
+  return cube_cross_image(face_size, intensity_cd, white_cd, 0.0);
+}
+
+Image8 cube_cross_image(int face_size, std::span<const double> intensity_cd, double white_cd, double knee) {
   GONIO_CHECK(face_size >= 1 && face_size <= 16384);
   const std::size_t n = static_cast<std::size_t>(face_size);
   GONIO_CHECK(intensity_cd.size() == 6 * n * n);
@@ -65,7 +112,8 @@ Image8 cube_cross_image(int face_size, std::span<const double> intensity_cd, dou
                           (row * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(slot.column) * n) * 2;
       for (std::size_t x = 0; x < n; ++x) {
         const double v = intensity_cd[(static_cast<std::size_t>(face) * n + y) * n + x];
-        const std::uint8_t g = std::isfinite(v) ? srgb8(v * scale) : 0;
+        const double lin = v * scale;
+        const std::uint8_t g = std::isfinite(v) ? srgb8(knee > 0.0 ? soft_shoulder(lin, knee) : lin) : 0;
         out[2 * x] = g;
         out[2 * x + 1] = 255;
       }

@@ -13,6 +13,7 @@
 #include <OpenEXR/ImfStringAttribute.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <exception>
 #include <limits>
@@ -238,6 +239,54 @@ Result<sim::FarField> far_field_from_image(const ExrImage& image, const std::str
   std::vector<double> f(flux->values.begin(), flux->values.end());
   std::vector<std::uint64_t> p(photons->values.begin(), photons->values.end());
   return sim::FarField(image.width, std::move(f), std::move(p));
+}
+
+ExrImage latlong_image(int width, int height) {
+  GONIO_CHECK(width >= 3 && height >= 3);
+  ExrImage image;
+  image.width = width;
+  image.height = height;
+  image.envmap = Envmap::LatLong;
+  return image;
+}
+
+Vec3 latlong_direction(int width, int height, int x, int y) {
+  const Imath::Box2i window(Imath::V2i(0, 0), Imath::V2i(width - 1, height - 1));
+  const Imath::V3f d = Imf::LatLongMap::direction(window, Imath::V2f(static_cast<float>(x), static_cast<float>(y)));
+  const Vec3 v{d.x, d.y, d.z};
+  return v / std::sqrt(dot(v, v));
+}
+
+double latlong_pixel_solid_angle(int width, int height, int x, int y) {
+  GONIO_CHECK(width >= 3 && height >= 3 && x >= 0 && x < width && y >= 0 && y < height);
+  constexpr double kPi = 3.14159265358979323846;
+  const double row_step = kPi / (height - 1);  // [rad] of latitude per row
+  // Colatitude from the top pole of the band's edges.
+  const double top = std::max(0.0, (y - 0.5) * row_step);
+  const double bottom = std::min(kPi, (y + 0.5) * row_step);
+  const double band = std::cos(top) - std::cos(bottom);
+  const double column = 2.0 * kPi / (width - 1) * ((x == 0 || x == width - 1) ? 0.5 : 1.0);
+  return band * column;
+}
+
+Result<double> latlong_flux_lm(const ExrImage& image, const std::string& name) {
+  if (image.envmap != Envmap::LatLong || image.width < 3 || image.height < 3)
+    return error(name, "not a latitude-longitude environment image of at least 3 x 3 pixels");
+  const auto* y = image.find_float("Y");
+  if (!y) return error(name, "no channel 'Y'");
+  double flux = 0.0;
+  for (int row = 0; row < image.height; ++row) {
+    const double omega_inner = latlong_pixel_solid_angle(image.width, image.height, 1, row);
+    for (int x = 0; x < image.width; ++x) {
+      const double v = y->values[static_cast<std::size_t>(row) * static_cast<std::size_t>(image.width) +
+                                 static_cast<std::size_t>(x)];
+      if (!std::isfinite(v) || v < 0.0)
+        return error(name, "pixel (" + std::to_string(x) + ", " + std::to_string(row) + ") holds " +
+                               std::to_string(v) + " cd: intensities are finite and >= 0");
+      flux += v * ((x == 0 || x == image.width - 1) ? 0.5 * omega_inner : omega_inner);
+    }
+  }
+  return flux;
 }
 
 }  // namespace gonio::io

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "photometry/diagnostics.h"
+#include "photometry/vec3.h"
 #include "sim/far_field.h"
 
 namespace gonio::io {
@@ -70,5 +71,38 @@ Result<ExrImage> far_field_image(const sim::FarField& far_field);
 // A far field back from such an image (flux from the `flux` channel, counts
 // from `photons`); errors if it is not a cube map or lacks the channels.
 Result<sim::FarField> far_field_from_image(const ExrImage& image, const std::string& name);
+
+// Equirectangular (latitude-longitude) maps, OpenEXR's ENVMAP_LATLONG
+// convention (ImfEnvmap.h, LatLongMap): pixel centres run from latitude +90°
+// (top row, world +Y) to −90° (bottom row) and from longitude +180° (left
+// column) to −180° (right column), both ends included, so the top and bottom
+// rows are the poles and the first and last columns the same meridian; the
+// direction at latitude φ, longitude λ is (sin λ cos φ, sin φ, cos λ cos φ)
+// (longitude 0 is +Z, +90° is +X). Renderers read such files as environment
+// lights directly.
+//
+// Each pixel stands for a region of the sphere: a band of latitude reaching
+// half a row to either side (a polar cap of half a row for the top and bottom
+// rows) and a sector of longitude of one column, the first and last column
+// sharing one (each counted half). latlong_flux_lm() integrates Y over these
+// regions; an image whose Y is the mean intensity over each region holds the
+// far field's flux exactly.
+
+// An empty latitude-longitude image (envmap latlong). Requires width ≥ 3 and
+// height ≥ 3.
+ExrImage latlong_image(int width, int height);
+
+// World direction (unit) of the centre of pixel (x, y), from OpenEXR's own
+// LatLongMap::direction.
+Vec3 latlong_direction(int width, int height, int x, int y);
+
+// Solid angle [sr] of the region pixel (x, y) stands for (see above); the
+// pixels of an image add up to 4π.
+double latlong_pixel_solid_angle(int width, int height, int x, int y);
+
+// Flux [lm] of a latitude-longitude image: Σ Y · solid angle over its pixels.
+// Errors: not a latlong map, no channel `Y`, a value not finite or negative
+// (named with its pixel).
+Result<double> latlong_flux_lm(const ExrImage& image, const std::string& name);
 
 }  // namespace gonio::io

@@ -402,17 +402,7 @@ Status IesReader::check_bytes(std::string_view text) {
   if (text.size() >= 2 &&
       ((text[0] == '\xff' && text[1] == '\xfe') || (text[0] == '\xfe' && text[1] == '\xff')))
     return fail(1, "UTF-16 text: IES files are ASCII or Latin-1");
-  if (looks_binary(text)) {
-    // Name the line of the first byte that no text file holds.
-    int line = 1;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-      const auto c = static_cast<unsigned char>(text[i]);
-      if (c == '\n' || (c == '\r' && !(i + 1 < text.size() && text[i + 1] == '\n'))) ++line;
-      if (c == 0 || (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != 0x1a))
-        break;
-    }
-    return fail(line, "binary data, not an IES LM-63 text file");
-  }
+  if (looks_binary(text)) return fail(first_binary_line(text), "binary data, not an IES LM-63 text file");
   // Long lines: one warning for the file, not one per line.
   LineCursor lines(text);
   TextLine line{};
@@ -1074,19 +1064,32 @@ void IesWriter::unsupported_fields() {
       warn("lamp-color-rendering", "lamp set " + std::to_string(i + 1) + " colour rendering '" +
                                        l.color_rendering + "' has no IES field");
   }
-  const auto ldt_only = [&](bool present, const char* what) {
-    if (present) warn("ldt-only-field", std::string(what) + " has no IES field (EULUMDAT only)");
+  if (!d_.alternative_lamps.empty())
+    warn("alternative-lamps",
+         std::to_string(d_.alternative_lamps.size()) +
+             " alternative lamp set(s) (EULUMDAT standard sets 2 and on) have no IES field; only "
+             "the first set, to which the intensities refer, is written");
+  const auto ldt_only = [&](bool present, const std::string& what) {
+    if (present) warn("ldt-only-field", what + " has no IES field (EULUMDAT only)");
   };
+  // Zero or unknown values carry nothing: a measurement tilt of 0, body
+  // dimensions of 0, side heights equal to the opening's height.
+  const auto nonzero = [](double x) { return std::isfinite(x) && x != 0.0; };
   ldt_only(std::isfinite(d_.declared_lor_percent), "declared light output ratio");
   ldt_only(std::isfinite(d_.declared_dff_percent), "declared downward flux fraction");
-  ldt_only(std::isfinite(d_.measurement_tilt_deg), "measurement tilt");
+  ldt_only(nonzero(d_.measurement_tilt_deg), "measurement tilt");
   ldt_only(!d_.direct_ratios.empty(), "direct ratios");
-  ldt_only(std::isfinite(d_.luminaire.length_m) || std::isfinite(d_.luminaire.width_m) ||
-               std::isfinite(d_.luminaire.height_m),
+  ldt_only(nonzero(d_.luminaire.length_m) || nonzero(d_.luminaire.width_m) ||
+               nonzero(d_.luminaire.height_m),
            "luminaire body dimensions");
   ldt_only(std::any_of(std::begin(d_.opening.side_height_m), std::end(d_.opening.side_height_m),
-                       [](double x) { return std::isfinite(x); }),
-           "luminous area side heights");
+                       [&](double x) {
+                         return std::isfinite(x) && std::abs(x - d_.opening.height_m) > 1e-9;
+                       }),
+           "luminous area side heights (IES holds one height)");
+  if (d_.ldt_type_indicator &&
+      *d_.ldt_type_indicator != (d_.symmetry == Symmetry::Rotational ? 1 : 3))
+    ldt_only(true, "EULUMDAT type indicator Ityp " + std::to_string(*d_.ldt_type_indicator));
   if (d_.ballast_lamp_factor != 1.0)
     warn("ballast-lamp-factor", "ballast-lamp photometric factor " + num(d_.ballast_lamp_factor) +
                                     " (LM-63-1995) has no field in " + to_string(options_.version) +

@@ -91,10 +91,13 @@
 //   full 0–360 (warning "symmetry-expanded"): a 0–180 range would mean the
 //   other mirror plane, and rotating the frame would move C0.
 // - What IES cannot carry becomes a warning, never a silent loss: several
-//   lamp sets (merged into one: total count, total flux), lamp colour and
-//   colour rendering, EULUMDAT-only fields (declared LOR and DFF, direct
-//   ratios, luminaire body dimensions, luminous-area side heights,
-//   measurement tilt), a ballast-lamp photometric factor other than 1,
+//   lamp sets (merged into one: total count, total flux), EULUMDAT's
+//   alternative lamp sets ("alternative-lamps"), lamp colour and colour
+//   rendering, EULUMDAT-only fields ("ldt-only-field": declared LOR and DFF,
+//   direct ratios, non-zero luminaire body dimensions, luminous-area side
+//   heights other than the opening's height, a non-zero measurement tilt, a
+//   type indicator Ityp other than the one an LDT writer derives: 1 for
+//   rotational symmetry, else 3), a ballast-lamp photometric factor other than 1,
 //   TILT=<file> (written as TILT=INCLUDE), unknown input watts (written as
 //   0; the sum of the lamp sets' powers is used where known), Types A/B
 //   without symmetry on H ≥ 0 only (read back as lateral symmetry).

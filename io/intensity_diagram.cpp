@@ -25,16 +25,56 @@ Series plane_pair(const photometry::Distribution& expanded, double c_right, doub
   return s;
 }
 
-}  // namespace
-
-Result<Figure> intensity_diagram(const photometry::Distribution& d, const DiagramOptions& options) {
+Status drawable(const photometry::Distribution& d) {
   if (d.type != photometry::PhotometricType::C) {
     Error e;
     e.message = std::string("intensity diagrams are drawn for Type C photometry; this is Type ") +
                 photometry::to_string(d.type);
     return e;
   }
-  if (Status s = photometry::validate(d); !s.ok()) return s.error();
+  return photometry::validate(d);
+}
+
+}  // namespace
+
+Result<Figure> overlay_diagram(const photometry::Distribution& a, const photometry::Distribution& b,
+                               const OverlayOptions& options) {
+  if (Status s = drawable(a); !s.ok()) return s.error();
+  if (Status s = drawable(b); !s.ok()) return s.error();
+  if (!(options.scale_b > 0.0) || !std::isfinite(options.scale_b)) {
+    Error e;
+    e.message = "the scale of B must be a positive number";
+    return e;
+  }
+  const photometry::Distribution ea = photometry::expand_symmetry(a);
+  const photometry::Distribution eb = photometry::expand_symmetry(b);
+  std::vector<Series> series = {
+      plane_pair(ea, 0.0, 180.0, 1.0, options.label_a + " C0–C180", LineStyle::Solid),
+      plane_pair(ea, 90.0, 270.0, 1.0, options.label_a + " C90–C270", LineStyle::Dashed),
+      plane_pair(eb, 0.0, 180.0, options.scale_b, options.label_b + " C0–C180", LineStyle::Dotted),
+      plane_pair(eb, 90.0, 270.0, options.scale_b, options.label_b + " C90–C270", LineStyle::Dotted)};
+  series[3].markers = true;
+
+  PolarChart polar;
+  polar.radius_label = "cd";
+  polar.series = series;
+  LineChart line;
+  line.x_label = "γ [°]  (C180, C270 left; C0, C90 right)";
+  line.y_label = "I [cd]";
+  line.x_min = -180.0;
+  line.x_max = 180.0;
+  line.y_min = 0.0;
+  line.series = series;
+  Figure f;
+  f.title = options.title;
+  f.charts = {polar, line};
+  f.width_px = 1200;
+  f.height_px = 560;
+  return f;
+}
+
+Result<Figure> intensity_diagram(const photometry::Distribution& d, const DiagramOptions& options) {
+  if (Status s = drawable(d); !s.ok()) return s.error();
   const bool relative = std::isfinite(options.per_klm_of_lm);
   if (relative && !(options.per_klm_of_lm > 0.0)) {
     Error e;

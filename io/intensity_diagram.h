@@ -25,4 +25,19 @@ struct DiagramOptions {
 Result<Figure> intensity_diagram(const photometry::Distribution& distribution,
                                  const DiagramOptions& options = {});
 
+// Two distributions in one diagram (`gonio compare --plot`): A's C0–C180 and
+// C90–C270 curves solid and dashed, B's dotted (C90–C270 with markers), in
+// cd on both charts. B's intensities are multiplied by `scale_b` (1, or the
+// flux ratio when comparing shapes); labels name the files. Same
+// requirements and errors as intensity_diagram() for each input.
+struct OverlayOptions {
+  std::string title;
+  std::string label_a = "A";
+  std::string label_b = "B";
+  double scale_b = 1.0;  // [1]
+};
+
+Result<Figure> overlay_diagram(const photometry::Distribution& a, const photometry::Distribution& b,
+                               const OverlayOptions& options = {});
+
 }  // namespace gonio::io

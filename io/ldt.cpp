@@ -4,12 +4,13 @@
 #include <charconv>
 #include <cmath>
 #include <concepts>
-#include <numbers>
 #include <optional>
 #include <utility>
 
 #include "io/file_io.h"
 #include "io/text.h"
+#include "photometry/direct_ratios.h"
+#include "photometry/flux.h"
 
 namespace gonio::io {
 namespace {
@@ -119,38 +120,6 @@ const char* isym_name(int isym) {
     case 4: return "symmetry to the C0-C180 and C90-C270 planes";
     default: return "?";
   }
-}
-
-// ∫ I(γ) sin γ dγ over [0, γmax] along one plane, I linear between the
-// samples and 0 outside the measured range (exact for that interpolant).
-double plane_integral(const double* row, const std::vector<double>& gamma_deg, double gmax_deg) {
-  constexpr double r = std::numbers::pi / 180.0;
-  double sum = 0.0;
-  for (std::size_t i = 0; i + 1 < gamma_deg.size(); ++i) {
-    const double g0 = gamma_deg[i], g1full = gamma_deg[i + 1];
-    if (g0 >= gmax_deg) break;
-    const double g1 = std::min(g1full, gmax_deg);
-    const double slope = (row[i + 1] - row[i]) / ((g1full - g0) * r);  // [cd/rad]
-    const double a = g0 * r, b = g1 * r;
-    sum += row[i] * (std::cos(a) - std::cos(b)) +
-           slope * (-(b - a) * std::cos(b) + std::sin(b) - std::sin(a));
-  }
-  return sum;
-}
-
-// Flux [lm] emitted at γ ≤ gmax_deg by a valid Type C distribution:
-// trapezoid rule across the C-planes, exact integration along each plane.
-double flux_lm(const Distribution& d, double gmax_deg) {
-  const Distribution e = photometry::expand_symmetry(d);
-  const std::size_t nv = e.vertical_count();
-  std::vector<double> per_plane(e.horizontal_count());
-  for (std::size_t h = 0; h < per_plane.size(); ++h)
-    per_plane[h] = plane_integral(e.candela.data() + h * nv, e.vertical_deg, gmax_deg);
-  double sum = 0.0;
-  for (std::size_t h = 0; h + 1 < per_plane.size(); ++h)
-    sum += (e.horizontal_deg[h + 1] - e.horizontal_deg[h]) * std::numbers::pi / 180.0 * 0.5 *
-           (per_plane[h] + per_plane[h + 1]);
-  return sum;
 }
 
 // ---------------------------------------------------------------- reading
@@ -263,7 +232,8 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
     return Error{SourceLoc{name, line, 0}, std::move(message)};
   };
   if (bytes.empty()) return fail(1, "empty file: expected an EULUMDAT file");
-  if (looks_binary(bytes)) return fail(0, "binary data, not an EULUMDAT (.ldt) text file");
+  if (looks_binary(bytes))
+    return fail(first_binary_line(bytes), "binary data, not an EULUMDAT (.ldt) text file");
   if (bytes.size() >= 3 && bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);
 
   std::size_t line_count = 0;
@@ -872,8 +842,9 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
                "alternatives");
   }
   // Photometric scale: cd = value × flux / 1000.
-  const double total_flux = flux_lm(d, 180.0);
-  const double down_flux = flux_lm(d, 90.0);
+  const photometry::ZonalFlux zones(d);
+  const double total_flux = zones.total_lm();
+  const double down_flux = zones.zone_lm(0.0, 90.0);
   double set1_flux = 0.0;
   if (d.absolute) {
     set1_flux = total_flux;
@@ -889,7 +860,39 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   } else {
     set1_flux = first.flux_lm;  // the merged sets' flux when several light together
   }
+  // The scale uses the flux as the file will state it, so that a reader
+  // multiplies by exactly what was divided here. A computed luminaire flux is
+  // stated to 6 digits: written values rounded to 12 digits change the
+  // integral in its 12th digit, and a coarser flux keeps rewriting stable
+  // (the candela do not depend on it).
+  const int flux_digits = std::min(options.significant_digits, d.absolute ? 6 : 17);
+  set1_flux = parse_number(format_number(set1_flux, flux_digits)).value_or(set1_flux);
   const double scale = set1_flux / 1000.0;  // the reader's conversion factor 1 × Φ / 1000
+
+  // LM-63 fields without an EULUMDAT counterpart.
+  if (d.tilt.kind != photometry::Tilt::Kind::None)
+    w.warn(Severity::Warning, "ldt-tilt-dropped",
+           "TILT data (" + std::to_string(d.tilt.angles_deg.size()) +
+               " tilt angles, lamp geometry " + std::to_string(d.tilt.lamp_geometry) +
+               ") has no EULUMDAT field and is not written");
+  if (d.ballast_factor != 1.0)
+    w.warn(Severity::Warning, "ldt-ballast-factor",
+           "ballast factor " + format_number(d.ballast_factor, 6) +
+               " has no EULUMDAT field and is not written (it was not applied to the intensities)");
+  if (d.ballast_lamp_factor != 1.0)
+    w.warn(Severity::Warning, "ldt-ballast-factor",
+           "ballast-lamp photometric factor " + format_number(d.ballast_lamp_factor, 6) +
+               " has no EULUMDAT field and is not written (it was not applied to the intensities)");
+  if (d.file_generation != photometry::FileGenerationType::Undefined)
+    w.warn(Severity::Warning, "ldt-file-generation",
+           std::string("LM-63-2019 file generation type '") +
+               photometry::to_string(d.file_generation) + "' has no EULUMDAT field");
+  if (std::isfinite(first.power_w) && std::isfinite(d.input_watts) && d.input_watts > 0.0 &&
+      std::abs(first.power_w - d.input_watts) > 1e-9 * std::max(first.power_w, d.input_watts))
+    w.warn(Severity::Warning, "ldt-input-watts",
+           "input watts " + format_number(d.input_watts, 6) +
+               " W differ from the lamp set's wattage " + format_number(first.power_w, 6) +
+               " W, which EULUMDAT keeps");
 
   // [LAMP] fills an empty lamp type.
   const photometry::Keyword* lamp_kw = d.find_keyword("LAMP");
@@ -1037,12 +1040,14 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   if (d.direct_ratios.size() == 10) {
     for (double x : d.direct_ratios) w.number(x);
   } else {
-    if (!d.direct_ratios.empty())
-      w.warn(Severity::Warning, "ldt-direct-ratios",
-             std::to_string(d.direct_ratios.size()) + " direct ratios instead of 10; written as 0");
-    else
-      w.warn(Severity::Info, "ldt-direct-ratios", "direct ratios unknown; written as 0");
-    for (int i = 0; i < 10; ++i) w.number(0.0);
+    const std::string why = d.direct_ratios.empty()
+                                ? std::string("unknown")
+                                : std::to_string(d.direct_ratios.size()) + " instead of 10";
+    w.warn(d.direct_ratios.empty() ? Severity::Info : Severity::Warning, "ldt-direct-ratios",
+           "direct ratios " + why +
+               ": computed from the distribution with Gonio's room model "
+               "(photometry/direct_ratios.h, not CIE 52's tables)");
+    for (double x : photometry::direct_ratios(d)) w.number(x);
   }
 
   // 28-30.

@@ -56,7 +56,9 @@
 //   factor), as photometric-viewer reads it and the Aardvark photometry
 //   library documents it; the model gets absolute = true, lamps[0].flux_lm =
 //   NaN. The writer recomputes Φ_lum
-//   by integrating the distribution, so only the candela are kept exactly.
+//   by integrating the distribution (photometry::total_flux_lm) and states it
+//   to 6 significant digits, dividing by exactly that value, so only the
+//   candela are kept exactly and rewriting a file gives the same bytes.
 // - Conversion factor (field 24, "depending on measurement"): read as the
 //   factor that turns the tabulated values into cd/klm, so it multiplies the
 //   intensities; values other than 1 are reported as a note. A factor of 0,
@@ -81,6 +83,15 @@
 //   CR; numbers may use a decimal comma and carry surrounding blanks. A
 //   numeric field that is empty is an error, never a silent 0.
 //
+// LM-63 fields without an EULUMDAT counterpart are reported, not written:
+// TILT data ("ldt-tilt-dropped"), a ballast factor or ballast-lamp factor
+// other than 1 ("ldt-ballast-factor"), the LM-63-2019 file generation type
+// ("ldt-file-generation"), input watts that differ from the first lamp set's
+// wattage ("ldt-input-watts"; input watts fill a wattage that is unknown).
+// Direct ratios the model lacks (IES input) are computed with
+// photometry::direct_ratios() (Gonio's stated room model, not CIE 52's
+// tables) and said so in an "ldt-direct-ratios" note.
+//
 // Writer: one field per line, CRLF, Latin-1. Text longer than the standard's
 // field lengths (78 characters; lamp type 24, colour 16, colour rendering 6;
 // file name 8, read as a DOS 8.3 name, so 12 with the extension, because
@@ -92,7 +103,8 @@
 // read gives the same bytes again. Negative intensities are refused. Isym, Mc, Dc
 // (0 unless the C list is equidistant), Ng and Dg (likewise) are derived from
 // the model. DFF and LORL come from the declared values, or are computed by
-// integrating the distribution when the model has none (IES input).
+// integrating the distribution (photometry/flux.h) when the model has none
+// (IES input).
 #pragma once
 
 #include <cstddef>

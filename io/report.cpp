@@ -32,8 +32,6 @@ nlohmann::json to_json(const SimulationReport& r) {
   put_line(j, "escaped", l.escaped);
   put_line(j, "absorbed", l.absorbed);
   put_line(j, "cutoff", l.cutoff);
-  j["glossy_gain_lm"] = l.glossy_gain_lm;
-  j["glossy_gain_events"] = l.glossy_gain_events;
   j["photon_power_lm"] = l.photon_power_lm;
   j["ledger"] = {{"photons_close", l.photons_close()}, {"flux_imbalance_lm", l.flux_imbalance_lm()}};
 

@@ -4,7 +4,7 @@
 //
 // Field names and units (every flux in lumens):
 //   program {name, version}, model, seed, settings {...},
-//   emitted_lm, escaped_lm, absorbed_lm, cutoff_lm, glossy_gain_lm,
+//   emitted_lm, escaped_lm, absorbed_lm, cutoff_lm,
 //   photons_emitted, photons_escaped, photons_absorbed, photons_cutoff,
 //   photon_power_lm, ledger {photons_close, flux_imbalance_lm},
 //   photons_per_s, rays_per_s, rays, rays_per_photon, wall_s, trace_s,

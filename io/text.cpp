@@ -132,4 +132,15 @@ bool looks_binary(std::string_view bytes) {
   return control > 8 && control * 100 > bytes.size();
 }
 
+int first_binary_line(std::string_view text) {
+  int line = 1;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == '\n' || (c == '\r' && !(i + 1 < text.size() && text[i + 1] == '\n'))) ++line;
+    if (c == 0 || (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != 0x1a))
+      return line;
+  }
+  return 0;
+}
+
 }  // namespace gonio::io

@@ -41,4 +41,9 @@ std::optional<double> parse_number(std::string_view token, bool decimal_comma = 
 // many control characters other than tab, CR, LF and form feed.
 bool looks_binary(std::string_view bytes);
 
+// The 1-based line (LF, CRLF or CR endings) of the first byte no text file
+// holds: NUL or a control character other than tab, CR, LF, form feed and
+// the DOS end-of-file byte 0x1A; 0 if there is none.
+int first_binary_line(std::string_view bytes);
+
 }  // namespace gonio::io

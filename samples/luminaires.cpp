@@ -243,11 +243,14 @@ SampleFile led_profile() {
   return {"led.ies", io::write_ies(d, options, nullptr)};
 }
 
-// 2. A downlight: an LED at the focus of a polished aluminium paraboloid.
+// 2. A downlight: an LED at the focus of a semi-specular aluminium
+// paraboloid. An ideal mirror would collimate the reflected light into a beam
+// far narrower than any output grid; real downlight reflectors are peened or
+// brushed to spread it, which the glossy lobe models.
 Sample downlight() {
   GltfWriter w;
   const int aluminium = w.material(
-      {{"name", "polished aluminium"}, {"pbrMetallicRoughness", pbr(0.92, 1.0, 0.05)}});
+      {{"name", "semi-specular aluminium"}, {"pbrMetallicRoughness", pbr(0.92, 1.0, 0.3)}});
   const int board = w.material({{"name", "white circuit board"}, {"pbrMetallicRoughness", pbr(0.75, 0.0, 0.6)}});
 
   // Focal length 20 mm, aperture Ø 160 mm: the rim lies 60 mm below the

@@ -19,6 +19,13 @@ for p in "${packages[@]}"; do
   fi
 done
 
+# node and npm for the three.js client test (tests/client): any node with
+# its npm will do (a NodeSource nodejs bundles npm, and Debian's npm package
+# would conflict with it), so Debian's are installed only when none is there.
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  missing+=(nodejs npm)
+fi
+
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0
 fi

@@ -17,15 +17,13 @@ void LedgerTally::add(const LedgerTally& o) {
     meshes[i].absorbed += o.meshes[i].absorbed;
     meshes[i].cutoff += o.meshes[i].cutoff;
   }
-  glossy_gain_units += o.glossy_gain_units;
-  glossy_gain_events += o.glossy_gain_events;
   rays += o.rays;
 }
 
 void LedgerTally::clear() {
   for (auto& e : emitters) e = {};
   for (auto& m : meshes) m = {};
-  glossy_gain_units = glossy_gain_events = rays = 0;
+  rays = 0;
 }
 
 Ledger make_ledger(const LedgerTally& t, const SceneDesc& scene, double total_flux_lm) {
@@ -63,8 +61,6 @@ Ledger make_ledger(const LedgerTally& t, const SceneDesc& scene, double total_fl
   l.escaped = line(es);
   l.absorbed = line(ab);
   l.cutoff = line(co);
-  l.glossy_gain_lm = static_cast<double>(t.glossy_gain_units) * per_unit;
-  l.glossy_gain_events = t.glossy_gain_events;
 
   for (const Material& m : scene.materials) l.materials.push_back({m.name, 0, {}, {}});
   for (std::size_t i = 0; i < t.meshes.size(); ++i) {

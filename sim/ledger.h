@@ -3,11 +3,10 @@
 // limit — per emitter, per mesh and per material.
 //
 // The tracer counts in integers: photons, and photon power in fixed-point
-// units (kPowerUnits per photon of nominal power; only the glossy lobe's
-// weights above 1 make a photon's power differ from nominal). So the books
-// close exactly and whatever the thread count:
-//   emitted = escaped + absorbed + cutoff                       (photons)
-//   emitted + glossy_gain = escaped + absorbed + cutoff         (power units)
+// units (kPowerUnits per photon of nominal power; only importance-guided
+// emission gives photons other powers, and scattering never changes them).
+// So the books close exactly and whatever the thread count:
+//   emitted = escaped + absorbed + cutoff        (photons and power units)
 // and in lumens to rounding (units × photon power / kPowerUnits).
 #pragma once
 
@@ -49,8 +48,6 @@ struct LedgerTally {
   };
   std::vector<PerEmitter> emitters;
   std::vector<PerMesh> meshes;
-  std::uint64_t glossy_gain_units = 0;   // power added by glossy weights > 1
-  std::uint64_t glossy_gain_events = 0;  // how many such events
   std::uint64_t rays = 0;                // ray queries traced
 
   LedgerTally() = default;
@@ -88,8 +85,6 @@ struct MaterialLedger {
 struct Ledger {
   double photon_power_lm = 0.0;  // power of a photon of kPowerUnits (nominal) [lm]
   LedgerLine emitted, escaped, absorbed, cutoff;
-  double glossy_gain_lm = 0.0;          // [lm] see material.h scatter()
-  std::uint64_t glossy_gain_events = 0;
   std::vector<EmitterLedger> emitters;  // in SceneDesc order
   std::vector<MeshLedger> meshes;       // in SceneDesc order
   std::vector<MaterialLedger> materials;// in SceneDesc order
@@ -98,9 +93,9 @@ struct Ledger {
   bool photons_close() const {
     return emitted.photons == escaped.photons + absorbed.photons + cutoff.photons;
   }
-  // emitted + glossy_gain − escaped − absorbed − cutoff [lm]: zero to rounding.
+  // emitted − escaped − absorbed − cutoff [lm]: zero to rounding.
   double flux_imbalance_lm() const {
-    return emitted.flux_lm + glossy_gain_lm - escaped.flux_lm - absorbed.flux_lm - cutoff.flux_lm;
+    return emitted.flux_lm - escaped.flux_lm - absorbed.flux_lm - cutoff.flux_lm;
   }
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "sim/sampling.h"
@@ -82,12 +83,41 @@ double schlick_fresnel(double f0, double c) {
   return f0 + (1.0 - f0) * k2 * k2 * k;
 }
 
+namespace {
+
+// Smith's Λ of the Beckmann distribution for a direction with
+// a² = z² / r2 (r2 = mx² x² + my² y²; a = 1 / (roughness · tan θ)):
+// (erf(a) − 1)/2 + exp(−a²)/(2a√π), written with erfc so that the two
+// small terms of large a do not cancel against 1. From a = 5.5 on,
+// Λ < 6·10⁻¹⁷ vanishes beside 1 in G = 1/(1 + Λ) and is 0.
+double lambda_of(double z2, double r2) {
+  if (!(z2 < 30.25 * r2)) return 0.0;  // includes r2 = 0: along the normal
+  const double a = std::sqrt(z2 / r2);
+  if (!(a > 0.0)) return std::numeric_limits<double>::infinity();
+  return std::max(0.0, 0.5 * (std::exp(-a * a) * std::numbers::inv_sqrtpi / a - std::erfc(a)));
+}
+
+}  // namespace
+
+double beckmann_lambda(double mx, double my, const Vec3& w) {
+  if (!(w.z > 0.0)) return std::numeric_limits<double>::infinity();
+  return lambda_of(w.z * w.z, mx * mx * w.x * w.x + my * my * w.y * w.y);
+}
+
+double smith_g1(double mx, double my, const Vec3& w) {
+  return 1.0 / (1.0 + beckmann_lambda(mx, my, w));
+}
+
+double smith_g2(double mx, double my, const Vec3& wi, const Vec3& wo) {
+  return 1.0 / (1.0 + beckmann_lambda(mx, my, wi) + beckmann_lambda(mx, my, wo));
+}
+
 double glossy_brdf(const Material& m, const Vec3& wi, const Vec3& wo) {
   if (wi.z <= 0.0 || wo.z <= 0.0) return 0.0;
   const Vec3 h = normalize(wi + wo);
   const double ih = dot(wi, h);
-  return schlick_fresnel(m.glossy_f0, ih) * beckmann_d(m.glossy_mx, m.glossy_my, h) /
-         (4.0 * ih * std::sqrt(wi.z * wo.z));
+  return schlick_fresnel(m.glossy_f0, ih) * beckmann_d(m.glossy_mx, m.glossy_my, h) *
+         smith_g2(m.glossy_mx, m.glossy_my, wi, wo) / (4.0 * wi.z * wo.z);
 }
 
 Vec3 sample_beckmann_half_vector(double mx, double my, double u, double cos_2piv,
@@ -104,25 +134,103 @@ Vec3 sample_beckmann_half_vector(double mx, double my, double u, double cos_2piv
   return {sin_t * cx, sin_t * sy, cos_t};
 }
 
+namespace {
+
+// ξ > a with density ∝ exp(−ξ²)(ξ − a), by rejection from one of two
+// closed-form proposals (acceptance ≥ 0.34 for every a); −1 after 256
+// rejections (chance < 10⁻⁴⁵).
+double sample_slope_tail(double a, PhotonRandom& rng) {
+  for (int k = 0; k < 256; ++k) {
+    if (a < 0.7) {
+      // ξ ∝ ξ exp(−ξ²) on ξ > a (inverted in closed form), kept with (ξ − a)/ξ.
+      const double xi = std::sqrt(a * a - std::log(rng.uniform_open0()));
+      if (rng.uniform() * xi < xi - a) return xi;
+    } else {
+      // ξ − a = s ∝ s exp(−2as) (a sum of two exponentials), kept with exp(−s²).
+      const double s = -std::log(rng.uniform_open0() * rng.uniform_open0()) / (2.0 * a);
+      if (rng.uniform() < std::exp(-s * s)) return a + s;
+    }
+  }
+  return -1.0;
+}
+
+// The visible half vectors of wi (wi.z > 0), given Λ(wi).
+//
+// In slopes stretched by the roughness, (P, Q) = (tan θh cos φh / mx,
+// tan θh sin φh / my) and h ∝ (mx P, my Q, 1), Walter's formulas draw the
+// Gaussian exp(−P² − Q²)/π. The visible normals have that density times
+// G1(wi) (1 + t)⁺, where 1 + t = (wi·h) / ((wi·n)(h·n)) and t = X / a with
+// X the stretched slope along k = (mx wi.x, my wi.y). Walter's h and its
+// mirror image h' (P, Q → −P, −Q: t → −t) are equally likely, so keeping
+// h with probability (1 + t)/2 (capped at 1) and h' otherwise is exact
+// where |t| ≤ 1. Where |t| > 1 the pair's visible density is (1 + |t|)/2
+// against Walter's 1: the excess, (X/a − 1) over X > a, holds Λ(wi) of
+// mass against Walter's 1 and is drawn as a second component with
+// probability Λ / (1 + Λ): X from the tail, the slope across k from
+// Walter's draw. Returns the zero vector in the (never observed) case that
+// the tail's rejection gives up.
+Vec3 visible_half_vector(double mx, double my, const Vec3& wi, double lambda_i,
+                         PhotonRandom& rng) {
+  // Walter's formulas in stretched slopes: tan²θh (cos²φh/mx² + sin²φh/my²)
+  // = −log u is P² + Q², and (P, Q) points along (cos 2πv, sin 2πv).
+  double c, s;
+  sample_unit_circle(rng, &c, &s);
+  const double r = std::sqrt(-std::log(rng.uniform_open0()));
+  const double p = r * c, q = r * s;
+  const double kx = mx * wi.x, ky = my * wi.y;
+  if (lambda_i > 0.0 && rng.uniform() * (1.0 + lambda_i) >= 1.0) {
+    // Λ > 0 implies k ≠ 0.
+    const double k = std::sqrt(kx * kx + ky * ky);
+    const double ex = kx / k, ey = ky / k;
+    const double y = ey * p - ex * q;
+    const double x = sample_slope_tail(wi.z / k, rng);
+    if (x < 0.0) return {};
+    return normalize(Vec3{mx * (ex * x + ey * y), my * (ey * x - ex * y), 1.0});
+  }
+  // Keep h where 2 uniform() < 1 + t = 1 + (kx P + ky Q) / wi.z, written
+  // without dividing (and without a branch: the choice is a coin toss).
+  const double keep = std::copysign(1.0, wi.z + kx * p + ky * q - 2.0 * rng.uniform() * wi.z);
+  return normalize(Vec3{keep * mx * p, keep * my * q, 1.0});
+}
+
+}  // namespace
+
+Vec3 sample_visible_half_vector(double mx, double my, const Vec3& wi, PhotonRandom& rng) {
+  if (!(wi.z > 0.0)) return {};
+  return visible_half_vector(mx, my, wi, beckmann_lambda(mx, my, wi), rng);
+}
+
+double visible_half_vector_pdf(double mx, double my, const Vec3& wi, const Vec3& h) {
+  const double ih = dot(wi, h);
+  if (!(wi.z > 0.0) || !(ih > 0.0)) return 0.0;
+  return smith_g1(mx, my, wi) * beckmann_d(mx, my, h) * ih / wi.z;
+}
+
 double glossy_pdf(const Material& m, const Vec3& wi, const Vec3& wo) {
-  if (wi.z <= 0.0) return 0.0;
+  if (!(wi.z > 0.0)) return 0.0;
   const Vec3 sum = wi + wo;
   const double len = length(sum);
   if (!(len > 0.0)) return 0.0;
   const Vec3 h = sum / len;
-  const double oh = dot(wo, h);
-  if (oh <= 0.0) return 0.0;
-  return beckmann_d(m.glossy_mx, m.glossy_my, h) * h.z / (4.0 * oh);
+  if (!(dot(wi, h) > 0.0)) return 0.0;
+  // D_wi(h) / (4 wo·h) with wo·h = wi·h.
+  return smith_g1(m.glossy_mx, m.glossy_my, wi) * beckmann_d(m.glossy_mx, m.glossy_my, h) /
+         (4.0 * wi.z);
 }
 
-GlossySample sample_glossy(const Material& m, const Vec3& wi, double u, double cos_2piv,
-                           double sin_2piv) {
-  const Vec3 h = sample_beckmann_half_vector(m.glossy_mx, m.glossy_my, u, cos_2piv, sin_2piv);
+GlossySample sample_glossy(const Material& m, const Vec3& wi, PhotonRandom& rng) {
+  if (!(wi.z > 0.0)) return {wi, 0.0};
+  const double mx = m.glossy_mx, my = m.glossy_my;
+  const double lambda_i = beckmann_lambda(mx, my, wi);
+  if (!(lambda_i < std::numeric_limits<double>::infinity())) return {wi, 0.0};  // G1 = 0
+  const Vec3 h = visible_half_vector(mx, my, wi, lambda_i, rng);
   const double ih = dot(wi, h);
-  if (ih <= 0.0 || wi.z <= 0.0) return {h, 0.0};
+  if (!(ih > 0.0)) return {h, 0.0};
   const Vec3 wo = 2.0 * ih * h - wi;
-  if (wo.z <= 0.0) return {wo, 0.0};
-  const double w = schlick_fresnel(m.glossy_f0, ih) * std::sqrt(wo.z / wi.z) / h.z;
+  if (!(wo.z > 0.0)) return {wo, 0.0};
+  // f cos θo / pdf = F D G2 / (4 (wi·n)(wo·n)) · (wo·n) · 4 (wi·n) / (G1 D).
+  const double w = schlick_fresnel(m.glossy_f0, ih) * (1.0 + lambda_i) /
+                   (1.0 + lambda_i + beckmann_lambda(mx, my, wo));
   return {wo, w};
 }
 
@@ -174,7 +282,7 @@ ScatterResult scatter(const Material& m, const SurfaceFrame& f, const Vec3& d, P
 
 ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& f, const Vec3& d,
                       PhotonRandom& rng, Polarization* polarization) {
-  ScatterResult r{lobe, false, d, 1.0};
+  ScatterResult r{lobe, false, d};
   const bool front = dot(d, f.geometric_normal) < 0.0;
   // Normals on the side the photon arrives from.
   const Vec3 ng = front ? f.geometric_normal : -f.geometric_normal;
@@ -206,20 +314,14 @@ ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& f, const
     case Lobe::Glossy: {
       if (polarization) polarization->polarized = false;
       const Basis basis = basis_from_normal_tangent(ns, f.tangent);
-      double c, s;
-      sample_unit_circle(rng, &c, &s);
-      const GlossySample g = sample_glossy(m, basis.to_local(wi), rng.uniform_open0(), c, s);
+      const GlossySample g = sample_glossy(m, basis.to_local(wi), rng);
       const Vec3 o = basis.to_world(g.wo);
       if (!(g.weight > 0.0) || dot(o, ng) <= 0.0) {
         r.absorbed = true;
         return r;
       }
       r.direction = normalize(o);
-      if (g.weight <= 1.0) {
-        r.absorbed = rng.uniform() >= g.weight;
-      } else {
-        r.power_factor = g.weight;
-      }
+      r.absorbed = rng.uniform() >= g.weight;  // w ≤ 1
       return r;
     }
     case Lobe::Dielectric: {

@@ -28,7 +28,8 @@ struct Material {
   double diffuse_reflect = 0.0;   // Lambertian reflection (the thesis' kd)
   double diffuse_transmit = 0.0;  // Lambertian transmission to the far side (opal, diffusers)
   double mirror = 0.0;            // perfect specular reflection
-  double glossy = 0.0;            // anisotropic Beckmann/Ward reflection lobe (the thesis' ks)
+  double glossy = 0.0;            // glossy reflection (the thesis' ks): microfacet lobe on the
+                                  // anisotropic Beckmann distribution (sim/material.h)
   double glossy_mx = 0.1;         // lobe roughness (RMS slope) along the surface tangent
   double glossy_my = 0.1;         // lobe roughness along the bitangent
   double glossy_f0 = 1.0;         // Schlick's reflectance at normal incidence for the lobe

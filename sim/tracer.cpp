@@ -167,15 +167,6 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       r.fate = Fate::Absorbed;
       return r;
     }
-    if (s.power_factor != 1.0) {
-      const double scaled = std::min(static_cast<double>(power) * s.power_factor, 0x1.0p60);
-      const auto next = static_cast<std::uint64_t>(scaled);
-      if (books && next > power) {
-        books->glossy_gain_units += next - power;
-        ++books->glossy_gain_events;
-      }
-      power = std::max(next, power);
-    }
     // Back along the incoming ray before the offset: near an edge the hit
     // point can lie a rounding error beyond the neighbouring face, and an
     // offset along this face's normal alone would start the next ray behind

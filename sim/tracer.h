@@ -58,8 +58,8 @@ struct TracerTally {
   std::vector<std::uint16_t> texel_photons;  // photons escaped per texel, mod 65536
   std::vector<std::uint32_t> texel_wraps;    // a texel per 65536 photons
   std::uint64_t photons(std::size_t texel) const;  // for tests: the full count (slow)
-  // Escaped photons whose power is not nominal (after glossy weights > 1):
-  // (texel, power units). Empty for scenes without glossy lobes.
+  // Escaped photons whose power is not nominal: (texel, power units).
+  // Empty unless emission is importance-guided.
   std::vector<std::pair<std::uint32_t, std::uint64_t>> uneven_escapes;
   LedgerTally ledger;
 

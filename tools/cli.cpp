@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <sstream>
@@ -10,6 +11,28 @@
 
 namespace gonio::cli {
 namespace {
+
+// `text` word-wrapped to lines of at most `width` characters, each starting
+// with `indent`; line breaks in `text` are kept.
+std::string wrap(const std::string& text, const std::string& indent, std::size_t width = 80) {
+  std::string out, line;
+  const auto flush = [&] {
+    out += indent + line + "\n";
+    line.clear();
+  };
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = std::min(text.find('\n', start), text.size());
+    std::istringstream words(text.substr(start, end - start));
+    for (std::string word; words >> word;) {
+      if (!line.empty() && indent.size() + line.size() + 1 + word.size() > width) flush();
+      line += (line.empty() ? "" : " ") + word;
+    }
+    flush();
+    start = end + 1;
+  }
+  return out;
+}
 
 std::string format_bound(double v) {
   std::ostringstream s;
@@ -28,6 +51,15 @@ void print_error(const Error& error) { print_error(to_string(error)); }
 void print_warning(const std::string& message) {
   std::fprintf(stderr, "%s: warning: %s\n", kProgramName, message.c_str());
 }
+
+std::string format_finding(const Finding& finding) {
+  std::string out = to_string(finding.where) + ": " + to_string(finding.severity) + ": " +
+                    finding.message;
+  if (!finding.code.empty()) out += " [" + finding.code + "]";
+  return out;
+}
+
+void print_finding(const Finding& finding) { print_error(format_finding(finding)); }
 
 bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
 
@@ -192,13 +224,13 @@ std::string ArgParser::help() const {
   s << usage() << "\n\n" << description_ << "\n";
   if (!positionals_.empty()) {
     s << "\nArguments:\n";
-    for (const Positional& p : positionals_) s << "  " << p.name << "\n      " << p.help << "\n";
+    for (const Positional& p : positionals_) s << "  " << p.name << "\n" << wrap(p.help, "      ");
   }
   s << "\nOptions:\n";
   for (const Option& o : options_) {
     s << "  --" << o.name;
     if (!o.metavar.empty()) s << " " << o.metavar;
-    s << "\n      " << o.help << "\n";
+    s << "\n" << wrap(o.help, "      ");
   }
   s << "  --help\n      Show this help and exit.\n";
   return s.str();

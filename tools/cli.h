@@ -29,6 +29,11 @@ void print_error(const std::string& message);
 void print_error(const Error& error);
 // Prints "gonio: warning: <message>" to stderr.
 void print_warning(const std::string& message);
+// "<file>:<line>: <severity>: <message> [<code>]" (parts that are unknown
+// left out), the form findings of readers, writers and checks take.
+std::string format_finding(const Finding& finding);
+// Prints "gonio: " + format_finding(finding) to stderr.
+void print_finding(const Finding& finding);
 
 // Whether standard error is a terminal (progress output goes there only then).
 bool stderr_is_terminal();

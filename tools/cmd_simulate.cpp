@@ -1,17 +1,35 @@
-// gonio simulate: traces a luminaire model into its far field.
+// gonio simulate: traces a luminaire model into its far field and writes the
+// files light-planning programs and renderers read.
 //
-//   gonio simulate MODEL [--photons N] [--iterations K] [--seed S]
+//   gonio simulate MODEL --out DIR [--photons N] [--iterations K] [--seed S]
 //                  [--threads T] [--max-bounces B] [--face-size F]
-//                  [--preview [filter options]] --out DIR
+//                  [--c-step DEG] [--gamma-step DEG] [--symmetry S]
+//                  [--format LIST] [--ies-version 2002|2019] [--name STEM]
+//                  [--min-lor X] [--flux-tolerance X]
+//                  [--preview [filter options]]
 //
-// Writes DIR/farfield.exr (the far field as an OpenEXR cube map: Y in cd,
-// flux in lm, photons per texel) and DIR/report.json (settings, speed and
-// the energy ledger). With --preview, DIR/preview.exr and DIR/preview.png
+// Writes DIR/STEM.ies, STEM.ldt, farfield.exr (cube), farfield-latlong.exr, STEM.svg (the
+// intensity diagram; tools/simulation_outputs.h) and DIR/report.json
+// (settings, speed, the energy ledger, and each file read back: its flux and
+// its check findings). With --preview, DIR/preview.exr and DIR/preview.png
 // are replaced after every iteration (tools/preview_output.h). Progress goes
 // to stderr when it is a terminal.
+//
+// report.json adds to io/report.h's fields: "outputs" {grid, symmetry
+// {chosen, reason, tests [{symmetry, chi_square, degrees_of_freedom,
+// p_value, groups, rejected}]}, escaped_lm, files [{path, format, flux_lm,
+// flux_difference, clean, findings, writer_notes}]} and "energy"
+// {photons_close, flux_imbalance_lm, lor, min_lor, flux_tolerance,
+// files [{path, flux_ok, clean}], passed, failures [text]}.
+//
+// Energy checks (exit 1 after everything is written, with a message):
+// emitted = escaped + absorbed + cut off in photons, LOR = escaped / emitted
+// at least --min-lor, every written file's flux within --flux-tolerance of
+// the escaped flux, every written file clean.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -22,10 +40,13 @@
 #include "io/gltf.h"
 #include "io/model_check.h"
 #include "io/report.h"
+#include "sim/resample.h"
 #include "sim/simulation.h"
+#include "sim/symmetry.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/preview_output.h"
+#include "tools/simulation_outputs.h"
 
 namespace gonio::cli {
 namespace {
@@ -57,19 +78,48 @@ std::string format_rate(double per_s) {
 
 double percent(double part, double whole) { return whole > 0.0 ? 100.0 * part / whole : 0.0; }
 
+std::string today_utc() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[16];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d", &tm);
+  return buf;
+}
+
+std::string signed_percent(double fraction) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%+.3f %%", 100.0 * fraction);
+  return buf;
+}
+
+int usage_error(const ArgParser& p, const std::string& message) {
+  print_error("simulate: " + message);
+  std::fprintf(stderr, "%s\n", p.usage().c_str());
+  return kExitUsage;
+}
+
 }  // namespace
 
 int run_simulate(const Args& args) {
   const auto start = std::chrono::steady_clock::now();
   std::string model, out_dir;
   long long photons = 1'000'000, iterations = 10, seed = 1, threads = 0, max_bounces = 100;
-  long long face_size = sim::CubeMapGrid::face_size_for_step(2.5);
+  long long face_size = 0;
+  double c_step = 5.0, gamma_step = 2.5, min_lor = 0.0, flux_tolerance = 0.005;
+  std::string symmetry_name = "auto", format_list = "all", ies_version = "2019", stem;
   ArgParser p("simulate", "MODEL --out DIR [options]",
               "Traces photons through a luminaire model (glTF 2.0: .gltf or .glb) and writes\n"
-              "its far field, DIR/farfield.exr (OpenEXR cube map: Y = intensity in cd, flux in\n"
-              "lm and photon count per texel), and DIR/report.json (settings, speed, and the\n"
-              "energy ledger: emitted = escaped + absorbed + cut off, per emitter, mesh and\n"
-              "material). The same seed gives the same files whatever the thread count.");
+              "what light-planning programs and renderers read, each file read back and\n"
+              "checked: DIR/STEM.ies (LM-63-2019, computer simulation), DIR/STEM.ldt\n"
+              "(EULUMDAT, cd/klm of the emitters' flux), DIR/farfield.exr (far-field cube\n"
+              "map: Y = intensity in cd, flux in lm and photons per texel),\n"
+              "DIR/farfield-latlong.exr (equirectangular), DIR/STEM.svg (intensity diagram),\n"
+              "and DIR/report.json (settings, speed, the energy ledger per emitter, mesh and\n"
+              "material, and every file's flux read back). Fails (exit 1) when the books do\n"
+              "not close, the LOR is under --min-lor, a file's flux misses the escaped flux\n"
+              "by more than --flux-tolerance, or a file is not clean. The same seed gives the\n"
+              "same files whatever the thread count.");
   p.positional("MODEL", &model, "the luminaire model (.gltf or .glb)");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
   p.option("photons", &photons, 1, 4'294'967'295LL, "N", "photons per iteration (default 1000000)");
@@ -79,7 +129,23 @@ int run_simulate(const Args& args) {
   p.option("max-bounces", &max_bounces, 0, 1'000'000, "B",
            "surface interactions before a photon is cut off (default 100)");
   p.option("face-size", &face_size, 1, 4096, "F",
-           "cube-map texels per face edge (default 128: enough for a 2.5° grid)");
+           "cube-map texels per face edge (default: two texels per grid step, 128 for 5 x 2.5 deg)");
+  p.option("c-step", &c_step, sim::kMinGridStepDeg, sim::kMaxGridStepDeg, "DEG",
+           "C-plane spacing of the IES/LDT grid (default 5; divides 360)");
+  p.option("gamma-step", &gamma_step, sim::kMinGridStepDeg, sim::kMaxGridStepDeg, "DEG",
+           "gamma spacing of the IES/LDT grid (default 2.5; divides 180)");
+  p.option("symmetry", &symmetry_name, "S",
+           "auto (default: a chi-square test per symmetry on the photon counts), none, C0-C180, "
+           "C90-C270, quadrant or rotational");
+  p.option("format", &format_list, "LIST",
+           "files to write, comma-separated: ies, ldt, exr, latlong, plot, or all (default)");
+  p.choice("ies-version", &ies_version, {"2002", "2019"}, "IES LM-63 version (default 2019)");
+  p.option("name", &stem, "STEM", "file names DIR/STEM.* (default: the model's file name without extension)");
+  p.option("min-lor", &min_lor, 0.0, 1.0, "X",
+           "fail when the light output ratio escaped/emitted is under X (default 0: never)");
+  p.option("flux-tolerance", &flux_tolerance, 0.0, 1.0, "X",
+           "fail when a written file's flux differs from the escaped flux by more than X "
+           "(a fraction; default 0.005 = 0.5 %)");
   PreviewOptions preview_options;
   add_preview_options(p, &preview_options);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
@@ -90,11 +156,25 @@ int run_simulate(const Args& args) {
     std::fprintf(stderr, "%s\n", p.usage().c_str());
     return kExitUsage;
   }
-  if (out_dir.empty()) {
-    print_error("simulate: --out DIR is required");
-    std::fprintf(stderr, "%s\n", p.usage().c_str());
-    return kExitUsage;
+  if (out_dir.empty()) return usage_error(p, "--out DIR is required");
+  sim::CGammaGrid grid;
+  grid.c_step_deg = c_step;
+  grid.gamma_step_deg = gamma_step;
+  if (Status s = sim::validate(grid); !s.ok()) return usage_error(p, s.error().message);
+  std::optional<photometry::Symmetry> symmetry;
+  if (symmetry_name != "auto") {
+    symmetry = sim::parse_symmetry(symmetry_name);
+    if (!symmetry)
+      return usage_error(p, "--symmetry: unknown symmetry '" + symmetry_name +
+                                "'; expected auto, none, C0-C180, C90-C270, quadrant or rotational");
+    if (Status s = sim::check_grid_supports(grid, *symmetry); !s.ok()) return usage_error(p, s.error().message);
   }
+  Result<std::vector<OutputFormat>> formats = parse_formats(format_list);
+  if (!formats.ok()) return usage_error(p, formats.error().message);
+  if (stem.empty()) stem = std::filesystem::path(model).stem().string();
+  if (stem.empty() || stem.find_first_of("/\\") != std::string::npos || stem == "." || stem == "..")
+    return usage_error(p, "--name: '" + stem + "' is not a plain file name");
+  if (!p.given("face-size")) face_size = sim::face_size_for(grid);
 
   // Load, then check the geometry (closed refractive volumes, degenerate
   // and self-intersecting faces): errors stop the run, warnings are printed.
@@ -163,20 +243,30 @@ int run_simulate(const Args& args) {
     print_error(preview_status.error());
     return kExitFailure;
   }
-  const std::string exr_path = (std::filesystem::path(out_dir) / "farfield.exr").string();
   const std::string report_path = (std::filesystem::path(out_dir) / "report.json").string();
   const sim::FarField far_field = sim->far_field();
-  Result<io::ExrImage> image = io::far_field_image(far_field);
-  if (!image.ok()) {
-    print_error(exr_path + ": " + image.error().message);
-    return kExitFailure;
-  }
-  if (Status s = io::write_exr(exr_path, image.value()); !s.ok()) {
-    print_error(s.error());
+  const sim::SimulationStats st = sim->stats();
+  const sim::Ledger ledger = sim->ledger();
+
+  OutputRequest request;
+  request.directory = out_dir;
+  request.stem = stem;
+  request.formats = formats.value();
+  request.grid = grid;
+  request.symmetry = symmetry;
+  request.ies_version = ies_version == "2002" ? io::IesVersion::LM63_2002 : io::IesVersion::LM63_2019;
+  request.run.program_version = kVersion;
+  request.run.model = model;
+  request.run.photons = st.photons;
+  request.run.seed = settings.seed;
+  request.run.max_bounces = settings.max_bounces;
+  request.run.issue_date = today_utc();
+  Result<OutputResult> outputs = write_outputs(far_field, sim->scene(), ledger, request);
+  if (!outputs.ok()) {
+    print_error(outputs.error());
     return kExitFailure;
   }
 
-  const sim::SimulationStats st = sim->stats();
   io::SimulationReport report;
   report.program_version = kVersion;
   report.model = model;
@@ -202,16 +292,57 @@ int run_simulate(const Args& args) {
                        {"filter", describe(preview_params_result.value(), settings.face_size)},
                        {"flux_lm", ps.preview_flux_lm}};
   }
-  json["far_field"] = {{"file", "farfield.exr"},
-                       {"face_size", settings.face_size},
+  json["far_field"] = {{"face_size", settings.face_size},
                        {"texels", far_field.texel_count()},
                        {"flux_lm", far_field.total_flux_lm()}};
+  for (const WrittenFile& f : outputs->files)
+    if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
+  json["outputs"] = to_json(outputs.value(), grid, ledger.escaped.flux_lm);
+
+  // The energy checks, each with what it found.
+  const sim::Ledger& l = ledger;
+  std::vector<std::string> failures;
+  const bool closes = l.photons_close() && std::abs(l.flux_imbalance_lm()) <= 1e-9 * l.emitted.flux_lm;
+  if (!closes)
+    failures.push_back("the books do not close: emitted " + std::to_string(l.emitted.photons) +
+                       " photons, accounted for " +
+                       std::to_string(l.escaped.photons + l.absorbed.photons + l.cutoff.photons));
+  const double lor = l.emitted.flux_lm > 0.0 ? l.escaped.flux_lm / l.emitted.flux_lm : 0.0;
+  if (lor < min_lor)
+    failures.push_back("light output ratio " + std::to_string(lor) + " is under --min-lor " +
+                       std::to_string(min_lor));
+  nlohmann::json file_checks = nlohmann::json::array();
+  for (const WrittenFile& f : outputs->files) {
+    const bool has_flux = std::isfinite(f.flux_lm);
+    const bool flux_ok = !has_flux || std::abs(f.flux_difference) <= flux_tolerance ||
+                         (l.escaped.flux_lm == 0.0 && f.flux_lm == 0.0);
+    if (!flux_ok)
+      failures.push_back(f.path + ": flux " + std::to_string(f.flux_lm) + " lm read back differs from the escaped " +
+                         std::to_string(l.escaped.flux_lm) + " lm by " + signed_percent(f.flux_difference) +
+                         ", more than --flux-tolerance " + std::to_string(100.0 * flux_tolerance) +
+                         " %: the grid cannot carry this distribution (a beam narrower than the steps?); a finer "
+                         "--gamma-step/--c-step may, or accept it with a larger --flux-tolerance");
+    if (!f.clean()) {
+      for (const Finding& x : f.findings)
+        if (x.severity >= Severity::Warning)
+          failures.push_back(to_string(x.where) + ": " + to_string(x.severity) + ": " + x.message + " [" + x.code +
+                             "]");
+    }
+    file_checks.push_back({{"path", f.path}, {"flux_ok", flux_ok}, {"clean", f.clean()}});
+  }
+  json["energy"] = {{"photons_close", l.photons_close()},
+                    {"flux_imbalance_lm", l.flux_imbalance_lm()},
+                    {"lor", lor},
+                    {"min_lor", min_lor},
+                    {"flux_tolerance", flux_tolerance},
+                    {"files", std::move(file_checks)},
+                    {"passed", failures.empty()},
+                    {"failures", failures}};
   if (Status s = io::write_json(report_path, json); !s.ok()) {
     print_error(s.error());
     return kExitFailure;
   }
 
-  const sim::Ledger& l = report.ledger;
   std::printf("%s: %llu photons in %d iteration%s, %sphotons/s, %srays/s, %d thread%s\n",
               model.c_str(), static_cast<unsigned long long>(st.photons), st.iterations_done,
               st.iterations_done == 1 ? "" : "s", format_rate(st.photons_per_s()).c_str(),
@@ -220,18 +351,26 @@ int run_simulate(const Args& args) {
               l.emitted.flux_lm, l.escaped.flux_lm, percent(l.escaped.flux_lm, l.emitted.flux_lm),
               l.absorbed.flux_lm, percent(l.absorbed.flux_lm, l.emitted.flux_lm), l.cutoff.flux_lm,
               percent(l.cutoff.flux_lm, l.emitted.flux_lm));
-  if (l.glossy_gain_events > 0)
-    std::printf("  glossy lobe weights above 1 added %.6g lm (%.3f %% of the emitted flux)\n",
-                l.glossy_gain_lm, percent(l.glossy_gain_lm, l.emitted.flux_lm));
-  std::printf("  wrote %s and %s\n", exr_path.c_str(), report_path.c_str());
+  std::printf("  light output ratio %.4f (escaped / emitted)\n", lor);
+  if (!outputs->symmetry_reason.empty()) {
+    if (symmetry)
+      std::printf("  %s\n", outputs->symmetry_reason.c_str());
+    else  // the reasoning is long: stderr (and the report) only
+      std::fprintf(stderr, "%s: simulate: %s\n", kProgramName, outputs->symmetry_reason.c_str());
+  }
+  for (const WrittenFile& f : outputs->files) {
+    if (std::isfinite(f.flux_lm))
+      std::printf("  wrote %s: %.6g lm read back (%s of the escaped flux)%s\n", f.path.c_str(), f.flux_lm,
+                  signed_percent(f.flux_difference).c_str(), f.clean() ? "" : ", NOT CLEAN");
+    else
+      std::printf("  wrote %s%s\n", f.path.c_str(), f.clean() ? "" : ", NOT CLEAN");
+  }
+  std::printf("  wrote %s\n", report_path.c_str());
   if (preview)
     std::printf("  preview: %s and %s\n", preview->exr_path().c_str(), preview->png_path().c_str());
 
-  // The books must close: anything else is a bug, and the files say so too.
-  if (!l.photons_close() || std::abs(l.flux_imbalance_lm()) > 1e-9 * l.emitted.flux_lm) {
-    print_error(model + ": energy check failed: emitted " + std::to_string(l.emitted.photons) +
-                " photons, accounted for " +
-                std::to_string(l.escaped.photons + l.absorbed.photons + l.cutoff.photons));
+  if (!failures.empty()) {
+    for (const std::string& f : failures) print_error(model + ": energy check failed: " + f);
     return kExitFailure;
   }
   if (l.cutoff.flux_lm > 0.01 * l.emitted.flux_lm)

@@ -19,8 +19,13 @@ struct Command {
 // Every subcommand, in the order `gonio --help` lists them.
 std::span<const Command> commands();
 
-// The subcommands' entry points (tools/cmd_<name>.cpp).
-int run_simulate(const Args& args);
-int run_bench(const Args& args);
+// The subcommands (tools/cmd_<name>.cpp). Each returns the process exit code.
+int run_info(const Args& args);      // gonio info FILE [--json]
+int run_convert(const Args& args);   // gonio convert IN OUT
+int run_check(const Args& args);     // gonio check FILE...
+int run_simulate(const Args& args);  // gonio simulate MODEL --out DIR
+int run_plot(const Args& args);      // gonio plot FILE
+int run_compare(const Args& args);   // gonio compare A B
+int run_bench(const Args& args);     // gonio bench MODEL... --out DIR
 
 }  // namespace gonio::cli

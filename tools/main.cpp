@@ -14,7 +14,12 @@ namespace {
 
 // Subcommands in the order `gonio --help` lists them.
 const std::vector<Command> kCommands = {
-    {"simulate", "Trace a luminaire model (glTF) into its far field and energy ledger", run_simulate},
+    {"info", "Show what a photometric file holds: grid, lamps, flux, LOR, beam angles", run_info},
+    {"check", "Check photometric files for format and plausibility problems", run_check},
+    {"convert", "Convert between IES LM-63 and EULUMDAT (and between their versions)", run_convert},
+    {"simulate", "Trace a luminaire model (glTF) into IES, LDT and EXR files, checked", run_simulate},
+    {"plot", "Draw the intensity diagram of an IES or LDT file (SVG or PNG)", run_plot},
+    {"compare", "Compare two photometric files: RMS, peak, flux and beam differences", run_compare},
     {"bench", "Measure speed against accuracy on luminaire models (error vs time and photons)", run_bench},
 };
 

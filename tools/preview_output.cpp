@@ -87,7 +87,7 @@ Status PreviewOutput::write(const sim::FarField& far_field) {
   std::vector<float>& y = image_.float_channels.front().values;
   for (std::size_t t = 0; t < preview.size(); ++t) y[t] = static_cast<float>(preview[t]);
   if (Status s = io::write_exr(exr_path(), image_); !s.ok()) return s;
-  return io::write_png(png_path(), io::cube_cross_image(filter_.face_size(), preview));
+  return io::write_png(png_path(), io::cube_cross_preview(filter_.face_size(), preview));
 }
 
 }  // namespace gonio::cli

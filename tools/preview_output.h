@@ -2,7 +2,8 @@
 // iteration the far field is filtered (sim/preview_filter.h) and written as
 //   DIR/preview.exr — the filtered cube map (OpenEXR cube environment map,
 //                     like farfield.exr), channel Y = intensity [cd];
-//   DIR/preview.png — the unfolded cube (io/cube_cross.h), tone-mapped,
+//   DIR/preview.png — the unfolded cube (io/cube_cross.h), exposed robustly
+//                     (io::cube_cross_preview: 99 % flux quantile, soft shoulder),
 // each replaced atomically, so a viewer can watch the files. The preview is
 // for looking at: farfield.exr and the photometric files come from the raw
 // histogram, never from the preview.

@@ -82,3 +82,75 @@ TEST(CubeCross, ToneMapsToSrgbGreyWithTransparentBackground) {
 
 }  // namespace
 }  // namespace gonio::io
+
+namespace gonio::io {
+namespace {
+
+TEST(CubeCrossPreview, SoftShoulderIsLinearToTheKneeThenSmoothAndBelowOne) {
+  const double k = kPreviewKnee;
+  EXPECT_EQ(soft_shoulder(0.0, k), 0.0);
+  EXPECT_EQ(soft_shoulder(0.5, k), 0.5);
+  EXPECT_EQ(soft_shoulder(k, k), k);
+  // Slope 1 on both sides of the knee, increasing, approaching 1.
+  const double h = 1e-6;
+  EXPECT_NEAR((soft_shoulder(k + h, k) - k) / h, 1.0, 1e-5);
+  double last = k;
+  for (double x = k + 0.01; x < 6.0; x *= 1.1) {  // exp underflows to 1 beyond
+    const double y = soft_shoulder(x, k);
+    EXPECT_GT(y, last);
+    EXPECT_LT(y, 1.0);
+    last = y;
+  }
+  // Closed form: one white above the knee gives k + (1 − k)(1 − e^−1).
+  EXPECT_NEAR(soft_shoulder(1.0, k), k + (1 - k) * (1 - std::exp(-1.0)), 1e-15);
+}
+
+double srgb(double linear) {
+  return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1 / 2.4) - 0.055;
+}
+
+TEST(CubeCrossPreview, WhitePointIsTheFluxQuantileSoOneBrightTexelLeavesTheRestVisible) {
+  const int n = 64;
+  const sim::CubeMapGrid grid(n);
+  // A uniform 100 cd sphere with one texel of 10⁴ cd (the lamp seen through
+  // an opening): 100 times brighter, but well under 1 % of the flux.
+  std::vector<double> v(grid.texel_count(), 100.0);
+  const std::size_t spot = grid.index(3, 32, 32);
+  v[spot] = 1e4;
+  double total = 0.0;
+  for (std::size_t t = 0; t < v.size(); ++t) total += v[t] * grid.texel_solid_angle(t);
+  ASSERT_LT(v[spot] * grid.texel_solid_angle(spot) / total, 0.01);
+  EXPECT_EQ(flux_quantile_cd(n, v, kPreviewQuantile), 100.0);
+  EXPECT_EQ(flux_quantile_cd(n, v, 1.0), 1e4);
+  EXPECT_EQ(flux_quantile_cd(n, std::vector<double>(grid.texel_count(), 0.0), 0.99), 0.0);
+
+  const Image8 preview = cube_cross_preview(n, v);
+  const Image8 linear = cube_cross_image(n, v);
+  const auto grey = [&](const Image8& img, int face, int x, int y) {
+    const CrossSlot s = cross_slot(face);
+    const int px = s.column * n + x, py = s.row * n + y;
+    return static_cast<int>(img.pixels[static_cast<std::size_t>((py * img.width + px) * 2)]);
+  };
+  // The background at white: the shoulder's value at 1; the spot near 1.
+  EXPECT_NEAR(grey(preview, 0, 3, 3), 255.0 * srgb(soft_shoulder(1.0, kPreviewKnee)), 0.5);
+  EXPECT_EQ(grey(preview, 3, 32, 32), 255);
+  // The linear mapping to the maximum leaves the background at 1 % of white.
+  EXPECT_NEAR(grey(linear, 0, 3, 3), 255.0 * srgb(0.01), 0.5);
+  EXPECT_EQ(grey(linear, 3, 32, 32), 255);
+}
+
+TEST(CubeCrossPreview, ABeamCarryingTheFluxSetsTheWhitePoint) {
+  const int n = 16;
+  const sim::CubeMapGrid grid(n);
+  std::vector<double> v(grid.texel_count(), 0.0);
+  for (int y = 6; y < 10; ++y)
+    for (int x = 6; x < 10; ++x) v[grid.index(3, x, y)] = 500.0;  // a beam on −Y
+  EXPECT_EQ(flux_quantile_cd(n, v, kPreviewQuantile), 500.0);
+  const Image8 preview = cube_cross_preview(n, v);
+  const CrossSlot s = cross_slot(3);
+  EXPECT_NEAR(preview.pixels[static_cast<std::size_t>(((s.row * n + 7) * preview.width + s.column * n + 7) * 2)],
+              255.0 * srgb(soft_shoulder(1.0, kPreviewKnee)), 0.5);
+}
+
+}  // namespace
+}  // namespace gonio::io

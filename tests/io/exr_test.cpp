@@ -144,3 +144,57 @@ TEST(Exr, ReaderRejectsHostileFiles) {
 
 }  // namespace
 }  // namespace gonio::io
+
+namespace gonio::io {
+namespace {
+
+TEST(LatLong, PixelCentresFollowOpenExrsConventionAndSolidAnglesTileTheSphere) {
+  const int w = 9, h = 5;  // 45° per pixel
+  // Top row: the +Y pole; bottom row: −Y; middle row: longitude +180° at the
+  // left, 0° (+Z) in the middle, +90° (+X) a quarter from the left edge
+  // of the middle… i.e. longitude = 180° − x·45°.
+  const Vec3 top = latlong_direction(w, h, 3, 0);
+  EXPECT_NEAR(top.y, 1.0, 1e-6);
+  EXPECT_NEAR(latlong_direction(w, h, 0, h - 1).y, -1.0, 1e-6);
+  for (int x = 0; x < w; ++x) {
+    const double lon = (180.0 - 45.0 * x) * M_PI / 180.0;
+    const Vec3 d = latlong_direction(w, h, x, 2);
+    EXPECT_NEAR(d.x, std::sin(lon), 1e-6) << x;
+    EXPECT_NEAR(d.y, 0.0, 1e-6) << x;
+    EXPECT_NEAR(d.z, std::cos(lon), 1e-6) << x;
+  }
+  const Vec3 d = latlong_direction(w, h, 2, 1);  // latitude 45°, longitude 90°
+  EXPECT_NEAR(d.x, std::sqrt(0.5), 1e-6);
+  EXPECT_NEAR(d.y, std::sqrt(0.5), 1e-6);
+
+  double total = 0.0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) total += latlong_pixel_solid_angle(w, h, x, y);
+  EXPECT_NEAR(total, 4.0 * M_PI, 1e-12);
+  // A polar cap of half a row: 2π(1 − cos 22.5°), shared by 8 columns.
+  EXPECT_NEAR(latlong_pixel_solid_angle(w, h, 3, 0), 2.0 * M_PI * (1.0 - std::cos(M_PI / 8)) / 8.0, 1e-15);
+  EXPECT_NEAR(latlong_pixel_solid_angle(w, h, 0, 0), 0.5 * latlong_pixel_solid_angle(w, h, 3, 0), 1e-15);
+}
+
+TEST(LatLong, FluxOfAnIsotropicMapIsFourPiTimesItsIntensityAndSurvivesTheFile) {
+  test::TempDir dir;
+  ExrImage image = latlong_image(65, 33);
+  image.float_channels.push_back({"Y", std::vector<float>(65 * 33, 250.0f)});
+  const std::string path = (dir / "latlong.exr").string();
+  ASSERT_TRUE(write_exr(path, image).ok());
+  auto back = read_exr(path);
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back->envmap, Envmap::LatLong);
+  auto flux = latlong_flux_lm(*back, path);
+  ASSERT_TRUE(flux.ok());
+  EXPECT_NEAR(*flux, 4.0 * M_PI * 250.0, 1e-9);
+
+  back->float_channels[0].values[100] = -1.0f;
+  auto bad = latlong_flux_lm(*back, path);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("pixel (35, 1)"), std::string::npos) << bad.error().message;
+  EXPECT_FALSE(latlong_flux_lm(cube_image(4), "cube").ok());
+}
+
+}  // namespace
+}  // namespace gonio::io

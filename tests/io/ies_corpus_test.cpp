@@ -4,10 +4,10 @@
 
 #include <cmath>
 #include <map>
-#include <numbers>
 
 #include "io/ies.h"
 #include "io/text.h"
+#include "photometry/flux.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -34,27 +34,6 @@ bool has_finding(const IesFile& f, const std::string& code) {
   return false;
 }
 
-// Total flux of a Type C distribution by a fixed quadrature: on the grid
-// expanded to C 0…360, each cell [C_i, C_i+1] × [γ_j, γ_j+1] contributes the
-// mean of its four corner intensities times its solid angle
-// ΔC (cos γ_j − cos γ_j+1). Independent of the photometry module's
-// integrator; equal grids give equal sums.
-double quadrature_flux_lm(const Distribution& d) {
-  const Distribution e = photometry::expand_symmetry(d);
-  const double deg = std::numbers::pi / 180.0;
-  double sum = 0.0;
-  for (std::size_t h = 0; h + 1 < e.horizontal_count(); ++h) {
-    const double dc = (e.horizontal_deg[h + 1] - e.horizontal_deg[h]) * deg;
-    for (std::size_t v = 0; v + 1 < e.vertical_count(); ++v) {
-      const double band = std::cos(e.vertical_deg[v] * deg) - std::cos(e.vertical_deg[v + 1] * deg);
-      const double mean =
-          0.25 * (e.at(h, v) + e.at(h, v + 1) + e.at(h + 1, v) + e.at(h + 1, v + 1));
-      sum += mean * dc * band;
-    }
-  }
-  return sum;
-}
-
 TEST(IesCorpus, EveryFileReads) {
   GONIO_REQUIRE_CORPUS();
   const auto files = test::corpus_files({".ies"});
@@ -74,7 +53,7 @@ TEST(IesCorpus, EveryFileReads) {
       EXPECT_GT(x.where.line, 0) << x.message;
     }
     // Flux is finite and positive: candela were read, not zeros.
-    EXPECT_GT(quadrature_flux_lm(d), 0.0);
+    EXPECT_GT(photometry::total_flux_lm(d), 0.0);
   }
   // The corpus spans 1986 to 2002 (SOURCES.md).
   EXPECT_GT(versions[IesVersion::LM63_1986], 0);
@@ -153,8 +132,8 @@ TEST(IesCorpus, UnitsMultiplierAndAbsolutePhotometry) {
     ASSERT_EQ(one.distribution.candela.size(), more.distribution.candela.size());
     for (std::size_t i = 0; i < one.distribution.candela.size(); ++i)
       EXPECT_EQ(more.distribution.candela[i], 1.5 * one.distribution.candela[i]);
-    EXPECT_NEAR(quadrature_flux_lm(more.distribution), 1.5 * quadrature_flux_lm(one.distribution),
-                1e-9 * quadrature_flux_lm(more.distribution));
+    EXPECT_NEAR(photometry::total_flux_lm(more.distribution), 1.5 * photometry::total_flux_lm(one.distribution),
+                1e-9 * photometry::total_flux_lm(more.distribution));
     EXPECT_EQ(one.distribution.absolute, kind == "absolute");
     if (kind == "absolute") {
       EXPECT_TRUE(std::isnan(one.distribution.lamps[0].flux_lm));
@@ -236,8 +215,8 @@ TEST(IesCorpus, RoundTripsKeepIntensitiesAndFlux) {
         ASSERT_EQ(e.candela[i], *parse_number(format_ies_number(d.candela[i]))) << i;
         ASSERT_LE(std::abs(e.candela[i] - d.candela[i]), 5e-15 * std::abs(d.candela[i])) << i;
       }
-      const double flux = quadrature_flux_lm(d);
-      EXPECT_NEAR(quadrature_flux_lm(e), flux, 1e-12 * flux);
+      const double flux = photometry::total_flux_lm(d);
+      EXPECT_NEAR(photometry::total_flux_lm(e), flux, 1e-12 * flux);
       EXPECT_EQ(e.absolute, d.absolute);
       EXPECT_EQ(e.lamps[0].count, d.lamps[0].count);
       if (!d.absolute) {

@@ -1194,7 +1194,7 @@ TEST(IesWrite, WhatIesCannotCarryIsReported) {
   d.input_watts = kNaN;
   d.declared_lor_percent = 72.0;
   d.declared_dff_percent = 95.0;
-  d.measurement_tilt_deg = 0.0;
+  d.measurement_tilt_deg = 5.0;
   d.direct_ratios = std::vector<double>(10, 0.5);
   d.luminaire.length_m = 1.2;
   d.opening.side_height_m[0] = 0.02;
@@ -1212,6 +1212,41 @@ TEST(IesWrite, WhatIesCannotCarryIsReported) {
   EXPECT_NEAR(f.distribution.lamps[0].flux_lm, 6550.0, 1e-10);  // 3 × 2183.33333333333
   EXPECT_EQ(f.distribution.input_watts, 49.0);
   EXPECT_FALSE(has_warning(warnings, "input-watts-unknown"));
+}
+
+TEST(IesWrite, LdtFieldsThatCarryNothingAreNotReported) {
+  // What an LDT reader gives for fields that hold nothing: tilt 0, body 0 × 0
+  // × 0, side heights equal to the opening's height, the Ityp an LDT writer
+  // would derive again.
+  Distribution d = sample();
+  d.measurement_tilt_deg = 0.0;
+  d.luminaire = {0.0, 0.0, 0.0};
+  d.opening.shape = photometry::OpeningShape::RectangularWithSides;
+  d.opening.length_m = 0.5;
+  d.opening.width_m = 0.1;
+  d.opening.height_m = 0.03;
+  for (double& h : d.opening.side_height_m) h = 0.03;
+  d.ldt_type_indicator = 3;
+  std::vector<Finding> warnings;
+  write_and_read(d, &warnings);
+  EXPECT_FALSE(has_warning(warnings, "ldt-only-field"));
+  EXPECT_FALSE(has_warning(warnings, "alternative-lamps"));
+
+  // Each of them with content is reported once.
+  d.measurement_tilt_deg = 10.0;
+  d.luminaire.height_m = 0.05;
+  d.opening.side_height_m[2] = 0.01;
+  d.ldt_type_indicator = 2;
+  d.alternative_lamps = {photometry::LampSet{1, "LED 2", 2000.0, "", "", 20.0}};
+  warnings.clear();
+  const IesFile f = write_and_read(d, &warnings);
+  EXPECT_EQ(std::count_if(warnings.begin(), warnings.end(),
+                          [](const Finding& w) { return w.code == "ldt-only-field"; }),
+            4);
+  EXPECT_TRUE(has_warning(warnings, "alternative-lamps"));
+  // The first lamp set stays the one the intensities refer to.
+  EXPECT_EQ(f.distribution.lamps[0].flux_lm, d.lamps[0].flux_lm);
+  EXPECT_EQ(f.distribution.candela, as_written(d.candela));
 }
 
 TEST(IesWriteDeathTest, BrokenPreconditionsStop) {

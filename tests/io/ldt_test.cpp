@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <numbers>
 #include <random>
@@ -10,6 +11,8 @@
 #include <vector>
 
 #include "io/text.h"
+#include "photometry/direct_ratios.h"
+#include "photometry/flux.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -716,7 +719,8 @@ TEST(LdtWrite, AbsolutePhotometryWritesTheIntegratedLuminaireFlux) {
   EXPECT_EQ(lines[2].text, "1");    // Isym
   EXPECT_EQ(lines[1].text, "1");    // Ityp derived: rotational
   EXPECT_EQ(lines[26].text, "-1");  // negative count: absolute
-  EXPECT_NEAR(std::stod(std::string(lines[28].text)), 400 * kPi, 1e-6);
+  // Stated to 6 significant digits (the candela are scaled by that value).
+  EXPECT_EQ(lines[28].text, "1256.64");
   EXPECT_EQ(lines[22].text, "100");  // LORL of absolute photometry
   EXPECT_EQ(lines[21].text, "50");   // DFF of an isotropic source
   const Distribution r = parse_ok(*text).distribution;
@@ -763,6 +767,67 @@ TEST(LdtWrite, ComputesLorlAndDffForModelsFromIes) {
   auto linear = write_ldt(d, o, nullptr);
   ASSERT_TRUE(linear.ok());
   EXPECT_EQ(split_lines(*linear)[1].text, "2");
+}
+
+TEST(LdtWrite, ReportsLm63FieldsItCannotHold) {
+  Distribution d = model_c0_c180();
+  std::vector<Finding> w;
+  ASSERT_TRUE(write_ldt(d, {}, &w).ok());
+  for (const char* code :
+       {"ldt-tilt-dropped", "ldt-ballast-factor", "ldt-file-generation", "ldt-input-watts"})
+    EXPECT_FALSE(has_finding(w, code)) << code;
+
+  d.tilt.kind = photometry::Tilt::Kind::Include;
+  d.tilt.lamp_geometry = 1;
+  d.tilt.angles_deg = {0, 45, 90};
+  d.tilt.factors = {1, 0.9, 0.8};
+  d.ballast_factor = 0.95;
+  d.ballast_lamp_factor = 0.9;
+  d.file_generation = photometry::FileGenerationType::AccreditedLab;
+  d.input_watts = 31.0;  // the lamp set says 29.5 W
+  w.clear();
+  auto text = write_ldt(d, {}, &w);
+  ASSERT_TRUE(text.ok());
+  for (const char* code :
+       {"ldt-tilt-dropped", "ldt-ballast-factor", "ldt-file-generation", "ldt-input-watts"}) {
+    const Finding* f = finding(w, code);
+    ASSERT_NE(f, nullptr) << code;
+    EXPECT_EQ(f->severity, Severity::Warning);
+  }
+  EXPECT_EQ(std::count_if(w.begin(), w.end(),
+                          [](const Finding& f) { return f.code == "ldt-ballast-factor"; }),
+            2);
+  // EULUMDAT keeps the lamp set's wattage.
+  EXPECT_EQ(parse_ok(*text).distribution.lamps[0].power_w, 29.5);
+}
+
+TEST(LdtWrite, ComputesMissingDirectRatiosFromTheDistribution) {
+  Distribution d = model_c0_c180();
+  d.direct_ratios.clear();  // as read from IES
+  std::vector<Finding> w;
+  auto text = write_ldt(d, {}, &w);
+  ASSERT_TRUE(text.ok());
+  const Finding* note = finding(w, "ldt-direct-ratios");
+  ASSERT_NE(note, nullptr);
+  EXPECT_EQ(note->severity, Severity::Info);
+  const auto expected = photometry::direct_ratios(d);
+  const Distribution r = parse_ok(*text).distribution;
+  ASSERT_EQ(r.direct_ratios.size(), 10u);
+  for (std::size_t i = 0; i < 10; ++i) {
+    EXPECT_NEAR(r.direct_ratios[i], expected[i], 1e-11) << i;
+    if (i > 0) {
+      EXPECT_GE(r.direct_ratios[i], r.direct_ratios[i - 1]);  // grows with k
+    }
+  }
+  // Below the downward flux fraction, which they approach for large rooms.
+  EXPECT_LE(r.direct_ratios[9], photometry::downward_flux_lm(d) / photometry::total_flux_lm(d));
+  EXPECT_GT(r.direct_ratios[0], 0.0);
+
+  d.direct_ratios = {0.5, 0.6};  // not ten: a warning, and computed ones instead
+  w.clear();
+  ASSERT_TRUE(write_ldt(d, {}, &w).ok());
+  ASSERT_NE(finding(w, "ldt-direct-ratios"), nullptr);
+  EXPECT_EQ(finding(w, "ldt-direct-ratios")->severity, Severity::Warning);
 }
 
 TEST(LdtWrite, TruncatesLongTextWithAWarning) {
@@ -853,22 +918,6 @@ TEST(LdtWrite, RefusesWhatEulumdatCannotHold) {
 
 // ------------------------------------------------------------ VALIDATION.md
 
-// ∫ I dΩ by the plain trapezoid rule over a full-circle grid [lm].
-double trapezoid_flux(const Distribution& e) {
-  double sum = 0;
-  for (std::size_t h = 0; h + 1 < e.horizontal_count(); ++h) {
-    const double dc = (e.horizontal_deg[h + 1] - e.horizontal_deg[h]) * kRad;
-    for (std::size_t v = 0; v + 1 < e.vertical_count(); ++v) {
-      const double dg = (e.vertical_deg[v + 1] - e.vertical_deg[v]) * kRad;
-      double s = 0;
-      for (std::size_t hh : {h, h + 1})
-        for (std::size_t vv : {v, v + 1}) s += e.at(hh, vv) * std::sin(e.vertical_deg[vv] * kRad);
-      sum += s / 4 * dc * dg;
-    }
-  }
-  return sum;
-}
-
 TEST(LdtValidation, RelativeIntensitiesIntegrateToTheLightOutputRatio) {
   // cd/klm of a Lambertian luminaire of LORL 80 %: I = 800/π cos γ.
   Spec s;
@@ -884,7 +933,7 @@ TEST(LdtValidation, RelativeIntensitiesIntegrateToTheLightOutputRatio) {
   const Distribution d = parse_ok(join(lines_of(s))).distribution;
   const double phi_lamps = d.rated_lamp_flux_lm();
   const double cd_per_klm_integral =
-      trapezoid_flux(photometry::expand_symmetry(d)) / (phi_lamps / 1000);
+      photometry::total_flux_lm(d) / (phi_lamps / 1000);
   EXPECT_NEAR(cd_per_klm_integral / 1000, d.declared_lor_percent / 100, 0.001);
 }
 
@@ -1005,11 +1054,12 @@ TEST(LdtBadInput, EachFieldNamesLineAndExpectation) {
 }
 
 TEST(LdtBadInput, BinaryJunkDirectoriesAndMissingFiles) {
-  EXPECT_NE(parse_error(std::string("\x7f"
-                                    "ELF\x02\x01\x01\0\0\0\0",
-                                    12))
-                .message.find("binary"),
-            std::string::npos);
+  const Error elf = parse_error(std::string("\x7f"
+                                            "ELF\x02\x01\x01\0\0\0\0",
+                                            12));
+  EXPECT_NE(elf.message.find("binary"), std::string::npos);
+  EXPECT_EQ(elf.where.line, 1);
+  EXPECT_EQ(parse_error(std::string("Company\r\n1\r\n\0\0\0\0\0\0\0\0\0", 21)).where.line, 3);
   std::string junk;
   std::mt19937 rng(7);
   for (int i = 0; i < 4096; ++i) junk.push_back(static_cast<char>(rng() & 0xFF));

@@ -61,5 +61,11 @@ TEST(Text, RecognisesBinary) {
   EXPECT_TRUE(looks_binary(junk));
 }
 
+TEST(Text, NamesTheLineOfTheFirstBinaryByte) {
+  EXPECT_EQ(first_binary_line(std::string("\0abc", 4)), 1);
+  EXPECT_EQ(first_binary_line(std::string("a\r\nb\nc\rd\x01", 9)), 4);  // CRLF, LF, CR
+  EXPECT_EQ(first_binary_line("line\tone\f\ntwo\x1a"), 0);              // none
+}
+
 }  // namespace
 }  // namespace gonio::io

@@ -108,7 +108,12 @@ TEST_F(Samples, DownlightAimsItsIesProfileDownWithC0AlongX) {
   EXPECT_NEAR(nadir.y, -1.0, 1e-9);
   EXPECT_NEAR(led.frame.c0.x, 1.0, 1e-9);
   EXPECT_NEAR(led.frame.c90.z, -1.0, 1e-9);
-  EXPECT_NEAR(material_of(s, "reflector").mirror, 0.92, 1e-12);
+  // Semi-specular aluminium: the glossy lobe with α = roughness² = 0.3².
+  const sim::Material& reflector = material_of(s, "reflector");
+  EXPECT_EQ(reflector.mirror, 0.0);
+  EXPECT_NEAR(reflector.glossy, 0.92, 1e-12);
+  EXPECT_NEAR(reflector.glossy_mx, 0.09, 1e-12);
+  EXPECT_NEAR(reflector.glossy_my, 0.09, 1e-12);
   // The reflector reaches from the focal plane to the rim 60 mm below.
   float lo = 1, hi = -1;
   for (const sim::Mesh& m : s.meshes)

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "photometry/frame.h"
+#include "sim/material.h"
 #include "sim/sampling.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
@@ -316,6 +317,94 @@ TEST(Validation, SourceAtTheFocusOfAParaboloid) {
   // The reflector multiplies the on-axis intensity.
   EXPECT_GT(measured, 20.0 * bare);
   EXPECT_TRUE(sim.ledger().photons_close());
+}
+
+TEST(Validation, GlossyPlaneUnderACollimatedBeam) {
+  // A beam (all of it within 0.4° of its axis) onto a large brushed plane:
+  // anisotropic lobe (mx along the mesh's tangent +X), f0 < 1, at 70° from
+  // the normal, where Walter's weights would exceed 1 for half the samples.
+  // The books close with no light created, the reflected fraction is
+  // ks · albedo (the lobe's ∫ f cos θo dωo by quadrature), and the far field
+  // is ks · f · cos θo per texel.
+  Material brushed = named("brushed");
+  brushed.glossy = 0.85;
+  brushed.glossy_mx = 0.3;
+  brushed.glossy_my = 0.1;
+  brushed.glossy_f0 = 0.6;
+  SceneDesc scene;
+  scene.materials = {brushed};
+  Mesh plane = disc(5.0, 64);  // y = 0, facing +Y
+  plane.normals.assign(plane.positions.size(), Vec3f{0.0f, 1.0f, 0.0f});
+  plane.tangents.assign(plane.positions.size(), Vec3f{1.0f, 0.0f, 0.0f});
+  scene.meshes = {plane};
+  // The lobe's frame in the world: x = tangent (+X), y = n × x (−Z), z = n.
+  auto to_local = [](const Vec3& w) { return Vec3{w.x, -w.z, w.y}; };
+  auto to_world = [](const Vec3& l) { return Vec3{l.x, l.z, -l.y}; };
+  const Vec3 wi_local = normalize(Vec3{std::sin(70 * kDeg) * std::cos(30 * kDeg),
+                                       std::sin(70 * kDeg) * std::sin(30 * kDeg), std::cos(70 * kDeg)});
+  const Vec3 towards_source = to_world(wi_local);
+
+  photometry::Distribution beam;
+  beam.type = photometry::PhotometricType::C;
+  beam.symmetry = photometry::Symmetry::Rotational;
+  beam.absolute = true;
+  beam.horizontal_deg = {0.0};
+  beam.vertical_deg = {0.0, 0.2, 0.4, 90.0, 180.0};
+  beam.candela = {1e6, 1e6, 0.0, 0.0, 0.0};
+  Emitter e;
+  e.name = "beam";
+  e.flux_lm = 1000.0;
+  e.position = 0.3 * towards_source;
+  e.frame = photometry::make_frame(towards_source, cross(towards_source, Vec3{0, 0, 1}));  // nadir onto the plane
+  e.profile = std::make_shared<photometry::Distribution>(beam);
+  scene.emitters = {e};
+
+  const int face = 32;
+  Simulation sim = run(scene, 500000, 2, face, 5);
+  const Ledger l = sim.ledger();
+  EXPECT_TRUE(l.photons_close());
+  // Every photon keeps its nominal power through the lobe (survival, not gain).
+  EXPECT_NEAR(l.escaped.flux_lm, static_cast<double>(l.escaped.photons) * l.photon_power_lm,
+              1e-9 * l.emitted.flux_lm);
+  EXPECT_EQ(l.cutoff.photons, 0u);
+  EXPECT_EQ(l.escaped.photons + l.absorbed.photons, l.emitted.photons);
+  EXPECT_NEAR(l.escaped.flux_lm + l.absorbed.flux_lm, l.emitted.flux_lm, 1e-9 * l.emitted.flux_lm);
+  EXPECT_NEAR(l.flux_imbalance_lm(), 0.0, 1e-9);
+  EXPECT_EQ(l.meshes[0].hits, l.emitted.photons);  // every photon reached the plane once
+
+  double albedo = 0.0;
+  {
+    const int nz = 2000, np = 2000;
+    for (int i = 0; i < nz; ++i) {
+      const double z = (i + 0.5) / nz, r = std::sqrt(1.0 - z * z);
+      for (int j = 0; j < np; ++j) {
+        const double p = (j + 0.5) * 2.0 * kPi / np;
+        const Vec3 o{r * std::cos(p), r * std::sin(p), z};
+        albedo += glossy_brdf(brushed, wi_local, o) * z;
+      }
+    }
+    albedo *= (1.0 / nz) * (2.0 * kPi / np);
+  }
+  const double n = static_cast<double>(l.emitted.photons);
+  const double reflected = l.escaped.photons / n, expected_reflected = brushed.glossy * albedo;
+  std::printf("  glossy plane at 70 deg: reflected %.5f, ks * albedo %.5f (albedo %.5f)\n", reflected,
+              expected_reflected, albedo);
+  EXPECT_NEAR(reflected, expected_reflected, 5.0 * std::sqrt(expected_reflected * (1.0 - expected_reflected) / n));
+
+  const FarField f = sim.far_field();
+  std::vector<double> expected(f.texel_count());
+  for (std::size_t t = 0; t < f.texel_count(); ++t)
+    expected[t] = e.flux_lm * brushed.glossy *
+                  texel_integral(f.grid(), t, [&](const Vec3& d) {
+                    const Vec3 o = to_local(d);
+                    return glossy_brdf(brushed, wi_local, o) * std::max(0.0, o.z);
+                  }) /
+                  f.grid().texel_solid_angle(t);
+  int dof = 0;
+  const double chi = reduced_chi_square(f, expected, l.photon_power_lm, 20.0, &dof);
+  std::printf("  glossy plane: chi^2/dof = %.3f (dof %d)\n", chi, dof);
+  EXPECT_GT(dof, 100);
+  expect_chi_square_ok(chi, dof);
 }
 
 // Transmittance of a non-absorbing slab n = 1.52 for a beam at θ:

@@ -54,10 +54,16 @@ TEST(BenchReport, PageLinksChartsRelativeToItself) {
   o.reference.key.photons = 1u << 20;
   o.series = {fake("raw", {4.0, 2.0, 1.0, 0.5}), fake("adaptive", {1.5, 0.8, 0.6, 0.45})};
   o.series[0].time_to_target_s = 0.4;
+  o.series[0].photons_to_target = 4000;
   o.series[1].time_to_target_s = 0.15;
+  o.series[1].photons_to_target = 1500;
+  for (SeriesResult& r : o.series) r.time_to_cube_target_s = r.photons_to_cube_target = std::nan("");
   const std::string page = results_page({o}, "out/results.md", "Machine: test.", "gonio bench x");
   EXPECT_NE(page.find("](results/bell/candela-time.svg)"), std::string::npos) << page;
-  EXPECT_NE(page.find("| bell | 0.4 s |"), std::string::npos) << page;
+  // Each headline cell: the time and the photons traced to the target.
+  EXPECT_NE(page.find("| bell | 0.4 s, 4 k |  | 0.15 s, 1.5 k |"), std::string::npos) << page;
+  // Not reached in the run: the run's length, no photon count.
+  EXPECT_NE(page.find("| bell | > 0.8 s |  | > 0.8 s |"), std::string::npos) << page;
   EXPECT_NE(page.find("Machine: test."), std::string::npos);
   EXPECT_NE(page.find("`gonio bench x`"), std::string::npos);
 }

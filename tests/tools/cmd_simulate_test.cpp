@@ -1,6 +1,7 @@
 // gonio simulate, run as a user would, on a small glTF model written here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -50,7 +51,7 @@ std::string base64(const std::string& bytes) {
 
 // A white box shade 0.2 m wide, open at the bottom, with a 1000 lm point
 // light inside: written with nlohmann::json and a data-URI buffer.
-std::string shade_model() {
+std::string shade_model(double lamp_x = 0.0, double lamp_z = 0.0) {
   sim::Mesh box = sim::box(0.2, 0.2, 0.2);
   // Drop the two triangles of the −Y face (the box's quads come in the
   // order +X, −X, +Y, −Y, +Z, −Z): light leaves downwards.
@@ -71,6 +72,7 @@ std::string shade_model() {
 
   json shade_node = {{"name", "shade"}, {"mesh", 0}};
   json lamp_node = {{"name", "lamp"}};
+  if (lamp_x != 0.0 || lamp_z != 0.0) lamp_node["translation"] = json::array({lamp_x, 0.0, lamp_z});
   lamp_node["extensions"]["KHR_lights_punctual"]["light"] = 0;
   g["nodes"] = json::array({shade_node, lamp_node});
 
@@ -218,10 +220,192 @@ TEST(Simulate, PreviewFilesFollowEveryIteration) {
   EXPECT_EQ(gonio({"simulate", model.string(), "--out", out.string(), "--preview", "--filter", "box"}).exit_code, 2);
 }
 
+nlohmann::json read_json(const std::filesystem::path& path) {
+  return nlohmann::json::parse(test::read_file(path));
+}
+
+const nlohmann::json* file_entry(const nlohmann::json& report, const std::string& format) {
+  for (const auto& f : report["outputs"]["files"])
+    if (f["format"] == format) return &f;
+  return nullptr;
+}
+
+TEST(SimulateOutputs, EveryFormatIsWrittenReadBackCleanAndCarriesTheEscapedFlux) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "200000", "--iterations", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* name : {"shade.ies", "shade.ldt", "farfield.exr", "farfield-latlong.exr", "shade.svg", "report.json"})
+    EXPECT_TRUE(std::filesystem::exists(out / name)) << name;
+  EXPECT_NE(r.out.find("shade.ies"), std::string::npos) << r.out;
+
+  const auto report = read_json(out / "report.json");
+  const double escaped = report["escaped_lm"].get<double>();
+  ASSERT_EQ(report["outputs"]["files"].size(), 5u);
+  for (const auto& f : report["outputs"]["files"]) {
+    EXPECT_TRUE(f["clean"].get<bool>()) << f.dump();
+    EXPECT_TRUE(f["findings"].empty()) << f.dump();
+    if (f["format"] == "plot") {
+      EXPECT_TRUE(f["flux_lm"].is_null());
+      continue;
+    }
+    EXPECT_NEAR(f["flux_lm"].get<double>(), escaped, 0.005 * escaped) << f.dump();
+    EXPECT_NEAR(f["flux_difference"].get<double>(), f["flux_lm"].get<double>() / escaped - 1.0, 1e-12);
+  }
+  // The cube and the latlong map carry the flux exactly (float rounding).
+  EXPECT_NEAR((*file_entry(report, "exr"))["flux_lm"].get<double>(), escaped, 1e-5 * escaped);
+  EXPECT_NEAR((*file_entry(report, "latlong"))["flux_lm"].get<double>(), escaped, 1e-5 * escaped);
+  EXPECT_TRUE(report["energy"]["passed"].get<bool>());
+  EXPECT_NEAR(report["energy"]["lor"].get<double>(), escaped / report["emitted_lm"].get<double>(), 1e-12);
+  // A square box around a centred lamp: both mirror planes, not rotational.
+  EXPECT_EQ(report["outputs"]["symmetry"]["chosen"], "quadrant") << report["outputs"]["symmetry"].dump();
+  EXPECT_NE(r.err.find("symmetry auto: quadrant"), std::string::npos) << r.err;
+
+  // The IES file says what made it, and nothing invented.
+  const std::string ies = test::read_file(out / "shade.ies");
+  EXPECT_EQ(ies.rfind("IES:LM-63-2019\r\n", 0), 0u);
+  EXPECT_NE(ies.find("[FILEGENINFO] Computer simulation by Gonio"), std::string::npos);
+  EXPECT_NE(ies.find("[_GONIO_PHOTONS] 400000"), std::string::npos);
+  EXPECT_NE(ies.find("[_GONIO_SEED] 1\r\n"), std::string::npos);
+  EXPECT_NE(ies.find("\r\n1 1.00010 "), std::string::npos);  // file generation type: computer simulation
+  EXPECT_NE(ies.find("[TESTLAB] none: computer simulation"), std::string::npos);
+
+  // The LDT: cd/klm of the emitters' 1000 lm, LORL = escaped / emitted.
+  const std::string ldt = test::read_file(out / "shade.ldt");
+  std::vector<std::string> lines;
+  for (std::size_t a = 0, b; (b = ldt.find("\r\n", a)) != std::string::npos; a = b + 2) lines.push_back(ldt.substr(a, b - a));
+  ASSERT_GT(lines.size(), 30u);
+  EXPECT_NEAR(std::stod(lines[22]), 100.0 * report["energy"]["lor"].get<double>(), 1e-6);  // field 23, LORL
+  EXPECT_EQ(lines[2], "4");                                                                  // Isym 4: quadrant
+  EXPECT_NEAR(std::stod(lines[28]), 1000.0, 1e-6);                                          // lamp set flux
+
+  const auto latlong = io::read_exr((out / "farfield-latlong.exr").string());
+  ASSERT_TRUE(latlong.ok());
+  EXPECT_EQ(latlong->envmap, io::Envmap::LatLong);
+  EXPECT_EQ(latlong->width, 2 * latlong->height - 1);
+  EXPECT_NE(test::read_file(out / "shade.svg").find("<svg"), std::string::npos);
+}
+
+TEST(SimulateOutputs, FormatsNameAndIesVersionChooseTheFiles) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "100000", "--iterations", "1",
+                  "--format", "ies, plot", "--name", "lamp", "--ies-version", "2002", "--c-step", "10",
+                  "--gamma-step", "5", "--symmetry", "C0-C180"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(out)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"lamp.ies", "lamp.svg", "report.json"}));
+  const std::string ies = test::read_file(out / "lamp.ies");
+  EXPECT_EQ(ies.rfind("IESNA:LM-63-2002\r\n", 0), 0u);
+  // C0-C180 on a 10° × 5° grid: 19 planes 0…180, 37 angles.
+  EXPECT_NE(ies.find(" 37 19 1 "), std::string::npos);
+  const auto report = read_json(out / "report.json");
+  EXPECT_EQ(report["outputs"]["symmetry"]["chosen"], "C0-C180");
+  EXPECT_NE(report["outputs"]["symmetry"]["reason"].get<std::string>().find("as requested"), std::string::npos);
+  EXPECT_EQ(report["outputs"]["grid"]["c_step_deg"], 10.0);
+  EXPECT_EQ(report["settings"]["face_size"], 64);  // face_size_for(5°)
+}
+
+TEST(SimulateOutputs, AutoSymmetryDoesNotClaimWhatAnOffCentreLampBreaks) {
+  test::TempDir dir;
+  struct Case {
+    double x, z;
+    const char* expected;
+  };
+  // The lamp moved along +X (C0) keeps the mirror about the C0–C180 plane
+  // only; moved along X and Z it keeps none.
+  for (const Case& c : {Case{0.05, 0.0, "C0-C180"}, Case{0.05, 0.03, "none"}}) {
+    const auto model = dir / "shade.gltf";
+    test::write_file(model, shade_model(c.x, c.z));
+    const auto out = dir / c.expected;
+    auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "500000", "--iterations", "1",
+                    "--format", "ies", "--c-step", "10", "--gamma-step", "5"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_EQ(report["outputs"]["symmetry"]["chosen"], c.expected) << report["outputs"]["symmetry"].dump(1);
+  }
+}
+
+TEST(SimulateOutputs, MinLorAndFluxToleranceFailTheRunWithAClearMessage) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  const std::vector<std::string> base = {"simulate", model.string(), "--out", out.string(), "--photons", "100000",
+                                         "--iterations", "1", "--format", "ies,ldt"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return gonio(a);
+  };
+  auto r = with({});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const double lor = read_json(out / "report.json")["energy"]["lor"].get<double>();
+  ASSERT_GT(lor, 0.3);
+  ASSERT_LT(lor, 0.95);
+
+  r = with({"--min-lor", std::to_string(lor - 0.01)});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  r = with({"--min-lor", std::to_string(lor + 0.01)});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("energy check failed: light output ratio"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--min-lor"), std::string::npos) << r.err;
+  // Everything is still written, and the report says why the run failed.
+  auto report = read_json(out / "report.json");
+  EXPECT_FALSE(report["energy"]["passed"].get<bool>());
+  EXPECT_EQ(report["energy"]["failures"].size(), 1u);
+  EXPECT_TRUE(std::filesystem::exists(out / "shade.ies"));
+
+  // No quadrature is exact: a zero tolerance fails on the IES and LDT files.
+  r = with({"--flux-tolerance", "0"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("shade.ies: flux"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--flux-tolerance"), std::string::npos) << r.err;
+}
+
+TEST(SimulateOutputs, BadOptionValuesAreUsageErrorsThatSayWhy) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  struct Case {
+    std::vector<std::string> args;
+    const char* says;
+  };
+  const Case cases[] = {
+      {{"--c-step", "7"}, "7"},
+      {{"--gamma-step", "0.1"}, "gamma-step"},
+      {{"--gamma-step", "abc"}, "gamma-step"},
+      {{"--symmetry", "diagonal"}, "diagonal"},
+      {{"--symmetry", "quadrant", "--c-step", "60"}, "quadrant"},
+      {{"--format", "ies,gif"}, "gif"},
+      {{"--format", ""}, "format"},
+      {{"--ies-version", "1995"}, "ies-version"},
+      {{"--min-lor", "1.5"}, "min-lor"},
+      {{"--flux-tolerance", "-0.1"}, "flux-tolerance"},
+      {{"--name", "a/b"}, "name"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> a = {"simulate", model.string(), "--out", (dir / "o").string()};
+    a.insert(a.end(), c.args.begin(), c.args.end());
+    auto r = gonio(a);
+    EXPECT_EQ(r.exit_code, 2) << c.args[0] << " " << c.args[1];
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "o"));
+}
+
 TEST(Simulate, HelpNamesEveryOption) {
   auto r = gonio({"simulate", "--help"});
   EXPECT_EQ(r.exit_code, 0);
-  for (const char* o : {"--photons", "--iterations", "--seed", "--threads", "--max-bounces", "--face-size", "--out"})
+  for (const char* o : {"--photons", "--iterations", "--seed", "--threads", "--max-bounces", "--face-size", "--out",
+                        "--c-step", "--gamma-step", "--symmetry", "--format", "--ies-version", "--name", "--min-lor",
+                        "--flux-tolerance"})
     EXPECT_NE(r.out.find(o), std::string::npos) << o;
 }
 

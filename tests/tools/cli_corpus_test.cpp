@@ -1,0 +1,55 @@
+// The gonio executable on every real file of the shared corpus.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "io/photometric_file.h"
+#include "photometry/summary.h"
+#include "tests/tools/cli_fixtures.h"
+
+namespace gonio {
+namespace {
+
+using nlohmann::json;
+
+TEST(CliCorpus, InfoJsonAgreesWithTheLibraryOnEveryFile) {
+  GONIO_REQUIRE_CORPUS();
+  const auto files = test::corpus_files({".ies", ".ldt"});
+  ASSERT_EQ(files.size(), 111u);
+  for (const auto& p : files) {
+    SCOPED_TRACE(p.string());
+    const auto r = test::gonio({"info", "--json", p.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json j = json::parse(r.out, nullptr, false);
+    ASSERT_FALSE(j.is_discarded()) << r.out;
+    auto file = io::read_photometric_file(p.string());
+    ASSERT_TRUE(file.ok());
+    const auto s = photometry::summarize(file->distribution);
+    EXPECT_EQ(j["flux_lm"].get<double>(), s.flux_lm);
+    EXPECT_EQ(j["max_cd"].get<double>(), s.max_intensity_cd);
+    EXPECT_EQ(j["lor"].is_null(), !s.lor_defined);
+    EXPECT_EQ(j["absolute_photometry"].get<bool>(), file->distribution.absolute);
+    // Every reader warning is on stderr too, in the documented form.
+    for (const Finding& f : file->findings)
+      EXPECT_NE(r.err.find("gonio: " + to_string(f.where) + ": " + to_string(f.severity) + ": "),
+                std::string::npos)
+          << f.code;
+  }
+}
+
+TEST(CliCorpus, CheckFindsWarningsButNoErrorsInRealFiles) {
+  GONIO_REQUIRE_CORPUS();
+  std::vector<std::string> args = {"check", "--json"};
+  for (const auto& p : test::corpus_files({".ies", ".ldt"})) args.push_back(p.string());
+  const auto r = test::gonio(args);
+  EXPECT_EQ(r.exit_code, 3);  // warnings (e.g. declared LOR against integrated), no errors
+  const json j = json::parse(r.out, nullptr, false);
+  ASSERT_FALSE(j.is_discarded());
+  EXPECT_EQ(j["with_errors"], 0);
+  EXPECT_EQ(j["files"].size(), 111u);
+  EXPECT_GT(j["clean"].get<int>(), 0);
+  EXPECT_GT(j["with_warnings"].get<int>(), 0);
+}
+
+}  // namespace
+}  // namespace gonio

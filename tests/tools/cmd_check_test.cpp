@@ -1,0 +1,167 @@
+// gonio check, run as a user would.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "io/ldt.h"
+#include "io/text.h"
+#include "tests/tools/cli_fixtures.h"
+
+namespace gonio {
+namespace {
+
+using nlohmann::json;
+using test::contains;
+using test::gonio;
+
+constexpr int kClean = 0, kWarnings = 3, kErrors = 4;
+
+// The files the tests check, written once per test into a fresh directory.
+struct Files {
+  test::TempDir dir;
+  std::string clean_ies, clean_ldt, warned, zero, truncated, note;
+
+  Files() {
+    clean_ies = (dir / "clean.ies").string();
+    clean_ldt = (dir / "clean.ldt").string();
+    test::write_distribution(clean_ies, test::lambertian_downlight());
+    test::write_distribution(clean_ldt, test::lambertian_downlight());
+
+    // C-planes that disagree at the nadir (a model-level warning) and a
+    // keyword LM-63-2002 does not define (a reader warning on line 6).
+    warned = (dir / "warned.ies").string();
+    test::write_file(warned,
+                     "IESNA:LM-63-2002\r\n[TEST] 1\r\n[TESTLAB] L\r\n[ISSUEDATE] 2002\r\n"
+                     "[MANUFAC] M\r\n[WEIRD] x\r\nTILT=NONE\r\n1 1000 1 3 2 1 2 0 0 0\r\n"
+                     "1 1 10\r\n0 45 90\r\n0 180\r\n100 80 0\r\n150 80 0\r\n");
+
+    // Every intensity 0: readable, but the luminaire emits nothing (an error).
+    zero = (dir / "zero.ies").string();
+    test::write_file(zero,
+                     "IESNA:LM-63-2002\r\n[TEST] 1\r\n[TESTLAB] L\r\n[ISSUEDATE] 2002\r\n"
+                     "[MANUFAC] M\r\nTILT=NONE\r\n1 1000 1 3 1 1 2 0 0 0\r\n1 1 10\r\n"
+                     "0 45 90\r\n0\r\n0 0 0\r\n");
+
+    const std::string text = test::read_file(clean_ldt);
+    truncated = (dir / "truncated.ldt").string();
+    test::write_file(truncated, text.substr(0, text.size() / 3));
+
+    // An EULUMDAT conversion factor other than 1 is a note (info) only:
+    // values halved, factor 2, the same luminaire.
+    note = (dir / "note.ldt").string();
+    std::vector<std::string> lines;
+    for (const io::TextLine& l : io::split_lines(text)) lines.emplace_back(l.text);
+    lines[23] = "2";                     // field 24, the conversion factor
+    const std::size_t values = 37 * 73;  // planes × γ angles
+    for (std::size_t i = lines.size() - values; i < lines.size(); ++i)
+      lines[i] = std::to_string(std::stod(lines[i]) / 2.0);
+    std::string halved;
+    for (const std::string& l : lines) halved += l + "\r\n";
+    test::write_file(note, halved);
+  }
+};
+
+int count(const std::string& text, const std::string& part) {
+  int n = 0;
+  for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+  return n;
+}
+
+TEST(CliCheck, ExitCodesSeparateCleanWarningsAndErrors) {
+  Files f;
+  auto clean = gonio({"check", f.clean_ies, f.clean_ldt});
+  EXPECT_EQ(clean.exit_code, kClean) << clean.out << clean.err;
+  EXPECT_TRUE(contains(clean.out, f.clean_ies + ": clean (IES LM-63-2019)\n")) << clean.out;
+  EXPECT_TRUE(contains(clean.out, f.clean_ldt + ": clean (EULUMDAT)\n")) << clean.out;
+  EXPECT_TRUE(contains(clean.out, "2 files: 2 clean, 0 with warnings, 0 with errors\n"));
+  EXPECT_TRUE(clean.err.empty()) << clean.err;
+
+  auto warned = gonio({"check", f.warned});
+  EXPECT_EQ(warned.exit_code, kWarnings) << warned.out;
+  EXPECT_TRUE(contains(warned.out, "gonio: " + f.warned + ":6: warning: ")) << warned.out;
+  EXPECT_TRUE(contains(warned.out, "[unknown-keyword]\n")) << warned.out;
+  // A model-level finding concerns no single line.
+  EXPECT_TRUE(contains(warned.out, "gonio: " + f.warned + ": warning: ")) << warned.out;
+  EXPECT_TRUE(contains(warned.out, "[nadir-mismatch]\n")) << warned.out;
+  EXPECT_TRUE(contains(warned.out, f.warned + ": 2 warnings (IES LM-63-2002)\n")) << warned.out;
+  EXPECT_FALSE(contains(warned.out, "files:"));  // no total for one file
+
+  auto zero = gonio({"check", f.zero});
+  EXPECT_EQ(zero.exit_code, kErrors) << zero.out;
+  EXPECT_TRUE(contains(zero.out, "gonio: " + f.zero + ": error: ")) << zero.out;
+  EXPECT_TRUE(contains(zero.out, "[all-zero]\n")) << zero.out;
+
+  auto truncated = gonio({"check", f.truncated});
+  EXPECT_EQ(truncated.exit_code, kErrors);
+  EXPECT_TRUE(contains(truncated.out, "gonio: " + f.truncated + ":")) << truncated.out;
+  EXPECT_TRUE(contains(truncated.out, ": error: ")) << truncated.out;
+  EXPECT_TRUE(contains(truncated.out, "[unreadable]\n")) << truncated.out;
+  EXPECT_TRUE(contains(truncated.out, f.truncated + ": 1 error, unreadable\n")) << truncated.out;
+
+  // Notes (info) do not make a file unclean.
+  auto note = gonio({"check", f.note});
+  EXPECT_EQ(note.exit_code, kClean) << note.out;
+  EXPECT_TRUE(contains(note.out, ": info: ")) << note.out;
+  EXPECT_TRUE(contains(note.out, f.note + ": clean, 1 info (EULUMDAT)\n")) << note.out;
+}
+
+TEST(CliCheck, GoesOnAfterUnreadableFilesAndReportsTheWorst) {
+  Files f;
+  const std::string missing = (f.dir / "missing.ldt").string();
+  const std::string folder = f.dir.path().string();
+  auto r = gonio({"check", f.truncated, missing, folder, f.clean_ies, f.warned});
+  EXPECT_EQ(r.exit_code, kErrors) << r.out;
+  EXPECT_TRUE(contains(r.out, "gonio: " + missing + ": error: cannot open")) << r.out;
+  EXPECT_TRUE(contains(r.out, "gonio: " + folder + ": error: is a directory")) << r.out;
+  EXPECT_TRUE(contains(r.out, f.clean_ies + ": clean")) << r.out;
+  EXPECT_TRUE(contains(r.out, f.warned + ": 2 warnings")) << r.out;
+  EXPECT_EQ(count(r.out, ", unreadable\n"), 3) << r.out;
+  EXPECT_TRUE(contains(r.out, "5 files: 1 clean, 1 with warnings, 3 with errors\n")) << r.out;
+  // Warnings only, over several files: 3.
+  EXPECT_EQ(gonio({"check", f.clean_ldt, f.warned, f.note}).exit_code, kWarnings);
+}
+
+TEST(CliCheck, JsonReportMatchesTheTextAndTheExitCode) {
+  Files f;
+  auto r = gonio({"check", "--json", f.clean_ldt, f.warned, f.zero, f.truncated});
+  EXPECT_EQ(r.exit_code, kErrors);
+  const json j = json::parse(r.out, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << r.out;
+  EXPECT_EQ(j["exit_code"], kErrors);
+  EXPECT_EQ(j["clean"], 1);
+  EXPECT_EQ(j["with_warnings"], 1);
+  EXPECT_EQ(j["with_errors"], 2);
+  ASSERT_EQ(j["files"].size(), 4u);
+  EXPECT_EQ(j["files"][0]["status"], "clean");
+  EXPECT_EQ(j["files"][0]["format"], "EULUMDAT");
+  EXPECT_EQ(j["files"][1]["status"], "warnings");
+  EXPECT_EQ(j["files"][1]["version"], "LM-63-2002");
+  EXPECT_EQ(j["files"][1]["warnings"], 2);
+  bool line6 = false, model = false;
+  for (const auto& x : j["files"][1]["findings"]) {
+    line6 =
+        line6 || (x["code"] == "unknown-keyword" && x["line"] == 6 && x["severity"] == "warning");
+    model = model || (x["code"] == "nadir-mismatch" && x["line"].is_null());
+  }
+  EXPECT_TRUE(line6 && model) << j["files"][1].dump();
+  EXPECT_EQ(j["files"][2]["status"], "errors");
+  EXPECT_EQ(j["files"][2]["readable"], true);
+  EXPECT_EQ(j["files"][3]["readable"], false);
+  EXPECT_TRUE(j["files"][3]["format"].is_null());
+  EXPECT_EQ(j["files"][3]["findings"][0]["code"], "unreadable");
+  EXPECT_GT(j["files"][3]["findings"][0]["line"].get<int>(), 0);
+  EXPECT_FALSE(contains(r.out, "gonio: "));  // nothing but the JSON on stdout
+
+  auto clean = gonio({"check", f.clean_ies, "--json"});
+  EXPECT_EQ(clean.exit_code, kClean);
+  EXPECT_EQ(json::parse(clean.out)["exit_code"], kClean);
+}
+
+TEST(CliCheck, Isym3OrderOptionIsAccepted) {
+  Files f;
+  auto r = gonio({"check", f.clean_ldt, "--ldt-isym3", "qlumedit"});
+  EXPECT_EQ(r.exit_code, kClean) << r.out << r.err;
+}
+
+}  // namespace
+}  // namespace gonio

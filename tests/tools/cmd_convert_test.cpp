@@ -1,0 +1,251 @@
+// gonio convert, run as a user would.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "io/ies.h"
+#include "io/ldt.h"
+#include "io/photometric_file.h"
+#include "photometry/flux.h"
+#include "tests/tools/cli_fixtures.h"
+
+namespace gonio {
+namespace {
+
+namespace fs = std::filesystem;
+using photometry::Distribution;
+using test::contains;
+using test::gonio;
+
+Distribution read(const fs::path& p, io::LdtIsym3Order order = io::LdtIsym3Order::C270_C0_C90) {
+  io::PhotometricReadOptions options;
+  options.ldt.isym3_order = order;
+  auto r = io::read_photometric_file(p.string(), options);
+  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : to_string(r.error()));
+  return r.ok() ? r->distribution : Distribution{};
+}
+
+void expect_same_candela(const Distribution& a, const Distribution& b, double tolerance) {
+  ASSERT_EQ(a.horizontal_deg, b.horizontal_deg);
+  ASSERT_EQ(a.vertical_deg, b.vertical_deg);
+  for (std::size_t i = 0; i < a.candela.size(); ++i)
+    ASSERT_NEAR(b.candela[i], a.candela[i], tolerance * std::abs(a.candela[i])) << i;
+}
+
+TEST(CliConvert, IesToLdtAndBackKeepsIntensitiesAndFlux) {
+  test::TempDir dir;
+  const auto ies = dir / "in.ies", ldt = dir / "out.LDT", back = dir / "back.Ies";
+  test::write_distribution(ies, test::lambertian_downlight());
+  const std::string input_bytes = test::read_file(ies);
+
+  auto r = gonio({"convert", ies.string(), ldt.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "Wrote " + ldt.string() + " (EULUMDAT)")) << r.out;
+  // IES keywords without an EULUMDAT field are reported, with the output named.
+  EXPECT_TRUE(contains(r.err, "gonio: " + ldt.string() + ": warning: keyword [TESTLAB]")) << r.err;
+  EXPECT_TRUE(contains(r.err, "[ldt-keyword-dropped]")) << r.err;
+  EXPECT_TRUE(contains(r.err, ": info: ")) << r.err;  // computed LORL, DFF, direct ratios
+  EXPECT_EQ(test::read_file(ies), input_bytes);       // the input is untouched
+
+  auto r2 = gonio({"convert", ldt.string(), back.string()});
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  EXPECT_TRUE(contains(r2.out, "(IES LM-63-2019)")) << r2.out;
+  EXPECT_TRUE(contains(r2.err, "[ldt-only-field]")) << r2.err;  // declared LOR, direct ratios
+
+  const Distribution a = read(ies), b = read(ldt), c = read(back);
+  expect_same_candela(a, b, 1e-11);
+  expect_same_candela(a, c, 1e-11);
+  const double flux = photometry::total_flux_lm(a);
+  EXPECT_NEAR(photometry::total_flux_lm(c), flux, 1e-9 * flux);
+  EXPECT_EQ(c.lamps[0].flux_lm, 1000.0);
+  EXPECT_EQ(c.find_keyword("LUMCAT")->value, "DL-800");
+  EXPECT_EQ(c.find_keyword("MANUFAC")->value, "Gonio");
+  EXPECT_EQ(c.opening.shape, photometry::OpeningShape::Circular);
+  // LM-63-2019 output says where it came from when the input does not.
+  const std::string info = c.find_keyword("FILEGENINFO")->value;
+  EXPECT_EQ(info.rfind("Converted by Gonio ", 0), 0u) << info;
+  EXPECT_TRUE(info.ends_with(" from out.LDT (EULUMDAT)")) << info;
+  // Only the outputs were added to the directory: no temporaries left.
+  EXPECT_EQ(test::directory_entries(dir.path()),
+            (std::vector<std::string>{"back.Ies", "in.ies", "out.LDT"}));
+}
+
+TEST(CliConvert, VersionChangeAndQuietRuns) {
+  test::TempDir dir;
+  const auto in = dir / "in.ies", out = dir / "v2002.ies";
+  test::write_distribution(in, test::lambertian_downlight());
+  auto r = gonio({"convert", in.string(), out.string(), "--ies-version", "2002", "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  // IES → IES loses nothing but LM-63-2019's own keyword; no info lines with --quiet.
+  EXPECT_EQ(r.err, "gonio: " + out.string() +
+                       ": warning: [FILEGENINFO] is an LM-63-2019 keyword; written as [OTHER] "
+                       "[keyword-renamed]\n");
+  EXPECT_EQ(test::read_file(out).rfind("IESNA:LM-63-2002\r\n", 0), 0u);
+  expect_same_candela(read(in), read(out), 0.0);  // 15 digits: IES → IES is exact
+  // Converting again over an existing output replaces it.
+  auto again = gonio({"convert", in.string(), out.string()});
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(test::read_file(out).rfind("IES:LM-63-2019\r\n", 0), 0u);
+}
+
+TEST(CliConvert, RefusesToOverwriteTheInputEvenThroughLinks) {
+  test::TempDir dir;
+  const auto in = dir / "lamp.ies";
+  test::write_distribution(in, test::lambertian_downlight());
+  const std::string bytes = test::read_file(in);
+  fs::create_symlink(in, dir / "symlink.ies");
+  fs::create_hard_link(in, dir / "hardlink.ies");
+  fs::create_directory(dir / "sub");
+  for (const fs::path& out :
+       {in, dir / "symlink.ies", dir / "hardlink.ies", dir / "sub" / ".." / "lamp.ies"}) {
+    SCOPED_TRACE(out.string());
+    auto r = gonio({"convert", in.string(), out.string()});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.err, "gonio: " + out.string() + ": is the input file")) << r.err;
+    EXPECT_TRUE(contains(r.err, "refusing to overwrite the input")) << r.err;
+    EXPECT_EQ(test::read_file(in), bytes);
+  }
+  // Also when the input is named through the link.
+  auto r = gonio({"convert", (dir / "symlink.ies").string(), in.string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(test::read_file(in), bytes);
+  EXPECT_TRUE(fs::is_symlink(dir / "symlink.ies"));
+  EXPECT_EQ(test::directory_entries(dir.path()),
+            (std::vector<std::string>{"hardlink.ies", "lamp.ies", "sub", "symlink.ies"}));
+}
+
+TEST(CliConvert, AFailedConversionLeavesNoOutput) {
+  test::TempDir dir;
+  const auto good = dir / "good.ies";
+  test::write_distribution(good, test::lambertian_downlight());
+  const std::string text = test::read_file(good);
+  test::write_file(dir / "truncated.ies", text.substr(0, text.size() - 200));
+  test::write_file(dir / "junk.ldt", std::string("\0\1\2\3\4\5\6\7\x08\x0e\x0f", 11));
+  std::vector<std::string> before = test::directory_entries(dir.path());
+
+  struct Case {
+    std::vector<std::string> args;
+    std::string says;
+  };
+  const std::string out = (dir / "out.ldt").string();
+  const std::vector<Case> cases = {
+      {{(dir / "truncated.ies").string(), out}, "gonio: " + (dir / "truncated.ies").string() + ":"},
+      {{(dir / "junk.ldt").string(), (dir / "out.ies").string()},
+       "gonio: " + (dir / "junk.ldt").string() + ":1: binary data"},
+      {{(dir / "missing.ies").string(), out},
+       "gonio: " + (dir / "missing.ies").string() + ": cannot open"},
+      {{dir.path().string() + "/", out}, "is a directory"},
+      {{good.string(), (dir / "no-such-dir" / "out.ldt").string()}, "cannot write"},
+      // A grid that does not divide the circle: the resampling fails.
+      {{good.string(), out, "--c-step", "7"}, "gonio: " + out + ": cannot resample to Type C"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args = {"convert"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    SCOPED_TRACE(c.args[0] + " -> " + c.args[1]);
+    auto r = gonio(args);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.err, c.says)) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    EXPECT_EQ(test::directory_entries(dir.path()), before);
+  }
+
+  // An existing output survives a failed conversion unchanged.
+  test::write_file(out, "previous output");
+  before = test::directory_entries(dir.path());
+  auto r = gonio({"convert", (dir / "truncated.ies").string(), out});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(test::read_file(out), "previous output");
+  auto grid = gonio({"convert", good.string(), out, "--gamma-step", "7"});
+  EXPECT_EQ(grid.exit_code, 1);
+  EXPECT_EQ(test::read_file(out), "previous output");
+  EXPECT_EQ(test::directory_entries(dir.path()), before);
+}
+
+// Type B floodlight, I = I0 (cos H cos V)^20 on a 2.5° grid: Φ = 2π I0 / 21.
+Distribution floodlight() {
+  Distribution d;
+  d.type = photometry::PhotometricType::B;
+  d.symmetry = photometry::Symmetry::None;
+  for (int i = -36; i <= 36; ++i) {
+    d.horizontal_deg.push_back(2.5 * i);
+    d.vertical_deg.push_back(2.5 * i);
+  }
+  const double r = std::numbers::pi / 180.0;
+  for (double h : d.horizontal_deg)
+    for (double v : d.vertical_deg)
+      d.candela.push_back(10000.0 * std::pow(std::cos(h * r) * std::cos(v * r), 20));
+  d.lamps = {photometry::LampSet{1, "MH 150 W", 14000.0, "", "", 165.0}};
+  return d;
+}
+
+TEST(CliConvert, TypeBIntoLdtIsResampledOnTheGridItStates) {
+  test::TempDir dir;
+  const auto in = dir / "flood.ies", out = dir / "flood.ldt", fine = dir / "fine.ldt";
+  test::write_distribution(in, floodlight());
+  const double exact = 2.0 * std::numbers::pi * 10000.0 / 21.0;
+
+  auto r = gonio({"convert", in.string(), out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "gonio: " + out.string() + ": warning: Type B photometry resampled"))
+      << r.err;
+  EXPECT_TRUE(contains(r.err, "C 0 to 360 every 5 deg")) << r.err;
+  EXPECT_TRUE(contains(r.err, "gamma 0 to 90 every 1 deg")) << r.err;
+  EXPECT_TRUE(contains(r.err, "[type-c-resampled]")) << r.err;
+  const Distribution c = read(out);
+  EXPECT_EQ(c.type, photometry::PhotometricType::C);
+  EXPECT_EQ(c.horizontal_count(), 72u);
+  EXPECT_EQ(c.vertical_count(), 91u);
+  EXPECT_NEAR(photometry::total_flux_lm(c), exact, 1e-3 * exact);
+
+  auto f = gonio({"convert", in.string(), fine.string(), "--c-step", "2.5", "--gamma-step", "0.5"});
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  EXPECT_TRUE(contains(f.err, "C 0 to 360 every 2.5 deg")) << f.err;
+  EXPECT_TRUE(contains(f.err, "gamma 0 to 90 every 0.5 deg")) << f.err;
+  const Distribution cf = read(fine);
+  EXPECT_EQ(cf.horizontal_count(), 144u);
+  EXPECT_EQ(cf.vertical_count(), 181u);
+  EXPECT_NEAR(photometry::total_flux_lm(cf), exact, 1e-3 * exact);
+
+  // Into IES, Type B stays Type B unless a grid is asked for.
+  auto keep = gonio({"convert", in.string(), (dir / "b.ies").string()});
+  ASSERT_EQ(keep.exit_code, 0) << keep.err;
+  EXPECT_FALSE(contains(keep.err, "type-c-resampled")) << keep.err;
+  EXPECT_EQ(read(dir / "b.ies").type, photometry::PhotometricType::B);
+  auto to_c = gonio({"convert", in.string(), (dir / "c.ies").string(), "--gamma-step", "0.5"});
+  ASSERT_EQ(to_c.exit_code, 0) << to_c.err;
+  EXPECT_EQ(read(dir / "c.ies").type, photometry::PhotometricType::C);
+}
+
+TEST(CliConvert, Isym3OrderOfInputAndOutput) {
+  // An Isym 3 file in QLumEdit's order, read that way and written the
+  // standard way: the same luminaire, the standard's plane order.
+  Distribution d;
+  d.symmetry = photometry::Symmetry::C90_C270;
+  for (int i = 0; i <= 12; ++i) d.horizontal_deg.push_back(90.0 + 15.0 * i);
+  for (int i = 0; i <= 18; ++i) d.vertical_deg.push_back(5.0 * i);
+  for (double c : d.horizontal_deg)
+    for (double g : d.vertical_deg) d.candela.push_back(100.0 + c + 3.0 * g);
+  d.lamps = {photometry::LampSet{1, "HPS", 10000.0, "", "", 100.0}};
+  test::TempDir dir;
+  const auto q = dir / "q.ldt", s = dir / "s.ldt", q2 = dir / "q2.ldt";
+  io::LdtWriteOptions qo;
+  qo.isym3_order = io::LdtIsym3Order::C90_C180_C270;
+  auto bytes = io::write_ldt(d, qo, nullptr);
+  ASSERT_TRUE(bytes.ok());
+  test::write_file(q, *bytes);
+
+  auto r = gonio({"convert", q.string(), s.string(), "--ldt-isym3", "qlumedit"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_same_candela(d, read(s), 1e-11);             // standard order
+  EXPECT_NE(test::read_file(s), test::read_file(q));  // planes reordered
+  auto back = gonio({"convert", s.string(), q2.string(), "--ldt-isym3-out", "qlumedit"});
+  ASSERT_EQ(back.exit_code, 0) << back.err;
+  expect_same_candela(d, read(q2, io::LdtIsym3Order::C90_C180_C270), 1e-11);
+}
+
+}  // namespace
+}  // namespace gonio

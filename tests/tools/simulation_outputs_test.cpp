@@ -1,0 +1,141 @@
+// The files of `gonio simulate` made from far fields with known content.
+#include "tools/simulation_outputs.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "io/exr.h"
+#include "io/ies.h"
+#include "io/ldt.h"
+#include "photometry/flux.h"
+#include "tests/support/test_support.h"
+
+namespace gonio::cli {
+namespace {
+
+TEST(OutputFormats, ParseListsAllAndRefuseUnknownNames) {
+  auto all = parse_formats("all");
+  ASSERT_TRUE(all.ok());
+  EXPECT_EQ(all->size(), 5u);
+  auto some = parse_formats(" ldt ,ies,ldt");
+  ASSERT_TRUE(some.ok());
+  EXPECT_EQ(*some, (std::vector<OutputFormat>{OutputFormat::Ldt, OutputFormat::Ies}));
+  for (const char* bad : {"", ",", "ies,,ldt", "pdf", "IES"}) {
+    auto r = parse_formats(bad);
+    EXPECT_FALSE(r.ok()) << bad;
+    if (!r.ok()) {
+      EXPECT_NE(r.error().message.find("--format"), std::string::npos);
+    }
+  }
+}
+
+sim::SceneDesc bare_scene(double flux_lm) {
+  sim::SceneDesc scene;
+  sim::Emitter e;
+  e.name = "lamp";
+  e.flux_lm = flux_lm;
+  scene.emitters = {e};
+  return scene;
+}
+
+sim::Ledger ledger_for(const sim::FarField& f, double emitted_lm) {
+  sim::Ledger l;
+  l.emitted.flux_lm = emitted_lm;
+  l.emitted.photons = f.total_photons();
+  l.escaped.flux_lm = f.total_flux_lm();
+  l.escaped.photons = f.total_photons();
+  return l;
+}
+
+// One bright spot at a world direction: the latlong map's brightest pixel
+// is where OpenEXR's convention puts that direction, and the IES peak is at
+// the C, γ the photometric frame gives it.
+TEST(SimulationOutputs, LatLongAndCandelaTablesPutALobeWhereTheFramesSay) {
+  const int n = 32;
+  sim::FarField field(n);
+  for (std::size_t t = 0; t < field.texel_count(); ++t) field.add(t, 1e-3, 10);
+  const Vec3 d = normalize(Vec3{0.6, -0.5, 0.3});
+  const std::size_t spot = field.grid().texel_of(d);
+  field.add(spot, 50.0, 100000);
+  const sim::SceneDesc scene = bare_scene(1000.0);
+  const sim::Ledger ledger = ledger_for(field, 1000.0);
+
+  test::TempDir dir;
+  OutputRequest req;
+  req.directory = dir.path().string();
+  req.stem = "spot";
+  req.formats = {OutputFormat::LatLong, OutputFormat::Ies};
+  req.grid = {10.0, 5.0};
+  req.symmetry = photometry::Symmetry::None;
+  req.run = {"test", "spot.gltf", 1000, 1, 10, "2024-01-01"};
+  auto result = write_outputs(field, scene, ledger, req);
+  ASSERT_TRUE(result.ok()) << result.error().message;
+  ASSERT_EQ(result->files.size(), 2u);
+
+  auto image = io::read_exr((dir / "farfield-latlong.exr").string());
+  ASSERT_TRUE(image.ok());
+  const auto& y = image->find_float("Y")->values;
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < y.size(); ++i)
+    if (y[i] > y[best]) best = i;
+  const Vec3 at = io::latlong_direction(image->width, image->height, static_cast<int>(best % image->width),
+                                        static_cast<int>(best / image->width));
+  // Within a texel of the face (≤ 90°/32 · √2 at the centre) plus a pixel.
+  EXPECT_GT(dot(at, d), std::cos((90.0 / n * 1.5 + 1.5) * M_PI / 180.0)) << at.x << " " << at.y << " " << at.z;
+  EXPECT_NEAR(result->files[0].flux_lm, field.total_flux_lm(), 1e-5 * field.total_flux_lm());
+
+  // Gonio's default frame: C0 = +X, C90 = −Z, nadir −Y.
+  auto ies = io::read_ies((dir / "spot.ies").string());
+  ASSERT_TRUE(ies.ok());
+  const photometry::Distribution& dist = ies->distribution;
+  std::size_t peak = 0;
+  for (std::size_t i = 0; i < dist.candela.size(); ++i)
+    if (dist.candela[i] > dist.candela[peak]) peak = i;
+  const double c = dist.horizontal_deg[peak / dist.vertical_count()];
+  const double g = dist.vertical_deg[peak % dist.vertical_count()];
+  const double c_expected = std::atan2(-d.z, d.x) * 180.0 / M_PI + 360.0;  // C90 is −Z
+  const double g_expected = std::acos(-d.y) * 180.0 / M_PI;
+  EXPECT_NEAR(std::remainder(c - c_expected, 360.0), 0.0, 10.0);
+  EXPECT_NEAR(g, g_expected, 5.0);
+  EXPECT_EQ(dist.file_generation, photometry::FileGenerationType::ComputerSimulation);
+  EXPECT_EQ(dist.lamps.at(0).flux_lm, 1000.0);
+  EXPECT_EQ(dist.lamps.at(0).count, 1);
+}
+
+// A uniform sphere: every file holds 1/4π of the flux per steradian, LORL
+// equals escaped / emitted, DFF is one half, and the symmetry test finds
+// the highest symmetry.
+TEST(SimulationOutputs, AnIsotropicFieldGivesIsotropicFilesWithExactEnergy) {
+  const int n = 32;
+  sim::FarField field(n);
+  const sim::CubeMapGrid& grid = field.grid();
+  for (std::size_t t = 0; t < field.texel_count(); ++t) field.add(t, 800.0 * grid.texel_solid_angle(t) / (4 * M_PI), 1000000);
+  const sim::SceneDesc scene = bare_scene(1000.0);
+  const sim::Ledger ledger = ledger_for(field, 1000.0);
+  test::TempDir dir;
+  OutputRequest req;
+  req.directory = dir.path().string();
+  req.stem = "iso";
+  req.formats = {OutputFormat::Ies, OutputFormat::Ldt, OutputFormat::Exr};
+  req.grid = {15.0, 5.0};
+  req.run = {"test", "iso.gltf", 1000, 1, 10, "2024-01-01"};
+  auto result = write_outputs(field, scene, ledger, req);
+  ASSERT_TRUE(result.ok()) << result.error().message;
+  EXPECT_EQ(result->symmetry, photometry::Symmetry::Rotational) << result->symmetry_reason;
+  for (const WrittenFile& f : result->files) {
+    EXPECT_TRUE(f.clean()) << f.path;
+    EXPECT_NEAR(f.flux_lm, 800.0, 1e-4) << f.path;
+  }
+  auto ldt = io::read_ldt((dir / "iso.ldt").string());
+  ASSERT_TRUE(ldt.ok());
+  EXPECT_NEAR(ldt->distribution.declared_lor_percent, 80.0, 1e-9);
+  EXPECT_NEAR(ldt->distribution.declared_dff_percent, 50.0, 1e-3);
+  for (double cd : ldt->distribution.candela) EXPECT_NEAR(cd, 800.0 / (4 * M_PI), 1e-3);
+  ASSERT_EQ(ldt->distribution.direct_ratios.size(), 10u);
+  EXPECT_GT(ldt->distribution.direct_ratios[9], ldt->distribution.direct_ratios[0]);
+  EXPECT_LT(ldt->distribution.direct_ratios[9], 0.5);
+}
+
+}  // namespace
+}  // namespace gonio::cli

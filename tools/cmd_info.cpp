@@ -1,0 +1,371 @@
+// gonio info FILE [--json]: what a measured file holds and what follows from
+// it, as an aligned table or one JSON object.
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "photometry/summary.h"
+#include "tools/cli.h"
+#include "tools/commands.h"
+#include "tools/photometric_input.h"
+
+namespace gonio::cli {
+namespace {
+
+using json = nlohmann::ordered_json;
+using photometry::BeamSpread;
+using photometry::Distribution;
+using photometry::Summary;
+
+constexpr const char* kDescription =
+    "Prints what an IES LM-63 (.ies) or EULUMDAT (.ldt) file holds and what follows\n"
+    "from it: format and version, photometric type, symmetry, angle grid, lamp data,\n"
+    "luminous opening, total luminous flux (solid-angle integral of the candela\n"
+    "grid), light output ratio (LOR, relative photometry only), downward flux\n"
+    "fraction (DFF), zonal flux, maximum intensity and its direction, beam (50 %) and\n"
+    "field (10 %) angles in the C0-C180 and C90-C270 planes, CIE flux code, and\n"
+    "efficacy where the input watts are known. Reader warnings go to stderr as\n"
+    "'gonio: FILE:LINE: warning: message [code]'.\n"
+    "\n"
+    "With --json, stdout is one JSON object; units are in the key names (flux_lm,\n"
+    "max_cd, *_deg, *_m, *_w); lor and dff are fractions (0.85, not 85 %); null marks\n"
+    "a value that is undefined (e.g. lor of absolute photometry, a beam angle where\n"
+    "there is no beam).\n"
+    "\n"
+    "Exit status: 0 success, 1 the file could not be read, 2 usage error.\n"
+    "\n"
+    "Examples:\n"
+    "  gonio info samples/curves/downlight.ldt\n"
+    "  gonio info lamp.ies --json";
+
+// ------------------------------------------------------------ formatting
+
+std::string fmt(double v, int decimals) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string s = buf;
+  if (s == "-0" || s.rfind("-0.", 0) == 0) {
+    bool zero = true;
+    for (char c : s.substr(1)) zero = zero && (c == '0' || c == '.');
+    if (zero) s = s.substr(1);
+  }
+  return s;
+}
+
+// Up to `digits` significant digits, no exponent for ordinary magnitudes.
+std::string num(double v, int digits = 6) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+// Step of an equidistant angle list; nullopt for fewer than two angles or
+// uneven spacing.
+std::optional<double> step_of(const std::vector<double>& a) {
+  if (a.size() < 2) return std::nullopt;
+  const double step = (a.back() - a.front()) / static_cast<double>(a.size() - 1);
+  for (std::size_t i = 1; i < a.size(); ++i)
+    if (std::abs(a[i] - a[i - 1] - step) > 1e-6) return std::nullopt;
+  return step;
+}
+
+std::string grid_text(const std::vector<double>& a) {
+  std::string s = std::to_string(a.size()) + " (" + num(a.front());
+  if (a.size() > 1) s += " to " + num(a.back());
+  s += " deg";
+  if (a.size() > 1) {
+    const auto step = step_of(a);
+    s += step ? ", step " + num(*step) + " deg" : ", uneven steps";
+  }
+  return s + ")";
+}
+
+std::string lamp_text(const photometry::LampSet& l, bool absolute) {
+  std::string s = std::to_string(l.count) + " x " + (l.type.empty() ? "lamp" : l.type);
+  if (!absolute && std::isfinite(l.flux_lm)) s += ", " + num(l.flux_lm, 7) + " lm";
+  if (std::isfinite(l.power_w) && l.power_w > 0.0) s += ", " + num(l.power_w) + " W";
+  if (!l.color.empty()) s += ", colour " + l.color;
+  if (!l.color_rendering.empty()) s += ", colour rendering " + l.color_rendering;
+  return s;
+}
+
+std::string opening_text(const photometry::LuminousOpening& o) {
+  using S = photometry::OpeningShape;
+  std::string s = photometry::to_string(o.shape);
+  const auto m = [](double v) { return num(v, 4); };
+  switch (o.shape) {
+    case S::Point:
+      return s;
+    case S::Circular:
+    case S::Sphere:
+      return s + ", diameter " + m(std::max(o.length_m, o.width_m)) + " m";
+    case S::VerticalCylinder:
+      return s + ", diameter " + m(std::max(o.length_m, o.width_m)) + " m, height " +
+             m(o.height_m) + " m";
+    default:
+      break;
+  }
+  s += ", length " + m(o.length_m) + " m, width " + m(o.width_m) + " m";
+  if (o.height_m > 0.0) s += ", height " + m(o.height_m) + " m";
+  return s;
+}
+
+// The beam in the plane C = c_deg / c_deg + 180°; its axis as the half-plane
+// and γ it lies in (beam.h measures it as a signed angle θ from the nadir).
+std::string beam_text(const BeamSpread& b, double c_deg) {
+  if (!std::isfinite(b.angle_deg)) return "none";
+  std::string s = (b.lower_open || b.upper_open ? "at least " : "") + fmt(b.angle_deg, 1) + " deg";
+  if (b.lower_open || b.upper_open) s += " (the data ends first)";
+  if (std::abs(b.axis_deg) > 0.05) {
+    const bool other_half = b.axis_deg < 0.0;
+    s += ", axis at C " + fmt(other_half ? c_deg + 180.0 : c_deg, 0) + " gamma " +
+         fmt(std::abs(b.axis_deg), 1) + " deg";
+  }
+  return s;
+}
+
+std::string percent(double fraction, int decimals = 1) {
+  return std::isfinite(fraction) ? fmt(100.0 * fraction, decimals) + " %" : "-";
+}
+
+// One zone a line: "0-30 deg      512.3 lm   47.6 %".
+std::string zones_text(const std::vector<photometry::Zone>& zones, double total_lm) {
+  std::string out;
+  for (const photometry::Zone& z : zones) {
+    const std::string range = fmt(z.from_deg, 0) + "-" + fmt(z.to_deg, 0) + " deg";
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%-11s %10s lm %8s", range.c_str(), fmt(z.flux_lm, 1).c_str(),
+                  total_lm > 0.0 ? percent(z.flux_lm / total_lm).c_str() : "-");
+    out += (out.empty() ? "" : "\n") + std::string(buf);
+  }
+  return out;
+}
+
+// A two-column table, labels padded to one width; a value may span lines.
+class Table {
+ public:
+  void row(std::string label, std::string value) {
+    rows_.push_back({std::move(label), std::move(value)});
+  }
+  void print() const {
+    std::size_t width = 0;
+    for (const auto& r : rows_) width = std::max(width, r.first.size());
+    for (const auto& r : rows_) {
+      std::size_t start = 0;
+      bool first = true;
+      do {
+        const std::size_t end = r.second.find('\n', start);
+        const std::string part =
+            r.second.substr(start, end == std::string::npos ? end : end - start);
+        std::printf("%-*s  %s\n", static_cast<int>(width), first ? r.first.c_str() : "",
+                    part.c_str());
+        first = false;
+        start = end == std::string::npos ? end : end + 1;
+      } while (start != std::string::npos);
+    }
+  }
+
+ private:
+  std::vector<std::pair<std::string, std::string>> rows_;
+};
+
+void print_table(const std::string& path, const io::PhotometricFile& file, const Summary& s) {
+  const Distribution& d = file.distribution;
+  Table t;
+  t.row("File", path);
+  std::string format = io::to_string(file.format);
+  if (file.ies_version) format += std::string(" ") + io::to_string(*file.ies_version);
+  t.row("Format", format);
+  for (const auto& [key, label] : {std::pair{"MANUFAC", "Manufacturer"},
+                                   {"LUMINAIRE", "Luminaire"},
+                                   {"LUMCAT", "Catalogue no."},
+                                   {"TEST", "Test report"},
+                                   {"TESTLAB", "Test lab"},
+                                   {"ISSUEDATE", "Issue date"}}) {
+    if (const photometry::Keyword* k = d.find_keyword(key); k && !k->value.empty())
+      t.row(label, k->value);
+  }
+  t.row("Photometric type", photometry::to_string(d.type));
+  std::string symmetry = photometry::to_string(d.symmetry);
+  if (d.ldt_type_indicator)
+    symmetry += " (EULUMDAT Ityp " + std::to_string(*d.ldt_type_indicator) + ")";
+  t.row("Symmetry", symmetry);
+  const bool c = d.type == photometry::PhotometricType::C;
+  t.row(c ? "Gamma angles" : "Vertical angles", grid_text(d.vertical_deg));
+  t.row(c ? "C-planes" : "Horizontal angles", grid_text(d.horizontal_deg));
+  t.row("Photometry", d.absolute ? "absolute (candela as measured, no rated lamp flux)"
+                                 : "relative (candela for the rated lamp flux)");
+  std::string lamps;
+  for (const auto& l : d.lamps) lamps += (lamps.empty() ? "" : "\n") + lamp_text(l, d.absolute);
+  if (!lamps.empty()) t.row(d.lamps.size() > 1 ? "Lamp sets" : "Lamps", lamps);
+  std::string alternatives;
+  for (const auto& l : d.alternative_lamps)
+    alternatives += (alternatives.empty() ? "" : "\n") + lamp_text(l, false);
+  if (!alternatives.empty()) t.row("Alternative lamps", alternatives);
+  if (s.lor_defined) t.row("Rated lamp flux", fmt(s.rated_lamp_flux_lm, 1) + " lm");
+  if (d.ballast_factor != 1.0) t.row("Ballast factor", num(d.ballast_factor));
+  t.row("Luminous opening", opening_text(d.opening));
+  if (d.tilt.kind != photometry::Tilt::Kind::None)
+    t.row("Tilt", std::to_string(d.tilt.angles_deg.size()) + " tilt angles, lamp geometry " +
+                      std::to_string(d.tilt.lamp_geometry));
+
+  t.row("Total flux", fmt(s.flux_lm, 1) + " lm");
+  t.row("LOR", s.lor_defined ? percent(s.lor, 2) : "- (absolute photometry)");
+  t.row("DFF", percent(s.dff, 2));
+  if (std::isfinite(d.declared_lor_percent) || std::isfinite(d.declared_dff_percent))
+    t.row("Declared LOR / DFF",
+          fmt(d.declared_lor_percent, 2) + " % / " + fmt(d.declared_dff_percent, 2) + " %");
+  t.row("Downward / upward",
+        fmt(s.downward_flux_lm, 1) + " lm / " + fmt(s.upward_flux_lm, 1) + " lm");
+  t.row("Zonal flux", zones_text(s.zones, s.flux_lm));
+  t.row("Zonal flux, 10 deg", zones_text(s.zones_10deg, s.flux_lm));
+  std::string peak = fmt(s.max_intensity_cd, 1) + " cd at C " + fmt(s.max_c_deg, 1) +
+                     " deg, gamma " + fmt(s.max_gamma_deg, 1) + " deg";
+  if (!c)
+    peak += " (H " + fmt(s.max_horizontal_deg, 1) + ", V " + fmt(s.max_vertical_deg, 1) + " deg)";
+  t.row("Maximum intensity", peak);
+  t.row("Beam angle C0-C180", beam_text(s.beam_c0_c180, 0.0));
+  t.row("Beam angle C90-C270", beam_text(s.beam_c90_c270, 90.0));
+  t.row("Field angle C0-C180", beam_text(s.field_c0_c180, 0.0));
+  t.row("Field angle C90-C270", beam_text(s.field_c90_c270, 90.0));
+  t.row("CIE flux code", photometry::to_string(s.cie_flux_code));
+  t.row("Input power", std::isfinite(s.input_power_w) ? num(s.input_power_w) + " W" : "unknown");
+  if (std::isfinite(s.efficacy_lm_per_w)) t.row("Efficacy", fmt(s.efficacy_lm_per_w, 1) + " lm/W");
+  t.print();
+}
+
+// ------------------------------------------------------------ JSON
+
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json grid_json(const std::vector<double>& a) {
+  const auto step = step_of(a);
+  return {{"count", a.size()},
+          {"first_deg", a.front()},
+          {"last_deg", a.back()},
+          {"step_deg", step ? json(*step) : json(nullptr)},
+          {"angles_deg", a}};
+}
+
+json lamp_json(const photometry::LampSet& l) {
+  return {{"count", l.count},
+          {"type", l.type},
+          {"flux_lm", number(l.flux_lm)},
+          {"color", l.color},
+          {"color_rendering", l.color_rendering},
+          {"power_w", number(l.power_w)}};
+}
+
+json beam_json(const BeamSpread& b) {
+  return {{"angle_deg", number(b.angle_deg)},
+          {"axis_deg", number(b.axis_deg)},
+          {"lower_edge_deg", number(b.lower_edge_deg)},
+          {"upper_edge_deg", number(b.upper_edge_deg)},
+          {"lower_open", b.lower_open},
+          {"upper_open", b.upper_open},
+          {"max_cd", number(b.max_cd)},
+          {"threshold_cd", number(b.threshold_cd)}};
+}
+
+json zones_json(const std::vector<photometry::Zone>& zones) {
+  json out = json::array();
+  for (const auto& z : zones)
+    out.push_back({{"from_deg", z.from_deg}, {"to_deg", z.to_deg}, {"flux_lm", number(z.flux_lm)}});
+  return out;
+}
+
+json info_json(const std::string& path, const io::PhotometricFile& file, const Summary& s) {
+  const Distribution& d = file.distribution;
+  json j;
+  j["file"] = path;
+  j["format"] = io::to_string(file.format);
+  j["version"] = file.ies_version ? json(io::to_string(*file.ies_version)) : json(nullptr);
+  j["photometric_type"] = photometry::to_string(d.type);
+  j["symmetry"] = photometry::to_string(d.symmetry);
+  j["ldt_type_indicator"] = d.ldt_type_indicator ? json(*d.ldt_type_indicator) : json(nullptr);
+  j["vertical_angles"] = grid_json(d.vertical_deg);
+  j["horizontal_angles"] = grid_json(d.horizontal_deg);
+  j["absolute_photometry"] = d.absolute;
+  j["lamps"] = json::array();
+  for (const auto& l : d.lamps) j["lamps"].push_back(lamp_json(l));
+  j["alternative_lamps"] = json::array();
+  for (const auto& l : d.alternative_lamps) j["alternative_lamps"].push_back(lamp_json(l));
+  j["rated_lamp_flux_lm"] = number(s.rated_lamp_flux_lm);
+  j["ballast_factor"] = number(d.ballast_factor);
+  j["luminous_opening"] = {{"shape", photometry::to_string(d.opening.shape)},
+                           {"length_m", d.opening.length_m},
+                           {"width_m", d.opening.width_m},
+                           {"height_m", d.opening.height_m}};
+  j["luminaire_dimensions"] = {{"length_m", number(d.luminaire.length_m)},
+                               {"width_m", number(d.luminaire.width_m)},
+                               {"height_m", number(d.luminaire.height_m)}};
+  j["flux_lm"] = number(s.flux_lm);
+  j["lor"] = number(s.lor);
+  j["dff"] = number(s.dff);
+  j["declared_lor_percent"] = number(d.declared_lor_percent);
+  j["declared_dff_percent"] = number(d.declared_dff_percent);
+  j["downward_flux_lm"] = number(s.downward_flux_lm);
+  j["upward_flux_lm"] = number(s.upward_flux_lm);
+  j["zones"] = zones_json(s.zones);
+  j["zones_10deg"] = zones_json(s.zones_10deg);
+  j["max_cd"] = number(s.max_intensity_cd);
+  j["max_c_deg"] = number(s.max_c_deg);
+  j["max_gamma_deg"] = number(s.max_gamma_deg);
+  j["max_horizontal_deg"] = number(s.max_horizontal_deg);
+  j["max_vertical_deg"] = number(s.max_vertical_deg);
+  j["beam_angle_c0_c180_deg"] = number(s.beam_c0_c180.angle_deg);
+  j["beam_angle_c90_c270_deg"] = number(s.beam_c90_c270.angle_deg);
+  j["field_angle_c0_c180_deg"] = number(s.field_c0_c180.angle_deg);
+  j["field_angle_c90_c270_deg"] = number(s.field_c90_c270.angle_deg);
+  j["beam"] = {{"c0_c180", beam_json(s.beam_c0_c180)}, {"c90_c270", beam_json(s.beam_c90_c270)}};
+  j["field"] = {{"c0_c180", beam_json(s.field_c0_c180)}, {"c90_c270", beam_json(s.field_c90_c270)}};
+  const auto& code = s.cie_flux_code;
+  j["cie_flux_code"] = {{"n1", number(code.n1)}, {"n2", number(code.n2)},
+                        {"n3", number(code.n3)}, {"n4", number(code.n4)},
+                        {"n5", number(code.n5)}, {"text", photometry::to_string(code)}};
+  j["input_power_w"] = number(s.input_power_w);
+  j["efficacy_lm_per_w"] = number(s.efficacy_lm_per_w);
+  j["keywords"] = json::array();
+  for (const auto& k : d.keywords) j["keywords"].push_back({{"key", k.key}, {"value", k.value}});
+  j["findings"] = json::array();
+  for (const auto& f : file.findings)
+    j["findings"].push_back({{"severity", to_string(f.severity)},
+                             {"code", f.code},
+                             {"message", f.message},
+                             {"line", f.where.line > 0 ? json(f.where.line) : json(nullptr)}});
+  return j;
+}
+
+}  // namespace
+
+int run_info(const Args& args) {
+  std::string path;
+  bool as_json = false;
+  InputOptions input;
+  ArgParser parser("info", "FILE [--json] [--ldt-isym3 standard|qlumedit]", kDescription);
+  parser.positional("FILE", &path, "An IES LM-63 (.ies) or EULUMDAT (.ldt) file.");
+  parser.flag("json", &as_json, "Print one JSON object instead of the table.");
+  add_input_options(parser, &input);
+  if (const auto outcome = parser.parse(args); outcome != ArgParser::Outcome::Run)
+    return ArgParser::exit_code(outcome);
+
+  auto file = read_input(path, input);
+  if (!file.ok()) return kExitFailure;
+  const Summary s = photometry::summarize(file->distribution);
+  if (as_json) {
+    // Invalid UTF-8 in a label is replaced rather than thrown on.
+    std::printf(
+        "%s\n",
+        info_json(path, *file, s).dump(2, ' ', false, json::error_handler_t::replace).c_str());
+  } else {
+    print_table(path, *file, s);
+  }
+  return std::fflush(stdout) == 0 ? kExitOk : kExitFailure;
+}
+
+}  // namespace gonio::cli

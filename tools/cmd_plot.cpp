@@ -1,0 +1,84 @@
+// gonio plot: the intensity diagram of a photometric file.
+//
+//   gonio plot FILE [--out X.svg|X.png] [--unit cd|cdklm] [--title T]
+//
+// Draws the C0–C180 and C90–C270 planes of an IES or EULUMDAT file, measured
+// or simulated, as a polar diagram and on cartesian axes (io/intensity_diagram.h),
+// in candela or in cd/klm. Types A and B are resampled to Type C first.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "io/intensity_diagram.h"
+#include "io/plot.h"
+#include "photometry/flux.h"
+#include "photometry/resample.h"
+#include "tools/cli.h"
+#include "tools/commands.h"
+#include "tools/photometric_file.h"
+
+namespace gonio::cli {
+
+int run_plot(const Args& args) {
+  std::string file, out, unit = "cd", title;
+  ArgParser p("plot", "FILE [--out X.svg|X.png] [--unit cd|cdklm]",
+              "Draws the intensity diagram of an IES or EULUMDAT file: the C0-C180 and C90-C270\n"
+              "planes as a polar diagram (nadir down, C0 and C90 to the right) and on cartesian\n"
+              "axes (gamma -180...180, C180 and C270 on the negative side). cd/klm is per 1000 lm\n"
+              "of the rated lamp flux (of the luminaire's flux for absolute photometry).");
+  p.positional("FILE", &file, "the IES (.ies) or EULUMDAT (.ldt) file");
+  p.option("out", &out, "X.svg|X.png", "the picture to write (default: FILE with the extension .svg)");
+  p.choice("unit", &unit, {"cd", "cdklm"}, "candela (default) or cd/klm");
+  p.option("title", &title, "T", "title above the diagram (default: the file name)");
+  if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
+  if (out.empty()) out = std::filesystem::path(file).replace_extension(".svg").string();
+  if (Result<io::ImageFormat> f = io::image_format_for(out); !f.ok()) {
+    print_error("plot: " + f.error().message);
+    std::fprintf(stderr, "%s\n", p.usage().c_str());
+    return kExitUsage;
+  }
+
+  Result<PhotometricFile> read = read_photometric_file(file);
+  if (!read.ok()) {
+    print_error(read.error());
+    return kExitFailure;
+  }
+  photometry::Distribution d = std::move(read->distribution);
+  if (Status s = photometry::validate(d); !s.ok()) {
+    Error e = s.error();
+    e.where.file = file;
+    print_error(e);
+    return kExitFailure;
+  }
+  if (d.type != photometry::PhotometricType::C) {
+    Result<photometry::Distribution> c = photometry::to_type_c(d);
+    if (!c.ok()) {
+      print_error(file + ": " + c.error().message);
+      return kExitFailure;
+    }
+    d = std::move(*c);
+  }
+  io::DiagramOptions options;
+  options.title = title.empty() ? std::filesystem::path(file).filename().string() : title;
+  if (unit == "cdklm") {
+    options.per_klm_of_lm = d.absolute ? photometry::total_flux_lm(d) : d.rated_lamp_flux_lm();
+    if (!(options.per_klm_of_lm > 0.0)) {
+      print_error(file + ": cd/klm needs a positive flux, and this file has none");
+      return kExitFailure;
+    }
+  }
+  Result<io::Figure> figure = io::intensity_diagram(d, options);
+  if (!figure.ok()) {
+    print_error(file + ": " + figure.error().message);
+    return kExitFailure;
+  }
+  if (Status s = io::write_figure(out, *figure); !s.ok()) {
+    print_error(s.error());
+    return kExitFailure;
+  }
+  std::printf("%s\n", out.c_str());
+  return kExitOk;
+}
+
+}  // namespace gonio::cli

@@ -1,0 +1,35 @@
+#include "tools/photometric_input.h"
+
+namespace gonio::cli {
+
+void add_input_options(ArgParser& parser, InputOptions* options) {
+  parser.choice("ldt-isym3", &options->ldt_isym3, {kIsym3Standard, kIsym3QLumEdit},
+                "Plane order of EULUMDAT input with Isym 3 (C90-C270 symmetry): 'standard' "
+                "stores C270 ... C0 ... C90 as the standard defines; 'qlumedit' stores "
+                "C90 ... C180 ... C270 as QLumEdit writes it (a half turn of the other). No "
+                "field in the file tells them apart. Default: standard.");
+}
+
+io::LdtIsym3Order isym3_order(const std::string& word) {
+  return word == kIsym3QLumEdit ? io::LdtIsym3Order::C90_C180_C270 : io::LdtIsym3Order::C270_C0_C90;
+}
+
+io::PhotometricReadOptions read_options(const InputOptions& options) {
+  io::PhotometricReadOptions r;
+  r.ldt.isym3_order = isym3_order(options.ldt_isym3);
+  return r;
+}
+
+Result<io::PhotometricFile> read_input(const std::string& path, const InputOptions& options,
+                                       bool print_info) {
+  auto file = io::read_photometric_file(path, read_options(options));
+  if (!file.ok()) {
+    print_error(file.error());
+    return file.error();
+  }
+  for (const Finding& f : file->findings)
+    if (print_info || f.severity != Severity::Info) print_finding(f);
+  return file;
+}
+
+}  // namespace gonio::cli

@@ -1,0 +1,31 @@
+// How subcommands read measured photometric files (.ies, .ldt): the options
+// they share and the reporting of what the readers found.
+#pragma once
+
+#include <string>
+
+#include "io/photometric_file.h"
+#include "tools/cli.h"
+
+namespace gonio::cli {
+
+// The words of --ldt-isym3 and --ldt-isym3-out.
+inline constexpr const char* kIsym3Standard = "standard";  // C270 … C0 … C90 (the standard)
+inline constexpr const char* kIsym3QLumEdit = "qlumedit";  // C90 … C180 … C270 (QLumEdit)
+
+struct InputOptions {
+  std::string ldt_isym3 = kIsym3Standard;
+};
+
+// Registers --ldt-isym3 standard|qlumedit.
+void add_input_options(ArgParser& parser, InputOptions* options);
+
+io::LdtIsym3Order isym3_order(const std::string& word);
+io::PhotometricReadOptions read_options(const InputOptions& options);
+
+// Reads a file and prints the reader's warnings (and, with `print_info`, its
+// notes) to stderr (print_finding); on failure prints the error and returns it.
+Result<io::PhotometricFile> read_input(const std::string& path, const InputOptions& options,
+                                       bool print_info = true);
+
+}  // namespace gonio::cli

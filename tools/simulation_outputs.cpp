@@ -1,0 +1,453 @@
+#include "tools/simulation_outputs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
+#include "io/exr.h"
+#include "io/file_io.h"
+#include "io/intensity_diagram.h"
+#include "io/ldt.h"
+#include "io/plot.h"
+#include "photometry/direct_ratios.h"
+#include "photometry/flux.h"
+#include "photometry/validation.h"
+
+namespace gonio::cli {
+namespace {
+
+using photometry::Distribution;
+using photometry::Symmetry;
+
+constexpr OutputFormat kAllFormats[] = {OutputFormat::Ies, OutputFormat::Ldt, OutputFormat::Exr,
+                                        OutputFormat::LatLong, OutputFormat::Plot};
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return {};
+  const auto e = s.find_last_not_of(" \t");
+  return s.substr(b, e - b + 1);
+}
+
+std::string number(double v, int digits = 6) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+Error error_at(const std::string& file, std::string message) {
+  Error e;
+  e.where.file = file;
+  e.message = std::move(message);
+  return e;
+}
+
+Finding finding(Severity severity, std::string code, std::string message, const std::string& file) {
+  Finding f;
+  f.severity = severity;
+  f.code = std::move(code);
+  f.message = std::move(message);
+  f.where.file = file;
+  return f;
+}
+
+// The luminaire's outer dimensions: the bounding box of every mesh in the
+// photometric frame (length along C0, width along C90, height along the
+// zenith). NaN without meshes.
+photometry::LuminaireDimensions bounding_box(const sim::SceneDesc& scene) {
+  const photometry::PhotometricFrame& f = scene.frame;
+  double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                  std::numeric_limits<double>::infinity()};
+  double hi[3] = {-lo[0], -lo[1], -lo[2]};
+  bool any = false;
+  for (const sim::Mesh& m : scene.meshes) {
+    for (const sim::Vec3f& p : m.positions) {
+      const Vec3 local = f.to_local(Vec3{p.x, p.y, p.z});
+      for (int i = 0; i < 3; ++i) {
+        lo[i] = std::min(lo[i], local[i]);
+        hi[i] = std::max(hi[i], local[i]);
+      }
+      any = true;
+    }
+  }
+  photometry::LuminaireDimensions d;
+  if (!any) return d;
+  // To 0.1 mm: the mesh positions are floats, whose rounding is no dimension.
+  const auto mm10 = [](double m) { return std::round(m * 1e4) / 1e4; };
+  d.length_m = mm10(hi[0] - lo[0]);
+  d.width_m = mm10(hi[1] - lo[1]);
+  d.height_m = mm10(hi[2] - lo[2]);
+  return d;
+}
+
+std::string grid_text(const sim::CGammaGrid& g) {
+  return "C step " + number(g.c_step_deg) + " deg, gamma step " + number(g.gamma_step_deg) + " deg";
+}
+
+std::string file_stem_name(const std::string& model) {
+  return std::filesystem::path(model).filename().string();
+}
+
+void add_checks(const Distribution& d, const std::string& path, std::vector<Finding>* out) {
+  for (Finding f : photometry::check(d)) {
+    if (f.where.file.empty()) f.where.file = path;
+    out->push_back(std::move(f));
+  }
+}
+
+// Findings of an EXR channel: every value finite and ≥ 0.
+void check_values(const io::ExrImage::FloatChannel& c, const std::string& path, std::vector<Finding>* out) {
+  for (std::size_t i = 0; i < c.values.size(); ++i) {
+    if (!std::isfinite(c.values[i]) || c.values[i] < 0.0f) {
+      out->push_back(finding(Severity::Error, "exr-value",
+                             "channel '" + c.name + "' holds " + number(c.values[i]) + " at pixel " +
+                                 std::to_string(i) + "; expected a finite value >= 0",
+                             path));
+      return;
+    }
+  }
+}
+
+double relative_difference(double flux, double escaped) {
+  return escaped > 0.0 && std::isfinite(flux) ? (flux - escaped) / escaped : photometry::kNaN;
+}
+
+Status write_ies_file(const Distribution& d, const OutputRequest& request, WrittenFile* file) {
+  io::IesWriteOptions options;
+  options.version = request.ies_version;
+  // LM-63 has no fields for EULUMDAT's derived values: leave them to the LDT.
+  Distribution ies = d;
+  ies.declared_lor_percent = ies.declared_dff_percent = photometry::kNaN;
+  ies.direct_ratios.clear();
+  ies.luminaire = {};
+  const std::string text = io::write_ies(ies, options, &file->writer_notes);
+  if (Status s = io::write_file_atomic(file->path, text); !s.ok()) return s;
+  Result<io::IesFile> back = io::read_ies(file->path);
+  if (!back.ok()) {
+    file->findings.push_back(finding(Severity::Error, "unreadable", back.error().message, file->path));
+    return Ok{};
+  }
+  file->findings = back->findings;
+  add_checks(back->distribution, file->path, &file->findings);
+  if (photometry::validate(back->distribution).ok()) file->flux_lm = photometry::total_flux_lm(back->distribution);
+  return Ok{};
+}
+
+Status write_ldt_file(const Distribution& d, WrittenFile* file) {
+  // EULUMDAT has fields for a few keywords only: give it those.
+  Distribution ldt = d;
+  ldt.keywords.clear();
+  for (const char* key : {"MANUFAC", "LUMINAIRE", "ISSUEDATE"})
+    if (const photometry::Keyword* k = d.find_keyword(key)) ldt.keywords.push_back(*k);
+  if (const photometry::Keyword* k = d.find_keyword("_GONIO_RUN")) ldt.set_keyword("TEST", k->value);
+  const std::string name = std::filesystem::path(file->path).filename().string();
+  if (name.size() <= 12) ldt.set_keyword(io::kLdtFileNameKeyword, name);
+  Result<std::string> text = io::write_ldt(ldt, {}, &file->writer_notes);
+  if (!text.ok()) return error_at(file->path, text.error().message);
+  if (Status s = io::write_file_atomic(file->path, *text); !s.ok()) return s;
+  Result<io::LdtFile> back = io::read_ldt(file->path);
+  if (!back.ok()) {
+    file->findings.push_back(finding(Severity::Error, "unreadable", back.error().message, file->path));
+    return Ok{};
+  }
+  file->findings = back->findings;
+  add_checks(back->distribution, file->path, &file->findings);
+  if (photometry::validate(back->distribution).ok()) file->flux_lm = photometry::total_flux_lm(back->distribution);
+  return Ok{};
+}
+
+std::vector<std::pair<std::string, std::string>> exr_attributes(const OutputRequest& r) {
+  return {{"gonio:software", "Gonio " + r.run.program_version},
+          {"gonio:model", r.run.model},
+          {"gonio:photons", std::to_string(r.run.photons)},
+          {"gonio:seed", std::to_string(r.run.seed)}};
+}
+
+Status write_cube_file(const sim::FarField& far_field, const OutputRequest& request, WrittenFile* file) {
+  Result<io::ExrImage> image = io::far_field_image(far_field);
+  if (!image.ok()) return error_at(file->path, image.error().message);
+  for (auto& a : exr_attributes(request)) image->attributes.push_back(std::move(a));
+  if (Status s = io::write_exr(file->path, *image); !s.ok()) return s;
+  Result<io::ExrImage> back = io::read_exr(file->path);
+  if (!back.ok()) {
+    file->findings.push_back(finding(Severity::Error, "unreadable", back.error().message, file->path));
+    return Ok{};
+  }
+  if (const auto* y = back->find_float("Y")) check_values(*y, file->path, &file->findings);
+  if (const auto* f = back->find_float("flux")) check_values(*f, file->path, &file->findings);
+  Result<sim::FarField> field = io::far_field_from_image(*back, file->path);
+  if (!field.ok()) {
+    file->findings.push_back(finding(Severity::Error, "not-a-far-field", field.error().message, file->path));
+    return Ok{};
+  }
+  file->flux_lm = field->total_flux_lm();
+  return Ok{};
+}
+
+// The latitude-longitude map: the cube resampled (exactly, by overlaps) onto
+// the bins of a C-γ grid whose frame has its zenith at world +Y, C0 at +Z
+// and C90 at +X. Then γ = 90° + latitude and C = longitude, so pixel (x, y)
+// is the grid point C = 180° − x·Δ, γ = 180° − y·Δ, and each pixel's value is
+// the mean intensity over the region io::latlong_pixel_solid_angle() gives it.
+Status write_latlong_file(const sim::FarField& far_field, const OutputRequest& request, WrittenFile* file) {
+  // Four pixels per 90° per texel of the face, at most 0.7° (the resampler's
+  // finest grids cost seconds to build).
+  const int m = std::clamp(far_field.face_size() / 2, 1, 64);
+  sim::CGammaGrid grid;
+  grid.c_step_deg = grid.gamma_step_deg = 90.0 / m;
+  const photometry::PhotometricFrame frame = photometry::make_frame({0.0, 1.0, 0.0}, {0.0, 0.0, 1.0});
+  const sim::Resampler resampler(far_field.face_size(), frame, grid);
+  const sim::BinnedField binned = resampler.bin(far_field);
+  const int width = 4 * m + 1, height = 2 * m + 1;
+  io::ExrImage image = io::latlong_image(width, height);
+  io::ExrImage::FloatChannel y{"Y", std::vector<float>(static_cast<std::size_t>(width) * height)};
+  const int c_count = grid.c_count();
+  for (int row = 0; row < height; ++row) {
+    const int j = 2 * m - row;
+    for (int x = 0; x < width; ++x) {
+      const int i = ((2 * m - x) % c_count + c_count) % c_count;
+      // Over the exact region the reader integrates, so the flux reads back exactly.
+      const std::size_t bin = grid.bin(i, j);
+      y.values[static_cast<std::size_t>(row) * width + x] =
+          static_cast<float>(binned.flux_lm[bin] / sim::exact_bin_solid_angle(grid, bin));
+    }
+  }
+  image.float_channels.push_back(std::move(y));
+  image.attributes = {{"gonio:quantity", "far-field luminous intensity, equirectangular (OpenEXR latlong)"},
+                      {"gonio:units", "Y: cd (mean over each pixel's region)"}};
+  for (auto& a : exr_attributes(request)) image.attributes.push_back(std::move(a));
+  if (Status s = io::write_exr(file->path, image); !s.ok()) return s;
+  Result<io::ExrImage> back = io::read_exr(file->path);
+  if (!back.ok()) {
+    file->findings.push_back(finding(Severity::Error, "unreadable", back.error().message, file->path));
+    return Ok{};
+  }
+  Result<double> flux = io::latlong_flux_lm(*back, file->path);
+  if (!flux.ok()) {
+    file->findings.push_back(finding(Severity::Error, "not-a-latlong-map", flux.error().message, file->path));
+    return Ok{};
+  }
+  file->flux_lm = *flux;
+  return Ok{};
+}
+
+Status write_plot_file(const Distribution& d, const OutputRequest& request, WrittenFile* file) {
+  io::DiagramOptions options;
+  options.title = file_stem_name(request.run.model) + " (Gonio simulation, " +
+                  std::to_string(request.run.photons) + " photons)";
+  Result<io::Figure> figure = io::intensity_diagram(d, options);
+  if (!figure.ok()) return error_at(file->path, figure.error().message);
+  if (Status s = io::write_figure(file->path, *figure); !s.ok()) return s;
+  Result<std::string> back = io::read_file(file->path, std::size_t{64} << 20);
+  if (!back.ok()) {
+    file->findings.push_back(finding(Severity::Error, "unreadable", back.error().message, file->path));
+  } else if (back->find("<svg") == std::string::npos || back->find("</svg>") == std::string::npos) {
+    file->findings.push_back(finding(Severity::Error, "not-svg", "not a complete SVG document", file->path));
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+const char* to_string(OutputFormat format) {
+  switch (format) {
+    case OutputFormat::Ies: return "ies";
+    case OutputFormat::Ldt: return "ldt";
+    case OutputFormat::Exr: return "exr";
+    case OutputFormat::LatLong: return "latlong";
+    case OutputFormat::Plot: return "plot";
+  }
+  return "?";
+}
+
+Result<std::vector<OutputFormat>> parse_formats(const std::string& list) {
+  std::vector<OutputFormat> out;
+  const std::string valid = "ies, ldt, exr, latlong, plot or all";
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    const std::string name = trim(list.substr(start, comma - start));
+    start = comma + 1;
+    if (name.empty()) {
+      if (comma == list.size() && !out.empty()) break;
+      return error_at("", "--format: empty format name in '" + list + "'; expected a comma-separated list of " +
+                              valid);
+    }
+    if (name == "all") {
+      for (OutputFormat f : kAllFormats)
+        if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+      continue;
+    }
+    bool known = false;
+    for (OutputFormat f : kAllFormats) {
+      if (name != to_string(f)) continue;
+      known = true;
+      if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+    }
+    if (!known) return error_at("", "--format: unknown format '" + name + "'; expected " + valid);
+  }
+  return out;
+}
+
+Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry symmetry, const sim::SceneDesc& scene,
+                                    const sim::Ledger& ledger, const OutputRequest& request) {
+  Distribution d = sim::to_distribution(binned, symmetry);
+  d.file_generation = photometry::FileGenerationType::ComputerSimulation;
+  d.absolute = false;
+  const double emitted = ledger.emitted.flux_lm > 0.0 ? ledger.emitted.flux_lm : scene.total_flux_lm();
+  photometry::LampSet lamp;
+  const std::size_t n = scene.emitters.size();
+  lamp.count = static_cast<int>(std::max<std::size_t>(n, 1));
+  lamp.type = std::to_string(n) + (n == 1 ? " emitter" : " emitters");
+  lamp.flux_lm = emitted;
+  d.lamps = {lamp};
+  d.luminaire = bounding_box(scene);
+
+  const std::string model = file_stem_name(request.run.model);
+  std::string emitters_text;
+  for (std::size_t i = 0; i < n && i < 4; ++i) {
+    const sim::Emitter& e = scene.emitters[i];
+    emitters_text += (i ? ", " : "") + (e.name.empty() ? "emitter " + std::to_string(i + 1) : e.name) + " (" +
+                     (e.kind == sim::Emitter::Kind::Point ? (e.profile ? "point, measured profile" : "point, isotropic")
+                                                          : "area, Lambertian") +
+                     ", " + number(e.flux_lm) + " lm)";
+  }
+  if (n > 4) emitters_text += ", and " + std::to_string(n - 4) + " more";
+  const std::string run = "Gonio simulation, " + std::to_string(request.run.photons) + " photons, seed " +
+                          std::to_string(request.run.seed);
+  d.keywords.clear();
+  d.set_keyword("TEST", "none: computer simulation, no laboratory test");
+  d.set_keyword("TESTLAB", "none: computer simulation with Gonio " + request.run.program_version);
+  d.set_keyword("ISSUEDATE", request.run.issue_date);
+  d.set_keyword("MANUFAC", "not stated in the model");
+  d.set_keyword("LUMINAIRE", model);
+  d.set_keyword("LAMP", emitters_text.empty() ? "no emitters" : emitters_text);
+  d.set_keyword("FILEGENINFO",
+                "Computer simulation by Gonio " + request.run.program_version +
+                    " (photon tracing into a direction cube map, area-weighted resampling to " +
+                    grid_text(binned.grid) + "). Model " + model + ", " + std::to_string(request.run.photons) +
+                    " photons, seed " + std::to_string(request.run.seed) + ", at most " +
+                    std::to_string(request.run.max_bounces) + " bounces. Symmetry " +
+                    photometry::to_string(symmetry) + ". Emitted " + number(emitted) + " lm, escaped " +
+                    number(ledger.escaped.flux_lm) + " lm.");
+  d.set_keyword("_GONIO_RUN", run);
+  d.set_keyword("_GONIO_MODEL", model);
+  d.set_keyword("_GONIO_PHOTONS", std::to_string(request.run.photons));
+  d.set_keyword("_GONIO_SEED", std::to_string(request.run.seed));
+  d.set_keyword("_GONIO_VERSION", request.run.program_version);
+
+  // EULUMDAT's derived values, from this table and the books.
+  const double total = photometry::total_flux_lm(d);
+  d.declared_lor_percent = emitted > 0.0 ? 100.0 * ledger.escaped.flux_lm / emitted : 0.0;
+  d.declared_dff_percent = total > 0.0 ? 100.0 * photometry::downward_flux_lm(d) / total : 0.0;
+  const auto ratios = photometry::direct_ratios(d);
+  d.direct_ratios.assign(ratios.begin(), ratios.end());
+  return d;
+}
+
+Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::SceneDesc& scene,
+                                   const sim::Ledger& ledger, const OutputRequest& request) {
+  OutputResult result;
+  const auto wants = [&](OutputFormat f) {
+    return std::find(request.formats.begin(), request.formats.end(), f) != request.formats.end();
+  };
+  const bool needs_table = wants(OutputFormat::Ies) || wants(OutputFormat::Ldt) || wants(OutputFormat::Plot);
+  if (needs_table) {
+    if (request.symmetry) {
+      if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
+    }
+    const sim::Resampler resampler(far_field.face_size(), scene.frame, request.grid);
+    const sim::BinnedField binned = resampler.bin(far_field);
+    if (request.symmetry) {
+      result.symmetry = *request.symmetry;
+      result.symmetry_reason = "symmetry " + std::string(photometry::to_string(result.symmetry)) +
+                               ", as requested (--symmetry)";
+    } else {
+      result.decision = sim::detect_symmetry(binned);
+      result.symmetry = result.decision.symmetry;
+      result.symmetry_reason = result.decision.explanation;
+    }
+    result.distribution = simulated_distribution(binned, result.symmetry, scene, ledger, request);
+  }
+
+  const std::filesystem::path dir(request.directory);
+  for (OutputFormat f : request.formats) {
+    WrittenFile file;
+    file.format = f;
+    Status s = Ok{};
+    switch (f) {
+      case OutputFormat::Ies:
+        file.path = (dir / (request.stem + ".ies")).string();
+        s = write_ies_file(result.distribution, request, &file);
+        break;
+      case OutputFormat::Ldt:
+        file.path = (dir / (request.stem + ".ldt")).string();
+        s = write_ldt_file(result.distribution, &file);
+        break;
+      case OutputFormat::Exr:
+        file.path = (dir / "farfield.exr").string();
+        s = write_cube_file(far_field, request, &file);
+        break;
+      case OutputFormat::LatLong:
+        file.path = (dir / "farfield-latlong.exr").string();
+        s = write_latlong_file(far_field, request, &file);
+        break;
+      case OutputFormat::Plot:
+        file.path = (dir / (request.stem + ".svg")).string();
+        s = write_plot_file(result.distribution, request, &file);
+        break;
+    }
+    if (!s.ok()) return s.error();
+    file.flux_difference = relative_difference(file.flux_lm, ledger.escaped.flux_lm);
+    result.files.push_back(std::move(file));
+  }
+  return result;
+}
+
+namespace {
+
+nlohmann::json findings_json(const std::vector<Finding>& findings) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const Finding& f : findings)
+    a.push_back({{"severity", to_string(f.severity)}, {"code", f.code}, {"message", f.message},
+                 {"where", to_string(f.where)}});
+  return a;
+}
+
+nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+}  // namespace
+
+nlohmann::json to_json(const OutputResult& r, const sim::CGammaGrid& grid, double escaped_lm) {
+  using nlohmann::json;
+  json j;
+  j["grid"] = {{"c_step_deg", grid.c_step_deg}, {"gamma_step_deg", grid.gamma_step_deg}};
+  json sym = {{"chosen", photometry::to_string(r.symmetry)}, {"reason", r.symmetry_reason}};
+  json tests = json::array();
+  for (const sim::SymmetryTest& t : r.decision.tests)
+    tests.push_back({{"symmetry", photometry::to_string(t.symmetry)},
+                     {"chi_square", t.chi_square},
+                     {"degrees_of_freedom", t.degrees_of_freedom},
+                     {"p_value", t.p_value},
+                     {"groups", t.groups},
+                     {"rejected", t.rejected}});
+  sym["tests"] = std::move(tests);
+  j["symmetry"] = std::move(sym);
+  j["escaped_lm"] = escaped_lm;
+  json files = json::array();
+  for (const WrittenFile& f : r.files) {
+    files.push_back({{"path", f.path},
+                     {"format", to_string(f.format)},
+                     {"flux_lm", number_or_null(f.flux_lm)},
+                     {"flux_difference", number_or_null(f.flux_difference)},
+                     {"clean", f.clean()},
+                     {"findings", findings_json(f.findings)},
+                     {"writer_notes", findings_json(f.writer_notes)}});
+  }
+  j["files"] = std::move(files);
+  return j;
+}
+
+}  // namespace gonio::cli

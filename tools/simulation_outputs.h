@@ -1,0 +1,125 @@
+// The files `gonio simulate` leaves for light-planning programs and
+// renderers, made from the converged far field, each read back and checked.
+//
+//   STEM.ies          IES LM-63-2019 (file generation type 1.00010, computer
+//                     simulation) or LM-63-2002
+//   STEM.ldt          EULUMDAT: cd/klm of the emitters' flux, so LORL is
+//                     escaped / emitted; DFF and the direct ratios computed
+//                     (photometry/direct_ratios.h, Gonio's room model)
+//   farfield.exr      the far field as an OpenEXR cube map (Y [cd], flux
+//                     [lm], photons per texel), world directions
+//   farfield-latlong.exr the same as an equirectangular map (io/exr.h), world
+//                     directions, for renderers
+//   STEM.svg          the intensity diagram (C0–C180 and C90–C270, polar and
+//                     cartesian), io/intensity_diagram.h
+//
+// The candela table. The far field is resampled to the Type C grid
+// (sim/resample.h: every value is the flux of its bin over the bin's solid
+// angle) in the scene's photometric frame, then averaged over the
+// directions the symmetry makes equivalent (sim/symmetry.h), chosen by the
+// statistical test of sim::detect_symmetry() unless the user names one.
+// Lamp data: one set, count = number of emitters, rated flux = the emitters'
+// flux [lm] (relative photometry), so a planning program's LOR is
+// escaped / emitted. Nothing is invented: no test lab, no manufacturer (both
+// say so), the luminous opening is a point (Gonio does not know which
+// surfaces glow), and the luminaire's outer dimensions are the bounding box
+// of its meshes in the photometric frame.
+//
+// Read-back. Each file is read by Gonio's own reader and integrated:
+// IES and LDT by photometry::total_flux_lm() (for LDT, cd/klm × lamp flux),
+// the cube by the sum of its flux channel, the latlong map by
+// io::latlong_flux_lm(). The difference to the escaped flux is the
+// quadrature error of the file's grid (the bins carry the flux exactly).
+// Findings: the reader's plus photometry::check() for IES and LDT (what
+// `gonio check` reports), readable channels with finite, non-negative
+// values for EXR, a readable SVG document for the diagram. A file is clean
+// when no finding is a warning or an error.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "io/ies.h"
+#include "photometry/diagnostics.h"
+#include "photometry/distribution.h"
+#include "sim/far_field.h"
+#include "sim/ledger.h"
+#include "sim/resample.h"
+#include "sim/scene.h"
+#include "sim/symmetry.h"
+
+namespace gonio::cli {
+
+enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot };
+
+// "ies", "ldt", "exr", "latlong", "plot".
+const char* to_string(OutputFormat format);
+
+// A comma-separated list of the names above, or "all" (every format, in the
+// order above). Repeats are ignored; an empty list or an unknown name is an
+// error that lists the valid names.
+Result<std::vector<OutputFormat>> parse_formats(const std::string& list);
+
+// What the files record about the run that made them ([FILEGENINFO] and
+// [_GONIO_…] keywords, EXR attributes).
+struct RunInfo {
+  std::string program_version;
+  std::string model;                 // the model file as given
+  std::uint64_t photons = 0;         // traced
+  std::uint64_t seed = 0;
+  int max_bounces = 0;
+  std::string issue_date;            // [ISSUEDATE] and the LDT date field, YYYY-MM-DD
+};
+
+struct OutputRequest {
+  std::string directory;             // exists
+  std::string stem;                  // file names: STEM.ies, …
+  std::vector<OutputFormat> formats;
+  sim::CGammaGrid grid;              // validate(grid).ok()
+  std::optional<photometry::Symmetry> symmetry;  // nullopt: decide from the data
+  io::IesVersion ies_version = io::IesVersion::LM63_2019;  // 2019 or 2002
+  RunInfo run;
+};
+
+// One file written and read back.
+struct WrittenFile {
+  OutputFormat format = OutputFormat::Ies;
+  std::string path;
+  // Integrated from the file as read back [lm]; NaN for the diagram.
+  double flux_lm = photometry::kNaN;
+  // (flux_lm − escaped) / escaped [1]; NaN for the diagram or no escaped flux.
+  double flux_difference = photometry::kNaN;
+  std::vector<Finding> writer_notes;  // what the writer said (defaults filled, conversions)
+  std::vector<Finding> findings;      // the read-back checks
+  bool clean() const { return worst(findings) < Severity::Warning; }
+};
+
+struct OutputResult {
+  photometry::Distribution distribution;  // the candela table the IES and LDT files hold
+  photometry::Symmetry symmetry = photometry::Symmetry::None;
+  std::string symmetry_reason;      // one line: what was chosen and why
+  sim::SymmetryDecision decision;   // the tests (auto only)
+  std::vector<WrittenFile> files;   // in request order
+};
+
+// The Type C distribution of a far field: resampled in `scene.frame`,
+// symmetry averaged, with lamp data, keywords and derived EULUMDAT values as
+// described at the top. `symmetry` must be supported by the grid.
+photometry::Distribution simulated_distribution(const sim::BinnedField& binned, photometry::Symmetry symmetry,
+                                                const sim::SceneDesc& scene, const sim::Ledger& ledger,
+                                                const OutputRequest& request);
+
+// Resamples, writes every requested file atomically, reads each back and
+// checks it. Errors: a file that cannot be written (nothing is left half
+// written), an explicit symmetry the grid does not support.
+Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::SceneDesc& scene,
+                                   const sim::Ledger& ledger, const OutputRequest& request);
+
+// report.json's "outputs" (grid, symmetry and its tests, files with flux,
+// difference and findings).
+nlohmann::json to_json(const OutputResult& result, const sim::CGammaGrid& grid, double escaped_lm);
+
+}  // namespace gonio::cli
