@@ -126,7 +126,8 @@ std::optional<Reference> load_cached(const std::string& dir, const ReferenceKey&
 }  // namespace
 
 nlohmann::json ReferenceKey::to_json() const {
-  return {{"program_version", program_version}, {"model_hash", model_hash},
+  return {{"program_version", program_version}, {"tracer_revision", tracer_revision},
+          {"model_hash", model_hash},
           {"scene_hash", scene_hash},           {"seed", seed},
           {"photons", photons},                 {"face_size", face_size},
           {"max_bounces", max_bounces},         {"robust_embree", robust_embree}};

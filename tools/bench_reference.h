@@ -33,6 +33,7 @@ namespace gonio::cli {
 // What a reference is made from; equal keys, equal references.
 struct ReferenceKey {
   std::string program_version;
+  std::string tracer_revision;  // kTracerRevision: a hash of the sim/ sources
   std::string model_hash;  // FNV-1a 64 of the model file's bytes, 16 hex digits
   std::string scene_hash;  // FNV-1a 64 of the loaded scene (scene_hash()), 16 hex digits
   std::uint64_t seed = 0;

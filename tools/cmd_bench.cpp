@@ -24,6 +24,7 @@
 #include <string>
 #include <thread>
 
+#include "gonio/tracer_revision.h"
 #include "gonio/version.h"
 #include "io/file_io.h"
 #include "io/gltf.h"
@@ -235,6 +236,7 @@ int run_bench(const Args& args) {
 
     ReferenceKey key;
     key.program_version = kVersion;
+    key.tracer_revision = kTracerRevision;
     key.model_hash = fnv1a_hex(bytes.value());
     key.scene_hash = scene_hash(scene.value());
     key.seed = static_cast<std::uint64_t>(reference_seed);

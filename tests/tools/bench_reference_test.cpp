@@ -43,6 +43,10 @@ TEST(BenchReference, HashesSeeWhatTheTracerSees) {
   EXPECT_EQ(a.to_json(), b.to_json());
   b.photons = 1001;
   EXPECT_NE(a.to_json(), b.to_json());
+  // A changed tracer (another hash of the sim/ sources) is another reference.
+  b = a;
+  b.tracer_revision = "0123456789abcdef";
+  EXPECT_NE(a.to_json(), b.to_json());
 }
 
 }  // namespace
