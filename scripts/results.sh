@@ -4,12 +4,13 @@
 #
 #   scripts/results.sh [extra gonio bench options]
 #
-# The reference runs (2^30 photons each, a few minutes per sample on two
+# The reference runs (2^29 photons each, a few minutes per sample on two
 # cores, longer for the spotlight) are cached in docs/results/<sample>/ and
-# reused while the model, the program version and the settings stay the
-# same; only the SVG charts, series.csv, bench.json and the page are meant
-# to be committed (docs/results/.gitignore keeps PNGs and the references
-# out). Run it on a quiet machine: the page records the load average.
+# reused while the model, the program version, the tracer (a hash of sim/)
+# and the settings stay the same; only the SVG charts, series.csv,
+# bench.json and the page are meant to be committed (docs/results/.gitignore
+# keeps PNGs and the references out). Run it on a quiet machine: the page
+# records the load average.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh --target gonio gonio_samples
