@@ -140,13 +140,14 @@ int run_bench(const Args& args) {
   bool importance = false, no_png = false;
   ArgParser p("bench", "MODEL... --out DIR [options]",
               "Measures speed against accuracy on luminaire models (glTF 2.0). A long reference run\n"
-              "(cached in DIR, reused while model, program and settings match) is the truth; series of\n"
-              "progressive iterations from one seed are compared with it after every iteration: the raw\n"
-              "far field, the preview filter bilinear and bilateral at fixed thresholds 50..300 and\n"
-              "adaptive, and with --importance the thesis's importance-guided emission. Errors: the\n"
-              "cube map's RMSE, PSNR and SNR after mean scaling, and the resampled candela table's RMS\n"
-              "and max error (% of peak) and flux error. Writes DIR/series.csv, DIR/bench.json and charts\n"
-              "(SVG, PNG) of error against time and photons; several models go to DIR/<name>/.");
+              "(cached in DIR, reused while model, program, tracer sources and settings match) is the\n"
+              "truth; series of progressive iterations from one seed are compared with it after every\n"
+              "iteration: the raw far field, the preview filter bilinear and bilateral at fixed\n"
+              "thresholds 50..300 and adaptive, and with --importance the thesis's importance-guided\n"
+              "emission. Errors: the cube map's RMSE, PSNR and SNR after mean scaling, and the\n"
+              "resampled candela table's RMS and max error (% of peak) and flux error. Writes\n"
+              "DIR/series.csv, DIR/bench.json and charts (SVG, PNG) of error against time and photons;\n"
+              "several models go to DIR/<name>/.");
   p.positional_list("MODEL", &models, 1, "luminaire models (.gltf or .glb)");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
   p.option("photons", &photons, 1, 1LL << 36, "N", "photons of each series in all (default 33554432 = 2^25)");
