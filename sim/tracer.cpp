@@ -42,6 +42,19 @@ Status validate_mesh(const Mesh& m, std::size_t i, std::size_t material_count) {
   return Ok{};
 }
 
+// Books a photon that did not escape (absorbed or cut off) for its emitter
+// and the mesh where it ended.
+void book_loss(const TraceResult& r, LedgerTally::PerEmitter& emitter, LedgerTally& books) {
+  LedgerTally::PerMesh& mesh = books.meshes[r.mesh];
+  if (r.fate == Fate::Absorbed) {
+    emitter.absorbed.add(r.power_units);
+    mesh.absorbed.add(r.power_units);
+  } else {
+    emitter.cutoff.add(r.power_units);
+    mesh.cutoff.add(r.power_units);
+  }
+}
+
 }  // namespace
 
 std::uint64_t TracerTally::photons(std::size_t texel) const {
@@ -224,12 +237,8 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         break;
       }
       case Fate::Absorbed:
-        eb.absorbed.add(r.power_units);
-        books.meshes[r.mesh].absorbed.add(r.power_units);
-        break;
       case Fate::CutOff:
-        eb.cutoff.add(r.power_units);
-        books.meshes[r.mesh].cutoff.add(r.power_units);
+        book_loss(r, eb, books);
         break;
     }
   }
@@ -265,12 +274,8 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
         break;
       }
       case Fate::Absorbed:
-        eb.absorbed.add(r.power_units);
-        books.meshes[r.mesh].absorbed.add(r.power_units);
-        break;
       case Fate::CutOff:
-        eb.cutoff.add(r.power_units);
-        books.meshes[r.mesh].cutoff.add(r.power_units);
+        book_loss(r, eb, books);
         break;
     }
   }
