@@ -27,8 +27,6 @@
 #include "gonio/tracer_revision.h"
 #include "gonio/version.h"
 #include "io/file_io.h"
-#include "io/gltf.h"
-#include "io/model_check.h"
 #include "io/report.h"
 #include "sim/cube_map.h"
 #include "sim/resample.h"
@@ -37,6 +35,7 @@
 #include "tools/bench_series.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/model_input.h"
 
 namespace gonio::cli {
 namespace {
@@ -72,35 +71,6 @@ std::string utc_now() {
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
   return buf;
-}
-
-// Loads the model and runs the model checks; errors are printed.
-std::optional<sim::SceneDesc> load_model(const std::string& model) {
-  std::vector<Finding> findings;
-  Result<sim::SceneDesc> scene = io::load_gltf(model, &findings);
-  if (scene.ok()) {
-    const std::vector<Finding> checks = io::check_model(scene.value());
-    findings.insert(findings.end(), checks.begin(), checks.end());
-  }
-  bool errors = false;
-  for (const Finding& f : findings) {
-    const std::string where = f.where.file.empty() ? model : to_string(f.where);
-    if (f.severity == Severity::Error) {
-      print_error(where + ": " + f.message);
-      errors = true;
-    } else if (f.severity == Severity::Warning) {
-      print_warning(where + ": " + f.message);
-    }
-  }
-  if (!scene.ok()) {
-    print_error(scene.error());
-    return std::nullopt;
-  }
-  if (errors) {
-    print_error(model + ": the model has errors (above); nothing was benchmarked");
-    return std::nullopt;
-  }
-  return std::move(scene.value());
 }
 
 void print_summary(const BenchOutcome& o) {
@@ -216,7 +186,7 @@ int run_bench(const Args& args) {
   const bool show_progress = stderr_is_terminal();
   std::vector<BenchOutcome> outcomes;
   for (const std::string& model : models) {
-    std::optional<sim::SceneDesc> scene = load_model(model);
+    std::optional<sim::SceneDesc> scene = load_checked_model(model, "benchmarked");
     if (!scene) return kExitFailure;
     const auto bytes = io::read_file(model, std::size_t{1} << 31);
     if (!bytes.ok()) {

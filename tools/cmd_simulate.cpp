@@ -37,14 +37,13 @@
 #include "gonio/version.h"
 #include "io/exr.h"
 #include "io/file_io.h"
-#include "io/gltf.h"
-#include "io/model_check.h"
 #include "io/report.h"
 #include "sim/resample.h"
 #include "sim/simulation.h"
 #include "sim/symmetry.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/model_input.h"
 #include "tools/preview_output.h"
 #include "tools/simulation_outputs.h"
 
@@ -176,32 +175,9 @@ int run_simulate(const Args& args) {
     return usage_error(p, "--name: '" + stem + "' is not a plain file name");
   if (!p.given("face-size")) face_size = sim::face_size_for(grid);
 
-  // Load, then check the geometry (closed refractive volumes, degenerate
-  // and self-intersecting faces): errors stop the run, warnings are printed.
-  std::vector<Finding> findings;
-  Result<sim::SceneDesc> scene = io::load_gltf(model, &findings);
-  if (scene.ok()) {
-    const std::vector<Finding> checks = io::check_model(scene.value());
-    findings.insert(findings.end(), checks.begin(), checks.end());
-  }
-  bool model_errors = false;
-  for (const Finding& f : findings) {
-    const std::string where = f.where.file.empty() ? model : to_string(f.where);
-    if (f.severity == Severity::Error) {
-      print_error(where + ": " + f.message);
-      model_errors = true;
-    } else if (f.severity == Severity::Warning) {
-      print_warning(where + ": " + f.message);
-    }
-  }
-  if (!scene.ok()) {
-    print_error(scene.error());
-    return kExitFailure;
-  }
-  if (model_errors) {
-    print_error(model + ": the model has errors (above); nothing was simulated");
-    return kExitFailure;
-  }
+  // Load, then check the geometry: errors stop the run, warnings are printed.
+  std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated");
+  if (!scene) return kExitFailure;
 
   sim::SimulationSettings settings;
   settings.photons_per_iteration = static_cast<std::uint64_t>(photons);
