@@ -51,7 +51,9 @@ std::string base64(const std::string& bytes) {
 
 // A white box shade 0.2 m wide, open at the bottom, with a 1000 lm point
 // light inside: written with nlohmann::json and a data-URI buffer.
-std::string shade_model(double lamp_x = 0.0, double lamp_z = 0.0) {
+// With `glass`, the open box is clear glass: an open refractive volume,
+// which the model checks refuse.
+std::string shade_model(double lamp_x = 0.0, double lamp_z = 0.0, bool glass = false) {
   sim::Mesh box = sim::box(0.2, 0.2, 0.2);
   // Drop the two triangles of the −Y face (the box's quads come in the
   // order +X, −X, +Y, −Y, +Z, −Z): light leaves downwards.
@@ -64,6 +66,7 @@ std::string shade_model(double lamp_x = 0.0, double lamp_z = 0.0) {
   json g;
   g["asset"] = {{"version", "2.0"}};
   g["extensionsUsed"] = json::array({"KHR_lights_punctual"});
+  if (glass) g["extensionsUsed"].push_back("KHR_materials_transmission");
 
   json light = {{"type", "point"}, {"intensity", 1000.0 / (4.0 * 3.141592653589793)}};
   g["extensions"]["KHR_lights_punctual"]["lights"] = json::array({light});
@@ -85,6 +88,10 @@ std::string shade_model(double lamp_x = 0.0, double lamp_z = 0.0) {
   material["pbrMetallicRoughness"] = {{"baseColorFactor", json::array({0.8, 0.8, 0.8, 1.0})},
                                       {"metallicFactor", 0.0},
                                       {"roughnessFactor", 1.0}};
+  if (glass) {
+    material["pbrMetallicRoughness"]["roughnessFactor"] = 0.0;
+    material["extensions"]["KHR_materials_transmission"] = {{"transmissionFactor", 1.0}};
+  }
   g["materials"] = json::array({material});
 
   json buffer = {{"byteLength", bin.size()},
@@ -173,6 +180,17 @@ TEST(Simulate, BadInputsAndUsage) {
   EXPECT_EQ(gonio({"simulate", model.string(), "--out", "x", "--photons", "0"}).exit_code, 2);
   EXPECT_EQ(gonio({"simulate", model.string(), "--out", "x", "--threads", "-1"}).exit_code, 2);
   EXPECT_EQ(gonio({"simulate", model.string(), "--out", "x", "--bogus"}).exit_code, 2);
+
+  // A model that loads but fails its checks: every problem printed, nothing written.
+  test::write_file(dir / "open-glass.gltf", shade_model(0.0, 0.0, true));
+  r = gonio({"simulate", (dir / "open-glass.gltf").string(), "--out", (dir / "g").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("open-glass.gltf"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nothing was simulated"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "g"));
+  r = gonio({"bench", (dir / "open-glass.gltf").string(), "--out", (dir / "b").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("nothing was benchmarked"), std::string::npos) << r.err;
 
   test::write_file(dir / "broken.gltf", "{ not json");
   r = gonio({"simulate", (dir / "broken.gltf").string(), "--out", (dir / "o").string()});
