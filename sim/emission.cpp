@@ -48,6 +48,7 @@ Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& pr
       c.i10 = expanded->at(h + 1, v);
       c.i01 = expanded->at(h, v + 1);
       c.i11 = expanded->at(h + 1, v + 1);
+      c.i_min = std::min({c.i00, c.i10, c.i01, c.i11});
       c.i_max = std::max({c.i00, c.i10, c.i01, c.i11});
       const double p0 = s.polar_is_vertical_ ? c.v0_rad : c.h0_rad;
       const double dp = s.polar_is_vertical_ ? c.dv_rad : c.dh_rad;
@@ -84,6 +85,17 @@ Vec3 ProfileSampler::sample(PhotonRandom& rng) const {
     // Uniform in solid angle over the cell: uniform along q and in μ.
     const double u = rng.uniform();
     const double m = c.mu0 + rng.uniform() * (c.mu1 - c.mu0);
+    const double r = rng.uniform() * c.i_max;
+    // Type C: below the smallest corner the bilinear intensity accepts
+    // whatever the polar position, and the direction needs only μ and C, so
+    // the acos is skipped (the same draws and the same photons as the full
+    // test, which follows).
+    const auto type_c_direction = [&](double s) {
+      const double phi = c.h0_rad + s * c.dh_rad;
+      const double sin_g = std::sqrt(std::max(0.0, 1.0 - m * m));
+      return Vec3{sin_g * std::cos(phi), sin_g * std::sin(phi), m};  // z = −cos γ = μ
+    };
+    if (polar_is_gamma_ && r < c.i_min) return type_c_direction(u);
     const double p = polar_is_gamma_ ? std::acos(std::clamp(-m, -1.0, 1.0))
                                      : std::asin(std::clamp(m, -1.0, 1.0));
     const double p0 = polar_is_vertical_ ? c.v0_rad : c.h0_rad;
@@ -92,12 +104,8 @@ Vec3 ProfileSampler::sample(PhotonRandom& rng) const {
     const double s = polar_is_vertical_ ? u : tp;  // along H (or C)
     const double t = polar_is_vertical_ ? tp : u;  // along V (or γ)
     const double i = (1.0 - t) * ((1.0 - s) * c.i00 + s * c.i10) + t * ((1.0 - s) * c.i01 + s * c.i11);
-    if (rng.uniform() * c.i_max < i) {
-      if (polar_is_gamma_) {
-        const double phi = c.h0_rad + s * c.dh_rad;
-        const double sin_g = std::sqrt(std::max(0.0, 1.0 - m * m));
-        return {sin_g * std::cos(phi), sin_g * std::sin(phi), m};  // z = −cos γ = μ
-      }
+    if (r < i) {
+      if (polar_is_gamma_) return type_c_direction(s);
       return photometry::direction_from_grid(type_, (c.h0_rad + s * c.dh_rad) / kDeg,
                                              (c.v0_rad + t * c.dv_rad) / kDeg);
     }

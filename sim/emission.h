@@ -52,7 +52,7 @@ class ProfileSampler {
     double v0_rad, dv_rad;          // vertical grid angle range (γ or V) [rad]
     double mu0, mu1;                // μ of the polar angle at its ends, mu0 < mu1
     double i00, i10, i01, i11;      // corners (h0,v0), (h1,v0), (h0,v1), (h1,v1) [cd]
-    double i_max;                   // largest corner [cd]
+    double i_min, i_max;            // smallest and largest corner [cd]
   };
   photometry::PhotometricType type_ = photometry::PhotometricType::C;
   bool polar_is_vertical_ = true;   // Types C and A; Type B's polar angle is H
