@@ -148,7 +148,7 @@ void line_chart(std::ostringstream& s, const LineChart& chart, std::size_t index
     if (empty && !lo && !hi) return std::string(log ? "[1:10]" : "[0:1]");
     return "[" + (lo ? number(*lo) : std::string("*")) + ":" + (hi ? number(*hi) : std::string("*")) + "]";
   };
-  s << "reset\nset grid lt 1 lc rgb '#d8d8d8'\nset key top right\n"
+  s << "reset\nset grid lt 1 lc rgb '#d8d8d8'\n" << (chart.key_below ? "set key below\n" : "set key top right\n")
     << "set xrange " << range(chart.x_min, chart.x_max, prepared.empty(), chart.log_x) << "\n"
     << "set yrange " << range(chart.y_min, chart.y_max, prepared.empty(), chart.log_y) << "\n";
   if (chart.log_x) s << "set logscale x\nset format x '%g'\n";

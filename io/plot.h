@@ -50,6 +50,7 @@ struct LineChart {
   bool log_x = false;  // logarithmic axes ignore points ≤ 0 on that axis
   bool log_y = false;
   std::optional<double> x_min, x_max, y_min, y_max;  // automatic where unset
+  bool key_below = false;  // the legend under the chart (never over a curve), else top right
   std::vector<Series> series;
 };
 

@@ -123,7 +123,12 @@ io::LineChart photons_panel(const BenchOutcome& o, const Metric& metric, const s
   return c;
 }
 
-Status write_figure_pair(const std::string& dir, const std::string& stem, const io::Figure& f, bool png) {
+// Bench charts carry up to eight curves that cross: their legends go under
+// the charts, where they hide none of them.
+Status write_figure_pair(const std::string& dir, const std::string& stem, io::Figure f, bool png) {
+  for (io::Chart& c : f.charts)
+    if (auto* line = std::get_if<io::LineChart>(&c)) line->key_below = true;
+  f.height_px = 760;
   if (Status s = io::write_figure((fs::path(dir) / (stem + ".svg")).string(), f); !s.ok()) return s;
   if (png)
     if (Status s = io::write_figure((fs::path(dir) / (stem + ".png")).string(), f); !s.ok()) return s;

@@ -109,6 +109,39 @@ TEST(Plot, LogLogLineChartsSkipPointsThatCannotBeShown) {
   EXPECT_NE(svg.value().find(">RMS error against photons<"), std::string::npos);
 }
 
+// The first point of the first path in plot group `id`: the key's sample
+// line where the series has a legend entry.
+Point key_sample(const std::string& svg, const std::string& id) {
+  const std::size_t group = svg.find("<g id=\"" + id + "\"");
+  const std::size_t d = svg.find(" d='M", group);
+  if (group == std::string::npos || d == std::string::npos) return {NAN, NAN};
+  const std::regex number_pair(R"(([-0-9.]+),([-0-9.]+))");
+  std::smatch m;
+  const std::string rest = svg.substr(d + 5, 64);
+  if (!std::regex_search(rest, m, number_pair)) return {NAN, NAN};
+  return {std::stod(m[1]), std::stod(m[2])};
+}
+
+TEST(Plot, LegendBelowTheChartCoversNoCurve) {
+  LineChart chart;
+  Series s{"diagonal", {0.0, 1.0}, {0.0, 1.0}, LineStyle::Solid, false};
+  chart.series.push_back(s);
+  for (const bool below : {false, true}) {
+    chart.key_below = below;
+    const Result<std::string> svg = render_figure(one_chart(chart), ImageFormat::Svg);
+    ASSERT_TRUE(svg.ok()) << svg.error().message;
+    const std::vector<Point> data = data_path(svg.value(), "gnuplot_plot_1a");
+    ASSERT_EQ(data.size(), 2u);
+    const double lowest = std::max(data[0].y, data[1].y);  // SVG y grows downwards
+    const Point key = key_sample(svg.value(), "gnuplot_plot_1a");
+    ASSERT_TRUE(std::isfinite(key.y));
+    if (below)
+      EXPECT_GT(key.y, lowest) << "the legend must sit under the plot area";
+    else
+      EXPECT_LT(key.y, lowest) << "top right: inside the plot area";
+  }
+}
+
 TEST(Plot, PngHasTheRequestedSize) {
   LineChart chart;
   chart.series.push_back({"a", {0, 1, 2}, {0, 1, 4}, LineStyle::Dashed, false});
