@@ -1,6 +1,8 @@
 #include "io/intensity_diagram.h"
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace gonio::io {
 namespace {
@@ -35,6 +37,26 @@ Status drawable(const photometry::Distribution& d) {
   return photometry::validate(d);
 }
 
+// The polar diagram and the same curves on cartesian axes, side by side.
+Figure diagram_figure(const std::string& title, std::vector<Series> series, const std::string& unit) {
+  PolarChart polar;
+  polar.radius_label = unit;
+  polar.series = series;
+  LineChart line;
+  line.x_label = "γ [°]  (C180, C270 left; C0, C90 right)";
+  line.y_label = "I [" + unit + "]";
+  line.x_min = -180.0;
+  line.x_max = 180.0;
+  line.y_min = 0.0;
+  line.series = std::move(series);
+  Figure f;
+  f.title = title;
+  f.charts = {polar, line};
+  f.width_px = 1200;
+  f.height_px = 560;
+  return f;
+}
+
 }  // namespace
 
 Result<Figure> overlay_diagram(const photometry::Distribution& a, const photometry::Distribution& b,
@@ -55,22 +77,7 @@ Result<Figure> overlay_diagram(const photometry::Distribution& a, const photomet
       plane_pair(eb, 90.0, 270.0, options.scale_b, options.label_b + " C90–C270", LineStyle::Dotted)};
   series[3].markers = true;
 
-  PolarChart polar;
-  polar.radius_label = "cd";
-  polar.series = series;
-  LineChart line;
-  line.x_label = "γ [°]  (C180, C270 left; C0, C90 right)";
-  line.y_label = "I [cd]";
-  line.x_min = -180.0;
-  line.x_max = 180.0;
-  line.y_min = 0.0;
-  line.series = series;
-  Figure f;
-  f.title = options.title;
-  f.charts = {polar, line};
-  f.width_px = 1200;
-  f.height_px = 560;
-  return f;
+  return diagram_figure(options.title, std::move(series), "cd");
 }
 
 Result<Figure> intensity_diagram(const photometry::Distribution& d, const DiagramOptions& options) {
@@ -88,24 +95,7 @@ Result<Figure> intensity_diagram(const photometry::Distribution& d, const Diagra
   const Series c0 = plane_pair(expanded, 0.0, 180.0, scale, "C0–C180", LineStyle::Solid);
   const Series c90 = plane_pair(expanded, 90.0, 270.0, scale, "C90–C270", LineStyle::Dashed);
 
-  PolarChart polar;
-  polar.radius_label = unit;
-  polar.series = {c0, c90};
-
-  LineChart line;
-  line.x_label = "γ [°]  (C180, C270 left; C0, C90 right)";
-  line.y_label = "I [" + unit + "]";
-  line.x_min = -180.0;
-  line.x_max = 180.0;
-  line.y_min = 0.0;
-  line.series = {c0, c90};
-
-  Figure f;
-  f.title = options.title;
-  f.charts = {polar, line};
-  f.width_px = 1200;
-  f.height_px = 560;
-  return f;
+  return diagram_figure(options.title, {c0, c90}, unit);
 }
 
 }  // namespace gonio::io

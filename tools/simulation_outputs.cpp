@@ -114,6 +114,19 @@ double relative_difference(double flux, double escaped) {
   return escaped > 0.0 && std::isfinite(flux) ? (flux - escaped) / escaped : photometry::kNaN;
 }
 
+// A written photometric file as its reader sees it: the reader's findings,
+// the model checks, and the flux integrated from what was read.
+template <class File>
+void take_read_back(const Result<File>& back, WrittenFile* file) {
+  if (!back.ok()) {
+    file->findings.push_back(finding(Severity::Error, "unreadable", back.error().message, file->path));
+    return;
+  }
+  file->findings = back->findings;
+  add_checks(back->distribution, file->path, &file->findings);
+  if (photometry::validate(back->distribution).ok()) file->flux_lm = photometry::total_flux_lm(back->distribution);
+}
+
 Status write_ies_file(const Distribution& d, const OutputRequest& request, WrittenFile* file) {
   io::IesWriteOptions options;
   options.version = request.ies_version;
@@ -124,14 +137,7 @@ Status write_ies_file(const Distribution& d, const OutputRequest& request, Writt
   ies.luminaire = {};
   const std::string text = io::write_ies(ies, options, &file->writer_notes);
   if (Status s = io::write_file_atomic(file->path, text); !s.ok()) return s;
-  Result<io::IesFile> back = io::read_ies(file->path);
-  if (!back.ok()) {
-    file->findings.push_back(finding(Severity::Error, "unreadable", back.error().message, file->path));
-    return Ok{};
-  }
-  file->findings = back->findings;
-  add_checks(back->distribution, file->path, &file->findings);
-  if (photometry::validate(back->distribution).ok()) file->flux_lm = photometry::total_flux_lm(back->distribution);
+  take_read_back(io::read_ies(file->path), file);
   return Ok{};
 }
 
@@ -147,14 +153,7 @@ Status write_ldt_file(const Distribution& d, WrittenFile* file) {
   Result<std::string> text = io::write_ldt(ldt, {}, &file->writer_notes);
   if (!text.ok()) return error_at(file->path, text.error().message);
   if (Status s = io::write_file_atomic(file->path, *text); !s.ok()) return s;
-  Result<io::LdtFile> back = io::read_ldt(file->path);
-  if (!back.ok()) {
-    file->findings.push_back(finding(Severity::Error, "unreadable", back.error().message, file->path));
-    return Ok{};
-  }
-  file->findings = back->findings;
-  add_checks(back->distribution, file->path, &file->findings);
-  if (photometry::validate(back->distribution).ok()) file->flux_lm = photometry::total_flux_lm(back->distribution);
+  take_read_back(io::read_ldt(file->path), file);
   return Ok{};
 }
 
