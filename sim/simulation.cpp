@@ -121,10 +121,6 @@ void Simulation::run_iteration(std::uint64_t n) {
       s.texel_photons[texel] += 65536u;
       s.texel_units[texel] += 65536u * kPowerUnits;
     }
-    for (const auto& [texel, units] : t.uneven_escapes) {
-      s.texel_units[texel] += units;
-      s.texel_units[texel] -= kPowerUnits;
-    }
     s.books.add(t.ledger);
     t.clear();
   }

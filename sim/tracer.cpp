@@ -66,7 +66,6 @@ std::uint64_t TracerTally::photons(std::size_t texel) const {
 void TracerTally::clear() {
   std::fill(texel_photons.begin(), texel_photons.end(), std::uint16_t{0});
   texel_wraps.clear();
-  uneven_escapes.clear();
   ledger.clear();
 }
 
@@ -232,7 +231,6 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         __builtin_prefetch(&tally.texel_photons[texel], 1);
         if (pending != kNone) count_escape(pending);
         pending = texel;
-        if (r.power_units != kPowerUnits) tally.uneven_escapes.emplace_back(texel, r.power_units);
         eb.escaped.add(r.power_units);
         break;
       }

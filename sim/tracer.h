@@ -58,9 +58,6 @@ struct TracerTally {
   std::vector<std::uint16_t> texel_photons;  // photons escaped per texel, mod 65536
   std::vector<std::uint32_t> texel_wraps;    // a texel per 65536 photons
   std::uint64_t photons(std::size_t texel) const;  // for tests: the full count (slow)
-  // Escaped photons whose power is not nominal: (texel, power units).
-  // Empty unless emission is importance-guided.
-  std::vector<std::pair<std::uint32_t, std::uint64_t>> uneven_escapes;
   LedgerTally ledger;
 
   void clear();
@@ -88,8 +85,8 @@ class Tracer {
   // [first, first + count) like trace_photons, traces each with the guide's
   // acceptance probability for its emission direction, starting with the
   // guide's power, and books what the guide needs in `guide_tally` (the
-  // power of escapes above kPowerUnits goes there, not to
-  // tally.uneven_escapes). The ledger books each traced photon's power as
+  // power of escapes above kPowerUnits goes there; `tally` counts the
+  // photons). The ledger books each traced photon's power as
   // emitted, so it closes exactly; dropped photons are counted in
   // guide_tally.dropped only.
   void trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
