@@ -37,39 +37,52 @@ Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& pr
   const auto& vs = expanded->vertical_deg;
   auto mu = [&](double p) { return s.polar_is_gamma_ ? -std::cos(p) : std::sin(p); };
   std::vector<double> flux;
+  // Type C cells wider than 45° in C (coarse or rotational grids) are cut
+  // into equal parts along C: the bilinear interpolant is linear along C, so
+  // the parts are cells of the same interpolant, and inside every cell the
+  // offset from its middle C angle stays within ±22.5° (sincos_small).
+  constexpr double kMaxCellC = std::numbers::pi / 4.0;
   for (std::size_t h = 0; h + 1 < hs.size(); ++h) {
+    const double dh_grid = (hs[h + 1] - hs[h]) * kDeg;
+    const int parts = s.polar_is_gamma_ ? std::max(1, static_cast<int>(std::ceil(dh_grid / kMaxCellC - 1e-9))) : 1;
     for (std::size_t v = 0; v + 1 < vs.size(); ++v) {
-      Cell c;
-      c.h0_rad = hs[h] * kDeg;
-      c.dh_rad = (hs[h + 1] - hs[h]) * kDeg;
-      c.v0_rad = vs[v] * kDeg;
-      c.dv_rad = (vs[v + 1] - vs[v]) * kDeg;
-      c.i00 = expanded->at(h, v);
-      c.i10 = expanded->at(h + 1, v);
-      c.i01 = expanded->at(h, v + 1);
-      c.i11 = expanded->at(h + 1, v + 1);
-      c.i_min = std::min({c.i00, c.i10, c.i01, c.i11});
-      c.i_max = std::max({c.i00, c.i10, c.i01, c.i11});
-      const double p0 = s.polar_is_vertical_ ? c.v0_rad : c.h0_rad;
-      const double dp = s.polar_is_vertical_ ? c.dv_rad : c.dh_rad;
-      const double dq = s.polar_is_vertical_ ? c.dh_rad : c.dv_rad;
-      const double p1 = p0 + dp;
-      c.mu0 = mu(p0);
-      c.mu1 = mu(p1);
-      // ∫∫ I dμ dq of the bilinear interpolant: along q each corner's weight
-      // integrates to Δq/2; along p, a1 = ∫ t dμ (t = (p − p0)/Δp) is
-      //   (sin p1 − sin p0)/Δp − cos p1      for μ = −cos p,
-      //   sin p1 + (cos p1 − cos p0)/Δp      for μ = sin p,
-      // and ∫ (1 − t) dμ = μ1 − μ0 − a1.
-      const double a1 = s.polar_is_gamma_ ? (std::sin(p1) - std::sin(p0)) / dp - std::cos(p1)
-                                          : std::sin(p1) + (std::cos(p1) - std::cos(p0)) / dp;
-      const double a0 = (c.mu1 - c.mu0) - a1;
-      const double at_p0 = s.polar_is_vertical_ ? c.i00 + c.i10 : c.i00 + c.i01;
-      const double at_p1 = s.polar_is_vertical_ ? c.i01 + c.i11 : c.i10 + c.i11;
-      const double f = 0.5 * dq * (at_p0 * a0 + at_p1 * a1);
-      if (!(f > 0.0)) continue;  // emits nothing: never chosen
-      s.cells_.push_back(c);
-      flux.push_back(f);
+      for (int k = 0; k < parts; ++k) {
+        const double s0 = static_cast<double>(k) / parts, s1 = static_cast<double>(k + 1) / parts;
+        const auto along = [](double a, double b, double t) { return a + t * (b - a); };
+        Cell c;
+        c.h0_rad = hs[h] * kDeg + s0 * dh_grid;
+        c.dh_rad = dh_grid / parts;
+        c.v0_rad = vs[v] * kDeg;
+        c.dv_rad = (vs[v + 1] - vs[v]) * kDeg;
+        c.i00 = along(expanded->at(h, v), expanded->at(h + 1, v), s0);
+        c.i10 = along(expanded->at(h, v), expanded->at(h + 1, v), s1);
+        c.i01 = along(expanded->at(h, v + 1), expanded->at(h + 1, v + 1), s0);
+        c.i11 = along(expanded->at(h, v + 1), expanded->at(h + 1, v + 1), s1);
+        c.i_min = std::min({c.i00, c.i10, c.i01, c.i11});
+        c.i_max = std::max({c.i00, c.i10, c.i01, c.i11});
+        c.cos_mid = std::cos(c.h0_rad + 0.5 * c.dh_rad);
+        c.sin_mid = std::sin(c.h0_rad + 0.5 * c.dh_rad);
+        const double p0 = s.polar_is_vertical_ ? c.v0_rad : c.h0_rad;
+        const double dp = s.polar_is_vertical_ ? c.dv_rad : c.dh_rad;
+        const double dq = s.polar_is_vertical_ ? c.dh_rad : c.dv_rad;
+        const double p1 = p0 + dp;
+        c.mu0 = mu(p0);
+        c.mu1 = mu(p1);
+        // ∫∫ I dμ dq of the bilinear interpolant: along q each corner's weight
+        // integrates to Δq/2; along p, a1 = ∫ t dμ (t = (p − p0)/Δp) is
+        //   (sin p1 − sin p0)/Δp − cos p1      for μ = −cos p,
+        //   sin p1 + (cos p1 − cos p0)/Δp      for μ = sin p,
+        // and ∫ (1 − t) dμ = μ1 − μ0 − a1.
+        const double a1 = s.polar_is_gamma_ ? (std::sin(p1) - std::sin(p0)) / dp - std::cos(p1)
+                                            : std::sin(p1) + (std::cos(p1) - std::cos(p0)) / dp;
+        const double a0 = (c.mu1 - c.mu0) - a1;
+        const double at_p0 = s.polar_is_vertical_ ? c.i00 + c.i10 : c.i00 + c.i01;
+        const double at_p1 = s.polar_is_vertical_ ? c.i01 + c.i11 : c.i10 + c.i11;
+        const double f = 0.5 * dq * (at_p0 * a0 + at_p1 * a1);
+        if (!(f > 0.0)) continue;  // emits nothing: never chosen
+        s.cells_.push_back(c);
+        flux.push_back(f);
+      }
     }
   }
   if (flux.empty()) return error("emission profile has no flux (all intensities zero)");
@@ -91,9 +104,11 @@ Vec3 ProfileSampler::sample(PhotonRandom& rng) const {
     // the acos is skipped (the same draws and the same photons as the full
     // test, which follows).
     const auto type_c_direction = [&](double s) {
-      const double phi = c.h0_rad + s * c.dh_rad;
+      double sd, cd;  // of the offset from the cell's middle C angle, |offset| ≤ 22.5°
+      sincos_small((s - 0.5) * c.dh_rad, &sd, &cd);
       const double sin_g = std::sqrt(std::max(0.0, 1.0 - m * m));
-      return Vec3{sin_g * std::cos(phi), sin_g * std::sin(phi), m};  // z = −cos γ = μ
+      return Vec3{sin_g * (c.cos_mid * cd - c.sin_mid * sd), sin_g * (c.sin_mid * cd + c.cos_mid * sd),
+                  m};  // z = −cos γ = μ
     };
     if (polar_is_gamma_ && r < c.i_min) return type_c_direction(u);
     const double p = polar_is_gamma_ ? std::acos(std::clamp(-m, -1.0, 1.0))
@@ -133,8 +148,7 @@ Result<AreaSampler> AreaSampler::create(const Mesh& mesh, bool two_sided) {
     const Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
     const double area = 0.5 * length(n);
     if (!(area > 0.0) || !std::isfinite(area)) continue;  // degenerate: emits nothing
-    s.corners_.insert(s.corners_.end(), {p[0], p[1], p[2]});
-    s.normals_.push_back(n / (2.0 * area));
+    s.triangles_.push_back({p[0], p[1] - p[0], p[2] - p[0], basis_from_normal(n / (2.0 * area))});
     s.triangle_index_.push_back(static_cast<std::uint32_t>(t));
     areas.push_back(area);
   }
@@ -147,13 +161,15 @@ Result<AreaSampler> AreaSampler::create(const Mesh& mesh, bool two_sided) {
 AreaSampler::Sample AreaSampler::sample(PhotonRandom& rng) const {
   const std::uint32_t k = triangle_table_.sample(rng.uniform());
   const Barycentric b = sample_uniform_triangle(rng.uniform(), rng.uniform());
-  const Vec3* p = &corners_[3 * static_cast<std::size_t>(k)];
+  const Triangle& tri = triangles_[k];
   Sample out;
-  out.position = b.b0 * p[0] + b.b1 * p[1] + b.b2 * p[2];
-  out.normal = normals_[k];
-  if (two_sided_ && rng.uniform() < 0.5) out.normal = -out.normal;
-  const Vec3 local = sample_cosine_hemisphere(rng);
-  out.direction = normalize(basis_from_normal(out.normal).to_world(local));
+  out.position = tri.corner + b.b1 * tri.edge1 + b.b2 * tri.edge2;
+  // The back side's basis: (t, −b, −n) is orthonormal and right-handed too.
+  const bool back = two_sided_ && rng.uniform() < 0.5;
+  const Basis frame = back ? Basis{tri.front.t, -tri.front.b, -tri.front.n} : tri.front;
+  out.normal = frame.n;
+  // Unit to rounding: an orthonormal basis applied to a unit vector.
+  out.direction = frame.to_world(sample_cosine_hemisphere(rng));
   out.triangle = triangle_index_[k];
   return out;
 }

@@ -14,6 +14,7 @@
 #include "photometry/distribution.h"
 #include "sim/alias_table.h"
 #include "sim/random.h"
+#include "sim/sampling.h"
 #include "sim/scene.h"
 
 namespace gonio::sim {
@@ -53,6 +54,7 @@ class ProfileSampler {
     double mu0, mu1;                // μ of the polar angle at its ends, mu0 < mu1
     double i00, i10, i01, i11;      // corners (h0,v0), (h1,v0), (h0,v1), (h1,v1) [cd]
     double i_min, i_max;            // smallest and largest corner [cd]
+    double cos_mid, sin_mid;        // Type C: cos and sin of the cell's middle C angle
   };
   photometry::PhotometricType type_ = photometry::PhotometricType::C;
   bool polar_is_vertical_ = true;   // Types C and A; Type B's polar angle is H
@@ -85,8 +87,11 @@ class AreaSampler {
   double area_m2() const { return area_m2_; }
 
  private:
-  std::vector<Vec3> corners_;   // three per triangle with positive area
-  std::vector<Vec3> normals_;   // front unit normal per such triangle
+  struct Triangle {
+    Vec3 corner, edge1, edge2;  // p0, p1 − p0, p2 − p0 [m]
+    Basis front;                // orthonormal, front.n the unit front normal
+  };
+  std::vector<Triangle> triangles_;            // those with positive area
   std::vector<std::uint32_t> triangle_index_;  // index in the mesh
   AliasTable triangle_table_;
   double area_m2_ = 0.0;

@@ -184,9 +184,11 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // offset along this face's normal alone would start the next ray behind
     // that face (a closed box leaked there). A quarter of the offset, so a
     // transmitted ray still starts on the far side.
-    Vec3 p = origin + t * direction;
-    p = p - direction * (0x1.0p-20 * (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) + t));
-    origin = offset(p, dot(s.direction, ng) > 0.0 ? ng : -ng, t);
+    // Both offsets scale with the hit point's largest coordinate.
+    const Vec3 p = origin + t * direction;
+    const double scale = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) + t;
+    const double off = 0x1.0p-18 * scale + offset_floor_m_;
+    origin = p - direction * (0x1.0p-20 * scale) + (dot(s.direction, ng) > 0.0 ? off : -off) * ng;
     direction = s.direction;
   }
 }

@@ -106,15 +106,15 @@ TEST(ProfileSampler, SymmetriesExpandBeforeSampling) {
   EXPECT_NEAR(integrate_sphere([&](const Vec3& d) { return s.pdf(d); }), 1.0, 2e-5);
 }
 
-TEST(ProfileSampler, SampledDirectionsReproduceTheProfile) {
-  auto asym = ProfileSampler::create(asymmetric());
-  ASSERT_TRUE(asym.ok());
-  const auto& s = asym.value();
-  // Bins: 12 in C × 12 in cos γ; expected counts from quadrature of the
-  // interpolated profile (photometry::interpolate, independent of the cells).
-  const int nc = 12, nz = 12, n = 600000;
+// χ² of n sampled directions against the interpolated profile
+// (photometry::interpolate, independent of the sampler's cells) over nc bins
+// in C × nz in cos γ; *dof gets the degrees of freedom.
+double sampled_chi2(const photometry::Distribution& profile, int nc, int nz, int n, int* dof) {
+  auto sampler = ProfileSampler::create(profile);
+  EXPECT_TRUE(sampler.ok());
+  if (!sampler.ok()) return 1e300;
   std::vector<double> obs(nc * nz, 0.0), exp(nc * nz, 0.0);
-  const photometry::Distribution e = photometry::expand_symmetry(asymmetric());
+  const photometry::Distribution e = photometry::expand_symmetry(profile);
   const int sub = 40;
   double total = 0.0;
   for (int i = 0; i < nc * sub; ++i) {
@@ -130,8 +130,8 @@ TEST(ProfileSampler, SampledDirectionsReproduceTheProfile) {
   for (double& x : exp) x *= n / total;
   for (int k = 0; k < n; ++k) {
     PhotonRandom rng(21, static_cast<std::uint64_t>(k));
-    const Vec3 d = s.sample(rng);
-    ASSERT_NEAR(length(d), 1.0, 1e-12);
+    const Vec3 d = sampler->sample(rng);
+    EXPECT_NEAR(length(d), 1.0, 1e-12);
     double c = std::atan2(d.y, d.x);
     if (c < 0) c += 2 * kPi;
     const int bc = std::min(nc - 1, static_cast<int>(c / (2 * kPi) * nc));
@@ -139,14 +139,45 @@ TEST(ProfileSampler, SampledDirectionsReproduceTheProfile) {
     obs[bc * nz + bz] += 1;
   }
   double chi2 = 0.0;
-  int dof = -1;
+  *dof = -1;
   for (std::size_t b = 0; b < obs.size(); ++b) {
     if (exp[b] < 5.0) continue;
     chi2 += (obs[b] - exp[b]) * (obs[b] - exp[b]) / exp[b];
-    ++dof;
+    ++*dof;
   }
+  return chi2;
+}
+
+TEST(ProfileSampler, SampledDirectionsReproduceTheProfile) {
+  int dof = 0;
+  const double chi2 = sampled_chi2(asymmetric(), 12, 12, 600000, &dof);
   // χ² with ~143 dof: mean 143, σ ≈ 17; 5σ above the mean.
   EXPECT_LT(chi2, dof + 5.0 * std::sqrt(2.0 * dof)) << "dof " << dof;
+}
+
+TEST(ProfileSampler, CellsWiderThan45DegreesInCAreCutWithoutChangingTheDensity) {
+  // Three C-planes 120° apart, the intensity linear in C between them, and a
+  // rotational profile (one plane for the whole circle): the sampler cuts
+  // such cells into parts of at most 45° in C. The flux and the sampled
+  // histogram (24 bins in C resolve the cuts) must be the interpolant's.
+  const photometry::Distribution three =
+      type_c({0, 120, 240, 360}, range(0, 180, 15), photometry::Symmetry::None, [](double c, double g) {
+        const double per_plane = c < 60 || c > 300 ? 50.0 : (c < 180 ? 400.0 : 150.0);
+        return per_plane * (1.2 + std::cos(g * kDeg));
+      });
+  const photometry::Distribution rotational = type_c(
+      {0}, range(0, 90, 5), photometry::Symmetry::Rotational,
+      [](double, double g) { return 800.0 * std::pow(std::cos(g * kDeg), 1.5); });
+  for (const auto* profile : {&three, &rotational}) {
+    auto s = ProfileSampler::create(*profile);
+    ASSERT_TRUE(s.ok());
+    const auto& sampler = s.value();
+    EXPECT_NEAR(integrate_sphere([&](const Vec3& d) { return sampler.intensity_cd(d); }),
+                sampler.flux_lm(), sampler.flux_lm() * 2e-5);
+    int dof = 0;
+    const double chi2 = sampled_chi2(*profile, 24, 12, 600000, &dof);
+    EXPECT_LT(chi2, dof + 5.0 * std::sqrt(2.0 * dof)) << "dof " << dof;
+  }
 }
 
 // Types A and B: grids in (H, V) with their own frames (photometry/angles.h).
