@@ -1,9 +1,14 @@
 #include "benchmarks/bench_scenes.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
+#include "sim/alias_table.h"
+#include "sim/random.h"
+#include "sim/sampling.h"
 #include "sim/shapes.h"
 
 namespace gonio::bench {
@@ -64,6 +69,56 @@ sim::SceneDesc sphere_scene(int segments, int rings) {
   e.flux_lm = 1.0;
   scene.emitters = {e};
   return scene;
+}
+
+std::vector<sim::RayQuery> random_surface_rays(const sim::SceneDesc& scene, std::uint64_t count,
+                                               std::uint64_t seed) {
+  struct Triangle {
+    Vec3 p0, e1, e2, n;  // corner, edges, unit normal
+  };
+  std::vector<Triangle> triangles;
+  std::vector<double> areas;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+  for (const sim::Mesh& m : scene.meshes) {
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+      Vec3 p[3];
+      for (int k = 0; k < 3; ++k) {
+        const sim::Vec3f& q = m.positions[m.indices[3 * t + k]];
+        p[k] = {q.x, q.y, q.z};
+        lo = {std::min(lo.x, p[k].x), std::min(lo.y, p[k].y), std::min(lo.z, p[k].z)};
+        hi = {std::max(hi.x, p[k].x), std::max(hi.y, p[k].y), std::max(hi.z, p[k].z)};
+      }
+      const Vec3 c = cross(p[1] - p[0], p[2] - p[0]);
+      const double len = length(c);
+      if (!(len > 0.0)) continue;
+      triangles.push_back({p[0], p[1] - p[0], p[2] - p[0], c / len});
+      areas.push_back(0.5 * len);
+    }
+  }
+  std::vector<sim::RayQuery> rays;
+  if (triangles.empty()) return rays;
+  const sim::AliasTable table(areas);
+  const double floor_m = 0x1.0p-24 * length(hi - lo);
+  rays.resize(count);
+  for (std::uint64_t i = 0; i < count; ++i) {
+    sim::PhotonRandom rng(seed, i);
+    const Triangle& tri = triangles[table.sample(rng.uniform())];
+    const sim::Barycentric b = sim::sample_uniform_triangle(rng.uniform(), rng.uniform());
+    const Vec3 d = sim::sample_uniform_sphere(rng);
+    const Vec3 p = tri.p0 + b.b1 * tri.e1 + b.b2 * tri.e2;
+    const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    const Vec3 side = dot(d, tri.n) > 0.0 ? tri.n : -tri.n;
+    const Vec3 o = p + side * (0x1.0p-18 * m + floor_m);
+    sim::RayQuery& r = rays[i];
+    r.origin[0] = static_cast<float>(o.x);
+    r.origin[1] = static_cast<float>(o.y);
+    r.origin[2] = static_cast<float>(o.z);
+    r.direction[0] = static_cast<float>(d.x);
+    r.direction[1] = static_cast<float>(d.y);
+    r.direction[2] = static_cast<float>(d.z);
+  }
+  return rays;
 }
 
 }  // namespace gonio::bench

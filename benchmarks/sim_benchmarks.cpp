@@ -14,7 +14,9 @@
 // Counters: photons_per_s and rays_per_s of the tracer (wall clock),
 // photons_per_cpu_s (per CPU-second of all threads), raw_rays_per_s of
 // bare Embree on the same scene and thread count, and ratio = rays_per_s /
-// raw_rays_per_s (goal ≥ 0.8); replay_rays_per_s of bare rtcIntersect1 on
+// raw_rays_per_s (goal ≥ 0.8); surface_rays_per_s of bare Embree on random
+// rays leaving random surface points (bench_scenes.h) and surface_ratio =
+// rays_per_s / that; replay_rays_per_s of bare rtcIntersect1 on
 // the tracer's own recorded rays and replay_ratio = rays_per_s / that (what
 // the tracer's own work costs on top of Embree's).
 #include <benchmark/benchmark.h>
@@ -67,12 +69,18 @@ void run_tracer(benchmark::State& state, const sim::SceneDesc& scene) {
   std::vector<sim::RayQuery> rays;
   sim.tracer().record_rays(sim.settings().seed, 0, 1u << 19, &rays);
   const auto replay = sim.tracer().embree().measure_rays(rays, threads);
+  // Random rays leaving random surface points: what Embree costs for rays
+  // that start where scattered photons do, without the tracer's choices.
+  const auto surface =
+      sim.tracer().embree().measure_rays(random_surface_rays(scene, 2'000'000, 7), threads);
   state.counters["photons_per_s"] = st.photons_per_s();
   state.counters["photons_per_cpu_s"] = static_cast<double>(st.photons) / cpu;
   state.counters["rays_per_s"] = st.rays_per_s();
   state.counters["rays_per_photon"] = static_cast<double>(st.rays) / static_cast<double>(st.photons);
   state.counters["raw_rays_per_s"] = raw.rays_per_s();
   state.counters["ratio"] = st.rays_per_s() / raw.rays_per_s();
+  state.counters["surface_rays_per_s"] = surface.rays_per_s();
+  state.counters["surface_ratio"] = st.rays_per_s() / surface.rays_per_s();
   state.counters["replay_rays_per_s"] = replay.rays_per_s();
   state.counters["replay_ratio"] = st.rays_per_s() / replay.rays_per_s();
   state.counters["triangles"] = static_cast<double>(sim.tracer().embree().triangle_count());
