@@ -82,6 +82,10 @@
 // - Text is Latin-1 (UTF-8 files are accepted too); lines end in CRLF, LF or
 //   CR; numbers may use a decimal comma and carry surrounding blanks. A
 //   numeric field that is empty is an error, never a silent 0.
+// - Negative intensities (field 30) are read as 0 with one
+//   "ldt-negative-intensity" warning that counts them and names the first
+//   one's line, C and γ, as the IES reader does ("negative-intensity"): one
+//   stray value does not cost the whole file.
 //
 // LM-63 fields without an EULUMDAT counterpart are reported, not written:
 // TILT data ("ldt-tilt-dropped"), a ballast factor or ballast-lamp factor

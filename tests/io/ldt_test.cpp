@@ -315,6 +315,36 @@ TEST(LdtRead, NotesWhatDoesNotFit) {
   EXPECT_EQ(longer->where.line, 1);
 }
 
+TEST(LdtRead, NegativeIntensitiesReadAsZeroWithAWarningNamingTheFirst) {
+  // As the IES reader does: one stray value does not cost the whole file.
+  Spec s = small_spec();
+  s.values[1] = -3;    // C 0, gamma 45: line 51
+  s.values[10] = -0.5;  // C 270, gamma 45
+  const LdtFile f = parse_ok(join(lines_of(s)));
+  const Distribution& d = f.distribution;
+  EXPECT_EQ(d.at(0, 1), 0.0);
+  EXPECT_EQ(d.at(3, 1), 0.0);
+  EXPECT_DOUBLE_EQ(d.at(0, 0), s.values[0] * 4.0);  // the others as read
+  EXPECT_DOUBLE_EQ(d.at(3, 2), s.values[11] * 4.0);
+  ASSERT_EQ(f.findings.size(), 1u);
+  const Finding& w = f.findings[0];
+  EXPECT_EQ(w.code, "ldt-negative-intensity");
+  EXPECT_EQ(w.severity, Severity::Warning);
+  EXPECT_EQ(w.where.file, "test.ldt");
+  EXPECT_EQ(w.where.line, 51);
+  EXPECT_NE(w.message.find("2 negative"), std::string::npos) << w.message;
+  EXPECT_NE(w.message.find("the first at C 0, gamma 45"), std::string::npos) << w.message;
+  // What was read can be written: the file holds no negative value any more.
+  auto text = write_ldt(d, {}, nullptr);
+  ASSERT_TRUE(text.ok()) << to_string(text.error());
+  EXPECT_TRUE(parse_ok(*text).findings.empty());
+
+  // No negative value, no warning; -0 is not negative.
+  s = small_spec();
+  s.values[4] = -0.0;
+  EXPECT_FALSE(has_finding(parse_ok(join(lines_of(s))).findings, "ldt-negative-intensity"));
+}
+
 // ------------------------------------------------------------ Ityp
 
 TEST(LdtRead, TypeIndicatorZeroIsAcceptedAndKept) {
@@ -998,12 +1028,12 @@ TEST(LdtBadInput, EachFieldNamesLineAndExpectation) {
        [](Spec&, std::vector<std::string>& l) { l[26] = "0"; }},
       {"zero lamp flux", 29, "total luminous flux of lamp set 1 [lm]",
        [](Spec&, std::vector<std::string>& l) { l[28] = "0"; }},
-      {"NaN intensity", 50, "intensity at C 0, gamma 0 [cd/klm] (>= 0), found 'nan'",
+      {"NaN intensity", 50, "intensity at C 0, gamma 0 [cd/klm], found 'nan'",
        [](Spec&, std::vector<std::string>& l) { l[49] = "nan"; }},
       {"inf intensity", 51, "found 'inf'",
        [](Spec&, std::vector<std::string>& l) { l[50] = "inf"; }},
-      {"negative intensity", 52, "(>= 0), found '-3'",
-       [](Spec&, std::vector<std::string>& l) { l[51] = "-3"; }},
+      {"-inf intensity", 52, "intensity at C 0, gamma 90 [cd/klm], found '-inf'",
+       [](Spec&, std::vector<std::string>& l) { l[51] = "-inf"; }},
       {"unsorted C", 45, "C angles must increase: 90 follows 180",
        [](Spec&, std::vector<std::string>& l) { std::swap(l[43], l[44]); }},
       {"unsorted gamma", 49, "gamma angles must increase: 45 follows 90",
