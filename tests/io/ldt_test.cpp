@@ -370,6 +370,40 @@ TEST(LdtRead, TypeIndicatorThatContradictsSymmetryIsAWarning) {
   EXPECT_EQ(f.distribution.ldt_type_indicator, 1);  // kept as read
 }
 
+TEST(LdtRead, TypeIndicatorZeroWithSymmetryIsAWarningAndKept) {
+  // Ityp 0 is a point source without symmetry: Isym 2 contradicts it.
+  Spec s = small_spec();
+  s.ityp = "0";
+  s.isym = "2";
+  s.values.resize(3 * 3);  // C0, C90, C180
+  const LdtFile f = parse_ok(join(lines_of(s)));
+  ASSERT_EQ(f.findings.size(), 1u) << f.findings[0].message;
+  const Finding& w = f.findings[0];
+  EXPECT_EQ(w.code, "ldt-ityp-isym-mismatch");
+  EXPECT_EQ(w.severity, Severity::Warning);
+  EXPECT_EQ(w.where.line, 3);
+  EXPECT_NE(w.message.find("Ityp 0 does not fit Isym 2"), std::string::npos) << w.message;
+  EXPECT_EQ(f.distribution.symmetry, Symmetry::C0_C180);  // Isym decides the planes
+  EXPECT_EQ(f.distribution.ldt_type_indicator, 0);
+  // Kept through LDT -> LDT, as read.
+  auto text = write_ldt(f.distribution, {}, nullptr);
+  ASSERT_TRUE(text.ok());
+  EXPECT_EQ(split_lines(*text)[1].text, "0");
+  EXPECT_EQ(split_lines(*text)[2].text, "2");
+}
+
+TEST(LdtWrite, TypeIndicatorZeroIsNeverDerived) {
+  // A model without an Ityp (from IES) gets 1 (rotational) or 3, never 0,
+  // which several readers reject, even without symmetry.
+  Spec s = small_spec();
+  Distribution d = parse_ok(join(lines_of(s))).distribution;
+  ASSERT_EQ(d.symmetry, Symmetry::None);
+  d.ldt_type_indicator.reset();
+  auto text = write_ldt(d, {}, nullptr);
+  ASSERT_TRUE(text.ok());
+  EXPECT_EQ(split_lines(*text)[1].text, "3");
+}
+
 // ------------------------------------------------------------ symmetries
 
 TEST(LdtSymmetry, Isym1StoresOnePlane) {
