@@ -49,7 +49,9 @@
 //   photometric-viewer's examples: single lamp, double lamp, alternative
 //   lamp). The intensities refer to the first set: cd = cd/klm × Φ₁ / 1000 ×
 //   conversion factor. The first set becomes `lamps[0]`, the others
-//   `alternative_lamps`. Counts are stored positive.
+//   `alternative_lamps`. Counts are stored positive. Field 26 holds 1–20
+//   sets: a file that declares more is an error on that line, and the writer
+//   writes the first 20 of a model that has more ("ldt-too-many-lamp-sets").
 // - Absolute photometry: a negative lamp count in the first set. Its flux
 //   field then holds the luminaire's measured flux Φ_lum and the intensities
 //   are cd per 1000 lm of it (cd = value × Φ_lum / 1000 × conversion

@@ -315,6 +315,71 @@ TEST(LdtRead, NotesWhatDoesNotFit) {
   EXPECT_EQ(longer->where.line, 1);
 }
 
+// Each reader warning fires on a file crafted for it, alone, on its line.
+struct WarningCase {
+  const char* code;
+  int line;
+  void (*edit)(Spec&);
+};
+
+TEST(LdtRead, EachWarningNamesItsLine) {
+  const WarningCase cases[] = {
+      {"ldt-dff-range", 22, [](Spec& s) { s.dff = "120"; }},
+      {"ldt-dff-range", 22, [](Spec& s) { s.dff = "-5"; }},
+      {"ldt-lorl-range", 23, [](Spec& s) { s.lorl = "100,5"; }},
+      {"ldt-lorl-range", 23, [](Spec& s) { s.lorl = "-1"; }},
+      {"ldt-dg-mismatch", 7, [](Spec& s) { s.dg = "40"; }},  // gamma 0, 45, 90
+      {"ldt-dc-mismatch", 5, [](Spec& s) { s.dc = "45"; }},  // C 0, 90, 180, 270
+      // Set 1 alone decides absolute photometry; set 2's count is on line 33.
+      {"ldt-lamp-count-sign", 33,
+       [](Spec& s) { s.sets.push_back({"-1", "LED", "2000", "", "", "20"}); }},
+      {"ldt-lamp-count-sign", 33,
+       [](Spec& s) {
+         s.sets[0].count = "-2";
+         s.sets.push_back({"1", "LED", "2000", "", "", "20"});
+       }},
+      {"ldt-first-plane-not-c0", 43, [](Spec& s) { s.c = {10, 100, 190, 280}; }},
+      {"ldt-conversion-factor-zero", 24, [](Spec& s) { s.cfli = "0"; }},
+      {"ldt-negative-intensity", 50, [](Spec& s) { s.values[0] = -1; }},
+      {"ldt-ityp-isym-mismatch", 3, [](Spec& s) { s.ityp = "1"; }},
+  };
+  ASSERT_TRUE(parse_ok(join(lines_of(small_spec()))).findings.empty());
+  for (const WarningCase& c : cases) {
+    SCOPED_TRACE(c.code);
+    Spec s = small_spec();
+    c.edit(s);
+    const LdtFile f = parse_ok(join(lines_of(s)));
+    ASSERT_EQ(f.findings.size(), 1u);
+    EXPECT_EQ(f.findings[0].code, c.code) << f.findings[0].message;
+    EXPECT_EQ(f.findings[0].severity, Severity::Warning);
+    EXPECT_EQ(f.findings[0].where.file, "test.ldt");
+    EXPECT_EQ(f.findings[0].where.line, c.line) << f.findings[0].message;
+  }
+}
+
+TEST(LdtRead, TwentyLampSetsAreReadMoreAreRefused) {
+  Spec s = small_spec();
+  s.sets.clear();
+  for (int i = 1; i <= kMaxLdtLampSets; ++i)
+    s.sets.push_back({"1", "Set " + std::to_string(i), std::to_string(1000 + i), "", "", "10"});
+  const LdtFile f = parse_ok(join(lines_of(s)));
+  EXPECT_TRUE(f.findings.empty()) << f.findings[0].message;
+  const Distribution& d = f.distribution;
+  ASSERT_EQ(d.lamps.size(), 1u);
+  ASSERT_EQ(d.alternative_lamps.size(), 19u);
+  EXPECT_EQ(d.alternative_lamps.back().type, "Set 20");
+  EXPECT_EQ(d.alternative_lamps.back().flux_lm, 1020.0);
+  EXPECT_DOUBLE_EQ(d.at(0, 0), s.values[0] * 1.001);  // set 1 scales
+
+  // The standard's field 26 holds 1-20: a 21st set is an error on line 26,
+  // before any set is read.
+  s.sets.push_back({"1", "Set 21", "1021", "", "", "10"});
+  const Error e = parse_error(join(lines_of(s)));
+  EXPECT_EQ(e.where.line, 26);
+  EXPECT_NE(e.message.find("number of lamp sets (1-20), found '21'"), std::string::npos)
+      << e.message;
+}
+
 TEST(LdtRead, NegativeIntensitiesReadAsZeroWithAWarningNamingTheFirst) {
   // As the IES reader does: one stray value does not cost the whole file.
   Spec s = small_spec();
@@ -863,6 +928,111 @@ TEST(LdtWrite, ReportsLm63FieldsItCannotHold) {
             2);
   // EULUMDAT keeps the lamp set's wattage.
   EXPECT_EQ(parse_ok(*text).distribution.lamps[0].power_w, 29.5);
+}
+
+// Each writer finding fires on a model crafted for it, and the file says
+// what the finding says.
+struct WriteCase {
+  const char* code;
+  Severity severity;
+  void (*edit)(Distribution&);
+  void (*expect)(const std::vector<TextLine>& lines, const Distribution& back);
+};
+
+TEST(LdtWrite, EachFindingFiresOnItsModel) {
+  const WriteCase cases[] = {
+      {"ldt-first-plane-not-c0", Severity::Warning,
+       [](Distribution& d) {
+         d.symmetry = Symmetry::None;
+         d.horizontal_deg = {10, 100, 190, 280};
+         d.candela.resize(4 * d.vertical_count());
+       },
+       [](const std::vector<TextLine>& l, const Distribution& back) {
+         EXPECT_EQ(l[2].text, "0");   // Isym
+         EXPECT_EQ(l[42].text, "10");  // the first C angle, as the model has it
+         EXPECT_EQ(back.horizontal_deg, (std::vector<double>{10, 100, 190, 280}));
+       }},
+      {"ldt-no-flux", Severity::Warning,
+       [](Distribution& d) {
+         d.absolute = true;
+         d.lamps[0].flux_lm = photometry::kNaN;
+         std::fill(d.candela.begin(), d.candela.end(), 0.0);
+       },
+       [](const std::vector<TextLine>& l, const Distribution& back) {
+         EXPECT_EQ(l[26].text, "-2");    // absolute: negative lamp count
+         EXPECT_EQ(l[28].text, "1000");  // relative to 1000 lm
+         EXPECT_TRUE(back.absolute);
+         EXPECT_EQ(photometry::total_flux_lm(back), 0.0);
+       }},
+      {"ldt-computed-flux", Severity::Info,
+       [](Distribution& d) {
+         d.absolute = true;
+         d.lamps[0].flux_lm = photometry::kNaN;
+       },
+       [](const std::vector<TextLine>& l, const Distribution& back) {
+         EXPECT_EQ(l[26].text, "-2");
+         EXPECT_NEAR(std::stod(std::string(l[28].text)), photometry::total_flux_lm(back),
+                     1e-5 * photometry::total_flux_lm(back));
+       }},
+      {"ldt-dimensions-unknown", Severity::Info,
+       [](Distribution& d) { d.luminaire.height_m = photometry::kNaN; },
+       [](const std::vector<TextLine>& l, const Distribution& back) {
+         EXPECT_EQ(l[12].text, "600");
+         EXPECT_EQ(l[14].text, "0");  // unknown height
+         EXPECT_EQ(back.luminaire.height_m, 0.0);
+       }},
+      {"ldt-too-many-lamp-sets", Severity::Warning,
+       [](Distribution& d) {
+         for (int i = 2; i <= kMaxLdtLampSets + 1; ++i) {
+           photometry::LampSet alt = d.lamps[0];
+           alt.type = "Set " + std::to_string(i);
+           d.alternative_lamps.push_back(alt);
+         }
+       },
+       [](const std::vector<TextLine>& l, const Distribution& back) {
+         EXPECT_EQ(l[25].text, "20");
+         ASSERT_EQ(back.alternative_lamps.size(), 19u);
+         EXPECT_EQ(back.alternative_lamps.back().type, "Set 20");  // the 21st is left out
+       }},
+  };
+  for (const WriteCase& c : cases) {
+    SCOPED_TRACE(c.code);
+    Distribution d = model_c0_c180();
+    std::vector<Finding> w;
+    ASSERT_TRUE(write_ldt(d, {}, &w).ok());
+    ASSERT_FALSE(has_finding(w, c.code));
+    c.edit(d);
+    ASSERT_TRUE(photometry::validate(d).ok());
+    w.clear();
+    auto text = write_ldt(d, {}, &w);
+    ASSERT_TRUE(text.ok()) << to_string(text.error());
+    ASSERT_EQ(w.size(), 1u) << w[0].code << ": " << w[0].message;
+    EXPECT_EQ(w[0].code, c.code) << w[0].message;
+    EXPECT_EQ(w[0].severity, c.severity);
+    c.expect(split_lines(*text), parse_ok(*text).distribution);
+  }
+}
+
+TEST(LdtWrite, TwentyLampSetsAreWrittenWithoutAWarning) {
+  Distribution d = model_c0_c180();
+  for (int i = 2; i <= kMaxLdtLampSets; ++i) {
+    photometry::LampSet alt = d.lamps[0];
+    alt.type = "Set " + std::to_string(i);
+    alt.flux_lm = 1000.0 + i;
+    d.alternative_lamps.push_back(alt);
+  }
+  std::vector<Finding> w;
+  auto text = write_ldt(d, {}, &w);
+  ASSERT_TRUE(text.ok());
+  EXPECT_TRUE(w.empty()) << w[0].message;
+  EXPECT_EQ(split_lines(*text)[25].text, "20");
+  const Distribution r = parse_ok(*text).distribution;
+  ASSERT_EQ(r.alternative_lamps.size(), 19u);
+  for (std::size_t i = 0; i < 19; ++i) {
+    EXPECT_EQ(r.alternative_lamps[i].type, d.alternative_lamps[i].type);
+    EXPECT_EQ(r.alternative_lamps[i].flux_lm, d.alternative_lamps[i].flux_lm);
+  }
+  expect_same_candela(d, r, 1e-11);
 }
 
 TEST(LdtWrite, ComputesMissingDirectRatiosFromTheDistribution) {
