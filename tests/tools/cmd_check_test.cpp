@@ -117,6 +117,8 @@ TEST(CliCheck, GoesOnAfterUnreadableFilesAndReportsTheWorst) {
   EXPECT_TRUE(contains(r.out, f.warned + ": 2 warnings")) << r.out;
   EXPECT_EQ(count(r.out, ", unreadable\n"), 3) << r.out;
   EXPECT_TRUE(contains(r.out, "5 files: 1 clean, 1 with warnings, 3 with errors\n")) << r.out;
+  // Unreadable files are part of the report, on stdout like the rest.
+  EXPECT_TRUE(r.err.empty()) << r.err;
   // Warnings only, over several files: 3.
   EXPECT_EQ(gonio({"check", f.clean_ldt, f.warned, f.note}).exit_code, kWarnings);
 }
@@ -210,6 +212,21 @@ TEST(CliCheck, NegativeIntensitiesAreOneWarningInEveryCommand) {
     auto again = gonio({"check", out});
     EXPECT_FALSE(contains(again.out, "negative-intensity")) << again.out;
   }
+}
+
+// stderr carries only usage errors and a report that could not be written.
+TEST(CliCheck, StderrHoldsUsageErrorsAndAReportThatCouldNotBeWritten) {
+  Files f;
+  auto usage = gonio({"check", f.warned, "--frob"});
+  EXPECT_EQ(usage.exit_code, 2);
+  EXPECT_TRUE(usage.out.empty()) << usage.out;
+  EXPECT_TRUE(contains(usage.err, "gonio: check: unknown option '--frob'")) << usage.err;
+
+  // Standard output on a full disk: the findings are lost, and said to be.
+  auto full = test::run_process(
+      {"/bin/sh", "-c", "exec \"$0\" check \"$1\" >/dev/full", GONIO_EXECUTABLE, f.warned});
+  EXPECT_EQ(full.exit_code, 1) << full.err;
+  EXPECT_EQ(full.err, "gonio: check: cannot write the report to standard output\n");
 }
 
 TEST(CliCheck, Isym3OrderOptionIsAccepted) {
