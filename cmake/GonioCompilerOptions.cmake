@@ -14,6 +14,12 @@ target_compile_options(gonio_warnings INTERFACE
 if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
   target_compile_options(gonio_warnings INTERFACE -Wno-restrict)
 endif()
+# CI builds with GONIO_WERROR=ON (scripts/test.sh, when the environment sets
+# GONIO_WERROR=1), so that a warning fails the build instead of scrolling by.
+option(GONIO_WERROR "Treat compiler warnings in Gonio's own code as errors" OFF)
+if(GONIO_WERROR)
+  target_compile_options(gonio_warnings INTERFACE -Werror)
+endif()
 
 # Options for the hot numeric code: no -ffast-math (NaN checks must survive),
 # but let the compiler contract multiply-adds and vectorise.

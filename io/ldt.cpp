@@ -455,17 +455,33 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
   const std::size_t nstored = stored.size();
   std::vector<double> values;
   values.reserve(std::min(nstored * nv, r.remaining()));
+  std::size_t negative = 0;
+  int negative_line = 0;
+  std::string negative_at;  // where the first negative value lies
   for (std::size_t p = 0; p < nstored; ++p) {
     const double c = c_angles[stored[p]];
     for (std::size_t v = 0; v < nv; ++v) {
+      const int at = r.line();
       double x = 0.0;
       const auto what = [&] {
-        return "the intensity at C " + deg(c) + ", gamma " + deg(gammas[v]) + " [cd/klm] (>= 0)";
+        return "the intensity at C " + deg(c) + ", gamma " + deg(gammas[v]) + " [cd/klm]";
       };
-      if (!r.number(&x, what, 0.0)) return r.error();
+      if (!r.number(&x, what)) return r.error();
+      if (x < 0.0) {
+        if (negative++ == 0) {
+          negative_line = at;
+          negative_at = "C " + deg(c) + ", gamma " + deg(gammas[v]);
+        }
+        x = 0.0;
+      }
       values.push_back(x * scale);
     }
   }
+  if (negative > 0)
+    r.note(Severity::Warning, "ldt-negative-intensity",
+           std::to_string(negative) + " negative intensity value(s) read as 0 (the first at " +
+               negative_at + ")",
+           negative_line);
   if (const TextLine* extra = r.first_trailing())
     r.note(Severity::Warning, "ldt-trailing-lines",
            "lines after the last intensity are ignored, beginning with " + shown(trim(extra->text)),

@@ -49,7 +49,9 @@
 //   photometric-viewer's examples: single lamp, double lamp, alternative
 //   lamp). The intensities refer to the first set: cd = cd/klm × Φ₁ / 1000 ×
 //   conversion factor. The first set becomes `lamps[0]`, the others
-//   `alternative_lamps`. Counts are stored positive.
+//   `alternative_lamps`. Counts are stored positive. Field 26 holds 1–20
+//   sets: a file that declares more is an error on that line, and the writer
+//   writes the first 20 of a model that has more ("ldt-too-many-lamp-sets").
 // - Absolute photometry: a negative lamp count in the first set. Its flux
 //   field then holds the luminaire's measured flux Φ_lum and the intensities
 //   are cd per 1000 lm of it (cd = value × Φ_lum / 1000 × conversion
@@ -82,6 +84,10 @@
 // - Text is Latin-1 (UTF-8 files are accepted too); lines end in CRLF, LF or
 //   CR; numbers may use a decimal comma and carry surrounding blanks. A
 //   numeric field that is empty is an error, never a silent 0.
+// - Negative intensities (field 30) are read as 0 with one
+//   "ldt-negative-intensity" warning that counts them and names the first
+//   one's line, C and γ, as the IES reader does ("negative-intensity"): one
+//   stray value does not cost the whole file.
 //
 // LM-63 fields without an EULUMDAT counterpart are reported, not written:
 // TILT data ("ldt-tilt-dropped"), a ballast factor or ballast-lamp factor

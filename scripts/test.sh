@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # README command (2): installs what is missing, builds, and runs every test:
-# the photometry and io suites under AddressSanitizer and
+# the photometry, io and io corpus suites under AddressSanitizer and
 # UndefinedBehaviorSanitizer, then the whole ctest suite on the Release build.
+# GONIO_WERROR=1 in the environment (CI sets it) builds both with warnings as
+# errors.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc 2>/dev/null || echo 2)
@@ -9,14 +11,14 @@ jobs=$(nproc 2>/dev/null || echo 2)
 bash scripts/setup.sh
 
 echo "== sanitizer build (AddressSanitizer + UndefinedBehaviorSanitizer)"
-if [ ! -f build-asan/CMakeCache.txt ]; then
-  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DGONIO_SANITIZE=ON \
-    -DGONIO_BUILD_BENCHMARKS=OFF >/dev/null
-fi
-cmake --build build-asan -j"$jobs" --target gonio_photometry_tests gonio_io_tests
+bash scripts/configure.sh build-asan -DCMAKE_BUILD_TYPE=Debug -DGONIO_SANITIZE=ON \
+  -DGONIO_BUILD_BENCHMARKS=OFF
+suites=(gonio_photometry_tests gonio_io_tests gonio_io_corpus_tests)
+cmake --build build-asan -j"$jobs" --target "${suites[@]}"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-for suite in gonio_photometry_tests gonio_io_tests; do
+# The corpus suite skips, saying so, where ../shared/corpus is absent.
+for suite in "${suites[@]}"; do
   echo "== $suite (sanitizers)"
   ./build-asan/tests/$suite --gtest_brief=1
 done

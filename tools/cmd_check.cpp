@@ -24,14 +24,15 @@ constexpr const char* kDescription =
     "negative or absurd intensities, implausible LOR and efficacy, declared LOR/DFF\n"
     "against the integrated values).\n"
     "\n"
-    "Each finding is printed on stdout as\n"
+    "The report goes to standard output: each finding as\n"
     "  gonio: FILE:LINE: SEVERITY: message [code]\n"
     "(LINE left out where a finding concerns the whole model), SEVERITY being error,\n"
     "warning or info, then one summary line per file ('FILE: clean (...)', 'FILE: 2\n"
     "warnings (...)', 'FILE: 1 error, unreadable') and, for several files, a total. A\n"
-    "file that cannot be read is an error for that file; the check goes on with the\n"
-    "next. Codes are stable (photometry/validation.h, io/ies.h, io/ldt.h);\n"
-    "'unreadable' marks a file the reader refused.\n"
+    "file that cannot be read is an error finding in the report, code 'unreadable',\n"
+    "with the reader's file and line; the check goes on with the next. Codes are\n"
+    "stable (photometry/validation.h, io/ies.h, io/ldt.h). Standard error carries\n"
+    "only usage errors and, if the report could not be written, that.\n"
     "\n"
     "With --json, stdout is one JSON object instead:\n"
     "  {\"files\": [{\"file\", \"format\", \"version\", \"readable\", \"status\",\n"
@@ -41,7 +42,7 @@ constexpr const char* kDescription =
     "\n"
     "Exit status:\n"
     "  0  every file is clean (info lines do not count)\n"
-    "  1  the command itself failed (e.g. standard output could not be written)\n"
+    "  1  the report could not be written to standard output\n"
     "  2  usage error\n"
     "  3  warnings, but no errors\n"
     "  4  errors in at least one file (including files that could not be read)\n"
@@ -183,7 +184,13 @@ int run_check(const Args& args) {
                 plural(static_cast<int>(paths.size()), "file").c_str(), clean, with_warnings,
                 with_errors);
   }
-  return std::fflush(stdout) == 0 ? code : kExitFailure;
+  // The report is the command's output: where it could not be written, say
+  // so where it can still be read.
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    print_error("check: cannot write the report to standard output");
+    return kExitFailure;
+  }
+  return code;
 }
 
 }  // namespace gonio::cli

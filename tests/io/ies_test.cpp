@@ -1187,6 +1187,72 @@ TEST(IesWrite, DefaultsAreFilledAndReported) {
   EXPECT_TRUE(contains(write_ies(d, options, nullptr), "[ISSUEDATE] 2025-01-31\r\n"));
 }
 
+// Each writer finding fires on a model crafted for it, alone, and the file
+// holds what the finding says was written.
+struct WriteCase {
+  const char* what;
+  const char* code;
+  void (*edit)(Distribution&);
+  void (*expect)(const Distribution& back);
+};
+
+TEST(IesWrite, EachFindingFiresOnItsModel) {
+  const WriteCase cases[] = {
+      {"lamp power against input watts", "lamp-power",
+       [](Distribution& d) { d.lamps[0].power_w = 20.0; },  // input watts 31.5
+       [](const Distribution& back) { EXPECT_EQ(back.input_watts, 31.5); }},
+      {"relative photometry without lamps", "no-lamp-flux",
+       [](Distribution& d) { d.lamps.clear(); },
+       [](const Distribution& back) {
+         EXPECT_TRUE(back.absolute);
+         ASSERT_EQ(back.lamps.size(), 1u);
+         EXPECT_EQ(back.lamps[0].count, 1);
+       }},
+      {"tilt without angles", "tilt-invalid",
+       [](Distribution& d) {
+         d.tilt.kind = Tilt::Kind::Include;
+         d.tilt.lamp_geometry = 1;
+       },
+       [](const Distribution& back) { EXPECT_EQ(back.tilt.kind, Tilt::Kind::None); }},
+      {"tilt factors that do not match the angles", "tilt-invalid",
+       [](Distribution& d) {
+         d.tilt.kind = Tilt::Kind::Include;
+         d.tilt.lamp_geometry = 1;
+         d.tilt.angles_deg = {0, 45, 90};
+         d.tilt.factors = {1, 0.9};
+       },
+       [](const Distribution& back) { EXPECT_EQ(back.tilt.kind, Tilt::Kind::None); }},
+      {"tilt lamp geometry 4", "tilt-invalid",
+       [](Distribution& d) {
+         d.tilt.kind = Tilt::Kind::File;
+         d.tilt.file = "lamp.tlt";
+         d.tilt.lamp_geometry = 4;
+         d.tilt.angles_deg = {0, 90};
+         d.tilt.factors = {1, 0.8};
+       },
+       [](const Distribution& back) { EXPECT_EQ(back.tilt.kind, Tilt::Kind::None); }},
+      {"unknown ballast factor", "ballast-factor-unknown",
+       [](Distribution& d) { d.ballast_factor = kNaN; },
+       [](const Distribution& back) { EXPECT_EQ(back.ballast_factor, 1.0); }},
+  };
+  std::vector<Finding> warnings;
+  write_and_read(sample(), &warnings);
+  ASSERT_TRUE(warnings.empty()) << warnings[0].message;
+  for (const WriteCase& c : cases) {
+    SCOPED_TRACE(c.what);
+    Distribution d = sample();
+    c.edit(d);
+    ASSERT_TRUE(photometry::validate(d).ok());
+    warnings.clear();
+    const IesFile f = write_and_read(d, &warnings);
+    ASSERT_EQ(warnings.size(), 1u) << warnings[0].code << ": " << warnings[0].message;
+    EXPECT_EQ(warnings[0].code, c.code) << warnings[0].message;
+    EXPECT_EQ(warnings[0].severity, Severity::Warning);
+    EXPECT_TRUE(f.findings.empty()) << f.findings[0].message;  // a clean file all the same
+    c.expect(f.distribution);
+  }
+}
+
 TEST(IesWrite, WhatIesCannotCarryIsReported) {
   Distribution d = sample();
   d.lamps = {photometry::LampSet{2, "T5 28W", 5200.0, "3000 K", "1B", 32.0},

@@ -315,6 +315,101 @@ TEST(LdtRead, NotesWhatDoesNotFit) {
   EXPECT_EQ(longer->where.line, 1);
 }
 
+// Each reader warning fires on a file crafted for it, alone, on its line.
+struct WarningCase {
+  const char* code;
+  int line;
+  void (*edit)(Spec&);
+};
+
+TEST(LdtRead, EachWarningNamesItsLine) {
+  const WarningCase cases[] = {
+      {"ldt-dff-range", 22, [](Spec& s) { s.dff = "120"; }},
+      {"ldt-dff-range", 22, [](Spec& s) { s.dff = "-5"; }},
+      {"ldt-lorl-range", 23, [](Spec& s) { s.lorl = "100,5"; }},
+      {"ldt-lorl-range", 23, [](Spec& s) { s.lorl = "-1"; }},
+      {"ldt-dg-mismatch", 7, [](Spec& s) { s.dg = "40"; }},  // gamma 0, 45, 90
+      {"ldt-dc-mismatch", 5, [](Spec& s) { s.dc = "45"; }},  // C 0, 90, 180, 270
+      // Set 1 alone decides absolute photometry; set 2's count is on line 33.
+      {"ldt-lamp-count-sign", 33,
+       [](Spec& s) { s.sets.push_back({"-1", "LED", "2000", "", "", "20"}); }},
+      {"ldt-lamp-count-sign", 33,
+       [](Spec& s) {
+         s.sets[0].count = "-2";
+         s.sets.push_back({"1", "LED", "2000", "", "", "20"});
+       }},
+      {"ldt-first-plane-not-c0", 43, [](Spec& s) { s.c = {10, 100, 190, 280}; }},
+      {"ldt-conversion-factor-zero", 24, [](Spec& s) { s.cfli = "0"; }},
+      {"ldt-negative-intensity", 50, [](Spec& s) { s.values[0] = -1; }},
+      {"ldt-ityp-isym-mismatch", 3, [](Spec& s) { s.ityp = "1"; }},
+  };
+  ASSERT_TRUE(parse_ok(join(lines_of(small_spec()))).findings.empty());
+  for (const WarningCase& c : cases) {
+    SCOPED_TRACE(c.code);
+    Spec s = small_spec();
+    c.edit(s);
+    const LdtFile f = parse_ok(join(lines_of(s)));
+    ASSERT_EQ(f.findings.size(), 1u);
+    EXPECT_EQ(f.findings[0].code, c.code) << f.findings[0].message;
+    EXPECT_EQ(f.findings[0].severity, Severity::Warning);
+    EXPECT_EQ(f.findings[0].where.file, "test.ldt");
+    EXPECT_EQ(f.findings[0].where.line, c.line) << f.findings[0].message;
+  }
+}
+
+TEST(LdtRead, TwentyLampSetsAreReadMoreAreRefused) {
+  Spec s = small_spec();
+  s.sets.clear();
+  for (int i = 1; i <= kMaxLdtLampSets; ++i)
+    s.sets.push_back({"1", "Set " + std::to_string(i), std::to_string(1000 + i), "", "", "10"});
+  const LdtFile f = parse_ok(join(lines_of(s)));
+  EXPECT_TRUE(f.findings.empty()) << f.findings[0].message;
+  const Distribution& d = f.distribution;
+  ASSERT_EQ(d.lamps.size(), 1u);
+  ASSERT_EQ(d.alternative_lamps.size(), 19u);
+  EXPECT_EQ(d.alternative_lamps.back().type, "Set 20");
+  EXPECT_EQ(d.alternative_lamps.back().flux_lm, 1020.0);
+  EXPECT_DOUBLE_EQ(d.at(0, 0), s.values[0] * 1.001);  // set 1 scales
+
+  // The standard's field 26 holds 1-20: a 21st set is an error on line 26,
+  // before any set is read.
+  s.sets.push_back({"1", "Set 21", "1021", "", "", "10"});
+  const Error e = parse_error(join(lines_of(s)));
+  EXPECT_EQ(e.where.line, 26);
+  EXPECT_NE(e.message.find("number of lamp sets (1-20), found '21'"), std::string::npos)
+      << e.message;
+}
+
+TEST(LdtRead, NegativeIntensitiesReadAsZeroWithAWarningNamingTheFirst) {
+  // As the IES reader does: one stray value does not cost the whole file.
+  Spec s = small_spec();
+  s.values[1] = -3;    // C 0, gamma 45: line 51
+  s.values[10] = -0.5;  // C 270, gamma 45
+  const LdtFile f = parse_ok(join(lines_of(s)));
+  const Distribution& d = f.distribution;
+  EXPECT_EQ(d.at(0, 1), 0.0);
+  EXPECT_EQ(d.at(3, 1), 0.0);
+  EXPECT_DOUBLE_EQ(d.at(0, 0), s.values[0] * 4.0);  // the others as read
+  EXPECT_DOUBLE_EQ(d.at(3, 2), s.values[11] * 4.0);
+  ASSERT_EQ(f.findings.size(), 1u);
+  const Finding& w = f.findings[0];
+  EXPECT_EQ(w.code, "ldt-negative-intensity");
+  EXPECT_EQ(w.severity, Severity::Warning);
+  EXPECT_EQ(w.where.file, "test.ldt");
+  EXPECT_EQ(w.where.line, 51);
+  EXPECT_NE(w.message.find("2 negative"), std::string::npos) << w.message;
+  EXPECT_NE(w.message.find("the first at C 0, gamma 45"), std::string::npos) << w.message;
+  // What was read can be written: the file holds no negative value any more.
+  auto text = write_ldt(d, {}, nullptr);
+  ASSERT_TRUE(text.ok()) << to_string(text.error());
+  EXPECT_TRUE(parse_ok(*text).findings.empty());
+
+  // No negative value, no warning; -0 is not negative.
+  s = small_spec();
+  s.values[4] = -0.0;
+  EXPECT_FALSE(has_finding(parse_ok(join(lines_of(s))).findings, "ldt-negative-intensity"));
+}
+
 // ------------------------------------------------------------ Ityp
 
 TEST(LdtRead, TypeIndicatorZeroIsAcceptedAndKept) {
@@ -338,6 +433,40 @@ TEST(LdtRead, TypeIndicatorThatContradictsSymmetryIsAWarning) {
   ASSERT_NE(w, nullptr);
   EXPECT_EQ(w->where.line, 3);
   EXPECT_EQ(f.distribution.ldt_type_indicator, 1);  // kept as read
+}
+
+TEST(LdtRead, TypeIndicatorZeroWithSymmetryIsAWarningAndKept) {
+  // Ityp 0 is a point source without symmetry: Isym 2 contradicts it.
+  Spec s = small_spec();
+  s.ityp = "0";
+  s.isym = "2";
+  s.values.resize(3 * 3);  // C0, C90, C180
+  const LdtFile f = parse_ok(join(lines_of(s)));
+  ASSERT_EQ(f.findings.size(), 1u) << f.findings[0].message;
+  const Finding& w = f.findings[0];
+  EXPECT_EQ(w.code, "ldt-ityp-isym-mismatch");
+  EXPECT_EQ(w.severity, Severity::Warning);
+  EXPECT_EQ(w.where.line, 3);
+  EXPECT_NE(w.message.find("Ityp 0 does not fit Isym 2"), std::string::npos) << w.message;
+  EXPECT_EQ(f.distribution.symmetry, Symmetry::C0_C180);  // Isym decides the planes
+  EXPECT_EQ(f.distribution.ldt_type_indicator, 0);
+  // Kept through LDT -> LDT, as read.
+  auto text = write_ldt(f.distribution, {}, nullptr);
+  ASSERT_TRUE(text.ok());
+  EXPECT_EQ(split_lines(*text)[1].text, "0");
+  EXPECT_EQ(split_lines(*text)[2].text, "2");
+}
+
+TEST(LdtWrite, TypeIndicatorZeroIsNeverDerived) {
+  // A model without an Ityp (from IES) gets 1 (rotational) or 3, never 0,
+  // which several readers reject, even without symmetry.
+  Spec s = small_spec();
+  Distribution d = parse_ok(join(lines_of(s))).distribution;
+  ASSERT_EQ(d.symmetry, Symmetry::None);
+  d.ldt_type_indicator.reset();
+  auto text = write_ldt(d, {}, nullptr);
+  ASSERT_TRUE(text.ok());
+  EXPECT_EQ(split_lines(*text)[1].text, "3");
 }
 
 // ------------------------------------------------------------ symmetries
@@ -801,6 +930,111 @@ TEST(LdtWrite, ReportsLm63FieldsItCannotHold) {
   EXPECT_EQ(parse_ok(*text).distribution.lamps[0].power_w, 29.5);
 }
 
+// Each writer finding fires on a model crafted for it, and the file says
+// what the finding says.
+struct WriteCase {
+  const char* code;
+  Severity severity;
+  void (*edit)(Distribution&);
+  void (*expect)(const std::vector<TextLine>& lines, const Distribution& back);
+};
+
+TEST(LdtWrite, EachFindingFiresOnItsModel) {
+  const WriteCase cases[] = {
+      {"ldt-first-plane-not-c0", Severity::Warning,
+       [](Distribution& d) {
+         d.symmetry = Symmetry::None;
+         d.horizontal_deg = {10, 100, 190, 280};
+         d.candela.resize(4 * d.vertical_count());
+       },
+       [](const std::vector<TextLine>& l, const Distribution& back) {
+         EXPECT_EQ(l[2].text, "0");   // Isym
+         EXPECT_EQ(l[42].text, "10");  // the first C angle, as the model has it
+         EXPECT_EQ(back.horizontal_deg, (std::vector<double>{10, 100, 190, 280}));
+       }},
+      {"ldt-no-flux", Severity::Warning,
+       [](Distribution& d) {
+         d.absolute = true;
+         d.lamps[0].flux_lm = photometry::kNaN;
+         std::fill(d.candela.begin(), d.candela.end(), 0.0);
+       },
+       [](const std::vector<TextLine>& l, const Distribution& back) {
+         EXPECT_EQ(l[26].text, "-2");    // absolute: negative lamp count
+         EXPECT_EQ(l[28].text, "1000");  // relative to 1000 lm
+         EXPECT_TRUE(back.absolute);
+         EXPECT_EQ(photometry::total_flux_lm(back), 0.0);
+       }},
+      {"ldt-computed-flux", Severity::Info,
+       [](Distribution& d) {
+         d.absolute = true;
+         d.lamps[0].flux_lm = photometry::kNaN;
+       },
+       [](const std::vector<TextLine>& l, const Distribution& back) {
+         EXPECT_EQ(l[26].text, "-2");
+         EXPECT_NEAR(std::stod(std::string(l[28].text)), photometry::total_flux_lm(back),
+                     1e-5 * photometry::total_flux_lm(back));
+       }},
+      {"ldt-dimensions-unknown", Severity::Info,
+       [](Distribution& d) { d.luminaire.height_m = photometry::kNaN; },
+       [](const std::vector<TextLine>& l, const Distribution& back) {
+         EXPECT_EQ(l[12].text, "600");
+         EXPECT_EQ(l[14].text, "0");  // unknown height
+         EXPECT_EQ(back.luminaire.height_m, 0.0);
+       }},
+      {"ldt-too-many-lamp-sets", Severity::Warning,
+       [](Distribution& d) {
+         for (int i = 2; i <= kMaxLdtLampSets + 1; ++i) {
+           photometry::LampSet alt = d.lamps[0];
+           alt.type = "Set " + std::to_string(i);
+           d.alternative_lamps.push_back(alt);
+         }
+       },
+       [](const std::vector<TextLine>& l, const Distribution& back) {
+         EXPECT_EQ(l[25].text, "20");
+         ASSERT_EQ(back.alternative_lamps.size(), 19u);
+         EXPECT_EQ(back.alternative_lamps.back().type, "Set 20");  // the 21st is left out
+       }},
+  };
+  for (const WriteCase& c : cases) {
+    SCOPED_TRACE(c.code);
+    Distribution d = model_c0_c180();
+    std::vector<Finding> w;
+    ASSERT_TRUE(write_ldt(d, {}, &w).ok());
+    ASSERT_FALSE(has_finding(w, c.code));
+    c.edit(d);
+    ASSERT_TRUE(photometry::validate(d).ok());
+    w.clear();
+    auto text = write_ldt(d, {}, &w);
+    ASSERT_TRUE(text.ok()) << to_string(text.error());
+    ASSERT_EQ(w.size(), 1u) << w[0].code << ": " << w[0].message;
+    EXPECT_EQ(w[0].code, c.code) << w[0].message;
+    EXPECT_EQ(w[0].severity, c.severity);
+    c.expect(split_lines(*text), parse_ok(*text).distribution);
+  }
+}
+
+TEST(LdtWrite, TwentyLampSetsAreWrittenWithoutAWarning) {
+  Distribution d = model_c0_c180();
+  for (int i = 2; i <= kMaxLdtLampSets; ++i) {
+    photometry::LampSet alt = d.lamps[0];
+    alt.type = "Set " + std::to_string(i);
+    alt.flux_lm = 1000.0 + i;
+    d.alternative_lamps.push_back(alt);
+  }
+  std::vector<Finding> w;
+  auto text = write_ldt(d, {}, &w);
+  ASSERT_TRUE(text.ok());
+  EXPECT_TRUE(w.empty()) << w[0].message;
+  EXPECT_EQ(split_lines(*text)[25].text, "20");
+  const Distribution r = parse_ok(*text).distribution;
+  ASSERT_EQ(r.alternative_lamps.size(), 19u);
+  for (std::size_t i = 0; i < 19; ++i) {
+    EXPECT_EQ(r.alternative_lamps[i].type, d.alternative_lamps[i].type);
+    EXPECT_EQ(r.alternative_lamps[i].flux_lm, d.alternative_lamps[i].flux_lm);
+  }
+  expect_same_candela(d, r, 1e-11);
+}
+
 TEST(LdtWrite, ComputesMissingDirectRatiosFromTheDistribution) {
   Distribution d = model_c0_c180();
   d.direct_ratios.clear();  // as read from IES
@@ -998,12 +1232,12 @@ TEST(LdtBadInput, EachFieldNamesLineAndExpectation) {
        [](Spec&, std::vector<std::string>& l) { l[26] = "0"; }},
       {"zero lamp flux", 29, "total luminous flux of lamp set 1 [lm]",
        [](Spec&, std::vector<std::string>& l) { l[28] = "0"; }},
-      {"NaN intensity", 50, "intensity at C 0, gamma 0 [cd/klm] (>= 0), found 'nan'",
+      {"NaN intensity", 50, "intensity at C 0, gamma 0 [cd/klm], found 'nan'",
        [](Spec&, std::vector<std::string>& l) { l[49] = "nan"; }},
       {"inf intensity", 51, "found 'inf'",
        [](Spec&, std::vector<std::string>& l) { l[50] = "inf"; }},
-      {"negative intensity", 52, "(>= 0), found '-3'",
-       [](Spec&, std::vector<std::string>& l) { l[51] = "-3"; }},
+      {"-inf intensity", 52, "intensity at C 0, gamma 90 [cd/klm], found '-inf'",
+       [](Spec&, std::vector<std::string>& l) { l[51] = "-inf"; }},
       {"unsorted C", 45, "C angles must increase: 90 follows 180",
        [](Spec&, std::vector<std::string>& l) { std::swap(l[43], l[44]); }},
       {"unsorted gamma", 49, "gamma angles must increase: 45 follows 90",

@@ -117,6 +117,8 @@ TEST(CliCheck, GoesOnAfterUnreadableFilesAndReportsTheWorst) {
   EXPECT_TRUE(contains(r.out, f.warned + ": 2 warnings")) << r.out;
   EXPECT_EQ(count(r.out, ", unreadable\n"), 3) << r.out;
   EXPECT_TRUE(contains(r.out, "5 files: 1 clean, 1 with warnings, 3 with errors\n")) << r.out;
+  // Unreadable files are part of the report, on stdout like the rest.
+  EXPECT_TRUE(r.err.empty()) << r.err;
   // Warnings only, over several files: 3.
   EXPECT_EQ(gonio({"check", f.clean_ldt, f.warned, f.note}).exit_code, kWarnings);
 }
@@ -155,6 +157,76 @@ TEST(CliCheck, JsonReportMatchesTheTextAndTheExitCode) {
   auto clean = gonio({"check", f.clean_ies, "--json"});
   EXPECT_EQ(clean.exit_code, kClean);
   EXPECT_EQ(json::parse(clean.out)["exit_code"], kClean);
+}
+
+// A negative intensity is read as 0 with one warning naming file and line,
+// in both formats, and every command treats it the same way: check counts a
+// warning, info and convert say it on stderr and go on.
+TEST(CliCheck, NegativeIntensitiesAreOneWarningInEveryCommand) {
+  Files f;
+  const std::string ies = (f.dir / "negative.ies").string();
+  test::write_file(ies,
+                   "IESNA:LM-63-2002\r\n[TEST] 1\r\n[TESTLAB] L\r\n[ISSUEDATE] 2002\r\n"
+                   "[MANUFAC] M\r\nTILT=NONE\r\n1 1000 1 3 1 1 2 0 0 0\r\n1 1 10\r\n"
+                   "0 45 90\r\n0\r\n100 80 -0.5\r\n");
+  // The clean LDT with C 0, gamma 180 (0 cd/klm there) made negative.
+  const std::string clean = test::read_file(f.clean_ldt);
+  std::vector<std::string> lines;
+  for (const io::TextLine& l : io::split_lines(clean)) lines.emplace_back(l.text);
+  const std::size_t at = lines.size() - 37 * 73 + 72;  // plane C 0, gamma 180
+  ASSERT_EQ(lines[at], "0");
+  lines[at] = "-0.5";
+  std::string text;
+  for (const std::string& l : lines) text += l + "\r\n";
+  const std::string ldt = (f.dir / "negative.ldt").string();
+  test::write_file(ldt, text);
+
+  struct Case {
+    std::string path, finding;
+  };
+  const Case cases[] = {
+      {ies, "gonio: " + ies + ":11: warning: 1 negative candela value(s) read as 0"
+            " [negative-intensity]\n"},
+      {ldt, "gonio: " + ldt + ":" + std::to_string(at + 1) +
+                ": warning: 1 negative intensity value(s) read as 0 (the first at C 0, gamma "
+                "180) [ldt-negative-intensity]\n"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.path);
+    auto check = gonio({"check", c.path});
+    EXPECT_EQ(check.exit_code, kWarnings) << check.out;
+    EXPECT_TRUE(contains(check.out, c.finding)) << check.out;
+    EXPECT_TRUE(contains(check.out, c.path + ": 1 warning (")) << check.out;
+    EXPECT_TRUE(check.err.empty()) << check.err;
+
+    auto info = gonio({"info", c.path});
+    EXPECT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_TRUE(contains(info.err, c.finding)) << info.err;
+    EXPECT_TRUE(contains(info.out, "Total flux")) << info.out;
+
+    const bool from_ies = std::filesystem::path(c.path).extension() == ".ies";
+    const std::string out = (f.dir / (from_ies ? "converted.ldt" : "converted.ies")).string();
+    auto convert = gonio({"convert", c.path, out});
+    EXPECT_EQ(convert.exit_code, 0) << convert.err;
+    EXPECT_TRUE(contains(convert.err, c.finding)) << convert.err;
+    // What was written holds the 0 and reads back without the warning.
+    auto again = gonio({"check", out});
+    EXPECT_FALSE(contains(again.out, "negative-intensity")) << again.out;
+  }
+}
+
+// stderr carries only usage errors and a report that could not be written.
+TEST(CliCheck, StderrHoldsUsageErrorsAndAReportThatCouldNotBeWritten) {
+  Files f;
+  auto usage = gonio({"check", f.warned, "--frob"});
+  EXPECT_EQ(usage.exit_code, 2);
+  EXPECT_TRUE(usage.out.empty()) << usage.out;
+  EXPECT_TRUE(contains(usage.err, "gonio: check: unknown option '--frob'")) << usage.err;
+
+  // Standard output on a full disk: the findings are lost, and said to be.
+  auto full = test::run_process(
+      {"/bin/sh", "-c", "exec \"$0\" check \"$1\" >/dev/full", GONIO_EXECUTABLE, f.warned});
+  EXPECT_EQ(full.exit_code, 1) << full.err;
+  EXPECT_EQ(full.err, "gonio: check: cannot write the report to standard output\n");
 }
 
 TEST(CliCheck, Isym3OrderOptionIsAccepted) {
