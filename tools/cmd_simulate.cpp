@@ -17,7 +17,7 @@
 //
 // report.json adds to io/report.h's fields: "outputs" {grid, symmetry
 // {chosen, reason, tests [{symmetry, chi_square, degrees_of_freedom,
-// p_value, groups, rejected}]}, escaped_lm, files [{path, format, flux_lm,
+// p_value, groups, rejected, detectable_deviation}]}, escaped_lm, files [{path, format, flux_lm,
 // flux_difference, clean, findings, writer_notes}]} and "energy"
 // {photons_close, flux_imbalance_lm, lor, min_lor, flux_tolerance,
 // files [{path, flux_ok, clean}], passed, failures [text]}.

@@ -432,7 +432,8 @@ nlohmann::json to_json(const OutputResult& r, const sim::CGammaGrid& grid, doubl
                      {"degrees_of_freedom", t.degrees_of_freedom},
                      {"p_value", t.p_value},
                      {"groups", t.groups},
-                     {"rejected", t.rejected}});
+                     {"rejected", t.rejected},
+                     {"detectable_deviation", number_or_null(t.detectable_deviation)}});
   sym["tests"] = std::move(tests);
   j["symmetry"] = std::move(sym);
   j["escaped_lm"] = escaped_lm;
