@@ -63,11 +63,36 @@ std::string fmt_g2(double v) {
   return buf;
 }
 
+// The χ² value beyond which a test with `dof` degrees of freedom rejects at
+// `significance`: the upper-tail quantile, by bisection (the tail falls
+// monotonically in x).
+double critical_value(double dof, double significance) {
+  double lo = 0.0, hi = dof + 20.0 * std::sqrt(2.0 * dof) + 100.0;
+  while (chi_square_upper_tail(hi, dof) > significance) hi *= 2.0;
+  for (int i = 0; i < 200 && hi - lo > 1e-9 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (chi_square_upper_tail(mid, dof) > significance ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+// The noncentrality λ at which χ² (dof, λ), taken as normal with mean
+// dof + λ and variance 2(dof + 2λ), exceeds `critical` with probability
+// kSymmetryTestPower: the larger root of (λ − c)² = 2z²(dof + 2λ), c =
+// critical − dof, z the normal quantile of the power.
+double noncentrality_for_power(double dof, double critical) {
+  constexpr double z = 1.2815515655446004;  // Φ⁻¹(0.9)
+  static_assert(kSymmetryTestPower == 0.9, "z is the normal quantile of kSymmetryTestPower");
+  const double c = critical - dof, z2 = z * z;
+  return c + 2.0 * z2 + std::sqrt(4.0 * z2 * c + 4.0 * z2 * z2 + 2.0 * z2 * dof);
+}
+
 SymmetryTest run_test(const BinnedField& field, Symmetry symmetry,
                       const SymmetryTestOptions& options) {
   SymmetryTest t;
   t.symmetry = symmetry;
   const double eps2 = options.tolerance * options.tolerance;
+  double sensitivity = 0.0;  // Σ Ī² / σ_i²: the χ² a relative deviation of 1 in every bin would add
   for (const std::vector<std::size_t>& group : equivalent_bins(field.grid, symmetry)) {
     if (group.size() < 2) continue;
     double flux = 0.0, sa = 0.0, var = 0.0, photons = 0.0;
@@ -87,10 +112,13 @@ SymmetryTest run_test(const BinnedField& field, Symmetry symmetry,
       const double omega = field.solid_angle_sr[b];
       const double diff = field.flux_lm[b] / omega - mean;
       const double sigma2 = var_per_lm * mean / omega + eps2 * mean * mean;
-      if (sigma2 > 0.0)
+      if (sigma2 > 0.0) {
         t.chi_square += diff * diff / sigma2;
-      else if (diff != 0.0)
-        t.chi_square = std::numeric_limits<double>::infinity();
+        sensitivity += mean * mean / sigma2;
+      } else {
+        sensitivity = std::numeric_limits<double>::infinity();
+        if (diff != 0.0) t.chi_square = std::numeric_limits<double>::infinity();
+      }
     }
     t.degrees_of_freedom += k - 1.0;
     ++t.groups;
@@ -102,6 +130,9 @@ SymmetryTest run_test(const BinnedField& field, Symmetry symmetry,
   }
   t.p_value = chi_square_upper_tail(t.chi_square, t.degrees_of_freedom);
   t.rejected = t.p_value < options.significance;
+  const double lambda =
+      noncentrality_for_power(t.degrees_of_freedom, critical_value(t.degrees_of_freedom, options.significance));
+  t.detectable_deviation = std::sqrt(lambda / sensitivity);
   return t;
 }
 
@@ -221,6 +252,11 @@ SymmetryDecision detect_symmetry(const BinnedField& field, const SymmetryTestOpt
   for (std::size_t k = 0; k < d.tests.size(); ++k)
     d.explanation += (k ? "; " : "") + describe(d.tests[k]);
   d.explanation += "; " + how + ")";
+  if (best != nullptr)
+    d.explanation += std::string("; power: ") + photometry::to_string(best->symmetry) +
+                     " is rejected 9 times in 10 when equivalent directions deviate from their mean by " +
+                     fmt_g2(100.0 * best->detectable_deviation) +
+                     " % RMS or more at these photon counts; smaller asymmetries may go unseen";
   return d;
 }
 

@@ -20,8 +20,19 @@
 // significance. The choice is the symmetry of highest order not rejected:
 // Rotational, then Quadrant, then the better of C0-C180 and C90-C270 (higher
 // p-value), then None.
+//
+// Power. Not rejecting a symmetry does not prove it: at few photons a real
+// asymmetry hides in the noise. For each test the decision states the
+// smallest asymmetry it detects 9 times in 10: equivalent bins deviating
+// from their common mean by a relative d (RMS over the tested bins) add
+// λ = d² · Σ Ī² / σ_i² to χ² (its noncentrality), and the test rejects with
+// probability 0.9 once λ reaches the value where the noncentral χ²
+// distribution (mean dof + λ, variance 2(dof + 2λ), taken as normal) puts 90 %
+// of its mass beyond the critical value of the significance. That d falls as
+// 1/√photons, down to the floor the tolerance ε sets.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -74,12 +85,18 @@ struct SymmetryTest {
   double p_value = 1.0;
   std::size_t groups = 0;  // groups of two or more bins that entered the test
   bool rejected = false;
+  // The smallest RMS relative deviation of equivalent bins from their mean
+  // that the test rejects with probability kSymmetryTestPower (see "Power"
+  // above) [1]; NaN when nothing was tested.
+  double detectable_deviation = std::numeric_limits<double>::quiet_NaN();
 };
+
+inline constexpr double kSymmetryTestPower = 0.9;
 
 struct SymmetryDecision {
   Symmetry symmetry = Symmetry::None;
   std::vector<SymmetryTest> tests;  // every candidate the grid supports, in test order
-  std::string explanation;          // one line for stderr and the report
+  std::string explanation;          // one line for stderr and the report, with the chosen test's power
 };
 
 // Decides the symmetry of a binned field as described at the top. A field

@@ -17,7 +17,7 @@
 //
 // report.json adds to io/report.h's fields: "outputs" {grid, symmetry
 // {chosen, reason, tests [{symmetry, chi_square, degrees_of_freedom,
-// p_value, groups, rejected}]}, escaped_lm, files [{path, format, flux_lm,
+// p_value, groups, rejected, detectable_deviation}]}, escaped_lm, files [{path, format, flux_lm,
 // flux_difference, clean, findings, writer_notes}]} and "energy"
 // {photons_close, flux_imbalance_lm, lor, min_lor, flux_tolerance,
 // files [{path, flux_ok, clean}], passed, failures [text]}.
@@ -277,43 +277,9 @@ int run_simulate(const Args& args) {
 
   // The energy checks, each with what it found.
   const sim::Ledger& l = ledger;
-  std::vector<std::string> failures;
-  const bool closes = l.photons_close() && std::abs(l.flux_imbalance_lm()) <= 1e-9 * l.emitted.flux_lm;
-  if (!closes)
-    failures.push_back("the books do not close: emitted " + std::to_string(l.emitted.photons) +
-                       " photons, accounted for " +
-                       std::to_string(l.escaped.photons + l.absorbed.photons + l.cutoff.photons));
-  const double lor = l.emitted.flux_lm > 0.0 ? l.escaped.flux_lm / l.emitted.flux_lm : 0.0;
-  if (lor < min_lor)
-    failures.push_back("light output ratio " + std::to_string(lor) + " is under --min-lor " +
-                       std::to_string(min_lor));
-  nlohmann::json file_checks = nlohmann::json::array();
-  for (const WrittenFile& f : outputs->files) {
-    const bool has_flux = std::isfinite(f.flux_lm);
-    const bool flux_ok = !has_flux || std::abs(f.flux_difference) <= flux_tolerance ||
-                         (l.escaped.flux_lm == 0.0 && f.flux_lm == 0.0);
-    if (!flux_ok)
-      failures.push_back(f.path + ": flux " + std::to_string(f.flux_lm) + " lm read back differs from the escaped " +
-                         std::to_string(l.escaped.flux_lm) + " lm by " + signed_percent(f.flux_difference) +
-                         ", more than --flux-tolerance " + std::to_string(100.0 * flux_tolerance) +
-                         " %: the grid cannot carry this distribution (a beam narrower than the steps?); a finer "
-                         "--gamma-step/--c-step may, or accept it with a larger --flux-tolerance");
-    if (!f.clean()) {
-      for (const Finding& x : f.findings)
-        if (x.severity >= Severity::Warning)
-          failures.push_back(to_string(x.where) + ": " + to_string(x.severity) + ": " + x.message + " [" + x.code +
-                             "]");
-    }
-    file_checks.push_back({{"path", f.path}, {"flux_ok", flux_ok}, {"clean", f.clean()}});
-  }
-  json["energy"] = {{"photons_close", l.photons_close()},
-                    {"flux_imbalance_lm", l.flux_imbalance_lm()},
-                    {"lor", lor},
-                    {"min_lor", min_lor},
-                    {"flux_tolerance", flux_tolerance},
-                    {"files", std::move(file_checks)},
-                    {"passed", failures.empty()},
-                    {"failures", failures}};
+  const EnergyCheck energy = check_energy(l, outputs->files, min_lor, flux_tolerance);
+  const double lor = energy.lor;
+  json["energy"] = energy.json;
   if (Status s = io::write_json(report_path, json); !s.ok()) {
     print_error(s.error());
     return kExitFailure;
@@ -345,10 +311,7 @@ int run_simulate(const Args& args) {
   if (preview)
     std::printf("  preview: %s and %s\n", preview->exr_path().c_str(), preview->png_path().c_str());
 
-  if (!failures.empty()) {
-    for (const std::string& f : failures) print_error(model + ": energy check failed: " + f);
-    return kExitFailure;
-  }
+  if (const int code = energy_exit_code(model, energy); code != kExitOk) return code;
   if (l.cutoff.flux_lm > 0.01 * l.emitted.flux_lm)
     print_warning(model + ": " + std::to_string(percent(l.cutoff.flux_lm, l.emitted.flux_lm)) +
                   " % of the flux was cut off by the bounce limit (--max-bounces " +

@@ -14,6 +14,7 @@
 #include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
 #include "photometry/validation.h"
+#include "tools/cli.h"
 
 namespace gonio::cli {
 namespace {
@@ -431,7 +432,8 @@ nlohmann::json to_json(const OutputResult& r, const sim::CGammaGrid& grid, doubl
                      {"degrees_of_freedom", t.degrees_of_freedom},
                      {"p_value", t.p_value},
                      {"groups", t.groups},
-                     {"rejected", t.rejected}});
+                     {"rejected", t.rejected},
+                     {"detectable_deviation", number_or_null(t.detectable_deviation)}});
   sym["tests"] = std::move(tests);
   j["symmetry"] = std::move(sym);
   j["escaped_lm"] = escaped_lm;
@@ -447,6 +449,72 @@ nlohmann::json to_json(const OutputResult& r, const sim::CGammaGrid& grid, doubl
   }
   j["files"] = std::move(files);
   return j;
+}
+
+namespace {
+
+std::string signed_percent(double fraction) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%+.3f %%", 100.0 * fraction);
+  return buf;
+}
+
+std::string lumens(double flux_lm) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.9g lm", flux_lm);
+  return buf;
+}
+
+}  // namespace
+
+EnergyCheck check_energy(const sim::Ledger& l, const std::vector<WrittenFile>& files, double min_lor,
+                         double flux_tolerance) {
+  EnergyCheck check;
+  const std::uint64_t accounted = l.escaped.photons + l.absorbed.photons + l.cutoff.photons;
+  const double accounted_lm = l.escaped.flux_lm + l.absorbed.flux_lm + l.cutoff.flux_lm;
+  const bool closes = l.photons_close() && std::abs(l.flux_imbalance_lm()) <= 1e-9 * l.emitted.flux_lm;
+  if (!closes)
+    check.failures.push_back("the books do not close: emitted " + std::to_string(l.emitted.photons) + " photons (" +
+                             lumens(l.emitted.flux_lm) + "), escaped + absorbed + cut off " +
+                             std::to_string(accounted) + " photons (" + lumens(accounted_lm) + ")");
+  check.lor = l.emitted.flux_lm > 0.0 ? l.escaped.flux_lm / l.emitted.flux_lm : 0.0;
+  if (check.lor < min_lor)
+    check.failures.push_back("light output ratio " + std::to_string(check.lor) + " is under --min-lor " +
+                             std::to_string(min_lor));
+  nlohmann::json file_checks = nlohmann::json::array();
+  for (const WrittenFile& f : files) {
+    const bool has_flux = std::isfinite(f.flux_lm);
+    const bool flux_ok = !has_flux || std::abs(f.flux_difference) <= flux_tolerance ||
+                         (l.escaped.flux_lm == 0.0 && f.flux_lm == 0.0);
+    if (!flux_ok)
+      check.failures.push_back(
+          f.path + ": flux " + std::to_string(f.flux_lm) + " lm read back differs from the escaped " +
+          std::to_string(l.escaped.flux_lm) + " lm by " + signed_percent(f.flux_difference) +
+          ", more than --flux-tolerance " + std::to_string(100.0 * flux_tolerance) +
+          " %: the grid cannot carry this distribution (a beam narrower than the steps?); a finer "
+          "--gamma-step/--c-step may, or accept it with a larger --flux-tolerance");
+    if (!f.clean()) {
+      for (const Finding& x : f.findings)
+        if (x.severity >= Severity::Warning)
+          check.failures.push_back(to_string(x.where) + ": " + to_string(x.severity) + ": " + x.message + " [" +
+                                   x.code + "]");
+    }
+    file_checks.push_back({{"path", f.path}, {"flux_ok", flux_ok}, {"clean", f.clean()}});
+  }
+  check.json = {{"photons_close", l.photons_close()},
+                {"flux_imbalance_lm", l.flux_imbalance_lm()},
+                {"lor", check.lor},
+                {"min_lor", min_lor},
+                {"flux_tolerance", flux_tolerance},
+                {"files", std::move(file_checks)},
+                {"passed", check.passed()},
+                {"failures", check.failures}};
+  return check;
+}
+
+int energy_exit_code(const std::string& model, const EnergyCheck& check) {
+  for (const std::string& f : check.failures) print_error(model + ": energy check failed: " + f);
+  return check.passed() ? kExitOk : kExitFailure;
 }
 
 }  // namespace gonio::cli

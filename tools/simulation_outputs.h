@@ -122,4 +122,23 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
 // difference and findings).
 nlohmann::json to_json(const OutputResult& result, const sim::CGammaGrid& grid, double escaped_lm);
 
+// The energy checks `gonio simulate` makes once every file is written: the
+// books close (emitted = escaped + absorbed + cut off, in photons exactly and
+// in lumens to 1e-9 of the emitted flux), the LOR escaped / emitted is at
+// least `min_lor`, every file's flux read back lies within `flux_tolerance`
+// (a fraction) of the escaped flux, and every file is clean.
+struct EnergyCheck {
+  double lor = 0.0;                   // escaped / emitted; 0 without emitted flux
+  std::vector<std::string> failures;  // one sentence per failed check
+  nlohmann::json json;                // report.json's "energy"
+  bool passed() const { return failures.empty(); }
+};
+
+EnergyCheck check_energy(const sim::Ledger& ledger, const std::vector<WrittenFile>& files, double min_lor,
+                         double flux_tolerance);
+
+// How the run ends: each failure printed to stderr as
+// "gonio: MODEL: energy check failed: …" and exit code 1; 0 when all passed.
+int energy_exit_code(const std::string& model, const EnergyCheck& check);
+
 }  // namespace gonio::cli

@@ -29,10 +29,12 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "io/model_check.h"
 #include "io/report.h"
 #include "photometry/distribution.h"
 #include "sim/convergence.h"
@@ -337,7 +339,10 @@ TEST(Stability, SharpCutOff) {
 }
 
 // The first iteration with a handful of photons: 64 photons on 24 576
-// texels. Nothing may be NaN, and the filter must help, not hurt.
+// texels. Nothing may be NaN, and the filter must help, not hurt. Then six
+// doubling iterations to 4096 photons, still sparse (one photon in six
+// texels): the raw error falls with slope −0.5 from the first photon on
+// (over 20 seeds: cube map −0.507 to −0.493, table −0.519 to −0.477).
 TEST(Stability, SparseFirstIteration) {
   SceneDesc s;
   s.name = "sparse";
@@ -387,6 +392,17 @@ TEST(Stability, SparseFirstIteration) {
     // setting smooths them: several times closer to the truth than raw.
     EXPECT_LE(err, (p.threshold_photons == 0.0 ? 1.0 + 1e-9 : 0.5) * raw) << p.threshold_photons;
   }
+  CaseRun run;
+  for (int k = 0; k <= kDoublings; ++k) {
+    if (k > 0) sim->run_iteration(std::uint64_t{64} << (k - 1));
+    const std::vector<double> intensities = texel_intensities(sim->far_field());
+    run.photons.push_back(static_cast<double>(sim->stats().photons));
+    run.raw_rmse.push_back(judge->cube_map_error(intensities).rmse);
+    run.raw_table_rms.push_back(judge->table_error(intensities).rms_pct);
+    expect_ledger_closes(sim->ledger(), "sparse, iteration " + std::to_string(k + 1));
+  }
+  EXPECT_EQ(run.photons.back(), 4096.0);
+  expect_slope(run, "sparse first iterations");
 }
 
 // Threshold extremes on a smooth scene (an opal globe): threshold 0 keeps
@@ -482,6 +498,104 @@ TEST(Stability, DegenerateGeometry) {
   Case c{"degenerate geometry", s};
   c.first = std::uint64_t{1} << 13;
   c.reference = std::uint64_t{1} << 22;
+  const CaseRun run = run_case(c);
+  EXPECT_GT(run.ledger.escaped.flux_lm, 0.0);
+  expect_slope(run, c.name);
+}
+
+// Inverted geometry: closed meshes wound inside out (every normal facing
+// in). A diffuse surface scatters the same whichever way it faces, so an
+// opal globe wound inside out gives the light of the right one: the model
+// checks accept it (they check the orientation of refractive volumes only),
+// and its escaped flux and the share of it going down (the lamp sits off
+// centre) match the right globe's within photon noise.
+SceneDesc opal_globe(bool inverted) {
+  SceneDesc s;
+  s.name = inverted ? "inverted globe" : "globe";
+  Material opal{"opal", 0.35, 0.55, 0.0};
+  s.materials = {opal};
+  Mesh globe = sphere(0.1, 24, 12);
+  globe.name = "globe";
+  if (inverted) flip(globe);
+  s.meshes = {globe};
+  Emitter e;
+  e.name = "lamp";
+  e.flux_lm = 1000.0;
+  e.position = {0.02, 0.01, 0.0};
+  s.emitters = {e};
+  return s;
+}
+
+TEST(Stability, InvertedDiffuseGlobe) {
+  const SceneDesc inverted = opal_globe(true);
+  EXPECT_LT(worst(io::check_model(inverted)), Severity::Error);
+  // Measured over 20 seeds: the filters' errors at most 0.19 × the raw map's.
+  Case c{"inverted opal globe", inverted};
+  c.first = std::uint64_t{1} << 12;
+  c.reference = std::uint64_t{1} << 21;
+  const CaseRun run = run_case(c);
+  expect_slope(run, c.name);
+
+  // Against the globe wound the right way, another seed, as many photons:
+  // the fractions escaped and escaped downwards agree within 4σ of their
+  // binomial noise.
+  Case right{"opal globe", opal_globe(false)};
+  Simulation sim = make_simulation(right, series_seed() + 7);
+  sim.run_iteration(static_cast<std::uint64_t>(run.photons.back()));
+  const auto fractions = [](const Ledger& l, const FarField& f) {
+    double down = 0.0;
+    for (std::size_t t = 0; t < f.texel_count(); ++t)
+      if (f.grid().texel_direction(t).y < 0.0) down += static_cast<double>(f.photons(t));
+    const double emitted = static_cast<double>(l.emitted.photons);
+    return std::pair{static_cast<double>(l.escaped.photons) / emitted, down / emitted};
+  };
+  Simulation again = make_simulation(c, series_seed());
+  again.run_iteration(static_cast<std::uint64_t>(run.photons.back()));
+  const auto [escaped_inverted, down_inverted] = fractions(again.ledger(), again.far_field());
+  const auto [escaped_right, down_right] = fractions(sim.ledger(), sim.far_field());
+  const double n = run.photons.back();
+  const auto sigma = [&](double p) { return std::sqrt(2.0 * p * (1.0 - p) / n); };
+  EXPECT_GT(escaped_right, 0.5);
+  EXPECT_NEAR(escaped_inverted, escaped_right, 4.0 * sigma(escaped_right));
+  EXPECT_NEAR(down_inverted, down_right, 4.0 * sigma(down_right));
+}
+
+// A refractive volume inside out: the TIR cube with inward normals. The
+// model checks refuse it (inverted-volume, an error: `simulate` and `bench`
+// trace nothing); traced anyway, the tracer takes the lamp's side for the
+// outside, so light leaves through six refracting windows instead of being
+// trapped. Whatever it makes of it, nothing may be NaN, the books must close
+// and the far field converge.
+TEST(Stability, InvertedGlassCube) {
+  SceneDesc s;
+  s.name = "inverted glass cube";
+  Material glass = named("glass");
+  glass.dielectric = 1.0;
+  glass.ior = 1.5;
+  s.materials = {glass};
+  Mesh cube = box(0.05, 0.05, 0.05);
+  cube.name = "cube";
+  flip(cube);
+  s.meshes = {cube};
+  Emitter e;
+  e.name = "lamp";
+  e.flux_lm = 1000.0;
+  s.emitters = {e};
+  const std::vector<Finding> findings = io::check_model(s);
+  ASSERT_EQ(findings.size(), 1u);
+  EXPECT_EQ(findings[0].code, "inverted-volume");
+  EXPECT_EQ(findings[0].severity, Severity::Error);
+  EXPECT_NE(findings[0].message.find("cube"), std::string::npos) << findings[0].message;
+
+  Case c{"inverted glass cube", s};
+  // Each window's light has sharp edges, which the fixed thresholds blur as
+  // on the cut-off. Measured over 20 seeds: adaptive 0.84 × the raw error,
+  // bilinear and bilateral 100 1.30 ×, threshold 0 1.007 ×.
+  c.adaptive_factor = 1.0;
+  c.fixed_factor = 1.6;
+  c.max_bounces = 16;
+  c.first = std::uint64_t{1} << 12;
+  c.reference = std::uint64_t{1} << 21;
   const CaseRun run = run_case(c);
   EXPECT_GT(run.ledger.escaped.flux_lm, 0.0);
   expect_slope(run, c.name);

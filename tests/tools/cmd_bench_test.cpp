@@ -102,6 +102,37 @@ TEST(CmdBench, WritesSeriesChartsAndReusesItsReference) {
   EXPECT_EQ(nlohmann::json::parse(test::read_file(dir / "bench.json"))["series"].size(), 12u);
 }
 
+TEST(CmdBench, WritesEveryChartAsAValidPng) {
+  // The one run with PNG charts (gnuplot's pngcairo), on the smallest
+  // settings: each chart is a PNG (its 8-byte signature, then the IHDR chunk
+  // of a plot-sized image) beside its SVG.
+  test::TempDir dir;
+  const std::vector<std::string> args = {"bench",     kModel,   "--out",       dir.path().string(), "--photons",
+                                         "16384",     "--first", "4096",       "--reference",       "131072",
+                                         "--threads", "2"};
+  const test::ProcessResult r = gonio(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* stem : {"candela-time", "cubemap-time", "photons", "psnr-snr"}) {
+    const fs::path png = dir / (std::string(stem) + ".png");
+    ASSERT_TRUE(fs::is_regular_file(png)) << png;
+    EXPECT_TRUE(fs::is_regular_file(dir / (std::string(stem) + ".svg"))) << stem;
+    const std::string bytes = test::read_file(png);
+    EXPECT_GT(bytes.size(), 10'000u) << png;  // a chart, not an empty image
+    ASSERT_GE(bytes.size(), 24u);
+    EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << png;
+    EXPECT_EQ(bytes.substr(12, 4), "IHDR") << png;
+    const auto be32 = [&](std::size_t at) {
+      return (static_cast<unsigned>(static_cast<unsigned char>(bytes[at])) << 24) |
+             (static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 1])) << 16) |
+             (static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 2])) << 8) |
+             static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 3]));
+    };
+    EXPECT_GE(be32(16), 400u) << png << ": width";
+    EXPECT_GE(be32(20), 300u) << png << ": height";
+    EXPECT_EQ(bytes.substr(bytes.size() - 8, 4), "IEND") << png;  // complete
+  }
+}
+
 TEST(CmdBench, PageOverSeveralModels) {
   test::TempDir dir;
   const std::string bell = std::string(GONIO_SAMPLES_DIR) + "/bell/bell.gltf";

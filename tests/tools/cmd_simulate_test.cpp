@@ -238,6 +238,40 @@ TEST(Simulate, PreviewFilesFollowEveryIteration) {
   EXPECT_EQ(gonio({"simulate", model.string(), "--out", out.string(), "--preview", "--filter", "box"}).exit_code, 2);
 }
 
+TEST(Simulate, ThePreviewNeverFeedsBack) {
+  // The same seed with and without the bilateral preview (filtered after
+  // every iteration): the far field and the photometric files are the same
+  // bytes, while the preview itself differs from the raw map.
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const std::vector<std::string> base = {"simulate", model.string(), "--photons", "20000", "--iterations", "3",
+                                         "--face-size", "32", "--seed", "7", "--format", "ies,ldt,exr"};
+  auto run = [&](const char* out, std::vector<std::string> extra) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), {"--out", (dir / out).string()});
+    a.insert(a.end(), extra.begin(), extra.end());
+    return gonio(a);
+  };
+  auto plain = run("plain", {});
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  auto previewed = run("previewed", {"--preview", "--filter", "bilateral"});
+  ASSERT_EQ(previewed.exit_code, 0) << previewed.err;
+  ASSERT_TRUE(std::filesystem::exists(dir / "previewed" / "preview.exr"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "plain" / "preview.exr"));
+  for (const char* name : {"farfield.exr", "shade.ies", "shade.ldt"}) {
+    const std::string a = test::read_file(dir / "plain" / name), b = test::read_file(dir / "previewed" / name);
+    EXPECT_FALSE(a.empty()) << name;
+    EXPECT_TRUE(a == b) << name << " differs with the preview on";
+  }
+  const auto raw = io::read_exr((dir / "previewed" / "farfield.exr").string());
+  const auto preview = io::read_exr((dir / "previewed" / "preview.exr").string());
+  ASSERT_TRUE(raw.ok() && preview.ok());
+  ASSERT_NE(raw->find_float("Y"), nullptr);
+  ASSERT_NE(preview->find_float("Y"), nullptr);
+  EXPECT_NE(raw->find_float("Y")->values, preview->find_float("Y")->values);
+}
+
 nlohmann::json read_json(const std::filesystem::path& path) {
   return nlohmann::json::parse(test::read_file(path));
 }

@@ -137,5 +137,85 @@ TEST(SimulationOutputs, AnIsotropicFieldGivesIsotropicFilesWithExactEnergy) {
   EXPECT_LT(ldt->distribution.direct_ratios[9], 0.5);
 }
 
+// Books that close: 1000 photons of 1 lm, 600 escaped, 350 absorbed, 50 cut off.
+sim::Ledger closed_books() {
+  sim::Ledger l;
+  l.photon_power_lm = 1.0;
+  l.emitted = {1000, 1000.0};
+  l.escaped = {600, 600.0};
+  l.absorbed = {350, 350.0};
+  l.cutoff = {50, 50.0};
+  return l;
+}
+
+TEST(EnergyCheck, BooksThatDoNotCloseFailTheRunWithAClearMessage) {
+  WrittenFile ies;
+  ies.path = "out/lamp.ies";
+  ies.flux_lm = 600.3;
+  ies.flux_difference = 0.0005;
+  const EnergyCheck good = check_energy(closed_books(), {ies}, 0.0, 0.005);
+  EXPECT_TRUE(good.passed());
+  EXPECT_NEAR(good.lor, 0.6, 1e-15);
+  EXPECT_TRUE(good.json["passed"].get<bool>());
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(energy_exit_code("lamp.gltf", good), 0);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+
+  // Ten photons vanished between the tracer and the books.
+  sim::Ledger lost = closed_books();
+  lost.absorbed = {340, 340.0};
+  const EnergyCheck bad = check_energy(lost, {ies}, 0.0, 0.005);
+  ASSERT_EQ(bad.failures.size(), 1u);
+  EXPECT_FALSE(bad.json["passed"].get<bool>());
+  EXPECT_FALSE(bad.json["photons_close"].get<bool>());
+  EXPECT_NEAR(bad.json["flux_imbalance_lm"].get<double>(), 10.0, 1e-12);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(energy_exit_code("lamp.gltf", bad), 1);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(err,
+            "gonio: lamp.gltf: energy check failed: the books do not close: emitted 1000 photons (1000 lm), "
+            "escaped + absorbed + cut off 990 photons (990 lm)\n");
+
+  // Photons that add up but lumens that do not (a photon's power misbooked).
+  sim::Ledger misbooked = closed_books();
+  misbooked.cutoff.flux_lm = 50.001;
+  const EnergyCheck flux = check_energy(misbooked, {ies}, 0.0, 0.005);
+  ASSERT_EQ(flux.failures.size(), 1u);
+  EXPECT_TRUE(flux.json["photons_close"].get<bool>());
+  EXPECT_NE(flux.failures[0].find("1000 photons (1000.001 lm)"), std::string::npos) << flux.failures[0];
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(energy_exit_code("lamp.gltf", flux), 1);
+  EXPECT_NE(testing::internal::GetCapturedStderr().find("energy check failed: the books do not close"),
+            std::string::npos);
+  // Rounding is not a failure: 1e-12 of the emitted flux.
+  misbooked.cutoff.flux_lm = 50.0 + 1e-9;
+  EXPECT_TRUE(check_energy(misbooked, {ies}, 0.0, 0.005).passed());
+}
+
+TEST(EnergyCheck, EveryFailedCheckIsListed) {
+  sim::Ledger lost = closed_books();
+  lost.escaped = {590, 590.0};
+  WrittenFile ldt;
+  ldt.path = "out/lamp.ldt";
+  ldt.flux_lm = 620.0;
+  ldt.flux_difference = 620.0 / 590.0 - 1.0;
+  Finding lorl;
+  lorl.code = "ldt-lorl";
+  lorl.message = "declared LORL differs";
+  lorl.where.file = "out/lamp.ldt";
+  ldt.findings.push_back(lorl);
+  const EnergyCheck c = check_energy(lost, {ldt}, 0.7, 0.005);
+  ASSERT_EQ(c.failures.size(), 4u);
+  EXPECT_NE(c.failures[0].find("the books do not close"), std::string::npos);
+  EXPECT_NE(c.failures[1].find("light output ratio 0.59"), std::string::npos) << c.failures[1];
+  EXPECT_NE(c.failures[1].find("--min-lor"), std::string::npos);
+  EXPECT_NE(c.failures[2].find("out/lamp.ldt: flux 620"), std::string::npos) << c.failures[2];
+  EXPECT_NE(c.failures[2].find("+5.085 %"), std::string::npos) << c.failures[2];
+  EXPECT_NE(c.failures[3].find("[ldt-lorl]"), std::string::npos) << c.failures[3];
+  EXPECT_EQ(c.json["failures"].size(), 4u);
+  EXPECT_FALSE(c.json["files"][0]["flux_ok"].get<bool>());
+  EXPECT_FALSE(c.json["files"][0]["clean"].get<bool>());
+}
+
 }  // namespace
 }  // namespace gonio::cli
