@@ -28,6 +28,7 @@
 #include <span>
 
 #include "io/image8.h"
+#include "sim/cube_map.h"
 
 namespace gonio::io {
 
@@ -55,7 +56,7 @@ inline constexpr double kPreviewKnee = 0.75;      // linear up to this fraction 
 // The intensity [cd] below which the texels holding `quantile` of the map's
 // flux (intensity × texel solid angle) lie; non-finite and negative values
 // are ignored. 0 for a dark map. Requires quantile in (0, 1].
-double flux_quantile_cd(int face_size, std::span<const double> intensity_cd, double quantile);
+double flux_quantile_cd(const sim::CubeMapGrid& grid, std::span<const double> intensity_cd, double quantile);
 
 // The soft-shoulder tone curve above for x = intensity / white ≥ 0: x below
 // the knee, then towards 1 (never above). Requires knee in (0, 1).
@@ -63,6 +64,6 @@ double soft_shoulder(double x, double knee);
 
 // The preview picture: white = flux_quantile_cd(kPreviewQuantile) (the
 // maximum if that is 0), curve soft_shoulder(kPreviewKnee).
-Image8 cube_cross_preview(int face_size, std::span<const double> intensity_cd);
+Image8 cube_cross_preview(const sim::CubeMapGrid& grid, std::span<const double> intensity_cd);
 
 }  // namespace gonio::io

@@ -31,9 +31,13 @@ Status write_png(const std::string& path, const Image8& image) {
   if (image.channels == 2) spec.alpha_channel = 1;
   // Straight (not premultiplied) alpha, as PNG stores it: no conversion.
   spec.attribute("oiio:UnassociatedAlpha", 1);
-  // Fast deflate: previews are rewritten every iteration; level 1 took half
-  // the default's time (measured, files 1.7× larger).
+  // Fast deflate and no row filters: previews are rewritten every iteration.
+  // Level 1 took half the default's time (files 1.7× larger); libpng's
+  // adaptive filter choice then took as long as everything else in a
+  // 6 × 256² preview (53 → 29 ms per preview with the filter alone
+  // included, gonio_filter_benchmarks BM_PreviewOutput).
   spec.attribute("png:compressionLevel", 1);
+  spec.attribute("png:filter", 0x08);  // PNG_FILTER_NONE
   if (!out->open("preview.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) ||
       !out->close())
     return image_error(path, "cannot encode PNG: " + out->geterror());

@@ -73,7 +73,7 @@ std::string describe(const sim::PreviewFilterParams& p, int face_size) {
 }
 
 PreviewOutput::PreviewOutput(std::string directory, int face_size, const sim::PreviewFilterParams& params)
-    : directory_(std::move(directory)), filter_(face_size, params), image_(io::cube_image(face_size)) {
+    : directory_(std::move(directory)), filter_(face_size, params), grid_(face_size), image_(io::cube_image(face_size)) {
   image_.float_channels.push_back({"Y", std::vector<float>(filter_.intensity_cd().size())});
   image_.compress = false;
   image_.attributes = {{"gonio:quantity", "preview of the far-field luminous intensity (filtered; not a measurement)"},
@@ -87,7 +87,7 @@ Status PreviewOutput::write(const sim::FarField& far_field) {
   std::vector<float>& y = image_.float_channels.front().values;
   for (std::size_t t = 0; t < preview.size(); ++t) y[t] = static_cast<float>(preview[t]);
   if (Status s = io::write_exr(exr_path(), image_); !s.ok()) return s;
-  return io::write_png(png_path(), io::cube_cross_preview(filter_.face_size(), preview));
+  return io::write_png(png_path(), io::cube_cross_preview(grid_, preview));
 }
 
 }  // namespace gonio::cli

@@ -13,6 +13,7 @@
 
 #include "io/exr.h"
 #include "photometry/diagnostics.h"
+#include "sim/cube_map.h"
 #include "sim/far_field.h"
 #include "sim/preview_filter.h"
 #include "tools/cli.h"
@@ -56,6 +57,7 @@ class PreviewOutput {
  private:
   std::string directory_;
   sim::PreviewFilter filter_;
+  sim::CubeMapGrid grid_;  // its texel solid angles, for the PNG's white point
   io::ExrImage image_;
 };
 

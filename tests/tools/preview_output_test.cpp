@@ -50,7 +50,7 @@ TEST(PreviewOutput, WritesTheFilteredCubeAsExrAndTheCrossAsPng) {
   ASSERT_TRUE(png.ok()) << png.error().message;
   EXPECT_EQ(png->width, 4 * n);
   EXPECT_EQ(png->height, 3 * n);
-  EXPECT_EQ(png->pixels, io::cube_cross_preview(n, out.intensity_cd()).pixels);
+  EXPECT_EQ(png->pixels, io::cube_cross_preview(sim::CubeMapGrid(n), out.intensity_cd()).pixels);
 }
 
 TEST(PreviewOutput, AnUnwritableDirectoryIsAnErrorNamingThePath) {
