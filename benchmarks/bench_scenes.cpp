@@ -109,14 +109,7 @@ std::vector<sim::RayQuery> random_surface_rays(const sim::SceneDesc& scene, std:
     const Vec3 p = tri.p0 + b.b1 * tri.e1 + b.b2 * tri.e2;
     const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
     const Vec3 side = dot(d, tri.n) > 0.0 ? tri.n : -tri.n;
-    const Vec3 o = p + side * (0x1.0p-18 * m + floor_m);
-    sim::RayQuery& r = rays[i];
-    r.origin[0] = static_cast<float>(o.x);
-    r.origin[1] = static_cast<float>(o.y);
-    r.origin[2] = static_cast<float>(o.z);
-    r.direction[0] = static_cast<float>(d.x);
-    r.direction[1] = static_cast<float>(d.y);
-    r.direction[2] = static_cast<float>(d.z);
+    rays[i] = sim::ray_query(p + side * (0x1.0p-18 * m + floor_m), d);
   }
   return rays;
 }

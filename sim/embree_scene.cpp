@@ -160,14 +160,7 @@ EmbreeScene::RawRate EmbreeScene::measure_random_rays(std::uint64_t count, std::
     const Vec3 o{box.lower.x + rng.uniform() * (box.upper.x - box.lower.x),
                  box.lower.y + rng.uniform() * (box.upper.y - box.lower.y),
                  box.lower.z + rng.uniform() * (box.upper.z - box.lower.z)};
-    const Vec3 d = sample_uniform_sphere(rng);
-    RayQuery& r = rays[i];
-    r.origin[0] = static_cast<float>(o.x);
-    r.origin[1] = static_cast<float>(o.y);
-    r.origin[2] = static_cast<float>(o.z);
-    r.direction[0] = static_cast<float>(d.x);
-    r.direction[1] = static_cast<float>(d.y);
-    r.direction[2] = static_cast<float>(d.z);
+    rays[i] = ray_query(o, sample_uniform_sphere(rng));
   }
   return measure_rays(rays, threads);
 }

@@ -31,6 +31,11 @@ struct RayQuery {
   float t_near = 0.0f;
   float t_far = 3.0e38f;
 };
+// The query for a ray given in doubles, over (0, ∞).
+inline RayQuery ray_query(const Vec3& origin, const Vec3& direction) {
+  return {{static_cast<float>(origin.x), static_cast<float>(origin.y), static_cast<float>(origin.z)},
+          {static_cast<float>(direction.x), static_cast<float>(direction.y), static_cast<float>(direction.z)}};
+}
 
 struct RayHit {
   std::uint32_t mesh;      // index in SceneDesc::meshes

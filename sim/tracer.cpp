@@ -115,16 +115,11 @@ Vec3 Tracer::offset(const Vec3& p, const Vec3& side_normal, double t) const {
 TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
                            std::vector<RayQuery>* record, std::uint64_t power) const {
   TraceResult r;
-  RayQuery ray;
+  RayQuery ray{};
   RayHit hit;
   Polarization polarization;
   for (;;) {
-    ray.origin[0] = static_cast<float>(origin.x);
-    ray.origin[1] = static_cast<float>(origin.y);
-    ray.origin[2] = static_cast<float>(origin.z);
-    ray.direction[0] = static_cast<float>(direction.x);
-    ray.direction[1] = static_cast<float>(direction.y);
-    ray.direction[2] = static_cast<float>(direction.z);
+    ray = ray_query(origin, direction);
     if (books) ++books->rays;
     if (record) record->push_back(ray);
     if (!embree_.intersect(ray, &hit)) {

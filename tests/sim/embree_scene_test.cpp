@@ -7,17 +7,6 @@
 namespace gonio::sim {
 namespace {
 
-RayQuery ray(Vec3 o, Vec3 d) {
-  RayQuery q;
-  q.origin[0] = static_cast<float>(o.x);
-  q.origin[1] = static_cast<float>(o.y);
-  q.origin[2] = static_cast<float>(o.z);
-  q.direction[0] = static_cast<float>(d.x);
-  q.direction[1] = static_cast<float>(d.y);
-  q.direction[2] = static_cast<float>(d.z);
-  return q;
-}
-
 TEST(EmbreeScene, HitsNameMeshTriangleDistanceAndFrontNormal) {
   Mesh a = disc(1.0, 8);  // y = 0, facing +Y
   Mesh b = box(1.0, 1.0, 1.0);
@@ -28,7 +17,7 @@ TEST(EmbreeScene, HitsNameMeshTriangleDistanceAndFrontNormal) {
   EXPECT_EQ(scene->triangle_count(), 8u + 12u);
 
   RayHit hit;
-  ASSERT_TRUE(scene->intersect(ray({0.2, 1.0, 0.1}, {0, -1, 0}), &hit));
+  ASSERT_TRUE(scene->intersect(ray_query({0.2, 1.0, 0.1}, {0, -1, 0}), &hit));
   EXPECT_EQ(hit.mesh, 0u);
   EXPECT_NEAR(hit.t, 1.0, 1e-6);
   // The normal points to the front (counter-clockwise) side: +Y.
@@ -43,16 +32,16 @@ TEST(EmbreeScene, HitsNameMeshTriangleDistanceAndFrontNormal) {
   EXPECT_NEAR(w * p0.z + hit.u * p1.z + hit.v * p2.z, 0.1f, 1e-6);
 
   // From below the disc its front faces away; the box is mesh 2.
-  ASSERT_TRUE(scene->intersect(ray({0.1, -1.0, 0.0}, {0, 1, 0}), &hit));
+  ASSERT_TRUE(scene->intersect(ray_query({0.1, -1.0, 0.0}, {0, 1, 0}), &hit));
   EXPECT_EQ(hit.mesh, 0u);
   EXPECT_GT(hit.ng[1], 0.0f);  // still the front normal, now facing the ray's origin side away
-  ASSERT_TRUE(scene->intersect(ray({0.0, 1.0, 0.0}, {0, 1, 0}), &hit));
+  ASSERT_TRUE(scene->intersect(ray_query({0.0, 1.0, 0.0}, {0, 1, 0}), &hit));
   EXPECT_EQ(hit.mesh, 2u);
   EXPECT_NEAR(hit.t, 1.5, 1e-6);
   EXPECT_LT(hit.ng[1], 0.0f);  // the box's bottom face points down (outwards)
 
-  EXPECT_FALSE(scene->intersect(ray({5.0, 1.0, 0.0}, {0, -1, 0}), &hit));
-  RayQuery limited = ray({0.2, 1.0, 0.1}, {0, -1, 0});
+  EXPECT_FALSE(scene->intersect(ray_query({5.0, 1.0, 0.0}, {0, -1, 0}), &hit));
+  RayQuery limited = ray_query({0.2, 1.0, 0.1}, {0, -1, 0});
   limited.t_far = 0.5f;
   EXPECT_FALSE(scene->intersect(limited, &hit));
 
@@ -70,7 +59,7 @@ TEST(EmbreeScene, RandomRayRateCountsHits) {
   EXPECT_EQ(r.rays, 20000u);
   EXPECT_GT(r.hits, 0u);
   EXPECT_GT(r.rays_per_s(), 0.0);
-  std::vector<RayQuery> rays(1000, ray({0, 0, 0}, {0, 1, 0}));
+  std::vector<RayQuery> rays(1000, ray_query({0, 0, 0}, {0, 1, 0}));
   EXPECT_EQ(scene->measure_rays(rays, 1).hits, 1000u);
 }
 

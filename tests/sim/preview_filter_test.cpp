@@ -47,6 +47,21 @@ PreviewFilterParams params_with(Interpolation interpolation, double threshold, i
   return p;
 }
 
+// The thesis's bilinear filter at threshold 300 over 4 levels, on faces of
+// equal texels (solid angle 1), with and without the shadow-border rule,
+// each applied to `field`.
+std::pair<PreviewFilter, PreviewFilter> border_rule_on_and_off(const FarField& field) {
+  const int n = field.grid().face_size();
+  const std::vector<double> equal(static_cast<std::size_t>(n) * n, 1.0);
+  const PreviewFilterParams with = params_with(Interpolation::Bilinear, 300.0, 4);
+  PreviewFilterParams without = with;
+  without.shadow_borders = false;
+  std::pair<PreviewFilter, PreviewFilter> filters{PreviewFilter(n, with, equal), PreviewFilter(n, without, equal)};
+  filters.first.apply(field);
+  filters.second.apply(field);
+  return filters;
+}
+
 // The reference thesis's worked example (figures 6.5–6.8) on face 0 of an
 // 8-texel cube map whose texels all have solid angle 1, photons of 1 lm:
 // columns 0–2 dark, columns 3–7 with 200 photons each, as in figure 6.5.
@@ -152,17 +167,11 @@ TEST(PreviewFilter, ShadowBorderRuleLooksAcrossFaceEdgesAndACubeCorner) {
     ASSERT_EQ(static_cast<int>(neighbours.across_edge(pos_z, FaceEdge::Left, p) / (n * n)), pos_x);
     ASSERT_EQ(static_cast<int>(neighbours.across_edge(pos_z, FaceEdge::Top, p) / (n * n)), pos_y);
   }
-  std::vector<double> equal(n * n, 1.0);
   FarField field(n);
   for (int face : {pos_x, pos_y})
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) field.add(field.grid().index(face, x, y), 50.0, 50);
-  PreviewFilterParams p = params_with(Interpolation::Bilinear, 300.0, 4);
-  PreviewFilter with_rule(n, p, equal);
-  p.shadow_borders = false;
-  PreviewFilter without_rule(n, p, equal);
-  with_rule.apply(field);
-  without_rule.apply(field);
+  const auto [with_rule, without_rule] = border_rule_on_and_off(field);
   for (int y = 3; y <= 8; ++y)
     for (int x = 3; x <= 8; ++x)
       EXPECT_EQ(with_rule.intensity_cd()[field.grid().index(pos_z, x, y)], 0.0) << x << "," << y;
@@ -199,16 +208,10 @@ TEST(PreviewFilter, ShadowBordersOnCoarseLevelsKeepDarkRegionsDark) {
   // texels at the face's top and bottom edges (where the other, dark faces
   // leave fewer than three bright neighbours, so the rule does not apply).
   const int n = 16;
-  std::vector<double> equal(n * n, 1.0);
   FarField field(n);
   for (int y = 0; y < n; ++y)
     for (int x = n / 2; x < n; ++x) field.add(field.grid().index(0, x, y), 50.0, 50);
-  PreviewFilterParams p = params_with(Interpolation::Bilinear, 300.0, 4);
-  PreviewFilter with_rule(n, p, equal);
-  p.shadow_borders = false;
-  PreviewFilter without_rule(n, p, equal);
-  with_rule.apply(field);
-  without_rule.apply(field);
+  const auto [with_rule, without_rule] = border_rule_on_and_off(field);
   for (int y = 7; y <= 8; ++y) {
     for (int x = 1; x < 5; ++x) {
       const std::size_t t = field.grid().index(0, x, y);
@@ -349,6 +352,26 @@ int band_of(int n, std::size_t t) {
 
 double smooth_lobe(const Vec3& d) { return 1.0 + 0.5 * d.x + 0.3 * d.y * d.z + 0.2 * d.z * d.z; }
 
+// Squared relative errors of a preview and of its raw map against the true
+// texel fluxes, summed per band (band_of); rms() and raw_rms() of a band.
+struct BandErrors {
+  double preview[3] = {0, 0, 0}, raw[3] = {0, 0, 0}, count[3] = {0, 0, 0};
+  void add(const CubeMapGrid& grid, const std::vector<double>& expected_flux, const FarField& field,
+           const PreviewFilter& filter) {
+    for (std::size_t t = 0; t < field.texel_count(); ++t) {
+      const int band = band_of(grid.face_size(), t);
+      if (band < 0) continue;
+      const double truth = expected_flux[t] / grid.texel_solid_angle(t);
+      const double p = filter.intensity_cd()[t] / truth - 1.0, r = field.intensity_cd(t) / truth - 1.0;
+      preview[band] += p * p;
+      raw[band] += r * r;
+      count[band] += 1.0;
+    }
+  }
+  double rms(int band) const { return std::sqrt(preview[band] / count[band]); }
+  double raw_rms(int band) const { return std::sqrt(raw[band] / count[band]); }
+};
+
 TEST(PreviewFilter, ConstantFieldStaysConstantAcrossEdgesAndCorners) {
   // The exact map of an isotropic source, every texel forced through
   // interpolation from the coarsest level down: a wrong neighbour across an
@@ -412,7 +435,7 @@ TEST(PreviewFilter, SparseSmoothFieldHasNoSeams) {
   double total = 0.0;
   for (double f : expected) total += f;
   const FarFieldSampler sampler(expected);
-  double preview[3] = {0, 0, 0}, raw[3] = {0, 0, 0}, count[3] = {0, 0, 0};
+  BandErrors errors;
   PreviewFilter filter(n, PreviewFilterParams{});
   for (unsigned seed = 1; seed <= 4; ++seed) {
     FarField field(n);
@@ -420,21 +443,13 @@ TEST(PreviewFilter, SparseSmoothFieldHasNoSeams) {
     const std::uint64_t photons = 2 * field.texel_count();
     sampler.add_photons(field, photons, total / static_cast<double>(photons), rng);
     filter.apply(field);
-    for (std::size_t t = 0; t < field.texel_count(); ++t) {
-      const int band = band_of(n, t);
-      if (band < 0) continue;
-      const double truth = expected[t] / grid.texel_solid_angle(t);
-      const double p = filter.intensity_cd()[t] / truth - 1.0, r = field.intensity_cd(t) / truth - 1.0;
-      preview[band] += p * p;
-      raw[band] += r * r;
-      count[band] += 1.0;
-    }
+    errors.add(grid, expected, field, filter);
   }
   double improvement[3], rms[3], raw_rms[3];
   for (int b = 0; b < 3; ++b) {
-    improvement[b] = std::sqrt(raw[b] / preview[b]);
-    rms[b] = std::sqrt(preview[b] / count[b]);
-    raw_rms[b] = std::sqrt(raw[b] / count[b]);
+    rms[b] = errors.rms(b);
+    raw_rms[b] = errors.raw_rms(b);
+    improvement[b] = raw_rms[b] / rms[b];
   }
   std::printf("[ measured ] relative RMS error of the preview (raw map): centre %.4f (%.4f), edges %.4f (%.4f), "
               "corners %.4f (%.4f); edges/centre %.2f (%.2f), corners/centre %.2f (%.2f); improvement over the raw "
@@ -476,7 +491,7 @@ TEST(PreviewFilter, UniformNoiseGivesNoMoreErrorAtFaceEdgesAndCornersThanAtCentr
   const std::vector<double> expected = expected_texel_flux(grid, smooth_lobe, 4);
   for (Interpolation kind : {Interpolation::Bilinear, Interpolation::Bilateral}) {
     PreviewFilter filter(n, params_with(kind, PreviewFilterParams::kFixedThreshold, 0));
-    double preview[3] = {0, 0, 0}, raw[3] = {0, 0, 0}, count[3] = {0, 0, 0};
+    BandErrors errors;
     for (unsigned seed = 1; seed <= 128; ++seed) {
       std::mt19937_64 rng(seed);
       std::poisson_distribution<std::uint64_t> poisson(per_texel);
@@ -488,20 +503,12 @@ TEST(PreviewFilter, UniformNoiseGivesNoMoreErrorAtFaceEdgesAndCornersThanAtCentr
       }
       const FarField field(n, std::move(flux), std::move(photons));
       filter.apply(field);
-      for (std::size_t t = 0; t < field.texel_count(); ++t) {
-        const int band = band_of(n, t);
-        if (band < 0) continue;
-        const double truth = expected[t] / grid.texel_solid_angle(t);
-        const double p = filter.intensity_cd()[t] / truth - 1.0, r = field.intensity_cd(t) / truth - 1.0;
-        preview[band] += p * p;
-        raw[band] += r * r;
-        count[band] += 1.0;
-      }
+      errors.add(grid, expected, field, filter);
     }
     double rms[3], raw_rms[3];
     for (int b = 0; b < 3; ++b) {
-      rms[b] = std::sqrt(preview[b] / count[b]);
-      raw_rms[b] = std::sqrt(raw[b] / count[b]);
+      rms[b] = errors.rms(b);
+      raw_rms[b] = errors.raw_rms(b);
     }
     std::printf("[ measured ] uniform noise, %s: preview error centre %.4f, edges %.3f×, corners %.3f× the centre's "
                 "(raw map %.4f, %.3f×, %.3f×)\n",

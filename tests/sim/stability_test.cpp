@@ -438,20 +438,35 @@ TEST(Stability, ThresholdExtremesOnASmoothGlobe) {
 // an isotropic source is 1 − 3(1 − c) = 3c − 2 (the three caps |dᵢ| > c do
 // not overlap since 2c² > 1): 0.2361. The rest leaves after Fresnel
 // reflections; near the critical angle a few need more than the limit.
-TEST(Stability, TotalInternalReflectionTrap) {
+// A 1000 lm point lamp at `lamp` inside one mesh of one material, the mesh
+// wound outward or (inverted) inside out.
+SceneDesc lamp_inside(const std::string& name, const Material& material, Mesh mesh, bool inverted,
+                      const Vec3& lamp = {}) {
   SceneDesc s;
-  s.name = "TIR cube";
-  Material glass = named("glass");
-  glass.dielectric = 1.0;
-  glass.ior = 1.5;
-  s.materials = {glass};
-  Mesh cube = box(0.05, 0.05, 0.05);
-  cube.name = "cube";
-  s.meshes = {cube};
+  s.name = name;
+  s.materials = {material};
+  if (inverted) flip(mesh);
+  s.meshes = {std::move(mesh)};
   Emitter e;
   e.name = "lamp";
   e.flux_lm = 1000.0;
+  e.position = lamp;
   s.emitters = {e};
+  return s;
+}
+
+// The lamp at the centre of a 5 cm cube of clear glass (n = 1.5).
+SceneDesc glass_cube(const std::string& name, bool inverted) {
+  Material glass = named("glass");
+  glass.dielectric = 1.0;
+  glass.ior = 1.5;
+  Mesh cube = box(0.05, 0.05, 0.05);
+  cube.name = "cube";
+  return lamp_inside(name, glass, std::move(cube), inverted);
+}
+
+TEST(Stability, TotalInternalReflectionTrap) {
+  const SceneDesc s = glass_cube("TIR cube", false);
   Case c{"TIR trap", s};
   c.max_bounces = 16;
   c.first = std::uint64_t{1} << 12;
@@ -510,20 +525,10 @@ TEST(Stability, DegenerateGeometry) {
 // and its escaped flux and the share of it going down (the lamp sits off
 // centre) match the right globe's within photon noise.
 SceneDesc opal_globe(bool inverted) {
-  SceneDesc s;
-  s.name = inverted ? "inverted globe" : "globe";
-  Material opal{"opal", 0.35, 0.55, 0.0};
-  s.materials = {opal};
+  const Material opal{"opal", 0.35, 0.55, 0.0};
   Mesh globe = sphere(0.1, 24, 12);
   globe.name = "globe";
-  if (inverted) flip(globe);
-  s.meshes = {globe};
-  Emitter e;
-  e.name = "lamp";
-  e.flux_lm = 1000.0;
-  e.position = {0.02, 0.01, 0.0};
-  s.emitters = {e};
-  return s;
+  return lamp_inside(inverted ? "inverted globe" : "globe", opal, std::move(globe), inverted, {0.02, 0.01, 0.0});
 }
 
 TEST(Stability, InvertedDiffuseGlobe) {
@@ -567,20 +572,7 @@ TEST(Stability, InvertedDiffuseGlobe) {
 // trapped. Whatever it makes of it, nothing may be NaN, the books must close
 // and the far field converge.
 TEST(Stability, InvertedGlassCube) {
-  SceneDesc s;
-  s.name = "inverted glass cube";
-  Material glass = named("glass");
-  glass.dielectric = 1.0;
-  glass.ior = 1.5;
-  s.materials = {glass};
-  Mesh cube = box(0.05, 0.05, 0.05);
-  cube.name = "cube";
-  flip(cube);
-  s.meshes = {cube};
-  Emitter e;
-  e.name = "lamp";
-  e.flux_lm = 1000.0;
-  s.emitters = {e};
+  const SceneDesc s = glass_cube("inverted glass cube", true);
   const std::vector<Finding> findings = io::check_model(s);
   ASSERT_EQ(findings.size(), 1u);
   EXPECT_EQ(findings[0].code, "inverted-volume");
