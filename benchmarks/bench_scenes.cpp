@@ -1,8 +1,6 @@
 #include "benchmarks/bench_scenes.h"
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -71,23 +69,19 @@ sim::SceneDesc sphere_scene(int segments, int rings) {
   return scene;
 }
 
-std::vector<sim::RayQuery> random_surface_rays(const sim::SceneDesc& scene, std::uint64_t count,
-                                               std::uint64_t seed) {
+std::vector<sim::RayQuery> random_surface_rays(const sim::SceneDesc& scene, const sim::Tracer& tracer,
+                                               std::uint64_t count, std::uint64_t seed) {
   struct Triangle {
     Vec3 p0, e1, e2, n;  // corner, edges, unit normal
   };
   std::vector<Triangle> triangles;
   std::vector<double> areas;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
   for (const sim::Mesh& m : scene.meshes) {
     for (std::size_t t = 0; t < m.triangle_count(); ++t) {
       Vec3 p[3];
       for (int k = 0; k < 3; ++k) {
         const sim::Vec3f& q = m.positions[m.indices[3 * t + k]];
         p[k] = {q.x, q.y, q.z};
-        lo = {std::min(lo.x, p[k].x), std::min(lo.y, p[k].y), std::min(lo.z, p[k].z)};
-        hi = {std::max(hi.x, p[k].x), std::max(hi.y, p[k].y), std::max(hi.z, p[k].z)};
       }
       const Vec3 c = cross(p[1] - p[0], p[2] - p[0]);
       const double len = length(c);
@@ -99,7 +93,6 @@ std::vector<sim::RayQuery> random_surface_rays(const sim::SceneDesc& scene, std:
   std::vector<sim::RayQuery> rays;
   if (triangles.empty()) return rays;
   const sim::AliasTable table(areas);
-  const double floor_m = 0x1.0p-24 * length(hi - lo);
   rays.resize(count);
   for (std::uint64_t i = 0; i < count; ++i) {
     sim::PhotonRandom rng(seed, i);
@@ -107,9 +100,7 @@ std::vector<sim::RayQuery> random_surface_rays(const sim::SceneDesc& scene, std:
     const sim::Barycentric b = sim::sample_uniform_triangle(rng.uniform(), rng.uniform());
     const Vec3 d = sim::sample_uniform_sphere(rng);
     const Vec3 p = tri.p0 + b.b1 * tri.e1 + b.b2 * tri.e2;
-    const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-    const Vec3 side = dot(d, tri.n) > 0.0 ? tri.n : -tri.n;
-    rays[i] = sim::ray_query(p + side * (0x1.0p-18 * m + floor_m), d);
+    rays[i] = sim::ray_query(tracer.offset(p, dot(d, tri.n) > 0.0 ? tri.n : -tri.n, 0.0), d);
   }
   return rays;
 }

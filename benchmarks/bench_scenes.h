@@ -7,6 +7,7 @@
 
 #include "sim/embree_scene.h"
 #include "sim/scene.h"
+#include "sim/tracer.h"
 
 namespace gonio::bench {
 
@@ -21,13 +22,13 @@ sim::SceneDesc bell_scene(int segments = 256, int rings = 96);
 sim::SceneDesc sphere_scene(int segments, int rings);
 
 // Random rays that leave the scene's surfaces: origins uniform in area over
-// every triangle, moved off the surface by the tracer's rule (sim/tracer.h)
-// to the side the ray leaves towards, directions uniform over the sphere.
+// every triangle, moved off the surface by `tracer` (Tracer::offset) to the
+// side the ray leaves towards, directions uniform over the sphere.
 // What bare Embree costs for rays that start where scattered photons start
 // (a ray leaving a surface first crosses the BVH nodes around its origin);
 // the uniform rays in the bounding box of EmbreeScene::measure_random_rays
 // mostly start in empty space.
-std::vector<sim::RayQuery> random_surface_rays(const sim::SceneDesc& scene, std::uint64_t count,
-                                               std::uint64_t seed);
+std::vector<sim::RayQuery> random_surface_rays(const sim::SceneDesc& scene, const sim::Tracer& tracer,
+                                               std::uint64_t count, std::uint64_t seed);
 
 }  // namespace gonio::bench

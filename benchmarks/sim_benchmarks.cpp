@@ -72,7 +72,7 @@ void run_tracer(benchmark::State& state, const sim::SceneDesc& scene) {
   // Random rays leaving random surface points: what Embree costs for rays
   // that start where scattered photons do, without the tracer's choices.
   const auto surface =
-      sim.tracer().embree().measure_rays(random_surface_rays(scene, 2'000'000, 7), threads);
+      sim.tracer().embree().measure_rays(random_surface_rays(scene, sim.tracer(), 2'000'000, 7), threads);
   state.counters["photons_per_s"] = st.photons_per_s();
   state.counters["photons_per_cpu_s"] = static_cast<double>(st.photons) / cpu;
   state.counters["rays_per_s"] = st.rays_per_s();

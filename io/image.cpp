@@ -33,9 +33,8 @@ Status write_png(const std::string& path, const Image8& image) {
   spec.attribute("oiio:UnassociatedAlpha", 1);
   // Fast deflate and no row filters: previews are rewritten every iteration.
   // Level 1 took half the default's time (files 1.7× larger); libpng's
-  // adaptive filter choice then took as long as everything else in a
-  // 6 × 256² preview (53 → 29 ms per preview with the filter alone
-  // included, gonio_filter_benchmarks BM_PreviewOutput).
+  // adaptive filter choice then took as long as the rest of writing a
+  // 6 × 256² preview, filter included (BM_PreviewOutput: 53 → 29 ms).
   spec.attribute("png:compressionLevel", 1);
   spec.attribute("png:filter", 0x08);  // PNG_FILTER_NONE
   if (!out->open("preview.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) ||

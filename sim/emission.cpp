@@ -42,13 +42,14 @@ Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& pr
   // the parts are cells of the same interpolant, and inside every cell the
   // offset from its middle C angle stays within ±22.5° (sincos_small).
   constexpr double kMaxCellC = std::numbers::pi / 4.0;
+  const auto along = [](double a, double b, double t) { return a + t * (b - a); };
   for (std::size_t h = 0; h + 1 < hs.size(); ++h) {
     const double dh_grid = (hs[h + 1] - hs[h]) * kDeg;
-    const int parts = s.polar_is_gamma_ ? std::max(1, static_cast<int>(std::ceil(dh_grid / kMaxCellC - 1e-9))) : 1;
+    const int parts =
+        s.polar_is_gamma_ ? std::max(1, static_cast<int>(std::ceil(dh_grid / kMaxCellC - 1e-9))) : 1;
     for (std::size_t v = 0; v + 1 < vs.size(); ++v) {
       for (int k = 0; k < parts; ++k) {
         const double s0 = static_cast<double>(k) / parts, s1 = static_cast<double>(k + 1) / parts;
-        const auto along = [](double a, double b, double t) { return a + t * (b - a); };
         Cell c;
         c.h0_rad = hs[h] * kDeg + s0 * dh_grid;
         c.dh_rad = dh_grid / parts;

@@ -15,6 +15,8 @@ bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) &&
 
 Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
 
+double max_abs(const Vec3& p) { return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}); }
+
 std::string mesh_label(const Mesh& m, std::size_t i) {
   return "mesh " + std::to_string(i) + (m.name.empty() ? "" : " '" + m.name + "'");
 }
@@ -108,8 +110,7 @@ TracerTally Tracer::make_tally() const {
 }
 
 Vec3 Tracer::offset(const Vec3& p, const Vec3& side_normal, double t) const {
-  const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  return p + side_normal * (0x1.0p-18 * (m + t) + offset_floor_m_);
+  return p + side_normal * offset_m(max_abs(p) + t);
 }
 
 TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
@@ -181,8 +182,8 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // transmitted ray still starts on the far side.
     // Both offsets scale with the hit point's largest coordinate.
     const Vec3 p = origin + t * direction;
-    const double scale = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) + t;
-    const double off = 0x1.0p-18 * scale + offset_floor_m_;
+    const double scale = max_abs(p) + t;
+    const double off = offset_m(scale);
     origin = p - direction * (0x1.0p-20 * scale) + (dot(s.direction, ng) > 0.0 ? off : -off) * ng;
     direction = s.direction;
   }

@@ -97,6 +97,10 @@ class Tracer {
   // with beams); books nothing. `direction` need not be unit.
   TraceResult trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng) const;
 
+  // A point on a surface moved off it towards unit `side_normal` by the rule
+  // at the top (t: the length of the path that reached it; 0 for emission).
+  Vec3 offset(const Vec3& p, const Vec3& side_normal, double t) const;
+
   // Emits and traces photons [first, first + count) like trace_photons but
   // records every ray query instead of booking (benchmarks replay them with
   // EmbreeScene::measure_rays to separate Embree's cost from the tracer's).
@@ -126,7 +130,9 @@ class Tracer {
   TraceResult follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
                      std::vector<RayQuery>* record = nullptr,
                      std::uint64_t power = kPowerUnits) const;
-  Vec3 offset(const Vec3& p, const Vec3& side_normal, double t) const;
+  // The offset's length for scale = max |coordinate| + t: 2⁻¹⁸·scale plus
+  // the floor [m].
+  double offset_m(double scale) const { return 0x1.0p-18 * scale + offset_floor_m_; }
 
   CubeMapGrid grid_;
   EmbreeScene embree_;
