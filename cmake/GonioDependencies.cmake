@@ -36,6 +36,12 @@ find_package(CGAL REQUIRED)
 # tinygltf is a compiled library in Debian: never define TINYGLTF_IMPLEMENTATION.
 find_package(TinyGLTF REQUIRED)
 
+# cpp-httplib (the live page's server): Debian ships it compiled, with a
+# pkg-config file whose flags (OpenSSL, zlib, brotli support) the header
+# must see to match the library. Only tools/live_server.cpp includes it.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(httplib REQUIRED IMPORTED_TARGET cpp-httplib)
+
 if(GONIO_BUILD_TESTS)
   find_package(GTest REQUIRED)
   include(GoogleTest)
