@@ -83,6 +83,13 @@ Result<std::unique_ptr<LiveServer>> LiveServer::start(const std::string& host, i
   Impl* s = impl.get();
   s->host = host;
   httplib::Server& server = s->server;
+  // No compression: httplib would compress every response (brotli or gzip,
+  // as the browser allows) on the fly, which takes seconds for three.js on
+  // two busy cores and would hold back the event stream. The page is local.
+  server.set_pre_routing_handler([](const httplib::Request& req, httplib::Response&) {
+    const_cast<httplib::Request&>(req).headers.erase("Accept-Encoding");  // the server's own object
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
   server.set_mount_point("/", web);
   server.set_file_extension_and_mimetype_mapping("js", "text/javascript");
   server.set_file_extension_and_mimetype_mapping("mjs", "text/javascript");

@@ -6,6 +6,7 @@
 #include <limits>
 #include <utility>
 
+#include "io/cube_cross.h"
 #include "photometry/summary.h"
 
 namespace gonio::cli {
@@ -115,6 +116,11 @@ void LiveView::begin_run(const std::string& model, const sim::SceneDesc& scene, 
   state_["findings"] = findings_json(findings);
   state_["last_error"] = nullptr;
   state_["stopped_by"] = nullptr;
+  // Until its first iteration the new run has no numbers of its own: the
+  // field stays, the curves show as the previous run's.
+  state_["iteration"] = 0;
+  state_["photons"] = 0;
+  state_["curves"] = nullptr;
   publish(false);
 }
 
@@ -170,7 +176,11 @@ void LiveView::iteration(const IterationReport& r, const sim::Simulation& simula
                   {"c180", plane(d, 180.0)},
                   {"c270", plane(d, 270.0)}};
   s["curves"] = last_curves_;
-  s["field"] = {{"face_size", raw.face_size()}, {"max_cd", max_cd}, {"version", version_ + 1}};
+  // The colour scale's white point as preview.png's: the intensity under
+  // which the texels carrying 99 % of the flux lie (a bright spot must not
+  // leave the rest of the picture black).
+  const double white_cd = max_cd > 0.0 ? io::flux_quantile_cd(raw.grid(), cd, io::kPreviewQuantile) : 0.0;
+  s["field"] = {{"face_size", raw.face_size()}, {"max_cd", max_cd}, {"white_cd", white_cd}, {"version", version_ + 1}};
   if (first_preview_) {
     s["load_to_preview_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - since_).count();
     first_preview_ = false;

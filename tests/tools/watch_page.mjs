@@ -80,7 +80,9 @@ try {
     headless: true,
     userDataDir: path.join(work, 'chromium-profile'),
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
-      '--disable-component-update', '--disable-sync', '--no-first-run', '--window-size=1500,1100'],
+      '--disable-component-update', '--disable-sync', '--no-first-run', '--window-size=1500,1100',
+      // software WebGL (SwiftShader) for the 3D view: no GPU here
+      '--enable-unsafe-swiftshader'],
   });
   const page = await browser.newPage();
   await page.setViewport({ width: 1500, height: 1100 });
@@ -146,6 +148,7 @@ try {
   await page.waitForFunction(() => window.gonioPage.state.status === 'finished', { timeout: 120000 });
   const updates = await page.evaluate(() => window.gonioPage.updates.slice());
   result.page_updates = updates.length;
+  result.page_update_rate_per_s = await page.evaluate(() => window.gonioPage.updateRate);
   await page.screenshot({ path: path.join(artifacts, 'watch-page.png') });
 
   // 4. A truncated .glb: the error shows, the server stays up, the last good result stays.

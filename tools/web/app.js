@@ -65,7 +65,13 @@ function ramp(t) {
   }
   return RAMP[RAMP.length - 1][1];
 }
-// Maps cd to [0, 1] on the current scale: linear 0…max, or log over 4 decades.
+// The top of the colour scale: the white point (99 % of the flux under it,
+// as preview.png) on the linear scale, the peak on the log scale.
+function scaleTop(field) {
+  return page.cubeScale === 'log' || !(field.white_cd > 0) ? field.max_cd : field.white_cd;
+}
+// Maps cd to [0, 1] on the current scale: linear 0…top (brighter clips to
+// white), or log over 4 decades below the top.
 function scaler(maxCd) {
   if (!(maxCd > 0)) return () => 0;
   if (page.cubeScale === 'log') {
@@ -80,7 +86,7 @@ const SLOTS = [[2, 1], [0, 1], [1, 0], [1, 2], [3, 1], [1, 1]];  // +X, −X, +Y
 function drawCube() {
   const s = page.state, f = page.field;
   if (!s || !s.field || !f) return;
-  const n = s.field.face_size, maxCd = s.field.max_cd;
+  const n = s.field.face_size, maxCd = scaleTop(s.field);
   if (f.length !== 6 * n * n) return;
   const canvas = $('cube');
   if (canvas.width !== 4 * n) { canvas.width = 4 * n; canvas.height = 3 * n; }
@@ -121,7 +127,8 @@ function drawScale(maxCd) {
     : [1, 0.75, 0.5, 0.25, 0].map((k) => maxCd * k);
   for (const v of values) {
     const d = document.createElement('div');
-    d.textContent = fmt(v, 3) + ' cd';
+    d.textContent = (v === values[0] && page.cubeScale === 'lin' && page.state.field.white_cd < page.state.field.max_cd
+      ? '≥ ' : '') + fmt(v, 3) + ' cd';
     ticks.appendChild(d);
   }
 }
@@ -228,8 +235,10 @@ function showNumbers(s) {
   if (s.status === 'finished') frac = 1;
   $('progress').style.width = (100 * Math.min(1, frac)).toFixed(1) + '%';
   const now = performance.now();
+  // Iterations shown per second over this run's last 10 s of updates.
   const recent = page.updates.filter((t) => now - t < 10000);
-  const rate = recent.length > 1 ? (recent.length - 1) / ((recent[recent.length - 1] - recent[0]) / 1000) : NaN;
+  if (recent.length > 1) page.updateRate = (recent.length - 1) / ((recent[recent.length - 1] - recent[0]) / 1000);
+  const rate = page.updateRate;
   setNumber('updates', rate, Number.isFinite(rate) ? rate.toFixed(1) + ' /s' : '—');
 }
 function showMessages(s) {
@@ -289,7 +298,7 @@ async function init3d() {
   const host = $('view3d');
   let renderer;
   try {
-    renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    renderer = new THREE.WebGLRenderer({ antialias: true, alpha: true, preserveDrawingBuffer: true });
   } catch (e) {
     msg.textContent = '3D view unavailable: this browser has no WebGL.';
     return;
@@ -325,7 +334,7 @@ async function init3d() {
     update() {
       const s = page.state, f = page.field;
       if (!s || !s.field || !f) return;
-      const n = s.field.face_size, maxCd = s.field.max_cd;
+      const n = s.field.face_size, maxCd = scaleTop(s.field), peak = s.field.max_cd;
       if (f.length !== 6 * n * n) return;
       const scale = scaler(maxCd);
       const pos = geometry.attributes.position.array;
@@ -333,7 +342,7 @@ async function init3d() {
         const v = f[locate(unit[i], unit[i + 1], unit[i + 2], n)];
         const c = ramp(scale(v));
         colours[i] = c[0] / 255; colours[i + 1] = c[1] / 255; colours[i + 2] = c[2] / 255;
-        const r = page.sphereMode === 'solid' ? Math.max(0.002, maxCd > 0 ? v / maxCd : 0) : 1;
+        const r = page.sphereMode === 'solid' ? Math.max(0.002, peak > 0 ? v / peak : 0) : 1;
         pos[i] = unit[i] * r; pos[i + 1] = unit[i + 1] * r; pos[i + 2] = unit[i + 2] * r;
       }
       geometry.attributes.color.needsUpdate = true;
@@ -370,6 +379,7 @@ async function fetchField() {
 }
 function onState(s) {
   const newIteration = !page.state || s.iteration !== page.state.iteration || s.run !== page.state.run;
+  if (page.state && s.run !== page.state.run) page.updates = [];  // the rate of this run alone
   page.state = s;
   if (newIteration && s.iteration) page.updates.push(performance.now());
   if (page.updates.length > 200) page.updates.splice(0, 100);
