@@ -19,7 +19,7 @@ import { createRequire } from 'node:module';
 
 const [puppeteerDir, chromium, gonio, model, repeatsArg] = process.argv.slice(2);
 const repeats = Number(repeatsArg || 5);
-const require = createRequire(path.join(puppeteerDir, 'package.json'));
+const require = createRequire(path.resolve(puppeteerDir, 'package.json'));
 const puppeteer = require('puppeteer-core');
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 

@@ -6,7 +6,10 @@
 //
 // Changes are polled every 50 ms and debounced (tools/watch_files.h: 150 ms
 // without a further change); a run in progress is stopped between slices of
-// 65536 photons. A model that cannot be read is retried after 250, 500 and
+// 16384 photons. Unless given, --photons is 262144 and --iterations 1000 (a
+// page update every few tenths of a second; the run goes on until the target
+// error, the last iteration or the next change), and the first iteration of
+// every run is 65536 photons (a first preview soon after a change). A model that cannot be read is retried after 250, 500 and
 // 1000 ms (a modeller may still be saving), then its error is shown while the
 // last good result stays on the page. With --out, every run that finishes
 // (all iterations, or --target-error reached) writes what `gonio simulate`
@@ -38,6 +41,8 @@ using namespace std::chrono_literals;
 constexpr auto kPoll = 50ms;
 constexpr auto kQuiet = 150ms;
 constexpr std::uint64_t kFirstIterationPhotons = std::uint64_t{1} << 16;
+constexpr long long kWatchPhotons = 1 << 18;
+constexpr long long kWatchIterations = 1000;
 
 // The model and the files it references; just the model where it cannot be
 // read now (a half-written file: the next snapshot will show the change).
@@ -73,7 +78,8 @@ int run_watch(const Args& args) {
               "scripts. Whenever MODEL or a file it references (buffers, profiles) changes,\n"
               "the run starts again (debounced; a half-written file is retried; the last good\n"
               "result stays up while the model cannot be read). With --out DIR, each run that\n"
-              "finishes writes the files and report.json of `gonio simulate`. Ctrl-C ends it.");
+              "finishes writes the files and report.json of `gonio simulate`. Ctrl-C ends it.\n"
+              "Unlike simulate, --photons defaults to 262144 and --iterations to 1000 here.");
   p.positional("MODEL", &model, "the luminaire model (.gltf or .glb)");
   p.option("port", &port, 0, 65535, "P", "port of the page (default 8765; 0: any free port, printed)");
   p.option("host", &host, "ADDR", "address to listen on (default 127.0.0.1: this machine only)");
@@ -81,6 +87,8 @@ int run_watch(const Args& args) {
   add_simulate_options(p, &options);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
+  if (!p.given("photons")) options.photons = kWatchPhotons;
+  if (!p.given("iterations")) options.iterations = kWatchIterations;
   std::optional<SimulatePlan> planned = plan_simulation("watch", model, options, p);
   if (!planned) return kExitUsage;
   SimulatePlan plan = *planned;

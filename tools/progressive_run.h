@@ -65,7 +65,7 @@ using IterationCallback = std::function<bool(const IterationReport&, const sim::
 // iteration not reported). Slicing changes no photon: the far field is the
 // same bytes as unsliced (photon indices are run-wide).
 using CancelCheck = std::function<bool()>;
-inline constexpr std::uint64_t kCancelSlicePhotons = std::uint64_t{1} << 16;
+inline constexpr std::uint64_t kCancelSlicePhotons = std::uint64_t{1} << 14;
 
 // Creates the simulation (errors: those of sim::Simulation::create) and runs
 // it. `resampler` (the output grid's, same face size) gives the estimate;

@@ -9,7 +9,7 @@ import path from 'node:path';
 import { createRequire } from 'node:module';
 
 const [puppeteerDir, chromium, gonio, samplesDir, work, artifacts] = process.argv.slice(2);
-const require = createRequire(path.join(puppeteerDir, 'package.json'));
+const require = createRequire(path.resolve(puppeteerDir, 'package.json'));
 const puppeteer = require('puppeteer-core');
 
 function check(cond, message) {

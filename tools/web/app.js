@@ -309,8 +309,11 @@ async function init3d() {
   const scene = new THREE.Scene();
   const camera = new THREE.PerspectiveCamera(40, 1, 0.01, 100);
   camera.position.set(2.6, 1.2, 2.8);
+  // Drawn on demand (a change of view or of the field), never in a loop: the
+  // page must not take CPU from the simulation it shows.
   const controls = new OrbitControls(camera, renderer.domElement);
-  controls.enableDamping = true;
+  const render = () => renderer.render(scene, camera);
+  controls.addEventListener('change', render);
   const geometry = new THREE.SphereGeometry(1, 128, 64);
   const unit = geometry.attributes.position.array.slice();
   const colours = new Float32Array(unit.length);
@@ -327,6 +330,7 @@ async function init3d() {
     renderer.domElement.style.height = '100%';
     camera.aspect = w / h;
     camera.updateProjectionMatrix();
+    render();
   };
   window.addEventListener('resize', resize);
   resize();
@@ -348,10 +352,11 @@ async function init3d() {
       geometry.attributes.color.needsUpdate = true;
       geometry.attributes.position.needsUpdate = true;
       geometry.computeBoundingSphere();
+      render();
     },
   };
   view.update();
-  renderer.setAnimationLoop(() => { controls.update(); renderer.render(scene, camera); });
+  render();
 }
 
 // ---------- data flow ----------
