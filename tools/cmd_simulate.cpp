@@ -215,7 +215,7 @@ int run_simulate(const Args& args) {
   p.option("out", &options.out_dir, "DIR", "output directory (created if missing)");
   add_simulate_options(p, &options);
   p.flag("serve", &serve, "show the run on the live page of `gonio watch` (127.0.0.1), kept up until Ctrl-C");
-  p.option("port", &port, 1, 65535, "P", "port of the live page (default 8765)");
+  p.option("port", &port, 0, 65535, "P", "port of the live page (default 8765; 0: any free port, printed)");
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
   if (options.out_dir.empty()) {
@@ -273,8 +273,10 @@ int run_simulate(const Args& args) {
     std::fflush(stderr);
     return true;
   };
-  Result<ProgressiveOutcome> sim =
-      run_progressive(scene.value(), plan.progressive, resampler, progress);
+  // With the live page Ctrl-C is caught (the page stays up after the run):
+  // during the run it stops the run, and nothing is written.
+  const CancelCheck cancel = live ? CancelCheck([] { return interrupted(); }) : CancelCheck();
+  Result<ProgressiveOutcome> sim = run_progressive(scene.value(), plan.progressive, resampler, progress, cancel);
   if (!sim.ok()) {
     Error e = sim.error();
     if (e.where.file.empty()) e.where.file = model;
@@ -283,13 +285,17 @@ int run_simulate(const Args& args) {
     return kExitFailure;
   }
 
+  if (sim->stopped_by == StopReason::Cancelled) {
+    print_error("simulate: interrupted; nothing was written");
+    return kExitFailure;
+  }
   if (!preview_status.ok()) {
     print_error(preview_status.error());
     return kExitFailure;
   }
+  if (live) live->run_finished(sim.value());
   const int code = write_run_files(plan, sim.value(), preview ? &*preview : nullptr, start);
   if (live) {
-    live->run_finished(sim.value());
     std::printf("live page: %s stays up until Ctrl-C\n", live->url().c_str());
     std::fflush(stdout);
     wait_for_interrupt();

@@ -308,7 +308,7 @@ async function init3d() {
   host.appendChild(renderer.domElement);
   const scene = new THREE.Scene();
   const camera = new THREE.PerspectiveCamera(40, 1, 0.01, 100);
-  camera.position.set(2.6, 1.2, 2.8);
+  camera.position.set(2.5, -1.5, 2.7);  // from below the horizon: the downward light faces the viewer
   // Drawn on demand (a change of view or of the field), never in a loop: the
   // page must not take CPU from the simulation it shows.
   const controls = new OrbitControls(camera, renderer.domElement);
