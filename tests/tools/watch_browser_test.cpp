@@ -13,7 +13,9 @@
 //   - writes a truncated .glb and sees the error on the page, naming the
 //     file, while the server answers and the last good result stays; then a
 //     good model again and the page recovers;
-//   - ends gonio with SIGINT (exit 0).
+//   - ends gonio with SIGINT (exit 0);
+//   - then, without the browser, watches the downlight sample and rewrites
+//     the IES profile its model references: GET /state.json shows a new run.
 // Screenshots: build/test-artifacts/watch-page.png (and -run1, -error).
 // Needs node, npm (the registry once) and chromium: skips without them,
 // fails under CI=true. ctest label `browser`.

@@ -171,7 +171,6 @@ try {
   await page.waitForFunction(() => window.gonioPage.state.run === 3 && window.gonioPage.state.iteration >= 1 &&
     !window.gonioPage.state.last_error, { timeout: 60000 });
   check(pageErrors.length === 0, 'errors in the page: ' + pageErrors.join('; '));
-  console.log(JSON.stringify(result));
 } finally {
   if (browser) await browser.close();
   if (exited === null) {
@@ -182,3 +181,42 @@ try {
 }
 check(exited && exited.code === 0, `gonio watch did not end cleanly on Ctrl-C: ${JSON.stringify(exited)}\n${stderr}`);
 check(stdout.includes('watch: stopped'), 'gonio watch did not say it stopped: ' + stdout);
+
+// 6. A profile the model references changes (the downlight's led.ies, its
+//    bytes rewritten): a new run, followed through GET /state.json alone.
+{
+  const dir = path.join(work, 'downlight');
+  fs.mkdirSync(dir);
+  for (const f of fs.readdirSync(path.join(samplesDir, 'downlight')))
+    fs.copyFileSync(path.join(samplesDir, 'downlight', f), path.join(dir, f));
+  const w = spawn(gonio, ['watch', path.join(dir, 'downlight.gltf'), '--port', '0', '--photons', '50000'],
+    { stdio: ['ignore', 'pipe', 'pipe'] });
+  let wout = '';
+  w.stdout.on('data', (d) => { wout += d; });
+  w.stderr.on('data', () => {});
+  let wexit = null;
+  w.on('exit', (code) => { wexit = code; });
+  try {
+    let wurl = null;
+    for (let i = 0; i < 200 && !wurl; ++i) {
+      const m = wout.match(/live page: (\S+)/);
+      if (m) wurl = m[1]; else await sleep(100);
+    }
+    check(wurl, 'the second gonio watch printed no URL');
+    const state = async () => (await fetch(wurl + 'state.json')).json();
+    let s = await state();
+    for (let i = 0; i < 600 && !(s.run === 1 && s.iteration >= 1); ++i) { await sleep(100); s = await state(); }
+    check(s.run === 1 && s.iteration >= 1, 'the downlight never ran: ' + JSON.stringify(s).slice(0, 300));
+    const ies = path.join(dir, 'led.ies');
+    fs.writeFileSync(ies, fs.readFileSync(ies));
+    for (let i = 0; i < 600 && s.run < 2; ++i) { await sleep(100); s = await state(); }
+    check(s.run === 2, 'rewriting the referenced profile led.ies started no new run');
+    result.profile_change = 'restarted';
+  } finally {
+    if (wexit === null) w.kill('SIGINT');
+    for (let i = 0; i < 100 && wexit === null; ++i) await sleep(50);
+    if (wexit === null) w.kill('SIGKILL');
+  }
+  check(wexit === 0, 'the second gonio watch did not end cleanly: ' + wexit);
+}
+console.log(JSON.stringify(result));
