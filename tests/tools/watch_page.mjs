@@ -44,9 +44,15 @@ const model = path.join(work, 'bell.glb');
 const outDir = path.join(work, 'out');
 fs.writeFileSync(model, packGlb(gltf, bin));
 
-// The shade (the bell's reflector) moved up by `dy` metres.
-function moved(dy) {
+// The shade (the bell's reflector) moved up by `dy` metres; with `typo`, an
+// unknown key in the scene's extras.gonio (a warning finding).
+function moved(dy, typo = false) {
   const g = structuredClone(gltf);
+  if (typo) {
+    const sc = g.scenes[g.scene || 0];
+    sc.extras = sc.extras || {};
+    sc.extras.gonio = { ...(sc.extras.gonio || {}), fram: 1 };
+  }
   const shade = g.nodes.find((n) => n.name === 'shade');
   check(shade, 'the bell sample has no node named shade');
   const t = shade.translation || [0, 0, 0];
@@ -166,10 +172,17 @@ try {
   await page.screenshot({ path: path.join(artifacts, 'watch-page-error.png') });
   result.error_text = errorText.split('\n')[0];
 
-  // 5. A good model again: it recovers.
-  fs.writeFileSync(model, moved(0.1));
+  // 5. A good model again, with a typo in its extras: it recovers, and the
+  //    reader's warning is on the page.
+  fs.writeFileSync(model, moved(0.1, true));
   await page.waitForFunction(() => window.gonioPage.state.run === 3 && window.gonioPage.state.iteration >= 1 &&
     !window.gonioPage.state.last_error, { timeout: 60000 });
+  const findings = await page.evaluate(() => [...document.querySelectorAll('#findings li')].map((li) => li.textContent));
+  check(findings.some((f) => f.includes('warning') && f.includes('fram')),
+    'the model\'s warning is not among the page\'s findings: ' + JSON.stringify(findings));
+  check(!(await page.evaluate(() => document.getElementById('last-error').classList.contains('shown'))),
+    'the error is still shown after the model was repaired');
+  await page.screenshot({ path: path.join(artifacts, 'watch-page-findings.png'), fullPage: true });
   check(pageErrors.length === 0, 'errors in the page: ' + pageErrors.join('; '));
 } finally {
   if (browser) await browser.close();
