@@ -19,6 +19,7 @@ const std::vector<Command> kCommands = {
     {"convert", "Convert between IES LM-63 and EULUMDAT (and between their versions)", run_convert},
     {"simulate", "Trace a luminaire model (glTF) into IES, LDT and EXR files, checked", run_simulate},
     {"plot", "Draw the intensity diagram of an IES or LDT file (SVG or PNG)", run_plot},
+    {"report", "Write the datasheet of IES/LDT files: diagrams, UGR, CU, SC, BUG (HTML or PDF)", run_report},
     {"compare", "Compare two photometric files: RMS, peak, flux and beam differences", run_compare},
     {"bench", "Measure speed against accuracy on luminaire models (error vs time and photons)", run_bench},
 };
