@@ -206,6 +206,15 @@ UgrTable ugr_table(const Distribution& d) {
     }
     t.rooms.push_back(room);
   }
+  bool any = false;
+  for (const UgrRoom& r : t.rooms)
+    for (std::size_t k = 0; k < kUgrReflectances.size(); ++k)
+      any = any || std::isfinite(r.crosswise[k]) || std::isfinite(r.endwise[k]);
+  if (!any) {
+    t.rooms.clear();
+    t.why_undefined = "no light from the luminaires reaches the observer's eye (e.g. an uplight)";
+    return t;
+  }
   t.defined = true;
   return t;
 }

@@ -68,7 +68,8 @@ std::vector<std::array<double, 2>> ugr_room_sizes();
 double ugr(const Distribution& d, double x_h, double y_h, const std::array<double, 3>& reflectances,
            bool endwise, double spacing_h = 0.25);
 
-// The whole table. Requires validate(d).ok().
+// The whole table; undefined (with the reason) without a luminous area or
+// when no light reaches the eye in any room. Requires validate(d).ok().
 UgrTable ugr_table(const Distribution& d);
 
 }  // namespace gonio::photometry

@@ -109,6 +109,17 @@ TEST(Ugr, LinearLuminaireGlaresMoreCrosswise) {
   EXPECT_GT(t.rooms[10].crosswise[0], t.rooms[10].endwise[0] + 1.0);
 }
 
+TEST(Ugr, UplightIsUndefinedWithAReason) {
+  Distribution d = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5),
+                            [](double, double g) { return g > 90 ? 100.0 : 0.0; });
+  d.opening.shape = OpeningShape::Rectangular;
+  d.opening.length_m = d.opening.width_m = 0.6;
+  const UgrTable t = ugr_table(d);
+  EXPECT_FALSE(t.defined);
+  EXPECT_TRUE(t.rooms.empty());
+  EXPECT_NE(t.why_undefined.find("eye"), std::string::npos);
+}
+
 TEST(Ugr, PointOpeningIsUndefinedWithAReason) {
   Distribution d = panel();
   d.opening = {};
