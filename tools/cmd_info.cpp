@@ -220,9 +220,13 @@ void planning_rows(Table& t, const photometry::PlanningFigures& p) {
   } else {
     t.row("CU (zonal cavity)", why_or(p.cu.why_undefined));
   }
-  t.row("Spacing criterion", "C0-C180 " + sc_text(p.spacing.c0_c180) + ", C90-C270 " +
-                                 sc_text(p.spacing.c90_c270) + ", diagonal " +
-                                 sc_text(p.spacing.diagonal));
+  const auto& sc = p.spacing;
+  if (!sc.c0_c180.ratio && !sc.c90_c270.ratio && !sc.diagonal.ratio &&
+      sc.c0_c180.why_undefined == sc.c90_c270.why_undefined && sc.c0_c180.why_undefined == sc.diagonal.why_undefined)
+    t.row("Spacing criterion", why_or(sc.c0_c180.why_undefined));
+  else
+    t.row("Spacing criterion", "C0-C180 " + sc_text(sc.c0_c180) + ", C90-C270 " + sc_text(sc.c90_c270) +
+                                   ", diagonal " + sc_text(sc.diagonal));
   const auto& z = p.bug.zones_lm;
   t.row("BUG rating", photometry::to_string(p.bug) + "\nBL " + fmt(z.bl, 0) + "  BM " + fmt(z.bm, 0) +
                           "  BH " + fmt(z.bh, 0) + "  BVH " + fmt(z.bvh, 0) + " lm\nFL " +

@@ -69,6 +69,38 @@ TEST(ZonalCavity, ZonalMultipliersAgreeWithTheExactDirectRatio) {
   }
 }
 
+// The IES Handbook's closed form of the zonal cavity CU (its C₀…C₃
+// expressions), written out here from the published formulas, against our
+// direct solution of the three-surface exchange: they are the same system,
+// so they agree to rounding for any flux split, every pair and RCR 1…10.
+double handbook_cu(const CavityFlux& flux, double rcr, double pcc, double pw, double pfc) {
+  double down = 0, direct = 0;
+  for (int n = 0; n < 9; ++n) {
+    down += flux.zones[n];
+    direct += zonal_multiplier(n, rcr) * flux.zones[n];
+  }
+  const double dr = direct / down, f = cavity_form_factor(rcr), f2 = 1 - f * f;
+  const double c1 = (1 - pw) * f2 * rcr / (2.5 * pw * f2 + rcr * f * (1 - pw));
+  const double c2 = (1 - pcc) * (1 + f) / (1 + pcc * f);
+  const double c3 = (1 - pfc) * (1 + f) / (1 + pfc * f);
+  const double c0 = c1 + c2 + c3;
+  return 2.5 * pw * c1 * c3 * (1 - dr) * down / (rcr * (1 - pw) * (1 - pfc) * c0) +
+         pcc * c2 * c3 * flux.up / ((1 - pcc) * (1 - pfc) * c0) +
+         (1 - pfc * c3 * (c1 + c2) / ((1 - pfc) * c0)) * dr * down / (1 - pfc);
+}
+
+TEST(ZonalCavity, SolutionEqualsTheHandbooksClosedForm) {
+  // A downlight with 20 % uplight and an uneven zonal split.
+  CavityFlux flux;
+  flux.zones = {0.02, 0.06, 0.09, 0.12, 0.13, 0.11, 0.08, 0.05, 0.02};
+  flux.up = 0.2;
+  for (int rcr = 1; rcr <= 10; ++rcr)
+    for (const auto& [cc, w] : kCuReflectancePairs)
+      for (double fc : {0.0, 0.1, 0.2, 0.3})
+        EXPECT_NEAR(coefficient_of_utilization(flux, rcr, cc, w, fc), handbook_cu(flux, rcr, cc, w, fc), 1e-12)
+            << "RCR " << rcr << " " << cc << "/" << w << "/" << fc;
+}
+
 // RCR 0: two infinite planes, CU = (φ_down + ρcc φ_up) / (1 − ρcc ρfc).
 TEST(ZonalCavity, InfiniteRoomClosedForm) {
   const CuTable t = cu_table(isotropic(), 0.2);
