@@ -10,7 +10,7 @@ packages=(
   libcgal-dev libtinygltf-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox fonts-dejavu-core
-  libcpp-httplib-dev chromium
+  libcpp-httplib-dev chromium poppler-utils
 )
 
 missing=()
