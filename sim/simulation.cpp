@@ -80,6 +80,7 @@ Result<Simulation> Simulation::create(const SceneDesc& scene, const SimulationSe
       settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
   auto impl = std::make_unique<Impl>(scene, settings, std::move(tracer.value()), threads);
   impl->stats.threads = threads;
+  impl->stats.tracer_setup = impl->tracer.setup_times();
   impl->stats.setup_s = seconds_since(start);
   return Simulation(std::move(impl));
 }

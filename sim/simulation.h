@@ -41,7 +41,9 @@ struct SimulationStats {
   std::uint64_t photons_traced = 0;  // traced so far: = photons unless guided emission dropped some
   std::uint64_t rays = 0;      // ray queries so far
   double trace_s = 0.0;        // wall time spent tracing [s]
-  double setup_s = 0.0;        // wall time to check the scene and build the BVH [s]
+  double setup_s = 0.0;        // wall time of Simulation::create: the tracer's setup and
+                               // the tallies [s]
+  TracerSetupTimes tracer_setup;  // its parts (validation, emission tables, BVH)
   int threads = 0;             // threads used
   double photons_per_s() const { return trace_s > 0.0 ? static_cast<double>(photons) / trace_s : 0.0; }
   double rays_per_s() const { return trace_s > 0.0 ? static_cast<double>(rays) / trace_s : 0.0; }

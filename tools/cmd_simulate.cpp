@@ -6,7 +6,7 @@
 //                  [--c-step DEG] [--gamma-step DEG] [--symmetry S]
 //                  [--format LIST] [--ies-version 2002|2019] [--name STEM]
 //                  [--min-lor X] [--flux-tolerance X]
-//                  [--preview [filter options]]
+//                  [--cache DIR | --no-cache] [--preview [filter options]]
 //
 // Writes DIR/STEM.ies, STEM.ldt, farfield.exr (cube), farfield-latlong.exr, STEM.svg (the
 // intensity diagram; tools/simulation_outputs.h) and DIR/report.json
@@ -37,6 +37,7 @@
 #include "gonio/version.h"
 #include "io/exr.h"
 #include "io/file_io.h"
+#include "io/model_check.h"
 #include "io/report.h"
 #include "sim/resample.h"
 #include "sim/simulation.h"
@@ -145,6 +146,12 @@ int run_simulate(const Args& args) {
   p.option("flux-tolerance", &flux_tolerance, 0.0, 1.0, "X",
            "fail when a written file's flux differs from the escaped flux by more than X "
            "(a fraction; default 0.005 = 0.5 %)");
+  std::string cache_dir;
+  bool no_cache = false;
+  p.option("cache", &cache_dir, "DIR",
+           "where the model checks' results are kept by content hash, so that an unchanged model "
+           "is not checked again (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
+  p.flag("no-cache", &no_cache, "check the model without reading or writing the cache");
   PreviewOptions preview_options;
   add_preview_options(p, &preview_options);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
@@ -174,9 +181,13 @@ int run_simulate(const Args& args) {
   if (stem.empty() || stem.find_first_of("/\\") != std::string::npos || stem == "." || stem == "..")
     return usage_error(p, "--name: '" + stem + "' is not a plain file name");
   if (!p.given("face-size")) face_size = sim::face_size_for(grid);
+  if (no_cache && p.given("cache")) return usage_error(p, "--cache and --no-cache exclude each other");
 
   // Load, then check the geometry: errors stop the run, warnings are printed.
-  std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated");
+  ModelInputOptions input_options;
+  input_options.check_cache_dir = no_cache ? "" : p.given("cache") ? cache_dir : io::default_check_cache_dir();
+  ModelInputTimes input_times;
+  std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated", input_options, &input_times);
   if (!scene) return kExitFailure;
 
   sim::SimulationSettings settings;
@@ -258,6 +269,15 @@ int run_simulate(const Args& args) {
   report.rays = st.rays;
   report.trace_s = st.trace_s;
   report.setup_s = st.setup_s;
+  report.setup.load_s = input_times.load_s;
+  report.setup.check_s = input_times.check_s;
+  report.setup.validate_s = st.tracer_setup.validate_s;
+  report.setup.emission_tables_s = st.tracer_setup.emission_s;
+  report.setup.bvh_s = st.tracer_setup.bvh_s;
+  report.setup.shading_s = st.tracer_setup.shading_s;
+  report.setup.meshes = input_times.meshes;
+  report.setup.meshes_from_cache = input_times.meshes_from_cache;
+  report.max_rss_bytes = io::peak_memory_bytes();
   report.ledger = sim->ledger();
   report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json json = io::to_json(report);

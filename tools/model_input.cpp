@@ -1,5 +1,6 @@
 #include "tools/model_input.h"
 
+#include <chrono>
 #include <utility>
 #include <vector>
 
@@ -8,14 +9,33 @@
 #include "tools/cli.h"
 
 namespace gonio::cli {
+namespace {
 
-std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done) {
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done,
+                                                 const ModelInputOptions& options, ModelInputTimes* times) {
   std::vector<Finding> findings;
+  ModelInputTimes t;
+  auto start = std::chrono::steady_clock::now();
   Result<sim::SceneDesc> scene = io::load_gltf(model, &findings);
+  t.load_s = seconds_since(start);
   if (scene.ok()) {
-    const std::vector<Finding> checks = io::check_model(scene.value());
+    start = std::chrono::steady_clock::now();
+    io::ModelCheckOptions check_options;
+    check_options.cache_dir = options.check_cache_dir;
+    io::ModelCheckStats stats;
+    const std::vector<Finding> checks = io::check_model(scene.value(), check_options, &stats);
     findings.insert(findings.end(), checks.begin(), checks.end());
+    t.check_s = seconds_since(start);
+    t.meshes = stats.meshes;
+    t.meshes_from_cache = stats.meshes_from_cache;
   }
+  if (times) *times = t;
   bool errors = false;
   for (const Finding& f : findings) {
     const std::string where = f.where.file.empty() ? model : to_string(f.where);
