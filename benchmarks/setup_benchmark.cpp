@@ -14,20 +14,17 @@
 // cpu_s_per_Mtriangle (CPU seconds of all threads per million triangles:
 // what the phase costs on a machine shared with others, where wall time
 // depends on who else runs).
-// The models are written once per run into a temporary folder.
+// The models are written once per run into a temporary folder
+// (benchmarks/large_model_files.h).
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
-#include <filesystem>
-#include <map>
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
-#include "io/file_io.h"
+#include "benchmarks/large_model_files.h"
 #include "io/gltf.h"
 #include "io/model_check.h"
 #include "samples/large_models.h"
@@ -44,47 +41,8 @@ using samples::LargeModel;
   std::abort();
 }
 
-std::string model_folder() {
-  static const std::string dir = [] {
-    const auto d = std::filesystem::temp_directory_path() /
-                   ("gonio-setup-benchmark-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    std::atexit([] { std::filesystem::remove_all(model_folder()); });
-    return d.string();
-  }();
-  return dir;
-}
-
-// The model's .gltf path, written on first use.
-std::string model_path(LargeModel kind, std::size_t triangles) {
-  static std::map<std::pair<int, std::size_t>, std::string> written;
-  const auto key = std::make_pair(static_cast<int>(kind), triangles);
-  if (auto it = written.find(key); it != written.end()) return it->second;
-  const samples::Sample s = samples::large_model(kind, triangles);
-  const std::filesystem::path dir = std::filesystem::path(model_folder()) / s.name;
-  std::filesystem::create_directories(dir);
-  for (const samples::SampleFile& f : s.files)
-    if (Status st = io::write_file_atomic((dir / f.name).string(), f.bytes); !st.ok())
-      fail(to_string(st.error()));
-  return written[key] = (dir / s.model).string();
-}
-
-// The loaded scene, kept for the later phases.
-const sim::SceneDesc& scene(LargeModel kind, std::size_t triangles) {
-  static std::map<std::pair<int, std::size_t>, sim::SceneDesc> loaded;
-  const auto key = std::make_pair(static_cast<int>(kind), triangles);
-  if (auto it = loaded.find(key); it != loaded.end()) return it->second;
-  std::vector<Finding> findings;
-  Result<sim::SceneDesc> s = io::load_gltf(model_path(kind, triangles), &findings);
-  if (!s.ok()) fail(to_string(s.error()));
-  return loaded[key] = std::move(s.value());
-}
-
-std::size_t triangle_count(const sim::SceneDesc& s) {
-  std::size_t n = 0;
-  for (const sim::Mesh& m : s.meshes) n += m.triangle_count();
-  return n;
-}
+const sim::SceneDesc& scene(LargeModel kind, std::size_t triangles) { return large_model_scene(kind, triangles); }
+std::string model_path(LargeModel kind, std::size_t triangles) { return large_model_file(kind, triangles); }
 
 // CPU time of the whole process (all threads) [s].
 double process_cpu_s() {

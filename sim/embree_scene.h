@@ -21,6 +21,12 @@ struct EmbreeSceneOptions {
   // closed mesh (seen: photons trapped by total internal reflection in a
   // glass sphere escaping after ~90 reflections). Costs ~5 % of Embree's rate.
   bool robust = true;
+  // Embree's BVH build quality (RTC_BUILD_QUALITY_LOW / MEDIUM / HIGH):
+  // High adds spatial splits, the best trees for static scenes at the
+  // highest build cost; gonio_sim_benchmarks' BM_BvhQuality measures both
+  // sides on the large models.
+  enum class Quality { Low, Medium, High };
+  Quality quality = Quality::High;
 };
 
 // A ray query: origin and direction (need not be unit; t is measured in

@@ -31,6 +31,7 @@ struct SimulationSettings {
   int max_bounces = 100;                             // see TracerSettings
   int face_size = 128;  // texels per cube face edge: CubeMapGrid::face_size_for_step(2.5)
   bool robust_embree = true;                         // see EmbreeSceneOptions
+  EmbreeSceneOptions::Quality bvh_quality = EmbreeSceneOptions::Quality::High;  // likewise
   // Importance-guided emission (sim/emission_guide.h); off: plain emission.
   ImportanceSettings importance;
 };
@@ -52,8 +53,9 @@ struct SimulationStats {
 class Simulation {
  public:
   // Checks the settings and the scene (errors name the part at fault) and
-  // builds the tracer.
-  static Result<Simulation> create(const SceneDesc& scene, const SimulationSettings& settings);
+  // builds the tracer. The simulation keeps the scene: pass an rvalue to
+  // move it in rather than hold two copies of a large model.
+  static Result<Simulation> create(SceneDesc scene, const SimulationSettings& settings);
   ~Simulation();
   Simulation(Simulation&&) noexcept;
   Simulation& operator=(Simulation&&) noexcept;
@@ -100,7 +102,7 @@ struct SimulationProgress {
 
 // Runs all iterations, calling `on_iteration` (if set) after each.
 Result<Simulation> simulate(
-    const SceneDesc& scene, const SimulationSettings& settings,
+    SceneDesc scene, const SimulationSettings& settings,
     const std::function<void(const SimulationProgress&, const Simulation&)>& on_iteration = {});
 
 }  // namespace gonio::sim

@@ -33,6 +33,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "gonio/version.h"
 #include "io/exr.h"
@@ -218,7 +219,7 @@ int run_simulate(const Args& args) {
     if (pr.iteration == pr.iterations) std::fputc('\n', stderr);
     std::fflush(stderr);
   };
-  Result<sim::Simulation> sim = sim::simulate(scene.value(), settings, progress);
+  Result<sim::Simulation> sim = sim::simulate(std::move(scene.value()), settings, progress);
   if (!sim.ok()) {
     Error e = sim.error();
     if (e.where.file.empty()) e.where.file = model;
