@@ -51,7 +51,9 @@ nlohmann::json to_json(const SimulationReport& r) {
                 {"bvh_s", r.setup.bvh_s},
                 {"shading_s", r.setup.shading_s},
                 {"meshes", r.setup.meshes},
-                {"meshes_from_cache", r.setup.meshes_from_cache}};
+                {"meshes_from_cache", r.setup.meshes_from_cache},
+                {"max_rss_after_load_bytes", r.setup.max_rss_after_load_bytes},
+                {"max_rss_after_checks_bytes", r.setup.max_rss_after_checks_bytes}};
   j["max_rss_bytes"] = r.max_rss_bytes;
   j["threads"] = r.threads;
   j["iterations_done"] = r.iterations_done;

@@ -10,7 +10,8 @@
 //   photons_per_s, rays_per_s, rays, rays_per_photon, wall_s, trace_s,
 //   setup_s, threads, iterations_done,
 //   setup {load_s, check_s, validate_s, emission_tables_s, bvh_s, shading_s,
-//          meshes, meshes_from_cache}  — the phases between the saved model
+//          meshes, meshes_from_cache, max_rss_after_load_bytes,
+//          max_rss_after_checks_bytes}  — the phases between the saved model
 //          and the first photon [s]: reading the model, the model checks
 //          (io/model_check.h; meshes found in the check cache are not checked
 //          again), and the tracer's setup: scene validation, emission tables,
@@ -65,6 +66,8 @@ struct SimulationReport {
     double shading_s = 0.0;
     std::size_t meshes = 0;             // meshes the checks looked at
     std::size_t meshes_from_cache = 0;  // of these, found in the check cache
+    std::uint64_t max_rss_after_load_bytes = 0;    // peak_memory_bytes() after loading
+    std::uint64_t max_rss_after_checks_bytes = 0;  // and after the checks
   } setup;
   std::uint64_t max_rss_bytes = 0;  // peak_memory_bytes() when the report was made
 

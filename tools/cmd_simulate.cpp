@@ -278,6 +278,8 @@ int run_simulate(const Args& args) {
   report.setup.shading_s = st.tracer_setup.shading_s;
   report.setup.meshes = input_times.meshes;
   report.setup.meshes_from_cache = input_times.meshes_from_cache;
+  report.setup.max_rss_after_load_bytes = input_times.max_rss_after_load_bytes;
+  report.setup.max_rss_after_checks_bytes = input_times.max_rss_after_checks_bytes;
   report.max_rss_bytes = io::peak_memory_bytes();
   report.ledger = sim->ledger();
   report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -6,6 +6,7 @@
 
 #include "io/gltf.h"
 #include "io/model_check.h"
+#include "io/report.h"
 #include "tools/cli.h"
 
 namespace gonio::cli {
@@ -24,6 +25,7 @@ std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const
   auto start = std::chrono::steady_clock::now();
   Result<sim::SceneDesc> scene = io::load_gltf(model, &findings);
   t.load_s = seconds_since(start);
+  t.max_rss_after_load_bytes = io::peak_memory_bytes();
   if (scene.ok()) {
     start = std::chrono::steady_clock::now();
     io::ModelCheckOptions check_options;
@@ -34,6 +36,7 @@ std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const
     t.check_s = seconds_since(start);
     t.meshes = stats.meshes;
     t.meshes_from_cache = stats.meshes_from_cache;
+    t.max_rss_after_checks_bytes = io::peak_memory_bytes();
   }
   if (times) *times = t;
   bool errors = false;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -22,6 +23,8 @@ struct ModelInputTimes {
   double check_s = 0.0;  // the model checks, or finding them in the cache [s]
   std::size_t meshes = 0;
   std::size_t meshes_from_cache = 0;
+  std::uint64_t max_rss_after_load_bytes = 0;    // the memory high-water mark then
+  std::uint64_t max_rss_after_checks_bytes = 0;  // (io::peak_memory_bytes)
 };
 
 // Loads and checks `model`, printing every warning and error to stderr with

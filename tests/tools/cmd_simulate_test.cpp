@@ -201,7 +201,12 @@ TEST(Simulate, ReportsTheSetupPhasesAndCachesTheChecks) {
   EXPECT_EQ(setup["meshes"], 1);
   EXPECT_EQ(setup["meshes_from_cache"], 0);
   // At least what a process with Embree and TBB loaded holds.
-  EXPECT_GT(cold["max_rss_bytes"].get<std::uint64_t>(), std::uint64_t{1} << 20);
+  const auto peak = cold["max_rss_bytes"].get<std::uint64_t>();
+  EXPECT_GT(peak, std::uint64_t{1} << 20);
+  // A high-water mark only rises.
+  EXPECT_LE(setup["max_rss_after_load_bytes"].get<std::uint64_t>(), setup["max_rss_after_checks_bytes"].get<std::uint64_t>());
+  EXPECT_LE(setup["max_rss_after_checks_bytes"].get<std::uint64_t>(), peak);
+  EXPECT_GT(setup["max_rss_after_load_bytes"].get<std::uint64_t>(), 0u);
   ASSERT_TRUE(std::filesystem::is_directory(cache));
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(cache), std::filesystem::directory_iterator()), 1);
 
