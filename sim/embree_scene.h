@@ -2,7 +2,8 @@
 // sim/embree_scene.cpp is the one file that includes Embree.
 //
 // One Embree geometry per sim::Mesh (geometry id = mesh index), built with
-// high quality; single-ray incoherent queries (rtcIntersect1). Callers set
+// high quality and robust triangle tests unless EmbreeSceneOptions says
+// otherwise; single-ray incoherent queries (rtcIntersect1). Callers set
 // flush-to-zero and denormals-are-zero on their threads (FloatModeGuard).
 #pragma once
 
