@@ -1,7 +1,6 @@
 #include "benchmarks/large_model_files.h"
 
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <utility>
@@ -20,15 +19,24 @@ namespace {
   std::abort();
 }
 
-std::string model_folder() {
-  static const std::string dir = [] {
-    const auto d = std::filesystem::temp_directory_path() /
-                   ("gonio-large-models-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    std::atexit([] { std::filesystem::remove_all(model_folder()); });
-    return d.string();
-  }();
-  return dir;
+// A temporary folder for this process, removed with everything in it when
+// the process exits normally.
+struct Folder {
+  std::filesystem::path path;
+  Folder() : path(std::filesystem::temp_directory_path() / ("gonio-large-models-" + std::to_string(::getpid()))) {
+    std::filesystem::create_directories(path);
+  }
+  ~Folder() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  Folder(const Folder&) = delete;
+  Folder& operator=(const Folder&) = delete;
+};
+
+const std::filesystem::path& model_folder() {
+  static const Folder folder;
+  return folder.path;
 }
 
 }  // namespace
@@ -38,7 +46,7 @@ std::string large_model_file(samples::LargeModel kind, std::size_t triangles) {
   const auto key = std::make_pair(static_cast<int>(kind), triangles);
   if (auto it = written.find(key); it != written.end()) return it->second;
   const samples::Sample s = samples::large_model(kind, triangles);
-  const std::filesystem::path dir = std::filesystem::path(model_folder()) / s.name;
+  const std::filesystem::path dir = model_folder() / s.name;
   std::filesystem::create_directories(dir);
   for (const samples::SampleFile& f : s.files)
     if (Status st = io::write_file_atomic((dir / f.name).string(), f.bytes); !st.ok())
