@@ -9,7 +9,9 @@
 // code (49k triangles), a closed 100k-triangle white sphere, and bare Embree
 // on that sphere; and the samples with importance-guided emission
 // (BM_TracerSampleGuided, counters below). Each tracer benchmark runs 2^20 photons per iteration on
-// 1 and 2 threads.
+// 1 and 2 threads. The large generated models with each BVH build quality
+// and robust mode on and off (BM_TracerLarge), and what robust mode keeps
+// from slipping through a closed mesh (BM_RobustLeaks).
 //
 // Counters: photons_per_s and rays_per_s of the tracer (wall clock),
 // photons_per_cpu_s (per CPU-second of all threads), raw_rays_per_s of
@@ -21,13 +23,18 @@
 // the tracer's own work costs on top of Embree's).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "benchmarks/bench_scenes.h"
+#include "benchmarks/large_model_files.h"
 #include "io/gltf.h"
+#include "sim/random.h"
+#include "sim/sampling.h"
 #include "sim/simulation.h"
 
 namespace gonio::bench {
@@ -43,8 +50,11 @@ double process_cpu_s() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-sim::Simulation make_simulation(const sim::SceneDesc& scene, int threads) {
+sim::Simulation make_simulation(const sim::SceneDesc& scene, int threads,
+                                const sim::EmbreeSceneOptions& embree = {}) {
   sim::SimulationSettings s;
+  s.robust_embree = embree.robust;
+  s.bvh_quality = embree.quality;
   s.photons_per_iteration = kPhotonsPerIteration;
   s.iterations = 1;
   s.threads = threads;
@@ -56,9 +66,9 @@ sim::Simulation make_simulation(const sim::SceneDesc& scene, int threads) {
   return std::move(sim.value());
 }
 
-void run_tracer(benchmark::State& state, const sim::SceneDesc& scene) {
+void run_tracer(benchmark::State& state, const sim::SceneDesc& scene, const sim::EmbreeSceneOptions& embree = {}) {
   const int threads = static_cast<int>(state.range(0));
-  sim::Simulation sim = make_simulation(scene, threads);
+  sim::Simulation sim = make_simulation(scene, threads, embree);
   const double cpu0 = process_cpu_s();
   for (auto _ : state) sim.run_iteration();
   const double cpu = process_cpu_s() - cpu0;
@@ -84,6 +94,7 @@ void run_tracer(benchmark::State& state, const sim::SceneDesc& scene) {
   state.counters["replay_rays_per_s"] = replay.rays_per_s();
   state.counters["replay_ratio"] = st.rays_per_s() / replay.rays_per_s();
   state.counters["triangles"] = static_cast<double>(sim.tracer().embree().triangle_count());
+  state.counters["bvh_s"] = st.tracer_setup.bvh_s;
   state.SetItemsProcessed(static_cast<std::int64_t>(st.photons));
 }
 
@@ -130,6 +141,87 @@ void BM_RawEmbreeSphere100k(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(sim.tracer().embree().triangle_count());
 }
 BENCHMARK(BM_RawEmbreeSphere100k)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The large generated models (samples/large_models.h) at 10⁵ and 10⁶
+// triangles on 2 threads, for each BVH build quality (second argument: 0
+// low, 1 medium, 2 high) and robust mode (third: 1 on, 0 off): the tracer's
+// rates and replay_ratio as above, and bvh_s, the BVH's build time.
+const bool kLargeRegistered = [] {
+  using samples::LargeModel;
+  for (LargeModel kind : {LargeModel::FacetedReflector, LargeModel::LensArray, LargeModel::GlassPart})
+    for (std::size_t triangles : {std::size_t{100'000}, std::size_t{1'000'000}}) {
+      const std::string name =
+          "BM_TracerLarge/" + samples::large_model_name(kind) + "/" + std::to_string(triangles);
+      auto* b = benchmark::RegisterBenchmark(name.c_str(), [kind, triangles](benchmark::State& st) {
+        sim::EmbreeSceneOptions o;
+        o.quality = static_cast<sim::EmbreeSceneOptions::Quality>(st.range(1));
+        o.robust = st.range(2) != 0;
+        run_tracer(st, large_model_scene(kind, triangles), o);
+      });
+      for (int quality : {0, 1, 2}) b->Args({2, quality, 1});
+      b->Args({2, 2, 0});
+      b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+    }
+  return true;
+}();
+
+// What robust mode keeps in: rays leaving random points of a closed glass
+// sphere's surface into the glass (origins moved inside by the tracer's
+// offset rule, directions uniform over the inner hemisphere of the facet)
+// must all hit the sphere again. Argument: robust (1) or not (0). Counters:
+// rays, misses (rays that slipped out through an edge or a vertex),
+// miss_fraction and raw rays/s.
+void BM_RobustLeaks(benchmark::State& state, std::size_t triangles) {
+  const sim::SceneDesc& scene = large_model_scene(samples::LargeModel::GlassPart, triangles);
+  sim::TracerSettings ts;
+  ts.embree.robust = state.range(0) != 0;
+  auto tracer = sim::Tracer::create(scene, 8, ts);
+  if (!tracer.ok()) {
+    state.SkipWithError(to_string(tracer.error()).c_str());
+    return;
+  }
+  const sim::Mesh& mesh = scene.meshes.at(0);
+  std::vector<sim::RayQuery> rays(2'000'000);
+  for (std::uint64_t i = 0; i < rays.size(); ++i) {
+    sim::PhotonRandom rng(5, i);
+    const auto t = std::min<std::size_t>(static_cast<std::size_t>(rng.uniform() * static_cast<double>(mesh.triangle_count())),
+                                         mesh.triangle_count() - 1);
+    Vec3 p[3];
+    for (int k = 0; k < 3; ++k) {
+      const sim::Vec3f& q = mesh.positions[mesh.indices[3 * t + static_cast<std::size_t>(k)]];
+      p[k] = {q.x, q.y, q.z};
+    }
+    const Vec3 n = normalize(cross(p[1] - p[0], p[2] - p[0]));  // outward
+    const sim::Barycentric b = sim::sample_uniform_triangle(rng.uniform(), rng.uniform());
+    Vec3 d = sim::sample_uniform_sphere(rng);
+    if (dot(d, n) > 0.0) d = -d;
+    const Vec3 origin = p[0] + b.b1 * (p[1] - p[0]) + b.b2 * (p[2] - p[0]);
+    rays[i] = sim::ray_query(tracer->offset(origin, -n, 0.0), d);
+  }
+  std::uint64_t misses = 0;
+  double rays_per_s = 0.0;
+  for (auto _ : state) {
+    const auto rate = tracer->embree().measure_rays(rays, 2);
+    misses = rate.rays - rate.hits;
+    rays_per_s = rate.rays_per_s();
+  }
+  state.counters["rays"] = static_cast<double>(rays.size());
+  state.counters["misses"] = static_cast<double>(misses);
+  state.counters["miss_fraction"] = static_cast<double>(misses) / static_cast<double>(rays.size());
+  state.counters["raw_rays_per_s"] = rays_per_s;
+  state.counters["triangles"] = static_cast<double>(triangle_count(scene));
+}
+const bool kLeaksRegistered = [] {
+  for (std::size_t triangles : {std::size_t{10'000}, std::size_t{1'000'000}})
+    benchmark::RegisterBenchmark(("BM_RobustLeaks/glass-part/" + std::to_string(triangles)).c_str(),
+                                 BM_RobustLeaks, triangles)
+        ->Arg(1)
+        ->Arg(0)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->Iterations(1);
+  return true;
+}();
 
 // Importance-guided emission (sim/emission_guide.h) on the samples, after the
 // two plain iterations the guide learns from: photons drawn per

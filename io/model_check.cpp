@@ -1,6 +1,10 @@
 // The only file that includes CGAL.
 #include "io/model_check.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
@@ -14,11 +18,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <map>
+#include <limits>
 #include <numeric>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
+
+#include "io/model_check_cache.h"
 
 namespace gonio::io {
 namespace {
@@ -44,7 +51,7 @@ std::string point_text(const Point& p) {
 struct Welded {
   std::vector<Point> points;
   std::vector<Tri> triangles;           // non-degenerate, welded
-  std::vector<std::size_t> source;      // index of each in the mesh's triangle list
+  std::vector<std::uint32_t> source;    // index of each in the mesh's triangle list
   std::size_t degenerate = 0;
   std::size_t first_degenerate = 0;
 };
@@ -59,7 +66,9 @@ Welded weld(const sim::Mesh& mesh) {
     const sim::Vec3f& p = mesh.positions[i];
     return std::array<float, 3>{p.x + 0.0f, p.y + 0.0f, p.z + 0.0f};
   };
-  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return key(a) < key(b); });
+  // Equal keys are one point whatever their order, so an unstable parallel
+  // sort gives the same ids.
+  tbb::parallel_sort(order.begin(), order.end(), [&](auto a, auto b) { return key(a) < key(b); });
   std::vector<std::uint32_t> id(n);
   for (std::size_t k = 0; k < n; ++k) {
     if (k == 0 || key(order[k]) != key(order[k - 1])) {
@@ -68,15 +77,26 @@ Welded weld(const sim::Mesh& mesh) {
     }
     id[order[k]] = static_cast<std::uint32_t>(w.points.size() - 1);
   }
-  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-    const Tri tri{id[mesh.indices[3 * t]], id[mesh.indices[3 * t + 1]], id[mesh.indices[3 * t + 2]]};
-    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] ||
-        CGAL::collinear(w.points[tri[0]], w.points[tri[1]], w.points[tri[2]])) {
+  const std::size_t triangles = mesh.triangle_count();
+  std::vector<char> degenerate(triangles, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles, 4096),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t t = r.begin(); t != r.end(); ++t) {
+                        const Tri tri{id[mesh.indices[3 * t]], id[mesh.indices[3 * t + 1]],
+                                      id[mesh.indices[3 * t + 2]]};
+                        degenerate[t] = tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] ||
+                                        CGAL::collinear(w.points[tri[0]], w.points[tri[1]], w.points[tri[2]]);
+                      }
+                    });
+  w.triangles.reserve(triangles);
+  w.source.reserve(triangles);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    if (degenerate[t]) {
       if (w.degenerate++ == 0) w.first_degenerate = t;
       continue;
     }
-    w.triangles.push_back(tri);
-    w.source.push_back(t);
+    w.triangles.push_back({id[mesh.indices[3 * t]], id[mesh.indices[3 * t + 1]], id[mesh.indices[3 * t + 2]]});
+    w.source.push_back(static_cast<std::uint32_t>(t));
   }
   return w;
 }
@@ -183,24 +203,36 @@ bool faces_intersect(const Welded& w, const Tri& a, const Tri& b) {
 struct Intersections {
   std::size_t pairs = 0;
   bool capped = false;
-  std::pair<std::size_t, std::size_t> first{0, 0};
+  // The smallest pair of the mesh's triangle indices among those found.
+  std::pair<std::size_t, std::size_t> first{SIZE_MAX, SIZE_MAX};
+
+  void add(const Intersections& o) {
+    pairs += o.pairs;
+    capped = capped || o.capped;
+    first = std::min(first, o.first);
+  }
 };
 
 struct StopSearch {};
 
-Intersections self_intersections(const Welded& w) {
-  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
-  std::vector<Box> boxes;
-  boxes.reserve(w.triangles.size());
-  for (std::size_t t = 0; t < w.triangles.size(); ++t) {
-    const Tri& tri = w.triangles[t];
-    boxes.emplace_back(w.points[tri[0]].bbox() + w.points[tri[1]].bbox() + w.points[tri[2]].bbox(), t);
-  }
+// Boxes of welded triangles in floats: the positions are floats, so the
+// boxes are exact. Info: the triangle's index in Welded::triangles.
+using Box = CGAL::Box_intersection_d::Box_with_info_d<float, 3, std::uint32_t>;
+
+// One sequential box search over `boxes`, reporting only the pairs whose
+// boxes' overlap starts (along `axis`) in [from, to): with the boxes of
+// every slab that contains such a start, each pair belongs to exactly one
+// slab. At most kMaxPairs pairs are counted.
+Intersections search_slab(const Welded& w, std::vector<Box>& boxes, int axis, float from, float to) {
   Intersections out;
   auto report = [&](const Box& x, const Box& y) {
-    const std::size_t i = x.info(), j = y.info();
+    const float start = std::max(x.min_coord(axis), y.min_coord(axis));
+    if (start < from || !(start < to)) return;
+    const std::uint32_t i = x.info(), j = y.info();
     if (!faces_intersect(w, w.triangles[i], w.triangles[j])) return;
-    if (out.pairs == 0) out.first = {std::min(w.source[i], w.source[j]), std::max(w.source[i], w.source[j])};
+    const std::pair<std::size_t, std::size_t> pair{std::min(w.source[i], w.source[j]),
+                                                   std::max(w.source[i], w.source[j])};
+    out.first = std::min(out.first, pair);
     if (++out.pairs >= kMaxPairs) throw StopSearch{};
   };
   try {
@@ -211,36 +243,131 @@ Intersections self_intersections(const Welded& w) {
   return out;
 }
 
-struct EdgeUse {
-  std::uint32_t forward = 0;   // used as (low → high)
-  std::uint32_t backward = 0;  // used as (high → low)
-};
+// Pairs of triangles that intersect. A large mesh is cut into slabs along
+// its longest axis at quantiles of the boxes' lower ends, each slab searched
+// on its own (in parallel); the slabs depend on the mesh alone, so the count,
+// the cap and the first pair do not depend on the thread count.
+Intersections self_intersections(const Welded& w, std::size_t slab_triangles) {
+  const std::size_t n = w.triangles.size();
+  std::vector<Box> boxes;
+  boxes.reserve(n);
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  float lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
+  for (std::size_t t = 0; t < n; ++t) {
+    const Tri& tri = w.triangles[t];
+    float b_lo[3], b_hi[3];
+    for (int k = 0; k < 3; ++k) {
+      const float a = static_cast<float>(w.points[tri[0]][k]), b = static_cast<float>(w.points[tri[1]][k]),
+                  c = static_cast<float>(w.points[tri[2]][k]);
+      b_lo[k] = std::min({a, b, c});
+      b_hi[k] = std::max({a, b, c});
+      lo[k] = std::min(lo[k], b_lo[k]);
+      hi[k] = std::max(hi[k], b_hi[k]);
+    }
+    boxes.emplace_back(b_lo, b_hi, static_cast<std::uint32_t>(t));
+  }
+  const std::size_t slabs = std::clamp<std::size_t>(n / std::max<std::size_t>(slab_triangles, 1), 1, 256);
+  if (slabs == 1) return search_slab(w, boxes, 0, -kInf, kInf);
+
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
+  std::vector<float> starts(n);
+  for (std::size_t t = 0; t < n; ++t) starts[t] = boxes[t].min_coord(axis);
+  std::sort(starts.begin(), starts.end());
+  std::vector<float> cuts{-kInf};
+  for (std::size_t s = 1; s < slabs; ++s) {
+    const float c = starts[s * n / slabs];
+    if (c > cuts.back()) cuts.push_back(c);
+  }
+  cuts.push_back(kInf);
+  std::vector<Intersections> found(cuts.size() - 1);
+  tbb::parallel_for(std::size_t{0}, found.size(), [&](std::size_t s) {
+    std::vector<Box> mine;
+    for (const Box& b : boxes)
+      if (b.min_coord(axis) < cuts[s + 1] && b.max_coord(axis) >= cuts[s]) mine.push_back(b);
+    found[s] = search_slab(w, mine, axis, cuts[s], cuts[s + 1]);
+  });
+  Intersections out;
+  for (const Intersections& f : found) out.add(f);
+  return out;
+}
 
 struct Topology {
   std::size_t boundary = 0, non_manifold = 0, inconsistent = 0;
   std::pair<std::uint32_t, std::uint32_t> first_boundary{0, 0};
 };
 
+// Every directed edge as (low, high, forward), sorted: the uses of one edge
+// are neighbours, and edges come in the order of their vertex pair.
+struct DirectedEdge {
+  std::uint32_t low, high;
+  bool forward;  // used as (low → high)
+  bool operator<(const DirectedEdge& o) const {
+    return std::tie(low, high, forward) < std::tie(o.low, o.high, o.forward);
+  }
+};
+
 Topology edge_topology(const Welded& w) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, EdgeUse> edges;
-  for (const Tri& t : w.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = t[static_cast<std::size_t>(k)], b = t[static_cast<std::size_t>((k + 1) % 3)];
-      EdgeUse& e = edges[{std::min(a, b), std::max(a, b)}];
-      (a < b ? e.forward : e.backward) += 1;
+  std::vector<DirectedEdge> edges(3 * w.triangles.size());
+  tbb::parallel_for(std::size_t{0}, w.triangles.size(), [&](std::size_t i) {
+    const Tri& t = w.triangles[i];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      edges[3 * i + k] = {std::min(a, b), std::max(a, b), a < b};
     }
+  });
+  tbb::parallel_sort(edges.begin(), edges.end());
   Topology out;
-  for (const auto& [edge, use] : edges) {
-    const std::uint32_t total = use.forward + use.backward;
+  for (std::size_t k = 0; k < edges.size();) {
+    std::size_t end = k, forward = 0;
+    while (end < edges.size() && edges[end].low == edges[k].low && edges[end].high == edges[k].high)
+      forward += edges[end++].forward ? 1 : 0;
+    const std::size_t total = end - k;
     if (total == 1) {
-      if (out.boundary++ == 0) out.first_boundary = edge;
+      if (out.boundary++ == 0) out.first_boundary = {edges[k].low, edges[k].high};
     } else if (total > 2) {
       ++out.non_manifold;
-    } else if (use.forward != 1) {
+    } else if (forward != 1) {
       ++out.inconsistent;
     }
+    k = end;
   }
   return out;
+}
+
+// For a closed, consistently oriented mesh of one connected piece: whether
+// it faces inwards, decided by the sign of its enclosed volume where that is
+// clear; nothing where the mesh has several pieces (shells may nest: CGAL
+// decides) or the volume is too small to trust its sign.
+std::optional<bool> single_shell_inverted(const Welded& w) {
+  // Union-find over the vertices of each triangle.
+  std::vector<std::uint32_t> parent(w.points.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Tri& t : w.triangles)
+    for (std::size_t k = 1; k < 3; ++k) {
+      const std::uint32_t a = find(t[0]), b = find(t[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  const std::uint32_t root = find(w.triangles[0][0]);
+  for (const Tri& t : w.triangles)
+    if (find(t[0]) != root) return std::nullopt;
+  // Signed volume about the first point (nearby, so little cancellation),
+  // summed in a fixed order.
+  const Point& o = w.points[w.triangles[0][0]];
+  double volume6 = 0.0, scale = 0.0;
+  for (const Tri& t : w.triangles) {
+    const Kernel::Vector_3 a = w.points[t[0]] - o, b = w.points[t[1]] - o, c = w.points[t[2]] - o;
+    volume6 += CGAL::determinant(a, b, c);
+    scale += std::sqrt(a.squared_length() * b.squared_length() * c.squared_length());
+  }
+  // Rounding error of the sum is far below 1e-9 of the sum of |terms|.
+  if (!(std::abs(volume6) > 1e-9 * scale)) return std::nullopt;
+  return volume6 < 0.0;
 }
 
 // For a closed, consistently oriented, self-intersection-free mesh: the
@@ -295,67 +422,96 @@ std::optional<std::size_t> inverted_triangles(const Welded& w) {
   return flipped;
 }
 
+// The findings of one mesh, each detail following the mesh's name.
+std::vector<MeshFinding> check_mesh(const sim::Mesh& mesh, bool refractive, std::size_t slab_triangles) {
+  std::vector<MeshFinding> findings;
+  const Welded w = weld(mesh);
+
+  if (w.degenerate > 0)
+    findings.push_back({Severity::Warning, "degenerate-triangle",
+                        ": " + std::to_string(w.degenerate) +
+                            " degenerate (zero-area) triangles, the first is triangle " +
+                            std::to_string(w.first_degenerate)});
+
+  const Intersections hits = self_intersections(w, slab_triangles);
+  if (hits.pairs > 0)
+    findings.push_back({refractive ? Severity::Error : Severity::Warning, "self-intersection",
+                        std::string(": ") + (hits.capped ? "at least " : "") + std::to_string(hits.pairs) +
+                            " pairs of triangles intersect, the first are triangles " +
+                            std::to_string(hits.first.first) + " and " + std::to_string(hits.first.second)});
+  if (!refractive) return findings;
+
+  const Topology topo = edge_topology(w);
+  if (topo.boundary > 0)
+    findings.push_back({Severity::Error, "open-volume",
+                        " is refractive but not closed: " + std::to_string(topo.boundary) +
+                            " boundary edges, e.g. " + point_text(w.points[topo.first_boundary.first]) +
+                            " – " + point_text(w.points[topo.first_boundary.second]) +
+                            "; light would enter the medium through a hole"});
+  if (topo.non_manifold > 0)
+    findings.push_back({Severity::Error, "non-manifold-volume",
+                        " is refractive but " + std::to_string(topo.non_manifold) +
+                            " edges are shared by more than two triangles"});
+  if (topo.inconsistent > 0)
+    findings.push_back({Severity::Error, "inconsistent-orientation",
+                        " is refractive but " + std::to_string(topo.inconsistent) +
+                            " edges join triangles wound in opposite senses"});
+  if (topo.boundary == 0 && topo.non_manifold == 0 && topo.inconsistent == 0 && hits.pairs == 0 &&
+      !w.triangles.empty()) {
+    // One closed piece, the common case, needs no half-edge mesh: it faces
+    // inwards as a whole or not at all.
+    const std::optional<bool> whole = single_shell_inverted(w);
+    const std::optional<std::size_t> inverted =
+        whole ? std::optional<std::size_t>(*whole ? w.triangles.size() : 0) : inverted_triangles(w);
+    if (inverted && *inverted > 0)
+      findings.push_back({Severity::Error, "inverted-volume",
+                          " is refractive but " + std::to_string(*inverted) + " of " +
+                              std::to_string(w.triangles.size()) +
+                              " triangles face into the volume they bound; normals must point "
+                              "out of the medium"});
+  }
+  return findings;
+}
+
 }  // namespace
 
-std::vector<Finding> check_model(const sim::SceneDesc& scene) {
+std::vector<Finding> check_model(const sim::SceneDesc& scene, const ModelCheckOptions& options,
+                                 ModelCheckStats* stats) {
+  const std::size_t n = scene.meshes.size();
+  RefractiveFlags refractive(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t m = scene.meshes[i].material;
+    refractive[i] = m < scene.materials.size() && scene.materials[m].dielectric > 0.0;
+  }
+  const bool use_cache = !options.cache_dir.empty();
+  const std::uint64_t key = use_cache ? model_check_key(scene, refractive) : 0;
+  std::optional<ModelCheckResults> results;
+  if (use_cache) results = read_cached_checks(options.cache_dir, key, scene, refractive);
+  const bool from_cache = results.has_value();
+  if (!results) {
+    // Each mesh into its own slot: the same findings in the same order
+    // whatever the thread count.
+    results.emplace(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      (*results)[i] = check_mesh(scene.meshes[i], refractive[i] != 0, options.slab_triangles);
+    });
+    if (use_cache) write_cached_checks(options.cache_dir, key, scene, refractive, *results);
+  }
+  if (stats) {
+    stats->meshes = n;
+    stats->meshes_from_cache = from_cache ? n : 0;
+  }
+
   std::vector<Finding> findings;
   const SourceLoc where{scene.name, 0, 0};
-  for (const sim::Mesh& mesh : scene.meshes) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const sim::Mesh& mesh = scene.meshes[i];
     const sim::Material* material =
         mesh.material < scene.materials.size() ? &scene.materials[mesh.material] : nullptr;
-    const bool refractive = material && material->dielectric > 0.0;
     const std::string what =
         "mesh '" + mesh.name + "'" + (material ? " (material '" + material->name + "')" : "");
-    const Welded w = weld(mesh);
-
-    if (w.degenerate > 0)
-      findings.push_back({Severity::Warning, "degenerate-triangle",
-                          what + ": " + std::to_string(w.degenerate) +
-                              " degenerate (zero-area) triangles, the first is triangle " +
-                              std::to_string(w.first_degenerate),
-                          where});
-
-    const Intersections hits = self_intersections(w);
-    if (hits.pairs > 0)
-      findings.push_back({refractive ? Severity::Error : Severity::Warning, "self-intersection",
-                          what + ": " + (hits.capped ? "at least " : "") +
-                              std::to_string(hits.pairs) +
-                              " pairs of triangles intersect, the first are triangles " +
-                              std::to_string(hits.first.first) + " and " +
-                              std::to_string(hits.first.second),
-                          where});
-    if (!refractive) continue;
-
-    const Topology topo = edge_topology(w);
-    if (topo.boundary > 0)
-      findings.push_back(
-          {Severity::Error, "open-volume",
-           what + " is refractive but not closed: " + std::to_string(topo.boundary) +
-               " boundary edges, e.g. " + point_text(w.points[topo.first_boundary.first]) + " – " +
-               point_text(w.points[topo.first_boundary.second]) +
-               "; light would enter the medium through a hole",
-           where});
-    if (topo.non_manifold > 0)
-      findings.push_back({Severity::Error, "non-manifold-volume",
-                          what + " is refractive but " + std::to_string(topo.non_manifold) +
-                              " edges are shared by more than two triangles",
-                          where});
-    if (topo.inconsistent > 0)
-      findings.push_back({Severity::Error, "inconsistent-orientation",
-                          what + " is refractive but " + std::to_string(topo.inconsistent) +
-                              " edges join triangles wound in opposite senses",
-                          where});
-    if (topo.boundary == 0 && topo.non_manifold == 0 && topo.inconsistent == 0 &&
-        hits.pairs == 0 && !w.triangles.empty()) {
-      const std::optional<std::size_t> inverted = inverted_triangles(w);
-      if (inverted && *inverted > 0)
-        findings.push_back({Severity::Error, "inverted-volume",
-                            what + " is refractive but " + std::to_string(*inverted) + " of " +
-                                std::to_string(w.triangles.size()) +
-                                " triangles face into the volume they bound; normals must point "
-                                "out of the medium",
-                            where});
-    }
+    for (const MeshFinding& f : (*results)[i])
+      findings.push_back({f.severity, f.code, what + f.detail, where});
   }
   return findings;
 }

@@ -23,12 +23,26 @@
 //                                      out, cavities in)
 // Self-intersection and closedness are not checked between different meshes.
 //
-// Cost: about 1.5 µs per triangle (2 M triangles of a curved grid in 3.0 s on
-// one core of the shared build machine; the samples in milliseconds), mostly
-// the box-intersection sweep and the exact predicates; floating-point
-// filters decide neighbours in flat regions before the exact ones.
+// Cost: about 1.5 µs per triangle on one core (2 M triangles of a curved
+// grid in 3.0 s on the shared build machine; the samples in milliseconds),
+// mostly the box-intersection sweep and the exact predicates; floating-point
+// filters decide neighbours in flat regions before the exact ones. Meshes
+// are checked in parallel (TBB), and a large mesh's intersection search is
+// split into slabs searched in parallel; the findings do not depend on the
+// thread count (same findings, same order).
+//
+// Cache: with a cache folder, the model's result is stored under a content
+// hash of everything the checks read (per mesh: positions, indices,
+// refractive or not; and kModelCheckRevision) as
+// `model-check-<hash>.json`, written atomically; an unchanged model is not
+// checked again (renamed parts or changed materials that stay refractive or
+// not keep the entry). An unreadable or malformed entry, or one whose counts
+// differ from the model, is ignored: the model is checked again and the
+// entry rewritten. A cache that cannot be written is not an error.
 #pragma once
 
+#include <cstddef>
+#include <string>
 #include <vector>
 
 #include "photometry/diagnostics.h"
@@ -36,7 +50,31 @@
 
 namespace gonio::io {
 
+// Bumped whenever what the checks find changes, so that old cache entries
+// are not reused.
+inline constexpr int kModelCheckRevision = 1;
+
+struct ModelCheckOptions {
+  std::string cache_dir;  // folder of cached results; empty: no cache
+  // Triangles per slab of a mesh's intersection search (at most 256 slabs,
+  // searched in parallel). The slabs depend on the mesh and this number
+  // only, never on the thread count; any value finds the same pairs, and
+  // only a capped count (a mesh with more than 10⁴ intersecting pairs) may
+  // differ with it.
+  std::size_t slab_triangles = 32768;
+};
+
+struct ModelCheckStats {
+  std::size_t meshes = 0;             // meshes of the model
+  std::size_t meshes_from_cache = 0;  // of these, whose result came from the cache
+};
+
 // Findings for `scene`; `where.file` is scene.name. Empty when all is well.
-std::vector<Finding> check_model(const sim::SceneDesc& scene);
+std::vector<Finding> check_model(const sim::SceneDesc& scene, const ModelCheckOptions& options = {},
+                                 ModelCheckStats* stats = nullptr);
+
+// The cache folder by default: $XDG_CACHE_HOME/gonio, else $HOME/.cache/gonio;
+// empty when neither variable is set.
+std::string default_check_cache_dir();
 
 }  // namespace gonio::io

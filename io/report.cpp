@@ -2,6 +2,8 @@
 
 #include "io/file_io.h"
 
+#include <sys/resource.h>
+
 namespace gonio::io {
 namespace {
 
@@ -42,6 +44,17 @@ nlohmann::json to_json(const SimulationReport& r) {
   j["wall_s"] = r.wall_s;
   j["trace_s"] = r.trace_s;
   j["setup_s"] = r.setup_s;
+  j["setup"] = {{"load_s", r.setup.load_s},
+                {"check_s", r.setup.check_s},
+                {"validate_s", r.setup.validate_s},
+                {"emission_tables_s", r.setup.emission_tables_s},
+                {"bvh_s", r.setup.bvh_s},
+                {"shading_s", r.setup.shading_s},
+                {"meshes", r.setup.meshes},
+                {"meshes_from_cache", r.setup.meshes_from_cache},
+                {"max_rss_after_load_bytes", r.setup.max_rss_after_load_bytes},
+                {"max_rss_after_checks_bytes", r.setup.max_rss_after_checks_bytes}};
+  j["max_rss_bytes"] = r.max_rss_bytes;
   j["threads"] = r.threads;
   j["iterations_done"] = r.iterations_done;
 
@@ -72,6 +85,12 @@ nlohmann::json to_json(const SimulationReport& r) {
   }
   j["materials"] = std::move(materials);
   return j;
+}
+
+std::uint64_t peak_memory_bytes() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024u;
 }
 
 Status write_json(const std::string& path, const nlohmann::json& json) {

@@ -71,7 +71,10 @@ Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
   impl->scene = rtcNewScene(impl->device);
   if (!impl->scene) return error("cannot create an Embree scene: " + impl->errors.first);
   rtcSetSceneFlags(impl->scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-  rtcSetSceneBuildQuality(impl->scene, RTC_BUILD_QUALITY_HIGH);
+  const RTCBuildQuality quality = options.quality == EmbreeSceneOptions::Quality::Low      ? RTC_BUILD_QUALITY_LOW
+                                  : options.quality == EmbreeSceneOptions::Quality::Medium ? RTC_BUILD_QUALITY_MEDIUM
+                                                                                          : RTC_BUILD_QUALITY_HIGH;
+  rtcSetSceneBuildQuality(impl->scene, quality);
 
   constexpr double kInf = std::numeric_limits<double>::infinity();
   Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
@@ -102,7 +105,7 @@ Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
       lo = {std::min(lo.x, double{p.x}), std::min(lo.y, double{p.y}), std::min(lo.z, double{p.z})};
       hi = {std::max(hi.x, double{p.x}), std::max(hi.y, double{p.y}), std::max(hi.z, double{p.z})};
     }
-    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+    rtcSetGeometryBuildQuality(geom, quality);
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(impl->scene, geom, static_cast<unsigned>(m));
     rtcReleaseGeometry(geom);

@@ -2,7 +2,8 @@
 // sim/embree_scene.cpp is the one file that includes Embree.
 //
 // One Embree geometry per sim::Mesh (geometry id = mesh index), built with
-// high quality; single-ray incoherent queries (rtcIntersect1). Callers set
+// high quality and robust triangle tests unless EmbreeSceneOptions says
+// otherwise; single-ray incoherent queries (rtcIntersect1). Callers set
 // flush-to-zero and denormals-are-zero on their threads (FloatModeGuard).
 #pragma once
 
@@ -21,6 +22,12 @@ struct EmbreeSceneOptions {
   // closed mesh (seen: photons trapped by total internal reflection in a
   // glass sphere escaping after ~90 reflections). Costs ~5 % of Embree's rate.
   bool robust = true;
+  // Embree's BVH build quality (RTC_BUILD_QUALITY_LOW / MEDIUM / HIGH):
+  // High adds spatial splits, the best trees for static scenes at the
+  // highest build cost; gonio_sim_benchmarks' BM_BvhQuality measures both
+  // sides on the large models.
+  enum class Quality { Low, Medium, High };
+  Quality quality = Quality::High;
 };
 
 // A ray query: origin and direction (need not be unit; t is measured in

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <string>
+#include <utility>
 
 namespace gonio::sim {
 namespace {
@@ -56,7 +57,7 @@ Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
-Result<Simulation> Simulation::create(const SceneDesc& scene, const SimulationSettings& settings) {
+Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings& settings) {
   if (settings.photons_per_iteration < 1 || settings.photons_per_iteration >= (std::uint64_t{1} << 32))
     return error("photons per iteration must lie in 1..4294967295");
   if (settings.iterations < 1) return error("at least one iteration is needed");
@@ -74,12 +75,14 @@ Result<Simulation> Simulation::create(const SceneDesc& scene, const SimulationSe
   TracerSettings ts;
   ts.max_bounces = settings.max_bounces;
   ts.embree.robust = settings.robust_embree;
+  ts.embree.quality = settings.bvh_quality;
   auto tracer = Tracer::create(scene, settings.face_size, ts);
   if (!tracer.ok()) return tracer.error();
   const int threads =
       settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-  auto impl = std::make_unique<Impl>(scene, settings, std::move(tracer.value()), threads);
+  auto impl = std::make_unique<Impl>(std::move(scene), settings, std::move(tracer.value()), threads);
   impl->stats.threads = threads;
+  impl->stats.tracer_setup = impl->tracer.setup_times();
   impl->stats.setup_s = seconds_since(start);
   return Simulation(std::move(impl));
 }
@@ -176,9 +179,9 @@ FarField Simulation::far_field() const {
 Ledger Simulation::ledger() const { return make_ledger(impl_->books, impl_->scene, total_flux_lm()); }
 
 Result<Simulation> simulate(
-    const SceneDesc& scene, const SimulationSettings& settings,
+    SceneDesc scene, const SimulationSettings& settings,
     const std::function<void(const SimulationProgress&, const Simulation&)>& on_iteration) {
-  auto sim = Simulation::create(scene, settings);
+  auto sim = Simulation::create(std::move(scene), settings);
   if (!sim.ok()) return sim;
   Simulation& s = sim.value();
   const std::uint64_t total = settings.photons_per_iteration * static_cast<std::uint64_t>(settings.iterations);

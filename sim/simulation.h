@@ -31,6 +31,7 @@ struct SimulationSettings {
   int max_bounces = 100;                             // see TracerSettings
   int face_size = 128;  // texels per cube face edge: CubeMapGrid::face_size_for_step(2.5)
   bool robust_embree = true;                         // see EmbreeSceneOptions
+  EmbreeSceneOptions::Quality bvh_quality = EmbreeSceneOptions::Quality::High;  // likewise
   // Importance-guided emission (sim/emission_guide.h); off: plain emission.
   ImportanceSettings importance;
 };
@@ -41,7 +42,9 @@ struct SimulationStats {
   std::uint64_t photons_traced = 0;  // traced so far: = photons unless guided emission dropped some
   std::uint64_t rays = 0;      // ray queries so far
   double trace_s = 0.0;        // wall time spent tracing [s]
-  double setup_s = 0.0;        // wall time to check the scene and build the BVH [s]
+  double setup_s = 0.0;        // wall time of Simulation::create: the tracer's setup and
+                               // the tallies [s]
+  TracerSetupTimes tracer_setup;  // its parts (validation, emission tables, BVH)
   int threads = 0;             // threads used
   double photons_per_s() const { return trace_s > 0.0 ? static_cast<double>(photons) / trace_s : 0.0; }
   double rays_per_s() const { return trace_s > 0.0 ? static_cast<double>(rays) / trace_s : 0.0; }
@@ -50,8 +53,9 @@ struct SimulationStats {
 class Simulation {
  public:
   // Checks the settings and the scene (errors name the part at fault) and
-  // builds the tracer.
-  static Result<Simulation> create(const SceneDesc& scene, const SimulationSettings& settings);
+  // builds the tracer. The simulation keeps the scene: pass an rvalue to
+  // move it in rather than hold two copies of a large model.
+  static Result<Simulation> create(SceneDesc scene, const SimulationSettings& settings);
   ~Simulation();
   Simulation(Simulation&&) noexcept;
   Simulation& operator=(Simulation&&) noexcept;
@@ -98,7 +102,7 @@ struct SimulationProgress {
 
 // Runs all iterations, calling `on_iteration` (if set) after each.
 Result<Simulation> simulate(
-    const SceneDesc& scene, const SimulationSettings& settings,
+    SceneDesc scene, const SimulationSettings& settings,
     const std::function<void(const SimulationProgress&, const Simulation&)>& on_iteration = {});
 
 }  // namespace gonio::sim

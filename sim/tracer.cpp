@@ -1,6 +1,7 @@
 #include "sim/tracer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -16,6 +17,10 @@ bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) &&
 Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
 
 double max_abs(const Vec3& p) { return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}); }
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
 
 std::string mesh_label(const Mesh& m, std::size_t i) {
   return "mesh " + std::to_string(i) + (m.name.empty() ? "" : " '" + m.name + "'");
@@ -74,16 +79,24 @@ void TracerTally::clear() {
 Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const TracerSettings& settings) {
   if (face_size < 1 || face_size > 16384) return error("cube-map face size must lie in 1..16384");
   if (settings.max_bounces < 0) return error("the bounce limit must be >= 0");
+  TracerSetupTimes times;
+  auto t = std::chrono::steady_clock::now();
   for (const Material& m : scene.materials)
     if (Status s = validate(m); !s.ok()) return s.error();
   for (std::size_t i = 0; i < scene.meshes.size(); ++i)
     if (Status s = validate_mesh(scene.meshes[i], i, scene.materials.size()); !s.ok())
       return s.error();
+  times.validate_s = seconds_since(t);
+  t = std::chrono::steady_clock::now();
   auto emission = EmissionSampler::create(scene);
   if (!emission.ok()) return emission.error();
+  times.emission_s = seconds_since(t);
+  t = std::chrono::steady_clock::now();
   auto embree = EmbreeScene::build(scene.meshes, settings.embree);
   if (!embree.ok()) return embree.error();
+  times.bvh_s = seconds_since(t);
 
+  t = std::chrono::steady_clock::now();
   Tracer tracer(CubeMapGrid(face_size), std::move(embree.value()), std::move(emission.value()),
                 settings);
   tracer.materials_ = scene.materials;
@@ -98,6 +111,8 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
     }
     tracer.meshes_.push_back(std::move(d));
   }
+  times.shading_s = seconds_since(t);
+  tracer.setup_times_ = times;
   tracer.offset_floor_m_ = 0x1.0p-24 * tracer.embree_.bounds().diagonal();
   return tracer;
 }

@@ -39,6 +39,14 @@ struct TracerSettings {
   EmbreeSceneOptions embree;
 };
 
+// Wall time of each part of Tracer::create [s].
+struct TracerSetupTimes {
+  double validate_s = 0.0;  // scene checks (indices, finite values, materials)
+  double emission_s = 0.0;  // emission tables (alias tables, profile samplers)
+  double bvh_s = 0.0;       // Embree scene and BVH build
+  double shading_s = 0.0;   // per-corner shading normals and tangents
+};
+
 // What one photon did.
 enum class Fate : std::uint8_t { Escaped, Absorbed, CutOff };
 
@@ -113,6 +121,7 @@ class Tracer {
   std::size_t mesh_count() const { return meshes_.size(); }
   std::size_t emitter_count() const { return emission_.emitter_count(); }
   const TracerSettings& settings() const { return settings_; }
+  const TracerSetupTimes& setup_times() const { return setup_times_; }
 
  private:
   struct MeshData {
@@ -142,6 +151,7 @@ class Tracer {
   std::vector<Material> materials_;
   std::vector<LobeCdf> lobe_cdfs_;  // per material
   double offset_floor_m_ = 0.0;
+  TracerSetupTimes setup_times_;
 };
 
 }  // namespace gonio::sim

@@ -10,49 +10,14 @@
 
 #include "io/exr.h"
 #include "io/file_io.h"
+#include "io/fnv1a.h"
 #include "io/report.h"
 #include "sim/simulation.h"
 
 namespace gonio::cli {
 namespace {
 
-class Fnv1a {
- public:
-  void bytes(const void* data, std::size_t n) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < n; ++i) {
-      h_ ^= p[i];
-      h_ *= 0x100000001b3ULL;
-    }
-  }
-  template <class T>
-  void value(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    bytes(&v, sizeof v);
-  }
-  template <class T>
-  void values(const std::vector<T>& v) {
-    value(v.size());
-    if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
-  }
-  void text(const std::string& s) {
-    value(s.size());
-    bytes(s.data(), s.size());
-  }
-  void vec(const Vec3& v) {
-    value(v.x);
-    value(v.y);
-    value(v.z);
-  }
-  std::string hex() const {
-    char buf[17];
-    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h_));
-    return buf;
-  }
-
- private:
-  std::uint64_t h_ = 0xcbf29ce484222325ULL;
-};
+using io::Fnv1a;
 
 Error error(std::string message) { return Error{{}, std::move(message)}; }
 

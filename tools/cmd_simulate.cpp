@@ -6,7 +6,8 @@
 //                  [--c-step DEG] [--gamma-step DEG] [--symmetry S]
 //                  [--format LIST] [--ies-version 2002|2019] [--name STEM]
 //                  [--min-lor X] [--flux-tolerance X] [--target-error PCT]
-//                  [--preview [filter options]] [--serve [--port P]]
+//                  [--cache DIR | --no-cache] [--preview [filter options]]
+//                  [--serve [--port P]]
 //
 // Writes DIR/STEM.ies, STEM.ldt, farfield.exr (cube), farfield-latlong.exr, STEM.svg (the
 // intensity diagram; tools/simulation_outputs.h) and DIR/report.json
@@ -37,10 +38,12 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "gonio/version.h"
 #include "io/exr.h"
 #include "io/file_io.h"
+#include "io/model_check.h"
 #include "io/report.h"
 #include "sim/resample.h"
 #include "sim/simulation.h"
@@ -136,6 +139,10 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
   p.option("target-error", &o->target_error_pct, 0.0, 100.0, "PCT",
            "stop once the estimated RMS candela error (from photon counts, relative to the peak) is "
            "at or under PCT percent (default 0: run every iteration)");
+  p.option("cache", &o->cache_dir, "DIR",
+           "where the model checks' results are kept by content hash, so that an unchanged model "
+           "is not checked again (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
+  p.flag("no-cache", &o->no_cache, "check the model without reading or writing the cache");
   add_preview_options(p, &o->preview);
 }
 
@@ -170,6 +177,7 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   if (stem.empty() || stem.find_first_of("/\\") != std::string::npos || stem == "." || stem == "..")
     return usage_error(p, "--name: '" + stem + "' is not a plain file name");
   if (!p.given("face-size")) face_size = sim::face_size_for(grid);
+  if (o.no_cache && p.given("cache")) return usage_error(p, "--cache and --no-cache exclude each other");
 
   SimulatePlan plan;
   plan.model = model;
@@ -183,6 +191,9 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   plan.preview_params = preview_params_result.value();
   plan.min_lor = o.min_lor;
   plan.flux_tolerance = o.flux_tolerance;
+  plan.model_input.check_cache_dir = o.no_cache          ? std::string()
+                                     : p.given("cache") ? o.cache_dir
+                                                        : io::default_check_cache_dir();
   plan.progressive.target_error_pct = o.target_error_pct;
   sim::SimulationSettings& settings = plan.progressive.simulation;
   settings.photons_per_iteration = static_cast<std::uint64_t>(photons);
@@ -230,7 +241,8 @@ int run_simulate(const Args& args) {
   const sim::SimulationSettings& settings = plan.progressive.simulation;
 
   // Load, then check the geometry: errors stop the run, warnings are printed.
-  std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated");
+  ModelInputTimes input_times;
+  std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated", plan.model_input, &input_times);
   if (!scene) return kExitFailure;
 
   // The output directory is made before tracing so that previews can land in it.
@@ -277,7 +289,7 @@ int run_simulate(const Args& args) {
   // With the live page Ctrl-C is caught (the page stays up after the run):
   // during the run it stops the run, and nothing is written.
   const CancelCheck cancel = live ? CancelCheck([] { return interrupted(); }) : CancelCheck();
-  Result<ProgressiveOutcome> sim = run_progressive(scene.value(), plan.progressive, resampler, progress, cancel);
+  Result<ProgressiveOutcome> sim = run_progressive(std::move(scene.value()), plan.progressive, resampler, progress, cancel);
   if (!sim.ok()) {
     Error e = sim.error();
     if (e.where.file.empty()) e.where.file = model;
@@ -295,7 +307,7 @@ int run_simulate(const Args& args) {
     return kExitFailure;
   }
   if (live) live->run_finished(sim.value());
-  const int code = write_run_files(plan, sim.value(), preview ? &*preview : nullptr, start);
+  const int code = write_run_files(plan, sim.value(), input_times, preview ? &*preview : nullptr, start);
   if (live) {
     std::printf("live page: %s stays up until Ctrl-C\n", live->url().c_str());
     std::fflush(stdout);
@@ -304,7 +316,8 @@ int run_simulate(const Args& args) {
   return code;
 }
 
-int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const PreviewOutput* preview,
+int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
+                    const PreviewOutput* preview,
                     std::chrono::steady_clock::time_point start) {
   const std::string& model = plan.model;
   const std::string& out_dir = plan.out_dir;
@@ -352,7 +365,18 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   report.rays = st.rays;
   report.trace_s = st.trace_s;
   report.setup_s = st.setup_s;
-  report.ledger = sim->ledger();
+  report.setup.load_s = input_times.load_s;
+  report.setup.check_s = input_times.check_s;
+  report.setup.validate_s = st.tracer_setup.validate_s;
+  report.setup.emission_tables_s = st.tracer_setup.emission_s;
+  report.setup.bvh_s = st.tracer_setup.bvh_s;
+  report.setup.shading_s = st.tracer_setup.shading_s;
+  report.setup.meshes = input_times.meshes;
+  report.setup.meshes_from_cache = input_times.meshes_from_cache;
+  report.setup.max_rss_after_load_bytes = input_times.max_rss_after_load_bytes;
+  report.setup.max_rss_after_checks_bytes = input_times.max_rss_after_checks_bytes;
+  report.max_rss_bytes = io::peak_memory_bytes();
+  report.ledger = ledger;
   report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json json = io::to_json(report);
   json["stopped_by"] = to_string(run.stopped_by);

@@ -139,7 +139,8 @@ int run_watch(const Args& args) {
     files = watched_files(model);
     debouncer.arm(snapshot_of(files));
     live.loading(model, noticed);
-    ModelLoad loaded = load_model(model);
+    ModelInputTimes input_times;
+    ModelLoad loaded = load_model(model, plan.model_input, &input_times);
     if (loaded.error || loaded.has_errors) {
       const Error e = load_error(loaded, model);
       const std::optional<WatchClock::time_point> again = retry.failed(WatchClock::now());
@@ -188,7 +189,7 @@ int run_watch(const Args& args) {
     if (run->stopped_by == StopReason::Cancelled) break;  // interrupted
     live.run_finished(run.value());
     if (!plan.out_dir.empty()) {
-      exit_code = write_run_files(plan, run.value(), nullptr, run_start);
+      exit_code = write_run_files(plan, run.value(), input_times, nullptr, run_start);
       if (exit_code != kExitOk) live.note("the run's files were written, but a check failed (see the terminal)");
       std::fflush(stdout);
     }

@@ -3,6 +3,8 @@
 // faces); errors stop the command, warnings are printed.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +13,21 @@
 #include "sim/scene.h"
 
 namespace gonio::cli {
+
+struct ModelInputOptions {
+  // The model checks' cache folder (io/model_check.h); empty: no cache.
+  std::string check_cache_dir;
+};
+
+// What loading took.
+struct ModelInputTimes {
+  double load_s = 0.0;   // reading the glTF model [s]
+  double check_s = 0.0;  // the model checks, or finding them in the cache [s]
+  std::size_t meshes = 0;
+  std::size_t meshes_from_cache = 0;
+  std::uint64_t max_rss_after_load_bytes = 0;    // the memory high-water mark then
+  std::uint64_t max_rss_after_checks_bytes = 0;  // (io::peak_memory_bytes)
+};
 
 // A model loaded and checked, nothing printed: the scene unless `error`;
 // `findings` of the reader and the checks; `has_errors` when one of them is
@@ -21,12 +38,15 @@ struct ModelLoad {
   std::vector<Finding> findings;
   bool has_errors = false;
 };
-ModelLoad load_model(const std::string& model);
+ModelLoad load_model(const std::string& model, const ModelInputOptions& options = {},
+                     ModelInputTimes* times = nullptr);
 
 // Loads and checks `model`, printing every warning and error to stderr with
 // the file and the part of the model. Returns nothing where the model cannot
 // be loaded or has errors; then the last message says "nothing was
 // `not_done`" (e.g. "simulated").
-std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done);
+std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done,
+                                                 const ModelInputOptions& options = {},
+                                                 ModelInputTimes* times = nullptr);
 
 }  // namespace gonio::cli

@@ -70,7 +70,7 @@ inline constexpr std::uint64_t kCancelSlicePhotons = std::uint64_t{1} << 14;
 // Creates the simulation (errors: those of sim::Simulation::create) and runs
 // it. `resampler` (the output grid's, same face size) gives the estimate;
 // without one (null) there is none (NaN) and target_error_pct must be 0.
-Result<ProgressiveOutcome> run_progressive(const sim::SceneDesc& scene, const ProgressiveSettings& settings,
+Result<ProgressiveOutcome> run_progressive(sim::SceneDesc scene, const ProgressiveSettings& settings,
                                            const sim::Resampler* resampler,
                                            const IterationCallback& on_iteration = {},
                                            const CancelCheck& cancel = {});

@@ -12,6 +12,7 @@
 #include "sim/preview_filter.h"
 #include "sim/resample.h"
 #include "tools/cli.h"
+#include "tools/model_input.h"
 #include "tools/preview_output.h"
 #include "tools/progressive_run.h"
 #include "tools/simulation_outputs.h"
@@ -26,6 +27,8 @@ struct SimulateOptions {
   double c_step = 5.0, gamma_step = 2.5, min_lor = 0.0, flux_tolerance = 0.005;
   double target_error_pct = 0.0;  // --target-error PCT; 0: none
   std::string symmetry_name = "auto", format_list = "all", ies_version = "2019", stem;
+  std::string cache_dir;  // --cache DIR (the model checks' cache)
+  bool no_cache = false;  // --no-cache
   PreviewOptions preview;
 };
 
@@ -46,6 +49,7 @@ struct SimulatePlan {
   ProgressiveSettings progressive;
   double min_lor = 0.0;
   double flux_tolerance = 0.005;
+  ModelInputOptions model_input;  // the model checks' cache folder
 };
 
 // Checks the options for `model`; on a problem prints "COMMAND: …" and the
@@ -57,7 +61,8 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
 // (`preview`: the run's preview output, or null; `start`: when the command or
 // the run began, for wall_s), prints the summary, and returns the exit code
 // (the energy checks).
-int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const PreviewOutput* preview,
+int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
+                    const PreviewOutput* preview,
                     std::chrono::steady_clock::time_point start);
 
 }  // namespace gonio::cli

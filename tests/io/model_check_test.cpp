@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tbb/global_control.h>
+
 #include <array>
 #include <random>
 #include <string>
@@ -262,6 +264,79 @@ TEST(ModelCheck, SharedVertexAndEdgeDecisionsMatchAnExactReference) {
   }
   EXPECT_GT(overlapping, 100);
   EXPECT_GT(apart, 100);
+}
+
+// A large mesh's intersection search runs in slabs on several threads: the
+// findings (count and first pair included) are the same for any slab size
+// and thread count, also for pairs whose boxes straddle slab borders.
+TEST(ModelCheck, SlabsAndThreadsDoNotChangeTheFindings) {
+  // 150 cubes in a row along x and a diagonal, each overlapping the next.
+  sim::Mesh row;
+  row.name = "row";
+  for (int i = 0; i < 150; ++i) {
+    sim::Mesh c = cube(static_cast<float>(i), static_cast<float>(i) + 1.5f);
+    for (sim::Vec3f& p : c.positions) p.y += 0.25f * static_cast<float>(i % 7);
+    append(row, c);
+  }
+  const sim::SceneDesc scene = scene_with(row, false);
+  ModelCheckOptions one_slab;
+  one_slab.slab_triangles = std::size_t{1} << 40;
+  const auto reference = check_model(scene, one_slab);
+  ASSERT_EQ(codes(reference), std::vector<std::string>{"self-intersection"});
+  EXPECT_EQ(reference[0].message.find("at least"), std::string::npos);
+  for (std::size_t slab : {std::size_t{12}, std::size_t{64}, std::size_t{500}}) {
+    ModelCheckOptions o;
+    o.slab_triangles = slab;
+    for (int threads : {1, 2, 4}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+      const auto findings = check_model(scene, o);
+      ASSERT_EQ(findings.size(), 1u);
+      EXPECT_EQ(findings[0].message, reference[0].message) << "slab " << slab << ", threads " << threads;
+    }
+  }
+  // A capped search (a soup of coincident copies) gives the same message on
+  // any thread count.
+  sim::Mesh soup;
+  soup.name = "soup";
+  for (int i = 0; i < 400; ++i) {
+    const auto base = static_cast<std::uint32_t>(soup.positions.size());
+    soup.positions.insert(soup.positions.end(), {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    soup.indices.insert(soup.indices.end(), {base, base + 1, base + 2});
+  }
+  ModelCheckOptions small;
+  small.slab_triangles = 50;
+  std::string first;
+  for (int threads : {1, 2, 4}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    const auto findings = check_model(scene_with(soup, false), small);
+    ASSERT_EQ(findings.size(), 1u);
+    EXPECT_NE(findings[0].message.find("at least 10000 pairs"), std::string::npos) << findings[0].message;
+    if (first.empty()) first = findings[0].message;
+    EXPECT_EQ(findings[0].message, first);
+  }
+}
+
+// Meshes are checked in parallel; the findings keep the meshes' order.
+TEST(ModelCheck, FindingsFollowTheMeshOrderOnAnyThreadCount) {
+  sim::SceneDesc scene = scene_with(cube(0, 1), true);
+  for (int i = 0; i < 40; ++i) {
+    sim::Mesh m = cube(0, 1, "part-" + std::to_string(i));
+    if (i % 3 == 0) m.indices.resize(m.indices.size() - 6);  // open
+    if (i % 4 == 0) flip(m);                                   // inverted when closed
+    m.material = 0;
+    scene.meshes.push_back(std::move(m));
+  }
+  std::vector<std::string> reference;
+  for (int threads : {1, 2, 4}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    std::vector<std::string> messages;
+    for (const Finding& f : check_model(scene)) messages.push_back(f.code + ": " + f.message);
+    if (reference.empty()) reference = messages;
+    EXPECT_EQ(messages, reference) << threads << " threads";
+  }
+  ASSERT_FALSE(reference.empty());
+  EXPECT_NE(reference.front().find("part-0'"), std::string::npos) << reference.front();
+  EXPECT_NE(reference.back().find("part-39'"), std::string::npos) << reference.back();
 }
 
 TEST(ModelCheck, DegenerateTrianglesAreWarningsAndLeftOut) {

@@ -2,10 +2,59 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <memory>
+
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
 namespace {
+
+TEST(Report, GivesTheSetupPhasesAndTheMemoryHighWaterMark) {
+  SimulationReport r;
+  r.setup.load_s = 0.25;
+  r.setup.check_s = 1.5;
+  r.setup.validate_s = 0.01;
+  r.setup.emission_tables_s = 0.02;
+  r.setup.bvh_s = 0.75;
+  r.setup.shading_s = 0.125;
+  r.setup.meshes = 7;
+  r.setup.meshes_from_cache = 7;
+  r.setup.max_rss_after_load_bytes = 100;
+  r.setup.max_rss_after_checks_bytes = 200;
+  r.max_rss_bytes = 300;
+  const nlohmann::json j = to_json(r);
+  EXPECT_EQ(j["setup"]["load_s"], 0.25);
+  EXPECT_EQ(j["setup"]["check_s"], 1.5);
+  EXPECT_EQ(j["setup"]["validate_s"], 0.01);
+  EXPECT_EQ(j["setup"]["emission_tables_s"], 0.02);
+  EXPECT_EQ(j["setup"]["bvh_s"], 0.75);
+  EXPECT_EQ(j["setup"]["shading_s"], 0.125);
+  EXPECT_EQ(j["setup"]["meshes"], 7);
+  EXPECT_EQ(j["setup"]["meshes_from_cache"], 7);
+  EXPECT_EQ(j["setup"]["max_rss_after_load_bytes"], 100);
+  EXPECT_EQ(j["setup"]["max_rss_after_checks_bytes"], 200);
+  EXPECT_EQ(j["max_rss_bytes"], 300);
+}
+
+// The high-water mark rises by what is touched, and never falls.
+TEST(Report, PeakMemoryFollowsWhatTheProcessTouches) {
+  const std::uint64_t before = peak_memory_bytes();
+  EXPECT_GT(before, 0u);
+  constexpr std::size_t kBytes = std::size_t{256} << 20;
+  {
+    auto block = std::make_unique<char[]>(kBytes);
+    std::memset(block.get(), 1, kBytes);  // make every page resident
+    volatile char sink = block[kBytes - 1];
+    (void)sink;
+  }
+  const std::uint64_t after = peak_memory_bytes();
+  // The block may reuse pages the process held before its old peak.
+  EXPECT_GE(after, before);
+  EXPECT_GE(after, kBytes);
+  EXPECT_LE(after, before + kBytes + (std::uint64_t{64} << 20));
+  EXPECT_GE(peak_memory_bytes(), after);
+}
 
 TEST(Report, HoldsTheLedgerSettingsAndSpeed) {
   SimulationReport r;

@@ -167,6 +167,61 @@ TEST(Simulate, SameSeedSameBytesWithOneOrTwoThreads) {
   EXPECT_EQ(a["escaped_lm"], b["escaped_lm"]);
 }
 
+// report.json times each setup phase and keeps the memory high-water mark;
+// the phases are parts of the run, and the second run of an unchanged
+// model takes the checks' result from the cache (--cache), --no-cache not.
+TEST(Simulate, ReportsTheSetupPhasesAndCachesTheChecks) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto cache = dir / "cache";
+  auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"simulate", model.string(), "--out", (dir / out).string(),
+                                     "--photons", "20000", "--iterations", "1", "--face-size", "16"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto r = gonio(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(test::read_file(dir / out / "report.json"));
+  };
+  const auto cold = run("cold", {"--cache", cache.string()});
+  const auto& setup = cold["setup"];
+  double phases = 0.0;
+  for (const char* key : {"load_s", "check_s", "validate_s", "emission_tables_s", "bvh_s", "shading_s"}) {
+    ASSERT_TRUE(setup.contains(key)) << key;
+    const double t = setup[key].get<double>();
+    EXPECT_GE(t, 0.0) << key;
+    phases += t;
+  }
+  EXPECT_GT(setup["load_s"].get<double>(), 0.0);
+  EXPECT_GT(setup["bvh_s"].get<double>(), 0.0);
+  // The phases and the tracing are disjoint parts of the command.
+  EXPECT_LE(phases + cold["trace_s"].get<double>(), cold["wall_s"].get<double>());
+  EXPECT_LE(setup["validate_s"].get<double>() + setup["emission_tables_s"].get<double>() +
+                setup["bvh_s"].get<double>() + setup["shading_s"].get<double>(),
+            cold["setup_s"].get<double>());
+  EXPECT_EQ(setup["meshes"], 1);
+  EXPECT_EQ(setup["meshes_from_cache"], 0);
+  // At least what a process with Embree and TBB loaded holds.
+  const auto peak = cold["max_rss_bytes"].get<std::uint64_t>();
+  EXPECT_GT(peak, std::uint64_t{1} << 20);
+  // A high-water mark only rises.
+  EXPECT_LE(setup["max_rss_after_load_bytes"].get<std::uint64_t>(), setup["max_rss_after_checks_bytes"].get<std::uint64_t>());
+  EXPECT_LE(setup["max_rss_after_checks_bytes"].get<std::uint64_t>(), peak);
+  EXPECT_GT(setup["max_rss_after_load_bytes"].get<std::uint64_t>(), 0u);
+  ASSERT_TRUE(std::filesystem::is_directory(cache));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(cache), std::filesystem::directory_iterator()), 1);
+
+  const auto warm = run("warm", {"--cache", cache.string()});
+  EXPECT_EQ(warm["setup"]["meshes_from_cache"], 1);
+  EXPECT_EQ(warm["meshes"], cold["meshes"]);  // same seed, same ledger
+  const auto none = run("none", {"--no-cache"});
+  EXPECT_EQ(none["setup"]["meshes_from_cache"], 0);
+  EXPECT_EQ(gonio({"simulate", model.string(), "--out", (dir / "x").string(), "--cache", cache.string(),
+                   "--no-cache"})
+                .exit_code,
+            2);
+}
+
 TEST(Simulate, BadInputsAndUsage) {
   test::TempDir dir;
   auto r = gonio({"simulate", (dir / "missing.gltf").string(), "--out", (dir / "o").string()});

@@ -1,0 +1,134 @@
+// The setup of a simulation against model size (issue 12): each phase
+// between a saved model and the first photon, on large models generated in
+// code (samples/large_models.h: a faceted reflector, a lens array of one
+// lens used by many nodes, a glass part), at 10⁴ … 10⁶ triangles.
+//
+//   cmake --build build --target gonio_setup_benchmarks
+//   build/benchmarks/gonio_setup_benchmarks --benchmark_filter='glass-part'
+//
+// Phases: BM_Load (io::load_gltf of the .gltf and .bin), BM_Check
+// (io::check_model, cold), BM_Bvh (sim::EmbreeScene::build; argument 1 =
+// robust, 0 = not), BM_EmissionTables (sim::EmissionSampler::create).
+// Counters: triangles (of the loaded scene), s_per_Mtriangle (wall seconds
+// per million triangles; goal for load + checks + BVH: ≤ 1) and
+// cpu_s_per_Mtriangle (CPU seconds of all threads per million triangles:
+// what the phase costs on a machine shared with others, where wall time
+// depends on who else runs).
+// The models are written once per run into a temporary folder
+// (benchmarks/large_model_files.h).
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include "benchmarks/large_model_files.h"
+#include "io/gltf.h"
+#include "io/model_check.h"
+#include "samples/large_models.h"
+#include "sim/embree_scene.h"
+#include "sim/emission.h"
+
+namespace gonio::bench {
+namespace {
+
+using samples::LargeModel;
+
+[[noreturn]] void fail(const std::string& what) {
+  std::fprintf(stderr, "setup benchmark: %s\n", what.c_str());
+  std::abort();
+}
+
+const sim::SceneDesc& scene(LargeModel kind, std::size_t triangles) { return large_model_scene(kind, triangles); }
+std::string model_path(LargeModel kind, std::size_t triangles) { return large_model_file(kind, triangles); }
+
+// CPU time of the whole process (all threads) [s].
+double process_cpu_s() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+void counters(benchmark::State& state, std::size_t triangles, double cpu_s) {
+  state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["cpu_s_per_Mtriangle"] =
+      cpu_s / static_cast<double>(state.iterations()) / (static_cast<double>(triangles) / 1e6);
+  // Seconds per iteration per 10⁶ triangles.
+  state.counters["s_per_Mtriangle"] = benchmark::Counter(
+      static_cast<double>(triangles) / 1e6, benchmark::Counter::kIsIterationInvariantRate |
+                                                benchmark::Counter::kInvert);
+}
+
+void BM_Load(benchmark::State& state, LargeModel kind, std::size_t triangles) {
+  const std::string path = model_path(kind, triangles);
+  std::size_t n = 0;
+  const double cpu0 = process_cpu_s();
+  for (auto _ : state) {
+    std::vector<Finding> findings;
+    Result<sim::SceneDesc> s = io::load_gltf(path, &findings);
+    if (!s.ok()) fail(to_string(s.error()));
+    n = triangle_count(s.value());
+    benchmark::DoNotOptimize(s);
+  }
+  counters(state, n, process_cpu_s() - cpu0);
+}
+
+void BM_Check(benchmark::State& state, LargeModel kind, std::size_t triangles) {
+  const sim::SceneDesc& s = scene(kind, triangles);
+  const double cpu0 = process_cpu_s();
+  for (auto _ : state) {
+    const std::vector<Finding> findings = io::check_model(s);
+    for (const Finding& f : findings)
+      if (f.severity == Severity::Error) fail(s.name + ": " + f.message);
+    benchmark::DoNotOptimize(findings);
+  }
+  counters(state, triangle_count(s), process_cpu_s() - cpu0);
+}
+
+void BM_Bvh(benchmark::State& state, LargeModel kind, std::size_t triangles) {
+  const sim::SceneDesc& s = scene(kind, triangles);
+  sim::EmbreeSceneOptions options;
+  options.robust = state.range(0) != 0;
+  const double cpu0 = process_cpu_s();
+  for (auto _ : state) {
+    Result<sim::EmbreeScene> e = sim::EmbreeScene::build(s.meshes, options);
+    if (!e.ok()) fail(to_string(e.error()));
+    benchmark::DoNotOptimize(e);
+  }
+  counters(state, triangle_count(s), process_cpu_s() - cpu0);
+}
+
+void BM_EmissionTables(benchmark::State& state, LargeModel kind, std::size_t triangles) {
+  const sim::SceneDesc& s = scene(kind, triangles);
+  const double cpu0 = process_cpu_s();
+  for (auto _ : state) {
+    Result<sim::EmissionSampler> e = sim::EmissionSampler::create(s);
+    if (!e.ok()) fail(to_string(e.error()));
+    benchmark::DoNotOptimize(e);
+  }
+  counters(state, triangle_count(s), process_cpu_s() - cpu0);
+}
+
+const bool kRegistered = [] {
+  for (LargeModel kind : {LargeModel::FacetedReflector, LargeModel::LensArray, LargeModel::GlassPart})
+    for (std::size_t triangles : {std::size_t{10'000}, std::size_t{100'000}, std::size_t{1'000'000}}) {
+      const std::string name = samples::large_model_name(kind) + "/" + std::to_string(triangles);
+      auto set = [&](benchmark::internal::Benchmark* b) {
+        b->Unit(benchmark::kMillisecond)->UseRealTime();
+        if (triangles >= 1'000'000) b->Iterations(1);
+      };
+      set(benchmark::RegisterBenchmark(("BM_Load/" + name).c_str(), BM_Load, kind, triangles));
+      set(benchmark::RegisterBenchmark(("BM_Check/" + name).c_str(), BM_Check, kind, triangles));
+      set(benchmark::RegisterBenchmark(("BM_Bvh/" + name).c_str(), BM_Bvh, kind, triangles)->Arg(1)->Arg(0));
+      set(benchmark::RegisterBenchmark(("BM_EmissionTables/" + name).c_str(), BM_EmissionTables, kind,
+                                       triangles));
+    }
+  return true;
+}();
+
+}  // namespace
+}  // namespace gonio::bench
+
+BENCHMARK_MAIN();

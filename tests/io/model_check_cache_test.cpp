@@ -1,0 +1,186 @@
+// The model checks' cache (io/model_check_cache.h) through check_model: an
+// unchanged model is not checked again, anything else in the cache folder
+// is ignored, and the results do not depend on where they came from.
+#include "io/model_check_cache.h"
+
+#include <gtest/gtest.h>
+
+#include <tbb/global_control.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "io/model_check.h"
+#include "sim/shapes.h"
+#include "tests/support/test_support.h"
+
+namespace gonio::io {
+namespace {
+
+// Three meshes: a clean glass sphere, an open glass box (open-volume) and a
+// reflector with a degenerate triangle and two crossing triangles.
+sim::SceneDesc scene_with_findings() {
+  sim::SceneDesc s;
+  s.name = "model.gltf";
+  sim::Material glass;
+  glass.name = "glass";
+  glass.dielectric = 1.0;
+  sim::Material paint;
+  paint.name = "paint";
+  paint.diffuse_reflect = 0.8;
+  s.materials = {glass, paint};
+
+  sim::Mesh sphere = sim::sphere(0.05, 16, 8);
+  sphere.name = "sphere";
+  sphere.material = 0;
+  sim::Mesh box = sim::box(0.1, 0.1, 0.1);
+  box.indices.resize(box.indices.size() - 6);
+  box.name = "box";
+  box.material = 0;
+  sim::Mesh reflector;
+  reflector.name = "reflector";
+  reflector.material = 1;
+  reflector.positions = {{0, 0, 0}, {2, 0, -1}, {2, 0, 1}, {2, -1, 0}, {2, 1, 0}, {1, 0, -0.5f}};
+  reflector.indices = {0, 1, 2, 0, 3, 4, 0, 5, 1};  // crossing pair; 0-5-1 collinear
+  s.meshes = {sphere, box, reflector};
+  return s;
+}
+
+std::vector<std::string> texts(const std::vector<Finding>& findings) {
+  std::vector<std::string> out;
+  for (const Finding& f : findings)
+    out.push_back(std::string(to_string(f.severity)) + " " + f.code + " " + f.message + " @" + f.where.file);
+  return out;
+}
+
+std::vector<std::filesystem::path> files_in(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> out;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) out.push_back(e.path());
+  return out;
+}
+
+RefractiveFlags flags(const sim::SceneDesc& s) {
+  RefractiveFlags r;
+  for (const sim::Mesh& m : s.meshes) r.push_back(s.materials[m.material].dielectric > 0.0);
+  return r;
+}
+
+TEST(ModelCheckCache, AnUnchangedModelIsNotCheckedAgain) {
+  test::TempDir dir;
+  ModelCheckOptions options;
+  options.cache_dir = (dir / "cache").string();
+  const sim::SceneDesc scene = scene_with_findings();
+  const std::vector<Finding> uncached = check_model(scene);
+  ASSERT_EQ(uncached.size(), 3u);  // open-volume, degenerate-triangle, self-intersection
+
+  ModelCheckStats first, second;
+  const std::vector<Finding> cold = check_model(scene, options, &first);
+  EXPECT_EQ(first.meshes, 3u);
+  EXPECT_EQ(first.meshes_from_cache, 0u);
+  const auto entries = files_in(dir / "cache");
+  ASSERT_EQ(entries.size(), 1u);  // one entry, no temporary file left behind
+  EXPECT_EQ(entries[0].filename().string(), cached_checks_name(model_check_key(scene, flags(scene))));
+  const std::vector<Finding> warm = check_model(scene, options, &second);
+  EXPECT_EQ(second.meshes_from_cache, 3u);
+  EXPECT_EQ(texts(cold), texts(uncached));
+  EXPECT_EQ(texts(warm), texts(uncached));
+
+  // The entry is what is read: an edited (well-formed) detail comes back.
+  std::string bytes = test::read_file(entries[0]);
+  const std::string boundary = "boundary edges";
+  const auto at = bytes.find(boundary);
+  ASSERT_NE(at, std::string::npos);
+  bytes.replace(at, boundary.size(), "BOUNDARY EDGES");
+  test::write_file(entries[0], bytes);
+  bool edited = false;
+  for (const Finding& f : check_model(scene, options))
+    edited = edited || f.message.find("BOUNDARY EDGES") != std::string::npos;
+  EXPECT_TRUE(edited);
+
+  // Names are not part of the key: a renamed mesh keeps its entry and is
+  // named anew.
+  sim::SceneDesc renamed = scene;
+  renamed.meshes[1].name = "cover";
+  ModelCheckStats third;
+  const auto r = check_model(renamed, options, &third);
+  EXPECT_EQ(third.meshes_from_cache, 3u);
+  ASSERT_EQ(r.size(), 3u);
+  EXPECT_NE(r[0].message.find("mesh 'cover' (material 'glass')"), std::string::npos) << r[0].message;
+}
+
+TEST(ModelCheckCache, ChangedGeometryOrMaterialKindIsCheckedAgain) {
+  test::TempDir dir;
+  ModelCheckOptions options;
+  options.cache_dir = dir.path().string();
+  sim::SceneDesc scene = scene_with_findings();
+  check_model(scene, options);
+
+  sim::SceneDesc moved = scene;
+  moved.meshes[0].positions[0].x += 1e-6f;
+  ModelCheckStats a;
+  check_model(moved, options, &a);
+  EXPECT_EQ(a.meshes_from_cache, 0u);
+
+  // The box no longer refractive: its open volume is no longer an error.
+  sim::SceneDesc painted = scene;
+  painted.meshes[1].material = 1;
+  ModelCheckStats b;
+  const auto findings = check_model(painted, options, &b);
+  EXPECT_EQ(b.meshes_from_cache, 0u);
+  for (const Finding& f : findings) EXPECT_NE(f.code, "open-volume");
+  EXPECT_EQ(files_in(dir.path()).size(), 3u);
+}
+
+TEST(ModelCheckCache, ACorruptEntryIsIgnoredAndRewritten) {
+  const sim::SceneDesc scene = scene_with_findings();
+  const std::vector<std::string> expected = texts(check_model(scene));
+  const std::string name = cached_checks_name(model_check_key(scene, flags(scene)));
+  test::TempDir good_dir;
+  ModelCheckOptions good;
+  good.cache_dir = good_dir.path().string();
+  check_model(scene, good);
+  const std::string valid = test::read_file(good_dir / name);
+
+  auto replace = [&](std::string s, const std::string& from, const std::string& to) {
+    const auto at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) s.replace(at, from.size(), to);
+    return s;
+  };
+  const std::vector<std::pair<std::string, std::string>> corrupt = {
+      {"empty", ""},
+      {"truncated", valid.substr(0, valid.size() / 2)},
+      {"binary garbage", std::string("\x00\xff\x13\x37", 4)},
+      {"not an object", "[1, 2, 3]\n"},
+      {"another revision", replace(valid, "\"revision\":1", "\"revision\":999")},
+      {"another format", replace(valid, "gonio model check", "something else")},
+      {"wrong vertex count", replace(valid, "\"vertices\":", "\"vertices\":1")},
+      {"unknown severity", replace(valid, "\"severity\":\"error\"", "\"severity\":\"fatal\"")},
+      {"a count as text", replace(valid, "\"triangles\":", "\"triangles\":\"12\",\"x\":")},
+      {"a mesh missing", replace(valid, "\"meshes\":[", "\"meshes\":[],\"old\":[")},
+  };
+  for (const auto& [what, bytes] : corrupt) {
+    test::TempDir dir;
+    ModelCheckOptions options;
+    options.cache_dir = dir.path().string();
+    test::write_file(dir / name, bytes);
+    ModelCheckStats stats;
+    EXPECT_EQ(texts(check_model(scene, options, &stats)), expected) << what;
+    EXPECT_EQ(stats.meshes_from_cache, 0u) << what;
+    EXPECT_EQ(test::read_file(dir / name), valid) << what << ": the entry is rewritten";
+  }
+  // A folder in the entry's place, and a cache folder that is a file: the
+  // checks run all the same.
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / name);
+  ModelCheckOptions options;
+  options.cache_dir = dir.path().string();
+  EXPECT_EQ(texts(check_model(scene, options)), expected);
+  test::write_file(dir / "file", "x");
+  options.cache_dir = (dir / "file").string();
+  EXPECT_EQ(texts(check_model(scene, options)), expected);
+}
+
+}  // namespace
+}  // namespace gonio::io
