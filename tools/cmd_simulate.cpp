@@ -22,6 +22,15 @@
 // {photons_close, flux_imbalance_lm, lor, min_lor, flux_tolerance,
 // files [{path, flux_ok, clean}], passed, failures [text]}.
 //
+// report.json's "mpi" {ranks, per_rank [{rank, threads, photons, trace_s,
+// photons_per_s, wait_s, reduce_s}]}: each rank's share (tools/distributed_run.h).
+//
+// Under mpirun or srun every rank traces its share of each iteration and the
+// counts are summed across the ranks (sim/distributed.h): the same files as
+// one process. The ranks first agree on the model and settings (a rank that
+// cannot read its model, or holds another, stops them all before tracing);
+// rank 0 alone writes files, previews and progress.
+//
 // Energy checks (exit 1 after everything is written, with a message):
 // emitted = escaped + absorbed + cut off in photons, LOR = escaped / emitted
 // at least --min-lor, every written file's flux within --flux-tolerance of
@@ -43,6 +52,7 @@
 #include "sim/symmetry.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/distributed_run.h"
 #include "tools/model_input.h"
 #include "tools/preview_output.h"
 #include "tools/simulation_outputs.h"
@@ -175,9 +185,14 @@ int run_simulate(const Args& args) {
     return usage_error(p, "--name: '" + stem + "' is not a plain file name");
   if (!p.given("face-size")) face_size = sim::face_size_for(grid);
 
+  // Under mpirun/srun: one rank of the job (tools/distributed_run.h); rank 0
+  // alone writes files and shows progress.
+  std::optional<sim::Ranks> ranks = join_job("simulate");
+  if (!ranks) return kExitFailure;
+  const bool lead = ranks->rank() == 0;
+
   // Load, then check the geometry: errors stop the run, warnings are printed.
   std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated");
-  if (!scene) return kExitFailure;
 
   sim::SimulationSettings settings;
   settings.photons_per_iteration = static_cast<std::uint64_t>(photons);
@@ -186,18 +201,26 @@ int run_simulate(const Args& args) {
   settings.threads = static_cast<int>(threads);
   settings.max_bounces = static_cast<int>(max_bounces);
   settings.face_size = static_cast<int>(face_size);
+  settings.ranks = &ranks.value();
 
   // The output directory is made before tracing so that previews can land in it.
-  if (Status s = io::make_directories(out_dir); !s.ok()) {
-    print_error(s.error());
-    return kExitFailure;
+  bool ready = scene.has_value();
+  if (ready && lead) {
+    if (Status s = io::make_directories(out_dir); !s.ok()) {
+      print_error(s.error());
+      ready = false;
+    }
   }
+  // Every rank ready, with the same model and settings, or none traces.
+  std::optional<std::string> fingerprint;
+  if (ready) fingerprint = ranks->distributed() ? run_fingerprint(*scene, settings) : std::string();
+  if (!ranks_agree(*ranks, fingerprint, "simulate")) return kExitFailure;
   std::optional<PreviewOutput> preview;
-  if (preview_options.enabled)
+  if (preview_options.enabled && lead)
     preview.emplace(out_dir, settings.face_size, preview_params_result.value());
   Status preview_status = Ok{};
 
-  const bool show_progress = stderr_is_terminal();
+  const bool show_progress = lead && stderr_is_terminal();
   auto progress = [&](const sim::SimulationProgress& pr, const sim::Simulation& simulation) {
     if (preview && preview_status.ok()) preview_status = preview->write(simulation.far_field());
     if (!show_progress) return;
@@ -214,6 +237,9 @@ int run_simulate(const Args& args) {
     print_error(e);
     return kExitFailure;
   }
+  // Each rank's share and speed; then rank 0 alone writes.
+  const nlohmann::json ranks_report = ranks_json(*ranks, sim->stats());
+  if (!lead) return kExitOk;
 
   if (!preview_status.ok()) {
     print_error(preview_status.error());
@@ -274,6 +300,7 @@ int run_simulate(const Args& args) {
   for (const WrittenFile& f : outputs->files)
     if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
   json["outputs"] = to_json(outputs.value(), grid, ledger.escaped.flux_lm);
+  json["mpi"] = ranks_report;
 
   // The energy checks, each with what it found.
   const sim::Ledger& l = ledger;
@@ -289,6 +316,7 @@ int run_simulate(const Args& args) {
               model.c_str(), static_cast<unsigned long long>(st.photons), st.iterations_done,
               st.iterations_done == 1 ? "" : "s", format_rate(st.photons_per_s()).c_str(),
               format_rate(st.rays_per_s()).c_str(), st.threads, st.threads == 1 ? "" : "s");
+  if (st.ranks > 1) std::printf("  on %d MPI ranks (threads per rank; rates of the whole job)\n", st.ranks);
   std::printf("  emitted %.6g lm: escaped %.6g lm (%.2f %%), absorbed %.6g lm (%.2f %%), cut off %.6g lm (%.2f %%)\n",
               l.emitted.flux_lm, l.escaped.flux_lm, percent(l.escaped.flux_lm, l.emitted.flux_lm),
               l.absorbed.flux_lm, percent(l.absorbed.flux_lm, l.emitted.flux_lm), l.cutoff.flux_lm,
