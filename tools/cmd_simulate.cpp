@@ -5,7 +5,7 @@
 //                  [--threads T] [--max-bounces B] [--face-size F]
 //                  [--c-step DEG] [--gamma-step DEG] [--symmetry S]
 //                  [--format LIST] [--ies-version 2002|2019] [--name STEM]
-//                  [--min-lor X] [--flux-tolerance X]
+//                  [--min-lor X] [--flux-tolerance X] [--progress]
 //                  [--preview [filter options]]
 //
 // Writes DIR/STEM.ies, STEM.ldt, farfield.exr (cube), farfield-latlong.exr, STEM.svg (the
@@ -155,6 +155,10 @@ int run_simulate(const Args& args) {
   p.option("flux-tolerance", &flux_tolerance, 0.0, 1.0, "X",
            "fail when a written file's flux differs from the escaped flux by more than X "
            "(a fraction; default 0.005 = 0.5 %)");
+  bool force_progress = false;
+  p.flag("progress", &force_progress,
+         "show progress on stderr even where it is not a terminal (under mpirun or srun, whose "
+         "ranks never write to one: rank 0 shows the whole job's rate)");
   PreviewOptions preview_options;
   add_preview_options(p, &preview_options);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
@@ -220,7 +224,7 @@ int run_simulate(const Args& args) {
     preview.emplace(out_dir, settings.face_size, preview_params_result.value());
   Status preview_status = Ok{};
 
-  const bool show_progress = lead && stderr_is_terminal();
+  const bool show_progress = lead && (force_progress || stderr_is_terminal());
   auto progress = [&](const sim::SimulationProgress& pr, const sim::Simulation& simulation) {
     if (preview && preview_status.ok()) preview_status = preview->write(simulation.far_field());
     if (!show_progress) return;

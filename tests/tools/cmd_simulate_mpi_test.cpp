@@ -46,13 +46,14 @@ class MpiRun : public ::testing::Test {
   // `gonio simulate MODEL --out OUT` with the run's options, as `ranks`
   // ranks of an MPI job, or as one plain process when ranks == 0.
   static test::ProcessResult simulate(int ranks, const std::string& model, const fs::path& out,
-                                      const std::string& threads) {
+                                      const std::string& threads, bool progress = false) {
     std::vector<std::string> argv = ranks > 0 ? mpirun(ranks) : std::vector<std::string>{};
-    for (const std::string a : {std::string(GONIO_EXECUTABLE), std::string("simulate"), model,
+    for (const std::string& a : {std::string(GONIO_EXECUTABLE), std::string("simulate"), model,
                                 std::string("--out"), out.string(), std::string("--photons"),
                                 std::string("30000"), std::string("--iterations"), std::string("2"),
                                 std::string("--seed"), std::string("7"), std::string("--threads"), threads})
       argv.push_back(a);
+    if (progress) argv.push_back("--progress");
     return test::run_process(argv);
   }
 
@@ -106,7 +107,7 @@ TEST_F(MpiRun, ThreeRanksWriteTheBytesOfOneProcess) {
   const std::string bell = kSamples + "/bell/bell.gltf";
   auto one = simulate(0, bell, dir / "one", "2");
   ASSERT_EQ(one.exit_code, 0) << one.err;
-  auto three = simulate(3, bell, dir / "three", "1");
+  auto three = simulate(3, bell, dir / "three", "1", true);
   ASSERT_EQ(three.exit_code, 0) << three.err;
   expect_same_run(dir / "one", dir / "three", "3 ranks x 1 thread");
 
@@ -120,6 +121,13 @@ TEST_F(MpiRun, ThreeRanksWriteTheBytesOfOneProcess) {
        at = three.out.find("photons in 2 iterations", at + 1))
     ++summaries;
   EXPECT_EQ(summaries, 1u) << three.out;
+  // --progress: rank 0 alone shows each iteration (the job's rate: photons
+  // of every rank over rank 0's time).
+  for (const char* line : {"simulate: iteration 1/2, ", "simulate: iteration 2/2, "}) {
+    const std::size_t at = three.err.find(line);
+    EXPECT_NE(at, std::string::npos) << three.err;
+    EXPECT_EQ(three.err.find(line, at + 1), std::string::npos) << three.err;
+  }
   const nlohmann::json mpi = read_report(dir / "three")["mpi"];
   ASSERT_EQ(mpi["ranks"], 3);
   ASSERT_EQ(mpi["per_rank"].size(), 3u);
