@@ -1,8 +1,9 @@
-// `gonio simulate` over the ranks of an MPI job (mpirun), against one
-// process: the same bytes whatever the rank and thread counts, and faults
-// (a rank without its model, a rank with another model, a rank that dies)
-// that end the whole run with a message naming the rank and leave nothing
-// in the output folder. Runs Open MPI's mpirun (ctest label `mpi`).
+// `gonio simulate` and `gonio bench` over the ranks of an MPI job (mpirun;
+// tools/distributed_run.h, sim/distributed.h), against one process: the
+// same bytes whatever the rank and thread counts, and faults (a rank
+// without its model, a rank with another model, a rank that dies) that end
+// the whole run with a message naming the rank and leave nothing in the
+// output folder. Runs Open MPI's mpirun (ctest label `mpi`).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -214,6 +215,38 @@ TEST_F(MpiRun, ARankThatDiesEndsTheRunAndNamesTheRank) {
   EXPECT_TRUE(contains(r.out + r.err, "rank 1")) << r.out << r.err;
   EXPECT_TRUE(contains(r.out + r.err, "signal 9")) << r.out << r.err;
   EXPECT_TRUE(folder_is_empty(out)) << entries(out);
+}
+
+// gonio bench's reference run is shared by the ranks: the same reference
+// bytes (and its noise, measured from its halves) as one process traces.
+TEST_F(MpiRun, BenchSharesItsReferenceRunAcrossRanks) {
+  test::TempDir dir;
+  const std::string bell = kSamples + "/bell/bell.gltf";
+  auto bench = [&](int ranks, const fs::path& out) {
+    std::vector<std::string> argv = ranks > 0 ? mpirun(ranks) : std::vector<std::string>{};
+    for (const std::string& a : {std::string(GONIO_EXECUTABLE), std::string("bench"), bell, std::string("--out"),
+                                 out.string(), std::string("--photons"), std::string("32768"),
+                                 std::string("--reference"), std::string("200000"), std::string("--threads"),
+                                 std::string("1"), std::string("--no-png")})
+      argv.push_back(a);
+    return test::run_process(argv);
+  };
+  auto one = bench(0, dir / "one");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  auto three = bench(3, dir / "three");
+  ASSERT_EQ(three.exit_code, 0) << three.err;
+  EXPECT_TRUE(test::read_file(dir / "one" / "reference.exr") == test::read_file(dir / "three" / "reference.exr"));
+  const auto a = nlohmann::json::parse(test::read_file(dir / "one" / "reference.json"));
+  const auto b = nlohmann::json::parse(test::read_file(dir / "three" / "reference.json"));
+  EXPECT_EQ(a["key"], b["key"]);
+  EXPECT_EQ(a["noise"], b["noise"]);
+  // Rank 0 alone ran the series and printed its summary.
+  std::size_t summaries = 0;
+  for (std::size_t at = three.out.find("reference 200000 photons"); at != std::string::npos;
+       at = three.out.find("reference 200000 photons", at + 1))
+    ++summaries;
+  EXPECT_EQ(summaries, 1u) << three.out;
+  EXPECT_TRUE(fs::exists(dir / "three" / "bench.json"));
 }
 
 }  // namespace
