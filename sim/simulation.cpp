@@ -201,7 +201,9 @@ std::uint64_t Simulation::Impl::add_iteration() {
     stats.wait_s += seconds_since(t);
     t = std::chrono::steady_clock::now();
     ranks->sum(iteration);
-    stats.reduce_s += seconds_since(t);
+    const double reduce_s = seconds_since(t);
+    stats.reduce_s += reduce_s;
+    if (stats.reduce_fastest_s == 0.0 || reduce_s < stats.reduce_fastest_s) stats.reduce_fastest_s = reduce_s;
     std::size_t k = texels;
     each_count(books_iteration, [&](std::uint64_t& v) { v = iteration[k++]; });
     if (guide) each_count(guide_iteration, [&](std::uint64_t& v) { v = iteration[k++]; });

@@ -63,6 +63,8 @@ struct SimulationStats {
   double rank_trace_s = 0.0;   // this rank's time tracing its share, without waits [s]
   double wait_s = 0.0;         // waiting for the other ranks to finish their shares [s]
   double reduce_s = 0.0;       // summing the iterations' counts across the ranks [s]
+  double reduce_fastest_s = 0.0;  // the fastest iteration's sum: its cost without the
+                                  // scheduling delays of a loaded machine [s]
   double rank_photons_per_s() const {
     return rank_trace_s > 0.0 ? static_cast<double>(rank_photons) / rank_trace_s : 0.0;
   }

@@ -23,7 +23,8 @@
 // files [{path, flux_ok, clean}], passed, failures [text]}.
 //
 // report.json's "mpi" {ranks, per_rank [{rank, threads, photons, trace_s,
-// photons_per_s, wait_s, reduce_s}]}: each rank's share (tools/distributed_run.h).
+// photons_per_s, wait_s, reduce_s, reduce_fastest_s}]}: each rank's share
+// (tools/distributed_run.h).
 //
 // Under mpirun or srun every rank traces its share of each iteration and the
 // counts are summed across the ranks (sim/distributed.h): the same files as

@@ -65,6 +65,7 @@ nlohmann::json ranks_json(const sim::Ranks& ranks, const sim::SimulationStats& s
   const std::vector<double> trace = ranks.gather(st.rank_trace_s);
   const std::vector<double> wait = ranks.gather(st.wait_s);
   const std::vector<double> reduce = ranks.gather(st.reduce_s);
+  const std::vector<double> fastest = ranks.gather(st.reduce_fastest_s);
   const std::vector<std::uint64_t> threads = ranks.gather(static_cast<std::uint64_t>(st.threads));
   nlohmann::json per_rank = nlohmann::json::array();
   for (std::size_t r = 0; r < photons.size(); ++r)
@@ -74,7 +75,8 @@ nlohmann::json ranks_json(const sim::Ranks& ranks, const sim::SimulationStats& s
                         {"trace_s", trace[r]},
                         {"photons_per_s", trace[r] > 0.0 ? static_cast<double>(photons[r]) / trace[r] : 0.0},
                         {"wait_s", wait[r]},
-                        {"reduce_s", reduce[r]}});
+                        {"reduce_s", reduce[r]},
+                        {"reduce_fastest_s", fastest[r]}});
   return {{"ranks", ranks.size()}, {"per_rank", per_rank}};
 }
 

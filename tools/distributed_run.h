@@ -38,7 +38,8 @@ bool ranks_agree(const sim::Ranks& ranks, const std::optional<std::string>& fing
                  const std::string& command);
 
 // Collective, after tracing: {"ranks": N, "per_rank": [{"rank", "photons",
-// "trace_s", "photons_per_s", "wait_s", "reduce_s"}]} from each rank's
+// "threads", "trace_s", "photons_per_s", "wait_s", "reduce_s",
+// "reduce_fastest_s"}]} from each rank's
 // stats (sim/simulation.h), the same on every rank.
 nlohmann::json ranks_json(const sim::Ranks& ranks, const sim::SimulationStats& stats);
 
