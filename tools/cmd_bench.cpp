@@ -188,9 +188,9 @@ int run_bench(const Args& args) {
   std::optional<sim::Ranks> ranks = join_job("bench");
   if (!ranks) return kExitFailure;
   const bool lead = ranks->rank() == 0;
-  // A failure on rank 0 alone while the others go on to the next model's
-  // reference: end them all (they would wait for rank 0 for ever).
-  auto lead_failed = [&]() -> int {
+  // A failure on one rank (rank 0's writes) while the others go on to the
+  // next model's reference: end them all (they would wait for it for ever).
+  auto job_failed = [&]() -> int {
     if (ranks->distributed()) ranks->abort(kExitFailure);
     return kExitFailure;
   };
@@ -247,13 +247,13 @@ int run_bench(const Args& args) {
       Error e = reference.error();
       if (e.where.file.empty()) e.where.file = model;
       print_error(e);
-      return kExitFailure;
+      return job_failed();  // e.g. rank 0 could not write it: the others went on
     }
     if (!lead) continue;  // the series measure one process: rank 0's
     auto judge = sim::ConvergenceReference::create(reference->far_field, resampler);
     if (!judge.ok()) {
       print_error(model + ": " + judge.error().message);
-      return lead_failed();
+      return job_failed();
     }
     auto series = run_series(scene.value(), settings, default_series(importance), judge.value(),
                              [&](const BenchProgress& pr) {
@@ -267,7 +267,7 @@ int run_bench(const Args& args) {
       Error e = series.error();
       if (e.where.file.empty()) e.where.file = model;
       print_error(e);
-      return lead_failed();
+      return job_failed();
     }
     o.series = std::move(series.value());
     o.reference = std::move(reference.value());
@@ -279,17 +279,17 @@ int run_bench(const Args& args) {
     const std::string dir = o.directory;
     if (Status s = io::write_file_atomic((fs::path(dir) / "series.csv").string(), series_csv(o.series)); !s.ok()) {
       print_error(s.error());
-      return lead_failed();
+      return job_failed();
     }
     nlohmann::json j = bench_json(o);
     j["program"] = {{"name", kProgramName}, {"version", kVersion}};
     if (Status s = io::write_json((fs::path(dir) / "bench.json").string(), j); !s.ok()) {
       print_error(s.error());
-      return lead_failed();
+      return job_failed();
     }
     if (Status s = write_charts(o, !no_png); !s.ok()) {
       print_error(s.error());
-      return lead_failed();
+      return job_failed();
     }
     print_summary(o);
     outcomes.push_back(std::move(o));
