@@ -47,14 +47,15 @@ class MpiRun : public ::testing::Test {
   // `gonio simulate MODEL --out OUT` with the run's options, as `ranks`
   // ranks of an MPI job, or as one plain process when ranks == 0.
   static test::ProcessResult simulate(int ranks, const std::string& model, const fs::path& out,
-                                      const std::string& threads, bool progress = false) {
+                                      const std::string& threads,
+                                      const std::vector<std::string>& extra = {}) {
     std::vector<std::string> argv = ranks > 0 ? mpirun(ranks) : std::vector<std::string>{};
     for (const std::string& a : {std::string(GONIO_EXECUTABLE), std::string("simulate"), model,
                                 std::string("--out"), out.string(), std::string("--photons"),
                                 std::string("30000"), std::string("--iterations"), std::string("2"),
                                 std::string("--seed"), std::string("7"), std::string("--threads"), threads})
       argv.push_back(a);
-    if (progress) argv.push_back("--progress");
+    argv.insert(argv.end(), extra.begin(), extra.end());
     return test::run_process(argv);
   }
 
@@ -106,11 +107,14 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 TEST_F(MpiRun, ThreeRanksWriteTheBytesOfOneProcess) {
   test::TempDir dir;
   const std::string bell = kSamples + "/bell/bell.gltf";
-  auto one = simulate(0, bell, dir / "one", "2");
+  auto one = simulate(0, bell, dir / "one", "2", {"--preview"});
   ASSERT_EQ(one.exit_code, 0) << one.err;
-  auto three = simulate(3, bell, dir / "three", "1", true);
+  auto three = simulate(3, bell, dir / "three", "1", {"--preview", "--progress"});
   ASSERT_EQ(three.exit_code, 0) << three.err;
   expect_same_run(dir / "one", dir / "three", "3 ranks x 1 thread");
+  // Rank 0's preview filters the summed far field: the same images.
+  for (const char* f : {"preview.exr", "preview.png"})
+    EXPECT_TRUE(test::read_file(dir / "one" / f) == test::read_file(dir / "three" / f)) << f << " differs";
 
   // Rank 0 alone printed the summary, and the report has each rank's share:
   // 2 iterations of 30000 photons in chunks of 4096 (8 per iteration: 3, 3
