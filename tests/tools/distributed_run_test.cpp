@@ -221,6 +221,29 @@ TEST_F(MpiRun, ARankThatDiesEndsTheRunAndNamesTheRank) {
   EXPECT_TRUE(folder_is_empty(out)) << entries(out);
 }
 
+// --target-error: every rank holds the summed far field, so every rank's
+// estimate and its decision to stop are the same; the run stops where one
+// process stops, with the same bytes. --serve is one process only.
+TEST_F(MpiRun, TargetErrorStopsEveryRankWhereOneProcessStops) {
+  test::TempDir dir;
+  const std::string bell = kSamples + "/bell/bell.gltf";
+  const std::vector<std::string> target = {"--iterations", "50", "--target-error", "2"};
+  auto one = simulate(0, bell, dir / "one", "2", target);
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  auto three = simulate(3, bell, dir / "three", "1", target);
+  ASSERT_EQ(three.exit_code, 0) << three.err;
+  expect_same_run(dir / "one", dir / "three", "3 ranks, target error");
+  const nlohmann::json a = read_report(dir / "one"), b = read_report(dir / "three");
+  EXPECT_EQ(a["stopped_by"], "target-error");
+  EXPECT_EQ(b["stopped_by"], "target-error");
+  EXPECT_EQ(a["iterations_done"], b["iterations_done"]);
+  EXPECT_LT(a["iterations_done"].get<int>(), 50);
+
+  auto serve = simulate(2, bell, dir / "serve", "1", {"--serve"});
+  EXPECT_EQ(serve.exit_code, 2);
+  EXPECT_TRUE(contains(serve.err, "--serve runs in one process")) << serve.err;
+}
+
 // gonio bench's reference run is shared by the ranks: the same reference
 // bytes (and its noise, measured from its halves) as one process traces.
 TEST_F(MpiRun, BenchSharesItsReferenceRunAcrossRanks) {
