@@ -1,11 +1,5 @@
 #include "io/plot.h"
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -16,11 +10,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <thread>
 
 #include "io/file_io.h"
-
-extern char** environ;
+#include "io/process.h"
 
 namespace gonio::io {
 namespace {
@@ -193,41 +185,11 @@ Result<std::string> script_for(const Figure& figure, ImageFormat format) {
   return s.str();
 }
 
-// A private scratch directory, removed with its contents when it goes.
-class ScratchDir {
- public:
-  ScratchDir() {
-    std::string pattern = (fs::temp_directory_path() / "gonio-plot-XXXXXX").string();
-    if (::mkdtemp(pattern.data()) != nullptr) path_ = pattern;
-  }
-  ~ScratchDir() {
-    std::error_code ec;
-    if (!path_.empty()) fs::remove_all(path_, ec);
-  }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-std::string last_lines(const std::string& text, std::size_t max_chars) {
-  std::string t = text;
-  while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
-  if (t.size() > max_chars) t = "…" + t.substr(t.size() - max_chars);
-  for (char& c : t)
-    if (c == '\n') c = ' ';
-  return t;
-}
-
 // Runs gnuplot on a script; returns what it wrote to standard output.
 Result<std::string> run_gnuplot(const std::string& script) {
-  ScratchDir dir;
+  ScratchDir dir("gonio-plot");
   if (dir.path().empty()) return error(std::string("cannot create a scratch directory: ") + std::strerror(errno));
   const std::string script_path = (dir.path() / "figure.gp").string();
-  const std::string out_path = (dir.path() / "out").string();
-  const std::string err_path = (dir.path() / "err").string();
   {
     std::ofstream f(script_path, std::ios::binary);
     f << script;
@@ -235,48 +197,19 @@ Result<std::string> run_gnuplot(const std::string& script) {
   }
   const char* env = std::getenv("GONIO_GNUPLOT");
   const std::string program = env && *env ? env : "gnuplot";
-
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out_path.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  std::vector<char*> argv = {const_cast<char*>(program.c_str()), const_cast<char*>(script_path.c_str()),
-                             nullptr};
-  pid_t pid = 0;
-  const int rc = ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0)
-    return error("cannot run '" + program + "' (" + std::strerror(rc) +
-                 "): plots need gnuplot, Debian package gnuplot-nox (scripts/setup.sh installs "
-                 "it), or $GONIO_GNUPLOT naming the program");
-
-  int status = 0;
-  const auto deadline = std::chrono::steady_clock::now() + kTimeout;
-  for (;;) {
-    const pid_t done = ::waitpid(pid, &status, WNOHANG);
-    if (done == pid) break;
-    if (done < 0 && errno != EINTR) return error(std::string("waiting for gnuplot: ") + std::strerror(errno));
-    if (std::chrono::steady_clock::now() > deadline) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, &status, 0);
-      return error("gnuplot did not finish within 60 s");
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  const Result<std::string> err = read_file(err_path, 1u << 20);
-  const std::string messages = err.ok() ? err.value() : std::string();
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+  Result<ProcessOutput> run = run_program(
+      {program, script_path}, kTimeout, kMaxImageBytes,
+      "plots need gnuplot, Debian package gnuplot-nox (scripts/setup.sh installs it), or "
+      "$GONIO_GNUPLOT naming the program");
+  if (!run.ok()) return run.error();
+  const std::string& messages = run.value().err;
+  if (run.value().exit_code != 0)
     return error("gnuplot failed" +
                  (messages.empty() ? std::string() : ": " + last_lines(messages, 400)));
-  Result<std::string> out = read_file(out_path, kMaxImageBytes);
-  if (!out.ok()) return out.error();
-  if (out.value().empty())
+  if (run.value().out.empty())
     return error("gnuplot wrote no image" +
                  (messages.empty() ? std::string() : ": " + last_lines(messages, 400)));
-  return out;
+  return std::move(run.value().out);
 }
 
 }  // namespace

@@ -11,7 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin
   gnuplot-nox fonts-dejavu-core
-  libcpp-httplib-dev chromium
+  libcpp-httplib-dev chromium poppler-utils
 )
 
 missing=()

@@ -1,5 +1,6 @@
 // gonio info FILE [--json]: what a measured file holds and what follows from
 // it, as an aligned table or one JSON object.
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -7,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "photometry/planning.h"
 #include "photometry/summary.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
@@ -27,13 +29,17 @@ constexpr const char* kDescription =
     "grid), light output ratio (LOR, relative photometry only), downward flux\n"
     "fraction (DFF), zonal flux, maximum intensity and its direction, beam (50 %) and\n"
     "field (10 %) angles in the C0-C180 and C90-C270 planes, CIE flux code, and\n"
-    "efficacy where the input watts are known. Reader warnings go to stderr as\n"
+    "efficacy where the input watts are known; and the light-planning figures: UGR\n"
+    "table (CIE 117 tabular method, CIE 190 rooms and reflectances, S = 0.25H),\n"
+    "coefficients of utilisation (IES zonal cavity method), IES spacing criterion,\n"
+    "BUG rating (IES TM-15-11) and the luminance table (README \"Light-planning\n"
+    "figures\" states each method). Reader warnings go to stderr as\n"
     "'gonio: FILE:LINE: warning: message [code]'.\n"
     "\n"
     "With --json, stdout is one JSON object; units are in the key names (flux_lm,\n"
     "max_cd, *_deg, *_m, *_w); lor and dff are fractions (0.85, not 85 %); null marks\n"
     "a value that is undefined (e.g. lor of absolute photometry, a beam angle where\n"
-    "there is no beam).\n"
+    "there is no beam); an undefined planning figure comes with a *_why key.\n"
     "\n"
     "Exit status: 0 success, 1 the file could not be read, 2 usage error.\n"
     "\n"
@@ -174,7 +180,75 @@ class Table {
   std::vector<std::pair<std::string, std::string>> rows_;
 };
 
-void print_table(const std::string& path, const io::PhotometricFile& file, const Summary& s) {
+std::string why_or(const std::string& why) { return "- (" + why + ")"; }
+
+std::string sc_text(const photometry::SpacingValue& v) {
+  return v.ratio ? fmt(*v.ratio, 2) : why_or(v.why_undefined);
+}
+
+// The planning figures as table rows (UGR 70/50/20 for the reference rooms;
+// the full tables are in --json and the datasheet).
+void planning_rows(Table& t, const photometry::PlanningFigures& p) {
+  if (p.ugr.defined) {
+    std::string u = "reflectances 70/50/20, S = 0.25H, crosswise / endwise";
+    for (const auto& r : p.ugr.rooms) {
+      if (!((r.x_h == 4 && r.y_h == 8) || (r.x_h == 8 && r.y_h == 4) || (r.x_h == 2 && r.y_h == 2) ||
+            (r.x_h == 12 && r.y_h == 8)))
+        continue;
+      u += "\n" + fmt(r.x_h, 0) + "H x " + fmt(r.y_h, 0) + "H" + std::string(r.x_h < 10 ? "  " : " ") +
+           (r.y_h < 10 ? " " : "") + fmt(r.crosswise[0], 1) + " / " + fmt(r.endwise[0], 1);
+    }
+    u += "\nfor " + fmt(p.ugr.flux_lm, 0) + " lm; another flux F adds 8 log10(F / " +
+         fmt(p.ugr.flux_lm, 0) + ")";
+    t.row("UGR", u);
+  } else {
+    t.row("UGR", why_or(p.ugr.why_undefined));
+  }
+  if (p.cu.defined) {
+    // RCR 1, 5, 10 for 80/50, 70/50, 50/30 and 0/0.
+    std::string c = std::string("floor cavity ") + fmt(100 * p.cu.floor_reflectance, 0) +
+                    " %, % of " + (p.cu.relative_to_lamps ? "lamp" : "luminaire") + " flux";
+    c += "\nRCR   80/50  70/50  50/30    0/0";
+    for (int r : {0, 1, 2, 5, 10}) {
+      char buf[96];
+      const auto& v = p.cu.values[r];
+      std::snprintf(buf, sizeof buf, "%-4d %6s %6s %6s %6s", r, fmt(100 * v[1], 0).c_str(),
+                    fmt(100 * v[5], 0).c_str(), fmt(100 * v[9], 0).c_str(), fmt(100 * v[17], 0).c_str());
+      c += "\n" + std::string(buf);
+    }
+    t.row("CU (zonal cavity)", c);
+  } else {
+    t.row("CU (zonal cavity)", why_or(p.cu.why_undefined));
+  }
+  const auto& sc = p.spacing;
+  if (!sc.c0_c180.ratio && !sc.c90_c270.ratio && !sc.diagonal.ratio &&
+      sc.c0_c180.why_undefined == sc.c90_c270.why_undefined && sc.c0_c180.why_undefined == sc.diagonal.why_undefined)
+    t.row("Spacing criterion", why_or(sc.c0_c180.why_undefined));
+  else
+    t.row("Spacing criterion", "C0-C180 " + sc_text(sc.c0_c180) + ", C90-C270 " + sc_text(sc.c90_c270) +
+                                   ", diagonal " + sc_text(sc.diagonal));
+  const auto& z = p.bug.zones_lm;
+  t.row("BUG rating", photometry::to_string(p.bug) + "\nBL " + fmt(z.bl, 0) + "  BM " + fmt(z.bm, 0) +
+                          "  BH " + fmt(z.bh, 0) + "  BVH " + fmt(z.bvh, 0) + " lm\nFL " +
+                          fmt(z.fl, 0) + "  FM " + fmt(z.fm, 0) + "  FH " + fmt(z.fh, 0) +
+                          "  FVH " + fmt(z.fvh, 0) + " lm\nUL " + fmt(z.ul, 0) + "  UH " +
+                          fmt(z.uh, 0) + " lm");
+  if (p.luminance.defined) {
+    std::string l = "gamma    C0 cd/m2    C90 cd/m2";
+    for (std::size_t g = 0; g < p.luminance.gamma_deg.size(); ++g) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%-5s %12s %12s", fmt(p.luminance.gamma_deg[g], 0).c_str(),
+                    fmt(p.luminance.cd_m2[0][g], 0).c_str(), fmt(p.luminance.cd_m2[1][g], 0).c_str());
+      l += "\n" + std::string(buf);
+    }
+    t.row("Luminance", l);
+  } else {
+    t.row("Luminance", why_or(p.luminance.why_undefined));
+  }
+}
+
+void print_table(const std::string& path, const io::PhotometricFile& file, const Summary& s,
+                 const photometry::PlanningFigures& planning) {
   const Distribution& d = file.distribution;
   Table t;
   t.row("File", path);
@@ -236,6 +310,7 @@ void print_table(const std::string& path, const io::PhotometricFile& file, const
   t.row("CIE flux code", photometry::to_string(s.cie_flux_code));
   t.row("Input power", std::isfinite(s.input_power_w) ? num(s.input_power_w) + " W" : "unknown");
   if (std::isfinite(s.efficacy_lm_per_w)) t.row("Efficacy", fmt(s.efficacy_lm_per_w, 1) + " lm/W");
+  planning_rows(t, planning);
   t.print();
 }
 
@@ -279,7 +354,98 @@ json zones_json(const std::vector<photometry::Zone>& zones) {
   return out;
 }
 
-json info_json(const std::string& path, const io::PhotometricFile& file, const Summary& s) {
+json values5(const std::array<double, 5>& v) {
+  json a = json::array();
+  for (double x : v) a.push_back(number(x));
+  return a;
+}
+
+json spacing_json(const photometry::SpacingValue& v) {
+  return v.ratio ? json(*v.ratio) : json(nullptr);
+}
+
+// The planning figures under the keys the issue fixed (ugr_table, cu_table,
+// spacing_criterion, bug, luminance_table); an undefined one is null with a
+// *_why key beside it.
+void planning_json(json& j, const photometry::PlanningFigures& p) {
+  if (p.ugr.defined) {
+    json u;
+    u["spacing_h"] = p.ugr.spacing_h;
+    u["reflectances"] = json::array();
+    for (const auto& r : photometry::kUgrReflectances) u["reflectances"].push_back({r[0], r[1], r[2]});
+    u["flux_lm"] = number(p.ugr.flux_lm);
+    u["rooms"] = json::array();
+    for (const auto& r : p.ugr.rooms)
+      u["rooms"].push_back({{"x_h", r.x_h},
+                            {"y_h", r.y_h},
+                            {"crosswise", values5(r.crosswise)},
+                            {"endwise", values5(r.endwise)}});
+    j["ugr_table"] = u;
+  } else {
+    j["ugr_table"] = nullptr;
+    j["ugr_table_why"] = p.ugr.why_undefined;
+  }
+  if (p.cu.defined) {
+    json c;
+    c["floor_reflectance"] = p.cu.floor_reflectance;
+    c["pairs"] = json::array();
+    for (const auto& pr : photometry::kCuReflectancePairs) c["pairs"].push_back({pr[0], pr[1]});
+    c["rcr"] = p.cu.rcr;
+    c["values"] = json::array();
+    for (const auto& row : p.cu.values) {
+      json r = json::array();
+      for (double v : row) r.push_back(number(v));
+      c["values"].push_back(r);
+    }
+    c["reference_flux_lm"] = number(p.cu.reference_flux_lm);
+    c["relative_to"] = p.cu.relative_to_lamps ? "rated_lamp_flux" : "luminaire_flux";
+    j["cu_table"] = c;
+  } else {
+    j["cu_table"] = nullptr;
+    j["cu_table_why"] = p.cu.why_undefined;
+  }
+  json sc = {{"c0_c180", spacing_json(p.spacing.c0_c180)},
+             {"c90_c270", spacing_json(p.spacing.c90_c270)},
+             {"diagonal", spacing_json(p.spacing.diagonal)}};
+  for (const auto& [key, v] : {std::pair{"c0_c180_why", &p.spacing.c0_c180},
+                               {"c90_c270_why", &p.spacing.c90_c270},
+                               {"diagonal_why", &p.spacing.diagonal}})
+    if (!v->ratio) sc[key] = v->why_undefined;
+  j["spacing_criterion"] = sc;
+  const auto& z = p.bug.zones_lm;
+  j["bug"] = {{"b", p.bug.b},
+              {"u", p.bug.u},
+              {"g", p.bug.g},
+              {"text", photometry::to_string(p.bug)},
+              {"zones_lm",
+               {{"bl", z.bl}, {"bm", z.bm}, {"bh", z.bh}, {"bvh", z.bvh},
+                {"fl", z.fl}, {"fm", z.fm}, {"fh", z.fh}, {"fvh", z.fvh},
+                {"ul", z.ul}, {"uh", z.uh}}}};
+  if (p.luminance.defined) {
+    json l;
+    l["gamma_deg"] = p.luminance.gamma_deg;
+    l["c_deg"] = p.luminance.c_deg;
+    l["cd_m2"] = json::array();
+    l["ldt_cd_m2"] = json::array();
+    for (std::size_t c = 0; c < p.luminance.c_deg.size(); ++c) {
+      json a = json::array(), b = json::array();
+      for (std::size_t g = 0; g < p.luminance.gamma_deg.size(); ++g) {
+        a.push_back(number(p.luminance.cd_m2[c][g]));
+        b.push_back(number(p.luminance.ldt_cd_m2[c][g]));
+      }
+      l["cd_m2"].push_back(a);
+      l["ldt_cd_m2"].push_back(b);
+    }
+    l["max_cd_m2"] = number(p.luminance.max_cd_m2);
+    j["luminance_table"] = l;
+  } else {
+    j["luminance_table"] = nullptr;
+    j["luminance_table_why"] = p.luminance.why_undefined;
+  }
+}
+
+json info_json(const std::string& path, const io::PhotometricFile& file, const Summary& s,
+               const photometry::PlanningFigures& planning) {
   const Distribution& d = file.distribution;
   json j;
   j["file"] = path;
@@ -330,6 +496,7 @@ json info_json(const std::string& path, const io::PhotometricFile& file, const S
                         {"n5", number(code.n5)}, {"text", photometry::to_string(code)}};
   j["input_power_w"] = number(s.input_power_w);
   j["efficacy_lm_per_w"] = number(s.efficacy_lm_per_w);
+  planning_json(j, planning);
   j["keywords"] = json::array();
   for (const auto& k : d.keywords) j["keywords"].push_back({{"key", k.key}, {"value", k.value}});
   j["findings"] = json::array();
@@ -346,10 +513,13 @@ json info_json(const std::string& path, const io::PhotometricFile& file, const S
 int run_info(const Args& args) {
   std::string path;
   bool as_json = false;
+  double floor_reflectance = 0.2;
   InputOptions input;
-  ArgParser parser("info", "FILE [--json] [--ldt-isym3 standard|qlumedit]", kDescription);
+  ArgParser parser("info", "FILE [--json] [--cu-floor RHO] [--ldt-isym3 standard|qlumedit]", kDescription);
   parser.positional("FILE", &path, "An IES LM-63 (.ies) or EULUMDAT (.ldt) file.");
   parser.flag("json", &as_json, "Print one JSON object instead of the table.");
+  parser.option("cu-floor", &floor_reflectance, 0.0, 0.95, "RHO",
+                "Effective floor cavity reflectance of the CU table, 0..1 (default 0.2).");
   add_input_options(parser, &input);
   if (const auto outcome = parser.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
@@ -357,13 +527,15 @@ int run_info(const Args& args) {
   auto file = read_input(path, input);
   if (!file.ok()) return kExitFailure;
   const Summary s = photometry::summarize(file->distribution);
+  const photometry::PlanningFigures planning =
+      photometry::planning_figures(file->distribution, floor_reflectance);
   if (as_json) {
     // Invalid UTF-8 in a label is replaced rather than thrown on.
     std::printf(
         "%s\n",
-        info_json(path, *file, s).dump(2, ' ', false, json::error_handler_t::replace).c_str());
+        info_json(path, *file, s, planning).dump(2, ' ', false, json::error_handler_t::replace).c_str());
   } else {
-    print_table(path, *file, s);
+    print_table(path, *file, s, planning);
   }
   return std::fflush(stdout) == 0 ? kExitOk : kExitFailure;
 }

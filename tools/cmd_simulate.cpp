@@ -135,7 +135,8 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
            "auto (default: a chi-square test per symmetry on the photon counts), none, C0-C180, "
            "C90-C270, quadrant or rotational");
   p.option("format", &o->format_list, "LIST",
-           "files to write, comma-separated: ies, ldt, exr, latlong, plot, or all (default)");
+           "files to write, comma-separated: ies, ldt, exr, latlong, plot, report (the\n"
+           "datasheet STEM.html with the energy ledger; not part of all), or all (default)");
   p.choice("ies-version", &o->ies_version, {"2002", "2019"}, "IES LM-63 version (default 2019)");
   p.option("name", &o->stem, "STEM", "file names DIR/STEM.* (default: the model's file name without extension)");
   p.option("min-lor", &o->min_lor, 0.0, 1.0, "X",

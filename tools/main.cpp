@@ -20,6 +20,7 @@ const std::vector<Command> kCommands = {
     {"simulate", "Trace a luminaire model (glTF) into IES, LDT and EXR files, checked", run_simulate},
     {"watch", "Simulate a model live in the browser, again whenever it changes on disk", run_watch},
     {"plot", "Draw the intensity diagram of an IES or LDT file (SVG or PNG)", run_plot},
+    {"report", "Write the datasheet of IES/LDT files: diagrams, UGR, CU, SC, BUG (HTML or PDF)", run_report},
     {"compare", "Compare two photometric files: RMS, peak, flux and beam differences", run_compare},
     {"bench", "Measure speed against accuracy on luminaire models (error vs time and photons)", run_bench},
 };

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "io/datasheet.h"
 #include "io/exr.h"
 #include "io/file_io.h"
 #include "io/intensity_diagram.h"
@@ -24,6 +25,9 @@ using photometry::Symmetry;
 
 constexpr OutputFormat kAllFormats[] = {OutputFormat::Ies, OutputFormat::Ldt, OutputFormat::Exr,
                                         OutputFormat::LatLong, OutputFormat::Plot};
+// Every name parse_formats() knows: "all" and the datasheet.
+constexpr OutputFormat kKnownFormats[] = {OutputFormat::Ies, OutputFormat::Ldt, OutputFormat::Exr,
+                                          OutputFormat::LatLong, OutputFormat::Plot, OutputFormat::Report};
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t");
@@ -249,6 +253,35 @@ Status write_plot_file(const Distribution& d, const OutputRequest& request, Writ
   return Ok{};
 }
 
+// The datasheet of the simulated table with the run's books; read back: a
+// whole HTML document that loads nothing from elsewhere.
+Status write_report_file(const Distribution& d, const sim::Ledger& ledger, const OutputRequest& request,
+                         WrittenFile* file) {
+  io::DatasheetEntry entry;
+  entry.source = file_stem_name(request.run.model) + " (Gonio simulation)";
+  entry.format = "Gonio simulation, " + std::to_string(request.run.photons) + " photons";
+  entry.distribution = d;
+  entry.simulation_report = nlohmann::json{{"model", request.run.model},
+                                           {"seed", request.run.seed},
+                                           {"photons_emitted", ledger.emitted.photons},
+                                           {"emitted_lm", ledger.emitted.flux_lm},
+                                           {"escaped_lm", ledger.escaped.flux_lm},
+                                           {"absorbed_lm", ledger.absorbed.flux_lm},
+                                           {"cutoff_lm", ledger.cutoff.flux_lm}};
+  if (Status s = io::write_datasheet(file->path, {entry}); !s.ok()) return s;
+  Result<std::string> back = io::read_file(file->path, std::size_t{64} << 20);
+  if (!back.ok()) {
+    file->findings.push_back(finding(Severity::Error, "unreadable", back.error().message, file->path));
+  } else if (back->find("<html") == std::string::npos || back->find("</html>") == std::string::npos) {
+    file->findings.push_back(finding(Severity::Error, "not-html", "not a complete HTML document", file->path));
+  } else if (back->find("src=\"http") != std::string::npos || back->find("href=\"http") != std::string::npos ||
+             back->find("url(http") != std::string::npos) {
+    file->findings.push_back(
+        finding(Severity::Error, "external-resource", "the datasheet loads something from elsewhere", file->path));
+  }
+  return Ok{};
+}
+
 }  // namespace
 
 const char* to_string(OutputFormat format) {
@@ -258,13 +291,14 @@ const char* to_string(OutputFormat format) {
     case OutputFormat::Exr: return "exr";
     case OutputFormat::LatLong: return "latlong";
     case OutputFormat::Plot: return "plot";
+    case OutputFormat::Report: return "report";
   }
   return "?";
 }
 
 Result<std::vector<OutputFormat>> parse_formats(const std::string& list) {
   std::vector<OutputFormat> out;
-  const std::string valid = "ies, ldt, exr, latlong, plot or all";
+  const std::string valid = "ies, ldt, exr, latlong, plot, report or all";
   std::size_t start = 0;
   while (start <= list.size()) {
     const std::size_t comma = std::min(list.find(',', start), list.size());
@@ -281,7 +315,7 @@ Result<std::vector<OutputFormat>> parse_formats(const std::string& list) {
       continue;
     }
     bool known = false;
-    for (OutputFormat f : kAllFormats) {
+    for (OutputFormat f : kKnownFormats) {
       if (name != to_string(f)) continue;
       known = true;
       if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
@@ -353,7 +387,8 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
   const auto wants = [&](OutputFormat f) {
     return std::find(request.formats.begin(), request.formats.end(), f) != request.formats.end();
   };
-  const bool needs_table = wants(OutputFormat::Ies) || wants(OutputFormat::Ldt) || wants(OutputFormat::Plot);
+  const bool needs_table = wants(OutputFormat::Ies) || wants(OutputFormat::Ldt) || wants(OutputFormat::Plot) ||
+                           wants(OutputFormat::Report);
   if (needs_table) {
     if (request.symmetry) {
       if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
@@ -397,6 +432,10 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
       case OutputFormat::Plot:
         file.path = (dir / (request.stem + ".svg")).string();
         s = write_plot_file(result.distribution, request, &file);
+        break;
+      case OutputFormat::Report:
+        file.path = (dir / (request.stem + ".html")).string();
+        s = write_report_file(result.distribution, ledger, request, &file);
         break;
     }
     if (!s.ok()) return s.error();

@@ -12,6 +12,9 @@
 //                     directions, for renderers
 //   STEM.svg          the intensity diagram (C0–C180 and C90–C270, polar and
 //                     cartesian), io/intensity_diagram.h
+//   STEM.html         the datasheet (io/datasheet.h) of the candela table,
+//                     with the run's energy ledger; only when asked for by
+//                     name ("report"), not part of "all"
 //
 // The candela table. The far field is resampled to the Type C grid
 // (sim/resample.h: every value is the flux of its bin over the bin's solid
@@ -53,13 +56,13 @@
 
 namespace gonio::cli {
 
-enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot };
+enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot, Report };
 
-// "ies", "ldt", "exr", "latlong", "plot".
+// "ies", "ldt", "exr", "latlong", "plot", "report".
 const char* to_string(OutputFormat format);
 
-// A comma-separated list of the names above, or "all" (every format, in the
-// order above). Repeats are ignored; an empty list or an unknown name is an
+// A comma-separated list of the names above, or "all" (every format but
+// "report", in the order above). Repeats are ignored; an empty list or an unknown name is an
 // error that lists the valid names.
 Result<std::vector<OutputFormat>> parse_formats(const std::string& list);
 

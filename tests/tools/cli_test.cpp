@@ -9,7 +9,7 @@ namespace {
 using test::contains;
 using test::gonio;
 
-const char* const kSubcommands[] = {"info", "check", "convert"};
+const char* const kSubcommands[] = {"info", "check", "convert", "report"};
 
 TEST(Cli, VersionAndHelp) {
   auto v = gonio({"--version"});

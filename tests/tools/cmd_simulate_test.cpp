@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -362,6 +363,29 @@ TEST(SimulateOutputs, FormatsNameAndIesVersionChooseTheFiles) {
   EXPECT_NE(report["outputs"]["symmetry"]["reason"].get<std::string>().find("as requested"), std::string::npos);
   EXPECT_EQ(report["outputs"]["grid"]["c_step_deg"], 10.0);
   EXPECT_EQ(report["settings"]["face_size"], 64);  // face_size_for(5°)
+}
+
+// --format ...,report: the datasheet beside the files, with the run's books.
+TEST(SimulateOutputs, ReportWritesTheDatasheetWithTheLedger) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "100000", "--iterations", "1",
+                  "--format", "ies,report", "--name", "lamp", "--c-step", "10", "--gamma-step", "5"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(out / "lamp.html"));
+  EXPECT_FALSE(std::filesystem::exists(out / "lamp.svg"));  // only what was asked for
+  const std::string html = test::read_file(out / "lamp.html");
+  EXPECT_NE(html.find("Energy ledger of the simulation"), std::string::npos);
+  EXPECT_NE(html.find("UGR"), std::string::npos);
+  const auto report = read_json(out / "report.json");
+  char escaped[64];
+  std::snprintf(escaped, sizeof escaped, "%.2f lm", report["escaped_lm"].get<double>());
+  EXPECT_NE(html.find(escaped), std::string::npos) << escaped;
+  bool listed = false;
+  for (const auto& f : report["outputs"]["files"]) listed = listed || f["format"] == "report";
+  EXPECT_TRUE(listed);
 }
 
 TEST(SimulateOutputs, AutoSymmetryDoesNotClaimWhatAnOffCentreLampBreaks) {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 
 #include "io/exr.h"
@@ -18,6 +20,12 @@ TEST(OutputFormats, ParseListsAllAndRefuseUnknownNames) {
   auto all = parse_formats("all");
   ASSERT_TRUE(all.ok());
   EXPECT_EQ(all->size(), 5u);
+  // The datasheet only when named: "all" is the five files it always was.
+  EXPECT_EQ(std::count(all->begin(), all->end(), OutputFormat::Report), 0);
+  auto with_report = parse_formats("all,report");
+  ASSERT_TRUE(with_report.ok());
+  EXPECT_EQ(with_report->back(), OutputFormat::Report);
+  EXPECT_STREQ(to_string(OutputFormat::Report), "report");
   auto some = parse_formats(" ldt ,ies,ldt");
   ASSERT_TRUE(some.ok());
   EXPECT_EQ(*some, (std::vector<OutputFormat>{OutputFormat::Ldt, OutputFormat::Ies}));
