@@ -36,6 +36,21 @@ find_package(CGAL REQUIRED)
 # tinygltf is a compiled library in Debian: never define TINYGLTF_IMPLEMENTATION.
 find_package(TinyGLTF REQUIRED)
 
+# MPI (Debian's Open MPI, libopenmpi-dev): only sim/distributed.cpp includes
+# it. Without it (not found, or -DGONIO_MPI=OFF) gonio runs as one process.
+# Its C API is all we use: skip the deprecated C++ bindings.
+set(GONIO_WITH_MPI OFF)
+if(GONIO_MPI)
+  set(MPI_CXX_SKIP_MPICXX ON)
+  find_package(MPI COMPONENTS CXX)
+  if(MPI_CXX_FOUND)
+    set(GONIO_WITH_MPI ON)
+  else()
+    message(STATUS "MPI not found: gonio builds without it (scripts/setup.sh installs libopenmpi-dev)")
+  endif()
+endif()
+find_program(GONIO_MPIRUN NAMES mpirun mpiexec)
+
 # cpp-httplib (the live page's server): Debian ships it compiled, with a
 # pkg-config file whose flags (OpenSSL, zlib, brotli support) the header
 # must see to match the library. Only tools/live_server.cpp includes it.

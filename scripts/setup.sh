@@ -9,6 +9,7 @@ packages=(
   libembree-dev libopenexr-dev libopenimageio-dev openimageio-tools
   libcgal-dev libtinygltf-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libopenmpi-dev openmpi-bin
   gnuplot-nox fonts-dejavu-core
   libcpp-httplib-dev chromium poppler-utils
 )

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <initializer_list>
 #include <string>
 #include <utility>
 
@@ -17,6 +18,31 @@ Error error(std::string message) { return Error{{}, std::move(message)}; }
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Calls f on every count of a tally, in a fixed order.
+template <class F>
+void each_count(LedgerTally& t, F&& f) {
+  for (LedgerTally::PerEmitter& e : t.emitters)
+    for (TallyLine* line : {&e.emitted, &e.escaped, &e.absorbed, &e.cutoff}) {
+      f(line->photons);
+      f(line->power_units);
+    }
+  for (LedgerTally::PerMesh& m : t.meshes) {
+    f(m.hits);
+    for (TallyLine* line : {&m.absorbed, &m.cutoff}) {
+      f(line->photons);
+      f(line->power_units);
+    }
+  }
+  f(t.rays);
+}
+
+template <class F>
+void each_count(GuideTally& t, F&& f) {
+  for (auto* values : {&t.importance_sum, &t.traced, &t.extra_units})
+    for (std::uint64_t& v : *values) f(v);
+  f(t.dropped);
 }
 
 }  // namespace
@@ -32,6 +58,11 @@ struct Simulation::Impl {
   std::vector<std::uint64_t> texel_units;    // power units, ledger.h
   LedgerTally books;
   SimulationStats stats;
+  const Ranks* ranks = nullptr;
+
+  // The iteration being added: its counts (add_iteration) and its books.
+  std::vector<std::uint64_t> iteration;
+  LedgerTally books_iteration;
 
   // Guided emission only.
   std::unique_ptr<EmissionGuide> guide;
@@ -44,12 +75,19 @@ struct Simulation::Impl {
         texel_photons(tracer.grid().texel_count(), 0),
         texel_units(tracer.grid().texel_count(), 0),
         books(tracer.emitter_count(), tracer.mesh_count()),
+        ranks(set.ranks),
+        books_iteration(tracer.emitter_count(), tracer.mesh_count()),
         guide(set.importance.enabled
                   ? std::make_unique<EmissionGuide>(set.importance, set.face_size)
                   : nullptr),
         guide_tallies([this] { return guide->make_tally(); }) {
     if (guide) guide_iteration = guide->make_tally();
   }
+
+  // Adds the threads' tallies of this iteration, summed across the ranks,
+  // to the far field and the books (guide_iteration: the guide's tally of
+  // the iteration). Returns the photons guided emission dropped.
+  std::uint64_t add_iteration();
 };
 
 Simulation::Simulation(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -77,12 +115,21 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
   ts.embree.robust = settings.robust_embree;
   ts.embree.quality = settings.bvh_quality;
   auto tracer = Tracer::create(scene, settings.face_size, ts);
+  // Over ranks: all build their tracer, or none goes on to trace (the
+  // others would wait for it at the first iteration).
+  if (settings.ranks && settings.ranks->distributed()) {
+    const std::vector<std::uint64_t> built = settings.ranks->gather(std::uint64_t{tracer.ok()});
+    for (int r = 0; r < settings.ranks->size() && tracer.ok(); ++r)
+      if (built[static_cast<std::size_t>(r)] == 0)
+        return error(settings.ranks->name_of(r) + " could not build its tracer (its own error says why)");
+  }
   if (!tracer.ok()) return tracer.error();
   const int threads =
       settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
   auto impl = std::make_unique<Impl>(std::move(scene), settings, std::move(tracer.value()), threads);
   impl->stats.threads = threads;
   impl->stats.tracer_setup = impl->tracer.setup_times();
+  impl->stats.ranks = settings.ranks ? settings.ranks->size() : 1;
   impl->stats.setup_s = seconds_since(start);
   return Simulation(std::move(impl));
 }
@@ -95,10 +142,12 @@ void Simulation::run_iteration(std::uint64_t n) {
   GONIO_CHECK(static_cast<double>(s.stats.photons) + static_cast<double>(n) <= 0x1.0p39);
   const std::uint64_t first = s.stats.photons;
   const std::uint64_t chunks = (n + kChunkPhotons - 1) / kChunkPhotons;
+  const IndexRange mine = s.ranks ? rank_share(chunks, s.ranks->rank(), s.ranks->size())
+                                  : IndexRange{0, chunks};
   const auto start = std::chrono::steady_clock::now();
   s.arena.execute([&] {
     tbb::parallel_for(
-        tbb::blocked_range<std::uint64_t>(0, chunks, 1),
+        tbb::blocked_range<std::uint64_t>(mine.begin, mine.end, 1),
         [&](const tbb::blocked_range<std::uint64_t>& range) {
           TracerTally& tally = s.tallies.local();
           GuideTally* guide_tally = s.guide ? &s.guide_tallies.local() : nullptr;
@@ -114,30 +163,9 @@ void Simulation::run_iteration(std::uint64_t n) {
         },
         tbb::simple_partitioner());
   });
-  // Integer sums: the order of threads does not matter.
-  for (TracerTally& t : s.tallies) {
-    for (std::size_t i = 0; i < t.texel_photons.size(); ++i) {
-      s.texel_photons[i] += t.texel_photons[i];
-      s.texel_units[i] += std::uint64_t{t.texel_photons[i]} * kPowerUnits;
-    }
-    for (std::uint32_t texel : t.texel_wraps) {
-      s.texel_photons[texel] += 65536u;
-      s.texel_units[texel] += 65536u * kPowerUnits;
-    }
-    s.books.add(t.ledger);
-    t.clear();
-  }
-  std::uint64_t dropped = 0;
-  if (s.guide) {
-    s.guide_iteration.clear();
-    for (GuideTally& t : s.guide_tallies) {
-      s.guide_iteration.add(t);
-      t.clear();
-    }
-    for (std::size_t i = 0; i < s.texel_units.size(); ++i)
-      s.texel_units[i] += s.guide_iteration.extra_units[i];
-    dropped = s.guide_iteration.dropped;
-  }
+  s.stats.rank_photons += std::min(n, mine.end * kChunkPhotons) - std::min(n, mine.begin * kChunkPhotons);
+  s.stats.rank_trace_s += seconds_since(start);
+  const std::uint64_t dropped = s.add_iteration();
   s.stats.photons += n;
   s.stats.photons_traced += n - dropped;
   s.stats.rays = s.books.rays;
@@ -146,6 +174,51 @@ void Simulation::run_iteration(std::uint64_t n) {
   // guided emission, so inside the timed span.
   if (s.guide) s.guide->update(s.guide_iteration, far_field());
   s.stats.trace_s += seconds_since(start);
+}
+
+std::uint64_t Simulation::Impl::add_iteration() {
+  // This iteration's counts, one word each: per texel the escaped photons,
+  // then the books, then the guide's tally. Integer sums: the order of
+  // threads and of ranks does not matter.
+  const std::size_t texels = texel_photons.size();
+  iteration.assign(texels, 0);
+  books_iteration.clear();
+  for (TracerTally& t : tallies) {
+    for (std::size_t i = 0; i < texels; ++i) iteration[i] += t.texel_photons[i];
+    for (std::uint32_t texel : t.texel_wraps) iteration[texel] += 65536u;
+    books_iteration.add(t.ledger);
+    t.clear();
+  }
+  if (guide) {
+    guide_iteration.clear();
+    for (GuideTally& t : guide_tallies) {
+      guide_iteration.add(t);
+      t.clear();
+    }
+  }
+  if (ranks && ranks->distributed()) {
+    each_count(books_iteration, [&](std::uint64_t& v) { iteration.push_back(v); });
+    if (guide) each_count(guide_iteration, [&](std::uint64_t& v) { iteration.push_back(v); });
+    auto t = std::chrono::steady_clock::now();
+    ranks->barrier();
+    stats.wait_s += seconds_since(t);
+    t = std::chrono::steady_clock::now();
+    ranks->sum(iteration);
+    const double reduce_s = seconds_since(t);
+    stats.reduce_s += reduce_s;
+    if (stats.reduce_fastest_s == 0.0 || reduce_s < stats.reduce_fastest_s) stats.reduce_fastest_s = reduce_s;
+    std::size_t k = texels;
+    each_count(books_iteration, [&](std::uint64_t& v) { v = iteration[k++]; });
+    if (guide) each_count(guide_iteration, [&](std::uint64_t& v) { v = iteration[k++]; });
+  }
+  for (std::size_t i = 0; i < texels; ++i) {
+    texel_photons[i] += iteration[i];
+    texel_units[i] += iteration[i] * kPowerUnits;
+  }
+  books.add(books_iteration);
+  if (!guide) return 0;
+  for (std::size_t i = 0; i < texels; ++i) texel_units[i] += guide_iteration.extra_units[i];
+  return guide_iteration.dropped;
 }
 
 const EmissionGuide* Simulation::emission_guide() const { return impl_->guide.get(); }

@@ -6,6 +6,12 @@
 // (counting across iterations) draws from (seed, i). All accumulators are
 // integers, so the far field and the ledger are identical bytes for any
 // thread count, and K iterations of N photons equal one of K·N.
+//
+// Over the ranks of an MPI job (SimulationSettings::ranks, sim/distributed.h)
+// each rank traces its share of every iteration's chunks and the iteration's
+// integer counts are summed across the ranks before they are added: every
+// rank then holds the same far field, books and guide, identical bytes to
+// one process's whatever the rank count.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +19,7 @@
 #include <memory>
 
 #include "photometry/diagnostics.h"
+#include "sim/distributed.h"
 #include "sim/emission_guide.h"
 #include "sim/far_field.h"
 #include "sim/ledger.h"
@@ -34,6 +41,11 @@ struct SimulationSettings {
   EmbreeSceneOptions::Quality bvh_quality = EmbreeSceneOptions::Quality::High;  // likewise
   // Importance-guided emission (sim/emission_guide.h); off: plain emission.
   ImportanceSettings importance;
+  // The job's ranks to share every iteration with (they must all run the
+  // same scene and settings, iteration for iteration: run_iteration is
+  // collective); null: this process alone. Not owned; must outlive the
+  // Simulation.
+  const Ranks* ranks = nullptr;
 };
 
 struct SimulationStats {
@@ -45,7 +57,20 @@ struct SimulationStats {
   double setup_s = 0.0;        // wall time of Simulation::create: the tracer's setup and
                                // the tallies [s]
   TracerSetupTimes tracer_setup;  // its parts (validation, emission tables, BVH)
-  int threads = 0;             // threads used
+  int threads = 0;             // threads used (by this rank)
+  // Over MPI ranks (1 and this process's figures otherwise). `photons`,
+  // `photons_traced`, `rays` count the whole job, and trace_s is this rank's
+  // wall time including its waits, so photons_per_s() is the job's rate.
+  int ranks = 1;
+  std::uint64_t rank_photons = 0;  // drawn by this rank so far
+  double rank_trace_s = 0.0;   // this rank's time tracing its share, without waits [s]
+  double wait_s = 0.0;         // waiting for the other ranks to finish their shares [s]
+  double reduce_s = 0.0;       // summing the iterations' counts across the ranks [s]
+  double reduce_fastest_s = 0.0;  // the fastest iteration's sum: its cost without the
+                                  // scheduling delays of a loaded machine [s]
+  double rank_photons_per_s() const {
+    return rank_trace_s > 0.0 ? static_cast<double>(rank_photons) / rank_trace_s : 0.0;
+  }
   double photons_per_s() const { return trace_s > 0.0 ? static_cast<double>(photons) / trace_s : 0.0; }
   double rays_per_s() const { return trace_s > 0.0 ? static_cast<double>(rays) / trace_s : 0.0; }
 };
@@ -65,7 +90,8 @@ class Simulation {
   // Traces one more iteration of `photons` photons (1 ≤ photons < 2³², and
   // at most 2³⁹ in all: GONIO_CHECK): photons keep their run-wide indices,
   // so iterations of any sizes that add up to the same count give the same
-  // far field (progressive schedules, `gonio bench`).
+  // far field (progressive schedules, `gonio bench`). Over ranks, this rank
+  // traces its share and the call is collective.
   void run_iteration(std::uint64_t photons);
 
   const SimulationSettings& settings() const;

@@ -148,8 +148,17 @@ std::string scene_hash(const sim::SceneDesc& scene) {
 Result<Reference> load_or_make_reference(const std::string& dir, const ReferenceKey& key,
                                          const sim::SceneDesc& scene, int threads,
                                          std::shared_ptr<const sim::Resampler> resampler,
-                                         const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
-  if (std::optional<Reference> cached = load_cached(dir, key)) return std::move(*cached);
+                                         const std::function<void(std::uint64_t, std::uint64_t)>& progress,
+                                         const sim::Ranks* ranks) {
+  const bool lead = !ranks || ranks->rank() == 0;
+  std::optional<Reference> cached = lead ? load_cached(dir, key) : std::nullopt;
+  if (ranks && ranks->gather(std::uint64_t{cached.has_value()})[0] != 0 && !lead) {
+    Reference r;  // rank 0 has it
+    r.key = key;
+    r.reused = true;
+    return r;
+  }
+  if (cached) return std::move(*cached);
   if (key.photons < 2) return error("the reference needs at least 2 photons");
 
   sim::SimulationSettings s;
@@ -160,6 +169,7 @@ Result<Reference> load_or_make_reference(const std::string& dir, const Reference
   s.max_bounces = key.max_bounces;
   s.face_size = key.face_size;
   s.robust_embree = key.robust_embree;
+  s.ranks = ranks;
   auto created = sim::Simulation::create(scene, s);
   if (!created.ok()) return created.error();
   sim::Simulation& sim = created.value();
@@ -171,10 +181,11 @@ Result<Reference> load_or_make_reference(const std::string& dir, const Reference
     const std::uint64_t stop = done < half ? half : key.photons;
     sim.run_iteration(std::min(kStep, stop - done));
     if (sim.stats().photons == half) first_half = sim.far_field();
-    if (progress) progress(sim.stats().photons, key.photons);
+    if (progress && lead) progress(sim.stats().photons, key.photons);
   }
   Reference r;
   r.key = key;
+  if (!lead) return r;
   r.far_field = sim.far_field();
   r.trace_s = sim.stats().trace_s;
   r.threads = sim.stats().threads;

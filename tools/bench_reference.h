@@ -24,6 +24,7 @@
 
 #include "photometry/diagnostics.h"
 #include "sim/convergence.h"
+#include "sim/distributed.h"
 #include "sim/far_field.h"
 #include "sim/resample.h"
 #include "sim/scene.h"
@@ -72,9 +73,14 @@ struct Reference {
 // reference (photons in iterations of up to 2²⁴, `progress(done, total)`
 // after each) and writes both files. Errors: an unreadable or inconsistent
 // cache is not an error (it is traced again); a failed trace or write is.
+// With `ranks` (an MPI job, sim/distributed.h; collective): rank 0 decides
+// whether its cache holds the reference, every rank traces its share, and
+// rank 0 alone writes and returns the reference; the other ranks return
+// one with the key alone.
 Result<Reference> load_or_make_reference(const std::string& dir, const ReferenceKey& key,
                                          const sim::SceneDesc& scene, int threads,
                                          std::shared_ptr<const sim::Resampler> resampler,
-                                         const std::function<void(std::uint64_t, std::uint64_t)>& progress);
+                                         const std::function<void(std::uint64_t, std::uint64_t)>& progress,
+                                         const sim::Ranks* ranks = nullptr);
 
 }  // namespace gonio::cli

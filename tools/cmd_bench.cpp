@@ -35,6 +35,7 @@
 #include "tools/bench_series.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/distributed_run.h"
 #include "tools/model_input.h"
 
 namespace gonio::cli {
@@ -182,39 +183,56 @@ int run_bench(const Args& args) {
   char grid_text[64];
   std::snprintf(grid_text, sizeof grid_text, "%g° × %g°", c_step, gamma_step);
 
+  // Under mpirun/srun the reference runs are shared by the ranks
+  // (tools/distributed_run.h); rank 0 alone runs the series and writes.
+  std::optional<sim::Ranks> ranks = join_job("bench");
+  if (!ranks) return kExitFailure;
+  const bool lead = ranks->rank() == 0;
+  // A failure on one rank (rank 0's writes) while the others go on to the
+  // next model's reference: end them all (they would wait for it for ever).
+  auto job_failed = [&]() -> int {
+    if (ranks->distributed()) ranks->abort(kExitFailure);
+    return kExitFailure;
+  };
   const std::string load_before = load_average();
-  const bool show_progress = stderr_is_terminal();
+  const bool show_progress = lead && stderr_is_terminal();
   std::vector<BenchOutcome> outcomes;
   for (const std::string& model : models) {
     std::optional<sim::SceneDesc> scene = load_checked_model(model, "benchmarked");
-    if (!scene) return kExitFailure;
-    const auto bytes = io::read_file(model, std::size_t{1} << 31);
-    if (!bytes.ok()) {
-      print_error(bytes.error());
-      return kExitFailure;
-    }
+    Result<std::string> bytes = scene ? io::read_file(model, std::size_t{1} << 31)
+                                      : Result<std::string>(Error{{}, "not read"});
+    if (scene && !bytes.ok()) print_error(bytes.error());
     BenchOutcome o;
     o.model = model;
     o.name = fs::path(model).stem().string();
     o.directory = models.size() == 1 ? out_dir : (fs::path(out_dir) / o.name).string();
     o.settings = settings;
     o.grid = grid_text;
-    if (Status s = io::make_directories(o.directory); !s.ok()) {
-      print_error(s.error());
-      return kExitFailure;
+    bool ready = bytes.ok();
+    if (ready && lead) {
+      if (Status s = io::make_directories(o.directory); !s.ok()) {
+        print_error(s.error());
+        ready = false;
+      }
     }
+    ReferenceKey key;
+    if (ready) {
+      key.program_version = kVersion;
+      key.tracer_revision = kTracerRevision;
+      key.model_hash = fnv1a_hex(bytes.value());
+      key.scene_hash = scene_hash(scene.value());
+      key.seed = static_cast<std::uint64_t>(reference_seed);
+      key.photons = static_cast<std::uint64_t>(reference_photons);
+      key.face_size = settings.face_size;
+      key.max_bounces = settings.max_bounces;
+      key.robust_embree = true;
+    }
+    // Every rank ready, with the same model and reference settings, or none traces.
+    std::optional<std::string> fingerprint;
+    if (ready) fingerprint = ranks->distributed() ? fnv1a_hex(key.to_json().dump()) : std::string();
+    if (!ranks_agree(*ranks, fingerprint, "bench")) return kExitFailure;
     const auto resampler = std::make_shared<const sim::Resampler>(settings.face_size, scene->frame, grid);
 
-    ReferenceKey key;
-    key.program_version = kVersion;
-    key.tracer_revision = kTracerRevision;
-    key.model_hash = fnv1a_hex(bytes.value());
-    key.scene_hash = scene_hash(scene.value());
-    key.seed = static_cast<std::uint64_t>(reference_seed);
-    key.photons = static_cast<std::uint64_t>(reference_photons);
-    key.face_size = settings.face_size;
-    key.max_bounces = settings.max_bounces;
-    key.robust_embree = true;
     auto reference = load_or_make_reference(
         o.directory, key, scene.value(), settings.threads, resampler,
         [&](std::uint64_t done, std::uint64_t total) {
@@ -223,17 +241,19 @@ int run_bench(const Args& args) {
                        100.0 * static_cast<double>(done) / static_cast<double>(total));
           if (done == total) std::fputc('\n', stderr);
           std::fflush(stderr);
-        });
+        },
+        &ranks.value());
     if (!reference.ok()) {
       Error e = reference.error();
       if (e.where.file.empty()) e.where.file = model;
       print_error(e);
-      return kExitFailure;
+      return job_failed();  // e.g. rank 0 could not write it: the others went on
     }
+    if (!lead) continue;  // the series measure one process: rank 0's
     auto judge = sim::ConvergenceReference::create(reference->far_field, resampler);
     if (!judge.ok()) {
       print_error(model + ": " + judge.error().message);
-      return kExitFailure;
+      return job_failed();
     }
     auto series = run_series(scene.value(), settings, default_series(importance), judge.value(),
                              [&](const BenchProgress& pr) {
@@ -247,7 +267,7 @@ int run_bench(const Args& args) {
       Error e = series.error();
       if (e.where.file.empty()) e.where.file = model;
       print_error(e);
-      return kExitFailure;
+      return job_failed();
     }
     o.series = std::move(series.value());
     o.reference = std::move(reference.value());
@@ -259,23 +279,23 @@ int run_bench(const Args& args) {
     const std::string dir = o.directory;
     if (Status s = io::write_file_atomic((fs::path(dir) / "series.csv").string(), series_csv(o.series)); !s.ok()) {
       print_error(s.error());
-      return kExitFailure;
+      return job_failed();
     }
     nlohmann::json j = bench_json(o);
     j["program"] = {{"name", kProgramName}, {"version", kVersion}};
     if (Status s = io::write_json((fs::path(dir) / "bench.json").string(), j); !s.ok()) {
       print_error(s.error());
-      return kExitFailure;
+      return job_failed();
     }
     if (Status s = write_charts(o, !no_png); !s.ok()) {
       print_error(s.error());
-      return kExitFailure;
+      return job_failed();
     }
     print_summary(o);
     outcomes.push_back(std::move(o));
   }
 
-  if (!page.empty()) {
+  if (!page.empty() && lead) {
     std::string command = "gonio bench";
     for (const std::string& a : args) command += " " + a;
     std::string cpu = first_line_of("/proc/cpuinfo", "model name");

@@ -7,7 +7,7 @@
 //                  [--format LIST] [--ies-version 2002|2019] [--name STEM]
 //                  [--min-lor X] [--flux-tolerance X] [--target-error PCT]
 //                  [--cache DIR | --no-cache] [--preview [filter options]]
-//                  [--serve [--port P]]
+//                  [--serve [--port P]] [--progress]
 //
 // Writes DIR/STEM.ies, STEM.ldt, farfield.exr (cube), farfield-latlong.exr, STEM.svg (the
 // intensity diagram; tools/simulation_outputs.h) and DIR/report.json
@@ -26,6 +26,16 @@
 // flux_difference, clean, findings, writer_notes}]} and "energy"
 // {photons_close, flux_imbalance_lm, lor, min_lor, flux_tolerance,
 // files [{path, flux_ok, clean}], passed, failures [text]}.
+//
+// report.json's "mpi" {ranks, per_rank [{rank, threads, photons, trace_s,
+// photons_per_s, wait_s, reduce_s, reduce_fastest_s}]}: each rank's share
+// (tools/distributed_run.h).
+//
+// Under mpirun or srun every rank traces its share of each iteration and the
+// counts are summed across the ranks (sim/distributed.h): the same files as
+// one process. The ranks first agree on the model and settings (a rank that
+// cannot read its model, or holds another, stops them all before tracing);
+// rank 0 alone writes files, previews and progress.
 //
 // Energy checks (exit 1 after everything is written, with a message):
 // emitted = escaped + absorbed + cut off in photons, LOR = escaped / emitted
@@ -50,6 +60,7 @@
 #include "sim/symmetry.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/distributed_run.h"
 #include "tools/live_view.h"
 #include "tools/model_input.h"
 #include "tools/preview_output.h"
@@ -228,6 +239,10 @@ int run_simulate(const Args& args) {
   add_simulate_options(p, &options);
   p.flag("serve", &serve, "show the run on the live page of `gonio watch` (127.0.0.1), kept up until Ctrl-C");
   p.option("port", &port, 0, 65535, "P", "port of the live page (default 8765; 0: any free port, printed)");
+  bool force_progress = false;
+  p.flag("progress", &force_progress,
+         "show progress on stderr even where it is not a terminal (under mpirun or srun, whose "
+         "ranks never write to one: rank 0 shows the whole job's rate)");
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
   if (options.out_dir.empty()) {
@@ -236,6 +251,17 @@ int run_simulate(const Args& args) {
   }
   std::optional<SimulatePlan> planned = plan_simulation("simulate", model, options, p);
   if (!planned) return kExitUsage;
+
+  // Under mpirun/srun: one rank of the job (tools/distributed_run.h); rank 0
+  // alone writes files and shows progress.
+  std::optional<sim::Ranks> ranks = join_job("simulate");
+  if (!ranks) return kExitFailure;
+  const bool lead = ranks->rank() == 0;
+  if (serve && ranks->distributed()) {
+    usage_error("simulate", p, "--serve runs in one process, not under mpirun or srun");
+    return kExitUsage;
+  }
+  planned->progressive.simulation.ranks = &ranks.value();
   const SimulatePlan& plan = *planned;
   const std::string& out_dir = plan.out_dir;
   const sim::SimulationSettings& settings = plan.progressive.simulation;
@@ -243,15 +269,21 @@ int run_simulate(const Args& args) {
   // Load, then check the geometry: errors stop the run, warnings are printed.
   ModelInputTimes input_times;
   std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated", plan.model_input, &input_times);
-  if (!scene) return kExitFailure;
 
   // The output directory is made before tracing so that previews can land in it.
-  if (Status s = io::make_directories(out_dir); !s.ok()) {
-    print_error(s.error());
-    return kExitFailure;
+  bool ready = scene.has_value();
+  if (ready && lead) {
+    if (Status s = io::make_directories(out_dir); !s.ok()) {
+      print_error(s.error());
+      ready = false;
+    }
   }
+  // Every rank ready, with the same model and settings, or none traces.
+  std::optional<std::string> fingerprint;
+  if (ready) fingerprint = ranks->distributed() ? run_fingerprint(*scene, settings) : std::string();
+  if (!ranks_agree(*ranks, fingerprint, "simulate")) return kExitFailure;
   std::optional<PreviewOutput> preview;
-  if (plan.preview) preview.emplace(out_dir, settings.face_size, plan.preview_params);
+  if (plan.preview && lead) preview.emplace(out_dir, settings.face_size, plan.preview_params);
   Status preview_status = Ok{};
   // The estimate needs the output grid's resampler (~0.3 s to build): made
   // only when asked for, by the live page where there is one.
@@ -273,7 +305,7 @@ int run_simulate(const Args& args) {
     resampler = &own_resampler.emplace(settings.face_size, scene->frame, plan.grid);
   }
 
-  const bool show_progress = stderr_is_terminal();
+  const bool show_progress = lead && (force_progress || stderr_is_terminal());
   auto progress = [&](const IterationReport& r, const sim::Simulation& simulation) {
     const sim::SimulationProgress& pr = r.progress;
     if (preview && preview_status.ok()) preview_status = preview->write(simulation.far_field());
@@ -297,6 +329,9 @@ int run_simulate(const Args& args) {
     if (live) live->run_failed(e);
     return kExitFailure;
   }
+  // Each rank's share and speed; then rank 0 alone writes.
+  const nlohmann::json ranks_report = ranks_json(*ranks, sim->simulation.stats());
+  if (!lead) return kExitOk;
 
   if (sim->stopped_by == StopReason::Cancelled) {
     print_error("simulate: interrupted; nothing was written");
@@ -307,7 +342,8 @@ int run_simulate(const Args& args) {
     return kExitFailure;
   }
   if (live) live->run_finished(sim.value());
-  const int code = write_run_files(plan, sim.value(), input_times, preview ? &*preview : nullptr, start);
+  const int code =
+      write_run_files(plan, sim.value(), input_times, preview ? &*preview : nullptr, start, ranks_report);
   if (live) {
     std::printf("live page: %s stays up until Ctrl-C\n", live->url().c_str());
     std::fflush(stdout);
@@ -317,8 +353,8 @@ int run_simulate(const Args& args) {
 }
 
 int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
-                    const PreviewOutput* preview,
-                    std::chrono::steady_clock::time_point start) {
+                    const PreviewOutput* preview, std::chrono::steady_clock::time_point start,
+                    const nlohmann::json& ranks_report) {
   const std::string& model = plan.model;
   const std::string& out_dir = plan.out_dir;
   const sim::SimulationSettings& settings = plan.progressive.simulation;
@@ -398,6 +434,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   for (const WrittenFile& f : outputs->files)
     if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
   json["outputs"] = to_json(outputs.value(), grid, ledger.escaped.flux_lm);
+  if (!ranks_report.is_null()) json["mpi"] = ranks_report;
 
   // The energy checks, each with what it found.
   const sim::Ledger& l = ledger;
@@ -413,6 +450,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
               model.c_str(), static_cast<unsigned long long>(st.photons), run.iterations_done,
               run.iterations_done == 1 ? "" : "s", format_rate(st.photons_per_s()).c_str(),
               format_rate(st.rays_per_s()).c_str(), st.threads, st.threads == 1 ? "" : "s");
+  if (st.ranks > 1) std::printf("  on %d MPI ranks (threads per rank; rates of the whole job)\n", st.ranks);
   std::printf("  emitted %.6g lm: escaped %.6g lm (%.2f %%), absorbed %.6g lm (%.2f %%), cut off %.6g lm (%.2f %%)\n",
               l.emitted.flux_lm, l.escaped.flux_lm, percent(l.escaped.flux_lm, l.emitted.flux_lm),
               l.absorbed.flux_lm, percent(l.absorbed.flux_lm, l.emitted.flux_lm), l.cutoff.flux_lm,

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "io/ies.h"
 #include "sim/preview_filter.h"
 #include "sim/resample.h"
@@ -59,10 +61,12 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
 
 // Writes the files and report.json of a finished run into plan.out_dir
 // (`preview`: the run's preview output, or null; `start`: when the command or
-// the run began, for wall_s), prints the summary, and returns the exit code
-// (the energy checks).
+// the run began, for wall_s; `input_times`: what loading and checking the
+// model took; `ranks_report`: report.json's "mpi" object,
+// tools/distributed_run.h, left out where null), prints the summary, and
+// returns the exit code (the energy checks).
 int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
-                    const PreviewOutput* preview,
-                    std::chrono::steady_clock::time_point start);
+                    const PreviewOutput* preview, std::chrono::steady_clock::time_point start,
+                    const nlohmann::json& ranks_report = nullptr);
 
 }  // namespace gonio::cli

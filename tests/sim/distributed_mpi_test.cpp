@@ -1,0 +1,151 @@
+// Simulation over the ranks of an MPI job, in process: every rank runs the
+// job's simulation (SimulationSettings::ranks) and the same simulation alone
+// (no ranks), and the two must be the same bytes — plain and importance-
+// guided emission (whose guide learns from the summed counts), iterations
+// of uneven sizes, more ranks than an iteration has chunks. Run by ctest
+// under `mpirun -n 3` (label `mpi`); its own main joins the job, and every
+// rank's result counts.
+//
+// Every rank must reach every collective: no ASSERT between them.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+
+#include "sim/distributed.h"
+#include "sim/simulation.h"
+#include "tests/sim/scenes.h"
+
+namespace gonio::sim {
+namespace {
+
+const Ranks* g_ranks = nullptr;
+
+SimulationSettings settings(int threads, std::uint64_t per_iteration, int iterations, bool guided) {
+  SimulationSettings s;
+  s.threads = threads;
+  s.photons_per_iteration = per_iteration;
+  s.iterations = iterations;
+  s.face_size = 16;
+  s.seed = 91;
+  s.importance.enabled = guided;
+  s.importance.emission_face_size = 8;
+  return s;
+}
+
+void expect_identical(const Simulation& job, const Simulation& alone) {
+  const FarField a = job.far_field(), b = alone.far_field();
+  ASSERT_EQ(a.texel_count(), b.texel_count());
+  EXPECT_EQ(std::memcmp(a.flux_lm().data(), b.flux_lm().data(), a.texel_count() * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(a.photons().data(), b.photons().data(), a.texel_count() * sizeof(std::uint64_t)), 0);
+  const Ledger la = job.ledger(), lb = alone.ledger();
+  EXPECT_EQ(la.emitted.photons, lb.emitted.photons);
+  EXPECT_EQ(la.escaped.photons, lb.escaped.photons);
+  EXPECT_EQ(la.absorbed.photons, lb.absorbed.photons);
+  EXPECT_EQ(la.cutoff.photons, lb.cutoff.photons);
+  EXPECT_EQ(std::memcmp(&la.escaped.flux_lm, &lb.escaped.flux_lm, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&la.emitted.flux_lm, &lb.emitted.flux_lm, sizeof(double)), 0);
+  ASSERT_EQ(la.meshes.size(), lb.meshes.size());
+  for (std::size_t i = 0; i < la.meshes.size(); ++i) {
+    EXPECT_EQ(la.meshes[i].hits, lb.meshes[i].hits);
+    EXPECT_EQ(la.meshes[i].absorbed.photons, lb.meshes[i].absorbed.photons);
+    EXPECT_EQ(la.meshes[i].cutoff.photons, lb.meshes[i].cutoff.photons);
+  }
+  const SimulationStats sa = job.stats(), sb = alone.stats();
+  EXPECT_EQ(sa.photons, sb.photons);
+  EXPECT_EQ(sa.photons_traced, sb.photons_traced);
+  EXPECT_EQ(sa.rays, sb.rays);
+  EXPECT_EQ(sa.ranks, g_ranks->size());
+}
+
+// The ranks' shares add up to the run, each rank's its own.
+void expect_shares_add_up(const Simulation& job) {
+  std::uint64_t sum = 0;
+  for (std::uint64_t p : g_ranks->gather(job.stats().rank_photons)) sum += p;
+  EXPECT_EQ(sum, job.stats().photons);
+  EXPECT_LT(job.stats().rank_photons, job.stats().photons);
+}
+
+TEST(DistributedSimulation, ThisIsAJobOfSeveralRanks) { EXPECT_GE(g_ranks->size(), 2); }
+
+TEST(DistributedSimulation, PlainEmissionGivesTheBytesOfOneProcess) {
+  const SceneDesc scene = test_scenes::mixed_scene();
+  for (int threads : {1, 2}) {
+    SimulationSettings s = settings(threads, 30000, 2, false);
+    auto alone = simulate(scene, s);
+    s.ranks = g_ranks;
+    auto job = simulate(scene, s);
+    EXPECT_TRUE(alone.ok() && job.ok());
+    if (!alone.ok() || !job.ok()) continue;  // both fail on every rank alike
+    expect_identical(job.value(), alone.value());
+    expect_shares_add_up(job.value());
+  }
+}
+
+TEST(DistributedSimulation, GuidedEmissionLearnsTheSameGuideOnEveryRank) {
+  const SceneDesc scene = test_scenes::mixed_scene();
+  SimulationSettings s = settings(2, 20000, 4, true);
+  auto alone = simulate(scene, s);
+  s.ranks = g_ranks;
+  auto job = simulate(scene, s);
+  EXPECT_TRUE(alone.ok() && job.ok());
+  if (!alone.ok() || !job.ok()) return;
+  expect_identical(job.value(), alone.value());
+  // The guide after four updates: the same acceptance everywhere, and it
+  // did learn (some texel below 1), so the comparison has teeth.
+  const EmissionGuide* a = job->emission_guide();
+  const EmissionGuide* b = alone->emission_guide();
+  EXPECT_TRUE(a && b);
+  if (!a || !b) return;
+  double smallest = 1.0;
+  for (std::uint32_t e = 0; e < a->emission_grid().texel_count(); ++e) {
+    EXPECT_EQ(a->power_units(e), b->power_units(e)) << e;
+    smallest = std::min(smallest, b->acceptance(e));
+  }
+  EXPECT_LT(smallest, 1.0);
+  EXPECT_LT(job->stats().photons_traced, job->stats().photons);  // guided emission dropped some
+}
+
+TEST(DistributedSimulation, UnevenIterationsAndRanksWithoutChunks) {
+  // 5000 photons are 2 chunks: with 3 ranks one traces nothing that
+  // iteration; then 70000 (18 chunks) and 1 photon.
+  const SceneDesc scene = test_scenes::mixed_scene();
+  SimulationSettings s = settings(1, 1, 1, false);
+  auto alone = Simulation::create(scene, s);
+  s.ranks = g_ranks;
+  auto job = Simulation::create(scene, s);
+  EXPECT_TRUE(alone.ok() && job.ok());
+  if (!alone.ok() || !job.ok()) return;
+  for (std::uint64_t n : {5000ull, 70000ull, 1ull}) {
+    alone->run_iteration(n);
+    job->run_iteration(n);
+  }
+  expect_identical(job.value(), alone.value());
+  expect_shares_add_up(job.value());
+}
+
+}  // namespace
+}  // namespace gonio::sim
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  auto ranks = gonio::sim::Ranks::join_job();
+  if (!ranks.ok()) {
+    std::fprintf(stderr, "%s\n", ranks.error().message.c_str());
+    return 1;
+  }
+  gonio::sim::g_ranks = &ranks.value();
+  // Rank 0 prints; every rank's failures count.
+  if (ranks->rank() != 0) {
+    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+    delete listeners.Release(listeners.default_result_printer());
+  }
+  const int result = RUN_ALL_TESTS();
+  const std::vector<std::uint64_t> results = ranks->gather(static_cast<std::uint64_t>(result != 0));
+  for (std::size_t r = 0; r < results.size(); ++r)
+    if (results[r] != 0) {
+      if (ranks->rank() == 0) std::fprintf(stderr, "%s failed\n", ranks->name_of(static_cast<int>(r)).c_str());
+      return 1;
+    }
+  return 0;
+}
