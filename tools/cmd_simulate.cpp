@@ -137,7 +137,8 @@ int run_simulate(const Args& args) {
            "auto (default: a chi-square test per symmetry on the photon counts), none, C0-C180, "
            "C90-C270, quadrant or rotational");
   p.option("format", &format_list, "LIST",
-           "files to write, comma-separated: ies, ldt, exr, latlong, plot, or all (default)");
+           "files to write, comma-separated: ies, ldt, exr, latlong, plot, gldf (STEM.gldf with the LDT, "
+           "IES and the model as L3D; only when named), or all (default: every one but gldf)");
   p.choice("ies-version", &ies_version, {"2002", "2019"}, "IES LM-63 version (default 2019)");
   p.option("name", &stem, "STEM", "file names DIR/STEM.* (default: the model's file name without extension)");
   p.option("min-lor", &min_lor, 0.0, 1.0, "X",

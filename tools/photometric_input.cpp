@@ -32,4 +32,17 @@ Result<io::PhotometricFile> read_input(const std::string& path, const InputOptio
   return file;
 }
 
+Result<std::vector<io::PhotometricFile>> read_inputs(const std::string& path, const InputOptions& options,
+                                                     bool print_info) {
+  auto files = io::read_photometric_files(path, read_options(options));
+  if (!files.ok()) {
+    print_error(files.error());
+    return files.error();
+  }
+  for (const io::PhotometricFile& file : *files)
+    for (const Finding& f : file.findings)
+      if (print_info || f.severity != Severity::Info) print_finding(f);
+  return files;
+}
+
 }  // namespace gonio::cli

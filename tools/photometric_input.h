@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "io/photometric_file.h"
 #include "tools/cli.h"
@@ -27,5 +28,9 @@ io::PhotometricReadOptions read_options(const InputOptions& options);
 // notes) to stderr (print_finding); on failure prints the error and returns it.
 Result<io::PhotometricFile> read_input(const std::string& path, const InputOptions& options,
                                        bool print_info = true);
+
+// Every photometry of a file (several for a GLDF container), likewise.
+Result<std::vector<io::PhotometricFile>> read_inputs(const std::string& path, const InputOptions& options,
+                                                     bool print_info = true);
 
 }  // namespace gonio::cli

@@ -12,6 +12,9 @@
 //                     directions, for renderers
 //   STEM.svg          the intensity diagram (C0–C180 and C90–C270, polar and
 //                     cartesian), io/intensity_diagram.h
+//   STEM.gldf         on request only (not part of "all"): a GLDF container
+//                     (io/gldf.h) with product.xml, the LDT and IES above
+//                     (the same bytes) and the model's geometry as L3D
 //
 // The candela table. The far field is resampled to the Type C grid
 // (sim/resample.h: every value is the flux of its bin over the bin's solid
@@ -53,13 +56,13 @@
 
 namespace gonio::cli {
 
-enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot };
+enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot, Gldf };
 
-// "ies", "ldt", "exr", "latlong", "plot".
+// "ies", "ldt", "exr", "latlong", "plot", "gldf".
 const char* to_string(OutputFormat format);
 
-// A comma-separated list of the names above, or "all" (every format, in the
-// order above). Repeats are ignored; an empty list or an unknown name is an
+// A comma-separated list of the names above, or "all" (every format but
+// gldf, in the order above). Repeats are ignored; an empty list or an unknown name is an
 // error that lists the valid names.
 Result<std::vector<OutputFormat>> parse_formats(const std::string& list);
 
