@@ -40,13 +40,15 @@ TEST(Tm33GldfCorpus, IesToTm33ToIes) {
   GONIO_REQUIRE_CORPUS();
   const auto files = test::corpus_files({".ies"});
   ASSERT_FALSE(files.empty());
-  int exact = 0;
+  int exact = 0, exact_tm33 = 0, as_direct = 0;
   double largest = 0.0;
   for (const fs::path& p : files) {
     SCOPED_TRACE(p.string());
     auto read = read_photometric_file(p.string());
     ASSERT_TRUE(read.ok()) << to_string(read.error());
     const Distribution& d0 = read->distribution;
+    auto direct = parse_ies(*encode_photometric_file(d0, PhotometricFormat::Ies, {}, nullptr), "direct.ies", "");
+    ASSERT_TRUE(direct.ok());
     auto xml = encode_photometric_file(d0, PhotometricFormat::Tm33, {}, nullptr);
     ASSERT_TRUE(xml.ok()) << to_string(xml.error());
     auto tm33 = parse_tm33(*xml, "back.xml");
@@ -56,8 +58,14 @@ TEST(Tm33GldfCorpus, IesToTm33ToIes) {
     auto back = parse_ies(*ies, "back.ies", "");
     ASSERT_TRUE(back.ok()) << to_string(back.error());
     const Distribution& d2 = back->distribution;
+    // TM-33 holds every value exactly; back in IES the file is what IES -> IES
+    // gives (which expands symmetries IES cannot express and rounds to 15
+    // digits, io/ies.h).
     EXPECT_TRUE(same_grid_and_values(d0, tm33->distribution));
-    if (same_grid_and_values(d0, tm33->distribution) && same_grid_and_values(d0, d2)) ++exact;
+    EXPECT_TRUE(same_grid_and_values(direct->distribution, d2));
+    exact_tm33 += same_grid_and_values(d0, tm33->distribution);
+    as_direct += same_grid_and_values(direct->distribution, d2);
+    exact += same_grid_and_values(d0, d2);
     const double diff = flux_difference(d0, d2);
     EXPECT_LE(diff, 1e-3);
     largest = std::max(largest, diff);
@@ -66,17 +74,18 @@ TEST(Tm33GldfCorpus, IesToTm33ToIes) {
       EXPECT_NEAR(d2.lamps[0].flux_lm, d0.lamps[0].flux_lm, 1e-9 * d0.lamps[0].flux_lm);
     }
   }
-  std::printf("IES -> TM-33 -> IES: %d of %zu files exact, largest flux difference %.3g %%\n", exact,
-              files.size(), 100.0 * largest);
+  std::printf(
+      "IES -> TM-33 -> IES: %zu files; TM-33 exact %d, back in IES the same as IES -> IES %d, identical to the "
+      "original grid and values %d; largest flux difference %.3g %%\n",
+      files.size(), exact_tm33, as_direct, exact, 100.0 * largest);
   RecordProperty("exact", exact);
-  EXPECT_EQ(exact, static_cast<int>(files.size()));
 }
 
 TEST(Tm33GldfCorpus, LdtToGldfToLdt) {
   GONIO_REQUIRE_CORPUS();
   const auto files = test::corpus_files({".ldt"});
   ASSERT_FALSE(files.empty());
-  int exact = 0;
+  int exact = 0, as_direct = 0;
   double largest = 0.0;
   PhotometricWriteOptions options;
   options.gldf_photometry = PhotometricFormat::Ldt;
@@ -91,8 +100,10 @@ TEST(Tm33GldfCorpus, LdtToGldfToLdt) {
     auto container = parse_gldf(*gldf, "back.gldf");
     ASSERT_TRUE(container.ok()) << to_string(container.error());
     ASSERT_EQ(container->photometries.size(), 1u);
-    // The LDT inside is the LDT writer's own output.
+    // The LDT inside is the LDT writer's own output: LDT -> GLDF -> LDT is
+    // LDT -> LDT.
     EXPECT_EQ(container->photometries[0].bytes, *encode_photometric_file(d0, PhotometricFormat::Ldt, {}, nullptr));
+    as_direct += container->photometries[0].bytes == *encode_photometric_file(d0, PhotometricFormat::Ldt, {}, nullptr);
     auto back = parse_ldt(container->photometries[0].bytes, "back.ldt");
     ASSERT_TRUE(back.ok()) << to_string(back.error());
     const Distribution& d1 = back->distribution;
@@ -101,8 +112,10 @@ TEST(Tm33GldfCorpus, LdtToGldfToLdt) {
     EXPECT_LE(diff, 1e-3);
     largest = std::max(largest, diff);
   }
-  std::printf("LDT -> GLDF -> LDT: %d of %zu files exact, largest flux difference %.3g %%\n", exact,
-              files.size(), 100.0 * largest);
+  std::printf(
+      "LDT -> GLDF -> LDT: %zu files; the same bytes as LDT -> LDT %d, identical to the original grid and values "
+      "%d (the others within the LDT writer's 12 digits); largest flux difference %.3g %%\n",
+      files.size(), as_direct, exact, 100.0 * largest);
   RecordProperty("exact", exact);
 }
 
