@@ -882,9 +882,9 @@ class Tm33Writer {
       ++n;
     }
     if (n > 0) {
-      note("tm33-custom-keywords", std::to_string(n) +
-                                       " keywords without a TM-33 element written in <CustomData> '" +
-                                       kGonioCustomId + "'");
+      note("tm33-custom-keywords", std::to_string(n) + (n == 1 ? " keyword" : " keywords") +
+                                       " without a TM-33 element written in <CustomData> '" + kGonioCustomId +
+                                       "'");
       root.children.push_back(std::move(custom));
     }
   }
