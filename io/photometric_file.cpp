@@ -199,6 +199,18 @@ Result<std::vector<PhotometricFile>> read_photometric_files(const std::string& p
   }
   auto gldf = parse_gldf(detected->bytes, path);
   if (!gldf.ok()) return gldf.error();
+  if (!options.gldf_photometry.empty()) {
+    std::vector<GldfPhotometry> chosen;
+    std::string ids;
+    for (const GldfPhotometry& p : gldf->photometries) {
+      if (p.id == options.gldf_photometry || p.entry == options.gldf_photometry) chosen.push_back(p);
+      ids += (ids.empty() ? "" : ", ") + p.id + " (" + p.entry + ")";
+    }
+    if (chosen.empty())
+      return Error{SourceLoc{path, 0, 0},
+                   "no photometry '" + options.gldf_photometry + "' in the archive; it holds " + ids};
+    gldf->photometries = std::move(chosen);
+  }
   for (const GldfPhotometry& p : gldf->photometries) {
     const PhotometricFormat format = p.content_type == "ldc/ies"      ? PhotometricFormat::Ies
                                      : p.content_type == "ldc/iesxml" ? PhotometricFormat::Tm33

@@ -82,6 +82,10 @@ std::string format_label(const PhotometricFile& file);
 
 struct PhotometricReadOptions {
   LdtReadOptions ldt;  // the Isym 3 plane order of EULUMDAT input
+  // GLDF: the Photometry id (or archive entry, "ldc/x.ldt") that
+  // read_photometric_file() reads; empty: the first. read_photometric_files()
+  // then reads that one only.
+  std::string gldf_photometry;
 };
 
 // Every photometry a file holds: one for IES, EULUMDAT and TM-33, one per
@@ -90,8 +94,10 @@ struct PhotometricReadOptions {
 Result<std::vector<PhotometricFile>> read_photometric_files(const std::string& path,
                                                             const PhotometricReadOptions& options = {});
 
-// The one photometry of a file; of a GLDF container its first, with an info
-// finding "gldf-first-photometry" where it holds more.
+// The one photometry of a file; of a GLDF container the one
+// `options.gldf_photometry` names (an error listing the ids where none
+// matches), else its first, with an info finding "gldf-first-photometry"
+// where it holds more.
 // Reads a photometric file of any format (detect_photometric_format). Errors
 // name the file (and the line where the reader found the problem): an
 // unknown format, anything the readers refuse (missing, a directory, too

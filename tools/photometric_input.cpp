@@ -8,6 +8,10 @@ void add_input_options(ArgParser& parser, InputOptions* options) {
                 "stores C270 ... C0 ... C90 as the standard defines; 'qlumedit' stores "
                 "C90 ... C180 ... C270 as QLumEdit writes it (a half turn of the other). No "
                 "field in the file tells them apart. Default: standard.");
+  parser.option("photometry", &options->gldf_photometry, "ID",
+                "Of a GLDF container, the photometry to read: its id in product.xml or its file "
+                "(ldc/NAME). Default: every one where the command reports several (info, check), "
+                "else the first.");
 }
 
 io::LdtIsym3Order isym3_order(const std::string& word) {
@@ -17,6 +21,7 @@ io::LdtIsym3Order isym3_order(const std::string& word) {
 io::PhotometricReadOptions read_options(const InputOptions& options) {
   io::PhotometricReadOptions r;
   r.ldt.isym3_order = isym3_order(options.ldt_isym3);
+  r.gldf_photometry = options.gldf_photometry;
   return r;
 }
 

@@ -16,9 +16,10 @@ inline constexpr const char* kIsym3QLumEdit = "qlumedit";  // C90 … C180 … C
 
 struct InputOptions {
   std::string ldt_isym3 = kIsym3Standard;
+  std::string gldf_photometry;  // --photometry ID: which photometry of a GLDF
 };
 
-// Registers --ldt-isym3 standard|qlumedit.
+// Registers --ldt-isym3 standard|qlumedit and --photometry ID.
 void add_input_options(ArgParser& parser, InputOptions* options);
 
 io::LdtIsym3Order isym3_order(const std::string& word);

@@ -8,6 +8,7 @@
 #include "io/ies.h"
 #include "io/ldt.h"
 #include "io/photometric_file.h"
+#include "io/gldf.h"
 #include "io/zip.h"
 #include "photometry/flux.h"
 #include "tests/tools/cli_fixtures.h"
@@ -297,6 +298,42 @@ TEST(CliConvert, GldfPackagesTheFileAndEveryCommandOpensIt) {
   EXPECT_EQ(test::read_file(back), test::read_file(ldt));  // LDT -> GLDF -> LDT: the same bytes
   EXPECT_EQ(gonio({"plot", gldf.string(), "--out", (dir / "p.svg").string()}).exit_code, 0);
   EXPECT_EQ(gonio({"compare", ldt.string(), gldf.string()}).exit_code, 0);
+}
+
+TEST(CliConvert, EachPhotometryOfAGldfCanBeExtracted) {
+  test::TempDir dir;
+  const Distribution d = test::lambertian_downlight();
+  io::GldfProduct p;
+  p.name = "two";
+  p.photometries.push_back({"two.ldt", "ldc/eulumdat", *io::write_ldt(d, {}, nullptr), d});
+  p.photometries.push_back({"two.ies", "ldc/ies", io::write_ies(d, {}, nullptr), d});
+  p.created_unix = 1764620000;
+  const auto gldf = dir / "two.gldf";
+  test::write_file(gldf, *io::write_gldf(p));
+
+  auto r = gonio({"convert", gldf.string(), (dir / "first.ies").string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = gonio({"convert", gldf.string(), (dir / "first.ldt").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "read 'photometry1' (ldc/two.ldt), not 'photometry2' [gldf-first-photometry]")) << r.err;
+  EXPECT_EQ(test::read_file(dir / "first.ldt"), p.photometries[0].bytes);
+  for (const char* which : {"photometry2", "ldc/two.ies"}) {
+    r = gonio({"convert", gldf.string(), (dir / "second.ies").string(), "--photometry", which, "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    expect_same_candela(read(dir / "first.ies"), read(dir / "second.ies"), 1e-11);  // LDT: 12 digits
+  }
+  r = gonio({"info", gldf.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "\"gldf_photometry_id\": \"photometry2\"")) << r.out;
+  r = gonio({"check", gldf.string(), "--photometry", "photometry2"});
+  EXPECT_TRUE(contains(r.out, "two.gldf:ldc/two.ies: ")) << r.out;
+  EXPECT_FALSE(contains(r.out, "two.gldf:ldc/two.ldt")) << r.out;
+  r = gonio({"convert", gldf.string(), (dir / "x.ies").string(), "--photometry", "photometry9"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.err, "no photometry 'photometry9' in the archive; it holds photometry1 (ldc/two.ldt), "
+                              "photometry2 (ldc/two.ies)"))
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "x.ies"));
 }
 
 TEST(CliConvert, HostileGldfIsAClearErrorAndNothingIsWritten) {
