@@ -36,13 +36,18 @@ find_package(CGAL REQUIRED)
 # tinygltf is a compiled library in Debian: never define TINYGLTF_IMPLEMENTATION.
 find_package(TinyGLTF REQUIRED)
 
+# cpp-httplib (the live page's server): Debian ships it compiled, with a
+# pkg-config file whose flags (OpenSSL, zlib, brotli support) the header
+# must see to match the library. Only tools/live_server.cpp includes it.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(httplib REQUIRED IMPORTED_TARGET cpp-httplib)
+
 # pugixml (TM-33 and GLDF XML): imported target pugixml::pugixml.
 find_package(pugixml REQUIRED)
 
 # libzip (GLDF containers). Debian 12's libzip CMake package names the
 # zipcmp/zipmerge/ziptool executables, which libzip-dev does not install, and
 # find_package(libzip) fails on them: use its pkg-config file instead.
-find_package(PkgConfig REQUIRED)
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 
 if(GONIO_BUILD_TESTS)

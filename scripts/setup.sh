@@ -10,6 +10,7 @@ packages=(
   libcgal-dev libtinygltf-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox fonts-dejavu-core
+  libcpp-httplib-dev chromium
   libpugixml-dev libzip-dev libxml2-utils
 )
 

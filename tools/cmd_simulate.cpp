@@ -5,15 +5,19 @@
 //                  [--threads T] [--max-bounces B] [--face-size F]
 //                  [--c-step DEG] [--gamma-step DEG] [--symmetry S]
 //                  [--format LIST] [--ies-version 2002|2019] [--name STEM]
-//                  [--min-lor X] [--flux-tolerance X]
-//                  [--preview [filter options]]
+//                  [--min-lor X] [--flux-tolerance X] [--target-error PCT]
+//                  [--preview [filter options]] [--serve [--port P]]
 //
 // Writes DIR/STEM.ies, STEM.ldt, farfield.exr (cube), farfield-latlong.exr, STEM.svg (the
 // intensity diagram; tools/simulation_outputs.h) and DIR/report.json
 // (settings, speed, the energy ledger, and each file read back: its flux and
 // its check findings). With --preview, DIR/preview.exr and DIR/preview.png
 // are replaced after every iteration (tools/preview_output.h). Progress goes
-// to stderr when it is a terminal.
+// to stderr when it is a terminal. With --target-error the run stops once the
+// estimated RMS candela error (tools/progressive_run.h) is at or under PCT;
+// report.json then says "stopped_by": "target-error" and
+// "estimated_rms_error_pct". With --serve the live page of `gonio watch`
+// (tools/live_view.h) follows the run and stays up after it until Ctrl-C.
 //
 // report.json adds to io/report.h's fields: "outputs" {grid, symmetry
 // {chosen, reason, tests [{symmetry, chi_square, degrees_of_freedom,
@@ -43,8 +47,11 @@
 #include "sim/symmetry.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/live_view.h"
 #include "tools/model_input.h"
 #include "tools/preview_output.h"
+#include "tools/progressive_run.h"
+#include "tools/simulate_command.h"
 #include "tools/simulation_outputs.h"
 
 namespace gonio::cli {
@@ -92,21 +99,107 @@ std::string signed_percent(double fraction) {
   return buf;
 }
 
-int usage_error(const ArgParser& p, const std::string& message) {
-  print_error("simulate: " + message);
+std::nullopt_t usage_error(const std::string& command, const ArgParser& p, const std::string& message) {
+  print_error(command + ": " + message);
   std::fprintf(stderr, "%s\n", p.usage().c_str());
-  return kExitUsage;
+  return std::nullopt;
 }
 
 }  // namespace
 
+void add_simulate_options(ArgParser& p, SimulateOptions* o) {
+  p.option("photons", &o->photons, 1, 4'294'967'295LL, "N", "photons per iteration (default 1000000)");
+  p.option("iterations", &o->iterations, 1, 1'000'000, "K", "iterations (default 10): K·N photons in all");
+  p.option("seed", &o->seed, 0, 9'223'372'036'854'775'807LL, "S", "random seed (default 1)");
+  p.option("threads", &o->threads, 0, 4096, "T", "threads (default 0: every core)");
+  p.option("max-bounces", &o->max_bounces, 0, 1'000'000, "B",
+           "surface interactions before a photon is cut off (default 100)");
+  p.option("face-size", &o->face_size, 1, 4096, "F",
+           "cube-map texels per face edge (default: two texels per grid step, 128 for 5 x 2.5 deg)");
+  p.option("c-step", &o->c_step, sim::kMinGridStepDeg, sim::kMaxGridStepDeg, "DEG",
+           "C-plane spacing of the IES/LDT grid (default 5; divides 360)");
+  p.option("gamma-step", &o->gamma_step, sim::kMinGridStepDeg, sim::kMaxGridStepDeg, "DEG",
+           "gamma spacing of the IES/LDT grid (default 2.5; divides 180)");
+  p.option("symmetry", &o->symmetry_name, "S",
+           "auto (default: a chi-square test per symmetry on the photon counts), none, C0-C180, "
+           "C90-C270, quadrant or rotational");
+  p.option("format", &o->format_list, "LIST",
+           "files to write, comma-separated: ies, ldt, exr, latlong, plot, gldf (STEM.gldf with the LDT, "
+           "IES and the model as L3D; only when named), or all (default: every one but gldf)");
+  p.choice("ies-version", &o->ies_version, {"2002", "2019"}, "IES LM-63 version (default 2019)");
+  p.option("name", &o->stem, "STEM", "file names DIR/STEM.* (default: the model's file name without extension)");
+  p.option("min-lor", &o->min_lor, 0.0, 1.0, "X",
+           "fail when the light output ratio escaped/emitted is under X (default 0: never)");
+  p.option("flux-tolerance", &o->flux_tolerance, 0.0, 1.0, "X",
+           "fail when a written file's flux differs from the escaped flux by more than X "
+           "(a fraction; default 0.005 = 0.5 %)");
+  p.option("target-error", &o->target_error_pct, 0.0, 100.0, "PCT",
+           "stop once the estimated RMS candela error (from photon counts, relative to the peak) is "
+           "at or under PCT percent (default 0: run every iteration)");
+  add_preview_options(p, &o->preview);
+}
+
+std::optional<SimulatePlan> plan_simulation(const std::string& command, const std::string& model,
+                                            const SimulateOptions& o, const ArgParser& p) {
+  const long long photons = o.photons, iterations = o.iterations, seed = o.seed, threads = o.threads,
+                  max_bounces = o.max_bounces;
+  long long face_size = o.face_size;
+  const double c_step = o.c_step, gamma_step = o.gamma_step;
+  const std::string& symmetry_name = o.symmetry_name;
+  std::string stem = o.stem;
+  auto usage_error = [&](const ArgParser& parser, const std::string& message) {
+    return cli::usage_error(command, parser, message);
+  };
+  const Result<sim::PreviewFilterParams> preview_params_result = preview_params(o.preview, p);
+  if (!preview_params_result.ok()) return usage_error(p, preview_params_result.error().message);
+  sim::CGammaGrid grid;
+  grid.c_step_deg = c_step;
+  grid.gamma_step_deg = gamma_step;
+  if (Status s = sim::validate(grid); !s.ok()) return usage_error(p, s.error().message);
+  std::optional<photometry::Symmetry> symmetry;
+  if (symmetry_name != "auto") {
+    symmetry = sim::parse_symmetry(symmetry_name);
+    if (!symmetry)
+      return usage_error(p, "--symmetry: unknown symmetry '" + symmetry_name +
+                                "'; expected auto, none, C0-C180, C90-C270, quadrant or rotational");
+    if (Status s = sim::check_grid_supports(grid, *symmetry); !s.ok()) return usage_error(p, s.error().message);
+  }
+  Result<std::vector<OutputFormat>> formats = parse_formats(o.format_list);
+  if (!formats.ok()) return usage_error(p, formats.error().message);
+  if (stem.empty()) stem = std::filesystem::path(model).stem().string();
+  if (stem.empty() || stem.find_first_of("/\\") != std::string::npos || stem == "." || stem == "..")
+    return usage_error(p, "--name: '" + stem + "' is not a plain file name");
+  if (!p.given("face-size")) face_size = sim::face_size_for(grid);
+
+  SimulatePlan plan;
+  plan.model = model;
+  plan.out_dir = o.out_dir;
+  plan.stem = stem;
+  plan.grid = grid;
+  plan.symmetry = symmetry;
+  plan.formats = formats.value();
+  plan.ies_version = o.ies_version == "2002" ? io::IesVersion::LM63_2002 : io::IesVersion::LM63_2019;
+  plan.preview = o.preview.enabled;
+  plan.preview_params = preview_params_result.value();
+  plan.min_lor = o.min_lor;
+  plan.flux_tolerance = o.flux_tolerance;
+  plan.progressive.target_error_pct = o.target_error_pct;
+  sim::SimulationSettings& settings = plan.progressive.simulation;
+  settings.photons_per_iteration = static_cast<std::uint64_t>(photons);
+  settings.iterations = static_cast<int>(iterations);
+  settings.seed = static_cast<std::uint64_t>(seed);
+  settings.threads = static_cast<int>(threads);
+  settings.max_bounces = static_cast<int>(max_bounces);
+  settings.face_size = static_cast<int>(face_size);
+  return plan;
+}
+
 int run_simulate(const Args& args) {
   const auto start = std::chrono::steady_clock::now();
-  std::string model, out_dir;
-  long long photons = 1'000'000, iterations = 10, seed = 1, threads = 0, max_bounces = 100;
-  long long face_size = 0;
-  double c_step = 5.0, gamma_step = 2.5, min_lor = 0.0, flux_tolerance = 0.005;
-  std::string symmetry_name = "auto", format_list = "all", ies_version = "2019", stem;
+  std::string model;
+  SimulateOptions options;
+  bool serve = false;
+  long long port = kDefaultLivePort;
   ArgParser p("simulate", "MODEL --out DIR [options]",
               "Traces photons through a luminaire model (glTF 2.0: .gltf or .glb) and writes\n"
               "what light-planning programs and renderers read, each file read back and\n"
@@ -120,73 +213,25 @@ int run_simulate(const Args& args) {
               "by more than --flux-tolerance, or a file is not clean. The same seed gives the\n"
               "same files whatever the thread count.");
   p.positional("MODEL", &model, "the luminaire model (.gltf or .glb)");
-  p.option("out", &out_dir, "DIR", "output directory (created if missing)");
-  p.option("photons", &photons, 1, 4'294'967'295LL, "N", "photons per iteration (default 1000000)");
-  p.option("iterations", &iterations, 1, 1'000'000, "K", "iterations (default 10): K·N photons in all");
-  p.option("seed", &seed, 0, 9'223'372'036'854'775'807LL, "S", "random seed (default 1)");
-  p.option("threads", &threads, 0, 4096, "T", "threads (default 0: every core)");
-  p.option("max-bounces", &max_bounces, 0, 1'000'000, "B",
-           "surface interactions before a photon is cut off (default 100)");
-  p.option("face-size", &face_size, 1, 4096, "F",
-           "cube-map texels per face edge (default: two texels per grid step, 128 for 5 x 2.5 deg)");
-  p.option("c-step", &c_step, sim::kMinGridStepDeg, sim::kMaxGridStepDeg, "DEG",
-           "C-plane spacing of the IES/LDT grid (default 5; divides 360)");
-  p.option("gamma-step", &gamma_step, sim::kMinGridStepDeg, sim::kMaxGridStepDeg, "DEG",
-           "gamma spacing of the IES/LDT grid (default 2.5; divides 180)");
-  p.option("symmetry", &symmetry_name, "S",
-           "auto (default: a chi-square test per symmetry on the photon counts), none, C0-C180, "
-           "C90-C270, quadrant or rotational");
-  p.option("format", &format_list, "LIST",
-           "files to write, comma-separated: ies, ldt, exr, latlong, plot, gldf (STEM.gldf with the LDT, "
-           "IES and the model as L3D; only when named), or all (default: every one but gldf)");
-  p.choice("ies-version", &ies_version, {"2002", "2019"}, "IES LM-63 version (default 2019)");
-  p.option("name", &stem, "STEM", "file names DIR/STEM.* (default: the model's file name without extension)");
-  p.option("min-lor", &min_lor, 0.0, 1.0, "X",
-           "fail when the light output ratio escaped/emitted is under X (default 0: never)");
-  p.option("flux-tolerance", &flux_tolerance, 0.0, 1.0, "X",
-           "fail when a written file's flux differs from the escaped flux by more than X "
-           "(a fraction; default 0.005 = 0.5 %)");
-  PreviewOptions preview_options;
-  add_preview_options(p, &preview_options);
+  p.option("out", &options.out_dir, "DIR", "output directory (created if missing)");
+  add_simulate_options(p, &options);
+  p.flag("serve", &serve, "show the run on the live page of `gonio watch` (127.0.0.1), kept up until Ctrl-C");
+  p.option("port", &port, 0, 65535, "P", "port of the live page (default 8765; 0: any free port, printed)");
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
-  const Result<sim::PreviewFilterParams> preview_params_result = preview_params(preview_options, p);
-  if (!preview_params_result.ok()) {
-    print_error("simulate: " + preview_params_result.error().message);
-    std::fprintf(stderr, "%s\n", p.usage().c_str());
+  if (options.out_dir.empty()) {
+    usage_error("simulate", p, "--out DIR is required");
     return kExitUsage;
   }
-  if (out_dir.empty()) return usage_error(p, "--out DIR is required");
-  sim::CGammaGrid grid;
-  grid.c_step_deg = c_step;
-  grid.gamma_step_deg = gamma_step;
-  if (Status s = sim::validate(grid); !s.ok()) return usage_error(p, s.error().message);
-  std::optional<photometry::Symmetry> symmetry;
-  if (symmetry_name != "auto") {
-    symmetry = sim::parse_symmetry(symmetry_name);
-    if (!symmetry)
-      return usage_error(p, "--symmetry: unknown symmetry '" + symmetry_name +
-                                "'; expected auto, none, C0-C180, C90-C270, quadrant or rotational");
-    if (Status s = sim::check_grid_supports(grid, *symmetry); !s.ok()) return usage_error(p, s.error().message);
-  }
-  Result<std::vector<OutputFormat>> formats = parse_formats(format_list);
-  if (!formats.ok()) return usage_error(p, formats.error().message);
-  if (stem.empty()) stem = std::filesystem::path(model).stem().string();
-  if (stem.empty() || stem.find_first_of("/\\") != std::string::npos || stem == "." || stem == "..")
-    return usage_error(p, "--name: '" + stem + "' is not a plain file name");
-  if (!p.given("face-size")) face_size = sim::face_size_for(grid);
+  std::optional<SimulatePlan> planned = plan_simulation("simulate", model, options, p);
+  if (!planned) return kExitUsage;
+  const SimulatePlan& plan = *planned;
+  const std::string& out_dir = plan.out_dir;
+  const sim::SimulationSettings& settings = plan.progressive.simulation;
 
   // Load, then check the geometry: errors stop the run, warnings are printed.
   std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated");
   if (!scene) return kExitFailure;
-
-  sim::SimulationSettings settings;
-  settings.photons_per_iteration = static_cast<std::uint64_t>(photons);
-  settings.iterations = static_cast<int>(iterations);
-  settings.seed = static_cast<std::uint64_t>(seed);
-  settings.threads = static_cast<int>(threads);
-  settings.max_bounces = static_cast<int>(max_bounces);
-  settings.face_size = static_cast<int>(face_size);
 
   // The output directory is made before tracing so that previews can land in it.
   if (Status s = io::make_directories(out_dir); !s.ok()) {
@@ -194,32 +239,80 @@ int run_simulate(const Args& args) {
     return kExitFailure;
   }
   std::optional<PreviewOutput> preview;
-  if (preview_options.enabled)
-    preview.emplace(out_dir, settings.face_size, preview_params_result.value());
+  if (plan.preview) preview.emplace(out_dir, settings.face_size, plan.preview_params);
   Status preview_status = Ok{};
+  // The estimate needs the output grid's resampler (~0.3 s to build): made
+  // only when asked for, by the live page where there is one.
+  std::optional<sim::Resampler> own_resampler;
+  const sim::Resampler* resampler = nullptr;
+  std::unique_ptr<LiveView> live;
+  if (serve) {
+    auto started = LiveView::start(kLiveHost, static_cast<int>(port), plan);
+    if (!started.ok()) {
+      print_error(started.error());
+      return kExitFailure;
+    }
+    live = std::move(started.value());
+    std::printf("live page: %s\n", live->url().c_str());
+    std::fflush(stdout);
+    resampler = &live->resampler_for(scene.value());
+    live->begin_run(model, scene.value(), {});
+  } else if (plan.progressive.target_error_pct > 0.0) {
+    resampler = &own_resampler.emplace(settings.face_size, scene->frame, plan.grid);
+  }
 
   const bool show_progress = stderr_is_terminal();
-  auto progress = [&](const sim::SimulationProgress& pr, const sim::Simulation& simulation) {
+  auto progress = [&](const IterationReport& r, const sim::Simulation& simulation) {
+    const sim::SimulationProgress& pr = r.progress;
     if (preview && preview_status.ok()) preview_status = preview->write(simulation.far_field());
-    if (!show_progress) return;
+    if (live) live->iteration(r, simulation);
+    if (!show_progress) return true;
     std::fprintf(stderr, "\r%s: simulate: iteration %d/%d, %sphotons/s, %s left   ", kProgramName,
                  pr.iteration, pr.iterations, format_rate(pr.photons_per_s).c_str(),
                  format_duration(pr.remaining_s).c_str());
-    if (pr.iteration == pr.iterations) std::fputc('\n', stderr);
+    if (pr.iteration == pr.iterations || pr.remaining_s == 0.0) std::fputc('\n', stderr);
     std::fflush(stderr);
+    return true;
   };
-  Result<sim::Simulation> sim = sim::simulate(scene.value(), settings, progress);
+  // With the live page Ctrl-C is caught (the page stays up after the run):
+  // during the run it stops the run, and nothing is written.
+  const CancelCheck cancel = live ? CancelCheck([] { return interrupted(); }) : CancelCheck();
+  Result<ProgressiveOutcome> sim = run_progressive(scene.value(), plan.progressive, resampler, progress, cancel);
   if (!sim.ok()) {
     Error e = sim.error();
     if (e.where.file.empty()) e.where.file = model;
     print_error(e);
+    if (live) live->run_failed(e);
     return kExitFailure;
   }
 
+  if (sim->stopped_by == StopReason::Cancelled) {
+    print_error("simulate: interrupted; nothing was written");
+    return kExitFailure;
+  }
   if (!preview_status.ok()) {
     print_error(preview_status.error());
     return kExitFailure;
   }
+  if (live) live->run_finished(sim.value());
+  const int code = write_run_files(plan, sim.value(), preview ? &*preview : nullptr, start);
+  if (live) {
+    std::printf("live page: %s stays up until Ctrl-C\n", live->url().c_str());
+    std::fflush(stdout);
+    wait_for_interrupt();
+  }
+  return code;
+}
+
+int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const PreviewOutput* preview,
+                    std::chrono::steady_clock::time_point start) {
+  const std::string& model = plan.model;
+  const std::string& out_dir = plan.out_dir;
+  const sim::SimulationSettings& settings = plan.progressive.simulation;
+  const sim::CGammaGrid& grid = plan.grid;
+  const std::optional<photometry::Symmetry>& symmetry = plan.symmetry;
+  const sim::Simulation* sim = &run.simulation;
+  const int max_bounces = settings.max_bounces;
   const std::string report_path = (std::filesystem::path(out_dir) / "report.json").string();
   const sim::FarField far_field = sim->far_field();
   const sim::SimulationStats st = sim->stats();
@@ -227,11 +320,11 @@ int run_simulate(const Args& args) {
 
   OutputRequest request;
   request.directory = out_dir;
-  request.stem = stem;
-  request.formats = formats.value();
+  request.stem = plan.stem;
+  request.formats = plan.formats;
   request.grid = grid;
   request.symmetry = symmetry;
-  request.ies_version = ies_version == "2002" ? io::IesVersion::LM63_2002 : io::IesVersion::LM63_2019;
+  request.ies_version = plan.ies_version;
   request.run.program_version = kVersion;
   request.run.model = model;
   request.run.photons = st.photons;
@@ -254,7 +347,7 @@ int run_simulate(const Args& args) {
   report.max_bounces = settings.max_bounces;
   report.face_size = settings.face_size;
   report.robust_embree = settings.robust_embree;
-  report.iterations_done = st.iterations_done;
+  report.iterations_done = run.iterations_done;
   report.photons = st.photons;
   report.rays = st.rays;
   report.trace_s = st.trace_s;
@@ -262,11 +355,17 @@ int run_simulate(const Args& args) {
   report.ledger = sim->ledger();
   report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json json = io::to_json(report);
+  json["stopped_by"] = to_string(run.stopped_by);
+  json["target_error_pct"] = plan.progressive.target_error_pct > 0.0 ? nlohmann::json(plan.progressive.target_error_pct)
+                                                                      : nlohmann::json(nullptr);
+  json["estimated_rms_error_pct"] = std::isfinite(run.estimated_rms_error_pct)
+                                        ? nlohmann::json(run.estimated_rms_error_pct)
+                                        : nlohmann::json(nullptr);
   if (preview) {
     const sim::PreviewStats& ps = preview->stats();
     json["preview"] = {{"exr", "preview.exr"},
                        {"png", "preview.png"},
-                       {"filter", describe(preview_params_result.value(), settings.face_size)},
+                       {"filter", describe(plan.preview_params, settings.face_size)},
                        {"flux_lm", ps.preview_flux_lm}};
   }
   json["far_field"] = {{"face_size", settings.face_size},
@@ -278,7 +377,7 @@ int run_simulate(const Args& args) {
 
   // The energy checks, each with what it found.
   const sim::Ledger& l = ledger;
-  const EnergyCheck energy = check_energy(l, outputs->files, min_lor, flux_tolerance);
+  const EnergyCheck energy = check_energy(l, outputs->files, plan.min_lor, plan.flux_tolerance);
   const double lor = energy.lor;
   json["energy"] = energy.json;
   if (Status s = io::write_json(report_path, json); !s.ok()) {
@@ -287,14 +386,17 @@ int run_simulate(const Args& args) {
   }
 
   std::printf("%s: %llu photons in %d iteration%s, %sphotons/s, %srays/s, %d thread%s\n",
-              model.c_str(), static_cast<unsigned long long>(st.photons), st.iterations_done,
-              st.iterations_done == 1 ? "" : "s", format_rate(st.photons_per_s()).c_str(),
+              model.c_str(), static_cast<unsigned long long>(st.photons), run.iterations_done,
+              run.iterations_done == 1 ? "" : "s", format_rate(st.photons_per_s()).c_str(),
               format_rate(st.rays_per_s()).c_str(), st.threads, st.threads == 1 ? "" : "s");
   std::printf("  emitted %.6g lm: escaped %.6g lm (%.2f %%), absorbed %.6g lm (%.2f %%), cut off %.6g lm (%.2f %%)\n",
               l.emitted.flux_lm, l.escaped.flux_lm, percent(l.escaped.flux_lm, l.emitted.flux_lm),
               l.absorbed.flux_lm, percent(l.absorbed.flux_lm, l.emitted.flux_lm), l.cutoff.flux_lm,
               percent(l.cutoff.flux_lm, l.emitted.flux_lm));
   std::printf("  light output ratio %.4f (escaped / emitted)\n", lor);
+  if (std::isfinite(run.estimated_rms_error_pct))
+    std::printf("  estimated RMS candela error %.3g %% of the peak%s\n", run.estimated_rms_error_pct,
+                run.stopped_by == StopReason::TargetError ? " (stopped at the target error)" : "");
   if (!outputs->symmetry_reason.empty()) {
     if (symmetry)
       std::printf("  %s\n", outputs->symmetry_reason.c_str());

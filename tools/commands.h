@@ -27,5 +27,6 @@ int run_simulate(const Args& args);  // gonio simulate MODEL --out DIR
 int run_plot(const Args& args);      // gonio plot FILE
 int run_compare(const Args& args);   // gonio compare A B
 int run_bench(const Args& args);     // gonio bench MODEL... --out DIR
+int run_watch(const Args& args);     // gonio watch MODEL
 
 }  // namespace gonio::cli

@@ -18,6 +18,7 @@ const std::vector<Command> kCommands = {
     {"check", "Check photometric files for format and plausibility problems", run_check},
     {"convert", "Convert between IES LM-63 and EULUMDAT (and between their versions)", run_convert},
     {"simulate", "Trace a luminaire model (glTF) into IES, LDT and EXR files, checked", run_simulate},
+    {"watch", "Simulate a model live in the browser, again whenever it changes on disk", run_watch},
     {"plot", "Draw the intensity diagram of an IES or LDT file (SVG or PNG)", run_plot},
     {"compare", "Compare two photometric files: RMS, peak, flux and beam differences", run_compare},
     {"bench", "Measure speed against accuracy on luminaire models (error vs time and photons)", run_bench},

@@ -1,0 +1,91 @@
+// gonio simulate --target-error and gonio watch's command line, run as a
+// user would on the sample luminaires. The live page itself is tested in a
+// real browser (watch_browser_test.cpp).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/test_support.h"
+
+namespace gonio {
+namespace {
+
+test::ProcessResult gonio(std::vector<std::string> args) {
+  args.insert(args.begin(), GONIO_EXECUTABLE);
+  return test::run_process(args);
+}
+
+std::string sample(const std::string& name) {
+  return std::string(GONIO_SAMPLES_DIR) + "/" + name + "/" + name + ".gltf";
+}
+
+nlohmann::json report(const std::filesystem::path& dir) {
+  return nlohmann::json::parse(test::read_file(dir / "report.json"));
+}
+
+TEST(SimulateTargetError, StopsUnderTheTargetAndSaysSoInTheReport) {
+  test::TempDir dir;
+  const double target = 4.0;
+  const auto r = gonio({"simulate", sample("led-array"), "--out", dir.path().string(), "--photons", "20000",
+                        "--iterations", "500", "--target-error", "4", "--format", "ies", "--threads", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = report(dir.path());
+  EXPECT_EQ(j["stopped_by"], "target-error");
+  ASSERT_TRUE(j["estimated_rms_error_pct"].is_number());
+  EXPECT_LE(j["estimated_rms_error_pct"].get<double>(), target);
+  EXPECT_GT(j["estimated_rms_error_pct"].get<double>(), 0.5 * target) << "stopped much later than needed";
+  EXPECT_EQ(j["target_error_pct"].get<double>(), target);
+  const int done = j["iterations_done"];
+  EXPECT_LT(done, 500);
+  EXPECT_EQ(j["photons_emitted"].get<std::uint64_t>(), static_cast<std::uint64_t>(done) * 20000u);
+  EXPECT_TRUE(j["energy"]["passed"].get<bool>());
+  EXPECT_TRUE(test::read_file(dir.path() / "led-array.ies").find("TILT=NONE") != std::string::npos);
+  EXPECT_NE(r.out.find("stopped at the target error"), std::string::npos) << r.out;
+}
+
+TEST(SimulateTargetError, WithoutATargetEveryIterationRuns) {
+  test::TempDir dir;
+  const auto r = gonio({"simulate", sample("led-array"), "--out", dir.path().string(), "--photons", "20000",
+                        "--iterations", "3", "--format", "ies"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = report(dir.path());
+  EXPECT_EQ(j["stopped_by"], "iterations");
+  EXPECT_EQ(j["iterations_done"], 3);
+  EXPECT_TRUE(j["target_error_pct"].is_null());
+}
+
+TEST(SimulateTargetError, BadTargetsAreUsageErrors) {
+  test::TempDir dir;
+  for (const char* bad : {"-1", "101", "abc"}) {
+    const auto r = gonio({"simulate", sample("led-array"), "--out", dir.path().string(), "--target-error", bad});
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find("target-error"), std::string::npos) << r.err;
+  }
+}
+
+TEST(Watch, UsageErrorsAndHelp) {
+  const auto none = gonio({"watch"});
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("MODEL"), std::string::npos) << none.err;
+  EXPECT_EQ(gonio({"watch", sample("bell"), "--port", "70000"}).exit_code, 2);
+  EXPECT_EQ(gonio({"watch", sample("bell"), "--c-step", "7"}).exit_code, 2);
+  const auto help = gonio({"watch", "--help"});
+  EXPECT_EQ(help.exit_code, 0);
+  for (const char* option : {"--port", "--host", "--out", "--target-error", "--photons", "--filter"})
+    EXPECT_NE(help.out.find(option), std::string::npos) << option;
+  const auto top = gonio({"--help"});
+  EXPECT_NE(top.out.find("watch"), std::string::npos);
+}
+
+TEST(Watch, SimulateServeAndWatchShareTheOptions) {
+  const auto help = gonio({"simulate", "--help"});
+  EXPECT_EQ(help.exit_code, 0);
+  for (const char* option : {"--serve", "--port", "--target-error"})
+    EXPECT_NE(help.out.find(option), std::string::npos) << option;
+}
+
+}  // namespace
+}  // namespace gonio

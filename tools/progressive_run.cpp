@@ -1,0 +1,103 @@
+#include "tools/progressive_run.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <utility>
+
+#include "sim/convergence.h"
+
+namespace gonio::cli {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A Resampler owned elsewhere, as the shared_ptr ConvergenceReference takes.
+std::shared_ptr<const sim::Resampler> borrowed(const sim::Resampler& r) {
+  return std::shared_ptr<const sim::Resampler>(&r, [](const sim::Resampler*) {});
+}
+
+}  // namespace
+
+double estimated_rms_error_pct(const sim::FarField& field, const sim::Resampler& resampler) {
+  auto self = sim::ConvergenceReference::create(field, borrowed(resampler));
+  if (!self.ok()) return kNaN;
+  return self->table_noise_pct();
+}
+
+const char* to_string(StopReason reason) {
+  switch (reason) {
+    case StopReason::Iterations: return "iterations";
+    case StopReason::TargetError: return "target-error";
+    case StopReason::Cancelled: return "cancelled";
+  }
+  return "?";
+}
+
+Result<ProgressiveOutcome> run_progressive(const sim::SceneDesc& scene, const ProgressiveSettings& settings,
+                                           const sim::Resampler* resampler,
+                                           const IterationCallback& on_iteration, const CancelCheck& cancel) {
+  GONIO_CHECK(settings.target_error_pct >= 0.0);
+  GONIO_CHECK(resampler || settings.target_error_pct == 0.0);
+  auto created = sim::Simulation::create(scene, settings.simulation);
+  if (!created.ok()) return created.error();
+  ProgressiveOutcome out{std::move(created.value()), StopReason::Iterations, 0, kNaN};
+  sim::Simulation& s = out.simulation;
+  const sim::SimulationSettings& ss = settings.simulation;
+  const int iterations = ss.iterations;
+  const std::uint64_t per_iteration = ss.photons_per_iteration;
+  std::uint64_t first = settings.first_iteration_photons;
+  if (first == 0 || first > per_iteration) first = per_iteration;
+  const std::uint64_t total = first + per_iteration * static_cast<std::uint64_t>(iterations - 1);
+  for (int k = 0; k < iterations; ++k) {
+    const std::uint64_t photons = k == 0 ? first : per_iteration;
+    if (!cancel) {
+      s.run_iteration(photons);
+    } else {
+      for (std::uint64_t done = 0; done < photons;) {
+        if (cancel()) {
+          out.stopped_by = StopReason::Cancelled;
+          return out;
+        }
+        const std::uint64_t slice = std::min(kCancelSlicePhotons, photons - done);
+        s.run_iteration(slice);
+        done += slice;
+      }
+    }
+    out.iterations_done = k + 1;
+    const sim::SimulationStats st = s.stats();
+    IterationReport r;
+    r.progress.iteration = k + 1;
+    r.progress.iterations = iterations;
+    r.progress.photons_done = st.photons;
+    r.progress.photons_total = total;
+    r.progress.elapsed_s = st.trace_s;
+    r.progress.photons_per_s = st.photons_per_s();
+    if (resampler) out.estimated_rms_error_pct = estimated_rms_error_pct(s.far_field(), *resampler);
+    r.estimated_rms_error_pct = out.estimated_rms_error_pct;
+    // Photons still to trace: the rest of the plan, or fewer where the
+    // estimate (∝ 1/√photons) reaches the target sooner.
+    double remaining = static_cast<double>(total - st.photons);
+    const bool reached = settings.target_error_pct > 0.0 &&
+                         out.estimated_rms_error_pct <= settings.target_error_pct;
+    if (settings.target_error_pct > 0.0 && std::isfinite(out.estimated_rms_error_pct)) {
+      const double ratio = out.estimated_rms_error_pct / settings.target_error_pct;
+      remaining = std::min(remaining, std::max(0.0, static_cast<double>(st.photons) * (ratio * ratio - 1.0)));
+    }
+    if (reached) remaining = 0.0;
+    r.progress.remaining_s = r.progress.photons_per_s > 0.0 ? remaining / r.progress.photons_per_s : 0.0;
+    const bool go_on = on_iteration ? on_iteration(r, s) : true;
+    if (reached) {
+      out.stopped_by = StopReason::TargetError;
+      break;
+    }
+    if (!go_on) {
+      out.stopped_by = StopReason::Cancelled;
+      break;
+    }
+  }
+  return out;
+}
+
+}  // namespace gonio::cli

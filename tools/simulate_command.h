@@ -1,0 +1,63 @@
+// What `gonio simulate` and `gonio watch` share: the simulation's options,
+// their checks, and the files and report of a finished run (the code lives in
+// tools/cmd_simulate.cpp; watch runs the same steps per model change).
+#pragma once
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/ies.h"
+#include "sim/preview_filter.h"
+#include "sim/resample.h"
+#include "tools/cli.h"
+#include "tools/preview_output.h"
+#include "tools/progressive_run.h"
+#include "tools/simulation_outputs.h"
+
+namespace gonio::cli {
+
+// The options as parsed (defaults as `gonio simulate --help` states them).
+struct SimulateOptions {
+  std::string out_dir;
+  long long photons = 1'000'000, iterations = 10, seed = 1, threads = 0, max_bounces = 100;
+  long long face_size = 0;
+  double c_step = 5.0, gamma_step = 2.5, min_lor = 0.0, flux_tolerance = 0.005;
+  double target_error_pct = 0.0;  // --target-error PCT; 0: none
+  std::string symmetry_name = "auto", format_list = "all", ies_version = "2019", stem;
+  PreviewOptions preview;
+};
+
+// Registers every option but MODEL and --out (callers word those).
+void add_simulate_options(ArgParser& p, SimulateOptions* options);
+
+// The options checked and resolved.
+struct SimulatePlan {
+  std::string model;
+  std::string out_dir;
+  std::string stem;
+  sim::CGammaGrid grid;
+  std::optional<photometry::Symmetry> symmetry;  // none: auto
+  std::vector<OutputFormat> formats;
+  io::IesVersion ies_version = io::IesVersion::LM63_2019;
+  bool preview = false;  // write preview.{exr,png} per iteration
+  sim::PreviewFilterParams preview_params;
+  ProgressiveSettings progressive;
+  double min_lor = 0.0;
+  double flux_tolerance = 0.005;
+};
+
+// Checks the options for `model`; on a problem prints "COMMAND: …" and the
+// usage line to stderr and returns nothing (exit kExitUsage).
+std::optional<SimulatePlan> plan_simulation(const std::string& command, const std::string& model,
+                                            const SimulateOptions& options, const ArgParser& p);
+
+// Writes the files and report.json of a finished run into plan.out_dir
+// (`preview`: the run's preview output, or null; `start`: when the command or
+// the run began, for wall_s), prints the summary, and returns the exit code
+// (the energy checks).
+int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const PreviewOutput* preview,
+                    std::chrono::steady_clock::time_point start);
+
+}  // namespace gonio::cli
