@@ -57,6 +57,14 @@ find_program(GONIO_MPIRUN NAMES mpirun mpiexec)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(httplib REQUIRED IMPORTED_TARGET cpp-httplib)
 
+# pugixml (TM-33 and GLDF XML): imported target pugixml::pugixml.
+find_package(pugixml REQUIRED)
+
+# libzip (GLDF containers). Debian 12's libzip CMake package names the
+# zipcmp/zipmerge/ziptool executables, which libzip-dev does not install, and
+# find_package(libzip) fails on them: use its pkg-config file instead.
+pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
+
 if(GONIO_BUILD_TESTS)
   find_package(GTest REQUIRED)
   include(GoogleTest)

@@ -148,6 +148,16 @@ struct Keyword {
   std::string value;
 };
 
+// A spectral power distribution of an emitter (IES TM-33 SpectralData /
+// EmitterSpectral), kept for round trips through formats that hold one;
+// nothing is derived from it.
+struct Spectrum {
+  std::string emitter;                // the emitter it belongs to; empty if unnamed
+  bool normalized = false;            // relative values (peak 1) rather than W/nm
+  std::vector<double> wavelength_nm;  // strictly increasing [nm]
+  std::vector<double> values;         // one per wavelength, multiplier applied
+};
+
 // A light distribution as files exchange it.
 struct Distribution {
   PhotometricType type = PhotometricType::C;
@@ -194,6 +204,9 @@ struct Distribution {
   // LM-63-2019 puts the file generation type there). Kept, not applied.
   double ballast_lamp_factor = 1.0;
   FileGenerationType file_generation = FileGenerationType::Undefined;  // LM-63-2019
+
+  // TM-33 spectral distributions (neither LM-63 nor EULUMDAT holds one).
+  std::vector<Spectrum> spectra;
 
   std::size_t vertical_count() const { return vertical_deg.size(); }
   std::size_t horizontal_count() const { return horizontal_deg.size(); }

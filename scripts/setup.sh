@@ -12,6 +12,7 @@ packages=(
   libopenmpi-dev openmpi-bin
   gnuplot-nox fonts-dejavu-core
   libcpp-httplib-dev chromium poppler-utils
+  libpugixml-dev libzip-dev libxml2-utils
 )
 
 missing=()

@@ -18,8 +18,9 @@ namespace {
 using json = nlohmann::ordered_json;
 
 constexpr const char* kDescription =
-    "Checks IES LM-63 (.ies) and EULUMDAT (.ldt) files: the reader's format-level\n"
-    "findings (with the line they concern) and the model-level checks of\n"
+    "Checks IES LM-63 (.ies), EULUMDAT (.ldt), IES TM-33 (.xml) and GLDF (.gldf, each\n"
+    "photometry inside) files (other names by their content): the reader's\n"
+    "format-level findings (with the line they concern) and the model-level checks of\n"
     "photometry/validation.h (angle ranges, symmetry, disagreeing poles and seams,\n"
     "negative or absurd intensities, implausible LOR and efficacy, declared LOR/DFF\n"
     "against the integrated values).\n"
@@ -62,29 +63,9 @@ struct FileReport {
   int errors = 0, warnings = 0, infos = 0;
 };
 
-FileReport check_file(const std::string& path, const io::PhotometricReadOptions& options) {
-  FileReport r;
-  r.path = path;
-  auto file = io::read_photometric_file(path, options);
-  if (!file.ok()) {
-    SourceLoc where = file.error().where;
-    if (where.file.empty()) where.file = path;
-    r.findings.push_back({Severity::Error, "unreadable", file.error().message, where});
-  } else {
-    r.readable = true;
-    r.format = io::to_string(file->format);
-    if (file->ies_version) {
-      r.version = io::to_string(*file->ies_version);
-      r.format += " " + r.version;
-    }
-    r.findings = std::move(file->findings);
-    for (Finding f : photometry::check(file->distribution)) {
-      f.where.file = path;
-      r.findings.push_back(std::move(f));
-    }
-  }
+void count(FileReport& r) {
   for (Finding& f : r.findings) {
-    if (f.where.file.empty()) f.where.file = path;
+    if (f.where.file.empty()) f.where.file = r.path;
     switch (f.severity) {
       case Severity::Error:
         ++r.errors;
@@ -97,7 +78,39 @@ FileReport check_file(const std::string& path, const io::PhotometricReadOptions&
         break;
     }
   }
-  return r;
+}
+
+// One report per photometry the file holds (several for a GLDF container,
+// each named CONTAINER:ENTRY), or one unreadable report.
+std::vector<FileReport> check_file(const std::string& path, const io::PhotometricReadOptions& options) {
+  std::vector<FileReport> reports;
+  auto files = io::read_photometric_files(path, options);
+  if (!files.ok()) {
+    FileReport r;
+    r.path = path;
+    SourceLoc where = files.error().where;
+    if (where.file.empty()) where.file = path;
+    r.findings.push_back({Severity::Error, "unreadable", files.error().message, where});
+    count(r);
+    reports.push_back(std::move(r));
+    return reports;
+  }
+  for (io::PhotometricFile& file : *files) {
+    FileReport r;
+    r.path = file.container.empty() ? path : path + ":" + file.container_entry;
+    r.readable = true;
+    r.format = io::format_label(file);
+    if (file.ies_version) r.version = io::to_string(*file.ies_version);
+    if (file.tm33_version) r.version = io::to_string(*file.tm33_version);
+    r.findings = std::move(file.findings);
+    for (Finding f : photometry::check(file.distribution)) {
+      f.where.file = r.path;
+      r.findings.push_back(std::move(f));
+    }
+    count(r);
+    reports.push_back(std::move(r));
+  }
+  return reports;
 }
 
 std::string plural(int n, const char* word) {
@@ -135,7 +148,9 @@ int run_check(const Args& args) {
   bool as_json = false;
   InputOptions input;
   ArgParser parser("check", "FILE... [--json] [--ldt-isym3 standard|qlumedit]", kDescription);
-  parser.positional_list("FILE", &paths, 1, "IES LM-63 (.ies) or EULUMDAT (.ldt) files.");
+  parser.positional_list("FILE", &paths, 1,
+                         "IES LM-63 (.ies), EULUMDAT (.ldt), TM-33 (.xml) or GLDF (.gldf) files "
+                         "(others by their content); each photometry of a GLDF is checked.");
   parser.flag("json", &as_json, "Print one JSON object instead of the findings and summaries.");
   add_input_options(parser, &input);
   if (const auto outcome = parser.parse(args); outcome != ArgParser::Outcome::Run)
@@ -144,8 +159,10 @@ int run_check(const Args& args) {
   const io::PhotometricReadOptions options = read_options(input);
   int clean = 0, with_warnings = 0, with_errors = 0;
   json files = json::array();
-  for (const std::string& path : paths) {
-    const FileReport r = check_file(path, options);
+  int report_count = 0;
+  for (const std::string& path : paths)
+   for (const FileReport& r : check_file(path, options)) {
+    ++report_count;
     if (r.errors > 0) {
       ++with_errors;
     } else if (r.warnings > 0) {
@@ -179,9 +196,9 @@ int run_check(const Args& args) {
                          {"with_errors", with_errors},
                          {"exit_code", code}};
     std::printf("%s\n", report.dump(2, ' ', false, json::error_handler_t::replace).c_str());
-  } else if (paths.size() > 1) {
+  } else if (report_count > 1) {
     std::printf("%s: %d clean, %d with warnings, %d with errors\n",
-                plural(static_cast<int>(paths.size()), "file").c_str(), clean, with_warnings,
+                plural(report_count, "file").c_str(), clean, with_warnings,
                 with_errors);
   }
   // The report is the command's output: where it could not be written, say

@@ -21,7 +21,7 @@
 #include "photometry/compare.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
-#include "tools/photometric_file.h"
+#include "tools/photometric_input.h"
 
 namespace gonio::cli {
 namespace {
@@ -42,24 +42,16 @@ std::string signed_degrees(double v) {
   return buf;
 }
 
-Result<PhotometricFile> read_valid(const std::string& path) {
-  Result<PhotometricFile> f = read_photometric_file(path);
-  if (!f.ok()) return f;
-  if (Status s = photometry::validate(f->distribution); !s.ok()) {
-    Error e = s.error();
-    e.where.file = path;
-    return e;
-  }
-  return f;
-}
-
 }  // namespace
 
 int run_compare(const Args& args) {
   std::string file_a, file_b, plot;
   bool json_out = false, normalize = false;
   double c_step = 5.0, gamma_step = 2.5;
-  ArgParser p("compare", "A B [--json] [--plot X.svg] [--c-step DEG] [--gamma-step DEG] [--normalize]",
+  InputOptions input;
+  ArgParser p("compare",
+              "A B [--json] [--plot X.svg] [--c-step DEG] [--gamma-step DEG] [--normalize] "
+              "[--ldt-isym3 standard|qlumedit]",
               "Compares photometric file B with the reference A (IES or EULUMDAT, any type): both\n"
               "are resampled to one Type C grid over the whole sphere; differences are relative\n"
               "to A's peak intensity, the RMS weighted by solid angle. Also the flux of each,\n"
@@ -72,6 +64,7 @@ int run_compare(const Args& args) {
   p.option("c-step", &c_step, 0.1, 90.0, "DEG", "C spacing of the common grid (default 5; divides 360)");
   p.option("gamma-step", &gamma_step, 0.1, 90.0, "DEG", "gamma spacing of the common grid (default 2.5; divides 90)");
   p.flag("normalize", &normalize, "scale B to A's flux first: compare shapes only");
+  add_input_options(p, &input);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
   if (!plot.empty()) {
     if (Result<io::ImageFormat> f = io::image_format_for(plot); !f.ok()) {
@@ -92,16 +85,11 @@ int run_compare(const Args& args) {
     return kExitUsage;
   }
 
-  Result<PhotometricFile> a = read_valid(file_a);
-  if (!a.ok()) {
-    print_error(a.error());
-    return kExitFailure;
-  }
-  Result<PhotometricFile> b = read_valid(file_b);
-  if (!b.ok()) {
-    print_error(b.error());
-    return kExitFailure;
-  }
+  auto a = read_input(file_a, input, false);
+  if (!a.ok()) return kExitFailure;
+  auto b = read_input(file_b, input, false);
+  if (!b.ok()) return kExitFailure;
+  const std::string format_a = io::format_label(*a), format_b = io::format_label(*b);
   Result<photometry::Comparison> cmp = photometry::compare(a->distribution, b->distribution, options);
   if (!cmp.ok()) {
     print_error("compare: " + cmp.error().message);
@@ -132,8 +120,8 @@ int run_compare(const Args& args) {
 
   if (json_out) {
     nlohmann::json j;
-    j["a"] = {{"path", file_a}, {"format", a->format}, {"flux_lm", c.flux_a_lm}};
-    j["b"] = {{"path", file_b}, {"format", b->format}, {"flux_lm", c.flux_b_lm}};
+    j["a"] = {{"path", file_a}, {"format", format_a}, {"flux_lm", c.flux_a_lm}};
+    j["b"] = {{"path", file_b}, {"format", format_b}, {"flux_lm", c.flux_b_lm}};
     j["grid"] = {{"c_step_deg", c_step}, {"gamma_step_deg", gamma_step}};
     j["normalized"] = normalize;
     j["scale_b"] = c.scale;
@@ -153,8 +141,8 @@ int run_compare(const Args& args) {
     std::printf("%s\n", j.dump(2).c_str());
     return kExitOk;
   }
-  std::printf("A: %s (%s), %.6g lm\n", file_a.c_str(), a->format.c_str(), c.flux_a_lm);
-  std::printf("B: %s (%s), %.6g lm\n", file_b.c_str(), b->format.c_str(), c.flux_b_lm);
+  std::printf("A: %s (%s), %.6g lm\n", file_a.c_str(), format_a.c_str(), c.flux_a_lm);
+  std::printf("B: %s (%s), %.6g lm\n", file_b.c_str(), format_b.c_str(), c.flux_b_lm);
   std::printf("grid: C every %g°, gamma every %g°, whole sphere%s\n", c_step, gamma_step,
               normalize ? "; B scaled to A's flux" : "");
   std::printf("RMS difference:     %.3f %% of A's peak (%.6g cd)\n", 100.0 * c.rms_relative, c.reference_cd);

@@ -19,8 +19,11 @@ namespace fs = std::filesystem;
 
 constexpr const char* kDescription =
     "Converts a photometric file into the format OUT's extension names (.ies: IES\n"
-    "LM-63, .ldt: EULUMDAT; case-insensitive): IES to LDT, LDT to IES, and IES to IES\n"
-    "or LDT to LDT to change the version or clean a file up. Intensities, flux and\n"
+    "LM-63, .ldt: EULUMDAT, .xml: IES TM-33-23, .gldf: a GLDF container holding the\n"
+    "photometry in IN's own format with its product.xml; case-insensitive): between\n"
+    "any two, or into the same format to change the version or clean a file up. IN is\n"
+    "read by its extension, or by its content where that names no format; of a GLDF\n"
+    "container the first photometry is converted. Intensities, flux and\n"
     "every field both formats carry are kept; what the target cannot hold (IES:\n"
     "alternative lamp sets, lamp colour, declared LOR/DFF, direct ratios, body\n"
     "dimensions; LDT: most keywords, TILT data, ballast factor) is reported on stderr\n"
@@ -63,9 +66,9 @@ int run_convert(const Args& args) {
                    "IN OUT [--ies-version 2002|2019] [--c-step D --gamma-step D] "
                    "[--ldt-isym3 standard|qlumedit] [--ldt-isym3-out standard|qlumedit] [--quiet]",
                    kDescription);
-  parser.positional("IN", &in_path, "The file to read (.ies or .ldt).");
+  parser.positional("IN", &in_path, "The file to read (.ies, .ldt, .xml, .gldf; others by content).");
   parser.positional("OUT", &out_path,
-                    "The file to write (.ies or .ldt); replaced if it exists, never IN itself.");
+                    "The file to write (.ies, .ldt, .xml or .gldf); replaced if it exists, never IN itself.");
   parser.choice("ies-version", &ies_version, {"2002", "2019"},
                 "LM-63 version of .ies output (default 2019).");
   parser.option("c-step", &c_step, 0.25, 90.0, "D",
@@ -88,8 +91,9 @@ int run_convert(const Args& args) {
   const auto out_format = io::format_for_path(out_path);
   if (!out_format)
     return usage_error("cannot tell the output format from '" + out_path +
-                       "': its extension must be .ies or .ldt");
-  if (*out_format != io::PhotometricFormat::Ies && parser.given("ies-version"))
+                       "': its extension must be .ies, .ldt, .xml or .gldf");
+  if (*out_format != io::PhotometricFormat::Ies && *out_format != io::PhotometricFormat::Gldf &&
+      parser.given("ies-version"))
     return usage_error("--ies-version applies to .ies output only");
   if (*out_format != io::PhotometricFormat::Ldt && parser.given("ldt-isym3-out"))
     return usage_error("--ldt-isym3-out applies to .ldt output only");
@@ -113,6 +117,8 @@ int run_convert(const Args& args) {
   options.type_c_grid.c_step_deg = c_step;
   options.type_c_grid.gamma_step_deg = gamma_step;
   options.always_resample = parser.given("c-step") || parser.given("gamma-step");
+  // GLDF output packages the photometry in the input's own format.
+  options.gldf_photometry = file->format;
 
   std::vector<Finding> warnings;
   const Status written =

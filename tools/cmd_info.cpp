@@ -23,7 +23,8 @@ using photometry::Distribution;
 using photometry::Summary;
 
 constexpr const char* kDescription =
-    "Prints what an IES LM-63 (.ies) or EULUMDAT (.ldt) file holds and what follows\n"
+    "Prints what an IES LM-63 (.ies), EULUMDAT (.ldt) or IES TM-33 (.xml) file (other\n"
+    "names by their content) holds and what follows\n"
     "from it: format and version, photometric type, symmetry, angle grid, lamp data,\n"
     "luminous opening, total luminous flux (solid-angle integral of the candela\n"
     "grid), light output ratio (LOR, relative photometry only), downward flux\n"
@@ -252,9 +253,7 @@ void print_table(const std::string& path, const io::PhotometricFile& file, const
   const Distribution& d = file.distribution;
   Table t;
   t.row("File", path);
-  std::string format = io::to_string(file.format);
-  if (file.ies_version) format += std::string(" ") + io::to_string(*file.ies_version);
-  t.row("Format", format);
+  t.row("Format", io::format_label(file));
   for (const auto& [key, label] : {std::pair{"MANUFAC", "Manufacturer"},
                                    {"LUMINAIRE", "Luminaire"},
                                    {"LUMCAT", "Catalogue no."},
@@ -450,7 +449,9 @@ json info_json(const std::string& path, const io::PhotometricFile& file, const S
   json j;
   j["file"] = path;
   j["format"] = io::to_string(file.format);
-  j["version"] = file.ies_version ? json(io::to_string(*file.ies_version)) : json(nullptr);
+  j["version"] = file.ies_version    ? json(io::to_string(*file.ies_version))
+                 : file.tm33_version ? json(io::to_string(*file.tm33_version))
+                                     : json(nullptr);
   j["photometric_type"] = photometry::to_string(d.type);
   j["symmetry"] = photometry::to_string(d.symmetry);
   j["ldt_type_indicator"] = d.ldt_type_indicator ? json(*d.ldt_type_indicator) : json(nullptr);
@@ -516,7 +517,9 @@ int run_info(const Args& args) {
   double floor_reflectance = 0.2;
   InputOptions input;
   ArgParser parser("info", "FILE [--json] [--cu-floor RHO] [--ldt-isym3 standard|qlumedit]", kDescription);
-  parser.positional("FILE", &path, "An IES LM-63 (.ies) or EULUMDAT (.ldt) file.");
+  parser.positional("FILE", &path,
+                    "An IES LM-63 (.ies), EULUMDAT (.ldt), TM-33 (.xml) or GLDF (.gldf: every photometry "
+                    "inside) file; other names by their content.");
   parser.flag("json", &as_json, "Print one JSON object instead of the table.");
   parser.option("cu-floor", &floor_reflectance, 0.0, 0.95, "RHO",
                 "Effective floor cavity reflectance of the CU table, 0..1 (default 0.2).");
@@ -524,18 +527,30 @@ int run_info(const Args& args) {
   if (const auto outcome = parser.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
 
-  auto file = read_input(path, input);
-  if (!file.ok()) return kExitFailure;
-  const Summary s = photometry::summarize(file->distribution);
-  const photometry::PlanningFigures planning =
-      photometry::planning_figures(file->distribution, floor_reflectance);
+  auto files = read_inputs(path, input);
+  if (!files.ok()) return kExitFailure;
+  // A GLDF container: every photometry, each named CONTAINER:ENTRY.
+  const bool container = !files->front().container.empty();
+  json all = json::array();
+  for (std::size_t i = 0; i < files->size(); ++i) {
+    const io::PhotometricFile& file = (*files)[i];
+    const std::string name = container ? path + ":" + file.container_entry : path;
+    const Summary s = photometry::summarize(file.distribution);
+    const photometry::PlanningFigures planning = photometry::planning_figures(file.distribution, floor_reflectance);
+    if (as_json) {
+      json j = info_json(name, file, s, planning);
+      if (container) j["gldf_photometry_id"] = file.container_id;
+      all.push_back(std::move(j));
+    } else {
+      if (i > 0) std::printf("\n");
+      print_table(name, file, s, planning);
+    }
+  }
   if (as_json) {
+    const json out = container ? json{{"file", path}, {"format", "GLDF"}, {"photometries", std::move(all)}}
+                               : std::move(all.front());
     // Invalid UTF-8 in a label is replaced rather than thrown on.
-    std::printf(
-        "%s\n",
-        info_json(path, *file, s, planning).dump(2, ' ', false, json::error_handler_t::replace).c_str());
-  } else {
-    print_table(path, *file, s, planning);
+    std::printf("%s\n", out.dump(2, ' ', false, json::error_handler_t::replace).c_str());
   }
   return std::fflush(stdout) == 0 ? kExitOk : kExitFailure;
 }

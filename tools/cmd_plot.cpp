@@ -16,21 +16,23 @@
 #include "photometry/resample.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
-#include "tools/photometric_file.h"
+#include "tools/photometric_input.h"
 
 namespace gonio::cli {
 
 int run_plot(const Args& args) {
   std::string file, out, unit = "cd", title;
-  ArgParser p("plot", "FILE [--out X.svg|X.png] [--unit cd|cdklm]",
+  InputOptions input;
+  ArgParser p("plot", "FILE [--out X.svg|X.png] [--unit cd|cdklm] [--ldt-isym3 standard|qlumedit]",
               "Draws the intensity diagram of an IES or EULUMDAT file: the C0-C180 and C90-C270\n"
               "planes as a polar diagram (nadir down, C0 and C90 to the right) and on cartesian\n"
               "axes (gamma -180...180, C180 and C270 on the negative side). cd/klm is per 1000 lm\n"
               "of the rated lamp flux (of the luminaire's flux for absolute photometry).");
-  p.positional("FILE", &file, "the IES (.ies) or EULUMDAT (.ldt) file");
+  p.positional("FILE", &file, "the photometric file (IES, EULUMDAT; by extension, else by content)");
   p.option("out", &out, "X.svg|X.png", "the picture to write (default: FILE with the extension .svg)");
   p.choice("unit", &unit, {"cd", "cdklm"}, "candela (default) or cd/klm");
   p.option("title", &title, "T", "title above the diagram (default: the file name)");
+  add_input_options(p, &input);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
   if (out.empty()) out = std::filesystem::path(file).replace_extension(".svg").string();
   if (Result<io::ImageFormat> f = io::image_format_for(out); !f.ok()) {
@@ -39,18 +41,9 @@ int run_plot(const Args& args) {
     return kExitUsage;
   }
 
-  Result<PhotometricFile> read = read_photometric_file(file);
-  if (!read.ok()) {
-    print_error(read.error());
-    return kExitFailure;
-  }
+  auto read = read_input(file, input, false);
+  if (!read.ok()) return kExitFailure;
   photometry::Distribution d = std::move(read->distribution);
-  if (Status s = photometry::validate(d); !s.ok()) {
-    Error e = s.error();
-    e.where.file = file;
-    print_error(e);
-    return kExitFailure;
-  }
   if (d.type != photometry::PhotometricType::C) {
     Result<photometry::Distribution> c = photometry::to_type_c(d);
     if (!c.ok()) {

@@ -138,8 +138,9 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
            "auto (default: a chi-square test per symmetry on the photon counts), none, C0-C180, "
            "C90-C270, quadrant or rotational");
   p.option("format", &o->format_list, "LIST",
-           "files to write, comma-separated: ies, ldt, exr, latlong, plot, report (the\n"
-           "datasheet STEM.html with the energy ledger; not part of all), or all (default)");
+           "files to write, comma-separated: ies, ldt, exr, latlong, plot, report (the datasheet\n"
+           "STEM.html with the energy ledger), gldf (STEM.gldf with the LDT, IES and the model as\n"
+           "L3D), or all (default: every one but report and gldf, which are written only when named)");
   p.choice("ies-version", &o->ies_version, {"2002", "2019"}, "IES LM-63 version (default 2019)");
   p.option("name", &o->stem, "STEM", "file names DIR/STEM.* (default: the model's file name without extension)");
   p.option("min-lor", &o->min_lor, 0.0, 1.0, "X",

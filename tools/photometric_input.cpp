@@ -8,6 +8,10 @@ void add_input_options(ArgParser& parser, InputOptions* options) {
                 "stores C270 ... C0 ... C90 as the standard defines; 'qlumedit' stores "
                 "C90 ... C180 ... C270 as QLumEdit writes it (a half turn of the other). No "
                 "field in the file tells them apart. Default: standard.");
+  parser.option("photometry", &options->gldf_photometry, "ID",
+                "Of a GLDF container, the photometry to read: its id in product.xml or its file "
+                "(ldc/NAME). Default: every one where the command reports several (info, check), "
+                "else the first.");
 }
 
 io::LdtIsym3Order isym3_order(const std::string& word) {
@@ -17,6 +21,7 @@ io::LdtIsym3Order isym3_order(const std::string& word) {
 io::PhotometricReadOptions read_options(const InputOptions& options) {
   io::PhotometricReadOptions r;
   r.ldt.isym3_order = isym3_order(options.ldt_isym3);
+  r.gldf_photometry = options.gldf_photometry;
   return r;
 }
 
@@ -30,6 +35,19 @@ Result<io::PhotometricFile> read_input(const std::string& path, const InputOptio
   for (const Finding& f : file->findings)
     if (print_info || f.severity != Severity::Info) print_finding(f);
   return file;
+}
+
+Result<std::vector<io::PhotometricFile>> read_inputs(const std::string& path, const InputOptions& options,
+                                                     bool print_info) {
+  auto files = io::read_photometric_files(path, read_options(options));
+  if (!files.ok()) {
+    print_error(files.error());
+    return files.error();
+  }
+  for (const io::PhotometricFile& file : *files)
+    for (const Finding& f : file.findings)
+      if (print_info || f.severity != Severity::Info) print_finding(f);
+  return files;
 }
 
 }  // namespace gonio::cli

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "io/photometric_file.h"
 #include "tools/cli.h"
@@ -15,9 +16,10 @@ inline constexpr const char* kIsym3QLumEdit = "qlumedit";  // C90 … C180 … C
 
 struct InputOptions {
   std::string ldt_isym3 = kIsym3Standard;
+  std::string gldf_photometry;  // --photometry ID: which photometry of a GLDF
 };
 
-// Registers --ldt-isym3 standard|qlumedit.
+// Registers --ldt-isym3 standard|qlumedit and --photometry ID.
 void add_input_options(ArgParser& parser, InputOptions* options);
 
 io::LdtIsym3Order isym3_order(const std::string& word);
@@ -27,5 +29,9 @@ io::PhotometricReadOptions read_options(const InputOptions& options);
 // notes) to stderr (print_finding); on failure prints the error and returns it.
 Result<io::PhotometricFile> read_input(const std::string& path, const InputOptions& options,
                                        bool print_info = true);
+
+// Every photometry of a file (several for a GLDF container), likewise.
+Result<std::vector<io::PhotometricFile>> read_inputs(const std::string& path, const InputOptions& options,
+                                                     bool print_info = true);
 
 }  // namespace gonio::cli

@@ -3,14 +3,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
+#include <iterator>
 #include <filesystem>
 #include <limits>
 
 #include "io/datasheet.h"
 #include "io/exr.h"
 #include "io/file_io.h"
+#include "io/gldf.h"
 #include "io/intensity_diagram.h"
 #include "io/ldt.h"
+#include "io/photometric_file.h"
 #include "io/plot.h"
 #include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
@@ -25,9 +29,11 @@ using photometry::Symmetry;
 
 constexpr OutputFormat kAllFormats[] = {OutputFormat::Ies, OutputFormat::Ldt, OutputFormat::Exr,
                                         OutputFormat::LatLong, OutputFormat::Plot};
-// Every name parse_formats() knows: "all" and the datasheet.
-constexpr OutputFormat kKnownFormats[] = {OutputFormat::Ies, OutputFormat::Ldt, OutputFormat::Exr,
-                                          OutputFormat::LatLong, OutputFormat::Plot, OutputFormat::Report};
+// Every name parse_formats() knows: "all" and those written only when named
+// (the datasheet, GLDF).
+constexpr OutputFormat kKnownFormats[] = {OutputFormat::Ies,     OutputFormat::Ldt,  OutputFormat::Exr,
+                                          OutputFormat::LatLong, OutputFormat::Plot, OutputFormat::Report,
+                                          OutputFormat::Gldf};
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t");
@@ -132,7 +138,7 @@ void take_read_back(const Result<File>& back, WrittenFile* file) {
   if (photometry::validate(back->distribution).ok()) file->flux_lm = photometry::total_flux_lm(back->distribution);
 }
 
-Status write_ies_file(const Distribution& d, const OutputRequest& request, WrittenFile* file) {
+std::string ies_text(const Distribution& d, const OutputRequest& request, std::vector<Finding>* notes) {
   io::IesWriteOptions options;
   options.version = request.ies_version;
   // LM-63 has no fields for EULUMDAT's derived values: leave them to the LDT.
@@ -140,25 +146,66 @@ Status write_ies_file(const Distribution& d, const OutputRequest& request, Writt
   ies.declared_lor_percent = ies.declared_dff_percent = photometry::kNaN;
   ies.direct_ratios.clear();
   ies.luminaire = {};
-  const std::string text = io::write_ies(ies, options, &file->writer_notes);
+  return io::write_ies(ies, options, notes);
+}
+
+Status write_ies_file(const Distribution& d, const OutputRequest& request, WrittenFile* file) {
+  const std::string text = ies_text(d, request, &file->writer_notes);
   if (Status s = io::write_file_atomic(file->path, text); !s.ok()) return s;
   take_read_back(io::read_ies(file->path), file);
   return Ok{};
 }
 
-Status write_ldt_file(const Distribution& d, WrittenFile* file) {
+Result<std::string> ldt_text(const Distribution& d, const std::string& path, std::vector<Finding>* notes) {
   // EULUMDAT has fields for a few keywords only: give it those.
   Distribution ldt = d;
   ldt.keywords.clear();
   for (const char* key : {"MANUFAC", "LUMINAIRE", "ISSUEDATE"})
     if (const photometry::Keyword* k = d.find_keyword(key)) ldt.keywords.push_back(*k);
   if (const photometry::Keyword* k = d.find_keyword("_GONIO_RUN")) ldt.set_keyword("TEST", k->value);
-  const std::string name = std::filesystem::path(file->path).filename().string();
+  const std::string name = std::filesystem::path(path).filename().string();
   if (name.size() <= 12) ldt.set_keyword(io::kLdtFileNameKeyword, name);
-  Result<std::string> text = io::write_ldt(ldt, {}, &file->writer_notes);
+  return io::write_ldt(ldt, {}, notes);
+}
+
+Status write_ldt_file(const Distribution& d, WrittenFile* file) {
+  Result<std::string> text = ldt_text(d, file->path, &file->writer_notes);
   if (!text.ok()) return error_at(file->path, text.error().message);
   if (Status s = io::write_file_atomic(file->path, *text); !s.ok()) return s;
   take_read_back(io::read_ldt(file->path), file);
+  return Ok{};
+}
+
+// STEM.gldf: product.xml, the LDT and IES as STEM.ldt and STEM.ies hold
+// them, the model as L3D; read back as `gonio check` reads a GLDF.
+Status write_gldf_file(const Distribution& d, const sim::SceneDesc& scene, const OutputRequest& request,
+                       WrittenFile* file) {
+  const std::filesystem::path dir(request.directory);
+  Result<std::string> ldt = ldt_text(d, (dir / (request.stem + ".ldt")).string(), &file->writer_notes);
+  if (!ldt.ok()) return error_at(file->path, ldt.error().message);
+  io::GldfProduct product;
+  product.name = request.stem;
+  product.description = "Gonio simulation of " + request.run.model + ", " + std::to_string(request.run.photons) +
+                        " photons, seed " + std::to_string(request.run.seed);
+  product.photometries.push_back({request.stem + ".ldt", "ldc/eulumdat", std::move(ldt).value(), d});
+  product.photometries.push_back(
+      {request.stem + ".ies", "ldc/ies", ies_text(d, request, &file->writer_notes), d});
+  product.geometry = io::l3d_from_scene(scene);
+  product.created_unix = static_cast<std::int64_t>(std::time(nullptr));
+  Result<std::string> bytes = io::write_gldf(product);
+  if (!bytes.ok()) return error_at(file->path, bytes.error().message);
+  if (Status s = io::write_file_atomic(file->path, *bytes); !s.ok()) return s;
+  auto back = io::read_photometric_files(file->path);
+  if (!back.ok()) {
+    file->findings.push_back(finding(Severity::Error, "unreadable", back.error().message, file->path));
+    return Ok{};
+  }
+  for (const io::PhotometricFile& p : *back) {
+    for (const Finding& f : p.findings) file->findings.push_back(f);
+    add_checks(p.distribution, file->path + ":" + p.container_entry, &file->findings);
+  }
+  // The LDT inside: the flux a planning program reads.
+  file->flux_lm = photometry::total_flux_lm(back->front().distribution);
   return Ok{};
 }
 
@@ -292,13 +339,14 @@ const char* to_string(OutputFormat format) {
     case OutputFormat::LatLong: return "latlong";
     case OutputFormat::Plot: return "plot";
     case OutputFormat::Report: return "report";
+    case OutputFormat::Gldf: return "gldf";
   }
   return "?";
 }
 
 Result<std::vector<OutputFormat>> parse_formats(const std::string& list) {
   std::vector<OutputFormat> out;
-  const std::string valid = "ies, ldt, exr, latlong, plot, report or all";
+  const std::string valid = "ies, ldt, exr, latlong, plot, report, gldf or all";
   std::size_t start = 0;
   while (start <= list.size()) {
     const std::size_t comma = std::min(list.find(',', start), list.size());
@@ -388,7 +436,7 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
     return std::find(request.formats.begin(), request.formats.end(), f) != request.formats.end();
   };
   const bool needs_table = wants(OutputFormat::Ies) || wants(OutputFormat::Ldt) || wants(OutputFormat::Plot) ||
-                           wants(OutputFormat::Report);
+                           wants(OutputFormat::Report) || wants(OutputFormat::Gldf);
   if (needs_table) {
     if (request.symmetry) {
       if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
@@ -436,6 +484,10 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
       case OutputFormat::Report:
         file.path = (dir / (request.stem + ".html")).string();
         s = write_report_file(result.distribution, ledger, request, &file);
+        break;
+      case OutputFormat::Gldf:
+        file.path = (dir / (request.stem + ".gldf")).string();
+        s = write_gldf_file(result.distribution, scene, request, &file);
         break;
     }
     if (!s.ok()) return s.error();

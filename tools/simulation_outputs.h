@@ -15,6 +15,9 @@
 //   STEM.html         the datasheet (io/datasheet.h) of the candela table,
 //                     with the run's energy ledger; only when asked for by
 //                     name ("report"), not part of "all"
+//   STEM.gldf         on request only (not part of "all"): a GLDF container
+//                     (io/gldf.h) with product.xml, the LDT and IES above
+//                     (the same bytes) and the model's geometry as L3D
 //
 // The candela table. The far field is resampled to the Type C grid
 // (sim/resample.h: every value is the flux of its bin over the bin's solid
@@ -56,13 +59,13 @@
 
 namespace gonio::cli {
 
-enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot, Report };
+enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot, Report, Gldf };
 
-// "ies", "ldt", "exr", "latlong", "plot", "report".
+// "ies", "ldt", "exr", "latlong", "plot", "report", "gldf".
 const char* to_string(OutputFormat format);
 
 // A comma-separated list of the names above, or "all" (every format but
-// "report", in the order above). Repeats are ignored; an empty list or an unknown name is an
+// "report" and "gldf", in the order above). Repeats are ignored; an empty list or an unknown name is an
 // error that lists the valid names.
 Result<std::vector<OutputFormat>> parse_formats(const std::string& list);
 

@@ -77,7 +77,7 @@ Distribution downlight() {
   return d;
 }
 
-TEST(PhotometricFile, FormatFollowsTheExtensionAlone) {
+TEST(PhotometricFile, ExtensionsNameAFormat) {
   EXPECT_EQ(format_for_path("a.ies"), PhotometricFormat::Ies);
   EXPECT_EQ(format_for_path("dir/A.IES"), PhotometricFormat::Ies);
   EXPECT_EQ(format_for_path("x.Ies"), PhotometricFormat::Ies);
@@ -113,9 +113,13 @@ TEST(PhotometricFile, ReadsEitherFormatAndNamesTheFileOnErrors) {
   }
 
   test::write_file(dir / "c.txt", "IESNA:LM-63-2002\n");
-  auto unknown = read_photometric_file((dir / "c.txt").string());
+  auto truncated = read_photometric_file((dir / "c.txt").string());  // IES by content
+  ASSERT_FALSE(truncated.ok());
+  EXPECT_EQ(truncated.error().where.file, (dir / "c.txt").string());
+  test::write_file(dir / "notes.txt", "a shopping list\n");
+  auto unknown = read_photometric_file((dir / "notes.txt").string());
   ASSERT_FALSE(unknown.ok());
-  EXPECT_EQ(unknown.error().where.file, (dir / "c.txt").string());
+  EXPECT_EQ(unknown.error().where.file, (dir / "notes.txt").string());
   EXPECT_NE(unknown.error().message.find("'.txt'"), std::string::npos);
   EXPECT_NE(unknown.error().message.find(".ies"), std::string::npos);
 
@@ -129,6 +133,55 @@ TEST(PhotometricFile, ReadsEitherFormatAndNamesTheFileOnErrors) {
   auto junk = read_photometric_file((dir / "junk.ies").string());
   ASSERT_FALSE(junk.ok());
   EXPECT_EQ(junk.error().where.file, (dir / "junk.ies").string());
+}
+
+TEST(PhotometricFile, ContentDecidesWhereTheExtensionNamesNoFormat) {
+  EXPECT_EQ(photometric_format_for_content("IESNA:LM-63-2002\r\n[TEST] 1\r\n"), PhotometricFormat::Ies);
+  EXPECT_EQ(photometric_format_for_content("\xEF\xBB\xBF  iesna91\n"), PhotometricFormat::Ies);
+  EXPECT_EQ(photometric_format_for_content("IES:LM-63-2019\n"), PhotometricFormat::Ies);
+  // LM-63-1986: no version line, labels, then TILT=.
+  EXPECT_EQ(photometric_format_for_content("LUMINAIRE X\nLAMP Y\ntilt=NONE\n"), PhotometricFormat::Ies);
+  EXPECT_EQ(photometric_format_for_content("Company\r\n1\r\n2\r\n24\r\n15\r\n19\r\n5\r\n"),
+            PhotometricFormat::Ldt);
+  EXPECT_EQ(photometric_format_for_content("Company\n 3 \n4\n0\n0,0\n37\n2.5\n"), PhotometricFormat::Ldt);
+  // Numbers out of EULUMDAT's ranges, too few lines, prose, XML: nothing.
+  EXPECT_EQ(photometric_format_for_content("Company\n4\n2\n24\n15\n19\n5\n"), std::nullopt);
+  EXPECT_EQ(photometric_format_for_content("Company\n1\n5\n24\n15\n19\n5\n"), std::nullopt);
+  EXPECT_EQ(photometric_format_for_content("Company\n1\n2\n24.5\n15\n19\n5\n"), std::nullopt);
+  EXPECT_EQ(photometric_format_for_content("Company\n1\n2\n24\n"), std::nullopt);
+  EXPECT_EQ(photometric_format_for_content("Dear reader,\nthis is not photometry.\n"), std::nullopt);
+  EXPECT_EQ(photometric_format_for_content(""), std::nullopt);
+
+  // The same bytes read under a name that says nothing give what the named
+  // file gives; a decisive extension is never overruled by the content.
+  test::TempDir dir;
+  const Distribution d = downlight();
+  ASSERT_TRUE(write_photometric_file((dir / "a.ies").string(), d, {}, nullptr).ok());
+  ASSERT_TRUE(write_photometric_file((dir / "b.ldt").string(), d, {}, nullptr).ok());
+  test::write_file(dir / "a.txt", test::read_file(dir / "a.ies"));
+  test::write_file(dir / "b", test::read_file(dir / "b.ldt"));
+  for (const auto& [named, unnamed] :
+       {std::pair{"a.ies", "a.txt"}, std::pair{"b.ldt", "b"}}) {
+    SCOPED_TRACE(unnamed);
+    auto x = read_photometric_file((dir / named).string());
+    auto y = read_photometric_file((dir / unnamed).string());
+    ASSERT_TRUE(x.ok()) << to_string(x.error());
+    ASSERT_TRUE(y.ok()) << to_string(y.error());
+    EXPECT_EQ(y->format, x->format);
+    EXPECT_EQ(format_label(*y), format_label(*x));
+    EXPECT_EQ(y->distribution.candela, x->distribution.candela);
+    EXPECT_EQ(y->distribution.horizontal_deg, x->distribution.horizontal_deg);
+    EXPECT_EQ(detect_photometric_format((dir / unnamed).string()).value(), x->format);
+  }
+  EXPECT_EQ(format_label(*read_photometric_file((dir / "a.txt").string())), "IES LM-63-2019");
+  EXPECT_EQ(format_label(*read_photometric_file((dir / "b").string())), "EULUMDAT");
+  test::write_file(dir / "ldt-inside.ies", test::read_file(dir / "b.ldt"));
+  auto as_ies = read_photometric_file((dir / "ldt-inside.ies").string());
+  EXPECT_FALSE(as_ies.ok());  // read as IES, which it is not
+  std::filesystem::create_directory(dir / "folder");
+  auto folder = detect_photometric_format((dir / "folder").string());
+  ASSERT_FALSE(folder.ok());
+  EXPECT_NE(folder.error().message.find("directory"), std::string::npos);
 }
 
 TEST(PhotometricFile, TypeBIntoLdtIsResampledOntoTheStatedGrid) {

@@ -8,6 +8,8 @@
 #include "io/ies.h"
 #include "io/ldt.h"
 #include "io/photometric_file.h"
+#include "io/gldf.h"
+#include "io/zip.h"
 #include "photometry/flux.h"
 #include "tests/tools/cli_fixtures.h"
 
@@ -245,6 +247,118 @@ TEST(CliConvert, Isym3OrderOfInputAndOutput) {
   auto back = gonio({"convert", s.string(), q2.string(), "--ldt-isym3-out", "qlumedit"});
   ASSERT_EQ(back.exit_code, 0) << back.err;
   expect_same_candela(d, read(q2, io::LdtIsym3Order::C90_C180_C270), 1e-11);
+}
+
+TEST(CliConvert, Tm33IsWrittenReadAndAcceptedByEveryCommand) {
+  test::TempDir dir;
+  const auto ies = dir / "in.ies", xml = dir / "lamp.xml", back = dir / "back.ies";
+  test::write_distribution(ies, test::lambertian_downlight());
+  auto r = gonio({"convert", ies.string(), xml.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "Wrote " + xml.string() + " (TM-33)")) << r.out;
+  // What TM-33 lacks is said, with a stable code, naming the output.
+  EXPECT_TRUE(contains(r.err, "gonio: " + xml.string() + ": warning: luminous opening")) << r.err;
+  EXPECT_TRUE(contains(r.err, "[tm33-opening]")) << r.err;
+  EXPECT_TRUE(contains(test::read_file(xml), "<IESTM33-22>"));
+
+  r = gonio({"info", xml.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "\"version\": \"TM-33-23\"")) << r.out;
+  EXPECT_EQ(gonio({"check", xml.string()}).exit_code, 0);
+  EXPECT_EQ(gonio({"plot", xml.string(), "--out", (dir / "p.svg").string()}).exit_code, 0);
+  r = gonio({"compare", ies.string(), xml.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "\"max_relative\": 0.0")) << r.out;
+  ASSERT_EQ(gonio({"convert", xml.string(), back.string(), "--quiet"}).exit_code, 0);
+  const Distribution a = read(ies), b = read(xml), c = read(back);
+  expect_same_candela(a, b, 0.0);
+  expect_same_candela(a, c, 0.0);
+  // Recognised by content under any name.
+  test::write_file(dir / "lamp.dat", test::read_file(xml));
+  expect_same_candela(a, read(dir / "lamp.dat"), 0.0);
+}
+
+TEST(CliConvert, GldfPackagesTheFileAndEveryCommandOpensIt) {
+  test::TempDir dir;
+  const auto ldt = dir / "in.ldt", gldf = dir / "lamp.gldf", back = dir / "back.ldt";
+  test::write_distribution(ldt, test::lambertian_downlight());
+  auto r = gonio({"convert", ldt.string(), gldf.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "Wrote " + gldf.string() + " (GLDF)")) << r.out;
+  EXPECT_TRUE(contains(r.err, "[gldf-packaged]")) << r.err;
+
+  r = gonio({"info", gldf.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, gldf.string() + ":ldc/lamp.ldt")) << r.out;
+  EXPECT_TRUE(contains(r.out, "GLDF (EULUMDAT)")) << r.out;
+  r = gonio({"check", gldf.string()});
+  EXPECT_TRUE(contains(r.out, gldf.string() + ":ldc/lamp.ldt: ")) << r.out;
+  EXPECT_EQ(r.exit_code, gonio({"check", ldt.string()}).exit_code) << r.out;
+  ASSERT_EQ(gonio({"convert", gldf.string(), back.string(), "--quiet"}).exit_code, 0);
+  EXPECT_EQ(test::read_file(back), test::read_file(ldt));  // LDT -> GLDF -> LDT: the same bytes
+  EXPECT_EQ(gonio({"plot", gldf.string(), "--out", (dir / "p.svg").string()}).exit_code, 0);
+  EXPECT_EQ(gonio({"compare", ldt.string(), gldf.string()}).exit_code, 0);
+}
+
+TEST(CliConvert, EachPhotometryOfAGldfCanBeExtracted) {
+  test::TempDir dir;
+  const Distribution d = test::lambertian_downlight();
+  io::GldfProduct p;
+  p.name = "two";
+  p.photometries.push_back({"two.ldt", "ldc/eulumdat", *io::write_ldt(d, {}, nullptr), d});
+  p.photometries.push_back({"two.ies", "ldc/ies", io::write_ies(d, {}, nullptr), d});
+  p.created_unix = 1764620000;
+  const auto gldf = dir / "two.gldf";
+  test::write_file(gldf, *io::write_gldf(p));
+
+  auto r = gonio({"convert", gldf.string(), (dir / "first.ies").string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = gonio({"convert", gldf.string(), (dir / "first.ldt").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "read 'photometry1' (ldc/two.ldt), not 'photometry2' [gldf-first-photometry]")) << r.err;
+  EXPECT_EQ(test::read_file(dir / "first.ldt"), p.photometries[0].bytes);
+  for (const char* which : {"photometry2", "ldc/two.ies"}) {
+    r = gonio({"convert", gldf.string(), (dir / "second.ies").string(), "--photometry", which, "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    expect_same_candela(read(dir / "first.ies"), read(dir / "second.ies"), 1e-11);  // LDT: 12 digits
+  }
+  r = gonio({"info", gldf.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "\"gldf_photometry_id\": \"photometry2\"")) << r.out;
+  r = gonio({"check", gldf.string(), "--photometry", "photometry2"});
+  EXPECT_TRUE(contains(r.out, "two.gldf:ldc/two.ies: ")) << r.out;
+  EXPECT_FALSE(contains(r.out, "two.gldf:ldc/two.ldt")) << r.out;
+  r = gonio({"convert", gldf.string(), (dir / "x.ies").string(), "--photometry", "photometry9"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.err, "no photometry 'photometry9' in the archive; it holds photometry1 (ldc/two.ldt), "
+                              "photometry2 (ldc/two.ies)"))
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "x.ies"));
+}
+
+TEST(CliConvert, HostileGldfIsAClearErrorAndNothingIsWritten) {
+  test::TempDir dir;
+  const std::string ldt = *io::write_ldt(test::lambertian_downlight(), {}, nullptr);
+  const std::string product =
+      "<Root><GeneralDefinitions><Files><File id=\"f\" contentType=\"ldc/eulumdat\" "
+      "type=\"localFileName\">xx/evil.ldt</File></Files><Photometries><Photometry id=\"p\">"
+      "<PhotometryFileReference fileId=\"f\"/></Photometry></Photometries></GeneralDefinitions></Root>";
+  std::string zip = *io::write_zip({{"product.xml", product}, {"ldc/xx/evil.ldt", ldt}}, 0);
+  for (auto at = zip.find("ldc/xx/evil.ldt"); at != std::string::npos; at = zip.find("ldc/xx/evil.ldt", at))
+    zip.replace(at, 15, "../../evil.ldt1");  // same length: the archive stays well formed
+  test::write_file(dir / "evil.gldf", zip);
+  const auto before = test::directory_entries(dir.path());
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"convert", (dir / "evil.gldf").string(), (dir / "out.ldt").string()},
+           {"info", (dir / "evil.gldf").string()}}) {
+    auto r = gonio(args);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.err, "gonio: " + (dir / "evil.gldf").string() + ": entry '../../evil.ldt1' leaves "
+                                "the archive"))
+        << r.err;
+  }
+  EXPECT_EQ(test::directory_entries(dir.path()), before);
+  EXPECT_FALSE(fs::exists(dir.path().parent_path() / "evil.ldt1"));
 }
 
 }  // namespace

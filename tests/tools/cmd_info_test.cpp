@@ -200,7 +200,7 @@ TEST(CliInfo, BadFilesExitWith1AndNameFileAndLine) {
       {"junk.ies", ":1: binary data"},
       {"empty.ldt", ":1: empty file"},
       {"folder.ies", ": is a directory"},
-      {"notes.txt", ": unknown file extension '.txt'"},
+      {"notes.txt", ": file extension '.txt' and content name no photometric format"},
       {"missing.ies", ": cannot open"},
   };
   for (const Case& c : cases) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/exr.h"
+#include "io/zip.h"
 #include "sim/shapes.h"
 #include "tests/support/test_support.h"
 
@@ -149,6 +151,45 @@ TEST(Simulate, WritesTheFarFieldAndAReportThatCloses) {
     (d.y < 0 ? down : up) += field->flux_lm(t);
   }
   EXPECT_GT(down, 0.9 * field->total_flux_lm());
+}
+
+// --format gldf: STEM.gldf holds product.xml, the very LDT and IES files
+// the run wrote, and the model as L3D; every command opens it.
+TEST(Simulate, GldfHoldsTheLdtIesAndTheModel) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "20000", "--iterations", "2",
+                  "--face-size", "16", "--format", "ldt,ies,gldf"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("wrote " + (out / "shade.gldf").string()), std::string::npos) << r.out;
+  auto entries = io::read_zip(test::read_file(out / "shade.gldf"), "shade.gldf");
+  ASSERT_TRUE(entries.ok()) << to_string(entries.error());
+  ASSERT_EQ(entries->size(), 4u);
+  EXPECT_EQ((*entries)[0].name, "product.xml");
+  EXPECT_EQ((*entries)[1].name, "ldc/shade.ldt");
+  EXPECT_EQ((*entries)[1].bytes, test::read_file(out / "shade.ldt"));
+  EXPECT_EQ((*entries)[2].name, "ldc/shade.ies");
+  EXPECT_EQ((*entries)[2].bytes, test::read_file(out / "shade.ies"));
+  EXPECT_EQ((*entries)[3].name, "geo/luminaire.l3d");
+  auto l3d = io::read_zip((*entries)[3].bytes, "luminaire.l3d");
+  ASSERT_TRUE(l3d.ok());
+  ASSERT_EQ(l3d->size(), 2u);
+  EXPECT_NE((*l3d)[0].bytes.find("<LightEmittingObject partName=\"lightEmittingObject\">"), std::string::npos);
+  EXPECT_EQ((*l3d)[1].bytes.substr(0, 1), "#");  // the OBJ, with its header line
+  const auto report = nlohmann::json::parse(test::read_file(out / "report.json"));
+  bool listed = false;
+  for (const auto& f : report["outputs"]["files"])
+    if (f["format"] == "gldf") {
+      listed = true;
+      EXPECT_LT(std::abs(f["flux_difference"].get<double>()), 0.005);
+    }
+  EXPECT_TRUE(listed) << report["outputs"].dump();
+  r = gonio({"check", (out / "shade.gldf").string()});
+  EXPECT_NE(r.out.find("shade.gldf:ldc/shade.ldt: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("shade.gldf:ldc/shade.ies: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("2 files: "), std::string::npos) << r.out;
 }
 
 TEST(Simulate, SameSeedSameBytesWithOneOrTwoThreads) {

@@ -1,0 +1,345 @@
+#include "io/gldf.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <limits>
+#include <map>
+
+#include "gonio/version.h"
+#include "io/xml.h"
+#include "photometry/summary.h"
+
+namespace gonio::io {
+namespace {
+
+
+
+constexpr const char* kProductXml = "product.xml";
+
+std::string number(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::string utc_time(std::int64_t unix_seconds, bool with_zone) {
+  const std::time_t t = static_cast<std::time_t>(unix_seconds);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, with_zone ? "%Y-%m-%dT%H:%M:%SZ" : "%Y-%m-%dT%H:%M:%S", &tm);
+  return buf;
+}
+
+// FNV-1a, for an id that names the same contents the same way.
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 1469598103934665603ull) {
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string uuid_like(std::uint64_t a, std::uint64_t b) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%08x-%04x-4%03x-8%03x-%012llx", static_cast<unsigned>(a >> 32),
+                static_cast<unsigned>((a >> 16) & 0xffff), static_cast<unsigned>(a & 0xfff),
+                static_cast<unsigned>((b >> 48) & 0xfff),
+                static_cast<unsigned long long>(b & 0xffffffffffffull));
+  return buf;
+}
+
+XmlElement& locale(XmlElement& parent, const std::string& name, const std::string& text) {
+  XmlElement& e = parent.add(name);
+  e.add("Locale", text).set("language", "en");
+  return e;
+}
+
+std::string trimmed(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return std::string(s);
+}
+
+void descriptive(XmlElement& photometry, const photometry::Distribution& d) {
+  if (photometry::validate(d).ok() == false) return;
+  const photometry::Summary s = photometry::summarize(d);
+  XmlElement dp;
+  dp.name = "DescriptivePhotometry";
+  if (s.lor_defined && s.lor >= 0.0 && s.lor <= 1.0) dp.add("LightOutputRatio", number(s.lor));
+  if (std::isfinite(s.efficacy_lm_per_w) && s.efficacy_lm_per_w >= 0.0 && s.efficacy_lm_per_w <= 683.0)
+    dp.add("LuminousEfficacy", number(s.efficacy_lm_per_w));
+  if (std::isfinite(s.dff) && s.dff >= 0.0 && s.dff <= 1.0) dp.add("DownwardFluxFraction", number(s.dff));
+  const auto pair = [&](const char* name, const photometry::BeamSpread& a, const photometry::BeamSpread& b) {
+    if (!std::isfinite(a.angle_deg) || !std::isfinite(b.angle_deg)) return;
+    XmlElement& e = dp.add(name);
+    e.add("C0-C180", number(a.angle_deg));
+    e.add("C90-C270", number(b.angle_deg));
+  };
+  pair("TenthPeakDivergence", s.field_c0_c180, s.field_c90_c270);
+  pair("HalfPeakDivergence", s.beam_c0_c180, s.beam_c90_c270);
+  if (!dp.children.empty()) photometry.children.push_back(std::move(dp));
+}
+
+std::string structure_xml(const L3dGeometry& g, const std::string& created_with, std::int64_t created_unix) {
+  XmlElement root;
+  root.name = "Luminaire";
+  root.set("xmlns:xsi", "http://www.w3.org/2001/XMLSchema-instance");
+  root.set("xsi:noNamespaceSchemaLocation", "https://gldf.io/xsd/l3d/l3d.xsd");
+  XmlElement& header = root.add("Header");
+  header.add("CreatedWithApplication", created_with);
+  header.add("CreationTimeCode", utc_time(created_unix, false));
+  root.add("GeometryDefinitions")
+      .add("GeometryFileDefinition")
+      .set("id", g.id)
+      .set("filename", g.id + ".obj")
+      .set("units", "m");
+  XmlElement& part = root.add("Structure").add("Geometry").set("partName", g.id + "Body");
+  const auto xyz = [](XmlElement& parent, const char* name, const Vec3& v) {
+    parent.add(name).set("x", number(v.x)).set("y", number(v.y)).set("z", number(v.z));
+  };
+  xyz(part, "Position", Vec3{});
+  xyz(part, "Rotation", Vec3{});
+  part.add("GeometryReference").set("geometryId", g.id);
+  XmlElement& leos = part.add("LightEmittingObjects");
+  for (const L3dEmitter& e : g.emitters) {
+    XmlElement& leo = leos.add("LightEmittingObject").set("partName", e.name);
+    xyz(leo, "Position", e.position_m);
+    xyz(leo, "Rotation", Vec3{});
+    leo.add("Rectangle").set("sizeX", number(e.size_x_m)).set("sizeY", number(e.size_y_m));
+  }
+  return write_xml(root);
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ reading
+
+Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
+  if (bytes.size() > kMaxGldfBytes)
+    return Error{SourceLoc{name, 0, 0}, "GLDF archive too large (" + std::to_string(bytes.size()) +
+                                            " bytes, at most " + std::to_string(kMaxGldfBytes) + " accepted)"};
+  auto entries = read_zip(bytes, name);
+  if (!entries.ok()) return entries.error();
+  GldfFile out;
+  std::map<std::string, const std::string*> by_name;
+  for (const ZipEntry& e : *entries) {
+    out.entries.push_back(e.name);
+    by_name[e.name] = &e.bytes;
+  }
+  const auto product = by_name.find(kProductXml);
+  if (product == by_name.end())
+    return Error{SourceLoc{name, 0, 0}, "no product.xml in the archive: not a GLDF container"};
+  const std::string xml_name = name + ":" + kProductXml;
+  auto root = parse_xml(*product->second, xml_name);
+  if (!root.ok()) return root.error();
+  if (root->name != "Root")
+    return Error{SourceLoc{xml_name, root->line, 0}, "root element <" + root->name + "> is not GLDF's <Root>"};
+  if (const XmlElement* h = root->child("Header"))
+    if (const XmlElement* m = h->child("Manufacturer")) out.manufacturer = trimmed(m->text);
+  if (const XmlElement* pd = root->child("ProductDefinitions"))
+    if (const XmlElement* meta = pd->child("ProductMetaData"))
+      if (const XmlElement* n = meta->child("Name"))
+        if (const XmlElement* l = n->child("Locale")) out.product_name = trimmed(l->text);
+
+  const XmlElement* general = root->child("GeneralDefinitions");
+  struct FileRef {
+    std::string content_type, type, value;
+    int line;
+  };
+  std::map<std::string, FileRef> files;
+  if (general)
+    if (const XmlElement* fs = general->child("Files"))
+      for (const XmlElement* f : fs->children_named("File")) {
+        const std::string* id = f->attribute("id");
+        if (!id) return Error{SourceLoc{xml_name, f->line, 0}, "<File> without an id"};
+        const std::string* ct = f->attribute("contentType");
+        const std::string* type = f->attribute("type");
+        files[*id] = FileRef{ct ? *ct : "", type ? *type : "localFileName", trimmed(f->text), f->line};
+      }
+  const XmlElement* photometries = general ? general->child("Photometries") : nullptr;
+  if (photometries)
+    for (const XmlElement* p : photometries->children_named("Photometry")) {
+      const std::string* id = p->attribute("id");
+      const XmlElement* ref = p->child("PhotometryFileReference");
+      const std::string* file_id = ref ? ref->attribute("fileId") : nullptr;
+      if (!id || !file_id)
+        return Error{SourceLoc{xml_name, p->line, 0}, "<Photometry> without an id or a <PhotometryFileReference fileId>"};
+      const auto f = files.find(*file_id);
+      if (f == files.end())
+        return Error{SourceLoc{xml_name, ref->line, 0},
+                     "photometry '" + *id + "' refers to file id '" + *file_id + "', which <Files> lacks"};
+      const FileRef& file = f->second;
+      if (file.type == "url") {
+        out.findings.push_back({Severity::Warning, "gldf-url-not-fetched",
+                                "photometry '" + *id + "' is at " + file.value + "; not fetched",
+                                {xml_name, file.line, 0}});
+        continue;
+      }
+      if (file.content_type != "ldc/eulumdat" && file.content_type != "ldc/ies" &&
+          file.content_type != "ldc/iesxml") {
+        out.findings.push_back({Severity::Warning, "gldf-photometry-type",
+                                "photometry '" + *id + "' has content type '" + file.content_type +
+                                    "', which Gonio does not read",
+                                {xml_name, file.line, 0}});
+        continue;
+      }
+      if (!is_safe_entry_name(file.value))
+        return Error{SourceLoc{xml_name, file.line, 0},
+                     "file '" + file.value + "' is not a relative name inside the archive; refused"};
+      const std::string folder = file.content_type.substr(0, file.content_type.find('/'));
+      std::string entry = folder + "/" + file.value;
+      auto found = by_name.find(entry);
+      if (found == by_name.end()) {
+        entry = file.value;
+        found = by_name.find(entry);
+      }
+      if (found == by_name.end())
+        return Error{SourceLoc{xml_name, file.line, 0}, "photometry '" + *id + "' refers to '" + folder + "/" +
+                                                            file.value + "', which the archive lacks"};
+      out.photometries.push_back({*id, entry, file.content_type, *found->second, p->line});
+    }
+  if (out.photometries.empty())
+    return Error{SourceLoc{xml_name, photometries ? photometries->line : root->line, 0},
+                 "no photometry Gonio can read in the archive"};
+  return out;
+}
+
+// ------------------------------------------------------------------ writing
+
+L3dGeometry l3d_from_scene(const sim::SceneDesc& scene) {
+  L3dGeometry g;
+  const photometry::PhotometricFrame& f = scene.frame;
+  const auto local = [&](const sim::Vec3f& p) { return f.to_local(Vec3{p.x, p.y, p.z}); };
+  std::string obj = "# " + scene.name + ": " + std::string("written by Gonio ") + kVersion +
+                    "; metres, X = C0, Y = C90, Z = zenith\no " + g.id + "\n";
+  std::size_t base = 1;
+  for (const sim::Mesh& m : scene.meshes) {
+    for (const sim::Vec3f& p : m.positions) {
+      const Vec3 q = local(p);
+      obj += "v " + number(q.x) + " " + number(q.y) + " " + number(q.z) + "\n";
+    }
+    for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3)
+      obj += "f " + std::to_string(base + m.indices[t]) + " " + std::to_string(base + m.indices[t + 1]) + " " +
+             std::to_string(base + m.indices[t + 2]) + "\n";
+    base += m.positions.size();
+  }
+  g.obj = std::move(obj);
+
+  // Where the emitters are.
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  double z_sum = 0.0;
+  std::size_t n = 0;
+  const auto take = [&](const Vec3& q) {
+    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+    z_sum += q.z;
+    ++n;
+  };
+  for (const sim::Emitter& e : scene.emitters) {
+    if (e.kind == sim::Emitter::Kind::Point) {
+      take(f.to_local(e.position));
+    } else if (e.mesh < scene.meshes.size()) {
+      for (const sim::Vec3f& p : scene.meshes[e.mesh].positions) take(local(p));
+    }
+  }
+  if (n > 0) {
+    L3dEmitter leo;
+    leo.name = "lightEmittingObject";
+    leo.position_m = {0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), z_sum / static_cast<double>(n)};
+    leo.size_x_m = std::max(1e-3, hi.x - lo.x);
+    leo.size_y_m = std::max(1e-3, hi.y - lo.y);
+    g.emitters.push_back(leo);
+  }
+  return g;
+}
+
+Result<std::string> write_l3d(const L3dGeometry& geometry, const std::string& created_with,
+                              std::int64_t created_unix) {
+  return write_zip({{"structure.xml", structure_xml(geometry, created_with, created_unix)},
+                    {geometry.id + "/" + geometry.id + ".obj", geometry.obj}},
+                   created_unix);
+}
+
+std::string gldf_product_xml(const GldfProduct& p) {
+  const std::string application = std::string("Gonio ") + kVersion;
+  std::uint64_t h = fnv1a(p.name);
+  for (const GldfPhotometryOut& ph : p.photometries) h = fnv1a(ph.bytes, h);
+  if (p.geometry) h = fnv1a(p.geometry->obj, h);
+
+  XmlElement root;
+  root.name = "Root";
+  root.set("xmlns:xsi", "http://www.w3.org/2001/XMLSchema-instance");
+  root.set("xsi:noNamespaceSchemaLocation", "https://gldf.io/xsd/gldf/1.0.0-rc.3/gldf.xsd");
+  XmlElement& header = root.add("Header");
+  header.add("Manufacturer", p.manufacturer.empty() ? "not stated" : p.manufacturer);
+  header.add("FormatVersion").set("major", "1").set("minor", "0").set("pre-release", "3");
+  header.add("CreatedWithApplication", application);
+  header.add("GldfCreationTimeCode", utc_time(p.created_unix, true));
+  header.add("UniqueGldfId", uuid_like(h, fnv1a(application, h)));
+
+  XmlElement& general = root.add("GeneralDefinitions");
+  XmlElement& files = general.add("Files");
+  for (std::size_t i = 0; i < p.photometries.size(); ++i)
+    files.add("File", p.photometries[i].file_name)
+        .set("id", "photometryFile" + std::to_string(i + 1))
+        .set("contentType", p.photometries[i].content_type)
+        .set("type", "localFileName");
+  if (p.geometry)
+    files.add("File", p.geometry->id + ".l3d")
+        .set("id", "geometryFile")
+        .set("contentType", "geo/l3d")
+        .set("type", "localFileName");
+  XmlElement& photometries = general.add("Photometries");
+  for (std::size_t i = 0; i < p.photometries.size(); ++i) {
+    XmlElement& ph = photometries.add("Photometry").set("id", "photometry" + std::to_string(i + 1));
+    ph.add("PhotometryFileReference").set("fileId", "photometryFile" + std::to_string(i + 1));
+    descriptive(ph, p.photometries[i].distribution);
+  }
+  XmlElement& emitter = general.add("Emitters").add("Emitter").set("id", "emitter");
+  emitter.add("ChangeableLightEmitter").add("PhotometryReference").set("photometryId", "photometry1");
+  if (p.geometry)
+    general.add("Geometries")
+        .add("ModelGeometry")
+        .set("id", "geometry")
+        .add("GeometryFileReference")
+        .set("fileId", "geometryFile");
+
+  XmlElement& products = root.add("ProductDefinitions");
+  XmlElement& meta = products.add("ProductMetaData");
+  meta.add("UniqueProductId", p.name);
+  locale(meta, "ProductNumber", p.name);
+  locale(meta, "Name", p.name);
+  if (!p.description.empty()) locale(meta, "Description", p.description);
+  XmlElement& variant = products.add("Variants").add("Variant").set("id", "variant1");
+  locale(variant, "Name", p.name);
+  XmlElement& geometry = variant.add("Geometry");
+  if (p.geometry && !p.geometry->emitters.empty()) {
+    XmlElement& model = geometry.add("ModelGeometryReference").set("geometryId", "geometry");
+    for (const L3dEmitter& e : p.geometry->emitters)
+      model.add("EmitterReference").set("emitterId", "emitter").add("EmitterObjectExternalName", e.name);
+  } else {
+    geometry.add("EmitterReference").set("emitterId", "emitter");
+  }
+  return write_xml(root);
+}
+
+Result<std::string> write_gldf(const GldfProduct& p) {
+  if (p.photometries.empty()) return Error{SourceLoc{}, "a GLDF container needs a photometry"};
+  std::vector<ZipEntry> entries;
+  entries.push_back({kProductXml, gldf_product_xml(p)});
+  for (const GldfPhotometryOut& ph : p.photometries) entries.push_back({"ldc/" + ph.file_name, ph.bytes});
+  if (p.geometry) {
+    auto l3d = write_l3d(*p.geometry, std::string("Gonio ") + kVersion, p.created_unix);
+    if (!l3d.ok()) return l3d.error();
+    entries.push_back({"geo/" + p.geometry->id + ".l3d", std::move(l3d).value()});
+  }
+  return write_zip(entries, p.created_unix);
+}
+
+}  // namespace gonio::io

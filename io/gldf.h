@@ -1,0 +1,119 @@
+// GLDF (Global Lighting Data Format) containers and the L3D geometry inside
+// them.
+//
+// A .gldf is a ZIP archive (io/zip.h) with product.xml at its root and its
+// files in folders named by the first part of their content type: ldc/ for
+// photometries (ldc/eulumdat, ldc/ies, ldc/iesxml), geo/ for geometry
+// (geo/l3d). An .l3d is itself a ZIP archive: structure.xml at its root and
+// each OBJ model in a folder named by its geometry id.
+//
+// Reading (gonio info|check|convert on a .gldf): product.xml's
+// GeneralDefinitions/Photometries, each Photometry's
+// PhotometryFileReference resolved through Files/File to an archive entry
+// (the content type's folder, else the archive root). Errors name the
+// archive and, for product.xml, the line: a hostile or corrupt archive
+// (io/zip.h), no product.xml, malformed XML, a photometry that refers to an
+// unknown file id or to a file the archive lacks. Photometries given by URL
+// are a "gldf-url-not-fetched" warning; nothing is fetched.
+//
+// Writing (gonio convert FILE out.gldf; gonio simulate --format gldf):
+// product.xml valid against GLDF 1.0.0-rc.3 with the header (manufacturer,
+// format version, creating application, creation time, a unique id), the
+// photometries' files, their descriptive photometry (LOR, efficacy, DFF,
+// half- and tenth-peak divergence as far as they are defined), one
+// changeable light emitter on the first photometry, the geometry where
+// there is one, and one product with one variant.
+//
+// L3D coordinates: metres, right-handed, Z up; the luminaire's photometric
+// frame maps onto it as X = C0, Y = C90, Z = zenith, so a light-emitting
+// object facing −Z emits towards the nadir with its C0 plane along X.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/zip.h"
+#include "photometry/diagnostics.h"
+#include "photometry/distribution.h"
+#include "photometry/vec3.h"
+#include "sim/scene.h"
+
+namespace gonio::io {
+
+// ------------------------------------------------------------------ reading
+
+struct GldfPhotometry {
+  std::string id;            // the Photometry's id in product.xml
+  std::string entry;         // its file in the archive, e.g. "ldc/bell.ldt"
+  std::string content_type;  // "ldc/eulumdat", "ldc/ies" or "ldc/iesxml"
+  std::string bytes;         // the file's contents
+  int line = 0;              // product.xml line of the <Photometry>
+};
+
+struct GldfFile {
+  std::string product_name;  // ProductMetaData/Name (the first locale); empty if none
+  std::string manufacturer;  // Header/Manufacturer
+  std::vector<GldfPhotometry> photometries;
+  std::vector<std::string> entries;  // every file in the archive, in archive order
+  std::vector<Finding> findings;     // warnings, with product.xml lines
+};
+
+inline constexpr std::size_t kMaxGldfBytes = std::size_t{256} << 20;  // the archive itself
+
+Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name);
+
+// ------------------------------------------------------------------ writing
+
+// A light-emitting object: a rectangle in L3D's frame facing −Z.
+struct L3dEmitter {
+  std::string name;        // partName: a letter, then letters and digits
+  Vec3 position_m;
+  double size_x_m = 0.0;   // along X (C0)
+  double size_y_m = 0.0;   // along Y (C90)
+};
+
+struct L3dGeometry {
+  std::string id = "luminaire";  // geometry id and OBJ folder
+  std::string obj;               // Wavefront OBJ, metres, L3D frame, one object
+  std::vector<L3dEmitter> emitters;
+};
+
+// The model's triangles in L3D's frame (the luminaire's photometric frame:
+// X = C0, Y = C90, Z = zenith, about the world origin) as one OBJ object,
+// and one light-emitting object where the emitters are: a rectangle over
+// their extent seen from above (points: the emitters' positions; areas:
+// their meshes' vertices; at least 1 mm a side), at their mean height.
+// One object, because a GLDF emitter's photometry is the whole luminaire's:
+// several objects referring to it would multiply its flux.
+L3dGeometry l3d_from_scene(const sim::SceneDesc& scene);
+
+// The .l3d archive: structure.xml and the OBJ in folder `id`.
+Result<std::string> write_l3d(const L3dGeometry& geometry, const std::string& created_with,
+                              std::int64_t created_unix);
+
+struct GldfPhotometryOut {
+  std::string file_name;     // inside ldc/, e.g. "bell.ldt"
+  std::string content_type;  // "ldc/eulumdat", "ldc/ies" or "ldc/iesxml"
+  std::string bytes;
+  photometry::Distribution distribution;  // for the descriptive photometry
+};
+
+struct GldfProduct {
+  std::string name;          // product and variant name
+  std::string manufacturer;  // "not stated" when empty
+  std::string description;
+  std::vector<GldfPhotometryOut> photometries;  // at least one; the first is the emitter's
+  std::optional<L3dGeometry> geometry;
+  std::int64_t created_unix = 0;  // GldfCreationTimeCode and the entries' times
+};
+
+// product.xml on its own (what the schema test validates).
+std::string gldf_product_xml(const GldfProduct& product);
+
+// The .gldf archive bytes: product.xml, ldc/<files>, geo/<id>.l3d.
+Result<std::string> write_gldf(const GldfProduct& product);
+
+}  // namespace gonio::io

@@ -1,0 +1,219 @@
+#include "io/gldf.h"
+
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <numbers>
+#include <string>
+
+#include "io/ldt.h"
+#include "io/photometric_file.h"
+#include "io/xml.h"
+#include "photometry/flux.h"
+#include "tests/support/photometry_fixtures.h"
+#include "tests/support/test_support.h"
+
+namespace gonio::io {
+namespace {
+
+namespace fs = std::filesystem;
+using photometry::Distribution;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+Distribution downlight() {
+  Distribution d = test::sample_c(photometry::Symmetry::C0_C180, test::angles(0, 180, 15), test::angles(0, 180, 5),
+                                  [](double c, double g) {
+                                    return g < 90 ? 300.0 * std::cos(g * kDeg) * (1.0 + 0.1 * std::cos(c * kDeg))
+                                                  : 0.0;
+                                  });
+  d.lamps = {photometry::LampSet{1, "LED", 1200.0, "3000", "80", 12.0}};
+  d.keywords = {{"MANUFAC", "Gonio"}, {"LUMINAIRE", "Test downlight"}};
+  return d;
+}
+
+// A unit cube lamp: 12 triangles, one point emitter 1 cm below its centre
+// and one area emitter (its bottom face) in glTF's Y-up world.
+sim::SceneDesc cube_scene() {
+  sim::SceneDesc s;
+  s.name = "cube";
+  sim::Mesh box;
+  for (int i = 0; i < 8; ++i)
+    box.positions.push_back({(i & 1) ? 0.5f : -0.5f, (i & 2) ? 1.0f : 0.0f, (i & 4) ? 0.5f : -0.5f});
+  box.indices = {0, 1, 3, 0, 3, 2, 4, 6, 7, 4, 7, 5, 0, 4, 5, 0, 5, 1,
+                 2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+  s.meshes.push_back(box);
+  sim::Mesh die;
+  die.positions = {{-0.1f, -0.01f, -0.2f}, {0.1f, -0.01f, -0.2f}, {0.1f, -0.01f, 0.2f}, {-0.1f, -0.01f, 0.2f}};
+  die.indices = {0, 1, 2, 0, 2, 3};
+  s.meshes.push_back(die);
+  sim::Emitter area;
+  area.kind = sim::Emitter::Kind::Area;
+  area.mesh = 1;
+  area.flux_lm = 100.0;
+  s.emitters.push_back(area);
+  return s;
+}
+
+bool ci() {
+  const char* v = std::getenv("CI");
+  return v && std::string(v) == "true";
+}
+
+// xmllint --schema on `xml` against the GLDF schema used in place.
+void expect_valid_product_xml(const std::string& xml) {
+  const fs::path schema = test::source_dir() / ".." / "shared" / "schemas" / "gldf-1.0.0-rc.3.xsd";
+  const bool have_schema = fs::exists(schema);
+  const test::ProcessResult probe = test::run_process({"/bin/sh", "-c", "command -v xmllint"});
+  const bool have_xmllint = probe.exit_code == 0;
+  if (!have_schema || !have_xmllint) {
+    const std::string missing = !have_schema ? "the GLDF schema " + schema.string() : "xmllint (libxml2-utils)";
+    if (ci()) FAIL() << "CI=true and " << missing << " is missing: the schema check cannot run";
+    GTEST_SKIP() << missing << " not found: product.xml not validated";
+  }
+  test::TempDir dir;
+  test::write_file(dir / "product.xml", xml);
+  std::string xmllint = probe.out;
+  while (!xmllint.empty() && std::isspace(static_cast<unsigned char>(xmllint.back()))) xmllint.pop_back();
+  const test::ProcessResult r =
+      test::run_process({xmllint, "--noout", "--schema", schema.string(), (dir / "product.xml").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("validates"), std::string::npos) << r.err;
+}
+
+TEST(Gldf, ProductXmlValidatesAgainstTheSchema) {
+  GldfProduct p;
+  p.name = "Test downlight";
+  p.manufacturer = "Gonio & Co <tests>";
+  p.description = "A downlight";
+  p.photometries.push_back({"dl.ldt", "ldc/eulumdat", "ldt bytes", downlight()});
+  p.photometries.push_back({"dl.ies", "ldc/ies", "ies bytes", downlight()});
+  p.created_unix = 1764620000;
+  SCOPED_TRACE("without geometry");
+  expect_valid_product_xml(gldf_product_xml(p));
+  p.geometry = l3d_from_scene(cube_scene());
+  SCOPED_TRACE("with geometry");
+  const std::string xml = gldf_product_xml(p);
+  expect_valid_product_xml(xml);
+  EXPECT_NE(xml.find("Gonio &amp; Co &lt;tests&gt;"), std::string::npos);
+  EXPECT_NE(xml.find("<LightOutputRatio>"), std::string::npos);
+  EXPECT_NE(xml.find("<EmitterObjectExternalName>lightEmittingObject</EmitterObjectExternalName>"),
+            std::string::npos);
+}
+
+TEST(Gldf, LdtThroughGldfReadsBackExactly) {
+  test::TempDir dir;
+  const Distribution d = downlight();
+  for (PhotometricFormat inner : {PhotometricFormat::Ldt, PhotometricFormat::Ies, PhotometricFormat::Tm33}) {
+    SCOPED_TRACE(to_string(inner));
+    PhotometricWriteOptions o;
+    o.gldf_photometry = inner;
+    o.gldf_created_unix = 1764620000;
+    const fs::path path = dir / (std::string("dl-") + to_string(inner) + ".gldf");
+    std::vector<Finding> w;
+    ASSERT_TRUE(write_photometric_file(path.string(), d, o, &w).ok());
+    auto direct = encode_photometric_file(d, inner, o, nullptr);
+    ASSERT_TRUE(direct.ok());
+    auto back = read_photometric_file(path.string());
+    ASSERT_TRUE(back.ok()) << to_string(back.error());
+    EXPECT_EQ(back->format, inner);
+    EXPECT_EQ(back->container, path.string());
+    EXPECT_EQ(format_label(*back).rfind("GLDF (", 0), 0u) << format_label(*back);
+    // The photometry inside is exactly what the format's own writer writes.
+    auto entries = read_zip(test::read_file(path), path.string());
+    ASSERT_TRUE(entries.ok());
+    ASSERT_EQ(entries->size(), 2u);
+    EXPECT_EQ((*entries)[0].name, "product.xml");
+    EXPECT_EQ((*entries)[1].bytes, *direct);
+    ASSERT_EQ(back->distribution.candela.size(), d.candela.size());
+    for (std::size_t i = 0; i < d.candela.size(); ++i)  // LDT: 12 digits of cd/klm
+      ASSERT_NEAR(back->distribution.candela[i], d.candela[i], 1e-11 * d.candela[i]) << i;
+    const double fa = photometry::total_flux_lm(d), fb = photometry::total_flux_lm(back->distribution);
+    EXPECT_NEAR(fb, fa, 1e-9 * fa);
+    expect_valid_product_xml((*entries)[0].bytes);
+  }
+}
+
+TEST(Gldf, L3dHoldsTheModelInTheLuminaireFrameAndTheEmitterWhereItIs) {
+  const L3dGeometry g = l3d_from_scene(cube_scene());
+  // glTF Y up -> L3D Z up: a vertex at world (0.5, 1, -0.5) is at X = C0 =
+  // world +X, Y = C90 = world −Z, Z = world +Y.
+  EXPECT_NE(g.obj.find("\nv 0.5 0.5 1\n"), std::string::npos) << g.obj.substr(0, 400);
+  EXPECT_NE(g.obj.find("\nf 1 2 4\n"), std::string::npos);
+  ASSERT_EQ(g.emitters.size(), 1u);
+  const L3dEmitter& e = g.emitters[0];
+  EXPECT_NEAR(e.position_m.x, 0.0, 1e-6);
+  EXPECT_NEAR(e.position_m.y, 0.0, 1e-6);
+  EXPECT_NEAR(e.position_m.z, -0.01, 1e-6);
+  EXPECT_NEAR(e.size_x_m, 0.2, 1e-6);
+  EXPECT_NEAR(e.size_y_m, 0.4, 1e-6);
+
+  auto l3d = write_l3d(g, "test", 1764620000);
+  ASSERT_TRUE(l3d.ok());
+  auto entries = read_zip(*l3d, "x.l3d");
+  ASSERT_TRUE(entries.ok());
+  ASSERT_EQ(entries->size(), 2u);
+  EXPECT_EQ((*entries)[0].name, "structure.xml");
+  EXPECT_EQ((*entries)[1].name, "luminaire/luminaire.obj");
+  auto structure = parse_xml((*entries)[0].bytes, "structure.xml");
+  ASSERT_TRUE(structure.ok());
+  EXPECT_EQ(structure->name, "Luminaire");
+  const XmlElement* def = structure->child("GeometryDefinitions")->child("GeometryFileDefinition");
+  EXPECT_EQ(*def->attribute("filename"), "luminaire.obj");
+  EXPECT_EQ(*def->attribute("units"), "m");
+  const XmlElement* leo =
+      structure->child("Structure")->child("Geometry")->child("LightEmittingObjects")->child("LightEmittingObject");
+  ASSERT_NE(leo, nullptr);
+  EXPECT_EQ(*leo->child("Rectangle")->attribute("sizeY"), "0.4000000059604645");  // float vertices
+}
+
+std::string product(const std::string& file_element) {
+  return "<?xml version=\"1.0\"?>\n<Root>\n<Header><Manufacturer>M</Manufacturer></Header>\n"
+         "<GeneralDefinitions>\n<Files>\n" +
+         file_element +
+         "\n</Files>\n<Photometries>\n<Photometry id=\"p1\"><PhotometryFileReference fileId=\"f1\"/>"
+         "</Photometry>\n</Photometries>\n</GeneralDefinitions>\n</Root>\n";
+}
+
+TEST(Gldf, BrokenContainersAreClearErrorsNamingTheArchiveAndLine) {
+  const std::string ldt = *write_ldt(downlight(), {}, nullptr);
+  const std::string good_file = "<File id=\"f1\" contentType=\"ldc/eulumdat\" type=\"localFileName\">a.ldt</File>";
+  auto good = parse_gldf(*write_zip({{"product.xml", product(good_file)}, {"ldc/a.ldt", ldt}}, 0), "g.gldf");
+  ASSERT_TRUE(good.ok()) << to_string(good.error());
+  EXPECT_EQ(good->photometries.size(), 1u);
+  EXPECT_EQ(good->manufacturer, "M");
+
+  struct Case {
+    const char* name;
+    std::vector<ZipEntry> entries;
+    const char* says;
+    int line;
+  };
+  const std::vector<Case> cases = {
+      {"missing file", {{"product.xml", product(good_file)}}, "refers to 'ldc/a.ldt', which the archive lacks", 6},
+      {"no product.xml", {{"ldc/a.ldt", ldt}}, "no product.xml", 0},
+      {"malformed", {{"product.xml", "<Root><Header></Root>"}, {"ldc/a.ldt", ldt}}, "malformed XML", 1},
+      {"unknown id",
+       {{"product.xml", product("<File id=\"f2\" contentType=\"ldc/eulumdat\" type=\"localFileName\">a.ldt</File>")}},
+       "refers to file id 'f1'",
+       9},
+      {"escaping name",
+       {{"product.xml", product("<File id=\"f1\" contentType=\"ldc/eulumdat\" type=\"localFileName\">../a.ldt</File>")}},
+       "not a relative name inside the archive",
+       6},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    auto r = parse_gldf(*write_zip(c.entries, 0), "bad.gldf");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find(c.says), std::string::npos) << r.error().message;
+    EXPECT_EQ(r.error().where.line, c.line) << r.error().message;
+    EXPECT_EQ(r.error().where.file.rfind("bad.gldf", 0), 0u) << r.error().where.file;
+  }
+}
+
+}  // namespace
+}  // namespace gonio::io
