@@ -18,12 +18,6 @@
 namespace gonio::io {
 namespace {
 
-// One out-of-line constructor: GCC 12 reports false maybe-uninitialized
-// warnings for Error temporaries built inline here.
-Error image_error(const std::string& path, const std::string& message) {
-  return Error{SourceLoc{path, 0, 0}, message};
-}
-
 // The module's entry points, or why it could not be loaded.
 struct PngModule {
   decltype(&gonio_png_encode) encode = nullptr;
@@ -83,7 +77,7 @@ const PngModule& png_module() {
 
 Status load_png_module(const std::vector<std::string>& candidates) {
   const PngModule m = load_module(candidates);
-  if (!m.encode) return image_error("", m.error);
+  if (!m.encode) return make_error("", m.error);
   return Ok{};
 }
 
@@ -92,22 +86,22 @@ Status write_png(const std::string& path, const Image8& image) {
       image.pixels.size() != static_cast<std::size_t>(image.width) *
                                  static_cast<std::size_t>(image.height) *
                                  static_cast<std::size_t>(image.channels))
-    return image_error(path, "internal: malformed image");
+    return make_error(path, "internal: malformed image");
   const PngModule& m = png_module();
-  if (!m.encode) return image_error(path, m.error);
+  if (!m.encode) return make_error(path, m.error);
   std::vector<unsigned char> bytes;
   std::string error;
-  if (!m.encode(&image, &bytes, &error)) return image_error(path, error);
+  if (!m.encode(&image, &bytes, &error)) return make_error(path, error);
   return write_file_atomic(
       path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 Result<Image8> read_png(const std::string& path) {
   const PngModule& m = png_module();
-  if (!m.decode) return image_error(path, m.error);
+  if (!m.decode) return make_error(path, m.error);
   Image8 image;
   std::string error;
-  if (!m.decode(path.c_str(), &image, &error)) return image_error(path, error);
+  if (!m.decode(path.c_str(), &image, &error)) return make_error(path, error);
   return image;
 }
 

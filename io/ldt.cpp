@@ -11,6 +11,7 @@
 #include "io/text.h"
 #include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
+#include "photometry/format.h"
 
 namespace gonio::io {
 namespace {
@@ -43,27 +44,6 @@ std::size_t utf8_chars(std::string_view s) {
   std::size_t n = 0;
   for (char c : s) n += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
   return n;
-}
-
-// A token as messages show it: quoted, printable, at most 40 characters.
-std::string shown(std::string_view token) {
-  std::string out = "'";
-  std::size_t n = 0;
-  for (char c : token) {
-    if (++n > 40) {
-      out += "...";
-      break;
-    }
-    const auto u = static_cast<unsigned char>(c);
-    out += (u < 0x20 || u == 0x7F) ? '?' : c;
-  }
-  return out + "'";
-}
-
-std::string deg(double a) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", a);
-  return buf;
 }
 
 double mirror_c90_c270(double c) {
@@ -323,17 +303,17 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
     return r.error();
   if (dff < 0.0 || dff > 100.0)
     r.note(Severity::Warning, "ldt-dff-range",
-           "downward flux fraction " + deg(dff) + " % lies outside 0-100 %", dff_line);
+           "downward flux fraction " + format_number(dff) + " % lies outside 0-100 %", dff_line);
   if (lorl < 0.0 || lorl > 100.0)
     r.note(Severity::Warning, "ldt-lorl-range",
-           "light output ratio " + deg(lorl) + " % lies outside 0-100 %", lorl_line);
+           "light output ratio " + format_number(lorl) + " % lies outside 0-100 %", lorl_line);
   if (cfli == 0.0) {
     r.note(Severity::Warning, "ldt-conversion-factor-zero",
            "conversion factor 0 would erase every intensity; read as 1", cfli_line);
     cfli = 1.0;
   } else if (cfli != 1.0) {
     r.note(Severity::Info, "ldt-conversion-factor",
-           "conversion factor " + deg(cfli) + " applied to the intensities", cfli_line);
+           "conversion factor " + format_number(cfli) + " applied to the intensities", cfli_line);
   }
 
   // 26: lamp sets.
@@ -394,7 +374,7 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
     };
     if (!r.number(&c, what, 0.0, 360.0)) return r.error();
     if (i > 0 && !(c > c_angles.back()))
-      return fail(at, "C angles must increase: " + deg(c) + " follows " + deg(c_angles.back()));
+      return fail(at, "C angles must increase: " + format_number(c) + " follows " + format_number(c_angles.back()));
     c_angles.push_back(c);
   }
   std::vector<double> gammas;
@@ -408,7 +388,7 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
     };
     if (!r.number(&g, what, 0.0, 180.0)) return r.error();
     if (i > 0 && !(g > gammas.back()))
-      return fail(at, "gamma angles must increase: " + deg(g) + " follows " + deg(gammas.back()));
+      return fail(at, "gamma angles must increase: " + format_number(g) + " follows " + format_number(gammas.back()));
     gammas.push_back(g);
   }
 
@@ -418,22 +398,22 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
       return fail(c_first_line + static_cast<int>(index),
                   "Isym " + std::to_string(isym) + " (" + isym_name(static_cast<int>(isym)) +
                       ") with Mc = " + std::to_string(mc) + " needs C angle " +
-                      std::to_string(index + 1) + " to be " + deg(angle) + ", found " +
-                      deg(c_angles[index]));
+                      std::to_string(index + 1) + " to be " + format_number(angle) + ", found " +
+                      format_number(c_angles[index]));
   }
   if (isym == 3 && c_angles.back() >= 360.0 - kAngleTol)
     return fail(c_first_line + static_cast<int>(nc) - 1,
                 "Isym 3 needs C angles below 360 (C0 and C360 are one plane), found " +
-                    deg(c_angles.back()));
+                    format_number(c_angles.back()));
   if (isym == 0 && c_angles.front() > kAngleTol)
     r.note(Severity::Warning, "ldt-first-plane-not-c0",
-           "the C angles begin at " + deg(c_angles.front()) + ", not at 0", c_first_line);
+           "the C angles begin at " + format_number(c_angles.front()) + ", not at 0", c_first_line);
   if (dc > 0.0) {
     for (std::size_t i = 0; i < nc; ++i)
       if (std::abs(c_angles[i] - c_angles[0] - static_cast<double>(i) * dc) > kAngleTol) {
         r.note(
             Severity::Warning, "ldt-dc-mismatch",
-            "Dc = " + deg(dc) + " but C angle " + std::to_string(i + 1) + " is " + deg(c_angles[i]),
+            "Dc = " + format_number(dc) + " but C angle " + std::to_string(i + 1) + " is " + format_number(c_angles[i]),
             dc_line);
         break;
       }
@@ -442,8 +422,8 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
     for (std::size_t i = 0; i < nv; ++i)
       if (std::abs(gammas[i] - gammas[0] - static_cast<double>(i) * dg) > kAngleTol) {
         r.note(Severity::Warning, "ldt-dg-mismatch",
-               "Dg = " + deg(dg) + " but gamma angle " + std::to_string(i + 1) + " is " +
-                   deg(gammas[i]),
+               "Dg = " + format_number(dg) + " but gamma angle " + std::to_string(i + 1) + " is " +
+                   format_number(gammas[i]),
                dg_line);
         break;
       }
@@ -464,13 +444,13 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
       const int at = r.line();
       double x = 0.0;
       const auto what = [&] {
-        return "the intensity at C " + deg(c) + ", gamma " + deg(gammas[v]) + " [cd/klm]";
+        return "the intensity at C " + format_number(c) + ", gamma " + format_number(gammas[v]) + " [cd/klm]";
       };
       if (!r.number(&x, what)) return r.error();
       if (x < 0.0) {
         if (negative++ == 0) {
           negative_line = at;
-          negative_at = "C " + deg(c) + ", gamma " + deg(gammas[v]);
+          negative_at = "C " + format_number(c) + ", gamma " + format_number(gammas[v]);
         }
         x = 0.0;
       }
@@ -600,7 +580,7 @@ namespace {
 
 // Plain decimal notation rounded to `digits` significant digits, trailing
 // zeros dropped: "2200", "0.68625", "-3.5".
-std::string format_number(double x, int digits) {
+std::string ldt_number(double x, int digits) {
   if (x == 0.0 || !std::isfinite(x)) return "0";
   const int exponent = static_cast<int>(std::floor(std::log10(std::abs(x))));
   const int decimals = std::clamp(digits - 1 - exponent, 0, 60);
@@ -628,7 +608,7 @@ class LdtWriter {
     out_.append(latin1);
     out_ += "\r\n";
   }
-  void number(double x) { line(format_number(x, options_.significant_digits)); }
+  void number(double x) { line(ldt_number(x, options_.significant_digits)); }
   void integer(long long n) { line(std::to_string(n)); }
 
   // A text field: one line, Latin-1, at most `max_chars`.
@@ -784,8 +764,8 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   for (std::size_t i = 0; i < input.candela.size(); ++i)
     if (input.candela[i] < 0.0) {
       const std::size_t nv = input.vertical_count();
-      return fail("intensity " + deg(input.candela[i]) + " cd at C " +
-                  deg(input.horizontal_deg[i / nv]) + ", gamma " + deg(input.vertical_deg[i % nv]) +
+      return fail("intensity " + format_number(input.candela[i]) + " cd at C " +
+                  format_number(input.horizontal_deg[i / nv]) + ", gamma " + format_number(input.vertical_deg[i % nv]) +
                   " is negative; EULUMDAT holds intensities >= 0");
     }
   if (!input.absolute && input.lamps.empty())
@@ -836,7 +816,7 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
     } else if (layout.c_list.front() > kAngleTol) {
       w.warn(
           Severity::Warning, "ldt-first-plane-not-c0",
-          "the C-planes begin at " + deg(layout.c_list.front()) + ", not at 0 as EULUMDAT expects");
+          "the C-planes begin at " + format_number(layout.c_list.front()) + ", not at 0 as EULUMDAT expects");
     }
   }
 
@@ -870,7 +850,7 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
              "the distribution emits no flux; written relative to 1000 lm");
     } else {
       w.warn(Severity::Info, "ldt-computed-flux",
-             "absolute photometry: luminaire flux " + format_number(set1_flux, 6) +
+             "absolute photometry: luminaire flux " + ldt_number(set1_flux, 6) +
                  " lm computed from the distribution for lamp set 1");
     }
   } else {
@@ -882,7 +862,7 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   // integral in its 12th digit, and a coarser flux keeps rewriting stable
   // (the candela do not depend on it).
   const int flux_digits = std::min(options.significant_digits, d.absolute ? 6 : 17);
-  set1_flux = parse_number(format_number(set1_flux, flux_digits)).value_or(set1_flux);
+  set1_flux = parse_number(ldt_number(set1_flux, flux_digits)).value_or(set1_flux);
   const double scale = set1_flux / 1000.0;  // the reader's conversion factor 1 × Φ / 1000
 
   // LM-63 fields without an EULUMDAT counterpart.
@@ -893,11 +873,11 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
                ") has no EULUMDAT field and is not written");
   if (d.ballast_factor != 1.0)
     w.warn(Severity::Warning, "ldt-ballast-factor",
-           "ballast factor " + format_number(d.ballast_factor, 6) +
+           "ballast factor " + ldt_number(d.ballast_factor, 6) +
                " has no EULUMDAT field and is not written (it was not applied to the intensities)");
   if (d.ballast_lamp_factor != 1.0)
     w.warn(Severity::Warning, "ldt-ballast-factor",
-           "ballast-lamp photometric factor " + format_number(d.ballast_lamp_factor, 6) +
+           "ballast-lamp photometric factor " + ldt_number(d.ballast_lamp_factor, 6) +
                " has no EULUMDAT field and is not written (it was not applied to the intensities)");
   if (d.file_generation != photometry::FileGenerationType::Undefined)
     w.warn(Severity::Warning, "ldt-file-generation",
@@ -906,8 +886,8 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   if (std::isfinite(first.power_w) && std::isfinite(d.input_watts) && d.input_watts > 0.0 &&
       std::abs(first.power_w - d.input_watts) > 1e-9 * std::max(first.power_w, d.input_watts))
     w.warn(Severity::Warning, "ldt-input-watts",
-           "input watts " + format_number(d.input_watts, 6) +
-               " W differ from the lamp set's wattage " + format_number(first.power_w, 6) +
+           "input watts " + ldt_number(d.input_watts, 6) +
+               " W differ from the lamp set's wattage " + ldt_number(first.power_w, 6) +
                " W, which EULUMDAT keeps");
 
   // [LAMP] fills an empty lamp type.
@@ -1027,12 +1007,12 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   if (!std::isfinite(lorl)) {
     lorl = d.absolute ? 100.0 : 100.0 * total_flux / set1_flux;
     w.warn(Severity::Info, "ldt-computed-lorl",
-           "light output ratio " + format_number(lorl, 6) + " % computed from the distribution");
+           "light output ratio " + ldt_number(lorl, 6) + " % computed from the distribution");
   }
   if (!std::isfinite(dff)) {
     dff = total_flux > 0.0 ? 100.0 * down_flux / total_flux : 0.0;
     w.warn(Severity::Info, "ldt-computed-dff",
-           "downward flux fraction " + format_number(dff, 6) + " % computed from the distribution");
+           "downward flux fraction " + ldt_number(dff, 6) + " % computed from the distribution");
   }
   w.number(dff);
   w.number(lorl);

@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "io/file_io.h"
+#include "photometry/format.h"
 
 extern char** environ;
 
@@ -33,12 +34,6 @@ constexpr auto kTimeout = std::chrono::seconds(60);
 // Series colours: dark blue, red, green, orange, purple, grey; then again.
 constexpr const char* kColours[] = {"#1f4e9a", "#c0392b", "#2e8b57", "#e67e22", "#7d3c98", "#555555"};
 
-Error error(std::string message) {
-  Error e;
-  e.message = std::move(message);
-  return e;
-}
-
 // A gnuplot single-quoted string: '' stands for ', control characters become
 // spaces (a newline would end the command).
 std::string quote(const std::string& text) {
@@ -52,12 +47,6 @@ std::string quote(const std::string& text) {
       out += c;
   }
   return out + "'";
-}
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
 }
 
 // Smallest 1, 2, 2.5 or 5 × 10^k at or above v > 0.
@@ -83,7 +72,7 @@ bool write_block(std::ostringstream& s, const std::string& name, const Series& s
     const double x = series.x[k], y = series.y[k];
     const bool ok = std::isfinite(x) && std::isfinite(y) && (!log_x || x > 0.0) && (!log_y || y > 0.0);
     if (ok) {
-      s << number(x) << ' ' << number(y) << '\n';
+      s << format_number(x, 17) << ' ' << format_number(y, 17) << '\n';
       any = true;
     } else {
       s << '\n';
@@ -123,10 +112,10 @@ void polar_chart(std::ostringstream& s, const PolarChart& chart, std::size_t ind
   s << "reset\nset polar\nset angles degrees\nset theta bottom counterclockwise\n"
        "set size square\nunset border\nunset xtics\nunset ytics\n"
        "set grid polar 30 lt 1 lc rgb '#c8c8c8' dt 3\n"
-    << "set rrange [0:" << number(r_max) << "]\n"
-    << "set xrange [" << number(-r_max) << ":" << number(r_max) << "]\n"
-    << "set yrange [" << number(-r_max) << ":" << number(r_max) << "]\n"
-    << "set rtics " << number(r_step) << " format '%g' font ',9'\n"
+    << "set rrange [0:" << format_number(r_max, 17) << "]\n"
+    << "set xrange [" << format_number(-r_max, 17) << ":" << format_number(r_max, 17) << "]\n"
+    << "set yrange [" << format_number(-r_max, 17) << ":" << format_number(r_max, 17) << "]\n"
+    << "set rtics " << format_number(r_step, 17) << " format '%g' font ',9'\n"
     << "set ttics (";
   for (int a = -150; a <= 180; a += 30)
     s << (a == -150 ? "" : ", ") << "'" << std::abs(a) << "°' " << a;
@@ -146,7 +135,8 @@ void line_chart(std::ostringstream& s, const LineChart& chart, std::size_t index
   }
   const auto range = [](std::optional<double> lo, std::optional<double> hi, bool empty, bool log) {
     if (empty && !lo && !hi) return std::string(log ? "[1:10]" : "[0:1]");
-    return "[" + (lo ? number(*lo) : std::string("*")) + ":" + (hi ? number(*hi) : std::string("*")) + "]";
+    return "[" + (lo ? format_number(*lo, 17) : std::string("*")) + ":" +
+           (hi ? format_number(*hi, 17) : std::string("*")) + "]";
   };
   s << "reset\nset grid lt 1 lc rgb '#d8d8d8'\n" << (chart.key_below ? "set key below\n" : "set key top right\n")
     << "set xrange " << range(chart.x_min, chart.x_max, prepared.empty(), chart.log_x) << "\n"
@@ -160,18 +150,18 @@ void line_chart(std::ostringstream& s, const LineChart& chart, std::size_t index
 }
 
 Result<std::string> script_for(const Figure& figure, ImageFormat format) {
-  if (figure.charts.empty()) return error("a figure needs at least one chart");
+  if (figure.charts.empty()) return make_error("a figure needs at least one chart");
   if (figure.width_px < 100 || figure.width_px > 10000 || figure.height_px < 100 ||
       figure.height_px > 10000)
-    return error("figure size " + std::to_string(figure.width_px) + "x" +
-                 std::to_string(figure.height_px) + " is outside 100..10000 pixels");
+    return make_error("figure size " + std::to_string(figure.width_px) + "x" +
+                      std::to_string(figure.height_px) + " is outside 100..10000 pixels");
   for (const Chart& chart : figure.charts) {
     const auto& series = std::holds_alternative<PolarChart>(chart) ? std::get<PolarChart>(chart).series
                                                                    : std::get<LineChart>(chart).series;
     for (const Series& s : series)
       if (s.x.size() != s.y.size())
-        return error("series '" + s.label + "' has " + std::to_string(s.x.size()) + " x and " +
-                     std::to_string(s.y.size()) + " y values");
+        return make_error("series '" + s.label + "' has " + std::to_string(s.x.size()) + " x and " +
+                          std::to_string(s.y.size()) + " y values");
   }
   std::ostringstream s;
   const std::string size = std::to_string(figure.width_px) + "," + std::to_string(figure.height_px);
@@ -224,14 +214,15 @@ std::string last_lines(const std::string& text, std::size_t max_chars) {
 // Runs gnuplot on a script; returns what it wrote to standard output.
 Result<std::string> run_gnuplot(const std::string& script) {
   ScratchDir dir;
-  if (dir.path().empty()) return error(std::string("cannot create a scratch directory: ") + std::strerror(errno));
+  if (dir.path().empty())
+    return make_error(std::string("cannot create a scratch directory: ") + std::strerror(errno));
   const std::string script_path = (dir.path() / "figure.gp").string();
   const std::string out_path = (dir.path() / "out").string();
   const std::string err_path = (dir.path() / "err").string();
   {
     std::ofstream f(script_path, std::ios::binary);
     f << script;
-    if (!f) return error("cannot write the plot script to " + script_path);
+    if (!f) return make_error("cannot write the plot script to " + script_path);
   }
   const char* env = std::getenv("GONIO_GNUPLOT");
   const std::string program = env && *env ? env : "gnuplot";
@@ -249,33 +240,35 @@ Result<std::string> run_gnuplot(const std::string& script) {
   const int rc = ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0)
-    return error("cannot run '" + program + "' (" + std::strerror(rc) +
-                 "): plots need gnuplot, Debian package gnuplot-nox (scripts/setup.sh installs "
-                 "it), or $GONIO_GNUPLOT naming the program");
+    return make_error(
+        "cannot run '" + program + "' (" + std::strerror(rc) +
+        "): plots need gnuplot, Debian package gnuplot-nox (scripts/setup.sh installs "
+        "it), or $GONIO_GNUPLOT naming the program");
 
   int status = 0;
   const auto deadline = std::chrono::steady_clock::now() + kTimeout;
   for (;;) {
     const pid_t done = ::waitpid(pid, &status, WNOHANG);
     if (done == pid) break;
-    if (done < 0 && errno != EINTR) return error(std::string("waiting for gnuplot: ") + std::strerror(errno));
+    if (done < 0 && errno != EINTR)
+      return make_error(std::string("waiting for gnuplot: ") + std::strerror(errno));
     if (std::chrono::steady_clock::now() > deadline) {
       ::kill(pid, SIGKILL);
       ::waitpid(pid, &status, 0);
-      return error("gnuplot did not finish within 60 s");
+      return make_error("gnuplot did not finish within 60 s");
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   const Result<std::string> err = read_file(err_path, 1u << 20);
   const std::string messages = err.ok() ? err.value() : std::string();
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    return error("gnuplot failed" +
-                 (messages.empty() ? std::string() : ": " + last_lines(messages, 400)));
+    return make_error("gnuplot failed" +
+                      (messages.empty() ? std::string() : ": " + last_lines(messages, 400)));
   Result<std::string> out = read_file(out_path, kMaxImageBytes);
   if (!out.ok()) return out.error();
   if (out.value().empty())
-    return error("gnuplot wrote no image" +
-                 (messages.empty() ? std::string() : ": " + last_lines(messages, 400)));
+    return make_error("gnuplot wrote no image" +
+                      (messages.empty() ? std::string() : ": " + last_lines(messages, 400)));
   return out;
 }
 

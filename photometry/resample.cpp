@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "photometry/angles.h"
+#include "photometry/format.h"
 #include "photometry/frame.h"
 #include "photometry/hermite.h"
 
@@ -16,14 +17,6 @@ namespace {
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 constexpr double kMaxIntensities = 1e7;  // 80 MB of doubles
-
-std::string deg(double a) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", a);
-  return buf;
-}
-
-Error fail(std::string message) { return Error{{}, std::move(message)}; }
 
 // Whole number of steps in `range`, or -1 if `step` does not divide it.
 long whole_steps(double range, double step) {
@@ -206,21 +199,25 @@ Result<Distribution> to_type_c(const Distribution& d, const TypeCGrid& grid) {
   GONIO_CHECK_MSG(validate(d).ok(), "to_type_c needs a valid distribution");
   const double cs = grid.c_step_deg, gs = grid.gamma_step_deg;
   if (!(std::isfinite(cs) && cs > 0.0))
-    return fail("the C-plane step must be a positive number of degrees, found " + deg(cs));
+    return make_error("the C-plane step must be a positive number of degrees, found " +
+                      format_number(cs));
   if (!(std::isfinite(gs) && gs > 0.0))
-    return fail("the gamma step must be a positive number of degrees, found " + deg(gs));
+    return make_error("the gamma step must be a positive number of degrees, found " +
+                      format_number(gs));
   const Symmetry sym = grid.symmetry.value_or(default_symmetry(d));
   if (sym == Symmetry::Lateral)
-    return fail("lateral symmetry applies to Types A and B, not Type C");
+    return make_error("lateral symmetry applies to Types A and B, not Type C");
 
   if (whole_steps(90.0, gs) <= 0)
-    return fail("the gamma step " + deg(gs) + " deg does not divide 90 deg into whole steps");
+    return make_error("the gamma step " + format_number(gs) +
+                      " deg does not divide 90 deg into whole steps");
   const Range cr = c_range(sym);
   // (A rotational output averages planes 0, step, … around the whole circle.)
   const long steps = whole_steps(cr.to - cr.from, cs);
   if (steps <= 0)
-    return fail("the C-plane step " + deg(cs) + " deg does not divide the C range " + deg(cr.from) +
-                ".." + deg(cr.to) + " deg into whole steps");
+    return make_error("the C-plane step " + format_number(cs) +
+                      " deg does not divide the C range " + format_number(cr.from) + ".." +
+                      format_number(cr.to) + " deg into whole steps");
   const long nc = sym == Symmetry::Rotational ? 1 : steps + 1;
   const Range gr = grid.whole_sphere ? Range{0.0, 180.0} : gamma_range(d, gs);
   const long ng = std::lround((gr.to - gr.from) / gs) + 1;
@@ -228,8 +225,8 @@ Result<Distribution> to_type_c(const Distribution& d, const TypeCGrid& grid) {
   const double sampled =
       static_cast<double>(ng) * static_cast<double>(sym == Symmetry::Rotational ? steps : nc);
   if (sampled > kMaxIntensities)
-    return fail("a " + deg(cs) + " x " + deg(gs) +
-                " deg grid would hold more than 10^7 intensities");
+    return make_error("a " + format_number(cs) + " x " + format_number(gs) +
+                      " deg grid would hold more than 10^7 intensities");
 
   const Distribution e = expand_symmetry(d);
   auto sample_grid = [&](const std::vector<double>& c, const std::vector<double>& g) {
