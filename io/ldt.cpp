@@ -441,7 +441,6 @@ class LdtReader {
 
   // 30: intensities, file order, converted to candela.
   Status intensities() {
-    const bool absolute = sets_[0].count < 0;
     const double scale = cfli_ * sets_[0].set.flux_lm / 1000.0;  // [cd per cd/klm]
     const std::size_t nstored = stored_.size();
     values_.reserve(std::min(nstored * nv_, r_.remaining()));
