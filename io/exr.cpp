@@ -29,13 +29,6 @@ constexpr std::size_t kMaxPixels = std::size_t{1} << 28;
 constexpr std::size_t kMaxChannels = 64;
 constexpr std::size_t kMaxFileBytes = std::size_t{1} << 32;
 
-Error error(const std::string& path, std::string message) {
-  Error e;
-  e.where.file = path;
-  e.message = std::move(message);
-  return e;
-}
-
 // OpenEXR writes through this into memory, so that the file can then be
 // written atomically.
 class MemoryOStream : public Imf::OStream {
@@ -104,24 +97,25 @@ ExrImage cube_image(int face_size) {
 }
 
 Status write_exr(const std::string& path, const ExrImage& image) {
-  if (image.width < 1 || image.height < 1)
-    return error(path, "image has no pixels");
+  if (image.width < 1 || image.height < 1) return make_error(path, "image has no pixels");
   const std::size_t pixels = static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height);
-  if (pixels > kMaxPixels) return error(path, "image too large to write");
+  if (pixels > kMaxPixels) return make_error(path, "image too large to write");
   if (image.float_channels.empty() && image.uint_channels.empty())
-    return error(path, "image has no channels");
+    return make_error(path, "image has no channels");
   if (image.envmap == Envmap::Cube && image.height != 6 * image.width)
-    return error(path, "a cube map must be N x 6N pixels");
+    return make_error(path, "a cube map must be N x 6N pixels");
   std::set<std::string> names;
   for (const auto& c : image.float_channels) {
-    if (c.values.size() != pixels) return error(path, "channel '" + c.name + "' has the wrong size");
+    if (c.values.size() != pixels)
+      return make_error(path, "channel '" + c.name + "' has the wrong size");
     if (c.name.empty() || !names.insert(c.name).second)
-      return error(path, "channel names must be unique and non-empty");
+      return make_error(path, "channel names must be unique and non-empty");
   }
   for (const auto& c : image.uint_channels) {
-    if (c.values.size() != pixels) return error(path, "channel '" + c.name + "' has the wrong size");
+    if (c.values.size() != pixels)
+      return make_error(path, "channel '" + c.name + "' has the wrong size");
     if (c.name.empty() || !names.insert(c.name).second)
-      return error(path, "channel names must be unique and non-empty");
+      return make_error(path, "channel names must be unique and non-empty");
   }
 
   MemoryOStream stream;
@@ -148,7 +142,7 @@ Status write_exr(const std::string& path, const ExrImage& image) {
     file.setFrameBuffer(frame);
     file.writePixels(image.height);
   } catch (const std::exception& e) {
-    return error(path, std::string("OpenEXR: ") + e.what());
+    return make_error(path, std::string("OpenEXR: ") + e.what());
   }
   return write_file_atomic(path, stream.bytes());
 }
@@ -160,7 +154,7 @@ Result<ExrImage> read_exr(const std::string& path) {
   if (bytes->size() < 4 || static_cast<unsigned char>((*bytes)[0]) != 0x76 ||
       static_cast<unsigned char>((*bytes)[1]) != 0x2f || static_cast<unsigned char>((*bytes)[2]) != 0x31 ||
       static_cast<unsigned char>((*bytes)[3]) != 0x01)
-    return error(path, "not an OpenEXR file");
+    return make_error(path, "not an OpenEXR file");
   ExrImage image;
   try {
     MemoryIStream stream(*bytes);
@@ -170,7 +164,8 @@ Result<ExrImage> read_exr(const std::string& path) {
     const long long w = static_cast<long long>(window.max.x) - window.min.x + 1;
     const long long h = static_cast<long long>(window.max.y) - window.min.y + 1;
     if (w < 1 || h < 1 || static_cast<unsigned long long>(w) * static_cast<unsigned long long>(h) > kMaxPixels)
-      return error(path, "image size " + std::to_string(w) + " x " + std::to_string(h) + " out of range");
+      return make_error(
+          path, "image size " + std::to_string(w) + " x " + std::to_string(h) + " out of range");
     image.width = static_cast<int>(w);
     image.height = static_cast<int>(h);
     if (Imf::hasEnvmap(header)) {
@@ -182,13 +177,13 @@ Result<ExrImage> read_exr(const std::string& path) {
     }
     std::size_t channel_count = 0;
     for (auto it = header.channels().begin(); it != header.channels().end(); ++it) ++channel_count;
-    if (channel_count > kMaxChannels) return error(path, "too many channels");
+    if (channel_count > kMaxChannels) return make_error(path, "too many channels");
 
     const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
     const std::size_t row = static_cast<std::size_t>(w);
     for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
       if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
-        return error(path, std::string("channel '") + it.name() + "' is subsampled");
+        return make_error(path, std::string("channel '") + it.name() + "' is subsampled");
       if (it.channel().type == Imf::UINT) {
         image.uint_channels.push_back({it.name(), std::vector<std::uint32_t>(pixels)});
       } else {
@@ -206,7 +201,7 @@ Result<ExrImage> read_exr(const std::string& path) {
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
   } catch (const std::exception& e) {
-    return error(path, std::string("corrupt or truncated OpenEXR file: ") + e.what());
+    return make_error(path, std::string("corrupt or truncated OpenEXR file: ") + e.what());
   }
   return image;
 }
@@ -220,7 +215,8 @@ Result<ExrImage> far_field_image(const sim::FarField& f) {
     y.values[t] = static_cast<float>(f.intensity_cd(t));
     flux.values[t] = static_cast<float>(f.flux_lm(t));
     if (f.photons(t) > std::numeric_limits<std::uint32_t>::max())
-      return error("", "a texel holds more than 4294967295 photons: too many for the EXR photons channel");
+      return make_error(
+          "", "a texel holds more than 4294967295 photons: too many for the EXR photons channel");
     photons.values[t] = static_cast<std::uint32_t>(f.photons(t));
   }
   image.float_channels = {std::move(y), std::move(flux)};
@@ -232,10 +228,11 @@ Result<ExrImage> far_field_image(const sim::FarField& f) {
 
 Result<sim::FarField> far_field_from_image(const ExrImage& image, const std::string& name) {
   if (image.envmap != Envmap::Cube || image.height != 6 * image.width || image.width < 1)
-    return error(name, "not a cube-map environment image");
+    return make_error(name, "not a cube-map environment image");
   const auto* flux = image.find_float("flux");
   const auto* photons = image.find_uint("photons");
-  if (!flux || !photons) return error(name, "far field needs the channels 'flux' and 'photons'");
+  if (!flux || !photons)
+    return make_error(name, "far field needs the channels 'flux' and 'photons'");
   std::vector<double> f(flux->values.begin(), flux->values.end());
   std::vector<std::uint64_t> p(photons->values.begin(), photons->values.end());
   return sim::FarField(image.width, std::move(f), std::move(p));
@@ -271,9 +268,9 @@ double latlong_pixel_solid_angle(int width, int height, int x, int y) {
 
 Result<double> latlong_flux_lm(const ExrImage& image, const std::string& name) {
   if (image.envmap != Envmap::LatLong || image.width < 3 || image.height < 3)
-    return error(name, "not a latitude-longitude environment image of at least 3 x 3 pixels");
+    return make_error(name, "not a latitude-longitude environment image of at least 3 x 3 pixels");
   const auto* y = image.find_float("Y");
-  if (!y) return error(name, "no channel 'Y'");
+  if (!y) return make_error(name, "no channel 'Y'");
   double flux = 0.0;
   for (int row = 0; row < image.height; ++row) {
     const double omega_inner = latlong_pixel_solid_angle(image.width, image.height, 1, row);
@@ -281,8 +278,9 @@ Result<double> latlong_flux_lm(const ExrImage& image, const std::string& name) {
       const double v = y->values[static_cast<std::size_t>(row) * static_cast<std::size_t>(image.width) +
                                  static_cast<std::size_t>(x)];
       if (!std::isfinite(v) || v < 0.0)
-        return error(name, "pixel (" + std::to_string(x) + ", " + std::to_string(row) + ") holds " +
-                               std::to_string(v) + " cd: intensities are finite and >= 0");
+        return make_error(name, "pixel (" + std::to_string(x) + ", " + std::to_string(row) +
+                                    ") holds " + std::to_string(v) +
+                                    " cd: intensities are finite and >= 0");
       flux += v * ((x == 0 || x == image.width - 1) ? 0.5 * omega_inner : omega_inner);
     }
   }

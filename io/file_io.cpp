@@ -13,29 +13,25 @@
 namespace gonio::io {
 namespace {
 
-Error file_error(const std::string& path, const std::string& message) {
-  return Error{SourceLoc{path, 0, 0}, message};
-}
-
 std::string errno_text() { return std::strerror(errno); }
 
 }  // namespace
 
 Result<std::string> read_file(const std::string& path, std::size_t max_bytes) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return file_error(path, "cannot open: " + errno_text());
-  if (S_ISDIR(st.st_mode)) return file_error(path, "is a directory, not a file");
-  if (!S_ISREG(st.st_mode)) return file_error(path, "is not a regular file");
+  if (::stat(path.c_str(), &st) != 0) return make_error(path, "cannot open: " + errno_text());
+  if (S_ISDIR(st.st_mode)) return make_error(path, "is a directory, not a file");
+  if (!S_ISREG(st.st_mode)) return make_error(path, "is not a regular file");
   if (static_cast<std::size_t>(st.st_size) > max_bytes)
-    return file_error(path, "file too large (" + std::to_string(st.st_size) + " bytes, at most " +
+    return make_error(path, "file too large (" + std::to_string(st.st_size) + " bytes, at most " +
                                 std::to_string(max_bytes) + " accepted)");
 
   std::ifstream in(path, std::ios::binary);
-  if (!in) return file_error(path, "cannot open: " + errno_text());
+  if (!in) return make_error(path, "cannot open: " + errno_text());
   std::string bytes(static_cast<std::size_t>(st.st_size), '\0');
   in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (in.gcount() != static_cast<std::streamsize>(bytes.size()))
-    return file_error(path, "read error");
+    return make_error(path, "read error");
   return bytes;
 }
 
@@ -48,7 +44,7 @@ Status write_file_atomic(const std::string& path, std::string_view bytes) {
       (dir / ("." + target.filename().string() + ".tmp" + std::to_string(rd() % 1000000))).string();
 
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) return file_error(path, "cannot write: " + errno_text());
+  if (fd < 0) return make_error(path, "cannot write: " + errno_text());
   std::size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
@@ -57,19 +53,19 @@ Status write_file_atomic(const std::string& path, std::string_view bytes) {
       const std::string why = errno_text();
       ::close(fd);
       ::unlink(tmp.c_str());
-      return file_error(path, "cannot write: " + why);
+      return make_error(path, "cannot write: " + why);
     }
     done += static_cast<std::size_t>(n);
   }
   if (::fsync(fd) != 0 || ::close(fd) != 0) {
     const std::string why = errno_text();
     ::unlink(tmp.c_str());
-    return file_error(path, "cannot write: " + why);
+    return make_error(path, "cannot write: " + why);
   }
   if (::rename(tmp.c_str(), path.c_str()) != 0) {
     const std::string why = errno_text();
     ::unlink(tmp.c_str());
-    return file_error(path, "cannot write: " + why);
+    return make_error(path, "cannot write: " + why);
   }
   return Ok{};
 }
@@ -77,8 +73,8 @@ Status write_file_atomic(const std::string& path, std::string_view bytes) {
 Status make_directories(const std::string& path) {
   std::error_code ec;
   std::filesystem::create_directories(path, ec);
-  if (ec) return file_error(path, "cannot create directory: " + ec.message());
-  if (!std::filesystem::is_directory(path)) return file_error(path, "is not a directory");
+  if (ec) return make_error(path, "cannot create directory: " + ec.message());
+  if (!std::filesystem::is_directory(path)) return make_error(path, "is not a directory");
   return Ok{};
 }
 

@@ -4,14 +4,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "photometry/format.h"
+
 namespace gonio::io {
 namespace {
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 // A glTF factor outside its range is a file defect, not a reason to refuse
 // the model: clamp and say so.
@@ -20,8 +16,9 @@ double clamp_factor(double v, double lo, double hi, const char* key, const Sourc
   if (std::isfinite(v) && v >= lo && v <= hi) return v;
   const double clamped = std::isfinite(v) ? std::clamp(v, lo, hi) : lo;
   findings.push_back({Severity::Warning, "material-factor-range",
-                      what + ": " + key + " = " + num(v) + " outside " + num(lo) + ".." +
-                          num(hi) + ", using " + num(clamped),
+                      what + ": " + key + " = " + format_number(v) + " outside " +
+                          format_number(lo) + ".." + format_number(hi) + ", using " +
+                          format_number(clamped),
                       where});
   return clamped;
 }
@@ -39,8 +36,8 @@ Status check_extra(const std::optional<double>& v, double lo, double hi, const c
                    const SourceLoc& where, const std::string& what) {
   if (!v) return Ok{};
   if (std::isfinite(*v) && *v >= lo && *v <= hi) return Ok{};
-  return Error{where, what + ": extras.gonio." + key + " = " + num(*v) + " must lie in " +
-                          num(lo) + ".." + num(hi)};
+  return Error{where, what + ": extras.gonio." + key + " = " + format_number(*v) + " must lie in " +
+                          format_number(lo) + ".." + format_number(hi)};
 }
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -102,7 +99,7 @@ Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras&
   double ior = in.ior;
   if (!(std::isfinite(ior) && ior >= 1.0)) {
     findings.push_back({Severity::Warning, "material-factor-range",
-                        what + ": ior = " + num(ior) + " is not >= 1, using 1.5", where});
+                        what + ": ior = " + format_number(ior) + " is not >= 1, using 1.5", where});
     ior = 1.5;
   }
 
@@ -163,11 +160,12 @@ Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras&
     const double trans = x.transmittance.value_or(0.0);
     const double diffusion = x.diffusion.value_or(1.0);
     if (diffuse_refl > refl)
-      return Error{where, what + ": extras.gonio.diffuse_reflectance " + num(diffuse_refl) +
-                              " exceeds reflectance " + num(refl)};
+      return Error{where, what + ": extras.gonio.diffuse_reflectance " +
+                              format_number(diffuse_refl) + " exceeds reflectance " +
+                              format_number(refl)};
     if (refl + trans > 1.0 + 1e-12)
       return Error{where, what + ": extras.gonio reflectance + transmittance = " +
-                              num(refl + trans) + " exceeds 1"};
+                              format_number(refl + trans) + " exceeds 1"};
     out.diffuse_reflect = diffuse_refl;
     out.mirror = 0.0;
     out.glossy = 0.0;
@@ -190,7 +188,7 @@ Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras&
 
   const double total = out.total();
   if (total > 1.0 + 1e-9)
-    return Error{where, what + ": extras.gonio lobe weights sum to " + num(total) +
+    return Error{where, what + ": extras.gonio lobe weights sum to " + format_number(total) +
                             ", more than 1 (a surface cannot scatter more than it receives)"};
   return out;
 }

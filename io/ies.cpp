@@ -14,6 +14,7 @@
 #include "gonio/version.h"
 #include "io/file_io.h"
 #include "io/text.h"
+#include "photometry/format.h"
 
 namespace gonio::io {
 namespace {
@@ -81,23 +82,6 @@ bool starts_with_ci(std::string_view s, std::string_view prefix) {
   return true;
 }
 
-// A token as it may appear in a message: printable, at most 24 characters.
-std::string shown(std::string_view token) {
-  std::string out;
-  for (char c : token.substr(0, 24)) {
-    const auto u = static_cast<unsigned char>(c);
-    out.push_back(u >= 0x20 && u < 0x7f ? c : '?');
-  }
-  if (token.size() > 24) out += "...";
-  return out;
-}
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
-
 bool near(double a, double b) { return std::abs(a - b) <= kAngleTol; }
 
 // Lines with their numbers, split as io/text.h does (LF, CRLF, lone CR),
@@ -154,7 +138,7 @@ class NumberStream {
     const std::string low = upper(token);
     const bool not_finite =
         low.find("NAN") != std::string::npos || low.find("INF") != std::string::npos;
-    set_error("expected " + what() + ", found '" + shown(token) + "'" +
+    set_error("expected " + what() + ", found " + shown(token) +
               (not_finite ? " (not a finite number)" : ""));
     return false;
   }
@@ -166,7 +150,7 @@ class NumberStream {
     if (!next(v, what)) return false;
     if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi)) {
       set_error("expected " + what() + " (an integer from " + std::to_string(lo) + " to " +
-                std::to_string(hi) + "), found " + num(v));
+                std::to_string(hi) + "), found " + format_number(v, 10));
       return false;
     }
     out = static_cast<long long>(v);
@@ -467,10 +451,10 @@ Status IesReader::read_header(std::string_view text, std::size_t* data_offset, i
       const std::string shown_line = shown(trim(line.text));
       if (!v->known)
         warn(line.number, "unknown-version",
-             "unknown version line '" + shown_line + "'; read as LM-63-2002");
+             "unknown version line " + shown_line + "; read as LM-63-2002");
       else if (!v->standard)
         warn(line.number, "nonstandard-version",
-             "nonstandard version line '" + shown_line + "'; read as " + to_string(v->version));
+             "nonstandard version line " + shown_line + "; read as " + to_string(v->version));
     } else {
       version_ = IesVersion::LM63_1986;  // no version line: label lines up to TILT
       pending = true;
@@ -540,15 +524,16 @@ Status IesReader::read_tilt(NumberStream& in, Tilt& tilt) {
     double a = 0.0;
     if (!in.next(a, [&] { return "TILT angle " + ordinal_of(i, n); })) return in.error();
     if (i > 0 && !(a > tilt.angles_deg.back()))
-      return in.fail(in.line(), "TILT angles must increase: " + num(a) + " follows " +
-                                    num(tilt.angles_deg.back()));
+      return in.fail(in.line(), "TILT angles must increase: " + format_number(a, 10) + " follows " +
+                                    format_number(tilt.angles_deg.back(), 10));
     tilt.angles_deg.push_back(a);
   }
   for (std::size_t i = 0; i < n; ++i) {
     double f = 0.0;
     if (!in.next(f, [&] { return "TILT multiplying factor " + ordinal_of(i, n); }))
       return in.error();
-    if (f < 0.0) return in.fail(in.line(), "TILT multiplying factor " + num(f) + " is negative");
+    if (f < 0.0)
+      return in.fail(in.line(), "TILT multiplying factor " + format_number(f, 10) + " is negative");
     tilt.factors.push_back(f);
   }
   return Ok{};
@@ -578,7 +563,7 @@ Status IesReader::read_tilt_file(const std::string& file_name, int tilt_line, Ti
   std::string_view extra;
   if (in.next_token(extra))
     warn_at(path, in.line(), "trailing-data",
-            "data after the TILT factors ignored (first: '" + shown(extra) + "')");
+            "data after the TILT factors ignored (first: " + shown(extra) + ")");
   return Ok{};
 }
 
@@ -590,7 +575,8 @@ Status IesReader::set_symmetry(int first_line, int last_line) {
       d_.symmetry = Symmetry::Rotational;
       if (!near(first, 0.0))
         warn(first_line, "horizontal-range",
-             "single horizontal angle " + num(first) + " (LM-63 expects 0); read as rotational");
+             "single horizontal angle " + format_number(first, 10) +
+                 " (LM-63 expects 0); read as rotational");
       return Ok{};
     }
     if (near(first, 0.0)) {
@@ -601,7 +587,7 @@ Status IesReader::set_symmetry(int first_line, int last_line) {
       } else if (last > 180.0 && last <= 360.0 + kAngleTol) {
         d_.symmetry = Symmetry::None;
       } else {
-        return fail(last_line, "Type C horizontal angles 0 to " + num(last) +
+        return fail(last_line, "Type C horizontal angles 0 to " + format_number(last, 10) +
                                    " match no LM-63 range: the last angle must be 90, 180, or "
                                    "above 180 up to 360");
       }
@@ -617,30 +603,33 @@ Status IesReader::set_symmetry(int first_line, int last_line) {
     }
     return fail(first_line,
                 "Type C horizontal angles must start at 0 (or run from 90 to 270), found " +
-                    num(first) + " to " + num(last));
+                    format_number(first, 10) + " to " + format_number(last, 10));
   }
   if (near(first, 0.0)) {
     d_.symmetry = Symmetry::Lateral;
     if (!near(last, 90.0))
       warn(last_line, "horizontal-range",
-           "laterally symmetric horizontal angles end at " + num(last) + ", not 90");
+           "laterally symmetric horizontal angles end at " + format_number(last, 10) + ", not 90");
     return Ok{};
   }
   if (first < 0.0) {
     d_.symmetry = Symmetry::None;
     if (!near(first, -90.0) || !near(last, 90.0))
       warn(first_line, "horizontal-range",
-           "horizontal angles " + num(first) + " to " + num(last) + " do not span -90 to 90");
+           "horizontal angles " + format_number(first, 10) + " to " + format_number(last, 10) +
+               " do not span -90 to 90");
     return Ok{};
   }
   return fail(first_line, std::string("Type ") + to_string(d_.type) +
-                              " horizontal angles must start at -90 or 0, found " + num(first));
+                              " horizontal angles must start at -90 or 0, found " +
+                              format_number(first, 10));
 }
 
 void IesReader::set_opening(double w, double l, double h, int line) {
   const bool old_table = version_ <= IesVersion::LM63_1995;
   auto o = old_table ? opening_1995(w, l, h) : opening_2019(w, l, h);
-  const std::string dims = num(w) + " " + num(l) + " " + num(h);
+  const std::string dims =
+      format_number(w, 10) + " " + format_number(l, 10) + " " + format_number(h, 10);
   if (!o) {
     o = old_table ? opening_2019(w, l, h) : opening_1995(w, l, h);
     if (o) {
@@ -673,7 +662,8 @@ Status IesReader::read_data(NumberStream& in) {
   const int lumens_line = in.line();
   if (!in.next(multiplier, [] { return std::string("candela multiplier"); })) return in.error();
   if (!(multiplier > 0.0))
-    return in.fail(in.line(), "candela multiplier must be positive, found " + num(multiplier));
+    return in.fail(in.line(),
+                   "candela multiplier must be positive, found " + format_number(multiplier, 10));
   if (!in.next_int(nv, 1, kMaxCount, [] { return std::string("number of vertical angles"); }))
     return in.error();
   const int count_line = in.line();
@@ -707,10 +697,11 @@ Status IesReader::read_data(NumberStream& in) {
   const double needed = static_cast<double>(nv) + static_cast<double>(nh) +
                         static_cast<double>(nv) * static_cast<double>(nh);
   if (!in.can_hold(needed))
-    return in.fail(count_line,
-                   std::to_string(nv) + " vertical × " + std::to_string(nh) +
-                       " horizontal angles need " + num(needed) + " more numbers, more than the " +
-                       std::to_string(in.remaining_bytes()) + " bytes left in the file can hold");
+    return in.fail(count_line, std::to_string(nv) + " vertical × " + std::to_string(nh) +
+                                   " horizontal angles need " + format_number(needed, 10) +
+                                   " more numbers, more than the " +
+                                   std::to_string(in.remaining_bytes()) +
+                                   " bytes left in the file can hold");
 
   d_.type = static_cast<PhotometricType>(type);
   const bool c = d_.type == PhotometricType::C;
@@ -725,17 +716,18 @@ Status IesReader::read_data(NumberStream& in) {
     const double lo = c ? 0.0 : -90.0, hi = c ? 180.0 : 90.0;
     if (a < lo - kAngleTol || a > hi + kAngleTol)
       return in.fail(in.line(), std::string("Type ") + to_string(d_.type) + " vertical angle " +
-                                    num(a) + " outside " + num(lo) + " to " + num(hi));
+                                    format_number(a, 10) + " outside " + format_number(lo, 10) +
+                                    " to " + format_number(hi, 10));
     if (i > 0 && !(a > d_.vertical_deg.back()))
-      return in.fail(in.line(), "vertical angles must increase: " + num(a) + " follows " +
-                                    num(d_.vertical_deg.back()));
+      return in.fail(in.line(), "vertical angles must increase: " + format_number(a, 10) +
+                                    " follows " + format_number(d_.vertical_deg.back(), 10));
     d_.vertical_deg.push_back(a);
   }
   if (c) {
     const double first = d_.vertical_deg.front(), last = d_.vertical_deg.back();
     if (!(near(first, 0.0) || near(first, 90.0)) || !(near(last, 90.0) || near(last, 180.0)))
       warn(v_first_line, "vertical-range",
-           "vertical angles " + num(first) + " to " + num(last) +
+           "vertical angles " + format_number(first, 10) + " to " + format_number(last, 10) +
                " are none of LM-63's ranges 0-90, 90-180, 0-180; outside them nothing is emitted");
   }
 
@@ -748,10 +740,11 @@ Status IesReader::read_data(NumberStream& in) {
     const double lo = c ? 0.0 : -90.0, hi = c ? 360.0 : 90.0;
     if (a < lo - kAngleTol || a > hi + kAngleTol)
       return in.fail(in.line(), std::string("Type ") + to_string(d_.type) + " horizontal angle " +
-                                    num(a) + " outside " + num(lo) + " to " + num(hi));
+                                    format_number(a, 10) + " outside " + format_number(lo, 10) +
+                                    " to " + format_number(hi, 10));
     if (i > 0 && !(a > d_.horizontal_deg.back()))
-      return in.fail(in.line(), "horizontal angles must increase: " + num(a) + " follows " +
-                                    num(d_.horizontal_deg.back()));
+      return in.fail(in.line(), "horizontal angles must increase: " + format_number(a, 10) +
+                                    " follows " + format_number(d_.horizontal_deg.back(), 10));
     d_.horizontal_deg.push_back(a);
   }
   if (Status s = set_symmetry(h_first_line, in.line()); !s.ok()) return s;
@@ -764,7 +757,7 @@ Status IesReader::read_data(NumberStream& in) {
       double v = 0.0;
       if (!in.next(v, [&] {
             return "candela value " + ordinal_of(vi, snv) + " of horizontal angle " +
-                   num(d_.horizontal_deg[hi]) + " (" + ordinal_of(hi, snh) + ")";
+                   format_number(d_.horizontal_deg[hi], 10) + " (" + ordinal_of(hi, snh) + ")";
           }))
         return in.error();
       if (v < 0.0) {
@@ -781,7 +774,7 @@ Status IesReader::read_data(NumberStream& in) {
   std::string_view extra;
   if (in.next_token(extra))
     warn(in.line(), "trailing-data",
-         "data after the last candela value ignored (first: '" + shown(extra) + "')");
+         "data after the last candela value ignored (first: " + shown(extra) + ")");
 
   // The model.
   LampSet lamp;
@@ -792,7 +785,7 @@ Status IesReader::read_data(NumberStream& in) {
     lamp.flux_lm = photometry::kNaN;
     if (lumens != -1.0)
       warn(lumens_line, "absolute-flux",
-           "lumens per lamp " + num(lumens) + " read as -1 (absolute photometry)");
+           "lumens per lamp " + format_number(lumens, 10) + " read as -1 (absolute photometry)");
   } else if (lumens == 0.0) {
     return in.fail(lumens_line,
                    "lumens per lamp must be positive, or -1 for absolute photometry; found 0");
@@ -808,14 +801,14 @@ Status IesReader::read_data(NumberStream& in) {
       d_.file_generation = *g;
     } else {
       warn(second_line, "file-generation-type",
-           "file generation type " + num(second) +
+           "file generation type " + format_number(second, 10) +
                " is not in the LM-63-2019 table; read as undefined");
     }
   } else {
     d_.ballast_lamp_factor = second;
     if (version_ == IesVersion::LM63_2002 && second != 1.0)
       warn(second_line, "future-use",
-           "the LM-63-2002 future-use value is " + num(second) +
+           "the LM-63-2002 future-use value is " + format_number(second, 10) +
                ", not 1; kept as ballast-lamp photometric factor");
   }
 
@@ -1091,17 +1084,17 @@ void IesWriter::unsupported_fields() {
       *d_.ldt_type_indicator != (d_.symmetry == Symmetry::Rotational ? 1 : 3))
     ldt_only(true, "EULUMDAT type indicator Ityp " + std::to_string(*d_.ldt_type_indicator));
   if (d_.ballast_lamp_factor != 1.0)
-    warn("ballast-lamp-factor", "ballast-lamp photometric factor " + num(d_.ballast_lamp_factor) +
-                                    " (LM-63-1995) has no field in " + to_string(options_.version) +
-                                    "; not written");
+    warn("ballast-lamp-factor",
+         "ballast-lamp photometric factor " + format_number(d_.ballast_lamp_factor, 10) +
+             " (LM-63-1995) has no field in " + to_string(options_.version) + "; not written");
 }
 
 // The distribution on the horizontal range the file will hold.
 Distribution IesWriter::grid() {
   if (d_.type != PhotometricType::C) {
     if (d_.symmetry == Symmetry::None && d_.horizontal_deg.front() >= -kAngleTol)
-      warn("lateral-range", "horizontal angles " + num(d_.horizontal_deg.front()) + " to " +
-                                num(d_.horizontal_deg.back()) +
+      warn("lateral-range", "horizontal angles " + format_number(d_.horizontal_deg.front(), 10) +
+                                " to " + format_number(d_.horizontal_deg.back(), 10) +
                                 " without symmetry will read back as lateral symmetry (LM-63 "
                                 "reads a range starting at 0 so)");
     return d_;
@@ -1122,8 +1115,8 @@ Distribution IesWriter::grid() {
   // is closed over the full circle as interpolate() reads it.
   if (d_.symmetry == Symmetry::None &&
       (d_.horizontal_deg.front() > kAngleTol || d_.horizontal_deg.back() <= 180.0 + kAngleTol)) {
-    warn("symmetry-expanded", "horizontal angles " + num(d_.horizontal_deg.front()) + " to " +
-                                  num(d_.horizontal_deg.back()) +
+    warn("symmetry-expanded", "horizontal angles " + format_number(d_.horizontal_deg.front(), 10) +
+                                  " to " + format_number(d_.horizontal_deg.back(), 10) +
                                   " without symmetry are no LM-63 range: written as 0 to 360, "
                                   "planes added across the seam");
     return photometry::expand_symmetry(d_);
@@ -1146,7 +1139,8 @@ std::string IesWriter::write() {
   if (g.type == PhotometricType::C) {
     const double first = g.vertical_deg.front(), last = g.vertical_deg.back();
     if (!(near(first, 0.0) || near(first, 90.0)) || !(near(last, 90.0) || near(last, 180.0)))
-      warn("vertical-range", "vertical angles " + num(first) + " to " + num(last) +
+      warn("vertical-range", "vertical angles " + format_number(first, 10) + " to " +
+                                 format_number(last, 10) +
                                  " are none of LM-63's ranges 0-90, 90-180, 0-180");
   }
 
@@ -1175,8 +1169,9 @@ std::string IesWriter::write() {
       warn("input-watts-unknown", "input watts unknown; written as 0");
     }
   } else if (power_known && std::abs(power - watts) > 1e-9 * std::max(power, watts)) {
-    warn("lamp-power", "lamp set power " + num(power) + " W differs from the input watts " +
-                           num(watts) + " W, which IES keeps");
+    warn("lamp-power", "lamp set power " + format_number(power, 10) +
+                           " W differs from the input watts " + format_number(watts, 10) +
+                           " W, which IES keeps");
   }
   double ballast = d_.ballast_factor;
   if (!std::isfinite(ballast)) {

@@ -1,68 +1,107 @@
 #include "io/image.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
+#include <dlfcn.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <string>
+#include <system_error>
 #include <vector>
 
 #include "io/file_io.h"
+#include "io/png_module.h"
+
+#ifndef GONIO_PNG_MODULE_BUILD_PATH
+#define GONIO_PNG_MODULE_BUILD_PATH ""
+#endif
 
 namespace gonio::io {
 namespace {
 
-// One out-of-line constructor: GCC 12 reports false maybe-uninitialized
-// warnings for Error temporaries built inline next to OpenImageIO's code.
-Error image_error(const std::string& path, const std::string& message) {
-  return Error{SourceLoc{path, 0, 0}, message};
+// The module's entry points, or why it could not be loaded.
+struct PngModule {
+  decltype(&gonio_png_encode) encode = nullptr;
+  decltype(&gonio_png_decode) decode = nullptr;
+  std::string error;  // empty when loaded
+};
+
+std::vector<std::string> module_candidates() {
+  std::vector<std::string> paths;
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    paths.push_back((exe.parent_path() / kPngModuleName).string());
+    paths.push_back((exe.parent_path().parent_path() / "lib" / "gonio" / kPngModuleName).string());
+  }
+  const std::string built = GONIO_PNG_MODULE_BUILD_PATH;
+  if (!built.empty()) paths.push_back(built);
+  return paths;
+}
+
+PngModule load_module(const std::vector<std::string>& candidates) {
+  PngModule m;
+  std::string tried;
+  for (const std::string& path : candidates) {
+    tried += (tried.empty() ? "" : ", ") + path;
+    if (access(path.c_str(), R_OK) != 0) continue;
+    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle) {
+      const char* why = dlerror();
+      m.error = "cannot load the PNG module " + path + ": " + (why ? why : "unknown error");
+      return m;
+    }
+    // The handle stays open for the life of the process.
+    auto version = reinterpret_cast<decltype(&gonio_png_module_version)>(
+        dlsym(handle, "gonio_png_module_version"));
+    m.encode = reinterpret_cast<decltype(&gonio_png_encode)>(dlsym(handle, "gonio_png_encode"));
+    m.decode = reinterpret_cast<decltype(&gonio_png_decode)>(dlsym(handle, "gonio_png_decode"));
+    if (!version || !m.encode || !m.decode || version() != kPngModuleVersion) {
+      m.encode = nullptr;
+      m.decode = nullptr;
+      m.error = "the PNG module " + path + " is not the one this gonio was built with";
+    }
+    return m;
+  }
+  m.error = std::string("the PNG module ") + kPngModuleName +
+            " (OpenImageIO) is missing; looked for " + tried;
+  return m;
+}
+
+// Loaded once, at the first PNG written or read (thread-safe static).
+const PngModule& png_module() {
+  static const PngModule module = load_module(module_candidates());
+  return module;
 }
 
 }  // namespace
 
+Status load_png_module(const std::vector<std::string>& candidates) {
+  const PngModule m = load_module(candidates);
+  if (!m.encode) return make_error("", m.error);
+  return Ok{};
+}
+
 Status write_png(const std::string& path, const Image8& image) {
   if (image.width <= 0 || image.height <= 0 || image.channels < 1 || image.channels > 4 ||
-      image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) *
+      image.pixels.size() != static_cast<std::size_t>(image.width) *
+                                 static_cast<std::size_t>(image.height) *
                                  static_cast<std::size_t>(image.channels))
-    return image_error(path, "internal: malformed image");
+    return make_error(path, "internal: malformed image");
+  const PngModule& m = png_module();
+  if (!m.encode) return make_error(path, m.error);
   std::vector<unsigned char> bytes;
-  OIIO::Filesystem::IOVecOutput memory(bytes);
-  auto out = OIIO::ImageOutput::create("preview.png", &memory);
-  if (!out) return image_error(path, "cannot create a PNG writer: " + OIIO::geterror());
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
-  if (image.channels == 2) spec.alpha_channel = 1;
-  // Straight (not premultiplied) alpha, as PNG stores it: no conversion.
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  // Fast deflate and no row filters: previews are rewritten every iteration.
-  // Level 1 took half the default's time (files 1.7× larger); libpng's
-  // adaptive filter choice then took as long as the rest of writing a
-  // 6 × 256² preview, filter included (BM_PreviewOutput: 53 → 29 ms).
-  spec.attribute("png:compressionLevel", 1);
-  spec.attribute("png:filter", 0x08);  // PNG_FILTER_NONE
-  if (!out->open("preview.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) ||
-      !out->close())
-    return image_error(path, "cannot encode PNG: " + out->geterror());
-  return write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  std::string error;
+  if (!m.encode(&image, &bytes, &error)) return make_error(path, error);
+  return write_file_atomic(
+      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 Result<Image8> read_png(const std::string& path) {
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  auto in = OIIO::ImageInput::open(path, &config);
-  if (!in) return image_error(path, "cannot read image: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  constexpr long long kMaxPixels = 1LL << 28;
-  if (spec.width <= 0 || spec.height <= 0 || static_cast<long long>(spec.width) * spec.height > kMaxPixels ||
-      spec.nchannels < 1 || spec.nchannels > 4)
-    return image_error(path, "image size or channel count out of range");
+  const PngModule& m = png_module();
+  if (!m.decode) return make_error(path, m.error);
   Image8 image;
-  image.width = spec.width;
-  image.height = spec.height;
-  image.channels = spec.nchannels;
-  image.pixels.assign(static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height) *
-                          static_cast<std::size_t>(spec.nchannels),
-                      0);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, image.pixels.data()))
-    return image_error(path, "cannot decode image: " + in->geterror());
-  in->close();
+  std::string error;
+  if (!m.decode(path.c_str(), &image, &error)) return make_error(path, error);
   return image;
 }
 

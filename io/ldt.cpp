@@ -11,6 +11,7 @@
 #include "io/text.h"
 #include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
+#include "photometry/format.h"
 
 namespace gonio::io {
 namespace {
@@ -43,27 +44,6 @@ std::size_t utf8_chars(std::string_view s) {
   std::size_t n = 0;
   for (char c : s) n += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
   return n;
-}
-
-// A token as messages show it: quoted, printable, at most 40 characters.
-std::string shown(std::string_view token) {
-  std::string out = "'";
-  std::size_t n = 0;
-  for (char c : token) {
-    if (++n > 40) {
-      out += "...";
-      break;
-    }
-    const auto u = static_cast<unsigned char>(c);
-    out += (u < 0x20 || u == 0x7F) ? '?' : c;
-  }
-  return out + "'";
-}
-
-std::string deg(double a) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", a);
-  return buf;
 }
 
 double mirror_c90_c270(double c) {
@@ -224,6 +204,412 @@ struct RawLampSet {
   int line = 0;  // of the lamp count
 };
 
+// Reads an EULUMDAT file by the standard's field groups (numbered 1-30 as
+// in the format's description), as the IES reader reads LM-63's: each group
+// reads and checks its fields and notes what is odd; model() builds the
+// distribution from them.
+class LdtReader {
+ public:
+  LdtReader(std::vector<TextLine> lines, const std::string& name, const LdtReadOptions& options)
+      : r_(std::move(lines), name), name_(name), options_(options) {
+    d_.type = photometry::PhotometricType::C;
+  }
+
+  Result<LdtFile> read() {
+    for (Status (LdtReader::*group)() :
+         {&LdtReader::identification, &LdtReader::dimensions_and_factors, &LdtReader::lamp_sets,
+          &LdtReader::direct_ratios, &LdtReader::angles, &LdtReader::intensities,
+          &LdtReader::model})
+      if (Status s = (this->*group)(); !s.ok()) return s.error();
+    return LdtFile{std::move(d_), std::move(r_.findings())};
+  }
+
+ private:
+  Error fail(int line, std::string message) const {
+    return Error{SourceLoc{name_, line, 0}, std::move(message)};
+  }
+
+  // 1-12: identification, symmetry, the counts and steps of the grid.
+  Status identification() {
+    if (!r_.text(&company_, "the company identification", kTextChars)) return r_.error();
+    if (company_.rfind("IESNA", 0) == 0 || company_.rfind("IES:LM-63", 0) == 0)
+      return fail(1, "this is an IES LM-63 file (" + shown(company_) + "), not EULUMDAT");
+
+    if (!r_.integer(&ityp_, "the type indicator Ityp (0-3)", 0, 3)) return r_.error();
+    isym_line_ = r_.line();
+    if (!r_.integer(&isym_, "the symmetry indicator Isym (0-4)", 0, 4)) return r_.error();
+    mc_line_ = r_.line();
+    if (!r_.integer(&mc_, "the number of C-planes Mc (1-" + std::to_string(kMaxLdtCPlanes) + ")", 1,
+                    kMaxLdtCPlanes))
+      return r_.error();
+    nc_ = static_cast<std::size_t>(mc_);
+    stored_ = stored_plane_indices(static_cast<int>(isym_), nc_, options_.isym3_order);
+    if (stored_.empty()) {
+      const char* need = isym_ == 2 ? "an even Mc" : "an Mc divisible by 4";
+      return fail(mc_line_, "Isym " + std::to_string(isym_) + " (" +
+                                isym_name(static_cast<int>(isym_)) + ") needs " + need +
+                                ", found Mc = " + std::to_string(mc_));
+    }
+    dc_line_ = r_.line();
+    if (!r_.number(&dc_, "the distance between C-planes Dc [deg] (0-360)", 0.0, 360.0))
+      return r_.error();
+    if (!r_.integer(&ng_,
+                    "the number of luminous intensities per C-plane Ng (1-" +
+                        std::to_string(kMaxLdtGammaAngles) + ")",
+                    1, kMaxLdtGammaAngles))
+      return r_.error();
+    dg_line_ = r_.line();
+    if (!r_.number(&dg_, "the distance between luminous intensities Dg [deg] (0-180)", 0.0, 180.0))
+      return r_.error();
+
+    if (!r_.text(&report_, "the measurement report number", kTextChars) ||
+        !r_.text(&lum_name_, "the luminaire name", kTextChars) ||
+        !r_.text(&lum_number_, "the luminaire number", kTextChars) ||
+        !r_.text(&file_name_, "the file name", kFileNameChars) ||
+        !r_.text(&date_user_, "the date/user", kTextChars))
+      return r_.error();
+    return Ok{};
+  }
+
+  // 13-25: dimensions and photometric factors.
+  Status dimensions_and_factors() {
+    static const char* const kDimNames[9] = {
+        "the length/diameter of the luminaire [mm]",
+        "the width of the luminaire [mm] (0 for round)",
+        "the height of the luminaire [mm]",
+        "the length/diameter of the luminous area [mm]",
+        "the width of the luminous area [mm] (0 for round)",
+        "the height of the luminous area in the C0-plane [mm]",
+        "the height of the luminous area in the C90-plane [mm]",
+        "the height of the luminous area in the C180-plane [mm]",
+        "the height of the luminous area in the C270-plane [mm]"};
+    for (int i = 0; i < 9; ++i)
+      if (!r_.number(&dims_[i], std::string(kDimNames[i]) + " (>= 0)", 0.0)) return r_.error();
+
+    const int dff_line = r_.line();
+    if (!r_.number(&dff_, "the downward flux fraction DFF [%]")) return r_.error();
+    const int lorl_line = r_.line();
+    if (!r_.number(&lorl_, "the light output ratio LORL [%]")) return r_.error();
+    const int cfli_line = r_.line();
+    if (!r_.number(&cfli_, "the conversion factor for luminous intensities (>= 0)", 0.0))
+      return r_.error();
+    if (!r_.number(&tilt_, "the tilt of the luminaire during measurement [deg] (-180-180)", -180.0,
+                   180.0))
+      return r_.error();
+    if (dff_ < 0.0 || dff_ > 100.0)
+      r_.note(Severity::Warning, "ldt-dff-range",
+              "downward flux fraction " + format_number(dff_) + " % lies outside 0-100 %",
+              dff_line);
+    if (lorl_ < 0.0 || lorl_ > 100.0)
+      r_.note(Severity::Warning, "ldt-lorl-range",
+              "light output ratio " + format_number(lorl_) + " % lies outside 0-100 %", lorl_line);
+    if (cfli_ == 0.0) {
+      r_.note(Severity::Warning, "ldt-conversion-factor-zero",
+              "conversion factor 0 would erase every intensity; read as 1", cfli_line);
+      cfli_ = 1.0;
+    } else if (cfli_ != 1.0) {
+      r_.note(Severity::Info, "ldt-conversion-factor",
+              "conversion factor " + format_number(cfli_) + " applied to the intensities",
+              cfli_line);
+    }
+    return Ok{};
+  }
+
+  // 26: lamp sets.
+  Status lamp_sets() {
+    long nsets = 0;
+    if (!r_.integer(&nsets, "the number of lamp sets (1-" + std::to_string(kMaxLdtLampSets) + ")",
+                    1, kMaxLdtLampSets))
+      return r_.error();
+    sets_.resize(static_cast<std::size_t>(nsets));
+    for (std::size_t i = 0; i < sets_.size(); ++i) {
+      RawLampSet& s = sets_[i];
+      const std::string k = " of lamp set " + std::to_string(i + 1);
+      s.line = r_.line();
+      if (!r_.integer(&s.count,
+                      "the number of lamps" + k + " (non-zero; negative for absolute photometry)",
+                      -1000000, 1000000))
+        return r_.error();
+      if (s.count == 0)
+        return fail(s.line, "expected the number of lamps" + k + " (non-zero), found '0'");
+      const int flux_line = r_.line() + 1;
+      if (!r_.text(&s.set.type, "the type of lamps" + k, kLampTypeChars)) return r_.error();
+      if (!r_.number(&s.set.flux_lm, "the total luminous flux" + k + " [lm] (>= 0)", 0.0))
+        return r_.error();
+      if (i == 0 && !(s.set.flux_lm > 0.0))
+        return fail(flux_line,
+                    std::string("expected the total luminous flux of lamp set 1 [lm] ") +
+                        (s.count < 0 ? "(for absolute photometry: the luminaire's flux) " : "") +
+                        "(> 0), found 0");
+      if (!r_.text(&s.set.color, "the colour appearance" + k, kColorChars) ||
+          !r_.text(&s.set.color_rendering, "the colour rendering" + k, kColorRenderingChars) ||
+          !r_.number(&s.set.power_w, "the wattage including ballast" + k + " [W] (>= 0)", 0.0))
+        return r_.error();
+      s.set.count = static_cast<int>(std::abs(s.count));
+      if (i > 0 && (s.count < 0) != (sets_[0].count < 0))
+        r_.note(Severity::Warning, "ldt-lamp-count-sign",
+                "the sign of the lamp count of set " + std::to_string(i + 1) +
+                    " differs from set 1, which alone decides absolute photometry",
+                s.line);
+    }
+    return Ok{};
+  }
+
+  // 27: direct ratios.
+  Status direct_ratios() {
+    d_.direct_ratios.resize(10);
+    for (int i = 0; i < 10; ++i)
+      if (!r_.number(&d_.direct_ratios[static_cast<std::size_t>(i)],
+                     "direct ratio " + std::to_string(i + 1) + " of 10"))
+        return r_.error();
+    return Ok{};
+  }
+
+  // 28-29: C and gamma angles, and the planes the symmetry refers to. Counts
+  // are bounded above, and nothing larger than the lines left in the file is
+  // reserved.
+  Status angles() {
+    const int c_first_line = r_.line();
+    nv_ = static_cast<std::size_t>(ng_);
+    c_angles_.reserve(std::min(nc_, r_.remaining()));
+    for (std::size_t i = 0; i < nc_; ++i) {
+      const int at = r_.line();
+      double c = 0.0;
+      const auto what = [&] {
+        return "C angle " + std::to_string(i + 1) + " of " + std::to_string(nc_) + " [deg] (0-360)";
+      };
+      if (!r_.number(&c, what, 0.0, 360.0)) return r_.error();
+      if (i > 0 && !(c > c_angles_.back()))
+        return fail(at, "C angles must increase: " + format_number(c) + " follows " +
+                            format_number(c_angles_.back()));
+      c_angles_.push_back(c);
+    }
+    gammas_.reserve(std::min(nv_, r_.remaining()));
+    for (std::size_t i = 0; i < nv_; ++i) {
+      const int at = r_.line();
+      double g = 0.0;
+      const auto what = [&] {
+        return "gamma angle " + std::to_string(i + 1) + " of " + std::to_string(nv_) +
+               " [deg] (0-180)";
+      };
+      if (!r_.number(&g, what, 0.0, 180.0)) return r_.error();
+      if (i > 0 && !(g > gammas_.back()))
+        return fail(at, "gamma angles must increase: " + format_number(g) + " follows " +
+                            format_number(gammas_.back()));
+      gammas_.push_back(g);
+    }
+
+    // The C list must hold the planes the symmetry refers to.
+    for (const auto& [index, angle] : anchor_planes(static_cast<int>(isym_), nc_)) {
+      if (std::abs(c_angles_[index] - angle) > kAngleTol)
+        return fail(c_first_line + static_cast<int>(index),
+                    "Isym " + std::to_string(isym_) + " (" + isym_name(static_cast<int>(isym_)) +
+                        ") with Mc = " + std::to_string(mc_) + " needs C angle " +
+                        std::to_string(index + 1) + " to be " + format_number(angle) + ", found " +
+                        format_number(c_angles_[index]));
+    }
+    if (isym_ == 3 && c_angles_.back() >= 360.0 - kAngleTol)
+      return fail(c_first_line + static_cast<int>(nc_) - 1,
+                  "Isym 3 needs C angles below 360 (C0 and C360 are one plane), found " +
+                      format_number(c_angles_.back()));
+    if (isym_ == 0 && c_angles_.front() > kAngleTol)
+      r_.note(Severity::Warning, "ldt-first-plane-not-c0",
+              "the C angles begin at " + format_number(c_angles_.front()) + ", not at 0",
+              c_first_line);
+    if (dc_ > 0.0) {
+      for (std::size_t i = 0; i < nc_; ++i)
+        if (std::abs(c_angles_[i] - c_angles_[0] - static_cast<double>(i) * dc_) > kAngleTol) {
+          r_.note(Severity::Warning, "ldt-dc-mismatch",
+                  "Dc = " + format_number(dc_) + " but C angle " + std::to_string(i + 1) + " is " +
+                      format_number(c_angles_[i]),
+                  dc_line_);
+          break;
+        }
+    }
+    if (dg_ > 0.0) {
+      for (std::size_t i = 0; i < nv_; ++i)
+        if (std::abs(gammas_[i] - gammas_[0] - static_cast<double>(i) * dg_) > kAngleTol) {
+          r_.note(Severity::Warning, "ldt-dg-mismatch",
+                  "Dg = " + format_number(dg_) + " but gamma angle " + std::to_string(i + 1) +
+                      " is " + format_number(gammas_[i]),
+                  dg_line_);
+          break;
+        }
+    }
+    return Ok{};
+  }
+
+  // 30: intensities, file order, converted to candela.
+  Status intensities() {
+    const double scale = cfli_ * sets_[0].set.flux_lm / 1000.0;  // [cd per cd/klm]
+    const std::size_t nstored = stored_.size();
+    values_.reserve(std::min(nstored * nv_, r_.remaining()));
+    std::size_t negative = 0;
+    int negative_line = 0;
+    std::string negative_at;  // where the first negative value lies
+    for (std::size_t p = 0; p < nstored; ++p) {
+      const double c = c_angles_[stored_[p]];
+      for (std::size_t v = 0; v < nv_; ++v) {
+        const int at = r_.line();
+        double x = 0.0;
+        const auto what = [&] {
+          return "the intensity at C " + format_number(c) + ", gamma " + format_number(gammas_[v]) +
+                 " [cd/klm]";
+        };
+        if (!r_.number(&x, what)) return r_.error();
+        if (x < 0.0) {
+          if (negative++ == 0) {
+            negative_line = at;
+            negative_at = "C " + format_number(c) + ", gamma " + format_number(gammas_[v]);
+          }
+          x = 0.0;
+        }
+        values_.push_back(x * scale);
+      }
+    }
+    if (negative > 0)
+      r_.note(Severity::Warning, "ldt-negative-intensity",
+              std::to_string(negative) + " negative intensity value(s) read as 0 (the first at " +
+                  negative_at + ")",
+              negative_line);
+    if (const TextLine* extra = r_.first_trailing())
+      r_.note(
+          Severity::Warning, "ldt-trailing-lines",
+          "lines after the last intensity are ignored, beginning with " + shown(trim(extra->text)),
+          extra->number);
+    return Ok{};
+  }
+
+  // The model: stored planes in the order the model's symmetry defines,
+  // lamps, geometry, header strings; then the whole is validated.
+  Status model() {
+    const bool absolute = sets_[0].count < 0;
+    const std::size_t nstored = stored_.size();
+    // The model: stored_ planes in the order the model's symmetry defines.
+    d_.vertical_deg = gammas_;
+    switch (isym_) {
+      case 0:
+        if (nc_ == 1) {
+          r_.note(
+              Severity::Warning, "ldt-single-plane",
+              "Isym 0 (no symmetry) with a single C-plane: read as symmetric about the vertical "
+              "axis",
+              isym_line_);
+          d_.symmetry = Symmetry::Rotational;
+        } else {
+          d_.symmetry = Symmetry::None;
+        }
+        d_.horizontal_deg = c_angles_;
+        d_.candela = std::move(values_);
+        break;
+      case 1:
+        d_.symmetry = Symmetry::Rotational;
+        d_.horizontal_deg = {c_angles_[0]};
+        d_.candela = std::move(values_);
+        break;
+      case 2:
+      case 4:
+        d_.symmetry = isym_ == 2 ? Symmetry::C0_C180 : Symmetry::Quadrant;
+        for (std::size_t i : stored_) d_.horizontal_deg.push_back(c_angles_[i]);
+        d_.candela = std::move(values_);
+        break;
+      case 3: {
+        d_.symmetry = Symmetry::C90_C270;
+        if (options_.isym3_order == LdtIsym3Order::C90_C180_C270) {
+          for (std::size_t i : stored_) d_.horizontal_deg.push_back(c_angles_[i]);
+          d_.candela = std::move(values_);
+        } else {
+          // Stored C270 … C0 … C90 hold the model's planes 270 … 180 … 90.
+          d_.candela.reserve(values_.size());
+          for (std::size_t p = nstored; p-- > 0;) {
+            d_.horizontal_deg.push_back(mirror_c90_c270(c_angles_[stored_[p]]));
+            d_.candela.insert(d_.candela.end(),
+                              values_.begin() + static_cast<std::ptrdiff_t>(p * nv_),
+                              values_.begin() + static_cast<std::ptrdiff_t>((p + 1) * nv_));
+          }
+        }
+        break;
+      }
+      default:
+        break;
+    }
+
+    if ((ityp_ == 1) != (isym_ == 1) || (ityp_ == 0 && isym_ != 0))
+      r_.note(Severity::Warning, "ldt-ityp-isym-mismatch",
+              "type indicator Ityp " + std::to_string(ityp_) + " does not fit Isym " +
+                  std::to_string(isym_) + " (" + isym_name(static_cast<int>(isym_)) + ")",
+              isym_line_);
+    d_.ldt_type_indicator = static_cast<int>(ityp_);
+
+    // Lamps.
+    d_.absolute = absolute;
+    for (std::size_t i = 0; i < sets_.size(); ++i) {
+      LampSet s = sets_[i].set;
+      if (i == 0) {
+        if (absolute) s.flux_lm = photometry::kNaN;
+        d_.lamps.push_back(std::move(s));
+      } else {
+        d_.alternative_lamps.push_back(std::move(s));
+      }
+    }
+    d_.input_watts = sets_[0].set.power_w;
+
+    // Geometry.
+    d_.luminaire = {dims_[0] / 1000.0, dims_[1] / 1000.0, dims_[2] / 1000.0};
+    auto& o = d_.opening;
+    o.length_m = dims_[3] / 1000.0;
+    o.width_m = dims_[4] / 1000.0;
+    double height = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      o.side_height_m[i] = dims_[5 + i] / 1000.0;
+      height = std::max(height, o.side_height_m[i]);
+    }
+    o.height_m = height;
+    if (o.length_m == 0.0 && o.width_m == 0.0) {
+      o.shape = OpeningShape::Point;
+    } else if (o.width_m == 0.0) {
+      o.width_m = o.length_m;
+      o.shape = height > 0.0 ? OpeningShape::VerticalCylinder : OpeningShape::Circular;
+    } else {
+      o.shape = height > 0.0 ? OpeningShape::RectangularWithSides : OpeningShape::Rectangular;
+    }
+    d_.declared_dff_percent = dff_;
+    d_.declared_lor_percent = lorl_;
+    d_.measurement_tilt_deg = tilt_;
+
+    // Header strings, in the order LM-63 lists its keywords.
+    const std::pair<const char*, const std::string*> keys[] = {
+        {"TEST", &report_},        {"MANUFAC", &company_},     {"LUMCAT", &lum_number_},
+        {"LUMINAIRE", &lum_name_}, {"ISSUEDATE", &date_user_}, {kLdtFileNameKeyword, &file_name_}};
+    for (const auto& [key, value] : keys)
+      if (!value->empty()) d_.keywords.push_back({key, *value});
+    if (Status s = photometry::validate(d_); !s.ok())
+      return fail(0, "inconsistent EULUMDAT data: " + s.error().message);
+    return Ok{};
+  }
+
+  FieldReader r_;
+  std::string name_;
+  LdtReadOptions options_;
+  Distribution d_;
+  // 1-12
+  std::string company_, report_, lum_name_, lum_number_, file_name_, date_user_;
+  long ityp_ = 0, isym_ = 0, mc_ = 0, ng_ = 0;
+  double dc_ = 0.0, dg_ = 0.0;
+  int isym_line_ = 0, mc_line_ = 0, dc_line_ = 0, dg_line_ = 0;
+  std::size_t nc_ = 0, nv_ = 0;
+  std::vector<std::size_t> stored_;  // the stored planes' indices into the C list
+  // 13-25
+  double dims_[9] = {};
+  double dff_ = 0.0, lorl_ = 0.0, cfli_ = 0.0, tilt_ = 0.0;
+  // 26
+  std::vector<RawLampSet> sets_;
+  // 28-29
+  std::vector<double> c_angles_, gammas_;
+  // 30
+  std::vector<double> values_;  // candela, file order
+};
+
 }  // namespace
 
 Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
@@ -247,345 +633,8 @@ Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
                        std::to_string(kMaxLdtCPlanes) + " C-planes by " +
                        std::to_string(kMaxLdtGammaAngles) + " gamma angles)");
 
-  const std::string text = decode_text(bytes);
-  FieldReader r(split_lines(text), name);
-  Distribution d;
-  d.type = photometry::PhotometricType::C;
-
-  // 1-12: identification.
-  std::string company;
-  if (!r.text(&company, "the company identification", kTextChars)) return r.error();
-  if (company.rfind("IESNA", 0) == 0 || company.rfind("IES:LM-63", 0) == 0)
-    return fail(1, "this is an IES LM-63 file (" + shown(company) + "), not EULUMDAT");
-
-  long ityp = 0, isym = 0, mc = 0, ng = 0;
-  double dc = 0.0, dg = 0.0;
-  if (!r.integer(&ityp, "the type indicator Ityp (0-3)", 0, 3)) return r.error();
-  const int isym_line = r.line();
-  if (!r.integer(&isym, "the symmetry indicator Isym (0-4)", 0, 4)) return r.error();
-  const int mc_line = r.line();
-  if (!r.integer(&mc, "the number of C-planes Mc (1-" + std::to_string(kMaxLdtCPlanes) + ")", 1,
-                 kMaxLdtCPlanes))
-    return r.error();
-  const std::size_t nc = static_cast<std::size_t>(mc);
-  const std::vector<std::size_t> stored =
-      stored_plane_indices(static_cast<int>(isym), nc, options.isym3_order);
-  if (stored.empty()) {
-    const char* need = isym == 2 ? "an even Mc" : "an Mc divisible by 4";
-    return fail(mc_line, "Isym " + std::to_string(isym) + " (" + isym_name(static_cast<int>(isym)) +
-                             ") needs " + need + ", found Mc = " + std::to_string(mc));
-  }
-  const int dc_line = r.line();
-  if (!r.number(&dc, "the distance between C-planes Dc [deg] (0-360)", 0.0, 360.0))
-    return r.error();
-  if (!r.integer(&ng,
-                 "the number of luminous intensities per C-plane Ng (1-" +
-                     std::to_string(kMaxLdtGammaAngles) + ")",
-                 1, kMaxLdtGammaAngles))
-    return r.error();
-  const int dg_line = r.line();
-  if (!r.number(&dg, "the distance between luminous intensities Dg [deg] (0-180)", 0.0, 180.0))
-    return r.error();
-
-  std::string report, lum_name, lum_number, file_name, date_user;
-  if (!r.text(&report, "the measurement report number", kTextChars) ||
-      !r.text(&lum_name, "the luminaire name", kTextChars) ||
-      !r.text(&lum_number, "the luminaire number", kTextChars) ||
-      !r.text(&file_name, "the file name", kFileNameChars) ||
-      !r.text(&date_user, "the date/user", kTextChars))
-    return r.error();
-
-  // 13-25: dimensions and photometric factors.
-  double dims[9];
-  static const char* const kDimNames[9] = {
-      "the length/diameter of the luminaire [mm]",
-      "the width of the luminaire [mm] (0 for round)",
-      "the height of the luminaire [mm]",
-      "the length/diameter of the luminous area [mm]",
-      "the width of the luminous area [mm] (0 for round)",
-      "the height of the luminous area in the C0-plane [mm]",
-      "the height of the luminous area in the C90-plane [mm]",
-      "the height of the luminous area in the C180-plane [mm]",
-      "the height of the luminous area in the C270-plane [mm]"};
-  for (int i = 0; i < 9; ++i)
-    if (!r.number(&dims[i], std::string(kDimNames[i]) + " (>= 0)", 0.0)) return r.error();
-
-  double dff = 0.0, lorl = 0.0, cfli = 0.0, tilt = 0.0;
-  const int dff_line = r.line();
-  if (!r.number(&dff, "the downward flux fraction DFF [%]")) return r.error();
-  const int lorl_line = r.line();
-  if (!r.number(&lorl, "the light output ratio LORL [%]")) return r.error();
-  const int cfli_line = r.line();
-  if (!r.number(&cfli, "the conversion factor for luminous intensities (>= 0)", 0.0))
-    return r.error();
-  if (!r.number(&tilt, "the tilt of the luminaire during measurement [deg] (-180-180)", -180.0,
-                180.0))
-    return r.error();
-  if (dff < 0.0 || dff > 100.0)
-    r.note(Severity::Warning, "ldt-dff-range",
-           "downward flux fraction " + deg(dff) + " % lies outside 0-100 %", dff_line);
-  if (lorl < 0.0 || lorl > 100.0)
-    r.note(Severity::Warning, "ldt-lorl-range",
-           "light output ratio " + deg(lorl) + " % lies outside 0-100 %", lorl_line);
-  if (cfli == 0.0) {
-    r.note(Severity::Warning, "ldt-conversion-factor-zero",
-           "conversion factor 0 would erase every intensity; read as 1", cfli_line);
-    cfli = 1.0;
-  } else if (cfli != 1.0) {
-    r.note(Severity::Info, "ldt-conversion-factor",
-           "conversion factor " + deg(cfli) + " applied to the intensities", cfli_line);
-  }
-
-  // 26: lamp sets.
-  long nsets = 0;
-  if (!r.integer(&nsets, "the number of lamp sets (1-" + std::to_string(kMaxLdtLampSets) + ")", 1,
-                 kMaxLdtLampSets))
-    return r.error();
-  std::vector<RawLampSet> sets(static_cast<std::size_t>(nsets));
-  for (std::size_t i = 0; i < sets.size(); ++i) {
-    RawLampSet& s = sets[i];
-    const std::string k = " of lamp set " + std::to_string(i + 1);
-    s.line = r.line();
-    if (!r.integer(&s.count,
-                   "the number of lamps" + k + " (non-zero; negative for absolute photometry)",
-                   -1000000, 1000000))
-      return r.error();
-    if (s.count == 0)
-      return fail(s.line, "expected the number of lamps" + k + " (non-zero), found '0'");
-    const int flux_line = r.line() + 1;
-    if (!r.text(&s.set.type, "the type of lamps" + k, kLampTypeChars)) return r.error();
-    if (!r.number(&s.set.flux_lm, "the total luminous flux" + k + " [lm] (>= 0)", 0.0))
-      return r.error();
-    if (i == 0 && !(s.set.flux_lm > 0.0))
-      return fail(flux_line,
-                  std::string("expected the total luminous flux of lamp set 1 [lm] ") +
-                      (s.count < 0 ? "(for absolute photometry: the luminaire's flux) " : "") +
-                      "(> 0), found 0");
-    if (!r.text(&s.set.color, "the colour appearance" + k, kColorChars) ||
-        !r.text(&s.set.color_rendering, "the colour rendering" + k, kColorRenderingChars) ||
-        !r.number(&s.set.power_w, "the wattage including ballast" + k + " [W] (>= 0)", 0.0))
-      return r.error();
-    s.set.count = static_cast<int>(std::abs(s.count));
-    if (i > 0 && (s.count < 0) != (sets[0].count < 0))
-      r.note(Severity::Warning, "ldt-lamp-count-sign",
-             "the sign of the lamp count of set " + std::to_string(i + 1) +
-                 " differs from set 1, which alone decides absolute photometry",
-             s.line);
-  }
-
-  // 27: direct ratios.
-  d.direct_ratios.resize(10);
-  for (int i = 0; i < 10; ++i)
-    if (!r.number(&d.direct_ratios[static_cast<std::size_t>(i)],
-                  "direct ratio " + std::to_string(i + 1) + " of 10"))
-      return r.error();
-
-  // 28-29: angles. Counts are bounded above, and nothing larger than the
-  // lines left in the file is reserved.
-  const int c_first_line = r.line();
-  const std::size_t nv = static_cast<std::size_t>(ng);
-  std::vector<double> c_angles;
-  c_angles.reserve(std::min(nc, r.remaining()));
-  for (std::size_t i = 0; i < nc; ++i) {
-    const int at = r.line();
-    double c = 0.0;
-    const auto what = [&] {
-      return "C angle " + std::to_string(i + 1) + " of " + std::to_string(nc) + " [deg] (0-360)";
-    };
-    if (!r.number(&c, what, 0.0, 360.0)) return r.error();
-    if (i > 0 && !(c > c_angles.back()))
-      return fail(at, "C angles must increase: " + deg(c) + " follows " + deg(c_angles.back()));
-    c_angles.push_back(c);
-  }
-  std::vector<double> gammas;
-  gammas.reserve(std::min(nv, r.remaining()));
-  for (std::size_t i = 0; i < nv; ++i) {
-    const int at = r.line();
-    double g = 0.0;
-    const auto what = [&] {
-      return "gamma angle " + std::to_string(i + 1) + " of " + std::to_string(nv) +
-             " [deg] (0-180)";
-    };
-    if (!r.number(&g, what, 0.0, 180.0)) return r.error();
-    if (i > 0 && !(g > gammas.back()))
-      return fail(at, "gamma angles must increase: " + deg(g) + " follows " + deg(gammas.back()));
-    gammas.push_back(g);
-  }
-
-  // The C list must hold the planes the symmetry refers to.
-  for (const auto& [index, angle] : anchor_planes(static_cast<int>(isym), nc)) {
-    if (std::abs(c_angles[index] - angle) > kAngleTol)
-      return fail(c_first_line + static_cast<int>(index),
-                  "Isym " + std::to_string(isym) + " (" + isym_name(static_cast<int>(isym)) +
-                      ") with Mc = " + std::to_string(mc) + " needs C angle " +
-                      std::to_string(index + 1) + " to be " + deg(angle) + ", found " +
-                      deg(c_angles[index]));
-  }
-  if (isym == 3 && c_angles.back() >= 360.0 - kAngleTol)
-    return fail(c_first_line + static_cast<int>(nc) - 1,
-                "Isym 3 needs C angles below 360 (C0 and C360 are one plane), found " +
-                    deg(c_angles.back()));
-  if (isym == 0 && c_angles.front() > kAngleTol)
-    r.note(Severity::Warning, "ldt-first-plane-not-c0",
-           "the C angles begin at " + deg(c_angles.front()) + ", not at 0", c_first_line);
-  if (dc > 0.0) {
-    for (std::size_t i = 0; i < nc; ++i)
-      if (std::abs(c_angles[i] - c_angles[0] - static_cast<double>(i) * dc) > kAngleTol) {
-        r.note(
-            Severity::Warning, "ldt-dc-mismatch",
-            "Dc = " + deg(dc) + " but C angle " + std::to_string(i + 1) + " is " + deg(c_angles[i]),
-            dc_line);
-        break;
-      }
-  }
-  if (dg > 0.0) {
-    for (std::size_t i = 0; i < nv; ++i)
-      if (std::abs(gammas[i] - gammas[0] - static_cast<double>(i) * dg) > kAngleTol) {
-        r.note(Severity::Warning, "ldt-dg-mismatch",
-               "Dg = " + deg(dg) + " but gamma angle " + std::to_string(i + 1) + " is " +
-                   deg(gammas[i]),
-               dg_line);
-        break;
-      }
-  }
-
-  // 30: intensities, file order, converted to candela.
-  const bool absolute = sets[0].count < 0;
-  const double scale = cfli * sets[0].set.flux_lm / 1000.0;  // [cd per cd/klm]
-  const std::size_t nstored = stored.size();
-  std::vector<double> values;
-  values.reserve(std::min(nstored * nv, r.remaining()));
-  std::size_t negative = 0;
-  int negative_line = 0;
-  std::string negative_at;  // where the first negative value lies
-  for (std::size_t p = 0; p < nstored; ++p) {
-    const double c = c_angles[stored[p]];
-    for (std::size_t v = 0; v < nv; ++v) {
-      const int at = r.line();
-      double x = 0.0;
-      const auto what = [&] {
-        return "the intensity at C " + deg(c) + ", gamma " + deg(gammas[v]) + " [cd/klm]";
-      };
-      if (!r.number(&x, what)) return r.error();
-      if (x < 0.0) {
-        if (negative++ == 0) {
-          negative_line = at;
-          negative_at = "C " + deg(c) + ", gamma " + deg(gammas[v]);
-        }
-        x = 0.0;
-      }
-      values.push_back(x * scale);
-    }
-  }
-  if (negative > 0)
-    r.note(Severity::Warning, "ldt-negative-intensity",
-           std::to_string(negative) + " negative intensity value(s) read as 0 (the first at " +
-               negative_at + ")",
-           negative_line);
-  if (const TextLine* extra = r.first_trailing())
-    r.note(Severity::Warning, "ldt-trailing-lines",
-           "lines after the last intensity are ignored, beginning with " + shown(trim(extra->text)),
-           extra->number);
-
-  // The model: stored planes in the order the model's symmetry defines.
-  d.vertical_deg = gammas;
-  switch (isym) {
-    case 0:
-      if (nc == 1) {
-        r.note(Severity::Warning, "ldt-single-plane",
-               "Isym 0 (no symmetry) with a single C-plane: read as symmetric about the vertical "
-               "axis",
-               isym_line);
-        d.symmetry = Symmetry::Rotational;
-      } else {
-        d.symmetry = Symmetry::None;
-      }
-      d.horizontal_deg = c_angles;
-      d.candela = std::move(values);
-      break;
-    case 1:
-      d.symmetry = Symmetry::Rotational;
-      d.horizontal_deg = {c_angles[0]};
-      d.candela = std::move(values);
-      break;
-    case 2:
-    case 4:
-      d.symmetry = isym == 2 ? Symmetry::C0_C180 : Symmetry::Quadrant;
-      for (std::size_t i : stored) d.horizontal_deg.push_back(c_angles[i]);
-      d.candela = std::move(values);
-      break;
-    case 3: {
-      d.symmetry = Symmetry::C90_C270;
-      if (options.isym3_order == LdtIsym3Order::C90_C180_C270) {
-        for (std::size_t i : stored) d.horizontal_deg.push_back(c_angles[i]);
-        d.candela = std::move(values);
-      } else {
-        // Stored C270 … C0 … C90 hold the model's planes 270 … 180 … 90.
-        d.candela.reserve(values.size());
-        for (std::size_t p = nstored; p-- > 0;) {
-          d.horizontal_deg.push_back(mirror_c90_c270(c_angles[stored[p]]));
-          d.candela.insert(d.candela.end(), values.begin() + static_cast<std::ptrdiff_t>(p * nv),
-                           values.begin() + static_cast<std::ptrdiff_t>((p + 1) * nv));
-        }
-      }
-      break;
-    }
-    default: break;
-  }
-
-  if ((ityp == 1) != (isym == 1) || (ityp == 0 && isym != 0))
-    r.note(Severity::Warning, "ldt-ityp-isym-mismatch",
-           "type indicator Ityp " + std::to_string(ityp) + " does not fit Isym " +
-               std::to_string(isym) + " (" + isym_name(static_cast<int>(isym)) + ")",
-           isym_line);
-  d.ldt_type_indicator = static_cast<int>(ityp);
-
-  // Lamps.
-  d.absolute = absolute;
-  for (std::size_t i = 0; i < sets.size(); ++i) {
-    LampSet s = sets[i].set;
-    if (i == 0) {
-      if (absolute) s.flux_lm = photometry::kNaN;
-      d.lamps.push_back(std::move(s));
-    } else {
-      d.alternative_lamps.push_back(std::move(s));
-    }
-  }
-  d.input_watts = sets[0].set.power_w;
-
-  // Geometry.
-  d.luminaire = {dims[0] / 1000.0, dims[1] / 1000.0, dims[2] / 1000.0};
-  auto& o = d.opening;
-  o.length_m = dims[3] / 1000.0;
-  o.width_m = dims[4] / 1000.0;
-  double height = 0.0;
-  for (int i = 0; i < 4; ++i) {
-    o.side_height_m[i] = dims[5 + i] / 1000.0;
-    height = std::max(height, o.side_height_m[i]);
-  }
-  o.height_m = height;
-  if (o.length_m == 0.0 && o.width_m == 0.0) {
-    o.shape = OpeningShape::Point;
-  } else if (o.width_m == 0.0) {
-    o.width_m = o.length_m;
-    o.shape = height > 0.0 ? OpeningShape::VerticalCylinder : OpeningShape::Circular;
-  } else {
-    o.shape = height > 0.0 ? OpeningShape::RectangularWithSides : OpeningShape::Rectangular;
-  }
-  d.declared_dff_percent = dff;
-  d.declared_lor_percent = lorl;
-  d.measurement_tilt_deg = tilt;
-
-  // Header strings, in the order LM-63 lists its keywords.
-  const std::pair<const char*, const std::string*> keys[] = {
-      {"TEST", &report},        {"MANUFAC", &company},     {"LUMCAT", &lum_number},
-      {"LUMINAIRE", &lum_name}, {"ISSUEDATE", &date_user}, {kLdtFileNameKeyword, &file_name}};
-  for (const auto& [key, value] : keys)
-    if (!value->empty()) d.keywords.push_back({key, *value});
-
-  if (Status s = photometry::validate(d); !s.ok())
-    return fail(0, "inconsistent EULUMDAT data: " + s.error().message);
-  return LdtFile{std::move(d), std::move(r.findings())};
+  const std::string text = decode_text(bytes);  // the lines are views into it
+  return LdtReader(split_lines(text), name, options).read();
 }
 
 Result<LdtFile> read_ldt(const std::string& path, const LdtReadOptions& options) {
@@ -600,7 +649,7 @@ namespace {
 
 // Plain decimal notation rounded to `digits` significant digits, trailing
 // zeros dropped: "2200", "0.68625", "-3.5".
-std::string format_number(double x, int digits) {
+std::string ldt_number(double x, int digits) {
   if (x == 0.0 || !std::isfinite(x)) return "0";
   const int exponent = static_cast<int>(std::floor(std::log10(std::abs(x))));
   const int decimals = std::clamp(digits - 1 - exponent, 0, 60);
@@ -615,9 +664,9 @@ std::string format_number(double x, int digits) {
   return s;
 }
 
-class LdtWriter {
+class LdtFieldWriter {
  public:
-  LdtWriter(const LdtWriteOptions& options, std::vector<Finding>* warnings)
+  LdtFieldWriter(const LdtWriteOptions& options, std::vector<Finding>* warnings)
       : options_(options), warnings_(warnings) {}
 
   void warn(Severity severity, std::string code, std::string message) {
@@ -628,7 +677,7 @@ class LdtWriter {
     out_.append(latin1);
     out_ += "\r\n";
   }
-  void number(double x) { line(format_number(x, options_.significant_digits)); }
+  void number(double x) { line(ldt_number(x, options_.significant_digits)); }
   void integer(long long n) { line(std::to_string(n)); }
 
   // A text field: one line, Latin-1, at most `max_chars`.
@@ -765,6 +814,357 @@ double spacing(const std::vector<double>& a) {
   return step;
 }
 
+// Writes an EULUMDAT file by the standard's field groups, as the IES writer
+// writes LM-63's: first the plan (plane layout, lamp sets and the intensity
+// scale, header strings), reporting what EULUMDAT cannot hold; then the
+// fields, group by group (1-12, 13-21, 22-25, 26, 27, 28-30).
+class LdtWriter {
+ public:
+  LdtWriter(const Distribution& d, const LdtWriteOptions& options, std::vector<Finding>* warnings)
+      : w_(options, warnings), d_(d), options_(options) {}
+
+  std::string write() {
+    plan_layout();
+    plan_lamps_and_scale();
+    report_unwritable_fields();
+    plan_lamp_sets();
+    plan_header();
+    identification();
+    dimensions();
+    factors();
+    lamp_sets();
+    direct_ratios();
+    angles_and_intensities();
+    return w_.take();
+  }
+
+ private:
+  struct Slot {
+    const char* key;
+    std::string value;
+    bool set = false;
+  };
+
+  // The plane layout; grids the symmetry indicator cannot express are
+  // expanded.
+  void plan_layout() {
+    layout_ = layout_for(d_, options_.isym3_order);
+    if (!consistent(layout_, options_.isym3_order)) {
+      w_.warn(Severity::Warning, "ldt-symmetry-expanded",
+              std::string("the C-planes of this ") + photometry::to_string(d_.symmetry) +
+                  " distribution do not fit Isym " + std::to_string(layout_.isym) +
+                  " (it needs 0, 90, 180 and 270 on a grid symmetric about them); written without "
+                  "symmetry");
+      d_ = photometry::expand_symmetry(d_);
+      layout_ = layout_for(d_, options_.isym3_order);
+    }
+    if (layout_.isym == 0) {
+      // C 360 is C 0 again: keep one of them.
+      const std::size_t nv = d_.vertical_count();
+      if (layout_.c_list.size() >= 2 && layout_.c_list.back() > 360.0 - kAngleTol) {
+        if (layout_.c_list.front() < kAngleTol) {
+          const std::size_t last = layout_.rows.back();
+          bool same = true;
+          for (std::size_t v = 0; v < nv; ++v) {
+            const double a = d_.at(0, v), b = d_.at(last, v);
+            same = same && std::abs(a - b) <= kFluxTol * std::max(std::abs(a), std::abs(b));
+          }
+          if (!same)
+            w_.warn(
+                Severity::Warning, "ldt-plane-360-dropped",
+                "the C 360 plane differs from C 0 and is not written (EULUMDAT lists C 0 once)");
+          layout_.c_list.pop_back();
+          layout_.rows.pop_back();
+          layout_.file_angles.pop_back();
+        } else {
+          // No C 0 plane: the 360 plane becomes the first.
+          layout_.c_list.pop_back();
+          layout_.c_list.insert(layout_.c_list.begin(), 0.0);
+          layout_.rows.insert(layout_.rows.begin(), layout_.rows.back());
+          layout_.rows.pop_back();
+          layout_.file_angles = layout_.c_list;
+        }
+      }
+      if (layout_.c_list.size() == 1) {
+        layout_.isym = 1;  // a single plane left: rotational
+      } else if (layout_.c_list.front() > kAngleTol) {
+        w_.warn(Severity::Warning, "ldt-first-plane-not-c0",
+                "the C-planes begin at " + format_number(layout_.c_list.front()) +
+                    ", not at 0 as EULUMDAT expects");
+      }
+    }
+  }
+
+  // Lamp sets: lamps[] becomes set 1, alternatives follow; and the
+  // photometric scale: cd = value × flux / 1000.
+  void plan_lamps_and_scale() {
+    first_.count = 1;
+    if (!d_.lamps.empty()) first_ = d_.lamps[0];
+    if (d_.lamps.size() > 1) {
+      for (std::size_t i = 1; i < d_.lamps.size(); ++i) {
+        const LampSet& s = d_.lamps[i];
+        first_.count += s.count;
+        first_.type += " + " + s.type;
+        first_.flux_lm += s.flux_lm;
+        first_.power_w += s.power_w;
+      }
+      w_.warn(Severity::Warning, "ldt-lamp-sets-merged",
+              std::to_string(d_.lamps.size()) +
+                  " lamp sets that light together are written as one set: EULUMDAT sets are "
+                  "alternatives");
+    }
+    // Photometric scale: cd = value × flux / 1000.
+    const photometry::ZonalFlux zones(d_);
+    total_flux_ = zones.total_lm();
+    down_flux_ = zones.zone_lm(0.0, 90.0);
+    if (d_.absolute) {
+      set1_flux_ = total_flux_;
+      if (!(set1_flux_ > 0.0)) {
+        set1_flux_ = 1000.0;
+        w_.warn(Severity::Warning, "ldt-no-flux",
+                "the distribution emits no flux; written relative to 1000 lm");
+      } else {
+        w_.warn(Severity::Info, "ldt-computed-flux",
+                "absolute photometry: luminaire flux " + ldt_number(set1_flux_, 6) +
+                    " lm computed from the distribution for lamp set 1");
+      }
+    } else {
+      set1_flux_ = first_.flux_lm;  // the merged sets' flux when several light together
+    }
+    // The scale uses the flux as the file will state it, so that a reader
+    // multiplies by exactly what was divided here. A computed luminaire flux is
+    // stated to 6 digits: written values rounded to 12 digits change the
+    // integral in its 12th digit, and a coarser flux keeps rewriting stable
+    // (the candela do not depend on it).
+    const int flux_digits = std::min(options_.significant_digits, d_.absolute ? 6 : 17);
+    set1_flux_ = parse_number(ldt_number(set1_flux_, flux_digits)).value_or(set1_flux_);
+    scale_ = set1_flux_ / 1000.0;  // the reader's conversion factor 1 × Φ / 1000
+  }
+
+  // LM-63 fields without an EULUMDAT counterpart.
+  void report_unwritable_fields() {
+    if (d_.tilt.kind != photometry::Tilt::Kind::None)
+      w_.warn(Severity::Warning, "ldt-tilt-dropped",
+              "TILT data (" + std::to_string(d_.tilt.angles_deg.size()) +
+                  " tilt angles, lamp geometry " + std::to_string(d_.tilt.lamp_geometry) +
+                  ") has no EULUMDAT field and is not written");
+    if (d_.ballast_factor != 1.0)
+      w_.warn(
+          Severity::Warning, "ldt-ballast-factor",
+          "ballast factor " + ldt_number(d_.ballast_factor, 6) +
+              " has no EULUMDAT field and is not written (it was not applied to the intensities)");
+    if (d_.ballast_lamp_factor != 1.0)
+      w_.warn(
+          Severity::Warning, "ldt-ballast-factor",
+          "ballast-lamp photometric factor " + ldt_number(d_.ballast_lamp_factor, 6) +
+              " has no EULUMDAT field and is not written (it was not applied to the intensities)");
+    if (d_.file_generation != photometry::FileGenerationType::Undefined)
+      w_.warn(Severity::Warning, "ldt-file-generation",
+              std::string("LM-63-2019 file generation type '") +
+                  photometry::to_string(d_.file_generation) + "' has no EULUMDAT field");
+    if (std::isfinite(first_.power_w) && std::isfinite(d_.input_watts) && d_.input_watts > 0.0 &&
+        std::abs(first_.power_w - d_.input_watts) > 1e-9 * std::max(first_.power_w, d_.input_watts))
+      w_.warn(Severity::Warning, "ldt-input-watts",
+              "input watts " + ldt_number(d_.input_watts, 6) +
+                  " W differ from the lamp set's wattage " + ldt_number(first_.power_w, 6) +
+                  " W, which EULUMDAT keeps");
+  }
+
+  // [LAMP] fills an empty lamp type; at most kMaxLdtLampSets sets.
+  void plan_lamp_sets() {
+    lamp_kw_ = d_.find_keyword("LAMP");
+    if (first_.type.empty() && lamp_kw_) first_.type = lamp_kw_->value;
+    if (!std::isfinite(first_.power_w)) first_.power_w = d_.input_watts;
+    sets_ = {first_};
+    sets_.insert(sets_.end(), d_.alternative_lamps.begin(), d_.alternative_lamps.end());
+    if (sets_.size() > static_cast<std::size_t>(kMaxLdtLampSets)) {
+      w_.warn(Severity::Warning, "ldt-too-many-lamp-sets",
+              std::to_string(sets_.size()) + " lamp sets; only the first " +
+                  std::to_string(kMaxLdtLampSets) + " are written");
+      sets_.resize(kMaxLdtLampSets);
+    }
+  }
+
+  // Header strings from the keywords (the rest are reported) and Ityp.
+  void plan_header() {
+    const photometry::Keyword* date_kw = nullptr;
+    for (const photometry::Keyword& k : d_.keywords) {
+      bool used = false, repeated = false;
+      for (Slot& s : slots_) {
+        if (k.key != s.key) continue;
+        repeated = s.set;
+        if (!s.set) {
+          s.value = k.value;
+          s.set = used = true;
+        }
+      }
+      if (repeated) {
+        w_.warn(Severity::Warning, "ldt-keyword-dropped",
+                "a repeated keyword [" + k.key +
+                    "] is not written: its field holds the first: " + shown(k.value));
+        continue;
+      }
+      if (!used && k.key == "DATE" && !date_kw) {
+        date_kw = &k;
+        used = true;
+      }
+      if (!used && k.key == "LAMP" && &k == lamp_kw_ && first_.type == k.value) used = true;
+      if (!used)
+        w_.warn(
+            Severity::Warning, "ldt-keyword-dropped",
+            "keyword [" + k.key + "] has no EULUMDAT field and is not written: " + shown(k.value));
+    }
+    if (date_kw) {
+      if (slots_[4].set)
+        w_.warn(Severity::Warning, "ldt-keyword-dropped",
+                "keyword [DATE] is not written: the date/user field holds [ISSUEDATE]");
+      else
+        slots_[4].value = date_kw->value;
+    }
+
+    ityp_ = options_.type_indicator;
+    if (ityp_ < 0) ityp_ = d_.ldt_type_indicator.value_or(derived_type_indicator(d_));
+  }
+
+  // 1-12: identification, symmetry, the counts and steps of the grid.
+  void identification() {
+    w_.text(slots_[0].value, kTextChars, "the company (MANUFAC)");
+    w_.integer(ityp_);
+    w_.integer(layout_.isym);
+    w_.integer(static_cast<long long>(layout_.c_list.size()));
+    w_.number(spacing(layout_.c_list));
+    w_.integer(static_cast<long long>(d_.vertical_count()));
+    w_.number(spacing(d_.vertical_deg));
+    w_.text(slots_[1].value, kTextChars, "the measurement report number (TEST)");
+    w_.text(slots_[2].value, kTextChars, "the luminaire name (LUMINAIRE)");
+    w_.text(slots_[3].value, kTextChars, "the luminaire number (LUMCAT)");
+    w_.text(slots_[5].value, kFileNameChars,
+            "the file name (" + std::string(kLdtFileNameKeyword) + ")");
+    w_.text(slots_[4].value, kTextChars, "the date/user (ISSUEDATE)");
+  }
+
+  // 13-21: dimensions [mm].
+  void dimensions() {
+    const auto mm = [&](double m) { w_.number(std::isfinite(m) ? m * 1000.0 : 0.0); };
+    const auto& lum = d_.luminaire;
+    if (!std::isfinite(lum.length_m) || !std::isfinite(lum.width_m) || !std::isfinite(lum.height_m))
+      w_.warn(Severity::Info, "ldt-dimensions-unknown",
+              "unknown luminaire dimensions are written as 0");
+    mm(lum.length_m);
+    mm(lum.width_m);
+    mm(lum.height_m);
+    const auto& o = d_.opening;
+    double area_length = o.length_m, area_width = o.width_m;
+    bool has_height = false;
+    switch (o.shape) {
+      case OpeningShape::Point:
+        area_length = area_width = 0.0;
+        break;
+      case OpeningShape::Rectangular:
+        break;
+      case OpeningShape::RectangularWithSides:
+        has_height = true;
+        break;
+      case OpeningShape::Circular:
+        area_width = 0.0;
+        break;
+      case OpeningShape::VerticalCylinder:
+        area_width = 0.0;
+        has_height = true;
+        break;
+      default:
+        area_length = std::max(o.length_m, o.width_m);
+        area_width = o.shape == OpeningShape::Sphere ? 0.0 : std::min(o.length_m, o.width_m);
+        if (o.shape == OpeningShape::Sphere) area_length = std::max(o.length_m, o.height_m);
+        has_height = o.height_m > 0.0;
+        w_.warn(Severity::Warning, "ldt-opening-approximated",
+                std::string("EULUMDAT has no ") + photometry::to_string(o.shape) +
+                    " luminous area; written as " +
+                    (area_width == 0.0 ? "a circle" : "a rectangle") + " of the same extent");
+        break;
+    }
+    mm(area_length);
+    mm(area_width);
+    for (int i = 0; i < 4; ++i) {
+      const double s = o.side_height_m[i];
+      mm(std::isfinite(s) ? s : (has_height ? o.height_m : 0.0));
+    }
+  }
+
+  // 22-25: DFF, LORL, conversion factor, tilt.
+  void factors() {
+    double dff = d_.declared_dff_percent, lorl = d_.declared_lor_percent;
+    if (!std::isfinite(lorl)) {
+      lorl = d_.absolute ? 100.0 : 100.0 * total_flux_ / set1_flux_;
+      w_.warn(Severity::Info, "ldt-computed-lorl",
+              "light output ratio " + ldt_number(lorl, 6) + " % computed from the distribution");
+    }
+    if (!std::isfinite(dff)) {
+      dff = total_flux_ > 0.0 ? 100.0 * down_flux_ / total_flux_ : 0.0;
+      w_.warn(Severity::Info, "ldt-computed-dff",
+              "downward flux fraction " + ldt_number(dff, 6) + " % computed from the distribution");
+    }
+    w_.number(dff);
+    w_.number(lorl);
+    w_.number(1.0);
+    w_.number(std::isfinite(d_.measurement_tilt_deg) ? d_.measurement_tilt_deg : 0.0);
+  }
+
+  // 26: lamp sets.
+  void lamp_sets() {
+    w_.integer(static_cast<long long>(sets_.size()));
+    for (std::size_t i = 0; i < sets_.size(); ++i) {
+      const LampSet& s = sets_[i];
+      const std::string k = " of lamp set " + std::to_string(i + 1);
+      w_.integer(d_.absolute ? -static_cast<long long>(s.count) : s.count);
+      w_.text(s.type, kLampTypeChars, "the lamp type" + k);
+      w_.number(i == 0 ? set1_flux_ : (std::isfinite(s.flux_lm) ? s.flux_lm : 0.0));
+      w_.text(s.color, kColorChars, "the colour" + k);
+      w_.text(s.color_rendering, kColorRenderingChars, "the colour rendering" + k);
+      w_.number(std::isfinite(s.power_w) ? s.power_w : 0.0);
+    }
+  }
+
+  // 27: direct ratios.
+  void direct_ratios() {
+    if (d_.direct_ratios.size() == 10) {
+      for (double x : d_.direct_ratios) w_.number(x);
+    } else {
+      const std::string why = d_.direct_ratios.empty()
+                                  ? std::string("unknown")
+                                  : std::to_string(d_.direct_ratios.size()) + " instead of 10";
+      w_.warn(d_.direct_ratios.empty() ? Severity::Info : Severity::Warning, "ldt-direct-ratios",
+              "direct ratios " + why +
+                  ": computed from the distribution with Gonio's room model "
+                  "(photometry/direct_ratios.h, not CIE 52's tables)");
+      for (double x : photometry::direct_ratios(d_)) w_.number(x);
+    }
+  }
+
+  // 28-30: C and gamma angles, intensities [cd/klm].
+  void angles_and_intensities() {
+    for (double c : layout_.c_list) w_.number(c);
+    for (double g : d_.vertical_deg) w_.number(g);
+    for (std::size_t row : layout_.rows)
+      for (std::size_t v = 0; v < d_.vertical_count(); ++v) w_.number(d_.at(row, v) / scale_);
+  }
+
+  LdtFieldWriter w_;
+  Distribution d_;  // the input, expanded where its symmetry does not fit
+  LdtWriteOptions options_;
+  Layout layout_;
+  LampSet first_;                                 // set 1: the lamps that light together
+  std::vector<LampSet> sets_;                     // as written: set 1, then the alternatives
+  double total_flux_ = 0.0, down_flux_ = 0.0;     // [lm]
+  double set1_flux_ = 0.0;                        // lamp set 1's flux as the file states it [lm]
+  double scale_ = 1.0;                            // [cd per cd/klm]
+  const photometry::Keyword* lamp_kw_ = nullptr;  // [LAMP], into d_
+  Slot slots_[6] = {{"MANUFAC", {}, false},   {"TEST", {}, false},
+                    {"LUMINAIRE", {}, false}, {"LUMCAT", {}, false},
+                    {"ISSUEDATE", {}, false}, {kLdtFileNameKeyword, {}, false}};
+  int ityp_ = 0;
+};
+
 }  // namespace
 
 Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& options,
@@ -784,294 +1184,15 @@ Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& 
   for (std::size_t i = 0; i < input.candela.size(); ++i)
     if (input.candela[i] < 0.0) {
       const std::size_t nv = input.vertical_count();
-      return fail("intensity " + deg(input.candela[i]) + " cd at C " +
-                  deg(input.horizontal_deg[i / nv]) + ", gamma " + deg(input.vertical_deg[i % nv]) +
+      return fail("intensity " + format_number(input.candela[i]) + " cd at C " +
+                  format_number(input.horizontal_deg[i / nv]) + ", gamma " +
+                  format_number(input.vertical_deg[i % nv]) +
                   " is negative; EULUMDAT holds intensities >= 0");
     }
   if (!input.absolute && input.lamps.empty())
     return fail("relative photometry needs a lamp set with a rated flux");
 
-  LdtWriter w(options, warnings);
-  Distribution d = input;
-
-  // Plane layout; grids the symmetry indicator cannot express are expanded.
-  Layout layout = layout_for(d, options.isym3_order);
-  if (!consistent(layout, options.isym3_order)) {
-    w.warn(Severity::Warning, "ldt-symmetry-expanded",
-           std::string("the C-planes of this ") + photometry::to_string(d.symmetry) +
-               " distribution do not fit Isym " + std::to_string(layout.isym) +
-               " (it needs 0, 90, 180 and 270 on a grid symmetric about them); written without "
-               "symmetry");
-    d = photometry::expand_symmetry(d);
-    layout = layout_for(d, options.isym3_order);
-  }
-  if (layout.isym == 0) {
-    // C 360 is C 0 again: keep one of them.
-    const std::size_t nv = d.vertical_count();
-    if (layout.c_list.size() >= 2 && layout.c_list.back() > 360.0 - kAngleTol) {
-      if (layout.c_list.front() < kAngleTol) {
-        const std::size_t last = layout.rows.back();
-        bool same = true;
-        for (std::size_t v = 0; v < nv; ++v) {
-          const double a = d.at(0, v), b = d.at(last, v);
-          same = same && std::abs(a - b) <= kFluxTol * std::max(std::abs(a), std::abs(b));
-        }
-        if (!same)
-          w.warn(Severity::Warning, "ldt-plane-360-dropped",
-                 "the C 360 plane differs from C 0 and is not written (EULUMDAT lists C 0 once)");
-        layout.c_list.pop_back();
-        layout.rows.pop_back();
-        layout.file_angles.pop_back();
-      } else {
-        // No C 0 plane: the 360 plane becomes the first.
-        layout.c_list.pop_back();
-        layout.c_list.insert(layout.c_list.begin(), 0.0);
-        layout.rows.insert(layout.rows.begin(), layout.rows.back());
-        layout.rows.pop_back();
-        layout.file_angles = layout.c_list;
-      }
-    }
-    if (layout.c_list.size() == 1) {
-      layout.isym = 1;  // a single plane left: rotational
-    } else if (layout.c_list.front() > kAngleTol) {
-      w.warn(
-          Severity::Warning, "ldt-first-plane-not-c0",
-          "the C-planes begin at " + deg(layout.c_list.front()) + ", not at 0 as EULUMDAT expects");
-    }
-  }
-
-  // Lamp sets: lamps[] becomes set 1, alternatives follow.
-  LampSet first;
-  first.count = 1;
-  if (!d.lamps.empty()) first = d.lamps[0];
-  if (d.lamps.size() > 1) {
-    for (std::size_t i = 1; i < d.lamps.size(); ++i) {
-      const LampSet& s = d.lamps[i];
-      first.count += s.count;
-      first.type += " + " + s.type;
-      first.flux_lm += s.flux_lm;
-      first.power_w += s.power_w;
-    }
-    w.warn(Severity::Warning, "ldt-lamp-sets-merged",
-           std::to_string(d.lamps.size()) +
-               " lamp sets that light together are written as one set: EULUMDAT sets are "
-               "alternatives");
-  }
-  // Photometric scale: cd = value × flux / 1000.
-  const photometry::ZonalFlux zones(d);
-  const double total_flux = zones.total_lm();
-  const double down_flux = zones.zone_lm(0.0, 90.0);
-  double set1_flux = 0.0;
-  if (d.absolute) {
-    set1_flux = total_flux;
-    if (!(set1_flux > 0.0)) {
-      set1_flux = 1000.0;
-      w.warn(Severity::Warning, "ldt-no-flux",
-             "the distribution emits no flux; written relative to 1000 lm");
-    } else {
-      w.warn(Severity::Info, "ldt-computed-flux",
-             "absolute photometry: luminaire flux " + format_number(set1_flux, 6) +
-                 " lm computed from the distribution for lamp set 1");
-    }
-  } else {
-    set1_flux = first.flux_lm;  // the merged sets' flux when several light together
-  }
-  // The scale uses the flux as the file will state it, so that a reader
-  // multiplies by exactly what was divided here. A computed luminaire flux is
-  // stated to 6 digits: written values rounded to 12 digits change the
-  // integral in its 12th digit, and a coarser flux keeps rewriting stable
-  // (the candela do not depend on it).
-  const int flux_digits = std::min(options.significant_digits, d.absolute ? 6 : 17);
-  set1_flux = parse_number(format_number(set1_flux, flux_digits)).value_or(set1_flux);
-  const double scale = set1_flux / 1000.0;  // the reader's conversion factor 1 × Φ / 1000
-
-  // LM-63 fields without an EULUMDAT counterpart.
-  if (d.tilt.kind != photometry::Tilt::Kind::None)
-    w.warn(Severity::Warning, "ldt-tilt-dropped",
-           "TILT data (" + std::to_string(d.tilt.angles_deg.size()) +
-               " tilt angles, lamp geometry " + std::to_string(d.tilt.lamp_geometry) +
-               ") has no EULUMDAT field and is not written");
-  if (d.ballast_factor != 1.0)
-    w.warn(Severity::Warning, "ldt-ballast-factor",
-           "ballast factor " + format_number(d.ballast_factor, 6) +
-               " has no EULUMDAT field and is not written (it was not applied to the intensities)");
-  if (d.ballast_lamp_factor != 1.0)
-    w.warn(Severity::Warning, "ldt-ballast-factor",
-           "ballast-lamp photometric factor " + format_number(d.ballast_lamp_factor, 6) +
-               " has no EULUMDAT field and is not written (it was not applied to the intensities)");
-  if (d.file_generation != photometry::FileGenerationType::Undefined)
-    w.warn(Severity::Warning, "ldt-file-generation",
-           std::string("LM-63-2019 file generation type '") +
-               photometry::to_string(d.file_generation) + "' has no EULUMDAT field");
-  if (std::isfinite(first.power_w) && std::isfinite(d.input_watts) && d.input_watts > 0.0 &&
-      std::abs(first.power_w - d.input_watts) > 1e-9 * std::max(first.power_w, d.input_watts))
-    w.warn(Severity::Warning, "ldt-input-watts",
-           "input watts " + format_number(d.input_watts, 6) +
-               " W differ from the lamp set's wattage " + format_number(first.power_w, 6) +
-               " W, which EULUMDAT keeps");
-
-  // [LAMP] fills an empty lamp type.
-  const photometry::Keyword* lamp_kw = d.find_keyword("LAMP");
-  if (first.type.empty() && lamp_kw) first.type = lamp_kw->value;
-  if (!std::isfinite(first.power_w)) first.power_w = d.input_watts;
-  std::vector<LampSet> sets = {first};
-  sets.insert(sets.end(), d.alternative_lamps.begin(), d.alternative_lamps.end());
-  if (sets.size() > static_cast<std::size_t>(kMaxLdtLampSets)) {
-    w.warn(Severity::Warning, "ldt-too-many-lamp-sets",
-           std::to_string(sets.size()) + " lamp sets; only the first " +
-               std::to_string(kMaxLdtLampSets) + " are written");
-    sets.resize(kMaxLdtLampSets);
-  }
-
-  // Header strings from the keywords; the rest are reported.
-  struct Slot {
-    const char* key;
-    std::string value;
-    bool set = false;
-  };
-  Slot slots[] = {{"MANUFAC", {}}, {"TEST", {}},      {"LUMINAIRE", {}},
-                  {"LUMCAT", {}},  {"ISSUEDATE", {}}, {kLdtFileNameKeyword, {}}};
-  const photometry::Keyword* date_kw = nullptr;
-  for (const photometry::Keyword& k : d.keywords) {
-    bool used = false, repeated = false;
-    for (Slot& s : slots) {
-      if (k.key != s.key) continue;
-      repeated = s.set;
-      if (!s.set) {
-        s.value = k.value;
-        s.set = used = true;
-      }
-    }
-    if (repeated) {
-      w.warn(Severity::Warning, "ldt-keyword-dropped",
-             "a repeated keyword [" + k.key +
-                 "] is not written: its field holds the first: " + shown(k.value));
-      continue;
-    }
-    if (!used && k.key == "DATE" && !date_kw) {
-      date_kw = &k;
-      used = true;
-    }
-    if (!used && k.key == "LAMP" && &k == lamp_kw && first.type == k.value) used = true;
-    if (!used)
-      w.warn(Severity::Warning, "ldt-keyword-dropped",
-             "keyword [" + k.key + "] has no EULUMDAT field and is not written: " + shown(k.value));
-  }
-  if (date_kw) {
-    if (slots[4].set)
-      w.warn(Severity::Warning, "ldt-keyword-dropped",
-             "keyword [DATE] is not written: the date/user field holds [ISSUEDATE]");
-    else
-      slots[4].value = date_kw->value;
-  }
-
-  int ityp = options.type_indicator;
-  if (ityp < 0) ityp = d.ldt_type_indicator.value_or(derived_type_indicator(d));
-
-  // 1-12.
-  w.text(slots[0].value, kTextChars, "the company (MANUFAC)");
-  w.integer(ityp);
-  w.integer(layout.isym);
-  w.integer(static_cast<long long>(layout.c_list.size()));
-  w.number(spacing(layout.c_list));
-  w.integer(static_cast<long long>(d.vertical_count()));
-  w.number(spacing(d.vertical_deg));
-  w.text(slots[1].value, kTextChars, "the measurement report number (TEST)");
-  w.text(slots[2].value, kTextChars, "the luminaire name (LUMINAIRE)");
-  w.text(slots[3].value, kTextChars, "the luminaire number (LUMCAT)");
-  w.text(slots[5].value, kFileNameChars,
-         "the file name (" + std::string(kLdtFileNameKeyword) + ")");
-  w.text(slots[4].value, kTextChars, "the date/user (ISSUEDATE)");
-
-  // 13-21: dimensions [mm].
-  const auto mm = [&](double m) { w.number(std::isfinite(m) ? m * 1000.0 : 0.0); };
-  const auto& lum = d.luminaire;
-  if (!std::isfinite(lum.length_m) || !std::isfinite(lum.width_m) || !std::isfinite(lum.height_m))
-    w.warn(Severity::Info, "ldt-dimensions-unknown",
-           "unknown luminaire dimensions are written as 0");
-  mm(lum.length_m);
-  mm(lum.width_m);
-  mm(lum.height_m);
-  const auto& o = d.opening;
-  double area_length = o.length_m, area_width = o.width_m;
-  bool has_height = false;
-  switch (o.shape) {
-    case OpeningShape::Point: area_length = area_width = 0.0; break;
-    case OpeningShape::Rectangular: break;
-    case OpeningShape::RectangularWithSides: has_height = true; break;
-    case OpeningShape::Circular: area_width = 0.0; break;
-    case OpeningShape::VerticalCylinder:
-      area_width = 0.0;
-      has_height = true;
-      break;
-    default:
-      area_length = std::max(o.length_m, o.width_m);
-      area_width = o.shape == OpeningShape::Sphere ? 0.0 : std::min(o.length_m, o.width_m);
-      if (o.shape == OpeningShape::Sphere) area_length = std::max(o.length_m, o.height_m);
-      has_height = o.height_m > 0.0;
-      w.warn(Severity::Warning, "ldt-opening-approximated",
-             std::string("EULUMDAT has no ") + photometry::to_string(o.shape) +
-                 " luminous area; written as " + (area_width == 0.0 ? "a circle" : "a rectangle") +
-                 " of the same extent");
-      break;
-  }
-  mm(area_length);
-  mm(area_width);
-  for (int i = 0; i < 4; ++i) {
-    const double s = o.side_height_m[i];
-    mm(std::isfinite(s) ? s : (has_height ? o.height_m : 0.0));
-  }
-
-  // 22-25.
-  double dff = d.declared_dff_percent, lorl = d.declared_lor_percent;
-  if (!std::isfinite(lorl)) {
-    lorl = d.absolute ? 100.0 : 100.0 * total_flux / set1_flux;
-    w.warn(Severity::Info, "ldt-computed-lorl",
-           "light output ratio " + format_number(lorl, 6) + " % computed from the distribution");
-  }
-  if (!std::isfinite(dff)) {
-    dff = total_flux > 0.0 ? 100.0 * down_flux / total_flux : 0.0;
-    w.warn(Severity::Info, "ldt-computed-dff",
-           "downward flux fraction " + format_number(dff, 6) + " % computed from the distribution");
-  }
-  w.number(dff);
-  w.number(lorl);
-  w.number(1.0);
-  w.number(std::isfinite(d.measurement_tilt_deg) ? d.measurement_tilt_deg : 0.0);
-
-  // 26.
-  w.integer(static_cast<long long>(sets.size()));
-  for (std::size_t i = 0; i < sets.size(); ++i) {
-    const LampSet& s = sets[i];
-    const std::string k = " of lamp set " + std::to_string(i + 1);
-    w.integer(d.absolute ? -static_cast<long long>(s.count) : s.count);
-    w.text(s.type, kLampTypeChars, "the lamp type" + k);
-    w.number(i == 0 ? set1_flux : (std::isfinite(s.flux_lm) ? s.flux_lm : 0.0));
-    w.text(s.color, kColorChars, "the colour" + k);
-    w.text(s.color_rendering, kColorRenderingChars, "the colour rendering" + k);
-    w.number(std::isfinite(s.power_w) ? s.power_w : 0.0);
-  }
-
-  // 27.
-  if (d.direct_ratios.size() == 10) {
-    for (double x : d.direct_ratios) w.number(x);
-  } else {
-    const std::string why = d.direct_ratios.empty()
-                                ? std::string("unknown")
-                                : std::to_string(d.direct_ratios.size()) + " instead of 10";
-    w.warn(d.direct_ratios.empty() ? Severity::Info : Severity::Warning, "ldt-direct-ratios",
-           "direct ratios " + why +
-               ": computed from the distribution with Gonio's room model "
-               "(photometry/direct_ratios.h, not CIE 52's tables)");
-    for (double x : photometry::direct_ratios(d)) w.number(x);
-  }
-
-  // 28-30.
-  for (double c : layout.c_list) w.number(c);
-  for (double g : d.vertical_deg) w.number(g);
-  for (std::size_t row : layout.rows)
-    for (std::size_t v = 0; v < d.vertical_count(); ++v) w.number(d.at(row, v) / scale);
-  return w.take();
+  return LdtWriter(input, options, warnings).write();
 }
 
 }  // namespace gonio::io

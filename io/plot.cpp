@@ -13,6 +13,7 @@
 
 #include "io/file_io.h"
 #include "io/process.h"
+#include "photometry/format.h"
 
 namespace gonio::io {
 namespace {
@@ -24,12 +25,6 @@ constexpr auto kTimeout = std::chrono::seconds(60);
 
 // Series colours: dark blue, red, green, orange, purple, grey; then again.
 constexpr const char* kColours[] = {"#1f4e9a", "#c0392b", "#2e8b57", "#e67e22", "#7d3c98", "#555555"};
-
-Error error(std::string message) {
-  Error e;
-  e.message = std::move(message);
-  return e;
-}
 
 // A gnuplot single-quoted string: '' stands for ', control characters become
 // spaces (a newline would end the command).
@@ -44,12 +39,6 @@ std::string quote(const std::string& text) {
       out += c;
   }
   return out + "'";
-}
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
 }
 
 // Smallest 1, 2, 2.5 or 5 × 10^k at or above v > 0.
@@ -75,7 +64,7 @@ bool write_block(std::ostringstream& s, const std::string& name, const Series& s
     const double x = series.x[k], y = series.y[k];
     const bool ok = std::isfinite(x) && std::isfinite(y) && (!log_x || x > 0.0) && (!log_y || y > 0.0);
     if (ok) {
-      s << number(x) << ' ' << number(y) << '\n';
+      s << format_number(x, 17) << ' ' << format_number(y, 17) << '\n';
       any = true;
     } else {
       s << '\n';
@@ -115,10 +104,10 @@ void polar_chart(std::ostringstream& s, const PolarChart& chart, std::size_t ind
   s << "reset\nset polar\nset angles degrees\nset theta bottom counterclockwise\n"
        "set size square\nunset border\nunset xtics\nunset ytics\n"
        "set grid polar 30 lt 1 lc rgb '#c8c8c8' dt 3\n"
-    << "set rrange [0:" << number(r_max) << "]\n"
-    << "set xrange [" << number(-r_max) << ":" << number(r_max) << "]\n"
-    << "set yrange [" << number(-r_max) << ":" << number(r_max) << "]\n"
-    << "set rtics " << number(r_step) << " format '%g' font ',9'\n"
+    << "set rrange [0:" << format_number(r_max, 17) << "]\n"
+    << "set xrange [" << format_number(-r_max, 17) << ":" << format_number(r_max, 17) << "]\n"
+    << "set yrange [" << format_number(-r_max, 17) << ":" << format_number(r_max, 17) << "]\n"
+    << "set rtics " << format_number(r_step, 17) << " format '%g' font ',9'\n"
     << "set ttics (";
   for (int a = -150; a <= 180; a += 30)
     s << (a == -150 ? "" : ", ") << "'" << std::abs(a) << "°' " << a;
@@ -138,7 +127,8 @@ void line_chart(std::ostringstream& s, const LineChart& chart, std::size_t index
   }
   const auto range = [](std::optional<double> lo, std::optional<double> hi, bool empty, bool log) {
     if (empty && !lo && !hi) return std::string(log ? "[1:10]" : "[0:1]");
-    return "[" + (lo ? number(*lo) : std::string("*")) + ":" + (hi ? number(*hi) : std::string("*")) + "]";
+    return "[" + (lo ? format_number(*lo, 17) : std::string("*")) + ":" +
+           (hi ? format_number(*hi, 17) : std::string("*")) + "]";
   };
   s << "reset\nset grid lt 1 lc rgb '#d8d8d8'\n" << (chart.key_below ? "set key below\n" : "set key top right\n")
     << "set xrange " << range(chart.x_min, chart.x_max, prepared.empty(), chart.log_x) << "\n"
@@ -152,18 +142,18 @@ void line_chart(std::ostringstream& s, const LineChart& chart, std::size_t index
 }
 
 Result<std::string> script_for(const Figure& figure, ImageFormat format) {
-  if (figure.charts.empty()) return error("a figure needs at least one chart");
+  if (figure.charts.empty()) return make_error("a figure needs at least one chart");
   if (figure.width_px < 100 || figure.width_px > 10000 || figure.height_px < 100 ||
       figure.height_px > 10000)
-    return error("figure size " + std::to_string(figure.width_px) + "x" +
-                 std::to_string(figure.height_px) + " is outside 100..10000 pixels");
+    return make_error("figure size " + std::to_string(figure.width_px) + "x" +
+                      std::to_string(figure.height_px) + " is outside 100..10000 pixels");
   for (const Chart& chart : figure.charts) {
     const auto& series = std::holds_alternative<PolarChart>(chart) ? std::get<PolarChart>(chart).series
                                                                    : std::get<LineChart>(chart).series;
     for (const Series& s : series)
       if (s.x.size() != s.y.size())
-        return error("series '" + s.label + "' has " + std::to_string(s.x.size()) + " x and " +
-                     std::to_string(s.y.size()) + " y values");
+        return make_error("series '" + s.label + "' has " + std::to_string(s.x.size()) + " x and " +
+                          std::to_string(s.y.size()) + " y values");
   }
   std::ostringstream s;
   const std::string size = std::to_string(figure.width_px) + "," + std::to_string(figure.height_px);
@@ -188,12 +178,12 @@ Result<std::string> script_for(const Figure& figure, ImageFormat format) {
 // Runs gnuplot on a script; returns what it wrote to standard output.
 Result<std::string> run_gnuplot(const std::string& script) {
   ScratchDir dir("gonio-plot");
-  if (dir.path().empty()) return error(std::string("cannot create a scratch directory: ") + std::strerror(errno));
+  if (dir.path().empty()) return make_error(std::string("cannot create a scratch directory: ") + std::strerror(errno));
   const std::string script_path = (dir.path() / "figure.gp").string();
   {
     std::ofstream f(script_path, std::ios::binary);
     f << script;
-    if (!f) return error("cannot write the plot script to " + script_path);
+    if (!f) return make_error("cannot write the plot script to " + script_path);
   }
   const char* env = std::getenv("GONIO_GNUPLOT");
   const std::string program = env && *env ? env : "gnuplot";
@@ -204,10 +194,10 @@ Result<std::string> run_gnuplot(const std::string& script) {
   if (!run.ok()) return run.error();
   const std::string& messages = run.value().err;
   if (run.value().exit_code != 0)
-    return error("gnuplot failed" +
+    return make_error("gnuplot failed" +
                  (messages.empty() ? std::string() : ": " + last_lines(messages, 400)));
   if (run.value().out.empty())
-    return error("gnuplot wrote no image" +
+    return make_error("gnuplot wrote no image" +
                  (messages.empty() ? std::string() : ": " + last_lines(messages, 400)));
   return std::move(run.value().out);
 }

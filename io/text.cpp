@@ -143,4 +143,22 @@ int first_binary_line(std::string_view text) {
   return 0;
 }
 
+std::string shown(std::string_view token) {
+  constexpr std::size_t kMax = 40;
+  const bool utf8 = is_valid_utf8(token);
+  std::size_t n = token.size();
+  if (n > kMax) {
+    n = kMax;
+    // Back off to the start of a UTF-8 character.
+    while (utf8 && n > 0 && (static_cast<unsigned char>(token[n]) & 0xC0) == 0x80) --n;
+  }
+  std::string out = "'";
+  for (char c : token.substr(0, n)) {
+    const auto u = static_cast<unsigned char>(c);
+    out += (u < 0x20 || u == 0x7F || (u >= 0x80 && !utf8)) ? '?' : c;
+  }
+  if (n < token.size()) out += "...";
+  return out + "'";
+}
+
 }  // namespace gonio::io

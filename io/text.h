@@ -37,6 +37,12 @@ std::string utf8_to_latin1(std::string_view utf8);
 // "inf", values that overflow a double, hexadecimal.
 std::optional<double> parse_number(std::string_view token, bool decimal_comma = false);
 
+// A token as messages quote it: in single quotes, at most 40 bytes (cut at a
+// character boundary, then "..."), control characters and DEL as '?', and
+// bytes above 0x7F kept only where the token is valid UTF-8 (else '?'), so
+// that a message is always printable UTF-8.
+std::string shown(std::string_view token);
+
 // Whether the bytes look like binary data rather than text: NUL bytes, or
 // many control characters other than tab, CR, LF and form feed.
 bool looks_binary(std::string_view bytes);

@@ -17,6 +17,19 @@ std::string to_string(const Error& error) {
   return to_string(error.where) + ": " + error.message;
 }
 
+Error make_error(std::string message) {
+  Error e;
+  e.message = std::move(message);
+  return e;
+}
+
+Error make_error(const std::string& file, std::string message) {
+  Error e;
+  e.where.file = file;
+  e.message = std::move(message);
+  return e;
+}
+
 const char* to_string(Severity severity) {
   switch (severity) {
     case Severity::Info: return "info";

@@ -33,6 +33,13 @@ struct Error {
 // "file:line: message" (the form the command line prints after "gonio: ").
 std::string to_string(const Error& error);
 
+// The one Error factory: an error with no place, or about a whole file
+// (a reader that knows the line builds SourceLoc itself). Out of line, so
+// that callers do not meet GCC 12's false maybe-uninitialized warnings about
+// Error temporaries built inline.
+Error make_error(std::string message);
+Error make_error(const std::string& file, std::string message);
+
 // A value or the error that prevented it. Small and explicit on purpose:
 // callers test `ok()` and read `value()` or `error()`.
 template <class T>

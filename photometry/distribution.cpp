@@ -4,6 +4,8 @@
 #include <tuple>
 #include <utility>
 
+#include "photometry/format.h"
+
 namespace gonio::photometry {
 namespace {
 
@@ -21,19 +23,14 @@ bool near(double a, double b) { return std::abs(a - b) <= kAngleTol; }
 
 Status fail(std::string message) { return Error{{}, std::move(message)}; }
 
-std::string deg(double a) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", a);
-  return buf;
-}
-
 Status validate_horizontal_c(const Distribution& d) {
   const auto& h = d.horizontal_deg;
   const double first = h.front(), last = h.back();
   const auto range = [&](double lo, double hi, const char* what) -> Status {
     if (!near(first, lo) || !near(last, hi))
-      return fail(std::string("symmetry ") + what + " needs horizontal angles from " + deg(lo) +
-                  " to " + deg(hi) + ", found " + deg(first) + " to " + deg(last));
+      return fail(std::string("symmetry ") + what + " needs horizontal angles from " +
+                  format_number(lo) + " to " + format_number(hi) + ", found " +
+                  format_number(first) + " to " + format_number(last));
     return Ok{};
   };
   switch (d.symmetry) {
@@ -42,7 +39,7 @@ Status validate_horizontal_c(const Distribution& d) {
         return fail("a rotationally symmetric distribution has exactly one C-plane, found " +
                     std::to_string(h.size()));
       if (first < -kAngleTol || first > 360.0 + kAngleTol)
-        return fail("C-plane angle " + deg(first) + " outside 0..360");
+        return fail("C-plane angle " + format_number(first) + " outside 0..360");
       return Ok{};
     case Symmetry::Quadrant: return range(0.0, 90.0, "quadrant");
     case Symmetry::C0_C180: return range(0.0, 180.0, "C0-C180");
@@ -50,7 +47,8 @@ Status validate_horizontal_c(const Distribution& d) {
     case Symmetry::None:
       if (h.size() < 2) return fail("a distribution without symmetry needs at least two C-planes");
       if (first < -kAngleTol || last > 360.0 + kAngleTol)
-        return fail("C-plane angles must lie in 0..360, found " + deg(first) + " to " + deg(last));
+        return fail("C-plane angles must lie in 0..360, found " + format_number(first) + " to " +
+                    format_number(last));
       return Ok{};
     case Symmetry::Lateral:
       return fail("lateral symmetry applies to Types A and B, not Type C");
@@ -62,13 +60,14 @@ Status validate_horizontal_ab(const Distribution& d) {
   const auto& h = d.horizontal_deg;
   if (d.symmetry == Symmetry::Lateral) {
     if (!near(h.front(), 0.0))
-      return fail("lateral symmetry needs horizontal angles starting at 0, found " + deg(h.front()));
+      return fail("lateral symmetry needs horizontal angles starting at 0, found " +
+                  format_number(h.front()));
   } else if (d.symmetry != Symmetry::None) {
     return fail(std::string("symmetry ") + to_string(d.symmetry) + " applies to Type C only");
   }
   if (h.front() < -90.0 - kAngleTol || h.back() > 90.0 + kAngleTol)
-    return fail("horizontal angles of Types A and B must lie in -90..90, found " + deg(h.front()) +
-                " to " + deg(h.back()));
+    return fail("horizontal angles of Types A and B must lie in -90..90, found " +
+                format_number(h.front()) + " to " + format_number(h.back()));
   return Ok{};
 }
 
@@ -193,13 +192,15 @@ Status validate(const Distribution& d) {
 
   if (d.type == PhotometricType::C) {
     if (d.vertical_deg.front() < -kAngleTol || d.vertical_deg.back() > 180.0 + kAngleTol)
-      return fail("Type C vertical angles must lie in 0..180, found " + deg(d.vertical_deg.front()) +
-                  " to " + deg(d.vertical_deg.back()));
+      return fail("Type C vertical angles must lie in 0..180, found " +
+                  format_number(d.vertical_deg.front()) + " to " +
+                  format_number(d.vertical_deg.back()));
     if (Status s = validate_horizontal_c(d); !s.ok()) return s;
   } else {
     if (d.vertical_deg.front() < -90.0 - kAngleTol || d.vertical_deg.back() > 90.0 + kAngleTol)
       return fail("vertical angles of Types A and B must lie in -90..90, found " +
-                  deg(d.vertical_deg.front()) + " to " + deg(d.vertical_deg.back()));
+                  format_number(d.vertical_deg.front()) + " to " +
+                  format_number(d.vertical_deg.back()));
     if (Status s = validate_horizontal_ab(d); !s.ok()) return s;
   }
 

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <vector>
 
+#include "photometry/hermite.h"
 #include "photometry/resample.h"
 
 namespace gonio::photometry {
@@ -59,21 +60,6 @@ Moments moments(double a, double b, double lo, double hi, Weight w) {
     m[3] += (t3 - t2) * ww;
   }
   return m;
-}
-
-// Clamps a slope estimate so that the cubic stays monotone: zero unless it
-// has the sign of both secants, at most three times the smaller of them.
-double limit(double d, double s1, double s2) {
-  if (!(s1 * s2 > 0.0) || !(d * s1 > 0.0)) return 0.0;
-  const double bound = 3.0 * std::min(std::abs(s1), std::abs(s2));
-  return std::abs(d) <= bound ? d : std::copysign(bound, s1);
-}
-
-// Slope at the end node of two consecutive segments of lengths h0 (the one
-// touching the node) and h1, with secant slopes s0 and s1: the derivative
-// there of the parabola through the three nodes.
-double end_slope(double h0, double h1, double s0, double s1) {
-  return ((2.0 * h0 + h1) * s0 - h0 * s1) / (h0 + h1);
 }
 
 // One axis of a grid (angles in radians) with the weight of its solid-angle
@@ -137,42 +123,8 @@ class Axis {
   // Secant slopes s_ and the node slopes used by the segment left of each
   // node (dl_) and right of it (dr_); equal except at the edge of a dark run.
   void slopes(const double* f) {
-    const std::size_t n = x_.size();
-    double scale = 0.0;
-    for (std::size_t k = 0; k < n; ++k) scale = std::max(scale, std::abs(f[k]));
-    // Differences at rounding level are flat: a computed cos 90° must not
-    // pass for a slope.
-    const double tiny = 1e-12 * scale;
-    for (std::size_t k = 0; k + 1 < n; ++k) {
-      const double df = f[k + 1] - f[k];
-      s_[k] = std::abs(df) <= tiny ? 0.0 : df * inv_h_[k];
-    }
-    // Boundary nodes: the parabola through the first (last) three nodes.
-    dr_[0] = n > 2 ? limit(end_slope(h_[0], h_[1], s_[0], s_[1]), s_[0], s_[0]) : s_[0];
-    dl_[n - 1] =
-        n > 2 ? limit(end_slope(h_[n - 2], h_[n - 3], s_[n - 2], s_[n - 3]), s_[n - 2], s_[n - 2])
-              : s_[n - 2];
-    for (std::size_t k = 1; k + 1 < n; ++k) {
-      const double l = s_[k - 1], r = s_[k];
-      // Three-point slope, limited to three times the smaller secant; it has
-      // the sign of both secants where they agree (a convex combination),
-      // and is zero at extrema and flat runs.
-      const double d = l + left_[k] * (r - l);
-      const double limited =
-          std::copysign(std::min(std::abs(d), 3.0 * std::min(std::abs(l), std::abs(r))), l);
-      dl_[k] = dr_[k] = l * r > 0.0 ? limited : 0.0;
-      if (l * r <= 0.0 && std::abs(f[k]) <= tiny && ((l == 0.0) != (r == 0.0))) {
-        // Edge of a dark run: the lit side keeps the slope of its own
-        // parabola if it is monotone over two segments (a smooth flank, not
-        // an under-resolved step).
-        dl_[k] = l != 0.0 && k >= 2
-                     ? limit(end_slope(h_[k - 1], h_[k - 2], l, s_[k - 2]), l, s_[k - 2])
-                     : 0.0;
-        dr_[k] = r != 0.0 && k + 2 < n
-                     ? limit(end_slope(h_[k], h_[k + 1], r, s_[k + 1]), r, s_[k + 1])
-                     : 0.0;
-      }
-    }
+    monotone_hermite_slopes(x_.size(), h_.data(), inv_h_.data(), left_.data(), f, s_.data(),
+                            dl_.data(), dr_.data());
   }
 
   Weight w_;

@@ -6,18 +6,13 @@
 #include <string>
 
 #include "photometry/flux.h"
+#include "photometry/format.h"
 #include "photometry/summary.h"
 
 namespace gonio::photometry {
 namespace {
 
 constexpr double kTol = 1e-9;  // [deg]
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 
 bool near(double a, double b) { return std::abs(a - b) <= kTol; }
 
@@ -43,8 +38,8 @@ const char* horizontal_name(const Distribution& d) {
 }
 
 std::string where(const Distribution& d, std::size_t h, std::size_t v) {
-  return std::string(horizontal_name(d)) + " " + num(d.horizontal_deg[h]) + " deg, " +
-         vertical_name(d) + " " + num(d.vertical_deg[v]) + " deg";
+  return std::string(horizontal_name(d)) + " " + format_number(d.horizontal_deg[h]) + " deg, " +
+         vertical_name(d) + " " + format_number(d.vertical_deg[v]) + " deg";
 }
 
 bool check_angle_list(Report& r, const std::vector<double>& a, const char* which,
@@ -56,15 +51,16 @@ bool check_angle_list(Report& r, const std::vector<double>& a, const char* which
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (!std::isfinite(a[i])) {
       r.error("angle-not-finite", std::string(which) + " angle " + std::to_string(i + 1) + " is " +
-                                      num(a[i]) + "; expected a finite number of degrees");
+                                      format_number(a[i]) +
+                                      "; expected a finite number of degrees");
       return false;
     }
   }
   for (std::size_t i = 1; i < a.size(); ++i) {
     if (!(a[i] > a[i - 1])) {
       r.error(order_code, std::string(which) + " angles must increase strictly, but angle " +
-                              std::to_string(i + 1) + " (" + num(a[i]) + " deg) follows " +
-                              num(a[i - 1]) + " deg");
+                              std::to_string(i + 1) + " (" + format_number(a[i]) +
+                              " deg) follows " + format_number(a[i - 1]) + " deg");
       return false;
     }
   }
@@ -77,21 +73,22 @@ void check_ranges(Report& r, const Distribution& d) {
   const bool c = d.type == PhotometricType::C;
   const double vlo = c ? 0.0 : -90.0, vhi = c ? 180.0 : 90.0;
   if (v.front() < vlo - kTol || v.back() > vhi + kTol)
-    r.error("vertical-angle-range", std::string(vertical_name(d)) + " runs from " + num(v.front()) +
-                                        " to " + num(v.back()) + " deg; Type " + to_string(d.type) +
-                                        " allows " + num(vlo) + " to " + num(vhi) + " deg");
+    r.error("vertical-angle-range",
+            std::string(vertical_name(d)) + " runs from " + format_number(v.front()) + " to " +
+                format_number(v.back()) + " deg; Type " + to_string(d.type) + " allows " +
+                format_number(vlo) + " to " + format_number(vhi) + " deg");
   const double hlo = c ? 0.0 : -90.0, hhi = c ? 360.0 : 90.0;
   if (h.front() < hlo - kTol || h.back() > hhi + kTol)
-    r.error("horizontal-angle-range", std::string(horizontal_name(d)) + " runs from " +
-                                          num(h.front()) + " to " + num(h.back()) + " deg; Type " +
-                                          to_string(d.type) + " allows " + num(hlo) + " to " +
-                                          num(hhi) + " deg");
+    r.error("horizontal-angle-range",
+            std::string(horizontal_name(d)) + " runs from " + format_number(h.front()) + " to " +
+                format_number(h.back()) + " deg; Type " + to_string(d.type) + " allows " +
+                format_number(hlo) + " to " + format_number(hhi) + " deg");
   auto span = [&](double lo, double hi) {
     if (!near(h.front(), lo) || !near(h.back(), hi))
       r.error("symmetry-range", std::string("symmetry ") + to_string(d.symmetry) +
-                                    " needs C-planes from " + num(lo) + " to " + num(hi) +
-                                    " deg, found " + num(h.front()) + " to " + num(h.back()) +
-                                    " deg");
+                                    " needs C-planes from " + format_number(lo) + " to " +
+                                    format_number(hi) + " deg, found " + format_number(h.front()) +
+                                    " to " + format_number(h.back()) + " deg");
   };
   if (c) {
     switch (d.symmetry) {
@@ -124,7 +121,7 @@ void check_ranges(Report& r, const Distribution& d) {
   } else if (d.symmetry == Symmetry::Lateral) {
     if (!near(h.front(), 0.0))
       r.error("symmetry-range", "lateral symmetry needs horizontal angles from 0 deg, found " +
-                                    num(h.front()) + " deg");
+                                    format_number(h.front()) + " deg");
   } else if (d.symmetry != Symmetry::None) {
     r.error("symmetry-range",
             std::string("symmetry ") + to_string(d.symmetry) +
@@ -153,7 +150,7 @@ void check_structure(Report& r, const Distribution& d) {
       at = where(d, first / d.vertical_deg.size(), first % d.vertical_deg.size());
     r.error("non-finite-intensity",
             std::to_string(bad) + " intensities are not finite (the first, " +
-                num(d.candela[first]) + ", at " + at + "); expected finite candela");
+                format_number(d.candela[first]) + ", at " + at + "); expected finite candela");
   }
   for (std::size_t i = 0; i < d.lamps.size(); ++i) {
     const LampSet& l = d.lamps[i];
@@ -162,7 +159,7 @@ void check_structure(Report& r, const Distribution& d) {
                                 std::to_string(l.count) + " lamps; expected a positive count");
     if (!d.absolute && !(std::isfinite(l.flux_lm) && l.flux_lm > 0.0))
       r.error("lamp-flux", "lamp set " + std::to_string(i + 1) + " has a rated flux of " +
-                               num(l.flux_lm) +
+                               format_number(l.flux_lm) +
                                " lm; relative photometry needs a positive rated lamp flux");
   }
 }
@@ -181,16 +178,17 @@ double spread(std::size_t n, F&& f) {
 void check_poles(Report& r, const Distribution& d, double peak, double tolerance) {
   const std::size_t nh = d.horizontal_count(), nv = d.vertical_count();
   const double limit = tolerance * peak;
-  const std::string allowed = " cd, more than the allowed " + num(limit) + " cd (" +
-                              num(100 * tolerance) + " % of the peak " + num(peak) + " cd)";
+  const std::string allowed = " cd, more than the allowed " + format_number(limit) + " cd (" +
+                              format_number(100 * tolerance) + " % of the peak " +
+                              format_number(peak) + " cd)";
   if (d.type == PhotometricType::C) {
     if (nh > 1) {
       auto pole = [&](std::size_t v, const char* code, const char* name) {
         const double s = spread(nh, [&](std::size_t h) { return d.at(h, v); });
         if (s > limit)
           r.warning(code, std::string("the C-planes disagree at the ") + name + " (gamma " +
-                              num(d.vertical_deg[v]) + " deg), one direction, by " + num(s) +
-                              allowed);
+                              format_number(d.vertical_deg[v]) + " deg), one direction, by " +
+                              format_number(s) + allowed);
       };
       if (near(d.vertical_deg.front(), 0.0)) pole(0, "nadir-mismatch", "nadir");
       if (near(d.vertical_deg.back(), 180.0)) pole(nv - 1, "zenith-mismatch", "zenith");
@@ -201,7 +199,7 @@ void check_poles(Report& r, const Distribution& d, double peak, double tolerance
       for (std::size_t v = 0; v < nv; ++v) s = std::max(s, std::abs(d.at(0, v) - d.at(nh - 1, v)));
       if (s > limit)
         r.warning("seam-mismatch",
-                  "planes C 0 and C 360 (one plane) differ by up to " + num(s) + allowed);
+                  "planes C 0 and C 360 (one plane) differ by up to " + format_number(s) + allowed);
     }
     return;
   }
@@ -211,16 +209,18 @@ void check_poles(Report& r, const Distribution& d, double peak, double tolerance
       if (!near(std::abs(d.vertical_deg[v]), 90.0) || nh < 2) continue;
       const double s = spread(nh, [&](std::size_t h) { return d.at(h, v); });
       if (s > limit)
-        r.warning("pole-mismatch", "the planes disagree at the pole V " + num(d.vertical_deg[v]) +
-                                       " deg, one direction, by " + num(s) + allowed);
+        r.warning("pole-mismatch", "the planes disagree at the pole V " +
+                                       format_number(d.vertical_deg[v]) +
+                                       " deg, one direction, by " + format_number(s) + allowed);
     }
   } else {
     for (std::size_t h : {std::size_t{0}, nh - 1}) {
       if (!near(std::abs(d.horizontal_deg[h]), 90.0) || nv < 2) continue;
       const double s = spread(nv, [&](std::size_t v) { return d.at(h, v); });
       if (s > limit)
-        r.warning("pole-mismatch", "the values at the pole H " + num(d.horizontal_deg[h]) +
-                                       " deg, one direction, differ by " + num(s) + allowed);
+        r.warning("pole-mismatch",
+                  "the values at the pole H " + format_number(d.horizontal_deg[h]) +
+                      " deg, one direction, differ by " + format_number(s) + allowed);
     }
   }
 }
@@ -238,7 +238,7 @@ void check_data(Report& r, const Distribution& d, const CheckOptions& o) {
   if (negative > 0)
     r.error("negative-intensity",
             std::to_string(negative) + " intensities are negative, the lowest " +
-                num(d.candela[lowest]) + " cd at " + where(d, lowest / nv, lowest % nv) +
+                format_number(d.candela[lowest]) + " cd at " + where(d, lowest / nv, lowest % nv) +
                 "; intensities cannot be below 0 cd");
   if (all_zero) {
     r.error("all-zero", "every intensity is 0 cd: the distribution emits no light");
@@ -253,14 +253,14 @@ void check_data(Report& r, const Distribution& d, const CheckOptions& o) {
   if (d.type == PhotometricType::C) {
     if (!(near(v.front(), 0.0) || near(v.front(), 90.0)) ||
         !(near(v.back(), 90.0) || near(v.back(), 180.0)))
-      r.warning("vertical-range-nonstandard", "gamma runs from " + num(v.front()) + " to " +
-                                                  num(v.back()) +
+      r.warning("vertical-range-nonstandard", "gamma runs from " + format_number(v.front()) +
+                                                  " to " + format_number(v.back()) +
                                                   " deg; LM-63-2002 expects it to start at 0 or 90 "
                                                   "deg and end at 90 or 180 deg (directions "
                                                   "outside are taken as dark)");
   } else if (!(near(v.front(), -90.0) || near(v.front(), 0.0)) || !near(v.back(), 90.0)) {
     r.warning("vertical-range-nonstandard",
-              "V runs from " + num(v.front()) + " to " + num(v.back()) +
+              "V runs from " + format_number(v.front()) + " to " + format_number(v.back()) +
                   " deg; LM-63-2002 expects it to start at -90 or 0 deg and end at 90 "
                   "deg (directions outside are taken as dark)");
   }
@@ -278,45 +278,49 @@ void check_data(Report& r, const Distribution& d, const CheckOptions& o) {
     const double lor = flux / lamps;
     if (lor > o.max_lor)
       r.warning("lor-implausible",
-                "the intensities integrate to " + num(flux) + " lm from rated lamps of " +
-                    num(lamps) + " lm, a light output ratio of " + num(100 * lor) +
+                "the intensities integrate to " + format_number(flux) + " lm from rated lamps of " +
+                    format_number(lamps) + " lm, a light output ratio of " +
+                    format_number(100 * lor) +
                     " %; a luminaire cannot emit more than its lamps (expected at most " +
-                    num(100 * o.max_lor) + " %): check the lamp flux and the multiplier");
+                    format_number(100 * o.max_lor) + " %): check the lamp flux and the multiplier");
     if (std::isfinite(d.declared_lor_percent)) {
       const double declared = d.declared_lor_percent / 100.0;
       const bool off =
           declared > 0.0 ? std::abs(lor / declared - 1.0) > o.declared_lor_tolerance : lor > 0.0;
       if (off)
         r.warning("lor-mismatch",
-                  "the declared light output ratio is " + num(d.declared_lor_percent) +
-                      " % but the intensities integrate to " + num(100 * lor) + " % (" + num(flux) +
-                      " lm from " + num(lamps) + " lm); expected them to agree within " +
-                      num(100 * o.declared_lor_tolerance) + " %");
+                  "the declared light output ratio is " + format_number(d.declared_lor_percent) +
+                      " % but the intensities integrate to " + format_number(100 * lor) + " % (" +
+                      format_number(flux) + " lm from " + format_number(lamps) +
+                      " lm); expected them to agree within " +
+                      format_number(100 * o.declared_lor_tolerance) + " %");
     }
   }
   if (std::isfinite(d.declared_dff_percent) && flux > 0.0) {
     const double dff = 100.0 * downward_flux_lm(d) / flux;
     if (std::abs(dff - d.declared_dff_percent) > o.declared_dff_tolerance_percent)
-      r.warning("dff-mismatch", "the declared downward flux fraction is " +
-                                    num(d.declared_dff_percent) + " % but the intensities give " +
-                                    num(dff) + " %; expected them to agree within " +
-                                    num(o.declared_dff_tolerance_percent) + " percentage points");
+      r.warning("dff-mismatch",
+                "the declared downward flux fraction is " + format_number(d.declared_dff_percent) +
+                    " % but the intensities give " + format_number(dff) +
+                    " %; expected them to agree within " +
+                    format_number(o.declared_dff_tolerance_percent) + " percentage points");
   }
   if (peak > o.max_intensity_cd || (peak > 0.0 && peak < o.min_peak_intensity_cd))
-    r.warning("absurd-intensity", "the peak intensity is " + num(peak) + " cd at " +
+    r.warning("absurd-intensity", "the peak intensity is " + format_number(peak) + " cd at " +
                                       where(d, highest / nv, highest % nv) + "; expected between " +
-                                      num(o.min_peak_intensity_cd) + " and " +
-                                      num(o.max_intensity_cd) +
+                                      format_number(o.min_peak_intensity_cd) + " and " +
+                                      format_number(o.max_intensity_cd) +
                                       " cd: check the units and the multiplier");
   if (flux > o.max_flux_lm)
-    r.warning("absurd-flux", "the intensities integrate to " + num(flux) +
-                                 " lm; expected at most " + num(o.max_flux_lm) +
+    r.warning("absurd-flux", "the intensities integrate to " + format_number(flux) +
+                                 " lm; expected at most " + format_number(o.max_flux_lm) +
                                  " lm for a luminaire: check the units and the multiplier");
   const double power = input_power_w(d);
   if (std::isfinite(power) && flux / power > o.max_efficacy_lm_per_w)
     r.warning("efficacy-implausible",
-              num(flux) + " lm from " + num(power) + " W is " + num(flux / power) +
-                  " lm/W; expected at most " + num(o.max_efficacy_lm_per_w) +
+              format_number(flux) + " lm from " + format_number(power) + " W is " +
+                  format_number(flux / power) + " lm/W; expected at most " +
+                  format_number(o.max_efficacy_lm_per_w) +
                   " lm/W for white light: check the input watts and the intensities");
 }
 

@@ -9,8 +9,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-Error error(std::string message) { return Error{{}, std::move(message)}; }
-
 double mean(std::span<const double> v) {
   double sum = 0.0;
   for (double x : v) sum += x;
@@ -37,7 +35,7 @@ Result<ConvergenceReference> ConvergenceReference::create(const FarField& refere
                                                           std::shared_ptr<const Resampler> resampler) {
   GONIO_CHECK(resampler && resampler->face_size() == reference.face_size());
   if (!(reference.total_flux_lm() > 0.0))
-    return error("the reference run has no escaped flux: there is no far field to compare");
+    return make_error("the reference run has no escaped flux: there is no far field to compare");
   return ConvergenceReference(reference, std::move(resampler));
 }
 

@@ -38,8 +38,6 @@ void on_embree_error(void* user, RTCError code, const char* message) {
                   (message ? message : "(no message)");
 }
 
-Error error(std::string message) { return Error{{}, std::move(message)}; }
-
 }  // namespace
 
 struct EmbreeScene::Impl {
@@ -65,11 +63,11 @@ Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
   auto impl = std::make_unique<Impl>();
   impl->device = rtcNewDevice(nullptr);
   if (!impl->device)
-    return error("cannot create an Embree device (error " +
-                 std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+    return make_error("cannot create an Embree device (error " +
+                      std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   rtcSetDeviceErrorFunction(impl->device, on_embree_error, &impl->errors);
   impl->scene = rtcNewScene(impl->device);
-  if (!impl->scene) return error("cannot create an Embree scene: " + impl->errors.first);
+  if (!impl->scene) return make_error("cannot create an Embree scene: " + impl->errors.first);
   rtcSetSceneFlags(impl->scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
   const RTCBuildQuality quality = options.quality == EmbreeSceneOptions::Quality::Low      ? RTC_BUILD_QUALITY_LOW
                                   : options.quality == EmbreeSceneOptions::Quality::Medium ? RTC_BUILD_QUALITY_MEDIUM
@@ -83,7 +81,7 @@ Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
     const std::size_t tris = mesh.triangle_count();
     if (tris == 0) continue;
     RTCGeometry geom = rtcNewGeometry(impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    if (!geom) return error("cannot create an Embree geometry: " + impl->errors.first);
+    if (!geom) return make_error("cannot create an Embree geometry: " + impl->errors.first);
     // Embree's own buffers carry the padding its SIMD loads need.
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
         geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
@@ -91,7 +89,7 @@ Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
         geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tris));
     if (!vertices || !indices) {
       rtcReleaseGeometry(geom);
-      return error("Embree cannot allocate mesh '" + mesh.name + "': " + impl->errors.first);
+      return make_error("Embree cannot allocate mesh '" + mesh.name + "': " + impl->errors.first);
     }
     for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
       const Vec3f& p = mesh.positions[v];
@@ -112,7 +110,8 @@ Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
     impl->triangles += tris;
   }
   rtcCommitScene(impl->scene);
-  if (!impl->errors.first.empty()) return error("building the Embree scene: " + impl->errors.first);
+  if (!impl->errors.first.empty())
+    return make_error("building the Embree scene: " + impl->errors.first);
   impl->bounds = impl->triangles > 0 ? Bounds{lo, hi} : Bounds{};
   return EmbreeScene(std::move(impl));
 }

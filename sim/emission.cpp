@@ -14,15 +14,13 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-Error error(std::string message) { return Error{{}, std::move(message)}; }
-
 Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
 
 }  // namespace
 
 Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& profile) {
   if (Status s = photometry::validate(profile); !s.ok())
-    return error("invalid emission profile: " + s.error().message);
+    return make_error("invalid emission profile: " + s.error().message);
 
   ProfileSampler s;
   s.type_ = profile.type;
@@ -86,7 +84,7 @@ Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& pr
       }
     }
   }
-  if (flux.empty()) return error("emission profile has no flux (all intensities zero)");
+  if (flux.empty()) return make_error("emission profile has no flux (all intensities zero)");
   s.cell_table_ = AliasTable(flux);
   s.flux_lm_ = s.cell_table_.total_weight();
   s.expanded_ = std::move(expanded);
@@ -134,7 +132,7 @@ double ProfileSampler::intensity_cd(const Vec3& local) const {
 
 Result<AreaSampler> AreaSampler::create(const Mesh& mesh, bool two_sided) {
   if (mesh.indices.size() % 3 != 0)
-    return error("mesh '" + mesh.name + "': index count is not a multiple of 3");
+    return make_error("mesh '" + mesh.name + "': index count is not a multiple of 3");
   AreaSampler s;
   s.two_sided_ = two_sided;
   std::vector<double> areas;
@@ -143,7 +141,7 @@ Result<AreaSampler> AreaSampler::create(const Mesh& mesh, bool two_sided) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t i = mesh.indices[3 * t + k];
       if (i >= mesh.positions.size())
-        return error("mesh '" + mesh.name + "': vertex index out of range");
+        return make_error("mesh '" + mesh.name + "': vertex index out of range");
       p[k] = to_double(mesh.positions[i]);
     }
     const Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
@@ -153,7 +151,7 @@ Result<AreaSampler> AreaSampler::create(const Mesh& mesh, bool two_sided) {
     s.triangle_index_.push_back(static_cast<std::uint32_t>(t));
     areas.push_back(area);
   }
-  if (areas.empty()) return error("emitting mesh '" + mesh.name + "' has no area");
+  if (areas.empty()) return make_error("emitting mesh '" + mesh.name + "' has no area");
   s.triangle_table_ = AliasTable(areas);
   s.area_m2_ = s.triangle_table_.total_weight();
   return s;
@@ -188,40 +186,40 @@ Result<EmissionSampler> EmissionSampler::create(const SceneDesc& scene) {
     const Emitter& e = scene.emitters[i];
     const std::string what = "emitter " + std::to_string(i) + (e.name.empty() ? "" : " '" + e.name + "'");
     if (!std::isfinite(e.flux_lm) || e.flux_lm < 0.0)
-      return error(what + ": flux must be finite and >= 0 lm");
+      return make_error(what + ": flux must be finite and >= 0 lm");
     Source src;
     src.kind = e.kind;
     if (e.kind == Emitter::Kind::Point) {
       src.position = e.position;
       src.frame = e.frame;
       if (!std::isfinite(e.position.x) || !std::isfinite(e.position.y) || !std::isfinite(e.position.z))
-        return error(what + ": position is not finite");
+        return make_error(what + ": position is not finite");
       const photometry::PhotometricFrame& f = e.frame;
       const double tol = 1e-6;
       if (!(std::abs(length(f.c0) - 1.0) < tol && std::abs(length(f.c90) - 1.0) < tol &&
             std::abs(length(f.up) - 1.0) < tol && std::abs(dot(f.c0, f.c90)) < tol &&
             std::abs(dot(f.c0, f.up)) < tol && dot(cross(f.c0, f.c90), f.up) > 1.0 - tol))
-        return error(what + ": photometric frame is not orthonormal and right-handed");
+        return make_error(what + ": photometric frame is not orthonormal and right-handed");
       if (e.profile) {
         auto p = ProfileSampler::create(*e.profile);
-        if (!p.ok()) return error(what + ": " + p.error().message);
+        if (!p.ok()) return make_error(what + ": " + p.error().message);
         src.profile = std::make_shared<const ProfileSampler>(std::move(p.value()));
       }
     } else {
       if (e.mesh >= scene.meshes.size())
-        return error(what + ": mesh " + std::to_string(e.mesh) + " does not exist");
+        return make_error(what + ": mesh " + std::to_string(e.mesh) + " does not exist");
       auto a = AreaSampler::create(scene.meshes[e.mesh], e.two_sided);
-      if (!a.ok()) return error(what + ": " + a.error().message);
+      if (!a.ok()) return make_error(what + ": " + a.error().message);
       src.area = std::make_shared<const AreaSampler>(std::move(a.value()));
     }
     s.emitters_.push_back(std::move(src));
     flux.push_back(e.flux_lm);
   }
-  if (flux.empty()) return error("the scene has no emitter");
+  if (flux.empty()) return make_error("the scene has no emitter");
   double total = 0.0;
   for (double f : flux) total += f;
   if (!(total > 0.0) || !std::isfinite(total))
-    return error("the scene's emitters have no flux in total");
+    return make_error("the scene's emitters have no flux in total");
   s.emitter_table_ = AliasTable(flux);
   s.total_flux_lm_ = total;
   return s;

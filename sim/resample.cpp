@@ -1,14 +1,15 @@
 #include "sim/resample.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <string>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
+#include "photometry/format.h"
 #include "sim/symmetry.h"
 
 namespace gonio::sim {
@@ -27,12 +28,6 @@ constexpr int kMaxDepth = 16;
 bool divides(double whole, double step) {
   const double n = whole / step;
   return std::abs(n - std::round(n)) <= 1e-9 * n;
-}
-
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
 }
 
 // A polygon in face coordinates (a, b): a rectangle cut once along a
@@ -330,13 +325,13 @@ Status validate(const CGammaGrid& grid) {
   const auto check = [](double step, double whole, const char* what) -> Status {
     Error e;
     if (!std::isfinite(step) || step < kMinGridStepDeg || step > kMaxGridStepDeg) {
-      e.message = std::string(what) + " step " + fmt(step) + "° is outside " +
-                  fmt(kMinGridStepDeg) + "…" + fmt(kMaxGridStepDeg) + "°";
+      e.message = std::string(what) + " step " + format_number(step) + "° is outside " +
+                  format_number(kMinGridStepDeg) + "…" + format_number(kMaxGridStepDeg) + "°";
       return e;
     }
     if (!divides(whole, step)) {
-      e.message = std::string(what) + " step " + fmt(step) + "° does not divide " + fmt(whole) +
-                  "° into whole steps (e.g. 1, 2.5, 5, 10, 15)";
+      e.message = std::string(what) + " step " + format_number(step) + "° does not divide " +
+                  format_number(whole) + "° into whole steps (e.g. 1, 2.5, 5, 10, 15)";
       return e;
     }
     return Ok{};

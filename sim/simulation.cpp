@@ -14,8 +14,6 @@
 namespace gonio::sim {
 namespace {
 
-Error error(std::string message) { return Error{{}, std::move(message)}; }
-
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
@@ -97,17 +95,17 @@ Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
 Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings& settings) {
   if (settings.photons_per_iteration < 1 || settings.photons_per_iteration >= (std::uint64_t{1} << 32))
-    return error("photons per iteration must lie in 1..4294967295");
-  if (settings.iterations < 1) return error("at least one iteration is needed");
+    return make_error("photons per iteration must lie in 1..4294967295");
+  if (settings.iterations < 1) return make_error("at least one iteration is needed");
   // Power is counted in 2^-24 photon units in 64-bit integers.
   if (static_cast<double>(settings.photons_per_iteration) * settings.iterations > 0x1.0p39)
-    return error("at most 2^39 (5.5e11) photons per run");
-  if (settings.threads < 0) return error("the thread count must be >= 0");
+    return make_error("at most 2^39 (5.5e11) photons per run");
+  if (settings.threads < 0) return make_error("the thread count must be >= 0");
   if (settings.importance.enabled) {
     if (settings.importance.emission_face_size < 1 || settings.importance.emission_face_size > 1024)
-      return error("the emission grid of guided emission needs 1..1024 texels per face edge");
+      return make_error("the emission grid of guided emission needs 1..1024 texels per face edge");
     if (!(settings.importance.min_acceptance > 0.0 && settings.importance.min_acceptance <= 1.0))
-      return error("the smallest acceptance of guided emission must lie in (0, 1]");
+      return make_error("the smallest acceptance of guided emission must lie in (0, 1]");
   }
   const auto start = std::chrono::steady_clock::now();
   TracerSettings ts;

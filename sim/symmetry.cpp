@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "photometry/format.h"
 #include "sim/chi_square.h"
 
 namespace gonio::sim {
@@ -44,23 +45,6 @@ std::vector<int> plane_orbit(int i, int nc, Symmetry symmetry) {
   }
   std::sort(orbit.begin(), orbit.end());
   return orbit;
-}
-
-// printf's %g, %.1f and %.2g without a non-literal format string.
-std::string fmt_g(double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-std::string fmt_fixed1(double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return buf;
-}
-std::string fmt_g2(double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.2g", v);
-  return buf;
 }
 
 // The χ² value beyond which a test with `dof` degrees of freedom rejects at
@@ -140,8 +124,8 @@ std::string describe(const SymmetryTest& t) {
   std::string s = photometry::to_string(t.symmetry);
   if (t.groups == 0) return s + " untestable (too few photons)";
   s += t.rejected ? " rejected" : " not rejected";
-  s += " (chi2 " + fmt_fixed1(t.chi_square) + " for " + fmt_g(t.degrees_of_freedom) +
-       " dof, p " + fmt_g2(t.p_value) + ")";
+  s += " (chi2 " + format_fixed(t.chi_square, 1) + " for " + format_number(t.degrees_of_freedom) +
+       " dof, p " + format_number(t.p_value, 2) + ")";
   return s;
 }
 
@@ -175,7 +159,8 @@ Status check_grid_supports(const CGammaGrid& grid, Symmetry symmetry) {
   } else {
     const char* whole = symmetry == Symmetry::C0_C180 ? "180" : "90";
     e.message = std::string("symmetry ") + photometry::to_string(symmetry) +
-                " needs a C step dividing " + whole + "°, not " + fmt_g(grid.c_step_deg) + "°";
+                " needs a C step dividing " + whole + "°, not " + format_number(grid.c_step_deg) +
+                "°";
   }
   return e;
 }
@@ -228,8 +213,8 @@ std::vector<double> symmetric_intensity_cd(const BinnedField& field, Symmetry sy
 
 SymmetryDecision detect_symmetry(const BinnedField& field, const SymmetryTestOptions& options) {
   SymmetryDecision d;
-  const std::string how = "significance " + fmt_g(options.significance) + ", tolerance " +
-                          fmt_g(100.0 * options.tolerance) + " %";
+  const std::string how = "significance " + format_number(options.significance) + ", tolerance " +
+                          format_number(100.0 * options.tolerance) + " %";
   if (!(field.total_flux_lm() > 0.0)) {
     d.explanation = "symmetry auto: none (the far field holds no flux)";
     return d;
@@ -253,10 +238,11 @@ SymmetryDecision detect_symmetry(const BinnedField& field, const SymmetryTestOpt
     d.explanation += (k ? "; " : "") + describe(d.tests[k]);
   d.explanation += "; " + how + ")";
   if (best != nullptr)
-    d.explanation += std::string("; power: ") + photometry::to_string(best->symmetry) +
-                     " is rejected 9 times in 10 when equivalent directions deviate from their mean by " +
-                     fmt_g2(100.0 * best->detectable_deviation) +
-                     " % RMS or more at these photon counts; smaller asymmetries may go unseen";
+    d.explanation +=
+        std::string("; power: ") + photometry::to_string(best->symmetry) +
+        " is rejected 9 times in 10 when equivalent directions deviate from their mean by " +
+        format_number(100.0 * best->detectable_deviation, 2) +
+        " % RMS or more at these photon counts; smaller asymmetries may go unseen";
   return d;
 }
 

@@ -10,8 +10,6 @@
 namespace gonio::sim {
 namespace {
 
-Error error(std::string message) { return Error{{}, std::move(message)}; }
-
 bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
@@ -28,24 +26,24 @@ std::string mesh_label(const Mesh& m, std::size_t i) {
 
 Status validate_mesh(const Mesh& m, std::size_t i, std::size_t material_count) {
   const std::string what = mesh_label(m, i);
-  if (m.indices.size() % 3 != 0) return error(what + ": index count is not a multiple of 3");
+  if (m.indices.size() % 3 != 0) return make_error(what + ": index count is not a multiple of 3");
   if (m.positions.size() > (std::size_t{1} << 32) || m.triangle_count() > (std::size_t{1} << 32))
-    return error(what + ": too many vertices or triangles");
+    return make_error(what + ": too many vertices or triangles");
   for (std::uint32_t idx : m.indices)
     if (idx >= m.positions.size())
-      return error(what + ": vertex index " + std::to_string(idx) + " out of range");
+      return make_error(what + ": vertex index " + std::to_string(idx) + " out of range");
   for (const Vec3f& p : m.positions)
-    if (!finite(p)) return error(what + ": vertex position is not finite");
+    if (!finite(p)) return make_error(what + ": vertex position is not finite");
   if (!m.normals.empty() && m.normals.size() != m.positions.size())
-    return error(what + ": normal count differs from vertex count");
+    return make_error(what + ": normal count differs from vertex count");
   if (!m.tangents.empty() && m.tangents.size() != m.positions.size())
-    return error(what + ": tangent count differs from vertex count");
+    return make_error(what + ": tangent count differs from vertex count");
   for (const Vec3f& n : m.normals)
-    if (!finite(n)) return error(what + ": shading normal is not finite");
+    if (!finite(n)) return make_error(what + ": shading normal is not finite");
   for (const Vec3f& t : m.tangents)
-    if (!finite(t)) return error(what + ": tangent is not finite");
+    if (!finite(t)) return make_error(what + ": tangent is not finite");
   if (m.material >= material_count)
-    return error(what + ": material " + std::to_string(m.material) + " does not exist");
+    return make_error(what + ": material " + std::to_string(m.material) + " does not exist");
   return Ok{};
 }
 
@@ -77,8 +75,8 @@ void TracerTally::clear() {
 }
 
 Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const TracerSettings& settings) {
-  if (face_size < 1 || face_size > 16384) return error("cube-map face size must lie in 1..16384");
-  if (settings.max_bounces < 0) return error("the bounce limit must be >= 0");
+  if (face_size < 1 || face_size > 16384) return make_error("cube-map face size must lie in 1..16384");
+  if (settings.max_bounces < 0) return make_error("the bounce limit must be >= 0");
   TracerSetupTimes times;
   auto t = std::chrono::steady_clock::now();
   for (const Material& m : scene.materials)

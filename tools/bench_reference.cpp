@@ -19,8 +19,6 @@ namespace {
 
 using io::Fnv1a;
 
-Error error(std::string message) { return Error{{}, std::move(message)}; }
-
 std::string path_in(const std::string& dir, const char* name) {
   return (std::filesystem::path(dir) / name).string();
 }
@@ -159,7 +157,7 @@ Result<Reference> load_or_make_reference(const std::string& dir, const Reference
     return r;
   }
   if (cached) return std::move(*cached);
-  if (key.photons < 2) return error("the reference needs at least 2 photons");
+  if (key.photons < 2) return make_error("the reference needs at least 2 photons");
 
   sim::SimulationSettings s;
   s.photons_per_iteration = 1;  // each iteration below names its own size
@@ -192,7 +190,7 @@ Result<Reference> load_or_make_reference(const std::string& dir, const Reference
   if (first_half) r.noise = measure_noise(*first_half, r.far_field, resampler);
 
   auto image = io::far_field_image(r.far_field);
-  if (!image.ok()) return error(path_in(dir, "reference.exr") + ": " + image.error().message);
+  if (!image.ok()) return make_error(path_in(dir, "reference.exr") + ": " + image.error().message);
   image->attributes.emplace_back("gonio:reference", key.to_json().dump());
   if (Status st = io::write_exr(path_in(dir, "reference.exr"), image.value()); !st.ok()) return st.error();
   // Judge by what the cache holds (flux as float), so that a fresh and a

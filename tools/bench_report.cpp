@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "io/plot.h"
+#include "photometry/format.h"
 
 namespace gonio::cli {
 namespace {
@@ -199,10 +200,7 @@ std::string headline_cell(const SeriesResult& r, double level, bool cube) {
 }  // namespace
 
 std::string format_value(double v, int precision) {
-  if (!std::isfinite(v)) return "—";
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", precision, v);
-  return buf;
+  return std::isfinite(v) ? format_number(v, precision) : "—";
 }
 
 std::string series_csv(const std::vector<SeriesResult>& series) {

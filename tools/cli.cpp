@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "gonio/version.h"
+#include "photometry/format.h"
 
 namespace gonio::cli {
 namespace {
@@ -32,12 +33,6 @@ std::string wrap(const std::string& text, const std::string& indent, std::size_t
     start = end + 1;
   }
   return out;
-}
-
-std::string format_bound(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
 }
 
 }  // namespace
@@ -111,8 +106,8 @@ void ArgParser::option(const std::string& name, double* out, double min, double 
          if (ec != std::errc() || end != v.data() + v.size() || !(value == value))
            return "--" + name + " needs a number, got '" + v + "'";
          if (value < min || value > max)
-           return "--" + name + " must be between " + format_bound(min) + " and " +
-                  format_bound(max) + ", got " + v;
+           return "--" + name + " must be between " + format_number(min) + " and " +
+                  format_number(max) + ", got " + v;
          *out = value;
          return std::nullopt;
        }});

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "photometry/format.h"
 #include "photometry/planning.h"
 #include "photometry/summary.h"
 #include "tools/cli.h"
@@ -50,25 +51,12 @@ constexpr const char* kDescription =
 
 // ------------------------------------------------------------ formatting
 
+// The table's cells: format_fixed / format_number, "-" where not finite.
 std::string fmt(double v, int decimals) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string s = buf;
-  if (s == "-0" || s.rfind("-0.", 0) == 0) {
-    bool zero = true;
-    for (char c : s.substr(1)) zero = zero && (c == '0' || c == '.');
-    if (zero) s = s.substr(1);
-  }
-  return s;
+  return std::isfinite(v) ? format_fixed(v, decimals) : "-";
 }
-
-// Up to `digits` significant digits, no exponent for ordinary magnitudes.
 std::string num(double v, int digits = 6) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
+  return std::isfinite(v) ? format_number(v, digits) : "-";
 }
 
 // Step of an equidistant angle list; nullopt for fewer than two angles or

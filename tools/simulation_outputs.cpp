@@ -18,6 +18,7 @@
 #include "io/plot.h"
 #include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
+#include "photometry/format.h"
 #include "photometry/validation.h"
 #include "tools/cli.h"
 
@@ -40,19 +41,6 @@ std::string trim(const std::string& s) {
   if (b == std::string::npos) return {};
   const auto e = s.find_last_not_of(" \t");
   return s.substr(b, e - b + 1);
-}
-
-std::string number(double v, int digits = 6) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
-
-Error error_at(const std::string& file, std::string message) {
-  Error e;
-  e.where.file = file;
-  e.message = std::move(message);
-  return e;
 }
 
 Finding finding(Severity severity, std::string code, std::string message, const std::string& file) {
@@ -94,7 +82,8 @@ photometry::LuminaireDimensions bounding_box(const sim::SceneDesc& scene) {
 }
 
 std::string grid_text(const sim::CGammaGrid& g) {
-  return "C step " + number(g.c_step_deg) + " deg, gamma step " + number(g.gamma_step_deg) + " deg";
+  return "C step " + format_number(g.c_step_deg) + " deg, gamma step " +
+         format_number(g.gamma_step_deg) + " deg";
 }
 
 std::string file_stem_name(const std::string& model) {
@@ -113,8 +102,9 @@ void check_values(const io::ExrImage::FloatChannel& c, const std::string& path, 
   for (std::size_t i = 0; i < c.values.size(); ++i) {
     if (!std::isfinite(c.values[i]) || c.values[i] < 0.0f) {
       out->push_back(finding(Severity::Error, "exr-value",
-                             "channel '" + c.name + "' holds " + number(c.values[i]) + " at pixel " +
-                                 std::to_string(i) + "; expected a finite value >= 0",
+                             "channel '" + c.name + "' holds " + format_number(c.values[i]) +
+                                 " at pixel " + std::to_string(i) +
+                                 "; expected a finite value >= 0",
                              path));
       return;
     }
@@ -170,7 +160,7 @@ Result<std::string> ldt_text(const Distribution& d, const std::string& path, std
 
 Status write_ldt_file(const Distribution& d, WrittenFile* file) {
   Result<std::string> text = ldt_text(d, file->path, &file->writer_notes);
-  if (!text.ok()) return error_at(file->path, text.error().message);
+  if (!text.ok()) return make_error(file->path, text.error().message);
   if (Status s = io::write_file_atomic(file->path, *text); !s.ok()) return s;
   take_read_back(io::read_ldt(file->path), file);
   return Ok{};
@@ -218,7 +208,7 @@ std::vector<std::pair<std::string, std::string>> exr_attributes(const OutputRequ
 
 Status write_cube_file(const sim::FarField& far_field, const OutputRequest& request, WrittenFile* file) {
   Result<io::ExrImage> image = io::far_field_image(far_field);
-  if (!image.ok()) return error_at(file->path, image.error().message);
+  if (!image.ok()) return make_error(file->path, image.error().message);
   for (auto& a : exr_attributes(request)) image->attributes.push_back(std::move(a));
   if (Status s = io::write_exr(file->path, *image); !s.ok()) return s;
   Result<io::ExrImage> back = io::read_exr(file->path);
@@ -289,7 +279,7 @@ Status write_plot_file(const Distribution& d, const OutputRequest& request, Writ
   options.title = file_stem_name(request.run.model) + " (Gonio simulation, " +
                   std::to_string(request.run.photons) + " photons)";
   Result<io::Figure> figure = io::intensity_diagram(d, options);
-  if (!figure.ok()) return error_at(file->path, figure.error().message);
+  if (!figure.ok()) return make_error(file->path, figure.error().message);
   if (Status s = io::write_figure(file->path, *figure); !s.ok()) return s;
   Result<std::string> back = io::read_file(file->path, std::size_t{64} << 20);
   if (!back.ok()) {
@@ -354,8 +344,8 @@ Result<std::vector<OutputFormat>> parse_formats(const std::string& list) {
     start = comma + 1;
     if (name.empty()) {
       if (comma == list.size() && !out.empty()) break;
-      return error_at("", "--format: empty format name in '" + list + "'; expected a comma-separated list of " +
-                              valid);
+      return make_error("", "--format: empty format name in '" + list +
+                                "'; expected a comma-separated list of " + valid);
     }
     if (name == "all") {
       for (OutputFormat f : kAllFormats)
@@ -368,7 +358,7 @@ Result<std::vector<OutputFormat>> parse_formats(const std::string& list) {
       known = true;
       if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
     }
-    if (!known) return error_at("", "--format: unknown format '" + name + "'; expected " + valid);
+    if (!known) return make_error("", "--format: unknown format '" + name + "'; expected " + valid);
   }
   return out;
 }
@@ -391,10 +381,12 @@ Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry sym
   std::string emitters_text;
   for (std::size_t i = 0; i < n && i < 4; ++i) {
     const sim::Emitter& e = scene.emitters[i];
-    emitters_text += (i ? ", " : "") + (e.name.empty() ? "emitter " + std::to_string(i + 1) : e.name) + " (" +
-                     (e.kind == sim::Emitter::Kind::Point ? (e.profile ? "point, measured profile" : "point, isotropic")
-                                                          : "area, Lambertian") +
-                     ", " + number(e.flux_lm) + " lm)";
+    emitters_text += (i ? ", " : "") +
+                     (e.name.empty() ? "emitter " + std::to_string(i + 1) : e.name) + " (" +
+                     (e.kind == sim::Emitter::Kind::Point
+                          ? (e.profile ? "point, measured profile" : "point, isotropic")
+                          : "area, Lambertian") +
+                     ", " + format_number(e.flux_lm) + " lm)";
   }
   if (n > 4) emitters_text += ", and " + std::to_string(n - 4) + " more";
   const std::string run = "Gonio simulation, " + std::to_string(request.run.photons) + " photons, seed " +
@@ -409,11 +401,12 @@ Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry sym
   d.set_keyword("FILEGENINFO",
                 "Computer simulation by Gonio " + request.run.program_version +
                     " (photon tracing into a direction cube map, area-weighted resampling to " +
-                    grid_text(binned.grid) + "). Model " + model + ", " + std::to_string(request.run.photons) +
-                    " photons, seed " + std::to_string(request.run.seed) + ", at most " +
+                    grid_text(binned.grid) + "). Model " + model + ", " +
+                    std::to_string(request.run.photons) + " photons, seed " +
+                    std::to_string(request.run.seed) + ", at most " +
                     std::to_string(request.run.max_bounces) + " bounces. Symmetry " +
-                    photometry::to_string(symmetry) + ". Emitted " + number(emitted) + " lm, escaped " +
-                    number(ledger.escaped.flux_lm) + " lm.");
+                    photometry::to_string(symmetry) + ". Emitted " + format_number(emitted) +
+                    " lm, escaped " + format_number(ledger.escaped.flux_lm) + " lm.");
   d.set_keyword("_GONIO_RUN", run);
   d.set_keyword("_GONIO_MODEL", model);
   d.set_keyword("_GONIO_PHOTONS", std::to_string(request.run.photons));

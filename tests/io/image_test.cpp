@@ -46,5 +46,21 @@ TEST(Png, ErrorsNameThePath) {
   EXPECT_NE(to_string(r.error()).find("bad.png"), std::string::npos);
 }
 
+TEST(Png, AMissingOrForeignModuleIsAClearError) {
+  test::TempDir dir;
+  const std::string missing = (dir / "gonio_png.so").string();
+  const Status none = load_png_module({missing});
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.error().message.find("gonio_png.so (OpenImageIO) is missing"), std::string::npos)
+      << none.error().message;
+  EXPECT_NE(none.error().message.find(missing), std::string::npos) << none.error().message;
+  test::write_file(dir / "gonio_png.so", "not a shared object");
+  const Status foreign = load_png_module({missing});
+  ASSERT_FALSE(foreign.ok());
+  EXPECT_NE(foreign.error().message.find("cannot load the PNG module " + missing),
+            std::string::npos)
+      << foreign.error().message;
+}
+
 }  // namespace
 }  // namespace gonio::io

@@ -67,5 +67,17 @@ TEST(Text, NamesTheLineOfTheFirstBinaryByte) {
   EXPECT_EQ(first_binary_line("line\tone\f\ntwo\x1a"), 0);              // none
 }
 
+TEST(Shown, QuotesCutsAndKeepsMessagesPrintableUtf8) {
+  EXPECT_EQ(shown("12.5"), "'12.5'");
+  EXPECT_EQ(shown("a\tb\x7f"), "'a?b?'");
+  EXPECT_EQ(shown(std::string(40, 'x')), "'" + std::string(40, 'x') + "'");
+  EXPECT_EQ(shown(std::string(41, 'x')), "'" + std::string(40, 'x') + "...'");
+  // UTF-8 is kept and cut at a character boundary (é is two bytes).
+  EXPECT_EQ(shown("Lumin\xC3\xA4re"), "'Lumin\xC3\xA4re'");
+  EXPECT_EQ(shown(std::string(39, 'x') + "\xC3\xA9zz"), "'" + std::string(39, 'x') + "...'");
+  // Latin-1 bytes (not UTF-8) become '?'.
+  EXPECT_EQ(shown("Leuchte \xE9"), "'Leuchte ?'");
+}
+
 }  // namespace
 }  // namespace gonio::io

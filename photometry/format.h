@@ -1,0 +1,19 @@
+// Numbers as text in messages, reports and tables: the one formatter of
+// Gonio. (File formats with their own number syntax keep their writers:
+// io/ies.h format_ies_number, the EULUMDAT writer's fields.)
+#pragma once
+
+#include <string>
+
+namespace gonio {
+
+// At most `significant_digits` significant digits, the shorter of fixed and
+// exponent notation, no trailing zeros: printf's "%.*g" ("0.1", "29919.9",
+// "1e+07", "nan", "inf"). The default 6 is printf's "%g".
+std::string format_number(double v, int significant_digits = 6);
+
+// Exactly `decimals` decimals: printf's "%.*f", except that a value that
+// rounds to zero prints without a minus sign ("0.0", not "-0.0").
+std::string format_fixed(double v, int decimals);
+
+}  // namespace gonio
