@@ -119,7 +119,7 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
     const std::vector<std::uint64_t> built = settings.ranks->gather(std::uint64_t{tracer.ok()});
     for (int r = 0; r < settings.ranks->size() && tracer.ok(); ++r)
       if (built[static_cast<std::size_t>(r)] == 0)
-        return error(settings.ranks->name_of(r) + " could not build its tracer (its own error says why)");
+        return make_error(settings.ranks->name_of(r) + " could not build its tracer (its own error says why)");
   }
   if (!tracer.ok()) return tracer.error();
   const int threads =

@@ -172,7 +172,7 @@ Status write_gldf_file(const Distribution& d, const sim::SceneDesc& scene, const
                        WrittenFile* file) {
   const std::filesystem::path dir(request.directory);
   Result<std::string> ldt = ldt_text(d, (dir / (request.stem + ".ldt")).string(), &file->writer_notes);
-  if (!ldt.ok()) return error_at(file->path, ldt.error().message);
+  if (!ldt.ok()) return make_error(file->path, ldt.error().message);
   io::GldfProduct product;
   product.name = request.stem;
   product.description = "Gonio simulation of " + request.run.model + ", " + std::to_string(request.run.photons) +
@@ -183,7 +183,7 @@ Status write_gldf_file(const Distribution& d, const sim::SceneDesc& scene, const
   product.geometry = io::l3d_from_scene(scene);
   product.created_unix = static_cast<std::int64_t>(std::time(nullptr));
   Result<std::string> bytes = io::write_gldf(product);
-  if (!bytes.ok()) return error_at(file->path, bytes.error().message);
+  if (!bytes.ok()) return make_error(file->path, bytes.error().message);
   if (Status s = io::write_file_atomic(file->path, *bytes); !s.ok()) return s;
   auto back = io::read_photometric_files(file->path);
   if (!back.ok()) {
