@@ -10,6 +10,7 @@ packages=(
   libcgal-dev libtinygltf-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox fonts-dejavu-core
+  clang-14 libfuzzer-14-dev llvm-14
 )
 
 missing=()

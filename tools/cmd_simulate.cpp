@@ -18,9 +18,17 @@
 // report.json adds to io/report.h's fields: "outputs" {grid, symmetry
 // {chosen, reason, tests [{symmetry, chi_square, degrees_of_freedom,
 // p_value, groups, rejected, detectable_deviation}]}, escaped_lm, files [{path, format, flux_lm,
-// flux_difference, clean, findings, writer_notes}]} and "energy"
+// flux_difference, clean, findings, writer_notes}], failed [{path, format,
+// error}]} and "energy"
 // {photons_close, flux_imbalance_lm, lor, min_lor, flux_tolerance,
 // files [{path, flux_ok, clean}], passed, failures [text]}.
+//
+// report.json also lists "written" (every file of the run besides itself)
+// and "output_failures" (text): a failure after tracing (a missing plot program, a
+// full disk, a path that cannot be written, the preview) loses nothing: the
+// other files are written, the report lists them with the failure, and the
+// exit code is 1. Where report.json itself cannot be written, stderr lists
+// the files that were.
 //
 // Energy checks (exit 1 after everything is written, with a message):
 // emitted = escaped + absorbed + cut off in photons, LOR = escaped / emitted
@@ -145,6 +153,8 @@ int run_simulate(const Args& args) {
   p.option("flux-tolerance", &flux_tolerance, 0.0, 1.0, "X",
            "fail when a written file's flux differs from the escaped flux by more than X "
            "(a fraction; default 0.005 = 0.5 %)");
+  ModelInputOptions model_options;
+  add_model_input_options(p, &model_options);
   PreviewOptions preview_options;
   add_preview_options(p, &preview_options);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
@@ -176,7 +186,7 @@ int run_simulate(const Args& args) {
   if (!p.given("face-size")) face_size = sim::face_size_for(grid);
 
   // Load, then check the geometry: errors stop the run, warnings are printed.
-  std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated");
+  std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated", model_options);
   if (!scene) return kExitFailure;
 
   sim::SimulationSettings settings;
@@ -215,10 +225,10 @@ int run_simulate(const Args& args) {
     return kExitFailure;
   }
 
-  if (!preview_status.ok()) {
-    print_error(preview_status.error());
-    return kExitFailure;
-  }
+  // From here on a failure loses nothing: every file that can be written is,
+  // report.json lists them with each failure, and the exit code is 1.
+  std::vector<Error> failures;
+  if (!preview_status.ok()) failures.push_back(preview_status.error());
   const std::string report_path = (std::filesystem::path(out_dir) / "report.json").string();
   const sim::FarField far_field = sim->far_field();
   const sim::SimulationStats st = sim->stats();
@@ -237,11 +247,11 @@ int run_simulate(const Args& args) {
   request.run.seed = settings.seed;
   request.run.max_bounces = settings.max_bounces;
   request.run.issue_date = today_utc();
-  Result<OutputResult> outputs = write_outputs(far_field, sim->scene(), ledger, request);
-  if (!outputs.ok()) {
-    print_error(outputs.error());
-    return kExitFailure;
-  }
+  Result<OutputResult> written = write_outputs(far_field, sim->scene(), ledger, request);
+  if (!written.ok()) failures.push_back(written.error());
+  const OutputResult none;
+  const OutputResult* outputs = written.ok() ? &written.value() : &none;
+  for (const FailedFile& f : outputs->failed) failures.push_back(f.error);
 
   io::SimulationReport report;
   report.program_version = kVersion;
@@ -273,7 +283,16 @@ int run_simulate(const Args& args) {
                        {"flux_lm", far_field.total_flux_lm()}};
   for (const WrittenFile& f : outputs->files)
     if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
-  json["outputs"] = to_json(outputs.value(), grid, ledger.escaped.flux_lm);
+  json["outputs"] = to_json(*outputs, grid, ledger.escaped.flux_lm);
+  // Every file this run left in DIR besides report.json, and what failed.
+  nlohmann::json written_paths = nlohmann::json::array();
+  for (const WrittenFile& f : outputs->files) written_paths.push_back(f.path);
+  if (preview)
+    for (const std::string& path : {preview->exr_path(), preview->png_path()})
+      if (std::filesystem::is_regular_file(path)) written_paths.push_back(path);
+  json["written"] = written_paths;
+  json["output_failures"] = nlohmann::json::array();
+  for (const Error& e : failures) json["output_failures"].push_back(to_string(e));
 
   // The energy checks, each with what it found.
   const sim::Ledger& l = ledger;
@@ -281,7 +300,10 @@ int run_simulate(const Args& args) {
   const double lor = energy.lor;
   json["energy"] = energy.json;
   if (Status s = io::write_json(report_path, json); !s.ok()) {
+    for (const Error& e : failures) print_error(e);
     print_error(s.error());
+    for (const auto& path : written_paths)
+      print_error("simulate: written before the report failed: " + path.get<std::string>());
     return kExitFailure;
   }
 
@@ -294,6 +316,10 @@ int run_simulate(const Args& args) {
               l.absorbed.flux_lm, percent(l.absorbed.flux_lm, l.emitted.flux_lm), l.cutoff.flux_lm,
               percent(l.cutoff.flux_lm, l.emitted.flux_lm));
   std::printf("  light output ratio %.4f (escaped / emitted)\n", lor);
+  if (l.escaped.photons == 0 || !(l.escaped.flux_lm > 0.0))
+    print_warning(model + ": no light leaves the model: all " + std::to_string(l.emitted.photons) +
+                  " photons were absorbed or cut off (is the emitter sealed in?); the files hold zero "
+                  "intensity");
   if (!outputs->symmetry_reason.empty()) {
     if (symmetry)
       std::printf("  %s\n", outputs->symmetry_reason.c_str());
@@ -301,9 +327,11 @@ int run_simulate(const Args& args) {
       std::fprintf(stderr, "%s: simulate: %s\n", kProgramName, outputs->symmetry_reason.c_str());
   }
   for (const WrittenFile& f : outputs->files) {
-    if (std::isfinite(f.flux_lm))
+    if (std::isfinite(f.flux_lm) && std::isfinite(f.flux_difference))
       std::printf("  wrote %s: %.6g lm read back (%s of the escaped flux)%s\n", f.path.c_str(), f.flux_lm,
                   signed_percent(f.flux_difference).c_str(), f.clean() ? "" : ", NOT CLEAN");
+    else if (std::isfinite(f.flux_lm))  // no escaped flux to compare with
+      std::printf("  wrote %s: %.6g lm read back%s\n", f.path.c_str(), f.flux_lm, f.clean() ? "" : ", NOT CLEAN");
     else
       std::printf("  wrote %s%s\n", f.path.c_str(), f.clean() ? "" : ", NOT CLEAN");
   }
@@ -311,6 +339,14 @@ int run_simulate(const Args& args) {
   if (preview)
     std::printf("  preview: %s and %s\n", preview->exr_path().c_str(), preview->png_path().c_str());
 
+  if (!failures.empty()) {
+    for (const Error& e : failures) print_error(e);
+    print_error("simulate: " + std::to_string(failures.size()) + " output" +
+                (failures.size() == 1 ? "" : "s") + " failed after tracing; " + report_path +
+                " lists what was written");
+    (void)energy_exit_code(model, energy);  // its failures are printed too
+    return kExitFailure;
+  }
   if (const int code = energy_exit_code(model, energy); code != kExitOk) return code;
   if (l.cutoff.flux_lm > 0.01 * l.emitted.flux_lm)
     print_warning(model + ": " + std::to_string(percent(l.cutoff.flux_lm, l.emitted.flux_lm)) +

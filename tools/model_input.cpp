@@ -9,9 +9,18 @@
 
 namespace gonio::cli {
 
-std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done) {
+void add_model_input_options(ArgParser& parser, ModelInputOptions* options) {
+  parser.flag("allow-outside-paths", &options->allow_outside_paths,
+              "let the model's uris (buffers, images, light profiles) name files outside its folder "
+              "(absolute paths, '..', symbolic links leading out); refused by default");
+}
+
+std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done,
+                                                 const ModelInputOptions& options) {
   std::vector<Finding> findings;
-  Result<sim::SceneDesc> scene = io::load_gltf(model, &findings);
+  io::GltfLoadOptions load;
+  load.allow_outside_paths = options.allow_outside_paths;
+  Result<sim::SceneDesc> scene = io::load_gltf(model, &findings, load);
   if (scene.ok()) {
     const std::vector<Finding> checks = io::check_model(scene.value());
     findings.insert(findings.end(), checks.begin(), checks.end());

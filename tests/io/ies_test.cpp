@@ -46,6 +46,7 @@ const std::string kData =
     "100 70 5\r\n";
 
 Result<IesFile> parse(const std::string& text, const std::string& dir = "") {
+  test::offer_fuzz_seed("ies", text);
   return parse_ies(text, kName, dir);
 }
 

@@ -98,6 +98,7 @@ Spec small_spec() {
 }
 
 LdtFile parse_ok(const std::string& bytes, const LdtReadOptions& options = {}) {
+  test::offer_fuzz_seed("ldt", bytes);
   auto r = parse_ldt(bytes, "test.ldt", options);
   EXPECT_TRUE(r.ok()) << (r.ok() ? "" : to_string(r.error()));
   if (!r.ok()) return {};
@@ -105,6 +106,7 @@ LdtFile parse_ok(const std::string& bytes, const LdtReadOptions& options = {}) {
 }
 
 Error parse_error(const std::string& bytes) {
+  test::offer_fuzz_seed("ldt", bytes);
   auto r = parse_ldt(bytes, "bad.ldt");
   EXPECT_FALSE(r.ok());
   if (r.ok()) return {};
@@ -1277,6 +1279,7 @@ TEST(LdtBadInput, EachFieldNamesLineAndExpectation) {
     ASSERT_EQ(l[42], "0");  // C angles begin at line 43, γ at 47, intensities at 50
     ASSERT_EQ(l[49], num(s.values[0]));
     c.edit(s, l);
+    test::offer_fuzz_seed("ldt", join(l));
     auto r = parse_ldt(join(l), "bad.ldt");
     ASSERT_FALSE(r.ok()) << c.what;
     EXPECT_EQ(r.error().where.line, c.line) << c.what << ": " << to_string(r.error());
