@@ -640,6 +640,18 @@ class LdtWriter {
       warn(Severity::Warning, "ldt-multiline",
            what + " spans several lines; written as one, line breaks replaced by spaces");
     }
+    // Other control characters would make a reader take the file for binary
+    // data (found by tests/fuzz/ldt_fuzzer.cpp).
+    bool control = false;
+    for (char& c : value) {
+      if (static_cast<unsigned char>(c) < 0x20 && c != '\t') {
+        c = ' ';
+        control = true;
+      }
+    }
+    if (control)
+      warn(Severity::Warning, "ldt-control-characters",
+           what + " holds control characters; written as spaces");
     std::string latin1 = utf8_to_latin1(value);
     if (is_valid_utf8(value) && latin1_to_utf8(latin1) != value)
       warn(Severity::Warning, "ldt-not-latin1",

@@ -51,8 +51,15 @@ GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_io_tests --gtest_brief=1 \
   --gtest_filter='Ies*:Ldt*' >/dev/null
 GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_model_tests --gtest_brief=1 \
   --gtest_filter='Gltf*' >/dev/null
-find build/samples -maxdepth 2 -type f \( -name '*.gltf' -o -name '*.glb' \) -size -2M \
-  -exec cp {} "$seeds/gltf/" \;
+# Each sample model with its buffer as the side file (tests/fuzz/gltf_fuzzer.cpp).
+for model in build/samples/*/*.gltf; do
+  stem=$(basename "$model" .gltf)
+  bin="${model%.gltf}.bin"
+  if [ -f "$bin" ] && [ "$(stat -c %s "$bin")" -le 393216 ]; then
+    { sed "s/\"$stem\.bin\"/\"fuzz.bin\"/" "$model"; printf '\n#gonio-fuzz-file\n'; cat "$bin"; } \
+      >"$seeds/gltf/sample-$stem.gltf"
+  fi
+done
 for h in "${harnesses[@]}"; do
   echo "fuzz: $h: $(find "$seeds/$h" -type f | wc -l) seeds"
 done
@@ -65,8 +72,12 @@ for h in "${harnesses[@]}"; do
   mkdir -p "build-fuzz/corpus/$h"
   log="build-fuzz/fuzz-$h.log"
   set +e
+  # Inputs up to 128 KiB (the largest corpus file is 100 KB; the unit tests
+  # cover the huge ones), models with their buffer up to 512 KiB.
+  max_len=131072
+  if [ "$h" = gltf ]; then max_len=524288; fi
   "./build-fuzz/tests/fuzz/gonio_fuzz_$h" "build-fuzz/corpus/$h" "$seeds/$h" \
-    -max_total_time="$seconds" -timeout=25 -rss_limit_mb=4096 -max_len=1048576 \
+    -max_total_time="$seconds" -timeout=25 -rss_limit_mb=4096 -max_len="$max_len" \
     -print_final_stats=1 -artifact_prefix="build-fuzz/findings/$h-" >"$log" 2>&1
   rc=$?
   set -e

@@ -650,6 +650,23 @@ void expect_same_candela(const Distribution& a, const Distribution& b, double re
     EXPECT_NEAR(a.candela[i], b.candela[i], rel * std::abs(a.candela[i])) << i;
 }
 
+// Found by tests/fuzz/ldt_fuzzer.cpp: control characters the reader
+// accepts in a text field (here 70 in a long company name) were written
+// back into the much shorter file, which the reader then refused as binary
+// data.
+TEST(LdtWrite, FuzzFoundControlCharactersInTextFieldsAreWrittenAsSpaces) {
+  std::vector<std::string> l = lines_of(small_spec());
+  l[0] = "ACME" + std::string(70, '\x14') + "Licht" + std::string(8000, 'x');
+  const LdtFile f = parse_ok(join(l));
+  std::vector<Finding> notes;
+  auto written = write_ldt(f.distribution, {}, &notes);
+  ASSERT_TRUE(written.ok()) << written.error().message;
+  EXPECT_TRUE(has_finding(notes, "ldt-control-characters"));
+  EXPECT_EQ(written->find('\x14'), std::string::npos);
+  const LdtFile again = parse_ok(*written);
+  EXPECT_EQ(again.distribution.candela, f.distribution.candela);
+}
+
 TEST(LdtWrite, RoundTripKeepsEveryField) {
   const Distribution d = model_c0_c180();
   std::vector<Finding> w;
