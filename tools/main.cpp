@@ -58,9 +58,9 @@ int run(int argc, char** argv) {
 }
 
 // Every command prints to stdout (buffered) and returns its exit code; this
-// one check makes sure what it printed was written: a full disk, a closed
-// pipe or `> /dev/full` is an error on stderr and a failing exit code, never
-// silence.
+// one check makes sure what it printed was written: a full disk or
+// `> /dev/full` is an error on stderr and exit code 1 (what the command
+// found is lost with its output), never silence.
 int checked_stdout(int code) {
   errno = 0;
   const bool flushed = std::fflush(stdout) == 0;
@@ -68,7 +68,7 @@ int checked_stdout(int code) {
   if (flushed && !std::ferror(stdout)) return code;
   print_error(std::string("cannot write the standard output") +
               (flush_errno != 0 ? std::string(": ") + std::strerror(flush_errno) : std::string()));
-  return code == kExitOk ? kExitFailure : code;
+  return kExitFailure;  // the output is lost, whatever the command found
 }
 
 }  // namespace
