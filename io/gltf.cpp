@@ -297,7 +297,7 @@ std::optional<std::string> outside_the_folder(const std::string& base_dir, const
   if (ref.is_absolute() || ref.has_root_name() || ref.has_root_directory())
     return std::string("is an absolute path");
   const fs::path normal = ref.lexically_normal();
-  if (!normal.empty() && *normal.begin() == "..") return std::string("climbs out of it with '..'");
+  if (!normal.empty() && *normal.begin() == "..") return std::string("climbs out with '..'");
   std::error_code ec;
   const fs::path base = fs::weakly_canonical(fs::path(base_dir), ec);
   if (ec) return std::nullopt;  // the folder itself is unreadable: opening the file fails anyway

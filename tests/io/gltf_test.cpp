@@ -1178,11 +1178,11 @@ struct Folders {
   }
   // The same file name in each place, with the same bytes.
   std::vector<OutsideCase> cases(const std::string& name) const {
-    return {{"../outside/" + name, outside / name, "climbs out of it with '..'"},
+    return {{"../outside/" + name, outside / name, "climbs out with '..'"},
             {(outside / name).string(), outside / name, "is an absolute path"},
             {(model / name).string(), model / name, "is an absolute path"},
             {"out-link/" + name, outside / name, "resolves through a symbolic link"},
-            {"sub/../../outside/" + name, outside / name, "climbs out of it with '..'"},
+            {"sub/../../outside/" + name, outside / name, "climbs out with '..'"},
             {"sub/../" + name, model / name, nullptr},
             {"in-link/" + name, sub / name, nullptr},
             {name, model / name, nullptr}};

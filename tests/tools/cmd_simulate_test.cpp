@@ -603,5 +603,33 @@ TEST(Simulate, AModelThatLetsNoLightOutSaysSoPlainly) {
   EXPECT_EQ(report["photons_emitted"], 20000);
 }
 
+// A model whose image uri leaves its folder: refused by every command that
+// loads models, naming model and uri, unless --allow-outside-paths
+// (io/gltf.h; each kind of uri and escape is tested in tests/io/gltf_test.cpp).
+TEST(Simulate, UrisOutsideTheModelsFolderNeedAllowOutsidePaths) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "model");
+  std::filesystem::create_directories(dir / "outside");
+  test::write_file(dir / "outside" / "tex.png", "not decoded");
+  nlohmann::json g = nlohmann::json::parse(shade_model());
+  g["images"] = nlohmann::json::array({nlohmann::json{{"uri", "../outside/tex.png"}}});
+  const auto model = dir / "model" / "shade.gltf";
+  test::write_file(model, g.dump());
+  const auto out = dir / "out";
+  for (const char* command : {"simulate", "bench"}) {
+    const auto r = gonio({command, model.string(), "--out", out.string(), "--photons", "20000"});
+    EXPECT_EQ(r.exit_code, 1) << command;
+    EXPECT_TRUE(has(r.err, model.string() + ": uri '../outside/tex.png' climbs out with '..', outside the "
+                           "model's folder")) << r.err;
+    EXPECT_TRUE(has(r.err, "--allow-outside-paths")) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
+  auto args = simulate_args(model, out);
+  args.push_back("--allow-outside-paths");
+  const auto r = gonio(args);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(out / "report.json"));
+}
+
 }  // namespace
 }  // namespace gonio
