@@ -612,6 +612,14 @@ std::string format_number(double x, int digits) {
     if (s.back() == '.') s.pop_back();
   }
   if (s == "-0") s = "0";
+  // Beyond 1e63 (only hostile files hold such values; found by
+  // tests/fuzz/ldt_fuzzer.cpp) the digits would pass the 64 characters a
+  // number may have (io/text.h parse_number): exponent form instead.
+  if (s.size() > 64) {
+    const auto sci = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::scientific,
+                                   std::clamp(digits - 1, 0, 16));
+    s.assign(buf, sci.ptr);
+  }
   return s;
 }
 

@@ -667,6 +667,21 @@ TEST(LdtWrite, FuzzFoundControlCharactersInTextFieldsAreWrittenAsSpaces) {
   EXPECT_EQ(again.distribution.candela, f.distribution.candela);
 }
 
+// Found by tests/fuzz/ldt_fuzzer.cpp: an intensity the reader accepts in
+// exponent form (1.5e70 cd/klm) was written as 71 digits, more than the 64
+// characters the reader takes for a number. It is written in exponent form.
+TEST(LdtWrite, FuzzFoundHugeValuesAreWrittenSoThatTheyReadBack) {
+  std::vector<std::string> l = lines_of(small_spec());
+  l[49] = "1.5e70";
+  const LdtFile f = parse_ok(join(l));
+  auto written = write_ldt(f.distribution, {}, nullptr);
+  ASSERT_TRUE(written.ok()) << written.error().message;
+  const LdtFile again = parse_ok(*written);
+  ASSERT_EQ(again.distribution.candela.size(), f.distribution.candela.size());
+  for (std::size_t i = 0; i < f.distribution.candela.size(); ++i)
+    EXPECT_NEAR(again.distribution.candela[i], f.distribution.candela[i], 1e-11 * std::abs(f.distribution.candela[i]));
+}
+
 TEST(LdtWrite, RoundTripKeepsEveryField) {
   const Distribution d = model_c0_c180();
   std::vector<Finding> w;
