@@ -36,6 +36,20 @@ if(GONIO_SANITIZE)
     -fno-omit-frame-pointer)
   target_link_options(gonio_sanitize INTERFACE -fsanitize=address,undefined)
 endif()
+# GONIO_FUZZ (tests/fuzz, scripts/fuzz.sh): clang's coverage instrumentation
+# for libFuzzer on every Gonio target, with the same sanitizers.
+if(GONIO_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "GONIO_FUZZ needs clang (scripts/fuzz.sh configures clang++-14)")
+  endif()
+  if(GONIO_SANITIZE)
+    message(FATAL_ERROR "GONIO_FUZZ brings its own sanitizers; leave GONIO_SANITIZE off")
+  endif()
+  target_compile_options(gonio_sanitize INTERFACE
+    -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
+    -fno-omit-frame-pointer -g)
+  target_link_options(gonio_sanitize INTERFACE -fsanitize=address,undefined)
+endif()
 
 # One line per Gonio target: warnings, optimisation and sanitizers.
 function(gonio_target_defaults target)

@@ -156,6 +156,31 @@ std::string lower(std::string s) {
   return s;
 }
 
+// The file an IES profile's TILT=<file> line names, if any (not NONE or
+// INCLUDE): the first line that begins with "TILT" and an '='.
+std::optional<std::string> tilt_file_of(std::string_view bytes) {
+  auto trim = [](std::string_view t) {
+    while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front()))) t.remove_prefix(1);
+    while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.remove_suffix(1);
+    return t;
+  };
+  std::size_t start = 0;
+  while (start < bytes.size()) {
+    std::size_t end = bytes.find_first_of("\r\n", start);
+    if (end == std::string_view::npos) end = bytes.size();
+    const std::string_view line = trim(bytes.substr(start, end - start));
+    start = end + 1;
+    if (line.size() < 5 || lower(std::string(line.substr(0, 4))) != "tilt") continue;
+    const std::string_view rest = trim(line.substr(4));
+    if (rest.empty() || rest.front() != '=') continue;
+    const std::string value(trim(rest.substr(1)));
+    const std::string upper = lower(value);
+    if (value.empty() || upper == "none" || upper == "include") return std::nullopt;
+    return value;
+  }
+  return std::nullopt;
+}
+
 // The GLB container, checked completely before tinygltf sees it (its own
 // check lets a BIN chunk header claim 8 bytes past the end).
 Status validate_glb(std::string_view bytes, const std::string& path,
@@ -203,24 +228,71 @@ Status validate_glb(std::string_view bytes, const std::string& path,
 // tinygltf callbacks: file access limited to the model's folder and to
 // kMaxFileBytes, no image decoding, no writing.
 
+// Why a file reference `uri` (percent-decoded, relative to the model's
+// folder `base_dir`) leaves that folder, or nothing when it stays inside:
+// an absolute path, a `..` that climbs out, or a symbolic link on the way
+// that resolves outside. Files that do not exist resolve as far as they do.
+std::optional<std::string> outside_the_folder(const std::string& base_dir, const std::string& uri) {
+  const fs::path ref(uri);
+  if (ref.is_absolute() || ref.has_root_name() || ref.has_root_directory())
+    return std::string("is an absolute path");
+  const fs::path normal = ref.lexically_normal();
+  if (!normal.empty() && *normal.begin() == "..") return std::string("climbs out with '..'");
+  std::error_code ec;
+  const fs::path base = fs::weakly_canonical(fs::path(base_dir), ec);
+  if (ec) return std::nullopt;  // the folder itself is unreadable: opening the file fails anyway
+  const fs::path target = fs::weakly_canonical(fs::path(base_dir) / ref, ec);
+  if (ec) return std::nullopt;
+  const fs::path inside = target.lexically_relative(base);
+  if (inside.empty() || *inside.begin() == "..")
+    return "resolves through a symbolic link to " + target.string();
+  return std::nullopt;
+}
+
+// `reference` names what refers to the file: "uri '../x.bin'".
+std::string outside_message(const std::string& reference, const std::string& why) {
+  return reference + " " + why + ", outside the model's folder: refused (a model names files " +
+         "beside it; --allow-outside-paths reads it anyway)";
+}
+
 struct FsContext {
   std::string base_dir;  // absolute, without trailing '/'
+  bool allow_outside = false;
+  std::string refused;  // the first file reference refused, as a message
 };
 
-bool fs_exists(const std::string& path, void* user) {
-  const auto* ctx = static_cast<const FsContext*>(user);
-  // tinygltf also looks in the working directory; a model's buffers live
-  // beside the model.
+// tinygltf joins the model's folder and a buffer's or image's uri (also
+// an absolute one); the part after the folder is the uri again. The file
+// the uri names, or nothing where it is not the model's (tinygltf's second
+// try, the working directory) or leaves the folder (the reason is kept).
+std::optional<std::string> file_of(FsContext* ctx, const std::string& joined) {
   const std::string prefix = ctx->base_dir.back() == '/' ? ctx->base_dir : ctx->base_dir + "/";
-  if (path.rfind(prefix, 0) != 0) return false;
+  if (joined.rfind(prefix, 0) != 0) return std::nullopt;
+  const std::string uri = joined.substr(prefix.size());
+  if (!ctx->allow_outside) {
+    if (const std::optional<std::string> why = outside_the_folder(ctx->base_dir, uri)) {
+      if (ctx->refused.empty()) ctx->refused = outside_message("uri '" + uri + "'", *why);
+      return std::nullopt;
+    }
+  }
+  return fs::path(uri).is_absolute() ? uri : joined;
+}
+
+bool fs_exists(const std::string& path, void* user) {
+  const std::optional<std::string> file = file_of(static_cast<FsContext*>(user), path);
   std::error_code ec;
-  return fs::is_regular_file(path, ec);
+  return file && fs::is_regular_file(*file, ec);
 }
 
 std::string fs_expand(const std::string& path, void*) { return path; }
 
-bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-  Result<std::string> bytes = read_file(path, kMaxFileBytes);
+bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  const std::optional<std::string> file = file_of(static_cast<FsContext*>(user), path);
+  if (!file) {
+    if (err) *err += "not a file of the model's";
+    return false;
+  }
+  Result<std::string> bytes = read_file(*file, kMaxFileBytes);
   if (!bytes.ok()) {
     if (err) *err += bytes.error().message;
     return false;
@@ -271,8 +343,8 @@ struct ElementSource {
 
 class Loader {
  public:
-  Loader(std::string path, std::vector<Finding>& findings)
-      : path_(std::move(path)), findings_(findings) {}
+  Loader(std::string path, std::vector<Finding>& findings, const GltfLoadOptions& options)
+      : path_(std::move(path)), options_(options), findings_(findings) {}
 
   Result<sim::SceneDesc> load();
 
@@ -322,6 +394,7 @@ class Loader {
   }
 
   std::string path_;
+  GltfLoadOptions options_;
   std::string base_dir_;
   std::vector<Finding>& findings_;
   tinygltf::Model model_;
@@ -353,8 +426,8 @@ Result<const json*> Loader::gonio_extras(const json& extras, const std::string& 
   auto it = extras.find("gonio");
   if (it == extras.end()) return static_cast<const json*>(nullptr);
   if (!it->is_object()) return fail(what + ": extras.gonio must be an object");
-  for (const auto& [key, value] : it->items()) {
-    (void)value;
+  for (const auto& item : it->items()) {
+    const std::string& key = item.key();  // not a structured binding: clang 14 (fuzz build) cannot capture one
     if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; }))
       note(Severity::Warning, "unknown-extras-key",
            what + ": extras.gonio." + key + " is not a Gonio parameter here; ignored");
@@ -411,7 +484,7 @@ Status Loader::parse_file() {
     return fail("empty file");
   }
 
-  FsContext ctx{base_dir_};
+  FsContext ctx{base_dir_, options_.allow_outside_paths, {}};
   tinygltf::TinyGLTF parser;
   parser.SetFsCallbacks({&fs_exists, &fs_expand, &fs_read, &fs_write, &ctx});
   parser.SetImageLoader(&skip_image, nullptr);
@@ -438,6 +511,9 @@ Status Loader::parse_file() {
     }
     return out;
   };
+  // A buffer or image outside the model's folder is an error of its own,
+  // whatever tinygltf made of the file it was not given.
+  if (!ctx.refused.empty()) return fail(ctx.refused);
   for (const std::string& w : lines(warn)) note(Severity::Warning, "gltf-parser", w);
   if (!ok) {
     std::string message;
@@ -848,7 +924,9 @@ Result<std::uint32_t> Loader::material(int index) {
     Result<json> ext = parse_blob(g.extensions_json_string, what + " extensions");
     if (!ext.ok()) return ext.error();
     if (ext->is_object()) {
-      for (const auto& [name, e] : ext->items()) {
+      for (const auto& item : ext->items()) {
+        const std::string& name = item.key();
+        const json& e = item.value();  // not a structured binding: clang 14 cannot capture one
         const std::string ew = what + " " + name;
         if (e.is_object())
           for (const auto& [key, value] : e.items())
@@ -1297,7 +1375,12 @@ Status Loader::load_ies_profile(IesLight& light) {
     } else {
       if (u.find("://") != std::string::npos)
         return fail(light.what + ": uri '" + u + "' is not a relative file reference or data URI");
-      const fs::path file = fs::path(base_dir_) / percent_decode(u);
+      const std::string relative = percent_decode(u);
+      if (!options_.allow_outside_paths) {
+        if (std::optional<std::string> why = outside_the_folder(base_dir_, relative))
+          return fail(outside_message(light.what + ": light profile uri '" + u + "'", *why));
+      }
+      const fs::path file = fs::path(base_dir_) / relative;
       name = file.string();
       dir = file.parent_path().string();
       eulumdat = lower(file.extension().string()) == ".ldt";
@@ -1327,6 +1410,17 @@ Status Loader::load_ies_profile(IesLight& light) {
     name = path_ + " (" + light.what + " bufferView)";
   } else {
     return fail(light.what + ": needs a 'uri' or a 'bufferView'");
+  }
+  // An IES profile's TILT=<file> is a path from the model as well.
+  if (!eulumdat && !options_.allow_outside_paths) {
+    if (std::optional<std::string> tilt = tilt_file_of(bytes)) {
+      const fs::path file = (fs::path(dir) / *tilt).lexically_normal();
+      const std::string relative = file.lexically_relative(fs::path(base_dir_)).string();
+      const std::optional<std::string> why =
+          fs::path(*tilt).is_absolute() ? std::optional<std::string>("is an absolute path")
+                                        : outside_the_folder(base_dir_, relative);
+      if (why) return fail(outside_message(light.what + ": the profile's TILT file '" + *tilt + "'", *why));
+    }
   }
   Result<photometry::Distribution> d = parse_profile(bytes, name, dir, eulumdat, findings_);
   if (!d.ok()) return fail(light.what + ": " + to_string(d.error()));
@@ -1524,9 +1618,10 @@ Result<sim::SceneDesc> Loader::load() {
 
 }  // namespace
 
-Result<sim::SceneDesc> load_gltf(const std::string& path, std::vector<Finding>* findings) {
+Result<sim::SceneDesc> load_gltf(const std::string& path, std::vector<Finding>* findings,
+                                 const GltfLoadOptions& options) {
   std::vector<Finding> local;
-  Loader loader(path, findings ? *findings : local);
+  Loader loader(path, findings ? *findings : local, options);
   try {
     return loader.load();
   } catch (const std::bad_alloc&) {

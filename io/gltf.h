@@ -3,7 +3,7 @@
 //
 // Files: the model, its buffers and profiles are read whole, each at most
 // kMaxFileBytes; URIs are data URIs or paths relative to the model's folder
-// (never the working directory). Textures are not used: external image files are opened by the
+// (never the working directory) that stay inside it (GltfLoadOptions). Textures are not used: external image files are opened by the
 // parser but never decoded, and a missing or broken image is only a warning.
 //
 // Geometry
@@ -85,10 +85,20 @@ namespace gonio::io {
 inline constexpr std::size_t kMaxFileBytes = std::size_t{512} << 20;  // model, buffer or profile
 inline constexpr std::size_t kMaxTriangles = 16'000'000;              // whole scene
 
+struct GltfLoadOptions {
+  // Whether file references (buffer, image and light-profile uris, and an IES
+  // profile's TILT=<file>) may leave the model's folder. By default an
+  // absolute path, a `..` that climbs out of the folder, or a symbolic link
+  // resolving outside it is an error naming the model and the uri, before
+  // the file is opened (`--allow-outside-paths` on the command line).
+  bool allow_outside_paths = false;
+};
+
 // Loads a .gltf or .glb luminaire model. Findings (warnings, notes about what
 // was ignored or assumed) are appended to `findings` when it is not null;
 // anything that makes the model unusable is the returned Error, naming the
 // file and the part of the model (node, mesh, primitive, accessor, light).
-Result<sim::SceneDesc> load_gltf(const std::string& path, std::vector<Finding>* findings);
+Result<sim::SceneDesc> load_gltf(const std::string& path, std::vector<Finding>* findings,
+                                 const GltfLoadOptions& options = {});
 
 }  // namespace gonio::io

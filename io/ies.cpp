@@ -913,7 +913,19 @@ class IesWriter {
 void IesWriter::keyword(std::string key, std::string_view value) {
   if (beyond_latin1(value))
     warn("non-latin1", "[" + key + "]: characters outside Latin-1 written as '?'");
-  const std::string latin = utf8_to_latin1(value);
+  // Control characters other than tab and line breaks would make a reader
+  // take the file for binary data (found by tests/fuzz/ies_fuzzer.cpp).
+  std::string latin = utf8_to_latin1(value);
+  bool control = false;
+  for (std::string* text : {&key, &latin}) {
+    for (char& c : *text) {
+      if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && !(text == &latin && (c == '\r' || c == '\n'))) {
+        c = ' ';
+        control = true;
+      }
+    }
+  }
+  if (control) warn("control-characters", "[" + key + "]: control characters written as spaces");
   bool wrapped = false;
   std::string prefix = "[" + key + "]";
   std::size_t start = 0;
@@ -922,7 +934,9 @@ void IesWriter::keyword(std::string key, std::string_view value) {
     std::string_view part = std::string_view(latin).substr(
         start, end == std::string::npos ? std::string::npos : end - start);
     // Longer than a line may be: continue on [MORE] lines, at a space if any.
-    while (prefix.size() + 1 + part.size() > kKeywordLineWidth) {
+    // (A keyword name that fills the line by itself is written whole on
+    // one long line: there is no room to wrap at; found by the fuzzer.)
+    while (prefix.size() + 1 + part.size() > kKeywordLineWidth && prefix.size() + 1 < kKeywordLineWidth) {
       const std::size_t room = kKeywordLineWidth - prefix.size() - 1;
       std::size_t cut = part.substr(0, room + 1).rfind(' ');
       if (cut == std::string_view::npos || cut == 0) cut = room;

@@ -661,6 +661,14 @@ std::string ldt_number(double x, int digits) {
     if (s.back() == '.') s.pop_back();
   }
   if (s == "-0") s = "0";
+  // Beyond 1e63 (only hostile files hold such values; found by
+  // tests/fuzz/ldt_fuzzer.cpp) the digits would pass the 64 characters a
+  // number may have (io/text.h parse_number): exponent form instead.
+  if (s.size() > 64) {
+    const auto sci = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::scientific,
+                                   std::clamp(digits - 1, 0, 16));
+    s.assign(buf, sci.ptr);
+  }
   return s;
 }
 
@@ -689,6 +697,18 @@ class LdtFieldWriter {
       warn(Severity::Warning, "ldt-multiline",
            what + " spans several lines; written as one, line breaks replaced by spaces");
     }
+    // Other control characters would make a reader take the file for binary
+    // data (found by tests/fuzz/ldt_fuzzer.cpp).
+    bool control = false;
+    for (char& c : value) {
+      if (static_cast<unsigned char>(c) < 0x20 && c != '\t') {
+        c = ' ';
+        control = true;
+      }
+    }
+    if (control)
+      warn(Severity::Warning, "ldt-control-characters",
+           what + " holds control characters; written as spaces");
     std::string latin1 = utf8_to_latin1(value);
     if (is_valid_utf8(value) && latin1_to_utf8(latin1) != value)
       warn(Severity::Warning, "ldt-not-latin1",

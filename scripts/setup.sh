@@ -13,6 +13,7 @@ packages=(
   gnuplot-nox fonts-dejavu-core
   libcpp-httplib-dev chromium poppler-utils
   libpugixml-dev libzip-dev libxml2-utils
+  clang-14 libfuzzer-14-dev llvm-14
 )
 
 missing=()

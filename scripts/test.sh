@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # README command (2): installs what is missing, builds, and runs every test:
 # the photometry, io and io corpus suites under AddressSanitizer and
-# UndefinedBehaviorSanitizer, then the whole ctest suite on the Release build.
-# GONIO_WERROR=1 in the environment (CI sets it) builds both with warnings as
-# errors.
+# UndefinedBehaviorSanitizer, then the whole ctest suite on the Release build,
+# then each fuzzer for $GONIO_FUZZ_SECONDS (default 60; scripts/fuzz.sh; 0
+# leaves them out). GONIO_WERROR=1 in the environment (CI sets it) builds with
+# warnings as errors; CI=true (CI sets it) fails the tests that would skip for
+# missing data or tools.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc 2>/dev/null || echo 2)
@@ -17,7 +19,8 @@ suites=(gonio_photometry_tests gonio_io_tests gonio_io_corpus_tests)
 cmake --build build-asan -j"$jobs" --target "${suites[@]}"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-# The corpus suite skips, saying so, where ../shared/corpus is absent.
+# The corpus suite skips, saying so, where ../shared/corpus is absent (fails
+# under CI=true).
 for suite in "${suites[@]}"; do
   echo "== $suite (sanitizers)"
   ./build-asan/tests/$suite --gtest_brief=1
@@ -27,3 +30,9 @@ echo "== release build"
 bash scripts/build.sh
 echo "== ctest"
 ctest --test-dir build --output-on-failure -j"$jobs"
+
+fuzz_seconds=${GONIO_FUZZ_SECONDS:-60}
+if [ "$fuzz_seconds" != 0 ]; then
+  echo "== fuzz (${fuzz_seconds} s per reader)"
+  bash scripts/fuzz.sh "$fuzz_seconds"
+fi

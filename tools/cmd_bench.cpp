@@ -143,6 +143,8 @@ int run_bench(const Args& args) {
            "guided emission: smallest acceptance, photon power <= 1/A (default 1/16)");
   p.option("page", &page, "FILE", "also write a Markdown results page over all models");
   p.flag("no-png", &no_png, "write the charts as SVG only");
+  ModelInputOptions model_options;
+  add_model_input_options(p, &model_options);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
   auto usage_error = [&](const std::string& message) {
     print_error("bench: " + message);
@@ -198,7 +200,7 @@ int run_bench(const Args& args) {
   const bool show_progress = lead && stderr_is_terminal();
   std::vector<BenchOutcome> outcomes;
   for (const std::string& model : models) {
-    std::optional<sim::SceneDesc> scene = load_checked_model(model, "benchmarked");
+    std::optional<sim::SceneDesc> scene = load_checked_model(model, "benchmarked", model_options);
     Result<std::string> bytes = scene ? io::read_file(model, std::size_t{1} << 31)
                                       : Result<std::string>(Error{{}, "not read"});
     if (scene && !bytes.ok()) print_error(bytes.error());

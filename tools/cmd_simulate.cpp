@@ -23,7 +23,8 @@
 // report.json adds to io/report.h's fields: "outputs" {grid, symmetry
 // {chosen, reason, tests [{symmetry, chi_square, degrees_of_freedom,
 // p_value, groups, rejected, detectable_deviation}]}, escaped_lm, files [{path, format, flux_lm,
-// flux_difference, clean, findings, writer_notes}]} and "energy"
+// flux_difference, clean, findings, writer_notes}], failed [{path, format,
+// error}]} and "energy"
 // {photons_close, flux_imbalance_lm, lor, min_lor, flux_tolerance,
 // files [{path, flux_ok, clean}], passed, failures [text]}.
 //
@@ -36,6 +37,13 @@
 // one process. The ranks first agree on the model and settings (a rank that
 // cannot read its model, or holds another, stops them all before tracing);
 // rank 0 alone writes files, previews and progress.
+//
+// report.json also lists "written" (every file of the run besides itself)
+// and "output_failures" (text): a failure after tracing (a missing plot program, a
+// full disk, a path that cannot be written, the preview) loses nothing: the
+// other files are written, the report lists them with the failure, and the
+// exit code is 1. Where report.json itself cannot be written, stderr lists
+// the files that were.
 //
 // Energy checks (exit 1 after everything is written, with a message):
 // emitted = escaped + absorbed + cut off in photons, LOR = escaped / emitted
@@ -155,6 +163,7 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
            "where the model checks' results are kept by content hash, so that an unchanged model "
            "is not checked again (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
   p.flag("no-cache", &o->no_cache, "check the model without reading or writing the cache");
+  add_model_input_options(p, &o->model_input);
   add_preview_options(p, &o->preview);
 }
 
@@ -203,6 +212,7 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   plan.preview_params = preview_params_result.value();
   plan.min_lor = o.min_lor;
   plan.flux_tolerance = o.flux_tolerance;
+  plan.model_input = o.model_input;
   plan.model_input.check_cache_dir = o.no_cache          ? std::string()
                                      : p.given("cache") ? o.cache_dir
                                                         : io::default_check_cache_dir();
@@ -338,13 +348,13 @@ int run_simulate(const Args& args) {
     print_error("simulate: interrupted; nothing was written");
     return kExitFailure;
   }
-  if (!preview_status.ok()) {
-    print_error(preview_status.error());
-    return kExitFailure;
-  }
   if (live) live->run_finished(sim.value());
-  const int code =
-      write_run_files(plan, sim.value(), input_times, preview ? &*preview : nullptr, start, ranks_report);
+  // From here on a failure loses nothing (write_run_files): a preview that
+  // could not be written is listed in report.json with the files that were.
+  std::vector<Error> failures;
+  if (!preview_status.ok()) failures.push_back(preview_status.error());
+  const int code = write_run_files(plan, sim.value(), input_times, preview ? &*preview : nullptr, start,
+                                   ranks_report, std::move(failures));
   if (live) {
     std::printf("live page: %s stays up until Ctrl-C\n", live->url().c_str());
     std::fflush(stdout);
@@ -355,7 +365,7 @@ int run_simulate(const Args& args) {
 
 int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
                     const PreviewOutput* preview, std::chrono::steady_clock::time_point start,
-                    const nlohmann::json& ranks_report) {
+                    const nlohmann::json& ranks_report, std::vector<Error> failures) {
   const std::string& model = plan.model;
   const std::string& out_dir = plan.out_dir;
   const sim::SimulationSettings& settings = plan.progressive.simulation;
@@ -381,11 +391,11 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   request.run.seed = settings.seed;
   request.run.max_bounces = settings.max_bounces;
   request.run.issue_date = today_utc();
-  Result<OutputResult> outputs = write_outputs(far_field, sim->scene(), ledger, request);
-  if (!outputs.ok()) {
-    print_error(outputs.error());
-    return kExitFailure;
-  }
+  Result<OutputResult> written = write_outputs(far_field, sim->scene(), ledger, request);
+  if (!written.ok()) failures.push_back(written.error());
+  const OutputResult none;
+  const OutputResult* outputs = written.ok() ? &written.value() : &none;
+  for (const FailedFile& f : outputs->failed) failures.push_back(f.error);
 
   io::SimulationReport report;
   report.program_version = kVersion;
@@ -434,8 +444,17 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
                        {"flux_lm", far_field.total_flux_lm()}};
   for (const WrittenFile& f : outputs->files)
     if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
-  json["outputs"] = to_json(outputs.value(), grid, ledger.escaped.flux_lm);
+  json["outputs"] = to_json(*outputs, grid, ledger.escaped.flux_lm);
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
+  // Every file this run left in DIR besides report.json, and what failed.
+  nlohmann::json written_paths = nlohmann::json::array();
+  for (const WrittenFile& f : outputs->files) written_paths.push_back(f.path);
+  if (preview)
+    for (const std::string& path : {preview->exr_path(), preview->png_path()})
+      if (std::filesystem::is_regular_file(path)) written_paths.push_back(path);
+  json["written"] = written_paths;
+  json["output_failures"] = nlohmann::json::array();
+  for (const Error& e : failures) json["output_failures"].push_back(to_string(e));
 
   // The energy checks, each with what it found.
   const sim::Ledger& l = ledger;
@@ -443,7 +462,10 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   const double lor = energy.lor;
   json["energy"] = energy.json;
   if (Status s = io::write_json(report_path, json); !s.ok()) {
+    for (const Error& e : failures) print_error(e);
     print_error(s.error());
+    for (const auto& path : written_paths)
+      print_error("simulate: written before the report failed: " + path.get<std::string>());
     return kExitFailure;
   }
 
@@ -457,6 +479,10 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
               l.absorbed.flux_lm, percent(l.absorbed.flux_lm, l.emitted.flux_lm), l.cutoff.flux_lm,
               percent(l.cutoff.flux_lm, l.emitted.flux_lm));
   std::printf("  light output ratio %.4f (escaped / emitted)\n", lor);
+  if (l.escaped.photons == 0 || !(l.escaped.flux_lm > 0.0))
+    print_warning(model + ": no light leaves the model: all " + std::to_string(l.emitted.photons) +
+                  " photons were absorbed or cut off (is the emitter sealed in?); the files hold zero "
+                  "intensity");
   if (std::isfinite(run.estimated_rms_error_pct))
     std::printf("  estimated RMS candela error %.3g %% of the peak%s\n", run.estimated_rms_error_pct,
                 run.stopped_by == StopReason::TargetError ? " (stopped at the target error)" : "");
@@ -467,9 +493,11 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
       std::fprintf(stderr, "%s: simulate: %s\n", kProgramName, outputs->symmetry_reason.c_str());
   }
   for (const WrittenFile& f : outputs->files) {
-    if (std::isfinite(f.flux_lm))
+    if (std::isfinite(f.flux_lm) && std::isfinite(f.flux_difference))
       std::printf("  wrote %s: %.6g lm read back (%s of the escaped flux)%s\n", f.path.c_str(), f.flux_lm,
                   signed_percent(f.flux_difference).c_str(), f.clean() ? "" : ", NOT CLEAN");
+    else if (std::isfinite(f.flux_lm))  // no escaped flux to compare with
+      std::printf("  wrote %s: %.6g lm read back%s\n", f.path.c_str(), f.flux_lm, f.clean() ? "" : ", NOT CLEAN");
     else
       std::printf("  wrote %s%s\n", f.path.c_str(), f.clean() ? "" : ", NOT CLEAN");
   }
@@ -477,6 +505,14 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   if (preview)
     std::printf("  preview: %s and %s\n", preview->exr_path().c_str(), preview->png_path().c_str());
 
+  if (!failures.empty()) {
+    for (const Error& e : failures) print_error(e);
+    print_error("simulate: " + std::to_string(failures.size()) + " output" +
+                (failures.size() == 1 ? "" : "s") + " failed after tracing; " + report_path +
+                " lists what was written");
+    (void)energy_exit_code(model, energy);  // its failures are printed too
+    return kExitFailure;
+  }
   if (const int code = energy_exit_code(model, energy); code != kExitOk) return code;
   if (l.cutoff.flux_lm > 0.01 * l.emitted.flux_lm)
     print_warning(model + ": " + std::to_string(percent(l.cutoff.flux_lm, l.emitted.flux_lm)) +

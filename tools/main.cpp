@@ -1,5 +1,6 @@
 // gonio: the command line. Thin by design: each subcommand parses its
 // arguments, calls the libraries, prints, and chooses the exit code.
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -37,14 +38,7 @@ void print_help() {
       "Run 'gonio COMMAND --help' for a command's options.\n");
 }
 
-}  // namespace
-
-std::span<const Command> commands() { return kCommands; }
-
-}  // namespace gonio::cli
-
-int main(int argc, char** argv) {
-  using namespace gonio::cli;
+int run(int argc, char** argv) {
   if (argc < 2) {
     print_help();
     return kExitUsage;
@@ -55,7 +49,7 @@ int main(int argc, char** argv) {
     return kExitOk;
   }
   if (first == "--version") {
-    std::printf("gonio %s\n", gonio::kVersion);
+    std::printf("gonio %s\n", kVersion);
     return kExitOk;
   }
   for (const Command& c : commands()) {
@@ -63,4 +57,29 @@ int main(int argc, char** argv) {
   }
   print_error("unknown command '" + first + "'; see 'gonio --help'");
   return kExitUsage;
+}
+
+// Every command prints to stdout (buffered) and returns its exit code; this
+// one check makes sure what it printed was written: a full disk or
+// `> /dev/full` is an error on stderr and exit code 1 (what the command
+// found is lost with its output), never silence.
+int checked_stdout(int code) {
+  errno = 0;
+  const bool flushed = std::fflush(stdout) == 0;
+  const int flush_errno = errno;
+  if (flushed && !std::ferror(stdout)) return code;
+  print_error(std::string("cannot write the standard output") +
+              (flush_errno != 0 ? std::string(": ") + std::strerror(flush_errno) : std::string()));
+  return kExitFailure;  // the output is lost, whatever the command found
+}
+
+}  // namespace
+
+std::span<const Command> commands() { return kCommands; }
+
+}  // namespace gonio::cli
+
+int main(int argc, char** argv) {
+  using namespace gonio::cli;
+  return checked_stdout(run(argc, argv));
 }

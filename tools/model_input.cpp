@@ -18,11 +18,19 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
+void add_model_input_options(ArgParser& parser, ModelInputOptions* options) {
+  parser.flag("allow-outside-paths", &options->allow_outside_paths,
+              "let the model's uris (buffers, images, light profiles) name files outside its folder "
+              "(absolute paths, '..', symbolic links leading out); refused by default");
+}
+
 ModelLoad load_model(const std::string& model, const ModelInputOptions& options, ModelInputTimes* times) {
   ModelLoad out;
   ModelInputTimes t;
   auto start = std::chrono::steady_clock::now();
-  Result<sim::SceneDesc> scene = io::load_gltf(model, &out.findings);
+  io::GltfLoadOptions load;
+  load.allow_outside_paths = options.allow_outside_paths;
+  Result<sim::SceneDesc> scene = io::load_gltf(model, &out.findings, load);
   t.load_s = seconds_since(start);
   t.max_rss_after_load_bytes = io::peak_memory_bytes();
   if (!scene.ok()) {

@@ -11,13 +11,19 @@
 
 #include "photometry/diagnostics.h"
 #include "sim/scene.h"
+#include "tools/cli.h"
 
 namespace gonio::cli {
 
+// How a model may be read: what every command that loads one offers.
 struct ModelInputOptions {
+  bool allow_outside_paths = false;  // --allow-outside-paths (io::GltfLoadOptions)
   // The model checks' cache folder (io/model_check.h); empty: no cache.
   std::string check_cache_dir;
 };
+
+// Registers --allow-outside-paths on a subcommand that loads models.
+void add_model_input_options(ArgParser& parser, ModelInputOptions* options);
 
 // What loading took.
 struct ModelInputTimes {

@@ -31,6 +31,7 @@ struct SimulateOptions {
   std::string symmetry_name = "auto", format_list = "all", ies_version = "2019", stem;
   std::string cache_dir;  // --cache DIR (the model checks' cache)
   bool no_cache = false;  // --no-cache
+  ModelInputOptions model_input;  // --allow-outside-paths
   PreviewOptions preview;
 };
 
@@ -64,9 +65,11 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
 // the run began, for wall_s; `input_times`: what loading and checking the
 // model took; `ranks_report`: report.json's "mpi" object,
 // tools/distributed_run.h, left out where null), prints the summary, and
-// returns the exit code (the energy checks).
+// returns the exit code (the energy checks). `failures`: what already failed
+// (the preview); a failure while writing does not stop the other files:
+// report.json lists what was written and what failed, and the exit code is 1.
 int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
                     const PreviewOutput* preview, std::chrono::steady_clock::time_point start,
-                    const nlohmann::json& ranks_report = nullptr);
+                    const nlohmann::json& ranks_report = nullptr, std::vector<Error> failures = {});
 
 }  // namespace gonio::cli

@@ -483,7 +483,10 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
         s = write_gldf_file(result.distribution, scene, request, &file);
         break;
     }
-    if (!s.ok()) return s.error();
+    if (!s.ok()) {
+      result.failed.push_back({f, file.path, s.error()});
+      continue;
+    }
     file.flux_difference = relative_difference(file.flux_lm, ledger.escaped.flux_lm);
     result.files.push_back(std::move(file));
   }
@@ -532,6 +535,10 @@ nlohmann::json to_json(const OutputResult& r, const sim::CGammaGrid& grid, doubl
                      {"writer_notes", findings_json(f.writer_notes)}});
   }
   j["files"] = std::move(files);
+  json failed = json::array();
+  for (const FailedFile& f : r.failed)
+    failed.push_back({{"path", f.path}, {"format", to_string(f.format)}, {"error", to_string(f.error)}});
+  j["failed"] = std::move(failed);
   return j;
 }
 
@@ -570,7 +577,10 @@ EnergyCheck check_energy(const sim::Ledger& l, const std::vector<WrittenFile>& f
     const bool has_flux = std::isfinite(f.flux_lm);
     const bool flux_ok = !has_flux || std::abs(f.flux_difference) <= flux_tolerance ||
                          (l.escaped.flux_lm == 0.0 && f.flux_lm == 0.0);
-    if (!flux_ok)
+    if (!flux_ok && !(l.escaped.flux_lm > 0.0))
+      check.failures.push_back(f.path + ": flux " + std::to_string(f.flux_lm) +
+                               " lm read back, but no light left the model");
+    else if (!flux_ok)
       check.failures.push_back(
           f.path + ": flux " + std::to_string(f.flux_lm) + " lm read back differs from the escaped " +
           std::to_string(l.escaped.flux_lm) + " lm by " + signed_percent(f.flux_difference) +

@@ -103,12 +103,21 @@ struct WrittenFile {
   bool clean() const { return worst(findings) < Severity::Warning; }
 };
 
+// A requested file that could not be written (nothing of it is left: the
+// writes are atomic).
+struct FailedFile {
+  OutputFormat format = OutputFormat::Ies;
+  std::string path;
+  Error error;
+};
+
 struct OutputResult {
   photometry::Distribution distribution;  // the candela table the IES and LDT files hold
   photometry::Symmetry symmetry = photometry::Symmetry::None;
   std::string symmetry_reason;      // one line: what was chosen and why
   sim::SymmetryDecision decision;   // the tests (auto only)
-  std::vector<WrittenFile> files;   // in request order
+  std::vector<WrittenFile> files;   // written, in request order
+  std::vector<FailedFile> failed;   // not written, in request order
 };
 
 // The Type C distribution of a far field: resampled in `scene.frame`,
@@ -119,13 +128,15 @@ photometry::Distribution simulated_distribution(const sim::BinnedField& binned, 
                                                 const OutputRequest& request);
 
 // Resamples, writes every requested file atomically, reads each back and
-// checks it. Errors: a file that cannot be written (nothing is left half
-// written), an explicit symmetry the grid does not support.
+// checks it. A file that cannot be written (a missing plot program, a full
+// disk, a path that is a folder) is listed in `failed` and the others are
+// still written; nothing is left half written. Error (before anything is
+// written): an explicit symmetry the grid does not support.
 Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::SceneDesc& scene,
                                    const sim::Ledger& ledger, const OutputRequest& request);
 
 // report.json's "outputs" (grid, symmetry and its tests, files with flux,
-// difference and findings).
+// difference and findings, and "failed" [{path, format, error}]).
 nlohmann::json to_json(const OutputResult& result, const sim::CGammaGrid& grid, double escaped_lm);
 
 // The energy checks `gonio simulate` makes once every file is written: the

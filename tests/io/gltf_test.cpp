@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 
@@ -189,7 +190,13 @@ bool has_code(const std::vector<Finding>& findings, const std::string& code) {
   return false;
 }
 
+// The models the tests load are seeds for tests/fuzz/gltf_fuzzer.cpp.
+void offer_seed(const std::string& path) {
+  if (std::filesystem::is_regular_file(path)) test::offer_fuzz_seed("gltf", test::read_file(path));
+}
+
 sim::SceneDesc load_ok(const std::string& path, std::vector<Finding>* findings = nullptr) {
+  offer_seed(path);
   Result<sim::SceneDesc> r = load_gltf(path, findings);
   EXPECT_TRUE(r.ok()) << (r.ok() ? "" : to_string(r.error()));
   return r.ok() ? std::move(r).value() : sim::SceneDesc{};
@@ -197,6 +204,7 @@ sim::SceneDesc load_ok(const std::string& path, std::vector<Finding>* findings =
 
 // The error's text, and a check that it names the file.
 std::string load_error(const std::string& path) {
+  offer_seed(path);
   Result<sim::SceneDesc> r = load_gltf(path, nullptr);
   EXPECT_FALSE(r.ok()) << path;
   if (r.ok()) return "";
@@ -1130,6 +1138,140 @@ TEST(Gltf, IesLightsWithMissingProfilesAreErrorsNamingLightAndFile) {
   d.j["extensions"]["EXT_lights_ies"]["lights"] = {{{"uri", "a.ies"}}};
   d.j["nodes"][0]["extensions"]["EXT_lights_ies"]["multiplier"] = -2;
   EXPECT_CONTAINS(load_error(d.write(dir, "mult")), "multiplier");
+}
+
+
+// --- paths from a model ----------------------------------------------------
+// A model's uris name files beside it. One that leaves the model's folder
+// (an absolute path, a '..' climbing out, a symbolic link leading out) is
+// refused, naming the model and the uri, unless allow_outside_paths.
+
+namespace fs = std::filesystem;
+
+struct OutsideCase {
+  std::string uri;
+  fs::path file;     // where the named file really is
+  const char* says;  // why it is refused; null: inside, loads
+};
+
+// Rewrites one uri of a written model: buffers[0], images[0] or the first
+// EXT_lights_ies light.
+void set_uri(const std::string& model, const std::string& what, const std::string& uri) {
+  json j = json::parse(test::read_file(model));
+  if (what == "buffer") j["buffers"][0]["uri"] = uri;
+  if (what == "image") j["images"][0]["uri"] = uri;
+  if (what == "profile") j["extensions"]["EXT_lights_ies"]["lights"][0]["uri"] = uri;
+  test::write_file(model, j.dump());
+}
+
+// The folders of these tests: ROOT/model/ holds the model, ROOT/outside/
+// what it must not reach, ROOT/model/out-link a symbolic link to
+// ROOT/outside, ROOT/model/in-link one to ROOT/model/sub.
+struct Folders {
+  test::TempDir root;
+  fs::path model = root / "model", outside = root / "outside", sub = root / "model" / "sub";
+  Folders() {
+    fs::create_directories(sub);
+    fs::create_directories(outside);
+    fs::create_directory_symlink(outside, model / "out-link");
+    fs::create_directory_symlink(sub, model / "in-link");
+  }
+  // The same file name in each place, with the same bytes.
+  std::vector<OutsideCase> cases(const std::string& name) const {
+    return {{"../outside/" + name, outside / name, "climbs out with '..'"},
+            {(outside / name).string(), outside / name, "is an absolute path"},
+            {(model / name).string(), model / name, "is an absolute path"},
+            {"out-link/" + name, outside / name, "resolves through a symbolic link"},
+            {"sub/../../outside/" + name, outside / name, "climbs out with '..'"},
+            {"sub/../" + name, model / name, nullptr},
+            {"in-link/" + name, sub / name, nullptr},
+            {name, model / name, nullptr}};
+  }
+};
+
+void expect_refused_unless_allowed(const std::string& model, const OutsideCase& c, const std::string& what) {
+  SCOPED_TRACE(what + " uri " + c.uri);
+  Result<sim::SceneDesc> r = load_gltf(model, nullptr);
+  if (c.says) {
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().where.file, model);
+    EXPECT_CONTAINS(r.error().message, "'" + c.uri + "'");
+    EXPECT_CONTAINS(r.error().message, c.says);
+    EXPECT_CONTAINS(r.error().message, "outside the model's folder");
+    EXPECT_CONTAINS(r.error().message, "--allow-outside-paths");
+  } else {
+    EXPECT_TRUE(r.ok()) << to_string(r.error());
+  }
+  GltfLoadOptions allow;
+  allow.allow_outside_paths = true;
+  Result<sim::SceneDesc> allowed = load_gltf(model, nullptr, allow);
+  EXPECT_TRUE(allowed.ok()) << to_string(allowed.error());
+}
+
+TEST(GltfPaths, BufferUrisLeavingTheModelsFolderAreRefused) {
+  const Folders f;
+  Doc d;
+  d.mesh(kQuad, kQuadIdx);
+  d.point_light(100.0);
+  test::TempDir scratch;
+  const std::string written = d.write(scratch, "lamp");  // writes lamp.bin beside it
+  const std::string bin = test::read_file(scratch / "lamp.bin");
+  const std::string model = (f.model / "lamp.gltf").string();
+  for (const OutsideCase& c : f.cases("lamp.bin")) {
+    fs::copy_file(written, model, fs::copy_options::overwrite_existing);
+    set_uri(model, "buffer", c.uri);
+    for (const fs::path& p : {f.outside / "lamp.bin", f.model / "lamp.bin", f.sub / "lamp.bin"}) fs::remove(p);
+    test::write_file(c.file, bin);
+    expect_refused_unless_allowed(model, c, "buffer");
+  }
+  // Nothing of the kind in a .glb's own buffer or a data URI.
+  EXPECT_TRUE(load_gltf(d.write(f.root, "embedded", Doc::Form::Glb), nullptr).ok());
+  EXPECT_TRUE(load_gltf(d.write(f.root, "inline", Doc::Form::DataUri), nullptr).ok());
+}
+
+TEST(GltfPaths, ImageUrisLeavingTheModelsFolderAreRefused) {
+  const Folders f;
+  Doc d;
+  d.point_light(100.0);
+  d.j["images"] = json::array({json{{"uri", "tex.png"}}});
+  test::TempDir scratch;
+  const std::string written = d.write(scratch, "lamp");
+  const std::string model = (f.model / "lamp.gltf").string();
+  for (const OutsideCase& c : f.cases("tex.png")) {
+    fs::copy_file(written, model, fs::copy_options::overwrite_existing);
+    set_uri(model, "image", c.uri);
+    test::write_file(c.file, "not decoded");
+    expect_refused_unless_allowed(model, c, "image");
+  }
+}
+
+TEST(GltfPaths, ProfileUrisAndTheirTiltFilesLeavingTheModelsFolderAreRefused) {
+  const Folders f;
+  Doc d;
+  add_ies_lights(d, {{{"name", "lamp"}, {"uri", "p.ies"}}});
+  ies_node(d, 0);
+  test::TempDir scratch;
+  const std::string written = d.write(scratch, "lamp");
+  const std::string model = (f.model / "lamp.gltf").string();
+  for (const OutsideCase& c : f.cases("p.ies")) {
+    fs::copy_file(written, model, fs::copy_options::overwrite_existing);
+    set_uri(model, "profile", c.uri);
+    test::write_file(c.file, kIsotropicIes);
+    expect_refused_unless_allowed(model, c, "profile");
+  }
+  // A profile inside whose TILT=<file> leaves the folder.
+  std::string tilted = kIsotropicIes;
+  const std::string tilt = "1\r\n3\r\n0 45 90\r\n1 1 1\r\n";
+  for (const OutsideCase& c : f.cases("tilt.dat")) {
+    std::string ies = tilted;
+    ies.replace(ies.find("TILT=NONE"), 9, "TILT=" + c.uri);
+    fs::copy_file(written, model, fs::copy_options::overwrite_existing);
+    set_uri(model, "profile", "p.ies");
+    test::write_file(f.model / "p.ies", ies);
+    test::write_file(c.file, tilt);
+    SCOPED_TRACE("TILT=" + c.uri);
+    expect_refused_unless_allowed(model, c, "TILT file");
+  }
 }
 
 }  // namespace

@@ -46,6 +46,7 @@ const std::string kData =
     "100 70 5\r\n";
 
 Result<IesFile> parse(const std::string& text, const std::string& dir = "") {
+  test::offer_fuzz_seed("ies", text);
   return parse_ies(text, kName, dir);
 }
 
@@ -910,6 +911,28 @@ std::vector<double> as_written(const std::vector<double>& v) {
   std::vector<double> out;
   for (double x : v) out.push_back(*parse_number(format_ies_number(x)));
   return out;
+}
+
+// Found by tests/fuzz/ies_fuzzer.cpp: a keyword whose name alone fills a
+// line sent the writer's line wrapping out of range (an uncaught
+// std::out_of_range), and control characters the reader accepts in keywords
+// were written back, so that the written file read as binary data.
+TEST(IesWrite, FuzzFoundKeywordsLongerThanALineOrWithControlCharactersRoundTrip) {
+  const std::string long_key = "_" + std::string(300, 'K');  // a user keyword keeps its name
+  const std::string text = "IESNA:LM-63-2002\r\n[TEST] T-1\r\n[" + long_key + "] value\r\n[_NOTE] a" +
+                           std::string(9, '\x14') + "b " + std::string(1200, 'x') + "\r\nTILT=NONE\r\n" + kData;
+  const IesFile f = parse_ok(text);
+  std::vector<Finding> notes;
+  const std::string written = write_ies(f.distribution, {}, &notes);
+  EXPECT_TRUE(has_warning(notes, "control-characters"));
+  EXPECT_EQ(std::count_if(written.begin(), written.end(),
+                          [](char c) { return static_cast<unsigned char>(c) < 0x20 && c != '\r' && c != '\n'; }),
+            0);
+  const IesFile again = parse_ok(written);
+  const photometry::Keyword* k = again.distribution.find_keyword(long_key);
+  ASSERT_NE(k, nullptr);
+  EXPECT_EQ(k->value, "value");
+  EXPECT_EQ(again.distribution.candela, f.distribution.candela);
 }
 
 TEST(IesWrite, Lm63_2019Layout) {

@@ -98,6 +98,7 @@ Spec small_spec() {
 }
 
 LdtFile parse_ok(const std::string& bytes, const LdtReadOptions& options = {}) {
+  test::offer_fuzz_seed("ldt", bytes);
   auto r = parse_ldt(bytes, "test.ldt", options);
   EXPECT_TRUE(r.ok()) << (r.ok() ? "" : to_string(r.error()));
   if (!r.ok()) return {};
@@ -105,6 +106,7 @@ LdtFile parse_ok(const std::string& bytes, const LdtReadOptions& options = {}) {
 }
 
 Error parse_error(const std::string& bytes) {
+  test::offer_fuzz_seed("ldt", bytes);
   auto r = parse_ldt(bytes, "bad.ldt");
   EXPECT_FALSE(r.ok());
   if (r.ok()) return {};
@@ -646,6 +648,38 @@ void expect_same_candela(const Distribution& a, const Distribution& b, double re
   ASSERT_EQ(a.candela.size(), b.candela.size());
   for (std::size_t i = 0; i < a.candela.size(); ++i)
     EXPECT_NEAR(a.candela[i], b.candela[i], rel * std::abs(a.candela[i])) << i;
+}
+
+// Found by tests/fuzz/ldt_fuzzer.cpp: control characters the reader
+// accepts in a text field (here 70 in a long company name) were written
+// back into the much shorter file, which the reader then refused as binary
+// data.
+TEST(LdtWrite, FuzzFoundControlCharactersInTextFieldsAreWrittenAsSpaces) {
+  std::vector<std::string> l = lines_of(small_spec());
+  l[0] = "ACME" + std::string(70, '\x14') + "Licht" + std::string(8000, 'x');
+  const LdtFile f = parse_ok(join(l));
+  std::vector<Finding> notes;
+  auto written = write_ldt(f.distribution, {}, &notes);
+  ASSERT_TRUE(written.ok()) << written.error().message;
+  EXPECT_TRUE(has_finding(notes, "ldt-control-characters"));
+  EXPECT_EQ(written->find('\x14'), std::string::npos);
+  const LdtFile again = parse_ok(*written);
+  EXPECT_EQ(again.distribution.candela, f.distribution.candela);
+}
+
+// Found by tests/fuzz/ldt_fuzzer.cpp: an intensity the reader accepts in
+// exponent form (1.5e70 cd/klm) was written as 71 digits, more than the 64
+// characters the reader takes for a number. It is written in exponent form.
+TEST(LdtWrite, FuzzFoundHugeValuesAreWrittenSoThatTheyReadBack) {
+  std::vector<std::string> l = lines_of(small_spec());
+  l[49] = "1.5e70";
+  const LdtFile f = parse_ok(join(l));
+  auto written = write_ldt(f.distribution, {}, nullptr);
+  ASSERT_TRUE(written.ok()) << written.error().message;
+  const LdtFile again = parse_ok(*written);
+  ASSERT_EQ(again.distribution.candela.size(), f.distribution.candela.size());
+  for (std::size_t i = 0; i < f.distribution.candela.size(); ++i)
+    EXPECT_NEAR(again.distribution.candela[i], f.distribution.candela[i], 1e-11 * std::abs(f.distribution.candela[i]));
 }
 
 TEST(LdtWrite, RoundTripKeepsEveryField) {
@@ -1277,6 +1311,7 @@ TEST(LdtBadInput, EachFieldNamesLineAndExpectation) {
     ASSERT_EQ(l[42], "0");  // C angles begin at line 43, γ at 47, intensities at 50
     ASSERT_EQ(l[49], num(s.values[0]));
     c.edit(s, l);
+    test::offer_fuzz_seed("ldt", join(l));
     auto r = parse_ldt(join(l), "bad.ldt");
     ASSERT_FALSE(r.ok()) << c.what;
     EXPECT_EQ(r.error().where.line, c.line) << c.what << ": " << to_string(r.error());

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <random>
@@ -17,6 +19,11 @@ extern char** environ;
 
 namespace gonio::test {
 namespace fs = std::filesystem;
+
+bool missing_prerequisite_fails() {
+  const char* ci = std::getenv("CI");
+  return ci && (std::string(ci) == "true" || std::string(ci) == "1");
+}
 
 fs::path corpus_dir() {
   if (const char* env = std::getenv("GONIO_CORPUS"); env && *env) {
@@ -62,6 +69,21 @@ TempDir::~TempDir() {
   fs::remove_all(path_, ec);
 }
 
+ScopedEnv::ScopedEnv(const char* name, const char* value) : name_(name) {
+  if (const char* old = std::getenv(name)) old_ = old;
+  if (value)
+    ::setenv(name, value, 1);
+  else
+    ::unsetenv(name);
+}
+
+ScopedEnv::~ScopedEnv() {
+  if (old_)
+    ::setenv(name_.c_str(), old_->c_str(), 1);
+  else
+    ::unsetenv(name_.c_str());
+}
+
 void write_file(const fs::path& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary);
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -98,6 +120,21 @@ ProcessResult run_process(const std::vector<std::string>& argv) {
   r.out = read_file(out_path);
   r.err = read_file(err_path);
   return r;
+}
+
+void offer_fuzz_seed(const std::string& harness, std::string_view bytes) {
+  const char* root = std::getenv("GONIO_FUZZ_SEEDS");
+  if (!root || !*root) return;
+  std::uint64_t hash = 14695981039346656037ull;  // FNV-1a, 64 bits
+  for (const char c : bytes) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 1099511628211ull;
+  }
+  char name[17];
+  std::snprintf(name, sizeof name, "%016llx", static_cast<unsigned long long>(hash));
+  const fs::path dir = fs::path(root) / harness;
+  fs::create_directories(dir);
+  write_file(dir / name, std::string(bytes));
 }
 
 }  // namespace gonio::test

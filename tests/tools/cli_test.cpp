@@ -1,6 +1,9 @@
 // Runs the gonio executable as a user would: what every subcommand shares.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "tests/tools/cli_fixtures.h"
 
 namespace gonio {
@@ -91,6 +94,37 @@ TEST(Cli, UsageErrorsExitWith2AndSayWhy) {
     EXPECT_EQ(r.err.rfind("gonio: ", 0), 0u) << r.err;
     EXPECT_TRUE(contains(r.err, "Usage: gonio ")) << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+}
+
+// Standard output that cannot be written (here /dev/full, as on a full
+// disk) is an error on stderr and exit code 1, whatever the command; the
+// same commands succeed with a writable stdout.
+TEST(Cli, AStandardOutputThatCannotBeWrittenIsAnErrorForEveryCommand) {
+  test::TempDir dir;
+  const auto ies = dir / "downlight.ies";
+  test::write_distribution(ies, test::lambertian_downlight());
+  const std::vector<std::vector<std::string>> commands = {
+      {"--version"},
+      {"--help"},
+      {"info", ies.string()},
+      {"info", ies.string(), "--json"},
+      {"check", ies.string()},
+      {"convert", ies.string(), (dir / "downlight.ldt").string()},
+      {"compare", ies.string(), ies.string()},
+      {"simulate", "--help"},
+      {"bench", "--help"},
+  };
+  for (const auto& args : commands) {
+    std::string command = std::string("exec '") + GONIO_EXECUTABLE + "'";
+    for (const std::string& a : args) command += " '" + a + "'";
+    SCOPED_TRACE(command);
+    const auto ok = test::run_process({"/bin/sh", "-c", command});
+    EXPECT_EQ(ok.exit_code, 0) << ok.err;
+    ASSERT_FALSE(ok.out.empty());  // it does print: the failure below is the write's
+    const auto full = test::run_process({"/bin/sh", "-c", command + " > /dev/full"});
+    EXPECT_EQ(full.exit_code, 1);
+    EXPECT_TRUE(contains(full.err, "gonio: cannot write the standard output")) << full.err;
   }
 }
 

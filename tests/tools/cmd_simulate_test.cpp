@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -56,11 +57,12 @@ std::string base64(const std::string& bytes) {
 // light inside: written with nlohmann::json and a data-URI buffer.
 // With `glass`, the open box is clear glass: an open refractive volume,
 // which the model checks refuse.
-std::string shade_model(double lamp_x = 0.0, double lamp_z = 0.0, bool glass = false) {
+// With `sealed`, the box is closed: no light leaves it.
+std::string shade_model(double lamp_x = 0.0, double lamp_z = 0.0, bool glass = false, bool sealed = false) {
   sim::Mesh box = sim::box(0.2, 0.2, 0.2);
   // Drop the two triangles of the −Y face (the box's quads come in the
   // order +X, −X, +Y, −Y, +Z, −Z): light leaves downwards.
-  box.indices.erase(box.indices.begin() + 18, box.indices.begin() + 24);
+  if (!sealed) box.indices.erase(box.indices.begin() + 18, box.indices.begin() + 24);
   std::string bin;
   bin.append(reinterpret_cast<const char*>(box.positions.data()), box.positions.size() * sizeof(sim::Vec3f));
   const std::size_t positions_bytes = bin.size();
@@ -579,6 +581,174 @@ TEST(Simulate, HelpNamesEveryOption) {
                         "--c-step", "--gamma-step", "--symmetry", "--format", "--ies-version", "--name", "--min-lor",
                         "--flux-tolerance"})
     EXPECT_NE(r.out.find(o), std::string::npos) << o;
+}
+
+
+// --- failures after tracing lose nothing -----------------------------------
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// The file names of report.json's "written" list; each must exist.
+std::set<std::string> written_names(const nlohmann::json& report) {
+  std::set<std::string> names;
+  for (const auto& p : report.at("written")) {
+    const std::filesystem::path path = p.get<std::string>();
+    EXPECT_TRUE(std::filesystem::is_regular_file(path)) << path;
+    names.insert(path.filename().string());
+  }
+  return names;
+}
+
+std::vector<std::string> simulate_args(const std::filesystem::path& model, const std::filesystem::path& out,
+                                       const std::string& face_size = "16") {
+  return {"simulate", model.string(), "--out", out.string(), "--photons", "20000", "--iterations", "1",
+          "--face-size", face_size};
+}
+
+TEST(SimulateFailures, AMissingPlotProgramStillLeavesEveryOtherFileAndTheReport) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  const test::ScopedEnv no_gnuplot("GONIO_GNUPLOT", "/nonexistent");
+  const auto r = gonio(simulate_args(model, out));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "gnuplot")) << r.err;
+  EXPECT_TRUE(has(r.err, "1 output failed after tracing")) << r.err;
+  EXPECT_TRUE(has(r.err, (out / "report.json").string())) << r.err;
+  const auto report = read_json(out / "report.json");
+  ASSERT_EQ(report["output_failures"].size(), 1u) << report["output_failures"].dump();
+  EXPECT_TRUE(has(report["output_failures"][0].get<std::string>(), "shade.svg")) << report["output_failures"].dump();
+  ASSERT_EQ(report["outputs"]["failed"].size(), 1u);
+  EXPECT_EQ(report["outputs"]["failed"][0]["format"], "plot");
+  EXPECT_EQ(written_names(report),
+            (std::set<std::string>{"shade.ies", "shade.ldt", "farfield.exr", "farfield-latlong.exr"}));
+  EXPECT_FALSE(std::filesystem::exists(out / "shade.svg"));
+  // The run's books are all there.
+  EXPECT_EQ(report["photons_emitted"], 20000);
+  EXPECT_TRUE(report["energy"]["passed"].get<bool>());
+  EXPECT_EQ(report["outputs"]["files"].size(), 4u);
+}
+
+TEST(SimulateFailures, AFileThatCannotBeWrittenIsNamedAndTheOthersAreWritten) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  std::filesystem::create_directories(out / "farfield.exr");  // in the way
+  const auto r = gonio(simulate_args(model, out));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, (out / "farfield.exr").string())) << r.err;
+  const auto report = read_json(out / "report.json");
+  ASSERT_EQ(report["output_failures"].size(), 1u);
+  EXPECT_TRUE(has(report["output_failures"][0].get<std::string>(), "farfield.exr"));
+  EXPECT_EQ(report["outputs"]["failed"][0]["format"], "exr");
+  EXPECT_EQ(written_names(report),
+            (std::set<std::string>{"shade.ies", "shade.ldt", "farfield-latlong.exr", "shade.svg"}));
+}
+
+TEST(SimulateFailures, AFullDiskLeavesTheReportWithWhatFitted) {
+  // A file size limit (ulimit -f, with SIGXFSZ ignored) makes every write
+  // past it fail with EFBIG, as a full disk fails with ENOSPC: the large
+  // far-field images do not fit, the tables and the report do.
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  std::string command = std::string("trap '' XFSZ; ulimit -f 48; exec '") + GONIO_EXECUTABLE + "'";
+  for (const std::string& a : simulate_args(model, out, "128")) command += " '" + a + "'";
+  const auto r = test::run_process({"/bin/bash", "-c", command});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const auto report = read_json(out / "report.json");
+  const std::set<std::string> written = written_names(report);
+  EXPECT_TRUE(written.count("shade.ies") && written.count("shade.ldt")) << report["written"].dump();
+  ASSERT_GE(report["output_failures"].size(), 1u);
+  for (const auto& f : report["outputs"]["failed"]) {
+    const std::string path = f["path"].get<std::string>();
+    EXPECT_FALSE(std::filesystem::exists(path)) << path;  // nothing half written
+    EXPECT_TRUE(has(r.err, path)) << r.err;
+  }
+  // Nothing else is left in the folder: no temporary file of a failed write.
+  for (const auto& e : std::filesystem::directory_iterator(out))
+    EXPECT_TRUE(e.path().filename() == "report.json" || written.count(e.path().filename().string())) << e.path();
+}
+
+TEST(SimulateFailures, APreviewThatCannotBeWrittenLosesNothingElse) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  std::filesystem::create_directories(out / "preview.png");  // in the way
+  auto args = simulate_args(model, out);
+  args.push_back("--preview");
+  const auto r = gonio(args);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "preview.png")) << r.err;
+  const auto report = read_json(out / "report.json");
+  ASSERT_EQ(report["output_failures"].size(), 1u);
+  EXPECT_TRUE(has(report["output_failures"][0].get<std::string>(), "preview.png"));
+  const std::set<std::string> written = written_names(report);
+  for (const char* name : {"shade.ies", "shade.ldt", "farfield.exr", "farfield-latlong.exr", "shade.svg"})
+    EXPECT_TRUE(written.count(name)) << name;
+  EXPECT_FALSE(written.count("preview.png"));
+}
+
+TEST(SimulateFailures, AReportThatCannotBeWrittenNamesWhatWasWritten) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "out";
+  std::filesystem::create_directories(out / "report.json");  // in the way
+  const auto r = gonio(simulate_args(model, out));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(has(r.err, (out / "report.json").string())) << r.err;
+  for (const char* name : {"shade.ies", "shade.ldt", "farfield.exr", "farfield-latlong.exr", "shade.svg"})
+    EXPECT_TRUE(has(r.err, "written before the report failed: " + (out / name).string())) << r.err;
+}
+
+// A model that lets no light out: the run says so in words, and no number
+// it prints is "nan".
+TEST(Simulate, AModelThatLetsNoLightOutSaysSoPlainly) {
+  test::TempDir dir;
+  const auto model = dir / "sealed.gltf";
+  test::write_file(model, shade_model(0.0, 0.0, false, true));
+  const auto out = dir / "out";
+  const auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "20000", "--iterations",
+                        "1", "--face-size", "16", "--format", "ies,ldt,exr"});
+  EXPECT_TRUE(has(r.err, "no light leaves the model")) << r.err;
+  EXPECT_FALSE(has(r.out + r.err, "nan")) << r.out << r.err;
+  EXPECT_FALSE(has(r.out + r.err, "inf ")) << r.out << r.err;
+  const auto report = read_json(out / "report.json");
+  EXPECT_EQ(report["photons_escaped"], 0);
+  EXPECT_EQ(report["photons_emitted"], 20000);
+}
+
+// A model whose image uri leaves its folder: refused by every command that
+// loads models, naming model and uri, unless --allow-outside-paths
+// (io/gltf.h; each kind of uri and escape is tested in tests/io/gltf_test.cpp).
+TEST(Simulate, UrisOutsideTheModelsFolderNeedAllowOutsidePaths) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "model");
+  std::filesystem::create_directories(dir / "outside");
+  test::write_file(dir / "outside" / "tex.png", "not decoded");
+  nlohmann::json g = nlohmann::json::parse(shade_model());
+  g["images"] = nlohmann::json::array({nlohmann::json{{"uri", "../outside/tex.png"}}});
+  const auto model = dir / "model" / "shade.gltf";
+  test::write_file(model, g.dump());
+  const auto out = dir / "out";
+  for (const char* command : {"simulate", "bench"}) {
+    const auto r = gonio({command, model.string(), "--out", out.string(), "--photons", "20000"});
+    EXPECT_EQ(r.exit_code, 1) << command;
+    EXPECT_TRUE(has(r.err, model.string() + ": uri '../outside/tex.png' climbs out with '..', outside the "
+                           "model's folder")) << r.err;
+    EXPECT_TRUE(has(r.err, "--allow-outside-paths")) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
+  auto args = simulate_args(model, out);
+  args.push_back("--allow-outside-paths");
+  const auto r = gonio(args);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(out / "report.json"));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include <cmath>
+#include <filesystem>
 
 #include "io/exr.h"
 #include "io/ies.h"
@@ -143,6 +144,48 @@ TEST(SimulationOutputs, AnIsotropicFieldGivesIsotropicFilesWithExactEnergy) {
   ASSERT_EQ(ldt->distribution.direct_ratios.size(), 10u);
   EXPECT_GT(ldt->distribution.direct_ratios[9], ldt->distribution.direct_ratios[0]);
   EXPECT_LT(ldt->distribution.direct_ratios[9], 0.5);
+}
+
+// A file that cannot be written (the plot program missing, a path taken by
+// a folder) is listed with its error; every other file is still written,
+// read back and listed, and report.json's "outputs" names both kinds.
+TEST(SimulationOutputs, FilesThatCannotBeWrittenAreListedAndTheOthersWritten) {
+  const int n = 16;
+  sim::FarField field(n);
+  const sim::CubeMapGrid& grid = field.grid();
+  for (std::size_t t = 0; t < field.texel_count(); ++t) field.add(t, 800.0 * grid.texel_solid_angle(t) / (4 * M_PI), 1000);
+  const sim::SceneDesc scene = bare_scene(1000.0);
+  const sim::Ledger ledger = ledger_for(field, 1000.0);
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "iso.ldt");  // the LDT's path is a folder
+  OutputRequest req;
+  req.directory = dir.path().string();
+  req.stem = "iso";
+  req.formats = {OutputFormat::Ies, OutputFormat::Ldt, OutputFormat::Exr, OutputFormat::LatLong, OutputFormat::Plot};
+  req.grid = {15.0, 5.0};
+  req.run = {"test", "iso.gltf", 1000, 1, 10, "2024-01-01"};
+  const test::ScopedEnv no_gnuplot("GONIO_GNUPLOT", "/nonexistent/gnuplot");
+  auto result = write_outputs(field, scene, ledger, req);
+  ASSERT_TRUE(result.ok()) << result.error().message;
+  ASSERT_EQ(result->failed.size(), 2u);
+  EXPECT_EQ(result->failed[0].format, OutputFormat::Ldt);
+  EXPECT_EQ(result->failed[0].path, (dir / "iso.ldt").string());
+  EXPECT_EQ(result->failed[1].format, OutputFormat::Plot);
+  EXPECT_NE(to_string(result->failed[1].error).find("gnuplot"), std::string::npos) << to_string(result->failed[1].error);
+  EXPECT_FALSE(std::filesystem::exists(dir / "iso.svg"));
+  ASSERT_EQ(result->files.size(), 3u);
+  const OutputFormat written[] = {OutputFormat::Ies, OutputFormat::Exr, OutputFormat::LatLong};
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(result->files[i].format, written[i]);
+    EXPECT_TRUE(std::filesystem::is_regular_file(result->files[i].path)) << result->files[i].path;
+    EXPECT_NEAR(result->files[i].flux_lm, 800.0, 1e-3) << result->files[i].path;
+  }
+  const nlohmann::json j = to_json(*result, req.grid, 800.0);
+  ASSERT_EQ(j["files"].size(), 3u);
+  ASSERT_EQ(j["failed"].size(), 2u);
+  EXPECT_EQ(j["failed"][0]["format"], "ldt");
+  EXPECT_EQ(j["failed"][1]["path"], (dir / "iso.svg").string());
+  EXPECT_NE(j["failed"][1]["error"].get<std::string>().find("gnuplot"), std::string::npos);
 }
 
 // Books that close: 1000 photons of 1 lm, 600 escaped, 350 absorbed, 50 cut off.

@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# Fuzzes the readers with libFuzzer: `scripts/fuzz.sh [SECONDS]` (default 60
+# per harness) builds tests/fuzz/ with clang (AddressSanitizer +
+# UndefinedBehaviorSanitizer, coverage for libFuzzer) in build-fuzz/, gathers
+# the seeds, and runs each harness for SECONDS: the IES reader, the LDT
+# reader, the glTF loader (.gltf and .glb, with buffers and light profiles).
+# Fails on any finding (crash, sanitizer report, leak, timeout, broken round
+# trip) and names the input that caused it (build-fuzz/findings/).
+#
+# Seeds (build-fuzz/seeds/, made here, never committed): the corpus files in
+# ../shared/corpus, the sample profiles and models, tests/fuzz/seeds/, and
+# the hand-made hostile inputs of the reader tests (gonio_io_tests and
+# gonio_model_tests run once with $GONIO_FUZZ_SEEDS set, in build/). What
+# the fuzzer finds new stays in build-fuzz/corpus/ for the next run.
+# $GONIO_FUZZ_ONLY (ies, ldt or gltf) runs one harness.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+jobs=$(nproc 2>/dev/null || echo 2)
+harnesses=(ies ldt gltf)
+if [ -n "${GONIO_FUZZ_ONLY:-}" ]; then harnesses=("$GONIO_FUZZ_ONLY"); fi
+
+bash scripts/setup.sh
+
+echo "== fuzz build (clang, libFuzzer, AddressSanitizer + UndefinedBehaviorSanitizer)"
+bash scripts/configure.sh build-fuzz -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release -DGONIO_FUZZ=ON \
+  -DGONIO_BUILD_TESTS=OFF -DGONIO_BUILD_BENCHMARKS=OFF
+cmake --build build-fuzz -j"$jobs" --target "${harnesses[@]/#/gonio_fuzz_}"
+
+echo "== seeds"
+seeds=build-fuzz/seeds
+rm -rf "$seeds"
+mkdir -p "$seeds"/{ies,ldt,gltf} build-fuzz/findings
+corpus=${GONIO_CORPUS:-../shared/corpus}
+if [ -d "$corpus" ]; then
+  find "$corpus" -type f -iname '*.ies' -exec cp {} "$seeds/ies/" \;
+  find "$corpus" -type f -iname '*.ldt' -exec cp {} "$seeds/ldt/" \;
+elif [ "${CI:-}" = true ] || [ "${CI:-}" = 1 ]; then
+  echo "fuzz: the corpus ($corpus) is missing; under CI=true that is a failure" >&2
+  exit 1
+else
+  echo "fuzz: the corpus ($corpus) is missing: seeding without it" >&2
+fi
+cp samples/curves/*.ies "$seeds/ies/"
+cp samples/curves/*.ldt "$seeds/ldt/"
+cp tests/fuzz/seeds/gltf/* "$seeds/gltf/"
+# The reader tests' hand-made inputs (tests/support offer_fuzz_seed) and the
+# sample models, from the Release build.
+bash scripts/build.sh --target gonio_io_tests gonio_model_tests gonio_samples >/dev/null
+GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_io_tests --gtest_brief=1 \
+  --gtest_filter='Ies*:Ldt*' >/dev/null
+GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_model_tests --gtest_brief=1 \
+  --gtest_filter='Gltf*' >/dev/null
+# Each sample model with its buffer as the side file (tests/fuzz/gltf_fuzzer.cpp).
+for model in build/samples/*/*.gltf; do
+  stem=$(basename "$model" .gltf)
+  bin="${model%.gltf}.bin"
+  if [ -f "$bin" ] && [ "$(stat -c %s "$bin")" -le 393216 ]; then
+    { sed "s/\"$stem\.bin\"/\"fuzz.bin\"/" "$model"; printf '\n#gonio-fuzz-file\n'; cat "$bin"; } \
+      >"$seeds/gltf/sample-$stem.gltf"
+  fi
+done
+for h in "${harnesses[@]}"; do
+  echo "fuzz: $h: $(find "$seeds/$h" -type f | wc -l) seeds"
+done
+
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+status=0
+for h in "${harnesses[@]}"; do
+  echo "== fuzz $h (${seconds} s)"
+  mkdir -p "build-fuzz/corpus/$h"
+  log="build-fuzz/fuzz-$h.log"
+  set +e
+  # Inputs up to 128 KiB (the largest corpus file is 100 KB; the unit tests
+  # cover the huge ones), models with their buffer up to 512 KiB.
+  max_len=131072
+  if [ "$h" = gltf ]; then max_len=524288; fi
+  "./build-fuzz/tests/fuzz/gonio_fuzz_$h" "build-fuzz/corpus/$h" "$seeds/$h" \
+    -max_total_time="$seconds" -timeout=25 -rss_limit_mb=4096 -max_len="$max_len" \
+    -print_final_stats=1 -artifact_prefix="build-fuzz/findings/$h-" >"$log" 2>&1
+  rc=$?
+  set -e
+  # Executions, coverage (edges) and features at the end, from libFuzzer's
+  # own lines.
+  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)
+  last=$(grep -E '#[0-9]+.*cov: ' "$log" | tail -1 || true)
+  echo "fuzz: $h: ${execs:-?} executions; last status: ${last:-none}"
+  if [ "$rc" -ne 0 ]; then
+    echo "fuzz: $h: FINDING (exit $rc); the log is $log:" >&2
+    grep -E 'ERROR|SUMMARY|fuzz finding|Test unit written|runtime error' "$log" | head -20 >&2 || true
+    status=1
+  fi
+done
+exit "$status"
