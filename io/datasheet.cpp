@@ -15,6 +15,7 @@
 #include "io/intensity_diagram.h"
 #include "io/plot.h"
 #include "io/process.h"
+#include "photometry/format.h"
 #include "photometry/intensity_sampler.h"
 #include "photometry/planning.h"
 #include "photometry/resample.h"
@@ -47,14 +48,8 @@ std::string esc(const std::string& s) {
   return o;
 }
 
-std::string fmt(double v, int decimals) {
-  if (!std::isfinite(v)) return "–";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string s = buf;
-  if (s.rfind("-0", 0) == 0 && s.find_first_not_of("-0.") == std::string::npos) s = s.substr(1);
-  return s;
-}
+// A table cell: format_fixed, with a dash for an undefined value.
+std::string fmt(double v, int decimals) { return std::isfinite(v) ? format_fixed(v, decimals) : "–"; }
 
 std::string pct(double fraction, int decimals = 1) {
   return std::isfinite(fraction) ? fmt(100 * fraction, decimals) + " %" : "–";
@@ -128,6 +123,42 @@ std::string isolux_svg(const photometry::IntensitySampler& s, double h, double* 
     for (int i = 0; i < n; ++i)
       o << "<rect x=\"" << i * px << "\" y=\"" << j * px << "\" width=\"" << px << "\" height=\"" << px
         << "\" fill=\"" << heat(emax > 0 ? e[j * n + i] / emax : 0.0) << "\"/>";
+  // The isolux lines: marching squares over the texel centres, one path per
+  // level of the legend (below the maximum), interpolated along cell edges.
+  for (double rel : {0.5, 0.2, 0.1, 0.05, 0.02, 0.01}) {
+    const double level = rel * emax;
+    if (!(level > 0.0)) break;
+    std::ostringstream d;
+    auto at = [&](int i, int j) { return e[j * n + i]; };
+    auto point = [&](double i, double j) {
+      d << format_fixed((i + 0.5) * px, 2) << ' ' << format_fixed((j + 0.5) * px, 2);
+    };
+    for (int j = 0; j + 1 < n; ++j)
+      for (int i = 0; i + 1 < n; ++i) {
+        // Corners anticlockwise from the top left; the edges between them.
+        const double v[4] = {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+        const int ci[4] = {i, i + 1, i + 1, i}, cj[4] = {j, j, j + 1, j + 1};
+        double ex[4], ey[4];
+        int crossings = 0;
+        for (int k = 0; k < 4; ++k) {
+          const int l = (k + 1) % 4;
+          if ((v[k] >= level) == (v[l] >= level)) continue;
+          const double t = (level - v[k]) / (v[l] - v[k]);
+          ex[crossings] = ci[k] + t * (ci[l] - ci[k]);
+          ey[crossings] = cj[k] + t * (cj[l] - cj[k]);
+          ++crossings;
+        }
+        for (int k = 0; k + 1 < crossings; k += 2) {  // 2 crossings, or 4 at a saddle
+          d << 'M';
+          point(ex[k], ey[k]);
+          d << 'L';
+          point(ex[k + 1], ey[k + 1]);
+        }
+      }
+    if (d.tellp() > 0)
+      o << "\n<path class=\"isolux\" data-lx=\"" << format_number(level, 6) << "\" d=\"" << d.str()
+        << "\" fill=\"none\" stroke=\"#fff\" stroke-width=\"0.8\"/>";
+  }
   o << "\n<line x1=\"" << n * px / 2.0 << "\" y1=\"0\" x2=\"" << n * px / 2.0 << "\" y2=\"" << n * px
     << "\" stroke=\"#888\" stroke-width=\"0.5\"/><line x1=\"0\" y1=\"" << n * px / 2.0 << "\" x2=\"" << n * px
     << "\" y2=\"" << n * px / 2.0 << "\" stroke=\"#888\" stroke-width=\"0.5\"/>\n";

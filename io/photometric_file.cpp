@@ -11,6 +11,7 @@
 #include "io/text.h"
 #include "io/gldf.h"
 #include "io/xml.h"
+#include "photometry/format.h"
 #include "photometry/flux.h"
 
 namespace gonio::io {
@@ -28,30 +29,18 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-std::string num(double v, int digits = 6) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
-
 std::string describe_grid(const photometry::Distribution& c) {
   const auto& h = c.horizontal_deg;
   const auto& v = c.vertical_deg;
   const double c_step = h.size() > 1 ? h[1] - h[0] : 0.0;
   const double g_step = v.size() > 1 ? v[1] - v[0] : 0.0;
-  std::string s = "C " + num(h.front()) + " to " + num(h.back());
-  if (h.size() > 1) s += " every " + num(c_step);
+  std::string s = "C " + format_number(h.front()) + " to " + format_number(h.back());
+  if (h.size() > 1) s += " every " + format_number(c_step);
   s += " deg (" + std::to_string(h.size()) + " planes, " + photometry::to_string(c.symmetry) +
-       "), gamma " + num(v.front()) + " to " + num(v.back());
-  if (v.size() > 1) s += " every " + num(g_step);
+       "), gamma " + format_number(v.front()) + " to " + format_number(v.back());
+  if (v.size() > 1) s += " every " + format_number(g_step);
   s += " deg";
   return s;
-}
-
-Error failure(std::string message) {
-  Error e;
-  e.message = std::move(message);
-  return e;
 }
 
 }  // namespace
@@ -250,7 +239,7 @@ Result<std::string> encode_photometric_file(const photometry::Distribution& d,
                                             const PhotometricWriteOptions& options,
                                             std::vector<Finding>* warnings) {
   if (Status valid = photometry::validate(d); !valid.ok())
-    return failure("cannot write an invalid distribution: " + valid.error().message);
+    return make_error("cannot write an invalid distribution: " + valid.error().message);
   const bool resample = format != PhotometricFormat::Gldf &&
                         (options.always_resample || (format == PhotometricFormat::Ldt &&
                                                      d.type != photometry::PhotometricType::C));
@@ -258,7 +247,7 @@ Result<std::string> encode_photometric_file(const photometry::Distribution& d,
   const photometry::Distribution* source = &d;
   if (resample) {
     auto c = photometry::to_type_c(d, options.type_c_grid);
-    if (!c.ok()) return failure("cannot resample to Type C: " + c.error().message);
+    if (!c.ok()) return make_error("cannot resample to Type C: " + c.error().message);
     resampled = std::move(c).value();
     source = &resampled;
     if (warnings) {
@@ -267,8 +256,8 @@ Result<std::string> encode_photometric_file(const photometry::Distribution& d,
       std::string message =
           std::string("Type ") + photometry::to_string(d.type) +
           " photometry resampled onto a Type C grid: " + describe_grid(resampled) + "; flux " +
-          num(before, 7) + " lm -> " + num(after, 7) + " lm";
-      if (before > 0.0) message += " (" + num(100.0 * (after - before) / before, 3) + " %)";
+          format_number(before, 7) + " lm -> " + format_number(after, 7) + " lm";
+      if (before > 0.0) message += " (" + format_number(100.0 * (after - before) / before, 3) + " %)";
       if (format == PhotometricFormat::Ldt && d.type != photometry::PhotometricType::C)
         message += "; EULUMDAT holds Type C only";
       warnings->push_back({Severity::Warning, "type-c-resampled", std::move(message), {}});

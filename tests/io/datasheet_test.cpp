@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <regex>
+#include <vector>
 
 #include "tests/support/photometry_fixtures.h"
 #include "tests/support/test_support.h"
@@ -30,11 +33,7 @@ DatasheetEntry entry() {
 bool have_gnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
 
 TEST(Datasheet, HoldsEveryFigureAndEscapesText) {
-  if (!have_gnuplot()) {
-    const char* ci = std::getenv("CI");
-    if (ci && std::string(ci) == "true") FAIL() << "gnuplot is not installed";
-    GTEST_SKIP() << "gnuplot not installed (scripts/setup.sh installs it)";
-  }
+  if (!have_gnuplot()) GONIO_MISSING(std::string("gnuplot (scripts/setup.sh installs gnuplot-nox)"));
   auto html = datasheet_html({entry()});
   ASSERT_TRUE(html.ok()) << html.error().message;
   const std::string& h = html.value();
@@ -52,6 +51,41 @@ TEST(Datasheet, HoldsEveryFigureAndEscapesText) {
   ASSERT_TRUE(with.ok());
   EXPECT_NE(with.value().find("Energy ledger"), std::string::npos);
   EXPECT_NE(with.value().find("800.00 lm</td><td>80.00 %"), std::string::npos);
+}
+
+// The isolux lines of a Lambertian emitter (I = I0 cos γ) on the floor h
+// below: E = I0 cos⁴γ / h², so the line at a fraction f of the maximum is the
+// circle r = h tan(acos(f^¼)). Every vertex of the drawn lines lies on it to
+// within half a texel (61 texels over ±2h; px = 5 per texel in the SVG).
+TEST(Datasheet, IsoluxLinesAreTheClosedFormsCircles) {
+  if (!have_gnuplot()) GONIO_MISSING(std::string("gnuplot (scripts/setup.sh installs gnuplot-nox)"));
+  DatasheetOptions options;
+  options.mounting_height_m = 2.0;
+  auto html = datasheet_html({entry()}, options);
+  ASSERT_TRUE(html.ok()) << html.error().message;
+  const double h = options.mounting_height_m, half = 2 * h, cell = 2 * half / 61, px = 5;
+  const std::regex path_re("class=\"isolux\" data-lx=\"([^\"]+)\" d=\"([^\"]+)\"");
+  const std::regex point_re("[ML]([-0-9.]+) ([-0-9.]+)");
+  const std::string& text = html.value();
+  std::vector<double> levels;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), path_re); it != std::sregex_iterator(); ++it) {
+    levels.push_back(std::stod((*it)[1]));
+    const std::string d = (*it)[2];
+    int points = 0;
+    double r_expected = 0.0;
+    for (auto p = std::sregex_iterator(d.begin(), d.end(), point_re); p != std::sregex_iterator(); ++p, ++points) {
+      const double x = -half + std::stod((*p)[1]) / px * cell, y = half - std::stod((*p)[2]) / px * cell;
+      if (points == 0) r_expected = std::hypot(x, y);  // same for every point of the line
+      EXPECT_NEAR(std::hypot(x, y), r_expected, 0.5 * cell) << levels.back() << " lx";
+    }
+    EXPECT_GT(points, 8);
+    levels.back() = r_expected;
+  }
+  // 50, 20 and 10 % of the maximum lie within ±2h; 5 % reaches the corners.
+  ASSERT_GE(levels.size(), 3u);
+  const double fractions[3] = {0.5, 0.2, 0.1};
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(levels[k], h * std::tan(std::acos(std::pow(fractions[k], 0.25))), 0.5 * cell) << fractions[k];
 }
 
 TEST(Datasheet, InvalidDistributionNamesItsSource) {

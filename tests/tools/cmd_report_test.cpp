@@ -7,6 +7,7 @@
 #include <regex>
 #include <unistd.h>
 
+#include "tests/support/test_support.h"
 #include "tests/tools/cli_fixtures.h"
 
 namespace gonio {
@@ -41,13 +42,9 @@ std::string find_on_path(const std::string& program) {
 bool on_path(const char* program) { return !find_on_path(program).empty(); }
 
 // The tool is required under CI=true; elsewhere its absence skips, saying so.
-#define REQUIRE_TOOL(program)                                                        \
-  do {                                                                               \
-    if (!on_path(program)) {                                                         \
-      const char* ci = std::getenv("CI");                                            \
-      if (ci && std::string(ci) == "true") FAIL() << program << " is not installed"; \
-      GTEST_SKIP() << program << " not installed (scripts/setup.sh installs it)";    \
-    }                                                                                \
+#define REQUIRE_TOOL(program)                                                                        \
+  do {                                                                                               \
+    if (!on_path(program)) GONIO_MISSING(std::string(program) + " (scripts/setup.sh installs it)"); \
   } while (false)
 
 TEST(CliInfoPlanning, JsonHasTheIssuesKeysAndShapes) {
