@@ -37,7 +37,9 @@ photometry::Distribution c90_c270_lobe() {
 // The JSON a command prints; its exit code must be `expected_exit` (-1: any).
 json run_json(std::vector<std::string> args, int expected_exit = 0) {
   const test::ProcessResult r = test::gonio(args);
-  if (expected_exit >= 0) EXPECT_EQ(r.exit_code, expected_exit) << r.err;
+  if (expected_exit >= 0) {
+    EXPECT_EQ(r.exit_code, expected_exit) << r.err;
+  }
   return json::parse(r.out);
 }
 
