@@ -214,7 +214,9 @@ Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
 L3dGeometry l3d_from_scene(const sim::SceneDesc& scene) {
   L3dGeometry g;
   const photometry::PhotometricFrame& f = scene.frame;
-  const auto local = [&](const sim::Vec3f& p) { return f.to_local(Vec3{p.x, p.y, p.z}); };
+  const auto local = [&](const sim::Vec3f& p) {
+    return f.to_local(Vec3{static_cast<double>(p.x), static_cast<double>(p.y), static_cast<double>(p.z)});
+  };
   std::string obj = "# " + scene.name + ": " + std::string("written by Gonio ") + kVersion +
                     "; metres, X = C0, Y = C90, Z = zenith\no " + g.id + "\n";
   std::size_t base = 1;

@@ -29,6 +29,7 @@
 #include "io/gltf_material.h"
 #include "io/ies.h"
 #include "io/ldt.h"
+#include "photometry/format.h"
 #include "photometry/flux.h"
 #include "sim/affine.h"
 
@@ -38,16 +39,9 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// make_error() under the name this file's callers use (kept to keep this
-// file's diff small while other work edits it).
-Error error_at(const std::string& file, std::string message) {
-  return make_error(file, std::move(message));
-}
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
+// Three floats of an accessor (or a Vec3f) as a double vector.
+Vec3 widen(float x, float y, float z) {
+  return {static_cast<double>(x), static_cast<double>(y), static_cast<double>(z)};
 }
 
 // ---------------------------------------------------------------------------
@@ -75,10 +69,10 @@ Result<photometry::Distribution> parse_profile(std::string_view bytes, const std
 // Total luminous flux of a profile [lm] by solid-angle integration.
 Result<double> profile_flux_lm(const photometry::Distribution& d, const std::string& name) {
   if (Status valid = photometry::validate(d); !valid.ok())
-    return error_at(name, "invalid light profile: " + valid.error().message);
+    return make_error(name, "invalid light profile: " + valid.error().message);
   const double flux = photometry::total_flux_lm(d);
   if (!(std::isfinite(flux) && flux > 0.0))
-    return error_at(name, "the light profile emits no flux (" + num(flux) + " lm)");
+    return make_error(name, "the light profile emits no flux (" + format_number(flux) + " lm)");
   return flux;
 }
 
@@ -188,15 +182,15 @@ Status validate_glb(std::string_view bytes, const std::string& path,
   const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
   const std::size_t size = bytes.size();
   if (size < 12)
-    return error_at(path, "truncated .glb: " + std::to_string(size) +
+    return make_error(path, "truncated .glb: " + std::to_string(size) +
                              " bytes, shorter than the 12-byte header");
   const std::uint32_t version = read_u32le(p + 4);
   const std::uint32_t length = read_u32le(p + 8);
   if (version != 2)
-    return error_at(path, "GLB container version " + std::to_string(version) +
+    return make_error(path, "GLB container version " + std::to_string(version) +
                              "; only version 2 (glTF 2.0) is supported");
   if (length > size)
-    return error_at(path, "truncated .glb: the header declares " + std::to_string(length) +
+    return make_error(path, "truncated .glb: the header declares " + std::to_string(length) +
                              " bytes, the file has " + std::to_string(size));
   if (length < size)
     findings.push_back({Severity::Warning, "glb-trailing-bytes",
@@ -206,21 +200,21 @@ Status validate_glb(std::string_view bytes, const std::string& path,
   int chunk = 0;
   while (pos < length) {
     if (length - pos < 8)
-      return error_at(path, "truncated .glb: chunk " + std::to_string(chunk) +
+      return make_error(path, "truncated .glb: chunk " + std::to_string(chunk) +
                                " header at byte " + std::to_string(pos) + " is incomplete");
     const std::uint32_t chunk_length = read_u32le(p + pos);
     const std::uint32_t chunk_type = read_u32le(p + pos + 4);
     if (chunk_length > length - pos - 8)
-      return error_at(path, "truncated .glb: chunk " + std::to_string(chunk) + " declares " +
+      return make_error(path, "truncated .glb: chunk " + std::to_string(chunk) + " declares " +
                                std::to_string(chunk_length) + " bytes, only " +
                                std::to_string(length - pos - 8) + " remain");
     if (chunk == 0 && chunk_type != 0x4E4F534Au)
-      return error_at(path, "malformed .glb: the first chunk is not JSON");
-    if (chunk == 0 && chunk_length == 0) return error_at(path, "malformed .glb: empty JSON chunk");
+      return make_error(path, "malformed .glb: the first chunk is not JSON");
+    if (chunk == 0 && chunk_length == 0) return make_error(path, "malformed .glb: empty JSON chunk");
     pos += 8 + static_cast<std::size_t>(chunk_length);
     ++chunk;
   }
-  if (chunk == 0) return error_at(path, "malformed .glb: no JSON chunk");
+  if (chunk == 0) return make_error(path, "malformed .glb: no JSON chunk");
   return Ok{};
 }
 
@@ -349,7 +343,7 @@ class Loader {
   Result<sim::SceneDesc> load();
 
  private:
-  Error fail(std::string message) const { return error_at(path_, std::move(message)); }
+  Error fail(std::string message) const { return make_error(path_, std::move(message)); }
   void note(Severity s, const char* code, std::string message) {
     findings_.push_back({s, code, std::move(message), {path_}});
   }
@@ -702,7 +696,7 @@ Result<sim::Affine> Loader::local_transform(const tinygltf::Node& node, const st
     if (!(len > 1e-12)) return fail(what + ": 'rotation' is a zero quaternion");
     if (std::abs(len - 1.0) > 1e-3)
       note(Severity::Warning, "rotation-not-unit",
-           what + ": 'rotation' quaternion has length " + num(len) + "; normalised");
+           what + ": 'rotation' quaternion has length " + format_number(len) + "; normalised");
     qx /= len;
     qy /= len;
     qz /= len;
@@ -870,7 +864,7 @@ Result<std::vector<float>> Loader::read_floats(int index, int type, const std::s
   for (std::size_t i = 0; i < out.size(); ++i)
     if (!std::isfinite(out[i]))
       return fail(what + ": element " + std::to_string(i / comps) + " is not finite (" +
-                  num(static_cast<double>(out[i])) + ")");
+                  format_number(static_cast<double>(out[i])) + ")");
   return out;
 }
 
@@ -970,7 +964,7 @@ Result<std::uint32_t> Loader::material(int index) {
     }
     if (m.emissive_strength < 0.0) {
       note(Severity::Warning, "material-factor-range",
-           what + ": emissiveStrength " + num(m.emissive_strength) + " < 0, using 0");
+           what + ": emissiveStrength " + format_number(m.emissive_strength) + " < 0, using 0");
       m.emissive_strength = 0.0;
     }
     if (textured)
@@ -1136,7 +1130,7 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
   for (std::size_t k = 0; k < used.size(); ++k) {
     const std::size_t v = used[k];
     const Vec3 p =
-        world.point({(*positions)[3 * v], (*positions)[3 * v + 1], (*positions)[3 * v + 2]});
+        world.point(widen((*positions)[3 * v], (*positions)[3 * v + 1], (*positions)[3 * v + 2]));
     const sim::Vec3f f{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
     if (!(std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z)))
       return fail(what + ": vertex " + std::to_string(v) + " is not finite in world space");
@@ -1158,7 +1152,7 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
       for (std::size_t k = 0; k < used.size() && usable; ++k) {
         const std::size_t v = used[k];
         const Vec3 n =
-            world.normal({(*normals)[3 * v], (*normals)[3 * v + 1], (*normals)[3 * v + 2]});
+            world.normal(widen((*normals)[3 * v], (*normals)[3 * v + 1], (*normals)[3 * v + 2]));
         const double len = length(n);
         if (!(len > 0.0) || !std::isfinite(len)) {
           usable = false;
@@ -1182,7 +1176,7 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
     for (std::size_t k = 0; k < used.size(); ++k) {
       const std::size_t v = used[k];
       const Vec3 t =
-          world.linear({(*tangents)[4 * v], (*tangents)[4 * v + 1], (*tangents)[4 * v + 2]});
+          world.linear(widen((*tangents)[4 * v], (*tangents)[4 * v + 1], (*tangents)[4 * v + 2]));
       const double len = length(t);
       if (!(len > 0.0) || !std::isfinite(len)) {
         note(Severity::Warning, "bad-tangents",
@@ -1209,7 +1203,7 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
     for (std::size_t k = 0; k < mesh.indices.size(); k += 3) {
       auto p = [&](std::size_t j) {
         const sim::Vec3f& f = mesh.positions[mesh.indices[k + j]];
-        return Vec3{f.x, f.y, f.z};
+        return widen(f.x, f.y, f.z);
       };
       area += 0.5 * length(cross(p(1) - p(0), p(2) - p(0)));
     }
@@ -1275,7 +1269,7 @@ Status Loader::add_khr_light(const json& ext, const sim::Affine& world,
   Result<std::optional<double>> intensity = number(l, "intensity", what);
   if (!intensity.ok()) return intensity.error();
   const double I = intensity->value_or(1.0);
-  if (I < 0.0) return fail(what + ": intensity " + num(I) + " is negative");
+  if (I < 0.0) return fail(what + ": intensity " + format_number(I) + " is negative");
   Result<std::optional<Rgb>> color = rgb(l, "color", what);
   if (!color.ok()) return color.error();
   if (*color && ((*color)->r != 1.0 || (*color)->g != 1.0 || (*color)->b != 1.0))
@@ -1315,9 +1309,9 @@ Status Loader::add_khr_light(const json& ext, const sim::Affine& world,
       outer = out->value_or(outer);
     }
     if (!(outer > 0.0 && outer <= kPi / 2.0 + 1e-9))
-      return fail(what + ": outerConeAngle " + num(outer) + " rad must lie in (0, pi/2]");
+      return fail(what + ": outerConeAngle " + format_number(outer) + " rad must lie in (0, pi/2]");
     outer = std::min(outer, kPi / 2.0);
-    if (inner < 0.0) return fail(what + ": innerConeAngle " + num(inner) + " rad is negative");
+    if (inner < 0.0) return fail(what + ": innerConeAngle " + format_number(inner) + " rad is negative");
     if (inner >= outer)
       note(Severity::Warning, "spot-cone",
            what + ": innerConeAngle >= outerConeAngle; the cone has a hard edge at the outer angle");
@@ -1448,7 +1442,7 @@ Status Loader::add_ies_light(const json& ext, const sim::Affine& world,
   Result<std::optional<double>> mult = number(ext, "multiplier", what);
   if (!mult.ok()) return mult.error();
   const double multiplier = mult->value_or(1.0);
-  if (multiplier < 0.0) return fail(what + ": multiplier " + num(multiplier) + " is negative");
+  if (multiplier < 0.0) return fail(what + ": multiplier " + format_number(multiplier) + " is negative");
   Result<std::optional<Rgb>> color = rgb(ext, "color", what);
   if (!color.ok()) return color.error();
   if (*color && ((*color)->r != 1.0 || (*color)->g != 1.0 || (*color)->b != 1.0))
@@ -1625,9 +1619,9 @@ Result<sim::SceneDesc> load_gltf(const std::string& path, std::vector<Finding>* 
   try {
     return loader.load();
   } catch (const std::bad_alloc&) {
-    return error_at(path, "out of memory while loading the model");
+    return make_error(path, "out of memory while loading the model");
   } catch (const std::exception& e) {
-    return error_at(path, std::string("unexpected failure while loading the model: ") + e.what());
+    return make_error(path, std::string("unexpected failure while loading the model: ") + e.what());
   }
 }
 
