@@ -33,6 +33,11 @@ constexpr std::size_t kLampTypeChars = 24;
 constexpr std::size_t kColorChars = 16;
 constexpr std::size_t kColorRenderingChars = 6;
 
+// Whether a first line starts with IES LM-63's format identifier.
+bool starts_like_ies(std::string_view line) {
+  return line.rfind("IESNA", 0) == 0 || line.rfind("IES:LM-63", 0) == 0;
+}
+
 std::string_view trim(std::string_view s) {
   const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; };
   while (!s.empty() && blank(s.front())) s.remove_prefix(1);
@@ -115,6 +120,8 @@ class FieldReader {
     return lines_.empty() ? 1 : lines_.back().number + 1;
   }
   std::size_t remaining() const { return lines_.size() - next_; }
+  // The next line as it stands in the file, untrimmed ("" at the end).
+  std::string_view next_raw() const { return next_ < lines_.size() ? std::string_view(lines_[next_].text) : ""; }
   const Error& error() const { return error_; }
   std::vector<Finding>& findings() { return findings_; }
 
@@ -231,9 +238,12 @@ class LdtReader {
 
   // 1-12: identification, symmetry, the counts and steps of the grid.
   Status identification() {
+    // An IES file's first line starts with its format identifier; a company
+    // name with those letters after a space is EULUMDAT's (what the writer
+    // makes of one).
+    if (starts_like_ies(r_.next_raw()))
+      return fail(1, "this is an IES LM-63 file (" + shown(std::string(trim(r_.next_raw()))) + "), not EULUMDAT");
     if (!r_.text(&company_, "the company identification", kTextChars)) return r_.error();
-    if (company_.rfind("IESNA", 0) == 0 || company_.rfind("IES:LM-63", 0) == 0)
-      return fail(1, "this is an IES LM-63 file (" + shown(company_) + "), not EULUMDAT");
 
     if (!r_.integer(&ityp_, "the type indicator Ityp (0-3)", 0, 3)) return r_.error();
     isym_line_ = r_.line();
@@ -1048,7 +1058,11 @@ class LdtWriter {
 
   // 1-12: identification, symmetry, the counts and steps of the grid.
   void identification() {
-    w_.text(slots_[0].value, kTextChars, "the company (MANUFAC)");
+    // A company name that starts like an IES file's first line is written
+    // after a space, so that a reader does not take the file for IES (it
+    // trims the space away: the name reads back the same).
+    const std::string& company = slots_[0].value;
+    w_.text(starts_like_ies(company) ? " " + company : company, kTextChars, "the company (MANUFAC)");
     w_.integer(ityp_);
     w_.integer(layout_.isym);
     w_.integer(static_cast<long long>(layout_.c_list.size()));

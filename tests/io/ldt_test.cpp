@@ -682,6 +682,32 @@ TEST(LdtWrite, FuzzFoundHugeValuesAreWrittenSoThatTheyReadBack) {
     EXPECT_NEAR(again.distribution.candela[i], f.distribution.candela[i], 1e-11 * std::abs(f.distribution.candela[i]));
 }
 
+// Found by tests/fuzz/ldt_fuzzer.cpp: a company line "\x05<tabs>IESNA…"
+// was read (the control character is no blank), written with the control
+// character as a space, and the file read back trimmed to "IESNA…", which
+// the reader took for an IES file. The reader now looks at the line as it
+// stands; the writer puts a company name that starts like an IES file after
+// a space, so that it reads back unchanged.
+TEST(LdtWrite, FuzzFoundACompanyThatStartsLikeAnIesFileReadsBack) {
+  for (const std::string company : {std::string("\x05\t\tIESNA\t"), std::string("IESNA Labs"),
+                                    std::string("IES:LM-63 test house")}) {
+    std::vector<std::string> l = lines_of(small_spec());
+    l[0] = " " + company;  // read: the leading space keeps it EULUMDAT
+    const LdtFile f = parse_ok(join(l));
+    auto written = write_ldt(f.distribution, {}, nullptr);
+    ASSERT_TRUE(written.ok()) << written.error().message;
+    const LdtFile again = parse_ok(*written);
+    if (company[0] != '\x05') EXPECT_EQ(keyword(again.distribution, "MANUFAC"), company);
+    EXPECT_EQ(again.distribution.candela, f.distribution.candela);
+  }
+  // An IES file's own first line is still refused, saying what it is.
+  std::vector<std::string> l = lines_of(small_spec());
+  l[0] = "IESNA:LM-63-2002";
+  auto r = parse_ldt(join(l), "x.ldt");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("IES LM-63 file"), std::string::npos) << r.error().message;
+}
+
 TEST(LdtWrite, RoundTripKeepsEveryField) {
   const Distribution d = model_c0_c180();
   std::vector<Finding> w;
