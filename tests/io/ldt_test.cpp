@@ -689,7 +689,7 @@ TEST(LdtWrite, FuzzFoundHugeValuesAreWrittenSoThatTheyReadBack) {
 // stands; the writer puts a company name that starts like an IES file after
 // a space, so that it reads back unchanged.
 TEST(LdtWrite, FuzzFoundACompanyThatStartsLikeAnIesFileReadsBack) {
-  for (const std::string company : {std::string("\x05\t\tIESNA\t"), std::string("IESNA Labs"),
+  for (const std::string& company : {std::string("\x05\t\tIESNA\t"), std::string("IESNA Labs"),
                                     std::string("IES:LM-63 test house")}) {
     std::vector<std::string> l = lines_of(small_spec());
     l[0] = " " + company;  // read: the leading space keeps it EULUMDAT
@@ -697,7 +697,9 @@ TEST(LdtWrite, FuzzFoundACompanyThatStartsLikeAnIesFileReadsBack) {
     auto written = write_ldt(f.distribution, {}, nullptr);
     ASSERT_TRUE(written.ok()) << written.error().message;
     const LdtFile again = parse_ok(*written);
-    if (company[0] != '\x05') EXPECT_EQ(keyword(again.distribution, "MANUFAC"), company);
+    if (company[0] != '\x05') {
+      EXPECT_EQ(keyword(again.distribution, "MANUFAC"), company);
+    }
     EXPECT_EQ(again.distribution.candela, f.distribution.candela);
   }
   // An IES file's own first line is still refused, saying what it is.
