@@ -211,7 +211,9 @@ Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
 
 // ------------------------------------------------------------------ writing
 
-L3dGeometry l3d_from_scene(const sim::SceneDesc& scene) {
+L3dGeometry l3d_from_scene(const sim::SceneDesc& model) {
+  // L3D's OBJ is flat geometry: every instance becomes a mesh of its own.
+  const sim::SceneDesc scene = sim::flattened(model);
   L3dGeometry g;
   const photometry::PhotometricFrame& f = scene.frame;
   const auto local = [&](const sim::Vec3f& p) {

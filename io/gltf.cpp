@@ -316,10 +316,10 @@ const std::set<std::string> kSupportedExtensions = {
     "KHR_materials_ior",            "KHR_materials_specular",
     "KHR_materials_diffuse_transmission", "KHR_materials_volume",
     "KHR_texture_transform",  // textures are not read, so their transform is moot
+    "EXT_mesh_gpu_instancing",
 };
 const std::set<std::string> kGeometryExtensions = {
-    "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization",
-    "EXT_mesh_gpu_instancing"};
+    "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"};
 
 struct IesLight {
   json def;
@@ -333,6 +333,13 @@ struct IesLight {
 struct ElementSource {
   const unsigned char* data = nullptr;  // null: zeros (no bufferView)
   std::size_t stride = 0;
+};
+
+// One placement of a glTF mesh: a node, or one copy of an
+// EXT_mesh_gpu_instancing node.
+struct Copy {
+  sim::Affine world;
+  std::string name;
 };
 
 class Loader {
@@ -362,9 +369,19 @@ class Loader {
   Status read_root_lights();
   Result<std::vector<int>> root_nodes();
   Result<sim::Affine> local_transform(const tinygltf::Node& node, const std::string& what);
+  Status count_mesh_uses(const std::vector<int>& roots);
+  Result<std::vector<Copy>> gpu_instances(const json& ext, const sim::Affine& world,
+                                          const std::string& node_name, const std::string& what);
   Status visit_node(int index, const sim::Affine& world);
+  Result<std::optional<sim::Mesh>> primitive_mesh(const tinygltf::Primitive& prim,
+                                                  const std::string& what,
+                                                  const sim::Affine& transform);
   Status add_primitive(const tinygltf::Node& node, int node_index, int mesh_index, int prim_index,
-                       const sim::Affine& world, std::vector<std::size_t>& area_emitters);
+                       const sim::Affine& world, std::vector<std::size_t>& area_emitters,
+                       const std::vector<Copy>* copies);
+  void add_area_emitter(std::uint32_t mesh_id, std::uint32_t instance, const sim::Mesh& world_mesh,
+                        const std::string& name, const std::string& what,
+                        std::vector<std::size_t>& area_emitters);
   Status add_khr_light(const json& ext, const sim::Affine& world, const std::string& node_what,
                        std::optional<double> node_flux, std::vector<std::size_t>& emitters);
   Status add_ies_light(const json& ext, const sim::Affine& world, const std::string& node_what,
@@ -404,7 +421,12 @@ class Loader {
   std::vector<IesLight> ies_lights_;
   std::map<int, std::uint32_t> materials_;  // glTF material (−1 default) → scene material
   std::vector<char> visited_;
-  std::size_t triangles_ = 0;
+  std::size_t triangles_ = 0;  // unique: each instanced primitive once
+  // Instancing: how often each glTF mesh is placed in the scene (nodes, and
+  // EXT_mesh_gpu_instancing copies); the scene mesh made of each primitive
+  // of a mesh placed more than once (nullopt: the primitive has no triangles).
+  std::vector<std::size_t> mesh_uses_;
+  std::map<std::pair<int, int>, std::optional<std::uint32_t>> prototypes_;
 };
 
 Result<json> Loader::parse_blob(const std::string& text, const std::string& what) const {
@@ -1023,16 +1045,12 @@ Result<std::uint32_t> Loader::material(int index) {
   return id;
 }
 
-Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mesh_index,
-                             int prim_index, const sim::Affine& world,
-                             std::vector<std::size_t>& area_emitters) {
-  const auto& gm = model_.meshes[static_cast<std::size_t>(mesh_index)];
-  const auto& prim = gm.primitives[static_cast<std::size_t>(prim_index)];
-  const std::string mesh_what = gm.name.empty()
-                                    ? "mesh #" + std::to_string(mesh_index)
-                                    : "mesh '" + gm.name + "' (#" + std::to_string(mesh_index) + ")";
-  const std::string what =
-      node_what(node_index) + ", " + mesh_what + ", primitive " + std::to_string(prim_index);
+// The primitive's triangles as a scene mesh in the frame `transform` takes
+// its vertices to (the world, or the glTF mesh's own frame for instancing);
+// nullopt when it has none. Name left empty.
+Result<std::optional<sim::Mesh>> Loader::primitive_mesh(const tinygltf::Primitive& prim,
+                                                        const std::string& what,
+                                                        const sim::Affine& world) {
 
   switch (prim.mode) {
     case TINYGLTF_MODE_POINTS:
@@ -1098,7 +1116,7 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
   }
   if (tri.empty()) {
     note(Severity::Warning, "empty-primitive", what + " has no triangles");
-    return Ok{};
+    return std::optional<sim::Mesh>();
   }
   triangles_ += tri.size() / 3;
   if (triangles_ > kMaxTriangles)
@@ -1106,9 +1124,6 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
                 " triangles, more than Gonio loads");
 
   sim::Mesh mesh;
-  mesh.name = (node.name.empty() ? "node-" + std::to_string(node_index) : node.name) + "/" +
-              (gm.name.empty() ? "mesh-" + std::to_string(mesh_index) : gm.name) + "/" +
-              std::to_string(prim_index);
 
   const double det = world.determinant();
   const bool singular = !(std::abs(det) > 1e-300);
@@ -1196,32 +1211,101 @@ Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mes
   if (!mat.ok()) return mat.error();
   mesh.material = *mat;
 
-  const auto mesh_id = static_cast<std::uint32_t>(scene_.meshes.size());
-  const Emission emission = emission_[*mat];
-  if (emission.luminance_cd_m2 > 0.0) {
-    double area = 0.0;
-    for (std::size_t k = 0; k < mesh.indices.size(); k += 3) {
-      auto p = [&](std::size_t j) {
-        const sim::Vec3f& f = mesh.positions[mesh.indices[k + j]];
-        return widen(f.x, f.y, f.z);
-      };
-      area += 0.5 * length(cross(p(1) - p(0), p(2) - p(0)));
+  return std::optional<sim::Mesh>(std::move(mesh));
+}
+
+void Loader::add_area_emitter(std::uint32_t mesh_id, std::uint32_t instance, const sim::Mesh& world_mesh,
+                              const std::string& name, const std::string& what,
+                              std::vector<std::size_t>& area_emitters) {
+  const Emission emission = emission_[world_mesh.material];
+  if (!(emission.luminance_cd_m2 > 0.0)) return;
+  double area = 0.0;
+  for (std::size_t k = 0; k < world_mesh.indices.size(); k += 3) {
+    auto p = [&](std::size_t j) {
+      const sim::Vec3f& f = world_mesh.positions[world_mesh.indices[k + j]];
+      return widen(f.x, f.y, f.z);
+    };
+    area += 0.5 * length(cross(p(1) - p(0), p(2) - p(0)));
+  }
+  if (!(area > 0.0)) {
+    note(Severity::Warning, "emitter-without-area",
+         what + ": emissive primitive has zero area and emits nothing");
+    return;
+  }
+  sim::Emitter e;
+  e.kind = sim::Emitter::Kind::Area;
+  e.name = name;
+  e.mesh = mesh_id;
+  e.instance = instance;
+  e.two_sided = emission.two_sided;
+  e.flux_lm = kPi * emission.luminance_cd_m2 * area * (e.two_sided ? 2.0 : 1.0);
+  area_emitters.push_back(scene_.emitters.size());
+  scene_.emitters.push_back(std::move(e));
+}
+
+Status Loader::add_primitive(const tinygltf::Node& node, int node_index, int mesh_index,
+                             int prim_index, const sim::Affine& world,
+                             std::vector<std::size_t>& area_emitters,
+                             const std::vector<Copy>* copies) {
+  const auto& gm = model_.meshes[static_cast<std::size_t>(mesh_index)];
+  const auto& prim = gm.primitives[static_cast<std::size_t>(prim_index)];
+  const std::string mesh_what = gm.name.empty()
+                                    ? "mesh #" + std::to_string(mesh_index)
+                                    : "mesh '" + gm.name + "' (#" + std::to_string(mesh_index) + ")";
+  const std::string what =
+      node_what(node_index) + ", " + mesh_what + ", primitive " + std::to_string(prim_index);
+  const std::string mesh_name =
+      (gm.name.empty() ? "mesh-" + std::to_string(mesh_index) : gm.name) + "/" + std::to_string(prim_index);
+
+  if (!copies) {
+    // Placed once: world geometry.
+    Result<std::optional<sim::Mesh>> mesh = primitive_mesh(prim, what, world);
+    if (!mesh.ok()) return mesh.error();
+    if (!*mesh) return Ok{};
+    sim::Mesh& m = **mesh;
+    m.name = (node.name.empty() ? "node-" + std::to_string(node_index) : node.name) + "/" + mesh_name;
+    const auto mesh_id = static_cast<std::uint32_t>(scene_.meshes.size());
+    add_area_emitter(mesh_id, sim::kNoInstance, m, m.name, what, area_emitters);
+    scene_.meshes.push_back(std::move(m));
+    return Ok{};
+  }
+
+  // Placed several times: the primitive is read once, in the glTF mesh's
+  // own frame (times the model's unit), and each copy is an instance.
+  const auto key = std::make_pair(mesh_index, prim_index);
+  auto it = prototypes_.find(key);
+  if (it == prototypes_.end()) {
+    Result<std::optional<sim::Mesh>> mesh = primitive_mesh(prim, mesh_what + ", primitive " + std::to_string(prim_index), sim::Affine{});
+    if (!mesh.ok()) return mesh.error();
+    std::optional<std::uint32_t> id;
+    if (*mesh) {
+      (*mesh)->name = mesh_name;
+      (*mesh)->instanced = true;
+      id = static_cast<std::uint32_t>(scene_.meshes.size());
+      scene_.meshes.push_back(std::move(**mesh));
     }
-    if (area > 0.0) {
-      sim::Emitter e;
-      e.kind = sim::Emitter::Kind::Area;
-      e.name = mesh.name;
-      e.mesh = mesh_id;
-      e.two_sided = emission.two_sided;
-      e.flux_lm = kPi * emission.luminance_cd_m2 * area * (e.two_sided ? 2.0 : 1.0);
-      area_emitters.push_back(scene_.emitters.size());
-      scene_.emitters.push_back(std::move(e));
-    } else {
-      note(Severity::Warning, "emitter-without-area",
-           what + ": emissive primitive has zero area and emits nothing");
+    it = prototypes_.emplace(key, id).first;
+  }
+  if (!it->second) return Ok{};
+  const std::uint32_t proto = *it->second;
+  for (const Copy& c : *copies) {
+    const double det = c.world.determinant();
+    if (!(std::abs(det) > 1e-300)) {
+      note(Severity::Warning, "singular-transform",
+           what + " (" + c.name + "): the transform is singular; this copy is flat and left out");
+      continue;
+    }
+    if (scene_.instances.size() >= kMaxInstances)
+      return fail(what + ": the model places meshes more than " + std::to_string(kMaxInstances) +
+                  " times, more than Gonio loads");
+    const auto instance = static_cast<std::uint32_t>(scene_.instances.size());
+    scene_.instances.push_back({proto, c.world, c.name});
+    if (emission_[scene_.meshes[proto].material].luminance_cd_m2 > 0.0) {
+      sim::Mesh copy = scene_.meshes[proto];
+      sim::transform(copy, c.world);
+      add_area_emitter(proto, instance, copy, c.name + "/" + mesh_name, what, area_emitters);
     }
   }
-  scene_.meshes.push_back(std::move(mesh));
   return Ok{};
 }
 
@@ -1504,6 +1588,82 @@ Status Loader::add_ies_light(const json& ext, const sim::Affine& world,
   return Ok{};
 }
 
+// How often each mesh is placed by the scene's nodes (an
+// EXT_mesh_gpu_instancing node places it once per copy). Nodes reached twice
+// are left to the main walk, which names the cycle.
+Status Loader::count_mesh_uses(const std::vector<int>& roots) {
+  mesh_uses_.assign(model_.meshes.size(), 0);
+  std::vector<char> seen(model_.nodes.size(), 0);
+  std::vector<int> stack(roots.rbegin(), roots.rend());
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    if (seen[static_cast<std::size_t>(i)]) continue;
+    seen[static_cast<std::size_t>(i)] = 1;
+    const auto& node = model_.nodes[static_cast<std::size_t>(i)];
+    if (node.mesh >= 0 && static_cast<std::size_t>(node.mesh) < mesh_uses_.size())
+      mesh_uses_[static_cast<std::size_t>(node.mesh)] += 1;
+    for (int c : node.children) stack.push_back(c);
+  }
+  if (!options_.instancing) std::fill(mesh_uses_.begin(), mesh_uses_.end(), std::size_t{1});
+  return Ok{};
+}
+
+// The copies of an EXT_mesh_gpu_instancing node: world × T·R·S of each,
+// from the TRANSLATION, ROTATION (unit quaternion) and SCALE accessors
+// (float; any of them may be absent, the others' counts must agree).
+Result<std::vector<Copy>> Loader::gpu_instances(const json& ext, const sim::Affine& world,
+                                                const std::string& node_name, const std::string& what) {
+  const std::string ew = what + " EXT_mesh_gpu_instancing";
+  if (!ext.is_object() || !ext.contains("attributes") || !ext["attributes"].is_object())
+    return fail(ew + " needs an 'attributes' object");
+  const json& attributes = ext["attributes"];
+  std::vector<float> t, r, sc;
+  std::optional<std::size_t> count;
+  auto read = [&](const char* key, int type, std::size_t comps, std::vector<float>& out) -> Status {
+    auto it = attributes.find(key);
+    if (it == attributes.end()) return Ok{};
+    if (!it->is_number_integer()) return fail(ew + ": attribute " + key + " must be an accessor index");
+    Result<std::vector<float>> v = read_floats(it->get<int>(), type, ew + " " + key);
+    if (!v.ok()) return v.error();
+    const std::size_t n = v->size() / comps;
+    if (count && *count != n)
+      return fail(ew + ": attribute " + key + " has " + std::to_string(n) + " elements, another " +
+                  std::to_string(*count));
+    count = n;
+    out = std::move(*v);
+    return Ok{};
+  };
+  if (Status st = read("TRANSLATION", TINYGLTF_TYPE_VEC3, 3, t); !st.ok()) return st.error();
+  if (Status st = read("ROTATION", TINYGLTF_TYPE_VEC4, 4, r); !st.ok()) return st.error();
+  if (Status st = read("SCALE", TINYGLTF_TYPE_VEC3, 3, sc); !st.ok()) return st.error();
+  for (const auto& item : attributes.items()) {
+    const std::string& key = item.key();
+    if (key != "TRANSLATION" && key != "ROTATION" && key != "SCALE")
+      note(Severity::Info, "instancing-attribute-ignored",
+           ew + ": attribute " + key + " is not a transform; ignored");
+  }
+  if (!count) return fail(ew + " has none of TRANSLATION, ROTATION and SCALE");
+  if (*count > kMaxInstances)
+    return fail(ew + ": " + std::to_string(*count) + " copies, more than Gonio loads (" +
+                std::to_string(kMaxInstances) + ")");
+  std::vector<Copy> copies;
+  copies.reserve(*count);
+  for (std::size_t i = 0; i < *count; ++i) {
+    tinygltf::Node trs;
+    if (!t.empty()) trs.translation = {t[3 * i], t[3 * i + 1], t[3 * i + 2]};
+    if (!r.empty()) trs.rotation = {r[4 * i], r[4 * i + 1], r[4 * i + 2], r[4 * i + 3]};
+    if (!sc.empty()) trs.scale = {sc[3 * i], sc[3 * i + 1], sc[3 * i + 2]};
+    const std::string name = node_name + "[" + std::to_string(i) + "]";
+    Result<sim::Affine> local = local_transform(trs, ew + " copy " + std::to_string(i));
+    if (!local.ok()) return local.error();
+    const sim::Affine w = world * *local;
+    if (!all_finite(w)) return fail(ew + " copy " + std::to_string(i) + ": the world transform is not finite");
+    copies.push_back({w, name});
+  }
+  return copies;
+}
+
 Status Loader::visit_node(int index, const sim::Affine& world) {
   const auto& node = model_.nodes[static_cast<std::size_t>(index)];
   const std::string what = node_what(index);
@@ -1520,22 +1680,39 @@ Status Loader::visit_node(int index, const sim::Affine& world) {
     node_flux = *f;
   }
 
+  Result<json> ext = parse_blob(node.extensions_json_string, what + " extensions");
+  if (!ext.ok()) return ext.error();
+
   std::vector<std::size_t> area;
   if (node.mesh >= 0) {
     if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size())
       return fail(what + ": mesh " + std::to_string(node.mesh) + " does not exist (" +
                   std::to_string(model_.meshes.size()) + " meshes)");
+    const std::string node_name = node.name.empty() ? "node-" + std::to_string(index) : node.name;
+    // A mesh placed more than once is instanced; so are the copies of
+    // EXT_mesh_gpu_instancing (the node itself then places none).
+    std::optional<std::vector<Copy>> copies;
+    if (ext->is_object() && ext->contains("EXT_mesh_gpu_instancing")) {
+      Result<std::vector<Copy>> gpu = gpu_instances(ext->at("EXT_mesh_gpu_instancing"), world, node_name, what);
+      if (!gpu.ok()) return gpu.error();
+      copies = std::move(*gpu);
+    } else if (mesh_uses_[static_cast<std::size_t>(node.mesh)] > 1) {
+      copies = std::vector<Copy>{{world, node_name}};
+    }
     const auto& gm = model_.meshes[static_cast<std::size_t>(node.mesh)];
     for (std::size_t p = 0; p < gm.primitives.size(); ++p)
-      if (Status s = add_primitive(node, index, node.mesh, static_cast<int>(p), world, area); !s.ok())
+      if (Status s = add_primitive(node, index, node.mesh, static_cast<int>(p), world, area,
+                                   copies ? &*copies : nullptr);
+          !s.ok())
         return s;
+  } else if (ext->is_object() && ext->contains("EXT_mesh_gpu_instancing")) {
+    note(Severity::Warning, "instancing-without-mesh",
+         what + ": EXT_mesh_gpu_instancing on a node without a mesh; ignored");
   }
   if (node.skin >= 0)
     note(Severity::Warning, "skin-ignored",
          what + ": skinning is ignored; the mesh is placed by the node's transform");
 
-  Result<json> ext = parse_blob(node.extensions_json_string, what + " extensions");
-  if (!ext.ok()) return ext.error();
   const bool has_khr = ext->is_object() && ext->contains("KHR_lights_punctual");
   const bool has_ies = ext->is_object() && ext->contains("EXT_lights_ies");
   if (node_flux && (int{has_khr} + int{has_ies} + int{!area.empty()}) > 1)
@@ -1571,6 +1748,7 @@ Result<sim::SceneDesc> Loader::load() {
 
   Result<std::vector<int>> roots = root_nodes();
   if (!roots.ok()) return roots.error();
+  if (Status s = count_mesh_uses(*roots); !s.ok()) return s.error();
   visited_.assign(model_.nodes.size(), 0);
   std::vector<std::pair<int, sim::Affine>> stack;
   for (auto it = roots->rbegin(); it != roots->rend(); ++it) stack.emplace_back(*it, root_);
@@ -1607,6 +1785,7 @@ Result<sim::SceneDesc> Loader::load() {
                 "or spot light and no emissive material with flux; nothing would shine");
   if (scene_.meshes.empty())
     note(Severity::Info, "no-geometry", "the model has no triangles: bare emitters only");
+  if (!options_.instancing) return sim::flattened(scene_);
   return std::move(scene_);
 }
 

@@ -14,6 +14,17 @@
 //   tangents (TANGENT) are transformed too. A node with a mirroring transform
 //   (negative determinant) has its triangles' winding reversed, as glTF
 //   requires, so counter-clockwise always means front.
+// - Instancing: a mesh placed by more than one node of the scene, and the
+//   mesh of a node with EXT_mesh_gpu_instancing (TRANSLATION, ROTATION,
+//   SCALE float accessors; the node places one copy per element, none of
+//   its own), is read once: each primitive becomes one instanced sim::Mesh
+//   in the glTF mesh's own frame, named "<mesh>/<primitive>", and each
+//   placement a sim::Instance (node name, "[i]" appended for the extension's
+//   copies) with the full world transform. Emissive primitives emit from
+//   every instance (one area emitter each). A copy with a singular
+//   transform is left out (warning). GltfLoadOptions::instancing = false
+//   flattens every copy instead. A mesh placed once is world geometry named
+//   "<node>/<mesh>/<primitive>".
 // - Triangle strips and fans are converted to triangles with glTF's vertex
 //   order rules (strip triangles with a repeated index, the usual stitching,
 //   are dropped). Points and lines are an error naming node, mesh and
@@ -24,7 +35,8 @@
 // - Errors (file and model part named): unreadable or truncated files, bad
 //   JSON, missing or short buffers, accessors reaching past their buffer
 //   views, indices out of range, non-finite vertices or transforms, cycles
-//   in the node graph, more than kMaxTriangles triangles, files larger than
+//   in the node graph, more than kMaxTriangles unique triangles or
+//   kMaxInstances placements, files larger than
 //   kMaxFileBytes, no emitter.
 //
 // Emitters (one sim::Emitter each; several per model are fine)
@@ -83,7 +95,8 @@
 namespace gonio::io {
 
 inline constexpr std::size_t kMaxFileBytes = std::size_t{512} << 20;  // model, buffer or profile
-inline constexpr std::size_t kMaxTriangles = 16'000'000;              // whole scene
+inline constexpr std::size_t kMaxTriangles = 16'000'000;              // whole scene, unique
+inline constexpr std::size_t kMaxInstances = 16'000'000;              // placements of instanced meshes
 
 struct GltfLoadOptions {
   // Whether file references (buffer, image and light-profile uris, and an IES
@@ -92,6 +105,11 @@ struct GltfLoadOptions {
   // resolving outside it is an error naming the model and the uri, before
   // the file is opened (`--allow-outside-paths` on the command line).
   bool allow_outside_paths = false;
+  // Whether a mesh placed more than once (by several nodes, or by
+  // EXT_mesh_gpu_instancing) is kept once and placed by instances
+  // (sim::Instance); false flattens every copy into world geometry
+  // (sim::flattened), as Gonio did before instancing.
+  bool instancing = true;
 };
 
 // Loads a .gltf or .glb luminaire model. Findings (warnings, notes about what

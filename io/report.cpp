@@ -52,6 +52,9 @@ nlohmann::json to_json(const SimulationReport& r) {
                 {"shading_s", r.setup.shading_s},
                 {"meshes", r.setup.meshes},
                 {"meshes_from_cache", r.setup.meshes_from_cache},
+                {"instances", r.setup.instances},
+                {"triangles_unique", r.setup.triangles_unique},
+                {"triangles_placed", r.setup.triangles_placed},
                 {"max_rss_after_load_bytes", r.setup.max_rss_after_load_bytes},
                 {"max_rss_after_checks_bytes", r.setup.max_rss_after_checks_bytes}};
   j["max_rss_bytes"] = r.max_rss_bytes;
@@ -70,7 +73,7 @@ nlohmann::json to_json(const SimulationReport& r) {
   j["emitters"] = std::move(emitters);
   json meshes = json::array();
   for (const sim::MeshLedger& m : l.meshes) {
-    json x = {{"name", m.name}, {"material", m.material}, {"hits", m.hits}};
+    json x = {{"name", m.name}, {"material", m.material}, {"placements", m.placements}, {"hits", m.hits}};
     put_line(x, "absorbed", m.absorbed);
     put_line(x, "cutoff", m.cutoff);
     meshes.push_back(std::move(x));

@@ -64,7 +64,10 @@ struct SimulationReport {
     double emission_tables_s = 0.0;
     double bvh_s = 0.0;
     double shading_s = 0.0;
-    std::size_t meshes = 0;             // meshes the checks looked at
+    std::size_t meshes = 0;             // meshes the checks looked at (each instanced mesh once)
+    std::size_t instances = 0;          // placements of instanced meshes (sim::Instance)
+    std::size_t triangles_unique = 0;   // triangles stored: each instanced mesh once
+    std::size_t triangles_placed = 0;   // triangles traced: instances counted
     std::size_t meshes_from_cache = 0;  // of these, found in the check cache
     std::uint64_t max_rss_after_load_bytes = 0;    // peak_memory_bytes() after loading
     std::uint64_t max_rss_after_checks_bytes = 0;  // and after the checks

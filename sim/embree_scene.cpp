@@ -10,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -43,12 +44,18 @@ void on_embree_error(void* user, RTCError code, const char* message) {
 struct EmbreeScene::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
+  std::vector<RTCScene> prototypes;  // one per instanced mesh that has instances
   Bounds bounds;
   std::size_t triangles = 0;
   ErrorSink errors;
+  // Instances: top-level geometry id = instance_base + instance index.
+  std::uint32_t instance_base = 0;
+  std::vector<std::uint32_t> instance_mesh;
+  std::vector<std::array<float, 9>> instance_normal;  // sign(det)·cofactor, row-major
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
+    for (RTCScene p : prototypes) rtcReleaseScene(p);
     if (device) rtcReleaseDevice(device);
   }
 };
@@ -58,61 +65,148 @@ EmbreeScene::~EmbreeScene() = default;
 EmbreeScene::EmbreeScene(EmbreeScene&&) noexcept = default;
 EmbreeScene& EmbreeScene::operator=(EmbreeScene&&) noexcept = default;
 
+namespace {
+
+// One mesh as an Embree triangle geometry attached to `scene` under `id`.
+Status attach_mesh(RTCDevice device, RTCScene scene, const Mesh& mesh, unsigned id,
+                   RTCBuildQuality quality, const ErrorSink& errors) {
+  const std::size_t tris = mesh.triangle_count();
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  if (!geom) return make_error("cannot create an Embree geometry: " + errors.first);
+  // Embree's own buffers carry the padding its SIMD loads need.
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tris));
+  if (!vertices || !indices) {
+    rtcReleaseGeometry(geom);
+    return make_error("Embree cannot allocate mesh '" + mesh.name + "': " + errors.first);
+  }
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const Vec3f& p = mesh.positions[v];
+    vertices[3 * v] = p.x;
+    vertices[3 * v + 1] = p.y;
+    vertices[3 * v + 2] = p.z;
+  }
+  std::copy(mesh.indices.begin(), mesh.indices.begin() + static_cast<std::ptrdiff_t>(3 * tris), indices);
+  rtcSetGeometryBuildQuality(geom, quality);
+  rtcCommitGeometry(geom);
+  rtcAttachGeometryByID(scene, geom, id);
+  rtcReleaseGeometry(geom);
+  return Ok{};
+}
+
+struct Box {
+  Vec3 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+          std::numeric_limits<double>::infinity()};
+  Vec3 hi{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+          -std::numeric_limits<double>::infinity()};
+  void add(const Vec3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  bool empty() const { return !(lo.x <= hi.x); }
+};
+
+// The box of the triangles' corners (vertices no triangle uses left out).
+Box mesh_box(const Mesh& mesh) {
+  Box b;
+  for (std::size_t i = 0; i < 3 * mesh.triangle_count(); ++i) {
+    const Vec3f& p = mesh.positions[mesh.indices[i]];
+    b.add({p.x, p.y, p.z});
+  }
+  return b;
+}
+
+}  // namespace
+
 Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
-                                       const EmbreeSceneOptions& options) {
+                                       const EmbreeSceneOptions& options,
+                                       const std::vector<Instance>& instances) {
   auto impl = std::make_unique<Impl>();
   impl->device = rtcNewDevice(nullptr);
   if (!impl->device)
     return make_error("cannot create an Embree device (error " +
                       std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   rtcSetDeviceErrorFunction(impl->device, on_embree_error, &impl->errors);
-  impl->scene = rtcNewScene(impl->device);
-  if (!impl->scene) return make_error("cannot create an Embree scene: " + impl->errors.first);
-  rtcSetSceneFlags(impl->scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+  const RTCSceneFlags flags = options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE;
   const RTCBuildQuality quality = options.quality == EmbreeSceneOptions::Quality::Low      ? RTC_BUILD_QUALITY_LOW
                                   : options.quality == EmbreeSceneOptions::Quality::Medium ? RTC_BUILD_QUALITY_MEDIUM
                                                                                           : RTC_BUILD_QUALITY_HIGH;
-  rtcSetSceneBuildQuality(impl->scene, quality);
+  auto new_scene = [&]() -> RTCScene {
+    RTCScene scene = rtcNewScene(impl->device);
+    if (!scene) return nullptr;
+    rtcSetSceneFlags(scene, flags);
+    rtcSetSceneBuildQuality(scene, quality);
+    return scene;
+  };
+  impl->scene = new_scene();
+  if (!impl->scene) return make_error("cannot create an Embree scene: " + impl->errors.first);
 
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+  Box world;
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     const Mesh& mesh = meshes[m];
-    const std::size_t tris = mesh.triangle_count();
-    if (tris == 0) continue;
-    RTCGeometry geom = rtcNewGeometry(impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    if (!geom) return make_error("cannot create an Embree geometry: " + impl->errors.first);
-    // Embree's own buffers carry the padding its SIMD loads need.
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tris));
-    if (!vertices || !indices) {
-      rtcReleaseGeometry(geom);
-      return make_error("Embree cannot allocate mesh '" + mesh.name + "': " + impl->errors.first);
-    }
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-      const Vec3f& p = mesh.positions[v];
-      vertices[3 * v] = p.x;
-      vertices[3 * v + 1] = p.y;
-      vertices[3 * v + 2] = p.z;
-    }
-    for (std::size_t i = 0; i < 3 * tris; ++i) {
-      indices[i] = mesh.indices[i];
-      const Vec3f& p = mesh.positions[mesh.indices[i]];
-      lo = {std::min(lo.x, double{p.x}), std::min(lo.y, double{p.y}), std::min(lo.z, double{p.z})};
-      hi = {std::max(hi.x, double{p.x}), std::max(hi.y, double{p.y}), std::max(hi.z, double{p.z})};
-    }
-    rtcSetGeometryBuildQuality(geom, quality);
+    if (mesh.instanced || mesh.triangle_count() == 0) continue;
+    if (Status s = attach_mesh(impl->device, impl->scene, mesh, static_cast<unsigned>(m), quality, impl->errors); !s.ok())
+      return s.error();
+    const Box b = mesh_box(mesh);
+    world.add(b.lo);
+    world.add(b.hi);
+    impl->triangles += mesh.triangle_count();
+  }
+
+  // Instanced meshes: one Embree scene each, committed (built) once with
+  // Embree's parallel builder, then one instance geometry per copy.
+  impl->instance_base = static_cast<std::uint32_t>(meshes.size());
+  std::vector<RTCScene> prototype(meshes.size(), nullptr);
+  std::vector<Box> prototype_box(meshes.size());
+  for (const Instance& inst : instances) {
+    const std::uint32_t m = inst.mesh;
+    if (m >= meshes.size() || !meshes[m].instanced || prototype[m] || meshes[m].triangle_count() == 0)
+      continue;
+    RTCScene child = new_scene();
+    if (!child) return make_error("cannot create an Embree scene: " + impl->errors.first);
+    impl->prototypes.push_back(child);
+    if (Status s = attach_mesh(impl->device, child, meshes[m], 0, quality, impl->errors); !s.ok())
+      return s.error();
+    rtcCommitScene(child);
+    prototype[m] = child;
+    prototype_box[m] = mesh_box(meshes[m]);
+  }
+  impl->instance_mesh.reserve(instances.size());
+  impl->instance_normal.reserve(instances.size());
+  for (std::size_t k = 0; k < instances.size(); ++k) {
+    const Instance& inst = instances[k];
+    impl->instance_mesh.push_back(inst.mesh);
+    const Affine& a = inst.to_world;
+    // sign(det)·cofactor = |det|·inverse transpose: the front normal of the
+    // placed triangle, winding turned under mirroring (sim/affine.h).
+    const Vec3 c0 = a.normal({1, 0, 0}), c1 = a.normal({0, 1, 0}), c2 = a.normal({0, 0, 1});
+    impl->instance_normal.push_back({static_cast<float>(c0.x), static_cast<float>(c1.x), static_cast<float>(c2.x),
+                                     static_cast<float>(c0.y), static_cast<float>(c1.y), static_cast<float>(c2.y),
+                                     static_cast<float>(c0.z), static_cast<float>(c1.z), static_cast<float>(c2.z)});
+    if (inst.mesh >= meshes.size() || !prototype[inst.mesh]) continue;
+    RTCGeometry geom = rtcNewGeometry(impl->device, RTC_GEOMETRY_TYPE_INSTANCE);
+    if (!geom) return make_error("cannot create an Embree instance: " + impl->errors.first);
+    rtcSetGeometryInstancedScene(geom, prototype[inst.mesh]);
+    // Column-major 3×4: the linear part's columns, then the offset.
+    const float xfm[12] = {static_cast<float>(a.m[0][0]), static_cast<float>(a.m[1][0]), static_cast<float>(a.m[2][0]),
+                           static_cast<float>(a.m[0][1]), static_cast<float>(a.m[1][1]), static_cast<float>(a.m[2][1]),
+                           static_cast<float>(a.m[0][2]), static_cast<float>(a.m[1][2]), static_cast<float>(a.m[2][2]),
+                           static_cast<float>(a.offset.x), static_cast<float>(a.offset.y), static_cast<float>(a.offset.z)};
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
     rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(impl->scene, geom, static_cast<unsigned>(m));
+    rtcAttachGeometryByID(impl->scene, geom, impl->instance_base + static_cast<unsigned>(k));
     rtcReleaseGeometry(geom);
-    impl->triangles += tris;
+    const Box& b = prototype_box[inst.mesh];
+    for (int corner = 0; corner < 8; ++corner)
+      world.add(a.point({corner & 1 ? b.hi.x : b.lo.x, corner & 2 ? b.hi.y : b.lo.y, corner & 4 ? b.hi.z : b.lo.z}));
+    impl->triangles += meshes[inst.mesh].triangle_count();
   }
   rtcCommitScene(impl->scene);
   if (!impl->errors.first.empty())
     return make_error("building the Embree scene: " + impl->errors.first);
-  impl->bounds = impl->triangles > 0 ? Bounds{lo, hi} : Bounds{};
+  impl->bounds = world.empty() ? Bounds{} : Bounds{world.lo, world.hi};
   return EmbreeScene(std::move(impl));
 }
 
@@ -136,16 +230,29 @@ bool EmbreeScene::intersect(const RayQuery& ray, RayHit* hit) const {
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->scene, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  hit->mesh = rh.hit.geomID;
   hit->triangle = rh.hit.primID;
   hit->t = rh.ray.tfar;
   hit->u = rh.hit.u;
   hit->v = rh.hit.v;
   // Embree's triangle Ng points to the side where the corners run
   // counter-clockwise, Gonio's front (pinned down by a test).
-  hit->ng[0] = rh.hit.Ng_x;
-  hit->ng[1] = rh.hit.Ng_y;
-  hit->ng[2] = rh.hit.Ng_z;
+  const std::uint32_t inst = rh.hit.instID[0];
+  if (inst == RTC_INVALID_GEOMETRY_ID) {
+    hit->mesh = rh.hit.geomID;
+    hit->instance = kNoInstance;
+    hit->ng[0] = rh.hit.Ng_x;
+    hit->ng[1] = rh.hit.Ng_y;
+    hit->ng[2] = rh.hit.Ng_z;
+    return true;
+  }
+  // An instance reports Ng in the mesh's frame.
+  const std::uint32_t k = inst - impl_->instance_base;
+  hit->mesh = impl_->instance_mesh[k];
+  hit->instance = k;
+  const std::array<float, 9>& n = impl_->instance_normal[k];
+  hit->ng[0] = n[0] * rh.hit.Ng_x + n[1] * rh.hit.Ng_y + n[2] * rh.hit.Ng_z;
+  hit->ng[1] = n[3] * rh.hit.Ng_x + n[4] * rh.hit.Ng_y + n[5] * rh.hit.Ng_z;
+  hit->ng[2] = n[6] * rh.hit.Ng_x + n[7] * rh.hit.Ng_y + n[8] * rh.hit.Ng_z;
   return true;
 }
 

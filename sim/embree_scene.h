@@ -1,9 +1,12 @@
 // The scene's triangles in an Embree 3 BVH, behind Gonio types only:
 // sim/embree_scene.cpp is the one file that includes Embree.
 //
-// One Embree geometry per sim::Mesh (geometry id = mesh index), built with
-// high quality and robust triangle tests unless EmbreeSceneOptions says
-// otherwise; single-ray incoherent queries (rtcIntersect1). Callers set
+// One Embree geometry per world sim::Mesh (geometry id = mesh index); an
+// instanced mesh is one Embree scene of its own, placed by one Embree
+// instance per sim::Instance (one level), so its BVH is built once however
+// many copies there are. Built with high quality and robust triangle tests
+// unless EmbreeSceneOptions says otherwise; single-ray incoherent queries
+// (rtcIntersect1). Callers set
 // flush-to-zero and denormals-are-zero on their threads (FloatModeGuard).
 #pragma once
 
@@ -46,11 +49,13 @@ inline RayQuery ray_query(const Vec3& origin, const Vec3& direction) {
 
 struct RayHit {
   std::uint32_t mesh;      // index in SceneDesc::meshes
+  std::uint32_t instance;  // index in SceneDesc::instances, or kNoInstance
   std::uint32_t triangle;  // index in that mesh
   float t;                 // distance along the ray, in direction lengths
   float u, v;              // barycentrics: p = (1 − u − v)·p0 + u·p1 + v·p2
-  float ng[3];             // geometric normal, unnormalised, towards the front
-                           // side (counter-clockwise winding)
+  float ng[3];             // geometric normal in world space, unnormalised,
+                           // towards the front side (counter-clockwise
+                           // winding; for an instance, after its transform)
 };
 
 // Axis-aligned box [m].
@@ -62,9 +67,11 @@ struct Bounds {
 class EmbreeScene {
  public:
   // Errors: Embree's own (device creation, out of memory), named.
-  // The meshes must be valid (indices in range, finite positions).
+  // The meshes must be valid (indices in range, finite positions), and the
+  // instances too (an instanced mesh, an invertible finite transform).
   static Result<EmbreeScene> build(const std::vector<Mesh>& meshes,
-                                   const EmbreeSceneOptions& options = {});
+                                   const EmbreeSceneOptions& options = {},
+                                   const std::vector<Instance>& instances = {});
   ~EmbreeScene();
   EmbreeScene(EmbreeScene&&) noexcept;
   EmbreeScene& operator=(EmbreeScene&&) noexcept;
@@ -72,9 +79,10 @@ class EmbreeScene {
   // Closest hit, if any.
   bool intersect(const RayQuery& ray, RayHit* hit) const;
 
-  // Bounds of every triangle; empty scenes give a zero box at the origin.
+  // Bounds of every triangle (an instance: its mesh's box transformed, a
+  // box around the box); empty scenes give a zero box at the origin.
   const Bounds& bounds() const;
-  std::size_t triangle_count() const;
+  std::size_t triangle_count() const;  // as placed (instances counted)
 
   // The physical limit of the tracer on this scene: `count` rays with
   // origins uniform in the bounding box and uniform directions, traced with

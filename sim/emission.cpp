@@ -208,7 +208,19 @@ Result<EmissionSampler> EmissionSampler::create(const SceneDesc& scene) {
     } else {
       if (e.mesh >= scene.meshes.size())
         return make_error(what + ": mesh " + std::to_string(e.mesh) + " does not exist");
-      auto a = AreaSampler::create(scene.meshes[e.mesh], e.two_sided);
+      const Mesh& mesh = scene.meshes[e.mesh];
+      // An instanced mesh emits from one instance: sampled in world space
+      // (a transform that scales unevenly changes the triangles' areas).
+      Mesh placed_copy;
+      if (mesh.instanced) {
+        if (e.instance >= scene.instances.size() || scene.instances[e.instance].mesh != e.mesh)
+          return make_error(what + ": the mesh is instanced and the emitter names no instance of it");
+        placed_copy = mesh;
+        transform(placed_copy, scene.instances[e.instance].to_world);
+      } else if (e.instance != kNoInstance) {
+        return make_error(what + ": names an instance, but its mesh is world geometry");
+      }
+      auto a = AreaSampler::create(mesh.instanced ? placed_copy : mesh, e.two_sided);
       if (!a.ok()) return make_error(what + ": " + a.error().message);
       src.area = std::make_shared<const AreaSampler>(std::move(a.value()));
     }

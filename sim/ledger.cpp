@@ -63,12 +63,16 @@ Ledger make_ledger(const LedgerTally& t, const SceneDesc& scene, double total_fl
   l.cutoff = line(co);
 
   for (const Material& m : scene.materials) l.materials.push_back({m.name, 0, {}, {}});
+  std::vector<std::uint64_t> placements(scene.meshes.size(), 0);
+  for (const Instance& i : scene.instances)
+    if (i.mesh < placements.size()) ++placements[i.mesh];
   for (std::size_t i = 0; i < t.meshes.size(); ++i) {
     const Mesh& mesh = scene.meshes[i];
     const auto& m = t.meshes[i];
     const std::string material =
         mesh.material < scene.materials.size() ? scene.materials[mesh.material].name : "";
-    l.meshes.push_back({mesh.name, material, m.hits, line(m.absorbed), line(m.cutoff)});
+    l.meshes.push_back({mesh.name, material, mesh.instanced ? placements[i] : 1, m.hits,
+                        line(m.absorbed), line(m.cutoff)});
     if (mesh.material < l.materials.size()) {
       MaterialLedger& ml = l.materials[mesh.material];
       ml.hits += m.hits;

@@ -71,6 +71,8 @@ struct EmitterLedger {
 struct MeshLedger {
   std::string name;
   std::string material;
+  std::uint64_t placements = 1;  // 1 for world geometry; an instanced mesh's instances
+                                 // (its counts are the sums over them)
   std::uint64_t hits = 0;  // photons that reached its surface (scattered, absorbed or cut off there)
   LedgerLine absorbed;     // absorbed at its surface or inside its volume
   LedgerLine cutoff;       // cut off by the bounce limit on reaching it

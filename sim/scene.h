@@ -1,6 +1,9 @@
 // Scene description: the luminaire the simulation traces, as plain data.
 // io/gltf.h builds it from a glTF 2.0 model; tests and the sample generator
-// build it directly. Geometry is in world space, metres.
+// build it directly. Geometry is in world space, metres, except for
+// instanced meshes: those are stored once in their own frame and placed by
+// SceneDesc::instances (Embree instances in the tracer), so that memory and
+// setup grow with unique geometry, not with copies.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +14,7 @@
 #include "photometry/distribution.h"
 #include "photometry/frame.h"
 #include "photometry/vec3.h"
+#include "sim/affine.h"
 
 namespace gonio::sim {
 
@@ -50,8 +54,23 @@ struct Mesh {
   std::vector<Vec3f> normals;          // optional per-vertex shading normals (unit, world)
   std::vector<Vec3f> tangents;         // optional per-vertex tangents for anisotropic lobes
   std::uint32_t material = 0;          // index into SceneDesc::materials
+  // Instanced: positions, normals and tangents are in the mesh's own frame
+  // and the mesh is placed only by SceneDesc::instances (any number of
+  // times, possibly none); otherwise it is world geometry, placed once.
+  bool instanced = false;
 
   std::size_t triangle_count() const { return indices.size() / 3; }
+};
+
+inline constexpr std::uint32_t kNoInstance = 0xffffffffu;
+
+// One placement of an instanced mesh. A mirroring transform (negative
+// determinant) turns the winding, as glTF requires of mirrored nodes: the
+// front side stays the one the transformed normals point to.
+struct Instance {
+  std::uint32_t mesh = 0;  // index into SceneDesc::meshes; the mesh is `instanced`
+  Affine to_world;         // the mesh's frame → world [m]; must be invertible
+  std::string name;        // for reports: the glTF node (and instance) it comes from
 };
 
 struct Emitter {
@@ -70,7 +89,10 @@ struct Emitter {
   std::shared_ptr<const photometry::Distribution> profile;
 
   // Area emitters: the emitting mesh; front side only unless two_sided.
+  // An instanced mesh emits from one of its instances (`instance`, an index
+  // into SceneDesc::instances of that mesh); world meshes have kNoInstance.
   std::uint32_t mesh = 0;
+  std::uint32_t instance = kNoInstance;
   bool two_sided = false;
 };
 
@@ -78,6 +100,7 @@ struct SceneDesc {
   std::string name;                    // the model's file name or a sample's name
   std::vector<Material> materials;
   std::vector<Mesh> meshes;
+  std::vector<Instance> instances;     // placements of the instanced meshes
   std::vector<Emitter> emitters;
   photometry::PhotometricFrame frame;  // the luminaire's photometric frame in the world
 
@@ -86,6 +109,33 @@ struct SceneDesc {
     for (const Emitter& e : emitters) sum += e.flux_lm;
     return sum;
   }
+  // Triangles as stored (each instanced mesh once) and as placed (each
+  // instance counted; an instanced mesh without instances not at all).
+  std::size_t unique_triangle_count() const;
+  std::size_t placed_triangle_count() const;
 };
+
+// Calls f(world position [m]) for every vertex as placed: world meshes'
+// vertices once, an instanced mesh's once per instance (transformed).
+template <class F>
+void for_each_placed_vertex(const SceneDesc& scene, F&& f) {
+  for (const Mesh& m : scene.meshes)
+    if (!m.instanced)
+      for (const Vec3f& p : m.positions) f(Vec3{p.x, p.y, p.z});
+  for (const Instance& i : scene.instances)
+    if (i.mesh < scene.meshes.size())
+      for (const Vec3f& p : scene.meshes[i.mesh].positions) f(i.to_world.point(Vec3{p.x, p.y, p.z}));
+}
+
+// Applies an affine map to positions, shading normals and tangents. A map
+// that mirrors (negative determinant) also reverses the winding so that the
+// front side stays the side the normals point to.
+void transform(Mesh& mesh, const Affine& map);
+
+// The same scene with every instance replaced by a world mesh of its own,
+// named "<instance name>/<mesh name>": meshes in their order, an instanced
+// mesh replaced by its instances in instance order; area emitters follow
+// their mesh. For writers of flat geometry and for tests of instancing.
+SceneDesc flattened(const SceneDesc& scene);
 
 }  // namespace gonio::sim

@@ -209,15 +209,6 @@ Mesh paraboloid(double focal_length_m, double aperture_radius_m, double hole_rad
   return mesh;
 }
 
-void transform(Mesh& mesh, const Affine& map) {
-  for (Vec3f& p : mesh.positions) p = to_float(map.point(to_double(p)));
-  for (Vec3f& n : mesh.normals) n = to_float(normalize(map.normal(to_double(n))));
-  for (Vec3f& t : mesh.tangents) t = to_float(normalize(map.linear(to_double(t))));
-  if (map.determinant() < 0.0)
-    for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
-      std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
-}
-
 void flip(Mesh& mesh) {
   for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
     std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);

@@ -68,10 +68,7 @@ Mesh slab(double size_x_m, double size_z_m, double thickness_m);
 Mesh paraboloid(double focal_length_m, double aperture_radius_m, double hole_radius_m,
                 int rings = 64, int segments = 128);
 
-// Applies an affine map to positions, shading normals and tangents. A map
-// that mirrors (negative determinant) also reverses the winding so that the
-// front side stays the side the normals point to.
-void transform(Mesh& mesh, const Affine& map);
+// transform(Mesh&, const Affine&): sim/scene.h.
 
 // Swaps front and back: reverses the winding and negates shading normals.
 void flip(Mesh& mesh);

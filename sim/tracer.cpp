@@ -47,6 +47,26 @@ Status validate_mesh(const Mesh& m, std::size_t i, std::size_t material_count) {
   return Ok{};
 }
 
+Status validate_instance(const SceneDesc& scene, std::size_t i) {
+  const Instance& inst = scene.instances[i];
+  const std::string what = "instance " + std::to_string(i) + (inst.name.empty() ? "" : " '" + inst.name + "'");
+  if (inst.mesh >= scene.meshes.size())
+    return make_error(what + ": mesh " + std::to_string(inst.mesh) + " does not exist");
+  if (!scene.meshes[inst.mesh].instanced)
+    return make_error(what + ": " + mesh_label(scene.meshes[inst.mesh], inst.mesh) +
+                      " is world geometry, not an instanced mesh");
+  const Affine& a = inst.to_world;
+  for (const auto& row : a.m)
+    for (double v : row)
+      if (!std::isfinite(v)) return make_error(what + ": the transform is not finite");
+  if (!(std::isfinite(a.offset.x) && std::isfinite(a.offset.y) && std::isfinite(a.offset.z)))
+    return make_error(what + ": the transform is not finite");
+  const double det = a.determinant();
+  if (!(std::abs(det) > 1e-300) || !std::isfinite(det))
+    return make_error(what + ": the transform is singular");
+  return Ok{};
+}
+
 // Books a photon that did not escape (absorbed or cut off) for its emitter
 // and the mesh where it ended.
 void book_loss(const TraceResult& r, LedgerTally::PerEmitter& emitter, LedgerTally& books) {
@@ -84,13 +104,15 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   for (std::size_t i = 0; i < scene.meshes.size(); ++i)
     if (Status s = validate_mesh(scene.meshes[i], i, scene.materials.size()); !s.ok())
       return s.error();
+  for (std::size_t i = 0; i < scene.instances.size(); ++i)
+    if (Status s = validate_instance(scene, i); !s.ok()) return s.error();
   times.validate_s = seconds_since(t);
   t = std::chrono::steady_clock::now();
   auto emission = EmissionSampler::create(scene);
   if (!emission.ok()) return emission.error();
   times.emission_s = seconds_since(t);
   t = std::chrono::steady_clock::now();
-  auto embree = EmbreeScene::build(scene.meshes, settings.embree);
+  auto embree = EmbreeScene::build(scene.meshes, settings.embree, scene.instances);
   if (!embree.ok()) return embree.error();
   times.bvh_s = seconds_since(t);
 
@@ -109,6 +131,8 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
     }
     tracer.meshes_.push_back(std::move(d));
   }
+  tracer.instances_.reserve(scene.instances.size());
+  for (const Instance& i : scene.instances) tracer.instances_.push_back(i.to_world);
   times.shading_s = seconds_since(t);
   tracer.setup_times_ = times;
   tracer.offset_floor_m_ = 0x1.0p-24 * tracer.embree_.bounds().diagonal();
@@ -172,15 +196,19 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     if (uses_shading_frame(lobe)) {
       const std::size_t c = 3 * static_cast<std::size_t>(hit.triangle);
       const double u = hit.u, v = hit.v, w0 = 1.0 - u - v;
+      // An instance's normals and tangents are in its mesh's frame.
+      const Affine* place = hit.instance == kNoInstance ? nullptr : &instances_[hit.instance];
       if (!mesh.corner_normals.empty()) {
         const Vec3f* n3 = &mesh.corner_normals[c];
-        const Vec3 n = w0 * to_double(n3[0]) + u * to_double(n3[1]) + v * to_double(n3[2]);
+        Vec3 n = w0 * to_double(n3[0]) + u * to_double(n3[1]) + v * to_double(n3[2]);
+        if (place) n = place->normal(n);
         const double len = length(n);
         if (len > 0.0) frame.shading_normal = n / len;
       }
       if (!mesh.corner_tangents.empty()) {
         const Vec3f* t3 = &mesh.corner_tangents[c];
         frame.tangent = w0 * to_double(t3[0]) + u * to_double(t3[1]) + v * to_double(t3[2]);
+        if (place) frame.tangent = place->linear(frame.tangent);
       }
     }
     const ScatterResult s = scatter(material, lobe, frame, direction, rng, &polarization);

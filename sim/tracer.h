@@ -148,6 +148,7 @@ class Tracer {
   EmissionSampler emission_;
   TracerSettings settings_;
   std::vector<MeshData> meshes_;
+  std::vector<Affine> instances_;  // SceneDesc::instances' transforms
   std::vector<Material> materials_;
   std::vector<LobeCdf> lobe_cdfs_;  // per material
   double offset_floor_m_ = 0.0;

@@ -117,6 +117,14 @@ std::string scene_hash(const sim::SceneDesc& scene) {
     h.values(m.normals);
     h.values(m.tangents);
     h.value(m.material);
+    h.value(m.instanced);
+  }
+  h.value(scene.instances.size());
+  for (const sim::Instance& i : scene.instances) {
+    h.value(i.mesh);
+    for (const auto& row : i.to_world.m)
+      for (double v : row) h.value(v);
+    h.vec(i.to_world.offset);
   }
   h.value(scene.emitters.size());
   for (const sim::Emitter& e : scene.emitters) {
@@ -127,6 +135,7 @@ std::string scene_hash(const sim::SceneDesc& scene) {
     h.vec(e.frame.c90);
     h.vec(e.frame.up);
     h.value(e.mesh);
+    h.value(e.instance);
     h.value(e.two_sided);
     h.value(e.profile != nullptr);
     if (e.profile) {

@@ -420,6 +420,9 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   report.setup.shading_s = st.tracer_setup.shading_s;
   report.setup.meshes = input_times.meshes;
   report.setup.meshes_from_cache = input_times.meshes_from_cache;
+  report.setup.instances = sim->scene().instances.size();
+  report.setup.triangles_unique = sim->scene().unique_triangle_count();
+  report.setup.triangles_placed = sim->scene().placed_triangle_count();
   report.setup.max_rss_after_load_bytes = input_times.max_rss_after_load_bytes;
   report.setup.max_rss_after_checks_bytes = input_times.max_rss_after_checks_bytes;
   report.max_rss_bytes = io::peak_memory_bytes();

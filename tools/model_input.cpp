@@ -22,6 +22,10 @@ void add_model_input_options(ArgParser& parser, ModelInputOptions* options) {
   parser.flag("allow-outside-paths", &options->allow_outside_paths,
               "let the model's uris (buffers, images, light profiles) name files outside its folder "
               "(absolute paths, '..', symbolic links leading out); refused by default");
+  parser.flag("no-instancing", &options->no_instancing,
+              "store a mesh that several nodes (or EXT_mesh_gpu_instancing) place once per copy, as "
+              "world geometry, instead of once with Embree instances: same results within photon "
+              "noise, more memory and setup time (for comparisons)");
 }
 
 ModelLoad load_model(const std::string& model, const ModelInputOptions& options, ModelInputTimes* times) {
@@ -30,6 +34,7 @@ ModelLoad load_model(const std::string& model, const ModelInputOptions& options,
   auto start = std::chrono::steady_clock::now();
   io::GltfLoadOptions load;
   load.allow_outside_paths = options.allow_outside_paths;
+  load.instancing = !options.no_instancing;
   Result<sim::SceneDesc> scene = io::load_gltf(model, &out.findings, load);
   t.load_s = seconds_since(start);
   t.max_rss_after_load_bytes = io::peak_memory_bytes();

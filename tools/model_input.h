@@ -18,11 +18,13 @@ namespace gonio::cli {
 // How a model may be read: what every command that loads one offers.
 struct ModelInputOptions {
   bool allow_outside_paths = false;  // --allow-outside-paths (io::GltfLoadOptions)
+  bool no_instancing = false;        // --no-instancing: flatten meshes placed more than once
   // The model checks' cache folder (io/model_check.h); empty: no cache.
   std::string check_cache_dir;
 };
 
-// Registers --allow-outside-paths on a subcommand that loads models.
+// Registers --allow-outside-paths and --no-instancing on a subcommand that
+// loads models.
 void add_model_input_options(ArgParser& parser, ModelInputOptions* options);
 
 // What loading took.

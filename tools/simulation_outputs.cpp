@@ -52,7 +52,7 @@ Finding finding(Severity severity, std::string code, std::string message, const 
   return f;
 }
 
-// The luminaire's outer dimensions: the bounding box of every mesh in the
+// The luminaire's outer dimensions: the bounding box of every placed mesh in the
 // photometric frame (length along C0, width along C90, height along the
 // zenith). NaN without meshes.
 photometry::LuminaireDimensions bounding_box(const sim::SceneDesc& scene) {
@@ -61,16 +61,14 @@ photometry::LuminaireDimensions bounding_box(const sim::SceneDesc& scene) {
                   std::numeric_limits<double>::infinity()};
   double hi[3] = {-lo[0], -lo[1], -lo[2]};
   bool any = false;
-  for (const sim::Mesh& m : scene.meshes) {
-    for (const sim::Vec3f& p : m.positions) {
-      const Vec3 local = f.to_local(Vec3{p.x, p.y, p.z});
-      for (int i = 0; i < 3; ++i) {
-        lo[i] = std::min(lo[i], local[i]);
-        hi[i] = std::max(hi[i], local[i]);
-      }
-      any = true;
+  sim::for_each_placed_vertex(scene, [&](const Vec3& p) {
+    const Vec3 local = f.to_local(p);
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = std::min(lo[i], local[i]);
+      hi[i] = std::max(hi[i], local[i]);
     }
-  }
+    any = true;
+  });
   photometry::LuminaireDimensions d;
   if (!any) return d;
   // To 0.1 mm: the mesh positions are floats, whose rounding is no dimension.

@@ -307,18 +307,33 @@ TEST(Gltf, MirroringTransformsKeepFrontFacesFront) {
   d.node({{"mesh", m}, {"scale", {-1, 1, 1}}});
   d.node({{"mesh", m}, {"scale", {1, 1, -2}}});
   d.point_light(1.0);
-  const sim::SceneDesc s = load_ok(d.write(dir, "mirror"));
-  ASSERT_EQ(s.meshes.size(), 2u);
-  for (const sim::Mesh& mesh : s.meshes) {
-    ASSERT_EQ(mesh.normals.size(), 4u);
-    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-      const Vec3 shading{mesh.normals[0].x, mesh.normals[0].y, mesh.normals[0].z};
-      EXPECT_NEAR(dot(face_normal(mesh, t), shading), 1.0, 1e-6);
+  const std::string path = d.write(dir, "mirror");
+  // The mesh is placed twice: one instanced mesh, two instances; flattened
+  // (by the loader, or from the instanced scene) two world meshes.
+  const sim::SceneDesc instanced = load_ok(path);
+  ASSERT_EQ(instanced.meshes.size(), 1u);
+  EXPECT_TRUE(instanced.meshes[0].instanced);
+  ASSERT_EQ(instanced.instances.size(), 2u);
+  EXPECT_LT(instanced.instances[0].to_world.determinant(), 0.0);
+  Result<sim::SceneDesc> flat_load = load_gltf(path, nullptr, {.instancing = false});
+  ASSERT_TRUE(flat_load.ok());
+  for (const sim::SceneDesc& s : {sim::flattened(instanced), flat_load.value()}) {
+    ASSERT_EQ(s.meshes.size(), 2u);
+    EXPECT_TRUE(s.instances.empty());
+    for (const sim::Mesh& mesh : s.meshes) {
+      EXPECT_FALSE(mesh.instanced);
+      ASSERT_EQ(mesh.normals.size(), 4u);
+      for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+        const Vec3 shading{mesh.normals[0].x, mesh.normals[0].y, mesh.normals[0].z};
+        EXPECT_NEAR(dot(face_normal(mesh, t), shading), 1.0, 1e-6);
+      }
     }
+    // x-mirror keeps the normal +Z; z-mirror turns it to −Z.
+    EXPECT_NEAR(s.meshes[0].normals[0].z, 1.0f, 1e-6f);
+    EXPECT_NEAR(s.meshes[1].normals[0].z, -1.0f, 1e-6f);
+    EXPECT_EQ(s.meshes[0].name, "node-0/quad/0");
+    EXPECT_EQ(s.meshes[1].name, "node-1/quad/0");
   }
-  // x-mirror keeps the normal +Z; z-mirror turns it to −Z.
-  EXPECT_NEAR(s.meshes[0].normals[0].z, 1.0f, 1e-6f);
-  EXPECT_NEAR(s.meshes[1].normals[0].z, -1.0f, 1e-6f);
 }
 
 TEST(Gltf, StripsAndFansBecomeConsistentlyWoundTriangles) {
@@ -456,7 +471,10 @@ TEST(Gltf, TheDefaultSceneChoosesTheNodesElseEveryRootIsLoaded) {
   d.j.erase("scene");
   std::vector<Finding> findings;
   const sim::SceneDesc all = load_ok(d.write(dir, "roots"), &findings);
-  EXPECT_EQ(all.meshes.size(), 2u);
+  // Both roots place the mesh: one instanced mesh, placed twice.
+  EXPECT_EQ(all.meshes.size(), 1u);
+  EXPECT_EQ(all.instances.size(), 2u);
+  EXPECT_EQ(all.placed_triangle_count(), 2 * all.unique_triangle_count());
   EXPECT_TRUE(has_code(findings, "no-default-scene"));
 
   d.j["scene"] = 7;
@@ -764,6 +782,129 @@ TEST(Gltf, BadLightsAreErrorsNamingTheLight) {
   d.node({{"extensions", {{"KHR_lights_punctual", {{"light", 5}}}}}});
   d.point_light(1.0);
   EXPECT_CONTAINS(load_error(d.write(dir, "idx")), "light 5 does not exist");
+}
+
+// --- instancing --------------------------------------------------------------
+
+// A point transformed by an instance, for comparisons.
+Vec3 placed_point(const sim::Instance& i, const Vec3& p) { return i.to_world.point(p); }
+
+TEST(Gltf, AMeshPlacedByManyNodesIsStoredOnceAndInstanced) {
+  test::TempDir dir;
+  Doc d;
+  const int shared = d.mesh(kQuad, kQuadIdx, -1, 4, "lens");
+  const int single = d.mesh(kQuad, kQuadIdx, -1, 4, "plate");
+  d.node({{"name", "a"}, {"mesh", shared}, {"translation", {1, 0, 0}}});
+  const int child = d.node({{"name", "b"}, {"mesh", shared}, {"scale", {2, 2, 2}}}, false);
+  d.node({{"name", "parent"}, {"translation", {0, 5, 0}}, {"children", {child}}});
+  d.node({{"name", "c"}, {"mesh", single}});
+  d.point_light(1.0);
+  d.j["scenes"][0]["extras"] = {{"gonio", {{"unit_m", 0.001}}}};
+  const std::string path = d.write(dir, "shared");
+  const sim::SceneDesc s = load_ok(path);
+  ASSERT_EQ(s.meshes.size(), 2u);
+  // The shared mesh: once, in its own frame (glTF units), instanced.
+  EXPECT_EQ(s.meshes[0].name, "lens/0");
+  EXPECT_TRUE(s.meshes[0].instanced);
+  EXPECT_EQ(s.meshes[0].positions[1].x, 1.0f);
+  // The mesh placed once: world geometry in metres.
+  EXPECT_EQ(s.meshes[1].name, "c/plate/0");
+  EXPECT_FALSE(s.meshes[1].instanced);
+  EXPECT_EQ(s.meshes[1].positions[1].x, 0.001f);
+  ASSERT_EQ(s.instances.size(), 2u);
+  EXPECT_EQ(s.instances[0].name, "a");
+  EXPECT_EQ(s.instances[1].name, "b");
+  // World transforms with the unit and the parent's: (1,0,0) in the mesh
+  // goes to (2,0,0) mm under node a, to 2·(1,0,0) + (0,5,0) mm under b.
+  expect_near(placed_point(s.instances[0], {1, 0, 0}), {0.002, 0, 0}, 1e-15);
+  expect_near(placed_point(s.instances[1], {1, 0, 0}), {0.002, 0.005, 0}, 1e-15);
+  EXPECT_EQ(s.unique_triangle_count(), 4u);
+  EXPECT_EQ(s.placed_triangle_count(), 6u);
+
+  // Without instancing: the same world geometry, one mesh per placement.
+  Result<sim::SceneDesc> flat = load_gltf(path, nullptr, {.instancing = false});
+  ASSERT_TRUE(flat.ok());
+  ASSERT_EQ(flat->meshes.size(), 3u);
+  const sim::SceneDesc f = sim::flattened(s);
+  ASSERT_EQ(f.meshes.size(), 3u);
+  for (std::size_t m = 0; m < 3; ++m) {
+    EXPECT_EQ(flat->meshes[m].name, f.meshes[m].name);
+    EXPECT_EQ(flat->meshes[m].indices, f.meshes[m].indices);
+    for (std::size_t v = 0; v < f.meshes[m].positions.size(); ++v)
+      expect_near(pos(flat->meshes[m], static_cast<std::uint32_t>(v)), pos(f.meshes[m], static_cast<std::uint32_t>(v)), 1e-12);
+  }
+  EXPECT_EQ(f.meshes[0].name, "a/lens/0");
+  EXPECT_EQ(f.meshes[1].name, "b/lens/0");
+  EXPECT_EQ(f.meshes[2].name, "c/plate/0");
+}
+
+TEST(Gltf, ExtMeshGpuInstancingPlacesOneCopyPerElement) {
+  test::TempDir dir;
+  Doc d;
+  d.use("EXT_mesh_gpu_instancing");
+  const int m = d.mesh(kQuad, kQuadIdx, -1, 4, "led");
+  const std::vector<float> t = {0, 0, 0, 10, 0, 0, 0, 10, 0};
+  const float h = static_cast<float>(std::sqrt(0.5));
+  const std::vector<float> r = {0, 0, 0, 1, 0, 0, h, h, 0, 0, 0, 1};  // none, 90° about z, none
+  const std::vector<float> sc = {1, 1, 1, 1, 1, 1, -1, 1, 1};         // the third mirrored
+  d.node({{"name", "board"},
+          {"mesh", m},
+          {"translation", {0, 0, 5}},
+          {"extensions",
+           {{"EXT_mesh_gpu_instancing",
+             {{"attributes", {{"TRANSLATION", d.vec3(t)}, {"ROTATION", d.vec4(r)}, {"SCALE", d.vec3(sc)}}}}}}}});
+  d.point_light(1.0);
+  const sim::SceneDesc s = load_ok(d.write(dir, "gpu", Doc::Form::Glb));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_TRUE(s.meshes[0].instanced);
+  ASSERT_EQ(s.instances.size(), 3u);  // and none for the node itself
+  EXPECT_EQ(s.instances[2].name, "board[2]");
+  expect_near(placed_point(s.instances[0], {1, 0, 0}), {1, 0, 5}, 1e-12);
+  expect_near(placed_point(s.instances[1], {1, 0, 0}), {10, 1, 5}, 1e-6);
+  expect_near(placed_point(s.instances[2], {1, 0, 0}), {-1, 10, 5}, 1e-12);
+  EXPECT_LT(s.instances[2].to_world.determinant(), 0.0);
+
+  // Counts that disagree, no transform attribute, a non-float accessor.
+  Doc bad = d;
+  bad.j["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["SCALE"] =
+      bad.vec3({1, 1, 1});
+  EXPECT_CONTAINS(load_error(bad.write(dir, "counts")), "SCALE has 1 elements");
+  bad = d;
+  bad.j["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"] = {{"_ID", 0}};
+  EXPECT_CONTAINS(load_error(bad.write(dir, "none")), "none of TRANSLATION, ROTATION and SCALE");
+  bad = d;
+  bad.j["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["ROTATION"] =
+      bad.indices({1, 2, 3, 4});
+  EXPECT_CONTAINS(load_error(bad.write(dir, "int")), "ROTATION");
+  bad = d;
+  bad.j["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"] = 99;
+  EXPECT_CONTAINS(load_error(bad.write(dir, "missing")), "accessor 99 does not exist");
+}
+
+TEST(Gltf, AnInstancedEmissiveMeshEmitsFromEveryCopy) {
+  test::TempDir dir;
+  Doc d;
+  const int led = d.material({{"name", "led"}, {"emissiveFactor", {1, 1, 1}}});
+  const int m = d.mesh(kQuad, kQuadIdx, led, 4, "die");
+  d.node({{"name", "one"}, {"mesh", m}});
+  d.node({{"name", "big"}, {"mesh", m}, {"scale", {2, 3, 1}}});
+  d.point_light(1.0);
+  const sim::SceneDesc s = load_ok(d.write(dir, "dies"));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  ASSERT_EQ(s.instances.size(), 2u);
+  ASSERT_EQ(s.emitters.size(), 3u);  // two dies and the lamp
+  EXPECT_EQ(s.emitters[0].mesh, 0u);
+  EXPECT_EQ(s.emitters[0].instance, 0u);
+  EXPECT_EQ(s.emitters[1].instance, 1u);
+  EXPECT_EQ(s.emitters[1].name, "big/die/0");
+  // π·L·A with each copy's own area (L = 1 cd/m² for white emissiveFactor).
+  EXPECT_NEAR(s.emitters[0].flux_lm, kPi * 1.0, 1e-9);
+  EXPECT_NEAR(s.emitters[1].flux_lm, kPi * 6.0, 1e-9);
+  // Flattened, each emitter is on its own world mesh.
+  const sim::SceneDesc f = sim::flattened(s);
+  EXPECT_EQ(f.emitters[1].mesh, 1u);
+  EXPECT_EQ(f.emitters[1].instance, sim::kNoInstance);
+  EXPECT_EQ(f.meshes[1].name, "big/die/0");
 }
 
 // --- emissive surfaces -----------------------------------------------------

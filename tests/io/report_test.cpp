@@ -78,7 +78,7 @@ TEST(Report, HoldsTheLedgerSettingsAndSpeed) {
   l.absorbed = {400, 200.0};
   l.cutoff = {100, 50.0};
   l.emitters = {{"lamp", l.emitted, l.escaped, l.absorbed, l.cutoff}};
-  l.meshes = {{"shade", "opal", 1234, l.absorbed, l.cutoff}};
+  l.meshes = {{"shade", "opal", 1, 1234, l.absorbed, l.cutoff}};
   l.materials = {{"opal", 1234, l.absorbed, l.cutoff}};
 
   const nlohmann::json j = to_json(r);
@@ -103,6 +103,7 @@ TEST(Report, HoldsTheLedgerSettingsAndSpeed) {
   EXPECT_EQ(j["emitters"][0]["escaped_lm"], 750.0);
   EXPECT_EQ(j["meshes"][0]["material"], "opal");
   EXPECT_EQ(j["meshes"][0]["hits"], 1234);
+  EXPECT_EQ(j["meshes"][0]["placements"], 1);
   EXPECT_EQ(j["materials"][0]["photons_absorbed"], 400);
 
   test::TempDir dir;

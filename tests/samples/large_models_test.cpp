@@ -26,11 +26,7 @@ sim::SceneDesc load(const test::TempDir& dir, const Sample& s) {
   return scene.ok() ? std::move(scene.value()) : sim::SceneDesc{};
 }
 
-std::size_t triangles(const sim::SceneDesc& s) {
-  std::size_t n = 0;
-  for (const sim::Mesh& m : s.meshes) n += m.triangle_count();
-  return n;
-}
+std::size_t triangles(const sim::SceneDesc& s) { return s.placed_triangle_count(); }
 
 TEST(LargeModels, HaveTheTrianglesAskedForAndPassTheChecks) {
   for (LargeModel kind : {LargeModel::FacetedReflector, LargeModel::LensArray, LargeModel::GlassPart})
@@ -54,21 +50,20 @@ TEST(LargeModels, TheLensArrayIsOneLensOnManyNodes) {
   const Sample s = large_model(LargeModel::LensArray, 20000);
   test::TempDir dir;
   const sim::SceneDesc scene = load(dir, s);
-  // The file holds the lens once (its buffer is about one lens's size);
-  // the loader makes one mesh per node.
+  // The file holds the lens once (its buffer is about one lens's size), and
+  // so does the scene: one instanced mesh, one instance per node.
   const std::string* bin = nullptr;
   for (const SampleFile& f : s.files)
     if (f.name.ends_with(".bin")) bin = &f.bytes;
   ASSERT_NE(bin, nullptr);
-  ASSERT_GT(scene.meshes.size(), 10u);
+  ASSERT_EQ(scene.meshes.size(), 1u);
   const sim::Mesh& lens = scene.meshes[0];
+  EXPECT_TRUE(lens.instanced);
   EXPECT_LT(bin->size(), 2 * (lens.positions.size() * 24 + lens.indices.size() * 4));
-  for (const sim::Mesh& m : scene.meshes) {
-    EXPECT_EQ(m.indices, lens.indices);
-    EXPECT_EQ(m.positions.size(), lens.positions.size());
-  }
+  ASSERT_GT(scene.instances.size(), 10u);
+  for (const sim::Instance& i : scene.instances) EXPECT_EQ(i.mesh, 0u);
   // Copies side by side, none overlapping the first.
-  EXPECT_NE(scene.meshes[1].positions[0].x, lens.positions[0].x);
+  EXPECT_NE(scene.instances[1].to_world.offset.x, scene.instances[0].to_world.offset.x);
 }
 
 }  // namespace

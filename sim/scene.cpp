@@ -1,0 +1,75 @@
+#include "sim/scene.h"
+
+#include <utility>
+
+namespace gonio::sim {
+
+std::size_t SceneDesc::unique_triangle_count() const {
+  std::size_t n = 0;
+  for (const Mesh& m : meshes) n += m.triangle_count();
+  return n;
+}
+
+std::size_t SceneDesc::placed_triangle_count() const {
+  std::size_t n = 0;
+  for (const Mesh& m : meshes)
+    if (!m.instanced) n += m.triangle_count();
+  for (const Instance& i : instances)
+    if (i.mesh < meshes.size()) n += meshes[i.mesh].triangle_count();
+  return n;
+}
+
+void transform(Mesh& mesh, const Affine& map) {
+  auto widen = [](const Vec3f& v) { return Vec3{v.x, v.y, v.z}; };
+  auto narrow = [](const Vec3& v) {
+    return Vec3f{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+  };
+  for (Vec3f& p : mesh.positions) p = narrow(map.point(widen(p)));
+  for (Vec3f& n : mesh.normals) n = narrow(normalize(map.normal(widen(n))));
+  for (Vec3f& t : mesh.tangents) t = narrow(normalize(map.linear(widen(t))));
+  if (map.determinant() < 0.0)
+    for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
+      std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
+}
+
+SceneDesc flattened(const SceneDesc& scene) {
+  SceneDesc out;
+  out.name = scene.name;
+  out.materials = scene.materials;
+  out.frame = scene.frame;
+  std::vector<std::uint32_t> world(scene.meshes.size(), kNoInstance);   // world mesh → new mesh
+  std::vector<std::vector<std::uint32_t>> of_mesh(scene.meshes.size());
+  for (std::uint32_t i = 0; i < scene.instances.size(); ++i)
+    if (scene.instances[i].mesh < scene.meshes.size()) of_mesh[scene.instances[i].mesh].push_back(i);
+  std::vector<std::uint32_t> instance_mesh(scene.instances.size(), kNoInstance);
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    if (!mesh.instanced) {
+      world[m] = static_cast<std::uint32_t>(out.meshes.size());
+      out.meshes.push_back(mesh);
+      continue;
+    }
+    for (std::uint32_t i : of_mesh[m]) {
+      const Instance& inst = scene.instances[i];
+      instance_mesh[i] = static_cast<std::uint32_t>(out.meshes.size());
+      Mesh copy = mesh;
+      transform(copy, inst.to_world);
+      copy.instanced = false;
+      copy.name = inst.name + "/" + mesh.name;
+      out.meshes.push_back(std::move(copy));
+    }
+  }
+  for (Emitter e : scene.emitters) {
+    if (e.kind == Emitter::Kind::Area) {
+      if (e.instance != kNoInstance && e.instance < instance_mesh.size())
+        e.mesh = instance_mesh[e.instance];
+      else if (e.mesh < world.size())
+        e.mesh = world[e.mesh];
+      e.instance = kNoInstance;
+    }
+    out.emitters.push_back(std::move(e));
+  }
+  return out;
+}
+
+}  // namespace gonio::sim
