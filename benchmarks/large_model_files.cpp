@@ -64,10 +64,5 @@ const sim::SceneDesc& large_model_scene(samples::LargeModel kind, std::size_t tr
   return loaded[key] = std::move(s.value());
 }
 
-std::size_t triangle_count(const sim::SceneDesc& scene) {
-  std::size_t n = 0;
-  for (const sim::Mesh& m : scene.meshes) n += m.triangle_count();
-  return n;
-}
 
 }  // namespace gonio::bench

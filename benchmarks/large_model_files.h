@@ -19,6 +19,4 @@ std::string large_model_file(samples::LargeModel kind, std::size_t triangles);
 // message where it cannot be loaded.
 const sim::SceneDesc& large_model_scene(samples::LargeModel kind, std::size_t triangles);
 
-std::size_t triangle_count(const sim::SceneDesc& scene);
-
 }  // namespace gonio::bench

@@ -209,7 +209,7 @@ void BM_RobustLeaks(benchmark::State& state, std::size_t triangles) {
   state.counters["misses"] = static_cast<double>(misses);
   state.counters["miss_fraction"] = static_cast<double>(misses) / static_cast<double>(rays.size());
   state.counters["raw_rays_per_s"] = rays_per_s;
-  state.counters["triangles"] = static_cast<double>(triangle_count(scene));
+  state.counters["triangles"] = static_cast<double>(scene.placed_triangle_count());
 }
 const bool kLeaksRegistered = [] {
   for (std::size_t triangles : {std::size_t{10'000}, std::size_t{1'000'000}})

@@ -79,6 +79,10 @@ class GltfWriter {
     return doc_.dump(1) + "\n";
   }
 
+  // A float VEC3 accessor without bounds (e.g. EXT_mesh_gpu_instancing's
+  // TRANSLATION).
+  int vec3(const std::vector<sim::Vec3f>& v) { return vec3(v, false); }
+
  private:
   int push(const char* key, json value) {
     json& array = doc_[key];

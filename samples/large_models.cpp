@@ -50,7 +50,9 @@ Sample faceted_reflector(std::size_t triangles, const std::string& name) {
 Sample lens_array(std::size_t triangles, const std::string& name) {
   GltfWriter w;
   const int pmma = glass(w, "PMMA", 1.49);
-  // One lens: a sphere Ø 8 mm squashed to 3.2 mm, 32 × 16 facets.
+  // One lens: a sphere Ø 8 mm squashed to 3.2 mm, 32 × 16 facets, placed
+  // on a square grid by EXT_mesh_gpu_instancing (one node, one translation
+  // per copy), as CAD exporters write arrays.
   sim::Mesh lens = sim::sphere(0.004, 32, 16);
   sim::transform(lens, sim::scaling(1.0, 0.4, 1.0));
   const int mesh = w.mesh(lens, pmma, "lens");
@@ -58,11 +60,15 @@ Sample lens_array(std::size_t triangles, const std::string& name) {
   const auto side = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(copies))));
   const double pitch = 0.010;  // [m]
   const double half = 0.5 * pitch * static_cast<double>(side - 1);
-  for (std::size_t k = 0; k < copies; ++k) {
-    const double x = pitch * static_cast<double>(k % side) - half;
-    const double z = pitch * static_cast<double>(k / side) - half;
-    w.node({{"name", "lens-" + std::to_string(k + 1)}, {"translation", {x, 0.0, z}}, {"mesh", mesh}});
-  }
+  std::vector<sim::Vec3f> offsets;
+  offsets.reserve(copies);
+  for (std::size_t k = 0; k < copies; ++k)
+    offsets.push_back({static_cast<float>(pitch * static_cast<double>(k % side) - half), 0.0f,
+                       static_cast<float>(pitch * static_cast<double>(k / side) - half)});
+  w.use("EXT_mesh_gpu_instancing");
+  w.node({{"name", "lenses"},
+          {"mesh", mesh},
+          {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", w.vec3(offsets)}}}}}}}});
   point_lamp(w, 0.010);
   return finish(name, w);
 }
