@@ -148,17 +148,26 @@ TEST_F(Samples, SpotlightHasAClosedPmmaLensAndACosSquaredLed) {
 TEST_F(Samples, LedArrayHasNineAreaEmittersOfOneHundredLumens) {
   const sim::SceneDesc s = load("led-array");
   ASSERT_EQ(s.emitters.size(), 9u);
-  for (const sim::Emitter& e : s.emitters) {
+  // The die is one mesh placed by nine nodes: stored once, nine instances.
+  ASSERT_EQ(s.instances.size(), 9u);
+  for (std::uint32_t k = 0; k < 9; ++k) {
+    const sim::Emitter& e = s.emitters[k];
     EXPECT_EQ(e.kind, sim::Emitter::Kind::Area);
     EXPECT_FALSE(e.two_sided);
     EXPECT_NEAR(e.flux_lm, 100.0, 1e-9);
-    // Each die faces down.
+    EXPECT_EQ(e.instance, k);
     const sim::Mesh& m = s.meshes.at(e.mesh);
-    const sim::Vec3f& a = m.positions[m.indices[0]];
-    const sim::Vec3f& b = m.positions[m.indices[1]];
-    const sim::Vec3f& c = m.positions[m.indices[2]];
-    const Vec3 n = cross(Vec3{b.x - a.x, b.y - a.y, b.z - a.z}, Vec3{c.x - a.x, c.y - a.y, c.z - a.z});
+    EXPECT_TRUE(m.instanced);
+    EXPECT_EQ(s.instances[k].mesh, e.mesh);
+    // Each die faces down, placed.
+    const sim::Affine& place = s.instances[k].to_world;
+    auto at = [&](std::size_t i) {
+      const sim::Vec3f& p = m.positions[m.indices[i]];
+      return place.point(Vec3{p.x, p.y, p.z});
+    };
+    const Vec3 n = cross(at(1) - at(0), at(2) - at(0));
     EXPECT_LT(n.y, 0.0);
+    EXPECT_NEAR(at(0).y, 0.0495, 1e-6);
   }
   EXPECT_NEAR(s.total_flux_lm(), 900.0, 1e-9);
   const sim::Material& diffuser = material_of(s, "diffuser");
