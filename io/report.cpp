@@ -49,6 +49,7 @@ nlohmann::json to_json(const SimulationReport& r) {
                 {"validate_s", r.setup.validate_s},
                 {"emission_tables_s", r.setup.emission_tables_s},
                 {"bvh_s", r.setup.bvh_s},
+                {"bvh_reused", r.setup.bvh_reused},
                 {"shading_s", r.setup.shading_s},
                 {"meshes", r.setup.meshes},
                 {"meshes_from_cache", r.setup.meshes_from_cache},

@@ -63,6 +63,7 @@ struct SimulationReport {
     double validate_s = 0.0;
     double emission_tables_s = 0.0;
     double bvh_s = 0.0;
+    bool bvh_reused = false;  // the BVH of the previous run (gonio watch) served: same geometry
     double shading_s = 0.0;
     std::size_t meshes = 0;             // meshes the checks looked at (each instanced mesh once)
     std::size_t instances = 0;          // placements of instanced meshes (sim::Instance)

@@ -1,5 +1,6 @@
 #include "sim/scene.h"
 
+#include <algorithm>
 #include <utility>
 
 namespace gonio::sim {
@@ -20,7 +21,9 @@ std::size_t SceneDesc::placed_triangle_count() const {
 }
 
 void transform(Mesh& mesh, const Affine& map) {
-  auto widen = [](const Vec3f& v) { return Vec3{v.x, v.y, v.z}; };
+  auto widen = [](const Vec3f& v) {
+    return Vec3{static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
+  };
   auto narrow = [](const Vec3& v) {
     return Vec3f{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
   };
@@ -30,6 +33,29 @@ void transform(Mesh& mesh, const Affine& map) {
   if (map.determinant() < 0.0)
     for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
       std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
+}
+
+bool same_geometry(const SceneDesc& a, const SceneDesc& b) {
+  if (a.meshes.size() != b.meshes.size() || a.instances.size() != b.instances.size()) return false;
+  const auto same = [](const Vec3f& p, const Vec3f& q) { return p.x == q.x && p.y == q.y && p.z == q.z; };
+  for (std::size_t m = 0; m < a.meshes.size(); ++m) {
+    const Mesh& x = a.meshes[m];
+    const Mesh& y = b.meshes[m];
+    if (x.instanced != y.instanced || x.indices != y.indices || x.positions.size() != y.positions.size() ||
+        !std::equal(x.positions.begin(), x.positions.end(), y.positions.begin(), same))
+      return false;
+  }
+  for (std::size_t i = 0; i < a.instances.size(); ++i) {
+    const Affine& x = a.instances[i].to_world;
+    const Affine& y = b.instances[i].to_world;
+    if (a.instances[i].mesh != b.instances[i].mesh || x.offset.x != y.offset.x || x.offset.y != y.offset.y ||
+        x.offset.z != y.offset.z)
+      return false;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        if (x.m[r][c] != y.m[r][c]) return false;
+  }
+  return true;
 }
 
 SceneDesc flattened(const SceneDesc& scene) {

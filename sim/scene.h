@@ -119,18 +119,26 @@ struct SceneDesc {
 // vertices once, an instanced mesh's once per instance (transformed).
 template <class F>
 void for_each_placed_vertex(const SceneDesc& scene, F&& f) {
+  const auto widen = [](const Vec3f& p) {
+    return Vec3{static_cast<double>(p.x), static_cast<double>(p.y), static_cast<double>(p.z)};
+  };
   for (const Mesh& m : scene.meshes)
     if (!m.instanced)
-      for (const Vec3f& p : m.positions) f(Vec3{p.x, p.y, p.z});
+      for (const Vec3f& p : m.positions) f(widen(p));
   for (const Instance& i : scene.instances)
     if (i.mesh < scene.meshes.size())
-      for (const Vec3f& p : scene.meshes[i.mesh].positions) f(i.to_world.point(Vec3{p.x, p.y, p.z}));
+      for (const Vec3f& p : scene.meshes[i.mesh].positions) f(i.to_world.point(widen(p)));
 }
 
 // Applies an affine map to positions, shading normals and tangents. A map
 // that mirrors (negative determinant) also reverses the winding so that the
 // front side stays the side the normals point to.
 void transform(Mesh& mesh, const Affine& map);
+
+// Whether a and b have the same traced geometry: every mesh's positions,
+// indices and instanced flag, every instance's mesh and transform (not
+// names, materials, normals or emitters): one BVH serves both.
+bool same_geometry(const SceneDesc& a, const SceneDesc& b);
 
 // The same scene with every instance replaced by a world mesh of its own,
 // named "<instance name>/<mesh name>": meshes in their order, an instanced

@@ -93,7 +93,8 @@ Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
-Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings& settings) {
+Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings& settings,
+                                     const Simulation* previous) {
   if (settings.photons_per_iteration < 1 || settings.photons_per_iteration >= (std::uint64_t{1} << 32))
     return make_error("photons per iteration must lie in 1..4294967295");
   if (settings.iterations < 1) return make_error("at least one iteration is needed");
@@ -112,7 +113,11 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
   ts.max_bounces = settings.max_bounces;
   ts.embree.robust = settings.robust_embree;
   ts.embree.quality = settings.bvh_quality;
-  auto tracer = Tracer::create(scene, settings.face_size, ts);
+  std::shared_ptr<const EmbreeScene> reuse;
+  if (previous && previous->settings().robust_embree == settings.robust_embree &&
+      previous->settings().bvh_quality == settings.bvh_quality && same_geometry(previous->scene(), scene))
+    reuse = previous->tracer().shared_embree();
+  auto tracer = Tracer::create(scene, settings.face_size, ts, std::move(reuse));
   // Over ranks: all build their tracer, or none goes on to trace (the
   // others would wait for it at the first iteration).
   if (settings.ranks && settings.ranks->distributed()) {

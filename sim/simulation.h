@@ -80,7 +80,12 @@ class Simulation {
   // Checks the settings and the scene (errors name the part at fault) and
   // builds the tracer. The simulation keeps the scene: pass an rvalue to
   // move it in rather than hold two copies of a large model.
-  static Result<Simulation> create(SceneDesc scene, const SimulationSettings& settings);
+  // `previous`: an earlier simulation (e.g. of the model before it was
+  // saved again); where its scene has the same geometry
+  // (sim::same_geometry) and Embree options, its BVH is shared instead of
+  // built again (stats().tracer_setup.bvh_reused).
+  static Result<Simulation> create(SceneDesc scene, const SimulationSettings& settings,
+                                   const Simulation* previous = nullptr);
   ~Simulation();
   Simulation(Simulation&&) noexcept;
   Simulation& operator=(Simulation&&) noexcept;

@@ -94,7 +94,8 @@ void TracerTally::clear() {
   ledger.clear();
 }
 
-Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const TracerSettings& settings) {
+Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const TracerSettings& settings,
+                              std::shared_ptr<const EmbreeScene> reuse) {
   if (face_size < 1 || face_size > 16384) return make_error("cube-map face size must lie in 1..16384");
   if (settings.max_bounces < 0) return make_error("the bounce limit must be >= 0");
   TracerSetupTimes times;
@@ -112,13 +113,17 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   if (!emission.ok()) return emission.error();
   times.emission_s = seconds_since(t);
   t = std::chrono::steady_clock::now();
-  auto embree = EmbreeScene::build(scene.meshes, settings.embree, scene.instances);
-  if (!embree.ok()) return embree.error();
+  std::shared_ptr<const EmbreeScene> embree = std::move(reuse);
+  times.bvh_reused = embree != nullptr;
+  if (!embree) {
+    auto built = EmbreeScene::build(scene.meshes, settings.embree, scene.instances);
+    if (!built.ok()) return built.error();
+    embree = std::make_shared<const EmbreeScene>(std::move(built.value()));
+  }
   times.bvh_s = seconds_since(t);
 
   t = std::chrono::steady_clock::now();
-  Tracer tracer(CubeMapGrid(face_size), std::move(embree.value()), std::move(emission.value()),
-                settings);
+  Tracer tracer(CubeMapGrid(face_size), std::move(embree), std::move(emission.value()), settings);
   tracer.materials_ = scene.materials;
   for (const Material& m : scene.materials) tracer.lobe_cdfs_.push_back(lobe_cdf(m));
   tracer.meshes_.reserve(scene.meshes.size());
@@ -135,7 +140,7 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   for (const Instance& i : scene.instances) tracer.instances_.push_back(i.to_world);
   times.shading_s = seconds_since(t);
   tracer.setup_times_ = times;
-  tracer.offset_floor_m_ = 0x1.0p-24 * tracer.embree_.bounds().diagonal();
+  tracer.offset_floor_m_ = 0x1.0p-24 * tracer.embree_->bounds().diagonal();
   return tracer;
 }
 
@@ -160,7 +165,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     ray = ray_query(origin, direction);
     if (books) ++books->rays;
     if (record) record->push_back(ray);
-    if (!embree_.intersect(ray, &hit)) {
+    if (!embree_->intersect(ray, &hit)) {
       r.fate = Fate::Escaped;
       r.direction = direction;
       r.power_units = power;

@@ -45,6 +45,7 @@ struct TracerSetupTimes {
   double emission_s = 0.0;  // emission tables (alias tables, profile samplers)
   double bvh_s = 0.0;       // Embree scene and BVH build
   double shading_s = 0.0;   // per-corner shading normals and tangents
+  bool bvh_reused = false;  // the BVH of an earlier tracer of the same geometry was used
 };
 
 // What one photon did.
@@ -77,8 +78,12 @@ class Tracer {
   // per vertex, material indices, materials, emitters) and builds the Embree
   // scene and the emission samplers. Errors name the mesh, material or
   // emitter at fault. `face_size`: texels along a cube-map face edge.
+  // `reuse`: an Embree scene built before for the same geometry (meshes'
+  // positions and indices, instances: sim::same_geometry) and Embree
+  // options, shared instead of building another; the caller vouches for it.
   static Result<Tracer> create(const SceneDesc& scene, int face_size,
-                               const TracerSettings& settings = {});
+                               const TracerSettings& settings = {},
+                               std::shared_ptr<const EmbreeScene> reuse = nullptr);
 
   // An empty tally for this scene and grid.
   TracerTally make_tally() const;
@@ -116,7 +121,8 @@ class Tracer {
                    std::vector<RayQuery>* rays) const;
 
   const CubeMapGrid& grid() const { return grid_; }
-  const EmbreeScene& embree() const { return embree_; }
+  const EmbreeScene& embree() const { return *embree_; }
+  const std::shared_ptr<const EmbreeScene>& shared_embree() const { return embree_; }
   const EmissionSampler& emission() const { return emission_; }
   std::size_t mesh_count() const { return meshes_.size(); }
   std::size_t emitter_count() const { return emission_.emitter_count(); }
@@ -132,7 +138,8 @@ class Tracer {
     std::vector<Vec3f> corner_tangents;   // 3 per triangle, may be empty
   };
 
-  Tracer(CubeMapGrid grid, EmbreeScene embree, EmissionSampler emission, TracerSettings settings)
+  Tracer(CubeMapGrid grid, std::shared_ptr<const EmbreeScene> embree, EmissionSampler emission,
+         TracerSettings settings)
       : grid_(std::move(grid)), embree_(std::move(embree)), emission_(std::move(emission)),
         settings_(settings) {}
 
@@ -144,7 +151,7 @@ class Tracer {
   double offset_m(double scale) const { return 0x1.0p-18 * scale + offset_floor_m_; }
 
   CubeMapGrid grid_;
-  EmbreeScene embree_;
+  std::shared_ptr<const EmbreeScene> embree_;
   EmissionSampler emission_;
   TracerSettings settings_;
   std::vector<MeshData> meshes_;

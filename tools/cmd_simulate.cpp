@@ -417,6 +417,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   report.setup.validate_s = st.tracer_setup.validate_s;
   report.setup.emission_tables_s = st.tracer_setup.emission_s;
   report.setup.bvh_s = st.tracer_setup.bvh_s;
+  report.setup.bvh_reused = st.tracer_setup.bvh_reused;
   report.setup.shading_s = st.tracer_setup.shading_s;
   report.setup.meshes = input_times.meshes;
   report.setup.meshes_from_cache = input_times.meshes_from_cache;

@@ -119,6 +119,7 @@ int run_watch(const Args& args) {
   WatchClock::time_point noticed = WatchClock::now();
   int exit_code = kExitOk;
 
+  std::optional<ProgressiveOutcome> last;
   while (!interrupted()) {
     if (!run_now) {
       std::this_thread::sleep_for(kPoll);
@@ -172,7 +173,10 @@ int run_watch(const Args& args) {
       if (debouncer.observe(snapshot_of(files), WatchClock::now())) changed = true;
       return changed;
     };
-    Result<ProgressiveOutcome> run = run_progressive(scene, plan.progressive, &resampler, on_iteration, cancel);
+    // The last finished run's BVH serves this one if the geometry is the same
+    // (a material, emitter or profile edited).
+    Result<ProgressiveOutcome> run = run_progressive(scene, plan.progressive, &resampler, on_iteration, cancel,
+                                                     last ? &last->simulation : nullptr);
     if (!run.ok()) {
       Error e = run.error();
       if (e.where.file.empty()) e.where.file = model;
@@ -184,6 +188,7 @@ int run_watch(const Args& args) {
       run_now = true;
       retry.reset();
       noticed = WatchClock::now();
+      last = std::move(run.value());  // its BVH may serve the next run
       continue;
     }
     if (run->stopped_by == StopReason::Cancelled) break;  // interrupted
@@ -193,6 +198,7 @@ int run_watch(const Args& args) {
       if (exit_code != kExitOk) live.note("the run's files were written, but a check failed (see the terminal)");
       std::fflush(stdout);
     }
+    last = std::move(run.value());
   }
   std::printf("watch: stopped\n");
   return kExitOk;

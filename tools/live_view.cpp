@@ -155,6 +155,8 @@ void LiveView::iteration(const IterationReport& r, const sim::Simulation& simula
   s["estimated_rms_error_pct"] = number(r.estimated_rms_error_pct);
   s["flux_lm"] = ledger.escaped.flux_lm;
   s["emitted_lm"] = ledger.emitted.flux_lm;
+  s["bvh_s"] = st.tracer_setup.bvh_s;
+  s["bvh_reused"] = st.tracer_setup.bvh_reused;
   s["lor"] = number(ledger.emitted.flux_lm > 0.0 ? ledger.escaped.flux_lm / ledger.emitted.flux_lm
                                                  : std::numeric_limits<double>::quiet_NaN());
   s["peak_cd"] = s["peak_c_deg"] = s["peak_gamma_deg"] = nullptr;

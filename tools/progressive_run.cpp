@@ -37,10 +37,11 @@ const char* to_string(StopReason reason) {
 
 Result<ProgressiveOutcome> run_progressive(sim::SceneDesc scene, const ProgressiveSettings& settings,
                                            const sim::Resampler* resampler,
-                                           const IterationCallback& on_iteration, const CancelCheck& cancel) {
+                                           const IterationCallback& on_iteration, const CancelCheck& cancel,
+                                           const sim::Simulation* previous) {
   GONIO_CHECK(settings.target_error_pct >= 0.0);
   GONIO_CHECK(resampler || settings.target_error_pct == 0.0);
-  auto created = sim::Simulation::create(std::move(scene), settings.simulation);
+  auto created = sim::Simulation::create(std::move(scene), settings.simulation, previous);
   if (!created.ok()) return created.error();
   ProgressiveOutcome out{std::move(created.value()), StopReason::Iterations, 0, kNaN};
   sim::Simulation& s = out.simulation;

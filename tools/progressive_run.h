@@ -73,6 +73,7 @@ inline constexpr std::uint64_t kCancelSlicePhotons = std::uint64_t{1} << 14;
 Result<ProgressiveOutcome> run_progressive(sim::SceneDesc scene, const ProgressiveSettings& settings,
                                            const sim::Resampler* resampler,
                                            const IterationCallback& on_iteration = {},
-                                           const CancelCheck& cancel = {});
+                                           const CancelCheck& cancel = {},
+                                           const sim::Simulation* previous = nullptr);
 
 }  // namespace gonio::cli

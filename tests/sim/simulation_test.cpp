@@ -124,5 +124,46 @@ TEST(Simulation, RejectsBadSettings) {
   EXPECT_FALSE(Simulation::create(mixed_scene(), s).ok());
 }
 
+// gonio watch's reuse: a simulation of the same geometry shares an earlier
+// one's BVH (same hits, so the same far field), whatever else changed;
+// other geometry or Embree options build their own.
+TEST(Simulation, AnEarlierSimulationsBvhServesTheSameGeometry) {
+  const SceneDesc scene = mixed_scene();
+  auto first = Simulation::create(scene, settings(2, 20000, 1));
+  ASSERT_TRUE(first.ok());
+  EXPECT_FALSE(first->stats().tracer_setup.bvh_reused);
+  first->run_iteration();
+
+  auto again = Simulation::create(scene, settings(2, 20000, 1), &first.value());
+  ASSERT_TRUE(again.ok());
+  EXPECT_TRUE(again->stats().tracer_setup.bvh_reused);
+  EXPECT_EQ(&again->tracer().embree(), &first->tracer().embree());
+  again->run_iteration();
+  const FarField a = first->far_field(), b = again->far_field();
+  for (std::size_t t = 0; t < a.texel_count(); ++t) ASSERT_EQ(a.photons(t), b.photons(t)) << t;
+
+  SceneDesc material = scene;
+  material.materials[0].diffuse_reflect = 0.05;
+  material.emitters[0].flux_lm = 400.0;
+  auto edited = Simulation::create(material, settings(2, 20000, 1), &first.value());
+  ASSERT_TRUE(edited.ok());
+  EXPECT_TRUE(edited->stats().tracer_setup.bvh_reused);
+  edited->run_iteration();
+  EXPECT_NE(edited->ledger().escaped.photons, first->ledger().escaped.photons);
+
+  SceneDesc moved = scene;
+  moved.meshes[1].positions[0].x += 1e-4f;
+  auto rebuilt = Simulation::create(moved, settings(2, 20000, 1), &first.value());
+  ASSERT_TRUE(rebuilt.ok());
+  EXPECT_FALSE(rebuilt->stats().tracer_setup.bvh_reused);
+  EXPECT_NE(&rebuilt->tracer().embree(), &first->tracer().embree());
+
+  SimulationSettings fragile = settings(2, 20000, 1);
+  fragile.robust_embree = false;
+  auto other = Simulation::create(scene, fragile, &first.value());
+  ASSERT_TRUE(other.ok());
+  EXPECT_FALSE(other->stats().tracer_setup.bvh_reused);
+}
+
 }  // namespace
 }  // namespace gonio::sim

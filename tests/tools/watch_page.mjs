@@ -220,10 +220,13 @@ check(stdout.includes('watch: stopped'), 'gonio watch did not say it stopped: ' 
     let s = await state();
     for (let i = 0; i < 600 && !(s.run === 1 && s.iteration >= 1); ++i) { await sleep(100); s = await state(); }
     check(s.run === 1 && s.iteration >= 1, 'the downlight never ran: ' + JSON.stringify(s).slice(0, 300));
+    check(s.bvh_reused === false, 'the first run says it reused a BVH');
     const ies = path.join(dir, 'led.ies');
     fs.writeFileSync(ies, fs.readFileSync(ies));
-    for (let i = 0; i < 600 && s.run < 2; ++i) { await sleep(100); s = await state(); }
+    for (let i = 0; i < 600 && !(s.run >= 2 && s.iteration >= 1); ++i) { await sleep(100); s = await state(); }
     check(s.run === 2, 'rewriting the referenced profile led.ies started no new run');
+    // The geometry did not change: the first run's BVH serves the second.
+    check(s.bvh_reused === true && s.bvh_s < 0.05, 'the unchanged geometry was built again: ' + s.bvh_reused + ' ' + s.bvh_s);
     result.profile_change = 'restarted';
   } finally {
     if (wexit === null) w.kill('SIGINT');
