@@ -130,9 +130,14 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   for (const Mesh& m : scene.meshes) {
     MeshData d;
     d.material = m.material;
-    for (std::uint32_t i : m.indices) {
-      if (!m.normals.empty()) d.corner_normals.push_back(m.normals[i]);
-      if (!m.tangents.empty()) d.corner_tangents.push_back(m.tangents[i]);
+    const std::size_t corners = m.indices.size();
+    if (!m.normals.empty()) {
+      d.corner_normals.resize(corners);
+      for (std::size_t c = 0; c < corners; ++c) d.corner_normals[c] = m.normals[m.indices[c]];
+    }
+    if (!m.tangents.empty()) {
+      d.corner_tangents.resize(corners);
+      for (std::size_t c = 0; c < corners; ++c) d.corner_tangents[c] = m.tangents[m.indices[c]];
     }
     tracer.meshes_.push_back(std::move(d));
   }
