@@ -3,8 +3,10 @@
 // real browser (watch_browser_test.cpp).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -24,6 +26,44 @@ std::string sample(const std::string& name) {
 
 nlohmann::json report(const std::filesystem::path& dir) {
   return nlohmann::json::parse(test::read_file(dir / "report.json"));
+}
+
+// The LED array's die is one mesh placed by nine nodes: simulate keeps it
+// once (nine instances); --no-instancing stores nine copies. The same
+// photons, the same light within photon noise.
+TEST(SimulateInstancing, TheLedArraysDiesAreInstancedAndNoInstancingFlattensThem) {
+  test::TempDir dir;
+  auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"simulate", sample("led-array"), "--out", (dir.path() / out).string(),
+                                     "--photons", "100000", "--iterations", "1", "--format", "ies", "--no-cache"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = gonio(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return report(dir.path() / out);
+  };
+  const auto inst = run("instanced", {});
+  const auto flat = run("flat", {"--no-instancing"});
+  EXPECT_EQ(inst["setup"]["instances"], 9);
+  EXPECT_EQ(flat["setup"]["instances"], 0);
+  EXPECT_EQ(inst["setup"]["triangles_placed"], flat["setup"]["triangles_placed"]);
+  EXPECT_EQ(inst["setup"]["triangles_unique"].get<std::size_t>() + 8 * 16,
+            flat["setup"]["triangles_unique"].get<std::size_t>());  // eight more 16-triangle dies
+  EXPECT_EQ(inst["setup"]["meshes"], 3);
+  EXPECT_EQ(flat["setup"]["meshes"], 11);
+  ASSERT_EQ(inst["meshes"].size(), 3u);
+  ASSERT_EQ(flat["meshes"].size(), 11u);
+  std::uint64_t die_hits = 0;
+  for (const auto& m : flat["meshes"])
+    if (m["name"].get<std::string>().ends_with("/LED die/0")) die_hits += m["hits"].get<std::uint64_t>();
+  for (const auto& m : inst["meshes"]) {
+    if (m["name"] != "LED die/0") continue;
+    EXPECT_EQ(m["placements"], 9);
+    const double hits = m["hits"].get<double>();
+    EXPECT_NEAR(hits, static_cast<double>(die_hits), 3.0 * std::sqrt(static_cast<double>(die_hits)));
+  }
+  EXPECT_EQ(inst["photons_emitted"], flat["photons_emitted"]);
+  const double escaped = flat["escaped_lm"].get<double>();
+  EXPECT_NEAR(inst["escaped_lm"].get<double>(), escaped, 3.0 * escaped / std::sqrt(100000.0));
 }
 
 TEST(SimulateTargetError, StopsUnderTheTargetAndSaysSoInTheReport) {
