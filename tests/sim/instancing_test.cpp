@@ -167,7 +167,8 @@ TEST(Instancing, EmbreeHitsEqualTheFlattenedScene) {
     // triangle at an edge, never another mesh or a far surface.
     ASSERT_EQ(a.mesh, from[b.mesh]) << k;
     ASSERT_EQ(a.instance, instance_of[b.mesh]) << k;
-    ASSERT_NEAR(a.t, b.t, 1e-5 * (1.0 + b.t)) << k;
+    const double ta = a.t, tb = b.t;
+    ASSERT_NEAR(ta, tb, 1e-5 * (1.0 + tb)) << k;
     const Vec3 na = normalize(Vec3{a.ng[0], a.ng[1], a.ng[2]});
     const Vec3 nb = normalize(Vec3{b.ng[0], b.ng[1], b.ng[2]});
     if (a.triangle == b.triangle) {
