@@ -1651,9 +1651,14 @@ Result<std::vector<Copy>> Loader::gpu_instances(const json& ext, const sim::Affi
   copies.reserve(*count);
   for (std::size_t i = 0; i < *count; ++i) {
     tinygltf::Node trs;
-    if (!t.empty()) trs.translation = {t[3 * i], t[3 * i + 1], t[3 * i + 2]};
-    if (!r.empty()) trs.rotation = {r[4 * i], r[4 * i + 1], r[4 * i + 2], r[4 * i + 3]};
-    if (!sc.empty()) trs.scale = {sc[3 * i], sc[3 * i + 1], sc[3 * i + 2]};
+    // glTF's TRS, for local_transform's checks and conventions.
+    const auto take = [](const std::vector<float>& v, std::size_t from, std::size_t n) {
+      return std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(from),
+                                 v.begin() + static_cast<std::ptrdiff_t>(from + n));
+    };
+    if (!t.empty()) trs.translation = take(t, 3 * i, 3);
+    if (!r.empty()) trs.rotation = take(r, 4 * i, 4);
+    if (!sc.empty()) trs.scale = take(sc, 3 * i, 3);
     const std::string name = node_name + "[" + std::to_string(i) + "]";
     Result<sim::Affine> local = local_transform(trs, ew + " copy " + std::to_string(i));
     if (!local.ok()) return local.error();
