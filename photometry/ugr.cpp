@@ -75,6 +75,7 @@ void direct_floor_fractions(const IntensitySampler& s, std::vector<FloorPlane>& 
         };
         const std::size_t n =
             static_cast<std::size_t>(std::partition_point(t_m.begin(), t_m.end(), lands) - t_m.begin());
+        if (n == 0) continue;  // nothing lands (also a degenerate room of zero size)
         const double a = cx / fl.x_m, b = cy / fl.y_m;
         direct[q] += sum0[n] - (a + b) * sum1[n] + a * b * sum2[n];
       }
