@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "benchmarks/photometry_grids.h"
 #include "photometry/angles.h"
 #include "photometry/compare.h"
 #include "photometry/direct_ratios.h"
@@ -19,28 +20,11 @@ namespace {
 using namespace gonio;
 using namespace gonio::photometry;
 
-std::vector<double> steps(double from, double to, double step) {
-  std::vector<double> out;
-  const long n = std::lround((to - from) / step);
-  for (long i = 0; i <= n; ++i) out.push_back(from + static_cast<double>(i) * step);
-  return out;
-}
+using bench::steps;
 
 // A smooth asymmetric downlight with some uplight, on a full C 0..360 grid.
-Distribution grid(double c_step, double gamma_step, Symmetry sym = Symmetry::None,
-                  double c_to = 360.0) {
-  Distribution d;
-  d.symmetry = sym;
-  d.horizontal_deg = steps(0, c_to, c_step);
-  d.vertical_deg = steps(0, 180, gamma_step);
-  for (double c : d.horizontal_deg)
-    for (double g : d.vertical_deg) {
-      const double cg = std::cos(g * std::numbers::pi / 180),
-                   cc = std::cos(c * std::numbers::pi / 180);
-      d.candela.push_back(cg > 0 ? 1000 * std::pow(cg, 4) * (1 + 0.3 * cc * cc) : 40 * -cg);
-    }
-  d.lamps = {LampSet{1, "LED", 5000.0, "", "", 40.0}};
-  return d;
+Distribution grid(double c_step, double gamma_step, Symmetry sym = Symmetry::None, double c_to = 360.0) {
+  return bench::smooth_downlight(c_step, gamma_step, sym, c_to);
 }
 
 // Grid sizes as (C step, γ step): 361 × 181 (1°), 73 × 37 (5°).

@@ -3,10 +3,9 @@
 // them — on the same grids: the ratio is the cost they add per file.
 #include <benchmark/benchmark.h>
 
-#include <cmath>
-#include <numbers>
 #include <string>
 
+#include "benchmarks/photometry_grids.h"
 #include "photometry/planning.h"
 #include "photometry/summary.h"
 
@@ -14,26 +13,9 @@ namespace {
 
 using namespace gonio::photometry;
 
-std::vector<double> steps(double from, double to, double step) {
-  std::vector<double> out;
-  const long n = std::lround((to - from) / step);
-  for (long i = 0; i <= n; ++i) out.push_back(from + static_cast<double>(i) * step);
-  return out;
-}
-
-// A smooth asymmetric downlight with some uplight, full C 0..360, with a
-// 0.6 × 0.6 m opening.
+// The flux benchmarks' downlight, full C 0..360, with a 0.6 × 0.6 m opening.
 Distribution grid(double c_step, double gamma_step) {
-  Distribution d;
-  d.symmetry = Symmetry::None;
-  d.horizontal_deg = steps(0, 360, c_step);
-  d.vertical_deg = steps(0, 180, gamma_step);
-  for (double c : d.horizontal_deg)
-    for (double g : d.vertical_deg) {
-      const double cg = std::cos(g * std::numbers::pi / 180), cc = std::cos(c * std::numbers::pi / 180);
-      d.candela.push_back(cg > 0 ? 1000 * std::pow(cg, 4) * (1 + 0.3 * cc * cc) : 40 * -cg);
-    }
-  d.lamps = {LampSet{1, "LED", 5000.0, "", "", 40.0}};
+  Distribution d = gonio::bench::smooth_downlight(c_step, gamma_step);
   d.opening.shape = OpeningShape::Rectangular;
   d.opening.length_m = d.opening.width_m = 0.6;
   return d;

@@ -36,9 +36,12 @@ int run(const std::vector<std::string>& args) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// The executable timed: the build's gonio, or --gonio=PATH (to time another
-// build in the same run of this program, e.g. before and after a change).
+// The executables timed: the build's gonio, or --gonio=PATH; and with
+// --gonio-before=PATH a second build timed in the same run, each command
+// right after the first build's (cases named before_…), so that a change's
+// before and after share the machine's load.
 std::string g_gonio = GONIO_EXECUTABLE;
+std::string g_gonio_before;
 
 // User + system CPU time of every child waited for so far [s].
 double children_cpu_s() {
@@ -48,8 +51,8 @@ double children_cpu_s() {
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
-void BM_Process(benchmark::State& state, std::vector<std::string> args) {
-  if (args[0] == "gonio") args[0] = g_gonio;
+void BM_Process(benchmark::State& state, std::vector<std::string> args, const std::string& gonio) {
+  if (args[0] == "gonio") args[0] = gonio;
   const double cpu_before = children_cpu_s();
   for (auto _ : state) {
     if (run(args) != 0) {
@@ -75,32 +78,47 @@ const std::string kOut =
         .string();
 const std::string kOutDisk = (std::filesystem::temp_directory_path() / kName).string();
 
-}  // namespace
+struct Case {
+  std::string name;
+  std::vector<std::string> args;
+};
 
-BENCHMARK_CAPTURE(BM_Process, true_baseline, std::vector<std::string>{"/bin/true"})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Process, gonio_version, std::vector<std::string>{kGonio, "--version"})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Process, gonio_info, std::vector<std::string>{kGonio, "info", kCurves + "/downlight.ies"})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Process, gonio_check, std::vector<std::string>{kGonio, "check", kCurves + "/downlight.ldt"})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Process, gonio_convert,
-                  std::vector<std::string>{kGonio, "convert", kCurves + "/downlight.ies", kOut, "--quiet"})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Process, gonio_convert_fsync_to_disk,
-                  std::vector<std::string>{kGonio, "convert", kCurves + "/downlight.ies", kOutDisk, "--quiet"})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Process, gonio_compare,
-                  std::vector<std::string>{kGonio, "compare", kCurves + "/downlight.ies", kCurves + "/downlight.ldt"})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+const std::vector<Case>& cases() {
+  static const std::vector<Case> all = {
+      {"gonio_version", {kGonio, "--version"}},
+      {"gonio_info", {kGonio, "info", kCurves + "/downlight.ies"}},
+      {"gonio_check", {kGonio, "check", kCurves + "/downlight.ldt"}},
+      {"gonio_convert", {kGonio, "convert", kCurves + "/downlight.ies", kOut, "--quiet"}},
+      {"gonio_convert_fsync_to_disk", {kGonio, "convert", kCurves + "/downlight.ies", kOutDisk, "--quiet"}},
+      {"gonio_compare", {kGonio, "compare", kCurves + "/downlight.ies", kCurves + "/downlight.ldt"}},
+  };
+  return all;
+}
+
+void register_all() {
+  const auto add = [](const std::string& name, const std::vector<std::string>& args, const std::string& gonio) {
+    benchmark::RegisterBenchmark(("BM_Process/" + name).c_str(),
+                                 [args, gonio](benchmark::State& s) { BM_Process(s, args, gonio); })
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  };
+  add("true_baseline", {"/bin/true"}, g_gonio);
+  for (const Case& c : cases()) {
+    add(c.name, c.args, g_gonio);
+    if (!g_gonio_before.empty()) add("before_" + c.name, c.args, g_gonio_before);
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a.rfind("--gonio=", 0) == 0) g_gonio = a.substr(8);
+    if (a.rfind("--gonio-before=", 0) == 0) g_gonio_before = a.substr(15);
   }
+  register_all();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   std::filesystem::remove(kOut);

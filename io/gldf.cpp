@@ -11,6 +11,7 @@
 
 #include "gonio/version.h"
 #include "io/xml.h"
+#include "photometry/format.h"
 #include "photometry/summary.h"
 
 namespace gonio::io {
@@ -24,15 +25,6 @@ std::string number(double v) {
   char buf[32];
   const auto r = std::to_chars(buf, buf + sizeof buf, v);
   return std::string(buf, r.ptr);
-}
-
-std::string utc_time(std::int64_t unix_seconds, bool with_zone) {
-  const std::time_t t = static_cast<std::time_t>(unix_seconds);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, with_zone ? "%Y-%m-%dT%H:%M:%SZ" : "%Y-%m-%dT%H:%M:%S", &tm);
-  return buf;
 }
 
 // FNV-1a, for an id that names the same contents the same way.
@@ -92,7 +84,7 @@ std::string structure_xml(const L3dGeometry& g, const std::string& created_with,
   root.set("xsi:noNamespaceSchemaLocation", "https://gldf.io/xsd/l3d/l3d.xsd");
   XmlElement& header = root.add("Header");
   header.add("CreatedWithApplication", created_with);
-  header.add("CreationTimeCode", utc_time(created_unix, false));
+  header.add("CreationTimeCode", format_utc(created_unix, "%Y-%m-%dT%H:%M:%S"));
   root.add("GeometryDefinitions")
       .add("GeometryFileDefinition")
       .set("id", g.id)
@@ -284,7 +276,7 @@ std::string gldf_product_xml(const GldfProduct& p) {
   header.add("Manufacturer", p.manufacturer.empty() ? "not stated" : p.manufacturer);
   header.add("FormatVersion").set("major", "1").set("minor", "0").set("pre-release", "3");
   header.add("CreatedWithApplication", application);
-  header.add("GldfCreationTimeCode", utc_time(p.created_unix, true));
+  header.add("GldfCreationTimeCode", format_utc(p.created_unix, "%Y-%m-%dT%H:%M:%SZ"));
   header.add("UniqueGldfId", uuid_like(h, fnv1a(application, h)));
 
   XmlElement& general = root.add("GeneralDefinitions");

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "photometry/flux.h"
 #include "photometry/intensity_sampler.h"
@@ -28,14 +29,19 @@ double front_share(const IntensitySampler& s, double a, double b) {
   constexpr int kPlanes = 360;
   const int rings = std::max(1, static_cast<int>(std::lround((b - a) / 0.25)));
   const double dg = (b - a) / rings;
+  std::vector<double> c_deg(kPlanes), g_deg(rings), sin_g(rings);
+  for (int i = 0; i < kPlanes; ++i) c_deg[i] = i + 0.5;
+  for (int j = 0; j < rings; ++j) {
+    g_deg[j] = a + (j + 0.5) * dg;
+    sin_g[j] = std::sin(g_deg[j] * kDeg);
+  }
+  const std::vector<double> cd = s.grid(c_deg, g_deg);
   double front = 0.0, all = 0.0;
   for (int i = 0; i < kPlanes; ++i) {
-    const double c = i + 0.5;
     for (int j = 0; j < rings; ++j) {
-      const double g = a + (j + 0.5) * dg;
-      const double f = s.cd(c, g) * std::sin(g * kDeg);
+      const double f = cd[i * rings + j] * sin_g[j];
       all += f;
-      if (c < 180.0) front += f;
+      if (c_deg[i] < 180.0) front += f;
     }
   }
   return all > 0.0 ? front / all : 0.5;

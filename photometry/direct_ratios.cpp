@@ -23,9 +23,12 @@ std::array<double, N> ratios(const Distribution& d, const std::array<double, N>&
   std::array<double, N> direct{};
   double total = 0.0;
   const double dc = 2 * kPi / kPlanes, dg = kPi / kRings;
-  std::vector<double> c_deg(kPlanes), g_deg(kRings);
+  std::vector<double> c_deg(kPlanes), g_deg(kRings), sin_g(kRings);
   for (int i = 0; i < kPlanes; ++i) c_deg[i] = (i + 0.5) * dc / kDeg;
-  for (int j = 0; j < kRings; ++j) g_deg[j] = (j + 0.5) * dg / kDeg;
+  for (int j = 0; j < kRings; ++j) {
+    g_deg[j] = (j + 0.5) * dg / kDeg;
+    sin_g[j] = std::sin(g_deg[j] * kDeg);
+  }
   std::vector<double> intensity;
   if (d.type == PhotometricType::C) {
     intensity = interpolate_grid(e, c_deg, g_deg);
@@ -44,7 +47,7 @@ std::array<double, N> ratios(const Distribution& d, const std::array<double, N>&
     const double c = c_deg[i] * kDeg;
     const double ac = std::abs(std::cos(c)), as = std::abs(std::sin(c));
     for (int j = 0; j < kRings; ++j) {
-      const double flux = intensity[i * kRings + j] * std::sin(g_deg[j] * kDeg) * dc * dg;
+      const double flux = intensity[i * kRings + j] * sin_g[j] * dc * dg;
       total += flux;
       if (j >= kRings / 2 || flux == 0.0) continue;  // the upper hemisphere never lands
       for (std::size_t q = 0; q < N; ++q)

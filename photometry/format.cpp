@@ -1,6 +1,7 @@
 #include "photometry/format.h"
 
 #include <cstdio>
+#include <ctime>
 
 namespace gonio {
 
@@ -17,6 +18,19 @@ std::string format_fixed(double v, int decimals) {
   if (s.size() > 1 && s[0] == '-' && s.find_first_not_of("0.", 1) == std::string::npos)
     s.erase(0, 1);
   return s;
+}
+
+std::string format_utc(std::int64_t unix_seconds, const char* format) {
+  const std::time_t t = static_cast<std::time_t>(unix_seconds);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[64];
+  // The declaration's format attribute checks `format` at each call.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+  const std::size_t n = std::strftime(buf, sizeof buf, format, &tm);
+#pragma GCC diagnostic pop
+  return std::string(buf, n);
 }
 
 }  // namespace gonio

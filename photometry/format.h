@@ -3,6 +3,7 @@
 // io/ies.h format_ies_number, the EULUMDAT writer's fields.)
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace gonio {
@@ -15,5 +16,11 @@ std::string format_number(double v, int significant_digits = 6);
 // Exactly `decimals` decimals: printf's "%.*f", except that a value that
 // rounds to zero prints without a minus sign ("0.0", not "-0.0").
 std::string format_fixed(double v, int decimals);
+
+// A moment as UTC text: strftime's `format` ("%Y-%m-%d", "%H:%M:%S UTC",
+// "%Y-%m-%dT%H:%M:%SZ", ...) of `unix_seconds` (seconds since 1970, UTC),
+// at most 63 bytes. The one way Gonio writes dates and times.
+// (GCC and clang check `format` at each call, as strftime's.)
+__attribute__((format(strftime, 2, 0))) std::string format_utc(std::int64_t unix_seconds, const char* format);
 
 }  // namespace gonio

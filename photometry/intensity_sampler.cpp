@@ -16,6 +16,15 @@ double IntensitySampler::cd(double c_deg, double gamma_deg) const {
   return intensity_toward(expanded_, direction_from_c_gamma(c_deg * kDeg, gamma_deg * kDeg));
 }
 
+std::vector<double> IntensitySampler::grid(const std::vector<double>& c_deg,
+                                           const std::vector<double>& gamma_deg) const {
+  if (expanded_.type == PhotometricType::C) return interpolate_grid(expanded_, c_deg, gamma_deg);
+  std::vector<double> out(c_deg.size() * gamma_deg.size());
+  for (std::size_t i = 0; i < c_deg.size(); ++i)
+    for (std::size_t j = 0; j < gamma_deg.size(); ++j) out[i * gamma_deg.size() + j] = cd(c_deg[i], gamma_deg[j]);
+  return out;
+}
+
 double facing_rectangles_view_factor(double a, double b, double c) {
   const double x = a / c, y = b / c;
   const double p = 1 + x * x, q = 1 + y * y;

@@ -3,6 +3,8 @@
 // once (the symmetry expansion), then queried per direction.
 #pragma once
 
+#include <vector>
+
 #include "photometry/distribution.h"
 
 namespace gonio::photometry {
@@ -15,6 +17,10 @@ class IntensitySampler {
   // the expanded grid (Types A/B through their own angles), 0 where the file
   // holds no data.
   double cd(double c_deg, double gamma_deg) const;
+  // cd() at every point of the tensor grid c_deg × gamma_deg, as
+  // out[i * gamma_deg.size() + j] for (c_deg[i], gamma_deg[j]): the same
+  // values, with one search per grid line for Type C (interpolate_grid).
+  std::vector<double> grid(const std::vector<double>& c_deg, const std::vector<double>& gamma_deg) const;
 
  private:
   Distribution expanded_;

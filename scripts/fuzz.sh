@@ -3,21 +3,25 @@
 # per harness) builds tests/fuzz/ with clang (AddressSanitizer +
 # UndefinedBehaviorSanitizer, coverage for libFuzzer) in build-fuzz/, gathers
 # the seeds, and runs each harness for SECONDS: the IES reader, the LDT
-# reader, the glTF loader (.gltf and .glb, with buffers and light profiles).
+# reader, the glTF loader (.gltf and .glb, with buffers and light profiles),
+# the TM-33 reader (XML) and the GLDF reader (ZIP, product.xml and the
+# photometries inside).
 # Fails on any finding (crash, sanitizer report, leak, timeout, broken round
 # trip) and names the input that caused it (build-fuzz/findings/).
 #
 # Seeds (build-fuzz/seeds/, made here, never committed): the corpus files in
-# ../shared/corpus, the sample profiles and models, tests/fuzz/seeds/, and
-# the hand-made hostile inputs of the reader tests (gonio_io_tests and
-# gonio_model_tests run once with $GONIO_FUZZ_SEEDS set, in build/). What
-# the fuzzer finds new stays in build-fuzz/corpus/ for the next run.
-# $GONIO_FUZZ_ONLY (ies, ldt or gltf) runs one harness.
+# ../shared/corpus, the sample profiles and models, the sample curves
+# converted to TM-33 and GLDF (each photometry format inside) by the build's
+# gonio, tests/fuzz/seeds/, and the hand-made hostile inputs of the reader
+# tests (gonio_io_tests and gonio_model_tests run once with
+# $GONIO_FUZZ_SEEDS set, in build/). What the fuzzer finds new stays in
+# build-fuzz/corpus/ for the next run.
+# $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33 or gldf) runs one harness.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 jobs=$(nproc 2>/dev/null || echo 2)
-harnesses=(ies ldt gltf)
+harnesses=(ies ldt gltf tm33 gldf)
 if [ -n "${GONIO_FUZZ_ONLY:-}" ]; then harnesses=("$GONIO_FUZZ_ONLY"); fi
 
 bash scripts/setup.sh
@@ -30,7 +34,7 @@ cmake --build build-fuzz -j"$jobs" --target "${harnesses[@]/#/gonio_fuzz_}"
 echo "== seeds"
 seeds=build-fuzz/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds"/{ies,ldt,gltf} build-fuzz/findings
+mkdir -p "$seeds"/{ies,ldt,gltf,tm33,gldf} build-fuzz/findings
 corpus=${GONIO_CORPUS:-../shared/corpus}
 if [ -d "$corpus" ]; then
   find "$corpus" -type f -iname '*.ies' -exec cp {} "$seeds/ies/" \;
@@ -46,9 +50,21 @@ cp samples/curves/*.ldt "$seeds/ldt/"
 cp tests/fuzz/seeds/gltf/* "$seeds/gltf/"
 # The reader tests' hand-made inputs (tests/support offer_fuzz_seed) and the
 # sample models, from the Release build.
-bash scripts/build.sh --target gonio_io_tests gonio_model_tests gonio_samples >/dev/null
+bash scripts/build.sh --target gonio gonio_io_tests gonio_model_tests gonio_samples >/dev/null
 GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_io_tests --gtest_brief=1 \
-  --gtest_filter='Ies*:Ldt*' >/dev/null
+  --gtest_filter='Ies*:Ldt*:Tm33*:Gldf*:Zip*' >/dev/null
+# The sample curves as TM-33 documents and as GLDF containers, with the
+# curve inside as EULUMDAT (from .ldt) and IES (from .ies), and one with
+# TM-33 inside.
+convert() {
+  ./build/tools/gonio convert "$1" "$2" --quiet >/dev/null 2>&1 || { echo "fuzz: cannot convert $1 to $2" >&2; exit 1; }
+}
+for curve in samples/curves/*.ies samples/curves/*.ldt; do
+  name=$(basename "$curve")
+  convert "$curve" "$seeds/tm33/${name%.*}-${name##*.}.xml"
+  convert "$curve" "$seeds/gldf/${name%.*}-${name##*.}.gldf"
+done
+convert "$seeds/tm33/downlight-ies.xml" "$seeds/gldf/downlight-xml.gldf"
 GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_model_tests --gtest_brief=1 \
   --gtest_filter='Gltf*' >/dev/null
 # Each sample model with its buffer as the side file (tests/fuzz/gltf_fuzzer.cpp).

@@ -28,6 +28,7 @@
 #include "gonio/version.h"
 #include "io/file_io.h"
 #include "io/report.h"
+#include "photometry/format.h"
 #include "sim/cube_map.h"
 #include "sim/resample.h"
 #include "tools/bench_reference.h"
@@ -64,13 +65,6 @@ std::string load_average() {
   if (!(in >> a >> b >> c)) return "unknown";
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.2f, %.2f, %.2f", a, b, c);
-  return buf;
-}
-
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
   return buf;
 }
 
@@ -308,7 +302,7 @@ int run_bench(const Args& args) {
                   cpu.empty() ? "unknown CPU" : cpu.c_str(), std::thread::hardware_concurrency(),
                   settings.threads > 0 ? settings.threads
                                        : static_cast<int>(std::thread::hardware_concurrency()),
-                  load_before.c_str(), load_average().c_str(), utc_now().c_str(), kVersion);
+                  load_before.c_str(), load_average().c_str(), format_utc(std::time(nullptr), "%Y-%m-%d %H:%M UTC").c_str(), kVersion);
     if (Status s = io::make_directories(fs::absolute(page).parent_path().string()); !s.ok()) {
       print_error(s.error());
       return kExitFailure;

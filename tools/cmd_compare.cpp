@@ -21,12 +21,12 @@
 #include "photometry/compare.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/json_figures.h"
 #include "tools/photometric_input.h"
 
 namespace gonio::cli {
 namespace {
 
-nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
 std::string degrees(double v) {
   if (!std::isfinite(v)) return "none";
@@ -129,14 +129,14 @@ int run_compare(const Args& args) {
     j["rms_relative"] = c.rms_relative;
     j["max_relative"] = c.max_relative;
     j["max_at"] = {{"c_deg", c.max_at_c_deg}, {"gamma_deg", c.max_at_gamma_deg}};
-    j["flux_ratio"] = number_or_null(c.flux_ratio);
+    j["flux_ratio"] = json_number(c.flux_ratio);
     j["flux_difference_lm"] = c.flux_b_lm - c.flux_a_lm;
-    j["beam_angle_deg"] = {{"a", {{"c0_c180", number_or_null(beam_a0)}, {"c90_c270", number_or_null(beam_a90)}}},
-                           {"b", {{"c0_c180", number_or_null(beam_b0)}, {"c90_c270", number_or_null(beam_b90)}}}};
-    j["beam_difference_deg"] = {{"c0_c180", number_or_null(c.beam_difference_c0_c180_deg)},
-                                {"c90_c270", number_or_null(c.beam_difference_c90_c270_deg)}};
-    j["field_difference_deg"] = {{"c0_c180", number_or_null(c.field_difference_c0_c180_deg)},
-                                 {"c90_c270", number_or_null(c.field_difference_c90_c270_deg)}};
+    j["beam_angle_deg"] = {{"a", {{"c0_c180", json_number(beam_a0)}, {"c90_c270", json_number(beam_a90)}}},
+                           {"b", {{"c0_c180", json_number(beam_b0)}, {"c90_c270", json_number(beam_b90)}}}};
+    j["beam_difference_deg"] = {{"c0_c180", json_number(c.beam_difference_c0_c180_deg)},
+                                {"c90_c270", json_number(c.beam_difference_c90_c270_deg)}};
+    j["field_difference_deg"] = {{"c0_c180", json_number(c.field_difference_c0_c180_deg)},
+                                 {"c90_c270", json_number(c.field_difference_c90_c270_deg)}};
     if (!plot.empty()) j["plot"] = plot;
     std::printf("%s\n", j.dump(2).c_str());
     return kExitOk;

@@ -10,6 +10,7 @@
 
 #include "photometry/format.h"
 #include "photometry/planning.h"
+#include "tools/json_figures.h"
 #include "photometry/summary.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
@@ -303,7 +304,7 @@ void print_table(const std::string& path, const io::PhotometricFile& file, const
 
 // ------------------------------------------------------------ JSON
 
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+const auto number = json_number<json>;
 
 json grid_json(const std::vector<double>& a) {
   const auto step = step_of(a);
@@ -468,15 +469,7 @@ json info_json(const std::string& path, const io::PhotometricFile& file, const S
   j["upward_flux_lm"] = number(s.upward_flux_lm);
   j["zones"] = zones_json(s.zones);
   j["zones_10deg"] = zones_json(s.zones_10deg);
-  j["max_cd"] = number(s.max_intensity_cd);
-  j["max_c_deg"] = number(s.max_c_deg);
-  j["max_gamma_deg"] = number(s.max_gamma_deg);
-  j["max_horizontal_deg"] = number(s.max_horizontal_deg);
-  j["max_vertical_deg"] = number(s.max_vertical_deg);
-  j["beam_angle_c0_c180_deg"] = number(s.beam_c0_c180.angle_deg);
-  j["beam_angle_c90_c270_deg"] = number(s.beam_c90_c270.angle_deg);
-  j["field_angle_c0_c180_deg"] = number(s.field_c0_c180.angle_deg);
-  j["field_angle_c90_c270_deg"] = number(s.field_c90_c270.angle_deg);
+  put_peak_and_spread(j, &s);
   j["beam"] = {{"c0_c180", beam_json(s.beam_c0_c180)}, {"c90_c270", beam_json(s.beam_c90_c270)}};
   j["field"] = {{"c0_c180", beam_json(s.field_c0_c180)}, {"c90_c270", beam_json(s.field_c90_c270)}};
   const auto& code = s.cie_flux_code;

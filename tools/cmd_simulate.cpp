@@ -63,6 +63,7 @@
 #include "io/file_io.h"
 #include "io/model_check.h"
 #include "io/report.h"
+#include "photometry/format.h"
 #include "sim/resample.h"
 #include "sim/simulation.h"
 #include "sim/symmetry.h"
@@ -105,15 +106,6 @@ std::string format_rate(double per_s) {
 }
 
 double percent(double part, double whole) { return whole > 0.0 ? 100.0 * part / whole : 0.0; }
-
-std::string today_utc() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[16];
-  std::strftime(buf, sizeof buf, "%Y-%m-%d", &tm);
-  return buf;
-}
 
 std::string signed_percent(double fraction) {
   char buf[32];
@@ -390,7 +382,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   request.run.photons = st.photons;
   request.run.seed = settings.seed;
   request.run.max_bounces = settings.max_bounces;
-  request.run.issue_date = today_utc();
+  request.run.issue_date = format_utc(std::time(nullptr), "%Y-%m-%d");
   Result<OutputResult> written = write_outputs(far_field, sim->scene(), ledger, request);
   if (!written.ok()) failures.push_back(written.error());
   const OutputResult none;

@@ -4,15 +4,16 @@
 #include <cstring>
 #include <ctime>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include "io/cube_cross.h"
+#include "photometry/format.h"
 #include "photometry/summary.h"
+#include "tools/json_figures.h"
 
 namespace gonio::cli {
 namespace {
-
-nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 bool same_frame(const photometry::PhotometricFrame& a, const photometry::PhotometricFrame& b) {
   auto eq = [](const Vec3& x, const Vec3& y) { return x.x == y.x && x.y == y.y && x.z == y.z; };
@@ -27,15 +28,6 @@ nlohmann::json findings_json(const std::vector<Finding>& findings) {
                    {"message", f.message},
                    {"where", to_string(f.where)}});
   return out;
-}
-
-std::string utc_now() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%H:%M:%S UTC", &tm);
-  return buf;
 }
 
 // The row of C-plane `c_deg` of a Type C distribution over 0…360 (none: empty).
@@ -149,28 +141,19 @@ void LiveView::iteration(const IterationReport& r, const sim::Simulation& simula
   s["iteration"] = r.progress.iteration;
   s["iterations"] = r.progress.iterations;
   s["photons"] = st.photons;
-  s["photons_per_s"] = number(r.progress.photons_per_s);
-  s["elapsed_s"] = number(r.progress.elapsed_s);
-  s["time_left_s"] = number(r.progress.remaining_s);
-  s["estimated_rms_error_pct"] = number(r.estimated_rms_error_pct);
+  s["photons_per_s"] = json_number(r.progress.photons_per_s);
+  s["elapsed_s"] = json_number(r.progress.elapsed_s);
+  s["time_left_s"] = json_number(r.progress.remaining_s);
+  s["estimated_rms_error_pct"] = json_number(r.estimated_rms_error_pct);
   s["flux_lm"] = ledger.escaped.flux_lm;
   s["emitted_lm"] = ledger.emitted.flux_lm;
   s["bvh_s"] = st.tracer_setup.bvh_s;
   s["bvh_reused"] = st.tracer_setup.bvh_reused;
-  s["lor"] = number(ledger.emitted.flux_lm > 0.0 ? ledger.escaped.flux_lm / ledger.emitted.flux_lm
+  s["lor"] = json_number(ledger.emitted.flux_lm > 0.0 ? ledger.escaped.flux_lm / ledger.emitted.flux_lm
                                                  : std::numeric_limits<double>::quiet_NaN());
-  s["peak_cd"] = s["peak_c_deg"] = s["peak_gamma_deg"] = nullptr;
-  s["beam_c0_c180_deg"] = s["beam_c90_c270_deg"] = s["field_c0_c180_deg"] = s["field_c90_c270_deg"] = nullptr;
-  if (photometry::validate(d).ok() && table.total_flux_lm() > 0.0) {
-    const photometry::Summary sum = photometry::summarize(d);
-    s["peak_cd"] = number(sum.max_intensity_cd);
-    s["peak_c_deg"] = number(sum.max_c_deg);
-    s["peak_gamma_deg"] = number(sum.max_gamma_deg);
-    s["beam_c0_c180_deg"] = number(sum.beam_c0_c180.angle_deg);
-    s["beam_c90_c270_deg"] = number(sum.beam_c90_c270.angle_deg);
-    s["field_c0_c180_deg"] = number(sum.field_c0_c180.angle_deg);
-    s["field_c90_c270_deg"] = number(sum.field_c90_c270.angle_deg);
-  }
+  std::optional<photometry::Summary> sum;
+  if (photometry::validate(d).ok() && table.total_flux_lm() > 0.0) sum = photometry::summarize(d);
+  put_peak_and_spread(s, sum ? &*sum : nullptr);
   last_curves_ = {{"run", run_},
                   {"gamma_deg", d.vertical_deg},
                   {"c0", plane(d, 0.0)},
@@ -194,7 +177,7 @@ void LiveView::run_finished(const ProgressiveOutcome& run) {
   state_["status"] = "finished";
   state_["stopped_by"] = to_string(run.stopped_by);
   state_["status_text"] = run.stopped_by == StopReason::TargetError ? "reached the target error" : "finished";
-  state_["estimated_rms_error_pct"] = number(run.estimated_rms_error_pct);
+  state_["estimated_rms_error_pct"] = json_number(run.estimated_rms_error_pct);
   since_ = {};
   publish(false);
 }
@@ -202,7 +185,7 @@ void LiveView::run_finished(const ProgressiveOutcome& run) {
 void LiveView::run_failed(const Error& error, std::vector<Finding> findings) {
   state_["status"] = "error";
   state_["status_text"] = "the model could not be used; showing the last good result";
-  state_["last_error"] = {{"message", to_string(error)}, {"time", utc_now()}};
+  state_["last_error"] = {{"message", to_string(error)}, {"time", format_utc(std::time(nullptr), "%H:%M:%S UTC")}};
   if (!findings.empty()) state_["findings"] = findings_json(findings);
   since_ = {};
   publish(false);

@@ -9,10 +9,11 @@
 //   iteration, iterations, photons, photons_per_s, elapsed_s, time_left_s,
 //   estimated_rms_error_pct, target_error_pct (null: none), stopped_by,
 //   flux_lm (escaped, the ledger's, as report.json's escaped_lm),
-//   emitted_lm, lor (escaped / emitted), peak_cd, peak_c_deg,
-//   peak_gamma_deg, beam_c0_c180_deg, beam_c90_c270_deg,
-//   field_c0_c180_deg, field_c90_c270_deg (photometry/beam.h, of the
-//   filtered candela table), curves {gamma_deg, c0, c180, c90, c270} [cd]
+//   emitted_lm, lor (escaped / emitted), max_cd, max_c_deg,
+//   max_gamma_deg, beam_angle_c0_c180_deg, beam_angle_c90_c270_deg,
+//   field_angle_c0_c180_deg, field_angle_c90_c270_deg (gonio info --json's
+//   keys, tools/json_figures.h; photometry/beam.h, of the filtered candela
+//   table), curves {gamma_deg, c0, c180, c90, c270} [cd]
 //   (filtered), previous_curves (the last iteration of the run before, or
 //   null), field {face_size, max_cd, white_cd (the colour scale's top:
 //   io/cube_cross.h's 99 % flux quantile), version} (GET /field.f32), findings

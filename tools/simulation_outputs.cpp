@@ -21,6 +21,7 @@
 #include "photometry/format.h"
 #include "photometry/validation.h"
 #include "tools/cli.h"
+#include "tools/json_figures.h"
 
 namespace gonio::cli {
 namespace {
@@ -501,7 +502,6 @@ nlohmann::json findings_json(const std::vector<Finding>& findings) {
   return a;
 }
 
-nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
 }  // namespace
 
@@ -518,7 +518,7 @@ nlohmann::json to_json(const OutputResult& r, const sim::CGammaGrid& grid, doubl
                      {"p_value", t.p_value},
                      {"groups", t.groups},
                      {"rejected", t.rejected},
-                     {"detectable_deviation", number_or_null(t.detectable_deviation)}});
+                     {"detectable_deviation", json_number(t.detectable_deviation)}});
   sym["tests"] = std::move(tests);
   j["symmetry"] = std::move(sym);
   j["escaped_lm"] = escaped_lm;
@@ -526,8 +526,8 @@ nlohmann::json to_json(const OutputResult& r, const sim::CGammaGrid& grid, doubl
   for (const WrittenFile& f : r.files) {
     files.push_back({{"path", f.path},
                      {"format", to_string(f.format)},
-                     {"flux_lm", number_or_null(f.flux_lm)},
-                     {"flux_difference", number_or_null(f.flux_difference)},
+                     {"flux_lm", json_number(f.flux_lm)},
+                     {"flux_difference", json_number(f.flux_difference)},
                      {"clean", f.clean()},
                      {"findings", findings_json(f.findings)},
                      {"writer_notes", findings_json(f.writer_notes)}});

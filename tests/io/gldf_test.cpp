@@ -24,6 +24,12 @@ using photometry::Distribution;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
+// parse_gldf, each archive also a seed for the GLDF fuzzer (scripts/fuzz.sh).
+Result<GldfFile> parse(const std::string& archive, const std::string& name) {
+  test::offer_fuzz_seed("gldf", archive);
+  return parse_gldf(archive, name);
+}
+
 Distribution downlight() {
   Distribution d = test::sample_c(photometry::Symmetry::C0_C180, test::angles(0, 180, 15), test::angles(0, 180, 5),
                                   [](double c, double g) {
@@ -111,6 +117,7 @@ TEST(Gldf, LdtThroughGldfReadsBackExactly) {
     ASSERT_TRUE(write_photometric_file(path.string(), d, o, &w).ok());
     auto direct = encode_photometric_file(d, inner, o, nullptr);
     ASSERT_TRUE(direct.ok());
+    test::offer_fuzz_seed("gldf", test::read_file(path));
     auto back = read_photometric_file(path.string());
     ASSERT_TRUE(back.ok()) << to_string(back.error());
     EXPECT_EQ(back->format, inner);
@@ -175,7 +182,7 @@ std::string product(const std::string& file_element) {
 TEST(Gldf, BrokenContainersAreClearErrorsNamingTheArchiveAndLine) {
   const std::string ldt = *write_ldt(downlight(), {}, nullptr);
   const std::string good_file = "<File id=\"f1\" contentType=\"ldc/eulumdat\" type=\"localFileName\">a.ldt</File>";
-  auto good = parse_gldf(*write_zip({{"product.xml", product(good_file)}, {"ldc/a.ldt", ldt}}, 0), "g.gldf");
+  auto good = parse(*write_zip({{"product.xml", product(good_file)}, {"ldc/a.ldt", ldt}}, 0), "g.gldf");
   ASSERT_TRUE(good.ok()) << to_string(good.error());
   EXPECT_EQ(good->photometries.size(), 1u);
   EXPECT_EQ(good->manufacturer, "M");
@@ -201,7 +208,7 @@ TEST(Gldf, BrokenContainersAreClearErrorsNamingTheArchiveAndLine) {
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
-    auto r = parse_gldf(*write_zip(c.entries, 0), "bad.gldf");
+    auto r = parse(*write_zip(c.entries, 0), "bad.gldf");
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find(c.says), std::string::npos) << r.error().message;
     EXPECT_EQ(r.error().where.line, c.line) << r.error().message;

@@ -23,6 +23,12 @@ using photometry::Symmetry;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
+// parse_tm33, each document also a seed for the TM-33 fuzzer (scripts/fuzz.sh).
+Result<Tm33File> parse(const std::string& document, const std::string& name) {
+  test::offer_fuzz_seed("tm33", document);
+  return parse_tm33(document, name);
+}
+
 const Finding* find(const std::vector<Finding>& w, const std::string& code) {
   for (const Finding& f : w)
     if (f.code == code) return &f;
@@ -103,7 +109,7 @@ std::string sample_document() {
 }
 
 TEST(Tm33, ReadsEveryPartOfADocument) {
-  auto r = parse_tm33(sample_document(), "lamp.xml");
+  auto r = parse(sample_document(), "lamp.xml");
   ASSERT_TRUE(r.ok()) << to_string(r.error());
   const Distribution& d = r->distribution;
   EXPECT_EQ(r->version, Tm33Version::TM33_23);
@@ -186,7 +192,7 @@ TEST(Tm33, WrittenFilesReadBackWithTheSameIntensitiesAndFlux) {
     SCOPED_TRACE(std::string(photometry::to_string(d.type)) + " " + photometry::to_string(d.symmetry));
     std::vector<Finding> w;
     const std::string xml = write_tm33(d, &w);
-    auto r = parse_tm33(xml, "rt.xml");
+    auto r = parse(xml, "rt.xml");
     ASSERT_TRUE(r.ok()) << to_string(r.error());
     const Distribution& b = r->distribution;
     EXPECT_EQ(b.type, d.type);
@@ -220,7 +226,7 @@ TEST(Tm33, IesToTm33ToIesKeepsTheFileAndReportsWhatTm33Lacks) {
   auto first = parse_ies(ies, "a.ies", ".");
   ASSERT_TRUE(first.ok());
   std::vector<Finding> w;
-  auto back = parse_tm33(write_tm33(first->distribution, &w), "a.xml");
+  auto back = parse(write_tm33(first->distribution, &w), "a.xml");
   ASSERT_TRUE(back.ok()) << to_string(back.error());
   EXPECT_EQ(back->distribution.candela, first->distribution.candela);
   const Finding* opening = find(w, "tm33-opening");
@@ -235,9 +241,9 @@ TEST(Tm33, IesToTm33ToIesKeepsTheFileAndReportsWhatTm33Lacks) {
 }
 
 TEST(Tm33, SpectraAreKeptThroughTm33AndReportedWhereDropped) {
-  auto r = parse_tm33(sample_document(), "lamp.xml");
+  auto r = parse(sample_document(), "lamp.xml");
   ASSERT_TRUE(r.ok());
-  auto again = parse_tm33(write_tm33(r->distribution, nullptr), "again.xml");
+  auto again = parse(write_tm33(r->distribution, nullptr), "again.xml");
   ASSERT_TRUE(again.ok()) << to_string(again.error());
   ASSERT_EQ(again->distribution.spectra.size(), 1u);
   EXPECT_EQ(again->distribution.spectra[0].values, r->distribution.spectra[0].values);
@@ -255,7 +261,7 @@ TEST(Tm33, AtlaS001RootIsReadAndRecognised) {
   doc.replace(doc.find("<IESTM33-22>"), 12, "<IESTM33>");
   doc.replace(doc.find("</IESTM33-22>"), 13, "</IESTM33>");
   doc.replace(doc.find("<Version>1.1"), 12, "<Version>1.0");
-  auto r = parse_tm33(doc, "old.xml");
+  auto r = parse(doc, "old.xml");
   ASSERT_TRUE(r.ok()) << to_string(r.error());
   EXPECT_EQ(r->version, Tm33Version::Atla_S001);
   EXPECT_TRUE(looks_like_tm33(doc));
@@ -298,7 +304,7 @@ TEST(Tm33, HostileDocumentsAreClearErrorsWithTheirLine) {
   };
   for (const Hostile& c : cases) {
     SCOPED_TRACE(c.name);
-    auto r = parse_tm33(c.document, "h.xml");
+    auto r = parse(c.document, "h.xml");
     ASSERT_FALSE(r.ok());
     EXPECT_EQ(r.error().where.file, "h.xml");
     EXPECT_EQ(r.error().where.line, c.line) << r.error().message;
@@ -321,7 +327,7 @@ TEST(Tm33, EntityExpansionAndExternalEntitiesAreNeverExpanded) {
   doc = doc.substr(doc.find("<IESTM33-22>"));
   const std::string bomb = dtd + with(doc, ">500</RatedLumens>", ">&lol9;</RatedLumens>");
   const auto start = std::chrono::steady_clock::now();
-  auto r = parse_tm33(bomb, "bomb.xml");
+  auto r = parse(bomb, "bomb.xml");
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("'&lol9;' is not a number"), std::string::npos) << r.error().message;
   EXPECT_EQ(r.error().where.line, 36);
@@ -329,7 +335,7 @@ TEST(Tm33, EntityExpansionAndExternalEntitiesAreNeverExpanded) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
 
   const std::string external = dtd + with(doc, "<Description>Downlight", "<Description>&xxe;");
-  auto x = parse_tm33(external, "xxe.xml");
+  auto x = parse(external, "xxe.xml");
   ASSERT_TRUE(x.ok()) << to_string(x.error());
   EXPECT_EQ(keyword(x->distribution, "LUMINAIRE"), "&xxe;");  // literally, /etc/passwd unread
 }

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string>
 
+#include "tests/support/test_support.h"
+
 namespace gonio::io {
 namespace {
 
@@ -60,7 +62,9 @@ TEST(Zip, EntryNamesThatLeaveTheArchiveAreRefused) {
   const std::string zip = *write_zip({{"product.xml", "<Root/>"}, {"xx/evil.ldt", "1"}}, 0);
   for (const auto& [to, says] : {std::pair{"../evil.ldt", "'../evil.ldt' leaves the archive"},
                                  std::pair{"/x/evil.ldt", "'/x/evil.ldt' leaves the archive"}}) {
-    auto r = read_zip(renamed(zip, "xx/evil.ldt", to), "evil.gldf");
+    const std::string evil = renamed(zip, "xx/evil.ldt", to);
+    test::offer_fuzz_seed("gldf", evil);
+    auto r = read_zip(evil, "evil.gldf");
     ASSERT_FALSE(r.ok()) << to;
     EXPECT_EQ(r.error().where.file, "evil.gldf");
     EXPECT_NE(r.error().message.find(says), std::string::npos) << r.error().message;

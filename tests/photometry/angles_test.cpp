@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "photometry/frame.h"
+#include "tests/support/photometry_fixtures.h"
 
 namespace gonio::photometry {
 namespace {
@@ -189,19 +190,15 @@ Distribution sample(PhotometricType type, std::vector<double> h, std::vector<dou
   return d;
 }
 
-std::vector<double> steps(double from, double to, double step) {
-  std::vector<double> out;
-  for (int i = 0; from + i * step <= to + 1e-9; ++i) out.push_back(from + i * step);
-  return out;
-}
+using test::angles;
 
 TEST(Angles, IntensityTowardADirectionReadsTheRightGridCell) {
   const Distribution b =
-      expand_symmetry(sample(PhotometricType::B, steps(-90, 90, 1), steps(-90, 90, 1)));
+      expand_symmetry(sample(PhotometricType::B, angles(-90, 90, 1), angles(-90, 90, 1)));
   const Distribution a =
-      expand_symmetry(sample(PhotometricType::A, steps(-90, 90, 1), steps(-90, 90, 1)));
+      expand_symmetry(sample(PhotometricType::A, angles(-90, 90, 1), angles(-90, 90, 1)));
   const Distribution c =
-      expand_symmetry(sample(PhotometricType::C, steps(0, 360, 1), steps(0, 180, 1)));
+      expand_symmetry(sample(PhotometricType::C, angles(0, 360, 1), angles(0, 180, 1)));
   for (double u = -0.9; u <= 0.9; u += 0.3) {
     for (double w = -0.9; w <= 0.9; w += 0.3) {
       const Vec3 down = normalize(Vec3{u, w, -1.0});  // lower hemisphere: inside Type B's grid

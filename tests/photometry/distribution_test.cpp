@@ -2,33 +2,19 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/photometry_fixtures.h"
+
 namespace gonio::photometry {
 namespace {
 
+using test::angles;
 // A Type C distribution whose intensity is a known function of (C, γ).
-Distribution make_c(Symmetry sym, std::vector<double> h, std::vector<double> v,
-                    double (*f)(double c, double g)) {
-  Distribution d;
-  d.type = PhotometricType::C;
-  d.symmetry = sym;
-  d.horizontal_deg = std::move(h);
-  d.vertical_deg = std::move(v);
-  for (double c : d.horizontal_deg)
-    for (double g : d.vertical_deg) d.candela.push_back(f(c, g));
-  d.lamps = {LampSet{1, "test", 1000.0, "", "", kNaN}};
-  return d;
-}
-
-std::vector<double> range(double from, double to, double step) {
-  std::vector<double> out;
-  for (double a = from; a <= to + 1e-9; a += step) out.push_back(a);
-  return out;
-}
+constexpr auto make_c = test::sample_c;
 
 double asym(double c, double g) { return 100.0 + c + 0.5 * g; }
 
 TEST(Distribution, ValidAndInvalidModels) {
-  Distribution d = make_c(Symmetry::None, range(0, 360, 30), range(0, 180, 10), asym);
+  Distribution d = make_c(Symmetry::None, angles(0, 360, 30), angles(0, 180, 10), asym);
   EXPECT_TRUE(validate(d).ok());
 
   Distribution unsorted = d;
@@ -45,7 +31,7 @@ TEST(Distribution, ValidAndInvalidModels) {
   nan.candela[5] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(validate(nan).ok());
 
-  Distribution wrong_range = make_c(Symmetry::Quadrant, range(0, 180, 30), range(0, 90, 10), asym);
+  Distribution wrong_range = make_c(Symmetry::Quadrant, angles(0, 180, 30), angles(0, 90, 10), asym);
   EXPECT_FALSE(validate(wrong_range).ok());
 
   Distribution lateral_c = d;
@@ -62,7 +48,7 @@ TEST(Distribution, ValidAndInvalidModels) {
 TEST(Distribution, NegativeIntensitiesAreStructurallyValid) {
   // Negative values are data problems that `gonio check` reports; the model
   // must hold them so that they can be reported.
-  Distribution d = make_c(Symmetry::Rotational, {0}, range(0, 180, 10), asym);
+  Distribution d = make_c(Symmetry::Rotational, {0}, angles(0, 180, 10), asym);
   d.candela[3] = -1.0;
   EXPECT_TRUE(validate(d).ok());
 }
@@ -74,13 +60,13 @@ TEST(Distribution, ExpansionMirrorsEachSymmetry) {
     double (*mirror)(double c);  // where the value at C comes from
   };
   const Case cases[] = {
-      {Symmetry::Quadrant, range(0, 90, 15),
+      {Symmetry::Quadrant, angles(0, 90, 15),
        [](double c) {
          c = std::fmod(c, 180.0);
          return c > 90.0 ? 180.0 - c : c;
        }},
-      {Symmetry::C0_C180, range(0, 180, 15), [](double c) { return c > 180.0 ? 360.0 - c : c; }},
-      {Symmetry::C90_C270, range(90, 270, 15),
+      {Symmetry::C0_C180, angles(0, 180, 15), [](double c) { return c > 180.0 ? 360.0 - c : c; }},
+      {Symmetry::C90_C270, angles(90, 270, 15),
        [](double c) {
          if (c < 90.0) return 180.0 - c;
          if (c > 270.0) return 540.0 - c;
@@ -89,7 +75,7 @@ TEST(Distribution, ExpansionMirrorsEachSymmetry) {
   };
   for (const Case& k : cases) {
     SCOPED_TRACE(to_string(k.sym));
-    Distribution d = make_c(k.sym, k.planes, range(0, 180, 10), asym);
+    Distribution d = make_c(k.sym, k.planes, angles(0, 180, 10), asym);
     ASSERT_TRUE(validate(d).ok());
     Distribution e = expand_symmetry(d);
     EXPECT_EQ(e.symmetry, Symmetry::None);
@@ -107,7 +93,7 @@ TEST(Distribution, ExpansionMirrorsEachSymmetry) {
 }
 
 TEST(Distribution, RotationalExpandsToTwoPlanes) {
-  Distribution d = make_c(Symmetry::Rotational, {0}, range(0, 180, 5), asym);
+  Distribution d = make_c(Symmetry::Rotational, {0}, angles(0, 180, 5), asym);
   Distribution e = expand_symmetry(d);
   ASSERT_EQ(e.horizontal_deg, (std::vector<double>{0.0, 360.0}));
   EXPECT_DOUBLE_EQ(interpolate(e, 123.0, 45.0), asym(0, 45));
@@ -115,7 +101,7 @@ TEST(Distribution, RotationalExpandsToTwoPlanes) {
 
 TEST(Distribution, FullRangeWithoutClosingPlaneWrapsAtTheSeam) {
   // Planes 10..350: the seam is bridged between 350 and 370 (= 10).
-  Distribution d = make_c(Symmetry::None, range(10, 350, 20), {0, 90, 180},
+  Distribution d = make_c(Symmetry::None, angles(10, 350, 20), {0, 90, 180},
                           [](double c, double) { return c; });
   Distribution e = expand_symmetry(d);
   ASSERT_DOUBLE_EQ(e.horizontal_deg.front(), 0.0);
@@ -127,7 +113,7 @@ TEST(Distribution, FullRangeWithoutClosingPlaneWrapsAtTheSeam) {
 }
 
 TEST(Distribution, InterpolationIsBilinearAndContinuousAcrossTheSeam) {
-  Distribution d = make_c(Symmetry::None, range(0, 360, 10), range(0, 180, 5),
+  Distribution d = make_c(Symmetry::None, angles(0, 360, 10), angles(0, 180, 5),
                           [](double c, double g) { return 1000.0 + 2.0 * std::min(c, 360.0 - c) + g; });
   Distribution e = expand_symmetry(d);
   EXPECT_NEAR(interpolate(e, 12.5, 47.5), 1000.0 + 25.0 + 47.5, 1e-9);
@@ -146,7 +132,7 @@ TEST(Distribution, PolesHaveOneValue) {
 }
 
 TEST(Distribution, UnmeasuredDirectionsEmitNothing) {
-  Distribution d = make_c(Symmetry::Rotational, {0}, range(0, 90, 5),
+  Distribution d = make_c(Symmetry::Rotational, {0}, angles(0, 90, 5),
                           [](double, double) { return 50.0; });
   Distribution e = expand_symmetry(d);
   EXPECT_DOUBLE_EQ(interpolate(e, 0, 90.0), 50.0);
@@ -178,13 +164,13 @@ TEST(Distribution, ExpandedPlanesDescribeExpandSymmetry) {
     std::vector<double> planes;
   };
   const Case cases[] = {
-      {Symmetry::None, range(0, 360, 20)},     {Symmetry::None, range(10, 350, 20)},
-      {Symmetry::Quadrant, range(0, 90, 15)},  {Symmetry::C0_C180, range(0, 180, 30)},
-      {Symmetry::C90_C270, range(90, 270, 10)}, {Symmetry::Rotational, {0}},
+      {Symmetry::None, angles(0, 360, 20)},     {Symmetry::None, angles(10, 350, 20)},
+      {Symmetry::Quadrant, angles(0, 90, 15)},  {Symmetry::C0_C180, angles(0, 180, 30)},
+      {Symmetry::C90_C270, angles(90, 270, 10)}, {Symmetry::Rotational, {0}},
   };
   for (const Case& k : cases) {
     SCOPED_TRACE(to_string(k.sym));
-    const Distribution d = make_c(k.sym, k.planes, range(0, 180, 30), asym);
+    const Distribution d = make_c(k.sym, k.planes, angles(0, 180, 30), asym);
     const Distribution e = expand_symmetry(d);
     const std::vector<ExpandedPlane> planes = expanded_planes(d);
     ASSERT_EQ(planes.size(), e.horizontal_count());
@@ -201,13 +187,13 @@ TEST(Distribution, ExpandedPlanesDescribeExpandSymmetry) {
     for (const ExpandedPlane& p : expanded_planes(d)) n += p.t != 0.0;
     return n;
   };
-  EXPECT_EQ(blends(make_c(Symmetry::None, range(10, 350, 20), {0, 90}, asym)), 2);
-  EXPECT_EQ(blends(make_c(Symmetry::None, range(0, 340, 20), {0, 90}, asym)), 0);
+  EXPECT_EQ(blends(make_c(Symmetry::None, angles(10, 350, 20), {0, 90}, asym)), 2);
+  EXPECT_EQ(blends(make_c(Symmetry::None, angles(0, 340, 20), {0, 90}, asym)), 0);
 }
 
 TEST(Distribution, ExpansionOfManyPlanesKeepsEveryAngleOnce) {
   // 0.25 degree quadrant data: 361 stored planes become 1441 (0..360).
-  const Distribution d = make_c(Symmetry::Quadrant, range(0, 90, 0.25), {0, 90, 180}, asym);
+  const Distribution d = make_c(Symmetry::Quadrant, angles(0, 90, 0.25), {0, 90, 180}, asym);
   const Distribution e = expand_symmetry(d);
   ASSERT_EQ(e.horizontal_count(), 1441u);
   for (std::size_t h = 1; h < e.horizontal_count(); ++h)
@@ -220,7 +206,7 @@ TEST(Distribution, InterpolateGridEqualsInterpolateAtEveryPoint) {
   const std::vector<double> vs = {-100, -90, -12.5, 0, 1e-12, 7.7, 90, 123.4, 180, 180.5};
   Distribution c = make_c(Symmetry::None, {0, 40, 90, 200, 270, 360}, {0, 30, 90, 180},
                           [](double cc, double g) { return 1 + cc + 10 * std::sin(g); });
-  Distribution partial = make_c(Symmetry::C0_C180, range(0, 180, 45), range(10, 120, 10), asym);
+  Distribution partial = make_c(Symmetry::C0_C180, angles(0, 180, 45), angles(10, 120, 10), asym);
   Distribution rot = make_c(Symmetry::Rotational, {0}, {0, 45, 90}, asym);
   Distribution b;
   b.type = PhotometricType::B;

@@ -109,6 +109,33 @@ TEST(Ugr, LinearLuminaireGlaresMoreCrosswise) {
   EXPECT_GT(t.rooms[10].crosswise[0], t.rooms[10].endwise[0] + 1.0);
 }
 
+// The table shares work across its rooms (each luminaire position's glare
+// term once per orientation, one pass over the hemisphere for every room's
+// direct floor flux); ugr() computes one room on its own. They agree on an
+// asymmetric luminaire with some uplight, every room, side and reflectance set.
+TEST(Ugr, TableEqualsEachRoomComputedAlone) {
+  Distribution d = sample_c(Symmetry::None, angles(0, 360, 10), angles(0, 180, 5), [](double c, double g) {
+    const double cr = std::cos(c * kPi / 180), gr = g * kPi / 180;
+    return g < 90 ? 800 * std::pow(std::cos(gr), 3) * (1 + 0.4 * cr + 0.2 * cr * cr) : 30 * -std::cos(gr);
+  });
+  d.opening.shape = OpeningShape::Rectangular;
+  d.opening.length_m = 0.9;
+  d.opening.width_m = 0.3;
+  const UgrTable t = ugr_table(d);
+  ASSERT_TRUE(t.defined) << t.why_undefined;
+  for (const UgrRoom& r : t.rooms)
+    for (std::size_t k = 0; k < kUgrReflectances.size(); ++k) {
+      EXPECT_NEAR(r.crosswise[k], ugr(d, r.x_h, r.y_h, kUgrReflectances[k], false), 1e-12)
+          << r.x_h << "H x " << r.y_h << "H";
+      EXPECT_NEAR(r.endwise[k], ugr(d, r.x_h, r.y_h, kUgrReflectances[k], true), 1e-12)
+          << r.x_h << "H x " << r.y_h << "H";
+    }
+  // Off the table's grid (walls not on the spacing) the same figure moves
+  // smoothly with the spacing.
+  const double at_025 = ugr(d, 4, 8, kUgrReflectances[0], false, 0.25);
+  EXPECT_NEAR(ugr(d, 4, 8, kUgrReflectances[0], false, 0.26), at_025, 0.5);
+}
+
 TEST(Ugr, UplightIsUndefinedWithAReason) {
   Distribution d = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 5),
                             [](double, double g) { return g > 90 ? 100.0 : 0.0; });

@@ -119,8 +119,8 @@ try {
   check(report.stopped_by === 'iterations', 'report.json stopped_by ' + report.stopped_by);
   const state1 = await stateJson();
   close(shown.error, state1.estimated_rms_error_pct, 'estimated error vs state.json');
-  close(shown.peak, state1.peak_cd, 'peak vs state.json');
-  close(shown.beam0, state1.beam_c0_c180_deg, 'beam angle vs state.json');
+  close(shown.peak, state1.max_cd, 'peak vs state.json');
+  close(shown.beam0, state1.beam_angle_c0_c180_deg, 'beam angle vs state.json');
   close(state1.flux_lm, report.escaped_lm, 'state.json flux_lm vs report.json');
   check(shown.fluxText.includes('lm'), 'flux shown without its unit: ' + shown.fluxText);
   check(shown.fieldVersion > 0, 'the page never fetched the field');

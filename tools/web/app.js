@@ -211,14 +211,14 @@ function showNumbers(s) {
   setNumber('flux', s.flux_lm, fmt(s.flux_lm, 5) + ' lm');
   setNumber('emitted', s.emitted_lm, fmt(s.emitted_lm, 5) + ' lm');
   setNumber('lor', s.lor, Number.isFinite(s.lor) ? (100 * s.lor).toFixed(2) + ' %' : '—');
-  setNumber('peak', s.peak_cd, fmt(s.peak_cd, 4) + ' cd');
-  setNumber('peak-at', s.peak_gamma_deg,
-    Number.isFinite(s.peak_c_deg) ? `C ${fmt(s.peak_c_deg)}° / γ ${fmt(s.peak_gamma_deg)}°` : '—');
+  setNumber('peak', s.max_cd, fmt(s.max_cd, 4) + ' cd');
+  setNumber('peak-at', s.max_gamma_deg,
+    Number.isFinite(s.max_c_deg) ? `C ${fmt(s.max_c_deg)}° / γ ${fmt(s.max_gamma_deg)}°` : '—');
   const deg = (v) => (Number.isFinite(v) ? v.toFixed(1) + '°' : '—');
-  setNumber('beam0', s.beam_c0_c180_deg, deg(s.beam_c0_c180_deg));
-  setNumber('beam90', s.beam_c90_c270_deg, deg(s.beam_c90_c270_deg));
-  setNumber('field0', s.field_c0_c180_deg, deg(s.field_c0_c180_deg));
-  setNumber('field90', s.field_c90_c270_deg, deg(s.field_c90_c270_deg));
+  setNumber('beam0', s.beam_angle_c0_c180_deg, deg(s.beam_angle_c0_c180_deg));
+  setNumber('beam90', s.beam_angle_c90_c270_deg, deg(s.beam_angle_c90_c270_deg));
+  setNumber('field0', s.field_angle_c0_c180_deg, deg(s.field_angle_c0_c180_deg));
+  setNumber('field90', s.field_angle_c90_c270_deg, deg(s.field_angle_c90_c270_deg));
   setNumber('error-est', s.estimated_rms_error_pct,
     Number.isFinite(s.estimated_rms_error_pct) ? s.estimated_rms_error_pct.toFixed(3) + ' %' : '—');
   setNumber('target', s.target_error_pct, Number.isFinite(s.target_error_pct) ? s.target_error_pct + ' %' : 'none');
