@@ -796,7 +796,7 @@ Status Loader::read_elements(const tinygltf::Accessor& a, std::size_t elem,
   if (src->data) {
     for (std::size_t i = 0; i < a.count; ++i)
       std::memcpy(out + i * elem, src->data + i * src->stride, elem);
-  } else {
+  } else if (a.count > 0) {  // no elements: `out` may be null (a fuzz finding)
     std::memset(out, 0, a.count * elem);
   }
   if (!a.sparse.isSparse) return Ok{};

@@ -784,6 +784,23 @@ TEST(Gltf, BadLightsAreErrorsNamingTheLight) {
   EXPECT_CONTAINS(load_error(d.write(dir, "idx")), "light 5 does not exist");
 }
 
+// Fuzz finding (glTF harness, this session): an accessor of no elements
+// and no bufferView made the loader memset a null pointer (undefined
+// behaviour that UBSan reported). It is a primitive without triangles.
+TEST(Gltf, FuzzFoundAnEmptyAccessorWithoutBufferViewIsAnEmptyPrimitive) {
+  test::TempDir dir;
+  Doc d;
+  d.j["accessors"].push_back({{"componentType", 5126}, {"count", 0}, {"type", "VEC3"}});
+  const int empty = static_cast<int>(d.j["accessors"].size() - 1);
+  d.j["meshes"].push_back({{"primitives", json::array({json{{"attributes", {{"POSITION", empty}}}}})}});
+  d.node({{"mesh", 0}});
+  d.point_light(1.0);
+  std::vector<Finding> findings;
+  const sim::SceneDesc s = load_ok(d.write(dir, "empty-accessor"), &findings);
+  EXPECT_TRUE(s.meshes.empty());
+  EXPECT_TRUE(has_code(findings, "empty-primitive"));
+}
+
 // --- instancing --------------------------------------------------------------
 
 // A point transformed by an instance, for comparisons.
