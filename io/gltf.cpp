@@ -76,13 +76,6 @@ Result<double> profile_flux_lm(const photometry::Distribution& d, const std::str
   return flux;
 }
 
-bool all_finite(const sim::Affine& a) {
-  for (const auto& row : a.m)
-    for (double v : row)
-      if (!std::isfinite(v)) return false;
-  return std::isfinite(a.offset.x) && std::isfinite(a.offset.y) && std::isfinite(a.offset.z);
-}
-
 // ---------------------------------------------------------------------------
 // Bytes.
 
@@ -369,13 +362,13 @@ class Loader {
   Status read_root_lights();
   Result<std::vector<int>> root_nodes();
   Result<sim::Affine> local_transform(const tinygltf::Node& node, const std::string& what);
-  Status count_mesh_uses(const std::vector<int>& roots);
+  void count_mesh_uses(const std::vector<int>& roots);
   Result<std::vector<Copy>> gpu_instances(const json& ext, const sim::Affine& world,
                                           const std::string& node_name, const std::string& what);
   Status visit_node(int index, const sim::Affine& world);
   Result<std::optional<sim::Mesh>> primitive_mesh(const tinygltf::Primitive& prim,
                                                   const std::string& what,
-                                                  const sim::Affine& transform);
+                                                  const sim::Affine& world);
   Status add_primitive(const tinygltf::Node& node, int node_index, int mesh_index, int prim_index,
                        const sim::Affine& world, std::vector<std::size_t>& area_emitters,
                        const std::vector<Copy>* copies);
@@ -1045,7 +1038,7 @@ Result<std::uint32_t> Loader::material(int index) {
   return id;
 }
 
-// The primitive's triangles as a scene mesh in the frame `transform` takes
+// The primitive's triangles as a scene mesh in the frame `world` takes
 // its vertices to (the world, or the glTF mesh's own frame for instancing);
 // nullopt when it has none. Name left empty.
 Result<std::optional<sim::Mesh>> Loader::primitive_mesh(const tinygltf::Primitive& prim,
@@ -1591,7 +1584,7 @@ Status Loader::add_ies_light(const json& ext, const sim::Affine& world,
 // How often each mesh is placed by the scene's nodes (an
 // EXT_mesh_gpu_instancing node places it once per copy). Nodes reached twice
 // are left to the main walk, which names the cycle.
-Status Loader::count_mesh_uses(const std::vector<int>& roots) {
+void Loader::count_mesh_uses(const std::vector<int>& roots) {
   mesh_uses_.assign(model_.meshes.size(), 0);
   std::vector<char> seen(model_.nodes.size(), 0);
   std::vector<int> stack(roots.rbegin(), roots.rend());
@@ -1606,7 +1599,6 @@ Status Loader::count_mesh_uses(const std::vector<int>& roots) {
     for (int c : node.children) stack.push_back(c);
   }
   if (!options_.instancing) std::fill(mesh_uses_.begin(), mesh_uses_.end(), std::size_t{1});
-  return Ok{};
 }
 
 // The copies of an EXT_mesh_gpu_instancing node: world × T·R·S of each,
@@ -1663,7 +1655,7 @@ Result<std::vector<Copy>> Loader::gpu_instances(const json& ext, const sim::Affi
     Result<sim::Affine> local = local_transform(trs, ew + " copy " + std::to_string(i));
     if (!local.ok()) return local.error();
     const sim::Affine w = world * *local;
-    if (!all_finite(w)) return fail(ew + " copy " + std::to_string(i) + ": the world transform is not finite");
+    if (!w.finite()) return fail(ew + " copy " + std::to_string(i) + ": the world transform is not finite");
     copies.push_back({w, name});
   }
   return copies;
@@ -1753,7 +1745,7 @@ Result<sim::SceneDesc> Loader::load() {
 
   Result<std::vector<int>> roots = root_nodes();
   if (!roots.ok()) return roots.error();
-  if (Status s = count_mesh_uses(*roots); !s.ok()) return s.error();
+  count_mesh_uses(*roots);
   visited_.assign(model_.nodes.size(), 0);
   std::vector<std::pair<int, sim::Affine>> stack;
   for (auto it = roots->rbegin(); it != roots->rend(); ++it) stack.emplace_back(*it, root_);
@@ -1769,7 +1761,7 @@ Result<sim::SceneDesc> Loader::load() {
     Result<sim::Affine> local = local_transform(node, node_what(index));
     if (!local.ok()) return local.error();
     const sim::Affine world = parent * *local;
-    if (!all_finite(world)) return fail(node_what(index) + ": the world transform is not finite");
+    if (!world.finite()) return fail(node_what(index) + ": the world transform is not finite");
     if (Status s = visit_node(index, world); !s.ok()) return s.error();
     for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
       stack.emplace_back(*it, world);

@@ -19,6 +19,13 @@ struct Affine {
   }
   Vec3 point(const Vec3& p) const { return linear(p) + offset; }
 
+  bool finite() const {
+    for (const auto& row : m)
+      for (double v : row)
+        if (!std::isfinite(v)) return false;
+    return std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z);
+  }
+
   double determinant() const {
     return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
            m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +

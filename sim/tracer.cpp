@@ -56,11 +56,7 @@ Status validate_instance(const SceneDesc& scene, std::size_t i) {
     return make_error(what + ": " + mesh_label(scene.meshes[inst.mesh], inst.mesh) +
                       " is world geometry, not an instanced mesh");
   const Affine& a = inst.to_world;
-  for (const auto& row : a.m)
-    for (double v : row)
-      if (!std::isfinite(v)) return make_error(what + ": the transform is not finite");
-  if (!(std::isfinite(a.offset.x) && std::isfinite(a.offset.y) && std::isfinite(a.offset.z)))
-    return make_error(what + ": the transform is not finite");
+  if (!a.finite()) return make_error(what + ": the transform is not finite");
   const double det = a.determinant();
   if (!(std::abs(det) > 1e-300) || !std::isfinite(det))
     return make_error(what + ": the transform is singular");
