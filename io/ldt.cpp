@@ -699,7 +699,12 @@ class LdtFieldWriter {
   void integer(long long n) { line(std::to_string(n)); }
 
   // A text field: one line, Latin-1, at most `max_chars`.
-  void text(std::string_view utf8, std::size_t max_chars, const std::string& what) {
+  // The first line (first_line) is written after a space when its bytes
+  // would make a reader take the file for something else: an IES file's
+  // first line, or Latin-1 "\xEF\xBB\xBF" (a UTF-8 byte order mark, which
+  // the reader drops). The reader trims the space: the text reads back the same.
+  void text(std::string_view utf8, std::size_t max_chars, const std::string& what,
+            bool first_line = false) {
     std::string value(utf8);
     if (value.find_first_of("\r\n") != std::string::npos) {
       for (char& c : value)
@@ -729,6 +734,8 @@ class LdtFieldWriter {
                " characters: " + shown(latin1_to_utf8(latin1)));
       latin1.resize(max_chars);
     }
+    if (first_line && (starts_like_ies(latin1) || latin1.rfind("\xEF\xBB\xBF", 0) == 0))
+      latin1.insert(latin1.begin(), ' ');
     line(latin1);
   }
 
@@ -1058,11 +1065,7 @@ class LdtWriter {
 
   // 1-12: identification, symmetry, the counts and steps of the grid.
   void identification() {
-    // A company name that starts like an IES file's first line is written
-    // after a space, so that a reader does not take the file for IES (it
-    // trims the space away: the name reads back the same).
-    const std::string& company = slots_[0].value;
-    w_.text(starts_like_ies(company) ? " " + company : company, kTextChars, "the company (MANUFAC)");
+    w_.text(slots_[0].value, kTextChars, "the company (MANUFAC)", /*first_line=*/true);
     w_.integer(ityp_);
     w_.integer(layout_.isym);
     w_.integer(static_cast<long long>(layout_.c_list.size()));

@@ -702,6 +702,23 @@ TEST(LdtWrite, FuzzFoundACompanyThatStartsLikeAnIesFileReadsBack) {
     }
     EXPECT_EQ(again.distribution.candela, f.distribution.candela);
   }
+  // Found by the fuzzer in CI: in a Latin-1 file (one that is not UTF-8: the
+  // "\xE9" at the end), a company " \xEF\xBB\xBFIES:LM-63 …" reads as
+  // "ï»¿IES:LM-63 …"; written back as those bytes at the start of the file,
+  // the reader took them for a UTF-8 byte order mark, dropped them and saw an
+  // IES file. The writer decides on the bytes it writes: a space goes first.
+  for (const std::string& company : {std::string("\xEF\xBB\xBFIES:LM-63 test house \xE9"),
+                                    std::string("\xEF\xBB\xBF" "Acme \xE9")}) {
+    std::vector<std::string> l = lines_of(small_spec());
+    l[0] = " " + company;  // read: the leading space keeps the bytes company text
+    const LdtFile f = parse_ok(join(l));
+    const std::string read = keyword(f.distribution, "MANUFAC");
+    auto written = write_ldt(f.distribution, {}, nullptr);
+    ASSERT_TRUE(written.ok()) << written.error().message;
+    EXPECT_EQ(written->substr(0, 1), " ");
+    const LdtFile again = parse_ok(*written);
+    EXPECT_EQ(keyword(again.distribution, "MANUFAC"), read);
+  }
   // An IES file's own first line is still refused, saying what it is.
   std::vector<std::string> l = lines_of(small_spec());
   l[0] = "IESNA:LM-63-2002";
