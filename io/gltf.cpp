@@ -1139,7 +1139,7 @@ Result<std::optional<sim::Mesh>> Loader::primitive_mesh(const tinygltf::Primitiv
     const std::size_t v = used[k];
     const Vec3 p =
         world.point(widen((*positions)[3 * v], (*positions)[3 * v + 1], (*positions)[3 * v + 2]));
-    const sim::Vec3f f{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+    const sim::Vec3f f = sim::to_float(p);
     if (!(std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z)))
       return fail(what + ": vertex " + std::to_string(v) + " is not finite in world space");
     mesh.positions[k] = f;

@@ -14,8 +14,6 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
-
 }  // namespace
 
 Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& profile) {

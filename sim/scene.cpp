@@ -21,15 +21,9 @@ std::size_t SceneDesc::placed_triangle_count() const {
 }
 
 void transform(Mesh& mesh, const Affine& map) {
-  auto widen = [](const Vec3f& v) {
-    return Vec3{static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
-  };
-  auto narrow = [](const Vec3& v) {
-    return Vec3f{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
-  };
-  for (Vec3f& p : mesh.positions) p = narrow(map.point(widen(p)));
-  for (Vec3f& n : mesh.normals) n = narrow(normalize(map.normal(widen(n))));
-  for (Vec3f& t : mesh.tangents) t = narrow(normalize(map.linear(widen(t))));
+  for (Vec3f& p : mesh.positions) p = to_float(map.point(to_double(p)));
+  for (Vec3f& n : mesh.normals) n = to_float(normalize(map.normal(to_double(n))));
+  for (Vec3f& t : mesh.tangents) t = to_float(normalize(map.linear(to_double(t))));
   if (map.determinant() < 0.0)
     for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
       std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);

@@ -22,6 +22,11 @@ struct Vec3f {
   float x = 0.0f, y = 0.0f, z = 0.0f;
 };
 
+inline Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
+inline Vec3f to_float(const Vec3& v) {
+  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+}
+
 // How a surface scatters a photon. Each hit chooses one event with these
 // probabilities (they sum to at most 1; the remainder is absorbed), and the
 // photon keeps its power: the reference thesis' material model (section 5.2)
@@ -119,15 +124,12 @@ struct SceneDesc {
 // vertices once, an instanced mesh's once per instance (transformed).
 template <class F>
 void for_each_placed_vertex(const SceneDesc& scene, F&& f) {
-  const auto widen = [](const Vec3f& p) {
-    return Vec3{static_cast<double>(p.x), static_cast<double>(p.y), static_cast<double>(p.z)};
-  };
   for (const Mesh& m : scene.meshes)
     if (!m.instanced)
-      for (const Vec3f& p : m.positions) f(widen(p));
+      for (const Vec3f& p : m.positions) f(to_double(p));
   for (const Instance& i : scene.instances)
     if (i.mesh < scene.meshes.size())
-      for (const Vec3f& p : scene.meshes[i.mesh].positions) f(i.to_world.point(widen(p)));
+      for (const Vec3f& p : scene.meshes[i.mesh].positions) f(i.to_world.point(to_double(p)));
 }
 
 // Applies an affine map to positions, shading normals and tangents. A map

@@ -10,11 +10,6 @@
 namespace gonio::sim {
 namespace {
 
-Vec3f to_float(const Vec3& v) {
-  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
-}
-Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
-
 // Unit normal (dy, −dr) of the profile segment a → b, as (r, y) components.
 std::pair<double, double> segment_normal(const ProfilePoint& a, const ProfilePoint& b) {
   const double dr = b.r_m - a.r_m, dy = b.y_m - a.y_m;

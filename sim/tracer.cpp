@@ -12,8 +12,6 @@ namespace {
 
 bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
-
 double max_abs(const Vec3& p) { return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}); }
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -129,11 +127,11 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
     const std::size_t corners = m.indices.size();
     if (!m.normals.empty()) {
       d.corner_normals.resize(corners);
-      for (std::size_t c = 0; c < corners; ++c) d.corner_normals[c] = m.normals[m.indices[c]];
+      for (std::size_t c = 0; c < corners; ++c) d.corner_normals[c] = pack_unit(m.normals[m.indices[c]]);
     }
     if (!m.tangents.empty()) {
       d.corner_tangents.resize(corners);
-      for (std::size_t c = 0; c < corners; ++c) d.corner_tangents[c] = m.tangents[m.indices[c]];
+      for (std::size_t c = 0; c < corners; ++c) d.corner_tangents[c] = pack_unit(m.tangents[m.indices[c]]);
     }
     tracer.meshes_.push_back(std::move(d));
   }
@@ -205,15 +203,15 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       // An instance's normals and tangents are in its mesh's frame.
       const Affine* place = hit.instance == kNoInstance ? nullptr : &instances_[hit.instance];
       if (!mesh.corner_normals.empty()) {
-        const Vec3f* n3 = &mesh.corner_normals[c];
-        Vec3 n = w0 * to_double(n3[0]) + u * to_double(n3[1]) + v * to_double(n3[2]);
+        const PackedUnit* n3 = &mesh.corner_normals[c];
+        Vec3 n = w0 * unpack_unit(n3[0]) + u * unpack_unit(n3[1]) + v * unpack_unit(n3[2]);
         if (place) n = place->normal(n);
         const double len = length(n);
         if (len > 0.0) frame.shading_normal = n / len;
       }
       if (!mesh.corner_tangents.empty()) {
-        const Vec3f* t3 = &mesh.corner_tangents[c];
-        frame.tangent = w0 * to_double(t3[0]) + u * to_double(t3[1]) + v * to_double(t3[2]);
+        const PackedUnit* t3 = &mesh.corner_tangents[c];
+        frame.tangent = w0 * unpack_unit(t3[0]) + u * unpack_unit(t3[1]) + v * unpack_unit(t3[2]);
         if (place) frame.tangent = place->linear(frame.tangent);
       }
     }

@@ -28,6 +28,7 @@
 #include "sim/material.h"
 #include "sim/random.h"
 #include "sim/scene.h"
+#include "sim/unit_vector.h"
 
 namespace gonio::sim {
 
@@ -133,9 +134,10 @@ class Tracer {
   struct MeshData {
     std::uint32_t material;
     // Shading normals and tangents at the three corners of each triangle,
-    // stored by triangle so that a hit reads one or two cache lines.
-    std::vector<Vec3f> corner_normals;    // 3 per triangle, may be empty
-    std::vector<Vec3f> corner_tangents;   // 3 per triangle, may be empty
+    // stored by triangle so that a hit reads one cache line, and packed
+    // (sim/unit_vector.h: 4 bytes a corner rather than 12).
+    std::vector<PackedUnit> corner_normals;   // 3 per triangle, may be empty
+    std::vector<PackedUnit> corner_tangents;  // 3 per triangle, may be empty
   };
 
   Tracer(CubeMapGrid grid, std::shared_ptr<const EmbreeScene> embree, EmissionSampler emission,
