@@ -36,8 +36,10 @@ inline PackedUnit pack_unit(double x, double y, double z) {
     u = fu;
     v = fv;
   }
+  // Rounded half away from zero, as std::lround, without its library call.
   const auto snorm = [](double c) {
-    return static_cast<std::int16_t>(std::lround(std::fmin(1.0, std::fmax(-1.0, c)) * 32767.0));
+    const double s = std::fmin(1.0, std::fmax(-1.0, c)) * 32767.0;
+    return static_cast<std::int16_t>(s >= 0.0 ? static_cast<int>(s + 0.5) : -static_cast<int>(0.5 - s));
   };
   return {snorm(u), snorm(v)};
 }
