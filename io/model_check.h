@@ -52,7 +52,7 @@ namespace gonio::io {
 
 // Bumped whenever what the checks find changes, so that old cache entries
 // are not reused.
-inline constexpr int kModelCheckRevision = 1;
+inline constexpr int kModelCheckRevision = 2;
 
 struct ModelCheckOptions {
   std::string cache_dir;  // folder of cached results; empty: no cache

@@ -153,7 +153,7 @@ TEST(ModelCheckCache, ACorruptEntryIsIgnoredAndRewritten) {
       {"truncated", valid.substr(0, valid.size() / 2)},
       {"binary garbage", std::string("\x00\xff\x13\x37", 4)},
       {"not an object", "[1, 2, 3]\n"},
-      {"another revision", replace(valid, "\"revision\":1", "\"revision\":999")},
+      {"another revision", replace(valid, "\"revision\":" + std::to_string(kModelCheckRevision), "\"revision\":999")},
       {"another format", replace(valid, "gonio model check", "something else")},
       {"wrong vertex count", replace(valid, "\"vertices\":", "\"vertices\":1")},
       {"unknown severity", replace(valid, "\"severity\":\"error\"", "\"severity\":\"fatal\"")},
