@@ -281,20 +281,57 @@ Intersections self_intersections(const Welded& w, std::size_t slab_triangles) {
   int axis = 0;
   for (int k = 1; k < 3; ++k)
     if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
-  std::vector<float> starts(n);
-  for (std::size_t t = 0; t < n; ++t) starts[t] = boxes[t].min_coord(axis);
+  // Cuts at quantiles of the boxes' lower ends, from a sample taken at a
+  // fixed stride (the cuts depend on the mesh alone).
+  const std::size_t stride = std::max<std::size_t>(1, n / (256 * slabs));
+  std::vector<float> starts;
+  starts.reserve(n / stride + 1);
+  for (std::size_t t = 0; t < n; t += stride) starts.push_back(boxes[t].min_coord(axis));
   std::sort(starts.begin(), starts.end());
   std::vector<float> cuts{-kInf};
   for (std::size_t s = 1; s < slabs; ++s) {
-    const float c = starts[s * n / slabs];
+    const float c = starts[s * starts.size() / slabs];
     if (c > cuts.back()) cuts.push_back(c);
   }
   cuts.push_back(kInf);
-  std::vector<Intersections> found(cuts.size() - 1);
+  // Each box goes to the slabs its extent along the axis meets: from the
+  // slab of its lower end to that of its upper end. Lists of box indices in
+  // index order, built in parallel by chunks (counted, then filled), so a
+  // slab's boxes are the same whatever the thread count.
+  const std::size_t slab_count = cuts.size() - 1;
+  const auto slab_of = [&](float x) {
+    return static_cast<std::size_t>(std::upper_bound(cuts.begin() + 1, cuts.end() - 1, x) - (cuts.begin() + 1));
+  };
+  constexpr std::size_t kChunk = 65536;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::size_t> count(chunks * slab_count, 0);  // [chunk][slab], then offsets
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for (std::size_t t = c * kChunk; t < std::min(n, (c + 1) * kChunk); ++t)
+      for (std::size_t s = slab_of(boxes[t].min_coord(axis)); s <= slab_of(boxes[t].max_coord(axis)); ++s)
+        ++count[c * slab_count + s];
+  });
+  std::vector<std::size_t> slab_begin(slab_count + 1, 0);
+  std::size_t total = 0;
+  for (std::size_t s = 0; s < slab_count; ++s) {
+    slab_begin[s] = total;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::size_t k = count[c * slab_count + s];
+      count[c * slab_count + s] = total;
+      total += k;
+    }
+  }
+  slab_begin[slab_count] = total;
+  std::vector<std::uint32_t> members(total);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for (std::size_t t = c * kChunk; t < std::min(n, (c + 1) * kChunk); ++t)
+      for (std::size_t s = slab_of(boxes[t].min_coord(axis)); s <= slab_of(boxes[t].max_coord(axis)); ++s)
+        members[count[c * slab_count + s]++] = static_cast<std::uint32_t>(t);
+  });
+  std::vector<Intersections> found(slab_count);
   tbb::parallel_for(std::size_t{0}, found.size(), [&](std::size_t s) {
     std::vector<Box> mine;
-    for (const Box& b : boxes)
-      if (b.min_coord(axis) < cuts[s + 1] && b.max_coord(axis) >= cuts[s]) mine.push_back(b);
+    mine.reserve(slab_begin[s + 1] - slab_begin[s]);
+    for (std::size_t k = slab_begin[s]; k < slab_begin[s + 1]; ++k) mine.push_back(boxes[members[k]]);
     found[s] = search_slab(w, mine, axis, cuts[s], cuts[s + 1]);
   });
   Intersections out;

@@ -5,8 +5,8 @@
 # with the setup times, the memory high-water mark and photons/s from each
 # run's report.json.
 #
-#   scripts/scaling.sh [WORKDIR]      (default build/scaling; ~3 minutes,
-#                                      2 GB for the flat 10^7 lens array)
+#   scripts/scaling.sh [WORKDIR]      (default build/scaling; ~5 minutes,
+#                                      2 GB at 10^7 triangles)
 #
 # Run it on a quiet machine: the times are wall-clock seconds.
 set -euo pipefail
@@ -59,12 +59,12 @@ row() {  # row KIND TRIANGLES [--no-instancing]
 dir="$work/base"
 [ -d "$dir" ] || ./build/samples/gonio_make_samples --large faceted-reflector 100 "$dir" >/dev/null
 $gonio simulate "$(ls "$dir"/*/*.gltf)" --out "$dir/out" --photons 200000 --iterations 1 --format ies \
-  --flux-tolerance 1 --no-cache >/dev/null
+  --flux-tolerance 1 --no-cache >/dev/null 2>&1
 base_rss=$(key "$dir/out/report.json" max_rss_bytes)
 echo "empty run: $((base_rss / 1000000)) MB"
 echo "| model | triangles placed (unique) | load | checks | BVH | load + checks + BVH | peak memory (B/unique triangle) | photons/s |"
 echo "|---|---|---|---|---|---|---|---|"
-for n in 10000 100000 1000000; do row faceted-reflector $n; done
-for n in 10000 100000 1000000; do row glass-part $n; done
+for n in 10000 100000 1000000 10000000; do row faceted-reflector $n; done
+for n in 10000 100000 1000000 10000000; do row glass-part $n; done
 for n in 10000 1000000 10000000 100000000; do row lens-array $n; done
 for n in 1000000 10000000; do row lens-array $n --no-instancing; done

@@ -278,6 +278,10 @@ TEST(ModelCheck, SlabsAndThreadsDoNotChangeTheFindings) {
     for (sim::Vec3f& p : c.positions) p.y += 0.25f * static_cast<float>(i % 7);
     append(row, c);
   }
+  // A long sliver along the whole row: its box meets every slab.
+  const auto sliver = static_cast<std::uint32_t>(row.positions.size());
+  row.positions.insert(row.positions.end(), {{-1, 0.6f, 0.5f}, {152, 0.7f, 0.5f}, {152, 0.7f, 0.6f}});
+  row.indices.insert(row.indices.end(), {sliver, sliver + 1, sliver + 2});
   const sim::SceneDesc scene = scene_with(row, false);
   ModelCheckOptions one_slab;
   one_slab.slab_triangles = std::size_t{1} << 40;
