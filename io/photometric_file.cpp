@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 
 #include "io/file_io.h"
@@ -284,7 +283,7 @@ Result<std::string> encode_photometric_file(const photometry::Distribution& d,
                                                           : "ldc/eulumdat";
     product.photometries.push_back({stem + ext, type, std::move(bytes).value(), *source});
     product.created_unix =
-        options.gldf_created_unix != 0 ? options.gldf_created_unix : static_cast<std::int64_t>(std::time(nullptr));
+        options.gldf_created_unix != 0 ? options.gldf_created_unix : now_unix();
     if (warnings)
       warnings->push_back({Severity::Info, "gldf-packaged",
                            std::string("packaged as ") + to_string(inner) + " (" + type +

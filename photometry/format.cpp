@@ -1,6 +1,9 @@
 #include "photometry/format.h"
 
+#include <charconv>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <ctime>
 
 namespace gonio {
@@ -31,6 +34,16 @@ std::string format_utc(std::int64_t unix_seconds, const char* format) {
   const std::size_t n = std::strftime(buf, sizeof buf, format, &tm);
 #pragma GCC diagnostic pop
   return std::string(buf, n);
+}
+
+std::int64_t now_unix() {
+  if (const char* epoch = std::getenv("SOURCE_DATE_EPOCH")) {
+    std::int64_t v = 0;
+    const char* end = epoch + std::strlen(epoch);
+    const auto [ptr, ec] = std::from_chars(epoch, end, v);
+    if (ec == std::errc() && ptr == end && ptr != epoch && v >= 0) return v;
+  }
+  return static_cast<std::int64_t>(std::time(nullptr));
 }
 
 }  // namespace gonio

@@ -23,4 +23,11 @@ std::string format_fixed(double v, int decimals);
 // (GCC and clang check `format` at each call, as strftime's.)
 __attribute__((format(strftime, 2, 0))) std::string format_utc(std::int64_t unix_seconds, const char* format);
 
+// Now, in seconds since 1970 (UTC), for the dates Gonio writes into files
+// (GLDF creation times and ZIP entries, the simulated file's issue date):
+// $SOURCE_DATE_EPOCH when it holds a whole number of seconds ≥ 0 (the
+// reproducible-builds.org convention: the same inputs give the same bytes),
+// else the clock.
+std::int64_t now_unix();
+
 }  // namespace gonio

@@ -17,6 +17,16 @@
 # $GONIO_FUZZ_SEEDS set, in build/). What the fuzzer finds new stays in
 # build-fuzz/corpus/ for the next run.
 # $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33 or gldf) runs one harness.
+#
+# Each run is repeatable: libFuzzer's random seed is $GONIO_FUZZ_SEED, by
+# default taken from the commit (git rev-parse HEAD), and each harness stops
+# after a fixed number of executions ($GONIO_FUZZ_RUNS, default about what
+# 60 s give here) or SECONDS, whichever comes first. From a fresh clone
+# (no build-fuzz/corpus yet) a run therefore makes the same inputs in the
+# same order on any machine, and a slower machine makes a prefix of them: a
+# commit whose run is clean here is clean in CI, and a finding in CI is
+# found again here with the seed it prints. New inputs come from new
+# commits' seeds and from long campaigns (README, Fuzzing).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
@@ -53,6 +63,10 @@ cp tests/fuzz/seeds/gltf/* "$seeds/gltf/"
 bash scripts/build.sh --target gonio gonio_io_tests gonio_model_tests gonio_samples >/dev/null
 GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_io_tests --gtest_brief=1 \
   --gtest_filter='Ies*:Ldt*:Tm33*:Gldf*:Zip*' >/dev/null
+# The dates the converter writes (GLDF creation time, ZIP entry times) are
+# the commit's, so that the seeds are the same bytes on every run.
+SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-$(git log -1 --format=%ct 2>/dev/null || echo 1764620000)}
+export SOURCE_DATE_EPOCH
 # The sample curves as TM-33 documents and as GLDF containers, with the
 # curve inside as EULUMDAT (from .ldt) and IES (from .ies), and one with
 # TM-33 inside.
@@ -80,6 +94,14 @@ for h in "${harnesses[@]}"; do
   echo "fuzz: $h: $(find "$seeds/$h" -type f | wc -l) seeds"
 done
 
+seed=${GONIO_FUZZ_SEED:-}
+if [ -z "$seed" ]; then
+  head=$(git rev-parse HEAD 2>/dev/null || echo 1)
+  seed=$((16#${head:0:7}))
+fi
+runs=${GONIO_FUZZ_RUNS:-150000}
+echo "fuzz: seed $seed, at most $runs executions or ${seconds} s per harness (GONIO_FUZZ_SEED=$seed repeats this run)"
+
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 status=0
@@ -93,7 +115,7 @@ for h in "${harnesses[@]}"; do
   max_len=131072
   if [ "$h" = gltf ]; then max_len=524288; fi
   "./build-fuzz/tests/fuzz/gonio_fuzz_$h" "build-fuzz/corpus/$h" "$seeds/$h" \
-    -max_total_time="$seconds" -timeout=25 -rss_limit_mb=4096 -max_len="$max_len" \
+    -seed="$seed" -runs="$runs" -max_total_time="$seconds" -timeout=25 -rss_limit_mb=4096 -max_len="$max_len" \
     -print_final_stats=1 -artifact_prefix="build-fuzz/findings/$h-" >"$log" 2>&1
   rc=$?
   set -e

@@ -382,7 +382,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   request.run.photons = st.photons;
   request.run.seed = settings.seed;
   request.run.max_bounces = settings.max_bounces;
-  request.run.issue_date = format_utc(std::time(nullptr), "%Y-%m-%d");
+  request.run.issue_date = format_utc(now_unix(), "%Y-%m-%d");
   Result<OutputResult> written = write_outputs(far_field, sim->scene(), ledger, request);
   if (!written.ok()) failures.push_back(written.error());
   const OutputResult none;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <iterator>
 #include <filesystem>
 #include <limits>
@@ -180,7 +179,7 @@ Status write_gldf_file(const Distribution& d, const sim::SceneDesc& scene, const
   product.photometries.push_back(
       {request.stem + ".ies", "ldc/ies", ies_text(d, request, &file->writer_notes), d});
   product.geometry = io::l3d_from_scene(scene);
-  product.created_unix = static_cast<std::int64_t>(std::time(nullptr));
+  product.created_unix = now_unix();
   Result<std::string> bytes = io::write_gldf(product);
   if (!bytes.ok()) return make_error(file->path, bytes.error().message);
   if (Status s = io::write_file_atomic(file->path, *bytes); !s.ok()) return s;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <string>
 
 #include "io/ies.h"
 #include "io/ldt.h"
@@ -298,6 +299,47 @@ TEST(CliConvert, GldfPackagesTheFileAndEveryCommandOpensIt) {
   EXPECT_EQ(test::read_file(back), test::read_file(ldt));  // LDT -> GLDF -> LDT: the same bytes
   EXPECT_EQ(gonio({"plot", gldf.string(), "--out", (dir / "p.svg").string()}).exit_code, 0);
   EXPECT_EQ(gonio({"compare", ldt.string(), gldf.string()}).exit_code, 0);
+}
+
+// product.xml of a GLDF file.
+std::string product_xml(const fs::path& gldf) {
+  Result<std::vector<io::ZipEntry>> entries = io::read_zip(test::read_file(gldf), gldf.string());
+  if (!entries.ok()) return "";
+  for (const io::ZipEntry& e : *entries)
+    if (e.name == "product.xml") return e.bytes;
+  return "";
+}
+
+// With $SOURCE_DATE_EPOCH the GLDF's dates (product.xml's creation time
+// and the ZIP entries' times) are that moment: the same input gives the same
+// bytes (scripts/fuzz.sh's seeds rely on it). Without it, the clock.
+TEST(CliConvert, SourceDateEpochMakesGldfBytesRepeatable) {
+  test::TempDir dir;
+  const auto ldt = dir / "in.ldt";
+  test::write_distribution(ldt, test::lambertian_downlight());
+  std::string first;
+  for (int k = 0; k < 2; ++k) {
+    fs::create_directories(dir / std::to_string(k));
+    const auto gldf = dir / std::to_string(k) / "lamp.gldf";  // the name goes into the archive
+    {
+      test::ScopedEnv epoch("SOURCE_DATE_EPOCH", "1764620000");  // 2025-12-01T20:13:20Z
+      ASSERT_EQ(gonio({"convert", ldt.string(), gldf.string(), "--quiet"}).exit_code, 0);
+    }
+    const std::string bytes = test::read_file(gldf);
+    if (k == 0) first = bytes;
+    EXPECT_EQ(bytes, first);
+    Result<io::GldfFile> g = io::parse_gldf(bytes, gldf.string());
+    ASSERT_TRUE(g.ok()) << to_string(g.error());
+    EXPECT_TRUE(contains(product_xml(gldf), "2025-12-01T20:13:20Z")) << product_xml(gldf);
+  }
+  // Not a number of seconds: the clock, so the date is not 1970's or 2025's.
+  test::ScopedEnv bad("SOURCE_DATE_EPOCH", "yesterday");
+  const auto gldf = dir / "clock.gldf";
+  ASSERT_EQ(gonio({"convert", ldt.string(), gldf.string(), "--quiet"}).exit_code, 0);
+  const std::string xml = product_xml(gldf);
+  EXPECT_TRUE(contains(xml, "GldfCreationTimeCode")) << xml;
+  EXPECT_FALSE(contains(xml, "2025-12-01T20:13:20"));
+  EXPECT_FALSE(contains(xml, "1970-01-01"));
 }
 
 TEST(CliConvert, EachPhotometryOfAGldfCanBeExtracted) {
