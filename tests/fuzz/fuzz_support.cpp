@@ -40,7 +40,12 @@ void write(const std::string& path, std::string_view bytes) {
 }
 
 std::string scratch_dir(const std::string& harness) {
-  const fs::path dir = scratch_root() / ("gonio-fuzz-" + harness + "-" + std::to_string(::getpid()));
+  // The process id, zero-padded: the folder's name has the same length in
+  // every run, so messages naming files in it do too (a run repeats
+  // exactly with the same libFuzzer seed; scripts/fuzz.sh).
+  char pid[16];
+  std::snprintf(pid, sizeof pid, "%010ld", static_cast<long>(::getpid()));
+  const fs::path dir = scratch_root() / ("gonio-fuzz-" + harness + "-" + pid);
   std::error_code ec;
   fs::remove_all(dir, ec);
   fs::create_directories(dir, ec);
