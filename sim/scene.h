@@ -22,7 +22,9 @@ struct Vec3f {
   float x = 0.0f, y = 0.0f, z = 0.0f;
 };
 
-inline Vec3 to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
+inline Vec3 to_double(const Vec3f& v) {
+  return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
+}
 inline Vec3f to_float(const Vec3& v) {
   return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
 }
