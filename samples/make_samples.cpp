@@ -49,9 +49,10 @@ int write_large(const std::string& kind_name, const std::string& count, const st
 
 int main(int argc, char** argv) {
   if (argc == 5 && std::string(argv[1]) == "--large") return write_large(argv[2], argv[3], argv[4]);
-  if (argc != 2) {
+  // An option it does not know ("--help") is not a folder to write into.
+  if (argc != 2 || argv[1][0] == '-') {
     std::fprintf(stderr, "usage: gonio_make_samples DIR\n       gonio_make_samples --large KIND TRIANGLES DIR\n");
-    return 2;
+    return argc == 2 && std::string(argv[1]) == "--help" ? 0 : 2;
   }
   const gonio::Status written = gonio::samples::write_samples(argv[1]);
   if (!written.ok()) {
