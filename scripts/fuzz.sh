@@ -18,20 +18,21 @@
 # build-fuzz/corpus/ for the next run.
 # $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33 or gldf) runs one harness.
 #
-# Runs repeat: libFuzzer's random seed is $GONIO_FUZZ_SEED, by default
-# taken from the commit (git rev-parse HEAD); each harness stops after a
-# fixed number of executions ($GONIO_FUZZ_RUNS, default 150,000, about what
-# 60 s give here) or SECONDS, whichever comes first; the seeds are the same
-# bytes on every run ($SOURCE_DATE_EPOCH below); and the scheduling that
-# depends on execution times is off (-entropic=0, -reload=0). From a fresh
-# clone (no build-fuzz/corpus yet) a run then makes the same inputs in the
-# same order on any machine, a slower machine a prefix of them: two runs of
-# 20,000 executions each reached the same coverage, features and corpus for
-# the IES, LDT, glTF and TM-33 harnesses; the GLDF harness's runs part
-# after ~10^4 executions (cause not found). So a commit whose run is clean
-# here is, for those four, clean in CI, and a finding in CI is found again
-# here with the seed it prints. New inputs come from new commits' seeds and
-# from long campaigns (README, Fuzzing).
+# Runs repeat: libFuzzer's random seed is $GONIO_FUZZ_SEED, by default a
+# hash of the committed code (not of README.md or docs/); each harness
+# stops after a fixed number of executions ($GONIO_FUZZ_RUNS, default
+# 150,000, about what 60 s give here) or SECONDS, whichever comes first;
+# the seeds are the same bytes on every run ($SOURCE_DATE_EPOCH below); and
+# the scheduling that depends on execution times is off (-entropic=0,
+# -reload=0). From a fresh clone (no build-fuzz/corpus yet) a run then makes
+# the same inputs in the same order on any machine, a slower machine a
+# prefix of them: two runs of 20,000 executions each reached the same
+# coverage, features and corpus for the IES, LDT, glTF and TM-33 harnesses;
+# the GLDF harness's runs mostly repeat but sometimes part after ~10^4
+# executions (cause not found). So code whose run is clean here is, for
+# those four, clean in CI, and a finding in CI is found again here with the
+# seed it prints. New inputs come from new code's seeds and from long
+# campaigns (README, Fuzzing).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
@@ -69,9 +70,8 @@ bash scripts/build.sh --target gonio gonio_io_tests gonio_model_tests gonio_samp
 GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_io_tests --gtest_brief=1 \
   --gtest_filter='Ies*:Ldt*:Tm33*:Gldf*:Zip*' >/dev/null
 # The dates the converter writes (GLDF creation time, ZIP entry times) are
-# the commit's, so that the seeds are the same bytes on every run.
-SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-$(git log -1 --format=%ct 2>/dev/null || echo 1764620000)}
-export SOURCE_DATE_EPOCH
+# fixed, so that the seeds are the same bytes on every run.
+export SOURCE_DATE_EPOCH=1764620000
 # The sample curves as TM-33 documents and as GLDF containers, with the
 # curve inside as EULUMDAT (from .ldt) and IES (from .ies), and one with
 # TM-33 inside.
@@ -99,10 +99,13 @@ for h in "${harnesses[@]}"; do
   echo "fuzz: $h: $(find "$seeds/$h" -type f | wc -l) seeds"
 done
 
+# The seed follows the code, not the documents: a commit that changes only
+# README.md or docs/ fuzzes exactly as its parent did.
 seed=${GONIO_FUZZ_SEED:-}
 if [ -z "$seed" ]; then
-  head=$(git rev-parse HEAD 2>/dev/null || echo 1)
-  seed=$((16#${head:0:7}))
+  code=$(git ls-tree -r HEAD -- CMakeLists.txt io photometry sim tools tests samples scripts 2>/dev/null |
+    sha1sum | cut -c1-7)
+  seed=$((16#$code))
 fi
 runs=${GONIO_FUZZ_RUNS:-150000}
 echo "fuzz: seed $seed, at most $runs executions or ${seconds} s per harness (GONIO_FUZZ_SEED=$seed repeats this run)"
