@@ -304,11 +304,15 @@ Intersections self_intersections(const Welded& w, std::size_t slab_triangles) {
   };
   constexpr std::size_t kChunk = 65536;
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  std::vector<std::size_t> count(chunks * slab_count, 0);  // [chunk][slab], then offsets
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+  // Calls f(box, slab) for each box of chunk c and each slab it goes to.
+  const auto for_each_membership = [&](std::size_t c, auto&& f) {
     for (std::size_t t = c * kChunk; t < std::min(n, (c + 1) * kChunk); ++t)
       for (std::size_t s = slab_of(boxes[t].min_coord(axis)); s <= slab_of(boxes[t].max_coord(axis)); ++s)
-        ++count[c * slab_count + s];
+        f(t, s);
+  };
+  std::vector<std::size_t> count(chunks * slab_count, 0);  // [chunk][slab], then offsets
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for_each_membership(c, [&](std::size_t, std::size_t s) { ++count[c * slab_count + s]; });
   });
   std::vector<std::size_t> slab_begin(slab_count + 1, 0);
   std::size_t total = 0;
@@ -323,9 +327,9 @@ Intersections self_intersections(const Welded& w, std::size_t slab_triangles) {
   slab_begin[slab_count] = total;
   std::vector<std::uint32_t> members(total);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    for (std::size_t t = c * kChunk; t < std::min(n, (c + 1) * kChunk); ++t)
-      for (std::size_t s = slab_of(boxes[t].min_coord(axis)); s <= slab_of(boxes[t].max_coord(axis)); ++s)
-        members[count[c * slab_count + s]++] = static_cast<std::uint32_t>(t);
+    for_each_membership(c, [&](std::size_t t, std::size_t s) {
+      members[count[c * slab_count + s]++] = static_cast<std::uint32_t>(t);
+    });
   });
   std::vector<Intersections> found(slab_count);
   tbb::parallel_for(std::size_t{0}, found.size(), [&](std::size_t s) {

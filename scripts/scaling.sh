@@ -16,11 +16,9 @@ bash scripts/build.sh --target gonio gonio_make_samples >/dev/null
 gonio=./build/tools/gonio
 mkdir -p "$work"
 
-# Value of one key from a report.json (one key per line).
-key() { awk -v k="\"$2\":" '$1 == k { v = $2; sub(/,$/, "", v); print v; exit }' "$1"; }
-
-# The last value of a key (the run's, after the iterations').
-last() { awk -v k="\"$2\":" '$1 == k { v = $2; sub(/,$/, "", v) } END { print v }' "$1"; }
+# The last value of a key in a report.json (one key per line; for a key the
+# iterations repeat, such as photons_per_s, the run's own, written after them).
+key() { awk -v k="\"$2\":" '$1 == k { v = $2; sub(/,$/, "", v) } END { print v }' "$1"; }
 
 # An empty run's memory: the process itself, subtracted per triangle below.
 base_rss=0
@@ -46,7 +44,7 @@ row() {  # row KIND TRIANGLES [--no-instancing]
     -v c0="$(key "${r[0]}" check_s)" -v c1="$(key "${r[1]}" check_s)" \
     -v b0="$(key "${r[0]}" bvh_s)" -v b1="$(key "${r[1]}" bvh_s)" \
     -v m0="$(key "${r[0]}" max_rss_bytes)" -v m1="$(key "${r[1]}" max_rss_bytes)" \
-    -v p0="$(last "${r[0]}" photons_per_s)" -v p1="$(last "${r[1]}" photons_per_s)" \
+    -v p0="$(key "${r[0]}" photons_per_s)" -v p1="$(key "${r[1]}" photons_per_s)" \
     'BEGIN {
       m = (m0 > m1 ? m0 : m1);
       per = (un >= 100000) ? sprintf(" (%.0f)", (m - base) / un) : "";
