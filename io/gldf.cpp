@@ -1,6 +1,7 @@
 #include "io/gldf.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <ctime>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include "gonio/version.h"
 #include "io/xml.h"
@@ -85,24 +87,32 @@ std::string structure_xml(const L3dGeometry& g, const std::string& created_with,
   XmlElement& header = root.add("Header");
   header.add("CreatedWithApplication", created_with);
   header.add("CreationTimeCode", format_utc(created_unix, "%Y-%m-%dT%H:%M:%S"));
-  root.add("GeometryDefinitions")
-      .add("GeometryFileDefinition")
-      .set("id", g.id)
-      .set("filename", g.id + ".obj")
-      .set("units", "m");
-  XmlElement& part = root.add("Structure").add("Geometry").set("partName", g.id + "Body");
+  XmlElement& definitions = root.add("GeometryDefinitions");
+  const auto define = [&](const std::string& id) {
+    definitions.add("GeometryFileDefinition").set("id", id).set("filename", id + ".obj").set("units", "m");
+  };
+  define(g.id);
+  for (const L3dDefinition& d : g.definitions) define(d.id);
   const auto xyz = [](XmlElement& parent, const char* name, const Vec3& v) {
     parent.add(name).set("x", number(v.x)).set("y", number(v.y)).set("z", number(v.z));
   };
-  xyz(part, "Position", Vec3{});
-  xyz(part, "Rotation", Vec3{});
-  part.add("GeometryReference").set("geometryId", g.id);
-  XmlElement& leos = part.add("LightEmittingObjects");
+  XmlElement& structure = root.add("Structure");
+  XmlElement& body = structure.add("Geometry").set("partName", g.id + "Body");
+  xyz(body, "Position", Vec3{});
+  xyz(body, "Rotation", Vec3{});
+  body.add("GeometryReference").set("geometryId", g.id);
+  XmlElement& leos = body.add("LightEmittingObjects");
   for (const L3dEmitter& e : g.emitters) {
     XmlElement& leo = leos.add("LightEmittingObject").set("partName", e.name);
     xyz(leo, "Position", e.position_m);
     xyz(leo, "Rotation", Vec3{});
     leo.add("Rectangle").set("sizeX", number(e.size_x_m)).set("sizeY", number(e.size_y_m));
+  }
+  for (const L3dPart& part : g.parts) {
+    XmlElement& e = structure.add("Geometry").set("partName", part.name);
+    xyz(e, "Position", part.position_m);
+    xyz(e, "Rotation", part.rotation_deg);
+    e.add("GeometryReference").set("geometryId", part.geometry_id);
   }
   return write_xml(root);
 }
@@ -203,28 +213,144 @@ Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
 
 // ------------------------------------------------------------------ writing
 
-L3dGeometry l3d_from_scene(const sim::SceneDesc& model) {
-  // L3D's OBJ is flat geometry: every instance becomes a mesh of its own.
-  const sim::SceneDesc scene = sim::flattened(model);
+namespace {
+
+using Matrix3 = std::array<std::array<double, 3>, 3>;
+
+// An instance's placement in L3D's frame, when L3D can state it without
+// depending on how its Euler order is read (l3d_from_scene).
+struct L3dPlacement {
+  double scale = 1.0;
+  Vec3 rotation_deg;
+  Vec3 position_m;
+  Matrix3 turn{};  // scale · F, F the frame's rows: mesh → L3D axes
+};
+
+std::optional<L3dPlacement> l3d_placement(const sim::Affine& a, const photometry::PhotometricFrame& f) {
+  const Vec3 rows[3] = {f.c0, f.c90, f.up};
+  const auto F = [&](int i, int j) { return j == 0 ? rows[i].x : j == 1 ? rows[i].y : rows[i].z; };
+  // M = F·A·Fᵀ: the instance's linear map in L3D's axes.
+  Matrix3 fa{}, m{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) fa[i][j] += F(i, k) * a.m[k][j];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) m[i][j] += fa[i][k] * F(j, k);
+  const double det = a.determinant();
+  if (!(det > 0.0) || !std::isfinite(det)) return std::nullopt;  // mirrored or singular
+  L3dPlacement p;
+  p.scale = std::cbrt(det);
+  Matrix3 r{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r[i][j] = m[i][j] / p.scale;
+  constexpr double kTolerance = 1e-9;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const double rrt = r[i][0] * r[j][0] + r[i][1] * r[j][1] + r[i][2] * r[j][2];
+      if (std::abs(rrt - (i == j ? 1.0 : 0.0)) > kTolerance) return std::nullopt;  // not scale · rotation
+    }
+  // The axis the rotation keeps (z first: a ring about the luminaire's axis).
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  if (std::abs(r[2][2] - 1.0) <= kTolerance)
+    p.rotation_deg.z = std::atan2(r[1][0], r[0][0]) * kDeg;
+  else if (std::abs(r[0][0] - 1.0) <= kTolerance)
+    p.rotation_deg.x = std::atan2(r[2][1], r[1][1]) * kDeg;
+  else if (std::abs(r[1][1] - 1.0) <= kTolerance)
+    p.rotation_deg.y = std::atan2(r[0][2], r[2][2]) * kDeg;
+  else
+    return std::nullopt;  // about a skew axis
+  p.position_m = f.to_local(a.offset);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) p.turn[i][j] = p.scale * F(i, j);
+  return p;
+}
+
+// Appends a mesh's vertices (through `place`) and triangles to an OBJ whose
+// vertices so far number base − 1; `flip` reverses the winding (a mirroring
+// placement).
+template <class Place>
+void append_obj(std::string& obj, const sim::Mesh& m, Place&& place, bool flip, std::size_t& base) {
+  for (const sim::Vec3f& p : m.positions) {
+    const Vec3 q = place(sim::to_double(p));
+    obj += "v " + number(q.x) + " " + number(q.y) + " " + number(q.z) + "\n";
+  }
+  for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+    const std::size_t b = flip ? 2 : 1, c = flip ? 1 : 2;
+    obj += "f " + std::to_string(base + m.indices[t]) + " " + std::to_string(base + m.indices[t + b]) + " " +
+           std::to_string(base + m.indices[t + c]) + "\n";
+  }
+  base += m.positions.size();
+}
+
+std::string obj_header(const std::string& scene_name, const std::string& id) {
+  return "# " + scene_name + ": " + std::string("written by Gonio ") + kVersion +
+         "; metres, X = C0, Y = C90, Z = zenith\no " + id + "\n";
+}
+
+}  // namespace
+
+L3dGeometry l3d_from_scene(const sim::SceneDesc& scene) {
   L3dGeometry g;
   const photometry::PhotometricFrame& f = scene.frame;
-  const auto local = [&](const sim::Vec3f& p) {
-    return f.to_local(Vec3{static_cast<double>(p.x), static_cast<double>(p.y), static_cast<double>(p.z)});
+  const auto& meshes = scene.meshes;
+  const auto& instances = scene.instances;
+  const auto valid = [&](const sim::Instance& i) {
+    return i.mesh < meshes.size() && meshes[i.mesh].instanced && meshes[i.mesh].triangle_count() > 0;
   };
-  std::string obj = "# " + scene.name + ": " + std::string("written by Gonio ") + kVersion +
-                    "; metres, X = C0, Y = C90, Z = zenith\no " + g.id + "\n";
-  std::size_t base = 1;
-  for (const sim::Mesh& m : scene.meshes) {
-    for (const sim::Vec3f& p : m.positions) {
-      const Vec3 q = local(p);
-      obj += "v " + number(q.x) + " " + number(q.y) + " " + number(q.z) + "\n";
-    }
-    for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3)
-      obj += "f " + std::to_string(base + m.indices[t]) + " " + std::to_string(base + m.indices[t + 1]) + " " +
-             std::to_string(base + m.indices[t + 2]) + "\n";
-    base += m.positions.size();
+  // Which instances L3D places as parts; the rest are flattened into the body.
+  std::vector<std::optional<L3dPlacement>> placed(instances.size());
+  bool body_has_triangles = false;
+  for (const sim::Mesh& m : meshes) body_has_triangles |= !m.instanced && m.triangle_count() > 0;
+  for (std::size_t i = 0; i < instances.size(); ++i) {
+    if (!valid(instances[i])) continue;
+    placed[i] = l3d_placement(instances[i].to_world, f);
+    body_has_triangles |= !placed[i];
   }
-  g.obj = std::move(obj);
+  if (!body_has_triangles)
+    for (std::size_t i = 0; i < instances.size(); ++i)
+      if (placed[i]) {
+        placed[i].reset();
+        break;
+      }
+
+  g.obj = obj_header(scene.name, g.id);
+  std::size_t base = 1;
+  for (const sim::Mesh& m : meshes)
+    if (!m.instanced) append_obj(g.obj, m, [&](const Vec3& p) { return f.to_local(p); }, false, base);
+  for (std::size_t i = 0; i < instances.size(); ++i)
+    if (valid(instances[i]) && !placed[i]) {
+      const sim::Affine& a = instances[i].to_world;
+      append_obj(g.obj, meshes[instances[i].mesh], [&](const Vec3& p) { return f.to_local(a.point(p)); },
+                 a.determinant() < 0.0, base);
+    }
+
+  // One definition per instanced mesh and scale (equal to 10⁻⁹).
+  std::map<std::uint32_t, std::vector<std::pair<double, std::size_t>>> defined;
+  for (std::size_t i = 0; i < instances.size(); ++i) {
+    if (!placed[i]) continue;
+    const L3dPlacement& p = *placed[i];
+    const std::uint32_t mesh = instances[i].mesh;
+    auto& scales = defined[mesh];
+    std::size_t d = g.definitions.size();
+    for (const auto& [scale, index] : scales)
+      if (std::abs(scale - p.scale) <= 1e-9 * scale) d = index;
+    if (d == g.definitions.size()) {
+      L3dDefinition def;
+      def.id = "mesh" + std::to_string(mesh) + (scales.empty() ? "" : "s" + std::to_string(scales.size()));
+      def.obj = obj_header(scene.name, def.id);
+      std::size_t def_base = 1;
+      append_obj(def.obj, meshes[mesh], [&](const Vec3& q) {
+        return Vec3{p.turn[0][0] * q.x + p.turn[0][1] * q.y + p.turn[0][2] * q.z,
+                    p.turn[1][0] * q.x + p.turn[1][1] * q.y + p.turn[1][2] * q.z,
+                    p.turn[2][0] * q.x + p.turn[2][1] * q.y + p.turn[2][2] * q.z};
+      }, false, def_base);
+      scales.emplace_back(p.scale, d);
+      g.definitions.push_back(std::move(def));
+    }
+    g.parts.push_back({"part" + std::to_string(g.parts.size() + 1), g.definitions[d].id, p.position_m,
+                       p.rotation_deg});
+  }
 
   // Where the emitters are.
   constexpr double inf = std::numeric_limits<double>::infinity();
@@ -240,8 +366,10 @@ L3dGeometry l3d_from_scene(const sim::SceneDesc& model) {
   for (const sim::Emitter& e : scene.emitters) {
     if (e.kind == sim::Emitter::Kind::Point) {
       take(f.to_local(e.position));
-    } else if (e.mesh < scene.meshes.size()) {
-      for (const sim::Vec3f& p : scene.meshes[e.mesh].positions) take(local(p));
+    } else if (e.mesh < meshes.size()) {
+      const bool on_instance = e.instance != sim::kNoInstance && e.instance < instances.size();
+      for (const sim::Vec3f& p : meshes[e.mesh].positions)
+        take(f.to_local(on_instance ? instances[e.instance].to_world.point(sim::to_double(p)) : sim::to_double(p)));
     }
   }
   if (n > 0) {
@@ -257,16 +385,25 @@ L3dGeometry l3d_from_scene(const sim::SceneDesc& model) {
 
 Result<std::string> write_l3d(const L3dGeometry& geometry, const std::string& created_with,
                               std::int64_t created_unix) {
-  return write_zip({{"structure.xml", structure_xml(geometry, created_with, created_unix)},
-                    {geometry.id + "/" + geometry.id + ".obj", geometry.obj}},
-                   created_unix);
+  std::vector<ZipEntry> entries{{"structure.xml", structure_xml(geometry, created_with, created_unix)},
+                                 {geometry.id + "/" + geometry.id + ".obj", geometry.obj}};
+  for (const L3dDefinition& d : geometry.definitions) entries.push_back({d.id + "/" + d.id + ".obj", d.obj});
+  return write_zip(entries, created_unix);
 }
 
 std::string gldf_product_xml(const GldfProduct& p) {
   const std::string application = std::string("Gonio ") + kVersion;
   std::uint64_t h = fnv1a(p.name);
   for (const GldfPhotometryOut& ph : p.photometries) h = fnv1a(ph.bytes, h);
-  if (p.geometry) h = fnv1a(p.geometry->obj, h);
+  if (p.geometry) {
+    h = fnv1a(p.geometry->obj, h);
+    for (const L3dDefinition& d : p.geometry->definitions) h = fnv1a(d.obj, h);
+    for (const L3dPart& part : p.geometry->parts)
+      h = fnv1a(part.geometry_id + number(part.position_m.x) + number(part.position_m.y) +
+                    number(part.position_m.z) + number(part.rotation_deg.x) + number(part.rotation_deg.y) +
+                    number(part.rotation_deg.z),
+                h);
+  }
 
   XmlElement root;
   root.name = "Root";

@@ -75,22 +75,55 @@ struct L3dEmitter {
   double size_y_m = 0.0;   // along Y (C90)
 };
 
+// An instanced mesh's OBJ, written once however often it is placed (an L3D
+// GeometryFileDefinition).
+struct L3dDefinition {
+  std::string id;   // geometry id and OBJ folder: a letter, then letters and digits
+  std::string obj;  // Wavefront OBJ, metres, in the luminaire frame's axes, one object
+};
+
+// One placement of a definition (an L3D Geometry part): a point q of its OBJ
+// lies at position_m + R·q, R a rotation about one axis of L3D's frame
+// (right-handed, counter-clockwise seen from that axis's tip) by the one
+// non-zero component of rotation_deg, or none.
+struct L3dPart {
+  std::string name;         // partName: a letter, then letters and digits
+  std::string geometry_id;  // an L3dDefinition's id
+  Vec3 position_m;
+  Vec3 rotation_deg;
+};
+
 struct L3dGeometry {
-  std::string id = "luminaire";  // geometry id and OBJ folder
-  std::string obj;               // Wavefront OBJ, metres, L3D frame, one object
+  std::string id = "luminaire";  // the body's geometry id and OBJ folder
+  std::string obj;               // the body: Wavefront OBJ, metres, L3D frame, one object
+  std::vector<L3dDefinition> definitions;  // instanced meshes
+  std::vector<L3dPart> parts;              // their placements
   std::vector<L3dEmitter> emitters;
 };
 
 // The model's triangles in L3D's frame (the luminaire's photometric frame:
-// X = C0, Y = C90, Z = zenith, about the world origin) as one OBJ object,
-// and one light-emitting object where the emitters are: a rectangle over
-// their extent seen from above (points: the emitters' positions; areas:
-// their meshes' vertices; at least 1 mm a side), at their mean height.
-// One object, because a GLDF emitter's photometry is the whole luminaire's:
-// several objects referring to it would multiply its flux.
+// X = C0, Y = C90, Z = zenith, about the world origin), and one
+// light-emitting object where the emitters are: a rectangle over their
+// extent seen from above (points: the emitters' positions; areas: their
+// meshes' vertices as placed; at least 1 mm a side), at their mean height,
+// on the body. One object, because a GLDF emitter's photometry is the whole
+// luminaire's: several objects referring to it would multiply its flux.
+//
+// World meshes go into the body's OBJ. An instanced mesh is written once
+// per scale it is placed at (an OBJ scaled and turned into the luminaire
+// frame's axes) and each instance becomes a part, so the archive grows with
+// the unique geometry, not with the copies. L3D places a part by a position
+// and Euler angles whose order (ZXY) the format leaves open to reading as
+// intrinsic or extrinsic; Gonio therefore writes parts only for placements
+// that are a uniform scale, a rotation about at most one axis of L3D's frame
+// and a translation (arrays, rings about the luminaire's axis), which read
+// the same either way. Any other instance (mirrored, sheared, non-uniformly
+// scaled, turned about a skew axis) is flattened into the body, as is the
+// first instance when the body would otherwise hold no triangle.
 L3dGeometry l3d_from_scene(const sim::SceneDesc& scene);
 
-// The .l3d archive: structure.xml and the OBJ in folder `id`.
+// The .l3d archive: structure.xml, the body's OBJ in folder `id` and each
+// definition's in a folder of its id.
 Result<std::string> write_l3d(const L3dGeometry& geometry, const std::string& created_with,
                               std::int64_t created_unix);
 

@@ -6,12 +6,16 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
 #include <numbers>
 #include <string>
 
 #include "io/ldt.h"
 #include "io/photometric_file.h"
 #include "io/xml.h"
+#include "io/zip.h"
 #include "photometry/flux.h"
 #include "tests/support/photometry_fixtures.h"
 #include "tests/support/test_support.h"
@@ -169,6 +173,169 @@ TEST(Gldf, L3dHoldsTheModelInTheLuminaireFrameAndTheEmitterWhereItIs) {
       structure->child("Structure")->child("Geometry")->child("LightEmittingObjects")->child("LightEmittingObject");
   ASSERT_NE(leo, nullptr);
   EXPECT_EQ(*leo->child("Rectangle")->attribute("sizeY"), "0.4000000059604645");  // float vertices
+}
+
+// ---- L3D parts: instanced meshes written once, placed by position and angle
+
+// An asymmetric tetrahedron, so that any wrong turn or mirror shows.
+sim::Mesh tetra() {
+  sim::Mesh m;
+  m.positions = {{0.0f, 0.0f, 0.0f}, {0.05f, 0.0f, 0.0f}, {0.0f, 0.03f, 0.0f}, {0.0f, 0.0f, 0.02f}};
+  m.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+  m.instanced = true;
+  return m;
+}
+
+// A triangle as placed in L3D's frame: its corners in order.
+struct Placed {
+  Vec3 p[3];
+};
+
+// Every triangle an .l3d archive places, read back from its bytes: each
+// Geometry part's OBJ through its Position and its one-axis Rotation
+// (right-handed, degrees).
+std::vector<Placed> read_back_l3d(const std::string& archive) {
+  std::vector<Placed> out;
+  auto entries = read_zip(archive, "x.l3d");
+  EXPECT_TRUE(entries.ok());
+  if (!entries.ok()) return out;
+  std::map<std::string, std::string> files;
+  for (const ZipEntry& e : *entries) files[e.name] = e.bytes;
+  auto structure = parse_xml(files["structure.xml"], "structure.xml");
+  EXPECT_TRUE(structure.ok());
+  if (!structure.ok()) return out;
+  std::map<std::string, std::string> obj_of;  // geometry id → OBJ path
+  for (const XmlElement& d : structure->child("GeometryDefinitions")->children)
+    obj_of[*d.attribute("id")] = *d.attribute("id") + "/" + *d.attribute("filename");
+  std::set<std::string> part_names;
+  for (const XmlElement& part : structure->child("Structure")->children) {
+    EXPECT_TRUE(part_names.insert(*part.attribute("partName")).second) << *part.attribute("partName");
+    const auto vec = [&](const char* name) {
+      const XmlElement* e = part.child(name);
+      return Vec3{std::stod(*e->attribute("x")), std::stod(*e->attribute("y")), std::stod(*e->attribute("z"))};
+    };
+    const Vec3 position = vec("Position"), turn = vec("Rotation") * kDeg;
+    EXPECT_LE((turn.x != 0.0) + (turn.y != 0.0) + (turn.z != 0.0), 1) << "two axes: the order would matter";
+    const auto rotate = [&](Vec3 q) {
+      if (turn.x != 0.0) return Vec3{q.x, std::cos(turn.x) * q.y - std::sin(turn.x) * q.z,
+                                     std::sin(turn.x) * q.y + std::cos(turn.x) * q.z};
+      if (turn.y != 0.0) return Vec3{std::cos(turn.y) * q.x + std::sin(turn.y) * q.z, q.y,
+                                     -std::sin(turn.y) * q.x + std::cos(turn.y) * q.z};
+      return Vec3{std::cos(turn.z) * q.x - std::sin(turn.z) * q.y, std::sin(turn.z) * q.x + std::cos(turn.z) * q.y,
+                  q.z};
+    };
+    const std::string id = *part.child("GeometryReference")->attribute("geometryId");
+    EXPECT_TRUE(obj_of.count(id)) << id;
+    std::istringstream obj(files[obj_of[id]]);
+    EXPECT_FALSE(obj.str().empty()) << obj_of[id];
+    std::vector<Vec3> v;
+    for (std::string line; std::getline(obj, line);) {
+      std::istringstream in(line);
+      std::string tag;
+      in >> tag;
+      if (tag == "v") {
+        Vec3 q;
+        in >> q.x >> q.y >> q.z;
+        v.push_back(position + rotate(q));
+      } else if (tag == "f") {
+        std::size_t a, b, c;
+        in >> a >> b >> c;
+        out.push_back({{v.at(a - 1), v.at(b - 1), v.at(c - 1)}});
+      }
+    }
+  }
+  return out;
+}
+
+// The same triangles, each once, corners in the same cyclic order (so the
+// same front side), within `tolerance` [m] (the flattened model's vertices
+// are floats: ~10⁻⁸ m off at these sizes).
+void expect_same_triangles(std::vector<Placed> got, const std::vector<Placed>& want, double tolerance) {
+  ASSERT_EQ(got.size(), want.size());
+  const auto close = [&](const Placed& a, const Placed& b, int shift) {
+    for (int k = 0; k < 3; ++k)
+      if (length(a.p[k] - b.p[(k + shift) % 3]) > tolerance) return false;
+    return true;
+  };
+  for (const Placed& w : want) {
+    bool found = false;
+    for (std::size_t i = 0; i < got.size() && !found; ++i)
+      for (int shift = 0; shift < 3 && !found; ++shift)
+        if (close(w, got[i], shift)) {
+          got.erase(got.begin() + static_cast<std::ptrdiff_t>(i));
+          found = true;
+        }
+    EXPECT_TRUE(found) << "a triangle at " << w.p[0].x << " " << w.p[0].y << " " << w.p[0].z << " is missing";
+  }
+}
+
+std::string l3d_bytes(const sim::SceneDesc& scene) {
+  auto l3d = write_l3d(l3d_from_scene(scene), "test", 1764620000);
+  EXPECT_TRUE(l3d.ok());
+  return l3d.ok() ? *l3d : std::string();
+}
+
+TEST(Gldf, L3dWritesEachInstancedMeshOnceAndPlacesItsCopiesAsParts) {
+  sim::SceneDesc scene = cube_scene();
+  scene.meshes.push_back(tetra());
+  const std::uint32_t t = static_cast<std::uint32_t>(scene.meshes.size() - 1);
+  const Vec3 up{0, 1, 0}, c0{1, 0, 0};
+  const auto place = [&](const sim::Affine& a) { scene.instances.push_back({t, a, "i"}); };
+  place(sim::translation({0.3, 0.2, 0.1}));                                            // a part
+  place(sim::translation({-0.3, 0.2, 0.1}) * sim::rotation(up, 30 * kDeg));           // about the zenith
+  place(sim::translation({0, 1.2, 0}) * sim::rotation(c0, 45 * kDeg) * sim::scaling(2, 2, 2));  // about C0, x2
+  place(sim::translation({0, 1.4, 0}) * sim::scaling(2, 2, 2));                         // the same scale
+  place(sim::translation({0, -0.2, 0}) * sim::scaling(-1, 1, 1));                       // mirrored: body
+  place(sim::translation({0, -0.4, 0}) * sim::scaling(1, 2, 1));                        // stretched: body
+  place(sim::rotation({1, 1, 0}, 40 * kDeg));                                           // skew axis: body
+
+  const L3dGeometry g = l3d_from_scene(scene);
+  ASSERT_EQ(g.definitions.size(), 2u);  // the tetrahedron at scales 1 and 2
+  ASSERT_EQ(g.parts.size(), 4u);
+  EXPECT_NEAR(g.parts[1].rotation_deg.z, 30.0, 1e-9);
+  EXPECT_NEAR(g.parts[2].rotation_deg.x, 45.0, 1e-9);
+  EXPECT_EQ(g.parts[2].geometry_id, g.parts[3].geometry_id);
+  EXPECT_NE(g.parts[0].geometry_id, g.parts[2].geometry_id);
+
+  // Read back from the archive's bytes: the same triangles, same sides, as
+  // the flattened model (the body of an all-flat L3D) places.
+  const auto flat = read_back_l3d(l3d_bytes(sim::flattened(scene)));
+  EXPECT_EQ(flat.size(), 12u + 2u + 7u * 4u);
+  expect_same_triangles(read_back_l3d(l3d_bytes(scene)), flat, 1e-6);
+}
+
+TEST(Gldf, L3dOfAnArrayGrowsWithTheUniqueGeometryNotTheCopies) {
+  const auto array = [](int copies) {
+    sim::SceneDesc scene = cube_scene();
+    scene.meshes.push_back(tetra());
+    for (int i = 0; i < copies; ++i)
+      scene.instances.push_back({2, sim::translation({0.01 * i, 1.1, 0.0}), "lens"});
+    return scene;
+  };
+  const L3dGeometry two = l3d_from_scene(array(2)), many = l3d_from_scene(array(1000));
+  ASSERT_EQ(many.definitions.size(), 1u);
+  EXPECT_EQ(many.parts.size(), 1000u);
+  EXPECT_EQ(many.obj, two.obj);
+  EXPECT_EQ(many.definitions[0].obj, two.definitions[0].obj);
+  expect_same_triangles(read_back_l3d(l3d_bytes(array(40))), read_back_l3d(l3d_bytes(sim::flattened(array(40)))),
+                        1e-6);
+}
+
+TEST(Gldf, L3dBodyIsNeverEmptyWhenEveryMeshIsInstanced) {
+  sim::SceneDesc scene;
+  scene.name = "lenses";
+  scene.materials.push_back({});
+  scene.meshes.push_back(tetra());
+  for (int i = 0; i < 3; ++i) scene.instances.push_back({0, sim::translation({0.1 * i, 0, 0}), "lens"});
+  sim::Emitter e;
+  e.position = {0, -0.1, 0};
+  e.flux_lm = 1.0;
+  scene.emitters.push_back(e);
+  const L3dGeometry g = l3d_from_scene(scene);
+  EXPECT_NE(g.obj.find("\nf "), std::string::npos) << "the body holds the first copy";
+  EXPECT_EQ(g.parts.size(), 2u);
+  ASSERT_EQ(g.emitters.size(), 1u);
+  expect_same_triangles(read_back_l3d(l3d_bytes(scene)), read_back_l3d(l3d_bytes(sim::flattened(scene))), 1e-6);
 }
 
 std::string product(const std::string& file_element) {
