@@ -8,8 +8,9 @@
 //   build/benchmarks/gonio_setup_benchmarks --benchmark_filter='glass-part'
 //
 // Phases: BM_Load (io::load_gltf of the .gltf and .bin), BM_Check
-// (io::check_model, cold), BM_Bvh (sim::EmbreeScene::build; argument 1 =
-// robust, 0 = not), BM_EmissionTables (sim::EmissionSampler::create).
+// (io::check_model, cold), BM_Bvh (sim::EmbreeScene::build; first argument
+// 1 = robust, 0 = not; second the build quality: 0 low, 1 medium, 2 high),
+// BM_EmissionTables (sim::EmissionSampler::create).
 // Counters: triangles (of the loaded scene, as placed), unique_triangles
 // (stored: an instanced mesh once), instances, s_per_Mtriangle (wall
 // seconds per million unique triangles; goal for load + checks + BVH: ≤ 1)
@@ -96,6 +97,7 @@ void BM_Bvh(benchmark::State& state, LargeModel kind, std::size_t triangles) {
   const sim::SceneDesc& s = scene(kind, triangles);
   sim::EmbreeSceneOptions options;
   options.robust = state.range(0) != 0;
+  options.quality = static_cast<sim::EmbreeSceneOptions::Quality>(state.range(1));
   const double cpu0 = process_cpu_s();
   for (auto _ : state) {
     Result<sim::EmbreeScene> e = sim::EmbreeScene::build(s.meshes, options, s.instances);
@@ -130,7 +132,11 @@ const bool kRegistered = [] {
       };
       set(benchmark::RegisterBenchmark(("BM_Load/" + name).c_str(), BM_Load, kind, triangles));
       set(benchmark::RegisterBenchmark(("BM_Check/" + name).c_str(), BM_Check, kind, triangles));
-      set(benchmark::RegisterBenchmark(("BM_Bvh/" + name).c_str(), BM_Bvh, kind, triangles)->Arg(1)->Arg(0));
+      set(benchmark::RegisterBenchmark(("BM_Bvh/" + name).c_str(), BM_Bvh, kind, triangles)
+                    ->Args({1, 2})
+                    ->Args({0, 2})
+                    ->Args({1, 1})
+                    ->Args({1, 0}));
       set(benchmark::RegisterBenchmark(("BM_EmissionTables/" + name).c_str(), BM_EmissionTables, kind,
                                        triangles));
     }

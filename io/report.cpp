@@ -29,7 +29,9 @@ nlohmann::json to_json(const SimulationReport& r) {
                    {"threads", r.threads},
                    {"max_bounces", r.max_bounces},
                    {"face_size", r.face_size},
-                   {"robust_embree", r.robust_embree}};
+                   {"robust_embree", r.robust_embree},
+                   {"bvh_quality", r.bvh_quality},
+                   {"bvh_quality_auto", r.bvh_quality_auto}};
   put_line(j, "emitted", l.emitted);
   put_line(j, "escaped", l.escaped);
   put_line(j, "absorbed", l.absorbed);

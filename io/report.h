@@ -47,6 +47,8 @@ struct SimulationReport {
   int max_bounces = 0;
   int face_size = 0;
   bool robust_embree = true;
+  std::string bvh_quality;        // the BVH build quality used: low, medium or high
+  bool bvh_quality_auto = false;  // chosen by size and planned photons (--bvh-quality auto)
 
   // Speed.
   int iterations_done = 0;

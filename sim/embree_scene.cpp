@@ -210,6 +210,21 @@ Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
   return EmbreeScene(std::move(impl));
 }
 
+const char* to_string(EmbreeSceneOptions::Quality q) {
+  switch (q) {
+    case EmbreeSceneOptions::Quality::Low: return "low";
+    case EmbreeSceneOptions::Quality::Medium: return "medium";
+    case EmbreeSceneOptions::Quality::High: return "high";
+  }
+  return "high";
+}
+
+EmbreeSceneOptions::Quality bvh_quality_for(std::size_t unique_triangles, std::uint64_t planned_photons) {
+  return 2.0 * static_cast<double>(planned_photons) < static_cast<double>(unique_triangles)
+             ? EmbreeSceneOptions::Quality::Low
+             : EmbreeSceneOptions::Quality::High;
+}
+
 bool EmbreeScene::intersect(const RayQuery& ray, RayHit* hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);

@@ -112,10 +112,12 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
   TracerSettings ts;
   ts.max_bounces = settings.max_bounces;
   ts.embree.robust = settings.robust_embree;
-  ts.embree.quality = settings.bvh_quality;
+  ts.embree.quality = settings.bvh_quality.value_or(
+      bvh_quality_for(scene.unique_triangle_count(), settings.photons_per_iteration *
+                                                         static_cast<std::uint64_t>(settings.iterations)));
   std::shared_ptr<const EmbreeScene> reuse;
   if (previous && previous->settings().robust_embree == settings.robust_embree &&
-      previous->settings().bvh_quality == settings.bvh_quality && same_geometry(previous->scene(), scene))
+      previous->tracer().settings().embree.quality == ts.embree.quality && same_geometry(previous->scene(), scene))
     reuse = previous->tracer().shared_embree();
   auto tracer = Tracer::create(scene, settings.face_size, ts, std::move(reuse));
   // Over ranks: all build their tracer, or none goes on to trace (the

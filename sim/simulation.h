@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include "photometry/diagnostics.h"
 #include "sim/distributed.h"
@@ -38,7 +39,9 @@ struct SimulationSettings {
   int max_bounces = 100;                             // see TracerSettings
   int face_size = 128;  // texels per cube face edge: CubeMapGrid::face_size_for_step(2.5)
   bool robust_embree = true;                         // see EmbreeSceneOptions
-  EmbreeSceneOptions::Quality bvh_quality = EmbreeSceneOptions::Quality::High;  // likewise
+  // BVH build quality (EmbreeSceneOptions); none: bvh_quality_for the
+  // scene's unique triangles and photons_per_iteration · iterations.
+  std::optional<EmbreeSceneOptions::Quality> bvh_quality;
   // Importance-guided emission (sim/emission_guide.h); off: plain emission.
   ImportanceSettings importance;
   // The job's ranks to share every iteration with (they must all run the

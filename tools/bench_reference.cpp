@@ -176,6 +176,7 @@ Result<Reference> load_or_make_reference(const std::string& dir, const Reference
   s.max_bounces = key.max_bounces;
   s.face_size = key.face_size;
   s.robust_embree = key.robust_embree;
+  s.bvh_quality = sim::EmbreeSceneOptions::Quality::High;  // one tree for every photon count
   s.ranks = ranks;
   auto created = sim::Simulation::create(scene, s);
   if (!created.ok()) return created.error();

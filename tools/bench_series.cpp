@@ -91,6 +91,7 @@ Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const 
     s.threads = settings.threads;
     s.max_bounces = settings.max_bounces;
     s.face_size = settings.face_size;
+    s.bvh_quality = sim::EmbreeSceneOptions::Quality::High;  // one tree for every photon count
     if (guided) {
       s.importance = settings.importance_settings;
       s.importance.enabled = true;

@@ -6,7 +6,7 @@
 //                  [--c-step DEG] [--gamma-step DEG] [--symmetry S]
 //                  [--format LIST] [--ies-version 2002|2019] [--name STEM]
 //                  [--min-lor X] [--flux-tolerance X] [--target-error PCT]
-//                  [--cache DIR | --no-cache] [--preview [filter options]]
+//                  [--bvh-quality Q] [--cache DIR | --no-cache] [--preview [filter options]]
 //                  [--serve [--port P]] [--progress]
 //
 // Writes DIR/STEM.ies, STEM.ldt, farfield.exr (cube), farfield-latlong.exr, STEM.svg (the
@@ -151,6 +151,10 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
   p.option("target-error", &o->target_error_pct, 0.0, 100.0, "PCT",
            "stop once the estimated RMS candela error (from photon counts, relative to the peak) is "
            "at or under PCT percent (default 0: run every iteration)");
+  p.choice("bvh-quality", &o->bvh_quality, {"auto", "low", "medium", "high"},
+           "Embree's BVH build quality: auto (default: low when the run has fewer photons than half\n"
+           "the model's unique triangles, where building the better tree would cost more than it\n"
+           "saves, else high), or low, medium, high");
   p.option("cache", &o->cache_dir, "DIR",
            "where the model checks' results are kept by content hash, so that an unchanged model "
            "is not checked again (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
@@ -216,6 +220,9 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   settings.threads = static_cast<int>(threads);
   settings.max_bounces = static_cast<int>(max_bounces);
   settings.face_size = static_cast<int>(face_size);
+  if (o.bvh_quality == "low") settings.bvh_quality = sim::EmbreeSceneOptions::Quality::Low;
+  if (o.bvh_quality == "medium") settings.bvh_quality = sim::EmbreeSceneOptions::Quality::Medium;
+  if (o.bvh_quality == "high") settings.bvh_quality = sim::EmbreeSceneOptions::Quality::High;
   return plan;
 }
 
@@ -399,6 +406,8 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   report.max_bounces = settings.max_bounces;
   report.face_size = settings.face_size;
   report.robust_embree = settings.robust_embree;
+  report.bvh_quality = sim::to_string(sim->tracer().settings().embree.quality);
+  report.bvh_quality_auto = !settings.bvh_quality.has_value();
   report.iterations_done = run.iterations_done;
   report.photons = st.photons;
   report.rays = st.rays;

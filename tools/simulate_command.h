@@ -29,6 +29,7 @@ struct SimulateOptions {
   double c_step = 5.0, gamma_step = 2.5, min_lor = 0.0, flux_tolerance = 0.005;
   double target_error_pct = 0.0;  // --target-error PCT; 0: none
   std::string symmetry_name = "auto", format_list = "all", ies_version = "2019", stem;
+  std::string bvh_quality = "auto";  // --bvh-quality
   std::string cache_dir;  // --cache DIR (the model checks' cache)
   bool no_cache = false;  // --no-cache
   ModelInputOptions model_input;  // --allow-outside-paths

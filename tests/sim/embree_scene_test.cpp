@@ -63,5 +63,18 @@ TEST(EmbreeScene, RandomRayRateCountsHits) {
   EXPECT_EQ(scene->measure_rays(rays, 1).hits, 1000u);
 }
 
+// The quick tree for runs short for the model's size (fewer photons than
+// half the unique triangles), the better one otherwise.
+TEST(EmbreeScene, BvhQualityForTheRunsSize) {
+  using Q = EmbreeSceneOptions::Quality;
+  EXPECT_EQ(bvh_quality_for(1'000'000, 499'999), Q::Low);
+  EXPECT_EQ(bvh_quality_for(1'000'000, 500'000), Q::High);
+  EXPECT_EQ(bvh_quality_for(10'000'000, 10'000'000), Q::High);
+  EXPECT_EQ(bvh_quality_for(0, 0), Q::High);
+  EXPECT_STREQ(to_string(Q::Low), "low");
+  EXPECT_STREQ(to_string(Q::Medium), "medium");
+  EXPECT_STREQ(to_string(Q::High), "high");
+}
+
 }  // namespace
 }  // namespace gonio::sim

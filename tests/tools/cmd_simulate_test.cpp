@@ -210,6 +210,46 @@ TEST(Simulate, SameSeedSameBytesWithOneOrTwoThreads) {
   EXPECT_EQ(a["escaped_lm"], b["escaped_lm"]);
 }
 
+// --bvh-quality auto builds the quick tree for a run short for the model's
+// size and the better one otherwise; the tree changes the speed, not the
+// photons' paths: the same bytes either way.
+TEST(Simulate, BvhQualityFollowsThePlannedWorkAndLeavesTheResultAlone) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());  // 10 triangles
+  struct Case {
+    const char* name;
+    std::vector<std::string> args;
+    const char* quality;
+    bool automatic;
+  };
+  const Case cases[] = {
+      {"short", {"--photons", "2", "--iterations", "2"}, "low", true},  // 4 < 10 / 2
+      {"long", {"--photons", "5", "--iterations", "1"}, "high", true},  // 5 = 10 / 2
+      {"all", {"--photons", "3", "--iterations", "2"}, "high", true},   // every iteration's photons
+      {"forced", {"--photons", "4", "--iterations", "1", "--bvh-quality", "high"}, "high", false},
+      {"medium", {"--photons", "4", "--iterations", "1", "--bvh-quality", "medium"}, "medium", false},
+  };
+  for (const Case& c : cases) {
+    // (Five photons cannot fill the IES grid: the flux check is waived.)
+    std::vector<std::string> a = {"simulate", model.string(), "--out", (dir / c.name).string(), "--face-size", "16",
+                                  "--format", "exr", "--flux-tolerance", "1"};
+    a.insert(a.end(), c.args.begin(), c.args.end());
+    auto r = gonio(a);
+    ASSERT_EQ(r.exit_code, 0) << c.name << ": " << r.err;
+    const auto report = nlohmann::json::parse(test::read_file(dir / c.name / "report.json"));
+    EXPECT_EQ(report["setup"]["triangles_unique"], 10);
+    EXPECT_EQ(report["settings"]["bvh_quality"], c.quality) << c.name;
+    EXPECT_EQ(report["settings"]["bvh_quality_auto"], c.automatic) << c.name;
+  }
+  for (const char* q : {"low", "high"}) {
+    auto r = gonio({"simulate", model.string(), "--out", (dir / q).string(), "--photons", "30000", "--iterations",
+                    "1", "--face-size", "16", "--bvh-quality", q});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_EQ(test::read_file(dir / "low" / "farfield.exr"), test::read_file(dir / "high" / "farfield.exr"));
+}
+
 // report.json times each setup phase and keeps the memory high-water mark;
 // the phases are parts of the run, and the second run of an unchanged
 // model takes the checks' result from the cache (--cache), --no-cache not.
@@ -563,6 +603,7 @@ TEST(SimulateOutputs, BadOptionValuesAreUsageErrorsThatSayWhy) {
       {{"--min-lor", "1.5"}, "min-lor"},
       {{"--flux-tolerance", "-0.1"}, "flux-tolerance"},
       {{"--name", "a/b"}, "name"},
+      {{"--bvh-quality", "fast"}, "bvh-quality"},
   };
   for (const Case& c : cases) {
     std::vector<std::string> a = {"simulate", model.string(), "--out", (dir / "o").string()};
@@ -579,7 +620,7 @@ TEST(Simulate, HelpNamesEveryOption) {
   EXPECT_EQ(r.exit_code, 0);
   for (const char* o : {"--photons", "--iterations", "--seed", "--threads", "--max-bounces", "--face-size", "--out",
                         "--c-step", "--gamma-step", "--symmetry", "--format", "--ies-version", "--name", "--min-lor",
-                        "--flux-tolerance"})
+                        "--flux-tolerance", "--bvh-quality"})
     EXPECT_NE(r.out.find(o), std::string::npos) << o;
 }
 
