@@ -189,11 +189,13 @@ PreviewFilter::PreviewFilter(int face_size, const PreviewFilterParams& params,
   const int levels = pyramid_.levels();
   filtered_.resize(static_cast<std::size_t>(levels));
   counts_.resize(static_cast<std::size_t>(levels));
+  contradictions_.resize(static_cast<std::size_t>(levels));
   halo_source_.resize(static_cast<std::size_t>(levels));
-  for (int k = 1; k < levels; ++k) {
+  for (int k = 0; k < levels; ++k) {
     const int m = pyramid_.face_size(k);
-    filtered_[static_cast<std::size_t>(k)].assign(padded_size(m), 0.0);
+    if (k >= 1) filtered_[static_cast<std::size_t>(k)].assign(padded_size(m), 0.0);
     if (k >= 2) counts_[static_cast<std::size_t>(k)].assign(padded_size(m), 0.0);
+    if (k + 1 < levels) contradictions_[static_cast<std::size_t>(k)].assign(padded_size(m), 0.0);
     const CubeNeighbours neighbours(m);
     const std::size_t mm = static_cast<std::size_t>(m), stride = mm + 2;
     std::vector<std::uint32_t>& source = halo_source_[static_cast<std::size_t>(k)];
@@ -211,6 +213,7 @@ PreviewFilter::PreviewFilter(int face_size, const PreviewFilterParams& params,
     }
   }
   output_.assign(pyramid_.texel_count(0), 0.0);
+  estimates_.assign(pyramid_.texel_count(0), 0.0);
   row_flux_.assign(static_cast<std::size_t>(kCubeFaces) * static_cast<std::size_t>(n_), 0.0);
   row_stable_.assign(row_flux_.size(), 0);
 }
@@ -256,6 +259,29 @@ void PreviewFilter::fill_halo(int level, std::vector<double>& padded, bool corne
   }
 }
 
+namespace {
+
+// The 8 neighbours of texel (x, y) of an M × M face (`at`: its entry in a
+// padded per-face array of row length `stride`, with the adjacent faces'
+// texels as border); 7 at a cube corner, where none lies diagonally past it.
+std::size_t neighbours(const double* at, std::size_t stride, std::size_t x, std::size_t y, std::size_t m,
+                       std::array<double, 8>& out) {
+  const bool edge_x = x == 0 || x + 1 == m, edge_y = y == 0 || y + 1 == m;
+  std::size_t found = 0;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      const bool out_x = edge_x && ((dx < 0 && x == 0) || (dx > 0 && x + 1 == m));
+      const bool out_y = edge_y && ((dy < 0 && y == 0) || (dy > 0 && y + 1 == m));
+      if (out_x && out_y) continue;  // past a cube corner
+      out[found++] = at[static_cast<std::ptrdiff_t>(dy) * static_cast<std::ptrdiff_t>(stride) + dx];
+    }
+  }
+  return found;
+}
+
+}  // namespace
+
 void PreviewFilter::push_level(int level, int top, double photons_per_lm) {
   const int m = pyramid_.face_size(level);
   const std::size_t mm = static_cast<std::size_t>(m);
@@ -286,46 +312,64 @@ void PreviewFilter::push_level(int level, int top, double photons_per_lm) {
     fill_halo(level, c, false);
   }
 
+  // First pass: every texel's upsampled estimate and, with adaptive
+  // stability, whether its photon count contradicts it (+1: more photons
+  // than the estimate predicts, −1: fewer, 0: no), with a border of the
+  // adjacent faces' texels.
+  double* estimates = estimates_.data();
+  double* contradicts = contradictions_[static_cast<std::size_t>(level)].data();
+  if (upsample) {
+    for_rows(6 * mm, mm, [&](std::size_t row_begin, std::size_t row_end) {
+      for (std::size_t r = row_begin; r < row_end; ++r) {
+        const std::size_t face = r / mm, y = r % mm;
+        const double* coarse_face = coarse + face * coarse_stride * coarse_stride;
+        double* contradicts_row = contradicts + face * stride * stride + (y + 1) * stride + 1;
+        for (std::size_t x = 0; x < mm; x += kChunk) {
+          const int count = static_cast<int>(std::min<std::size_t>(kChunk, mm - x));
+          kernel(coarse_face, coarse_stride, static_cast<int>(x), static_cast<int>(y), count, estimates + r * mm + x);
+        }
+        if (!adaptive) continue;
+        for (std::size_t x = 0; x < mm; ++x) {
+          const std::size_t t = r * mm + x;
+          const double n = static_cast<double>(photons[t]);
+          const double expected = estimates[t] * omega[y * mm + x] * photons_per_lm;
+          const double d = std::sqrt(n + 0.375) - std::sqrt(expected + 0.375);
+          contradicts_row[x] = d > half_z ? 1.0 : d < -half_z ? -1.0 : 0.0;
+        }
+      }
+    });
+    if (adaptive) fill_halo(level, contradictions_[static_cast<std::size_t>(level)], false);
+  }
+
   for_rows(6 * mm, mm, [&](std::size_t row_begin, std::size_t row_end) {
+    std::array<double, 8> nb{};
     for (std::size_t r = row_begin; r < row_end; ++r) {
       const std::size_t face = r / mm, y = r % mm;
-      const double* coarse_face =
-          upsample ? coarse + face * coarse_stride * coarse_stride : nullptr;
       double* out_row = level == 0 ? out + r * mm : out + face * stride * stride + (y + 1) * stride + 1;
       double row_flux = 0.0;
       std::uint32_t row_stable = 0;
-      alignas(16) double estimates[kChunk];
       for (std::size_t x = 0; x < mm; ++x) {
-        const std::size_t k = x % kChunk;
-        if (k == 0 && upsample) {
-          const int count = static_cast<int>(std::min<std::size_t>(kChunk, mm - x));
-          kernel(coarse_face, coarse_stride, static_cast<int>(x), static_cast<int>(y), count, estimates);
-        }
         const std::size_t t = r * mm + x;
+        const std::size_t padded = face * stride * stride + (y + 1) * stride + x + 1;
         const double n = static_cast<double>(photons[t]);
         const double w = omega[y * mm + x];
         bool keep = !upsample || n > threshold;
         if (!keep && adaptive) {
-          const double expected = estimates[k] * w * photons_per_lm;
-          keep = std::abs(std::sqrt(n + 0.375) - std::sqrt(expected + 0.375)) > half_z;
+          // A contradiction is detail when a neighbour shows it too (a
+          // cut-off, a shadow, a beam span texels); a lone one is noise (at
+          // z = 3.5, ~5·10⁻⁴ of the texels where a few photons are expected:
+          // dark specks in a bright region, sparks in a dim one).
+          const double sign = contradicts[padded];
+          if (sign != 0.0) {
+            const std::size_t found = neighbours(contradicts + padded, stride, x, y, mm, nb);
+            for (std::size_t i = 0; i < found && !keep; ++i) keep = nb[i] == sign;
+          }
         }
         if (!keep && borders) {
-          const double* c = counts + face * stride * stride + (y + 1) * stride + x + 1;
-          const bool edge_x = x == 0 || x + 1 == mm, edge_y = y == 0 || y + 1 == mm;
-          std::array<double, 8> nb{};
-          std::size_t found = 0;
-          for (int dy = -1; dy <= 1; ++dy) {
-            for (int dx = -1; dx <= 1; ++dx) {
-              if (dx == 0 && dy == 0) continue;
-              const bool out_x = edge_x && ((dx < 0 && x == 0) || (dx > 0 && x + 1 == mm));
-              const bool out_y = edge_y && ((dy < 0 && y == 0) || (dy > 0 && y + 1 == mm));
-              if (out_x && out_y) continue;  // past a cube corner
-              nb[found++] = c[static_cast<std::ptrdiff_t>(dy) * static_cast<std::ptrdiff_t>(stride) + dx];
-            }
-          }
+          const std::size_t found = neighbours(counts + padded, stride, x, y, mm, nb);
           keep = is_shadow_border(n, std::span<const double>(nb.data(), found), threshold);
         }
-        const double value = keep ? flux[t] / w : estimates[k];
+        const double value = keep ? flux[t] / w : estimates[t];
         out_row[x] = value;
         if (level == 0) {
           row_flux += value * w;
