@@ -353,6 +353,30 @@ int band_of(int n, std::size_t t) {
 
 double smooth_lobe(const Vec3& d) { return 1.0 + 0.5 * d.x + 0.3 * d.y * d.z + 0.2 * d.z * d.z; }
 
+// Far fields of photons drawn from the smooth lobe on faces of n texels, as
+// a tracer fills its histogram.
+class SmoothLobePhotons {
+ public:
+  explicit SmoothLobePhotons(int n)
+      : grid_(n), expected_(expected_texel_flux(grid_, smooth_lobe, 4)), sampler_(expected_) {
+    for (double f : expected_) total_ += f;
+  }
+  FarField draw(std::uint64_t photons, unsigned seed) const {
+    FarField field(grid_.face_size());
+    std::mt19937_64 rng(seed);
+    sampler_.add_photons(field, photons, total_ / static_cast<double>(photons), rng);
+    return field;
+  }
+  const CubeMapGrid& grid() const { return grid_; }
+  const std::vector<double>& expected() const { return expected_; }
+
+ private:
+  CubeMapGrid grid_;
+  std::vector<double> expected_;
+  FarFieldSampler sampler_;
+  double total_ = 0.0;
+};
+
 // Squared relative errors of a preview and of its raw map against the true
 // texel fluxes, summed per band (band_of); rms() and raw_rms() of a band.
 struct BandErrors {
@@ -431,20 +455,13 @@ TEST(PreviewFilter, SparseSmoothFieldHasNoSeams) {
   // centres, 6.9× along edges, 6.4× at cube corners. The figures are printed
   // as "[ measured ]".
   const int n = 64;
-  const CubeMapGrid grid(n);
-  const std::vector<double> expected = expected_texel_flux(grid, smooth_lobe, 4);
-  double total = 0.0;
-  for (double f : expected) total += f;
-  const FarFieldSampler sampler(expected);
+  const SmoothLobePhotons lobe(n);
   BandErrors errors;
   PreviewFilter filter(n, PreviewFilterParams{});
   for (unsigned seed = 1; seed <= 4; ++seed) {
-    FarField field(n);
-    std::mt19937_64 rng(seed);
-    const std::uint64_t photons = 2 * field.texel_count();
-    sampler.add_photons(field, photons, total / static_cast<double>(photons), rng);
+    const FarField field = lobe.draw(2 * lobe.grid().texel_count(), seed);
     filter.apply(field);
-    errors.add(grid, expected, field, filter);
+    errors.add(lobe.grid(), lobe.expected(), field, filter);
   }
   double improvement[3], rms[3], raw_rms[3];
   for (int b = 0; b < 3; ++b) {
@@ -474,21 +491,13 @@ TEST(PreviewFilter, SparseSmoothFieldHasNoSeams) {
 // raw).
 TEST(PreviewFilter, NoLoneSpecksOnASmoothField) {
   const int n = 64;
-  const CubeMapGrid grid(n);
-  const std::vector<double> expected = expected_texel_flux(grid, smooth_lobe, 4);
-  double total = 0.0;
-  for (double f : expected) total += f;
-  const FarFieldSampler sampler(expected);
+  const SmoothLobePhotons lobe(n);
   PreviewFilter filter(n, PreviewFilterParams{});
   int specks = 0;
   std::size_t kept = 0;
-  for (int per_texel : {10, 40}) {
+  for (std::uint64_t per_texel : {10u, 40u}) {
     for (unsigned seed = 1; seed <= 4; ++seed) {
-      FarField field(n);
-      std::mt19937_64 rng(seed);
-      const std::uint64_t photons = static_cast<std::uint64_t>(per_texel) * field.texel_count();
-      sampler.add_photons(field, photons, total / static_cast<double>(photons), rng);
-      kept += filter.apply(field).stable_texels;
+      kept += filter.apply(lobe.draw(per_texel * lobe.grid().texel_count(), seed)).stable_texels;
       const std::span<const double> preview = filter.intensity_cd();
       for (int face = 0; face < 6; ++face)
         for (int y = 1; y + 1 < n; ++y)
