@@ -54,7 +54,10 @@ std::string scratch_dir(const std::string& harness) {
     std::abort();
   }
   write((dir / "tilt.dat").string(), "1\n3\n0 45 90\n1 0.9 0.8\n");
-  const fs::path curves = fs::path(GONIO_SOURCE_DIR) / "samples" / "curves";
+  // Relative to the checkout, where scripts/fuzz.sh runs the harnesses: no
+  // path of the checkout is compiled in, so that the binaries, and with
+  // them the addresses a run sees, are the same in any clone.
+  const fs::path curves = fs::path("samples") / "curves";
   write((dir / "profile.ies").string(), read_whole(curves / "downlight.ies"));
   write((dir / "profile.ldt").string(), read_whole(curves / "downlight.ldt"));
   static const std::string kept = dir.string();
