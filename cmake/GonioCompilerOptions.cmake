@@ -45,9 +45,10 @@ if(GONIO_FUZZ)
   if(GONIO_SANITIZE)
     message(FATAL_ERROR "GONIO_FUZZ brings its own sanitizers; leave GONIO_SANITIZE off")
   endif()
-  # The checkout's path mapped away (source file names in the sanitizers'
-  # data, __FILE__): the same code builds the same binary in any clone, so
-  # that a run repeats wherever it is made (scripts/fuzz.sh).
+  # The checkout's path mapped away in __FILE__ and the debug information
+  # (scripts/fuzz.sh has ccache hand the compiler relative paths, which the
+  # sanitizers' own metadata needs): the same code builds the same binary
+  # in any clone, so that a run repeats wherever it is made.
   target_compile_options(gonio_sanitize INTERFACE
     -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
     -fno-omit-frame-pointer -g "-ffile-prefix-map=${PROJECT_SOURCE_DIR}/=")

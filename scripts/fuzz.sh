@@ -40,6 +40,11 @@ if [ -n "${GONIO_FUZZ_ONLY:-}" ]; then harnesses=("$GONIO_FUZZ_ONLY"); fi
 bash scripts/setup.sh
 
 echo "== fuzz build (clang, libFuzzer, AddressSanitizer + UndefinedBehaviorSanitizer)"
+# ccache hands the compiler the sources' paths relative to the checkout, so
+# that no path of it lands in the binaries (the sanitizers' metadata keeps
+# the paths the compiler is given): the same code, the same binary, in any
+# clone.
+export CCACHE_BASEDIR="$PWD"
 bash scripts/configure.sh build-fuzz -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release -DGONIO_FUZZ=ON \
   -DGONIO_BUILD_TESTS=OFF -DGONIO_BUILD_BENCHMARKS=OFF
 cmake --build build-fuzz -j"$jobs" --target "${harnesses[@]/#/gonio_fuzz_}"
@@ -111,7 +116,7 @@ echo "fuzz: seed $seed, at most $runs executions or ${seconds} s per harness (GO
 # pointers feed libFuzzer's comparison-guided mutations. So the harnesses
 # run without address-space randomisation (setarch -R) and with the same few
 # environment variables (they sit on the stack), and their binaries carry no
-# path of the checkout (cmake/GonioCompilerOptions.cmake). Measured: two
+# path of the checkout (above). Measured: two
 # GLDF runs of 150,000 executions with the same seed parted after ~12,800
 # with randomisation and agreed to the end without it.
 fixed=(env -i PATH=/usr/bin:/bin SOURCE_DATE_EPOCH="$SOURCE_DATE_EPOCH"
