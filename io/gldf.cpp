@@ -1,7 +1,6 @@
 #include "io/gldf.h"
 
 #include <algorithm>
-#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -9,6 +8,7 @@
 #include <ctime>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <optional>
 
 #include "gonio/version.h"
@@ -215,7 +215,7 @@ Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
 
 namespace {
 
-using Matrix3 = std::array<std::array<double, 3>, 3>;
+constexpr double kDeg = std::numbers::pi / 180.0;
 
 // An instance's placement in L3D's frame, when L3D can state it without
 // depending on how its Euler order is read (l3d_from_scene).
@@ -223,46 +223,43 @@ struct L3dPlacement {
   double scale = 1.0;
   Vec3 rotation_deg;
   Vec3 position_m;
-  Matrix3 turn{};  // scale · F, F the frame's rows: mesh → L3D axes
+  sim::Affine turn;  // the mesh's vertices into L3D's axes, scaled
 };
 
 std::optional<L3dPlacement> l3d_placement(const sim::Affine& a, const photometry::PhotometricFrame& f) {
-  const Vec3 rows[3] = {f.c0, f.c90, f.up};
-  const auto F = [&](int i, int j) { return j == 0 ? rows[i].x : j == 1 ? rows[i].y : rows[i].z; };
-  // M = F·A·Fᵀ: the instance's linear map in L3D's axes.
-  Matrix3 fa{}, m{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) fa[i][j] += F(i, k) * a.m[k][j];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) m[i][j] += fa[i][k] * F(j, k);
   const double det = a.determinant();
   if (!(det > 0.0) || !std::isfinite(det)) return std::nullopt;  // mirrored or singular
+  // F: world axes → L3D's (rows C0, C90, zenith); its transpose is its inverse.
+  sim::Affine frame, frame_t;
+  const Vec3 rows[3] = {f.c0, f.c90, f.up};
+  for (int i = 0; i < 3; ++i) {
+    frame.m[i][0] = frame_t.m[0][i] = rows[i].x;
+    frame.m[i][1] = frame_t.m[1][i] = rows[i].y;
+    frame.m[i][2] = frame_t.m[2][i] = rows[i].z;
+  }
+  sim::Affine linear = a;
+  linear.offset = Vec3{};
   L3dPlacement p;
   p.scale = std::cbrt(det);
-  Matrix3 r{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) r[i][j] = m[i][j] / p.scale;
+  // R = F·A·Fᵀ / scale must be a rotation, about one of L3D's axes.
+  const sim::Affine r = sim::scaling(1.0 / p.scale, 1.0 / p.scale, 1.0 / p.scale) * frame * linear * frame_t;
   constexpr double kTolerance = 1e-9;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      const double rrt = r[i][0] * r[j][0] + r[i][1] * r[j][1] + r[i][2] * r[j][2];
+      const double rrt = r.m[i][0] * r.m[j][0] + r.m[i][1] * r.m[j][1] + r.m[i][2] * r.m[j][2];
       if (std::abs(rrt - (i == j ? 1.0 : 0.0)) > kTolerance) return std::nullopt;  // not scale · rotation
     }
   // The axis the rotation keeps (z first: a ring about the luminaire's axis).
-  constexpr double kDeg = 180.0 / 3.14159265358979323846;
-  if (std::abs(r[2][2] - 1.0) <= kTolerance)
-    p.rotation_deg.z = std::atan2(r[1][0], r[0][0]) * kDeg;
-  else if (std::abs(r[0][0] - 1.0) <= kTolerance)
-    p.rotation_deg.x = std::atan2(r[2][1], r[1][1]) * kDeg;
-  else if (std::abs(r[1][1] - 1.0) <= kTolerance)
-    p.rotation_deg.y = std::atan2(r[0][2], r[2][2]) * kDeg;
+  if (std::abs(r.m[2][2] - 1.0) <= kTolerance)
+    p.rotation_deg.z = std::atan2(r.m[1][0], r.m[0][0]) / kDeg;
+  else if (std::abs(r.m[0][0] - 1.0) <= kTolerance)
+    p.rotation_deg.x = std::atan2(r.m[2][1], r.m[1][1]) / kDeg;
+  else if (std::abs(r.m[1][1] - 1.0) <= kTolerance)
+    p.rotation_deg.y = std::atan2(r.m[0][2], r.m[2][2]) / kDeg;
   else
     return std::nullopt;  // about a skew axis
   p.position_m = f.to_local(a.offset);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) p.turn[i][j] = p.scale * F(i, j);
+  p.turn = sim::scaling(p.scale, p.scale, p.scale) * frame;
   return p;
 }
 
@@ -340,11 +337,7 @@ L3dGeometry l3d_from_scene(const sim::SceneDesc& scene) {
       def.id = "mesh" + std::to_string(mesh) + (scales.empty() ? "" : "s" + std::to_string(scales.size()));
       def.obj = obj_header(scene.name, def.id);
       std::size_t def_base = 1;
-      append_obj(def.obj, meshes[mesh], [&](const Vec3& q) {
-        return Vec3{p.turn[0][0] * q.x + p.turn[0][1] * q.y + p.turn[0][2] * q.z,
-                    p.turn[1][0] * q.x + p.turn[1][1] * q.y + p.turn[1][2] * q.z,
-                    p.turn[2][0] * q.x + p.turn[2][1] * q.y + p.turn[2][2] * q.z};
-      }, false, def_base);
+      append_obj(def.obj, meshes[mesh], [&](const Vec3& q) { return p.turn.linear(q); }, false, def_base);
       scales.emplace_back(p.scale, d);
       g.definitions.push_back(std::move(def));
     }
