@@ -116,9 +116,9 @@ echo "fuzz: seed $seed, at most $runs executions or ${seconds} s per harness (GO
 # pointers feed libFuzzer's comparison-guided mutations. So the harnesses
 # run without address-space randomisation (setarch -R) and with the same few
 # environment variables (they sit on the stack), and their binaries carry no
-# path of the checkout (above). Measured: two
-# GLDF runs of 150,000 executions with the same seed parted after ~12,800
-# with randomisation and agreed to the end without it.
+# path of the checkout (above). Measured: two GLDF runs of 150,000
+# executions with the same seed parted after ~12,800 with randomisation and
+# agreed to the end without it.
 fixed=(env -i PATH=/usr/bin:/bin SOURCE_DATE_EPOCH="$SOURCE_DATE_EPOCH"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1)

@@ -33,6 +33,9 @@ struct EmbreeSceneOptions {
   Quality quality = Quality::High;
 };
 
+// "low", "medium" or "high".
+const char* to_string(EmbreeSceneOptions::Quality q);
+
 // The build quality that makes setup and tracing quickest for a run of
 // `planned_photons` photons on `unique_triangles` stored triangles: Low
 // when the run is short for the model's size (fewer photons than half its
@@ -42,9 +45,6 @@ struct EmbreeSceneOptions {
 // at 10⁷, 2.0 against 2.8 s and 1.71 against 2.08 M rays/s (~2 rays a
 // photon): Low pays off below 0.4–1.7 photons a triangle. Medium builds
 // about as slowly as High and traces more slowly, so it is never chosen.
-// "low", "medium" or "high".
-const char* to_string(EmbreeSceneOptions::Quality q);
-
 EmbreeSceneOptions::Quality bvh_quality_for(std::size_t unique_triangles, std::uint64_t planned_photons);
 
 // A ray query: origin and direction (need not be unit; t is measured in

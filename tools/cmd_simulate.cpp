@@ -220,9 +220,9 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   settings.threads = static_cast<int>(threads);
   settings.max_bounces = static_cast<int>(max_bounces);
   settings.face_size = static_cast<int>(face_size);
-  if (o.bvh_quality == "low") settings.bvh_quality = sim::EmbreeSceneOptions::Quality::Low;
-  if (o.bvh_quality == "medium") settings.bvh_quality = sim::EmbreeSceneOptions::Quality::Medium;
-  if (o.bvh_quality == "high") settings.bvh_quality = sim::EmbreeSceneOptions::Quality::High;
+  using Quality = sim::EmbreeSceneOptions::Quality;
+  for (Quality q : {Quality::Low, Quality::Medium, Quality::High})
+    if (o.bvh_quality == sim::to_string(q)) settings.bvh_quality = q;  // "auto" leaves it unset
   return plan;
 }
 
