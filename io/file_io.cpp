@@ -17,7 +17,11 @@ std::string errno_text() { return std::strerror(errno); }
 
 }  // namespace
 
-Result<std::string> read_file(const std::string& path, std::size_t max_bytes) {
+namespace {
+
+// read_file's body for either container of bytes.
+template <class Bytes>
+Result<Bytes> read_whole(const std::string& path, std::size_t max_bytes) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return make_error(path, "cannot open: " + errno_text());
   if (S_ISDIR(st.st_mode)) return make_error(path, "is a directory, not a file");
@@ -28,11 +32,21 @@ Result<std::string> read_file(const std::string& path, std::size_t max_bytes) {
 
   std::ifstream in(path, std::ios::binary);
   if (!in) return make_error(path, "cannot open: " + errno_text());
-  std::string bytes(static_cast<std::size_t>(st.st_size), '\0');
-  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  Bytes bytes(static_cast<std::size_t>(st.st_size), 0);
+  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   if (in.gcount() != static_cast<std::streamsize>(bytes.size()))
     return make_error(path, "read error");
   return bytes;
+}
+
+}  // namespace
+
+Result<std::string> read_file(const std::string& path, std::size_t max_bytes) {
+  return read_whole<std::string>(path, max_bytes);
+}
+
+Result<std::vector<unsigned char>> read_file_bytes(const std::string& path, std::size_t max_bytes) {
+  return read_whole<std::vector<unsigned char>>(path, max_bytes);
 }
 
 Status write_file_atomic(const std::string& path, std::string_view bytes) {

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "photometry/diagnostics.h"
 
@@ -16,6 +17,9 @@ namespace gonio::io {
 // Reads a regular file whole. Errors name the path: missing, a directory or
 // other non-regular file, unreadable, or larger than `max_bytes`.
 Result<std::string> read_file(const std::string& path, std::size_t max_bytes);
+// The same into the byte vector a library asks for (tinygltf's buffers), so
+// that a large buffer is read once rather than read and copied.
+Result<std::vector<unsigned char>> read_file_bytes(const std::string& path, std::size_t max_bytes);
 
 // Writes `bytes` to `path` atomically (temporary file in the same directory,
 // flushed, then renamed). The directory must exist.

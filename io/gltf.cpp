@@ -279,12 +279,12 @@ bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::strin
     if (err) *err += "not a file of the model's";
     return false;
   }
-  Result<std::string> bytes = read_file(*file, kMaxFileBytes);
+  Result<std::vector<unsigned char>> bytes = read_file_bytes(*file, kMaxFileBytes);
   if (!bytes.ok()) {
     if (err) *err += bytes.error().message;
     return false;
   }
-  out->assign(bytes->begin(), bytes->end());
+  *out = std::move(bytes.value());
   return true;
 }
 
@@ -326,6 +326,39 @@ struct IesLight {
 struct ElementSource {
   const unsigned char* data = nullptr;  // null: zeros (no bufferView)
   std::size_t stride = 0;
+};
+
+// An accessor's float elements, read in place from the buffer where they are
+// plain (a bufferView and no sparse substitution), else gathered once: a
+// large part's positions and normals are not copied before they are used.
+class FloatView {
+ public:
+  FloatView(ElementSource in_place, std::size_t count, std::size_t comps)
+      : data_(in_place.data), stride_(in_place.stride), count_(count), comps_(comps) {}
+  FloatView(std::vector<float> gathered, std::size_t comps)
+      : gathered_(std::move(gathered)),
+        data_(reinterpret_cast<const unsigned char*>(gathered_.data())),
+        stride_(4 * comps),
+        count_(gathered_.size() / comps),
+        comps_(comps) {}
+  FloatView(const FloatView&) = delete;
+  FloatView& operator=(const FloatView&) = delete;
+  FloatView(FloatView&&) = default;  // the vector's storage, and data_ into it, move along
+  FloatView& operator=(FloatView&&) = default;
+
+  std::size_t count() const { return count_; }  // elements
+  float at(std::size_t element, std::size_t component) const {
+    float f;
+    std::memcpy(&f, data_ + element * stride_ + 4 * component, 4);
+    return f;
+  }
+
+ private:
+  std::vector<float> gathered_;
+  const unsigned char* data_ = nullptr;
+  std::size_t stride_ = 0;
+  std::size_t count_ = 0;
+  std::size_t comps_ = 0;
 };
 
 // One placement of a glTF mesh: a node, or one copy of an
@@ -382,7 +415,7 @@ class Loader {
   Status load_ies_profile(IesLight& light);
   Result<std::uint32_t> material(int index);
 
-  Result<std::vector<float>> read_floats(int accessor, int type, const std::string& what);
+  Result<FloatView> read_floats(int accessor, int type, const std::string& what);
   Result<std::vector<std::uint32_t>> read_indices(int accessor, const std::string& what);
   Result<std::pair<const unsigned char*, std::size_t>> view_bytes(int view,
                                                                   const std::string& what) const;
@@ -859,7 +892,7 @@ const char* type_name(int type) {
   }
 }
 
-Result<std::vector<float>> Loader::read_floats(int index, int type, const std::string& what_in) {
+Result<FloatView> Loader::read_floats(int index, int type, const std::string& what_in) {
   const std::string what = what_in + " (accessor #" + std::to_string(index) + ")";
   if (index < 0 || static_cast<std::size_t>(index) >= model_.accessors.size())
     return fail(what_in + ": accessor " + std::to_string(index) + " does not exist (" +
@@ -872,15 +905,22 @@ Result<std::vector<float>> Loader::read_floats(int index, int type, const std::s
                 "; Gonio reads float vertex data only (no KHR_mesh_quantization)");
   const std::size_t comps = static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(type)));
   const std::size_t elem = comps * 4;
-  if (Result<ElementSource> src = source(a, elem, what); !src.ok()) return src.error();
-  std::vector<float> out(a.count * comps);
-  if (Status s = read_elements(a, elem, what, reinterpret_cast<unsigned char*>(out.data())); !s.ok())
-    return s.error();
-  for (std::size_t i = 0; i < out.size(); ++i)
-    if (!std::isfinite(out[i]))
-      return fail(what + ": element " + std::to_string(i / comps) + " is not finite (" +
-                  format_number(static_cast<double>(out[i])) + ")");
-  return out;
+  Result<ElementSource> src = source(a, elem, what);
+  if (!src.ok()) return src.error();
+  Result<FloatView> view = [&]() -> Result<FloatView> {
+    if (src->data && !a.sparse.isSparse) return FloatView(*src, a.count, comps);
+    std::vector<float> out(a.count * comps);
+    if (Status s = read_elements(a, elem, what, reinterpret_cast<unsigned char*>(out.data())); !s.ok())
+      return s.error();
+    return FloatView(std::move(out), comps);
+  }();
+  if (!view.ok()) return view.error();
+  for (std::size_t i = 0; i < view->count(); ++i)
+    for (std::size_t c = 0; c < comps; ++c)
+      if (!std::isfinite(view->at(i, c)))
+        return fail(what + ": element " + std::to_string(i) + " is not finite (" +
+                    format_number(static_cast<double>(view->at(i, c))) + ")");
+  return view;
 }
 
 Result<std::vector<std::uint32_t>> Loader::read_indices(int index, const std::string& what_in) {
@@ -897,10 +937,15 @@ Result<std::vector<std::uint32_t>> Loader::read_indices(int index, const std::st
     return fail(what + ": indices must be unsigned byte, short or int, found component type " +
                 std::to_string(ct));
   const std::size_t size = component_size(ct);
-  if (Result<ElementSource> src = source(a, size, what); !src.ok()) return src.error();
+  Result<ElementSource> src = source(a, size, what);
+  if (!src.ok()) return src.error();
+  std::vector<std::uint32_t> out(a.count);
+  if (src->data && !a.sparse.isSparse) {  // in place, as read_floats
+    for (std::size_t i = 0; i < a.count; ++i) out[i] = read_index(src->data + i * src->stride, ct);
+    return out;
+  }
   std::vector<unsigned char> raw(a.count * size);
   if (Status s = read_elements(a, size, what, raw.data()); !s.ok()) return s.error();
-  std::vector<std::uint32_t> out(a.count);
   for (std::size_t i = 0; i < a.count; ++i) out[i] = read_index(raw.data() + i * size, ct);
   return out;
 }
@@ -1061,10 +1106,10 @@ Result<std::optional<sim::Mesh>> Loader::primitive_mesh(const tinygltf::Primitiv
 
   auto pos_it = prim.attributes.find("POSITION");
   if (pos_it == prim.attributes.end()) return fail(what + ": no POSITION attribute");
-  Result<std::vector<float>> positions = read_floats(pos_it->second, TINYGLTF_TYPE_VEC3,
+  Result<FloatView> positions = read_floats(pos_it->second, TINYGLTF_TYPE_VEC3,
                                                      what + " POSITION");
   if (!positions.ok()) return positions.error();
-  const std::size_t vertex_count = positions->size() / 3;
+  const std::size_t vertex_count = positions->count();
 
   std::vector<std::uint32_t> index;
   if (prim.indices >= 0) {
@@ -1138,7 +1183,7 @@ Result<std::optional<sim::Mesh>> Loader::primitive_mesh(const tinygltf::Primitiv
   for (std::size_t k = 0; k < used.size(); ++k) {
     const std::size_t v = used[k];
     const Vec3 p =
-        world.point(widen((*positions)[3 * v], (*positions)[3 * v + 1], (*positions)[3 * v + 2]));
+        world.point(widen(positions->at(v, 0), positions->at(v, 1), positions->at(v, 2)));
     const sim::Vec3f f = sim::to_float(p);
     if (!(std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z)))
       return fail(what + ": vertex " + std::to_string(v) + " is not finite in world space");
@@ -1149,10 +1194,10 @@ Result<std::optional<sim::Mesh>> Loader::primitive_mesh(const tinygltf::Primitiv
   mesh.indices = std::move(tri);
 
   if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-    Result<std::vector<float>> normals = read_floats(it->second, TINYGLTF_TYPE_VEC3, what + " NORMAL");
+    Result<FloatView> normals = read_floats(it->second, TINYGLTF_TYPE_VEC3, what + " NORMAL");
     if (!normals.ok()) return normals.error();
-    if (normals->size() != positions->size())
-      return fail(what + ": NORMAL has " + std::to_string(normals->size() / 3) +
+    if (normals->count() != vertex_count)
+      return fail(what + ": NORMAL has " + std::to_string(normals->count()) +
                   " elements, POSITION " + std::to_string(vertex_count));
     bool usable = !singular;
     if (usable) {
@@ -1160,7 +1205,7 @@ Result<std::optional<sim::Mesh>> Loader::primitive_mesh(const tinygltf::Primitiv
       for (std::size_t k = 0; k < used.size() && usable; ++k) {
         const std::size_t v = used[k];
         const Vec3 n =
-            world.normal(widen((*normals)[3 * v], (*normals)[3 * v + 1], (*normals)[3 * v + 2]));
+            world.normal(widen(normals->at(v, 0), normals->at(v, 1), normals->at(v, 2)));
         const double len = length(n);
         if (!(len > 0.0) || !std::isfinite(len)) {
           usable = false;
@@ -1175,16 +1220,16 @@ Result<std::optional<sim::Mesh>> Loader::primitive_mesh(const tinygltf::Primitiv
     if (!usable) mesh.normals.clear();
   }
   if (auto it = prim.attributes.find("TANGENT"); it != prim.attributes.end()) {
-    Result<std::vector<float>> tangents = read_floats(it->second, TINYGLTF_TYPE_VEC4, what + " TANGENT");
+    Result<FloatView> tangents = read_floats(it->second, TINYGLTF_TYPE_VEC4, what + " TANGENT");
     if (!tangents.ok()) return tangents.error();
-    if (tangents->size() / 4 != vertex_count)
-      return fail(what + ": TANGENT has " + std::to_string(tangents->size() / 4) +
+    if (tangents->count() != vertex_count)
+      return fail(what + ": TANGENT has " + std::to_string(tangents->count()) +
                   " elements, POSITION " + std::to_string(vertex_count));
     mesh.tangents.resize(used.size());
     for (std::size_t k = 0; k < used.size(); ++k) {
       const std::size_t v = used[k];
       const Vec3 t =
-          world.linear(widen((*tangents)[4 * v], (*tangents)[4 * v + 1], (*tangents)[4 * v + 2]));
+          world.linear(widen(tangents->at(v, 0), tangents->at(v, 1), tangents->at(v, 2)));
       const double len = length(t);
       if (!(len > 0.0) || !std::isfinite(len)) {
         note(Severity::Warning, "bad-tangents",
@@ -1610,25 +1655,25 @@ Result<std::vector<Copy>> Loader::gpu_instances(const json& ext, const sim::Affi
   if (!ext.is_object() || !ext.contains("attributes") || !ext["attributes"].is_object())
     return fail(ew + " needs an 'attributes' object");
   const json& attributes = ext["attributes"];
-  std::vector<float> t, r, sc;
+  std::optional<FloatView> t, r, sc;
   std::optional<std::size_t> count;
-  auto read = [&](const char* key, int type, std::size_t comps, std::vector<float>& out) -> Status {
+  auto read = [&](const char* key, int type, std::optional<FloatView>& out) -> Status {
     auto it = attributes.find(key);
     if (it == attributes.end()) return Ok{};
     if (!it->is_number_integer()) return fail(ew + ": attribute " + key + " must be an accessor index");
-    Result<std::vector<float>> v = read_floats(it->get<int>(), type, ew + " " + key);
+    Result<FloatView> v = read_floats(it->get<int>(), type, ew + " " + key);
     if (!v.ok()) return v.error();
-    const std::size_t n = v->size() / comps;
+    const std::size_t n = v->count();
     if (count && *count != n)
       return fail(ew + ": attribute " + key + " has " + std::to_string(n) + " elements, another " +
                   std::to_string(*count));
     count = n;
-    out = std::move(*v);
+    out.emplace(std::move(*v));
     return Ok{};
   };
-  if (Status st = read("TRANSLATION", TINYGLTF_TYPE_VEC3, 3, t); !st.ok()) return st.error();
-  if (Status st = read("ROTATION", TINYGLTF_TYPE_VEC4, 4, r); !st.ok()) return st.error();
-  if (Status st = read("SCALE", TINYGLTF_TYPE_VEC3, 3, sc); !st.ok()) return st.error();
+  if (Status st = read("TRANSLATION", TINYGLTF_TYPE_VEC3, t); !st.ok()) return st.error();
+  if (Status st = read("ROTATION", TINYGLTF_TYPE_VEC4, r); !st.ok()) return st.error();
+  if (Status st = read("SCALE", TINYGLTF_TYPE_VEC3, sc); !st.ok()) return st.error();
   for (const auto& item : attributes.items()) {
     const std::string& key = item.key();
     if (key != "TRANSLATION" && key != "ROTATION" && key != "SCALE")
@@ -1644,13 +1689,14 @@ Result<std::vector<Copy>> Loader::gpu_instances(const json& ext, const sim::Affi
   for (std::size_t i = 0; i < *count; ++i) {
     tinygltf::Node trs;
     // glTF's TRS, for local_transform's checks and conventions.
-    const auto take = [](const std::vector<float>& v, std::size_t from, std::size_t n) {
-      return std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(from),
-                                 v.begin() + static_cast<std::ptrdiff_t>(from + n));
+    const auto take = [i](const FloatView& v, std::size_t n) {
+      std::vector<double> out(n);
+      for (std::size_t c = 0; c < n; ++c) out[c] = v.at(i, c);
+      return out;
     };
-    if (!t.empty()) trs.translation = take(t, 3 * i, 3);
-    if (!r.empty()) trs.rotation = take(r, 4 * i, 4);
-    if (!sc.empty()) trs.scale = take(sc, 3 * i, 3);
+    if (t) trs.translation = take(*t, 3);
+    if (r) trs.rotation = take(*r, 4);
+    if (sc) trs.scale = take(*sc, 3);
     const std::string name = node_name + "[" + std::to_string(i) + "]";
     Result<sim::Affine> local = local_transform(trs, ew + " copy " + std::to_string(i));
     if (!local.ok()) return local.error();

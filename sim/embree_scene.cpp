@@ -82,13 +82,22 @@ Status attach_mesh(RTCDevice device, RTCScene scene, const Mesh& mesh, unsigned 
     rtcReleaseGeometry(geom);
     return make_error("Embree cannot allocate mesh '" + mesh.name + "': " + errors.first);
   }
-  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    const Vec3f& p = mesh.positions[v];
-    vertices[3 * v] = p.x;
-    vertices[3 * v + 1] = p.y;
-    vertices[3 * v + 2] = p.z;
-  }
-  std::copy(mesh.indices.begin(), mesh.indices.begin() + static_cast<std::ptrdiff_t>(3 * tris), indices);
+  // In parallel: at 10⁶ triangles the copies (18 MB of fresh pages) took 11 ms.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 65536),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t v = r.begin(); v != r.end(); ++v) {
+                        const Vec3f& p = mesh.positions[v];
+                        vertices[3 * v] = p.x;
+                        vertices[3 * v + 1] = p.y;
+                        vertices[3 * v + 2] = p.z;
+                      }
+                    });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, 3 * tris, 65536),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::copy(mesh.indices.begin() + static_cast<std::ptrdiff_t>(r.begin()),
+                                mesh.indices.begin() + static_cast<std::ptrdiff_t>(r.end()),
+                                indices + r.begin());
+                    });
   rtcSetGeometryBuildQuality(geom, quality);
   rtcCommitGeometry(geom);
   rtcAttachGeometryByID(scene, geom, id);

@@ -390,6 +390,55 @@ TEST(Gltf, PrimitivesSharingAVertexAccessorKeepOnlyTheirVertices) {
   expect_near(pos(s.meshes[1], 2), {501, 1, 0});
 }
 
+// CAD exporters interleave vertex attributes (one bufferView, byteStride)
+// and offset accessors into shared views; the loader reads them in place.
+TEST(Gltf, InterleavedAndOffsetAccessorsReadAsPackedOnes) {
+  test::TempDir dir;
+  const std::vector<float> normals = {0, 0, 1, 0, 0.6f, 0.8f, 0, 0, 1, 0.6f, 0, 0.8f};
+  Doc packed;
+  packed.node({{"mesh", packed.mesh(kQuad, kQuadIdx, -1, 4, "", normals)}});
+  packed.point_light(1.0);
+  const sim::SceneDesc a = load_ok(packed.write(dir, "packed"));
+
+  Doc d;
+  std::vector<float> interleaved;  // position, normal, one float of padding: 28 bytes a vertex
+  for (std::size_t v = 0; v < 4; ++v) {
+    interleaved.insert(interleaved.end(), kQuad.begin() + 3 * v, kQuad.begin() + 3 * v + 3);
+    interleaved.insert(interleaved.end(), normals.begin() + 3 * v, normals.begin() + 3 * v + 3);
+    interleaved.push_back(-7.0f);
+  }
+  const int vv = d.view(interleaved.data(), interleaved.size() * 4);
+  d.j["bufferViews"][vv]["byteStride"] = 28;
+  const int pa = d.accessor(vv, 5126, 4, "VEC3");
+  const int na = d.accessor(vv, 5126, 4, "VEC3");
+  d.j["accessors"][na]["byteOffset"] = 12;
+  std::vector<std::uint16_t> idx = {9, 9};  // two indices of another primitive first
+  for (std::uint32_t i : kQuadIdx) idx.push_back(static_cast<std::uint16_t>(i));
+  const int ia = d.accessor(d.view(idx.data(), idx.size() * 2), 5123, kQuadIdx.size(), "SCALAR");
+  d.j["accessors"][ia]["byteOffset"] = 4;
+  d.j["meshes"].push_back(
+      {{"primitives", json::array({{{"attributes", {{"POSITION", pa}, {"NORMAL", na}}}, {"indices", ia}}})}});
+  d.node({{"mesh", 0}});
+  d.point_light(1.0);
+  const sim::SceneDesc b = load_ok(d.write(dir, "interleaved"));
+
+  ASSERT_EQ(a.meshes.size(), 1u);
+  ASSERT_EQ(b.meshes.size(), 1u);
+  EXPECT_EQ(b.meshes[0].indices, a.meshes[0].indices);
+  ASSERT_EQ(b.meshes[0].positions.size(), 4u);
+  ASSERT_EQ(b.meshes[0].normals.size(), 4u);
+  for (std::size_t v = 0; v < 4; ++v) {
+    expect_near(pos(b.meshes[0], v), pos(a.meshes[0], v), 0.0);
+    const sim::Vec3f na_ = a.meshes[0].normals[v], nb = b.meshes[0].normals[v];
+    expect_near({nb.x, nb.y, nb.z}, {na_.x, na_.y, na_.z}, 0.0);
+  }
+  EXPECT_NEAR(b.meshes[0].normals[1].y, 0.6f, 1e-6);
+
+  // A stride that would read the last element past the view is refused.
+  d.j["bufferViews"][vv]["byteStride"] = 32;
+  EXPECT_CONTAINS(load_error(d.write(dir, "overlong")), "do not fit in bufferView");
+}
+
 TEST(Gltf, PointsAndLinesAreErrorsNamingNodeMeshAndPrimitive) {
   test::TempDir dir;
   for (int mode : {0, 1, 2, 3}) {
