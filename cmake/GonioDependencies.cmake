@@ -65,6 +65,10 @@ find_package(pugixml REQUIRED)
 # find_package(libzip) fails on them: use its pkg-config file instead.
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 
+# xxHash (io/content_hash.cpp), used header-only: the pkg-config file finds
+# libxxhash-dev's header.
+pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
+
 if(GONIO_BUILD_TESTS)
   find_package(GTest REQUIRED)
   include(GoogleTest)

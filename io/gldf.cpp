@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "gonio/version.h"
+#include "io/content_hash.h"
 #include "io/xml.h"
 #include "photometry/format.h"
 #include "photometry/summary.h"
@@ -29,14 +30,6 @@ std::string number(double v) {
   return std::string(buf, r.ptr);
 }
 
-// FNV-1a, for an id that names the same contents the same way.
-std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 1469598103934665603ull) {
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
 
 std::string uuid_like(std::uint64_t a, std::uint64_t b) {
   char buf[40];
@@ -386,17 +379,21 @@ Result<std::string> write_l3d(const L3dGeometry& geometry, const std::string& cr
 
 std::string gldf_product_xml(const GldfProduct& p) {
   const std::string application = std::string("Gonio ") + kVersion;
-  std::uint64_t h = fnv1a(p.name);
-  for (const GldfPhotometryOut& ph : p.photometries) h = fnv1a(ph.bytes, h);
+  // An id that names the same contents the same way.
+  ContentHash contents;
+  contents.text(p.name);
+  for (const GldfPhotometryOut& ph : p.photometries) contents.text(ph.bytes);
   if (p.geometry) {
-    h = fnv1a(p.geometry->obj, h);
-    for (const L3dDefinition& d : p.geometry->definitions) h = fnv1a(d.obj, h);
-    for (const L3dPart& part : p.geometry->parts)
-      h = fnv1a(part.geometry_id + number(part.position_m.x) + number(part.position_m.y) +
-                    number(part.position_m.z) + number(part.rotation_deg.x) + number(part.rotation_deg.y) +
-                    number(part.rotation_deg.z),
-                h);
+    contents.text(p.geometry->obj);
+    for (const L3dDefinition& d : p.geometry->definitions) contents.text(d.obj);
+    for (const L3dPart& part : p.geometry->parts) {
+      contents.text(part.geometry_id);
+      contents.vec(part.position_m);
+      contents.vec(part.rotation_deg);
+    }
   }
+  const std::uint64_t h = contents.digest();
+  contents.text(application);
 
   XmlElement root;
   root.name = "Root";
@@ -407,7 +404,7 @@ std::string gldf_product_xml(const GldfProduct& p) {
   header.add("FormatVersion").set("major", "1").set("minor", "0").set("pre-release", "3");
   header.add("CreatedWithApplication", application);
   header.add("GldfCreationTimeCode", format_utc(p.created_unix, "%Y-%m-%dT%H:%M:%SZ"));
-  header.add("UniqueGldfId", uuid_like(h, fnv1a(application, h)));
+  header.add("UniqueGldfId", uuid_like(h, contents.digest()));
 
   XmlElement& general = root.add("GeneralDefinitions");
   XmlElement& files = general.add("Files");

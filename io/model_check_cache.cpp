@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "io/file_io.h"
-#include "io/fnv1a.h"
+#include "io/content_hash.h"
 #include "io/model_check.h"
 
 namespace gonio::io {
@@ -56,7 +56,7 @@ std::optional<std::vector<MeshFinding>> parse_mesh(const nlohmann::json& m, cons
 }  // namespace
 
 std::uint64_t model_check_key(const sim::SceneDesc& scene, const RefractiveFlags& refractive) {
-  Fnv1a h;
+  ContentHash h;
   h.value(kModelCheckRevision);
   h.value(scene.meshes.size());
   for (std::size_t i = 0; i < scene.meshes.size(); ++i) {

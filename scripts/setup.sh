@@ -12,7 +12,7 @@ packages=(
   libopenmpi-dev openmpi-bin
   gnuplot-nox fonts-dejavu-core
   libcpp-httplib-dev chromium poppler-utils
-  libpugixml-dev libzip-dev libxml2-utils
+  libpugixml-dev libzip-dev libxml2-utils libxxhash-dev
   clang-14 libfuzzer-14-dev llvm-14
 )
 

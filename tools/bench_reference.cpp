@@ -10,14 +10,14 @@
 
 #include "io/exr.h"
 #include "io/file_io.h"
-#include "io/fnv1a.h"
+#include "io/content_hash.h"
 #include "io/report.h"
 #include "sim/simulation.h"
 
 namespace gonio::cli {
 namespace {
 
-using io::Fnv1a;
+using io::ContentHash;
 
 std::string path_in(const std::string& dir, const char* name) {
   return (std::filesystem::path(dir) / name).string();
@@ -96,14 +96,8 @@ nlohmann::json ReferenceKey::to_json() const {
           {"max_bounces", max_bounces},         {"robust_embree", robust_embree}};
 }
 
-std::string fnv1a_hex(std::string_view bytes) {
-  Fnv1a h;
-  h.bytes(bytes.data(), bytes.size());
-  return h.hex();
-}
-
 std::string scene_hash(const sim::SceneDesc& scene) {
-  Fnv1a h;
+  ContentHash h;
   h.value(scene.materials.size());
   for (const sim::Material& m : scene.materials) {
     for (double v : {m.diffuse_reflect, m.diffuse_transmit, m.mirror, m.glossy, m.glossy_mx,

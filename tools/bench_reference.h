@@ -47,8 +47,6 @@ struct ReferenceKey {
   bool operator==(const ReferenceKey&) const = default;
 };
 
-// FNV-1a 64 of the bytes, as 16 lower-case hex digits.
-std::string fnv1a_hex(std::string_view bytes);
 // A hash of everything in a scene that the tracer reads: geometry, shading
 // normals and tangents, materials, emitters with their profiles, the frame.
 std::string scene_hash(const sim::SceneDesc& scene);

@@ -26,6 +26,7 @@
 
 #include "gonio/tracer_revision.h"
 #include "gonio/version.h"
+#include "io/content_hash.h"
 #include "io/file_io.h"
 #include "io/report.h"
 #include "photometry/format.h"
@@ -215,7 +216,7 @@ int run_bench(const Args& args) {
     if (ready) {
       key.program_version = kVersion;
       key.tracer_revision = kTracerRevision;
-      key.model_hash = fnv1a_hex(bytes.value());
+      key.model_hash = io::content_hash_hex(bytes.value());
       key.scene_hash = scene_hash(scene.value());
       key.seed = static_cast<std::uint64_t>(reference_seed);
       key.photons = static_cast<std::uint64_t>(reference_photons);
@@ -225,7 +226,7 @@ int run_bench(const Args& args) {
     }
     // Every rank ready, with the same model and reference settings, or none traces.
     std::optional<std::string> fingerprint;
-    if (ready) fingerprint = ranks->distributed() ? fnv1a_hex(key.to_json().dump()) : std::string();
+    if (ready) fingerprint = ranks->distributed() ? io::content_hash_hex(key.to_json().dump()) : std::string();
     if (!ranks_agree(*ranks, fingerprint, "bench")) return kExitFailure;
     const auto resampler = std::make_shared<const sim::Resampler>(settings.face_size, scene->frame, grid);
 

@@ -2,19 +2,11 @@
 
 #include <cstdio>
 
+#include "io/content_hash.h"
 #include "tools/bench_reference.h"
 #include "tools/cli.h"
 
 namespace gonio::cli {
-namespace {
-
-std::string hex(std::uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
-
-}  // namespace
 
 std::optional<sim::Ranks> join_job(const std::string& command) {
   auto ranks = sim::Ranks::join_job();
@@ -34,7 +26,7 @@ std::string run_fingerprint(const sim::SceneDesc& scene, const sim::SimulationSe
                 static_cast<unsigned long long>(s.seed), s.max_bounces, s.face_size,
                 s.robust_embree ? 1 : 0, s.importance.enabled ? 1 : 0, s.importance.emission_face_size,
                 s.importance.min_acceptance, s.bvh_quality ? static_cast<int>(*s.bvh_quality) : -1);
-  return fnv1a_hex(scene_hash(scene) + "; " + settings);
+  return io::content_hash_hex(scene_hash(scene) + "; " + settings);
 }
 
 bool ranks_agree(const sim::Ranks& ranks, const std::optional<std::string>& fingerprint,
@@ -50,7 +42,7 @@ bool ranks_agree(const sim::Ranks& ranks, const std::optional<std::string>& fing
       fault = "could not get ready (its error above)";
     else if (ready[0] && hashes[r] != hashes[0])
       fault = "holds another model or other settings than rank 0 (run fingerprint " +
-              hex(hashes[r]) + " against " + hex(hashes[0]) +
+              io::to_hex(hashes[r]) + " against " + io::to_hex(hashes[0]) +
               "): every rank must load the same model with the same options";
     if (fault.empty()) continue;
     agree = false;
