@@ -46,11 +46,10 @@ struct Polygon {
   }
 };
 
-// Splits `in` where `f` changes sign. Where f is affine in a and b
-// (`affine`), edge crossings are interpolated exactly; otherwise they are
-// found by the Illinois variant of regula falsi to 1e-12 in face units.
-template <class F>
-void cut(const Polygon& in, const F& f, bool affine, Polygon& negative, Polygon& positive) {
+// Splits `in` where `f` changes sign; `crossing(p, q, f(p), f(q))` gives the
+// parameter t in [0, 1] where edge p → q crosses the boundary.
+template <class F, class Crossing>
+void cut(const Polygon& in, const F& f, const Crossing& crossing, Polygon& negative, Polygon& positive) {
   negative.n = positive.n = 0;
   std::array<double, Polygon::kMaxVertices> value{};
   for (int k = 0; k < in.n; ++k) value[static_cast<std::size_t>(k)] = f(in.v[static_cast<std::size_t>(k)]);
@@ -60,30 +59,48 @@ void cut(const Polygon& in, const F& f, bool affine, Polygon& negative, Polygon&
     const double fp = value[cur], fq = value[nxt];
     (fp < 0.0 ? negative : positive).push(p);
     if ((fp < 0.0) == (fq < 0.0)) continue;
-    const auto at = [&](double t) { return Polygon::Point{p.a + t * (q.a - p.a), p.b + t * (q.b - p.b)}; };
-    double t = fp / (fp - fq);
-    if (!affine) {
-      double t0 = 0.0, t1 = 1.0, f0 = fp, f1 = fq;
-      const double scale = std::max(std::abs(q.a - p.a), std::abs(q.b - p.b));
-      for (int it = 0; it < 60 && (t1 - t0) * scale > 1e-12; ++it) {
-        t = (t0 * f1 - t1 * f0) / (f1 - f0);
-        const double ft = f(at(t));
-        if ((ft < 0.0) == (f0 < 0.0)) {
-          t0 = t;
-          f0 = ft;
-          f1 *= 0.5;
-        } else {
-          t1 = t;
-          f1 = ft;
-          f0 *= 0.5;
-        }
-        if (ft == 0.0) break;
-      }
-    }
-    const Polygon::Point x = at(t);
+    const double t = crossing(p, q, fp, fq);
+    const Polygon::Point x{p.a + t * (q.a - p.a), p.b + t * (q.b - p.b)};
     negative.push(x);
     positive.push(x);
   }
+}
+
+// Where an edge crosses the cone γ = boundary, −d_z = c·|d| (c = cos of the
+// boundary), d being the edge's direction, affine in t from dp to dq (cube
+// coordinates map linearly to unnormalised directions): a root of
+// (d_z² − c²|d|²)(t), a quadratic, on the nappe where −d_z has c's sign.
+// Exact, where a root search along the curve took most of the build.
+double cone_crossing(const Vec3& dp, const Vec3& dq, double c, double fp, double fq) {
+  const double linear = fp / (fp - fq);  // the chord's estimate, and the fallback
+  const Vec3 e = dq - dp;
+  const double c2 = c * c;
+  const double qa = e.z * e.z - c2 * dot(e, e);
+  const double qb = 2.0 * (dp.z * e.z - c2 * dot(dp, e));
+  const double qc = dp.z * dp.z - c2 * dot(dp, dp);
+  std::array<double, 2> roots{};
+  int n = 0;
+  if (std::abs(qa) <= 1e-14 * (std::abs(qb) + std::abs(qc))) {
+    if (qb != 0.0) roots[static_cast<std::size_t>(n++)] = -qc / qb;
+  } else {
+    const double disc = std::max(0.0, qb * qb - 4.0 * qa * qc);
+    const double h = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+    roots[static_cast<std::size_t>(n++)] = h / qa;
+    if (h != 0.0) roots[static_cast<std::size_t>(n++)] = qc / h;
+  }
+  double best = linear, best_gap = 2.0;
+  constexpr double kSlack = 1e-9;
+  for (int k = 0; k < n; ++k) {
+    const double t = roots[static_cast<std::size_t>(k)];
+    if (!(t >= -kSlack && t <= 1.0 + kSlack)) continue;
+    if (-(dp.z + t * e.z) * c < 0.0) continue;  // the other nappe
+    const double gap = std::abs(t - linear);
+    if (gap < best_gap) {
+      best = t;
+      best_gap = gap;
+    }
+  }
+  return std::clamp(best, 0.0, 1.0);
 }
 
 // Finds, for every texel, which bins its pieces fall into and with what
@@ -219,12 +236,14 @@ class OverlapBuilder {
 
     bool c_cut = false;
     Vec3 c_normal;
+    int c_above = w.i;  // the C index on the boundary's positive side (larger C)
     if (g + r > 0.5 * dg_ && g - r < kPi - 0.5 * dg_) {
       const double offset = c_offset(w);
       const double c_b = w.i * dc_ + (offset < 0.0 ? -0.5 : 0.5) * dc_;
       if (0.5 * dc_ - std::abs(offset) <= c_reach(g, r)) {
         c_cut = true;
         c_normal = {-std::sin(c_b), std::cos(c_b), 0.0};
+        if (offset >= 0.0) c_above = (w.i + 1) % nc_;
       }
     }
 
@@ -235,28 +254,49 @@ class OverlapBuilder {
     rect.push({a0, b1});
     std::array<Polygon, 4> parts;
     int count = 0;
+    if (gamma_boundary < 0.0 && !c_cut) {  // no boundary within reach
+      add(grid_.bin(w.i, w.j), sa, out);
+      return;
+    }
     if (gamma_boundary >= 0.0) {
       const double cos_b = std::cos(gamma_boundary);
       const auto f = [&](Polygon::Point p) {
         const Vec3 d = local(face, p.a, p.b);
         return -d.z - cos_b * length(d);  // > 0 where γ < boundary
       };
-      cut(rect, f, false, parts[0], parts[1]);
+      const auto crossing = [&](Polygon::Point p, Polygon::Point q, double fp, double fq) {
+        return cone_crossing(local(face, p.a, p.b), local(face, q.a, q.b), cos_b, fp, fq);
+      };
+      cut(rect, f, crossing, parts[0], parts[1]);
       count = 2;
     } else {
       parts[0] = rect;
       count = 1;
     }
     if (c_cut) {
+      // C-boundaries are planes through the axis: f is affine on a face.
       const auto f = [&](Polygon::Point p) { return dot(local(face, p.a, p.b), c_normal); };
+      const auto crossing = [](Polygon::Point, Polygon::Point, double fp, double fq) {
+        return fp / (fp - fq);
+      };
       for (int k = count - 1; k >= 0; --k) {
         const Polygon whole = parts[static_cast<std::size_t>(k)];
-        cut(whole, f, true, parts[static_cast<std::size_t>(k)],
+        cut(whole, f, crossing, parts[static_cast<std::size_t>(k)],
             parts[static_cast<std::size_t>(k + count)]);
       }
       count *= 2;
     }
 
+    // Each part's bin from the sides of the cuts it lies on: parts[k] is on
+    // the γ cut's side k % γ-parts (0: larger γ) and the C cut's side
+    // k / γ-parts (0: smaller C).
+    const int gamma_parts = gamma_boundary >= 0.0 ? 2 : 1;
+    const int gamma_above = static_cast<int>(std::lround(gamma_boundary / dg_ + 0.5));
+    const auto part_bin = [&](int k) {
+      const int j = gamma_parts == 1 ? w.j : gamma_above - k % gamma_parts;
+      const int i = !c_cut ? w.i : k / gamma_parts == 1 ? c_above : (c_above + nc_ - 1) % nc_;
+      return grid_.bin(i, j);
+    };
     std::array<std::size_t, 4> bins{};
     std::array<double, 4> weights{};
     double total = 0.0;
@@ -267,11 +307,9 @@ class OverlapBuilder {
       // from the centre), by a fan of signed triangles (Van Oosterom &
       // Strackee), which also holds for the rare non-convex part.
       std::array<Vec3, Polygon::kMaxVertices> u;
-      Vec3 mean;
       for (int m = 0; m < p.n; ++m) {
         const auto mi = static_cast<std::size_t>(m);
         u[mi] = normalize(CubeMapGrid::direction(face, p.v[mi].a, p.v[mi].b));
-        mean += u[mi];
       }
       double omega = 0.0;
       for (int m = 1; m + 1 < p.n; ++m) {
@@ -283,9 +321,7 @@ class OverlapBuilder {
       }
       omega = std::abs(omega);
       if (!(omega > 0.0)) continue;
-      // Vertex mean: inside a convex polygon, so in the piece's bin.
-      const Where pw = where(frame_.to_local(normalize(mean)));
-      bins[static_cast<std::size_t>(k)] = grid_.bin(pw.i, pw.j);
+      bins[static_cast<std::size_t>(k)] = part_bin(k);
       weights[static_cast<std::size_t>(k)] = omega;
       total += omega;
     }
