@@ -115,7 +115,7 @@ bool write_cached_checks(const std::string& dir, std::uint64_t key, const sim::S
   return write_file_atomic((std::filesystem::path(dir) / cached_checks_name(key)).string(), j.dump() + "\n").ok();
 }
 
-std::string default_check_cache_dir() {
+std::string default_cache_dir() {
   if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
     return (std::filesystem::path(xdg) / "gonio").string();
   if (const char* home = std::getenv("HOME"); home && *home)

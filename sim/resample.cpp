@@ -456,6 +456,38 @@ Resampler::Resampler(int face_size, const photometry::PhotometricFrame& frame,
   }
 }
 
+Resampler::Rows Resampler::rows() const {
+  return {std::vector<std::uint64_t>(row_start_.begin(), row_start_.end()), texel_, fraction_,
+          solid_angle_sr_};
+}
+
+Result<Resampler> Resampler::from_rows(int face_size, const CGammaGrid& grid, Rows rows) {
+  if (!validate(grid).ok()) return make_error("stored resampler: invalid grid");
+  if (face_size < 1 || face_size > 16384) return make_error("stored resampler: face size out of range");
+  const std::size_t bins = grid.bin_count();
+  const std::size_t texels = static_cast<std::size_t>(kCubeFaces) * face_size * face_size;
+  const std::size_t nonzeros = rows.texel.size();
+  if (rows.row_start.size() != bins + 1 || rows.fraction.size() != nonzeros ||
+      rows.solid_angle_sr.size() != bins || rows.row_start.front() != 0 || rows.row_start.back() != nonzeros)
+    return make_error("stored resampler: sizes do not agree with the grid");
+  for (std::size_t b = 0; b < bins; ++b) {
+    if (rows.row_start[b] > rows.row_start[b + 1]) return make_error("stored resampler: rows out of order");
+    if (!(rows.solid_angle_sr[b] > 0.0) || !std::isfinite(rows.solid_angle_sr[b]))
+      return make_error("stored resampler: a bin without solid angle");
+  }
+  for (std::size_t k = 0; k < nonzeros; ++k) {
+    if (rows.texel[k] >= texels) return make_error("stored resampler: texel out of range");
+    if (!(rows.fraction[k] >= 0.0 && rows.fraction[k] <= 1.0))
+      return make_error("stored resampler: fraction outside [0, 1]");
+  }
+  Resampler r(face_size, grid);
+  r.row_start_.assign(rows.row_start.begin(), rows.row_start.end());
+  r.texel_ = std::move(rows.texel);
+  r.fraction_ = std::move(rows.fraction);
+  r.solid_angle_sr_ = std::move(rows.solid_angle_sr);
+  return r;
+}
+
 BinnedField Resampler::bin(const FarField& field) const {
   GONIO_CHECK_MSG(field.face_size() == face_size_, "far field and resampler differ in face size");
   const std::size_t bins = grid_.bin_count();

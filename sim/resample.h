@@ -26,9 +26,11 @@
 // region whose flux the bin collects.
 //
 // Cost. The overlap is a sparse matrix built once per (face size, frame,
-// grid), in parallel and deterministic: about 0.3 s on two cores at the
-// defaults (5° × 2.5°, face 128, 155 k non-zeros), about 4 s at 1° × 1°
-// (face 256); applying it to a map costs one multiply-add per non-zero
+// grid), in parallel and deterministic: about 0.07 s on two cores at the
+// defaults (5° × 2.5°, face 128, 155 k non-zeros), 0.35 s for the
+// latitude-longitude map's 1.4° grid at face 128, 0.7 s at 1° × 1° (face
+// 256; gonio_resample_bench); the commands keep it on disk
+// (tools/resampler_cache.h). Applying it to a map costs one multiply-add per non-zero
 // (0.3 ms at the defaults, three times one read of the map), so a
 // simulation can resample after every iteration (sim/resample_bench.cpp).
 #pragma once
@@ -96,6 +98,10 @@ struct BinnedField {
   double total_flux_lm() const;
 };
 
+// The overlap builder's revision: raise it whenever a change to the builder
+// changes its rows, so that stored ones (tools/resampler_cache.h) are rebuilt.
+inline constexpr int kResamplerRevision = 2;
+
 // Precomputed overlap of a cube map's texels with a grid's bins, seen through
 // the luminaire's photometric frame (world direction → local (C, γ) by
 // frame.to_local and photometry::c_gamma_from_direction).
@@ -117,7 +123,25 @@ class Resampler {
   // Σ fraction² · Var(texel) (0 for a map without photon counts).
   BinnedField bin(const FarField& field) const;
 
+  // The matrix as stored (tools/resampler_cache.h): compressed rows, one per
+  // bin (row_start has bin_count() + 1 entries), each the texels the bin
+  // draws from and the fraction of each texel's flux it receives.
+  struct Rows {
+    std::vector<std::uint64_t> row_start;
+    std::vector<std::uint32_t> texel;
+    std::vector<double> fraction;
+    std::vector<double> solid_angle_sr;  // per bin
+  };
+  Rows rows() const;
+  // A resampler from stored rows, which are checked for shape (sizes, order,
+  // texels in range, finite fractions in [0, 1], positive solid angles) but
+  // not recomputed: the caller keys them by the face size, frame and grid
+  // they were built for.
+  static Result<Resampler> from_rows(int face_size, const CGammaGrid& grid, Rows rows);
+
  private:
+  Resampler(int face_size, const CGammaGrid& grid) : face_size_(face_size), grid_(grid) {}
+
   int face_size_;
   CGammaGrid grid_;
   // Compressed rows, one row per bin: texel indices and the fraction of that

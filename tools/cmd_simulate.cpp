@@ -74,6 +74,7 @@
 #include "tools/model_input.h"
 #include "tools/preview_output.h"
 #include "tools/progressive_run.h"
+#include "tools/resampler_cache.h"
 #include "tools/simulate_command.h"
 #include "tools/simulation_outputs.h"
 
@@ -157,8 +158,9 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
            "saves, else high), or low, medium, high");
   p.option("cache", &o->cache_dir, "DIR",
            "where the model checks' results are kept by content hash, so that an unchanged model "
-           "is not checked again (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
-  p.flag("no-cache", &o->no_cache, "check the model without reading or writing the cache");
+           "is not checked again, and the overlaps that resample the far field onto the files' "
+           "grids (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
+  p.flag("no-cache", &o->no_cache, "neither read nor write the cache (check the model, build the overlaps)");
   add_model_input_options(p, &o->model_input);
   add_preview_options(p, &o->preview);
 }
@@ -209,9 +211,9 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   plan.min_lor = o.min_lor;
   plan.flux_tolerance = o.flux_tolerance;
   plan.model_input = o.model_input;
-  plan.model_input.check_cache_dir = o.no_cache          ? std::string()
+  plan.model_input.cache_dir = o.no_cache          ? std::string()
                                      : p.given("cache") ? o.cache_dir
-                                                        : io::default_check_cache_dir();
+                                                        : io::default_cache_dir();
   plan.progressive.target_error_pct = o.target_error_pct;
   sim::SimulationSettings& settings = plan.progressive.simulation;
   settings.photons_per_iteration = static_cast<std::uint64_t>(photons);
@@ -295,8 +297,9 @@ int run_simulate(const Args& args) {
   std::optional<PreviewOutput> preview;
   if (plan.preview && lead) preview.emplace(out_dir, settings.face_size, plan.preview_params);
   Status preview_status = Ok{};
-  // The estimate needs the output grid's resampler (~0.3 s to build): made
-  // only when asked for, by the live page where there is one.
+  // The estimate needs the output grid's resampler (0.07 s to build at the
+  // defaults, else from the cache): made only when asked for, by the live
+  // page where there is one.
   std::optional<sim::Resampler> own_resampler;
   const sim::Resampler* resampler = nullptr;
   std::unique_ptr<LiveView> live;
@@ -312,7 +315,8 @@ int run_simulate(const Args& args) {
     resampler = &live->resampler_for(scene.value());
     live->begin_run(model, scene.value(), {});
   } else if (plan.progressive.target_error_pct > 0.0) {
-    resampler = &own_resampler.emplace(settings.face_size, scene->frame, plan.grid);
+    resampler = &own_resampler.emplace(
+        cached_resampler(settings.face_size, scene->frame, plan.grid, plan.model_input.cache_dir));
   }
 
   const bool show_progress = lead && (force_progress || stderr_is_terminal());
@@ -384,6 +388,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   request.grid = grid;
   request.symmetry = symmetry;
   request.ies_version = plan.ies_version;
+  request.cache_dir = plan.model_input.cache_dir;
   request.run.program_version = kVersion;
   request.run.model = model;
   request.run.photons = st.photons;

@@ -11,6 +11,7 @@
 #include "photometry/format.h"
 #include "photometry/summary.h"
 #include "tools/json_figures.h"
+#include "tools/resampler_cache.h"
 
 namespace gonio::cli {
 namespace {
@@ -74,7 +75,8 @@ LiveView::LiveView(std::unique_ptr<LiveServer> server, const SimulatePlan& plan)
 
 const sim::Resampler& LiveView::resampler_for(const sim::SceneDesc& scene) {
   if (!resampler_ || !same_frame(resampler_frame_, scene.frame)) {
-    resampler_ = std::make_unique<sim::Resampler>(plan_.progressive.simulation.face_size, scene.frame, plan_.grid);
+    resampler_ = std::make_unique<sim::Resampler>(cached_resampler(
+        plan_.progressive.simulation.face_size, scene.frame, plan_.grid, plan_.model_input.cache_dir));
     resampler_frame_ = scene.frame;
   }
   return *resampler_;

@@ -45,7 +45,7 @@ ModelLoad load_model(const std::string& model, const ModelInputOptions& options,
   }
   start = std::chrono::steady_clock::now();
   io::ModelCheckOptions check_options;
-  check_options.cache_dir = options.check_cache_dir;
+  check_options.cache_dir = options.cache_dir;
   io::ModelCheckStats stats;
   const std::vector<Finding> checks = io::check_model(scene.value(), check_options, &stats);
   out.findings.insert(out.findings.end(), checks.begin(), checks.end());

@@ -19,8 +19,10 @@ namespace gonio::cli {
 struct ModelInputOptions {
   bool allow_outside_paths = false;  // --allow-outside-paths (io::GltfLoadOptions)
   bool no_instancing = false;        // --no-instancing: flatten meshes placed more than once
-  // The model checks' cache folder (io/model_check.h); empty: no cache.
-  std::string check_cache_dir;
+  // The cache folder: the model checks' results (io/model_check.h), and for
+  // the commands that write files, the outputs' resamplers
+  // (tools/resampler_cache.h); empty: no cache.
+  std::string cache_dir;
 };
 
 // Registers --allow-outside-paths and --no-instancing on a subcommand that

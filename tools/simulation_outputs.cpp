@@ -21,6 +21,7 @@
 #include "photometry/validation.h"
 #include "tools/cli.h"
 #include "tools/json_figures.h"
+#include "tools/resampler_cache.h"
 
 namespace gonio::cli {
 namespace {
@@ -237,7 +238,7 @@ Status write_latlong_file(const sim::FarField& far_field, const OutputRequest& r
   sim::CGammaGrid grid;
   grid.c_step_deg = grid.gamma_step_deg = 90.0 / m;
   const photometry::PhotometricFrame frame = photometry::make_frame({0.0, 1.0, 0.0}, {0.0, 0.0, 1.0});
-  const sim::Resampler resampler(far_field.face_size(), frame, grid);
+  const sim::Resampler resampler = cached_resampler(far_field.face_size(), frame, grid, request.cache_dir);
   const sim::BinnedField binned = resampler.bin(far_field);
   const int width = 4 * m + 1, height = 2 * m + 1;
   io::ExrImage image = io::latlong_image(width, height);
@@ -432,7 +433,8 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
     if (request.symmetry) {
       if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
     }
-    const sim::Resampler resampler(far_field.face_size(), scene.frame, request.grid);
+    const sim::Resampler resampler =
+        cached_resampler(far_field.face_size(), scene.frame, request.grid, request.cache_dir);
     const sim::BinnedField binned = resampler.bin(far_field);
     if (request.symmetry) {
       result.symmetry = *request.symmetry;

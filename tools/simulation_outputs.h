@@ -88,6 +88,7 @@ struct OutputRequest {
   std::optional<photometry::Symmetry> symmetry;  // nullopt: decide from the data
   io::IesVersion ies_version = io::IesVersion::LM63_2019;  // 2019 or 2002
   RunInfo run;
+  std::string cache_dir;  // where resamplers are kept (tools/resampler_cache.h); empty: none
 };
 
 // One file written and read back.

@@ -255,6 +255,7 @@ TEST(Simulate, BvhQualityFollowsThePlannedWorkAndLeavesTheResultAlone) {
 // model takes the checks' result from the cache (--cache), --no-cache not.
 TEST(Simulate, ReportsTheSetupPhasesAndCachesTheChecks) {
   test::TempDir dir;
+  test::ScopedEnv epoch("SOURCE_DATE_EPOCH", "1764620000");  // the files' dates: the runs' bytes compare
   const auto model = dir / "shade.gltf";
   test::write_file(model, shade_model());
   const auto cache = dir / "cache";
@@ -291,14 +292,31 @@ TEST(Simulate, ReportsTheSetupPhasesAndCachesTheChecks) {
   EXPECT_LE(setup["max_rss_after_load_bytes"].get<std::uint64_t>(), setup["max_rss_after_checks_bytes"].get<std::uint64_t>());
   EXPECT_LE(setup["max_rss_after_checks_bytes"].get<std::uint64_t>(), peak);
   EXPECT_GT(setup["max_rss_after_load_bytes"].get<std::uint64_t>(), 0u);
+  // One entry of checks, and the resamplers of the files' grid and of the
+  // latitude-longitude map (tools/resampler_cache.h).
   ASSERT_TRUE(std::filesystem::is_directory(cache));
-  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(cache), std::filesystem::directory_iterator()), 1);
+  const auto entries = [&] {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(cache)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  const std::vector<std::string> stored = entries();
+  ASSERT_EQ(stored.size(), 3u);
+  EXPECT_EQ(stored[0].rfind("model-check-", 0), 0u);
+  EXPECT_EQ(stored[1].rfind("resampler-", 0), 0u);
+  EXPECT_EQ(stored[2].rfind("resampler-", 0), 0u);
 
   const auto warm = run("warm", {"--cache", cache.string()});
   EXPECT_EQ(warm["setup"]["meshes_from_cache"], 1);
   EXPECT_EQ(warm["meshes"], cold["meshes"]);  // same seed, same ledger
+  EXPECT_EQ(entries(), stored);
+  // Resampled by stored rows: the same files.
+  for (const char* file : {"shade.ies", "shade.ldt", "farfield-latlong.exr"})
+    EXPECT_EQ(test::read_file(dir / "warm" / file), test::read_file(dir / "cold" / file)) << file;
   const auto none = run("none", {"--no-cache"});
   EXPECT_EQ(none["setup"]["meshes_from_cache"], 0);
+  EXPECT_EQ(test::read_file(dir / "none" / "shade.ies"), test::read_file(dir / "cold" / "shade.ies"));
   EXPECT_EQ(gonio({"simulate", model.string(), "--out", (dir / "x").string(), "--cache", cache.string(),
                    "--no-cache"})
                 .exit_code,
