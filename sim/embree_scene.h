@@ -28,7 +28,9 @@ struct EmbreeSceneOptions {
   // Embree's BVH build quality (RTC_BUILD_QUALITY_LOW / MEDIUM / HIGH):
   // High adds spatial splits, the best trees for static scenes at the
   // highest build cost; gonio_sim_benchmarks' BM_BvhQuality measures both
-  // sides on the large models.
+  // sides on the large models. Low, the tree of short runs, is also built on
+  // 4 KB pages rather than the huge pages Embree asks for: quicker to fault
+  // in on virtual machines, slower to trace (sim/embree_scene.cpp).
   enum class Quality { Low, Medium, High };
   Quality quality = Quality::High;
 };

@@ -1,6 +1,7 @@
 #include "sim/embree_scene.h"
 
 #include <gtest/gtest.h>
+#include <sys/prctl.h>
 
 #include "sim/shapes.h"
 
@@ -74,6 +75,27 @@ TEST(EmbreeScene, BvhQualityForTheRunsSize) {
   EXPECT_STREQ(to_string(Q::Low), "low");
   EXPECT_STREQ(to_string(Q::Medium), "medium");
   EXPECT_STREQ(to_string(Q::High), "high");
+}
+
+// The quick tree is built with transparent huge pages off for the process
+// (sim/embree_scene.cpp); whatever the setting was, it is that after.
+TEST(EmbreeScene, BuildsLeaveTheProcesssHugePageSettingAsTheyFoundIt) {
+  const int before = prctl(PR_GET_THP_DISABLE, 0, 0, 0, 0);
+  ASSERT_GE(before, 0);
+  const Mesh b = box(1.0, 1.0, 1.0);
+  for (int setting : {0, 1}) {
+    ASSERT_EQ(prctl(PR_SET_THP_DISABLE, setting, 0, 0, 0), 0);
+    for (auto quality : {EmbreeSceneOptions::Quality::Low, EmbreeSceneOptions::Quality::High}) {
+      EmbreeSceneOptions options;
+      options.quality = quality;
+      auto scene = EmbreeScene::build({b}, options);
+      ASSERT_TRUE(scene.ok());
+      RayHit hit;
+      EXPECT_TRUE(scene->intersect(ray_query({0.0, 0.0, -5.0}, {0, 0, 1}), &hit));
+      EXPECT_EQ(prctl(PR_GET_THP_DISABLE, 0, 0, 0, 0), setting) << to_string(quality);
+    }
+  }
+  prctl(PR_SET_THP_DISABLE, before, 0, 0, 0);
 }
 
 }  // namespace
