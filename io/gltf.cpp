@@ -333,14 +333,13 @@ struct ElementSource {
 // large part's positions and normals are not copied before they are used.
 class FloatView {
  public:
-  FloatView(ElementSource in_place, std::size_t count, std::size_t comps)
-      : data_(in_place.data), stride_(in_place.stride), count_(count), comps_(comps) {}
+  FloatView(ElementSource in_place, std::size_t count)
+      : data_(in_place.data), stride_(in_place.stride), count_(count) {}
   FloatView(std::vector<float> gathered, std::size_t comps)
       : gathered_(std::move(gathered)),
         data_(reinterpret_cast<const unsigned char*>(gathered_.data())),
         stride_(4 * comps),
-        count_(gathered_.size() / comps),
-        comps_(comps) {}
+        count_(gathered_.size() / comps) {}
   FloatView(const FloatView&) = delete;
   FloatView& operator=(const FloatView&) = delete;
   FloatView(FloatView&&) = default;  // the vector's storage, and data_ into it, move along
@@ -358,7 +357,6 @@ class FloatView {
   const unsigned char* data_ = nullptr;
   std::size_t stride_ = 0;
   std::size_t count_ = 0;
-  std::size_t comps_ = 0;
 };
 
 // One placement of a glTF mesh: a node, or one copy of an
@@ -908,7 +906,7 @@ Result<FloatView> Loader::read_floats(int index, int type, const std::string& wh
   Result<ElementSource> src = source(a, elem, what);
   if (!src.ok()) return src.error();
   Result<FloatView> view = [&]() -> Result<FloatView> {
-    if (src->data && !a.sparse.isSparse) return FloatView(*src, a.count, comps);
+    if (src->data && !a.sparse.isSparse) return FloatView(*src, a.count);
     std::vector<float> out(a.count * comps);
     if (Status s = read_elements(a, elem, what, reinterpret_cast<unsigned char*>(out.data())); !s.ok())
       return s.error();
@@ -1691,7 +1689,7 @@ Result<std::vector<Copy>> Loader::gpu_instances(const json& ext, const sim::Affi
     // glTF's TRS, for local_transform's checks and conventions.
     const auto take = [i](const FloatView& v, std::size_t n) {
       std::vector<double> out(n);
-      for (std::size_t c = 0; c < n; ++c) out[c] = v.at(i, c);
+      for (std::size_t c = 0; c < n; ++c) out[c] = static_cast<double>(v.at(i, c));
       return out;
     };
     if (t) trs.translation = take(*t, 3);
