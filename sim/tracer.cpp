@@ -128,14 +128,19 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
     MeshData d;
     d.material = m.material;
     const std::size_t corners = m.indices.size();
-    // Per corner, packed; in parallel (a 10⁶-triangle part has 3·10⁶ corners).
+    // Per corner, packed; in parallel (a 10⁶-triangle part has 3·10⁶ corners,
+    // about six for each vertex: each vertex is packed once, then copied).
     const auto per_corner = [&](const std::vector<Vec3f>& per_vertex, std::vector<PackedUnit>* out) {
       if (per_vertex.empty()) return;
+      std::vector<PackedUnit> packed(per_vertex.size());
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, per_vertex.size(), 16384),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t v = r.begin(); v != r.end(); ++v) packed[v] = pack_unit(per_vertex[v]);
+                        });
       out->resize(corners);
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, corners, 16384),
                         [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t c = r.begin(); c != r.end(); ++c)
-                            (*out)[c] = pack_unit(per_vertex[m.indices[c]]);
+                          for (std::size_t c = r.begin(); c != r.end(); ++c) (*out)[c] = packed[m.indices[c]];
                         });
     };
     per_corner(m.normals, &d.corner_normals);
