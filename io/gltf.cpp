@@ -1104,8 +1104,7 @@ Result<std::optional<sim::Mesh>> Loader::primitive_mesh(const tinygltf::Primitiv
 
   auto pos_it = prim.attributes.find("POSITION");
   if (pos_it == prim.attributes.end()) return fail(what + ": no POSITION attribute");
-  Result<FloatView> positions = read_floats(pos_it->second, TINYGLTF_TYPE_VEC3,
-                                                     what + " POSITION");
+  Result<FloatView> positions = read_floats(pos_it->second, TINYGLTF_TYPE_VEC3, what + " POSITION");
   if (!positions.ok()) return positions.error();
   const std::size_t vertex_count = positions->count();
 

@@ -247,6 +247,10 @@ class OverlapBuilder {
       }
     }
 
+    if (gamma_boundary < 0.0 && !c_cut) {  // no boundary within reach
+      add(grid_.bin(w.i, w.j), sa, out);
+      return;
+    }
     Polygon rect;
     rect.push({a0, b0});
     rect.push({a1, b0});
@@ -254,10 +258,6 @@ class OverlapBuilder {
     rect.push({a0, b1});
     std::array<Polygon, 4> parts;
     int count = 0;
-    if (gamma_boundary < 0.0 && !c_cut) {  // no boundary within reach
-      add(grid_.bin(w.i, w.j), sa, out);
-      return;
-    }
     if (gamma_boundary >= 0.0) {
       const double cos_b = std::cos(gamma_boundary);
       const auto f = [&](Polygon::Point p) {
@@ -291,7 +291,8 @@ class OverlapBuilder {
     // the γ cut's side k % γ-parts (0: larger γ) and the C cut's side
     // k / γ-parts (0: smaller C).
     const int gamma_parts = gamma_boundary >= 0.0 ? 2 : 1;
-    const int gamma_above = static_cast<int>(std::lround(gamma_boundary / dg_ + 0.5));
+    // The ring on the γ boundary's larger-γ side.
+    const int gamma_above = gamma_parts == 2 ? static_cast<int>(std::lround(gamma_boundary / dg_ + 0.5)) : w.j;
     const auto part_bin = [&](int k) {
       const int j = gamma_parts == 1 ? w.j : gamma_above - k % gamma_parts;
       const int i = !c_cut ? w.i : k / gamma_parts == 1 ? c_above : (c_above + nc_ - 1) % nc_;
