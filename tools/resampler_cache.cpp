@@ -130,16 +130,11 @@ sim::Resampler cached_resampler(int face_size, const photometry::PhotometricFram
   std::string path;
   if (!cache_dir.empty()) {
     path = (std::filesystem::path(cache_dir) / resampler_cache_name(face_size, frame, grid)).string();
-    std::error_code ec;
-    if (std::filesystem::is_regular_file(path, ec)) {
-      Result<std::string> bytes = io::read_file(path, kMaxFileBytes);
-      if (bytes.ok()) {
-        std::optional<sim::Resampler> r = deserialize(*bytes, face_size, frame, grid);
-        if (r) {
-          s.from_cache = true;
-          if (source) *source = s;
-          return std::move(*r);
-        }
+    if (Result<std::string> bytes = io::read_file(path, kMaxFileBytes); bytes.ok()) {
+      if (std::optional<sim::Resampler> r = deserialize(*bytes, face_size, frame, grid)) {
+        s.from_cache = true;
+        if (source) *source = s;
+        return std::move(*r);
       }
     }
   }
