@@ -21,7 +21,8 @@ constexpr char kMagic[16] = {'g', 'o', 'n', 'i', 'o', '-', 'r', 'e', 's', 'a', '
 // Larger files are not read (a face of 512 at 1° holds a few million entries).
 constexpr std::size_t kMaxFileBytes = std::size_t{1} << 30;
 
-// Everything the rows depend on, in the order the file's header holds it.
+// Everything the rows depend on, hashed: the file's name, and the header's
+// check that the entry is for these parameters.
 void hash_parameters(io::ContentHash& h, int face_size, const photometry::PhotometricFrame& frame,
                      const sim::CGammaGrid& grid) {
   h.value(static_cast<std::uint32_t>(sim::kResamplerRevision));
