@@ -137,9 +137,8 @@ Box mesh_box(const Mesh& mesh) {
 // slower on 4 KB pages), so the quick tree, the one for runs too short to
 // repay a better build (bvh_quality_for), is also built on small pages:
 // there its 10⁷-triangle build took 0.6–1.2 s (median of six 0.7 s) instead
-// of 1.7–2.6 s (median 2.4 s). Linux's
-// PR_SET_THP_DISABLE turns them off for the process during the build and
-// back on after (README, Measured figures).
+// of 1.7–2.6 s (median 2.4 s). Linux's PR_SET_THP_DISABLE turns them off for
+// the process during the build and back on after (README, Measured figures).
 class HugePagesOffWhileBuilding {
  public:
   HugePagesOffWhileBuilding() : switched_(prctl(PR_GET_THP_DISABLE, 0, 0, 0, 0) == 0) {
