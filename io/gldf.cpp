@@ -90,6 +90,7 @@ std::string structure_xml(const L3dGeometry& g, const std::string& created_with,
     parent.add(name).set("x", number(v.x)).set("y", number(v.y)).set("z", number(v.z));
   };
   XmlElement& structure = root.add("Structure");
+  structure.children.reserve(1 + g.parts.size());
   XmlElement& body = structure.add("Geometry").set("partName", g.id + "Body");
   xyz(body, "Position", Vec3{});
   xyz(body, "Rotation", Vec3{});

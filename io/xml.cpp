@@ -2,7 +2,6 @@
 #include "io/xml.h"
 
 #include <algorithm>
-#include <sstream>
 
 #include <pugixml.hpp>
 
@@ -134,9 +133,15 @@ std::string write_xml(const XmlElement& root) {
   decl.append_attribute("version").set_value("1.0");
   decl.append_attribute("encoding").set_value("UTF-8");
   build(root, doc.append_child(root.name.c_str()));
-  std::ostringstream out;
+  // Straight into the string (an ostringstream held the text twice).
+  struct ToString : pugi::xml_writer {
+    std::string text;
+    void write(const void* data, std::size_t size) override {
+      text.append(static_cast<const char*>(data), size);
+    }
+  } out;
   doc.save(out, "  ", pugi::format_indent, pugi::encoding_utf8);
-  return out.str();
+  return std::move(out.text);
 }
 
 }  // namespace gonio::io
