@@ -528,28 +528,34 @@ std::vector<MeshFinding> check_mesh(const sim::Mesh& mesh, bool refractive, std:
 std::vector<Finding> check_model(const sim::SceneDesc& scene, const ModelCheckOptions& options,
                                  ModelCheckStats* stats) {
   const std::size_t n = scene.meshes.size();
-  RefractiveFlags refractive(n, 0);
+  std::vector<char> refractive(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t m = scene.meshes[i].material;
     refractive[i] = m < scene.materials.size() && scene.materials[m].dielectric > 0.0;
   }
+  // Each mesh into its own slot, from the cache or checked: the same findings
+  // in the same order whatever the thread count. Edited in one part, a model
+  // is checked again in that part only.
   const bool use_cache = !options.cache_dir.empty();
-  const std::uint64_t key = use_cache ? model_check_key(scene, refractive) : 0;
-  std::optional<ModelCheckResults> results;
-  if (use_cache) results = read_cached_checks(options.cache_dir, key, scene, refractive);
-  const bool from_cache = results.has_value();
-  if (!results) {
-    // Each mesh into its own slot: the same findings in the same order
-    // whatever the thread count.
-    results.emplace(n);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      (*results)[i] = check_mesh(scene.meshes[i], refractive[i] != 0, options.slab_triangles);
-    });
-    if (use_cache) write_cached_checks(options.cache_dir, key, scene, refractive, *results);
-  }
+  std::vector<std::vector<MeshFinding>> results(n);
+  std::vector<char> from_cache(n, 0);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    const sim::Mesh& mesh = scene.meshes[i];
+    const bool r = refractive[i] != 0;
+    const std::uint64_t key = use_cache ? mesh_check_key(mesh, r) : 0;
+    if (use_cache) {
+      if (std::optional<std::vector<MeshFinding>> cached = read_cached_checks(options.cache_dir, key, mesh, r)) {
+        results[i] = std::move(*cached);
+        from_cache[i] = 1;
+        return;
+      }
+    }
+    results[i] = check_mesh(mesh, r, options.slab_triangles);
+    if (use_cache) write_cached_checks(options.cache_dir, key, mesh, r, results[i]);
+  });
   if (stats) {
     stats->meshes = n;
-    stats->meshes_from_cache = from_cache ? n : 0;
+    stats->meshes_from_cache = static_cast<std::size_t>(std::count(from_cache.begin(), from_cache.end(), 1));
   }
 
   std::vector<Finding> findings;
@@ -560,7 +566,7 @@ std::vector<Finding> check_model(const sim::SceneDesc& scene, const ModelCheckOp
         mesh.material < scene.materials.size() ? &scene.materials[mesh.material] : nullptr;
     const std::string what =
         "mesh '" + mesh.name + "'" + (material ? " (material '" + material->name + "')" : "");
-    for (const MeshFinding& f : (*results)[i])
+    for (const MeshFinding& f : results[i])
       findings.push_back({f.severity, f.code, what + f.detail, where});
   }
   return findings;

@@ -31,14 +31,15 @@
 // split into slabs searched in parallel; the findings do not depend on the
 // thread count (same findings, same order).
 //
-// Cache: with a cache folder, the model's result is stored under a content
-// hash of everything the checks read (per mesh: positions, indices,
-// refractive or not; and kModelCheckRevision) as
-// `model-check-<hash>.json`, written atomically; an unchanged model is not
-// checked again (renamed parts or changed materials that stay refractive or
-// not keep the entry). An unreadable or malformed entry, or one whose counts
-// differ from the model, is ignored: the model is checked again and the
-// entry rewritten. A cache that cannot be written is not an error.
+// Cache: with a cache folder, each mesh's result is stored under a content
+// hash of everything the checks read (its positions, indices, refractive or
+// not; and kModelCheckRevision) as `mesh-check-<hash>.json`, written
+// atomically; an unchanged mesh is not checked again (renamed parts or
+// changed materials that stay refractive or not keep the entry), so a model
+// edited in one part is checked again in that part only. An unreadable or
+// malformed entry, or one whose counts differ from the mesh, is ignored: the
+// mesh is checked again and the entry rewritten. A cache that cannot be
+// written is not an error.
 #pragma once
 
 #include <cstddef>

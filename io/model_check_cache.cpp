@@ -2,7 +2,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -13,9 +12,9 @@
 namespace gonio::io {
 namespace {
 
-constexpr const char* kFormat = "gonio model check";
-// An entry is a few hundred bytes per mesh with findings; anything this
-// large is not one of ours.
+constexpr const char* kFormat = "gonio mesh check";
+// An entry is a few hundred bytes with its findings; anything this large is
+// not one of ours.
 constexpr std::size_t kMaxEntryBytes = std::size_t{256} << 20;
 
 std::optional<Severity> parse_severity(const std::string& s) {
@@ -55,63 +54,43 @@ std::optional<std::vector<MeshFinding>> parse_mesh(const nlohmann::json& m, cons
 
 }  // namespace
 
-std::uint64_t model_check_key(const sim::SceneDesc& scene, const RefractiveFlags& refractive) {
+std::uint64_t mesh_check_key(const sim::Mesh& mesh, bool refractive) {
   ContentHash h;
   h.value(kModelCheckRevision);
-  h.value(scene.meshes.size());
-  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
-    h.value(refractive[i]);
-    h.values(scene.meshes[i].positions);
-    h.values(scene.meshes[i].indices);
-  }
+  h.value(refractive);
+  h.values(mesh.positions);
+  h.values(mesh.indices);
   return h.digest();
 }
 
-std::string cached_checks_name(std::uint64_t key) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "model-check-%016llx.json", static_cast<unsigned long long>(key));
-  return buf;
-}
+std::string cached_checks_name(std::uint64_t key) { return "mesh-check-" + to_hex(key) + ".json"; }
 
-std::optional<ModelCheckResults> read_cached_checks(const std::string& dir, std::uint64_t key,
-                                                    const sim::SceneDesc& scene,
-                                                    const RefractiveFlags& refractive) {
+std::optional<std::vector<MeshFinding>> read_cached_checks(const std::string& dir, std::uint64_t key,
+                                                           const sim::Mesh& mesh, bool refractive) {
   using T = nlohmann::json::value_t;
   const std::string path = (std::filesystem::path(dir) / cached_checks_name(key)).string();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
   Result<std::string> bytes = read_file(path, kMaxEntryBytes);
   if (!bytes.ok()) return std::nullopt;
   const nlohmann::json j = nlohmann::json::parse(bytes.value(), nullptr, /*allow_exceptions=*/false);
   if (!j.is_object() || !has(j, "format", T::string) || j.at("format").get<std::string>() != kFormat ||
       !j.contains("revision") || !j.at("revision").is_number_integer() ||
-      j.at("revision").get<long long>() != kModelCheckRevision || !has(j, "meshes", T::array) ||
-      j.at("meshes").size() != scene.meshes.size())
+      j.at("revision").get<long long>() != kModelCheckRevision)
     return std::nullopt;
-  ModelCheckResults results;
-  results.reserve(scene.meshes.size());
-  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
-    std::optional<std::vector<MeshFinding>> m = parse_mesh(j.at("meshes")[i], scene.meshes[i], refractive[i] != 0);
-    if (!m) return std::nullopt;
-    results.push_back(std::move(*m));
-  }
-  return results;
+  return parse_mesh(j, mesh, refractive);
 }
 
-bool write_cached_checks(const std::string& dir, std::uint64_t key, const sim::SceneDesc& scene,
-                         const RefractiveFlags& refractive, const ModelCheckResults& results) {
+bool write_cached_checks(const std::string& dir, std::uint64_t key, const sim::Mesh& mesh, bool refractive,
+                         const std::vector<MeshFinding>& findings) {
   if (!make_directories(dir).ok()) return false;
-  nlohmann::json meshes = nlohmann::json::array();
-  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const MeshFinding& f : results[i])
-      list.push_back({{"severity", to_string(f.severity)}, {"code", f.code}, {"detail", f.detail}});
-    meshes.push_back({{"vertices", scene.meshes[i].positions.size()},
-                      {"triangles", scene.meshes[i].triangle_count()},
-                      {"refractive", refractive[i] != 0},
-                      {"findings", std::move(list)}});
-  }
-  const nlohmann::json j = {{"format", kFormat}, {"revision", kModelCheckRevision}, {"meshes", std::move(meshes)}};
+  nlohmann::json list = nlohmann::json::array();
+  for (const MeshFinding& f : findings)
+    list.push_back({{"severity", to_string(f.severity)}, {"code", f.code}, {"detail", f.detail}});
+  const nlohmann::json j = {{"format", kFormat},
+                            {"revision", kModelCheckRevision},
+                            {"vertices", mesh.positions.size()},
+                            {"triangles", mesh.triangle_count()},
+                            {"refractive", refractive},
+                            {"findings", std::move(list)}};
   return write_file_atomic((std::filesystem::path(dir) / cached_checks_name(key)).string(), j.dump() + "\n").ok();
 }
 

@@ -1,5 +1,6 @@
-// The model checks' cache (io/model_check.h): one JSON file per model's
-// result, named by a content hash. Internal to gonio::io_model.
+// The model checks' cache (io/model_check.h): one JSON file per mesh's
+// result, named by a content hash, so that a model edited in one part is
+// checked again in that part only. Internal to gonio::io_model.
 #pragma once
 
 #include <cstdint>
@@ -20,28 +21,22 @@ struct MeshFinding {
   std::string detail;  // the message after the mesh's name
 };
 
-// Per mesh of a scene: whether the checks treat it as refractive.
-using RefractiveFlags = std::vector<char>;
-// Per mesh of a scene: its findings.
-using ModelCheckResults = std::vector<std::vector<MeshFinding>>;
+// XXH3 (io/content_hash.h) of kModelCheckRevision, whether the mesh is
+// refractive, its positions and its indices: everything the checks read.
+std::uint64_t mesh_check_key(const sim::Mesh& mesh, bool refractive);
 
-// FNV-1a 64 of kModelCheckRevision and, per mesh, whether it is refractive,
-// its positions and its indices: everything the checks read.
-std::uint64_t model_check_key(const sim::SceneDesc& scene, const RefractiveFlags& refractive);
-
-// The entry for `key`, if the folder holds a well-formed one for a scene of
-// as many meshes, each of as many vertices and triangles and as refractive;
+// The mesh's findings stored under `key`, if the folder holds a well-formed
+// entry for a mesh of as many vertices and triangles and as refractive;
 // nothing otherwise (missing, unreadable, malformed, another revision).
-std::optional<ModelCheckResults> read_cached_checks(const std::string& dir, std::uint64_t key,
-                                                    const sim::SceneDesc& scene,
-                                                    const RefractiveFlags& refractive);
+std::optional<std::vector<MeshFinding>> read_cached_checks(const std::string& dir, std::uint64_t key,
+                                                           const sim::Mesh& mesh, bool refractive);
 
 // Stores the entry atomically (io/file_io.h); false where it cannot be
 // written (the caller carries on without the cache).
-bool write_cached_checks(const std::string& dir, std::uint64_t key, const sim::SceneDesc& scene,
-                         const RefractiveFlags& refractive, const ModelCheckResults& results);
+bool write_cached_checks(const std::string& dir, std::uint64_t key, const sim::Mesh& mesh, bool refractive,
+                         const std::vector<MeshFinding>& findings);
 
-// The entry's file name: model-check-<16 hex digits>.json.
+// The entry's file name: mesh-check-<16 hex digits>.json.
 std::string cached_checks_name(std::uint64_t key);
 
 }  // namespace gonio::io

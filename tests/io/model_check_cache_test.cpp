@@ -1,12 +1,14 @@
 // The model checks' cache (io/model_check_cache.h) through check_model: an
-// unchanged model is not checked again, anything else in the cache folder
-// is ignored, and the results do not depend on where they came from.
+// unchanged mesh is not checked again, an edited model only in the parts
+// that changed, anything else in the cache folder is ignored, and the
+// results do not depend on where they came from.
 #include "io/model_check_cache.h"
 
 #include <gtest/gtest.h>
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -60,10 +62,17 @@ std::vector<std::filesystem::path> files_in(const std::filesystem::path& dir) {
   return out;
 }
 
-RefractiveFlags flags(const sim::SceneDesc& s) {
-  RefractiveFlags r;
-  for (const sim::Mesh& m : s.meshes) r.push_back(s.materials[m.material].dielectric > 0.0);
-  return r;
+// The entry's file name of mesh i.
+std::string entry_of(const sim::SceneDesc& s, std::size_t i) {
+  const sim::Mesh& m = s.meshes[i];
+  return cached_checks_name(mesh_check_key(m, s.materials[m.material].dielectric > 0.0));
+}
+
+std::vector<std::string> names_in(const std::filesystem::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& p : files_in(dir)) out.push_back(p.filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 TEST(ModelCheckCache, AnUnchangedModelIsNotCheckedAgain) {
@@ -78,21 +87,23 @@ TEST(ModelCheckCache, AnUnchangedModelIsNotCheckedAgain) {
   const std::vector<Finding> cold = check_model(scene, options, &first);
   EXPECT_EQ(first.meshes, 3u);
   EXPECT_EQ(first.meshes_from_cache, 0u);
-  const auto entries = files_in(dir / "cache");
-  ASSERT_EQ(entries.size(), 1u);  // one entry, no temporary file left behind
-  EXPECT_EQ(entries[0].filename().string(), cached_checks_name(model_check_key(scene, flags(scene))));
+  // One entry a mesh, no temporary file left behind.
+  std::vector<std::string> expected_names = {entry_of(scene, 0), entry_of(scene, 1), entry_of(scene, 2)};
+  std::sort(expected_names.begin(), expected_names.end());
+  EXPECT_EQ(names_in(dir / "cache"), expected_names);
   const std::vector<Finding> warm = check_model(scene, options, &second);
   EXPECT_EQ(second.meshes_from_cache, 3u);
   EXPECT_EQ(texts(cold), texts(uncached));
   EXPECT_EQ(texts(warm), texts(uncached));
 
   // The entry is what is read: an edited (well-formed) detail comes back.
-  std::string bytes = test::read_file(entries[0]);
+  const std::filesystem::path box_entry = dir / "cache" / entry_of(scene, 1);
+  std::string bytes = test::read_file(box_entry);
   const std::string boundary = "boundary edges";
   const auto at = bytes.find(boundary);
   ASSERT_NE(at, std::string::npos);
   bytes.replace(at, boundary.size(), "BOUNDARY EDGES");
-  test::write_file(entries[0], bytes);
+  test::write_file(box_entry, bytes);
   bool edited = false;
   for (const Finding& f : check_model(scene, options))
     edited = edited || f.message.find("BOUNDARY EDGES") != std::string::npos;
@@ -116,26 +127,28 @@ TEST(ModelCheckCache, ChangedGeometryOrMaterialKindIsCheckedAgain) {
   sim::SceneDesc scene = scene_with_findings();
   check_model(scene, options);
 
+  // One part moved: that part is checked again, the others come from the cache.
   sim::SceneDesc moved = scene;
   moved.meshes[0].positions[0].x += 1e-6f;
   ModelCheckStats a;
-  check_model(moved, options, &a);
-  EXPECT_EQ(a.meshes_from_cache, 0u);
+  EXPECT_EQ(texts(check_model(moved, options, &a)), texts(check_model(moved)));
+  EXPECT_EQ(a.meshes_from_cache, 2u);
 
   // The box no longer refractive: its open volume is no longer an error.
   sim::SceneDesc painted = scene;
   painted.meshes[1].material = 1;
   ModelCheckStats b;
   const auto findings = check_model(painted, options, &b);
-  EXPECT_EQ(b.meshes_from_cache, 0u);
+  EXPECT_EQ(b.meshes_from_cache, 2u);
   for (const Finding& f : findings) EXPECT_NE(f.code, "open-volume");
-  EXPECT_EQ(files_in(dir.path()).size(), 3u);
+  EXPECT_EQ(texts(findings), texts(check_model(painted)));
+  EXPECT_EQ(files_in(dir.path()).size(), 5u);
 }
 
 TEST(ModelCheckCache, ACorruptEntryIsIgnoredAndRewritten) {
   const sim::SceneDesc scene = scene_with_findings();
   const std::vector<std::string> expected = texts(check_model(scene));
-  const std::string name = cached_checks_name(model_check_key(scene, flags(scene)));
+  const std::string name = entry_of(scene, 1);  // the open glass box, with an error
   test::TempDir good_dir;
   ModelCheckOptions good;
   good.cache_dir = good_dir.path().string();
@@ -154,11 +167,12 @@ TEST(ModelCheckCache, ACorruptEntryIsIgnoredAndRewritten) {
       {"binary garbage", std::string("\x00\xff\x13\x37", 4)},
       {"not an object", "[1, 2, 3]\n"},
       {"another revision", replace(valid, "\"revision\":" + std::to_string(kModelCheckRevision), "\"revision\":999")},
-      {"another format", replace(valid, "gonio model check", "something else")},
+      {"another format", replace(valid, "gonio mesh check", "something else")},
       {"wrong vertex count", replace(valid, "\"vertices\":", "\"vertices\":1")},
       {"unknown severity", replace(valid, "\"severity\":\"error\"", "\"severity\":\"fatal\"")},
       {"a count as text", replace(valid, "\"triangles\":", "\"triangles\":\"12\",\"x\":")},
-      {"a mesh missing", replace(valid, "\"meshes\":[", "\"meshes\":[],\"old\":[")},
+      {"findings missing", replace(valid, "\"findings\":", "\"old\":")},
+      {"another mesh's entry", test::read_file(good_dir / entry_of(scene, 0))},
   };
   for (const auto& [what, bytes] : corrupt) {
     test::TempDir dir;
@@ -167,7 +181,7 @@ TEST(ModelCheckCache, ACorruptEntryIsIgnoredAndRewritten) {
     test::write_file(dir / name, bytes);
     ModelCheckStats stats;
     EXPECT_EQ(texts(check_model(scene, options, &stats)), expected) << what;
-    EXPECT_EQ(stats.meshes_from_cache, 0u) << what;
+    EXPECT_EQ(stats.meshes_from_cache, 0u) << what;  // the others' entries are not there
     EXPECT_EQ(test::read_file(dir / name), valid) << what << ": the entry is rewritten";
   }
   // A folder in the entry's place, and a cache folder that is a file: the

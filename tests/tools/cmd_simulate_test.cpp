@@ -303,7 +303,7 @@ TEST(Simulate, ReportsTheSetupPhasesAndCachesTheChecks) {
   };
   const std::vector<std::string> stored = entries();
   ASSERT_EQ(stored.size(), 3u);
-  EXPECT_EQ(stored[0].rfind("model-check-", 0), 0u);
+  EXPECT_EQ(stored[0].rfind("mesh-check-", 0), 0u);
   EXPECT_EQ(stored[1].rfind("resampler-", 0), 0u);
   EXPECT_EQ(stored[2].rfind("resampler-", 0), 0u);
 
