@@ -534,25 +534,41 @@ std::vector<Finding> check_model(const sim::SceneDesc& scene, const ModelCheckOp
     refractive[i] = m < scene.materials.size() && scene.materials[m].dielectric > 0.0;
   }
   // Each mesh into its own slot, from the cache or checked: the same findings
-  // in the same order whatever the thread count. Edited in one part, a model
-  // is checked again in that part only.
+  // in the same order whatever the thread count. Cache entries: one per
+  // large mesh, one for the small ones (io/model_check_cache.h), so that a
+  // model edited in one large part is checked again in that part only.
   const bool use_cache = !options.cache_dir.empty();
+  std::vector<CheckGroup> groups;
+  CheckGroup small;
+  for (std::size_t i = 0; i < n; ++i) {
+    CheckGroup& g = scene.meshes[i].triangle_count() >= kOwnEntryTriangles ? groups.emplace_back() : small;
+    g.meshes.push_back(i);
+    g.refractive.push_back(refractive[i]);
+  }
+  if (!small.meshes.empty()) groups.push_back(std::move(small));
   std::vector<std::vector<MeshFinding>> results(n);
   std::vector<char> from_cache(n, 0);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    const sim::Mesh& mesh = scene.meshes[i];
-    const bool r = refractive[i] != 0;
-    const std::uint64_t key = use_cache ? mesh_check_key(mesh, r) : 0;
-    if (use_cache) {
-      if (std::optional<std::vector<MeshFinding>> cached = read_cached_checks(options.cache_dir, key, mesh, r)) {
-        results[i] = std::move(*cached);
-        from_cache[i] = 1;
-        return;
+  std::vector<std::uint64_t> keys(groups.size(), 0);
+  if (use_cache)
+    tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+      keys[g] = check_group_key(scene, groups[g]);
+      if (auto cached = read_cached_checks(options.cache_dir, keys[g], scene, groups[g])) {
+        for (std::size_t k = 0; k < groups[g].meshes.size(); ++k) {
+          results[groups[g].meshes[k]] = std::move((*cached)[k]);
+          from_cache[groups[g].meshes[k]] = 1;
+        }
       }
-    }
-    results[i] = check_mesh(mesh, r, options.slab_triangles);
-    if (use_cache) write_cached_checks(options.cache_dir, key, mesh, r, results[i]);
+    });
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (!from_cache[i]) results[i] = check_mesh(scene.meshes[i], refractive[i] != 0, options.slab_triangles);
   });
+  if (use_cache)
+    tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+      if (from_cache[groups[g].meshes.front()]) return;
+      std::vector<std::vector<MeshFinding>> found;
+      for (std::size_t i : groups[g].meshes) found.push_back(results[i]);
+      write_cached_checks(options.cache_dir, keys[g], scene, groups[g], found);
+    });
   if (stats) {
     stats->meshes = n;
     stats->meshes_from_cache = static_cast<std::size_t>(std::count(from_cache.begin(), from_cache.end(), 1));

@@ -54,19 +54,24 @@ std::optional<std::vector<MeshFinding>> parse_mesh(const nlohmann::json& m, cons
 
 }  // namespace
 
-std::uint64_t mesh_check_key(const sim::Mesh& mesh, bool refractive) {
+std::uint64_t check_group_key(const sim::SceneDesc& scene, const CheckGroup& group) {
   ContentHash h;
   h.value(kModelCheckRevision);
-  h.value(refractive);
-  h.values(mesh.positions);
-  h.values(mesh.indices);
+  h.value(group.meshes.size());
+  for (std::size_t k = 0; k < group.meshes.size(); ++k) {
+    const sim::Mesh& mesh = scene.meshes[group.meshes[k]];
+    h.value(group.refractive[k]);
+    h.values(mesh.positions);
+    h.values(mesh.indices);
+  }
   return h.digest();
 }
 
 std::string cached_checks_name(std::uint64_t key) { return "mesh-check-" + to_hex(key) + ".json"; }
 
-std::optional<std::vector<MeshFinding>> read_cached_checks(const std::string& dir, std::uint64_t key,
-                                                           const sim::Mesh& mesh, bool refractive) {
+std::optional<std::vector<std::vector<MeshFinding>>> read_cached_checks(const std::string& dir, std::uint64_t key,
+                                                                        const sim::SceneDesc& scene,
+                                                                        const CheckGroup& group) {
   using T = nlohmann::json::value_t;
   const std::string path = (std::filesystem::path(dir) / cached_checks_name(key)).string();
   Result<std::string> bytes = read_file(path, kMaxEntryBytes);
@@ -74,23 +79,35 @@ std::optional<std::vector<MeshFinding>> read_cached_checks(const std::string& di
   const nlohmann::json j = nlohmann::json::parse(bytes.value(), nullptr, /*allow_exceptions=*/false);
   if (!j.is_object() || !has(j, "format", T::string) || j.at("format").get<std::string>() != kFormat ||
       !j.contains("revision") || !j.at("revision").is_number_integer() ||
-      j.at("revision").get<long long>() != kModelCheckRevision)
+      j.at("revision").get<long long>() != kModelCheckRevision || !has(j, "meshes", T::array) ||
+      j.at("meshes").size() != group.meshes.size())
     return std::nullopt;
-  return parse_mesh(j, mesh, refractive);
+  std::vector<std::vector<MeshFinding>> results;
+  results.reserve(group.meshes.size());
+  for (std::size_t k = 0; k < group.meshes.size(); ++k) {
+    std::optional<std::vector<MeshFinding>> m =
+        parse_mesh(j.at("meshes")[k], scene.meshes[group.meshes[k]], group.refractive[k] != 0);
+    if (!m) return std::nullopt;
+    results.push_back(std::move(*m));
+  }
+  return results;
 }
 
-bool write_cached_checks(const std::string& dir, std::uint64_t key, const sim::Mesh& mesh, bool refractive,
-                         const std::vector<MeshFinding>& findings) {
+bool write_cached_checks(const std::string& dir, std::uint64_t key, const sim::SceneDesc& scene,
+                         const CheckGroup& group, const std::vector<std::vector<MeshFinding>>& findings) {
   if (!make_directories(dir).ok()) return false;
-  nlohmann::json list = nlohmann::json::array();
-  for (const MeshFinding& f : findings)
-    list.push_back({{"severity", to_string(f.severity)}, {"code", f.code}, {"detail", f.detail}});
-  const nlohmann::json j = {{"format", kFormat},
-                            {"revision", kModelCheckRevision},
-                            {"vertices", mesh.positions.size()},
-                            {"triangles", mesh.triangle_count()},
-                            {"refractive", refractive},
-                            {"findings", std::move(list)}};
+  nlohmann::json meshes = nlohmann::json::array();
+  for (std::size_t k = 0; k < group.meshes.size(); ++k) {
+    const sim::Mesh& mesh = scene.meshes[group.meshes[k]];
+    nlohmann::json list = nlohmann::json::array();
+    for (const MeshFinding& f : findings[k])
+      list.push_back({{"severity", to_string(f.severity)}, {"code", f.code}, {"detail", f.detail}});
+    meshes.push_back({{"vertices", mesh.positions.size()},
+                      {"triangles", mesh.triangle_count()},
+                      {"refractive", group.refractive[k] != 0},
+                      {"findings", std::move(list)}});
+  }
+  const nlohmann::json j = {{"format", kFormat}, {"revision", kModelCheckRevision}, {"meshes", std::move(meshes)}};
   return write_file_atomic((std::filesystem::path(dir) / cached_checks_name(key)).string(), j.dump() + "\n").ok();
 }
 

@@ -20,8 +20,9 @@
 namespace gonio::io {
 namespace {
 
-// Three meshes: a clean glass sphere, an open glass box (open-volume) and a
-// reflector with a degenerate triangle and two crossing triangles.
+// Three meshes: a clean glass sphere large enough for an entry of its own
+// (kOwnEntryTriangles), an open glass box (open-volume) and a reflector with
+// a degenerate triangle and two crossing triangles, which share one.
 sim::SceneDesc scene_with_findings() {
   sim::SceneDesc s;
   s.name = "model.gltf";
@@ -33,7 +34,7 @@ sim::SceneDesc scene_with_findings() {
   paint.diffuse_reflect = 0.8;
   s.materials = {glass, paint};
 
-  sim::Mesh sphere = sim::sphere(0.05, 16, 8);
+  sim::Mesh sphere = sim::sphere(0.05, 64, 40);
   sphere.name = "sphere";
   sphere.material = 0;
   sim::Mesh box = sim::box(0.1, 0.1, 0.1);
@@ -62,10 +63,14 @@ std::vector<std::filesystem::path> files_in(const std::filesystem::path& dir) {
   return out;
 }
 
-// The entry's file name of mesh i.
-std::string entry_of(const sim::SceneDesc& s, std::size_t i) {
-  const sim::Mesh& m = s.meshes[i];
-  return cached_checks_name(mesh_check_key(m, s.materials[m.material].dielectric > 0.0));
+// The file name of the entry holding these meshes.
+std::string entry_of(const sim::SceneDesc& s, const std::vector<std::size_t>& meshes) {
+  CheckGroup g;
+  for (std::size_t i : meshes) {
+    g.meshes.push_back(i);
+    g.refractive.push_back(s.materials[s.meshes[i].material].dielectric > 0.0);
+  }
+  return cached_checks_name(check_group_key(s, g));
 }
 
 std::vector<std::string> names_in(const std::filesystem::path& dir) {
@@ -87,8 +92,10 @@ TEST(ModelCheckCache, AnUnchangedModelIsNotCheckedAgain) {
   const std::vector<Finding> cold = check_model(scene, options, &first);
   EXPECT_EQ(first.meshes, 3u);
   EXPECT_EQ(first.meshes_from_cache, 0u);
-  // One entry a mesh, no temporary file left behind.
-  std::vector<std::string> expected_names = {entry_of(scene, 0), entry_of(scene, 1), entry_of(scene, 2)};
+  // The sphere's entry and the small meshes' one, no temporary file left behind.
+  ASSERT_GE(scene.meshes[0].triangle_count(), kOwnEntryTriangles);
+  ASSERT_LT(scene.meshes[1].triangle_count() + scene.meshes[2].triangle_count(), kOwnEntryTriangles);
+  std::vector<std::string> expected_names = {entry_of(scene, {0}), entry_of(scene, {1, 2})};
   std::sort(expected_names.begin(), expected_names.end());
   EXPECT_EQ(names_in(dir / "cache"), expected_names);
   const std::vector<Finding> warm = check_model(scene, options, &second);
@@ -97,7 +104,7 @@ TEST(ModelCheckCache, AnUnchangedModelIsNotCheckedAgain) {
   EXPECT_EQ(texts(warm), texts(uncached));
 
   // The entry is what is read: an edited (well-formed) detail comes back.
-  const std::filesystem::path box_entry = dir / "cache" / entry_of(scene, 1);
+  const std::filesystem::path box_entry = dir / "cache" / entry_of(scene, {1, 2});
   std::string bytes = test::read_file(box_entry);
   const std::string boundary = "boundary edges";
   const auto at = bytes.find(boundary);
@@ -127,28 +134,51 @@ TEST(ModelCheckCache, ChangedGeometryOrMaterialKindIsCheckedAgain) {
   sim::SceneDesc scene = scene_with_findings();
   check_model(scene, options);
 
-  // One part moved: that part is checked again, the others come from the cache.
+  // The large part moved: it is checked again, the small ones come from the
+  // cache.
   sim::SceneDesc moved = scene;
   moved.meshes[0].positions[0].x += 1e-6f;
   ModelCheckStats a;
   EXPECT_EQ(texts(check_model(moved, options, &a)), texts(check_model(moved)));
   EXPECT_EQ(a.meshes_from_cache, 2u);
 
-  // The box no longer refractive: its open volume is no longer an error.
+  // The box no longer refractive: its open volume is no longer an error. The
+  // small meshes are checked again together; the sphere's entry stands.
   sim::SceneDesc painted = scene;
   painted.meshes[1].material = 1;
   ModelCheckStats b;
   const auto findings = check_model(painted, options, &b);
-  EXPECT_EQ(b.meshes_from_cache, 2u);
+  EXPECT_EQ(b.meshes_from_cache, 1u);
   for (const Finding& f : findings) EXPECT_NE(f.code, "open-volume");
   EXPECT_EQ(texts(findings), texts(check_model(painted)));
-  EXPECT_EQ(files_in(dir.path()).size(), 5u);
+  EXPECT_EQ(files_in(dir.path()).size(), 4u);
+}
+
+TEST(ModelCheckCache, ManySmallPartsShareOneEntry) {
+  test::TempDir dir;
+  ModelCheckOptions options;
+  options.cache_dir = dir.path().string();
+  sim::SceneDesc scene = scene_with_findings();
+  scene.meshes.erase(scene.meshes.begin());  // no large part
+  for (int k = 0; k < 300; ++k) {
+    sim::Mesh part = sim::box(0.01, 0.01, 0.01);
+    sim::transform(part, sim::translation({0.02 * k, 0.0, 0.0}));
+    part.name = "screw";
+    part.material = 1;
+    scene.meshes.push_back(part);
+  }
+  ModelCheckStats cold, warm;
+  const auto first = check_model(scene, options, &cold);
+  EXPECT_EQ(files_in(dir.path()).size(), 1u);
+  EXPECT_EQ(texts(check_model(scene, options, &warm)), texts(first));
+  EXPECT_EQ(warm.meshes_from_cache, scene.meshes.size());
+  EXPECT_EQ(texts(first), texts(check_model(scene)));
 }
 
 TEST(ModelCheckCache, ACorruptEntryIsIgnoredAndRewritten) {
   const sim::SceneDesc scene = scene_with_findings();
   const std::vector<std::string> expected = texts(check_model(scene));
-  const std::string name = entry_of(scene, 1);  // the open glass box, with an error
+  const std::string name = entry_of(scene, {1, 2});  // with the open glass box's error
   test::TempDir good_dir;
   ModelCheckOptions good;
   good.cache_dir = good_dir.path().string();
@@ -172,7 +202,8 @@ TEST(ModelCheckCache, ACorruptEntryIsIgnoredAndRewritten) {
       {"unknown severity", replace(valid, "\"severity\":\"error\"", "\"severity\":\"fatal\"")},
       {"a count as text", replace(valid, "\"triangles\":", "\"triangles\":\"12\",\"x\":")},
       {"findings missing", replace(valid, "\"findings\":", "\"old\":")},
-      {"another mesh's entry", test::read_file(good_dir / entry_of(scene, 0))},
+      {"another group's entry", test::read_file(good_dir / entry_of(scene, {0}))},
+      {"a mesh missing", replace(valid, "\"meshes\":[", "\"meshes\":[],\"old\":[")},
   };
   for (const auto& [what, bytes] : corrupt) {
     test::TempDir dir;
@@ -181,7 +212,7 @@ TEST(ModelCheckCache, ACorruptEntryIsIgnoredAndRewritten) {
     test::write_file(dir / name, bytes);
     ModelCheckStats stats;
     EXPECT_EQ(texts(check_model(scene, options, &stats)), expected) << what;
-    EXPECT_EQ(stats.meshes_from_cache, 0u) << what;  // the others' entries are not there
+    EXPECT_EQ(stats.meshes_from_cache, 0u) << what;  // the sphere's entry is not there
     EXPECT_EQ(test::read_file(dir / name), valid) << what << ": the entry is rewritten";
   }
   // A folder in the entry's place, and a cache folder that is a file: the
