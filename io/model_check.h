@@ -31,15 +31,16 @@
 // split into slabs searched in parallel; the findings do not depend on the
 // thread count (same findings, same order).
 //
-// Cache: with a cache folder, each mesh's result is stored under a content
-// hash of everything the checks read (its positions, indices, refractive or
-// not; and kModelCheckRevision) as `mesh-check-<hash>.json`, written
-// atomically; an unchanged mesh is not checked again (renamed parts or
-// changed materials that stay refractive or not keep the entry), so a model
-// edited in one part is checked again in that part only. An unreadable or
-// malformed entry, or one whose counts differ from the mesh, is ignored: the
-// mesh is checked again and the entry rewritten. A cache that cannot be
-// written is not an error.
+// Cache: with a cache folder, results are stored under a content hash of
+// everything the checks read (positions, indices, refractive or not; and
+// kModelCheckRevision) as `mesh-check-<hash>.json`, written atomically: one
+// entry per large mesh, one for the model's small meshes together
+// (io/model_check_cache.h). An unchanged model is not checked again (renamed
+// parts or changed materials that stay refractive or not keep the entries),
+// and a model edited in one large part is checked again in that part only.
+// An unreadable or malformed entry, or one whose counts differ from its
+// meshes, is ignored: they are checked again and the entry rewritten. A
+// cache that cannot be written is not an error.
 #pragma once
 
 #include <cstddef>
