@@ -30,7 +30,6 @@ std::string number(double v) {
   return std::string(buf, r.ptr);
 }
 
-
 std::string uuid_like(std::uint64_t a, std::uint64_t b) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%08x-%04x-4%03x-8%03x-%012llx", static_cast<unsigned>(a >> 32),

@@ -17,7 +17,6 @@
 #include <cstring>
 #include <limits>
 #include <mutex>
-#include <optional>
 #include <string>
 
 #include "sim/random.h"
@@ -141,7 +140,8 @@ Box mesh_box(const Mesh& mesh) {
 // the process during the build and back on after (README, Measured figures).
 class HugePagesOffWhileBuilding {
  public:
-  HugePagesOffWhileBuilding() : switched_(prctl(PR_GET_THP_DISABLE, 0, 0, 0, 0) == 0) {
+  explicit HugePagesOffWhileBuilding(bool wanted)
+      : switched_(wanted && prctl(PR_GET_THP_DISABLE, 0, 0, 0, 0) == 0) {
     if (switched_) switched_ = prctl(PR_SET_THP_DISABLE, 1, 0, 0, 0) == 0;
   }
   ~HugePagesOffWhileBuilding() {
@@ -159,8 +159,7 @@ class HugePagesOffWhileBuilding {
 Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
                                        const EmbreeSceneOptions& options,
                                        const std::vector<Instance>& instances) {
-  std::optional<HugePagesOffWhileBuilding> small_pages;
-  if (options.quality == EmbreeSceneOptions::Quality::Low) small_pages.emplace();
+  const HugePagesOffWhileBuilding small_pages(options.quality == EmbreeSceneOptions::Quality::Low);
   auto impl = std::make_unique<Impl>();
   impl->device = rtcNewDevice(nullptr);
   if (!impl->device)

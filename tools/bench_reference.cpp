@@ -8,9 +8,9 @@
 #include <optional>
 #include <type_traits>
 
+#include "io/content_hash.h"
 #include "io/exr.h"
 #include "io/file_io.h"
-#include "io/content_hash.h"
 #include "io/report.h"
 #include "sim/simulation.h"
 

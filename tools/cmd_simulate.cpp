@@ -212,8 +212,8 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   plan.flux_tolerance = o.flux_tolerance;
   plan.model_input = o.model_input;
   plan.model_input.cache_dir = o.no_cache          ? std::string()
-                                     : p.given("cache") ? o.cache_dir
-                                                        : io::default_cache_dir();
+                               : p.given("cache") ? o.cache_dir
+                                                  : io::default_cache_dir();
   plan.progressive.target_error_pct = o.target_error_pct;
   sim::SimulationSettings& settings = plan.progressive.simulation;
   settings.photons_per_iteration = static_cast<std::uint64_t>(photons);
