@@ -25,9 +25,10 @@ using photometry::Distribution;
 using photometry::Summary;
 
 constexpr const char* kDescription =
-    "Prints what an IES LM-63 (.ies), EULUMDAT (.ldt) or IES TM-33 (.xml) file (other\n"
-    "names by their content) holds and what follows\n"
-    "from it: format and version, photometric type, symmetry, angle grid, lamp data,\n"
+    "Prints what an IES LM-63 (.ies), EULUMDAT (.ldt), IES TM-33 (.xml) or GLDF\n"
+    "(.gldf, each photometry inside) file (other names by their content) holds and\n"
+    "what follows from it: format and version, photometric type, symmetry, angle\n"
+    "grid, lamp data,\n"
     "luminous opening, total luminous flux (solid-angle integral of the candela\n"
     "grid), light output ratio (LOR, relative photometry only), downward flux\n"
     "fraction (DFF), zonal flux, maximum intensity and its direction, beam (50 %) and\n"

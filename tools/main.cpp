@@ -29,8 +29,9 @@ const std::vector<Command> kCommands = {
 void print_help() {
   std::printf(
       "Usage: gonio COMMAND [ARGS...]\n\n"
-      "Gonio %s, a virtual goniophotometer: reads, checks and converts IES LM-63 and\n"
-      "EULUMDAT files, and simulates luminaire models into them.\n\nCommands:\n",
+      "Gonio %s, a virtual goniophotometer: reads, checks and converts IES LM-63,\n"
+      "EULUMDAT, IES TM-33 and GLDF files, and simulates luminaire models into them.\n\n"
+      "Commands:\n",
       kVersion);
   for (const Command& c : commands()) std::printf("  %-10s %s\n", c.name, c.summary);
   std::printf(
