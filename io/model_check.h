@@ -75,9 +75,4 @@ struct ModelCheckStats {
 std::vector<Finding> check_model(const sim::SceneDesc& scene, const ModelCheckOptions& options = {},
                                  ModelCheckStats* stats = nullptr);
 
-// Gonio's cache folder by default (the model checks' results here, the
-// outputs' resamplers in tools/resampler_cache.h): $XDG_CACHE_HOME/gonio,
-// else $HOME/.cache/gonio; empty when neither variable is set.
-std::string default_cache_dir();
-
 }  // namespace gonio::io

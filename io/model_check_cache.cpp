@@ -2,11 +2,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cstdlib>
 #include <filesystem>
 
-#include "io/file_io.h"
+#include "io/cache_folder.h"
 #include "io/content_hash.h"
+#include "io/file_io.h"
 #include "io/model_check.h"
 
 namespace gonio::io {
@@ -90,6 +90,7 @@ std::optional<std::vector<std::vector<MeshFinding>>> read_cached_checks(const st
     if (!m) return std::nullopt;
     results.push_back(std::move(*m));
   }
+  mark_cache_entry_used(path);
   return results;
 }
 
@@ -109,14 +110,6 @@ bool write_cached_checks(const std::string& dir, std::uint64_t key, const sim::S
   }
   const nlohmann::json j = {{"format", kFormat}, {"revision", kModelCheckRevision}, {"meshes", std::move(meshes)}};
   return write_file_atomic((std::filesystem::path(dir) / cached_checks_name(key)).string(), j.dump() + "\n").ok();
-}
-
-std::string default_cache_dir() {
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
-    return (std::filesystem::path(xdg) / "gonio").string();
-  if (const char* home = std::getenv("HOME"); home && *home)
-    return (std::filesystem::path(home) / ".cache" / "gonio").string();
-  return "";
 }
 
 }  // namespace gonio::io

@@ -38,6 +38,10 @@
 // cannot read its model, or holds another, stops them all before tracing);
 // rank 0 alone writes files, previews and progress.
 //
+// report.json's "cache" {dir, limit_bytes, entries, bytes, removed_entries,
+// removed_bytes}: the cache folder after this run's trim to --cache-limit
+// (io/cache_folder.h); null with --no-cache.
+//
 // report.json also lists "written" (every file of the run besides itself)
 // and "output_failures" (text): a failure after tracing (a missing plot program, a
 // full disk, a path that cannot be written, the preview) loses nothing: the
@@ -59,9 +63,9 @@
 #include <utility>
 
 #include "gonio/version.h"
+#include "io/cache_folder.h"
 #include "io/exr.h"
 #include "io/file_io.h"
-#include "io/model_check.h"
 #include "io/report.h"
 #include "photometry/format.h"
 #include "sim/resample.h"
@@ -161,6 +165,10 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
            "is not checked again, and the overlaps that resample the far field onto the files' "
            "grids (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
   p.flag("no-cache", &o->no_cache, "neither read nor write the cache (check the model, build the overlaps)");
+  p.option("cache-limit", &o->cache_limit_mb, 0, 1'000'000'000, "MB",
+           "after the run, remove the cache's least recently used entries while they hold more than "
+           "MB megabytes (MiB), down to nine tenths of it; other files in the folder are left alone "
+           "(default 1024; 0: no limit)");
   add_model_input_options(p, &o->model_input);
   add_preview_options(p, &o->preview);
 }
@@ -214,6 +222,7 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   plan.model_input.cache_dir = o.no_cache          ? std::string()
                                : p.given("cache") ? o.cache_dir
                                                   : io::default_cache_dir();
+  plan.cache_limit_bytes = static_cast<std::uint64_t>(o.cache_limit_mb) << 20;
   plan.progressive.target_error_pct = o.target_error_pct;
   sim::SimulationSettings& settings = plan.progressive.simulation;
   settings.photons_per_iteration = static_cast<std::uint64_t>(photons);
@@ -456,6 +465,19 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
     if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
   json["outputs"] = to_json(*outputs, grid, ledger.escaped.flux_lm);
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
+  // The cache folder kept to its limit, now that this run has used and
+  // written its entries (each marked used, so they go last).
+  if (const std::string& dir = plan.model_input.cache_dir; !dir.empty()) {
+    const io::CacheTrim trim = io::trim_cache(dir, plan.cache_limit_bytes);
+    json["cache"] = {{"dir", dir},
+                     {"limit_bytes", plan.cache_limit_bytes},
+                     {"entries", trim.entries},
+                     {"bytes", trim.bytes},
+                     {"removed_entries", trim.removed_entries},
+                     {"removed_bytes", trim.removed_bytes}};
+  } else {
+    json["cache"] = nullptr;
+  }
   // Every file this run left in DIR besides report.json, and what failed.
   nlohmann::json written_paths = nlohmann::json::array();
   for (const WrittenFile& f : outputs->files) written_paths.push_back(f.path);

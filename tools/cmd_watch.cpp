@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "io/cache_folder.h"
 #include "io/file_io.h"
 #include "io/gltf_files.h"
 #include "tools/cli.h"
@@ -197,6 +198,8 @@ int run_watch(const Args& args) {
       exit_code = write_run_files(plan, run.value(), input_times, nullptr, run_start);
       if (exit_code != kExitOk) live.note("the run's files were written, but a check failed (see the terminal)");
       std::fflush(stdout);
+    } else {
+      io::trim_cache(plan.model_input.cache_dir, plan.cache_limit_bytes);  // write_run_files does it with --out
     }
     last = std::move(run.value());
   }

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/cache_folder.h"
 #include "io/content_hash.h"
 #include "io/file_io.h"
 
@@ -134,6 +135,7 @@ sim::Resampler cached_resampler(int face_size, const photometry::PhotometricFram
     if (Result<std::string> bytes = io::read_file(path, kMaxFileBytes); bytes.ok()) {
       if (std::optional<sim::Resampler> r = deserialize(*bytes, face_size, frame, grid)) {
         s.from_cache = true;
+        io::mark_cache_entry_used(path);
         if (source) *source = s;
         return std::move(*r);
       }

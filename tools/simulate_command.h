@@ -4,12 +4,14 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "io/cache_folder.h"
 #include "io/ies.h"
 #include "sim/preview_filter.h"
 #include "sim/resample.h"
@@ -32,6 +34,7 @@ struct SimulateOptions {
   std::string bvh_quality = "auto";  // --bvh-quality
   std::string cache_dir;  // --cache DIR (the model checks' results, the outputs' resamplers)
   bool no_cache = false;  // --no-cache
+  long long cache_limit_mb = 1024;  // --cache-limit MB; 0: none
   ModelInputOptions model_input;  // --allow-outside-paths
   PreviewOptions preview;
 };
@@ -54,6 +57,7 @@ struct SimulatePlan {
   double min_lor = 0.0;
   double flux_tolerance = 0.005;
   ModelInputOptions model_input;  // the model checks' cache folder
+  std::uint64_t cache_limit_bytes = io::kDefaultCacheLimitBytes;  // io/cache_folder.h; 0: none
 };
 
 // Checks the options for `model`; on a problem prints "COMMAND: …" and the

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -321,6 +322,78 @@ TEST(Simulate, ReportsTheSetupPhasesAndCachesTheChecks) {
                    "--no-cache"})
                 .exit_code,
             2);
+}
+
+// The cache folder kept to --cache-limit after the run, least recently used
+// entries first, this run's own entries (written or read: used now) last.
+TEST(Simulate, KeepsTheCacheToItsLimitLeastRecentlyUsedFirst) {
+  namespace fs = std::filesystem;
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto cache = dir / "cache";
+  fs::create_directories(cache);
+  const auto put_old = [&](const std::string& name, std::size_t bytes, int hours_ago) {
+    test::write_file(cache / name, std::string(bytes, 'x'));
+    fs::last_write_time(cache / name, fs::file_time_type::clock::now() - std::chrono::hours(hours_ago));
+  };
+  constexpr std::size_t kMiB = std::size_t{1} << 20;
+  for (int i = 1; i <= 4; ++i) put_old("resampler-000000000000000" + std::to_string(i) + ".bin", kMiB, 50 - i);
+  put_old("notes.txt", 3 * kMiB, 100);
+  put_old(".mesh-check-0123456789abcdef.json.tmp42", 100, 2);  // an interrupted write's leftover
+  auto run = [&](const std::string& out, const std::string& limit_mb) {
+    auto r = gonio({"simulate", model.string(), "--out", (dir / out).string(), "--photons", "20000", "--iterations",
+                    "1", "--face-size", "16", "--cache", cache.string(), "--cache-limit", limit_mb});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(test::read_file(dir / out / "report.json"));
+  };
+  const auto ours = [&] {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(cache)) {
+      const std::string n = e.path().filename().string();
+      if (n.rfind("mesh-check-", 0) == 0 || (n.rfind("resampler-", 0) == 0 && n.find("00000000000000") == n.npos))
+        names.push_back(n);
+    }
+    return names;
+  };
+
+  // 4 MiB of old entries and this run's three small ones against 3 MiB: the
+  // two oldest go (down to 2.7 MiB).
+  const auto first = run("first", "3");
+  EXPECT_EQ(first["cache"]["dir"], cache.string());
+  EXPECT_EQ(first["cache"]["limit_bytes"], 3 * kMiB);
+  EXPECT_EQ(first["cache"]["removed_entries"], 2);
+  EXPECT_EQ(first["cache"]["removed_bytes"], 2 * kMiB);
+  EXPECT_EQ(first["cache"]["entries"], 5);
+  EXPECT_LE(first["cache"]["bytes"].get<std::uint64_t>(), 3 * kMiB - 3 * kMiB / 10);
+  EXPECT_FALSE(fs::exists(cache / "resampler-0000000000000001.bin"));
+  EXPECT_FALSE(fs::exists(cache / "resampler-0000000000000002.bin"));
+  EXPECT_TRUE(fs::exists(cache / "resampler-0000000000000003.bin"));
+  EXPECT_TRUE(fs::exists(cache / "resampler-0000000000000004.bin"));
+  EXPECT_TRUE(fs::exists(cache / "notes.txt"));  // not Gonio's
+  EXPECT_FALSE(fs::exists(cache / ".mesh-check-0123456789abcdef.json.tmp42"));
+  const std::vector<std::string> stored = ours();
+  ASSERT_EQ(stored.size(), 3u);
+
+  // This run's entries made older than the rest: a run that reads them marks
+  // them used, so the older of the others goes instead.
+  for (const std::string& n : stored)
+    fs::last_write_time(cache / n, fs::file_time_type::clock::now() - std::chrono::hours(200));
+  const auto second = run("second", "2");
+  EXPECT_EQ(second["setup"]["meshes_from_cache"], 1);
+  EXPECT_EQ(second["cache"]["removed_entries"], 1);
+  EXPECT_FALSE(fs::exists(cache / "resampler-0000000000000003.bin"));
+  EXPECT_TRUE(fs::exists(cache / "resampler-0000000000000004.bin"));
+  EXPECT_EQ(ours(), stored);
+
+  // No limit: nothing goes; without a cache, the report says so.
+  const auto third = run("third", "0");
+  EXPECT_EQ(third["cache"]["removed_entries"], 0);
+  EXPECT_EQ(third["cache"]["entries"], 4);
+  auto r = gonio({"simulate", model.string(), "--out", (dir / "none").string(), "--photons", "20000",
+                  "--iterations", "1", "--face-size", "16", "--no-cache"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(nlohmann::json::parse(test::read_file(dir / "none" / "report.json"))["cache"].is_null());
 }
 
 TEST(Simulate, BadInputsAndUsage) {
