@@ -190,9 +190,12 @@ ScatterResult scatter(const Material& m, const SurfaceFrame& frame, const Vec3& 
 ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& frame,
                       const Vec3& direction, PhotonRandom& rng,
                       Polarization* polarization = nullptr);
-// Whether a lobe reads the shading normal and tangent (specular lobes).
+// Whether a lobe reads the shading normal (the specular lobes).
 inline bool uses_shading_frame(Lobe lobe) {
   return lobe == Lobe::Mirror || lobe == Lobe::Glossy || lobe == Lobe::Dielectric;
 }
+// Whether it reads SurfaceFrame::tangent (the anisotropic lobe's axes); the
+// others leave it unread, so the tracer does not interpolate it for them.
+inline bool uses_tangent(Lobe lobe) { return lobe == Lobe::Glossy; }
 
 }  // namespace gonio::sim

@@ -221,7 +221,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
         const double len = length(n);
         if (len > 0.0) frame.shading_normal = n / len;
       }
-      if (!mesh.corner_tangents.empty()) {
+      if (uses_tangent(lobe) && !mesh.corner_tangents.empty()) {
         const PackedUnit* t3 = &mesh.corner_tangents[c];
         frame.tangent = w0 * unpack_unit(t3[0]) + u * unpack_unit(t3[1]) + v * unpack_unit(t3[2]);
         if (place) frame.tangent = place->linear(frame.tangent);
