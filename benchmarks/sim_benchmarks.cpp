@@ -19,8 +19,12 @@
 // raw_rays_per_s (goal ≥ 0.8); surface_rays_per_s of bare Embree on random
 // rays leaving random surface points (bench_scenes.h) and surface_ratio =
 // rays_per_s / that; replay_rays_per_s of bare rtcIntersect1 on
-// the tracer's own recorded rays and replay_ratio = rays_per_s / that (what
-// the tracer's own work costs on top of Embree's).
+// the tracer's own recorded rays, replayed after every iteration, and
+// replay_ratio, the median over iterations of the iteration's rays/s ÷ the
+// replay's right after it (what the tracer's own work costs on top of
+// Embree's), with replay_ratio_min, _max and replay_pairs. The sample and
+// bell benchmarks run for at least 3 s (several pairs), the large models
+// three iterations.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -69,20 +73,38 @@ sim::Simulation make_simulation(const sim::SceneDesc& scene, int threads,
 void run_tracer(benchmark::State& state, const sim::SceneDesc& scene, const sim::EmbreeSceneOptions& embree = {}) {
   const int threads = static_cast<int>(state.range(0));
   sim::Simulation sim = make_simulation(scene, threads, embree);
+  // Bare rtcIntersect1 on the tracer's own rays (as many photons' as an
+  // iteration traces), recorded once and replayed right after every iteration: each iteration's
+  // tracer rate is paired with a replay under the same conditions, and
+  // replay_ratio is the median of the pairs' ratios (this machine's rates
+  // drift by ±20 % between single runs).
+  std::vector<sim::RayQuery> rays;
+  sim.tracer().record_rays(sim.settings().seed, 0, kPhotonsPerIteration, &rays);
+  std::vector<double> pair_ratios;
+  double replayed_rays = 0.0, replay_s = 0.0, replay_cpu_s = 0.0;
   const double cpu0 = process_cpu_s();
-  for (auto _ : state) sim.run_iteration();
-  const double cpu = process_cpu_s() - cpu0;
+  for (auto _ : state) {
+    const sim::SimulationStats before = sim.stats();
+    sim.run_iteration();
+    const sim::SimulationStats after = sim.stats();
+    const double rate = static_cast<double>(after.rays - before.rays) / (after.trace_s - before.trace_s);
+    const double replay_cpu0 = process_cpu_s();
+    const auto replay = sim.tracer().embree().measure_rays(rays, threads);
+    replay_cpu_s += process_cpu_s() - replay_cpu0;
+    replayed_rays += static_cast<double>(replay.rays);
+    replay_s += replay.seconds;
+    pair_ratios.push_back(rate / replay.rays_per_s());
+  }
+  const double cpu = process_cpu_s() - cpu0 - replay_cpu_s;
   const sim::SimulationStats st = sim.stats();
   // The raw rate on the same scene and threads, right after.
   const auto raw = sim.tracer().embree().measure_random_rays(2'000'000, 7, threads);
-  // Bare rtcIntersect1 on the tracer's own rays (the first 2^19 photons').
-  std::vector<sim::RayQuery> rays;
-  sim.tracer().record_rays(sim.settings().seed, 0, 1u << 19, &rays);
-  const auto replay = sim.tracer().embree().measure_rays(rays, threads);
   // Random rays leaving random surface points: what Embree costs for rays
   // that start where scattered photons do, without the tracer's choices.
   const auto surface =
       sim.tracer().embree().measure_rays(random_surface_rays(scene, sim.tracer(), 2'000'000, 7), threads);
+  std::sort(pair_ratios.begin(), pair_ratios.end());
+  const std::size_t n = pair_ratios.size();
   state.counters["photons_per_s"] = st.photons_per_s();
   state.counters["photons_per_cpu_s"] = static_cast<double>(st.photons) / cpu;
   state.counters["rays_per_s"] = st.rays_per_s();
@@ -91,15 +113,18 @@ void run_tracer(benchmark::State& state, const sim::SceneDesc& scene, const sim:
   state.counters["ratio"] = st.rays_per_s() / raw.rays_per_s();
   state.counters["surface_rays_per_s"] = surface.rays_per_s();
   state.counters["surface_ratio"] = st.rays_per_s() / surface.rays_per_s();
-  state.counters["replay_rays_per_s"] = replay.rays_per_s();
-  state.counters["replay_ratio"] = st.rays_per_s() / replay.rays_per_s();
+  state.counters["replay_rays_per_s"] = replayed_rays / replay_s;
+  state.counters["replay_ratio"] = n % 2 ? pair_ratios[n / 2] : 0.5 * (pair_ratios[n / 2 - 1] + pair_ratios[n / 2]);
+  state.counters["replay_ratio_min"] = pair_ratios.front();
+  state.counters["replay_ratio_max"] = pair_ratios.back();
+  state.counters["replay_pairs"] = static_cast<double>(n);
   state.counters["triangles"] = static_cast<double>(sim.tracer().embree().triangle_count());
   state.counters["bvh_s"] = st.tracer_setup.bvh_s;
   state.SetItemsProcessed(static_cast<std::int64_t>(st.photons));
 }
 
 void BM_TracerBell(benchmark::State& state) { run_tracer(state, bell_scene()); }
-BENCHMARK(BM_TracerBell)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TracerBell)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
 // The sample luminaires themselves (target gonio_samples writes them).
 void run_sample(benchmark::State& state, const std::string& name) {
@@ -118,14 +143,15 @@ const bool kSamplesRegistered = [] {
         ->Arg(1)
         ->Arg(2)
         ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
+        ->UseRealTime()
+        ->MinTime(3.0);
   return true;
 }();
 
 // A 100k-triangle white sphere (ρ = 0.8, closed) around an isotropic point:
 // every ray hits, about five per photon.
 void BM_TracerSphere100k(benchmark::State& state) { run_tracer(state, sphere_scene(317, 158)); }
-BENCHMARK(BM_TracerSphere100k)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TracerSphere100k)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
 // Bare Embree on a 100k-triangle sphere (the reference figure of the brief).
 void BM_RawEmbreeSphere100k(benchmark::State& state) {
@@ -160,7 +186,7 @@ const bool kLargeRegistered = [] {
       });
       for (int quality : {0, 1, 2}) b->Args({2, quality, 1});
       b->Args({2, 2, 0});
-      b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+      b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
     }
   return true;
 }();
