@@ -73,14 +73,18 @@ CacheTrim trim_cache(const std::string& dir, std::uint64_t limit_bytes) {
   if (ec) return out;
   timespec now{};
   ::clock_gettime(CLOCK_REALTIME, &now);
-  for (const std::filesystem::directory_entry& e : it) {
+  // Advanced with an error code: a folder that changes or fails while it is
+  // read ends the scan rather than throwing.
+  for (; !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+    const std::filesystem::directory_entry& e = *it;
     const std::string name = e.path().filename().string();
     const bool entry = is_cache_entry_name(name);
     if (!entry && !is_cache_temp_name(name)) continue;
     struct stat st {};
     if (::lstat(e.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
     if (!entry) {
-      if (now.tv_sec - st.st_mtim.tv_sec >= kStaleTempSeconds) std::filesystem::remove(e.path(), ec);
+      std::error_code ignored;
+      if (now.tv_sec - st.st_mtim.tv_sec >= kStaleTempSeconds) std::filesystem::remove(e.path(), ignored);
       continue;
     }
     entries.push_back({st.st_mtim, static_cast<std::uint64_t>(st.st_size), name, e.path().string()});
