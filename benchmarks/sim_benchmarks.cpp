@@ -74,10 +74,10 @@ void run_tracer(benchmark::State& state, const sim::SceneDesc& scene, const sim:
   const int threads = static_cast<int>(state.range(0));
   sim::Simulation sim = make_simulation(scene, threads, embree);
   // Bare rtcIntersect1 on the tracer's own rays (as many photons' as an
-  // iteration traces), recorded once and replayed right after every iteration: each iteration's
-  // tracer rate is paired with a replay under the same conditions, and
-  // replay_ratio is the median of the pairs' ratios (this machine's rates
-  // drift by ±20 % between single runs).
+  // iteration traces), recorded once and replayed right after every
+  // iteration: each iteration's tracer rate is paired with a replay under the
+  // same conditions, and replay_ratio is the median of the pairs' ratios
+  // (this machine's rates drift by ±20 % between single runs).
   std::vector<sim::RayQuery> rays;
   sim.tracer().record_rays(sim.settings().seed, 0, kPhotonsPerIteration, &rays);
   std::vector<double> pair_ratios;
