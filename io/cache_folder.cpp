@@ -7,12 +7,20 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <iterator>
 #include <string_view>
 #include <system_error>
 #include <vector>
 
+#include "io/content_hash.h"
+
 namespace gonio::io {
 namespace {
+
+struct EntryKind {
+  std::string_view prefix, suffix;
+};
+constexpr EntryKind kEntryKinds[] = {{"mesh-check-", ".json"}, {"resampler-", ".bin"}};  // by CacheEntry
 
 bool is_hex16(std::string_view s) {
   return s.size() == 16 && std::all_of(s.begin(), s.end(), [](char c) {
@@ -36,7 +44,6 @@ constexpr std::int64_t kStaleTempSeconds = 3600;
 struct Entry {
   timespec used;
   std::uint64_t bytes;
-  std::string name;
   std::string path;
 };
 
@@ -54,12 +61,16 @@ std::string default_cache_dir() {
   return "";
 }
 
+std::string cache_entry_name(CacheEntry kind, std::uint64_t key) {
+  const EntryKind& k = kEntryKinds[static_cast<int>(kind)];
+  return std::string(k.prefix) + to_hex(key) + std::string(k.suffix);
+}
+
 bool is_cache_entry_name(const std::string& name) {
-  const auto keyed = [&](std::string_view prefix, std::string_view suffix) {
-    return name.size() == prefix.size() + 16 + suffix.size() && name.starts_with(prefix) &&
-           name.ends_with(suffix) && is_hex16(std::string_view(name).substr(prefix.size(), 16));
-  };
-  return keyed("mesh-check-", ".json") || keyed("resampler-", ".bin");
+  return std::any_of(std::begin(kEntryKinds), std::end(kEntryKinds), [&](const EntryKind& k) {
+    return name.size() == k.prefix.size() + 16 + k.suffix.size() && name.starts_with(k.prefix) &&
+           name.ends_with(k.suffix) && is_hex16(std::string_view(name).substr(k.prefix.size(), 16));
+  });
 }
 
 void mark_cache_entry_used(const std::string& path) { ::utimensat(AT_FDCWD, path.c_str(), nullptr, 0); }
@@ -87,15 +98,15 @@ CacheTrim trim_cache(const std::string& dir, std::uint64_t limit_bytes) {
       if (now.tv_sec - st.st_mtim.tv_sec >= kStaleTempSeconds) std::filesystem::remove(e.path(), ignored);
       continue;
     }
-    entries.push_back({st.st_mtim, static_cast<std::uint64_t>(st.st_size), name, e.path().string()});
+    entries.push_back({st.st_mtim, static_cast<std::uint64_t>(st.st_size), e.path().string()});
     out.bytes += static_cast<std::uint64_t>(st.st_size);
   }
   out.entries = entries.size();
   if (limit_bytes == 0 || out.bytes <= limit_bytes) return out;
-  // Least recently used first; the name breaks ties, so the order is the
-  // same on every run.
+  // Least recently used first; the path (the same folder: the name) breaks
+  // ties, so the order is the same on every run.
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-    return older(a.used, b.used) || (!older(b.used, a.used) && a.name < b.name);
+    return older(a.used, b.used) || (!older(b.used, a.used) && a.path < b.path);
   });
   const std::uint64_t target = limit_bytes - limit_bytes / 10;
   for (const Entry& e : entries) {

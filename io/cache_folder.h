@@ -27,8 +27,13 @@ std::string default_cache_dir();
 // few kB for a model's checks, 2–4 MB for a resampler at the defaults).
 inline constexpr std::uint64_t kDefaultCacheLimitBytes = std::uint64_t{1} << 30;
 
-// Whether `name` (a file name, no folder) is one of Gonio's entries:
-// mesh-check-<16 hex digits>.json or resampler-<16 hex digits>.bin.
+// The kinds of entry, and the file name of one under its key (16
+// lower-case hex digits): mesh-check-<key>.json, resampler-<key>.bin.
+enum class CacheEntry { MeshCheck, Resampler };
+std::string cache_entry_name(CacheEntry kind, std::uint64_t key);
+
+// Whether `name` (a file name, no folder) is one of Gonio's entries: a name
+// cache_entry_name gives for some kind and key.
 bool is_cache_entry_name(const std::string& name);
 
 // Marks the entry at `path` as used now (its modification time). Failures

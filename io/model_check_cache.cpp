@@ -67,7 +67,7 @@ std::uint64_t check_group_key(const sim::SceneDesc& scene, const CheckGroup& gro
   return h.digest();
 }
 
-std::string cached_checks_name(std::uint64_t key) { return "mesh-check-" + to_hex(key) + ".json"; }
+std::string cached_checks_name(std::uint64_t key) { return cache_entry_name(CacheEntry::MeshCheck, key); }
 
 std::optional<std::vector<std::vector<MeshFinding>>> read_cached_checks(const std::string& dir, std::uint64_t key,
                                                                         const sim::SceneDesc& scene,

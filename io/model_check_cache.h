@@ -53,7 +53,7 @@ std::optional<std::vector<std::vector<MeshFinding>>> read_cached_checks(const st
 bool write_cached_checks(const std::string& dir, std::uint64_t key, const sim::SceneDesc& scene,
                          const CheckGroup& group, const std::vector<std::vector<MeshFinding>>& findings);
 
-// The entry's file name: mesh-check-<16 hex digits>.json.
+// The entry's file name: mesh-check-<16 hex digits>.json (io/cache_folder.h).
 std::string cached_checks_name(std::uint64_t key);
 
 }  // namespace gonio::io

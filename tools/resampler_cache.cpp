@@ -122,7 +122,7 @@ std::string resampler_cache_name(int face_size, const photometry::PhotometricFra
                                  const sim::CGammaGrid& grid) {
   io::ContentHash h;
   hash_parameters(h, face_size, frame, grid);
-  return "resampler-" + h.hex() + ".bin";
+  return io::cache_entry_name(io::CacheEntry::Resampler, h.digest());
 }
 
 sim::Resampler cached_resampler(int face_size, const photometry::PhotometricFrame& frame,

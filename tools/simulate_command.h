@@ -34,7 +34,7 @@ struct SimulateOptions {
   std::string bvh_quality = "auto";  // --bvh-quality
   std::string cache_dir;  // --cache DIR (the model checks' results, the outputs' resamplers)
   bool no_cache = false;  // --no-cache
-  long long cache_limit_mb = 1024;  // --cache-limit MB; 0: none
+  long long cache_limit_mb = io::kDefaultCacheLimitBytes >> 20;  // --cache-limit MB; 0: none
   ModelInputOptions model_input;  // --allow-outside-paths
   PreviewOptions preview;
 };
