@@ -1,4 +1,4 @@
-// What keeping the cache folder to its limit costs a run (io/cache_folder.h):
+// What keeping the cache folder to its limit costs a run (io/support/cache_folder.h):
 // trim_cache over a folder of N entries of 4 KB, all within the limit (the
 // scan every run pays), and over the same folder with the limit at half its
 // size (the scan, the sort and removing half; the entries are written again
@@ -11,8 +11,8 @@
 #include <filesystem>
 #include <string>
 
-#include "io/cache_folder.h"
-#include "io/file_io.h"
+#include "io/support/cache_folder.h"
+#include "io/support/file_io.h"
 
 namespace gonio::io {
 namespace {

@@ -26,7 +26,7 @@
 #include <random>
 #include <utility>
 
-#include "io/gltf.h"
+#include "io/model/gltf.h"
 #include "sim/far_field_sampler.h"
 #include "sim/preview_filter.h"
 #include "sim/pyramid.h"

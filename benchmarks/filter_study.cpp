@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "benchmarks/bench_scenes.h"
-#include "io/gltf.h"
+#include "io/model/gltf.h"
 #include "sim/far_field_sampler.h"
 #include "sim/preview_filter.h"
 #include "sim/shapes.h"

@@ -9,10 +9,10 @@
 #include <numbers>
 #include <string>
 
-#include "io/gldf.h"
-#include "io/gltf.h"
-#include "io/ies.h"
-#include "io/ldt.h"
+#include "io/photometric/gldf.h"
+#include "io/model/gltf.h"
+#include "io/photometric/ies.h"
+#include "io/photometric/ldt.h"
 #include "photometry/distribution.h"
 
 namespace {

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "io/file_io.h"
-#include "io/ies.h"
-#include "io/ldt.h"
+#include "io/support/file_io.h"
+#include "io/photometric/ies.h"
+#include "io/photometric/ldt.h"
 #include "photometry/flux.h"
 #include "photometry/summary.h"
 

@@ -8,8 +8,8 @@
 
 #include <unistd.h>
 
-#include "io/file_io.h"
-#include "io/gltf.h"
+#include "io/support/file_io.h"
+#include "io/model/gltf.h"
 
 namespace gonio::bench {
 namespace {

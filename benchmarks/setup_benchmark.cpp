@@ -28,8 +28,8 @@
 #include <vector>
 
 #include "benchmarks/large_model_files.h"
-#include "io/gltf.h"
-#include "io/model_check.h"
+#include "io/model/gltf.h"
+#include "io/model/model_check.h"
 #include "samples/large_models.h"
 #include "sim/embree_scene.h"
 #include "sim/emission.h"

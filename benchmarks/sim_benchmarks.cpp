@@ -36,7 +36,7 @@
 
 #include "benchmarks/bench_scenes.h"
 #include "benchmarks/large_model_files.h"
-#include "io/gltf.h"
+#include "io/model/gltf.h"
 #include "sim/random.h"
 #include "sim/sampling.h"
 #include "sim/simulation.h"

@@ -69,7 +69,7 @@ void BM_Process(benchmark::State& state, std::vector<std::string> args, const st
 const std::string kGonio = "gonio";
 const std::string kCurves = GONIO_CURVES_DIR;
 const std::string kName = "gonio-startup-" + std::to_string(getpid()) + ".ldt";
-// convert writes atomically and fsyncs (io/file_io.h): on a disk that costs
+// convert writes atomically and fsyncs (io/support/file_io.h): on a disk that costs
 // what the disk takes, so the start-up figure writes to memory (/dev/shm)
 // and a second one to the temporary folder shows the fsync.
 const std::string kOut =

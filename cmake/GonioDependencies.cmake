@@ -65,7 +65,7 @@ find_package(pugixml REQUIRED)
 # find_package(libzip) fails on them: use its pkg-config file instead.
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 
-# xxHash (io/content_hash.cpp), used header-only: the pkg-config file finds
+# xxHash (io/support/content_hash.cpp), used header-only: the pkg-config file finds
 # libxxhash-dev's header.
 pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
 

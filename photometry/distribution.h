@@ -96,7 +96,7 @@ struct LuminousOpening {
 // LM-63-2019 file generation type (its Table 2): how the data was produced.
 // The LM-63 code is 1.ABCDE with one flag per digit: A accredited lab,
 // B interpolated angle set, C lumen scaled, D computer simulation,
-// E undefined (io/ies.h converts codes).
+// E undefined (io/photometric/ies.h converts codes).
 enum class FileGenerationType {
   Undefined,                          // 1.00001: unknown, e.g. converted from an older file
   ComputerSimulation,                 // 1.00010
@@ -142,7 +142,7 @@ struct Tilt {
 
 // One LM-63 keyword line, `[KEY] value`; [MORE] continuations are joined into
 // the preceding keyword's value with '\n'. EULUMDAT header strings are mapped
-// onto the same keys (see io/ldt.h), so both formats share one list.
+// onto the same keys (see io/photometric/ldt.h), so both formats share one list.
 struct Keyword {
   std::string key;    // without brackets, upper case, e.g. "MANUFAC", "_USER"
   std::string value;

@@ -1,6 +1,6 @@
 // Numbers as text in messages, reports and tables: the one formatter of
 // Gonio. (File formats with their own number syntax keep their writers:
-// io/ies.h format_ies_number, the EULUMDAT writer's fields.)
+// io/photometric/ies.h format_ies_number, the EULUMDAT writer's fields.)
 #pragma once
 
 #include <cstdint>

@@ -5,7 +5,7 @@
 // nadir and C turns counter-clockwise seen from above.
 //
 // Gonio's default in glTF's Y-up world: nadir −Y, C0 along +X, C90 along −Z.
-// (EXT_lights_ies uses its own mapping; see io/gltf.h.)
+// (EXT_lights_ies uses its own mapping; see io/model/gltf.h.)
 #pragma once
 
 #include "photometry/vec3.h"

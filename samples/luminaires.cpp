@@ -9,8 +9,8 @@
 #include <numbers>
 #include <utility>
 
-#include "io/file_io.h"
-#include "io/ies.h"
+#include "io/support/file_io.h"
+#include "io/photometric/ies.h"
 #include "samples/gltf_writer.h"
 #include "sim/affine.h"
 #include "sim/shapes.h"

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <string>
 
-#include "io/file_io.h"
+#include "io/support/file_io.h"
 #include "samples/large_models.h"
 #include "samples/luminaires.h"
 

@@ -1,5 +1,5 @@
 // Scene description: the luminaire the simulation traces, as plain data.
-// io/gltf.h builds it from a glTF 2.0 model; tests and the sample generator
+// io/model/gltf.h builds it from a glTF 2.0 model; tests and the sample generator
 // build it directly. Geometry is in world space, metres, except for
 // instanced meshes: those are stored once in their own frame and placed by
 // SceneDesc::instances (Embree instances in the tracer), so that memory and

@@ -8,10 +8,10 @@
 #include <optional>
 #include <type_traits>
 
-#include "io/content_hash.h"
-#include "io/exr.h"
-#include "io/file_io.h"
-#include "io/report.h"
+#include "io/support/content_hash.h"
+#include "io/outputs/exr.h"
+#include "io/support/file_io.h"
+#include "io/outputs/report.h"
 #include "sim/simulation.h"
 
 namespace gonio::cli {

@@ -8,7 +8,7 @@
 #include <optional>
 #include <sstream>
 
-#include "io/plot.h"
+#include "io/outputs/plot.h"
 #include "photometry/format.h"
 
 namespace gonio::cli {

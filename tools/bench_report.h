@@ -1,5 +1,5 @@
 // What `gonio bench` writes: the series as CSV, a summary as JSON, the
-// charts (SVG and PNG through io/plot.h), and the results page (Markdown)
+// charts (SVG and PNG through io/outputs/plot.h), and the results page (Markdown)
 // that collects several models.
 //
 // series.csv: one row per series and iteration, columns

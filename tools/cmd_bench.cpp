@@ -26,9 +26,9 @@
 
 #include "gonio/tracer_revision.h"
 #include "gonio/version.h"
-#include "io/content_hash.h"
-#include "io/file_io.h"
-#include "io/report.h"
+#include "io/support/content_hash.h"
+#include "io/support/file_io.h"
+#include "io/outputs/report.h"
 #include "photometry/format.h"
 #include "sim/cube_map.h"
 #include "sim/resample.h"

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "gonio/version.h"
-#include "io/photometric_file.h"
+#include "io/photometric/photometric_file.h"
 #include "photometry/validation.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
@@ -32,8 +32,9 @@ constexpr const char* kDescription =
     "warnings (...)', 'FILE: 1 error, unreadable') and, for several files, a total. A\n"
     "file that cannot be read is an error finding in the report, code 'unreadable',\n"
     "with the reader's file and line; the check goes on with the next. Codes are\n"
-    "stable (photometry/validation.h, io/ies.h, io/ldt.h). Standard error carries\n"
-    "only usage errors and, if the report could not be written, that.\n"
+    "stable (photometry/validation.h, io/photometric/ies.h,\n"
+    "io/photometric/ldt.h). Standard error carries only usage errors and, if the\n"
+    "report could not be written, that.\n"
     "\n"
     "With --json, stdout is one JSON object instead:\n"
     "  {\"files\": [{\"file\", \"format\", \"version\", \"readable\", \"status\",\n"

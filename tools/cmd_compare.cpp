@@ -15,8 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/intensity_diagram.h"
-#include "io/plot.h"
+#include "io/outputs/intensity_diagram.h"
+#include "io/outputs/plot.h"
 #include "photometry/beam.h"
 #include "photometry/compare.h"
 #include "tools/cli.h"

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "gonio/version.h"
-#include "io/photometric_file.h"
+#include "io/photometric/photometric_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/photometric_input.h"

@@ -3,15 +3,15 @@
 //   gonio plot FILE [--out X.svg|X.png] [--unit cd|cdklm] [--title T]
 //
 // Draws the C0–C180 and C90–C270 planes of an IES or EULUMDAT file, measured
-// or simulated, as a polar diagram and on cartesian axes (io/intensity_diagram.h),
+// or simulated, as a polar diagram and on cartesian axes (io/outputs/intensity_diagram.h),
 // in candela or in cd/klm. Types A and B are resampled to Type C first.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
-#include "io/intensity_diagram.h"
-#include "io/plot.h"
+#include "io/outputs/intensity_diagram.h"
+#include "io/outputs/plot.h"
 #include "photometry/flux.h"
 #include "photometry/resample.h"
 #include "tools/cli.h"

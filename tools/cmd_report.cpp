@@ -1,11 +1,11 @@
 // gonio report FILE... --out X.html|X.pdf: the luminaire datasheet
-// (io/datasheet.h), one section per file.
+// (io/outputs/datasheet.h), one section per file.
 #include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include "io/datasheet.h"
+#include "io/outputs/datasheet.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/photometric_input.h"

@@ -20,7 +20,7 @@
 // "estimated_rms_error_pct". With --serve the live page of `gonio watch`
 // (tools/live_view.h) follows the run and stays up after it until Ctrl-C.
 //
-// report.json adds to io/report.h's fields: "outputs" {grid, symmetry
+// report.json adds to io/outputs/report.h's fields: "outputs" {grid, symmetry
 // {chosen, reason, tests [{symmetry, chi_square, degrees_of_freedom,
 // p_value, groups, rejected, detectable_deviation}]}, escaped_lm, files [{path, format, flux_lm,
 // flux_difference, clean, findings, writer_notes}], failed [{path, format,
@@ -40,7 +40,7 @@
 //
 // report.json's "cache" {dir, limit_bytes, entries, bytes, removed_entries,
 // removed_bytes}: the cache folder after this run's trim to --cache-limit
-// (io/cache_folder.h); null with --no-cache.
+// (io/support/cache_folder.h); null with --no-cache.
 //
 // report.json also lists "written" (every file of the run besides itself)
 // and "output_failures" (text): a failure after tracing (a missing plot program, a
@@ -63,10 +63,10 @@
 #include <utility>
 
 #include "gonio/version.h"
-#include "io/cache_folder.h"
-#include "io/exr.h"
-#include "io/file_io.h"
-#include "io/report.h"
+#include "io/support/cache_folder.h"
+#include "io/outputs/exr.h"
+#include "io/support/file_io.h"
+#include "io/outputs/report.h"
 #include "photometry/format.h"
 #include "sim/resample.h"
 #include "sim/simulation.h"

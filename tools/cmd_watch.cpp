@@ -22,9 +22,9 @@
 #include <thread>
 #include <vector>
 
-#include "io/cache_folder.h"
-#include "io/file_io.h"
-#include "io/gltf_files.h"
+#include "io/support/cache_folder.h"
+#include "io/support/file_io.h"
+#include "io/model/gltf_files.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/live_server.h"

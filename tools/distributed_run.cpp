@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "io/content_hash.h"
+#include "io/support/content_hash.h"
 #include "tools/bench_reference.h"
 #include "tools/cli.h"
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <utility>
 
-#include "io/cube_cross.h"
+#include "io/outputs/cube_cross.h"
 #include "photometry/format.h"
 #include "photometry/summary.h"
 #include "tools/json_figures.h"

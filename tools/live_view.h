@@ -16,7 +16,7 @@
 //   table), curves {gamma_deg, c0, c180, c90, c270} [cd]
 //   (filtered), previous_curves (the last iteration of the run before, or
 //   null), field {face_size, max_cd, white_cd (the colour scale's top:
-//   io/cube_cross.h's 99 % flux quantile), version} (GET /field.f32), findings
+//   io/outputs/cube_cross.h's 99 % flux quantile), version} (GET /field.f32), findings
 //   [{severity, code, message, where}] (the model's check findings),
 //   last_error (null, or {message, time}), load_to_preview_s (from the
 //   change being noticed to this run's first preview).

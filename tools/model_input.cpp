@@ -4,9 +4,9 @@
 #include <utility>
 #include <vector>
 
-#include "io/gltf.h"
-#include "io/model_check.h"
-#include "io/report.h"
+#include "io/model/gltf.h"
+#include "io/model/model_check.h"
+#include "io/outputs/report.h"
 #include "tools/cli.h"
 
 namespace gonio::cli {

@@ -19,7 +19,7 @@ namespace gonio::cli {
 struct ModelInputOptions {
   bool allow_outside_paths = false;  // --allow-outside-paths (io::GltfLoadOptions)
   bool no_instancing = false;        // --no-instancing: flatten meshes placed more than once
-  // The cache folder: the model checks' results (io/model_check.h), and for
+  // The cache folder: the model checks' results (io/model/model_check.h), and for
   // the commands that write files, the outputs' resamplers
   // (tools/resampler_cache.h); empty: no cache.
   std::string cache_dir;

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "io/photometric_file.h"
+#include "io/photometric/photometric_file.h"
 #include "tools/cli.h"
 
 namespace gonio::cli {

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <utility>
 
-#include "io/cube_cross.h"
-#include "io/image.h"
+#include "io/outputs/cube_cross.h"
+#include "io/outputs/image.h"
 
 namespace gonio::cli {
 

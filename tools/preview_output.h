@@ -2,7 +2,7 @@
 // iteration the far field is filtered (sim/preview_filter.h) and written as
 //   DIR/preview.exr — the filtered cube map (OpenEXR cube environment map,
 //                     like farfield.exr), channel Y = intensity [cd];
-//   DIR/preview.png — the unfolded cube (io/cube_cross.h), exposed robustly
+//   DIR/preview.png — the unfolded cube (io/outputs/cube_cross.h), exposed robustly
 //                     (io::cube_cross_preview: 99 % flux quantile, soft shoulder),
 // each replaced atomically, so a viewer can watch the files. The preview is
 // for looking at: farfield.exr and the photometric files come from the raw
@@ -11,7 +11,7 @@
 
 #include <string>
 
-#include "io/exr.h"
+#include "io/outputs/exr.h"
 #include "photometry/diagnostics.h"
 #include "sim/cube_map.h"
 #include "sim/far_field.h"

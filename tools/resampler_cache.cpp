@@ -9,9 +9,9 @@
 #include <utility>
 #include <vector>
 
-#include "io/cache_folder.h"
-#include "io/content_hash.h"
-#include "io/file_io.h"
+#include "io/support/cache_folder.h"
+#include "io/support/content_hash.h"
+#include "io/support/file_io.h"
 
 namespace gonio::cli {
 namespace {

@@ -11,8 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/cache_folder.h"
-#include "io/ies.h"
+#include "io/support/cache_folder.h"
+#include "io/photometric/ies.h"
 #include "sim/preview_filter.h"
 #include "sim/resample.h"
 #include "tools/cli.h"
@@ -57,7 +57,7 @@ struct SimulatePlan {
   double min_lor = 0.0;
   double flux_tolerance = 0.005;
   ModelInputOptions model_input;  // the model checks' cache folder
-  std::uint64_t cache_limit_bytes = io::kDefaultCacheLimitBytes;  // io/cache_folder.h; 0: none
+  std::uint64_t cache_limit_bytes = io::kDefaultCacheLimitBytes;  // io/support/cache_folder.h; 0: none
 };
 
 // Checks the options for `model`; on a problem prints "COMMAND: …" and the

@@ -7,14 +7,14 @@
 #include <filesystem>
 #include <limits>
 
-#include "io/datasheet.h"
-#include "io/exr.h"
-#include "io/file_io.h"
-#include "io/gldf.h"
-#include "io/intensity_diagram.h"
-#include "io/ldt.h"
-#include "io/photometric_file.h"
-#include "io/plot.h"
+#include "io/outputs/datasheet.h"
+#include "io/outputs/exr.h"
+#include "io/support/file_io.h"
+#include "io/photometric/gldf.h"
+#include "io/outputs/intensity_diagram.h"
+#include "io/photometric/ldt.h"
+#include "io/photometric/photometric_file.h"
+#include "io/outputs/plot.h"
 #include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
 #include "photometry/format.h"

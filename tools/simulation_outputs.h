@@ -8,15 +8,15 @@
 //                     (photometry/direct_ratios.h, Gonio's room model)
 //   farfield.exr      the far field as an OpenEXR cube map (Y [cd], flux
 //                     [lm], photons per texel), world directions
-//   farfield-latlong.exr the same as an equirectangular map (io/exr.h), world
+//   farfield-latlong.exr the same as an equirectangular map (io/outputs/exr.h), world
 //                     directions, for renderers
 //   STEM.svg          the intensity diagram (C0–C180 and C90–C270, polar and
-//                     cartesian), io/intensity_diagram.h
-//   STEM.html         the datasheet (io/datasheet.h) of the candela table,
+//                     cartesian), io/outputs/intensity_diagram.h
+//   STEM.html         the datasheet (io/outputs/datasheet.h) of the candela table,
 //                     with the run's energy ledger; only when asked for by
 //                     name ("report"), not part of "all"
 //   STEM.gldf         on request only (not part of "all"): a GLDF container
-//                     (io/gldf.h) with product.xml, the LDT and IES above
+//                     (io/photometric/gldf.h) with product.xml, the LDT and IES above
 //                     (the same bytes) and the model's geometry as L3D
 //
 // The candela table. The far field is resampled to the Type C grid
@@ -48,7 +48,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/ies.h"
+#include "io/photometric/ies.h"
 #include "photometry/diagnostics.h"
 #include "photometry/distribution.h"
 #include "sim/far_field.h"

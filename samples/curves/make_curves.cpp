@@ -13,7 +13,7 @@
 #include <numbers>
 #include <string>
 
-#include "io/photometric_file.h"
+#include "io/photometric/photometric_file.h"
 
 namespace {
 

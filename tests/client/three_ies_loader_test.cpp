@@ -27,8 +27,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/file_io.h"
-#include "io/ies.h"
+#include "io/support/file_io.h"
+#include "io/photometric/ies.h"
 #include "photometry/distribution.h"
 #include "tests/support/photometry_fixtures.h"
 #include "tests/support/test_support.h"

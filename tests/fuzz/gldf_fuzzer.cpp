@@ -1,5 +1,5 @@
 // libFuzzer harness: the GLDF container reader (io::parse_gldf, the ZIP
-// layer of io/zip.cpp and product.xml through io/xml.cpp) and, for what it
+// layer of io/support/zip.cpp and product.xml through io/support/xml.cpp) and, for what it
 // accepts, every photometry inside read by its content type
 // (io::read_photometric_files: EULUMDAT, IES or TM-33), its plausibility
 // checks and flux, then packaged again as a GLDF (encode_photometric_file),
@@ -21,9 +21,9 @@
 #include <string_view>
 #include <vector>
 
-#include "io/gldf.h"
-#include "io/photometric_file.h"
-#include "io/zip.h"
+#include "io/photometric/gldf.h"
+#include "io/photometric/photometric_file.h"
+#include "io/support/zip.h"
 #include "photometry/distribution.h"
 #include "photometry/flux.h"
 #include "photometry/validation.h"

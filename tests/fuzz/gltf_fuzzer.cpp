@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "io/gltf.h"
+#include "io/model/gltf.h"
 #include "tests/fuzz/fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

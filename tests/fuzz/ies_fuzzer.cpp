@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/ies.h"
+#include "io/photometric/ies.h"
 #include "photometry/distribution.h"
 #include "photometry/flux.h"
 #include "photometry/validation.h"

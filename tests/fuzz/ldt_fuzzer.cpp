@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/ldt.h"
+#include "io/photometric/ldt.h"
 #include "photometry/distribution.h"
 #include "photometry/flux.h"
 #include "photometry/validation.h"

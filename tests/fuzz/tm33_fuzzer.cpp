@@ -1,5 +1,5 @@
 // libFuzzer harness: the IES TM-33 reader (io::parse_tm33, XML through
-// io/xml.cpp) on arbitrary bytes, and, for what it accepts, the plausibility
+// io/support/xml.cpp) on arbitrary bytes, and, for what it accepts, the plausibility
 // checks, the flux integral and the TM-33 writer, whose output must parse
 // again and, written once more, give the same bytes (a second round trip
 // loses nothing). A crash, a sanitizer report or a broken round trip is a
@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/tm33.h"
+#include "io/photometric/tm33.h"
 #include "photometry/distribution.h"
 #include "photometry/flux.h"
 #include "photometry/validation.h"

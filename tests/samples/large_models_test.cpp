@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "io/gltf.h"
-#include "io/model_check.h"
+#include "io/model/gltf.h"
+#include "io/model/model_check.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::samples {

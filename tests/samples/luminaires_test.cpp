@@ -8,8 +8,8 @@
 #include <map>
 #include <numbers>
 
-#include "io/gltf.h"
-#include "io/model_check.h"
+#include "io/model/gltf.h"
+#include "io/model/model_check.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::samples {

@@ -34,8 +34,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/model_check.h"
-#include "io/report.h"
+#include "io/model/model_check.h"
+#include "io/outputs/report.h"
 #include "photometry/distribution.h"
 #include "sim/convergence.h"
 #include "sim/preview_filter.h"

@@ -3,7 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/photometric_file.h"
+#include "io/photometric/photometric_file.h"
 #include "photometry/summary.h"
 #include "tests/tools/cli_fixtures.h"
 

@@ -5,7 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "io/photometric_file.h"
+#include "io/photometric/photometric_file.h"
 
 namespace gonio::test {
 

@@ -22,7 +22,7 @@ ProcessResult gonio(std::vector<std::string> args);
 photometry::Distribution lambertian_downlight();
 inline constexpr double kDownlightFluxLm = 800.0;
 
-// Writes `d` to `path` in the format of its extension (io/photometric_file.h).
+// Writes `d` to `path` in the format of its extension (io/photometric/photometric_file.h).
 void write_distribution(const std::filesystem::path& path, const photometry::Distribution& d);
 
 // Every entry in a directory, by name.

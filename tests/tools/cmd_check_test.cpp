@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/ldt.h"
-#include "io/text.h"
+#include "io/photometric/ldt.h"
+#include "io/support/text.h"
 #include "tests/tools/cli_fixtures.h"
 
 namespace gonio {

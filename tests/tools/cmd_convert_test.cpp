@@ -6,11 +6,11 @@
 #include <numbers>
 #include <string>
 
-#include "io/ies.h"
-#include "io/ldt.h"
-#include "io/photometric_file.h"
-#include "io/gldf.h"
-#include "io/zip.h"
+#include "io/photometric/ies.h"
+#include "io/photometric/ldt.h"
+#include "io/photometric/photometric_file.h"
+#include "io/photometric/gldf.h"
+#include "io/support/zip.h"
 #include "photometry/flux.h"
 #include "tests/tools/cli_fixtures.h"
 

@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "io/ldt.h"
-#include "io/photometric_file.h"
+#include "io/photometric/ldt.h"
+#include "io/photometric/photometric_file.h"
 #include "photometry/summary.h"
 #include "tests/tools/cli_fixtures.h"
 

@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/file_io.h"
-#include "io/ies.h"
-#include "io/ldt.h"
+#include "io/support/file_io.h"
+#include "io/photometric/ies.h"
+#include "io/photometric/ldt.h"
 #include "photometry/flux.h"
 #include "tests/support/photometry_fixtures.h"
 #include "tests/support/test_support.h"

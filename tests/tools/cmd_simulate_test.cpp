@@ -12,8 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/exr.h"
-#include "io/zip.h"
+#include "io/outputs/exr.h"
+#include "io/support/zip.h"
 #include "sim/shapes.h"
 #include "tests/support/test_support.h"
 
@@ -857,7 +857,7 @@ TEST(Simulate, AModelThatLetsNoLightOutSaysSoPlainly) {
 
 // A model whose image uri leaves its folder: refused by every command that
 // loads models, naming model and uri, unless --allow-outside-paths
-// (io/gltf.h; each kind of uri and escape is tested in tests/io/gltf_test.cpp).
+// (io/model/gltf.h; each kind of uri and escape is tested in tests/io/model/gltf_test.cpp).
 TEST(Simulate, UrisOutsideTheModelsFolderNeedAllowOutsidePaths) {
   test::TempDir dir;
   std::filesystem::create_directories(dir / "model");

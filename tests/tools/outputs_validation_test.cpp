@@ -11,8 +11,8 @@
 #include <memory>
 #include <numbers>
 
-#include "io/ies.h"
-#include "io/ldt.h"
+#include "io/photometric/ies.h"
+#include "io/photometric/ldt.h"
 #include "photometry/compare.h"
 #include "photometry/flux.h"
 #include "sim/simulation.h"

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/ldt.h"
+#include "io/photometric/ldt.h"
 #include "tests/tools/cli_fixtures.h"
 
 namespace gonio {

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <random>
 
-#include "io/cube_cross.h"
-#include "io/exr.h"
-#include "io/image.h"
+#include "io/outputs/cube_cross.h"
+#include "io/outputs/exr.h"
+#include "io/outputs/image.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::cli {

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <filesystem>
 
-#include "io/exr.h"
-#include "io/ies.h"
-#include "io/ldt.h"
+#include "io/outputs/exr.h"
+#include "io/photometric/ies.h"
+#include "io/photometric/ldt.h"
 #include "photometry/flux.h"
 #include "tests/support/test_support.h"
 

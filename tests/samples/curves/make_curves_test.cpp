@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "io/photometric_file.h"
+#include "io/photometric/photometric_file.h"
 #include "photometry/summary.h"
 #include "tests/tools/cli_fixtures.h"
 

@@ -1,0 +1,53 @@
+// The luminaire datasheet (`gonio report`): one self-contained HTML page per
+// set of luminaires — identification, polar and cartesian intensity diagrams,
+// a cone diagram and the isolux plot on the floor at a mounting height, the
+// zonal lumen summary, the candela table, UGR, CU, spacing criterion, BUG,
+// luminance table, efficacy and, for Gonio's own simulations, the energy
+// ledger — and the same page printed to PDF.
+//
+// Self-contained: styles inline, diagrams as inline SVG (gnuplot's, see
+// io/outputs/plot.h, and the isolux plot drawn here), no script, no external
+// resource. PDF: the HTML printed by a headless Chromium (Debian package
+// `chromium`, installed by scripts/setup.sh; `$GONIO_CHROMIUM` names another
+// binary), run as a separate process like gnuplot.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "photometry/distribution.h"
+
+namespace gonio::io {
+
+struct DatasheetEntry {
+  std::string source;                       // the file name shown on the sheet
+  std::string format;                       // e.g. "IES LM-63-2002", "EULUMDAT"
+  photometry::Distribution distribution;    // Type C for the diagrams; A/B get tables only
+  // report.json of a simulation (io/outputs/report.h) for the energy ledger; empty
+  // for measured files.
+  std::optional<nlohmann::json> simulation_report;
+};
+
+struct DatasheetOptions {
+  double mounting_height_m = 3.0;   // isolux and cone diagram [m]
+  double floor_reflectance = 0.2;   // CU table's floor cavity [1]
+};
+
+// The whole page. Errors: a distribution that fails photometry::validate
+// (named by its source), gnuplot failing.
+Result<std::string> datasheet_html(const std::vector<DatasheetEntry>& entries,
+                                   const DatasheetOptions& options = {});
+
+// HTML printed to PDF bytes (A4) by the headless browser. Errors name the
+// program and what it said.
+Result<std::string> html_to_pdf(const std::string& html);
+
+// Writes the datasheet atomically to `path`: HTML for .html/.htm, PDF for
+// .pdf (any case); any other extension is an error naming the file.
+Status write_datasheet(const std::string& path, const std::vector<DatasheetEntry>& entries,
+                       const DatasheetOptions& options = {});
+
+}  // namespace gonio::io

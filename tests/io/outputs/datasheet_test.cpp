@@ -1,0 +1,110 @@
+#include "io/outputs/datasheet.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <regex>
+#include <vector>
+
+#include "tests/support/photometry_fixtures.h"
+#include "tests/support/test_support.h"
+
+namespace gonio::io {
+namespace {
+
+using test::angles;
+using test::cos_lobe;
+using test::sample_direction;
+
+DatasheetEntry entry() {
+  DatasheetEntry e;
+  e.source = "panel.ldt";
+  e.format = "EULUMDAT";
+  e.distribution = sample_direction(photometry::PhotometricType::C, photometry::Symmetry::Rotational, {0},
+                                    angles(0, 180, 5), cos_lobe(1000, 1));
+  e.distribution.opening.shape = photometry::OpeningShape::Circular;
+  e.distribution.opening.length_m = e.distribution.opening.width_m = 0.3;
+  e.distribution.set_keyword("LUMINAIRE", "Panel <A&B>");
+  return e;
+}
+
+bool have_gnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
+
+TEST(Datasheet, HoldsEveryFigureAndEscapesText) {
+  if (!have_gnuplot()) GONIO_MISSING(std::string("gnuplot (scripts/setup.sh installs gnuplot-nox)"));
+  auto html = datasheet_html({entry()});
+  ASSERT_TRUE(html.ok()) << html.error().message;
+  const std::string& h = html.value();
+  EXPECT_NE(h.find("<h1>Panel &lt;A&amp;B&gt;</h1>"), std::string::npos);  // escaped
+  EXPECT_EQ(h.find("<A&B>"), std::string::npos);
+  for (const char* part : {"<svg", "UGR table", "Coefficients of utilisation", "Spacing criterion", "BUG rating",
+                           "Luminance table", "Candela table", "Zonal lumen summary"})
+    EXPECT_NE(h.find(part), std::string::npos) << part;
+  // No ledger for a measured file; one when a simulation's books are given.
+  EXPECT_EQ(h.find("Energy ledger"), std::string::npos);
+  DatasheetEntry sim = entry();
+  sim.simulation_report = nlohmann::json{{"emitted_lm", 1000.0}, {"escaped_lm", 800.0}, {"absorbed_lm", 150.0},
+                                         {"cutoff_lm", 50.0}, {"photons_emitted", 12345}};
+  auto with = datasheet_html({sim});
+  ASSERT_TRUE(with.ok());
+  EXPECT_NE(with.value().find("Energy ledger"), std::string::npos);
+  EXPECT_NE(with.value().find("800.00 lm</td><td>80.00 %"), std::string::npos);
+}
+
+// The isolux lines of a Lambertian emitter (I = I0 cos γ) on the floor h
+// below: E = I0 cos⁴γ / h², so the line at a fraction f of the maximum is the
+// circle r = h tan(acos(f^¼)). Every vertex of the drawn lines lies on it to
+// within half a texel (61 texels over ±2h; px = 5 per texel in the SVG).
+TEST(Datasheet, IsoluxLinesAreTheClosedFormsCircles) {
+  if (!have_gnuplot()) GONIO_MISSING(std::string("gnuplot (scripts/setup.sh installs gnuplot-nox)"));
+  DatasheetOptions options;
+  options.mounting_height_m = 2.0;
+  auto html = datasheet_html({entry()}, options);
+  ASSERT_TRUE(html.ok()) << html.error().message;
+  const double h = options.mounting_height_m, half = 2 * h, cell = 2 * half / 61, px = 5;
+  const std::regex path_re("class=\"isolux\" data-lx=\"([^\"]+)\" d=\"([^\"]+)\"");
+  const std::regex point_re("[ML]([-0-9.]+) ([-0-9.]+)");
+  const std::string& text = html.value();
+  std::vector<double> levels;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), path_re); it != std::sregex_iterator(); ++it) {
+    levels.push_back(std::stod((*it)[1]));
+    const std::string d = (*it)[2];
+    int points = 0;
+    double r_expected = 0.0;
+    for (auto p = std::sregex_iterator(d.begin(), d.end(), point_re); p != std::sregex_iterator(); ++p, ++points) {
+      const double x = -half + std::stod((*p)[1]) / px * cell, y = half - std::stod((*p)[2]) / px * cell;
+      if (points == 0) r_expected = std::hypot(x, y);  // same for every point of the line
+      EXPECT_NEAR(std::hypot(x, y), r_expected, 0.5 * cell) << levels.back() << " lx";
+    }
+    EXPECT_GT(points, 8);
+    levels.back() = r_expected;
+  }
+  // 50, 20 and 10 % of the maximum lie within ±2h; 5 % reaches the corners.
+  ASSERT_GE(levels.size(), 3u);
+  const double fractions[3] = {0.5, 0.2, 0.1};
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(levels[k], h * std::tan(std::acos(std::pow(fractions[k], 0.25))), 0.5 * cell) << fractions[k];
+}
+
+TEST(Datasheet, InvalidDistributionNamesItsSource) {
+  DatasheetEntry e = entry();
+  e.distribution.candela.pop_back();
+  auto html = datasheet_html({e});
+  ASSERT_FALSE(html.ok());
+  EXPECT_EQ(html.error().where.file, "panel.ldt");
+  EXPECT_FALSE(datasheet_html({}).ok());
+}
+
+TEST(Datasheet, UnknownExtensionWritesNothing) {
+  test::TempDir dir;
+  const auto path = (dir / "sheet.docx").string();
+  const Status s = write_datasheet(path, {entry()});
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().where.file, path);
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+}  // namespace
+}  // namespace gonio::io
