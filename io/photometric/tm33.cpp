@@ -309,7 +309,16 @@ class Tm33Reader {
         for (XmlElement& g : c.children)
           if (g.name == "Gonioradiometer") rename(g, "GoniometerType", "Type");
       } else if (c.name == "Emitter") {
-        if (!normalise_emitter(root, c)) return false;
+        if (!normalise_emitter(c)) return false;
+      }
+    }
+    if (photometry_type_) {
+      XmlElement& equipment = child_at(root, "Equipment", photometry_type_->line);
+      XmlElement& gonio = child_at(equipment, "Gonioradiometer", photometry_type_->line);
+      if (!gonio.child("Type")) {
+        photometry_type_->name = "Type";
+        gonio.children.push_back(std::move(*photometry_type_));
+        used("<PhotometryType> as <Equipment>/<Gonioradiometer>/<Type>");
       }
     }
     if (!dialect_.empty()) {
@@ -366,7 +375,7 @@ class Tm33Reader {
     }
   }
 
-  bool normalise_emitter(XmlElement& root, XmlElement& e) {
+  bool normalise_emitter(XmlElement& e) {
     rename(e, "InputWatts", "InputWattage");
     move(e, "CCT", "ColorTemperature/FixedCCT");
     move(e, "FixedCCT", "ColorTemperature/FixedCCT");
@@ -392,7 +401,7 @@ class Tm33Reader {
     if (e.child("LuminousData") && e.child("MeasuredLumens") && !e.child("LuminousData")->child("LuminousFlux"))
       move(e, "MeasuredLumens", "LuminousData/LuminousFlux");
     for (XmlElement& c : e.children)
-      if (c.name == "LuminousData" && !intensity_data(root, c)) return false;
+      if (c.name == "LuminousData" && !intensity_data(c)) return false;
     std::vector<XmlElement> spectra;
     for (auto it = e.children.begin(); it != e.children.end();) {
       if (it->name == "SpectralDistribution") {
@@ -413,7 +422,7 @@ class Tm33Reader {
 
   // <LuminousData> holding <IntensityData horz vert> directly: the grid and
   // its description become a <LuminousIntensity> with <IntData h v>.
-  bool intensity_data(XmlElement& root, XmlElement& data) {
+  bool intensity_data(XmlElement& data) {
     bool any = false;
     for (const XmlElement& c : data.children) any = any || c.name == "IntensityData";
     if (!any || data.child("LuminousIntensity")) return true;
@@ -443,14 +452,9 @@ class Tm33Reader {
           return false;
         }
       } else if (c.name == "PhotometryType") {
-        // The photometric type where <Equipment> does not give it.
-        XmlElement& equipment = child_at(root, "Equipment", c.line);
-        XmlElement& gonio = child_at(equipment, "Gonioradiometer", c.line);
-        if (!gonio.child("Type")) {
-          XmlElement& t = gonio.add("Type", c.text);
-          t.line = c.line;
-          used("<PhotometryType> as <Equipment>/<Gonioradiometer>/<Type>");
-        }
+        // The photometric type where <Equipment> does not give it; added to
+        // the root after its children are walked (adding now would move them).
+        if (!photometry_type_) photometry_type_ = std::move(c);
       } else {
         kept.push_back(std::move(c));
       }
@@ -943,6 +947,7 @@ class Tm33Reader {
   std::vector<const XmlElement*> spectra_;
   std::vector<std::string> dialect_;  // the dialect's rewrites used, in order
   bool per_klm_ = false;              // intensities in the dialect's <IntensityData> (cd/klm)
+  std::optional<XmlElement> photometry_type_;  // the dialect's <PhotometryType>, the first
 };
 
 // ------------------------------------------------------------------ writing

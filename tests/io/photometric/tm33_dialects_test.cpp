@@ -20,6 +20,7 @@ namespace gonio::io {
 namespace {
 
 using photometry::Distribution;
+using photometry::PhotometricType;
 using photometry::Symmetry;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -208,6 +209,12 @@ std::string iestm33_dlc_style() {
   return s;
 }
 
+std::string replaced(std::string doc, const std::string& from, const std::string& to) {
+  const auto at = doc.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return doc.replace(at, from.size(), to);
+}
+
 void expect_same_distribution(const Tm33File& got, const Tm33File& want) {
   const Distribution& a = got.distribution;
   const Distribution& b = want.distribution;
@@ -282,6 +289,26 @@ TEST(Tm33Dialects, IntensityDataOfAbsolutePhotometryAreCandelas) {
   EXPECT_EQ(find(r->findings, "tm33-dialect-cd-per-klm"), nullptr);
 }
 
+// Without <Equipment> (as eulumdat-rs's Astral Sky GLDF files have it) the
+// dialect's <PhotometryType> gives the type.
+TEST(Tm33Dialects, PhotometryTypeStandsInForEquipment) {
+  std::string doc = tm33_23_intensity_data();
+  const auto from = doc.find("    <Equipment>");
+  doc.erase(from, doc.find('\n', from) + 1 - from);
+  doc = replaced(doc, "<PhotometryType>CIE _ C", "<PhotometryType>CIE _ B");
+  auto r = parse(doc, "no-equipment.xml");
+  ASSERT_FALSE(r.ok());  // Type B angles on a Type C grid: the type was read
+  doc = replaced(doc, "<PhotometryType>CIE _ B", "<PhotometryType>CIE _ C");
+  r = parse(doc, "no-equipment.xml");
+  ASSERT_TRUE(r.ok()) << to_string(r.error());
+  EXPECT_EQ(r->distribution.type, PhotometricType::C);
+  EXPECT_EQ(keyword(r->distribution, "_TM33_EQUIPMENT_GONIORADIOMETER_TYPE"), "CIE_C");
+  EXPECT_EQ(find(r->findings, "tm33-type-assumed"), nullptr);
+  const Finding* note = find(r->findings, "tm33-dialect");
+  ASSERT_NE(note, nullptr);
+  EXPECT_NE(note->message.find("<PhotometryType>"), std::string::npos) << note->message;
+}
+
 TEST(Tm33Dialects, LuminaireOpticalDataRootReadsAsTheStandardLayout) {
   auto want = parse(standard(), "standard.xml");
   auto got = parse(luminaire_optical_data(), "s001.xml");
@@ -326,12 +353,6 @@ TEST(Tm33Dialects, WriterWritesTheStandardLayoutWhateverWasRead) {
     EXPECT_TRUE(back->distribution.spectra[0].normalized);
     EXPECT_EQ(write_tm33(back->distribution, nullptr), out);
   }
-}
-
-std::string replaced(std::string doc, const std::string& from, const std::string& to) {
-  const auto at = doc.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return doc.replace(at, from.size(), to);
 }
 
 TEST(Tm33Dialects, DialectErrorsNameTheirLine) {
