@@ -41,7 +41,10 @@
 //   type or symmetry.
 //
 // Writing (TM-33-23, UTF-8, numbers with up to 15 significant digits so
-// intensities read back exactly) is the reverse; what TM-33 cannot hold, or
+// intensities read back exactly) is the reverse, in the standard's layout
+// (LuminousData/LuminousIntensity/IntData h v; SpectralData/EmitterSpectral/
+// PwrData w), the one its published examples use: the DesignLights
+// Consortium's TM-33 template and ATLA's sample document; what TM-33 cannot hold, or
 // what a required element lacks, is a warning with a stable code
 // ("tm33-...", listed in the README), never dropped silently.
 #pragma once
