@@ -34,7 +34,11 @@ place() {
   elif [ -n "$repo" ] && git -C "$repo" rev-parse --git-dir > /dev/null 2>&1; then
     git -C "$repo" show "HEAD:$path" > "$tmp"
   elif command -v curl > /dev/null; then
-    curl -fsSL "$url" -o "$tmp"
+    if ! curl -fsSL "$url" -o "$tmp"; then
+      rm -f "$tmp"
+      echo "place-schemas: could not download $url" >&2
+      return 1
+    fi
   else
     rm -f "$tmp"
     echo "place-schemas: no source for $name (set the repository's variable, or install curl)" >&2
@@ -49,7 +53,9 @@ place() {
   echo "place-schemas: placed $dest/$name"
 }
 
+status=0
 place l3d.xsd "${GONIO_L3D_REPO:-}" xsd/l3d.xsd \
-  https://raw.githubusercontent.com/globallightingdata/l3d/master/xsd/l3d.xsd
+  https://raw.githubusercontent.com/globallightingdata/l3d/master/xsd/l3d.xsd || status=1
 place gldf-1.0.0-rc.3.xsd "${GONIO_GLDF_RS_REPO:-}" tests/data/gldf-1.0.0-rc-3.xsd \
-  https://raw.githubusercontent.com/holg/gldf-rs/main/tests/data/gldf-1.0.0-rc-3.xsd
+  https://raw.githubusercontent.com/holg/gldf-rs/main/tests/data/gldf-1.0.0-rc-3.xsd || status=1
+exit "$status"
