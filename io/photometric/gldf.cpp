@@ -75,10 +75,14 @@ std::string structure_xml(const L3dGeometry& g, const std::string& created_with,
   XmlElement root;
   root.name = "Luminaire";
   root.set("xmlns:xsi", "http://www.w3.org/2001/XMLSchema-instance");
-  root.set("xsi:noNamespaceSchemaLocation", "https://gldf.io/xsd/l3d/l3d.xsd");
+  // L3D 0.11.0, the version globallightingdata/l3d's xsd/l3d.xsd and its
+  // examples are; that schema requires Header/FormatVersion (tests validate
+  // against it: Gldf.L3dStructureXmlValidatesAgainstTheL3dSchema).
+  root.set("xsi:noNamespaceSchemaLocation", "https://gldf.io/xsd/l3d/0.11.0/l3d.xsd");
   XmlElement& header = root.add("Header");
   header.add("CreatedWithApplication", created_with);
   header.add("CreationTimeCode", format_utc(created_unix, "%Y-%m-%dT%H:%M:%S"));
+  header.add("FormatVersion").set("major", "0").set("minor", "11");
   XmlElement& definitions = root.add("GeometryDefinitions");
   const auto define = [&](const std::string& id) {
     definitions.add("GeometryFileDefinition").set("id", id).set("filename", id + ".obj").set("units", "m");

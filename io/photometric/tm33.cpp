@@ -22,6 +22,10 @@ using photometry::Symmetry;
 
 constexpr const char* kRoot23 = "IESTM33-22";
 constexpr const char* kRoot18 = "IESTM33";
+// ATLA S001 / UNI 11733 as the main open-source toolkit (eulumdat-rs's
+// crates/atla) writes it, and the root of ATLA's own sample document.
+constexpr const char* kRootOpticalData = "LuminaireOpticalData";
+constexpr const char* kRootAtlaSample = "ATLA_S001_A";
 constexpr const char* kKeywordPrefix = "_TM33_";
 constexpr const char* kGonioCustomId = "gonio-keywords";
 
@@ -178,20 +182,29 @@ class Tm33Reader {
     strip_prefixes(root);
     if (root.name == kRoot23) {
       out_.version = Tm33Version::TM33_23;
-    } else if (root.name == kRoot18) {
+    } else if (root.name == kRoot18 || root.name == kRootAtlaSample) {
       out_.version = Tm33Version::Atla_S001;
+    } else if (root.name == kRootOpticalData) {
+      out_.version = Tm33Version::LuminaireOpticalData;
     } else {
       return fail(root.line, "root element <" + root.name + "> is not TM-33's <" + kRoot23 +
-                                 "> (TM-33-23) or <" + kRoot18 + "> (ATLA S001 / TM-33-18)");
+                                 "> (TM-33-23), <" + kRoot18 + "> (ATLA S001 / TM-33-18) or <" +
+                                 kRootOpticalData + "> (ATLA S001 / UNI 11733)");
     }
     const XmlElement* version = root.child("Version");
+    if (!version && out_.version == Tm33Version::LuminaireOpticalData) {
+      // <LuminaireOpticalData version="1.0">: the version as an attribute.
+      if (const std::string* a = root.attribute("version")) root.add("Version", *a).line = root.line;
+      version = root.child("Version");
+    }
     if (!version) return fail(root.line, "<Version> is missing");
     const std::string v = trimmed(version->text);
     const std::string expected = out_.version == Tm33Version::TM33_23 ? "1.1" : "1.0";
-    if (v != expected)
+    if (v != expected && !(out_.version == Tm33Version::Atla_S001 && v == "1.1"))
       warn(version->line, "tm33-version",
            "<Version> " + v + " where <" + root.name + "> has " + expected + "; read as " +
                to_string(out_.version));
+    if (!normalise(root)) return error_;
     const XmlElement* header = root.child("Header");
     if (!header) return fail(root.line, "<Header> is missing");
     const auto emitters = root.children_named("Emitter");
@@ -210,7 +223,13 @@ class Tm33Reader {
         }
       }
     }
-    if (!emitter) return fail(emitters.front()->line, "no <Emitter> has <LuminousData>/<LuminousIntensity>");
+    if (!emitter) {
+      const bool photon = emitters.front()->child("PhotonData") || emitters.front()->child("RadiantData");
+      return fail(emitters.front()->line,
+                  std::string("no <Emitter> has luminous intensity data (<LuminousData>/<LuminousIntensity>") +
+                      (photon ? "; photon or radiant intensity is not luminous intensity, which Gonio reads)"
+                              : ")"));
+    }
 
     for (const XmlElement& c : root.children) {
       if (c.name == "Header" || c.name == "Luminaire" || c.name == "Equipment") {
@@ -241,6 +260,258 @@ class Tm33Reader {
   }
   void info(int line, std::string code, std::string message) {
     out_.findings.push_back({Severity::Info, std::move(code), std::move(message), {name_, line, 0}});
+  }
+
+  // ------------------------------------------------------------- dialects
+  //
+  // The layouts in circulation beside the standard's are rewritten here into
+  // the standard's tree (TM-33-23 / ATLA S001 as published: Version 1.1,
+  // Header, Luminaire, Equipment/Gonioradiometer, Emitter with
+  // LuminousData/LuminousIntensity/IntData h v and
+  // SpectralData/EmitterSpectral/PwrData w), keeping each element's line, so
+  // that one reader reads them all. Each rewrite used is listed once in a
+  // "tm33-dialect" info line. What the rewrites cover (element names as
+  // eulumdat-rs's ATLA crate writes them, in <LuminaireOpticalData> and in
+  // <IESTM33-22>):
+  //   Header: Comments -> Comment, UUID -> UniqueIdentifier, IssueDate ->
+  //     ReportDate (where there is none), TestDate -> LM-63 [TESTDATE].
+  //   Luminaire: NumEmitters -> NumEmitter.
+  //   Equipment: Goniometer -> Gonioradiometer, GoniometerType -> Type.
+  //   Emitter: InputWatts -> InputWattage, CCT and FixedCCT ->
+  //     ColorTemperature/FixedCCT, ColorRendering/Ra, R9 -> CIE_CRI/..,
+  //     ColorRendering/Rf, Rg -> IES_TM30/.., MeasuredLumens ->
+  //     LuminousData/LuminousFlux, DataGeneration/Interpolated, Scaled,
+  //     Source -> AngleInterpolation, IntensityScaling, Simulation;
+  //     IntensityDistribution -> LuminousData; in LuminousData,
+  //     <IntensityData horz vert> (with SymmType, Multiplier,
+  //     AbsolutePhotometry, Number*, PhotometryType, Metric beside them) ->
+  //     LuminousIntensity/IntData h v; SpectralDistribution (Wavelengths and
+  //     Values as lists, Units) -> SpectralData/EmitterSpectral.
+  bool normalise(XmlElement& root) {
+    for (XmlElement& c : root.children) {
+      if (c.name == "Header") {
+        rename(c, "Comments", "Comment");
+        rename(c, "UUID", "UniqueIdentifier");
+        if (!c.child("ReportDate")) rename(c, "IssueDate", "ReportDate");
+        for (auto it = c.children.begin(); it != c.children.end();) {
+          if (it->name == "TestDate") {
+            custom_keywords_.push_back({"TESTDATE", trimmed(it->text)});
+            used("<TestDate> as LM-63 [TESTDATE]");
+            it = c.children.erase(it);
+          } else {
+            ++it;
+          }
+        }
+      } else if (c.name == "Luminaire") {
+        rename(c, "NumEmitters", "NumEmitter");
+      } else if (c.name == "Equipment") {
+        rename(c, "Goniometer", "Gonioradiometer");
+        for (XmlElement& g : c.children)
+          if (g.name == "Gonioradiometer") rename(g, "GoniometerType", "Type");
+      } else if (c.name == "Emitter") {
+        if (!normalise_emitter(c)) return false;
+      }
+    }
+    if (photometry_type_) {
+      XmlElement& equipment = child_at(root, "Equipment", photometry_type_->line);
+      XmlElement& gonio = child_at(equipment, "Gonioradiometer", photometry_type_->line);
+      if (!gonio.child("Type")) {
+        photometry_type_->name = "Type";
+        gonio.children.push_back(std::move(*photometry_type_));
+        used("<PhotometryType> as <Equipment>/<Gonioradiometer>/<Type>");
+      }
+    }
+    if (!dialect_.empty()) {
+      std::string list;
+      for (const std::string& d : dialect_) list += (list.empty() ? "" : ", ") + d;
+      info(root.line, "tm33-dialect", "read in the standard's layout: " + list);
+    }
+    return true;
+  }
+
+  void used(const std::string& what) {
+    if (std::find(dialect_.begin(), dialect_.end(), what) == dialect_.end()) dialect_.push_back(what);
+  }
+
+  void rename(XmlElement& parent, const std::string& from, const std::string& to) {
+    for (XmlElement& c : parent.children)
+      if (c.name == from) {
+        c.name = to;
+        used("<" + from + "> as <" + to + ">");
+      }
+  }
+
+  // The child of that name, created (at `line`) if there is none.
+  static XmlElement& child_at(XmlElement& parent, const std::string& name, int line) {
+    for (XmlElement& c : parent.children)
+      if (c.name == name) return c;
+    XmlElement& c = parent.add(name);
+    c.line = line;
+    return c;
+  }
+
+  // Moves every child `from` of `parent` to `path` below it (its last part the
+  // new name), creating the elements between.
+  void move(XmlElement& parent, const std::string& from, const std::string& path) {
+    std::vector<XmlElement> moved;
+    for (auto it = parent.children.begin(); it != parent.children.end();) {
+      if (it->name == from) {
+        moved.push_back(std::move(*it));
+        it = parent.children.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    for (XmlElement& m : moved) {
+      XmlElement* at = &parent;
+      std::size_t start = 0;
+      for (auto slash = path.find('/'); slash != std::string::npos; slash = path.find('/', start)) {
+        at = &child_at(*at, path.substr(start, slash - start), m.line);
+        start = slash + 1;
+      }
+      m.name = path.substr(start);
+      at->children.push_back(std::move(m));
+      used("<" + from + "> as <" + path + ">");
+    }
+  }
+
+  bool normalise_emitter(XmlElement& e) {
+    rename(e, "InputWatts", "InputWattage");
+    move(e, "CCT", "ColorTemperature/FixedCCT");
+    move(e, "FixedCCT", "ColorTemperature/FixedCCT");
+    for (XmlElement& c : e.children) {
+      if (c.name == "ColorRendering") {
+        move(c, "Ra", "CIE_CRI/Ra");
+        move(c, "R9", "CIE_CRI/R9");
+        move(c, "Rf", "IES_TM30/Rf");
+        move(c, "Rg", "IES_TM30/Rg");
+      } else if (c.name == "DataGeneration") {
+        rename(c, "Interpolated", "AngleInterpolation");
+        rename(c, "Scaled", "IntensityScaling");
+        for (XmlElement& g : c.children)
+          if (g.name == "Source" && !c.child("Simulation")) {
+            const std::string u = upper(trimmed(g.text));
+            g.name = "Simulation";
+            g.text = u.rfind("SIMUL", 0) == 0 || u == "CALCULATED" ? "true" : "false";
+            used("<Source> " + trimmed(u) + " as <Simulation>");
+          }
+      }
+    }
+    if (!e.child("LuminousData")) rename(e, "IntensityDistribution", "LuminousData");
+    if (e.child("LuminousData") && e.child("MeasuredLumens") && !e.child("LuminousData")->child("LuminousFlux"))
+      move(e, "MeasuredLumens", "LuminousData/LuminousFlux");
+    for (XmlElement& c : e.children)
+      if (c.name == "LuminousData" && !intensity_data(c)) return false;
+    std::vector<XmlElement> spectra;
+    for (auto it = e.children.begin(); it != e.children.end();) {
+      if (it->name == "SpectralDistribution") {
+        spectra.push_back(std::move(*it));
+        it = e.children.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    for (const XmlElement& s : spectra) {
+      XmlElement spectral;
+      if (!spectral_lists(s, spectral)) return false;
+      child_at(e, "SpectralData", s.line).children.push_back(std::move(spectral));
+      used("<SpectralDistribution> (lists) as <SpectralData>/<EmitterSpectral>");
+    }
+    return true;
+  }
+
+  // <LuminousData> holding <IntensityData horz vert> directly: the grid and
+  // its description become a <LuminousIntensity> with <IntData h v>.
+  bool intensity_data(XmlElement& data) {
+    bool any = false;
+    for (const XmlElement& c : data.children) any = any || c.name == "IntensityData";
+    if (!any || data.child("LuminousIntensity")) return true;
+    XmlElement li;
+    li.name = "LuminousIntensity";
+    li.line = data.line;
+    std::vector<XmlElement> kept;
+    for (XmlElement& c : data.children) {
+      if (c.name == "IntensityData") {
+        c.name = "IntData";
+        for (auto& [key, value] : c.attributes) {
+          if (key == "horz") key = "h";
+          else if (key == "vert") key = "v";
+        }
+        li.children.push_back(std::move(c));
+      } else if (c.name == "SymmType" || c.name == "Symm") {
+        c.name = "Symm";
+        li.children.push_back(std::move(c));
+      } else if (c.name == "Multiplier" || c.name == "AbsolutePhotometry" || c.name == "NumberMeasured" ||
+                 c.name == "NumberHorz" || c.name == "NumberVert") {
+        li.children.push_back(std::move(c));
+      } else if (c.name == "Metric") {
+        const std::string m = upper(trimmed(c.text));
+        if (m != "LUMINOUS") {
+          fail(c.line, "<Metric> '" + trimmed(c.text) +
+                           "': the intensities are not luminous intensities (cd), which Gonio reads");
+          return false;
+        }
+      } else if (c.name == "PhotometryType") {
+        // The photometric type where <Equipment> does not give it; added to
+        // the root after its children are walked (adding now would move them).
+        if (!photometry_type_) photometry_type_ = std::move(c);
+      } else {
+        kept.push_back(std::move(c));
+      }
+    }
+    data.children = std::move(kept);
+    data.children.insert(data.children.begin(), std::move(li));
+    used("<IntensityData horz vert> in <LuminousData> as <LuminousIntensity>/<IntData h v>");
+    per_klm_ = true;
+    return true;
+  }
+
+  // <SpectralDistribution><Wavelengths>380 390 ...</Wavelengths><Values>...
+  // </Values><Units>Relative</Units>: one <EmitterSpectral> with <PwrData w>.
+  bool spectral_lists(const XmlElement& s, XmlElement& out) {
+    out.name = "EmitterSpectral";
+    out.line = s.line;
+    const XmlElement* w = s.child("Wavelengths");
+    const XmlElement* v = s.child("Values");
+    if (!w || !v) {
+      fail(s.line, "<SpectralDistribution> needs <Wavelengths> and <Values>");
+      return false;
+    }
+    const auto list = [&](const XmlElement& e, std::vector<double>& out_values) {
+      std::string token;
+      const std::string text = e.text + " ";
+      for (char c : text) {
+        if (std::isspace(static_cast<unsigned char>(c)) || c == ',' || c == ';') {
+          if (token.empty()) continue;
+          const auto n = parse_number(token);
+          if (!n) {
+            fail(e.line, "<" + e.name + "> '" + token + "' is not a number");
+            return false;
+          }
+          out_values.push_back(*n);
+          token.clear();
+        } else {
+          token += c;
+        }
+      }
+      return true;
+    };
+    std::vector<double> nm, values;
+    if (!list(*w, nm) || !list(*v, values)) return false;
+    if (nm.size() != values.size()) {
+      fail(v->line, "<SpectralDistribution> has " + std::to_string(nm.size()) + " wavelengths but " +
+                        std::to_string(values.size()) + " values");
+      return false;
+    }
+    const XmlElement* units = s.child("Units");
+    const std::string u = units ? upper(trimmed(units->text)) : "";
+    if (u == "RELATIVE") out.add("Normalized", "true").line = units->line;
+    for (std::size_t i = 0; i < nm.size(); ++i) {
+      XmlElement& p = out.add("PwrData", number(values[i]));
+      p.set("w", number(nm[i]));
+      p.line = v->line;
+    }
+    return true;
   }
 
   bool walk(const XmlElement& e, const std::string& path) {
@@ -301,8 +572,9 @@ class Tm33Reader {
   std::optional<bool> boolean_at(const std::string& path, bool& ok) {
     const Leaf* l = leaf(path);
     if (!l) return std::nullopt;
-    if (l->text == "true" || l->text == "1") return true;
-    if (l->text == "false" || l->text == "0") return false;
+    const std::string u = upper(l->text);  // "False" as DLC's template writes it
+    if (u == "TRUE" || u == "1") return true;
+    if (u == "FALSE" || u == "0") return false;
     fail(l->line, "<" + path.substr(path.rfind('/') + 1) + "> '" + l->text + "' is not true or false");
     ok = false;
     return std::nullopt;
@@ -326,7 +598,12 @@ class Tm33Reader {
     // Photometric type.
     d.type = PhotometricType::C;
     if (const Leaf* t = leaf("Equipment/Gonioradiometer/Type")) {
-      const std::string u = upper(t->text);
+      // "CIE_C" as published, "CIE _ C" as TM-33-23's tables print it, "Type C" and "C".
+      std::string u;
+      for (char c : upper(t->text))
+        if (!std::isspace(static_cast<unsigned char>(c))) u += c;
+      if (u.rfind("TYPE", 0) == 0) u = u.substr(4);
+      if (u.size() == 1) u = "IES_" + u;
       if (u == "CIE_C" || u == "IES_C") d.type = PhotometricType::C;
       else if (u == "CIE_B" || u == "IES_B") d.type = PhotometricType::B;
       else if (u == "CIE_A" || u == "IES_A") d.type = PhotometricType::A;
@@ -335,7 +612,7 @@ class Tm33Reader {
                           "' is not one Gonio reads (CIE_A, CIE_B, CIE_C, IES_A, IES_B, IES_C)");
         return false;
       }
-      if (u.rfind("CIE", 0) == 0) d.keywords.push_back({keyword_for("Equipment/Gonioradiometer/Type"), t->text});
+      if (u.rfind("CIE", 0) == 0) d.keywords.push_back({keyword_for("Equipment/Gonioradiometer/Type"), u});
     } else {
       info(0, "tm33-type-assumed", "no <Gonioradiometer>/<Type>: read as Type C");
     }
@@ -345,9 +622,17 @@ class Tm33Reader {
     const auto width = number_at("Luminaire/Dimensions/Width", ok);
     const auto height = number_at("Luminaire/Dimensions/Height", ok);
     if (!ok) return false;
-    if (length) d.luminaire.length_m = *length;
-    if (width) d.luminaire.width_m = *width;
-    if (height) d.luminaire.height_m = *height;
+    // Metres as the standard has them; millimetres as eulumdat-rs writes them
+    // (a 600 mm panel as 600): a dimension over 20 m is read as millimetres.
+    const double scale = std::max({length.value_or(0.0), width.value_or(0.0), height.value_or(0.0)}) > 20.0
+                             ? 1e-3 : 1.0;
+    if (scale != 1.0)
+      warn(leaf("Luminaire/Dimensions/Length") ? leaf("Luminaire/Dimensions/Length")->line : 0,
+           "tm33-dimensions-mm",
+           "luminaire dimensions over 20 m read as millimetres (the standard's unit is the metre)");
+    if (length) d.luminaire.length_m = *length * scale;
+    if (width) d.luminaire.width_m = *width * scale;
+    if (height) d.luminaire.height_m = *height * scale;
 
     // Emitter.
     photometry::LampSet lamp;
@@ -379,8 +664,8 @@ class Tm33Reader {
     std::optional<bool> absolute;
     if (const XmlElement* a = li.child("AbsolutePhotometry")) {
       const std::string t = trimmed(a->text);
-      if (t == "true" || t == "1") absolute = true;
-      else if (t == "false" || t == "0") absolute = false;
+      if (upper(t) == "TRUE" || t == "1") absolute = true;
+      else if (upper(t) == "FALSE" || t == "0") absolute = false;
       else {
         fail(a->line, "<AbsolutePhotometry> '" + t + "' is not true or false");
         return false;
@@ -421,6 +706,18 @@ class Tm33Reader {
 
     if (tilt_ && !read_tilt(*tilt_)) return false;
     if (!read_intensity(li)) return false;
+    // The dialect's <IntensityData> are candelas per 1000 lamp lumens for
+    // relative photometry: eulumdat-rs's ATLA model (crates/atla, types.rs:
+    // IntensityUnits, default CandelaPerKilolumen) writes an LDT's cd/klm into
+    // them unchanged, and its files' rated lumens only agree with their
+    // intensities so read.
+    if (per_klm_ && !d.absolute && lamp.flux_lm > 0.0) {
+      const double per_klm = lamp.flux_lm / 1000.0;
+      for (double& cd : d.candela) cd *= per_klm;
+      info(li.line, "tm33-dialect-cd-per-klm",
+           "<IntensityData> read as cd/klm (the unit of the tool that writes this layout) and scaled to the "
+           "rated " + number(lamp.flux_lm) + " lm");
+    }
     for (const XmlElement* s : spectra_)
       if (!read_spectrum(*s)) return false;
     return true;
@@ -555,14 +852,16 @@ class Tm33Reader {
     int symm_line = li.line;
     if (const XmlElement* s = li.child("Symm")) {
       symm_line = s->line;
+      // "Symm_Quad", "Symm _ Quad" as TM-33-23's tables print it, "Symm _ Bi90".
       std::string t;
-      for (char c : s->text)
-        if (!std::isspace(static_cast<unsigned char>(c))) t += c;  // "Symm _ Quad" as printed
-      if (t == "Symm_None" || t == "Symm_Arbitrary") symm = Symmetry::None;
-      else if (t == "Symm_Bi_0") symm = Symmetry::C0_C180;
-      else if (t == "Symm_Bi_90") symm = Symmetry::C90_C270;
-      else if (t == "Symm_Quad") symm = Symmetry::Quadrant;
-      else if (t == "Symm_Full") symm = Symmetry::Rotational;
+      for (char c : upper(s->text))
+        if (!std::isspace(static_cast<unsigned char>(c)) && c != '_') t += c;
+      if (t.rfind("SYMM", 0) == 0) t = t.substr(4);
+      if (t == "NONE" || t == "ARBITRARY") symm = Symmetry::None;
+      else if (t == "BI0") symm = Symmetry::C0_C180;
+      else if (t == "BI90") symm = Symmetry::C90_C270;
+      else if (t == "QUAD") symm = Symmetry::Quadrant;
+      else if (t == "FULL") symm = Symmetry::Rotational;
       else {
         fail(s->line, "<Symm> '" + trimmed(s->text) + "' is not a TM-33 symmetry");
         return false;
@@ -646,6 +945,9 @@ class Tm33Reader {
   const XmlElement* tilt_ = nullptr;
   const XmlElement* luminous_intensity_ = nullptr;
   std::vector<const XmlElement*> spectra_;
+  std::vector<std::string> dialect_;  // the dialect's rewrites used, in order
+  bool per_klm_ = false;              // intensities in the dialect's <IntensityData> (cd/klm)
+  std::optional<XmlElement> photometry_type_;  // the dialect's <PhotometryType>, the first
 };
 
 // ------------------------------------------------------------------ writing
@@ -916,7 +1218,11 @@ class Tm33Writer {
 }  // namespace
 
 const char* to_string(Tm33Version version) {
-  return version == Tm33Version::TM33_23 ? "TM-33-23" : "TM-33-18/ATLA S001";
+  switch (version) {
+    case Tm33Version::TM33_23: return "TM-33-23";
+    case Tm33Version::LuminaireOpticalData: return "ATLA S001/UNI 11733 (LuminaireOpticalData)";
+    default: return "TM-33-18/ATLA S001";
+  }
 }
 
 bool looks_like_tm33(std::string_view bytes) {
@@ -942,7 +1248,7 @@ bool looks_like_tm33(std::string_view bytes) {
              bytes[j] != '/')
         ++j;
       const std::string name = local_name(std::string(bytes.substr(i + 1, j - i - 1)));
-      return name == kRoot23 || name == kRoot18;
+      return name == kRoot23 || name == kRoot18 || name == kRootOpticalData || name == kRootAtlaSample;
     }
   }
   return false;

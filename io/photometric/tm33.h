@@ -1,6 +1,11 @@
 // IES TM-33 luminaire optical data (XML): TM-33-23 (root <IESTM33-22>,
 // Version 1.1) read and written; ATLA S001 / TM-33-18 (root <IESTM33>,
-// Version 1.0, the same model) read.
+// Version 1.0, the same model) and ATLA S001 / UNI 11733 (root
+// <LuminaireOpticalData>) read. Beside the standard's layout, the dialect
+// that other tools write (intensities as <IntensityData horz vert> directly in
+// <LuminousData> or <IntensityDistribution>, spectra as wavelength and value
+// lists, renamed elements; see Tm33Reader::normalise) is read, each
+// rewrite named in a "tm33-dialect" info line.
 //
 // Reading (what each element becomes in photometry::Distribution):
 // - Header: Manufacturer, CatalogNumber, Description, Laboratory,
@@ -36,7 +41,10 @@
 //   type or symmetry.
 //
 // Writing (TM-33-23, UTF-8, numbers with up to 15 significant digits so
-// intensities read back exactly) is the reverse; what TM-33 cannot hold, or
+// intensities read back exactly) is the reverse, in the standard's layout
+// (LuminousData/LuminousIntensity/IntData h v; SpectralData/EmitterSpectral/
+// PwrData w), the one its published examples use: the DesignLights
+// Consortium's TM-33 template and ATLA's sample document; what TM-33 cannot hold, or
 // what a required element lacks, is a warning with a stable code
 // ("tm33-...", listed in the README), never dropped silently.
 #pragma once
@@ -50,7 +58,11 @@
 
 namespace gonio::io {
 
-enum class Tm33Version { Atla_S001, TM33_23 };  // root IESTM33 (1.0) / IESTM33-22 (1.1)
+// The document's root: <IESTM33> (TM-33-18 / ATLA S001, Version 1.0; also
+// ATLA's sample root <ATLA_S001_A>), <IESTM33-22> (TM-33-23, Version 1.1),
+// <LuminaireOpticalData version="1.0"> (ATLA S001 / UNI 11733 as
+// eulumdat-rs writes it).
+enum class Tm33Version { Atla_S001, TM33_23, LuminaireOpticalData };
 
 // "TM-33-18/ATLA S001" or "TM-33-23".
 const char* to_string(Tm33Version version);
@@ -62,7 +74,8 @@ struct Tm33File {
 };
 
 // Whether the bytes are an XML document whose root element is a TM-33 one
-// (<IESTM33-22> or <IESTM33>, any namespace prefix), looking at the start of
+// (<IESTM33-22>, <IESTM33>, <LuminaireOpticalData> or <ATLA_S001_A>, any
+// namespace prefix), looking at the start of
 // the document only.
 bool looks_like_tm33(std::string_view bytes);
 
