@@ -49,17 +49,18 @@ double front_share(const IntensitySampler& s, double a, double b) {
 
 }  // namespace
 
+const BugLimits& bug_limits_lm() {
+  static const BugLimits limits;
+  return limits;
+}
+
 BugRating rate_bug(const BugZones& z) {
+  const BugLimits& l = bug_limits_lm();
   BugRating r;
   r.zones_lm = z;
-  r.b = lowest<3>({z.bh, z.bm, z.bl}, {{{110, 500, 1000, 2500, 5000},
-                                       {220, 1000, 2500, 5000, 8500},
-                                       {110, 500, 1000, 2500, 5000}}});
-  r.u = lowest<2>({z.uh, z.ul}, {{{0, 10, 50, 500, 1000}, {0, 10, 50, 500, 1000}}});
-  r.g = lowest<4>({z.fvh, z.bvh, z.fh, z.bh}, {{{10, 100, 225, 350, 350},
-                                               {10, 100, 225, 350, 350},
-                                               {660, 1800, 5000, 7500, 12000},
-                                               {110, 500, 1000, 2500, 5000}}});
+  r.b = lowest<3>({z.bh, z.bm, z.bl}, {l.bh, l.bm, l.bl});
+  r.u = lowest<2>({z.uh, z.ul}, {l.uh, l.ul});
+  r.g = lowest<4>({z.fvh, z.bvh, z.fh, z.bh}, {l.fvh, l.bvh, l.fh, l.bh_glare});
   return r;
 }
 

@@ -15,12 +15,14 @@
 // taken as dark (quadrature rounding, not light).
 //
 // Ratings: the lowest rating whose every threshold holds (lumens ≤ limit), 5
-// when none does. TM-15-11 Addendum A, tables of maximum zonal lumens:
-//   B0…B4: BH 110, 500, 1000, 2500, 5000; BM 220, 1000, 2500, 5000, 8500;
-//          BL 110, 500, 1000, 2500, 5000.
-//   U0…U4: UH 0, 10, 50, 500, 1000; UL 0, 10, 50, 500, 1000.
-//   G0…G4: FVH 10, 100, 225, 350, 350; BVH 10, 100, 225, 350, 350;
-//          FH 660, 1800, 5000, 7500, 12000; BH 110, 500, 1000, 2500, 5000.
+// when none does. The limits are bug_limits_lm() below (TM-15-11 Addendum A,
+// tables of maximum zonal lumens). Which of them an outside copy confirms,
+// and where, is stated in tests/photometry/bug_rating_test.cpp
+// (BugRating.ThresholdsAsPublished) and in the README's BUG paragraph: the
+// uplight limits U0…U3 and the G0 limit of FVH/BVH are confirmed; the rest,
+// including the glare table's FVH/BVH limits for G3 and G4 (350, 350 here;
+// equal, so no luminaire is G4 by FVH or BVH alone), could not be checked
+// against a published copy.
 #pragma once
 
 #include <array>
@@ -37,6 +39,28 @@ struct BugZones {
   double bl = 0, bm = 0, bh = 0, bvh = 0;  // back zones [lm]
   double ul = 0, uh = 0;                   // uplight [lm]
 };
+
+// TM-15-11 Addendum A: the maximum zonal lumens [lm] of ratings 0…4; above
+// the rating-4 limit the rating is 5. BH counts in the backlight and in the
+// glare table with the same limits.
+struct BugLimits {
+  using Row = std::array<double, 5>;
+  // Backlight B0…B4.
+  Row bh{110, 500, 1000, 2500, 5000};
+  Row bm{220, 1000, 2500, 5000, 8500};
+  Row bl{110, 500, 1000, 2500, 5000};
+  // Uplight U0…U4.
+  Row uh{0, 10, 50, 500, 1000};
+  Row ul{0, 10, 50, 500, 1000};
+  // Glare G0…G4.
+  Row fvh{10, 100, 225, 350, 350};
+  Row bvh{10, 100, 225, 350, 350};
+  Row fh{660, 1800, 5000, 7500, 12000};
+  Row bh_glare{110, 500, 1000, 2500, 5000};
+};
+
+// The one table rate_bug() uses.
+const BugLimits& bug_limits_lm();
 
 struct BugRating {
   int b = 0, u = 0, g = 0;  // 0…5
