@@ -78,7 +78,11 @@ enum class LengthUnit { Metre, Foot };
 
 // Luminous opening. Dimensions are positive, in metres, whatever sign
 // encoding the file used. `length_m` runs along C0–C180, `width_m` along
-// C90–C270, `height_m` vertically.
+// C90–C270, `height_m` vertically: LM-63's definitions (its length is
+// measured along the 0–180° photometric plane, its width along 90–270°).
+// EULUMDAT's luminous length lies along C90–C270 (a linear luminaire's lamp
+// axis; C0–C180 is its transverse plane), so the LDT reader and writer
+// exchange length and width (io/photometric/ldt.h).
 struct LuminousOpening {
   OpeningShape shape = OpeningShape::Point;
   double length_m = 0.0;  // [m]
@@ -112,8 +116,10 @@ enum class FileGenerationType {
 
 const char* to_string(FileGenerationType type);
 
-// Outer dimensions of the luminaire body (EULUMDAT fields 13–15). A width of
-// zero means a round luminaire of diameter `length_m`. NaN where unknown.
+// Outer dimensions of the luminaire body (EULUMDAT fields 13–15, which the
+// LDT reader and writer exchange as they do the opening's: see
+// LuminousOpening). A width of zero means a round luminaire of diameter
+// `length_m`. NaN where unknown.
 struct LuminaireDimensions {
   double length_m = kNaN;  // [m] along C0–C180, or the diameter
   double width_m = kNaN;   // [m] along C90–C270; 0 for round luminaires

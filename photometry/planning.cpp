@@ -25,7 +25,8 @@ std::vector<MethodLabel> method_labels(const PlanningFigures& p) {
                      "flux-transfer), not CIE 190's"),
        "crosswise: the luminaire straight ahead is seen in its C0 plane (its C90-C270 axis, an EULUMDAT "
        "luminaire's length, across the line of sight); endwise: in its C90 plane; at the file's flux",
-       cie190 ? "the CIE 190:2010 example table (sample_11.ldt): every cell within 0.3"
+       cie190 ? "the CIE 190:2010 example table (sample_11.ldt): largest difference 0.8, mean 0.23 (DIALux's "
+                "table departs from it as far); Relux's table of that file: every cell within 0.1"
               : "none (CIE 190's example table is met by the default cie190 background only)"});
   out.push_back({"CU", "cu_table", "IES zonal cavity method (IES Lighting Handbook)",
                  "% of the rated lamp flux (relative photometry) or of the luminaire flux (absolute); "
