@@ -1,6 +1,7 @@
 #include "tools/simulation_outputs.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <iterator>
@@ -378,6 +379,7 @@ SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDe
   constexpr double inf = std::numeric_limits<double>::infinity();
   Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
   double z_sum = 0.0;
+  std::vector<std::array<double, 2>> exits;  // seen from above [m]
   // A chunk of photons at a time: their rays, then which of them escape.
   constexpr std::uint64_t kChunk = 4096;
   std::vector<sim::RayQuery> rays;
@@ -393,6 +395,7 @@ SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDe
       lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
       hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
       z_sum += p.z;
+      exits.push_back({p.x, p.y});
       ++out.exits;
     }
   }
@@ -404,6 +407,21 @@ SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDe
   out.opening.shape = out.opening.length_m > 0.0 && out.opening.width_m > 0.0 ? photometry::OpeningShape::Rectangular
                                                                               : photometry::OpeningShape::Point;
   if (out.opening.shape == photometry::OpeningShape::Point) out.opening.length_m = out.opening.width_m = 0.0;
+  // Round: a square extent (sides within 2 %) whose corners hold no exit —
+  // at most 1 in 1000 outside the inscribed circle (1 % larger, for the
+  // offsets off the surfaces). A square opening's exits fill its corners
+  // (a fifth of its area lies outside that circle).
+  const double l = hi.x - lo.x, w = hi.y - lo.y;
+  if (out.opening.shape == photometry::OpeningShape::Rectangular && std::abs(l - w) <= 0.02 * std::max(l, w)) {
+    const double cx = 0.5 * (lo.x + hi.x), cy = 0.5 * (lo.y + hi.y), r = 0.505 * std::max(l, w);
+    std::size_t outside = 0;
+    for (const auto& q : exits)
+      if (std::hypot(q[0] - cx, q[1] - cy) > r) ++outside;
+    if (outside * 1000 <= exits.size()) {
+      out.opening.shape = photometry::OpeningShape::Circular;
+      out.opening.length_m = out.opening.width_m = mm10(std::max(l, w));
+    }
+  }
   out.centre_m = {0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), z_sum / static_cast<double>(out.exits)};
   return out;
 }

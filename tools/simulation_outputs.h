@@ -90,13 +90,14 @@ struct RunInfo {
 // emitter for light that meets none. The opening is the rectangle those
 // points cover projected on the horizontal plane, its sides along C0–C180
 // (length) and C90–C270 (width); flat (height 0), since a projection of the
-// points inside a reflector or behind a lens falls within its rim. A
-// reflector's exit points lie inside its rim, so the rectangle is the
-// aperture's bounding box (a round aperture of diameter D gives D × D, so
-// its area, and UGR through it, is taken 4/π too large: −0.8 UGR units).
-// A Point opening where nothing escapes downward.
+// points inside a reflector or behind a lens falls within its rim. It is a
+// disc instead when that rectangle is square (sides within 2 %) and its
+// corners hold no exit (at most 1 in 1000 outside the inscribed circle, 1 %
+// enlarged): a round reflector or lens. Elliptical and other shapes keep
+// their bounding rectangle (area up to 4/π too large). A Point opening where
+// nothing escapes downward.
 struct SimulatedOpening {
-  photometry::LuminousOpening opening;  // Rectangular, or Point
+  photometry::LuminousOpening opening;  // Rectangular, Circular, or Point
   Vec3 centre_m;                        // of the rectangle, photometric frame [m]
   std::uint64_t exits = 0;              // downward escapes it was found from
 };
