@@ -10,8 +10,9 @@
 //   the rated lamps (`lamps[*].flux_lm`); for absolute photometry
 //   (`absolute == true`) they are the candela measured, and no lamp flux exists.
 // - Type C: vertical angle γ, 0° = nadir, 180° = zenith; horizontal angle C,
-//   the C-plane, counter-clockwise seen from above, C0 along the luminaire's
-//   length axis. Local photometric frame: x = C0, y = C90, z = up (zenith),
+//   the C-plane, counter-clockwise seen from above, C0 along LM-63's length
+//   axis (an EULUMDAT linear luminaire's lamp axis lies along C90–C270: see
+//   LuminousOpening). Local photometric frame: x = C0, y = C90, z = up (zenith),
 //   so the direction (C, γ) is (sin γ cos C, sin γ sin C, −cos γ).
 // - Types A and B: horizontal angle H (−90…90 or 0…90 with lateral symmetry)
 //   and vertical angle V (−90…90); see photometry/angles.h for the frames.
