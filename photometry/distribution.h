@@ -10,8 +10,9 @@
 //   the rated lamps (`lamps[*].flux_lm`); for absolute photometry
 //   (`absolute == true`) they are the candela measured, and no lamp flux exists.
 // - Type C: vertical angle γ, 0° = nadir, 180° = zenith; horizontal angle C,
-//   the C-plane, counter-clockwise seen from above, C0 along the luminaire's
-//   length axis. Local photometric frame: x = C0, y = C90, z = up (zenith),
+//   the C-plane, counter-clockwise seen from above, C0 along LM-63's length
+//   axis (an EULUMDAT linear luminaire's lamp axis lies along C90–C270: see
+//   LuminousOpening). Local photometric frame: x = C0, y = C90, z = up (zenith),
 //   so the direction (C, γ) is (sin γ cos C, sin γ sin C, −cos γ).
 // - Types A and B: horizontal angle H (−90…90 or 0…90 with lateral symmetry)
 //   and vertical angle V (−90…90); see photometry/angles.h for the frames.
@@ -78,7 +79,11 @@ enum class LengthUnit { Metre, Foot };
 
 // Luminous opening. Dimensions are positive, in metres, whatever sign
 // encoding the file used. `length_m` runs along C0–C180, `width_m` along
-// C90–C270, `height_m` vertically.
+// C90–C270, `height_m` vertically: LM-63's definitions (its length is
+// measured along the 0–180° photometric plane, its width along 90–270°).
+// EULUMDAT's luminous length lies along C90–C270 (a linear luminaire's lamp
+// axis; C0–C180 is its transverse plane), so the LDT reader and writer
+// exchange length and width (io/photometric/ldt.h).
 struct LuminousOpening {
   OpeningShape shape = OpeningShape::Point;
   double length_m = 0.0;  // [m]
@@ -112,8 +117,10 @@ enum class FileGenerationType {
 
 const char* to_string(FileGenerationType type);
 
-// Outer dimensions of the luminaire body (EULUMDAT fields 13–15). A width of
-// zero means a round luminaire of diameter `length_m`. NaN where unknown.
+// Outer dimensions of the luminaire body (EULUMDAT fields 13–15, which the
+// LDT reader and writer exchange as they do the opening's: see
+// LuminousOpening). A width of zero means a round luminaire of diameter
+// `length_m`. NaN where unknown.
 struct LuminaireDimensions {
   double length_m = kNaN;  // [m] along C0–C180, or the diameter
   double width_m = kNaN;   // [m] along C90–C270; 0 for round luminaires

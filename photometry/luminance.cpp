@@ -81,10 +81,18 @@ double projected_area_m2(const LuminousOpening& o, double c_deg, double gamma_de
       const double* sh = o.side_height_m;
       double a = kPi / 4 * dia * dia * std::abs(dz);
       if (std::isfinite(sh[0]) || std::isfinite(sh[1]) || std::isfinite(sh[2]) || std::isfinite(sh[3])) {
-        // EULUMDAT round opening with side heights: bottom only from below.
+        // EULUMDAT round opening with side heights: bottom only from below;
+        // the side is a cylinder's, D h sin γ, with the height of the side
+        // the viewer faces (h_C0 or h_C180 across C0–C180, h_C90 or h_C270
+        // across C90–C270, blended by cos² C and sin² C between them).
         a = kPi / 4 * dia * dia * down;
-        a += dia * (std::max(0.0, dx) * known(sh[0]) + std::max(0.0, -dx) * known(sh[2]) +
-                    std::max(0.0, dy) * known(sh[1]) + std::max(0.0, -dy) * known(sh[3]));
+        const double horiz = std::hypot(dx, dy);
+        if (horiz > 0.0) {
+          const double cx = dx / horiz, cy = dy / horiz;
+          const double h_x = cx >= 0.0 ? known(sh[0]) : known(sh[2]);
+          const double h_y = cy >= 0.0 ? known(sh[1]) : known(sh[3]);
+          a += dia * horiz * (cx * cx * h_x + cy * cy * h_y);
+        }
         return a;
       }
       return a + dia * h * std::hypot(dx, dy);

@@ -4,12 +4,20 @@
 //
 // Projected area (the opening as a convex luminous body; dimensions from
 // photometry::LuminousOpening, x = C0–C180 = length, y = C90–C270 = width,
-// z = height). Seen from the direction d(C, γ) of the photometric frame:
+// z = height — LM-63's axes; an EULUMDAT file's length lies along C90–C270
+// and its reader puts it into `width_m`, io/photometric/ldt.h). Seen from
+// the direction d(C, γ) of the photometric frame:
 // - flat openings facing down (rectangle, disc, ellipse): A·cos γ below the
 //   horizontal, 0 above;
 // - a box (RectangularWithSides): the bottom plus the sides that face the
-//   viewer, A_b cos γ + sin γ (|cos C| w h + |sin C| l h); EULUMDAT's four side
-//   heights (C0, C90, C180, C270) are used per side where the file has them;
+//   viewer, A_b cos γ + sin γ (|cos C| w h + |sin C| l h): the faces toward
+//   C0 and C180 are as broad as the width (the C90–C270 extent), those
+//   toward C90 and C270 as the length. EULUMDAT's four side heights (C0, C90,
+//   C180, C270) are used per side where the file has them: h_C0 for the face
+//   toward C0 (C in (270°, 90°)), h_C180 otherwise, h_C90 for C in (0°, 180°),
+//   h_C270 otherwise (CIE 117's A_bottom cos γ + A_side(C) sin γ);
+// - an EULUMDAT round opening with side heights: the disc plus a cylinder's
+//   side D h sin γ, h the facing side's height (blended by cos² C, sin² C);
 // - cylinders, spheres and ellipsoids: the exact projected area of the solid
 //   (e.g. a vertical cylinder πD²/4 |cos γ| + D h sin γ);
 // - vertical discs and ellipses (LM-63-2019) face C0: A·max(0, d·x);

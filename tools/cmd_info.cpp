@@ -34,10 +34,13 @@ constexpr const char* kDescription =
     "fraction (DFF), zonal flux, maximum intensity and its direction, beam (50 %) and\n"
     "field (10 %) angles in the C0-C180 and C90-C270 planes, CIE flux code, and\n"
     "efficacy where the input watts are known; and the light-planning figures: UGR\n"
-    "table (CIE 117 tabular method, CIE 190 rooms and reflectances, S = 0.25H),\n"
-    "coefficients of utilisation (IES zonal cavity method), IES spacing criterion,\n"
-    "BUG rating (IES TM-15-11) and the luminance table (README \"Light-planning\n"
-    "figures\" states each method). Reader warnings go to stderr as\n"
+    "table (CIE 190:2010 catalogue table: CIE 117 tabular method, CIE 190 rooms,\n"
+    "reflectances and background luminance, S = 0.25H), coefficients of\n"
+    "utilisation (IES zonal cavity method), IES spacing criterion, BUG rating\n"
+    "(IES TM-15-11 Addendum A) and the luminance table, each with its method,\n"
+    "convention and the outside reference it is checked against (\"Methods\";\n"
+    "--json: \"methods\"; README \"Light-planning figures\"). Reader warnings go\n"
+    "to stderr as\n"
     "'gonio: FILE:LINE: warning: message [code]'.\n"
     "\n"
     "With --json, stdout is one JSON object; units are in the key names (flux_lm,\n"
@@ -181,7 +184,8 @@ std::string sc_text(const photometry::SpacingValue& v) {
 // the full tables are in --json and the datasheet).
 void planning_rows(Table& t, const photometry::PlanningFigures& p) {
   if (p.ugr.defined) {
-    std::string u = "reflectances 70/50/20, S = 0.25H, crosswise / endwise";
+    std::string u = "reflectances 70/50/20, S = " + fmt(p.ugr.spacing_h, 2) + "H, crosswise / endwise, background " +
+                    photometry::to_string(p.ugr.background);
     for (const auto& r : p.ugr.rooms) {
       if (!((r.x_h == 4 && r.y_h == 8) || (r.x_h == 8 && r.y_h == 4) || (r.x_h == 2 && r.y_h == 2) ||
             (r.x_h == 12 && r.y_h == 8)))
@@ -236,6 +240,11 @@ void planning_rows(Table& t, const photometry::PlanningFigures& p) {
   } else {
     t.row("Luminance", why_or(p.luminance.why_undefined));
   }
+  std::string methods;
+  for (const photometry::MethodLabel& m : photometry::method_labels(p))
+    methods += (methods.empty() ? "" : "\n") + m.figure + ": " + m.method + "\n  convention: " + m.convention +
+               "\n  checked against: " + m.checked_against;
+  t.row("Methods", methods);
 }
 
 void print_table(const std::string& path, const io::PhotometricFile& file, const Summary& s,
@@ -359,6 +368,7 @@ json spacing_json(const photometry::SpacingValue& v) {
 void planning_json(json& j, const photometry::PlanningFigures& p) {
   if (p.ugr.defined) {
     json u;
+    u["background"] = photometry::to_string(p.ugr.background);
     u["spacing_h"] = p.ugr.spacing_h;
     u["reflectances"] = json::array();
     for (const auto& r : photometry::kUgrReflectances) u["reflectances"].push_back({r[0], r[1], r[2]});
@@ -431,6 +441,13 @@ void planning_json(json& j, const photometry::PlanningFigures& p) {
     j["luminance_table"] = nullptr;
     j["luminance_table_why"] = p.luminance.why_undefined;
   }
+  json methods = json::object();
+  for (const photometry::MethodLabel& m : photometry::method_labels(p))
+    methods[m.key] = {{"figure", m.figure},
+                      {"method", m.method},
+                      {"convention", m.convention},
+                      {"checked_against", m.checked_against}};
+  j["methods"] = methods;
 }
 
 json info_json(const std::string& path, const io::PhotometricFile& file, const Summary& s,
@@ -497,14 +514,19 @@ int run_info(const Args& args) {
   std::string path;
   bool as_json = false;
   double floor_reflectance = 0.2;
+  std::string ugr_background = photometry::to_string(photometry::UgrBackground::Cie190);
   InputOptions input;
-  ArgParser parser("info", "FILE [--json] [--cu-floor RHO] [--ldt-isym3 standard|qlumedit]", kDescription);
+  ArgParser parser("info",
+                   "FILE [--json] [--cu-floor RHO] [--ugr-background cie190|flux-transfer] "
+                   "[--ldt-isym3 standard|qlumedit]",
+                   kDescription);
   parser.positional("FILE", &path,
                     "An IES LM-63 (.ies), EULUMDAT (.ldt), TM-33 (.xml) or GLDF (.gldf: every photometry "
                     "inside) file; other names by their content.");
   parser.flag("json", &as_json, "Print one JSON object instead of the table.");
   parser.option("cu-floor", &floor_reflectance, 0.0, 0.95, "RHO",
                 "Effective floor cavity reflectance of the CU table, 0..1 (default 0.2).");
+  add_ugr_background_option(parser, &ugr_background);
   add_input_options(parser, &input);
   if (const auto outcome = parser.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
@@ -518,7 +540,7 @@ int run_info(const Args& args) {
     const io::PhotometricFile& file = (*files)[i];
     const std::string name = container ? path + ":" + file.container_entry : path;
     const Summary s = photometry::summarize(file.distribution);
-    const photometry::PlanningFigures planning = photometry::planning_figures(file.distribution, floor_reflectance);
+    const photometry::PlanningFigures planning = photometry::planning_figures(file.distribution, floor_reflectance, ugr_options(ugr_background));
     if (as_json) {
       json j = info_json(name, file, s, planning);
       if (container) j["gldf_photometry_id"] = file.container_id;

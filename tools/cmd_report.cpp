@@ -16,17 +16,20 @@ int run_report(const Args& args) {
   std::vector<std::string> files;
   std::string out;
   double height = 3.0, floor_reflectance = 0.2;
+  std::string ugr_background = photometry::to_string(photometry::UgrBackground::Cie190);
   bool timing = false;
   InputOptions input;
-  ArgParser p("report", "FILE... --out X.html|X.pdf [--height M] [--cu-floor RHO]",
+  ArgParser p("report", "FILE... --out X.html|X.pdf [--height M] [--cu-floor RHO] [--ugr-background cie190|flux-transfer]",
               "Writes the datasheet of one or more IES LM-63 (.ies) or EULUMDAT (.ldt) files:\n"
               "identification, polar and cartesian intensity diagrams, cone diagram and isolux\n"
-              "plot on the floor at the mounting height, zonal lumens, UGR table (CIE 117/190),\n"
-              "coefficients of utilisation (IES zonal cavity), spacing criterion (IES), BUG\n"
-              "rating (IES TM-15-11), luminance table, efficacy and the candela table.\n"
+              "plot on the floor at the mounting height, zonal lumens, UGR table (CIE\n"
+              "190:2010), coefficients of utilisation (IES zonal cavity), spacing criterion\n"
+              "(IES), BUG rating (IES TM-15-11 Addendum A), luminance table, efficacy and the\n"
+              "candela table.\n"
               "HTML is one self-contained file (inline SVG, no external resource); PDF is that\n"
               "page printed by a headless Chromium (Debian package chromium, or\n"
-              "$GONIO_CHROMIUM). Methods: README \"Light-planning figures\".\n"
+              "$GONIO_CHROMIUM). Each figure says its method, convention and the outside\n"
+              "reference it is checked against; README \"Light-planning figures\".\n"
               "\n"
               "Exit status: 0 written, 1 a file could not be read or the sheet not written,\n"
               "2 usage error.\n"
@@ -39,6 +42,7 @@ int run_report(const Args& args) {
   p.option("height", &height, 0.1, 1000.0, "M", "mounting height of the cone diagram and isolux plot [m] (default 3)");
   p.option("cu-floor", &floor_reflectance, 0.0, 0.95, "RHO",
            "effective floor cavity reflectance of the CU table, 0..1 (default 0.2)");
+  add_ugr_background_option(p, &ugr_background);
   p.flag("timing", &timing, "print the time taken to stderr");
   add_input_options(p, &input);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
@@ -62,6 +66,7 @@ int run_report(const Args& args) {
   io::DatasheetOptions options;
   options.mounting_height_m = height;
   options.floor_reflectance = floor_reflectance;
+  options.ugr = ugr_options(ugr_background);
   if (Status s = io::write_datasheet(out, entries, options); !s.ok()) {
     print_error(s.error());
     return kExitFailure;

@@ -398,6 +398,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   request.symmetry = symmetry;
   request.ies_version = plan.ies_version;
   request.cache_dir = plan.model_input.cache_dir;
+  request.opening = simulated_opening(sim->tracer(), sim->scene(), settings.seed);
   request.run.program_version = kVersion;
   request.run.model = model;
   request.run.photons = st.photons;

@@ -14,6 +14,22 @@ void add_input_options(ArgParser& parser, InputOptions* options) {
                 "else the first.");
 }
 
+void add_ugr_background_option(ArgParser& parser, std::string* word) {
+  parser.choice("ugr-background", word,
+                {photometry::to_string(photometry::UgrBackground::Cie190),
+                 photometry::to_string(photometry::UgrBackground::FluxTransfer)},
+                "Background luminance of the UGR table: 'cie190' as CIE 190:2010 eq. 7-12 with its "
+                "Tables 4 and 5 (what DIALux, Relux and the CIE's example use; default), or "
+                "'flux-transfer', Gonio's own inter-reflection model of each room (README "
+                "\"Light-planning figures\" says when they differ).");
+}
+
+photometry::UgrOptions ugr_options(const std::string& word) {
+  photometry::UgrOptions o;
+  o.background = photometry::parse_ugr_background(word).value_or(photometry::UgrBackground::Cie190);
+  return o;
+}
+
 io::LdtIsym3Order isym3_order(const std::string& word) {
   return word == kIsym3QLumEdit ? io::LdtIsym3Order::C90_C180_C270 : io::LdtIsym3Order::C270_C0_C90;
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "io/photometric/photometric_file.h"
+#include "photometry/ugr.h"
 #include "tools/cli.h"
 
 namespace gonio::cli {
@@ -23,6 +24,12 @@ struct InputOptions {
 void add_input_options(ArgParser& parser, InputOptions* options);
 
 io::LdtIsym3Order isym3_order(const std::string& word);
+
+// Registers --ugr-background cie190|flux-transfer (info, report): the UGR
+// table's background luminance, photometry/ugr.h.
+void add_ugr_background_option(ArgParser& parser, std::string* word);
+// The UGR options of a word of that choice.
+photometry::UgrOptions ugr_options(const std::string& word);
 io::PhotometricReadOptions read_options(const InputOptions& options);
 
 // Reads a file and prints the reader's warnings (and, with `print_info`, its

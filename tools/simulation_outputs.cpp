@@ -1,6 +1,7 @@
 #include "tools/simulation_outputs.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <iterator>
@@ -180,6 +181,16 @@ Status write_gldf_file(const Distribution& d, const sim::SceneDesc& scene, const
   product.photometries.push_back(
       {request.stem + ".ies", "ldc/ies", ies_text(d, request, &file->writer_notes), d});
   product.geometry = io::l3d_from_scene(scene);
+  if (request.opening && request.opening->opening.shape != photometry::OpeningShape::Point) {
+    // The light-emitting object is the luminous opening the files carry.
+    const SimulatedOpening& o = *request.opening;
+    io::L3dEmitter leo;
+    leo.name = "lightEmittingObject";
+    leo.position_m = o.centre_m;
+    leo.size_x_m = o.opening.length_m;
+    leo.size_y_m = o.opening.width_m;
+    product.geometry->emitters = {leo};
+  }
   product.created_unix = now_unix();
   Result<std::string> bytes = io::write_gldf(product);
   if (!bytes.ok()) return make_error(file->path, bytes.error().message);
@@ -362,6 +373,59 @@ Result<std::vector<OutputFormat>> parse_formats(const std::string& list) {
   return out;
 }
 
+SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDesc& scene, std::uint64_t seed,
+                                   std::uint64_t photons) {
+  SimulatedOpening out;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  double z_sum = 0.0;
+  std::vector<std::array<double, 2>> exits;  // seen from above [m]
+  // A chunk of photons at a time: their rays, then which of them escape.
+  constexpr std::uint64_t kChunk = 4096;
+  std::vector<sim::RayQuery> rays;
+  for (std::uint64_t first = 0; first < photons; first += kChunk) {
+    rays.clear();
+    tracer.record_rays(seed, first, std::min(kChunk, photons - first), &rays);
+    for (const sim::RayQuery& q : rays) {
+      const Vec3 dir = scene.frame.to_local(Vec3{q.direction[0], q.direction[1], q.direction[2]});
+      if (!(dir.z < 0.0)) continue;  // upward or horizontal: not seen from below
+      sim::RayHit hit;
+      if (tracer.embree().intersect(q, &hit)) continue;  // not an escape
+      const Vec3 p = scene.frame.to_local(Vec3{q.origin[0], q.origin[1], q.origin[2]});
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+      z_sum += p.z;
+      exits.push_back({p.x, p.y});
+      ++out.exits;
+    }
+  }
+  if (out.exits == 0) return out;
+  // To 0.1 mm, as the outer dimensions: float positions carry no finer size.
+  const auto mm10 = [](double m) { return std::round(m * 1e4) / 1e4; };
+  out.opening.length_m = mm10(hi.x - lo.x);
+  out.opening.width_m = mm10(hi.y - lo.y);
+  out.opening.shape = out.opening.length_m > 0.0 && out.opening.width_m > 0.0 ? photometry::OpeningShape::Rectangular
+                                                                              : photometry::OpeningShape::Point;
+  if (out.opening.shape == photometry::OpeningShape::Point) out.opening.length_m = out.opening.width_m = 0.0;
+  // Round: a square extent (sides within 2 %) whose corners hold no exit —
+  // at most 1 in 1000 outside the inscribed circle (1 % larger, for the
+  // offsets off the surfaces). A square opening's exits fill its corners
+  // (a fifth of its area lies outside that circle).
+  const double l = hi.x - lo.x, w = hi.y - lo.y;
+  if (out.opening.shape == photometry::OpeningShape::Rectangular && std::abs(l - w) <= 0.02 * std::max(l, w)) {
+    const double cx = 0.5 * (lo.x + hi.x), cy = 0.5 * (lo.y + hi.y), r = 0.505 * std::max(l, w);
+    std::size_t outside = 0;
+    for (const auto& q : exits)
+      if (std::hypot(q[0] - cx, q[1] - cy) > r) ++outside;
+    if (outside * 1000 <= exits.size()) {
+      out.opening.shape = photometry::OpeningShape::Circular;
+      out.opening.length_m = out.opening.width_m = mm10(std::max(l, w));
+    }
+  }
+  out.centre_m = {0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), z_sum / static_cast<double>(out.exits)};
+  return out;
+}
+
 Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry symmetry, const sim::SceneDesc& scene,
                                     const sim::Ledger& ledger, const OutputRequest& request) {
   Distribution d = sim::to_distribution(binned, symmetry);
@@ -375,6 +439,7 @@ Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry sym
   lamp.flux_lm = emitted;
   d.lamps = {lamp};
   d.luminaire = bounding_box(scene);
+  if (request.opening) d.opening = request.opening->opening;
 
   const std::string model = file_stem_name(request.run.model);
   std::string emitters_text;

@@ -27,9 +27,10 @@
 // Lamp data: one set, count = number of emitters, rated flux = the emitters'
 // flux [lm] (relative photometry), so a planning program's LOR is
 // escaped / emitted. Nothing is invented: no test lab, no manufacturer (both
-// say so), the luminous opening is a point (Gonio does not know which
-// surfaces glow), and the luminaire's outer dimensions are the bounding box
-// of its meshes in the photometric frame.
+// say so), the luminaire's outer dimensions are the bounding box of its
+// meshes in the photometric frame, and the luminous opening is what
+// simulated_opening() finds where the light leaves the model (a point when
+// the request carries none).
 //
 // Read-back. Each file is read by Gonio's own reader and integrated:
 // IES and LDT by photometry::total_flux_lm() (for LDT, cd/klm × lamp flux),
@@ -56,6 +57,7 @@
 #include "sim/resample.h"
 #include "sim/scene.h"
 #include "sim/symmetry.h"
+#include "sim/tracer.h"
 
 namespace gonio::cli {
 
@@ -80,6 +82,28 @@ struct RunInfo {
   std::string issue_date;            // [ISSUEDATE] and the LDT date field, YYYY-MM-DD
 };
 
+// The luminous opening of a simulated luminaire, as the light leaves it: the
+// photons [0, photons) of the run `seed` are traced again (the same photons
+// the run began with) and every escape that leaves downward (below the
+// horizontal of the photometric frame: the light an observer below sees) is
+// taken at the point it leaves from — the last surface it met, or the
+// emitter for light that meets none. The opening is the rectangle those
+// points cover projected on the horizontal plane, its sides along C0–C180
+// (length) and C90–C270 (width); flat (height 0), since a projection of the
+// points inside a reflector or behind a lens falls within its rim. It is a
+// disc instead when that rectangle is square (sides within 2 %) and its
+// corners hold no exit (at most 1 in 1000 outside the inscribed circle, 1 %
+// enlarged): a round reflector or lens. Elliptical and other shapes keep
+// their bounding rectangle (area up to 4/π too large). A Point opening where
+// nothing escapes downward.
+struct SimulatedOpening {
+  photometry::LuminousOpening opening;  // Rectangular, Circular, or Point
+  Vec3 centre_m;                        // of the rectangle, photometric frame [m]
+  std::uint64_t exits = 0;              // downward escapes it was found from
+};
+SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDesc& scene, std::uint64_t seed,
+                                   std::uint64_t photons = std::uint64_t{1} << 16);
+
 struct OutputRequest {
   std::string directory;             // exists
   std::string stem;                  // file names: STEM.ies, …
@@ -89,6 +113,9 @@ struct OutputRequest {
   io::IesVersion ies_version = io::IesVersion::LM63_2019;  // 2019 or 2002
   RunInfo run;
   std::string cache_dir;  // where resamplers are kept (tools/resampler_cache.h); empty: none
+  // The opening the IES and LDT carry and the GLDF's light-emitting object
+  // takes; none: a point opening, and the L3D object where the emitters are.
+  std::optional<SimulatedOpening> opening;
 };
 
 // One file written and read back.

@@ -224,10 +224,9 @@ std::string ugr_html(const photometry::UgrTable& u) {
     for (double v : r.endwise) t += "<td>" + fmt(v, 1) + "</td>";
     t += "</tr>\n";
   }
-  t += "</table><p class=note>CIE 117 tabular method with CIE 190's rooms and reflectances "
-       "(ceiling/walls/working plane), spacing S = " +
-       fmt(u.spacing_h, 2) + "H, for " + fmt(u.flux_lm, 0) +
-       " lm; for another flux F add 8 log10(F / " + fmt(u.flux_lm, 0) + ").</p>\n";
+  t += "</table><p class=note>Reflectances ceiling/walls/working plane; spacing S = " + fmt(u.spacing_h, 2) +
+       "H; for " + fmt(u.flux_lm, 0) + " lm; for another flux F add 8 log10(F / " + fmt(u.flux_lm, 0) +
+       ").</p>\n";
   return t;
 }
 
@@ -283,7 +282,15 @@ Result<std::string> entry_html(const DatasheetEntry& e, const DatasheetOptions& 
     return err;
   }
   const photometry::Summary s = photometry::summarize(d);
-  const photometry::PlanningFigures p = photometry::planning_figures(d, o.floor_reflectance);
+  const photometry::PlanningFigures p = photometry::planning_figures(d, o.floor_reflectance, o.ugr);
+  const std::vector<photometry::MethodLabel> labels = photometry::method_labels(p);
+  const auto method = [&](const char* key) {
+    for (const photometry::MethodLabel& m : labels)
+      if (m.key == key)
+        return "<p class=note>Method: " + esc(m.method) + ". Convention: " + esc(m.convention) +
+               ". Checked against: " + esc(m.checked_against) + ".</p>\n";
+    return std::string();
+  };
   const photometry::IntensitySampler sampler(d);
   std::string name = keyword(d, "LUMINAIRE");
   if (name.empty()) name = fs::path(e.source).filename().string();
@@ -348,15 +355,16 @@ Result<std::string> entry_html(const DatasheetEntry& e, const DatasheetOptions& 
        " m; maximum " + fmt(emax, 1) + " lx.</p></div></div>\n";
 
   h += "<h2>Zonal lumen summary</h2>\n<div class=grid>" + zones_table(s) + "</div>\n";
-  h += "<h2>UGR table</h2>\n" + ugr_html(p.ugr);
-  h += "<h2>Coefficients of utilisation</h2>\n" + cu_html(p.cu);
+  h += "<h2>UGR table</h2>\n" + ugr_html(p.ugr) + method("ugr_table");
+  h += "<h2>Coefficients of utilisation</h2>\n" + cu_html(p.cu) + method("cu_table");
   h += "<h2>Spacing criterion (IES)</h2>\n<table>" + row("C0-C180", sc_text(p.spacing.c0_c180)) +
-       row("C90-C270", sc_text(p.spacing.c90_c270)) + row("diagonal (square array side)", sc_text(p.spacing.diagonal)) + "</table>\n";
+       row("C90-C270", sc_text(p.spacing.c90_c270)) + row("diagonal (square array side)", sc_text(p.spacing.diagonal)) + "</table>\n" +
+       method("spacing_criterion");
   const auto& z = p.bug.zones_lm;
   h += "<h2>BUG rating " + photometry::to_string(p.bug) + "</h2>\n<table><tr><th></th><th>L 0–30°</th><th>M 30–60°</th><th>H 60–80°</th><th>VH 80–90°</th></tr>\n";
   h += "<tr><th>front (C0–C180)</th><td>" + fmt(z.fl, 0) + "</td><td>" + fmt(z.fm, 0) + "</td><td>" + fmt(z.fh, 0) + "</td><td>" + fmt(z.fvh, 0) + "</td></tr>\n";
   h += "<tr><th>back (C180–C360)</th><td>" + fmt(z.bl, 0) + "</td><td>" + fmt(z.bm, 0) + "</td><td>" + fmt(z.bh, 0) + "</td><td>" + fmt(z.bvh, 0) + "</td></tr>\n";
-  h += "<tr><th>uplight</th><td colspan=2>UL 90–100°: " + fmt(z.ul, 0) + "</td><td colspan=2>UH 100–180°: " + fmt(z.uh, 0) + "</td></tr></table>\n<p class=note>Luminaire lumens per zone (IES TM-15-11 with Addendum A).</p>\n";
+  h += "<tr><th>uplight</th><td colspan=2>UL 90–100°: " + fmt(z.ul, 0) + "</td><td colspan=2>UH 100–180°: " + fmt(z.uh, 0) + "</td></tr></table>\n<p class=note>Luminaire lumens per zone (IES TM-15-11 with Addendum A).</p>\n" + method("bug");
   h += "<h2>Luminance table</h2>\n";
   if (p.luminance.defined) {
     h += "<table><tr><th>γ</th><th>C0 cd/m²</th><th>C90 cd/m²</th><th>C0, bottom only</th><th>C90, bottom only</th></tr>\n";
@@ -368,6 +376,7 @@ Result<std::string> entry_html(const DatasheetEntry& e, const DatasheetOptions& 
   } else {
     h += "<p>Not defined — " + esc(p.luminance.why_undefined) + ".</p>\n";
   }
+  h += method("luminance_table");
   if (e.simulation_report) h += "<h2>Energy ledger of the simulation</h2>\n" + ledger_html(*e.simulation_report);
   h += "<h2>Candela table</h2>\n" + candela_table(d);
   return h + "</section>\n";

@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "photometry/distribution.h"
+#include "photometry/ugr.h"
 
 namespace gonio::io {
 
@@ -34,6 +35,7 @@ struct DatasheetEntry {
 struct DatasheetOptions {
   double mounting_height_m = 3.0;   // isolux and cone diagram [m]
   double floor_reflectance = 0.2;   // CU table's floor cavity [1]
+  photometry::UgrOptions ugr;       // UGR table's background and spacing
 };
 
 // The whole page. Errors: a distribution that fails photometry::validate

@@ -108,6 +108,9 @@ struct L3dGeometry {
 // meshes' vertices as placed; at least 1 mm a side), at their mean height,
 // on the body. One object, because a GLDF emitter's photometry is the whole
 // luminaire's: several objects referring to it would multiply its flux.
+// `gonio simulate` replaces that rectangle by the luminous opening its LDT
+// and IES carry (where the light leaves the model, seen from above:
+// tools/simulation_outputs.h, simulated_opening()).
 //
 // World meshes go into the body's OBJ. An instanced mesh is written once
 // per scale it is placed at (an OBJ scaled and turned into the luminaire

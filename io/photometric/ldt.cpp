@@ -565,20 +565,26 @@ class LdtReader {
     d_.input_watts = sets_[0].set.power_w;
 
     // Geometry.
-    d_.luminaire = {dims_[0] / 1000.0, dims_[1] / 1000.0, dims_[2] / 1000.0};
+    // EULUMDAT's lengths (fields 13 and 16) lie along C90–C270, its widths
+    // (14 and 17) along C0–C180; the model's length runs along C0–C180
+    // (LM-63's convention), so the two change places. A width of 0: round.
+    const double lum_length = dims_[0] / 1000.0, lum_width = dims_[1] / 1000.0;
+    d_.luminaire = {lum_width == 0.0 ? lum_length : lum_width, lum_width == 0.0 ? 0.0 : lum_length,
+                    dims_[2] / 1000.0};
     auto& o = d_.opening;
-    o.length_m = dims_[3] / 1000.0;
-    o.width_m = dims_[4] / 1000.0;
+    const double area_length = dims_[3] / 1000.0, area_width = dims_[4] / 1000.0;
+    o.length_m = area_width;
+    o.width_m = area_length;
     double height = 0.0;
     for (int i = 0; i < 4; ++i) {
       o.side_height_m[i] = dims_[5 + i] / 1000.0;
       height = std::max(height, o.side_height_m[i]);
     }
     o.height_m = height;
-    if (o.length_m == 0.0 && o.width_m == 0.0) {
+    if (area_length == 0.0 && area_width == 0.0) {
       o.shape = OpeningShape::Point;
-    } else if (o.width_m == 0.0) {
-      o.width_m = o.length_m;
+    } else if (area_width == 0.0) {
+      o.length_m = o.width_m = area_length;
       o.shape = height > 0.0 ? OpeningShape::VerticalCylinder : OpeningShape::Circular;
     } else {
       o.shape = height > 0.0 ? OpeningShape::RectangularWithSides : OpeningShape::Rectangular;
@@ -1087,11 +1093,14 @@ class LdtWriter {
     if (!std::isfinite(lum.length_m) || !std::isfinite(lum.width_m) || !std::isfinite(lum.height_m))
       w_.warn(Severity::Info, "ldt-dimensions-unknown",
               "unknown luminaire dimensions are written as 0");
-    mm(lum.length_m);
-    mm(lum.width_m);
+    // EULUMDAT's length lies along C90–C270, the model's along C0–C180 (a
+    // round luminaire: the diameter and a width of 0).
+    const bool round = std::isfinite(lum.width_m) && lum.width_m == 0.0;
+    mm(round ? lum.length_m : lum.width_m);
+    mm(round ? 0.0 : lum.length_m);
     mm(lum.height_m);
     const auto& o = d_.opening;
-    double area_length = o.length_m, area_width = o.width_m;
+    double area_length = o.width_m, area_width = o.length_m;
     bool has_height = false;
     switch (o.shape) {
       case OpeningShape::Point:
@@ -1103,9 +1112,11 @@ class LdtWriter {
         has_height = true;
         break;
       case OpeningShape::Circular:
+        area_length = std::max(o.length_m, o.width_m);
         area_width = 0.0;
         break;
       case OpeningShape::VerticalCylinder:
+        area_length = std::max(o.length_m, o.width_m);
         area_width = 0.0;
         has_height = true;
         break;

@@ -76,7 +76,12 @@
 //   go to lamps[i].type. The writer fills date/user from ISSUEDATE, else
 //   from DATE; every other keyword is reported as a warning, never dropped
 //   silently.
-// - Dimensions are millimetres in the file and metres in the model. A
+// - Dimensions are millimetres in the file and metres in the model.
+//   EULUMDAT's lengths (luminaire, field 13; luminous area, field 16) lie
+//   along C90–C270 and its widths along C0–C180, the model's length along
+//   C0–C180 (LM-63's axes): the reader puts the file's length into width_m
+//   and its width into length_m, the writer back (IES ⇄ LDT conversion keeps
+//   each axis's extent on its axis). A
 //   luminous area width of 0 means circular (width_m = length_m); non-zero
 //   side heights make it RectangularWithSides or VerticalCylinder with
 //   height_m the largest of the four, which are kept in side_height_m.

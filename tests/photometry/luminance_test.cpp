@@ -58,6 +58,25 @@ TEST(ProjectedArea, EulumdatSideHeightsPerFace) {
   EXPECT_NEAR(projected_area_m2(o, 270, 60), 0.5 * 0.5 + 1.0 * 0.1 * s, 1e-12);
 }
 
+// An EULUMDAT round opening with side heights (a disc of diameter D over a
+// cylinder's side, CIE 117's A_bottom cos γ + A_side sin γ with A_side =
+// D h): the same side area from every C when the heights are equal (a box
+// reading, D h (|cos C| + |sin C|), would be √2 larger at C45), and the
+// facing side's height where they differ.
+TEST(ProjectedArea, EulumdatRoundOpeningWithSideHeights) {
+  auto o = opening(OpeningShape::VerticalCylinder, 0.075, 0.075, 0.083);
+  for (double& h : o.side_height_m) h = 0.083;
+  const double c60 = 0.5, s60 = std::sin(60 * kDeg), disc = kPi / 4 * 0.075 * 0.075;
+  for (double c : {0.0, 30.0, 45.0, 135.0, 300.0})
+    EXPECT_NEAR(projected_area_m2(o, c, 60), disc * c60 + 0.075 * 0.083 * s60, 1e-12) << "C " << c;
+  o.side_height_m[0] = 0.02;  // toward C0
+  o.side_height_m[1] = 0.04;  // toward C90
+  EXPECT_NEAR(projected_area_m2(o, 0, 60), disc * c60 + 0.075 * 0.02 * s60, 1e-12);
+  EXPECT_NEAR(projected_area_m2(o, 90, 60), disc * c60 + 0.075 * 0.04 * s60, 1e-12);
+  EXPECT_NEAR(projected_area_m2(o, 180, 60), disc * c60 + 0.075 * 0.083 * s60, 1e-12);
+  EXPECT_NEAR(projected_area_m2(o, 45, 60), disc * c60 + 0.075 * 0.03 * s60, 1e-12);
+}
+
 // A flat Lambertian disc has one luminance in every direction: I₀ / A.
 TEST(LuminanceTable, LambertianDiscIsUniform) {
   Distribution d = sample_direction(PhotometricType::C, Symmetry::Rotational, {0},

@@ -107,6 +107,27 @@ TEST(CliInfoPlanning, JsonHasTheIssuesKeysAndShapes) {
   EXPECT_EQ(l["gamma_deg"].size(), 9u);
   // Uniform luminance I0 / A of a Lambertian disc: (800/π) / (π 0.09).
   EXPECT_NEAR(l["cd_m2"][0][0].get<double>(), 800 / (3.14159265358979 * 3.14159265358979 * 0.09), 1.0);
+  // Each figure says its method, convention and outside reference.
+  EXPECT_EQ(u["background"], "cie190");
+  const json& m = j["methods"];
+  for (const char* key : {"ugr_table", "cu_table", "spacing_criterion", "bug", "luminance_table"})
+    for (const char* field : {"figure", "method", "convention", "checked_against"})
+      EXPECT_FALSE(m[key][field].get<std::string>().empty()) << key << "." << field;
+  EXPECT_TRUE(contains(m["ugr_table"]["method"].get<std::string>(), "CIE 190")) << m.dump();
+  EXPECT_TRUE(contains(m["ugr_table"]["checked_against"].get<std::string>(), "example")) << m.dump();
+  EXPECT_TRUE(contains(m["bug"]["method"].get<std::string>(), "TM-15-11 Addendum A")) << m.dump();
+  EXPECT_TRUE(contains(m["cu_table"]["method"].get<std::string>(), "zonal cavity")) << m.dump();
+  // The other background: another method, named as such.
+  r = gonio({"info", path.string(), "--json", "--ugr-background", "flux-transfer"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json f = json::parse(r.out);
+  EXPECT_EQ(f["ugr_table"]["background"], "flux-transfer");
+  EXPECT_TRUE(contains(f["methods"]["ugr_table"]["method"].get<std::string>(), "flux-transfer")) << f.dump();
+  EXPECT_NE(f["ugr_table"]["rooms"][10]["crosswise"][0], u["rooms"][10]["crosswise"][0]);
+  r = gonio({"info", path.string(), "--ugr-background", "dialux"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  r = gonio({"info", path.string()});
+  EXPECT_TRUE(contains(r.out, "Methods               UGR: CIE 190:2010")) << r.out;
 }
 
 TEST(CliInfoPlanning, PointOpeningSaysWhyUgrIsMissing) {

@@ -58,9 +58,11 @@ std::string base64(const std::string& bytes) {
 // light inside: written with nlohmann::json and a data-URI buffer.
 // With `glass`, the open box is clear glass: an open refractive volume,
 // which the model checks refuse.
-// With `sealed`, the box is closed: no light leaves it.
-std::string shade_model(double lamp_x = 0.0, double lamp_z = 0.0, bool glass = false, bool sealed = false) {
-  sim::Mesh box = sim::box(0.2, 0.2, 0.2);
+// With `sealed`, the box is closed: no light leaves it. `size_x`, `size_z`:
+// the box's extent along world X and Z (its opening's sides).
+std::string shade_model(double lamp_x = 0.0, double lamp_z = 0.0, bool glass = false, bool sealed = false,
+                        double size_x = 0.2, double size_z = 0.2) {
+  sim::Mesh box = sim::box(size_x, 0.2, size_z);
   // Drop the two triangles of the −Y face (the box's quads come in the
   // order +X, −X, +Y, −Y, +Z, −Z): light leaves downwards.
   if (!sealed) box.indices.erase(box.indices.begin() + 18, box.indices.begin() + 24);
@@ -111,8 +113,8 @@ std::string shade_model(double lamp_x = 0.0, double lamp_z = 0.0, bool glass = f
   g["bufferViews"] = json::array({view0, view1});
   json positions = {{"bufferView", 0}, {"componentType", 5126}, {"count", box.positions.size()},
                     {"type", "VEC3"}};
-  positions["min"] = json::array({-0.1, -0.1, -0.1});
-  positions["max"] = json::array({0.1, 0.1, 0.1});
+  positions["min"] = json::array({-size_x / 2, -0.1, -size_z / 2});
+  positions["max"] = json::array({size_x / 2, 0.1, size_z / 2});
   json indices = {{"bufferView", 1}, {"componentType", 5125}, {"count", box.indices.size()},
                   {"type", "SCALAR"}};
   g["accessors"] = json::array({positions, indices});
@@ -193,6 +195,58 @@ TEST(Simulate, GldfHoldsTheLdtIesAndTheModel) {
   EXPECT_NE(r.out.find("shade.gldf:ldc/shade.ldt: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("shade.gldf:ldc/shade.ies: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("2 files: "), std::string::npos) << r.out;
+}
+
+// The luminous opening of a simulated luminaire is where its light leaves:
+// a shade 0.3 m along world X (C0) and 0.1 m along world Z (C90 is −Z),
+// open at the bottom. The LDT carries it (EULUMDAT's length along
+// C90–C270: field 16 = 100 mm, field 17 = 300 mm), the IES too (LM-63 width
+// along 90–270), `info` gives a UGR table from it, and the GLDF's
+// light-emitting object is that rectangle.
+TEST(Simulate, FilesCarryTheOpeningTheLightLeavesThrough) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model(0.0, 0.0, false, false, 0.3, 0.1));
+  const auto out = dir / "out";
+  auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "20000", "--iterations", "2",
+                  "--face-size", "16", "--format", "ldt,ies,gldf"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = gonio({"info", (out / "shade.ldt").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["luminous_opening"]["shape"], "rectangular");
+  // To the 0.1 mm the dimensions are rounded to (the exits lie on the walls).
+  EXPECT_NEAR(j["luminous_opening"]["length_m"].get<double>(), 0.3, 2e-4);
+  EXPECT_NEAR(j["luminous_opening"]["width_m"].get<double>(), 0.1, 2e-4);
+  ASSERT_FALSE(j["ugr_table"].is_null()) << j["ugr_table_why"];
+  EXPECT_EQ(j["ugr_table"]["rooms"].size(), 19u);
+  const std::string ldt = test::read_file(out / "shade.ldt");
+  std::vector<std::string> lines;
+  for (std::size_t a = 0, b; a < ldt.size(); a = b + 1) {
+    b = ldt.find('\n', a);
+    if (b == std::string::npos) b = ldt.size();
+    std::string line = ldt.substr(a, b - a);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    lines.push_back(line);
+  }
+  ASSERT_GT(lines.size(), 17u);
+  EXPECT_NEAR(std::stod(lines[15]), 100.0, 0.2);  // EULUMDAT length: along C90–C270
+  EXPECT_NEAR(std::stod(lines[16]), 300.0, 0.2);  // EULUMDAT width: along C0–C180
+  r = gonio({"info", (out / "shade.ies").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["luminous_opening"]["length_m"].get<double>(), 0.3, 2e-4);
+  EXPECT_NEAR(j["luminous_opening"]["width_m"].get<double>(), 0.1, 2e-4);
+  auto entries = io::read_zip(test::read_file(out / "shade.gldf"), "shade.gldf");
+  ASSERT_TRUE(entries.ok()) << to_string(entries.error());
+  auto l3d = io::read_zip(entries->back().bytes, "luminaire.l3d");
+  ASSERT_TRUE(l3d.ok());
+  const std::string& structure = l3d->front().bytes;
+  const auto at = structure.find("<Rectangle ");
+  ASSERT_NE(at, std::string::npos) << structure;
+  const std::string rect = structure.substr(at, structure.find("/>", at) - at);
+  EXPECT_NE(rect.find("sizeX=\"0.3\""), std::string::npos) << rect;
+  EXPECT_NE(rect.find("sizeY=\"0.1\""), std::string::npos) << rect;
 }
 
 TEST(Simulate, SameSeedSameBytesWithOneOrTwoThreads) {

@@ -61,10 +61,25 @@ void expect_files_carry_the_escaped_flux(const SampleRun& s, const std::string& 
   }
 }
 
+// The luminous opening the LDT carries (tools/simulation_outputs.h,
+// simulated_opening) against the sample's drawn aperture, and the UGR table
+// `gonio info` gives through it.
+void expect_opening(const test::TempDir& dir, const std::string& name, const std::string& shape, double length_m,
+                    double width_m, double tolerance_m) {
+  auto r = gonio({"info", (dir / name / (name + ".ldt")).string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["luminous_opening"]["shape"], shape) << name;
+  EXPECT_NEAR(j["luminous_opening"]["length_m"].get<double>(), length_m, tolerance_m) << name;
+  EXPECT_NEAR(j["luminous_opening"]["width_m"].get<double>(), width_m, tolerance_m) << name;
+  EXPECT_FALSE(j["ugr_table"].is_null()) << name << ": " << j.value("ugr_table_why", "");
+}
+
 TEST(SampleOutputs, BellIsRotationalAndItsFilesCarryTheEscapedFlux) {
   test::TempDir dir;
   const SampleRun s = run_sample(dir, "bell");
   expect_files_carry_the_escaped_flux(s, "bell");
+  expect_opening(dir, "bell", "circular", 0.400, 0.400, 0.002);  // the shade's rim, Ø 400 mm
   EXPECT_EQ(s.report["outputs"]["symmetry"]["chosen"], "rotational");
   EXPECT_NE(s.err.find("symmetry auto: rotational"), std::string::npos) << s.err;
 }
@@ -73,6 +88,10 @@ TEST(SampleOutputs, DownlightSpotlightAndLedArrayFilesCarryTheEscapedFlux) {
   test::TempDir dir;
   for (const char* name : {"downlight", "spotlight", "led-array"})
     expect_files_carry_the_escaped_flux(run_sample(dir, name), name);
+  expect_opening(dir, "downlight", "circular", 0.160, 0.160, 0.002);     // reflector rim Ø 160 mm
+  expect_opening(dir, "led-array", "rectangular", 0.300, 0.300, 0.001);  // diffuser 300 × 300 mm
+  // Lens Ø 40 mm in a tube Ø 43 mm: light leaves the lens and the tube's edge.
+  expect_opening(dir, "spotlight", "circular", 0.0415, 0.0415, 0.0016);
 }
 
 // A beam far narrower than the output grid (a spot light of 0.2° half-angle,

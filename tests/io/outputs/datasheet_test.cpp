@@ -42,6 +42,15 @@ TEST(Datasheet, HoldsEveryFigureAndEscapesText) {
   for (const char* part : {"<svg", "UGR table", "Coefficients of utilisation", "Spacing criterion", "BUG rating",
                            "Luminance table", "Candela table", "Zonal lumen summary"})
     EXPECT_NE(h.find(part), std::string::npos) << part;
+  // Each planning figure says its method, convention and outside reference.
+  for (const char* part : {"Method: CIE 190:2010 catalogue table", "Method: IES zonal cavity method",
+                           "Method: IES spacing criterion", "Method: IES TM-15-11 Addendum A",
+                           "Method: average luminance"})
+    EXPECT_NE(h.find(part), std::string::npos) << part;
+  std::size_t checked = 0;
+  for (std::size_t at = h.find("Checked against: "); at != std::string::npos; at = h.find("Checked against: ", at + 1))
+    ++checked;
+  EXPECT_EQ(checked, 5u);
   // No ledger for a measured file; one when a simulation's books are given.
   EXPECT_EQ(h.find("Energy ledger"), std::string::npos);
   DatasheetEntry sim = entry();

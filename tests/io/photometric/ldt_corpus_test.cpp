@@ -199,7 +199,12 @@ TEST(LdtCorpus, MetadataAndLampSets) {
   EXPECT_EQ(heights.opening.shape, photometry::OpeningShape::RectangularWithSides);
   EXPECT_DOUBLE_EQ(heights.opening.side_height_m[0], 0.011);
   EXPECT_DOUBLE_EQ(heights.opening.side_height_m[3], 0.014);
-  EXPECT_DOUBLE_EQ(heights.luminaire.width_m, 0.06);
+  // The file's luminaire length 120 mm lies along C90–C270 (the model's
+  // width), its width 60 mm along C0–C180; likewise the luminous area.
+  EXPECT_DOUBLE_EQ(heights.luminaire.width_m, 0.12);
+  EXPECT_DOUBLE_EQ(heights.luminaire.length_m, 0.06);
+  EXPECT_DOUBLE_EQ(heights.opening.width_m, 0.05);
+  EXPECT_DOUBLE_EQ(heights.opening.length_m, 0.04);
 }
 
 TEST(LdtCorpus, RealLuminairesIntegrateToTheirLightOutputRatio) {

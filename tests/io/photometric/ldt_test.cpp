@@ -5,14 +5,18 @@
 #include <cmath>
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <numbers>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "io/photometric/ies.h"
 #include "io/support/text.h"
 #include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
+#include "photometry/luminance.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -157,12 +161,13 @@ TEST(LdtRead, ReadsEveryHeaderField) {
   EXPECT_EQ(keyword(d, "LUMCAT"), "DL-60-830");
   EXPECT_EQ(keyword(d, "ISSUEDATE"), "2024-05-01 / Lab A");
   EXPECT_EQ(keyword(d, kLdtFileNameKeyword), "dl60.ldt");
-  EXPECT_DOUBLE_EQ(d.luminaire.length_m, 0.6);
-  EXPECT_DOUBLE_EQ(d.luminaire.width_m, 0.3);
+  // EULUMDAT's lengths lie along C90–C270, the model's along C0–C180.
+  EXPECT_DOUBLE_EQ(d.luminaire.length_m, 0.3);
+  EXPECT_DOUBLE_EQ(d.luminaire.width_m, 0.6);
   EXPECT_DOUBLE_EQ(d.luminaire.height_m, 0.08);
   EXPECT_EQ(d.opening.shape, photometry::OpeningShape::RectangularWithSides);
-  EXPECT_DOUBLE_EQ(d.opening.length_m, 0.5);
-  EXPECT_DOUBLE_EQ(d.opening.width_m, 0.25);
+  EXPECT_DOUBLE_EQ(d.opening.length_m, 0.25);
+  EXPECT_DOUBLE_EQ(d.opening.width_m, 0.5);
   EXPECT_DOUBLE_EQ(d.opening.height_m, 0.04);
   EXPECT_DOUBLE_EQ(d.opening.side_height_m[0], 0.01);
   EXPECT_DOUBLE_EQ(d.opening.side_height_m[1], 0.02);
@@ -263,6 +268,57 @@ TEST(LdtRead, LuminousAreaShapes) {
   s.dims = {"120", "60", "30", "0", "0", "0", "0", "0", "0"};
   d = parse_ok(join(lines_of(s))).distribution;
   EXPECT_EQ(d.opening.shape, photometry::OpeningShape::Point);
+}
+
+// Which horizontal axis each format's length lies along: EULUMDAT's
+// luminous length along C90–C270 (a linear luminaire's lamp axis, CIE 190's
+// model of the side faces), LM-63's along the 0–180° plane (LM-63-2002: the
+// width "as measured along the 90-270 degree photometric plane", the length
+// along 0-180). Read from photometric-viewer's files with side heights
+// (../shared/corpus), through IES and back, and into the luminance the side
+// faces give.
+TEST(LdtRead, LengthAndWidthKeepTheirAxesThroughIes) {
+  GONIO_REQUIRE_CORPUS();
+  const auto path = test::corpus_dir() / "photometric-viewer" /
+                    "rectangular_luminaire_rectangular_luminous_opening_with_heights.ldt";
+  if (!std::filesystem::is_regular_file(path)) GONIO_MISSING(path.string());
+  auto f = read_ldt(path.string());
+  ASSERT_TRUE(f.ok()) << f.error().message;
+  const Distribution& d = f->distribution;
+  // Fields 13-21: luminaire 120 × 60 × 30, luminous area 50 × 40, side
+  // heights 11, 12, 13, 14 mm (C0, C90, C180, C270).
+  EXPECT_EQ(d.opening.shape, photometry::OpeningShape::RectangularWithSides);
+  EXPECT_DOUBLE_EQ(d.opening.width_m, 0.050);   // the file's length: along C90–C270
+  EXPECT_DOUBLE_EQ(d.opening.length_m, 0.040);  // the file's width: along C0–C180
+  EXPECT_DOUBLE_EQ(d.luminaire.width_m, 0.120);
+  EXPECT_DOUBLE_EQ(d.luminaire.length_m, 0.060);
+  // The face toward C0 is as broad as the C90–C270 extent, 50 mm, and 11 mm
+  // high; the one toward C90 is 40 mm broad and 12 mm high.
+  const double s60 = std::sin(60 * std::numbers::pi / 180);
+  EXPECT_NEAR(photometry::projected_area_m2(d.opening, 0, 60), 0.002 * 0.5 + 0.050 * 0.011 * s60, 1e-12);
+  EXPECT_NEAR(photometry::projected_area_m2(d.opening, 90, 60), 0.002 * 0.5 + 0.040 * 0.012 * s60, 1e-12);
+  EXPECT_NEAR(photometry::projected_area_m2(d.opening, 180, 60), 0.002 * 0.5 + 0.050 * 0.013 * s60, 1e-12);
+  EXPECT_NEAR(photometry::projected_area_m2(d.opening, 270, 60), 0.002 * 0.5 + 0.040 * 0.014 * s60, 1e-12);
+  // To LM-63: width (90-270) 0.05 m, length (0-180) 0.04 m; and back.
+  std::vector<Finding> notes;
+  const std::string ies = write_ies(d, {}, &notes);
+  auto back_ies = parse_ies(ies, "converted.ies", "");
+  ASSERT_TRUE(back_ies.ok()) << back_ies.error().message;
+  EXPECT_NEAR(back_ies->distribution.opening.width_m, 0.050, 1e-9);
+  EXPECT_NEAR(back_ies->distribution.opening.length_m, 0.040, 1e-9);
+  Distribution via_ies = back_ies->distribution;
+  auto ldt = write_ldt(via_ies, {}, &notes);
+  ASSERT_TRUE(ldt.ok()) << ldt.error().message;
+  const Distribution again = parse_ok(*ldt).distribution;
+  EXPECT_NEAR(again.opening.width_m, 0.050, 1e-9);
+  EXPECT_NEAR(again.opening.length_m, 0.040, 1e-9);
+  // As the file writes it: field 16 (length) 50, field 17 (width) 40.
+  std::vector<std::string> lines;
+  std::stringstream in(*ldt);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  ASSERT_GT(lines.size(), 17u);
+  EXPECT_EQ(std::stod(lines[15]), 50.0);
+  EXPECT_EQ(std::stod(lines[16]), 40.0);
 }
 
 TEST(LdtRead, DecimalCommasLatin1CrlfAndBlanks) {
@@ -788,7 +844,12 @@ TEST(LdtWrite, FixedLayoutCrlfLatin1) {
   EXPECT_EQ(lines[7].text, "T-1");
   EXPECT_EQ(lines[10].text, "ww.ldt");
   EXPECT_EQ(lines[11].text, "2024-06-01");
-  EXPECT_EQ(lines[12].text, "600");
+  // The model's luminaire is 0.6 m along C0 and 0.1 m along C90; EULUMDAT's
+  // length (field 13) lies along C90–C270, its width (14) along C0–C180.
+  EXPECT_EQ(lines[12].text, "100");
+  EXPECT_EQ(lines[13].text, "600");
+  EXPECT_EQ(lines[15].text, "80");   // luminous length: the opening's 0.08 m along C90
+  EXPECT_EQ(lines[16].text, "500");  // luminous width: its 0.5 m along C0
   EXPECT_EQ(lines[23].text, "1");  // conversion factor
   EXPECT_EQ(lines[25].text, "1");  // one lamp set
   EXPECT_EQ(lines[26].text, "2");  // lamps
@@ -1056,7 +1117,8 @@ TEST(LdtWrite, EachFindingFiresOnItsModel) {
       {"ldt-dimensions-unknown", Severity::Info,
        [](Distribution& d) { d.luminaire.height_m = photometry::kNaN; },
        [](const std::vector<TextLine>& l, const Distribution& back) {
-         EXPECT_EQ(l[12].text, "600");
+         EXPECT_EQ(l[12].text, "100");  // EULUMDAT's length: the model's width (C90)
+         EXPECT_EQ(l[13].text, "600");
          EXPECT_EQ(l[14].text, "0");  // unknown height
          EXPECT_EQ(back.luminaire.height_m, 0.0);
        }},
