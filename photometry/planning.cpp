@@ -31,16 +31,17 @@ std::vector<MethodLabel> method_labels(const PlanningFigures& p) {
   out.push_back({"CU", "cu_table", "IES zonal cavity method (IES Lighting Handbook)",
                  "% of the rated lamp flux (relative photometry) or of the luminaire flux (absolute); "
                  "ceiling cavity / wall reflectances, effective floor cavity reflectance as given",
-                 "the Handbook's closed form of the zonal cavity CU and exact view factors (Gonio's tests); "
-                 "no published CU table yet"});
+                 "Photometric Toolbox's CU table of a real roadway luminaire (198 of 198 cells round to the "
+                 "printed percent); the Handbook's closed form and exact view factors"});
   out.push_back({"Spacing criterion", "spacing_criterion",
                  "IES spacing criterion (half-illuminance rule between luminaires)",
                  "S / mounting height above the work plane, in the C0-C180, C90-C270 and diagonal planes",
                  "closed forms for Lambertian and isotropic luminaires (Gonio's tests); no published value yet"});
   out.push_back({"BUG rating", "bug", "IES TM-15-11 Addendum A (backlight, uplight, glare zone lumens)",
                  "front = the C90 side (the street side of a Type C road luminaire); lumens at the file's flux",
-                 "zone lumens by hand for a Lambertian downlight (Gonio's tests); the thresholds are not yet "
-                 "checked against the published table"});
+                 "10 of the 45 thresholds (U0-U3, G0's high-angle limit) against the IDA-IES Model Lighting "
+                 "Ordinance's guide and Ashdown (LEUKOS); the other 35 and no real luminaire's published "
+                 "rating not yet (README)"});
   out.push_back({"Luminance", "luminance_table",
                  "average luminance I / A_p of the projected luminous opening (CIE 117 eq. 4.3: A_p = "
                  "A_bottom cos gamma + A_side(C) sin gamma, EULUMDAT side heights per face)",
