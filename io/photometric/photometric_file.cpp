@@ -165,6 +165,10 @@ Result<PhotometricFile> parse_photometry(PhotometricFormat format, std::string_v
     if (!far_field.ok()) return far_field.error();
     out.distribution = std::move(far_field).value();
     out.findings = std::move(r->findings);
+    out.findings.push_back({Severity::Info, "tm25-far-field",
+                            "read as its far field: the " + std::to_string(r->ray_count()) +
+                                " rays' directions binned by luminous flux (the OTHER keyword states the grid)",
+                            {name, 0, 0}});
     out.ray_set = std::make_shared<const Tm25RaySet>(std::move(r).value());
   } else if (format == PhotometricFormat::Tm33) {
     auto r = parse_tm33(bytes, name);

@@ -1,0 +1,145 @@
+// gonio info and convert on IES TM-25 ray files, run as a user would.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <string>
+
+#include "io/photometric/photometric_file.h"
+#include "io/photometric/tm25.h"
+#include "photometry/distribution.h"
+#include "photometry/flux.h"
+#include "tests/tools/cli_fixtures.h"
+
+namespace gonio {
+namespace {
+
+namespace fs = std::filesystem;
+using test::contains;
+using test::gonio;
+
+constexpr double kPi = std::numbers::pi;
+
+// A Lambertian disc of radius 2 mm emitting along +z: 1000 lm over 200,000
+// rays of equal flux on a Fibonacci lattice in cosine-weighted (u1, u2)
+// (u1 = (i + ½)/N, u2 = frac(i·φ⁻¹); r = √u1, φ = 2π u2), positions likewise
+// over the disc. Its far field: I(γ) = (1000/π) cos γ about the ray file's
+// +z (the nadir).
+io::Tm25RaySet lambertian_disc() {
+  const int n = 200000;
+  const double golden = (std::sqrt(5.0) - 1.0) / 2.0;
+  std::vector<float> rays;
+  rays.reserve(static_cast<std::size_t>(n) * 7);
+  for (int i = 0; i < n; ++i) {
+    const double u1 = (i + 0.5) / n, u2 = std::fmod(i * golden, 1.0);
+    const double r = std::sqrt(u1), phi = 2.0 * kPi * u2;
+    const double pr = 2.0 * std::sqrt(u2), pphi = 2.0 * kPi * u1;
+    for (double v : {pr * std::cos(pphi), pr * std::sin(pphi), 0.0, r * std::cos(phi), r * std::sin(phi),
+                     std::sqrt(1.0 - u1), 1000.0 / n})
+      rays.push_back(static_cast<float>(v));
+  }
+  return io::make_luminous_ray_set(std::move(rays));
+}
+
+TEST(CliRayFile, InfoShowsTheRaysAndTheirFarField) {
+  test::TempDir dir;
+  const auto path = dir / "disc.tm25ray";
+  ASSERT_TRUE(io::write_tm25_file(path.string(), lambertian_disc()).ok());
+  auto r = gonio({"info", path.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "TM-25")) << r.out;
+  EXPECT_TRUE(contains(r.out, "200000 (simulated)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "luminous (Tri_Y) per ray; rays' sum 1000 lm")) << r.out;
+  EXPECT_TRUE(contains(r.out, "Ray extent            x -2 to 1.999, y -1.999 to 1.999, z 0 to 0 mm")) << r.out;
+  EXPECT_TRUE(contains(r.out, "Total flux            999.9 lm")) << r.out;
+  EXPECT_TRUE(contains(r.err, "[tm25-far-field]")) << r.err;
+
+  r = gonio({"info", path.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["format"], "TM-25");
+  EXPECT_EQ(j["ray_set"]["rays"], 200000);
+  EXPECT_NEAR(j["ray_set"]["rays_flux_lm"].get<double>(), 1000.0, 1e-3);
+  // The flux integral of the binned grid (photometry::total_flux_lm).
+  EXPECT_NEAR(j["flux_lm"].get<double>(), 1000.0, 1.0);
+  // Lambertian: the beam angle (50 %) is 120°, the field angle (10 %) 2 acos 0.1.
+  // (The peak is one bin's: 346 cd against 318 at γ 2.5°, where a bin holds
+  // about 10 rays; so half of it lies a little further in.)
+  EXPECT_NEAR(j["beam_angle_c0_c180_deg"].get<double>(), 120.0, 2.5);
+  EXPECT_NEAR(j["field_angle_c90_c270_deg"].get<double>(), 2.0 * std::acos(0.1) * 180.0 / kPi, 1.0);
+}
+
+TEST(CliRayFile, ConvertWritesTheLambertianFarField) {
+  test::TempDir dir;
+  const auto path = dir / "disc.tm25ray", ies = dir / "disc.ies";
+  ASSERT_TRUE(io::write_tm25_file(path.string(), lambertian_disc()).ok());
+  auto r = gonio({"convert", path.string(), ies.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto file = io::read_photometric_file(ies.string());
+  ASSERT_TRUE(file.ok()) << to_string(file.error());
+  const photometry::Distribution& d = file->distribution;
+  EXPECT_NEAR(photometry::total_flux_lm(d), 1000.0, 1.0);
+  const double i0 = 1000.0 / kPi;
+  // Per γ, the mean over the planes within 1 % of I0 cos γ to 70° (a bin's
+  // own noise is that of its few rays: ~10 at γ 2.5°, ~60 at 45°; each bin
+  // within 35 %).
+  const std::size_t nv = d.vertical_deg.size();
+  for (std::size_t v = 0; v < nv; ++v) {
+    const double g = d.vertical_deg[v];
+    const double expected = g < 90.0 ? i0 * std::cos(g * kPi / 180.0) : 0.0;
+    double mean = 0.0;
+    for (std::size_t h = 0; h < d.horizontal_deg.size(); ++h) {
+      const double cd = d.candela[h * nv + v];
+      mean += cd / static_cast<double>(d.horizontal_deg.size());
+      if (g <= 70.0) {
+        EXPECT_NEAR(cd, expected, 0.35 * expected) << "C " << d.horizontal_deg[h] << " gamma " << g;
+      }
+      if (g > 92.5) {
+        EXPECT_EQ(cd, 0.0) << g;
+      }
+    }
+    if (g <= 70.0) {
+      EXPECT_NEAR(mean, expected, 0.01 * expected) << "gamma " << g;
+    }
+  }
+  // A ray file is never written from a far field.
+  r = gonio({"convert", ies.string(), (dir / "x.tm25ray").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "cannot write a TM-25 ray file")) << r.err;
+}
+
+TEST(CliRayFile, HostileRayFileIsAClearError) {
+  test::TempDir dir;
+  const auto path = dir / "cut.tm25ray";
+  auto bytes = io::write_tm25(lambertian_disc());
+  ASSERT_TRUE(bytes.ok());
+  test::write_file(path, bytes->substr(0, bytes->size() - 10));
+  auto r = gonio({"info", path.string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.err, "cut.tm25ray: byte 36288: the header (byte 20) declares 200000 rays of 28 bytes"))
+      << r.err;
+}
+
+TEST(CliRayFile, OsramRaySetConvertsWithItsPublishedFlux) {
+  GONIO_REQUIRE_CORPUS();
+  const fs::path osram =
+      test::corpus_dir() / "rayfiles" / "rayfile_LERTDUW_S2WP_blue_100k_20161013_IES_TM25.TM25RAY";
+  if (!fs::exists(osram)) GONIO_MISSING("the OSRAM ray file " + osram.string());
+  test::TempDir dir;
+  const auto ies = dir / "osram.ies";
+  auto r = gonio({"convert", osram.string(), ies.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto file = io::read_photometric_file(ies.string());
+  ASSERT_TRUE(file.ok());
+  // The header's 54.6 lm (SOURCES.md), all of it below the horizon: a
+  // surface-mount LED emitting along +z, the nadir.
+  EXPECT_NEAR(photometry::total_flux_lm(file->distribution), 54.644, 0.05);
+  const photometry::Keyword* other = file->distribution.find_keyword("OTHER");
+  ASSERT_NE(other, nullptr);
+  EXPECT_TRUE(contains(other->value, "C every 5 deg, gamma every 2.5 deg")) << other->value;
+}
+
+}  // namespace
+}  // namespace gonio
