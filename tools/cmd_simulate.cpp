@@ -71,6 +71,7 @@
 #include "sim/resample.h"
 #include "sim/simulation.h"
 #include "sim/symmetry.h"
+#include "sim/ray_set_emitter.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/distributed_run.h"
@@ -290,6 +291,13 @@ int run_simulate(const Args& args) {
   // Load, then check the geometry: errors stop the run, warnings are printed.
   ModelInputTimes input_times;
   std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated", plan.model_input, &input_times);
+  // Ray-set emitters asked for more photons than their rays can give.
+  if (scene && lead)
+    for (Finding& f : sim::ray_set_photon_findings(
+             *scene, settings.photons_per_iteration * static_cast<std::uint64_t>(settings.iterations))) {
+      f.where.file = model;
+      print_finding(f);
+    }
 
   // The output directory is made before tracing so that previews can land in it.
   bool ready = scene.has_value();

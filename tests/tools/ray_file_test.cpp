@@ -143,3 +143,79 @@ TEST(CliRayFile, OsramRaySetConvertsWithItsPublishedFlux) {
 
 }  // namespace
 }  // namespace gonio
+
+namespace gonio {
+namespace {
+
+// A model of one node carrying the Lambertian disc as its ray file, turned
+// so that the file's +z points down (−Y, the nadir of Gonio's default frame).
+std::string ray_file_model(const std::string& uri, double flux_lm = -1.0) {
+  nlohmann::json g;
+  g["asset"] = {{"version", "2.0"}};
+  g["scene"] = 0;
+  g["scenes"] = nlohmann::json::array({nlohmann::json{{"nodes", nlohmann::json::array({0})}}});
+  nlohmann::json node = {{"name", "led"}, {"rotation", {0.7071067811865476, 0.0, 0.0, 0.7071067811865476}}};
+  node["extras"]["gonio"]["ray_file"] = uri;
+  if (flux_lm >= 0.0) node["extras"]["gonio"]["flux_lm"] = flux_lm;
+  g["nodes"] = nlohmann::json::array({node});
+  return g.dump();
+}
+
+TEST(CliRayFile, RaySetEmitterGivesTheSetsFarFieldAndSaysWhenOversampled) {
+  test::TempDir dir;
+  ASSERT_TRUE(io::write_tm25_file((dir / "disc.tm25ray").string(), lambertian_disc()).ok());
+  test::write_file(dir / "led.gltf", ray_file_model("disc.tm25ray"));
+  const auto out = dir / "out";
+  auto r = gonio({"simulate", (dir / "led.gltf").string(), "--out", out.string(), "--photons", "200000",
+                  "--iterations", "1", "--format", "ies"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // 200,000 photons from 200,000 rays of equal flux: at the rule's limit, no warning.
+  EXPECT_FALSE(contains(r.err, "ray-set-oversampled")) << r.err;
+  const auto report = nlohmann::json::parse(test::read_file(out / "report.json"));
+  // The file's flux (float rays summed): 1000 lm to float rounding.
+  EXPECT_NEAR(report["emitted_lm"].get<double>(), 1000.0, 1e-4);
+  EXPECT_NEAR(report["escaped_lm"].get<double>(), report["emitted_lm"].get<double>(), 1e-9);
+  auto file = io::read_photometric_file((out / "led.ies").string());
+  ASSERT_TRUE(file.ok()) << to_string(file.error());
+  const photometry::Distribution& d = file->distribution;
+  // Relative photometry of a 1000 lm lamp: I0 cos γ, plane means within 4 %
+  // (each γ ring draws a few thousand photons) from 5° (the nadir cap holds
+  // a few dozen) to 60°.
+  const double i0 = 1000.0 / kPi;
+  const std::size_t nv = d.vertical_deg.size();
+  for (std::size_t v = 0; v < nv; ++v) {
+    const double g = d.vertical_deg[v];
+    if (g > 60.0) break;
+    if (g < 5.0) continue;
+    double mean = 0.0;
+    for (std::size_t h = 0; h < d.horizontal_deg.size(); ++h)
+      mean += d.candela[h * nv + v] / static_cast<double>(d.horizontal_deg.size());
+    EXPECT_NEAR(mean, i0 * std::cos(g * kPi / 180.0), 0.04 * i0) << "gamma " << g;
+  }
+  // More photons than rays: the warning, with the rule's factor.
+  r = gonio({"simulate", (dir / "led.gltf").string(), "--out", (dir / "out2").string(), "--photons", "400000",
+             "--iterations", "1", "--format", "ies"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "gives about 400000 photons from 200000 rays (effective 200000)")) << r.err;
+  EXPECT_TRUE(contains(r.err, "1.22 times the set's own")) << r.err;
+  EXPECT_TRUE(contains(r.err, "[ray-set-oversampled]")) << r.err;
+}
+
+TEST(CliRayFile, RayFileUriFollowsTheModelsFolderRules) {
+  test::TempDir dir;
+  ASSERT_TRUE(io::write_tm25_file((dir / "disc.tm25ray").string(), lambertian_disc()).ok());
+  fs::create_directories(dir / "model");
+  test::write_file(dir / "model" / "led.gltf", ray_file_model("../disc.tm25ray"));
+  auto r = gonio({"simulate", (dir / "model" / "led.gltf").string(), "--out", (dir / "out").string(),
+                  "--photons", "1000", "--iterations", "1"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.err, "extras.gonio.ray_file '../disc.tm25ray'")) << r.err;
+  test::write_file(dir / "model" / "led.gltf", ray_file_model("missing.tm25ray"));
+  r = gonio({"simulate", (dir / "model" / "led.gltf").string(), "--out", (dir / "out").string(), "--photons",
+             "1000", "--iterations", "1"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.err, "missing.tm25ray")) << r.err;
+}
+
+}  // namespace
+}  // namespace gonio
