@@ -56,9 +56,9 @@ std::vector<Finding> ray_set_photon_findings(const SceneDesc& scene, std::uint64
     const double limit = s->effective_ray_count();
     if (drawn > limit * (1.0 + 1e-6))  // float rounding of equal fluxes
       out.push_back({Severity::Warning, "ray-set-oversampled",
-                     "ray-set emitter '" + e.name + "' gives about " + format_number(std::round(drawn)) +
+                     "ray-set emitter '" + e.name + "' gives about " + std::to_string(std::llround(drawn)) +
                          " photons from " + std::to_string(s->ray_count()) + " rays (effective " +
-                         format_number(std::round(limit)) + "): beyond that the set's own sampling noise dominates, "
+                         std::to_string(std::llround(limit)) + "): beyond that the set's own sampling noise dominates, "
                          "and the error stays about " + format_number(std::sqrt(1.0 + limit / drawn), 3) +
                          " times the set's own (README, Ray-file emitters)",
                      {}});
