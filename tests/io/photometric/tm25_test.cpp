@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "io/photometric/photometric_file.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -270,6 +271,41 @@ TEST(Tm25, FileRoundTripIsAtomic) {
   EXPECT_EQ(r->items, rich_set().items);
   auto missing = read_tm25_file((dir / "none.tm25ray").string());
   ASSERT_FALSE(missing.ok());
+}
+
+TEST(Tm25, TheOpenerKnowsRayFilesAndNeedsTheFarFieldHook) {
+  EXPECT_EQ(format_for_path("a/LED.TM25RAY"), PhotometricFormat::Tm25);
+  const std::string bytes = valid_bytes();
+  EXPECT_EQ(photometric_format_for_content(bytes), PhotometricFormat::Tm25);
+  test::TempDir dir;
+  const std::string path = (dir / "led.dat").string();
+  test::write_file(path, bytes);
+  // Without the caller's far-field hook (tools/ray_file_far_field.h) a ray
+  // file is refused, saying why.
+  auto r = read_photometric_file(path);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("a TM-25 ray file: its far field is not computed here"), std::string::npos);
+  // With one, the file is its far field and keeps its rays.
+  PhotometricReadOptions options;
+  options.ray_set_far_field = [](const Tm25RaySet& set, const std::string&) -> Result<photometry::Distribution> {
+    photometry::Distribution d;
+    d.type = photometry::PhotometricType::C;
+    d.symmetry = photometry::Symmetry::Rotational;
+    d.absolute = true;
+    d.horizontal_deg = {0.0};
+    d.vertical_deg = {0.0, 90.0, 180.0};
+    d.candela = {static_cast<double>(set.ray_count()), 0.0, 0.0};
+    return d;
+  };
+  r = read_photometric_file(path, options);
+  ASSERT_TRUE(r.ok()) << to_string(r.error());
+  EXPECT_EQ(r->format, PhotometricFormat::Tm25);
+  ASSERT_NE(r->ray_set, nullptr);
+  EXPECT_EQ(r->ray_set->ray_count(), 4u);
+  EXPECT_EQ(r->distribution.candela[0], 4.0);
+  // Never written from a distribution.
+  std::vector<Finding> warnings;
+  EXPECT_FALSE(encode_photometric_file(r->distribution, PhotometricFormat::Tm25, {}, &warnings).ok());
 }
 
 }  // namespace
