@@ -217,5 +217,58 @@ TEST(CliRayFile, RayFileUriFollowsTheModelsFolderRules) {
   EXPECT_TRUE(contains(r.err, "missing.tm25ray")) << r.err;
 }
 
+TEST(CliRayFile, SimulateWritesTheEscapingRaysThatKeepFluxAndFarField) {
+  // The Lambertian disc, read, traced through nothing and written again.
+  test::TempDir dir;
+  ASSERT_TRUE(io::write_tm25_file((dir / "disc.tm25ray").string(), lambertian_disc()).ok());
+  test::write_file(dir / "led.gltf", ray_file_model("disc.tm25ray"));
+  const auto out = dir / "out";
+  auto r = gonio({"simulate", (dir / "led.gltf").string(), "--out", out.string(), "--photons", "100000",
+                  "--iterations", "2", "--format", "ies,tm25", "--tm25-rays", "150000", "--threads", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "led.tm25ray: 150000 rays")) << r.out;
+  const auto report = nlohmann::json::parse(test::read_file(out / "report.json"));
+  auto set = io::read_tm25_file((out / "led.tm25ray").string());
+  ASSERT_TRUE(set.ok()) << to_string(set.error());
+  EXPECT_TRUE(set->findings.empty());
+  EXPECT_EQ(set->ray_count(), 150000u);
+  // The rays add up to the escaped flux; the header says so.
+  EXPECT_NEAR(set->total_luminous_flux_lm(), report["escaped_lm"].get<double>(), 1e-3);
+  EXPECT_NEAR(set->header.luminous_flux_lm, report["escaped_lm"].get<double>(), 1e-3);
+  // Every ray starts on the bounding sphere: the disc's box is 4 × 4 mm
+  // (its rays' start points), so the radius is 2√2 mm about its centre.
+  for (std::size_t i = 0; i < set->ray_count(); i += 997)
+    EXPECT_NEAR(length(set->position_mm(i)), 2.0 * std::sqrt(2.0), 2e-3) << i;
+  // And its far field is the Lambertian one, +z down as in the file read.
+  const auto ies = dir / "again.ies";
+  r = gonio({"convert", (out / "led.tm25ray").string(), ies.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto file = io::read_photometric_file(ies.string());
+  ASSERT_TRUE(file.ok());
+  const photometry::Distribution& d = file->distribution;
+  EXPECT_NEAR(photometry::total_flux_lm(d), 1000.0, 2.0);
+  const double i0 = 1000.0 / kPi;
+  const std::size_t nv = d.vertical_deg.size();
+  for (std::size_t v = 0; v < nv; ++v) {
+    const double g = d.vertical_deg[v];
+    if (g > 60.0) break;
+    if (g < 5.0) continue;
+    double mean = 0.0;
+    for (std::size_t h = 0; h < d.horizontal_deg.size(); ++h)
+      mean += d.candela[h * nv + v] / static_cast<double>(d.horizontal_deg.size());
+    EXPECT_NEAR(mean, i0 * std::cos(g * kPi / 180.0), 0.05 * i0) << "gamma " << g;
+  }
+  // The same run on one thread: the same bytes.
+  r = gonio({"simulate", (dir / "led.gltf").string(), "--out", (dir / "out1").string(), "--photons", "100000",
+             "--iterations", "2", "--format", "tm25", "--tm25-rays", "150000", "--threads", "1"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string a = test::read_file(out / "led.tm25ray"), b = test::read_file(dir / "out1" / "led.tm25ray");
+  // (The creation dates may differ at midnight; the rays may not.)
+  EXPECT_EQ(a.substr(36288), b.substr(36288));
+  r = gonio({"simulate", (dir / "led.gltf").string(), "--out", (dir / "out2").string(), "--tm25-rays", "10"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "--tm25-rays applies to --format tm25 only")) << r.err;
+}
+
 }  // namespace
 }  // namespace gonio
