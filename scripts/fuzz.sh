@@ -4,8 +4,8 @@
 # UndefinedBehaviorSanitizer, coverage for libFuzzer) in build-fuzz/, gathers
 # the seeds, and runs each harness for SECONDS: the IES reader, the LDT
 # reader, the glTF loader (.gltf and .glb, with buffers and light profiles),
-# the TM-33 reader (XML) and the GLDF reader (ZIP, product.xml and the
-# photometries inside).
+# the TM-33 reader (XML), the GLDF reader (ZIP, product.xml and the
+# photometries inside) and the TM-25 ray-file reader.
 # Fails on any finding (crash, sanitizer report, leak, timeout, broken round
 # trip) and names the input that caused it (build-fuzz/findings/).
 #
@@ -16,7 +16,7 @@
 # tests (gonio_io_tests and gonio_model_tests run once with
 # $GONIO_FUZZ_SEEDS set, in build/). What the fuzzer finds new stays in
 # build-fuzz/corpus/ for the next run.
-# $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33 or gldf) runs one harness.
+# $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33, gldf or tm25) runs one harness.
 #
 # Runs repeat: libFuzzer's random seed is $GONIO_FUZZ_SEED, by default a
 # hash of the committed code (not of README.md or docs/); each harness
@@ -34,7 +34,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 jobs=$(nproc 2>/dev/null || echo 2)
-harnesses=(ies ldt gltf tm33 gldf)
+harnesses=(ies ldt gltf tm33 gldf tm25)
 if [ -n "${GONIO_FUZZ_ONLY:-}" ]; then harnesses=("$GONIO_FUZZ_ONLY"); fi
 
 bash scripts/setup.sh
@@ -52,11 +52,18 @@ cmake --build build-fuzz -j"$jobs" --target "${harnesses[@]/#/gonio_fuzz_}"
 echo "== seeds"
 seeds=build-fuzz/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds"/{ies,ldt,gltf,tm33,gldf} build-fuzz/findings
+mkdir -p "$seeds"/{ies,ldt,gltf,tm33,gldf,tm25} build-fuzz/findings
 corpus=${GONIO_CORPUS:-../shared/corpus}
 if [ -d "$corpus" ]; then
   find "$corpus" -type f -iname '*.ies' -exec cp {} "$seeds/ies/" \;
   find "$corpus" -type f -iname '*.ldt' -exec cp {} "$seeds/ldt/" \;
+  # Ray files are megabytes: their header and first 100 rays of 28 bytes,
+  # the ray count set to 100 (bytes 20-27, little-endian).
+  find "$corpus" -type f -iname '*.tm25ray' | while read -r ray_file; do
+    seed_file="$seeds/tm25/$(basename "$ray_file")"
+    head -c 39728 "$ray_file" >"$seed_file"
+    printf 'd\0\0\0\0\0\0\0' | dd of="$seed_file" bs=1 seek=20 conv=notrunc status=none
+  done
 elif [ "${CI:-}" = true ] || [ "${CI:-}" = 1 ]; then
   echo "fuzz: the corpus ($corpus) is missing; under CI=true that is a failure" >&2
   exit 1
@@ -70,7 +77,7 @@ cp tests/fuzz/seeds/gltf/* "$seeds/gltf/"
 # sample models, from the Release build.
 bash scripts/build.sh --target gonio gonio_io_tests gonio_model_tests gonio_samples >/dev/null
 GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_io_tests --gtest_brief=1 \
-  --gtest_filter='Ies*:Ldt*:Tm33*:Gldf*:Zip*' >/dev/null
+  --gtest_filter='Ies*:Ldt*:Tm33*:Gldf*:Zip*:Tm25*' >/dev/null
 # The dates the converter writes (GLDF creation time, ZIP entry times) are
 # fixed, so that the seeds are the same bytes on every run.
 export SOURCE_DATE_EPOCH=1764620000

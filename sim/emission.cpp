@@ -203,6 +203,10 @@ Result<EmissionSampler> EmissionSampler::create(const SceneDesc& scene) {
         if (!p.ok()) return make_error(what + ": " + p.error().message);
         src.profile = std::make_shared<const ProfileSampler>(std::move(p.value()));
       }
+    } else if (e.kind == Emitter::Kind::RaySet) {
+      auto r = make_ray_set_sampler(e.rays);
+      if (!r.ok()) return make_error(what + ": " + r.error().message);
+      src.rays = std::make_shared<const RaySetSampler>(std::move(r.value()));
     } else {
       if (e.mesh >= scene.meshes.size())
         return make_error(what + ": mesh " + std::to_string(e.mesh) + " does not exist");
@@ -244,6 +248,10 @@ EmittedPhoton EmissionSampler::sample(PhotonRandom& rng) const {
     const Vec3 local = src.profile ? src.profile->sample(rng)
                                    : sample_uniform_sphere(rng);
     out.direction = src.frame.to_world(local);
+  } else if (src.kind == Emitter::Kind::RaySet) {
+    const RaySetSampler::Sample r = src.rays->sample(rng.uniform());
+    out.origin = r.position;
+    out.direction = r.direction;
   } else {
     const AreaSampler::Sample a = src.area->sample(rng);
     out.origin = a.position;

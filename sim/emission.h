@@ -14,6 +14,7 @@
 #include "photometry/distribution.h"
 #include "sim/alias_table.h"
 #include "sim/random.h"
+#include "sim/ray_set_emitter.h"
 #include "sim/sampling.h"
 #include "sim/scene.h"
 
@@ -129,6 +130,7 @@ class EmissionSampler {
     photometry::PhotometricFrame frame;
     std::shared_ptr<const ProfileSampler> profile;  // null: isotropic point
     std::shared_ptr<const AreaSampler> area;
+    std::shared_ptr<const RaySetSampler> rays;
   };
   std::vector<Source> emitters_;
   AliasTable emitter_table_;

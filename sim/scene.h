@@ -80,10 +80,21 @@ struct Instance {
   std::string name;        // for reports: the glTF node (and instance) it comes from
 };
 
+// A near-field ray set (an IES TM-25 file placed in the world): per ray a
+// start point [m], a unit direction and its luminous flux [lm], all in the
+// world (sim/ray_set_emitter.h samples it).
+struct RaySet {
+  std::vector<Vec3f> position_m;
+  std::vector<Vec3f> direction;
+  std::vector<float> flux_lm;
+  std::size_t size() const { return flux_lm.size(); }
+};
+
 struct Emitter {
   enum class Kind {
-    Point,  // a point with a measured (or isotropic) intensity distribution
-    Area,   // every triangle of one mesh, uniform over area, cosine in direction
+    Point,   // a point with a measured (or isotropic) intensity distribution
+    Area,    // every triangle of one mesh, uniform over area, cosine in direction
+    RaySet,  // photons drawn from a ray set in proportion to ray flux
   };
   Kind kind = Kind::Point;
   std::string name;
@@ -101,6 +112,9 @@ struct Emitter {
   std::uint32_t mesh = 0;
   std::uint32_t instance = kNoInstance;
   bool two_sided = false;
+  // Ray-set emitters: the rays in the world (position: the node's origin, for
+  // reports); flux_lm is the emitter's, the rays' fluxes only weigh them.
+  std::shared_ptr<const RaySet> rays;
 };
 
 struct SceneDesc {

@@ -55,6 +55,7 @@ struct Simulation::Impl {
   std::vector<std::uint64_t> texel_photons;  // over all iterations
   std::vector<std::uint64_t> texel_units;    // power units, ledger.h
   LedgerTally books;
+  std::vector<EscapedRay> escaped_rays;  // by photon index
   SimulationStats stats;
   const Ranks* ranks = nullptr;
 
@@ -69,7 +70,11 @@ struct Simulation::Impl {
 
   Impl(SceneDesc s, const SimulationSettings& set, Tracer t, int threads)
       : scene(std::move(s)), settings(set), tracer(std::move(t)), arena(threads),
-        tallies([this] { return tracer.make_tally(); }),
+        tallies([this] {
+          TracerTally tally = tracer.make_tally();
+          tally.capture_below = settings.capture_escaped_photons;
+          return tally;
+        }),
         texel_photons(tracer.grid().texel_count(), 0),
         texel_units(tracer.grid().texel_count(), 0),
         books(tracer.emitter_count(), tracer.mesh_count()),
@@ -193,7 +198,11 @@ std::uint64_t Simulation::Impl::add_iteration() {
     for (std::uint32_t texel : t.texel_wraps) iteration[texel] += 65536u;
     books_iteration.add(t.ledger);
     t.clear();
+    escaped_rays.insert(escaped_rays.end(), t.escaped.begin(), t.escaped.end());
+    t.escaped.clear();
   }
+  std::sort(escaped_rays.begin(), escaped_rays.end(),
+            [](const EscapedRay& a, const EscapedRay& b) { return a.photon < b.photon; });
   if (guide) {
     guide_iteration.clear();
     for (GuideTally& t : guide_tallies) {
@@ -233,6 +242,8 @@ const SceneDesc& Simulation::scene() const { return impl_->scene; }
 const Tracer& Simulation::tracer() const { return impl_->tracer; }
 SimulationStats Simulation::stats() const { return impl_->stats; }
 double Simulation::total_flux_lm() const { return impl_->tracer.emission().total_flux_lm(); }
+
+const std::vector<EscapedRay>& Simulation::escaped_rays() const { return impl_->escaped_rays; }
 
 FarField Simulation::far_field() const {
   const Impl& s = *impl_;

@@ -49,6 +49,9 @@ struct SimulationSettings {
   // collective); null: this process alone. Not owned; must outlive the
   // Simulation.
   const Ranks* ranks = nullptr;
+  // Keep the escapes of the run's photons 0 … N − 1 (Simulation::escaped_rays;
+  // a ray file's rays); 0: none. This process's photons only under MPI.
+  std::uint64_t capture_escaped_photons = 0;
 };
 
 struct SimulationStats {
@@ -111,6 +114,9 @@ class Simulation {
   // their flux, each photon carrying total flux / photons emitted (guided
   // emission: total flux × its power units / all power units emitted).
   FarField far_field() const;
+  // The escapes kept (SimulationSettings::capture_escaped_photons), by
+  // photon index: the same whatever the threads.
+  const std::vector<EscapedRay>& escaped_rays() const;
   // The emission guide (null unless settings().importance.enabled).
   const EmissionGuide* emission_guide() const;
   // The books of every photon so far.

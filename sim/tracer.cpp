@@ -179,6 +179,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     if (!embree_->intersect(ray, &hit)) {
       r.fate = Fate::Escaped;
       r.direction = direction;
+      r.origin = origin;
       r.power_units = power;
       return r;
     }
@@ -287,6 +288,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         if (pending != kNone) count_escape(pending);
         pending = texel;
         eb.escaped.add(r.power_units);
+        if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
         break;
       }
       case Fate::Absorbed:
@@ -324,6 +326,7 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
         guide_tally.extra_units[texel] += r.power_units - kPowerUnits;
         guide_tally.importance_sum[source_texel] += guide.importance(texel);
         eb.escaped.add(r.power_units);
+        if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
         break;
       }
       case Fate::Absorbed:

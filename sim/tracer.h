@@ -55,6 +55,7 @@ enum class Fate : std::uint8_t { Escaped, Absorbed, CutOff };
 struct TraceResult {
   Fate fate = Fate::Escaped;
   Vec3 direction;               // unit direction it escaped along (Escaped)
+  Vec3 origin;                  // start of the free path it escaped along (Escaped) [m]
   std::uint32_t mesh = 0;       // where it was absorbed or cut off
   int hits = 0;                 // surfaces reached (scattered or absorbed at)
   std::uint64_t power_units = kPowerUnits;  // its power at the end (ledger.h units)
@@ -64,11 +65,23 @@ struct TraceResult {
 // Counts are 16-bit to halve the histogram's cache footprint (escapes land
 // on random texels); each wrap-around of a texel's count is listed in
 // `texel_wraps` and stands for 65536 more photons.
+// An escaped photon kept for a ray file (TracerTally::capture_below).
+struct EscapedRay {
+  std::uint64_t photon = 0;  // run-wide index
+  Vec3 origin;               // start of its last free path [m]
+  Vec3 direction;            // unit
+  std::uint64_t power_units = kPowerUnits;
+};
+
 struct TracerTally {
   std::vector<std::uint16_t> texel_photons;  // photons escaped per texel, mod 65536
   std::vector<std::uint32_t> texel_wraps;    // a texel per 65536 photons
   std::uint64_t photons(std::size_t texel) const;  // for tests: the full count (slow)
   LedgerTally ledger;
+  // Escapes of photons with a run-wide index below capture_below, kept
+  // (EscapedRay); clear() leaves them.
+  std::uint64_t capture_below = 0;
+  std::vector<EscapedRay> escaped;
 
   void clear();
 };

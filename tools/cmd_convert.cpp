@@ -37,6 +37,11 @@ constexpr const char* kDescription =
     "default grid); the warning states the grid and the flux before and after.\n"
     "Giving --c-step or --gamma-step resamples any input onto that grid.\n"
     "\n"
+    "An IES TM-25 ray file (.tm25ray) is converted as its far field: every ray's\n"
+    "direction binned by its luminous flux onto C every 5 deg and gamma every 2.5\n"
+    "deg (the ray file's +z is the nadir, +x C0), positions ignored; the OTHER\n"
+    "keyword says so. Ray files are written by 'gonio simulate --format tm25'.\n"
+    "\n"
     "OUT is written to a temporary file and renamed, so a failure never leaves a\n"
     "half-written file; the input is never modified, and OUT naming the same file as\n"
     "IN (also through a link) is refused.\n"
@@ -93,6 +98,9 @@ int run_convert(const Args& args) {
   if (!out_format)
     return usage_error("cannot tell the output format from '" + out_path +
                        "': its extension must be .ies, .ldt, .xml or .gldf");
+  if (*out_format == io::PhotometricFormat::Tm25)
+    return usage_error("cannot write a TM-25 ray file from a photometric file: a far field has no rays "
+                       "('gonio simulate --format tm25' writes a luminaire's rays)");
   if (*out_format != io::PhotometricFormat::Ies && *out_format != io::PhotometricFormat::Gldf &&
       parser.given("ies-version"))
     return usage_error("--ies-version applies to .ies output only");

@@ -1,5 +1,6 @@
 // gonio info FILE [--json]: what a measured file holds and what follows from
 // it, as an aligned table or one JSON object.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +28,10 @@ using photometry::Summary;
 constexpr const char* kDescription =
     "Prints what an IES LM-63 (.ies), EULUMDAT (.ldt), IES TM-33 (.xml) or GLDF\n"
     "(.gldf, each photometry inside) file (other names by their content) holds and\n"
+    "what follows from it; of an IES TM-25 ray file (.tm25ray) its rays (count,\n"
+    "flux, extent, spectrum) and its far field as a photometric file (the rays'\n"
+    "directions binned by luminous flux, C every 5 deg, gamma every 2.5 deg, +z the\n"
+    "nadir), and\n"
     "what follows from it: format and version, photometric type, symmetry, angle\n"
     "grid, lamp data,\n"
     "luminous opening, total luminous flux (solid-angle integral of the candela\n"
@@ -247,6 +252,66 @@ void planning_rows(Table& t, const photometry::PlanningFigures& p) {
   t.row("Methods", methods);
 }
 
+// ------------------------------------------------------------ ray files
+
+struct RayExtent {
+  Vec3 lo{0.0, 0.0, 0.0}, hi{0.0, 0.0, 0.0};
+};
+
+RayExtent ray_extent(const io::Tm25RaySet& set) {
+  RayExtent e;
+  for (std::size_t i = 0; i < set.ray_count(); ++i) {
+    const Vec3 p = set.position_mm(i);
+    if (i == 0) e.lo = e.hi = p;
+    e.lo = {std::min(e.lo.x, p.x), std::min(e.lo.y, p.y), std::min(e.lo.z, p.z)};
+    e.hi = {std::max(e.hi.x, p.x), std::max(e.hi.y, p.y), std::max(e.hi.z, p.z)};
+  }
+  return e;
+}
+
+const char* spectrum_text(io::Tm25Spectrum s) {
+  switch (s) {
+    case io::Tm25Spectrum::None: return "none";
+    case io::Tm25Spectrum::SingleWavelength: return "one wavelength";
+    case io::Tm25Spectrum::PerRayWavelength: return "a wavelength per ray";
+    case io::Tm25Spectrum::OneTable: return "one spectral table for all rays";
+    case io::Tm25Spectrum::TablePerRay: return "a spectral table per ray";
+  }
+  return "?";
+}
+
+void ray_set_rows(Table& t, const io::Tm25RaySet& set) {
+  const io::Tm25Header& h = set.header;
+  t.row("Rays", std::to_string(set.ray_count()) + (h.creation_method == 1 ? " (measured)" : " (simulated)"));
+  t.row("Ray flux", std::string(set.columns.tri_y >= 0 ? "luminous (Tri_Y)" : "radiant") + " per ray; rays' sum " +
+                        num(set.total_luminous_flux_lm()) + " lm" +
+                        (set.columns.radiant_flux >= 0 ? ", " + num(set.total_radiant_flux_w()) + " W" : "") +
+                        "; header " + num(h.luminous_flux_lm) + " lm, " + num(h.radiant_flux_w) + " W");
+  const RayExtent e = ray_extent(set);
+  t.row("Ray extent", "x " + num(e.lo.x, 4) + " to " + num(e.hi.x, 4) + ", y " + num(e.lo.y, 4) + " to " +
+                          num(e.hi.y, 4) + ", z " + num(e.lo.z, 4) + " to " + num(e.hi.z, 4) + " mm");
+  std::string spectrum = spectrum_text(h.spectrum);
+  if (h.spectrum == io::Tm25Spectrum::SingleWavelength) spectrum += " (" + num(h.wavelength_nm) + " nm)";
+  if (std::isfinite(h.min_wavelength_nm) && std::isfinite(h.max_wavelength_nm))
+    spectrum += ", " + num(h.min_wavelength_nm) + " to " + num(h.max_wavelength_nm) + " nm";
+  t.row("Spectrum", spectrum);
+}
+
+json ray_set_json(const io::Tm25RaySet& set) {
+  const io::Tm25Header& h = set.header;
+  const RayExtent e = ray_extent(set);
+  return {{"rays", set.ray_count()},
+          {"measured", h.creation_method == 1},
+          {"flux_per_ray", set.columns.tri_y >= 0 ? "luminous" : "radiant"},
+          {"rays_flux_lm", json_number<json>(set.total_luminous_flux_lm())},
+          {"rays_radiant_flux_w", json_number<json>(set.total_radiant_flux_w())},
+          {"header_flux_lm", json_number<json>(h.luminous_flux_lm)},
+          {"header_radiant_flux_w", json_number<json>(h.radiant_flux_w)},
+          {"extent_mm", {{"min", {e.lo.x, e.lo.y, e.lo.z}}, {"max", {e.hi.x, e.hi.y, e.hi.z}}}},
+          {"spectrum", spectrum_text(h.spectrum)},
+          {"created", h.created}};
+}
+
 void print_table(const std::string& path, const io::PhotometricFile& file, const Summary& s,
                  const photometry::PlanningFigures& planning) {
   const Distribution& d = file.distribution;
@@ -262,6 +327,7 @@ void print_table(const std::string& path, const io::PhotometricFile& file, const
     if (const photometry::Keyword* k = d.find_keyword(key); k && !k->value.empty())
       t.row(label, k->value);
   }
+  if (file.ray_set) ray_set_rows(t, *file.ray_set);
   t.row("Photometric type", photometry::to_string(d.type));
   std::string symmetry = photometry::to_string(d.symmetry);
   if (d.ldt_type_indicator)
@@ -459,6 +525,7 @@ json info_json(const std::string& path, const io::PhotometricFile& file, const S
   j["version"] = file.ies_version    ? json(io::to_string(*file.ies_version))
                  : file.tm33_version ? json(io::to_string(*file.tm33_version))
                                      : json(nullptr);
+  if (file.ray_set) j["ray_set"] = ray_set_json(*file.ray_set);
   j["photometric_type"] = photometry::to_string(d.type);
   j["symmetry"] = photometry::to_string(d.symmetry);
   j["ldt_type_indicator"] = d.ldt_type_indicator ? json(*d.ldt_type_indicator) : json(nullptr);

@@ -67,10 +67,12 @@
 #include "io/outputs/exr.h"
 #include "io/support/file_io.h"
 #include "io/outputs/report.h"
+#include "io/photometric/tm25.h"
 #include "photometry/format.h"
 #include "sim/resample.h"
 #include "sim/simulation.h"
 #include "sim/symmetry.h"
+#include "sim/ray_set_emitter.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/distributed_run.h"
@@ -145,7 +147,12 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
   p.option("format", &o->format_list, "LIST",
            "files to write, comma-separated: ies, ldt, exr, latlong, plot, report (the datasheet\n"
            "STEM.html with the energy ledger), gldf (STEM.gldf with the LDT, IES and the model as\n"
-           "L3D), or all (default: every one but report and gldf, which are written only when named)");
+           "L3D), tm25 (STEM.tm25ray: the escaping photons as an IES TM-25 ray file, see\n"
+           "--tm25-rays), or all (default: every one but report, gldf and tm25, which are written\n"
+           "only when named)");
+  p.option("tm25-rays", &o->tm25_rays, 1, 100'000'000, "N",
+           "with --format tm25: the escapes of the run's first N photons are the ray file's rays\n"
+           "(default 1000000); their fluxes add up to the escaped flux");
   p.choice("ies-version", &o->ies_version, {"2002", "2019"}, "IES LM-63 version (default 2019)");
   p.option("name", &o->stem, "STEM", "file names DIR/STEM.* (default: the model's file name without extension)");
   p.option("min-lor", &o->min_lor, 0.0, 1.0, "X",
@@ -198,7 +205,25 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
                                 "'; expected auto, none, C0-C180, C90-C270, quadrant or rotational");
     if (Status s = sim::check_grid_supports(grid, *symmetry); !s.ok()) return usage_error(p, s.error().message);
   }
-  Result<std::vector<OutputFormat>> formats = parse_formats(o.format_list);
+  // tm25 is written here (write_ray_file), the others by write_outputs.
+  bool tm25 = false;
+  std::string other_formats;
+  for (std::size_t start = 0; start <= o.format_list.size();) {
+    const std::size_t comma = std::min(o.format_list.find(',', start), o.format_list.size());
+    std::string name = o.format_list.substr(start, comma - start);
+    start = comma + 1;
+    while (!name.empty() && name.front() == ' ') name.erase(name.begin());
+    while (!name.empty() && name.back() == ' ') name.pop_back();
+    if (name == "tm25") {
+      tm25 = true;
+    } else {
+      other_formats += (other_formats.empty() ? "" : ",") + name;
+    }
+  }
+  if (!tm25 && p.given("tm25-rays")) return usage_error(p, "--tm25-rays applies to --format tm25 only");
+  Result<std::vector<OutputFormat>> formats =
+      tm25 && other_formats.empty() ? Result<std::vector<OutputFormat>>(std::vector<OutputFormat>{})
+                                    : parse_formats(other_formats);
   if (!formats.ok()) return usage_error(p, formats.error().message);
   if (stem.empty()) stem = std::filesystem::path(model).stem().string();
   if (stem.empty() || stem.find_first_of("/\\") != std::string::npos || stem == "." || stem == "..")
@@ -213,6 +238,7 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   plan.grid = grid;
   plan.symmetry = symmetry;
   plan.formats = formats.value();
+  plan.tm25 = tm25;
   plan.ies_version = o.ies_version == "2002" ? io::IesVersion::LM63_2002 : io::IesVersion::LM63_2019;
   plan.preview = o.preview.enabled;
   plan.preview_params = preview_params_result.value();
@@ -229,6 +255,7 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   settings.iterations = static_cast<int>(iterations);
   settings.seed = static_cast<std::uint64_t>(seed);
   settings.threads = static_cast<int>(threads);
+  settings.capture_escaped_photons = tm25 ? static_cast<std::uint64_t>(o.tm25_rays) : 0;
   settings.max_bounces = static_cast<int>(max_bounces);
   settings.face_size = static_cast<int>(face_size);
   using Quality = sim::EmbreeSceneOptions::Quality;
@@ -290,6 +317,13 @@ int run_simulate(const Args& args) {
   // Load, then check the geometry: errors stop the run, warnings are printed.
   ModelInputTimes input_times;
   std::optional<sim::SceneDesc> scene = load_checked_model(model, "simulated", plan.model_input, &input_times);
+  // Ray-set emitters asked for more photons than their rays can give.
+  if (scene && lead)
+    for (Finding& f : sim::ray_set_photon_findings(
+             *scene, settings.photons_per_iteration * static_cast<std::uint64_t>(settings.iterations))) {
+      f.where.file = model;
+      print_finding(f);
+    }
 
   // The output directory is made before tracing so that previews can land in it.
   bool ready = scene.has_value();
@@ -375,6 +409,71 @@ int run_simulate(const Args& args) {
   return code;
 }
 
+namespace {
+
+// STEM.tm25ray (--format tm25): the escapes the simulation kept
+// (SimulationSettings::capture_escaped_photons), each moved along its
+// direction to where it leaves the luminaire's bounding sphere (centre: the
+// middle of the bounding box of every placed vertex and emitter; radius: half
+// its diagonal; a start outside the sphere stays where it is), in the
+// photometric frame with the ray file's axes of tools/ray_file_far_field.h
+// (+x C0, −y C90, +z the nadir; millimetres from the centre). Each ray's
+// luminous flux is its photon's share of the run's escaped flux (power
+// units), so the rays add up to the escaped flux.
+Status write_ray_file(const std::string& path, const sim::Simulation& simulation, double escaped_lm,
+                      const std::string& date) {
+  const sim::SceneDesc& scene = simulation.scene();
+  const photometry::PhotometricFrame& f = scene.frame;
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  const auto take = [&](const Vec3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  };
+  sim::for_each_placed_vertex(scene, take);
+  for (const sim::Emitter& e : scene.emitters) {
+    if (e.kind == sim::Emitter::Kind::RaySet && e.rays) {
+      for (const sim::Vec3f& p : e.rays->position_m) take(sim::to_double(p));
+    } else if (e.kind == sim::Emitter::Kind::Point) {
+      take(e.position);
+    }
+  }
+  const Vec3 centre = lo.x <= hi.x ? 0.5 * (lo + hi) : Vec3{0.0, 0.0, 0.0};
+  const double radius = lo.x <= hi.x ? 0.5 * length(hi - lo) : 0.0;
+  const std::vector<sim::EscapedRay>& escaped = simulation.escaped_rays();
+  double units = 0.0;
+  for (const sim::EscapedRay& r : escaped) units += static_cast<double>(r.power_units);
+  std::vector<float> rays;
+  rays.reserve(escaped.size() * 7);
+  const auto local = [&](const Vec3& v) { return Vec3{dot(v, f.c0), -dot(v, f.c90), -dot(v, f.up)}; };
+  for (const sim::EscapedRay& r : escaped) {
+    Vec3 p = r.origin;
+    const Vec3 v = p - centre;
+    const double b = dot(v, r.direction), c = dot(v, v) - radius * radius;
+    if (c < 0.0) p = p + (-b + std::sqrt(b * b - c)) * r.direction;
+    const Vec3 x = local(p - centre) * 1000.0, k = local(r.direction);
+    for (double value : {x.x, x.y, x.z, k.x, k.y, k.z, escaped_lm * static_cast<double>(r.power_units) / units})
+      rays.push_back(static_cast<float>(value));
+  }
+  io::Tm25RaySet set = io::make_luminous_ray_set(std::move(rays));
+  io::Tm25Header& h = set.header;
+  h.created = date;
+  h.light_source = std::filesystem::path(scene.name).stem().string();
+  h.ray_file_creator = std::string("Gonio ") + kVersion;
+  h.model_creator = h.ray_file_creator;
+  h.equipment = "Gonio photon tracer (simulation)";
+  h.additional_info = "escaping photons of the run's first " +
+                      std::to_string(simulation.settings().capture_escaped_photons) + " of " +
+                      std::to_string(simulation.stats().photons) +
+                      " photons, started where they leave the luminaire's bounding sphere (radius " +
+                      format_number(radius * 1000.0) + " mm about its centre); +x C0, -y C90, +z nadir";
+  if (Status s = io::write_tm25_file(path, set); !s.ok()) return s;
+  std::printf("  wrote %s: %zu rays, %s lm (the escaped flux)\n", path.c_str(), set.ray_count(),
+              format_number(set.header.luminous_flux_lm).c_str());
+  return Ok{};
+}
+
+}  // namespace
+
 int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
                     const PreviewOutput* preview, std::chrono::steady_clock::time_point start,
                     const nlohmann::json& ranks_report, std::vector<Error> failures) {
@@ -407,6 +506,11 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   request.run.issue_date = format_utc(now_unix(), "%Y-%m-%d");
   Result<OutputResult> written = write_outputs(far_field, sim->scene(), ledger, request);
   if (!written.ok()) failures.push_back(written.error());
+  if (plan.tm25) {
+    const std::string ray_path = (std::filesystem::path(out_dir) / (plan.stem + ".tm25ray")).string();
+    if (Status s = write_ray_file(ray_path, *sim, ledger.escaped.flux_lm, request.run.issue_date); !s.ok())
+      failures.push_back(s.error());
+  }
   const OutputResult none;
   const OutputResult* outputs = written.ok() ? &written.value() : &none;
   for (const FailedFile& f : outputs->failed) failures.push_back(f.error);

@@ -1,5 +1,7 @@
 #include "tools/photometric_input.h"
 
+#include "tools/ray_file_far_field.h"
+
 namespace gonio::cli {
 
 void add_input_options(ArgParser& parser, InputOptions* options) {
@@ -38,6 +40,7 @@ io::PhotometricReadOptions read_options(const InputOptions& options) {
   io::PhotometricReadOptions r;
   r.ldt.isym3_order = isym3_order(options.ldt_isym3);
   r.gldf_photometry = options.gldf_photometry;
+  enable_ray_files(r);
   return r;
 }
 

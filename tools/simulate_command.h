@@ -32,6 +32,7 @@ struct SimulateOptions {
   double target_error_pct = 0.0;  // --target-error PCT; 0: none
   std::string symmetry_name = "auto", format_list = "all", ies_version = "2019", stem;
   std::string bvh_quality = "auto";  // --bvh-quality
+  long long tm25_rays = 1'000'000;   // --tm25-rays N: the ray file's photons
   std::string cache_dir;  // --cache DIR (the model checks' results, the outputs' resamplers)
   bool no_cache = false;  // --no-cache
   long long cache_limit_mb = io::kDefaultCacheLimitBytes >> 20;  // --cache-limit MB; 0: none
@@ -50,6 +51,7 @@ struct SimulatePlan {
   sim::CGammaGrid grid;
   std::optional<photometry::Symmetry> symmetry;  // none: auto
   std::vector<OutputFormat> formats;
+  bool tm25 = false;  // --format …,tm25: STEM.tm25ray of the escaping photons
   io::IesVersion ies_version = io::IesVersion::LM63_2019;
   bool preview = false;  // write preview.{exr,png} per iteration
   sim::PreviewFilterParams preview_params;

@@ -449,7 +449,8 @@ Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry sym
                      (e.name.empty() ? "emitter " + std::to_string(i + 1) : e.name) + " (" +
                      (e.kind == sim::Emitter::Kind::Point
                           ? (e.profile ? "point, measured profile" : "point, isotropic")
-                          : "area, Lambertian") +
+                          : e.kind == sim::Emitter::Kind::RaySet ? "ray set"
+                                                                 : "area, Lambertian") +
                      ", " + format_number(e.flux_lm) + " lm)";
   }
   if (n > 4) emitters_text += ", and " + std::to_string(n - 4) + " more";

@@ -29,6 +29,7 @@
 #include "io/model/gltf_material.h"
 #include "io/photometric/ies.h"
 #include "io/photometric/ldt.h"
+#include "io/photometric/tm25.h"
 #include "photometry/format.h"
 #include "photometry/flux.h"
 #include "sim/affine.h"
@@ -408,6 +409,8 @@ class Loader {
                         std::vector<std::size_t>& area_emitters);
   Status add_khr_light(const json& ext, const sim::Affine& world, const std::string& node_what,
                        std::optional<double> node_flux, std::vector<std::size_t>& emitters);
+  Status add_ray_set(const std::string& uri, const sim::Affine& world, const std::string& node_what,
+                     std::optional<double> node_flux, std::vector<std::size_t>& emitters);
   Status add_ies_light(const json& ext, const sim::Affine& world, const std::string& node_what,
                        std::optional<double> node_flux, std::vector<std::size_t>& emitters);
   Status load_ies_profile(IesLight& light);
@@ -1457,6 +1460,53 @@ Status Loader::add_khr_light(const json& ext, const sim::Affine& world,
   return Ok{};
 }
 
+// extras.gonio.ray_file: an IES TM-25 ray set placed by the node. Its
+// positions are millimetres: p_model = p_mm · 10⁻³ / unit_m, then the node's
+// world transform (which includes unit_m) makes metres; directions are the
+// node's linear map of the file's, normalised. Flux: the node's flux_lm, else
+// the rays' luminous flux.
+Status Loader::add_ray_set(const std::string& u, const sim::Affine& world, const std::string& node_what,
+                           std::optional<double> node_flux, std::vector<std::size_t>& emitters) {
+  const std::string what = node_what + ": extras.gonio.ray_file '" + u + "'";
+  if (u.rfind("data:", 0) == 0 || u.find("://") != std::string::npos)
+    return fail(what + " is not a relative file reference");
+  const std::string relative = percent_decode(u);
+  if (!options_.allow_outside_paths)
+    if (std::optional<std::string> why = outside_the_folder(base_dir_, relative))
+      return fail(outside_message(what, *why));
+  const fs::path file = fs::path(base_dir_) / relative;
+  Result<Tm25RaySet> set = read_tm25_file(file.string());
+  if (!set.ok()) return fail(what + ": " + to_string(set.error()));
+  for (const Finding& f : set->findings) findings_.push_back(f);
+  if (!node_flux && !set->has_luminous_flux())
+    return fail(what + ": the rays carry radiant flux only and the file does not state both total fluxes; "
+                       "give the node extras.gonio.flux_lm");
+  auto rays = std::make_shared<sim::RaySet>();
+  const std::size_t n = set->ray_count();
+  rays->position_m.reserve(n);
+  rays->direction.reserve(n);
+  rays->flux_lm.reserve(n);
+  const double mm = 1e-3 / unit_m_;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 d = world.linear(set->direction(i));
+    const double len = length(d);
+    if (!(len > 0.0)) return fail(what + ": the node's transform collapses the rays' directions");
+    rays->position_m.push_back(sim::to_float(world.point(set->position_mm(i) * mm)));
+    rays->direction.push_back(sim::to_float(d / len));
+    rays->flux_lm.push_back(static_cast<float>(set->has_luminous_flux() ? set->luminous_flux_lm(i)
+                                                                        : set->radiant_flux_w(i)));
+  }
+  sim::Emitter e;
+  e.kind = sim::Emitter::Kind::RaySet;
+  e.name = node_what + " (" + fs::path(relative).filename().string() + ")";
+  e.position = world.offset;
+  e.flux_lm = node_flux ? *node_flux : set->total_luminous_flux_lm();
+  e.rays = std::move(rays);
+  emitters.push_back(scene_.emitters.size());
+  scene_.emitters.push_back(std::move(e));
+  return Ok{};
+}
+
 Status Loader::load_ies_profile(IesLight& light) {
   if (light.profile) return Ok{};
   const json& def = light.def;
@@ -1709,15 +1759,20 @@ Status Loader::visit_node(int index, const sim::Affine& world) {
   const std::string what = node_what(index);
 
   std::optional<double> node_flux;
+  std::optional<std::string> ray_file;
   Result<json> extras = parse_blob(node.extras_json_string, what + " extras");
   if (!extras.ok()) return extras.error();
-  Result<const json*> gx = gonio_extras(*extras, what, {"flux_lm"});
+  Result<const json*> gx = gonio_extras(*extras, what, {"flux_lm", "ray_file"});
   if (!gx.ok()) return gx.error();
   if (*gx) {
     Result<std::optional<double>> f = number(**gx, "flux_lm", what + " extras.gonio");
     if (!f.ok()) return f.error();
     if (*f && **f < 0.0) return fail(what + ": extras.gonio.flux_lm is negative");
     node_flux = *f;
+    if (auto rf = (**gx).find("ray_file"); rf != (**gx).end()) {
+      if (!rf->is_string()) return fail(what + ": extras.gonio.ray_file must be a string (a relative uri)");
+      ray_file = rf->get<std::string>();
+    }
   }
 
   Result<json> ext = parse_blob(node.extensions_json_string, what + " extensions");
@@ -1755,7 +1810,10 @@ Status Loader::visit_node(int index, const sim::Affine& world) {
 
   const bool has_khr = ext->is_object() && ext->contains("KHR_lights_punctual");
   const bool has_ies = ext->is_object() && ext->contains("EXT_lights_ies");
-  if (node_flux && (int{has_khr} + int{has_ies} + int{!area.empty()}) > 1)
+  if (ray_file && (has_khr || has_ies))
+    return fail(what + ": extras.gonio.ray_file and a light on one node: the ray set is the node's light; "
+                       "remove the light or put the ray file on its own node");
+  if (node_flux && (int{has_khr} + int{has_ies} + int{!area.empty()} + int{ray_file.has_value()}) > 1)
     return fail(what + ": extras.gonio.flux_lm is ambiguous: the node carries more than one kind "
                        "of emitter; put flux_lm on the light or split the node");
   std::vector<std::size_t> lights;
@@ -1766,6 +1824,8 @@ Status Loader::visit_node(int index, const sim::Affine& world) {
   if (has_ies)
     if (Status s = add_ies_light(ext->at("EXT_lights_ies"), world, what, node_flux, lights); !s.ok())
       return s;
+  if (ray_file)
+    if (Status s = add_ray_set(*ray_file, world, what, node_flux, lights); !s.ok()) return s;
 
   if (node_flux && !area.empty()) {
     double total = 0.0;

@@ -354,7 +354,7 @@ L3dGeometry l3d_from_scene(const sim::SceneDesc& scene) {
     ++n;
   };
   for (const sim::Emitter& e : scene.emitters) {
-    if (e.kind == sim::Emitter::Kind::Point) {
+    if (e.kind != sim::Emitter::Kind::Area) {  // a point, or a ray set at its node
       take(f.to_local(e.position));
     } else if (e.mesh < meshes.size()) {
       const bool on_instance = e.instance != sim::kNoInstance && e.instance < instances.size();

@@ -50,6 +50,7 @@ const char* to_string(PhotometricFormat format) {
     case PhotometricFormat::Ldt: return "EULUMDAT";
     case PhotometricFormat::Tm33: return "TM-33";
     case PhotometricFormat::Gldf: return "GLDF";
+    case PhotometricFormat::Tm25: return "TM-25";
   }
   return "?";
 }
@@ -60,11 +61,13 @@ std::optional<PhotometricFormat> format_for_path(std::string_view path) {
   if (ext == ".ldt") return PhotometricFormat::Ldt;
   if (ext == ".xml") return PhotometricFormat::Tm33;
   if (ext == ".gldf") return PhotometricFormat::Gldf;
+  if (ext == ".tm25ray") return PhotometricFormat::Tm25;
   return std::nullopt;
 }
 
 std::optional<PhotometricFormat> photometric_format_for_content(std::string_view bytes) {
   if (bytes.substr(0, 4) == std::string_view("PK\x03\x04", 4)) return PhotometricFormat::Gldf;
+  if (looks_like_tm25(bytes)) return PhotometricFormat::Tm25;
   if (looks_like_tm33(bytes)) return PhotometricFormat::Tm33;
   if (bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);
   const std::vector<TextLine> lines = split_lines(bytes.substr(0, 8192));
@@ -103,6 +106,7 @@ std::size_t byte_limit(std::optional<PhotometricFormat> format) {
   if (format == PhotometricFormat::Ldt) return kMaxLdtBytes;
   if (format == PhotometricFormat::Tm33) return kMaxXmlBytes;
   if (format == PhotometricFormat::Gldf) return kMaxGldfBytes;
+  if (format == PhotometricFormat::Tm25) return kMaxTm25Bytes;
   return std::max({kMaxIesFileBytes, kMaxLdtBytes, kMaxXmlBytes, kMaxGldfBytes});
 }
 
@@ -118,7 +122,8 @@ Result<DetectedFile> read_and_detect(const std::string& path) {
                (ext.empty() ? std::string("no file extension") : "file extension '" + ext + "'") +
                    " and content name no photometric format Gonio knows; expected IES LM-63 "
                    "(.ies, or an IESNA/TILT= line), EULUMDAT (.ldt, or its numeric header), "
-                   "IES TM-33 (.xml, or its root element) or GLDF (.gldf, a ZIP archive)"};
+                   "IES TM-33 (.xml, or its root element), GLDF (.gldf, a ZIP archive) or an IES TM-25 ray "
+                   "file (.tm25ray, or 'TM25' at its start)"};
 }
 
 }  // namespace
@@ -151,6 +156,20 @@ Result<PhotometricFile> parse_photometry(PhotometricFormat format, std::string_v
     out.ies_version = r->version;
     out.distribution = std::move(r->distribution);
     out.findings = std::move(r->findings);
+  } else if (format == PhotometricFormat::Tm25) {
+    auto r = parse_tm25(bytes, name);
+    if (!r.ok()) return r.error();
+    if (!options.ray_set_far_field)
+      return make_error(name, "a TM-25 ray file: its far field is not computed here");
+    auto far_field = options.ray_set_far_field(*r, name);
+    if (!far_field.ok()) return far_field.error();
+    out.distribution = std::move(far_field).value();
+    out.findings = std::move(r->findings);
+    out.findings.push_back({Severity::Info, "tm25-far-field",
+                            "read as its far field: the " + std::to_string(r->ray_count()) +
+                                " rays' directions binned by luminous flux (the OTHER keyword states the grid)",
+                            {name, 0, 0}});
+    out.ray_set = std::make_shared<const Tm25RaySet>(std::move(r).value());
   } else if (format == PhotometricFormat::Tm33) {
     auto r = parse_tm33(bytes, name);
     if (!r.ok()) return r.error();
@@ -239,6 +258,8 @@ Result<std::string> encode_photometric_file(const photometry::Distribution& d,
                                             std::vector<Finding>* warnings) {
   if (Status valid = photometry::validate(d); !valid.ok())
     return make_error("cannot write an invalid distribution: " + valid.error().message);
+  if (format == PhotometricFormat::Tm25)
+    return make_error("a TM-25 ray file holds rays, not a far field: it is written by 'gonio simulate --format tm25'");
   const bool resample = format != PhotometricFormat::Gldf &&
                         (options.always_resample || (format == PhotometricFormat::Ldt &&
                                                      d.type != photometry::PhotometricType::C));
@@ -264,7 +285,9 @@ Result<std::string> encode_photometric_file(const photometry::Distribution& d,
   }
   if (format == PhotometricFormat::Gldf) {
     const PhotometricFormat inner =
-        options.gldf_photometry == PhotometricFormat::Gldf ? PhotometricFormat::Ldt : options.gldf_photometry;
+        options.gldf_photometry == PhotometricFormat::Gldf || options.gldf_photometry == PhotometricFormat::Tm25
+            ? PhotometricFormat::Ldt
+            : options.gldf_photometry;
     auto bytes = encode_photometric_file(*source, inner, options, warnings);
     if (!bytes.ok()) return bytes.error();
     GldfProduct product;

@@ -5,9 +5,11 @@
 // - Reading: by extension first, case-insensitive: ".ies" is IES LM-63
 //   (io/photometric/ies.h), ".ldt" EULUMDAT (io/photometric/ldt.h), ".xml" IES TM-33 (io/photometric/tm33.h,
 //   whose reader then requires TM-33's root element), ".gldf" a GLDF
-//   container (io/photometric/gldf.h) whose photometries are read by their content type. Where the extension
+//   container (io/photometric/gldf.h) whose photometries are read by their content type, ".tm25ray" an
+//   IES TM-25 ray file (io/photometric/tm25.h) whose far field the caller's
+//   PhotometricReadOptions::ray_set_far_field computes. Where the extension
 //   names no format (".txt", ".dat", none) the content decides
-//   (photometric_format_for_content): an IES version line or a TILT= line
+//   (photometric_format_for_content): "TM25" at the start a ray file, an IES version line or a TILT= line
 //   makes it IES, TM-33's root element TM-33, the numeric header of EULUMDAT
 //   makes it EULUMDAT; anything else is refused with an error naming the
 //   file and the formats accepted.
@@ -22,6 +24,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,6 +33,7 @@
 
 #include "io/photometric/ies.h"
 #include "io/photometric/ldt.h"
+#include "io/photometric/tm25.h"
 #include "io/photometric/tm33.h"
 #include "photometry/diagnostics.h"
 #include "photometry/distribution.h"
@@ -36,9 +41,11 @@
 
 namespace gonio::io {
 
-enum class PhotometricFormat { Ies, Ldt, Tm33, Gldf };
+// Tm25: an IES TM-25 ray file, read as its far field (never written from
+// a distribution: encode_photometric_file refuses it).
+enum class PhotometricFormat { Ies, Ldt, Tm33, Gldf, Tm25 };
 
-// "IES", "EULUMDAT", "TM-33" or "GLDF".
+// "IES", "EULUMDAT", "TM-33", "GLDF" or "TM-25".
 const char* to_string(PhotometricFormat format);
 
 // The format an extension names (".ies", ".IES", ".ldt", ".Ldt", ".xml", ...);
@@ -72,6 +79,8 @@ struct PhotometricFile {
   // TM-33 only: TM-33-23 or ATLA S001 / TM-33-18.
   std::optional<Tm33Version> tm33_version;
   photometry::Distribution distribution;
+  // TM-25 only: the ray set whose far field `distribution` is.
+  std::shared_ptr<const Tm25RaySet> ray_set;
   // Format-level warnings and notes of the reader, with file and line.
   std::vector<Finding> findings;
 };
@@ -86,6 +95,10 @@ struct PhotometricReadOptions {
   // read_photometric_file() reads; empty: the first. read_photometric_files()
   // then reads that one only.
   std::string gldf_photometry;
+  // TM-25 ray files: their far field as a distribution. The binning lives in
+  // sim/ (tools/ray_file_far_field.h gives it); where this is empty a ray
+  // file is refused with an error saying so.
+  std::function<Result<photometry::Distribution>(const Tm25RaySet&, const std::string& path)> ray_set_far_field;
 };
 
 // Every photometry a file holds: one for IES, EULUMDAT and TM-33, one per
