@@ -12,7 +12,6 @@ namespace {
 
 static_assert(kCie1931Count == kCmfCount, "the generated CMF table has the expected size");
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Uv {
   double u, v;  // CIE 1960
@@ -72,7 +71,7 @@ CmfValue cie1931_cmf(double wavelength_nm) {
           kCie1931zbar[i] + t * (kCie1931zbar[i + 1] - kCie1931zbar[i])};
 }
 
-Tristimulus tristimulus(const Spectrum& s) {
+Tristimulus tristimulus(const SampledSpectrum& s) {
   Tristimulus t;
   for (int i = 0; i < kCmfCount; ++i) {
     const double v = s.at(kCmfFirstNm + kCmfStepNm * i);

@@ -54,7 +54,7 @@ inline constexpr int kCmfCount = 95;
 CmfValue cie1931_cmf_sample(int index);
 
 // X, Y, Z of a spectrum (CIE 15 summation on the 5 nm grid).
-Tristimulus tristimulus(const Spectrum& s);
+Tristimulus tristimulus(const SampledSpectrum& s);
 
 // x, y; u′, v′ (u′ = 4X/(X+15Y+3Z), v′ = 9Y/(X+15Y+3Z)). NaN for black.
 Chromaticity chromaticity(const Tristimulus& t);

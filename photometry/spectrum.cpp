@@ -8,7 +8,7 @@
 
 namespace gonio::photometry {
 
-double Spectrum::at(double wavelength_nm) const {
+double SampledSpectrum::at(double wavelength_nm) const {
   const std::size_t n = std::min(wavelengths_nm.size(), values.size());
   if (n == 0 || !(wavelength_nm >= wavelengths_nm.front()) || !(wavelength_nm <= wavelengths_nm[n - 1]))
     return 0.0;
@@ -22,7 +22,9 @@ double Spectrum::at(double wavelength_nm) const {
   return values[lo] + t * (values[hi] - values[lo]);
 }
 
-Status validate_spectrum(const Spectrum& s, double max_value) {
+SampledSpectrum sampled(const Spectrum& s) { return {s.wavelength_nm, s.values}; }
+
+Status validate_spectrum(const SampledSpectrum& s, double max_value) {
   if (s.wavelengths_nm.size() != s.values.size())
     return make_error(std::to_string(s.wavelengths_nm.size()) + " wavelengths but " +
                       std::to_string(s.values.size()) + " values");
@@ -48,8 +50,8 @@ Status validate_spectrum(const Spectrum& s, double max_value) {
   return Ok{};
 }
 
-Spectrum product(const Spectrum& a, const Spectrum& b) {
-  Spectrum out;
+SampledSpectrum product(const SampledSpectrum& a, const SampledSpectrum& b) {
+  SampledSpectrum out;
   if (a.empty() || b.empty()) return out;
   const double lo = std::max(a.first_nm(), b.first_nm());
   const double hi = std::min(a.last_nm(), b.last_nm());
@@ -77,8 +79,8 @@ double planck_radiance(double wavelength_nm, double temperature_k) {
   return kPlanckC1L_Wm2_sr / (l5 * std::expm1(x));
 }
 
-Spectrum blackbody_spectrum(double temperature_k, double first_nm, double last_nm, double step_nm) {
-  Spectrum s;
+SampledSpectrum blackbody_spectrum(double temperature_k, double first_nm, double last_nm, double step_nm) {
+  SampledSpectrum s;
   if (!(step_nm > 0.0) || !(last_nm >= first_nm)) return s;
   const auto n = static_cast<std::size_t>(std::floor((last_nm - first_nm) / step_nm + 1e-9)) + 1;
   double peak = 0.0;

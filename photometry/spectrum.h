@@ -8,12 +8,13 @@
 #include <vector>
 
 #include "photometry/diagnostics.h"
+#include "photometry/distribution.h"
 
 namespace gonio::photometry {
 
-struct Spectrum {
-  std::vector<double> wavelengths_nm;  // strictly increasing, finite, > 0 [nm]
-  std::vector<double> values;          // one per wavelength, finite, >= 0 (relative units,
+struct SampledSpectrum {
+  std::vector<double> wavelengths_nm{};  // strictly increasing, finite, > 0 [nm]
+  std::vector<double> values{};          // one per wavelength, finite, >= 0 (relative units,
                                        // or a fraction for reflectance/transmittance)
 
   // Linear interpolation between the samples; 0 outside [first, last] (a
@@ -24,17 +25,21 @@ struct Spectrum {
   double last_nm() const { return wavelengths_nm.back(); }
 };
 
+// A TM-33 spectrum as the photometric files keep it (photometry::Spectrum,
+// distribution.h) as a sampled spectrum: the same samples.
+SampledSpectrum sampled(const Spectrum& s);
+
 // Checks the contract above: as many values as wavelengths, at least two
 // samples, wavelengths strictly increasing and finite in (0, 10⁵) nm,
 // values finite and >= 0, not all zero. `max_value` bounds the values
 // (1 for reflectance and transmittance; infinity for power). The message
 // names the offending index.
-Status validate_spectrum(const Spectrum& s, double max_value = 1e300);
+Status validate_spectrum(const SampledSpectrum& s, double max_value = 1e300);
 
 // Every sample's value multiplied by the other spectrum's value at the same
 // wavelength, over the union of both grids inside their common range (the
 // product of two piecewise-linear functions sampled at both knots).
-Spectrum product(const Spectrum& a, const Spectrum& b);
+SampledSpectrum product(const SampledSpectrum& a, const SampledSpectrum& b);
 
 // Second radiation constant c₂ = hc/k used for Planckian radiators,
 // as CIE 15:2004 (ITS-90) gives it [m·K].
@@ -49,7 +54,7 @@ double planck_radiance(double wavelength_nm, double temperature_k);
 
 // A blackbody's relative spectrum sampled from `first_nm` to `last_nm` in
 // `step_nm` steps, scaled so its largest sample is 1.
-Spectrum blackbody_spectrum(double temperature_k, double first_nm = 360.0,
+SampledSpectrum blackbody_spectrum(double temperature_k, double first_nm = 360.0,
                             double last_nm = 830.0, double step_nm = 1.0);
 
 }  // namespace gonio::photometry

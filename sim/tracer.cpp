@@ -88,6 +88,8 @@ std::uint64_t TracerTally::photons(std::size_t texel) const {
 void TracerTally::clear() {
   std::fill(texel_photons.begin(), texel_photons.end(), std::uint16_t{0});
   texel_wraps.clear();
+  std::fill(texel_x.begin(), texel_x.end(), std::uint64_t{0});
+  std::fill(texel_z.begin(), texel_z.end(), std::uint64_t{0});
   ledger.clear();
 }
 
@@ -147,6 +149,19 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
     per_corner(m.tangents, &d.corner_tangents);
     tracer.meshes_.push_back(std::move(d));
   }
+  if (scene.spectral()) {
+    for (const Material& m : scene.materials)
+      if (Status st = validate_spectral_material(m); !st.ok()) return st.error();
+    auto wavelengths = WavelengthSampler::create(scene);
+    if (!wavelengths.ok()) return wavelengths.error();
+    tracer.wavelengths_ = std::make_shared<const WavelengthSampler>(std::move(wavelengths.value()));
+    for (const Material& m : scene.materials)
+      for (int k = 0; k < kWavelengthCount; ++k) {
+        tracer.spectral_materials_.push_back(at_wavelength(m, wavelength_nm(k)));
+        tracer.spectral_lobe_cdfs_.push_back(lobe_cdf(tracer.spectral_materials_.back()));
+      }
+    for (const Emitter& e : scene.emitters) tracer.emitter_axes_.push_back(-1.0 * e.frame.up);
+  }
   tracer.instances_.reserve(scene.instances.size());
   for (const Instance& i : scene.instances) tracer.instances_.push_back(i.to_world);
   times.shading_s = seconds_since(t);
@@ -158,6 +173,10 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
 TracerTally Tracer::make_tally() const {
   TracerTally t;
   t.texel_photons.assign(grid_.texel_count(), std::uint16_t{0});
+  if (wavelengths_) {
+    t.texel_x.assign(grid_.texel_count(), std::uint64_t{0});
+    t.texel_z.assign(grid_.texel_count(), std::uint64_t{0});
+  }
   t.ledger = LedgerTally(emission_.emitter_count(), meshes_.size());
   return t;
 }
@@ -167,7 +186,7 @@ Vec3 Tracer::offset(const Vec3& p, const Vec3& side_normal, double t) const {
 }
 
 TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
-                           std::vector<RayQuery>* record, std::uint64_t power) const {
+                           std::vector<RayQuery>* record, std::uint64_t power, int wavelength) const {
   TraceResult r;
   RayQuery ray{};
   RayHit hit;
@@ -186,7 +205,9 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // The shading normals are a likely cache miss: start loading them now.
     if (!mesh.corner_normals.empty())
       __builtin_prefetch(&mesh.corner_normals[3 * static_cast<std::size_t>(hit.triangle)]);
-    const Material& material = materials_[mesh.material];
+    const std::size_t spectral_index =
+        static_cast<std::size_t>(mesh.material) * kWavelengthCount + static_cast<std::size_t>(wavelength);
+    const Material& material = wavelength < 0 ? materials_[mesh.material] : spectral_materials_[spectral_index];
     const double t = hit.t;
     const Vec3 ng_raw{hit.ng[0], hit.ng[1], hit.ng[2]};
     const bool from_back = dot(ng_raw, direction) > 0.0;
@@ -208,7 +229,8 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
 
     const Vec3 ng = ng_raw * (1.0 / std::sqrt(dot(ng_raw, ng_raw)));
     SurfaceFrame frame{ng, ng, {}};
-    const Lobe lobe = choose_lobe(lobe_cdfs_[mesh.material], rng.uniform());
+    const Lobe lobe = choose_lobe(
+        wavelength < 0 ? lobe_cdfs_[mesh.material] : spectral_lobe_cdfs_[spectral_index], rng.uniform());
     if (uses_shading_frame(lobe)) {
       const std::size_t c = 3 * static_cast<std::size_t>(hit.triangle);
       const double u = hit.u, v = hit.v, w0 = 1.0 - u - v;
@@ -246,9 +268,17 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   }
 }
 
-TraceResult Tracer::trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng) const {
+TraceResult Tracer::trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng,
+                          int wavelength) const {
   FloatModeGuard float_mode;
-  return follow(origin, normalize(direction), rng, nullptr);
+  GONIO_CHECK(wavelength < kWavelengthCount && (wavelength < 0 || wavelengths_));
+  return follow(origin, normalize(direction), rng, nullptr, nullptr, kPowerUnits, wavelength);
+}
+
+int Tracer::draw_wavelength(const EmittedPhoton& e, PhotonRandom& rng) const {
+  const double cos_gamma = e.on_surface ? dot(e.direction, e.surface_normal)
+                                        : dot(e.direction, emitter_axes_[e.emitter]);
+  return wavelengths_->sample(e.emitter, cos_gamma, rng);
 }
 
 void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
@@ -257,8 +287,9 @@ void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t 
   for (std::uint64_t i = first; i < first + count; ++i) {
     PhotonRandom rng(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
+    const int wavelength = wavelengths_ ? draw_wavelength(e, rng) : -1;
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
-    follow(origin, e.direction, rng, nullptr, rays);
+    follow(origin, e.direction, rng, nullptr, rays, kPowerUnits, wavelength);
   }
 }
 
@@ -279,7 +310,8 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     LedgerTally::PerEmitter& eb = books.emitters[e.emitter];
     eb.emitted.add(kPowerUnits);
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
-    const TraceResult r = follow(origin, e.direction, rng, &books);
+    const int wavelength = wavelengths_ ? draw_wavelength(e, rng) : -1;
+    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, kPowerUnits, wavelength);
     switch (r.fate) {
       case Fate::Escaped: {
         const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));
@@ -287,6 +319,10 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         if (pending != kNone) count_escape(pending);
         pending = texel;
         eb.escaped.add(r.power_units);
+        if (wavelength >= 0) {
+          tally.texel_x[texel] += wavelengths_->x_units()[static_cast<std::size_t>(wavelength)];
+          tally.texel_z[texel] += wavelengths_->z_units()[static_cast<std::size_t>(wavelength)];
+        }
         break;
       }
       case Fate::Absorbed:

@@ -20,7 +20,7 @@ const fs::path kColord = "/usr/share/colord";
 
 // A colord CGATS spectrum (.sp: SPECTRAL_START_NM, SPECTRAL_END_NM,
 // SPECTRAL_BANDS, then one data row), read in place.
-std::optional<Spectrum> read_colord_sp(const fs::path& path) {
+std::optional<SampledSpectrum> read_colord_sp(const fs::path& path) {
   std::ifstream in(path);
   if (!in) return std::nullopt;
   std::stringstream ss;
@@ -35,7 +35,7 @@ std::optional<Spectrum> read_colord_sp(const fs::path& path) {
   const std::size_t begin = text.find("BEGIN_DATA\n");
   if (begin == std::string::npos || !(bands >= 2)) return std::nullopt;
   std::istringstream data(text.substr(begin + 11));
-  Spectrum s;
+  SampledSpectrum s;
   const auto n = static_cast<int>(bands);
   for (int i = 0; i < n; ++i) {
     double v = 0.0;
@@ -47,10 +47,10 @@ std::optional<Spectrum> read_colord_sp(const fs::path& path) {
 }
 
 // Two columns, wavelength [nm] and value, as the corpus' LED spectra are.
-std::optional<Spectrum> read_two_columns(const fs::path& path) {
+std::optional<SampledSpectrum> read_two_columns(const fs::path& path) {
   std::ifstream in(path);
   if (!in) return std::nullopt;
-  Spectrum s;
+  SampledSpectrum s;
   double w = 0.0, v = 0.0;
   while (in >> w >> v) {
     s.wavelengths_nm.push_back(w);
@@ -60,7 +60,7 @@ std::optional<Spectrum> read_two_columns(const fs::path& path) {
 }
 
 #define GONIO_COLORD_SPECTRUM(var, name)                                                  \
-  const std::optional<Spectrum> var = read_colord_sp(kColord / "illuminant" / (name));    \
+  const std::optional<SampledSpectrum> var = read_colord_sp(kColord / "illuminant" / (name));    \
   if (!var) GONIO_MISSING("colord-data's " + std::string(name) + " under " + kColord.string())
 
 // CIE 15:2004 Table T.3 / ISO 11664-2: illuminant A, x = 0.44758,
@@ -142,7 +142,7 @@ TEST(Colour, ConversionsAgree) {
   // at x = y = 1/3 (to the 5 nm summation's precision).
   EXPECT_DOUBLE_EQ(cie1931_cmf(555.0).y_bar, 1.0);
   EXPECT_DOUBLE_EQ(cie1931_cmf(557.5).y_bar, 0.5 * (1.0 + 0.995));
-  const Chromaticity e = chromaticity(tristimulus(Spectrum{{360.0, 830.0}, {1.0, 1.0}}));
+  const Chromaticity e = chromaticity(tristimulus(SampledSpectrum{{360.0, 830.0}, {1.0, 1.0}}));
   EXPECT_NEAR(e.x, 1.0 / 3.0, 2e-4);
   EXPECT_NEAR(e.y, 1.0 / 3.0, 2e-4);
 }

@@ -7,8 +7,8 @@
 namespace gonio::photometry {
 namespace {
 
-TEST(Spectrum, InterpolatesLinearlyAndIsZeroOutside) {
-  const Spectrum s{{400.0, 500.0, 600.0}, {1.0, 3.0, 2.0}};
+TEST(SampledSpectrum, InterpolatesLinearlyAndIsZeroOutside) {
+  const SampledSpectrum s{{400.0, 500.0, 600.0}, {1.0, 3.0, 2.0}};
   EXPECT_DOUBLE_EQ(s.at(400.0), 1.0);
   EXPECT_DOUBLE_EQ(s.at(450.0), 2.0);
   EXPECT_DOUBLE_EQ(s.at(500.0), 3.0);
@@ -19,9 +19,9 @@ TEST(Spectrum, InterpolatesLinearlyAndIsZeroOutside) {
   EXPECT_EQ(s.at(std::nan("")), 0.0);
 }
 
-TEST(Spectrum, ValidationNamesTheSample) {
+TEST(SampledSpectrum, ValidationNamesTheSample) {
   EXPECT_TRUE(validate_spectrum({{400.0, 500.0}, {1.0, 0.0}}).ok());
-  const auto message = [](const Spectrum& s, double max = 1e300) {
+  const auto message = [](const SampledSpectrum& s, double max = 1e300) {
     const Status st = validate_spectrum(s, max);
     return st.ok() ? std::string("ok") : st.error().message;
   };
@@ -35,10 +35,10 @@ TEST(Spectrum, ValidationNamesTheSample) {
   EXPECT_EQ(message({{400.0, 500.0}, {0.5, 1.2}}, 1.0), "value 1 (1.2) exceeds 1");
 }
 
-TEST(Spectrum, ProductSamplesBothGridsOverTheCommonRange) {
-  const Spectrum a{{400.0, 600.0}, {1.0, 3.0}};
-  const Spectrum b{{450.0, 500.0, 700.0}, {0.5, 1.0, 1.0}};
-  const Spectrum p = product(a, b);
+TEST(SampledSpectrum, ProductSamplesBothGridsOverTheCommonRange) {
+  const SampledSpectrum a{{400.0, 600.0}, {1.0, 3.0}};
+  const SampledSpectrum b{{450.0, 500.0, 700.0}, {0.5, 1.0, 1.0}};
+  const SampledSpectrum p = product(a, b);
   ASSERT_EQ(p.wavelengths_nm, (std::vector<double>{450.0, 500.0, 600.0}));
   EXPECT_DOUBLE_EQ(p.values[0], 1.5 * 0.5);
   EXPECT_DOUBLE_EQ(p.values[1], 2.0 * 1.0);
@@ -64,7 +64,7 @@ TEST(Planck, PeaksWhereWienSaysAndIntegratesToStefanBoltzmann) {
     EXPECT_NEAR(M_PI * integral / (5.670374419e-8 * std::pow(t_k, 4)), 1.0, 2e-4) << t_k;
   }
   EXPECT_EQ(planck_radiance(500.0, 0.0), 0.0);
-  const Spectrum bb = blackbody_spectrum(3000.0, 380.0, 780.0, 5.0);
+  const SampledSpectrum bb = blackbody_spectrum(3000.0, 380.0, 780.0, 5.0);
   ASSERT_EQ(bb.wavelengths_nm.size(), 81u);
   EXPECT_DOUBLE_EQ(bb.values.back(), 1.0);  // 3000 K still rises at 780 nm
 }
