@@ -117,6 +117,11 @@ struct EmitterSpectrum {
   bool empty() const { return over_gamma.empty(); }
 };
 
+// Checks an emitter's spectrum: entries' γ strictly increasing in [0, 180],
+// each spectrum valid (photometry::validate_spectrum) with some luminous
+// content between 360 and 830 nm. Messages name the entry.
+Status validate_emitter_spectrum(const EmitterSpectrum& s);
+
 struct Emitter {
   enum class Kind {
     Point,  // a point with a measured (or isotropic) intensity distribution

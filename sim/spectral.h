@@ -41,9 +41,6 @@ inline double wavelength_nm(int k) { return photometry::kCmfFirstNm + photometry
 // X or Z units per photon of Y (see above).
 inline constexpr std::uint64_t kColourUnits = std::uint64_t{1} << 17;
 
-// Checks an emitter's spectrum: entries' γ strictly increasing in [0, 180],
-// each spectrum valid with some luminous content between 360 and 830 nm.
-Status validate_emitter_spectrum(const EmitterSpectrum& s);
 // Checks a material's spectra: values in [0, 1] (reflectance,
 // transmittance), n >= 1 (ior_nm), abbe_number >= 0 and finite, and the
 // weights at every wavelength sum to at most 1.
