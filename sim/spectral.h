@@ -29,6 +29,7 @@
 
 #include "photometry/colour.h"
 #include "photometry/diagnostics.h"
+#include "sim/far_field.h"
 #include "sim/random.h"
 #include "sim/scene.h"
 
@@ -85,14 +86,6 @@ class WavelengthSampler {
   std::vector<PerEmitter> emitters_;
   std::array<std::uint64_t, kWavelengthCount> x_units_{};
   std::array<std::uint64_t, kWavelengthCount> z_units_{};
-};
-
-// What the spectral far field adds beside Y: X and Z per texel, in the
-// units of the far field's flux [lm-equivalent: Y is the luminous flux].
-struct ColourFarField {
-  std::vector<double> x_lm;
-  std::vector<double> z_lm;
-  bool empty() const { return x_lm.empty(); }
 };
 
 }  // namespace gonio::sim
