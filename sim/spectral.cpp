@@ -108,7 +108,7 @@ Result<WavelengthSampler> WavelengthSampler::create(const SceneDesc& scene) {
           static_cast<std::uint64_t>(std::llround(c.z_bar / c.y_bar * static_cast<double>(kColourUnits)));
     }
   }
-  const auto make_table = [](double gamma_rad, const photometry::SampledSpectrum* s) {
+  const auto make_table = [&w](double gamma_rad, const photometry::SampledSpectrum* s) {
     Table t;
     t.gamma_rad = gamma_rad;
     double sum = 0.0;
@@ -119,6 +119,12 @@ Result<WavelengthSampler> WavelengthSampler::create(const SceneDesc& scene) {
     }
     for (double& c : t.cdf) c /= sum;
     t.cdf.back() = 1.0;
+    t.x_per_y = t.z_per_y = 0.0;
+    for (std::size_t k = 0; k < t.cdf.size(); ++k) {
+      const double p = t.cdf[k] - (k > 0 ? t.cdf[k - 1] : 0.0);
+      t.x_per_y += p * static_cast<double>(w.x_units_[k]) / static_cast<double>(kColourUnits);
+      t.z_per_y += p * static_cast<double>(w.z_units_[k]) / static_cast<double>(kColourUnits);
+    }
     return t;
   };
   for (std::size_t i = 0; i < scene.emitters.size(); ++i) {
@@ -159,6 +165,23 @@ int WavelengthSampler::sample(std::uint32_t emitter, double cos_gamma, PhotonRan
   const auto [j, t] = bracket(tables, cos_gamma);
   const std::size_t pick = t > 0.0 && rng.uniform() < t ? j + 1 : j;
   return draw(tables[pick], rng.uniform());
+}
+
+std::pair<std::uint64_t, std::uint64_t> WavelengthSampler::expected_units(std::uint32_t emitter,
+                                                                          double cos_gamma) const {
+  const std::vector<Table>& tables = emitters_[emitter].tables;
+  double x = tables[0].x_per_y, z = tables[0].z_per_y;
+  if (tables.size() > 1) {
+    const auto [j, t] = bracket(tables, cos_gamma);
+    x = tables[j].x_per_y;
+    z = tables[j].z_per_y;
+    if (t > 0.0) {
+      x += t * (tables[j + 1].x_per_y - x);
+      z += t * (tables[j + 1].z_per_y - z);
+    }
+  }
+  const double u = static_cast<double>(kColourUnits);
+  return {static_cast<std::uint64_t>(std::llround(x * u)), static_cast<std::uint64_t>(std::llround(z * u))};
 }
 
 double WavelengthSampler::pmf(std::uint32_t emitter, double cos_gamma, int k) const {

@@ -16,6 +16,15 @@
 // without spectra), then the wavelength from the spectrum at that γ: the
 // intensity distribution stays the emitter's.
 //
+// The draw is deferred (a conditional expectation, "Rao–Blackwellised"):
+// until a photon meets a material that acts differently by wavelength, its
+// path does not depend on λ, so it carries the expected X/Y and Z/Y of its
+// emission spectrum at its γ instead of one wavelength's; the wavelength is
+// drawn (from the same p(λ | γ)) only at the first such material. Light that
+// meets only grey surfaces so has no colour noise beyond that of its
+// directions; the estimate stays unbiased, since λ is independent of the
+// path up to that event.
+//
 // X and Z are integers per texel in units of 2⁻¹⁷ of one photon's Y
 // (kColourUnits): the ratio of each wavelength is rounded once, a relative
 // error below 4·10⁻⁶, and 2³⁹ photons at the largest ratio (z̄/ȳ ≈ 155 at
@@ -54,6 +63,15 @@ double ior_at(const Material& m, double wavelength_nm);
 // spectra, the dielectric's index at that wavelength, spectra cleared.
 Material at_wavelength(const Material& m, double wavelength_nm);
 
+// A spectral photon's colour on its way: its wavelength index once drawn,
+// and what it needs to draw it (its emitter and cos γ at emission).
+struct PhotonColour {
+  static constexpr int kUndrawn = -1;
+  int wavelength = kUndrawn;
+  std::uint32_t emitter = 0;
+  double cos_gamma = 1.0;
+};
+
 // Draws photons' wavelength indices for the emitters of a scene.
 class WavelengthSampler {
  public:
@@ -69,6 +87,10 @@ class WavelengthSampler {
   // The probability of index k at a γ (for tests: the density sample() draws from).
   double pmf(std::uint32_t emitter, double cos_gamma, int k) const;
 
+  // X and Z per photon of Y in kColourUnits of a photon whose wavelength
+  // was never drawn: the expectation over p(λ | γ), rounded.
+  std::pair<std::uint64_t, std::uint64_t> expected_units(std::uint32_t emitter, double cos_gamma) const;
+
   // For each k, X and Z per photon of Y in kColourUnits: round(x̄/ȳ · 2¹⁷),
   // round(z̄/ȳ · 2¹⁷); 0 where ȳ is 0 (never drawn).
   const std::array<std::uint64_t, kWavelengthCount>& x_units() const { return x_units_; }
@@ -78,6 +100,7 @@ class WavelengthSampler {
   struct Table {
     double gamma_rad;
     std::array<double, kWavelengthCount> cdf;  // cumulative, last = 1
+    double x_per_y, z_per_y;                   // expectations of x̄/ȳ and z̄/ȳ (rounded ratios)
   };
   struct PerEmitter {
     std::vector<Table> tables;  // increasing γ

@@ -161,6 +161,7 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
         tracer.spectral_lobe_cdfs_.push_back(lobe_cdf(tracer.spectral_materials_.back()));
       }
     for (const Emitter& e : scene.emitters) tracer.emitter_axes_.push_back(-1.0 * e.frame.up);
+    for (const Material& m : scene.materials) tracer.material_spectral_.push_back(m.spectral() ? 1 : 0);
   }
   tracer.instances_.reserve(scene.instances.size());
   for (const Instance& i : scene.instances) tracer.instances_.push_back(i.to_world);
@@ -186,7 +187,7 @@ Vec3 Tracer::offset(const Vec3& p, const Vec3& side_normal, double t) const {
 }
 
 TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
-                           std::vector<RayQuery>* record, std::uint64_t power, int wavelength) const {
+                           std::vector<RayQuery>* record, std::uint64_t power, PhotonColour* colour) const {
   TraceResult r;
   RayQuery ray{};
   RayHit hit;
@@ -205,6 +206,11 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // The shading normals are a likely cache miss: start loading them now.
     if (!mesh.corner_normals.empty())
       __builtin_prefetch(&mesh.corner_normals[3 * static_cast<std::size_t>(hit.triangle)]);
+    // A spectral photon draws its wavelength at the first material that
+    // acts differently by wavelength (sim/spectral.h).
+    if (colour && colour->wavelength == PhotonColour::kUndrawn && material_spectral_[mesh.material])
+      colour->wavelength = wavelengths_->sample(colour->emitter, colour->cos_gamma, rng);
+    const int wavelength = colour ? colour->wavelength : PhotonColour::kUndrawn;
     const std::size_t spectral_index =
         static_cast<std::size_t>(mesh.material) * kWavelengthCount + static_cast<std::size_t>(wavelength);
     const Material& material = wavelength < 0 ? materials_[mesh.material] : spectral_materials_[spectral_index];
@@ -272,13 +278,17 @@ TraceResult Tracer::trace(const Vec3& origin, const Vec3& direction, PhotonRando
                           int wavelength) const {
   FloatModeGuard float_mode;
   GONIO_CHECK(wavelength < kWavelengthCount && (wavelength < 0 || wavelengths_));
-  return follow(origin, normalize(direction), rng, nullptr, nullptr, kPowerUnits, wavelength);
+  PhotonColour colour;
+  colour.wavelength = wavelength;
+  return follow(origin, normalize(direction), rng, nullptr, nullptr, kPowerUnits,
+                wavelength >= 0 ? &colour : nullptr);
 }
 
-int Tracer::draw_wavelength(const EmittedPhoton& e, PhotonRandom& rng) const {
-  const double cos_gamma = e.on_surface ? dot(e.direction, e.surface_normal)
-                                        : dot(e.direction, emitter_axes_[e.emitter]);
-  return wavelengths_->sample(e.emitter, cos_gamma, rng);
+PhotonColour Tracer::start_colour(const EmittedPhoton& e) const {
+  PhotonColour c;
+  c.emitter = e.emitter;
+  c.cos_gamma = e.on_surface ? dot(e.direction, e.surface_normal) : dot(e.direction, emitter_axes_[e.emitter]);
+  return c;
 }
 
 void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
@@ -287,9 +297,9 @@ void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t 
   for (std::uint64_t i = first; i < first + count; ++i) {
     PhotonRandom rng(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
-    const int wavelength = wavelengths_ ? draw_wavelength(e, rng) : -1;
+    PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
-    follow(origin, e.direction, rng, nullptr, rays, kPowerUnits, wavelength);
+    follow(origin, e.direction, rng, nullptr, rays, kPowerUnits, wavelengths_ ? &colour : nullptr);
   }
 }
 
@@ -310,8 +320,9 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     LedgerTally::PerEmitter& eb = books.emitters[e.emitter];
     eb.emitted.add(kPowerUnits);
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
-    const int wavelength = wavelengths_ ? draw_wavelength(e, rng) : -1;
-    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, kPowerUnits, wavelength);
+    PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
+    const TraceResult r =
+        follow(origin, e.direction, rng, &books, nullptr, kPowerUnits, wavelengths_ ? &colour : nullptr);
     switch (r.fate) {
       case Fate::Escaped: {
         const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));
@@ -319,9 +330,15 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         if (pending != kNone) count_escape(pending);
         pending = texel;
         eb.escaped.add(r.power_units);
-        if (wavelength >= 0) {
-          tally.texel_x[texel] += wavelengths_->x_units()[static_cast<std::size_t>(wavelength)];
-          tally.texel_z[texel] += wavelengths_->z_units()[static_cast<std::size_t>(wavelength)];
+        if (wavelengths_) {
+          if (colour.wavelength >= 0) {
+            tally.texel_x[texel] += wavelengths_->x_units()[static_cast<std::size_t>(colour.wavelength)];
+            tally.texel_z[texel] += wavelengths_->z_units()[static_cast<std::size_t>(colour.wavelength)];
+          } else {
+            const auto [xu, zu] = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
+            tally.texel_x[texel] += xu;
+            tally.texel_z[texel] += zu;
+          }
         }
         break;
       }

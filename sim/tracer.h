@@ -159,9 +159,9 @@ class Tracer {
 
   TraceResult follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
                      std::vector<RayQuery>* record = nullptr,
-                     std::uint64_t power = kPowerUnits, int wavelength = -1) const;
-  // A spectral photon's wavelength index from its emission (one or two draws).
-  int draw_wavelength(const EmittedPhoton& e, PhotonRandom& rng) const;
+                     std::uint64_t power = kPowerUnits, PhotonColour* colour = nullptr) const;
+  // A spectral photon's colour state at emission (nothing drawn yet).
+  PhotonColour start_colour(const EmittedPhoton& e) const;
   // The offset's length for scale = max |coordinate| + t: 2⁻¹⁸·scale plus
   // the floor [m].
   double offset_m(double scale) const { return 0x1.0p-18 * scale + offset_floor_m_; }
@@ -179,6 +179,7 @@ class Tracer {
   std::vector<Material> spectral_materials_;
   std::vector<LobeCdf> spectral_lobe_cdfs_;
   std::shared_ptr<const WavelengthSampler> wavelengths_;
+  std::vector<char> material_spectral_;  // per material: acts differently by wavelength
   std::vector<Vec3> emitter_axes_;  // per emitter: its γ = 0 direction (point emitters)
   double offset_floor_m_ = 0.0;
   TracerSetupTimes setup_times_;
