@@ -68,12 +68,14 @@
 #include "io/support/file_io.h"
 #include "io/outputs/report.h"
 #include "photometry/format.h"
+#include "sim/colour_over_angle.h"
 #include "sim/resample.h"
 #include "sim/simulation.h"
 #include "sim/symmetry.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/distributed_run.h"
+#include "tools/json_figures.h"
 #include "tools/live_view.h"
 #include "tools/model_input.h"
 #include "tools/preview_output.h"
@@ -464,6 +466,38 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   for (const WrittenFile& f : outputs->files)
     if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
   json["outputs"] = to_json(*outputs, grid, ledger.escaped.flux_lm);
+  // Spectral runs (sim/spectral.h): the luminaire's colour and its colour
+  // over angle on the output grid (sim/colour_over_angle.h).
+  if (sim->tracer().spectral()) {
+    const sim::Resampler own =
+        cached_resampler(settings.face_size, sim->scene().frame, plan.grid, plan.model_input.cache_dir);
+    const sim::ColourOverAngle c = sim::colour_over_angle(own, far_field, sim->colour_far_field());
+    const auto num = [](double v) { return cli::json_number(v); };
+    const photometry::Chromaticity xy = photometry::chromaticity(c.total);
+    json["colour"] = {{"cie_x", num(xy.x)},          {"cie_y", num(xy.y)},
+                      {"u_prime", num(c.uv.u_prime)}, {"v_prime", num(c.uv.v_prime)},
+                      {"cct_k", num(c.cct.cct_k)},    {"duv", num(c.cct.duv)},
+                      {"method", "CIE 1931 2 deg, 5 nm; CCT and Duv by Ohno 2014"}};
+    nlohmann::json planes = nlohmann::json::array();
+    for (const sim::ColourPlane& p : c.planes) {
+      nlohmann::json g = nlohmann::json::array(), u = g, v = g, t = g, d = g;
+      for (const sim::ColourAtGamma& a : p.points) {
+        g.push_back(a.gamma_deg);
+        u.push_back(num(a.uv.u_prime));
+        v.push_back(num(a.uv.v_prime));
+        t.push_back(num(a.cct.cct_k));
+        d.push_back(num(a.cct.duv));
+      }
+      planes.push_back({{"c_deg", p.c_deg}, {"gamma_deg", g}, {"u_prime", u}, {"v_prime", v},
+                        {"cct_k", t}, {"duv", d}});
+    }
+    json["colour_over_angle"] = {{"threshold_fraction", c.threshold_fraction},
+                                 {"mean_u_prime", num(c.mean_uv.u_prime)},
+                                 {"mean_v_prime", num(c.mean_uv.v_prime)},
+                                 {"delta_uv_max", num(c.delta_uv_max)},
+                                 {"bins_counted", c.bins_counted},
+                                 {"planes", planes}};
+  }
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
   // The cache folder kept to its limit, now that this run has used and
   // written its entries (each marked used, so they go last).
