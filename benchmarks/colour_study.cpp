@@ -17,7 +17,7 @@
 // falling from 0.085 on the axis to 0.052 at 90° — the yellow ring of
 // phosphor LEDs (the study prints the CCT this gives at each angle).
 //
-// Usage: gonio_colour_study [CORPUS_DIR] [--quick]
+// Usage: gonio_colour_study [CORPUS_DIR] [--quick] [--speed (part 1 only)]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -150,9 +150,10 @@ double delta_uv_max(const sim::SceneDesc& scene, std::uint64_t photons, std::uin
 
 int main(int argc, char** argv) {
   fs::path corpus = fs::path(GONIO_SOURCE_DIR) / ".." / "shared" / "corpus";
-  bool quick = false;
+  bool quick = false, speed_only = false;
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "--quick") quick = true;
+    else if (std::string(argv[i]) == "--speed") speed_only = true;
     else corpus = argv[i];
   }
   std::printf("load: %s\n", [] {
@@ -191,6 +192,8 @@ int main(int argc, char** argv) {
     std::sort(ratio.begin(), ratio.end());
     std::printf("%-10s %12.0f %12.0f %7.3f\n", name, g[1], s[1], ratio[1]);
   }
+
+  if (speed_only) return 0;
 
   // 2. Colour over angle of a white LED, bare, behind opal and behind a lens.
   const auto blue = read_two_columns(corpus / "spectra" / "LERTDUW_S2WP_binBQ_white-blue_20110706_spectrum.txt");

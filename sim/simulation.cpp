@@ -204,8 +204,8 @@ std::uint64_t Simulation::Impl::add_iteration() {
     for (std::size_t i = 0; i < texels; ++i) iteration[i] += t.texel_photons[i];
     if (words > texels)
       for (std::size_t i = 0; i < texels; ++i) {
-        iteration[texels + i] += t.texel_x[i];
-        iteration[2 * texels + i] += t.texel_z[i];
+        iteration[texels + i] += t.texel_xz[2 * i];
+        iteration[2 * texels + i] += t.texel_xz[2 * i + 1];
       }
     for (std::uint32_t texel : t.texel_wraps) iteration[texel] += 65536u;
     books_iteration.add(t.ledger);

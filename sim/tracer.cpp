@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <tuple>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -88,8 +89,7 @@ std::uint64_t TracerTally::photons(std::size_t texel) const {
 void TracerTally::clear() {
   std::fill(texel_photons.begin(), texel_photons.end(), std::uint16_t{0});
   texel_wraps.clear();
-  std::fill(texel_x.begin(), texel_x.end(), std::uint64_t{0});
-  std::fill(texel_z.begin(), texel_z.end(), std::uint64_t{0});
+  std::fill(texel_xz.begin(), texel_xz.end(), std::uint64_t{0});
   ledger.clear();
 }
 
@@ -175,8 +175,7 @@ TracerTally Tracer::make_tally() const {
   TracerTally t;
   t.texel_photons.assign(grid_.texel_count(), std::uint16_t{0});
   if (wavelengths_) {
-    t.texel_x.assign(grid_.texel_count(), std::uint64_t{0});
-    t.texel_z.assign(grid_.texel_count(), std::uint64_t{0});
+    t.texel_xz.assign(2 * grid_.texel_count(), std::uint64_t{0});
   }
   t.ledger = LedgerTally(emission_.emitter_count(), meshes_.size());
   return t;
@@ -311,8 +310,14 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
   // later, after a prefetch, so that the cache miss overlaps tracing.
   constexpr std::uint32_t kNone = ~0u;
   std::uint32_t pending = kNone;
-  auto count_escape = [&tally](std::uint32_t texel) {
+  std::uint64_t pending_x = 0, pending_z = 0;  // spectral: the pending escape's X and Z units
+  const bool spectral = wavelengths_ != nullptr;
+  auto count_escape = [&](std::uint32_t texel) {
     if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
+    if (spectral) {
+      tally.texel_xz[2 * static_cast<std::size_t>(texel)] += pending_x;
+      tally.texel_xz[2 * static_cast<std::size_t>(texel) + 1] += pending_z;
+    }
   };
   for (std::uint64_t i = first; i < first + count; ++i) {
     PhotonRandom rng(seed, i);
@@ -330,14 +335,13 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         if (pending != kNone) count_escape(pending);
         pending = texel;
         eb.escaped.add(r.power_units);
-        if (wavelengths_) {
+        if (spectral) {
+          __builtin_prefetch(&tally.texel_xz[2 * static_cast<std::size_t>(texel)], 1);
           if (colour.wavelength >= 0) {
-            tally.texel_x[texel] += wavelengths_->x_units()[static_cast<std::size_t>(colour.wavelength)];
-            tally.texel_z[texel] += wavelengths_->z_units()[static_cast<std::size_t>(colour.wavelength)];
+            pending_x = wavelengths_->x_units()[static_cast<std::size_t>(colour.wavelength)];
+            pending_z = wavelengths_->z_units()[static_cast<std::size_t>(colour.wavelength)];
           } else {
-            const auto [xu, zu] = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
-            tally.texel_x[texel] += xu;
-            tally.texel_z[texel] += zu;
+            std::tie(pending_x, pending_z) = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
           }
         }
         break;

@@ -69,9 +69,9 @@ struct TracerTally {
   std::vector<std::uint16_t> texel_photons;  // photons escaped per texel, mod 65536
   std::vector<std::uint32_t> texel_wraps;    // a texel per 65536 photons
   // Spectral scenes only (empty otherwise): X and Z per texel in
-  // kColourUnits per photon of Y (sim/spectral.h).
-  std::vector<std::uint64_t> texel_x;
-  std::vector<std::uint64_t> texel_z;
+  // kColourUnits per photon of Y (sim/spectral.h), interleaved (X of texel
+  // t at 2t, Z at 2t + 1: one cache line per escape).
+  std::vector<std::uint64_t> texel_xz;
   std::uint64_t photons(std::size_t texel) const;  // for tests: the full count (slow)
   LedgerTally ledger;
 
