@@ -406,6 +406,8 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   request.run.seed = settings.seed;
   request.run.max_bounces = settings.max_bounces;
   request.run.issue_date = format_utc(now_unix(), "%Y-%m-%d");
+  const sim::ColourFarField colour = sim->colour_far_field();
+  if (!colour.empty()) request.colour = &colour;
   Result<OutputResult> written = write_outputs(far_field, sim->scene(), ledger, request);
   if (!written.ok()) failures.push_back(written.error());
   const OutputResult none;
@@ -471,7 +473,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   if (sim->tracer().spectral()) {
     const sim::Resampler own =
         cached_resampler(settings.face_size, sim->scene().frame, plan.grid, plan.model_input.cache_dir);
-    const sim::ColourOverAngle c = sim::colour_over_angle(own, far_field, sim->colour_far_field());
+    const sim::ColourOverAngle c = sim::colour_over_angle(own, far_field, colour);
     const auto num = [](double v) { return cli::json_number(v); };
     const photometry::Chromaticity xy = photometry::chromaticity(c.total);
     json["colour"] = {{"cie_x", num(xy.x)},          {"cie_y", num(xy.y)},

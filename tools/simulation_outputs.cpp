@@ -206,7 +206,7 @@ std::vector<std::pair<std::string, std::string>> exr_attributes(const OutputRequ
 }
 
 Status write_cube_file(const sim::FarField& far_field, const OutputRequest& request, WrittenFile* file) {
-  Result<io::ExrImage> image = io::far_field_image(far_field);
+  Result<io::ExrImage> image = io::far_field_image(far_field, request.colour);
   if (!image.ok()) return make_error(file->path, image.error().message);
   for (auto& a : exr_attributes(request)) image->attributes.push_back(std::move(a));
   if (Status s = io::write_exr(file->path, *image); !s.ok()) return s;

@@ -89,6 +89,9 @@ struct OutputRequest {
   io::IesVersion ies_version = io::IesVersion::LM63_2019;  // 2019 or 2002
   RunInfo run;
   std::string cache_dir;  // where resamplers are kept (tools/resampler_cache.h); empty: none
+  // A spectral run's X and Z beside the far field (farfield.exr's X and Z
+  // channels); null: a grey run. Not owned.
+  const sim::ColourFarField* colour = nullptr;
 };
 
 // One file written and read back.
