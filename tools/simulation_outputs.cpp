@@ -17,6 +17,7 @@
 #include "io/outputs/plot.h"
 #include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
+#include "photometry/colour.h"
 #include "photometry/format.h"
 #include "photometry/validation.h"
 #include "tools/cli.h"
@@ -373,6 +374,21 @@ Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry sym
   lamp.count = static_cast<int>(std::max<std::size_t>(n, 1));
   lamp.type = std::to_string(n) + (n == 1 ? " emitter" : " emitters");
   lamp.flux_lm = emitted;
+  // A spectral run: the escaped light's CCT in the lamp set's colour field
+  // (EULUMDAT's colour temperature) and, with Duv, in the IES user keyword
+  // _CCT (LM-63 has no field of its own for it).
+  std::string cct_text;
+  if (request.colour && !request.colour->empty() && ledger.escaped.flux_lm > 0.0) {
+    photometry::Tristimulus t;
+    for (double v : request.colour->x_lm) t.X += v;
+    for (double v : request.colour->z_lm) t.Z += v;
+    t.Y = ledger.escaped.flux_lm;
+    const photometry::CctDuv c = photometry::cct_duv(t);
+    if (std::isfinite(c.cct_k)) {
+      lamp.color = format_fixed(c.cct_k, 0) + " K";
+      cct_text = lamp.color + ", Duv " + format_fixed(c.duv, 4) + " (Ohno 2014, CIE 1931 2 deg)";
+    }
+  }
   d.lamps = {lamp};
   d.luminaire = bounding_box(scene);
 
@@ -397,6 +413,7 @@ Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry sym
   d.set_keyword("MANUFAC", "not stated in the model");
   d.set_keyword("LUMINAIRE", model);
   d.set_keyword("LAMP", emitters_text.empty() ? "no emitters" : emitters_text);
+  if (!cct_text.empty()) d.set_keyword("_CCT", cct_text);
   d.set_keyword("FILEGENINFO",
                 "Computer simulation by Gonio " + request.run.program_version +
                     " (photon tracing into a direction cube map, area-weighted resampling to " +
