@@ -205,6 +205,62 @@ TEST(Spectral, GreyMaterialsAddNoColourNoise) {
   EXPECT_GT(lit, 1000);
 }
 
+// An integrating sphere of spectral reflectance ρ(λ) with a port of area
+// fraction f: per wavelength the escaped fraction is f/(1 − ρ(λ)(1 − f)),
+// so the escaped X, Y, Z are Σ S(λ)·{x̄, ȳ, z̄}(λ)·f/(1 − ρ(λ)(1 − f)) —
+// the sphere's colour amplification, which a grey ρ would miss.
+TEST(Spectral, IntegratingSphereFollowsTheSphereFormulaPerWavelength) {
+  const double radius = 0.1;
+  const double alpha = std::acos(0.9);
+  std::vector<ProfilePoint> profile;
+  for (int k = 0; k <= 64; ++k) {
+    const double theta = (M_PI - alpha) * k / 64;
+    profile.push_back({k == 0 ? 0.0 : radius * std::sin(theta), -radius * std::cos(theta)});
+  }
+  LatheOptions options;
+  options.segments = 128;
+  Mesh wall = lathe(profile, options);
+  std::vector<ProfilePoint> cap_arc;
+  for (int k = 0; k <= 16; ++k) {
+    const double theta = M_PI - alpha + alpha * k / 16;
+    cap_arc.push_back({k == 16 ? 0.0 : radius * std::sin(theta), -radius * std::cos(theta)});
+  }
+  const double port_area = surface_area_m2(lathe(cap_arc, options));
+  const double f = port_area / (port_area + surface_area_m2(wall));
+
+  const SampledSpectrum source = photometry::blackbody_spectrum(4000.0);
+  const SampledSpectrum rho{{360.0, 450.0, 550.0, 650.0, 830.0}, {0.5, 0.55, 0.8, 0.95, 0.95}};
+  SceneDesc s = bare_point(single(source));
+  s.materials[0].name = "coating";
+  s.materials[0].diffuse_reflect = 0.8;
+  s.materials[0].spectral_reflectance = rho;
+  s.meshes = {wall};
+  const std::uint64_t n = 1 << 20;
+  auto sim = simulate(s, settings(2, n / 2, 2));
+  ASSERT_TRUE(sim.ok()) << sim.error().message;
+  photometry::Tristimulus want, emitted;
+  for (int k = 0; k < kWavelengthCount; ++k) {
+    const double nm = wavelength_nm(k), p = source.at(nm), r = rho.at(nm);
+    const photometry::CmfValue c = photometry::cie1931_cmf_sample(k);
+    const double esc = f / (1.0 - r * (1.0 - f));
+    want.X += p * c.x_bar * esc;
+    want.Y += p * c.y_bar * esc;
+    want.Z += p * c.z_bar * esc;
+    emitted.Y += p * c.y_bar;
+  }
+  const photometry::Tristimulus got = totals(*sim);
+  const double fraction = got.Y / 1000.0, want_fraction = want.Y / emitted.Y;
+  const double d = photometry::delta_uv_prime(photometry::uv_prime(got), photometry::uv_prime(want));
+  std::printf("integrating sphere: escaped %.5f (formula %.5f), delta u'v' %.6f\n", fraction, want_fraction, d);
+  EXPECT_NEAR(fraction, want_fraction, 0.01 * want_fraction);
+  EXPECT_LT(d, 1.5e-3);
+  // A grey sphere of the same luminous reflectance keeps the source's colour:
+  // the test tells the two apart.
+  EXPECT_GT(photometry::delta_uv_prime(photometry::uv_prime(photometry::tristimulus(source)), photometry::uv_prime(want)),
+            0.01);
+  EXPECT_TRUE(sim->ledger().photons_close());
+}
+
 TEST(Spectral, SameBytesForAnyThreadAndIterationSplit) {
   SceneDesc s = bare_point(single(photometry::blackbody_spectrum(3000.0)));
   Material opal;
