@@ -64,6 +64,7 @@
 
 #include "gonio/version.h"
 #include "io/support/cache_folder.h"
+#include "io/outputs/colour_chart.h"
 #include "io/outputs/exr.h"
 #include "io/support/file_io.h"
 #include "io/outputs/report.h"
@@ -468,6 +469,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   for (const WrittenFile& f : outputs->files)
     if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
   json["outputs"] = to_json(*outputs, grid, ledger.escaped.flux_lm);
+  std::string colour_chart_path;
   // Spectral runs (sim/spectral.h): the luminaire's colour and its colour
   // over angle on the output grid (sim/colour_over_angle.h).
   if (sim->tracer().spectral()) {
@@ -499,6 +501,24 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
                                  {"delta_uv_max", num(c.delta_uv_max)},
                                  {"bins_counted", c.bins_counted},
                                  {"planes", planes}};
+    // The colour-over-angle chart beside the intensity diagram.
+    std::vector<io::ColourCurve> curves;
+    for (const sim::ColourPlane& p : c.planes) {
+      io::ColourCurve cc;
+      cc.c_deg = p.c_deg;
+      for (const sim::ColourAtGamma& a : p.points) {
+        cc.gamma_deg.push_back(a.gamma_deg);
+        cc.cct_k.push_back(a.cct.cct_k);
+        cc.delta_uv.push_back(photometry::delta_uv_prime(a.uv, c.mean_uv));
+      }
+      curves.push_back(std::move(cc));
+    }
+    const std::string chart_path = (std::filesystem::path(plan.out_dir) / (plan.stem + "-colour.svg")).string();
+    Result<io::Figure> chart = io::colour_over_angle_chart(curves, model + ": colour over angle", c.delta_uv_max);
+    Status chart_status = chart.ok() ? io::write_figure(chart_path, *chart) : Status(chart.error());
+    if (chart_status.ok()) json["colour_over_angle"]["chart"] = std::filesystem::path(chart_path).filename().string();
+    else failures.push_back(chart_status.error());
+    colour_chart_path = chart_status.ok() ? chart_path : std::string();
   }
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
   // The cache folder kept to its limit, now that this run has used and
@@ -517,6 +537,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   // Every file this run left in DIR besides report.json, and what failed.
   nlohmann::json written_paths = nlohmann::json::array();
   for (const WrittenFile& f : outputs->files) written_paths.push_back(f.path);
+  if (!colour_chart_path.empty()) written_paths.push_back(colour_chart_path);
   if (preview)
     for (const std::string& path : {preview->exr_path(), preview->png_path()})
       if (std::filesystem::is_regular_file(path)) written_paths.push_back(path);
