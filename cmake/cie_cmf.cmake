@@ -10,6 +10,9 @@
 set(GONIO_CIE_CMF_FILE "/usr/share/colord/cmf/CIE1931-2deg-XYZ.cmf" CACHE FILEPATH
     "CIE 1931 2-degree colour-matching functions (Debian package colord-data)")
 
+set(GONIO_CIE_D65_FILE "/usr/share/colord/illuminant/CIE-D65.sp" CACHE FILEPATH
+    "CIE standard illuminant D65 (Debian package colord-data)")
+
 function(gonio_generate_cie_cmf)
   cmake_parse_arguments(ARG "" "OUTPUT" "" ${ARGN})
   set(src "${GONIO_CIE_CMF_FILE}")
@@ -66,5 +69,28 @@ function(gonio_generate_cie_cmf)
   string(APPEND content "inline constexpr double kCie1931StepNm = 5.0;\n")
   string(APPEND content "inline constexpr int kCie1931Count = 95;\n")
   string(APPEND content "${body}")
+  # CIE standard illuminant D65 beside them (colord-data's 300–830 nm in
+  # 5 nm steps), on the same 360–830 nm grid: the white of sRGB, for
+  # turning colours into reflectance spectra (photometry/reflectance.h).
+  set(d65 "${GONIO_CIE_D65_FILE}")
+  if(NOT EXISTS "${d65}")
+    message(FATAL_ERROR "CIE illuminant D65 is missing: ${d65} (install Debian's colord-data: scripts/setup.sh)")
+  endif()
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${d65}")
+  file(READ "${d65}" dtext)
+  if(NOT dtext MATCHES "SPECTRAL_START_NM[ \t]+300" OR NOT dtext MATCHES "SPECTRAL_BANDS[ \t]+107" OR
+     NOT dtext MATCHES "BEGIN_DATA\n(.*)\nEND_DATA")
+    message(FATAL_ERROR "${d65}: expected 107 bands from 300 nm and a data block")
+  endif()
+  string(STRIP "${CMAKE_MATCH_1}" drow)
+  string(REGEX REPLACE "[ \t\r\n]+" ";" dvalues "${drow}")
+  list(LENGTH dvalues dn)
+  if(NOT dn EQUAL 107)
+    message(FATAL_ERROR "${d65}: ${dn} values, expected 107")
+  endif()
+  list(SUBLIST dvalues 12 95 dvalues)  # from 360 nm
+  string(REPLACE ";" ", " djoined "${dvalues}")
+  string(APPEND content "// CIE illuminant D65 from ${d65}, 360..830 nm in 5 nm steps.\n")
+  string(APPEND content "inline constexpr double kCieD65[95] = {${djoined}};\n")
   file(CONFIGURE OUTPUT "${ARG_OUTPUT}" CONTENT "${content}" @ONLY)
 endfunction()

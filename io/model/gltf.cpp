@@ -31,6 +31,7 @@
 #include "io/photometric/ldt.h"
 #include "photometry/format.h"
 #include "photometry/flux.h"
+#include "photometry/reflectance.h"
 #include "sim/affine.h"
 
 namespace gonio::io {
@@ -419,6 +420,9 @@ class Loader {
                        std::optional<double> node_flux, std::vector<std::size_t>& emitters);
   Status load_ies_profile(IesLight& light);
   Result<std::uint32_t> material(int index);
+  // A spectral scene: coloured base colours become reflectance spectra
+  // (photometry/reflectance.h) where extras give none.
+  void colour_base_colours();
 
   Result<FloatView> read_floats(int accessor, int type, const std::string& what);
   Result<std::vector<std::uint32_t>> read_indices(int accessor, const std::string& what);
@@ -449,6 +453,7 @@ class Loader {
     sim::EmitterSpectrum spectrum;  // extras.gonio.spectrum; empty: none
   };
   std::vector<Emission> emission_;  // per scene material
+  std::vector<Rgb> base_colours_;   // per scene material: baseColorFactor (RGB), as clamped
   std::vector<json> khr_lights_;
   std::vector<IesLight> ies_lights_;
   std::map<int, std::uint32_t> materials_;  // glTF material (−1 default) → scene material
@@ -593,6 +598,33 @@ Result<sim::EmitterSpectrum> Loader::emitter_spectrum(const json& obj, const std
   }
   if (Status st = sim::validate_emitter_spectrum(out); !st.ok()) return fail(w + ": " + st.error().message);
   return out;
+}
+
+// The reflection lobes of a material from a coloured base colour share the
+// base colour's Jakob–Hanika spectrum, scaled to the luminous reflectance
+// map_material gave them (values clamped to 1). Grey base colours, materials
+// without reflection and materials with extras.gonio.spectral_reflectance
+// keep what they have; a grey scene is left alone.
+void Loader::colour_base_colours() {
+  if (!scene_.spectral()) return;
+  for (std::size_t i = 0; i < scene_.materials.size() && i < base_colours_.size(); ++i) {
+    sim::Material& m = scene_.materials[i];
+    const Rgb& c = base_colours_[i];
+    const double reflect = m.diffuse_reflect + m.mirror + m.glossy;
+    const double lum = luminance(c);
+    if (!m.spectral_reflectance.empty() || !(reflect > 0.0) || !(lum > 0.0) ||
+        (std::abs(c.r - c.g) < 1e-9 && std::abs(c.g - c.b) < 1e-9))
+      continue;
+    const photometry::ReflectanceFit fit = photometry::fit_reflectance(c.r, c.g, c.b);
+    photometry::SampledSpectrum s = photometry::sampled(fit.coefficients);
+    const double scale = reflect / photometry::tristimulus_under_d65(s).Y;
+    for (double& v : s.values) v = std::min(1.0, v * scale);
+    m.spectral_reflectance = std::move(s);
+    if (fit.delta_e > 1.0)
+      note(Severity::Info, "colour-outside-gamut",
+           "material '" + m.name + "': its base colour is matched by a reflectance spectrum only to ΔE " +
+               format_number(fit.delta_e, 3));
+  }
 }
 
 Status Loader::parse_file() {
@@ -1189,6 +1221,7 @@ Result<std::uint32_t> Loader::material(int index) {
   scene_.materials.push_back(std::move(*mapped));
   materials_[index] = id;
   emission_.push_back({emissive_luminance_cd_m2(m, x), m.double_sided, std::move(emitted_spectrum)});
+  base_colours_.push_back(m.base_color);
   return id;
 }
 
@@ -1950,6 +1983,7 @@ Result<sim::SceneDesc> Loader::load() {
                 "or spot light and no emissive material with flux; nothing would shine");
   if (scene_.meshes.empty())
     note(Severity::Info, "no-geometry", "the model has no triangles: bare emitters only");
+  colour_base_colours();
   if (!options_.instancing) return sim::flattened(scene_);
   return std::move(scene_);
 }

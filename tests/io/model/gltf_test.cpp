@@ -17,6 +17,7 @@
 #include "io/photometric/ldt.h"
 #include "photometry/colour.h"
 #include "photometry/flux.h"
+#include "photometry/reflectance.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -1537,6 +1538,40 @@ TEST(GltfSpectral, SpectraOnLightsAndMaterialsReachTheScene) {
   Doc grey;
   grey.point_light(1.0);
   EXPECT_FALSE(load_ok(grey.write(dir, "grey")).spectral());
+}
+
+// In a spectral scene a coloured base colour becomes a Jakob–Hanika
+// reflectance spectrum with the luminous reflectance the grey mapping gave;
+// grey colours and grey scenes stay as they were.
+TEST(GltfSpectral, BaseColoursBecomeSmoothSpectraInSpectralScenes) {
+  test::TempDir dir;
+  const auto doc = [](bool spectral) {
+    Doc d;
+    json light = {{"type", "point"}, {"intensity", 1.0}};
+    if (spectral) light["extras"] = {{"gonio", {{"spectrum", {{"blackbody_k", 4000.0}}}}}};
+    const int l = d.khr_light(light);
+    d.node({{"name", "lamp"}, {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}});
+    const int red = d.material({{"name", "red"},
+                                {"pbrMetallicRoughness", {{"baseColorFactor", {0.7, 0.1, 0.05, 1.0}},
+                                                          {"metallicFactor", 0.0}}}});
+    const int grey = d.material({{"name", "grey"},
+                                 {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1.0}},
+                                                           {"metallicFactor", 0.0}}}});
+    d.node({{"mesh", d.mesh(kQuad, kQuadIdx, red)}});
+    d.node({{"mesh", d.mesh(kQuad, kQuadIdx, grey)}});
+    return d;
+  };
+  const sim::SceneDesc s = load_ok(doc(true).write(dir, "spectral"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  const sim::Material& red = s.materials[0];
+  ASSERT_FALSE(red.spectral_reflectance.empty());
+  EXPECT_GT(red.spectral_reflectance.at(650.0), 5.0 * red.spectral_reflectance.at(450.0));
+  const double reflect = red.diffuse_reflect + red.mirror + red.glossy;
+  EXPECT_NEAR(photometry::tristimulus_under_d65(red.spectral_reflectance).Y, reflect, 1e-3);
+  EXPECT_TRUE(s.materials[1].spectral_reflectance.empty());
+  const sim::SceneDesc g = load_ok(doc(false).write(dir, "grey"));
+  EXPECT_TRUE(g.materials[0].spectral_reflectance.empty());
+  EXPECT_FALSE(g.spectral());
 }
 
 TEST(GltfSpectral, BadSpectraAreErrorsNamingFilePartAndKey) {
