@@ -18,6 +18,7 @@
 // phosphor LEDs (the study prints the CCT this gives at each angle).
 //
 // Usage: gonio_colour_study [CORPUS_DIR] [--quick] [--speed (part 1 only)]
+//        [--lens --reference-log2=K (the lens alone, a 2^K-photon reference, runs of 2^(K-2) and 2^(K-1))]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -150,10 +151,14 @@ double delta_uv_max(const sim::SceneDesc& scene, std::uint64_t photons, std::uin
 
 int main(int argc, char** argv) {
   fs::path corpus = fs::path(GONIO_SOURCE_DIR) / ".." / "shared" / "corpus";
-  bool quick = false, speed_only = false;
+  bool quick = false, speed_only = false, lens_only = false;
+  int reference_log2 = 23;
   for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--quick") quick = true;
-    else if (std::string(argv[i]) == "--speed") speed_only = true;
+    const std::string a = argv[i];
+    if (a == "--quick") quick = true;
+    else if (a == "--speed") speed_only = true;
+    else if (a == "--lens") lens_only = true;
+    else if (a.rfind("--reference-log2=", 0) == 0) reference_log2 = std::stoi(a.substr(17));
     else corpus = argv[i];
   }
   std::printf("load: %s\n", [] {
@@ -170,9 +175,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", st.error().message.c_str());
     return 1;
   }
-  std::printf("\n1. photons/s, 2 threads, 10^6 photons a run, three interleaved rounds (median)\n");
+  if (!lens_only) std::printf("\n1. photons/s, 2 threads, 10^6 photons a run, three interleaved rounds (median)\n");
   std::printf("%-10s %12s %12s %7s\n", "sample", "grey", "spectral", "ratio");
   for (const char* name : {"bell", "downlight", "spotlight", "led-array"}) {
+    if (lens_only) break;
     auto scene = io::load_gltf((tmp / name / (std::string(name) + ".gltf")).string(), nullptr);
     if (!scene.ok()) {
       std::fprintf(stderr, "%s\n", scene.error().message.c_str());
@@ -213,10 +219,11 @@ int main(int argc, char** argv) {
   }
   const sim::CGammaGrid grid{5.0, 2.5};
   const sim::Resampler resampler(128, photometry::PhotometricFrame{}, grid);
-  const std::uint64_t reference_n = quick ? (1u << 20) : (1u << 23);
+  const std::uint64_t reference_n = quick ? (1u << 20) : (std::uint64_t{1} << reference_log2);
   std::vector<std::uint64_t> ns;
-  for (std::uint64_t n = 1u << 17; n <= reference_n / 2; n *= 2) ns.push_back(n);
+  for (std::uint64_t n = lens_only ? reference_n / 4 : (1u << 17); n <= reference_n / 2; n *= 2) ns.push_back(n);
   for (Optic optic : {Optic::Bare, Optic::Opal, Optic::Lens}) {
+    if (lens_only && optic != Optic::Lens) continue;
     const sim::SceneDesc scene = led_luminaire(led, optic);
     double rate = 0.0;
     const auto t0 = std::chrono::steady_clock::now();
