@@ -235,7 +235,7 @@ TEST(Spectral, IntegratingSphereFollowsTheSphereFormulaPerWavelength) {
   s.materials[0].diffuse_reflect = 0.8;
   s.materials[0].spectral_reflectance = rho;
   s.meshes = {wall};
-  const std::uint64_t n = 1 << 19;
+  const std::uint64_t n = 1 << 20;
   auto sim = simulate(s, settings(2, n / 2, 2));
   ASSERT_TRUE(sim.ok()) << sim.error().message;
   photometry::Tristimulus want, emitted;
