@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (!lens_only) std::printf("\n1. photons/s, 2 threads, 10^6 photons a run, three interleaved rounds (median)\n");
-  std::printf("%-10s %12s %12s %7s\n", "sample", "grey", "spectral", "ratio");
+  if (!lens_only) std::printf("%-10s %12s %12s %7s\n", "sample", "grey", "spectral", "ratio");
   for (const char* name : {"bell", "downlight", "spotlight", "led-array"}) {
     if (lens_only) break;
     auto scene = io::load_gltf((tmp / name / (std::string(name) + ".gltf")).string(), nullptr);
