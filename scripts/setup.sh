@@ -14,6 +14,7 @@ packages=(
   libcpp-httplib-dev chromium poppler-utils
   libpugixml-dev libzip-dev libxml2-utils libxxhash-dev
   clang-14 libfuzzer-14-dev llvm-14
+  colord-data
 )
 
 missing=()

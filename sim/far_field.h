@@ -56,4 +56,13 @@ class FarField {
   std::vector<std::uint64_t> photons_;
 };
 
+// What a spectral run's far field adds beside Y (sim/spectral.h): the CIE
+// tristimulus values X and Z per texel, in the units of the far field's flux
+// (Y is the luminous flux [lm]), on the same grid. Empty for a grey run.
+struct ColourFarField {
+  std::vector<double> x_lm;
+  std::vector<double> z_lm;
+  bool empty() const { return x_lm.empty(); }
+};
+
 }  // namespace gonio::sim

@@ -1,9 +1,31 @@
 #include "sim/scene.h"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 #include <utility>
 
+#include "photometry/colour.h"
+#include "photometry/format.h"
+
 namespace gonio::sim {
+
+Status validate_emitter_spectrum(const EmitterSpectrum& s) {
+  for (std::size_t i = 0; i < s.over_gamma.size(); ++i) {
+    const EmitterSpectrum::AtGamma& a = s.over_gamma[i];
+    const std::string what = s.over_gamma.size() == 1 ? std::string("spectrum")
+                                                       : "spectrum at entry " + std::to_string(i);
+    if (!std::isfinite(a.gamma_deg) || a.gamma_deg < 0.0 || a.gamma_deg > 180.0)
+      return make_error(what + ": gamma_deg " + format_number(a.gamma_deg) + " must lie in [0, 180]");
+    if (i > 0 && !(a.gamma_deg > s.over_gamma[i - 1].gamma_deg))
+      return make_error(what + ": gamma_deg " + format_number(a.gamma_deg) + " does not increase");
+    if (Status st = photometry::validate_spectrum(a.spectrum); !st.ok()) return make_error(what + ": " + st.error().message);
+    if (!(photometry::tristimulus(a.spectrum).Y > 0.0))
+      return make_error(what + ": no power between 360 and 830 nm where the eye sees");
+  }
+  return Ok{};
+}
+
 
 std::size_t SceneDesc::unique_triangle_count() const {
   std::size_t n = 0;

@@ -13,6 +13,7 @@
 
 #include "photometry/distribution.h"
 #include "photometry/frame.h"
+#include "photometry/spectrum.h"
 #include "photometry/vec3.h"
 #include "sim/affine.h"
 
@@ -48,6 +49,25 @@ struct Material {
                                   // refraction, total internal reflection
   double ior = 1.5;               // refractive index of the volume behind the surface
   double attenuation_per_m = 0.0; // absorption coefficient inside that volume [1/m]
+
+  // Spectral behaviour (sim/spectral.h applies it; all empty or 0: the same
+  // at every wavelength). The reflectance spectrum is the total of the
+  // reflection lobes (diffuse_reflect, mirror, glossy) at each wavelength,
+  // shared among them in the proportion of their weights (all diffuse where
+  // they are all 0); the transmittance spectrum likewise for diffuse_transmit
+  // and dielectric (all diffuse where both are 0). Values in [0, 1].
+  photometry::SampledSpectrum spectral_reflectance{};
+  photometry::SampledSpectrum spectral_transmittance{};
+  // Dispersion of the dielectric: a table of n over wavelength, or an Abbe
+  // number V_d with `ior` as n_d (two-term Cauchy through n_d at 587.56 nm
+  // with n_F − n_C = (n_d − 1)/V_d at 486.13 and 656.27 nm); 0: none.
+  photometry::SampledSpectrum ior_nm{};
+  double abbe_number = 0.0;
+
+  bool spectral() const {
+    return !spectral_reflectance.empty() || !spectral_transmittance.empty() || !ior_nm.empty() ||
+           abbe_number > 0.0;
+  }
 
   double total() const { return diffuse_reflect + diffuse_transmit + mirror + glossy + dielectric; }
 };
@@ -90,6 +110,28 @@ struct RaySet {
   std::size_t size() const { return flux_lm.size(); }
 };
 
+// An emitter's relative spectral power distribution, possibly changing with
+// the angle γ from the emitter's axis (a point emitter's photometric nadir,
+// γ = 0 of its profile; an area emitter's surface normal). Between the given
+// angles the spectrum is interpolated linearly, each entry first scaled to
+// the same luminous content; outside them the nearest entry holds. The
+// spectrum shapes the colour only: the emitter's flux and intensity
+// distribution stay as given. Empty: no spectral input.
+struct EmitterSpectrum {
+  struct AtGamma {
+    double gamma_deg = 0.0;          // [deg], strictly increasing over the entries, in [0, 180]
+    photometry::SampledSpectrum spectrum;   // relative spectral power (photometry::validate_spectrum)
+  };
+  std::vector<AtGamma> over_gamma;   // one entry: the same in every direction
+
+  bool empty() const { return over_gamma.empty(); }
+};
+
+// Checks an emitter's spectrum: entries' γ strictly increasing in [0, 180],
+// each spectrum valid (photometry::validate_spectrum) with some luminous
+// content between 360 and 830 nm. Messages name the entry.
+Status validate_emitter_spectrum(const EmitterSpectrum& s);
+
 struct Emitter {
   enum class Kind {
     Point,   // a point with a measured (or isotropic) intensity distribution
@@ -115,6 +157,8 @@ struct Emitter {
   // Ray-set emitters: the rays in the world (position: the node's origin, for
   // reports); flux_lm is the emitter's, the rays' fluxes only weigh them.
   std::shared_ptr<const RaySet> rays;
+
+  EmitterSpectrum spectrum;  // empty: no spectral input (sim/spectral.h)
 };
 
 struct SceneDesc {
@@ -124,6 +168,18 @@ struct SceneDesc {
   std::vector<Instance> instances;     // placements of the instanced meshes
   std::vector<Emitter> emitters;
   photometry::PhotometricFrame frame;  // the luminaire's photometric frame in the world
+
+  // Whether any emitter or material has spectral input: photons then carry
+  // wavelengths and the far field gains X and Z (sim/spectral.h); an emitter
+  // without a spectrum then emits the equal-energy spectrum (CIE illuminant
+  // E). Otherwise the tracer takes today's path, draw for draw.
+  bool spectral() const {
+    for (const Emitter& e : emitters)
+      if (!e.spectrum.empty()) return true;
+    for (const Material& m : materials)
+      if (m.spectral()) return true;
+    return false;
+  }
 
   double total_flux_lm() const {
     double sum = 0.0;

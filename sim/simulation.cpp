@@ -54,6 +54,10 @@ struct Simulation::Impl {
 
   std::vector<std::uint64_t> texel_photons;  // over all iterations
   std::vector<std::uint64_t> texel_units;    // power units, ledger.h
+  // Spectral scenes only: X and Z over all iterations, kColourUnits per
+  // photon of Y (sim/spectral.h).
+  std::vector<std::uint64_t> texel_x;
+  std::vector<std::uint64_t> texel_z;
   LedgerTally books;
   std::vector<EscapedRay> escaped_rays;  // by photon index
   SimulationStats stats;
@@ -85,6 +89,10 @@ struct Simulation::Impl {
                   : nullptr),
         guide_tallies([this] { return guide->make_tally(); }) {
     if (guide) guide_iteration = guide->make_tally();
+    if (tracer.spectral()) {
+      texel_x.assign(tracer.grid().texel_count(), 0);
+      texel_z.assign(tracer.grid().texel_count(), 0);
+    }
   }
 
   // Adds the threads' tallies of this iteration, summed across the ranks,
@@ -107,6 +115,8 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
   if (static_cast<double>(settings.photons_per_iteration) * settings.iterations > 0x1.0p39)
     return make_error("at most 2^39 (5.5e11) photons per run");
   if (settings.threads < 0) return make_error("the thread count must be >= 0");
+  if (settings.importance.enabled && scene.spectral())
+    return make_error("guided emission does not carry wavelengths yet: run a spectral model without it");
   if (settings.importance.enabled) {
     if (settings.importance.emission_face_size < 1 || settings.importance.emission_face_size > 1024)
       return make_error("the emission grid of guided emission needs 1..1024 texels per face edge");
@@ -191,10 +201,17 @@ std::uint64_t Simulation::Impl::add_iteration() {
   // then the books, then the guide's tally. Integer sums: the order of
   // threads and of ranks does not matter.
   const std::size_t texels = texel_photons.size();
-  iteration.assign(texels, 0);
+  // Spectral: X and Z per texel follow the photon counts in the same vector.
+  const std::size_t words = texel_x.empty() ? texels : 3 * texels;
+  iteration.assign(words, 0);
   books_iteration.clear();
   for (TracerTally& t : tallies) {
     for (std::size_t i = 0; i < texels; ++i) iteration[i] += t.texel_photons[i];
+    if (words > texels)
+      for (std::size_t i = 0; i < texels; ++i) {
+        iteration[texels + i] += t.texel_xz[2 * i];
+        iteration[2 * texels + i] += t.texel_xz[2 * i + 1];
+      }
     for (std::uint32_t texel : t.texel_wraps) iteration[texel] += 65536u;
     books_iteration.add(t.ledger);
     t.clear();
@@ -221,7 +238,7 @@ std::uint64_t Simulation::Impl::add_iteration() {
     const double reduce_s = seconds_since(t);
     stats.reduce_s += reduce_s;
     if (stats.reduce_fastest_s == 0.0 || reduce_s < stats.reduce_fastest_s) stats.reduce_fastest_s = reduce_s;
-    std::size_t k = texels;
+    std::size_t k = words;
     each_count(books_iteration, [&](std::uint64_t& v) { v = iteration[k++]; });
     if (guide) each_count(guide_iteration, [&](std::uint64_t& v) { v = iteration[k++]; });
   }
@@ -229,6 +246,11 @@ std::uint64_t Simulation::Impl::add_iteration() {
     texel_photons[i] += iteration[i];
     texel_units[i] += iteration[i] * kPowerUnits;
   }
+  if (words > texels)
+    for (std::size_t i = 0; i < texels; ++i) {
+      texel_x[i] += iteration[texels + i];
+      texel_z[i] += iteration[2 * texels + i];
+    }
   books.add(books_iteration);
   if (!guide) return 0;
   for (std::size_t i = 0; i < texels; ++i) texel_units[i] += guide_iteration.extra_units[i];
@@ -263,6 +285,23 @@ FarField Simulation::far_field() const {
     for (std::size_t i = 0; i < n; ++i) flux[i] = static_cast<double>(s.texel_units[i]) * per_unit;
   }
   return FarField(s.tracer.grid().face_size(), std::move(flux), s.texel_photons);
+}
+
+ColourFarField Simulation::colour_far_field() const {
+  const Impl& s = *impl_;
+  ColourFarField c;
+  if (s.texel_x.empty()) return c;
+  const std::size_t n = s.texel_x.size();
+  c.x_lm.assign(n, 0.0);
+  c.z_lm.assign(n, 0.0);
+  if (s.stats.photons == 0) return c;
+  const double per_unit = total_flux_lm() / static_cast<double>(s.stats.photons) /
+                          static_cast<double>(kColourUnits);
+  for (std::size_t i = 0; i < n; ++i) {
+    c.x_lm[i] = static_cast<double>(s.texel_x[i]) * per_unit;
+    c.z_lm[i] = static_cast<double>(s.texel_z[i]) * per_unit;
+  }
+  return c;
 }
 
 Ledger Simulation::ledger() const { return make_ledger(impl_->books, impl_->scene, total_flux_lm()); }

@@ -23,6 +23,7 @@
 #include "sim/distributed.h"
 #include "sim/emission_guide.h"
 #include "sim/far_field.h"
+#include "sim/spectral.h"
 #include "sim/ledger.h"
 #include "sim/scene.h"
 #include "sim/tracer.h"
@@ -119,6 +120,10 @@ class Simulation {
   const std::vector<EscapedRay>& escaped_rays() const;
   // The emission guide (null unless settings().importance.enabled).
   const EmissionGuide* emission_guide() const;
+
+  // Spectral scenes (SceneDesc::spectral()): X and Z per texel beside the
+  // far field's Y (its flux), same units; empty otherwise (sim/spectral.h).
+  ColourFarField colour_far_field() const;
   // The books of every photon so far.
   Ledger ledger() const;
   // Total flux of the scene's emitters [lm].

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <tuple>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -88,6 +89,7 @@ std::uint64_t TracerTally::photons(std::size_t texel) const {
 void TracerTally::clear() {
   std::fill(texel_photons.begin(), texel_photons.end(), std::uint16_t{0});
   texel_wraps.clear();
+  std::fill(texel_xz.begin(), texel_xz.end(), std::uint64_t{0});
   ledger.clear();
 }
 
@@ -147,6 +149,20 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
     per_corner(m.tangents, &d.corner_tangents);
     tracer.meshes_.push_back(std::move(d));
   }
+  if (scene.spectral()) {
+    for (const Material& m : scene.materials)
+      if (Status st = validate_spectral_material(m); !st.ok()) return st.error();
+    auto wavelengths = WavelengthSampler::create(scene);
+    if (!wavelengths.ok()) return wavelengths.error();
+    tracer.wavelengths_ = std::make_shared<const WavelengthSampler>(std::move(wavelengths.value()));
+    for (const Material& m : scene.materials)
+      for (int k = 0; k < kWavelengthCount; ++k) {
+        tracer.spectral_materials_.push_back(at_wavelength(m, wavelength_nm(k)));
+        tracer.spectral_lobe_cdfs_.push_back(lobe_cdf(tracer.spectral_materials_.back()));
+      }
+    for (const Emitter& e : scene.emitters) tracer.emitter_axes_.push_back(-1.0 * e.frame.up);
+    for (const Material& m : scene.materials) tracer.material_spectral_.push_back(m.spectral() ? 1 : 0);
+  }
   tracer.instances_.reserve(scene.instances.size());
   for (const Instance& i : scene.instances) tracer.instances_.push_back(i.to_world);
   times.shading_s = seconds_since(t);
@@ -158,6 +174,9 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
 TracerTally Tracer::make_tally() const {
   TracerTally t;
   t.texel_photons.assign(grid_.texel_count(), std::uint16_t{0});
+  if (wavelengths_) {
+    t.texel_xz.assign(2 * grid_.texel_count(), std::uint64_t{0});
+  }
   t.ledger = LedgerTally(emission_.emitter_count(), meshes_.size());
   return t;
 }
@@ -167,7 +186,7 @@ Vec3 Tracer::offset(const Vec3& p, const Vec3& side_normal, double t) const {
 }
 
 TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
-                           std::vector<RayQuery>* record, std::uint64_t power) const {
+                           std::vector<RayQuery>* record, std::uint64_t power, PhotonColour* colour) const {
   TraceResult r;
   RayQuery ray{};
   RayHit hit;
@@ -187,7 +206,14 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // The shading normals are a likely cache miss: start loading them now.
     if (!mesh.corner_normals.empty())
       __builtin_prefetch(&mesh.corner_normals[3 * static_cast<std::size_t>(hit.triangle)]);
-    const Material& material = materials_[mesh.material];
+    // A spectral photon draws its wavelength at the first material that
+    // acts differently by wavelength (sim/spectral.h).
+    if (colour && colour->wavelength == PhotonColour::kUndrawn && material_spectral_[mesh.material])
+      colour->wavelength = wavelengths_->sample(colour->emitter, colour->cos_gamma, rng);
+    const int wavelength = colour ? colour->wavelength : PhotonColour::kUndrawn;
+    const std::size_t spectral_index =
+        static_cast<std::size_t>(mesh.material) * kWavelengthCount + static_cast<std::size_t>(wavelength);
+    const Material& material = wavelength < 0 ? materials_[mesh.material] : spectral_materials_[spectral_index];
     const double t = hit.t;
     const Vec3 ng_raw{hit.ng[0], hit.ng[1], hit.ng[2]};
     const bool from_back = dot(ng_raw, direction) > 0.0;
@@ -209,7 +235,8 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
 
     const Vec3 ng = ng_raw * (1.0 / std::sqrt(dot(ng_raw, ng_raw)));
     SurfaceFrame frame{ng, ng, {}};
-    const Lobe lobe = choose_lobe(lobe_cdfs_[mesh.material], rng.uniform());
+    const Lobe lobe = choose_lobe(
+        wavelength < 0 ? lobe_cdfs_[mesh.material] : spectral_lobe_cdfs_[spectral_index], rng.uniform());
     if (uses_shading_frame(lobe)) {
       const std::size_t c = 3 * static_cast<std::size_t>(hit.triangle);
       const double u = hit.u, v = hit.v, w0 = 1.0 - u - v;
@@ -247,9 +274,21 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   }
 }
 
-TraceResult Tracer::trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng) const {
+TraceResult Tracer::trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng,
+                          int wavelength) const {
   FloatModeGuard float_mode;
-  return follow(origin, normalize(direction), rng, nullptr);
+  GONIO_CHECK(wavelength < kWavelengthCount && (wavelength < 0 || wavelengths_));
+  PhotonColour colour;
+  colour.wavelength = wavelength;
+  return follow(origin, normalize(direction), rng, nullptr, nullptr, kPowerUnits,
+                wavelength >= 0 ? &colour : nullptr);
+}
+
+PhotonColour Tracer::start_colour(const EmittedPhoton& e) const {
+  PhotonColour c;
+  c.emitter = e.emitter;
+  c.cos_gamma = e.on_surface ? dot(e.direction, e.surface_normal) : dot(e.direction, emitter_axes_[e.emitter]);
+  return c;
 }
 
 void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
@@ -258,8 +297,9 @@ void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t 
   for (std::uint64_t i = first; i < first + count; ++i) {
     PhotonRandom rng(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
+    PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
-    follow(origin, e.direction, rng, nullptr, rays);
+    follow(origin, e.direction, rng, nullptr, rays, kPowerUnits, wavelengths_ ? &colour : nullptr);
   }
 }
 
@@ -271,8 +311,14 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
   // later, after a prefetch, so that the cache miss overlaps tracing.
   constexpr std::uint32_t kNone = ~0u;
   std::uint32_t pending = kNone;
-  auto count_escape = [&tally](std::uint32_t texel) {
+  std::uint64_t pending_x = 0, pending_z = 0;  // spectral: the pending escape's X and Z units
+  const bool spectral = wavelengths_ != nullptr;
+  auto count_escape = [&](std::uint32_t texel) {
     if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
+    if (spectral) {
+      tally.texel_xz[2 * static_cast<std::size_t>(texel)] += pending_x;
+      tally.texel_xz[2 * static_cast<std::size_t>(texel) + 1] += pending_z;
+    }
   };
   for (std::uint64_t i = first; i < first + count; ++i) {
     PhotonRandom rng(seed, i);
@@ -280,7 +326,9 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     LedgerTally::PerEmitter& eb = books.emitters[e.emitter];
     eb.emitted.add(kPowerUnits);
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
-    const TraceResult r = follow(origin, e.direction, rng, &books);
+    PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
+    const TraceResult r =
+        follow(origin, e.direction, rng, &books, nullptr, kPowerUnits, wavelengths_ ? &colour : nullptr);
     switch (r.fate) {
       case Fate::Escaped: {
         const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));
@@ -289,6 +337,15 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         pending = texel;
         eb.escaped.add(r.power_units);
         if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
+        if (spectral) {
+          __builtin_prefetch(&tally.texel_xz[2 * static_cast<std::size_t>(texel)], 1);
+          if (colour.wavelength >= 0) {
+            pending_x = wavelengths_->x_units()[static_cast<std::size_t>(colour.wavelength)];
+            pending_z = wavelengths_->z_units()[static_cast<std::size_t>(colour.wavelength)];
+          } else {
+            std::tie(pending_x, pending_z) = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
+          }
+        }
         break;
       }
       case Fate::Absorbed:

@@ -28,6 +28,7 @@
 #include "sim/material.h"
 #include "sim/random.h"
 #include "sim/scene.h"
+#include "sim/spectral.h"
 #include "sim/unit_vector.h"
 
 namespace gonio::sim {
@@ -76,6 +77,10 @@ struct EscapedRay {
 struct TracerTally {
   std::vector<std::uint16_t> texel_photons;  // photons escaped per texel, mod 65536
   std::vector<std::uint32_t> texel_wraps;    // a texel per 65536 photons
+  // Spectral scenes only (empty otherwise): X and Z per texel in
+  // kColourUnits per photon of Y (sim/spectral.h), interleaved (X of texel
+  // t at 2t, Z at 2t + 1: one cache line per escape).
+  std::vector<std::uint64_t> texel_xz;
   std::uint64_t photons(std::size_t texel) const;  // for tests: the full count (slow)
   LedgerTally ledger;
   // Escapes of photons with a run-wide index below capture_below, kept
@@ -121,8 +126,15 @@ class Tracer {
                             GuideTally& guide_tally) const;
 
   // Follows one photon from a given start off any surface (validation cases
-  // with beams); books nothing. `direction` need not be unit.
-  TraceResult trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng) const;
+  // with beams); books nothing. `direction` need not be unit. `wavelength`:
+  // an index of sim/spectral.h's grid, which the materials then act at
+  // (spectral scenes only); -1: grey.
+  TraceResult trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng,
+                    int wavelength = -1) const;
+
+  // Whether photons carry wavelengths (SceneDesc::spectral()), and their sampler.
+  bool spectral() const { return wavelengths_ != nullptr; }
+  const WavelengthSampler* wavelengths() const { return wavelengths_.get(); }
 
   // A point on a surface moved off it towards unit `side_normal` by the rule
   // at the top (t: the length of the path that reached it; 0 for emission).
@@ -160,7 +172,9 @@ class Tracer {
 
   TraceResult follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
                      std::vector<RayQuery>* record = nullptr,
-                     std::uint64_t power = kPowerUnits) const;
+                     std::uint64_t power = kPowerUnits, PhotonColour* colour = nullptr) const;
+  // A spectral photon's colour state at emission (nothing drawn yet).
+  PhotonColour start_colour(const EmittedPhoton& e) const;
   // The offset's length for scale = max |coordinate| + t: 2⁻¹⁸·scale plus
   // the floor [m].
   double offset_m(double scale) const { return 0x1.0p-18 * scale + offset_floor_m_; }
@@ -173,6 +187,13 @@ class Tracer {
   std::vector<Affine> instances_;  // SceneDesc::instances' transforms
   std::vector<Material> materials_;
   std::vector<LobeCdf> lobe_cdfs_;  // per material
+  // Spectral scenes: each material at each wavelength (material ·
+  // kWavelengthCount + k) with its lobe table, and the wavelength sampler.
+  std::vector<Material> spectral_materials_;
+  std::vector<LobeCdf> spectral_lobe_cdfs_;
+  std::shared_ptr<const WavelengthSampler> wavelengths_;
+  std::vector<char> material_spectral_;  // per material: acts differently by wavelength
+  std::vector<Vec3> emitter_axes_;  // per emitter: its γ = 0 direction (point emitters)
   double offset_floor_m_ = 0.0;
   TracerSetupTimes setup_times_;
 };

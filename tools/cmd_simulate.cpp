@@ -64,11 +64,13 @@
 
 #include "gonio/version.h"
 #include "io/support/cache_folder.h"
+#include "io/outputs/colour_chart.h"
 #include "io/outputs/exr.h"
 #include "io/support/file_io.h"
 #include "io/outputs/report.h"
 #include "io/photometric/tm25.h"
 #include "photometry/format.h"
+#include "sim/colour_over_angle.h"
 #include "sim/resample.h"
 #include "sim/simulation.h"
 #include "sim/symmetry.h"
@@ -76,6 +78,7 @@
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/distributed_run.h"
+#include "tools/json_figures.h"
 #include "tools/live_view.h"
 #include "tools/model_input.h"
 #include "tools/preview_output.h"
@@ -504,6 +507,8 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   request.run.seed = settings.seed;
   request.run.max_bounces = settings.max_bounces;
   request.run.issue_date = format_utc(now_unix(), "%Y-%m-%d");
+  const sim::ColourFarField colour = sim->colour_far_field();
+  if (!colour.empty()) request.colour = &colour;
   Result<OutputResult> written = write_outputs(far_field, sim->scene(), ledger, request);
   if (!written.ok()) failures.push_back(written.error());
   if (plan.tm25) {
@@ -569,6 +574,57 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   for (const WrittenFile& f : outputs->files)
     if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
   json["outputs"] = to_json(*outputs, grid, ledger.escaped.flux_lm);
+  std::string colour_chart_path;
+  // Spectral runs (sim/spectral.h): the luminaire's colour and its colour
+  // over angle on the output grid (sim/colour_over_angle.h).
+  if (sim->tracer().spectral()) {
+    const sim::Resampler own =
+        cached_resampler(settings.face_size, sim->scene().frame, plan.grid, plan.model_input.cache_dir);
+    const sim::ColourOverAngle c = sim::colour_over_angle(own, far_field, colour);
+    const auto num = [](double v) { return cli::json_number(v); };
+    const photometry::Chromaticity xy = photometry::chromaticity(c.total);
+    json["colour"] = {{"cie_x", num(xy.x)},          {"cie_y", num(xy.y)},
+                      {"u_prime", num(c.uv.u_prime)}, {"v_prime", num(c.uv.v_prime)},
+                      {"cct_k", num(c.cct.cct_k)},    {"duv", num(c.cct.duv)},
+                      {"method", "CIE 1931 2 deg, 5 nm; CCT and Duv by Ohno 2014"}};
+    nlohmann::json planes = nlohmann::json::array();
+    for (const sim::ColourPlane& p : c.planes) {
+      nlohmann::json g = nlohmann::json::array(), u = g, v = g, t = g, d = g;
+      for (const sim::ColourAtGamma& a : p.points) {
+        g.push_back(a.gamma_deg);
+        u.push_back(num(a.uv.u_prime));
+        v.push_back(num(a.uv.v_prime));
+        t.push_back(num(a.cct.cct_k));
+        d.push_back(num(a.cct.duv));
+      }
+      planes.push_back({{"c_deg", p.c_deg}, {"gamma_deg", g}, {"u_prime", u}, {"v_prime", v},
+                        {"cct_k", t}, {"duv", d}});
+    }
+    json["colour_over_angle"] = {{"threshold_fraction", c.threshold_fraction},
+                                 {"mean_u_prime", num(c.mean_uv.u_prime)},
+                                 {"mean_v_prime", num(c.mean_uv.v_prime)},
+                                 {"delta_uv_max", num(c.delta_uv_max)},
+                                 {"bins_counted", c.bins_counted},
+                                 {"planes", planes}};
+    // The colour-over-angle chart beside the intensity diagram.
+    std::vector<io::ColourCurve> curves;
+    for (const sim::ColourPlane& p : c.planes) {
+      io::ColourCurve cc;
+      cc.c_deg = p.c_deg;
+      for (const sim::ColourAtGamma& a : p.points) {
+        cc.gamma_deg.push_back(a.gamma_deg);
+        cc.cct_k.push_back(a.cct.cct_k);
+        cc.delta_uv.push_back(photometry::delta_uv_prime(a.uv, c.mean_uv));
+      }
+      curves.push_back(std::move(cc));
+    }
+    const std::string chart_path = (std::filesystem::path(plan.out_dir) / (plan.stem + "-colour.svg")).string();
+    Result<io::Figure> chart = io::colour_over_angle_chart(curves, model + ": colour over angle", c.delta_uv_max);
+    Status chart_status = chart.ok() ? io::write_figure(chart_path, *chart) : Status(chart.error());
+    if (chart_status.ok()) json["colour_over_angle"]["chart"] = std::filesystem::path(chart_path).filename().string();
+    else failures.push_back(chart_status.error());
+    colour_chart_path = chart_status.ok() ? chart_path : std::string();
+  }
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
   // The cache folder kept to its limit, now that this run has used and
   // written its entries (each marked used, so they go last).
@@ -586,6 +642,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   // Every file this run left in DIR besides report.json, and what failed.
   nlohmann::json written_paths = nlohmann::json::array();
   for (const WrittenFile& f : outputs->files) written_paths.push_back(f.path);
+  if (!colour_chart_path.empty()) written_paths.push_back(colour_chart_path);
   if (preview)
     for (const std::string& path : {preview->exr_path(), preview->png_path()})
       if (std::filesystem::is_regular_file(path)) written_paths.push_back(path);

@@ -18,6 +18,7 @@
 #include "io/outputs/plot.h"
 #include "photometry/direct_ratios.h"
 #include "photometry/flux.h"
+#include "photometry/colour.h"
 #include "photometry/format.h"
 #include "photometry/validation.h"
 #include "tools/cli.h"
@@ -217,7 +218,7 @@ std::vector<std::pair<std::string, std::string>> exr_attributes(const OutputRequ
 }
 
 Status write_cube_file(const sim::FarField& far_field, const OutputRequest& request, WrittenFile* file) {
-  Result<io::ExrImage> image = io::far_field_image(far_field);
+  Result<io::ExrImage> image = io::far_field_image(far_field, request.colour);
   if (!image.ok()) return make_error(file->path, image.error().message);
   for (auto& a : exr_attributes(request)) image->attributes.push_back(std::move(a));
   if (Status s = io::write_exr(file->path, *image); !s.ok()) return s;
@@ -437,6 +438,21 @@ Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry sym
   lamp.count = static_cast<int>(std::max<std::size_t>(n, 1));
   lamp.type = std::to_string(n) + (n == 1 ? " emitter" : " emitters");
   lamp.flux_lm = emitted;
+  // A spectral run: the escaped light's CCT in the lamp set's colour field
+  // (EULUMDAT's colour temperature) and, with Duv, in the IES user keyword
+  // _CCT (LM-63 has no field of its own for it).
+  std::string cct_text;
+  if (request.colour && !request.colour->empty() && ledger.escaped.flux_lm > 0.0) {
+    photometry::Tristimulus t;
+    for (double v : request.colour->x_lm) t.X += v;
+    for (double v : request.colour->z_lm) t.Z += v;
+    t.Y = ledger.escaped.flux_lm;
+    const photometry::CctDuv c = photometry::cct_duv(t);
+    if (std::isfinite(c.cct_k)) {
+      lamp.color = format_fixed(c.cct_k, 0) + " K";
+      cct_text = lamp.color + ", Duv " + format_fixed(c.duv, 4) + " (Ohno 2014, CIE 1931 2 deg)";
+    }
+  }
   d.lamps = {lamp};
   d.luminaire = bounding_box(scene);
   if (request.opening) d.opening = request.opening->opening;
@@ -463,6 +479,7 @@ Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry sym
   d.set_keyword("MANUFAC", "not stated in the model");
   d.set_keyword("LUMINAIRE", model);
   d.set_keyword("LAMP", emitters_text.empty() ? "no emitters" : emitters_text);
+  if (!cct_text.empty()) d.set_keyword("_CCT", cct_text);
   d.set_keyword("FILEGENINFO",
                 "Computer simulation by Gonio " + request.run.program_version +
                     " (photon tracing into a direction cube map, area-weighted resampling to " +

@@ -116,6 +116,9 @@ struct OutputRequest {
   // The opening the IES and LDT carry and the GLDF's light-emitting object
   // takes; none: a point opening, and the L3D object where the emitters are.
   std::optional<SimulatedOpening> opening;
+  // A spectral run's X and Z beside the far field (farfield.exr's X and Z
+  // channels); null: a grey run. Not owned.
+  const sim::ColourFarField* colour = nullptr;
 };
 
 // One file written and read back.

@@ -32,6 +32,7 @@
 #include "io/photometric/tm25.h"
 #include "photometry/format.h"
 #include "photometry/flux.h"
+#include "photometry/reflectance.h"
 #include "sim/affine.h"
 
 namespace gonio::io {
@@ -388,6 +389,13 @@ class Loader {
                                        const std::string& what) const;
   Result<std::optional<Vec3>> vec3(const json& obj, const char* key, const std::string& what) const;
   Result<std::optional<Rgb>> rgb(const json& obj, const char* key, const std::string& what) const;
+  // extras.gonio spectra (sim::EmitterSpectrum, sim::Material's spectra).
+  Result<photometry::SampledSpectrum> spectrum_object(const json& j, const std::string& what,
+                                                      double max_value, bool allow_blackbody) const;
+  Result<std::optional<photometry::SampledSpectrum>> spectrum_key(const json& obj, const char* key,
+                                                                  const std::string& what,
+                                                                  double max_value) const;
+  Result<sim::EmitterSpectrum> emitter_spectrum(const json& obj, const std::string& what) const;
 
   Status check_extensions();
   Status read_model_extras();
@@ -415,6 +423,9 @@ class Loader {
                        std::optional<double> node_flux, std::vector<std::size_t>& emitters);
   Status load_ies_profile(IesLight& light);
   Result<std::uint32_t> material(int index);
+  // A spectral scene: coloured base colours become reflectance spectra
+  // (photometry/reflectance.h) where extras give none.
+  void colour_base_colours();
 
   Result<FloatView> read_floats(int accessor, int type, const std::string& what);
   Result<std::vector<std::uint32_t>> read_indices(int accessor, const std::string& what);
@@ -442,8 +453,10 @@ class Loader {
   struct Emission {
     double luminance_cd_m2;
     bool two_sided;
+    sim::EmitterSpectrum spectrum;  // extras.gonio.spectrum; empty: none
   };
   std::vector<Emission> emission_;  // per scene material
+  std::vector<Rgb> base_colours_;   // per scene material: baseColorFactor (RGB), as clamped
   std::vector<json> khr_lights_;
   std::vector<IesLight> ies_lights_;
   std::map<int, std::uint32_t> materials_;  // glTF material (−1 default) → scene material
@@ -509,6 +522,112 @@ Result<std::optional<Rgb>> Loader::rgb(const json& obj, const char* key,
   if (!v.ok()) return v.error();
   if (!*v) return std::optional<Rgb>();
   return std::optional<Rgb>(Rgb{(*v)->x, (*v)->y, (*v)->z});
+}
+
+// A spectrum in extras.gonio: {"wavelengths_nm": [...], "values": [...]}
+// or, where allowed, {"blackbody_k": T} (Planck's law, 360–830 nm in 1 nm).
+Result<photometry::SampledSpectrum> Loader::spectrum_object(const json& j, const std::string& what,
+                                                            double max_value, bool allow_blackbody) const {
+  constexpr std::size_t kMaxSamples = 100000;
+  if (!j.is_object()) return fail(what + " must be an object");
+  if (allow_blackbody && j.contains("blackbody_k")) {
+    if (j.contains("wavelengths_nm") || j.contains("values"))
+      return fail(what + ": give either blackbody_k or wavelengths_nm and values, not both");
+    Result<std::optional<double>> t = number(j, "blackbody_k", what);
+    if (!t.ok()) return t.error();
+    if (!(**t >= 100.0 && **t <= 1e6)) return fail(what + ".blackbody_k = " + format_number(**t) + " must lie in [100, 1e6] K");
+    return photometry::blackbody_spectrum(**t);
+  }
+  photometry::SampledSpectrum s;
+  const std::pair<const char*, std::vector<double>*> arrays[] = {{"wavelengths_nm", &s.wavelengths_nm},
+                                                                 {"values", &s.values}};
+  for (const auto& [key, out] : arrays) {
+    auto it = j.find(key);
+    if (it == j.end())
+      return fail(what + ": '" + key + "' is missing" +
+                  (allow_blackbody ? " (or give blackbody_k)" : ""));
+    if (!it->is_array() || it->size() > kMaxSamples)
+      return fail(what + "." + key + " must be an array of at most " + std::to_string(kMaxSamples) + " numbers");
+    for (std::size_t i = 0; i < it->size(); ++i) {
+      const json& v = (*it)[i];
+      if (!v.is_number()) return fail(what + "." + key + "[" + std::to_string(i) + "] is not a number");
+      out->push_back(v.get<double>());
+    }
+  }
+  if (Status st = photometry::validate_spectrum(s, max_value); !st.ok())
+    return fail(what + ": " + st.error().message);
+  return s;
+}
+
+Result<std::optional<photometry::SampledSpectrum>> Loader::spectrum_key(const json& obj, const char* key,
+                                                                        const std::string& what,
+                                                                        double max_value) const {
+  auto it = obj.find(key);
+  if (it == obj.end()) return std::optional<photometry::SampledSpectrum>();
+  Result<photometry::SampledSpectrum> s = spectrum_object(*it, what + " extras.gonio." + key, max_value, false);
+  if (!s.ok()) return s.error();
+  return std::optional<photometry::SampledSpectrum>(std::move(*s));
+}
+
+// extras.gonio.spectrum of a light or an emissive material: blackbody_k,
+// wavelengths_nm and values, or over_gamma (entries with gamma_deg and
+// either form). Absent: an empty spectrum (no spectral input).
+Result<sim::EmitterSpectrum> Loader::emitter_spectrum(const json& obj, const std::string& what) const {
+  sim::EmitterSpectrum out;
+  auto it = obj.find("spectrum");
+  if (it == obj.end()) return out;
+  const std::string w = what + " extras.gonio.spectrum";
+  if (!it->is_object()) return fail(w + " must be an object");
+  if (auto og = it->find("over_gamma"); og != it->end()) {
+    if (it->size() != 1) return fail(w + ": over_gamma stands alone");
+    if (!og->is_array() || og->empty() || og->size() > 1000)
+      return fail(w + ".over_gamma must be an array of 1 to 1000 entries");
+    for (std::size_t i = 0; i < og->size(); ++i) {
+      const std::string wi = w + ".over_gamma[" + std::to_string(i) + "]";
+      const json& entry = (*og)[i];
+      Result<std::optional<double>> g = number(entry, "gamma_deg", wi);
+      if (!g.ok()) return g.error();
+      if (!*g) return fail(wi + ": 'gamma_deg' is missing");
+      json rest = entry;
+      if (rest.is_object()) rest.erase("gamma_deg");
+      Result<photometry::SampledSpectrum> s = spectrum_object(rest, wi, 1e300, true);
+      if (!s.ok()) return s.error();
+      out.over_gamma.push_back({**g, std::move(*s)});
+    }
+  } else {
+    Result<photometry::SampledSpectrum> s = spectrum_object(*it, w, 1e300, true);
+    if (!s.ok()) return s.error();
+    out.over_gamma.push_back({0.0, std::move(*s)});
+  }
+  if (Status st = sim::validate_emitter_spectrum(out); !st.ok()) return fail(w + ": " + st.error().message);
+  return out;
+}
+
+// The reflection lobes of a material from a coloured base colour share the
+// base colour's Jakob–Hanika spectrum, scaled to the luminous reflectance
+// map_material gave them (values clamped to 1). Grey base colours, materials
+// without reflection and materials with extras.gonio.spectral_reflectance
+// keep what they have; a grey scene is left alone.
+void Loader::colour_base_colours() {
+  if (!scene_.spectral()) return;
+  for (std::size_t i = 0; i < scene_.materials.size() && i < base_colours_.size(); ++i) {
+    sim::Material& m = scene_.materials[i];
+    const Rgb& c = base_colours_[i];
+    const double reflect = m.diffuse_reflect + m.mirror + m.glossy;
+    const double lum = luminance(c);
+    if (!m.spectral_reflectance.empty() || !(reflect > 0.0) || !(lum > 0.0) ||
+        (std::abs(c.r - c.g) < 1e-9 && std::abs(c.g - c.b) < 1e-9))
+      continue;
+    const photometry::ReflectanceFit fit = photometry::fit_reflectance(c.r, c.g, c.b);
+    photometry::SampledSpectrum s = photometry::sampled(fit.coefficients);
+    const double scale = reflect / photometry::tristimulus_under_d65(s).Y;
+    for (double& v : s.values) v = std::min(1.0, v * scale);
+    m.spectral_reflectance = std::move(s);
+    if (fit.delta_e > 1.0)
+      note(Severity::Info, "colour-outside-gamut",
+           "material '" + m.name + "': its base colour is matched by a reflectance spectrum only to ΔE " +
+               format_number(fit.delta_e, 3));
+  }
 }
 
 Status Loader::parse_file() {
@@ -955,6 +1074,7 @@ Result<std::uint32_t> Loader::material(int index) {
   if (auto it = materials_.find(index); it != materials_.end()) return it->second;
   GltfMaterial m;
   MaterialExtras x;
+  sim::EmitterSpectrum emitted_spectrum;
   std::string what = "default material";
   if (index >= 0) {
     if (static_cast<std::size_t>(index) >= model_.materials.size())
@@ -1041,7 +1161,8 @@ Result<std::uint32_t> Loader::material(int index) {
         *extras, what,
         {"kd", "ks", "mx", "my", "f0", "diffuse_transmit", "mirror", "dielectric", "ior",
          "attenuation_per_m", "reflectance", "diffuse_reflectance", "transmittance", "diffusion",
-         "luminance_cd_m2"});
+         "luminance_cd_m2", "spectrum", "spectral_reflectance", "spectral_transmittance", "ior_nm",
+         "abbe_number"});
     if (!gx.ok()) return gx.error();
     if (*gx) {
       const json& gj = **gx;
@@ -1067,6 +1188,28 @@ Result<std::uint32_t> Loader::material(int index) {
         if (!v.ok()) return v.error();
         *target = *v;
       }
+      Result<std::optional<double>> abbe = number(gj, "abbe_number", what + " extras.gonio");
+      if (!abbe.ok()) return abbe.error();
+      if (*abbe && !(**abbe > 0.0)) return fail(what + ": extras.gonio.abbe_number must be > 0");
+      x.abbe_number = *abbe;
+      const std::tuple<const char*, std::optional<photometry::SampledSpectrum>*, double> spectra[] = {
+          {"spectral_reflectance", &x.spectral_reflectance, 1.0},
+          {"spectral_transmittance", &x.spectral_transmittance, 1.0},
+          {"ior_nm", &x.ior_nm, 1e300},
+      };
+      for (const auto& [key, target, max_value] : spectra) {
+        Result<std::optional<photometry::SampledSpectrum>> v = spectrum_key(gj, key, what, max_value);
+        if (!v.ok()) return v.error();
+        *target = std::move(*v);
+      }
+      if (x.ior_nm)
+        for (std::size_t i = 0; i < x.ior_nm->values.size(); ++i)
+          if (!(x.ior_nm->values[i] >= 1.0))
+            return fail(what + ": extras.gonio.ior_nm: value " + std::to_string(i) + " (" +
+                        format_number(x.ior_nm->values[i]) + ") must be >= 1");
+      Result<sim::EmitterSpectrum> es = emitter_spectrum(gj, what);
+      if (!es.ok()) return es.error();
+      emitted_spectrum = std::move(*es);
     }
   } else {
     m.name = "default";
@@ -1080,7 +1223,8 @@ Result<std::uint32_t> Loader::material(int index) {
   const auto id = static_cast<std::uint32_t>(scene_.materials.size());
   scene_.materials.push_back(std::move(*mapped));
   materials_[index] = id;
-  emission_.push_back({emissive_luminance_cd_m2(m, x), m.double_sided});
+  emission_.push_back({emissive_luminance_cd_m2(m, x), m.double_sided, std::move(emitted_spectrum)});
+  base_colours_.push_back(m.base_color);
   return id;
 }
 
@@ -1276,6 +1420,7 @@ void Loader::add_area_emitter(std::uint32_t mesh_id, std::uint32_t instance, con
   e.mesh = mesh_id;
   e.instance = instance;
   e.two_sided = emission.two_sided;
+  e.spectrum = emission.spectrum;
   e.flux_lm = kPi * emission.luminance_cd_m2 * area * (e.two_sided ? 2.0 : 1.0);
   area_emitters.push_back(scene_.emitters.size());
   scene_.emitters.push_back(std::move(e));
@@ -1444,7 +1589,7 @@ Status Loader::add_khr_light(const json& ext, const sim::Affine& world,
 
   Result<json> extras = parse_blob(l.contains("extras") ? l.at("extras").dump() : std::string(), what);
   if (!extras.ok()) return extras.error();
-  Result<const json*> gx = gonio_extras(*extras, what, {"flux_lm"});
+  Result<const json*> gx = gonio_extras(*extras, what, {"flux_lm", "spectrum"});
   if (!gx.ok()) return gx.error();
   if (*gx) {
     Result<std::optional<double>> f = number(**gx, "flux_lm", what + " extras.gonio");
@@ -1453,6 +1598,9 @@ Status Loader::add_khr_light(const json& ext, const sim::Affine& world,
       if (**f < 0.0) return fail(what + ": extras.gonio.flux_lm is negative");
       e.flux_lm = **f;
     }
+    Result<sim::EmitterSpectrum> es = emitter_spectrum(**gx, what);
+    if (!es.ok()) return es.error();
+    e.spectrum = std::move(*es);
   }
   if (node_flux) e.flux_lm = *node_flux;
   emitters.push_back(scene_.emitters.size());
@@ -1642,6 +1790,16 @@ Status Loader::add_ies_light(const json& ext, const sim::Affine& world,
   e.position = place->position;
   e.frame = place->frame;
   e.profile = light.profile;
+  {
+    Result<json> extras = parse_blob(
+        light.def.contains("extras") ? light.def.at("extras").dump() : std::string(), light.what);
+    if (!extras.ok()) return extras.error();
+    if (extras->is_object() && extras->contains("gonio") && extras->at("gonio").is_object()) {
+      Result<sim::EmitterSpectrum> es = emitter_spectrum(extras->at("gonio"), light.what);
+      if (!es.ok()) return es.error();
+      e.spectrum = std::move(*es);
+    }
+  }
 
   if (node_flux) {
     e.flux_lm = *node_flux;
@@ -1650,7 +1808,7 @@ Status Loader::add_ies_light(const json& ext, const sim::Affine& world,
     Result<json> extras = parse_blob(
         light.def.contains("extras") ? light.def.at("extras").dump() : std::string(), light.what);
     if (!extras.ok()) return extras.error();
-    Result<const json*> gx = gonio_extras(*extras, light.what, {"flux_lm"});
+    Result<const json*> gx = gonio_extras(*extras, light.what, {"flux_lm", "spectrum"});
     if (!gx.ok()) return gx.error();
     if (*gx) {
       Result<std::optional<double>> f = number(**gx, "flux_lm", light.what + " extras.gonio");
@@ -1885,6 +2043,7 @@ Result<sim::SceneDesc> Loader::load() {
                 "or spot light and no emissive material with flux; nothing would shine");
   if (scene_.meshes.empty())
     note(Severity::Info, "no-geometry", "the model has no triangles: bare emitters only");
+  colour_base_colours();
   if (!options_.instancing) return sim::flattened(scene_);
   return std::move(scene_);
 }

@@ -185,6 +185,10 @@ Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras&
   if (x.f0) out.glossy_f0 = *x.f0;
   if (x.ior) out.ior = *x.ior;
   if (x.attenuation_per_m) out.attenuation_per_m = *x.attenuation_per_m;
+  if (x.spectral_reflectance) out.spectral_reflectance = *x.spectral_reflectance;
+  if (x.spectral_transmittance) out.spectral_transmittance = *x.spectral_transmittance;
+  if (x.ior_nm) out.ior_nm = *x.ior_nm;
+  if (x.abbe_number) out.abbe_number = *x.abbe_number;
 
   const double total = out.total();
   if (total > 1.0 + 1e-9)

@@ -104,6 +104,15 @@ struct MaterialExtras {
   std::optional<double> reflectance, diffuse_reflectance, transmittance, diffusion;
   // Emission: luminance of the surface [cd/m²], overriding emissiveFactor.
   std::optional<double> luminance_cd_m2;
+  // Spectra (sim::Material): "spectral_reflectance" and
+  // "spectral_transmittance" ({"wavelengths_nm": [...], "values": [...]},
+  // values in [0, 1]) give the total reflectance and transmittance at each
+  // wavelength, shared among the lobes the rest of the material sets up;
+  // "ior_nm" (same form, values >= 1) or "abbe_number" (V_d > 0, with ior as
+  // n_d) make the dielectric dispersive. The emitted spectrum of an emissive
+  // material ("spectrum") is read by io/model/gltf.cpp into its emitters.
+  std::optional<photometry::SampledSpectrum> spectral_reflectance, spectral_transmittance, ior_nm;
+  std::optional<double> abbe_number;
 
   bool has_lobe_weights() const { return kd || ks || diffuse_transmit || mirror || dielectric; }
   bool has_datasheet() const {

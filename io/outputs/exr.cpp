@@ -206,7 +206,7 @@ Result<ExrImage> read_exr(const std::string& path) {
   return image;
 }
 
-Result<ExrImage> far_field_image(const sim::FarField& f) {
+Result<ExrImage> far_field_image(const sim::FarField& f, const sim::ColourFarField* colour) {
   ExrImage image = cube_image(f.face_size());
   const std::size_t n = f.texel_count();
   ExrImage::FloatChannel y{"Y", std::vector<float>(n)}, flux{"flux", std::vector<float>(n)};
@@ -223,6 +223,20 @@ Result<ExrImage> far_field_image(const sim::FarField& f) {
   image.uint_channels = {std::move(photons)};
   image.attributes = {{"gonio:quantity", "far-field luminous intensity"},
                       {"gonio:units", "Y: cd; flux: lm per texel; photons: count per texel"}};
+  if (colour && !colour->empty()) {
+    if (colour->x_lm.size() != n || colour->z_lm.size() != n)
+      return make_error("", "the colour far field's size differs from the far field's");
+    ExrImage::FloatChannel x{"X", std::vector<float>(n)}, z{"Z", std::vector<float>(n)};
+    for (std::size_t t = 0; t < n; ++t) {
+      const double sr = f.grid().texel_solid_angle(t);
+      x.values[t] = static_cast<float>(colour->x_lm[t] / sr);
+      z.values[t] = static_cast<float>(colour->z_lm[t] / sr);
+    }
+    image.float_channels.push_back(std::move(x));
+    image.float_channels.push_back(std::move(z));
+    image.attributes[1].second =
+        "X, Y, Z: CIE 1931 tristimulus per sr (Y: cd); flux: lm per texel; photons: count per texel";
+  }
   return image;
 }
 

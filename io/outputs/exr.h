@@ -65,8 +65,12 @@ Result<ExrImage> read_exr(const std::string& path);
 // The far field as farfield.exr holds it: channel `Y` = intensity [cd]
 // (float), `photons` = photon count per texel (UINT, exact), `flux` = flux
 // per texel [lm] (float), envmap cube, attributes `gonio:quantity`,
-// `gonio:units`. Error if a count exceeds 2³² − 1.
-Result<ExrImage> far_field_image(const sim::FarField& far_field);
+// `gonio:units`. Error if a count exceeds 2³² − 1. A spectral run's
+// `colour` (sim/far_field.h; null or empty: none) adds the channels `X` and
+// `Z` beside `Y`: the CIE 1931 tristimulus values per steradian, in the
+// units of Y (so x = X/(X+Y+Z) per texel).
+Result<ExrImage> far_field_image(const sim::FarField& far_field,
+                                 const sim::ColourFarField* colour = nullptr);
 
 // A far field back from such an image (flux from the `flux` channel, counts
 // from `photons`); errors if it is not a cube map or lacks the channels.

@@ -160,6 +160,53 @@ TEST(Simulate, WritesTheFarFieldAndAReportThatCloses) {
 
 // --format gldf: STEM.gldf holds product.xml, the very LDT and IES files
 // the run wrote, and the model as L3D; every command opens it.
+// A spectral model (issue 24): a 2700 K lamp in a shade painted green by
+// its spectral reflectance. report.json gains colour and colour over angle,
+// farfield.exr X and Z, the LDT its colour temperature, the IES _CCT; light
+// off the green walls pulls every direction above the Planckian locus
+// (Duv > 0, where the bare lamp has 0); a grey model has none of it.
+TEST(Simulate, SpectralModelsReportColourOverAngle) {
+  test::TempDir dir;
+  auto g = nlohmann::json::parse(shade_model());
+  g["extensions"]["KHR_lights_punctual"]["lights"][0]["extras"]["gonio"]["spectrum"] = {{"blackbody_k", 2700.0}};
+  g["materials"][0]["extras"]["gonio"]["spectral_reflectance"] = {
+      {"wavelengths_nm", {380.0, 480.0, 530.0, 580.0, 780.0}}, {"values", {0.05, 0.2, 0.7, 0.2, 0.1}}};
+  const auto model = dir / "green.gltf";
+  test::write_file(model, g.dump());
+  const auto out = dir / "out";
+  auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "100000", "--iterations", "2",
+                  "--gamma-step", "5", "--c-step", "15"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = nlohmann::json::parse(test::read_file(out / "report.json"));
+  ASSERT_TRUE(report.contains("colour")) << report.dump();
+  const auto& c = report["colour"];
+  EXPECT_GT(c["cct_k"].get<double>(), 1000.0);
+  EXPECT_NEAR(c["cie_x"].get<double>() + c["cie_y"].get<double>(), 0.86, 0.1);
+  const auto& coa = report["colour_over_angle"];
+  ASSERT_EQ(coa["planes"].size(), 4u);
+  EXPECT_EQ(coa["planes"][1]["c_deg"], 90.0);
+  EXPECT_EQ(coa["threshold_fraction"], 0.1);
+  EXPECT_GT(coa["planes"][0]["duv"][0].get<double>(), 0.003);
+  EXPECT_GT(c["duv"].get<double>(), 0.003);
+  EXPECT_GT(coa["delta_uv_max"].get<double>(), 0.0);
+  EXPECT_EQ(coa["chart"], "green-colour.svg");
+  EXPECT_NE(test::read_file(out / "green-colour.svg").find("<svg"), std::string::npos);
+  auto image = io::read_exr((out / "farfield.exr").string());
+  ASSERT_TRUE(image.ok());
+  EXPECT_NE(image->find_float("X"), nullptr);
+  EXPECT_NE(image->find_float("Z"), nullptr);
+  EXPECT_NE(test::read_file(out / "green.ies").find("[_CCT] "), std::string::npos);
+  EXPECT_NE(test::read_file(out / "green.ldt").find(" K\r\n"), std::string::npos);
+
+  const auto grey = dir / "grey";
+  test::write_file(dir / "shade.gltf", shade_model());
+  r = gonio({"simulate", (dir / "shade.gltf").string(), "--out", grey.string(), "--photons", "20000",
+             "--iterations", "1", "--face-size", "16"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(nlohmann::json::parse(test::read_file(grey / "report.json")).contains("colour"));
+  EXPECT_EQ(io::read_exr((grey / "farfield.exr").string())->find_float("X"), nullptr);
+}
+
 TEST(Simulate, GldfHoldsTheLdtIesAndTheModel) {
   test::TempDir dir;
   const auto model = dir / "shade.gltf";

@@ -15,7 +15,9 @@
 #include "io/model/gltf_lights.h"
 #include "io/photometric/ies.h"
 #include "io/photometric/ldt.h"
+#include "photometry/colour.h"
 #include "photometry/flux.h"
+#include "photometry/reflectance.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -1479,6 +1481,136 @@ TEST(GltfPaths, ProfileUrisAndTheirTiltFilesLeavingTheModelsFolderAreRefused) {
     SCOPED_TRACE("TILT=" + c.uri);
     expect_refused_unless_allowed(model, c, "TILT file");
   }
+}
+
+}  // namespace
+}  // namespace gonio::io
+
+namespace gonio::io {
+namespace {
+
+// extras.gonio spectra (issue 24): a light's and an emissive material's
+// spectrum in each form, material spectra and dispersion; bad input is an
+// error naming the file, the part and the key.
+TEST(GltfSpectral, SpectraOnLightsAndMaterialsReachTheScene) {
+  test::TempDir dir;
+  Doc d;
+  const int l = d.khr_light({{"type", "point"},
+                             {"intensity", 10.0},
+                             {"extras", {{"gonio", {{"spectrum", {{"blackbody_k", 2700.0}}}}}}}});
+  d.node({{"name", "lamp"}, {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}});
+  const json table = {{"wavelengths_nm", {400.0, 550.0, 700.0}}, {"values", {0.2, 0.5, 0.9}}};
+  const int glass = d.material({{"name", "glass"},
+                                {"extras", {{"gonio", {{"dielectric", 0.9},
+                                                       {"ior", 1.6},
+                                                       {"abbe_number", 35.0},
+                                                       {"spectral_transmittance", table}}}}}});
+  const int paint = d.material({{"name", "paint"},
+                                {"extras", {{"gonio", {{"kd", 0.5},
+                                                       {"spectral_reflectance", table},
+                                                       {"ior_nm", {{"wavelengths_nm", {400.0, 700.0}},
+                                                                   {"values", {1.53, 1.51}}}}}}}}});
+  const json over = {{"over_gamma",
+                      {{{"gamma_deg", 0.0}, {"blackbody_k", 6500.0}},
+                       {{"gamma_deg", 70.0}, {"wavelengths_nm", {450.0, 580.0}}, {"values", {0.3, 1.0}}}}}};
+  const int led = d.material({{"name", "led"},
+                              {"extras", {{"gonio", {{"luminance_cd_m2", 1000.0}, {"spectrum", over}}}}}});
+  d.node({{"mesh", d.mesh(kQuad, kQuadIdx, glass)}});
+  d.node({{"mesh", d.mesh(kQuad, kQuadIdx, paint)}});
+  d.node({{"mesh", d.mesh(kQuad, kQuadIdx, led)}});
+  const sim::SceneDesc s = load_ok(d.write(dir, "spectral"));
+  ASSERT_EQ(s.emitters.size(), 2u);
+  EXPECT_TRUE(s.spectral());
+  const sim::Emitter& point = s.emitters[0].kind == sim::Emitter::Kind::Point ? s.emitters[0] : s.emitters[1];
+  const sim::Emitter& area = s.emitters[0].kind == sim::Emitter::Kind::Area ? s.emitters[0] : s.emitters[1];
+  ASSERT_EQ(point.spectrum.over_gamma.size(), 1u);
+  EXPECT_NEAR(photometry::cct_duv(photometry::tristimulus(point.spectrum.over_gamma[0].spectrum)).cct_k, 2700.0, 0.5);
+  ASSERT_EQ(area.spectrum.over_gamma.size(), 2u);
+  EXPECT_EQ(area.spectrum.over_gamma[1].gamma_deg, 70.0);
+  EXPECT_EQ(area.spectrum.over_gamma[1].spectrum.values, (std::vector<double>{0.3, 1.0}));
+  ASSERT_EQ(s.materials.size(), 3u);
+  EXPECT_EQ(s.materials[0].abbe_number, 35.0);
+  EXPECT_EQ(s.materials[0].spectral_transmittance.values, (std::vector<double>{0.2, 0.5, 0.9}));
+  EXPECT_EQ(s.materials[1].spectral_reflectance.wavelengths_nm, (std::vector<double>{400.0, 550.0, 700.0}));
+  EXPECT_EQ(s.materials[1].ior_nm.values, (std::vector<double>{1.53, 1.51}));
+
+  // Without any of it the scene is grey.
+  Doc grey;
+  grey.point_light(1.0);
+  EXPECT_FALSE(load_ok(grey.write(dir, "grey")).spectral());
+}
+
+// In a spectral scene a coloured base colour becomes a Jakob–Hanika
+// reflectance spectrum with the luminous reflectance the grey mapping gave;
+// grey colours and grey scenes stay as they were.
+TEST(GltfSpectral, BaseColoursBecomeSmoothSpectraInSpectralScenes) {
+  test::TempDir dir;
+  const auto doc = [](bool spectral) {
+    Doc d;
+    json light = {{"type", "point"}, {"intensity", 1.0}};
+    if (spectral) light["extras"] = {{"gonio", {{"spectrum", {{"blackbody_k", 4000.0}}}}}};
+    const int l = d.khr_light(light);
+    d.node({{"name", "lamp"}, {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}});
+    const int red = d.material({{"name", "red"},
+                                {"pbrMetallicRoughness", {{"baseColorFactor", {0.7, 0.1, 0.05, 1.0}},
+                                                          {"metallicFactor", 0.0}}}});
+    const int grey = d.material({{"name", "grey"},
+                                 {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1.0}},
+                                                           {"metallicFactor", 0.0}}}});
+    d.node({{"mesh", d.mesh(kQuad, kQuadIdx, red)}});
+    d.node({{"mesh", d.mesh(kQuad, kQuadIdx, grey)}});
+    return d;
+  };
+  const sim::SceneDesc s = load_ok(doc(true).write(dir, "spectral"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  const sim::Material& red = s.materials[0];
+  ASSERT_FALSE(red.spectral_reflectance.empty());
+  EXPECT_GT(red.spectral_reflectance.at(650.0), 5.0 * red.spectral_reflectance.at(450.0));
+  const double reflect = red.diffuse_reflect + red.mirror + red.glossy;
+  EXPECT_NEAR(photometry::tristimulus_under_d65(red.spectral_reflectance).Y, reflect, 1e-3);
+  EXPECT_TRUE(s.materials[1].spectral_reflectance.empty());
+  const sim::SceneDesc g = load_ok(doc(false).write(dir, "grey"));
+  EXPECT_TRUE(g.materials[0].spectral_reflectance.empty());
+  EXPECT_FALSE(g.spectral());
+}
+
+TEST(GltfSpectral, BadSpectraAreErrorsNamingFilePartAndKey) {
+  test::TempDir dir;
+  auto light_error = [&](json spectrum, const std::string& stem) {
+    Doc d;
+    const int l = d.khr_light({{"type", "point"}, {"intensity", 1.0},
+                               {"extras", {{"gonio", {{"spectrum", std::move(spectrum)}}}}}});
+    d.node({{"name", "lamp"}, {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}});
+    return load_error(d.write(dir, stem));
+  };
+  auto material_error = [&](json gonio, const std::string& stem) {
+    Doc d;
+    d.point_light(1.0);
+    const int m = d.material({{"name", "skin"}, {"extras", {{"gonio", std::move(gonio)}}}});
+    d.node({{"mesh", d.mesh(kQuad, kQuadIdx, m)}});
+    return load_error(d.write(dir, stem));
+  };
+  const std::string e = light_error({{"wavelengths_nm", {500.0, 400.0}}, {"values", {1.0, 1.0}}}, "order");
+  EXPECT_CONTAINS(e, "node 'lamp'");
+  EXPECT_CONTAINS(e, "extras.gonio.spectrum: wavelength 1 (400 nm) does not increase");
+  EXPECT_CONTAINS(light_error({{"blackbody_k", -5.0}}, "bb"), "extras.gonio.spectrum.blackbody_k = -5 must lie in");
+  EXPECT_CONTAINS(light_error({{"values", {1.0, 1.0}}}, "nowl"), "'wavelengths_nm' is missing (or give blackbody_k)");
+  EXPECT_CONTAINS(light_error({{"wavelengths_nm", {400.0, "x"}}, {"values", {1.0, 1.0}}}, "str"),
+                  "extras.gonio.spectrum.wavelengths_nm[1] is not a number");
+  EXPECT_CONTAINS(light_error({{"over_gamma", {{{"gamma_deg", 10.0}, {"blackbody_k", 3000.0}},
+                                               {{"gamma_deg", 5.0}, {"blackbody_k", 3000.0}}}}},
+                              "gamma"),
+                  "spectrum at entry 1: gamma_deg 5 does not increase");
+  EXPECT_CONTAINS(light_error({{"over_gamma", {{{"blackbody_k", 3000.0}}}}}, "nogamma"),
+                  "extras.gonio.spectrum.over_gamma[0]: 'gamma_deg' is missing");
+  const std::string m = material_error(
+      {{"kd", 0.5}, {"spectral_reflectance", {{"wavelengths_nm", {400.0, 700.0}}, {"values", {0.5, 1.5}}}}},
+      "refl");
+  EXPECT_CONTAINS(m, "material 'skin'");
+  EXPECT_CONTAINS(m, "extras.gonio.spectral_reflectance: value 1 (1.5) exceeds 1");
+  EXPECT_CONTAINS(material_error({{"ior_nm", {{"wavelengths_nm", {400.0, 700.0}}, {"values", {1.5, 0.9}}}}}, "ior"),
+                  "extras.gonio.ior_nm: value 1 (0.9) must be >= 1");
+  EXPECT_CONTAINS(material_error({{"abbe_number", -3.0}}, "abbe"), "extras.gonio.abbe_number must be > 0");
 }
 
 }  // namespace

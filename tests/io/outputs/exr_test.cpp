@@ -46,6 +46,33 @@ TEST(Exr, FarFieldRoundTrip) {
   EXPECT_NEAR(g->total_flux_lm(), f.total_flux_lm(), 1e-6 * f.total_flux_lm());
 }
 
+// A spectral run's X and Z ride beside Y, in Y's units (per steradian), so
+// a texel's chromaticity reads straight off the file; a grey run has none.
+TEST(Exr, SpectralFarFieldCarriesXAndZ) {
+  test::TempDir dir;
+  const sim::FarField f = sample_far_field(4);
+  sim::ColourFarField c;
+  for (std::size_t t = 0; t < f.texel_count(); ++t) {
+    c.x_lm.push_back(0.9 * f.flux_lm(t));
+    c.z_lm.push_back(0.4 * f.flux_lm(t));
+  }
+  auto image = far_field_image(f, &c);
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  const std::string path = (dir / "farfield.exr").string();
+  ASSERT_TRUE(write_exr(path, *image).ok());
+  auto back = read_exr(path);
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  const auto *x = back->find_float("X"), *y = back->find_float("Y"), *z = back->find_float("Z");
+  ASSERT_TRUE(x && y && z);
+  for (std::size_t t = 0; t < f.texel_count(); ++t) {
+    EXPECT_FLOAT_EQ(x->values[t], static_cast<float>(0.9 * f.intensity_cd(t)));
+    EXPECT_FLOAT_EQ(z->values[t], static_cast<float>(0.4 * f.intensity_cd(t)));
+  }
+  EXPECT_EQ(far_field_image(f)->find_float("X"), nullptr);
+  c.z_lm.pop_back();
+  EXPECT_FALSE(far_field_image(f, &c).ok());
+}
+
 TEST(Exr, GenericImagesWithAnyChannels) {
   test::TempDir dir;
   ExrImage image;

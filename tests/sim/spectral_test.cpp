@@ -1,0 +1,371 @@
+// Spectral transport (sim/spectral.h) against closed forms: a bare blackbody
+// keeps its chromaticity, light off one diffuse surface has the product
+// spectrum's, a dielectric refracts each wavelength as Snell's law with its
+// index says; and the determinism and grey-path guarantees.
+#include "sim/spectral.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "sim/shapes.h"
+#include "sim/simulation.h"
+#include "sim/tracer.h"
+
+namespace gonio::sim {
+namespace {
+
+using photometry::SampledSpectrum;
+
+SimulationSettings settings(int threads, std::uint64_t per_iteration, int iterations) {
+  SimulationSettings s;
+  s.threads = threads;
+  s.photons_per_iteration = per_iteration;
+  s.iterations = iterations;
+  s.face_size = 16;
+  s.seed = 5;
+  return s;
+}
+
+EmitterSpectrum single(SampledSpectrum s) { return EmitterSpectrum{{{0.0, std::move(s)}}}; }
+
+// A point emitter, isotropic, with a far-away black speck so the scene has geometry.
+SceneDesc bare_point(EmitterSpectrum spectrum) {
+  SceneDesc s;
+  Material black;
+  black.name = "black";
+  s.materials = {black};
+  Mesh speck = disc(1e-3, 8);
+  transform(speck, translation({100.0, 100.0, 100.0}));
+  s.meshes = {speck};
+  Emitter e;
+  e.name = "lamp";
+  e.flux_lm = 1000.0;
+  e.spectrum = std::move(spectrum);
+  s.emitters = {e};
+  return s;
+}
+
+photometry::Tristimulus totals(const Simulation& sim, bool upper_only = false) {
+  const FarField f = sim.far_field();
+  const ColourFarField c = sim.colour_far_field();
+  photometry::Tristimulus t;
+  for (std::size_t i = 0; i < f.texel_count(); ++i) {
+    if (upper_only && f.grid().texel_direction(i).y <= 0.0) continue;
+    t.X += c.x_lm[i];
+    t.Y += f.flux_lm(i);
+    t.Z += c.z_lm[i];
+  }
+  return t;
+}
+
+// The X/Y and Z/Y a spectrum's photons carry on average, and their
+// per-photon standard deviations (for tolerances from photon statistics).
+struct Ratios {
+  double x, z, sx, sz;
+};
+Ratios expected_ratios(const WavelengthSampler& w, std::uint32_t emitter) {
+  Ratios r{};
+  double x2 = 0.0, z2 = 0.0;
+  for (int k = 0; k < kWavelengthCount; ++k) {
+    const double p = w.pmf(emitter, 1.0, k);
+    const double xk = static_cast<double>(w.x_units()[static_cast<std::size_t>(k)]) / kColourUnits;
+    const double zk = static_cast<double>(w.z_units()[static_cast<std::size_t>(k)]) / kColourUnits;
+    r.x += p * xk;
+    r.z += p * zk;
+    x2 += p * xk * xk;
+    z2 += p * zk * zk;
+  }
+  r.sx = std::sqrt(x2 - r.x * r.x);
+  r.sz = std::sqrt(z2 - r.z * r.z);
+  return r;
+}
+
+// The sampler's expectation is CIE 15's summation of the spectrum, to the
+// rounding of the per-wavelength ratios (< 4e-6 relative).
+TEST(Spectral, SamplerExpectationIsTheTristimulusSum) {
+  for (double t_k : {2000.0, 2856.0, 6500.0}) {
+    const SampledSpectrum bb = photometry::blackbody_spectrum(t_k);
+    auto w = WavelengthSampler::create(bare_point(single(bb)));
+    ASSERT_TRUE(w.ok()) << w.error().message;
+    const photometry::Tristimulus t = photometry::tristimulus(bb);
+    const Ratios r = expected_ratios(*w, 0);
+    EXPECT_NEAR(r.x / (t.X / t.Y), 1.0, 4e-6) << t_k;
+    EXPECT_NEAR(r.z / (t.Z / t.Y), 1.0, 4e-6) << t_k;
+    double sum = 0.0;
+    for (int k = 0; k < kWavelengthCount; ++k) sum += w->pmf(0, 0.3, k);
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+  }
+}
+
+// A bare blackbody: the whole far field's X, Y, Z give its chromaticity
+// exactly (no material draws a wavelength, so every photon carries the
+// spectrum's expected X/Y and Z/Y: only the 2⁻¹⁷ rounding remains); the Y
+// far field is the grey run's, byte for byte (the spectrum shapes the colour
+// only).
+TEST(Spectral, BareBlackbodyKeepsItsChromaticity) {
+  const double t_k = 2856.0;
+  const SceneDesc scene = bare_point(single(photometry::blackbody_spectrum(t_k)));
+  const std::uint64_t n = 1 << 20;
+  auto sim = simulate(scene, settings(2, n / 2, 2));
+  ASSERT_TRUE(sim.ok()) << sim.error().message;
+  const photometry::Tristimulus t = totals(*sim);
+  auto w = WavelengthSampler::create(scene);
+  const Ratios r = expected_ratios(*w, 0);
+  EXPECT_NEAR(t.X / t.Y / r.x, 1.0, 1e-5);
+  EXPECT_NEAR(t.Z / t.Y / r.z, 1.0, 1e-5);
+  const photometry::CctDuv cd = photometry::cct_duv(t);
+  EXPECT_NEAR(cd.cct_k, t_k, 0.5);
+  EXPECT_NEAR(cd.duv, 0.0, 1e-5);
+  std::printf("bare %.0f K blackbody, %llu photons: CCT %.1f K, Duv %.5f, Δu'v' from exact %.6f\n", t_k,
+              static_cast<unsigned long long>(n), cd.cct_k, cd.duv,
+              photometry::delta_uv_prime(photometry::uv_prime(t),
+                                         photometry::uv_prime(photometry::tristimulus(
+                                             photometry::blackbody_spectrum(t_k)))));
+
+  SceneDesc grey = scene;
+  grey.emitters[0].spectrum = {};
+  auto plain = simulate(grey, settings(2, n / 2, 2));
+  ASSERT_TRUE(plain.ok());
+  const FarField a = sim->far_field(), b = plain->far_field();
+  EXPECT_EQ(std::memcmp(a.flux_lm().data(), b.flux_lm().data(), a.texel_count() * sizeof(double)), 0);
+  EXPECT_TRUE(plain->colour_far_field().empty());
+  EXPECT_FALSE(plain->tracer().spectral());
+}
+
+// Light that meets one diffuse surface of spectral reflectance ρ(λ) leaves
+// with the chromaticity of S(λ)·ρ(λ): a small emitter facing down onto a
+// wide floor; everything that goes up was reflected once.
+TEST(Spectral, OneDiffuseBounceGivesTheProductSpectrum) {
+  const SampledSpectrum source = photometry::blackbody_spectrum(4000.0);
+  const SampledSpectrum rho{{360.0, 480.0, 560.0, 650.0, 830.0}, {0.1, 0.15, 0.7, 0.8, 0.8}};
+  SceneDesc s;
+  Material floor;
+  floor.name = "floor";
+  floor.diffuse_reflect = 0.5;  // the spectrum overrides the total
+  floor.spectral_reflectance = rho;
+  Material black;
+  black.name = "black";
+  s.materials = {floor, black};
+  Mesh f = disc(50.0, 64);
+  f.material = 0;
+  Mesh lamp = disc(0.02, 16);
+  flip(lamp);  // faces −Y
+  transform(lamp, translation({0.0, 0.1, 0.0}));
+  lamp.material = 1;
+  s.meshes = {f, lamp};
+  Emitter e;
+  e.kind = Emitter::Kind::Area;
+  e.name = "chip";
+  e.mesh = 1;
+  e.flux_lm = 100.0;
+  e.spectrum = single(source);
+  s.emitters = {e};
+  auto sim = simulate(s, settings(2, 1 << 19, 2));
+  ASSERT_TRUE(sim.ok()) << sim.error().message;
+  const photometry::Tristimulus up = totals(*sim, true);
+  const photometry::UvPrime expected = photometry::uv_prime(photometry::tristimulus(product(source, rho)));
+  const double d = photometry::delta_uv_prime(photometry::uv_prime(up), expected);
+  std::printf("one diffuse bounce: Δu'v' from the product spectrum %.6f\n", d);
+  EXPECT_LT(d, 0.0015);
+  // The source's own chromaticity is far from it: the test can tell.
+  EXPECT_GT(photometry::delta_uv_prime(photometry::uv_prime(photometry::tristimulus(source)), expected), 0.02);
+  // Luminous reflectance: the escaped Y over the emitted flux is ρ_v =
+  // Σ S ρ ȳ / Σ S ȳ (minus the photons that fall back on the black lamp).
+  const double rho_v = photometry::tristimulus(product(source, rho)).Y / photometry::tristimulus(source).Y;
+  EXPECT_NEAR(up.Y / 1e2, rho_v, 0.01);
+}
+
+// Grey materials never draw a wavelength: light through a grey opal shell
+// keeps the source's chromaticity in every texel, without colour noise.
+TEST(Spectral, GreyMaterialsAddNoColourNoise) {
+  SceneDesc s = bare_point(single(photometry::blackbody_spectrum(3000.0)));
+  Material opal;
+  opal.name = "grey opal";
+  opal.diffuse_transmit = 0.6;
+  opal.diffuse_reflect = 0.3;
+  s.materials.push_back(opal);
+  Mesh shell = sphere(0.5, 16, 8);
+  shell.material = 1;
+  s.meshes.push_back(shell);
+  auto sim = simulate(s, settings(2, 100000, 1));
+  ASSERT_TRUE(sim.ok()) << sim.error().message;
+  const photometry::UvPrime source =
+      photometry::uv_prime(photometry::tristimulus(photometry::blackbody_spectrum(3000.0)));
+  const FarField f = sim->far_field();
+  const ColourFarField c = sim->colour_far_field();
+  int lit = 0;
+  for (std::size_t i = 0; i < f.texel_count(); ++i) {
+    if (f.photons(i) == 0) continue;
+    ++lit;
+    const photometry::UvPrime uv = photometry::uv_prime(photometry::Tristimulus{c.x_lm[i], f.flux_lm(i), c.z_lm[i]});
+    ASSERT_NEAR(photometry::delta_uv_prime(uv, source), 0.0, 1e-5) << i;
+  }
+  EXPECT_GT(lit, 1000);
+}
+
+// An integrating sphere of spectral reflectance ρ(λ) with a port of area
+// fraction f: per wavelength the escaped fraction is f/(1 − ρ(λ)(1 − f)),
+// so the escaped X, Y, Z are Σ S(λ)·{x̄, ȳ, z̄}(λ)·f/(1 − ρ(λ)(1 − f)) —
+// the sphere's colour amplification, which a grey ρ would miss.
+TEST(Spectral, IntegratingSphereFollowsTheSphereFormulaPerWavelength) {
+  const double radius = 0.1;
+  const double alpha = std::acos(0.9);
+  std::vector<ProfilePoint> profile;
+  for (int k = 0; k <= 64; ++k) {
+    const double theta = (M_PI - alpha) * k / 64;
+    profile.push_back({k == 0 ? 0.0 : radius * std::sin(theta), -radius * std::cos(theta)});
+  }
+  LatheOptions options;
+  options.segments = 128;
+  Mesh wall = lathe(profile, options);
+  std::vector<ProfilePoint> cap_arc;
+  for (int k = 0; k <= 16; ++k) {
+    const double theta = M_PI - alpha + alpha * k / 16;
+    cap_arc.push_back({k == 16 ? 0.0 : radius * std::sin(theta), -radius * std::cos(theta)});
+  }
+  const double port_area = surface_area_m2(lathe(cap_arc, options));
+  const double f = port_area / (port_area + surface_area_m2(wall));
+
+  const SampledSpectrum source = photometry::blackbody_spectrum(4000.0);
+  const SampledSpectrum rho{{360.0, 450.0, 550.0, 650.0, 830.0}, {0.5, 0.55, 0.8, 0.95, 0.95}};
+  SceneDesc s = bare_point(single(source));
+  s.materials[0].name = "coating";
+  s.materials[0].diffuse_reflect = 0.8;
+  s.materials[0].spectral_reflectance = rho;
+  s.meshes = {wall};
+  const std::uint64_t n = 1 << 20;
+  auto sim = simulate(s, settings(2, n / 2, 2));
+  ASSERT_TRUE(sim.ok()) << sim.error().message;
+  photometry::Tristimulus want, emitted;
+  for (int k = 0; k < kWavelengthCount; ++k) {
+    const double nm = wavelength_nm(k), p = source.at(nm), r = rho.at(nm);
+    const photometry::CmfValue c = photometry::cie1931_cmf_sample(k);
+    const double esc = f / (1.0 - r * (1.0 - f));
+    want.X += p * c.x_bar * esc;
+    want.Y += p * c.y_bar * esc;
+    want.Z += p * c.z_bar * esc;
+    emitted.Y += p * c.y_bar;
+  }
+  const photometry::Tristimulus got = totals(*sim);
+  const double fraction = got.Y / 1000.0, want_fraction = want.Y / emitted.Y;
+  const double d = photometry::delta_uv_prime(photometry::uv_prime(got), photometry::uv_prime(want));
+  std::printf("integrating sphere: escaped %.5f (formula %.5f), delta u'v' %.6f\n", fraction, want_fraction, d);
+  EXPECT_NEAR(fraction, want_fraction, 0.01 * want_fraction);
+  EXPECT_LT(d, 1.5e-3);
+  // A grey sphere of the same luminous reflectance keeps the source's colour:
+  // the test tells the two apart.
+  EXPECT_GT(photometry::delta_uv_prime(photometry::uv_prime(photometry::tristimulus(source)), photometry::uv_prime(want)),
+            0.01);
+  EXPECT_TRUE(sim->ledger().photons_close());
+}
+
+TEST(Spectral, SameBytesForAnyThreadAndIterationSplit) {
+  SceneDesc s = bare_point(single(photometry::blackbody_spectrum(3000.0)));
+  Material opal;
+  opal.name = "opal";
+  opal.diffuse_transmit = 0.6;
+  opal.diffuse_reflect = 0.3;
+  opal.spectral_transmittance = {{400.0, 700.0}, {0.5, 0.7}};
+  s.materials.push_back(opal);
+  Mesh shell = sphere(0.5, 16, 8);
+  shell.material = 1;
+  s.meshes.push_back(shell);
+  auto one = simulate(s, settings(1, 20000, 3));
+  auto two = simulate(s, settings(2, 60000, 1));
+  ASSERT_TRUE(one.ok()) << one.error().message;
+  ASSERT_TRUE(two.ok());
+  const ColourFarField a = one->colour_far_field(), b = two->colour_far_field();
+  ASSERT_EQ(a.x_lm.size(), b.x_lm.size());
+  EXPECT_EQ(std::memcmp(a.x_lm.data(), b.x_lm.data(), a.x_lm.size() * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(a.z_lm.data(), b.z_lm.data(), a.z_lm.size() * sizeof(double)), 0);
+  const FarField fa = one->far_field(), fb = two->far_field();
+  EXPECT_EQ(std::memcmp(fa.flux_lm().data(), fb.flux_lm().data(), fa.texel_count() * sizeof(double)), 0);
+}
+
+// Dispersion: a beam inside a glass block meets its top face at 30° and
+// leaves with sin θt = n(λ) sin 30° (the sides reflect it totally); n(λ)
+// from the Abbe number's Cauchy curve, which for Schott N-BK7 (n_d 1.51680,
+// V_d 64.17) gives the catalogue's n_F = 1.52238 and n_C = 1.51432 within
+// 6e-5 (two Cauchy terms cannot follow the glass's partial dispersion).
+TEST(Spectral, DielectricRefractsEachWavelengthBySnell) {
+  Material bk7;
+  bk7.name = "N-BK7";
+  bk7.dielectric = 1.0;
+  bk7.ior = 1.51680;
+  bk7.abbe_number = 64.17;
+  EXPECT_NEAR(ior_at(bk7, 486.13), 1.52238, 6e-5);
+  EXPECT_NEAR(ior_at(bk7, 656.27), 1.51432, 6e-5);
+  EXPECT_NEAR(ior_at(bk7, 486.13) - ior_at(bk7, 656.27), 0.51680 / 64.17, 1e-12);
+  EXPECT_NEAR(ior_at(bk7, 587.56), 1.51680, 1e-12);
+
+  Material flint = bk7;
+  flint.name = "flint";
+  flint.ior = 1.62;
+  flint.abbe_number = 30.0;
+  SceneDesc s = bare_point(single(photometry::blackbody_spectrum(5000.0)));
+  s.materials = {flint};
+  Mesh block = box(1.0, 1.0, 1.0);
+  block.material = 0;
+  s.meshes = {block};
+  s.emitters[0].position = {0.0, -2.0, 0.0};  // outside; the beams start inside
+  auto tracer = Tracer::create(s, 8);
+  ASSERT_TRUE(tracer.ok()) << tracer.error().message;
+  const Vec3 dir{0.5, std::sqrt(0.75), 0.0};
+  for (int k : {8, 38, 68}) {  // 400, 550, 700 nm
+    const double n = ior_at(flint, wavelength_nm(k));
+    int checked = 0;
+    for (std::uint64_t i = 0; i < 200; ++i) {
+      PhotonRandom rng(11, i);
+      const TraceResult r = tracer->trace({0.0, 0.0, 0.0}, dir, rng, k);
+      if (r.fate != Fate::Escaped) continue;
+      EXPECT_NEAR(std::abs(r.direction.x), 0.5 * n, 1e-6) << wavelength_nm(k);
+      EXPECT_NEAR(r.direction.z, 0.0, 1e-9);
+      ++checked;
+    }
+    EXPECT_GT(checked, 150);
+  }
+}
+
+TEST(Spectral, OverGammaMixesTheNeighbouringSpectra) {
+  EmitterSpectrum s;
+  s.over_gamma.push_back({0.0, photometry::blackbody_spectrum(6500.0)});
+  s.over_gamma.push_back({60.0, photometry::blackbody_spectrum(2700.0)});
+  auto w = WavelengthSampler::create(bare_point(s));
+  ASSERT_TRUE(w.ok()) << w.error().message;
+  auto w0 = WavelengthSampler::create(bare_point(single(s.over_gamma[0].spectrum)));
+  auto w1 = WavelengthSampler::create(bare_point(single(s.over_gamma[1].spectrum)));
+  const double c30 = std::cos(30.0 * M_PI / 180.0), c80 = std::cos(80.0 * M_PI / 180.0);
+  for (int k = 0; k < kWavelengthCount; k += 7) {
+    EXPECT_NEAR(w->pmf(0, c30, k), 0.5 * (w0->pmf(0, 1.0, k) + w1->pmf(0, 1.0, k)), 1e-12);
+    EXPECT_NEAR(w->pmf(0, c80, k), w1->pmf(0, 1.0, k), 1e-12);
+    EXPECT_NEAR(w->pmf(0, 1.0, k), w0->pmf(0, 1.0, k), 1e-12);
+  }
+}
+
+TEST(Spectral, BadInputIsAnErrorThatNamesIt) {
+  EmitterSpectrum s;
+  s.over_gamma.push_back({30.0, {{400.0, 700.0}, {1.0, 1.0}}});
+  s.over_gamma.push_back({30.0, {{400.0, 700.0}, {1.0, 1.0}}});
+  Status st = validate_emitter_spectrum(s);
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.error().message, "spectrum at entry 1: gamma_deg 30 does not increase");
+  s.over_gamma.resize(1);
+  s.over_gamma[0].spectrum = {{900.0, 1000.0}, {1.0, 1.0}};
+  st = validate_emitter_spectrum(s);
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.error().message, "spectrum: no power between 360 and 830 nm where the eye sees");
+
+  SceneDesc scene = bare_point(single(photometry::blackbody_spectrum(3000.0)));
+  scene.materials[0].name = "paint";
+  scene.materials[0].diffuse_reflect = 0.5;
+  scene.materials[0].mirror = 0.2;
+  scene.materials[0].spectral_transmittance = {{400.0, 700.0}, {0.1, 0.4}};
+  auto t = Tracer::create(scene, 8);
+  ASSERT_FALSE(t.ok());
+  EXPECT_EQ(t.error().message, "material 'paint': its weights sum to 1.005 > 1 at 605 nm");
+}
+
+}  // namespace
+}  // namespace gonio::sim
