@@ -14,6 +14,7 @@
 #include "io/photometric/ies.h"
 #include "io/photometric/tm33.h"
 #include "photometry/flux.h"
+#include "tests/io/photometric/tm33_test_support.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -25,21 +26,9 @@ using photometry::Symmetry;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-Result<Tm33File> parse(const std::string& document, const std::string& name) {
-  test::offer_fuzz_seed("tm33", document);
-  return parse_tm33(document, name);
-}
-
-const Finding* find(const std::vector<Finding>& w, const std::string& code) {
-  for (const Finding& f : w)
-    if (f.code == code) return &f;
-  return nullptr;
-}
-
-std::string keyword(const Distribution& d, const std::string& key) {
-  const photometry::Keyword* k = d.find_keyword(key);
-  return k ? k->value : "<none>";
-}
+using tm33_test::find;
+using tm33_test::keyword;
+using tm33_test::parse;
 
 // I = 100 (1 + 0.5 cos C) cos γ below the horizon [cd/klm], C 0…180
 // (bilateral about C0) × γ 0…180 every 45°, as `element` elements with

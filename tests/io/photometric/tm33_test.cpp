@@ -12,6 +12,7 @@
 #include "io/photometric/photometric_file.h"
 #include "photometry/flux.h"
 #include "tests/support/photometry_fixtures.h"
+#include "tests/io/photometric/tm33_test_support.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -23,22 +24,9 @@ using photometry::Symmetry;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// parse_tm33, each document also a seed for the TM-33 fuzzer (scripts/fuzz.sh).
-Result<Tm33File> parse(const std::string& document, const std::string& name) {
-  test::offer_fuzz_seed("tm33", document);
-  return parse_tm33(document, name);
-}
-
-const Finding* find(const std::vector<Finding>& w, const std::string& code) {
-  for (const Finding& f : w)
-    if (f.code == code) return &f;
-  return nullptr;
-}
-
-std::string keyword(const Distribution& d, const std::string& key) {
-  const photometry::Keyword* k = d.find_keyword(key);
-  return k ? k->value : "<none>";
-}
+using tm33_test::find;
+using tm33_test::keyword;
+using tm33_test::parse;
 
 // A TM-33-23 document as a manufacturer might write it: two emitters of
 // 500 lm each, I = 2 × 100 (1 + 0.5 cos C) cos γ below the horizon on
