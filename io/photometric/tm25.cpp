@@ -160,7 +160,7 @@ class Tm25Reader {
                                           std::tuple{h.radiant_flux_w, 16, "radiant"}})
       if (!std::isnan(value) && !(value >= 0.0f && std::isfinite(value)))
         return error_at(static_cast<std::size_t>(at), std::string("the total ") + what + " flux is " +
-                                                          format_number(value) +
+                                                          format_number(static_cast<double>(value)) +
                                                           "; it must be non-negative or NaN (not stated)");
     ray_count_ = take<std::uint64_t>();
     h.created = printable_ascii(bytes_.substr(pos_, kDateBytes));
@@ -174,7 +174,7 @@ class Tm25Reader {
     h.spectrum = static_cast<Tm25Spectrum>(spectrum);
     h.wavelength_nm = take<float>();
     if (h.spectrum == Tm25Spectrum::SingleWavelength && !(h.wavelength_nm > 0.0f && std::isfinite(h.wavelength_nm)))
-      return error_at(64, "the single wavelength is " + format_number(h.wavelength_nm) +
+      return error_at(64, "the single wavelength is " + format_number(static_cast<double>(h.wavelength_nm)) +
                               " nm; spectral identifier 1 needs a positive one");
     h.min_wavelength_nm = take<float>();
     h.max_wavelength_nm = take<float>();
@@ -251,7 +251,7 @@ class Tm25Reader {
         const auto w = take<float>();
         if (!(wl > 0.0f && std::isfinite(wl)) || !(w >= 0.0f && std::isfinite(w)))
           return error_at(pair_at, "spectral table " + std::to_string(t + 1) + ", pair " + std::to_string(p + 1) +
-                                       ": wavelength " + format_number(wl) + " nm, weight " + format_number(w) +
+                                       ": wavelength " + format_number(static_cast<double>(wl)) + " nm, weight " + format_number(static_cast<double>(w)) +
                                        " (a positive wavelength and a non-negative weight are required)");
         table.wavelength_nm.push_back(wl);
         table.weight.push_back(w);
@@ -305,12 +305,12 @@ class Tm25Reader {
       for (std::size_t k = 0; k < stride; ++k)
         if (!std::isfinite(r[k]))
           return error_at(at + 4 * k, "ray " + std::to_string(i + 1) + ", item " + std::to_string(k + 1) + " is " +
-                                          format_number(r[k]) + ": every ray item must be a finite number");
+                                          format_number(static_cast<double>(r[k])) + ": every ray item must be a finite number");
       for (int col : {c.radiant_flux, c.tri_y})
         if (col >= 0 && r[col] < 0.0f)
           return error_at(at + 4 * static_cast<std::size_t>(col),
-                          "ray " + std::to_string(i + 1) + " has a negative flux (" + format_number(r[col]) + ")");
-      const double kx = r[3], ky = r[4], kz = r[5];
+                          "ray " + std::to_string(i + 1) + " has a negative flux (" + format_number(static_cast<double>(r[col])) + ")");
+      const double kx = static_cast<double>(r[3]), ky = static_cast<double>(r[4]), kz = static_cast<double>(r[5]);
       const double len = std::sqrt(kx * kx + ky * ky + kz * kz);
       if (!(len > 0.0))
         return error_at(at + 12, "ray " + std::to_string(i + 1) + " has a zero direction vector");
@@ -326,7 +326,7 @@ class Tm25Reader {
         const float idx = r[c.spectrum_index];
         if (idx != std::floor(idx) || idx < 1.0f || idx > static_cast<float>(set.header.spectral_tables.size()))
           return error_at(at + 4 * static_cast<std::size_t>(c.spectrum_index),
-                          "ray " + std::to_string(i + 1) + " names spectral table " + format_number(idx) + " of " +
+                          "ray " + std::to_string(i + 1) + " names spectral table " + format_number(static_cast<double>(idx)) + " of " +
                               std::to_string(set.header.spectral_tables.size()));
       }
     }
@@ -350,9 +350,9 @@ class Tm25Reader {
                  " differs from the rays' sum " + format_number(sum) + " " + unit + " by " +
                  format_fixed(100.0 * (sum - header_value) / header_value, 2) + " %");
     };
-    if (set.columns.radiant_flux >= 0) compare(h.radiant_flux_w, radiant_sum, 16, "radiant", "W");
+    if (set.columns.radiant_flux >= 0) compare(static_cast<double>(h.radiant_flux_w), radiant_sum, 16, "radiant", "W");
     if (set.columns.tri_y >= 0) {
-      compare(h.luminous_flux_lm, set.total_luminous_flux_lm(), 12, "luminous", "lm");
+      compare(static_cast<double>(h.luminous_flux_lm), set.total_luminous_flux_lm(), 12, "luminous", "lm");
       return;
     }
     const bool header_ratio = std::isfinite(h.luminous_flux_lm) && std::isfinite(h.radiant_flux_w) &&
@@ -362,7 +362,7 @@ class Tm25Reader {
            "radiant flux per ray without both header fluxes: the rays' luminous flux is unknown", Severity::Info);
       return;
     }
-    set.efficacy_lm_per_w = double{h.luminous_flux_lm} / double{h.radiant_flux_w};
+    set.efficacy_lm_per_w = static_cast<double>(h.luminous_flux_lm) / static_cast<double>(h.radiant_flux_w);
     if (h.spectrum == Tm25Spectrum::PerRayWavelength || h.spectrum == Tm25Spectrum::TablePerRay)
       warn(12, "tm25-luminous-from-header",
            "the rays' spectra differ, but their luminous flux is taken as radiant flux times the header's mean "

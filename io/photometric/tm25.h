@@ -128,8 +128,13 @@ struct Tm25RaySet {
     return columns.count > 0 ? items.size() / static_cast<std::size_t>(columns.count) : 0;
   }
   const float* ray(std::size_t i) const { return items.data() + i * static_cast<std::size_t>(columns.count); }
-  Vec3 position_mm(std::size_t i) const { return {ray(i)[0], ray(i)[1], ray(i)[2]}; }
-  Vec3 direction(std::size_t i) const { return {ray(i)[3], ray(i)[4], ray(i)[5]}; }
+  Vec3 position_mm(std::size_t i) const { return item_vec(i, 0); }
+  Vec3 direction(std::size_t i) const { return item_vec(i, 3); }
+  // Items first, first + 1 and first + 2 of ray i, widened to double.
+  Vec3 item_vec(std::size_t i, std::size_t first) const {
+    const float* r = ray(i) + first;
+    return {static_cast<double>(r[0]), static_cast<double>(r[1]), static_cast<double>(r[2])};
+  }
   bool has_luminous_flux() const { return columns.tri_y >= 0 || std::isfinite(efficacy_lm_per_w); }
   // [lm]; requires has_luminous_flux().
   double luminous_flux_lm(std::size_t i) const {
