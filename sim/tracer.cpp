@@ -89,6 +89,7 @@ void TracerTally::clear() {
   std::fill(texel_photons.begin(), texel_photons.end(), std::uint16_t{0});
   texel_wraps.clear();
   ledger.clear();
+  near_field.clear();
 }
 
 Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const TracerSettings& settings,
@@ -289,6 +290,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         pending = texel;
         eb.escaped.add(r.power_units);
         if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
+        if (tally.near_planes) tally.near_field.add(*tally.near_planes, r.origin, r.direction, r.power_units);
         break;
       }
       case Fate::Absorbed:
@@ -327,6 +329,7 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
         guide_tally.importance_sum[source_texel] += guide.importance(texel);
         eb.escaped.add(r.power_units);
         if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
+        if (tally.near_planes) tally.near_field.add(*tally.near_planes, r.origin, r.direction, r.power_units);
         break;
       }
       case Fate::Absorbed:

@@ -116,6 +116,9 @@ struct OutputRequest {
   // The opening the IES and LDT carry and the GLDF's light-emitting object
   // takes; none: a point opening, and the L3D object where the emitters are.
   std::optional<SimulatedOpening> opening;
+  // {near_field: [...], far_field_distance_m} of report.json (--near-field)
+  // for the datasheet; null: none.
+  nlohmann::json near_field;
 };
 
 // One file written and read back.
