@@ -9,8 +9,11 @@
 namespace gonio::sim {
 
 Vec3 luminaire_centre(const SceneDesc& scene) {
+  // The bounding box in the photometric frame (C0, C90, up components).
+  const photometry::PhotometricFrame& f = scene.frame;
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  const auto take = [&](const Vec3& p) {
+  const auto take = [&](const Vec3& world) {
+    const Vec3 p = f.to_local(world);
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   };
@@ -22,7 +25,8 @@ Vec3 luminaire_centre(const SceneDesc& scene) {
       take(e.position);
     }
   }
-  return lo.x <= hi.x ? 0.5 * (lo + hi) : Vec3{0.0, 0.0, 0.0};
+  if (!(lo.x <= hi.x)) return Vec3{0.0, 0.0, 0.0};
+  return f.to_world({0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z});
 }
 
 void NearFieldTally::reset(const NearFieldPlanes& planes) {

@@ -47,9 +47,13 @@ struct NearFieldPlanes {
   double pixel_size_m(std::size_t plane) const { return 2.0 * half_width_m(plane) / kNearFieldPixels; }
 };
 
-// The luminaire's centre [m, world], the planes' reference: the middle of
-// the bounding box of every placed vertex, point emitter and ray-set ray
-// start (the centre simulate's ray file uses); the origin for an empty scene.
+// The luminaire's photometric centre [m, world], the planes' reference: in
+// the photometric frame, the middle of the bounding box of every placed
+// vertex, point emitter and ray-set ray start across C0 and C90, and its
+// lowest point along the nadir — the centre of the bounding box's bottom
+// face, where LM-63 puts the centre of a downward luminous opening (the
+// bounding box's middle would put the source a half height too far, a
+// 2·h/D error that fades only as 1/D). The origin for an empty scene.
 Vec3 luminaire_centre(const SceneDesc& scene);
 
 // One thread's counts (or a run's sum): per plane, per pixel, row-major.

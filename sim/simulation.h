@@ -54,7 +54,8 @@ struct SimulationSettings {
   // a ray file's rays); 0: none. This process's photons only under MPI.
   std::uint64_t capture_escaped_photons = 0;
   // Near-field planes at these distances [m] below the luminaire's centre
-  // (sim/near_field.h; luminaire_centre); empty: none, and the photon loop
+  // (sim/near_field.h; luminaire_centre: the bounding box's bottom centre);
+  // empty: none, and the photon loop
   // pays nothing for them.
   std::vector<double> near_field_distances_m;
 };

@@ -697,6 +697,16 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
               l.absorbed.flux_lm, percent(l.absorbed.flux_lm, l.emitted.flux_lm), l.cutoff.flux_lm,
               percent(l.cutoff.flux_lm, l.emitted.flux_lm));
   std::printf("  light output ratio %.4f (escaped / emitted)\n", lor);
+  for (const auto& p : near_field_list)
+    std::printf("  near field at %s m: %s lx on the axis, the far field predicts %s lx; largest deviation %s %% "
+                "(E_far >= 10 %% of its maximum): %s\n",
+                format_number(p["distance_m"].get<double>()).c_str(),
+                format_number(p["on_axis_lx"].get<double>()).c_str(),
+                format_number(p["far_field_on_axis_lx"].get<double>()).c_str(),
+                format_number(p["max_deviation_pct"].get<double>()).c_str(), p["file"].get<std::string>().c_str());
+  if (!settings.near_field_distances_m.empty())
+    std::printf("  far-field distance: %s\n", far_field_distance ? (format_number(*far_field_distance) + " m").c_str()
+                                                                 : "beyond the distances asked for");
   if (l.escaped.photons == 0 || !(l.escaped.flux_lm > 0.0))
     print_warning(model + ": no light leaves the model: all " + std::to_string(l.emitted.photons) +
                   " photons were absorbed or cut off (is the emitter sealed in?); the files hold zero "
