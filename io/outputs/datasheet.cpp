@@ -272,7 +272,7 @@ std::string ledger_html(const nlohmann::json& r) {
     t += "<p class=note>" + esc(r["photons_emitted"].dump()) + " photons" +
          (r.contains("seed") ? ", seed " + esc(r["seed"].dump()) : std::string()) + ".</p>";
   if (r.contains("near_field") && r["near_field"].is_array()) {
-    t += "<h2>Near field</h2>\n<table><tr><th>distance</th><th>on axis</th><th>far field predicts</th>"
+    t += "<h2>Near field</h2>\n<table><tr><th>distance</th><th>on axis (centre pixel, 4D/41 wide)</th><th>far field predicts</th>"
          "<th>largest deviation (E &ge; 10 % of max)</th></tr>\n";
     for (const auto& p : r["near_field"]) {
       const auto val = [&](const char* key) {
