@@ -60,6 +60,8 @@ struct Simulation::Impl {
   std::vector<std::uint64_t> texel_z;
   LedgerTally books;
   std::vector<EscapedRay> escaped_rays;  // by photon index
+  std::unique_ptr<NearFieldPlanes> near_planes;  // null: no near field
+  NearFieldTally near_sum;                       // over all iterations
   SimulationStats stats;
   const Ranks* ranks = nullptr;
 
@@ -77,6 +79,10 @@ struct Simulation::Impl {
         tallies([this] {
           TracerTally tally = tracer.make_tally();
           tally.capture_below = settings.capture_escaped_photons;
+          if (near_planes) {
+            tally.near_planes = near_planes.get();
+            tally.near_field.reset(*near_planes);
+          }
           return tally;
         }),
         texel_photons(tracer.grid().texel_count(), 0),
@@ -92,6 +98,13 @@ struct Simulation::Impl {
     if (tracer.spectral()) {
       texel_x.assign(tracer.grid().texel_count(), 0);
       texel_z.assign(tracer.grid().texel_count(), 0);
+    }
+    if (!set.near_field_distances_m.empty()) {
+      near_planes = std::make_unique<NearFieldPlanes>();
+      near_planes->centre = luminaire_centre(scene);
+      near_planes->frame = scene.frame;
+      near_planes->distances_m = set.near_field_distances_m;
+      near_sum.reset(*near_planes);
     }
   }
 
@@ -205,7 +218,10 @@ std::uint64_t Simulation::Impl::add_iteration() {
   const std::size_t words = texel_x.empty() ? texels : 3 * texels;
   iteration.assign(words, 0);
   books_iteration.clear();
+  NearFieldTally near_iteration;
+  if (near_planes) near_iteration.reset(*near_planes);
   for (TracerTally& t : tallies) {
+    if (near_planes) near_iteration.add(t.near_field);
     for (std::size_t i = 0; i < texels; ++i) iteration[i] += t.texel_photons[i];
     if (words > texels)
       for (std::size_t i = 0; i < texels; ++i) {
@@ -230,6 +246,8 @@ std::uint64_t Simulation::Impl::add_iteration() {
   if (ranks && ranks->distributed()) {
     each_count(books_iteration, [&](std::uint64_t& v) { iteration.push_back(v); });
     if (guide) each_count(guide_iteration, [&](std::uint64_t& v) { iteration.push_back(v); });
+    for (auto* values : {&near_iteration.near_units, &near_iteration.far_units, &near_iteration.moved})
+      iteration.insert(iteration.end(), values->begin(), values->end());
     auto t = std::chrono::steady_clock::now();
     ranks->barrier();
     stats.wait_s += seconds_since(t);
@@ -241,7 +259,10 @@ std::uint64_t Simulation::Impl::add_iteration() {
     std::size_t k = words;
     each_count(books_iteration, [&](std::uint64_t& v) { v = iteration[k++]; });
     if (guide) each_count(guide_iteration, [&](std::uint64_t& v) { v = iteration[k++]; });
+    for (auto* values : {&near_iteration.near_units, &near_iteration.far_units, &near_iteration.moved})
+      for (std::uint64_t& v : *values) v = iteration[k++];
   }
+  if (near_planes) near_sum.add(near_iteration);
   for (std::size_t i = 0; i < texels; ++i) {
     texel_photons[i] += iteration[i];
     texel_units[i] += iteration[i] * kPowerUnits;
@@ -302,6 +323,22 @@ ColourFarField Simulation::colour_far_field() const {
     c.z_lm[i] = static_cast<double>(s.texel_z[i]) * per_unit;
   }
   return c;
+}
+
+const NearFieldPlanes* Simulation::near_field_planes() const { return impl_->near_planes.get(); }
+
+std::vector<NearFieldPlane> Simulation::near_field() const {
+  const Impl& s = *impl_;
+  if (!s.near_planes) return {};
+  double per_unit = 0.0;
+  if (s.guide) {
+    std::uint64_t emitted_units = 0;
+    for (const auto& e : s.books.emitters) emitted_units += e.emitted.power_units;
+    if (emitted_units > 0) per_unit = total_flux_lm() / static_cast<double>(emitted_units);
+  } else if (s.stats.photons > 0) {
+    per_unit = total_flux_lm() / static_cast<double>(s.stats.photons) / static_cast<double>(kPowerUnits);
+  }
+  return sim::near_field_planes(*s.near_planes, s.near_sum, per_unit);
 }
 
 Ledger Simulation::ledger() const { return make_ledger(impl_->books, impl_->scene, total_flux_lm()); }

@@ -18,6 +18,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "photometry/diagnostics.h"
 #include "sim/distributed.h"
@@ -53,6 +54,11 @@ struct SimulationSettings {
   // Keep the escapes of the run's photons 0 … N − 1 (Simulation::escaped_rays;
   // a ray file's rays); 0: none. This process's photons only under MPI.
   std::uint64_t capture_escaped_photons = 0;
+  // Near-field planes at these distances [m] below the luminaire's centre
+  // (sim/near_field.h; luminaire_centre: the bounding box's bottom centre);
+  // empty: none, and the photon loop
+  // pays nothing for them.
+  std::vector<double> near_field_distances_m;
 };
 
 struct SimulationStats {
@@ -118,6 +124,12 @@ class Simulation {
   // The escapes kept (SimulationSettings::capture_escaped_photons), by
   // photon index: the same whatever the threads.
   const std::vector<EscapedRay>& escaped_rays() const;
+  // The near-field planes of every photon so far
+  // (SimulationSettings::near_field_distances_m; empty when none), each
+  // photon carrying the flux far_field() gives it.
+  std::vector<NearFieldPlane> near_field() const;
+  // Where the planes lie (null when none).
+  const NearFieldPlanes* near_field_planes() const;
   // The emission guide (null unless settings().importance.enabled).
   const EmissionGuide* emission_guide() const;
 

@@ -91,6 +91,7 @@ void TracerTally::clear() {
   texel_wraps.clear();
   std::fill(texel_xz.begin(), texel_xz.end(), std::uint64_t{0});
   ledger.clear();
+  near_field.clear();
 }
 
 Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const TracerSettings& settings,
@@ -346,6 +347,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
             std::tie(pending_x, pending_z) = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
           }
         }
+        if (tally.near_planes) tally.near_field.add(*tally.near_planes, r.origin, r.direction, r.power_units);
         break;
       }
       case Fate::Absorbed:
@@ -384,6 +386,7 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
         guide_tally.importance_sum[source_texel] += guide.importance(texel);
         eb.escaped.add(r.power_units);
         if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
+        if (tally.near_planes) tally.near_field.add(*tally.near_planes, r.origin, r.direction, r.power_units);
         break;
       }
       case Fate::Absorbed:

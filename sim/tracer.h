@@ -25,6 +25,7 @@
 #include "sim/emission.h"
 #include "sim/emission_guide.h"
 #include "sim/ledger.h"
+#include "sim/near_field.h"
 #include "sim/material.h"
 #include "sim/random.h"
 #include "sim/scene.h"
@@ -87,6 +88,10 @@ struct TracerTally {
   // (EscapedRay); clear() leaves them.
   std::uint64_t capture_below = 0;
   std::vector<EscapedRay> escaped;
+  // Near-field planes (sim/near_field.h): every escape is binned on them
+  // when set (not owned); clear() zeroes near_field.
+  const NearFieldPlanes* near_planes = nullptr;
+  NearFieldTally near_field;
 
   void clear();
 };

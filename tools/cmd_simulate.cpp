@@ -67,6 +67,7 @@
 #include "io/outputs/colour_chart.h"
 #include "io/outputs/exr.h"
 #include "io/support/file_io.h"
+#include "io/support/text.h"
 #include "io/outputs/report.h"
 #include "io/photometric/tm25.h"
 #include "photometry/format.h"
@@ -156,6 +157,11 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
   p.option("tm25-rays", &o->tm25_rays, 1, 100'000'000, "N",
            "with --format tm25: the escapes of the run's first N photons are the ray file's rays\n"
            "(default 1000000); their fluxes add up to the escaped flux");
+  p.option("near-field", &o->near_field, "D1,D2,...",
+           "near-field photometry: the illuminance on planes D metres below the luminaire's centre\n"
+           "(perpendicular to the nadir, 4D square, 41 x 41 pixels) from every escaping photon's\n"
+           "path, against the far field's prediction, as STEM.near-field-Dm.exr, with near_field and\n"
+           "far_field_distance_m in report.json (up to 16 distances, each in (0, 1e4])");
   p.choice("ies-version", &o->ies_version, {"2002", "2019"}, "IES LM-63 version (default 2019)");
   p.option("name", &o->stem, "STEM", "file names DIR/STEM.* (default: the model's file name without extension)");
   p.option("min-lor", &o->min_lor, 0.0, 1.0, "X",
@@ -223,6 +229,20 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
       other_formats += (other_formats.empty() ? "" : ",") + name;
     }
   }
+  std::vector<double> near_field_m;
+  if (p.given("near-field")) {
+    for (std::size_t start = 0; start <= o.near_field.size();) {
+      const std::size_t comma = std::min(o.near_field.find(',', start), o.near_field.size());
+      const std::string token = o.near_field.substr(start, comma - start);
+      start = comma + 1;
+      const std::optional<double> d = io::parse_number(token);
+      if (!d || !(*d > 0.0 && *d <= 1e4))
+        return usage_error(p, "--near-field: '" + token + "' is not a distance in metres in (0, 1e4]");
+      if (std::find(near_field_m.begin(), near_field_m.end(), *d) == near_field_m.end()) near_field_m.push_back(*d);
+    }
+    if (near_field_m.size() > 16) return usage_error(p, "--near-field: at most 16 distances");
+    std::sort(near_field_m.begin(), near_field_m.end());
+  }
   if (!tm25 && p.given("tm25-rays")) return usage_error(p, "--tm25-rays applies to --format tm25 only");
   Result<std::vector<OutputFormat>> formats =
       tm25 && other_formats.empty() ? Result<std::vector<OutputFormat>>(std::vector<OutputFormat>{})
@@ -259,6 +279,7 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   settings.seed = static_cast<std::uint64_t>(seed);
   settings.threads = static_cast<int>(threads);
   settings.capture_escaped_photons = tm25 ? static_cast<std::uint64_t>(o.tm25_rays) : 0;
+  settings.near_field_distances_m = near_field_m;
   settings.max_bounces = static_cast<int>(max_bounces);
   settings.face_size = static_cast<int>(face_size);
   using Quality = sim::EmbreeSceneOptions::Quality;
@@ -475,6 +496,46 @@ Status write_ray_file(const std::string& path, const sim::Simulation& simulation
   return Ok{};
 }
 
+// STEM.near-field-Dm.exr per plane (--near-field): channels `E` (the
+// near field) and `E_far` (the far field's prediction) [lx], pixel averages,
+// row-major from the top (+C90) with columns along C0; attributes give the
+// distance, extent and pixel size. Returns report.json's near_field list.
+nlohmann::json write_near_field(const std::string& out_dir, const std::string& stem,
+                                const std::vector<sim::NearFieldPlane>& planes, std::vector<std::string>* written,
+                                std::vector<Error>* failures) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const sim::NearFieldPlane& p : planes) {
+    io::ExrImage image;
+    image.width = image.height = p.pixels;
+    image.float_channels.push_back({"E", std::vector<float>(p.near_lx.begin(), p.near_lx.end())});
+    image.float_channels.push_back({"E_far", std::vector<float>(p.far_lx.begin(), p.far_lx.end())});
+    image.attributes = {{"gonio:quantity", "illuminance (E: near field, E_far: the far field's prediction)"},
+                        {"gonio:units", "lx"},
+                        {"gonio:distance_m", format_number(p.distance_m)},
+                        {"gonio:extent_m", format_number(2.0 * p.half_width_m) + " x " +
+                                               format_number(2.0 * p.half_width_m)},
+                        {"gonio:pixel_size_m", format_number(p.pixel_size_m)},
+                        {"gonio:axes", "columns along C0 (left -, right +), rows along C90 (top +, bottom -)"}};
+    const std::string name = stem + ".near-field-" + format_number(p.distance_m) + "m.exr";
+    const std::string path = (std::filesystem::path(out_dir) / name).string();
+    if (Status s = io::write_exr(path, image); !s.ok()) {
+      failures->push_back(s.error());
+    } else {
+      written->push_back(path);
+    }
+    list.push_back({{"distance_m", p.distance_m},
+                    {"file", name},
+                    {"extent_m", 2.0 * p.half_width_m},
+                    {"pixel_size_m", p.pixel_size_m},
+                    {"on_axis_lx", p.on_axis_lx},
+                    {"far_field_on_axis_lx", p.far_field_on_axis_lx},
+                    {"max_deviation_pct", p.max_deviation_pct},
+                    {"max_deviation_bound_pct", p.max_deviation_bound_pct},
+                    {"min_photons_per_pixel", p.min_photons}});
+  }
+  return list;
+}
+
 }  // namespace
 
 int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
@@ -509,6 +570,17 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   request.run.issue_date = format_utc(now_unix(), "%Y-%m-%d");
   const sim::ColourFarField colour = sim->colour_far_field();
   if (!colour.empty()) request.colour = &colour;
+  std::vector<std::string> near_field_files;
+  nlohmann::json near_field_list;
+  std::optional<double> far_field_distance;
+  if (!settings.near_field_distances_m.empty()) {
+    const std::vector<sim::NearFieldPlane> planes = sim->near_field();
+    near_field_list = write_near_field(out_dir, plan.stem, planes, &near_field_files, &failures);
+    far_field_distance = sim::far_field_distance_m(planes);
+    request.near_field = {{"near_field", near_field_list},
+                          {"far_field_distance_m", far_field_distance ? nlohmann::json(*far_field_distance)
+                                                                      : nlohmann::json(nullptr)}};
+  }
   Result<OutputResult> written = write_outputs(far_field, sim->scene(), ledger, request);
   if (!written.ok()) failures.push_back(written.error());
   if (plan.tm25) {
@@ -626,6 +698,14 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
     colour_chart_path = chart_status.ok() ? chart_path : std::string();
   }
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
+  if (!settings.near_field_distances_m.empty()) {
+    json["near_field"] = near_field_list;
+    json["far_field_distance_m"] = far_field_distance ? nlohmann::json(*far_field_distance) : nlohmann::json(nullptr);
+    json["far_field_distance_method"] =
+        "the smallest distance asked for from which that plane and every farther one asked for have "
+        "|E - E_far| / E_far + 2 sigma <= 1 % in every pixel with E_far >= 10 % of the plane's maximum; "
+        "sigma = sqrt(photons landing in only one of the pixel's two tallies) / photons in E_far";
+  }
   // The cache folder kept to its limit, now that this run has used and
   // written its entries (each marked used, so they go last).
   if (const std::string& dir = plan.model_input.cache_dir; !dir.empty()) {
@@ -643,6 +723,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   nlohmann::json written_paths = nlohmann::json::array();
   for (const WrittenFile& f : outputs->files) written_paths.push_back(f.path);
   if (!colour_chart_path.empty()) written_paths.push_back(colour_chart_path);
+  for (const std::string& path : near_field_files) written_paths.push_back(path);
   if (preview)
     for (const std::string& path : {preview->exr_path(), preview->png_path()})
       if (std::filesystem::is_regular_file(path)) written_paths.push_back(path);
@@ -673,6 +754,16 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
               l.absorbed.flux_lm, percent(l.absorbed.flux_lm, l.emitted.flux_lm), l.cutoff.flux_lm,
               percent(l.cutoff.flux_lm, l.emitted.flux_lm));
   std::printf("  light output ratio %.4f (escaped / emitted)\n", lor);
+  for (const auto& p : near_field_list)
+    std::printf("  near field at %s m: %s lx on the axis, the far field predicts %s lx; largest deviation %s %% "
+                "(E_far >= 10 %% of its maximum): %s\n",
+                format_number(p["distance_m"].get<double>()).c_str(),
+                format_number(p["on_axis_lx"].get<double>()).c_str(),
+                format_number(p["far_field_on_axis_lx"].get<double>()).c_str(),
+                format_number(p["max_deviation_pct"].get<double>()).c_str(), p["file"].get<std::string>().c_str());
+  if (!settings.near_field_distances_m.empty())
+    std::printf("  far-field distance: %s\n", far_field_distance ? (format_number(*far_field_distance) + " m").c_str()
+                                                                 : "beyond the distances asked for");
   if (l.escaped.photons == 0 || !(l.escaped.flux_lm > 0.0))
     print_warning(model + ": no light leaves the model: all " + std::to_string(l.emitted.photons) +
                   " photons were absorbed or cut off (is the emitter sealed in?); the files hold zero "

@@ -316,6 +316,8 @@ Status write_report_file(const Distribution& d, const sim::Ledger& ledger, const
                                            {"escaped_lm", ledger.escaped.flux_lm},
                                            {"absorbed_lm", ledger.absorbed.flux_lm},
                                            {"cutoff_lm", ledger.cutoff.flux_lm}};
+  if (request.near_field.is_object())
+    for (const auto& [key, value] : request.near_field.items()) (*entry.simulation_report)[key] = value;
   if (Status s = io::write_datasheet(file->path, {entry}); !s.ok()) return s;
   Result<std::string> back = io::read_file(file->path, std::size_t{64} << 20);
   if (!back.ok()) {

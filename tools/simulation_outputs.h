@@ -119,6 +119,9 @@ struct OutputRequest {
   // A spectral run's X and Z beside the far field (farfield.exr's X and Z
   // channels); null: a grey run. Not owned.
   const sim::ColourFarField* colour = nullptr;
+  // {near_field: [...], far_field_distance_m} of report.json (--near-field)
+  // for the datasheet; null: none.
+  nlohmann::json near_field;
 };
 
 // One file written and read back.

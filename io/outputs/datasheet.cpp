@@ -271,6 +271,25 @@ std::string ledger_html(const nlohmann::json& r) {
   if (r.contains("photons_emitted"))
     t += "<p class=note>" + esc(r["photons_emitted"].dump()) + " photons" +
          (r.contains("seed") ? ", seed " + esc(r["seed"].dump()) : std::string()) + ".</p>";
+  if (r.contains("near_field") && r["near_field"].is_array()) {
+    t += "<h2>Near field</h2>\n<table><tr><th>distance</th><th>on axis (centre pixel, 4D/41 wide)</th><th>far field predicts</th>"
+         "<th>largest deviation (E &ge; 10 % of max)</th></tr>\n";
+    for (const auto& p : r["near_field"]) {
+      const auto val = [&](const char* key) {
+        return p.contains(key) && p[key].is_number() ? p[key].get<double>() : photometry::kNaN;
+      };
+      t += "<tr><td>" + fmt(val("distance_m"), 3) + " m</td><td>" + fmt(val("on_axis_lx"), 3) + " lx</td><td>" +
+           fmt(val("far_field_on_axis_lx"), 3) + " lx</td><td>" + fmt(val("max_deviation_pct"), 2) +
+           " %</td></tr>\n";
+    }
+    t += "</table>\n";
+    const bool known = r.contains("far_field_distance_m") && r["far_field_distance_m"].is_number();
+    t += "<p>Far-field distance: " +
+         (known ? fmt(r["far_field_distance_m"].get<double>(), 3) + " m"
+                : std::string("not reached at the distances simulated")) +
+         " (the far field predicts the plane's illuminance within 1 % wherever it is at least 10 % of its "
+         "maximum, photon noise included).</p>\n";
+  }
   return t + "\n";
 }
 

@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <algorithm>
 #include <cstring>
+#include <vector>
 
 #include "sim/distributed.h"
 #include "sim/simulation.h"
@@ -30,6 +32,7 @@ SimulationSettings settings(int threads, std::uint64_t per_iteration, int iterat
   s.seed = 91;
   s.importance.enabled = guided;
   s.importance.emission_face_size = 8;
+  s.near_field_distances_m = {0.05, 1.0};  // its counts are summed over the ranks too
   return s;
 }
 
@@ -50,6 +53,14 @@ void expect_identical(const Simulation& job, const Simulation& alone) {
     EXPECT_EQ(la.meshes[i].hits, lb.meshes[i].hits);
     EXPECT_EQ(la.meshes[i].absorbed.photons, lb.meshes[i].absorbed.photons);
     EXPECT_EQ(la.meshes[i].cutoff.photons, lb.meshes[i].cutoff.photons);
+  }
+  const std::vector<NearFieldPlane> na = job.near_field(), nb = alone.near_field();
+  EXPECT_EQ(na.size(), 2u);
+  EXPECT_EQ(na.size(), nb.size());
+  for (std::size_t k = 0; k < std::min(na.size(), nb.size()); ++k) {
+    EXPECT_EQ(na[k].near_lx, nb[k].near_lx);
+    EXPECT_EQ(na[k].far_lx, nb[k].far_lx);
+    EXPECT_EQ(na[k].max_deviation_bound_pct, nb[k].max_deviation_bound_pct);
   }
   const SimulationStats sa = job.stats(), sb = alone.stats();
   EXPECT_EQ(sa.photons, sb.photons);

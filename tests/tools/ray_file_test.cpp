@@ -7,6 +7,7 @@
 #include <numbers>
 #include <string>
 
+#include "io/outputs/exr.h"
 #include "io/photometric/photometric_file.h"
 #include "io/photometric/tm25.h"
 #include "photometry/distribution.h"
@@ -268,6 +269,64 @@ TEST(CliRayFile, SimulateWritesTheEscapingRaysThatKeepFluxAndFarField) {
   r = gonio({"simulate", (dir / "led.gltf").string(), "--out", (dir / "out2").string(), "--tm25-rays", "10"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "--tm25-rays applies to --format tm25 only")) << r.err;
+}
+
+TEST(CliNearField, SimulateWritesPlanesTheirFiguresAndTheFarFieldDistance) {
+  // The disc set of radius 2 mm (its lattice ties positions to directions,
+  // so it is no uniform-radiance disc: the closed forms are
+  // gonio_sim_tests NearField.*): 2 mm below it the near field is far from
+  // its far field; 1 m below, the same photons land in the same pixels to
+  // within a few.
+  test::TempDir dir;
+  ASSERT_TRUE(io::write_tm25_file((dir / "disc.tm25ray").string(), lambertian_disc()).ok());
+  test::write_file(dir / "led.gltf", ray_file_model("disc.tm25ray"));
+  const auto run = [&](const std::string& out, const char* threads) {
+    return gonio({"simulate", (dir / "led.gltf").string(), "--out", (dir / out).string(), "--photons", "100000",
+                  "--iterations", "2", "--format", "ies,report", "--near-field", "1,0.002", "--threads", threads});
+  };
+  auto r = run("out", "2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "near field at 0.002 m:")) << r.out;
+  EXPECT_TRUE(contains(r.out, "far-field distance:")) << r.out;
+  const auto out = dir / "out";
+  const auto report = nlohmann::json::parse(test::read_file(out / "report.json"));
+  ASSERT_EQ(report["near_field"].size(), 2u);
+  const auto& near = report["near_field"][0];  // sorted by distance
+  EXPECT_EQ(near["distance_m"].get<double>(), 0.002);
+  EXPECT_EQ(near["file"].get<std::string>(), "led.near-field-0.002m.exr");
+  EXPECT_NEAR(near["extent_m"].get<double>(), 0.008, 1e-12);
+  EXPECT_LT(near["on_axis_lx"].get<double>() / near["far_field_on_axis_lx"].get<double>(), 0.5);
+  EXPECT_GT(near["max_deviation_pct"].get<double>(), 30.0);
+  const auto& far = report["near_field"][1];
+  EXPECT_NEAR(far["on_axis_lx"].get<double>() / far["far_field_on_axis_lx"].get<double>(), 1.0, 0.02);
+  EXPECT_TRUE(report.contains("far_field_distance_m"));
+  EXPECT_TRUE(report.contains("far_field_distance_method"));
+  bool listed = false;
+  for (const auto& w : report["written"]) listed |= contains(w.get<std::string>(), "led.near-field-1m.exr");
+  EXPECT_TRUE(listed);
+  // The image: E and E_far in lux, the centre pixel as in the report.
+  auto image = io::read_exr((out / "led.near-field-0.002m.exr").string());
+  ASSERT_TRUE(image.ok()) << to_string(image.error());
+  EXPECT_EQ(image->width, 41);
+  ASSERT_NE(image->find_float("E"), nullptr);
+  ASSERT_NE(image->find_float("E_far"), nullptr);
+  ASSERT_NE(image->find_attribute("gonio:pixel_size_m"), nullptr);
+  EXPECT_NEAR(image->find_float("E")->values[41 * 20 + 20], near["on_axis_lx"].get<double>(),
+              1e-5 * near["on_axis_lx"].get<double>());
+  // The datasheet prints the table and the distance.
+  const std::string html = test::read_file(out / "led.html");
+  EXPECT_TRUE(contains(html, "Far-field distance")) << html.substr(0, 200);
+  // One thread: the same images, byte for byte.
+  r = run("out1", "1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* name : {"led.near-field-0.002m.exr", "led.near-field-1m.exr"})
+    EXPECT_EQ(test::read_file(out / name), test::read_file(dir / "out1" / name)) << name;
+  // A distance that is not one.
+  for (const char* bad : {"0", "-1", "1,x", "nan"}) {
+    r = gonio({"simulate", (dir / "led.gltf").string(), "--out", (dir / "bad").string(), "--near-field", bad});
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_TRUE(contains(r.err, "--near-field")) << r.err;
+  }
 }
 
 }  // namespace
