@@ -91,6 +91,11 @@ Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& pr
 
 Vec3 ProfileSampler::sample(PhotonRandom& rng) const {
   const Cell& c = cells_[cell_table_.sample(rng.uniform())];
+  if (rng.low_discrepancy()) {
+    double u1, u2;
+    rng.uniform_pair(&u1, &u2);
+    return sample_in_cell(c, u1, u2);
+  }
   for (;;) {
     // Uniform in solid angle over the cell: uniform along q and in μ.
     const double u = rng.uniform();
@@ -122,6 +127,69 @@ Vec3 ProfileSampler::sample(PhotonRandom& rng) const {
                                              (c.v0_rad + t * c.dv_rad) / kDeg);
     }
   }
+}
+
+Vec3 ProfileSampler::sample_in_cell(const Cell& c, double u1, double u2) const {
+  // The polar axis p (γ, H or V) and its fraction t = (p − p0)/Δp; the
+  // azimuthal fraction a along the other axis. The bilinear intensity's
+  // mean over a at the polar ends: i_p0, i_p1.
+  const double p0 = polar_is_vertical_ ? c.v0_rad : c.h0_rad;
+  const double dp = polar_is_vertical_ ? c.dv_rad : c.dh_rad;
+  const double i_p0 = 0.5 * (polar_is_vertical_ ? c.i00 + c.i10 : c.i00 + c.i01);
+  const double i_p1 = 0.5 * (polar_is_vertical_ ? c.i01 + c.i11 : c.i10 + c.i11);
+  // Marginal CDF along p: G(p) = ∫ ((1 − t) i_p0 + t i_p1) dμ from p0, with
+  //   μ = −cos p:  ∫ dμ = cos p0 − cos p,  ∫ t dμ = (sin p − sin p0 − (p − p0) cos p)/Δp
+  //   μ = sin p:   ∫ dμ = sin p − sin p0,  ∫ t dμ = ((p − p0) sin p + cos p − cos p0)/Δp
+  const double sin_p0 = std::sin(p0), cos_p0 = std::cos(p0);
+  const auto cdf = [&](double p, double sp, double cp) {
+    const double whole = polar_is_gamma_ ? cos_p0 - cp : sp - sin_p0;
+    const double with_t = polar_is_gamma_ ? (sp - sin_p0 - (p - p0) * cp) / dp
+                                          : ((p - p0) * sp + cp - cos_p0) / dp;
+    return i_p0 * whole + (i_p1 - i_p0) * with_t;
+  };
+  const double p1 = p0 + dp;
+  const double target = u1 * cdf(p1, std::sin(p1), std::cos(p1));
+  // First guess: the intensity taken as linear in μ (inverting a linear
+  // density), then safeguarded Newton steps on G(p) = target inside [p0, p1].
+  // x with density ∝ (1 − x)·lo + x·hi on [0, 1] (lo, hi ≥ 0): the root of
+  // the quadratic CDF, written without cancellation.
+  const auto invert_linear = [](double u, double lo, double hi) {
+    const double denominator = std::sqrt((1.0 - u) * lo * lo + u * hi * hi) + lo;
+    return denominator > 0.0 ? std::clamp(u * (lo + hi) / denominator, 0.0, 1.0) : u;
+  };
+  const double m_guess = c.mu0 + invert_linear(u1, i_p0, i_p1) * (c.mu1 - c.mu0);
+  double p = polar_is_gamma_ ? std::acos(std::clamp(-m_guess, -1.0, 1.0))
+                             : std::asin(std::clamp(m_guess, -1.0, 1.0));
+  double lo = p0, hi = p1;
+  p = std::clamp(p, lo, hi);
+  double sp = std::sin(p), cp = std::cos(p);
+  for (int k = 0; k < 24; ++k) {
+    const double g = cdf(p, sp, cp) - target;
+    if (g > 0.0) hi = p; else lo = p;
+    const double t = (p - p0) / dp;
+    const double density = ((1.0 - t) * i_p0 + t * i_p1) * (polar_is_gamma_ ? sp : cp);
+    double next = density > 0.0 ? p - g / density : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);  // bisection where Newton leaves the bracket
+    const double step = std::abs(next - p);
+    p = next;
+    sp = std::sin(p);
+    cp = std::cos(p);
+    if (step <= 1e-13 * dp) break;
+  }
+  const double tp = std::clamp((p - p0) / dp, 0.0, 1.0);
+  // Along the azimuthal axis the intensity is linear between its values at
+  // a = 0 and a = 1 for this polar position.
+  const double a_lo = polar_is_vertical_ ? (1.0 - tp) * c.i00 + tp * c.i01 : (1.0 - tp) * c.i00 + tp * c.i10;
+  const double a_hi = polar_is_vertical_ ? (1.0 - tp) * c.i10 + tp * c.i11 : (1.0 - tp) * c.i01 + tp * c.i11;
+  const double a = invert_linear(u2, a_lo, a_hi);
+  if (polar_is_gamma_) {
+    double sd, cd;  // of the offset from the cell's middle C angle, |offset| ≤ 22.5°
+    sincos_small((a - 0.5) * c.dh_rad, &sd, &cd);
+    return {sp * (c.cos_mid * cd - c.sin_mid * sd), sp * (c.sin_mid * cd + c.cos_mid * sd), -cp};
+  }
+  const double s = polar_is_vertical_ ? a : tp;  // along H
+  const double t = polar_is_vertical_ ? tp : a;  // along V
+  return photometry::direction_from_grid(type_, (c.h0_rad + s * c.dh_rad) / kDeg, (c.v0_rad + t * c.dv_rad) / kDeg);
 }
 
 double ProfileSampler::intensity_cd(const Vec3& local) const {

@@ -51,9 +51,39 @@ inline void sincos_small(double x, double* s, double* c) {
                                                                            x2 * (1.0 / 479001600))))));
 }
 
+// Uniform point (x, y) in the unit disc from two uniforms by Shirley and
+// Chiu's concentric map (1997, "A low distortion map between disk and
+// square"): area-preserving and continuous, so stratified squares become
+// stratified disc regions.
+inline void concentric_disc(double u, double v, double* x, double* y) {
+  const double a = 2.0 * u - 1.0, b = 2.0 * v - 1.0;
+  if (a == 0.0 && b == 0.0) {
+    *x = 0.0;
+    *y = 0.0;
+    return;
+  }
+  double r, phi;
+  if (std::abs(a) > std::abs(b)) {
+    r = a;
+    phi = (std::numbers::pi / 4.0) * (b / a);
+  } else {
+    r = b;
+    phi = std::numbers::pi / 2.0 - (std::numbers::pi / 4.0) * (a / b);
+  }
+  *x = r * std::cos(phi);
+  *y = r * std::sin(phi);
+}
+
 // Uniform point (x, y) in the unit disc, by rejection from the square
-// (π/4 of the tries are kept): no trigonometry, exact.
+// (π/4 of the tries are kept): no trigonometry, exact. Low-discrepancy
+// draws (sim/random.h): the concentric map of two draws instead.
 inline void sample_unit_disc(PhotonRandom& rng, double* x, double* y) {
+  if (rng.low_discrepancy()) {
+    double u, v;
+    rng.uniform_pair(&u, &v);
+    concentric_disc(u, v, x, y);
+    return;
+  }
   for (;;) {
     double u, v;
     rng.uniform_pair(&u, &v);
@@ -67,8 +97,15 @@ inline void sample_unit_disc(PhotonRandom& rng, double* x, double* y) {
 }
 
 // Uniform unit vector (cos φ, sin φ), φ uniform in [0, 2π): a disc point
-// normalised (the centre itself is rejected).
+// normalised (the centre itself is rejected). Low-discrepancy draws: φ = 2πu
+// from one draw.
 inline void sample_unit_circle(PhotonRandom& rng, double* c, double* s) {
+  if (rng.low_discrepancy()) {
+    const double phi = 2.0 * std::numbers::pi * rng.uniform();
+    *c = std::cos(phi);
+    *s = std::sin(phi);
+    return;
+  }
   for (;;) {
     double a, b;
     sample_unit_disc(rng, &a, &b);

@@ -255,7 +255,7 @@ void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t 
                          std::vector<RayQuery>* rays) const {
   FloatModeGuard float_mode;
   for (std::uint64_t i = first; i < first + count; ++i) {
-    PhotonRandom rng(seed, i);
+    PhotonRandom rng(seed, i, settings_.sampler);
     const EmittedPhoton e = emission_.sample(rng);
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
     follow(origin, e.direction, rng, nullptr, rays);
@@ -274,7 +274,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
   };
   for (std::uint64_t i = first; i < first + count; ++i) {
-    PhotonRandom rng(seed, i);
+    PhotonRandom rng(seed, i, settings_.sampler);
     const EmittedPhoton e = emission_.sample(rng);
     LedgerTally::PerEmitter& eb = books.emitters[e.emitter];
     eb.emitted.add(kPowerUnits);
@@ -304,7 +304,7 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
   FloatModeGuard float_mode;
   LedgerTally& books = tally.ledger;
   for (std::uint64_t i = first; i < first + count; ++i) {
-    PhotonRandom rng(seed, i);
+    PhotonRandom rng(seed, i, settings_.sampler);
     const EmittedPhoton e = emission_.sample(rng);
     const std::uint32_t source_texel = guide.emission_texel(e.direction);
     if (!guide.accept(source_texel, rng)) {

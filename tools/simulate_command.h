@@ -32,6 +32,7 @@ struct SimulateOptions {
   double target_error_pct = 0.0;  // --target-error PCT; 0: none
   std::string symmetry_name = "auto", format_list = "all", ies_version = "2019", stem;
   std::string bvh_quality = "auto";  // --bvh-quality
+  std::string sampler = "random";    // --sampler (sim/sampler.h)
   std::string cache_dir;  // --cache DIR (the model checks' results, the outputs' resamplers)
   bool no_cache = false;  // --no-cache
   long long cache_limit_mb = io::kDefaultCacheLimitBytes >> 20;  // --cache-limit MB; 0: none
