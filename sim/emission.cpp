@@ -65,6 +65,12 @@ Result<ProfileSampler> ProfileSampler::create(const photometry::Distribution& pr
         const double p1 = p0 + dp;
         c.mu0 = mu(p0);
         c.mu1 = mu(p1);
+        c.sin_p0 = std::sin(p0);
+        c.cos_p0 = std::cos(p0);
+        c.sin_p1 = std::sin(p1);
+        c.cos_p1 = std::cos(p1);
+        c.sin_pmid = std::sin(p0 + 0.5 * dp);
+        c.cos_pmid = std::cos(p0 + 0.5 * dp);
         // ∫∫ I dμ dq of the bilinear interpolant: along q each corner's weight
         // integrates to Δq/2; along p, a1 = ∫ t dμ (t = (p − p0)/Δp) is
         //   (sin p1 − sin p0)/Δp − cos p1      for μ = −cos p,
@@ -140,7 +146,7 @@ Vec3 ProfileSampler::sample_in_cell(const Cell& c, double u1, double u2) const {
   // Marginal CDF along p: G(p) = ∫ ((1 − t) i_p0 + t i_p1) dμ from p0, with
   //   μ = −cos p:  ∫ dμ = cos p0 − cos p,  ∫ t dμ = (sin p − sin p0 − (p − p0) cos p)/Δp
   //   μ = sin p:   ∫ dμ = sin p − sin p0,  ∫ t dμ = ((p − p0) sin p + cos p − cos p0)/Δp
-  const double sin_p0 = std::sin(p0), cos_p0 = std::cos(p0);
+  const double sin_p0 = c.sin_p0, cos_p0 = c.cos_p0;
   const auto cdf = [&](double p, double sp, double cp) {
     const double whole = polar_is_gamma_ ? cos_p0 - cp : sp - sin_p0;
     const double with_t = polar_is_gamma_ ? (sp - sin_p0 - (p - p0) * cp) / dp
@@ -148,21 +154,36 @@ Vec3 ProfileSampler::sample_in_cell(const Cell& c, double u1, double u2) const {
     return i_p0 * whole + (i_p1 - i_p0) * with_t;
   };
   const double p1 = p0 + dp;
-  const double target = u1 * cdf(p1, std::sin(p1), std::cos(p1));
-  // First guess: the intensity taken as linear in μ (inverting a linear
-  // density), then safeguarded Newton steps on G(p) = target inside [p0, p1].
+  const double target = u1 * cdf(p1, c.sin_p1, c.cos_p1);
+  // sin and cos of p in the cell: about its middle by sincos_small where the
+  // cell spans at most π/4, by the library beyond.
+  const double p_mid = p0 + 0.5 * dp;
+  const bool small = dp <= std::numbers::pi / 4.0;
+  const auto trig = [&](double q, double* sq, double* cq) {
+    if (!small) {
+      *sq = std::sin(q);
+      *cq = std::cos(q);
+      return;
+    }
+    double sd, cd;
+    sincos_small(q - p_mid, &sd, &cd);
+    *sq = c.sin_pmid * cd + c.cos_pmid * sd;
+    *cq = c.cos_pmid * cd - c.sin_pmid * sd;
+  };
   // x with density ∝ (1 − x)·lo + x·hi on [0, 1] (lo, hi ≥ 0): the root of
   // the quadratic CDF, written without cancellation.
   const auto invert_linear = [](double u, double lo, double hi) {
     const double denominator = std::sqrt((1.0 - u) * lo * lo + u * hi * hi) + lo;
     return denominator > 0.0 ? std::clamp(u * (lo + hi) / denominator, 0.0, 1.0) : u;
   };
-  const double m_guess = c.mu0 + invert_linear(u1, i_p0, i_p1) * (c.mu1 - c.mu0);
-  double p = polar_is_gamma_ ? std::acos(std::clamp(-m_guess, -1.0, 1.0))
-                             : std::asin(std::clamp(m_guess, -1.0, 1.0));
+  // First guess: the density along t taken as linear between its values at
+  // the ends (intensity × dμ/dp), then safeguarded Newton steps on
+  // G(p) = target inside [p0, p1].
+  const double w0 = polar_is_gamma_ ? c.sin_p0 : c.cos_p0, w1 = polar_is_gamma_ ? c.sin_p1 : c.cos_p1;
+  double p = p0 + invert_linear(u1, i_p0 * w0, i_p1 * w1) * dp;
   double lo = p0, hi = p1;
-  p = std::clamp(p, lo, hi);
-  double sp = std::sin(p), cp = std::cos(p);
+  double sp, cp;
+  trig(p, &sp, &cp);
   for (int k = 0; k < 24; ++k) {
     const double g = cdf(p, sp, cp) - target;
     if (g > 0.0) hi = p; else lo = p;
@@ -172,9 +193,8 @@ Vec3 ProfileSampler::sample_in_cell(const Cell& c, double u1, double u2) const {
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);  // bisection where Newton leaves the bracket
     const double step = std::abs(next - p);
     p = next;
-    sp = std::sin(p);
-    cp = std::cos(p);
-    if (step <= 1e-13 * dp) break;
+    trig(p, &sp, &cp);
+    if (step <= 1e-12 * dp) break;
   }
   const double tp = std::clamp((p - p0) / dp, 0.0, 1.0);
   // Along the azimuthal axis the intensity is linear between its values at

@@ -59,6 +59,8 @@ class ProfileSampler {
     double i00, i10, i01, i11;      // corners (h0,v0), (h1,v0), (h0,v1), (h1,v1) [cd]
     double i_min, i_max;            // smallest and largest corner [cd]
     double cos_mid, sin_mid;        // Type C: cos and sin of the cell's middle C angle
+    // sin and cos of the polar angle at its ends and middle (inversion).
+    double sin_p0, cos_p0, sin_p1, cos_p1, sin_pmid, cos_pmid;
   };
   // The direction inside cell c by inversion from two uniforms.
   Vec3 sample_in_cell(const Cell& c, double u1, double u2) const;

@@ -2,7 +2,7 @@
 // (seed, i) alone, so results do not depend on threads or scheduling.
 //
 // Draw k of photon i is mix(key_i + k·γ) with key_i = mix(mix(seed) + i)
-// and mix the SplitMix64 finaliser (a bijection of 64-bit words with full
+// and mix the SplitMix64 finaliser (sim/sampler.h) (a bijection of 64-bit words with full
 // avalanche; γ the golden-ratio increment). Distinct photons of one seed get
 // distinct keys, and each draw costs a handful of multiplies.
 //
@@ -20,12 +20,6 @@
 
 namespace gonio::sim {
 
-constexpr std::uint64_t mix64(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 class PhotonRandom {
  public:
   PhotonRandom(std::uint64_t seed, std::uint64_t photon)
@@ -36,9 +30,14 @@ class PhotonRandom {
     if (sampler == SamplerKind::Sobol) {
       sobol_dims_ = kSobolDimensions;
       index_ = static_cast<std::uint32_t>(photon);
-      // Keys of this block of 2³² points: apart from the padding stream's.
-      scramble_ = mix64(mix64(seed ^ 0x5ab01d5eed5ab01dULL) + (photon >> 32));
+      scramble_ = sobol_block_key(seed, photon);
     }
+  }
+  // The same numbers as (seed, photon, Sobol') from a cursor at `photon`
+  // (sim/sampler.h), which must outlive this and stay there.
+  PhotonRandom(std::uint64_t seed, const SobolCursor& cursor) : PhotonRandom(seed, cursor.photon()) {
+    sobol_dims_ = kSobolDimensions;
+    cursor_ = &cursor;
   }
 
   std::uint64_t next_u64() {
@@ -83,13 +82,15 @@ class PhotonRandom {
  private:
   std::uint64_t next_pseudo() { return mix64(key_ + (++counter_) * 0x9e3779b97f4a7c15ULL); }
   std::uint32_t next_sobol() {
-    const auto key = static_cast<std::uint32_t>(mix64(scramble_ + static_cast<std::uint64_t>(dim_)));
-    return sobol_scrambled_u32(index_, dim_++, key);
+    const int d = dim_++;
+    if (cursor_) return cursor_->value(d);
+    return sobol_scrambled_u32(index_, d, sobol_dimension_key(scramble_, d));
   }
 
   std::uint64_t key_;
   std::uint64_t counter_;
   std::uint64_t scramble_ = 0;
+  const SobolCursor* cursor_ = nullptr;
   std::uint32_t index_ = 0;
   int dim_ = 0;
   int sobol_dims_ = 0;  // 0: the random sampler

@@ -107,11 +107,10 @@ inline constexpr Primitive kJoeKuo[kSobolDimensions - 1] = {
 };
 
 constexpr std::uint32_t reverse_bits(std::uint32_t x) {
+  x = __builtin_bswap32(x);
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-  return (x >> 16) | (x << 16);
+  return ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
 }
 
 // Generator matrices by column: column b is the value bit b of the index
@@ -139,7 +138,36 @@ constexpr Matrices make_matrices() {
 }
 inline constexpr Matrices kMatrices = make_matrices();
 
+// Prefix XORs of the columns: kPrefix[d][k] = column 0 ^ … ^ column k, what
+// point i − 1 changes by to point i when i has k trailing zero bits.
+constexpr Matrices make_prefix() {
+  Matrices out{};
+  for (int d = 0; d < kSobolDimensions; ++d) {
+    std::uint32_t x = 0;
+    for (int b = 0; b < 32; ++b) out[d][b] = x ^= kMatrices[d][b];
+  }
+  return out;
+}
+inline constexpr Matrices kPrefix = make_prefix();
+
 }  // namespace sobol_detail
+
+// The SplitMix64 finaliser: a bijection of 64-bit words with full avalanche
+// (the random sampler's hash, sim/random.h, and the scramble keys').
+constexpr std::uint64_t mix64(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+// Scramble keys: one per block of 2³² photons of a seed (apart from the
+// padding stream's keys), then one per dimension of it.
+constexpr std::uint64_t sobol_block_key(std::uint64_t seed, std::uint64_t photon) {
+  return mix64(mix64(seed ^ 0x5ab01d5eed5ab01dULL) + (photon >> 32));
+}
+constexpr std::uint32_t sobol_dimension_key(std::uint64_t block_key, int dim) {
+  return static_cast<std::uint32_t>(mix64(block_key + static_cast<std::uint64_t>(dim)));
+}
 
 // Value of dimension `dim` of Sobol' point `index`, unscrambled, as a 32-bit
 // fraction (x · 2⁻³² in [0, 1)).
@@ -166,5 +194,50 @@ constexpr std::uint32_t sobol_scrambled_u32(std::uint32_t index, int dim, std::u
   for (std::uint32_t i = index; i != 0; i &= i - 1) x ^= sobol_detail::kMatrices[dim][__builtin_ctz(i)];
   return sobol_detail::reverse_bits(owen_scramble_reversed(x, key));
 }
+
+// The unscrambled points (bit-reversed) and the keys of consecutive photons
+// of one run, for a thread that traces photons in order: moving to the next
+// photon costs one XOR per dimension (point i differs from point i − 1 by a
+// prefix of columns), where computing a point afresh costs one per set bit
+// of i. A cache only: the values are those of (seed, i) whichever photon
+// the cursor came from.
+class SobolCursor {
+ public:
+  explicit SobolCursor(std::uint64_t seed) : seed_(seed) {}
+
+  // Positioned at `photon`; returns itself.
+  const SobolCursor& at(std::uint64_t photon) {
+    if (valid_ && photon == photon_ + 1 && static_cast<std::uint32_t>(photon) != 0) {
+      const int k = __builtin_ctz(static_cast<std::uint32_t>(photon));
+      for (int d = 0; d < kSobolDimensions; ++d) values_[d] ^= sobol_detail::kPrefix[d][k];
+    } else if (!valid_ || photon != photon_) {
+      if (!valid_ || (photon >> 32) != (photon_ >> 32)) {
+        const std::uint64_t block = sobol_block_key(seed_, photon);
+        for (int d = 0; d < kSobolDimensions; ++d) keys_[d] = sobol_dimension_key(block, d);
+      }
+      const auto index = static_cast<std::uint32_t>(photon);
+      for (int d = 0; d < kSobolDimensions; ++d) {
+        std::uint32_t x = 0;
+        for (std::uint32_t i = index; i != 0; i &= i - 1) x ^= sobol_detail::kMatrices[d][__builtin_ctz(i)];
+        values_[d] = x;
+      }
+    }
+    photon_ = photon;
+    valid_ = true;
+    return *this;
+  }
+  std::uint64_t photon() const { return photon_; }
+  // Dimension d's value, scrambled, as a 32-bit fraction.
+  std::uint32_t value(int d) const {
+    return sobol_detail::reverse_bits(owen_scramble_reversed(values_[d], keys_[d]));
+  }
+
+ private:
+  std::uint64_t seed_;
+  std::uint64_t photon_ = 0;
+  bool valid_ = false;
+  std::uint32_t values_[kSobolDimensions] = {};  // unscrambled, bit-reversed
+  std::uint32_t keys_[kSobolDimensions] = {};
+};
 
 }  // namespace gonio::sim

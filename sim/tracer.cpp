@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -254,8 +255,10 @@ TraceResult Tracer::trace(const Vec3& origin, const Vec3& direction, PhotonRando
 void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
                          std::vector<RayQuery>* rays) const {
   FloatModeGuard float_mode;
+  std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed);
   for (std::uint64_t i = first; i < first + count; ++i) {
-    PhotonRandom rng(seed, i, settings_.sampler);
+    PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
     follow(origin, e.direction, rng, nullptr, rays);
@@ -273,8 +276,10 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
   auto count_escape = [&tally](std::uint32_t texel) {
     if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
   };
+  std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed);
   for (std::uint64_t i = first; i < first + count; ++i) {
-    PhotonRandom rng(seed, i, settings_.sampler);
+    PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
     LedgerTally::PerEmitter& eb = books.emitters[e.emitter];
     eb.emitted.add(kPowerUnits);
@@ -303,8 +308,10 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
                                   GuideTally& guide_tally) const {
   FloatModeGuard float_mode;
   LedgerTally& books = tally.ledger;
+  std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed);
   for (std::uint64_t i = first; i < first + count; ++i) {
-    PhotonRandom rng(seed, i, settings_.sampler);
+    PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
     const std::uint32_t source_texel = guide.emission_texel(e.direction);
     if (!guide.accept(source_texel, rng)) {

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <set>
 #include <vector>
 
 #include "sim/random.h"
+#include "sim/sampling.h"
 
 namespace gonio::sim {
 namespace {
@@ -127,6 +129,47 @@ TEST(PhotonRandom, SobolPhotonsOfOneSeedStratifyEachDimension) {
   // Photons beyond 2³² start a block with keys of their own.
   PhotonRandom low(3, 5, SamplerKind::Sobol), high(3, (std::uint64_t{1} << 32) + 5, SamplerKind::Sobol);
   EXPECT_NE(low.uniform(), high.uniform());
+}
+
+TEST(PhotonRandom, ACursorGivesThePhotonsOwnNumbers) {
+  // The tracer's cursor (photons in order, one XOR per dimension each) gives
+  // what (seed, i) gives alone: in order, after jumps, across the 2³² block.
+  SobolCursor cursor(21);
+  const std::uint64_t block = std::uint64_t{1} << 32;
+  std::vector<std::uint64_t> photons;
+  for (std::uint64_t i = 0; i < 300; ++i) photons.push_back(i);
+  for (std::uint64_t i : {std::uint64_t{4096}, std::uint64_t{77}, std::uint64_t{78}, block - 2, block - 1, block,
+                          block + 1, std::uint64_t{5}})
+    photons.push_back(i);
+  for (std::uint64_t i : photons) {
+    PhotonRandom direct(21, i, SamplerKind::Sobol), cached(21, cursor.at(i));
+    for (int k = 0; k < kSobolDimensions + 3; ++k) ASSERT_EQ(direct.uniform(), cached.uniform()) << i << ", " << k;
+  }
+}
+
+TEST(SobolWarps, SinCosOfATurnAndTheConcentricDiscMatchTheLibrary) {
+  for (int k = 0; k < 100000; ++k) {
+    const double u = (k + 0.37) / 100000.0;
+    double s, c;
+    sincos_turn(u, &s, &c);
+    ASSERT_NEAR(s, std::sin(2.0 * std::numbers::pi * u), 2e-15) << u;
+    ASSERT_NEAR(c, std::cos(2.0 * std::numbers::pi * u), 2e-15) << u;
+  }
+  // The concentric map: square rings to disc rings (r = max(|a|, |b|)),
+  // the square's diagonal to the disc's diagonals.
+  double x, y;
+  concentric_disc(0.75, 0.5, &x, &y);  // a = 0.5, b = 0
+  EXPECT_NEAR(x, 0.5, 1e-15);
+  EXPECT_NEAR(y, 0.0, 1e-15);
+  concentric_disc(1.0, 1.0, &x, &y);  // a = b = 1: φ = π/4
+  EXPECT_NEAR(x, std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(y, std::sqrt(0.5), 1e-15);
+  concentric_disc(0.25, 0.0, &x, &y);  // a = −0.5, b = −1: r = −1, φ = π/2 − π/8
+  EXPECT_NEAR(std::hypot(x, y), 1.0, 1e-15);
+  EXPECT_NEAR(std::atan2(y, x), -std::numbers::pi / 2.0 - std::numbers::pi / 8.0, 1e-14);
+  concentric_disc(0.5, 0.5, &x, &y);
+  EXPECT_EQ(x, 0.0);
+  EXPECT_EQ(y, 0.0);
 }
 
 TEST(PhotonRandom, SobolUniformsHaveTheRightMomentsOverSeeds) {
