@@ -170,7 +170,7 @@ const SeriesResult* best_fixed(const std::vector<SeriesResult>& series, bool cub
   const SeriesResult* best = nullptr;
   double best_t = kNever;
   for (const SeriesResult& r : series) {
-    if (!r.spec.filtered || r.spec.guided || r.spec.name == "adaptive") continue;
+    if (!r.spec.filtered || r.spec.guided || r.spec.name == "adaptive" || r.spec.name == "sobol-adaptive") continue;
     const double t0 = cube ? r.time_to_cube_target_s : r.time_to_target_s;
     const double t = std::isnan(t0) ? kNever : t0;
     if (!best || t < best_t) {

@@ -5,6 +5,7 @@
 //               [--max-bounces B] [--c-step DEG] [--gamma-step DEG]
 //               [--face-size F] [--target PCT] [--importance
 //               [--emission-face-size E] [--min-acceptance A]]
+//               [--sampler random|sobol|both]
 //               [--page FILE] [--no-png]
 //
 // For each model: a cached reference run (tools/bench_reference.h), the

@@ -166,6 +166,10 @@ TEST(CmdBench, PageOverSeveralModels) {
     EXPECT_TRUE(fs::is_regular_file(dir / link)) << link;
   }
   EXPECT_NE(page.find("Time to 1 % RMS candela error"), std::string::npos);
+  // The samplers side by side (--sampler both): their own columns, and the
+  // best fixed-threshold filter is a pseudo-random series.
+  EXPECT_NE(page.find("| Sobol', raw | Sobol', adaptive |"), std::string::npos) << page;
+  EXPECT_EQ(page.find("(Sobol'"), std::string::npos) << page;
 }
 
 TEST(CmdBench, UsageAndModelErrors) {
