@@ -138,16 +138,19 @@ constexpr Matrices make_matrices() {
 }
 inline constexpr Matrices kMatrices = make_matrices();
 
-// Prefix XORs of the columns: kPrefix[d][k] = column 0 ^ … ^ column k, what
-// point i − 1 changes by to point i when i has k trailing zero bits.
+// Prefix XORs of the columns, by trailing zeros first: kPrefix[k][d] =
+// column 0 ^ … ^ column k of dimension d, what point i − 1 changes by to
+// point i when i has k trailing zero bits (one row for all dimensions, so
+// the update is a vector XOR).
 constexpr Matrices make_prefix() {
   Matrices out{};
   for (int d = 0; d < kSobolDimensions; ++d) {
     std::uint32_t x = 0;
-    for (int b = 0; b < 32; ++b) out[d][b] = x ^= kMatrices[d][b];
+    for (int b = 0; b < 32; ++b) out[b][d] = x ^= kMatrices[d][b];
   }
   return out;
 }
+static_assert(kSobolDimensions == 32, "kPrefix is square");
 inline constexpr Matrices kPrefix = make_prefix();
 
 }  // namespace sobol_detail
@@ -209,7 +212,8 @@ class SobolCursor {
   const SobolCursor& at(std::uint64_t photon) {
     if (valid_ && photon == photon_ + 1 && static_cast<std::uint32_t>(photon) != 0) {
       const int k = __builtin_ctz(static_cast<std::uint32_t>(photon));
-      for (int d = 0; d < kSobolDimensions; ++d) values_[d] ^= sobol_detail::kPrefix[d][k];
+      const auto& row = sobol_detail::kPrefix[static_cast<std::size_t>(k)];
+      for (int d = 0; d < kSobolDimensions; ++d) values_[d] ^= row[static_cast<std::size_t>(d)];
     } else if (!valid_ || photon != photon_) {
       if (!valid_ || (photon >> 32) != (photon_ >> 32)) {
         const std::uint64_t block = sobol_block_key(seed_, photon);
