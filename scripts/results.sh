@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates docs/results.md and its charts: `gonio bench` on the four
-# sample luminaires, with importance-guided emission measured too.
+# sample luminaires, with importance-guided emission measured too, and the
+# Sobol' sampler's raw and adaptive series beside the pseudo-random ones
+# (`--sampler both`, bench's default).
 #
 #   scripts/results.sh [extra gonio bench options]
 #

@@ -32,7 +32,11 @@ namespace gonio::sim {
 // in μ of the polar one: −cos γ for Type C, sin H for Type B, sin V for
 // Type A) and accepted with probability I/I_max of the cell, so each try
 // costs three uniform numbers and at least one try in four is accepted (one
-// in 1.1 for smooth profiles).
+// in 1.1 for smooth profiles). Under low-discrepancy draws (sim/sampler.h)
+// the direction inside the cell is drawn by inversion instead: the polar
+// angle from the marginal CDF of the bilinear interpolant in solid angle
+// (safeguarded Newton steps), then the azimuthal one from the conditional,
+// linear density: two numbers, the same density.
 class ProfileSampler {
  public:
   // Errors: an invalid distribution, no flux at all.
@@ -56,7 +60,12 @@ class ProfileSampler {
     double i00, i10, i01, i11;      // corners (h0,v0), (h1,v0), (h0,v1), (h1,v1) [cd]
     double i_min, i_max;            // smallest and largest corner [cd]
     double cos_mid, sin_mid;        // Type C: cos and sin of the cell's middle C angle
+    // sin and cos of the polar angle at its ends and middle (inversion).
+    double sin_p0, cos_p0, sin_p1, cos_p1, sin_pmid, cos_pmid;
   };
+  // The direction inside cell c by inversion from two uniforms.
+  Vec3 sample_in_cell(const Cell& c, double u1, double u2) const;
+
   photometry::PhotometricType type_ = photometry::PhotometricType::C;
   bool polar_is_vertical_ = true;   // Types C and A; Type B's polar angle is H
   bool polar_is_gamma_ = true;      // Type C: μ = −cos γ; A and B: μ = sin

@@ -51,9 +51,62 @@ inline void sincos_small(double x, double* s, double* c) {
                                                                            x2 * (1.0 / 479001600))))));
 }
 
+// sin and cos of 2πu for u in [0, 1): the octant's middle angle from a
+// table, the offset from it (within ±π/8) by sincos_small: no range
+// reduction and no library call.
+inline void sincos_turn(double u, double* s, double* c) {
+  // cos and sin of (2q + 1)π/8, q = 0…7.
+  static constexpr double kCos[8] = {0.92387953251128674,  0.38268343236508978,  -0.38268343236508978,
+                                     -0.92387953251128674, -0.92387953251128674, -0.38268343236508978,
+                                     0.38268343236508978,  0.92387953251128674};
+  static constexpr double kSin[8] = {0.38268343236508978,  0.92387953251128674,  0.92387953251128674,
+                                     0.38268343236508978,  -0.38268343236508978, -0.92387953251128674,
+                                     -0.92387953251128674, -0.38268343236508978};
+  const double x = 8.0 * u;
+  const int q = std::clamp(static_cast<int>(x), 0, 7);
+  double sd, cd;
+  sincos_small((x - q - 0.5) * (std::numbers::pi / 4.0), &sd, &cd);
+  *c = kCos[q] * cd - kSin[q] * sd;
+  *s = kSin[q] * cd + kCos[q] * sd;
+}
+
+// Uniform point (x, y) in the unit disc from two uniforms by Shirley and
+// Chiu's concentric map (1997, "A low distortion map between disk and
+// square"): area-preserving and continuous, so stratified squares become
+// stratified disc regions.
+inline void concentric_disc(double u, double v, double* x, double* y) {
+  const double a = 2.0 * u - 1.0, b = 2.0 * v - 1.0;
+  if (a == 0.0 && b == 0.0) {
+    *x = 0.0;
+    *y = 0.0;
+    return;
+  }
+  // r and the angle φ as a fraction of a turn: φ = π/4 · b/a, or
+  // π/2 − π/4 · a/b, in [−π/4, 3π/4].
+  double r, turn;
+  if (std::abs(a) > std::abs(b)) {
+    r = a;
+    turn = 0.125 * (b / a);
+  } else {
+    r = b;
+    turn = 0.25 - 0.125 * (a / b);
+  }
+  double s, c;
+  sincos_turn(turn < 0.0 ? turn + 1.0 : turn, &s, &c);
+  *x = r * c;
+  *y = r * s;
+}
+
 // Uniform point (x, y) in the unit disc, by rejection from the square
-// (π/4 of the tries are kept): no trigonometry, exact.
+// (π/4 of the tries are kept): no trigonometry, exact. Low-discrepancy
+// draws (sim/random.h): the concentric map of two draws instead.
 inline void sample_unit_disc(PhotonRandom& rng, double* x, double* y) {
+  if (rng.low_discrepancy()) {
+    double u, v;
+    rng.uniform_pair(&u, &v);
+    concentric_disc(u, v, x, y);
+    return;
+  }
   for (;;) {
     double u, v;
     rng.uniform_pair(&u, &v);
@@ -67,8 +120,13 @@ inline void sample_unit_disc(PhotonRandom& rng, double* x, double* y) {
 }
 
 // Uniform unit vector (cos φ, sin φ), φ uniform in [0, 2π): a disc point
-// normalised (the centre itself is rejected).
+// normalised (the centre itself is rejected). Low-discrepancy draws: φ = 2πu
+// from one draw.
 inline void sample_unit_circle(PhotonRandom& rng, double* c, double* s) {
+  if (rng.low_discrepancy()) {
+    sincos_turn(rng.uniform(), s, c);
+    return;
+  }
   for (;;) {
     double a, b;
     sample_unit_disc(rng, &a, &b);

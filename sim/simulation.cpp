@@ -139,6 +139,7 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
   const auto start = std::chrono::steady_clock::now();
   TracerSettings ts;
   ts.max_bounces = settings.max_bounces;
+  ts.sampler = settings.sampler;
   ts.embree.robust = settings.robust_embree;
   ts.embree.quality = settings.bvh_quality.value_or(
       bvh_quality_for(scene.unique_triangle_count(), settings.photons_per_iteration *

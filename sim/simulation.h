@@ -37,6 +37,10 @@ struct SimulationSettings {
   std::uint64_t photons_per_iteration = 1'000'000;  // ≥ 1, < 2³²
   int iterations = 10;                               // ≥ 1; at most 2³⁹ photons in all
   std::uint64_t seed = 1;
+  // Where photons' numbers come from (sim/sampler.h): pseudo-random or
+  // Owen-scrambled Sobol' points; either gives the same bytes for any
+  // thread count, iteration split or rank split.
+  SamplerKind sampler = SamplerKind::Random;
   int threads = 0;                                   // 0: every core
   int max_bounces = 100;                             // see TracerSettings
   int face_size = 128;  // texels per cube face edge: CubeMapGrid::face_size_for_step(2.5)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <tuple>
 
@@ -295,8 +296,10 @@ PhotonColour Tracer::start_colour(const EmittedPhoton& e) const {
 void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
                          std::vector<RayQuery>* rays) const {
   FloatModeGuard float_mode;
+  std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed);
   for (std::uint64_t i = first; i < first + count; ++i) {
-    PhotonRandom rng(seed, i);
+    PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
     PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
@@ -321,8 +324,10 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
       tally.texel_xz[2 * static_cast<std::size_t>(texel) + 1] += pending_z;
     }
   };
+  std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed);
   for (std::uint64_t i = first; i < first + count; ++i) {
-    PhotonRandom rng(seed, i);
+    PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
     LedgerTally::PerEmitter& eb = books.emitters[e.emitter];
     eb.emitted.add(kPowerUnits);
@@ -364,8 +369,10 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
                                   GuideTally& guide_tally) const {
   FloatModeGuard float_mode;
   LedgerTally& books = tally.ledger;
+  std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed);
   for (std::uint64_t i = first; i < first + count; ++i) {
-    PhotonRandom rng(seed, i);
+    PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
     const std::uint32_t source_texel = guide.emission_texel(e.direction);
     if (!guide.accept(source_texel, rng)) {

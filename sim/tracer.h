@@ -2,9 +2,10 @@
 // Embree and the material model, and bins the escaped ones by direction into
 // a far-field cube map, keeping the energy ledger.
 //
-// Determinism: photon i of a run draws its random numbers from (seed, i)
-// alone (sim/random.h), and everything a photon leaves behind is an integer
-// (texel photon counts, power units, ledger counts), so sums do not depend
+// Determinism: photon i of a run draws its numbers from (seed, i) alone
+// under either sampler (sim/random.h, sim/sampler.h), and everything a
+// photon leaves behind is an integer (texel photon counts, power units,
+// ledger counts), so sums do not depend
 // on how photons are split between threads or chunks: same seed, same bytes.
 //
 // Robustness against self-intersection: a scattered ray starts at the hit
@@ -28,6 +29,7 @@
 #include "sim/near_field.h"
 #include "sim/material.h"
 #include "sim/random.h"
+#include "sim/sampler.h"
 #include "sim/scene.h"
 #include "sim/spectral.h"
 #include "sim/unit_vector.h"
@@ -39,6 +41,8 @@ struct TracerSettings {
   // once more it is cut off (booked as `cutoff`, not absorbed). 0: every
   // photon that meets any surface is cut off.
   int max_bounces = 100;
+  // What photon i's numbers come from (sim/sampler.h).
+  SamplerKind sampler = SamplerKind::Random;
   EmbreeSceneOptions embree;
 };
 

@@ -47,7 +47,7 @@ std::vector<std::uint64_t> photon_schedule(std::uint64_t first, std::uint64_t ph
   return out;
 }
 
-std::vector<SeriesSpec> default_series(bool importance) {
+std::vector<SeriesSpec> default_series(bool importance, sim::SamplerKind sampler, bool add_sobol) {
   std::vector<SeriesSpec> out;
   out.push_back({"raw", "raw", false, {}, false});
   for (const auto& [interp, word] :
@@ -66,6 +66,16 @@ std::vector<SeriesSpec> default_series(bool importance) {
     out.push_back({"guided", "guided emission, raw", false, {}, true});
     out.push_back({"guided-adaptive", "guided emission, adaptive", true, sim::PreviewFilterParams{}, true});
   }
+  if (sampler == sim::SamplerKind::Sobol) {
+    for (SeriesSpec& s : out) {
+      s.sampler = sampler;
+      s.label = "Sobol' " + s.label;
+    }
+  } else if (add_sobol) {
+    out.push_back({"sobol", "Sobol' raw", false, {}, false, sim::SamplerKind::Sobol});
+    out.push_back({"sobol-adaptive", "Sobol', adaptive", true, sim::PreviewFilterParams{}, false,
+                   sim::SamplerKind::Sobol});
+  }
   return out;
 }
 
@@ -78,16 +88,20 @@ Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const 
   std::vector<SeriesResult> results(specs.size());
   for (std::size_t i = 0; i < specs.size(); ++i) results[i].spec = specs[i];
 
-  for (const bool guided : {false, true}) {
+  // One run per (guided, sampler); the filtered series share their run's trace.
+  using Kind = sim::SamplerKind;
+  for (const auto& [guided, sampler] : {std::pair{false, Kind::Random}, std::pair{true, Kind::Random},
+                                        std::pair{false, Kind::Sobol}, std::pair{true, Kind::Sobol}}) {
     std::vector<std::size_t> mine;
     for (std::size_t i = 0; i < specs.size(); ++i)
-      if (specs[i].guided == guided) mine.push_back(i);
+      if (specs[i].guided == guided && specs[i].sampler == sampler) mine.push_back(i);
     if (mine.empty()) continue;
 
     sim::SimulationSettings s;
     s.photons_per_iteration = 1;  // every iteration below names its size
     s.iterations = 1;
     s.seed = settings.seed;
+    s.sampler = sampler;
     s.threads = settings.threads;
     s.max_bounces = settings.max_bounces;
     s.face_size = settings.face_size;
@@ -132,7 +146,9 @@ Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const 
         results[i].points.push_back(p);
       }
       if (progress)
-        progress({guided ? "guided" : "plain", static_cast<int>(k) + 1, static_cast<int>(schedule.size()),
+        progress({guided ? (sampler == Kind::Sobol ? "guided, sobol" : "guided")
+                         : (sampler == Kind::Sobol ? "sobol" : "plain"),
+                  static_cast<int>(k) + 1, static_cast<int>(schedule.size()),
                   st.photons});
     }
   }

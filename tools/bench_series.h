@@ -9,7 +9,9 @@
 // filter applied once per iteration, as a progressive preview would), and
 // nothing else: computing the errors is the benchmark's own cost. A guided
 // series traces a run of its own (same seed, same iterations); its time
-// includes the guide's update after each iteration.
+// includes the guide's update after each iteration. So does each series of
+// another sampler (sim/sampler.h: the Sobol' series against the
+// pseudo-random ones, same seed, same iterations).
 //
 // Iterations grow geometrically: the run reaches first · 2^(k / steps)
 // photons after iteration k (rounded; the last one ends at `photons`), so
@@ -27,6 +29,7 @@
 #include "sim/emission_guide.h"
 #include "sim/preview_filter.h"
 #include "sim/resample.h"
+#include "sim/sampler.h"
 #include "sim/scene.h"
 
 namespace gonio::cli {
@@ -40,6 +43,10 @@ struct BenchSettings {
   int max_bounces = 100;
   int face_size = 128;                                  // far-field cube map
   bool importance = false;                              // add the guided series
+  // Sampler of the series above (sim/sampler.h); with compare_samplers the
+  // Sobol' raw and adaptive series are added to pseudo-random ones.
+  sim::SamplerKind sampler = sim::SamplerKind::Random;
+  bool compare_samplers = false;
   sim::ImportanceSettings importance_settings{true};    // for them
   double target_pct = 1.0;                              // candela RMS error to time [%]
   double cube_target = 0.1;                             // cube-map RMSE to time [1]
@@ -54,12 +61,16 @@ struct SeriesSpec {
   bool filtered = false;
   sim::PreviewFilterParams filter;  // when filtered
   bool guided = false;
+  sim::SamplerKind sampler = sim::SamplerKind::Random;  // its run's
 };
 
 // raw; bilinear and bilateral at fixed thresholds 50, 100, 150, 200, 300
 // (the thesis's mode, no adaptive stability); the adaptive default filter;
-// with `importance`, guided raw and guided with the adaptive filter.
-std::vector<SeriesSpec> default_series(bool importance);
+// with `importance`, guided raw and guided with the adaptive filter; all
+// traced with `sampler`. With `add_sobol` (and a random `sampler`): Sobol'
+// raw ("sobol") and Sobol' with the adaptive filter ("sobol-adaptive").
+std::vector<SeriesSpec> default_series(bool importance, sim::SamplerKind sampler = sim::SamplerKind::Random,
+                                       bool add_sobol = false);
 
 struct SeriesPoint {
   int iteration = 0;                 // 1-based

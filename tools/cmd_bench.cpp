@@ -5,6 +5,7 @@
 //               [--max-bounces B] [--c-step DEG] [--gamma-step DEG]
 //               [--face-size F] [--target PCT] [--importance
 //               [--emission-face-size E] [--min-acceptance A]]
+//               [--sampler random|sobol|both]
 //               [--page FILE] [--no-png]
 //
 // For each model: a cached reference run (tools/bench_reference.h), the
@@ -104,6 +105,7 @@ int run_bench(const Args& args) {
   long long emission_face_size = 32;
   double c_step = 5.0, gamma_step = 2.5, target = 1.0, cube_target = 0.1, min_acceptance = 1.0 / 16.0;
   bool importance = false, no_png = false;
+  std::string sampler_name = "both";
   ArgParser p("bench", "MODEL... --out DIR [options]",
               "Measures speed against accuracy on luminaire models (glTF 2.0). A long reference run\n"
               "(cached in DIR, reused while model, program, tracer sources and settings match) is the\n"
@@ -132,6 +134,10 @@ int run_bench(const Args& args) {
   p.option("target", &target, 1e-3, 100.0, "PCT", "RMS candela error to time [% of peak] (default 1)");
   p.option("cube-target", &cube_target, 1e-4, 100.0, "E", "cube-map RMSE to time (default 0.1)");
   p.flag("importance", &importance, "add importance-guided emission (thesis 5.4.1), raw and adaptive");
+  p.choice("sampler", &sampler_name, {"random", "sobol", "both"},
+           "sampler of the series (sim/sampler.h): random, sobol, or both (default: the pseudo-random\n"
+           "series and Sobol' raw and adaptive, charted against each other); the reference is\n"
+           "pseudo-random either way (its noise is taken out as Poisson noise)");
   p.option("emission-face-size", &emission_face_size, 1, 1024, "E",
            "guided emission: emission grid texels per face edge (default 32)");
   p.option("min-acceptance", &min_acceptance, 1e-4, 1.0, "A",
@@ -173,6 +179,8 @@ int run_bench(const Args& args) {
   settings.max_bounces = static_cast<int>(max_bounces);
   settings.face_size = static_cast<int>(face_size);
   settings.importance = importance;
+  settings.sampler = sampler_name == "sobol" ? sim::SamplerKind::Sobol : sim::SamplerKind::Random;
+  settings.compare_samplers = sampler_name == "both";
   settings.importance_settings.emission_face_size = static_cast<int>(emission_face_size);
   settings.importance_settings.min_acceptance = min_acceptance;
   settings.target_pct = target;
@@ -252,7 +260,7 @@ int run_bench(const Args& args) {
       print_error(model + ": " + judge.error().message);
       return job_failed();
     }
-    auto series = run_series(scene.value(), settings, default_series(importance), judge.value(),
+    auto series = run_series(scene.value(), settings, default_series(importance, settings.sampler, settings.compare_samplers), judge.value(),
                              [&](const BenchProgress& pr) {
                                if (!show_progress) return;
                                std::fprintf(stderr, "\r%s: bench %s: %s run, iteration %d/%d   ", kProgramName,

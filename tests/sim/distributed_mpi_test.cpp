@@ -135,6 +135,38 @@ TEST(DistributedSimulation, UnevenIterationsAndRanksWithoutChunks) {
   expect_shares_add_up(job.value());
 }
 
+// The Sobol' sampler (sim/sampler.h): photon i is point i of the seed's
+// scramble whichever rank and thread traces it — plain and guided, even and
+// uneven iterations.
+TEST(DistributedSimulation, SobolSamplerGivesTheBytesOfOneProcess) {
+  const SceneDesc scene = test_scenes::mixed_scene();
+  for (int threads : {1, 2}) {
+    for (bool guided : {false, true}) {
+      SimulationSettings s = settings(threads, 30000, guided ? 4 : 2, guided);
+      s.sampler = SamplerKind::Sobol;
+      auto alone = simulate(scene, s);
+      s.ranks = g_ranks;
+      auto job = simulate(scene, s);
+      EXPECT_TRUE(alone.ok() && job.ok());
+      if (!alone.ok() || !job.ok()) continue;
+      expect_identical(job.value(), alone.value());
+      expect_shares_add_up(job.value());
+    }
+  }
+  SimulationSettings s = settings(2, 1, 1, false);
+  s.sampler = SamplerKind::Sobol;
+  auto alone = Simulation::create(scene, s);
+  s.ranks = g_ranks;
+  auto job = Simulation::create(scene, s);
+  EXPECT_TRUE(alone.ok() && job.ok());
+  if (!alone.ok() || !job.ok()) return;
+  for (std::uint64_t n : {5000ull, 70000ull, 1ull}) {
+    alone->run_iteration(n);
+    job->run_iteration(n);
+  }
+  expect_identical(job.value(), alone.value());
+}
+
 }  // namespace
 }  // namespace gonio::sim
 

@@ -16,6 +16,10 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
+// Every sampler draws directions of the same density (sim/sampler.h): the
+// Sobol' sampler by inversion inside a profile's cells, the random one by
+// rejection.
+constexpr SamplerKind kSamplers[] = {SamplerKind::Random, SamplerKind::Sobol};
 
 photometry::Distribution type_c(std::vector<double> c_deg, std::vector<double> g_deg,
                                 photometry::Symmetry symmetry,
@@ -109,7 +113,8 @@ TEST(ProfileSampler, SymmetriesExpandBeforeSampling) {
 // χ² of n sampled directions against the interpolated profile
 // (photometry::interpolate, independent of the sampler's cells) over nc bins
 // in C × nz in cos γ; *dof gets the degrees of freedom.
-double sampled_chi2(const photometry::Distribution& profile, int nc, int nz, int n, int* dof) {
+double sampled_chi2(const photometry::Distribution& profile, int nc, int nz, int n, int* dof,
+                    SamplerKind kind = SamplerKind::Random) {
   auto sampler = ProfileSampler::create(profile);
   EXPECT_TRUE(sampler.ok());
   if (!sampler.ok()) return 1e300;
@@ -129,7 +134,7 @@ double sampled_chi2(const photometry::Distribution& profile, int nc, int nz, int
   }
   for (double& x : exp) x *= n / total;
   for (int k = 0; k < n; ++k) {
-    PhotonRandom rng(21, static_cast<std::uint64_t>(k));
+    PhotonRandom rng(21, static_cast<std::uint64_t>(k), kind);
     const Vec3 d = sampler->sample(rng);
     EXPECT_NEAR(length(d), 1.0, 1e-12);
     double c = std::atan2(d.y, d.x);
@@ -149,10 +154,12 @@ double sampled_chi2(const photometry::Distribution& profile, int nc, int nz, int
 }
 
 TEST(ProfileSampler, SampledDirectionsReproduceTheProfile) {
-  int dof = 0;
-  const double chi2 = sampled_chi2(asymmetric(), 12, 12, 600000, &dof);
-  // χ² with ~143 dof: mean 143, σ ≈ 17; 5σ above the mean.
-  EXPECT_LT(chi2, dof + 5.0 * std::sqrt(2.0 * dof)) << "dof " << dof;
+  for (SamplerKind kind : kSamplers) {
+    int dof = 0;
+    const double chi2 = sampled_chi2(asymmetric(), 12, 12, 600000, &dof, kind);
+    // χ² with ~143 dof: mean 143, σ ≈ 17; 5σ above the mean.
+    EXPECT_LT(chi2, dof + 5.0 * std::sqrt(2.0 * dof)) << "dof " << dof << ", " << to_string(kind);
+  }
 }
 
 TEST(ProfileSampler, CellsWiderThan45DegreesInCAreCutWithoutChangingTheDensity) {
@@ -174,9 +181,11 @@ TEST(ProfileSampler, CellsWiderThan45DegreesInCAreCutWithoutChangingTheDensity) 
     const auto& sampler = s.value();
     EXPECT_NEAR(integrate_sphere([&](const Vec3& d) { return sampler.intensity_cd(d); }),
                 sampler.flux_lm(), sampler.flux_lm() * 2e-5);
-    int dof = 0;
-    const double chi2 = sampled_chi2(*profile, 24, 12, 600000, &dof);
-    EXPECT_LT(chi2, dof + 5.0 * std::sqrt(2.0 * dof)) << "dof " << dof;
+    for (SamplerKind kind : kSamplers) {
+      int dof = 0;
+      const double chi2 = sampled_chi2(*profile, 24, 12, 600000, &dof, kind);
+      EXPECT_LT(chi2, dof + 5.0 * std::sqrt(2.0 * dof)) << "dof " << dof << ", " << to_string(kind);
+    }
   }
 }
 
@@ -221,7 +230,9 @@ TEST(ProfileSampler, TypesAAndBFollowTheirFrames) {
        {-90, -60, -30, -10, 0, 10, 20, 40, 90},
        photometry::direction_from_type_a(-35 * kDeg, 10 * kDeg)},
   };
-  for (const Case& k : cases) {
+  for (std::size_t pass = 0; pass < 2 * cases.size(); ++pass) {
+    const Case& k = cases[pass % cases.size()];
+    const SamplerKind kind = kSamplers[pass / cases.size()];
     const photometry::Distribution d = type_ab(k.type, k.symmetry, k.h, k.v, k.peak);
     auto ps = ProfileSampler::create(d);
     ASSERT_TRUE(ps.ok()) << ps.error().message;
@@ -249,7 +260,7 @@ TEST(ProfileSampler, TypesAAndBFollowTheirFrames) {
     for (double& x : exp) x *= n / total;
     Vec3 mean{};
     for (int q = 0; q < n; ++q) {
-      PhotonRandom rng(31, static_cast<std::uint64_t>(q));
+      PhotonRandom rng(31, static_cast<std::uint64_t>(q), kind);
       const Vec3 dir = s.sample(rng);
       ASSERT_NEAR(length(dir), 1.0, 1e-12);
       mean += dir;
@@ -265,7 +276,8 @@ TEST(ProfileSampler, TypesAAndBFollowTheirFrames) {
       chi2 += (obs[b] - exp[b]) * (obs[b] - exp[b]) / exp[b];
       ++dof;
     }
-    EXPECT_LT(chi2, dof + 5.0 * std::sqrt(2.0 * dof)) << "Type " << photometry::to_string(k.type);
+    EXPECT_LT(chi2, dof + 5.0 * std::sqrt(2.0 * dof))
+        << "Type " << photometry::to_string(k.type) << ", " << to_string(kind);
     // The beam points where the file's frame says.
     EXPECT_GT(dot(normalize(mean), k.peak), 0.9) << "Type " << photometry::to_string(k.type);
   }
@@ -276,9 +288,11 @@ TEST(ProfileSampler, PartialRangeEmitsNothingOutsideIt) {
                                             [](double, double) { return 50.0; }));
   ASSERT_TRUE(down.ok());
   EXPECT_NEAR(down->flux_lm(), 100.0 * kPi, 1e-9);  // 50 cd over 2π sr
-  for (int k = 0; k < 20000; ++k) {
-    PhotonRandom rng(2, static_cast<std::uint64_t>(k));
-    ASSERT_LE(down->sample(rng).z, 1e-12);  // γ ≤ 90°: the lower hemisphere
+  for (SamplerKind kind : kSamplers) {
+    for (int k = 0; k < 20000; ++k) {
+      PhotonRandom rng(2, static_cast<std::uint64_t>(k), kind);
+      ASSERT_LE(down->sample(rng).z, 1e-12);  // γ ≤ 90°: the lower hemisphere
+    }
   }
   EXPECT_EQ(down->pdf({0, 0, 1}), 0.0);
 }
@@ -304,10 +318,11 @@ TEST(AreaSampler, UniformInAreaCosineInDirection) {
   ASSERT_TRUE(s.ok());
   EXPECT_DOUBLE_EQ(s->area_m2(), 4.0);
   const int n = 200000, bins = 10;
+  for (SamplerKind kind : kSamplers) {
   int second = 0;
   std::vector<double> obs(bins, 0.0);
   for (int k = 0; k < n; ++k) {
-    PhotonRandom rng(4, static_cast<std::uint64_t>(k));
+    PhotonRandom rng(4, static_cast<std::uint64_t>(k), kind);
     const AreaSampler::Sample a = s->sample(rng);
     ASSERT_NEAR(a.position.z, 0.0, 1e-12);
     ASSERT_NEAR(a.normal.z, 1.0, 1e-12);
@@ -322,7 +337,8 @@ TEST(AreaSampler, UniformInAreaCosineInDirection) {
     const double e = n * (c1 * c1 - c0 * c0);
     chi2 += (obs[b] - e) * (obs[b] - e) / e;
   }
-  EXPECT_LT(chi2, 27.9);  // 9 dof, p = 0.001
+  EXPECT_LT(chi2, 27.9) << to_string(kind);  // 9 dof, p = 0.001
+  }
   // ∫ over the area and the sphere of the density is 1.
   const double per_area = integrate_sphere([&](const Vec3& d) { return s->pdf({0, 0, 1}, d); });
   EXPECT_NEAR(per_area * s->area_m2(), 1.0, 1e-5);

@@ -19,8 +19,21 @@
 // The photon counts were chosen so that the slope is reliable: over 20
 // seeds per case (GONIO_STABILITY_SEED=101…120; GONIO_STABILITY_VERBOSE=1
 // prints slopes and ratios) every slope lay in [−0.54, −0.46].
+//
+// GONIO_STABILITY_SAMPLER=sobol (ctest's stability_sobol) runs the series
+// with Owen-scrambled Sobol' points (sim/sampler.h); the references stay
+// pseudo-random (their noise is taken out as Poisson noise). The raw error
+// must then fall at least as fast as Monte Carlo's (slope ≤ −0.4). The
+// preview filters' statistics assume Poisson noise, which Sobol' points
+// beat, so their previews can lose to the better raw map (seed 11: the
+// adaptive default up to 10 × it on the narrow spot, 3.1 × on the cut-off,
+// 2.3 × on the glass cube); they are held to their factors against the
+// pseudo-random raw map at the same photons instead (a run traced beside
+// the series): a Sobol' preview is never worse than the filter promises a
+// pseudo-random one. Every other bound holds as stated.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -50,6 +63,12 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 
 constexpr int kDoublings = 6;
+
+// The series' sampler (references: always random).
+SamplerKind series_sampler() {
+  const char* s = std::getenv("GONIO_STABILITY_SAMPLER");
+  return s ? parse_sampler(s).value_or(SamplerKind::Random) : SamplerKind::Random;
+}
 
 // The series seed; the reference's is another.
 std::uint64_t series_seed() {
@@ -146,11 +165,12 @@ FarField preview_as_field(const PreviewFilter& f, int face_size) {
   return out;
 }
 
-Simulation make_simulation(const Case& c, std::uint64_t seed) {
+Simulation make_simulation(const Case& c, std::uint64_t seed, SamplerKind sampler = series_sampler()) {
   SimulationSettings s;
   s.photons_per_iteration = 1;
   s.iterations = 1;
   s.seed = seed;
+  s.sampler = sampler;
   s.threads = 2;
   s.face_size = c.face_size;
   s.max_bounces = c.max_bounces;
@@ -176,7 +196,7 @@ CaseRun run_case(const Case& c) {
   const std::uint64_t seed = series_seed();
   std::optional<ConvergenceReference> judge;
   if (!c.sealed) {
-    Simulation reference = make_simulation(c, seed + 1'000'003);
+    Simulation reference = make_simulation(c, seed + 1'000'003, SamplerKind::Random);
     reference.run_iteration(c.reference);
     auto j = ConvergenceReference::create(reference.far_field(), resampler);
     EXPECT_TRUE(j.ok()) << c.name;
@@ -193,10 +213,13 @@ CaseRun run_case(const Case& c) {
   PreviewFilter filter(c.face_size, filters.front().params);
 
   Simulation sim = make_simulation(c, seed);
+  std::optional<Simulation> random_sim;  // Sobol' series: the filters' yardstick
+  if (judge && series_sampler() != SamplerKind::Random) random_sim.emplace(make_simulation(c, seed, SamplerKind::Random));
   CaseRun run;
   std::vector<double> first_error(filters.size(), 0.0);
   for (int k = 0; k <= kDoublings; ++k) {
     sim.run_iteration(k == 0 ? c.first : c.first << (k - 1));
+    if (random_sim) random_sim->run_iteration(k == 0 ? c.first : c.first << (k - 1));
     const FarField field = sim.far_field();
     const std::string at = c.name + ", iteration " + std::to_string(k + 1);
     EXPECT_TRUE(all_finite(field.flux_lm())) << at;
@@ -207,8 +230,12 @@ CaseRun run_case(const Case& c) {
     run.photons.push_back(static_cast<double>(sim.stats().photons));
 
     std::optional<CubeMapError> raw_error;
+    double yardstick = 0.0;  // the raw error the filters' factors apply to
     if (judge) {
       raw_error = judge->cube_map_error(raw);
+      yardstick = raw_error->rmse;
+      if (random_sim)
+        yardstick = std::max(yardstick, judge->cube_map_error(texel_intensities(random_sim->far_field())).rmse);
       run.raw_rmse.push_back(raw_error->rmse);
       run.raw_table_rms.push_back(judge->table_error(raw).rms_pct);
       EXPECT_TRUE(std::isfinite(raw_error->rmse)) << at;
@@ -241,7 +268,8 @@ CaseRun run_case(const Case& c) {
         // failure), but its error must not grow either.
         EXPECT_LE(e.rmse, 1.02 * first_error[fi]) << what;
       } else {
-        EXPECT_LE(e.rmse, f.factor * raw_error->rmse) << what << " (raw " << raw_error->rmse << ")";
+        EXPECT_LE(e.rmse, f.factor * yardstick) << what << " (raw " << raw_error->rmse << ", against "
+                                                 << yardstick << ")";
       }
       if (std::getenv("GONIO_STABILITY_VERBOSE"))
         std::printf("R|%s|%s|%d|%.4f|%.4g\n", c.name.c_str(), f.name.c_str(), k + 1, e.rmse / raw_error->rmse,
@@ -258,8 +286,13 @@ void expect_slope(const CaseRun& run, const std::string& name) {
   const double table_slope = log_log_slope(run.photons, run.raw_table_rms);
   if (std::getenv("GONIO_STABILITY_VERBOSE"))
     std::printf("S|%s|%.4f|%.4f\n", name.c_str(), slope, table_slope);
-  EXPECT_NEAR(slope, -0.5, 0.1) << name;
-  EXPECT_NEAR(table_slope, -0.5, 0.1) << name;
+  if (series_sampler() == SamplerKind::Random) {
+    EXPECT_NEAR(slope, -0.5, 0.1) << name;
+    EXPECT_NEAR(table_slope, -0.5, 0.1) << name;
+  } else {
+    EXPECT_LE(slope, -0.4) << name;
+    EXPECT_LE(table_slope, -0.4) << name;
+  }
 }
 
 // A point emitter with a rotationally symmetric Type C profile
@@ -362,6 +395,7 @@ TEST(Stability, SparseFirstIteration) {
   set.face_size = 64;
   set.threads = 2;
   set.seed = series_seed();
+  set.sampler = series_sampler();
   auto sim = Simulation::create(s, set);
   ASSERT_TRUE(sim.ok());
   sim->run_iteration();
@@ -371,6 +405,7 @@ TEST(Stability, SparseFirstIteration) {
   // A long run of the same scene as the truth.
   SimulationSettings ref_set = set;
   ref_set.seed = set.seed + 1'000'003;
+  ref_set.sampler = SamplerKind::Random;
   auto ref = Simulation::create(s, ref_set);
   ASSERT_TRUE(ref.ok());
   ref->run_iteration(std::uint64_t{1} << 21);

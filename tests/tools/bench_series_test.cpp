@@ -45,6 +45,18 @@ TEST(BenchSeries, TheBriefsSeries) {
   ASSERT_EQ(guided.size(), 14u);
   EXPECT_TRUE(guided[12].guided && !guided[12].filtered);
   EXPECT_TRUE(guided[13].guided && guided[13].filtered && guided[13].filter.adaptive);
+  for (const SeriesSpec& s : guided) EXPECT_EQ(s.sampler, sim::SamplerKind::Random);
+  // Both samplers: Sobol' raw and adaptive after the pseudo-random series.
+  const std::vector<SeriesSpec> both = default_series(false, sim::SamplerKind::Random, true);
+  ASSERT_EQ(both.size(), 14u);
+  EXPECT_EQ(both[12].name, "sobol");
+  EXPECT_TRUE(both[12].sampler == sim::SamplerKind::Sobol && !both[12].filtered);
+  EXPECT_EQ(both[13].name, "sobol-adaptive");
+  EXPECT_TRUE(both[13].sampler == sim::SamplerKind::Sobol && both[13].filter.adaptive);
+  // Sobol' alone: the same series, each traced with it.
+  const std::vector<SeriesSpec> sobol = default_series(false, sim::SamplerKind::Sobol);
+  ASSERT_EQ(sobol.size(), 12u);
+  for (const SeriesSpec& s : sobol) EXPECT_EQ(s.sampler, sim::SamplerKind::Sobol) << s.name;
 }
 
 }  // namespace

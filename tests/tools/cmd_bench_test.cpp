@@ -68,7 +68,8 @@ TEST(CmdBench, WritesSeriesChartsAndReusesItsReference) {
   ASSERT_EQ(photons.size(), 9u);
   EXPECT_EQ(photons.front(), "4096");
   EXPECT_EQ(photons.back(), "65536");
-  for (const char* s : {"bilinear-50", "bilateral-300", "adaptive", "guided", "guided-adaptive"})
+  for (const char* s : {"bilinear-50", "bilateral-300", "adaptive", "guided", "guided-adaptive", "sobol",
+                        "sobol-adaptive"})
     EXPECT_EQ(column(csv, s, "photons").size(), 9u) << s;
   // Guided emission traces fewer photons than it draws.
   EXPECT_LT(std::stoull(column(csv, "guided", "photons_traced").back()), 65536u);
@@ -77,7 +78,10 @@ TEST(CmdBench, WritesSeriesChartsAndReusesItsReference) {
   EXPECT_EQ(j["reference"]["reused"], false);
   EXPECT_EQ(j["reference"]["key"]["photons"], 524288);
   EXPECT_EQ(j["reference"]["key"]["seed"], 2);  // its own seed
-  EXPECT_EQ(j["series"].size(), 14u);
+  EXPECT_EQ(j["series"].size(), 16u);  // with the Sobol' raw and adaptive series (--sampler both)
+  EXPECT_EQ(j["settings"]["sampler"], "random");
+  EXPECT_EQ(j["series"][14]["name"], "sobol");
+  EXPECT_EQ(j["series"][14]["sampler"], "sobol");
   const double estimated = j["reference"]["noise"]["table_estimated_pct"];
   const double measured = j["reference"]["noise"]["table_measured_pct"];
   EXPECT_GT(estimated, 0.0);
@@ -99,7 +103,20 @@ TEST(CmdBench, WritesSeriesChartsAndReusesItsReference) {
   const test::ProcessResult other = gonio(small(dir.path(), {"--reference-seed", "9"}));
   ASSERT_EQ(other.exit_code, 0) << other.err;
   EXPECT_EQ(other.out.find("reused"), std::string::npos) << other.out;
+  EXPECT_EQ(nlohmann::json::parse(test::read_file(dir / "bench.json"))["series"].size(), 14u);  // + Sobol' 2
+
+  // --sampler random: the pseudo-random series alone; sobol: the same
+  // series, each traced with Sobol' points.
+  ASSERT_EQ(gonio(small(dir.path(), {"--sampler", "random"})).exit_code, 0);
   EXPECT_EQ(nlohmann::json::parse(test::read_file(dir / "bench.json"))["series"].size(), 12u);
+  ASSERT_EQ(gonio(small(dir.path(), {"--sampler", "sobol"})).exit_code, 0);
+  const nlohmann::json sobol = nlohmann::json::parse(test::read_file(dir / "bench.json"));
+  ASSERT_EQ(sobol["series"].size(), 12u);
+  EXPECT_EQ(sobol["series"][0]["name"], "raw");
+  EXPECT_EQ(sobol["series"][0]["sampler"], "sobol");
+  EXPECT_EQ(sobol["settings"]["sampler"], "sobol");
+  // Its raw series is the Sobol' series of the run with both.
+  EXPECT_EQ(column(test::read_file(dir / "series.csv"), "raw", "cube_rmse"), column(csv, "sobol", "cube_rmse"));
 }
 
 TEST(CmdBench, WritesEveryChartAsAValidPng) {
@@ -149,6 +166,10 @@ TEST(CmdBench, PageOverSeveralModels) {
     EXPECT_TRUE(fs::is_regular_file(dir / link)) << link;
   }
   EXPECT_NE(page.find("Time to 1 % RMS candela error"), std::string::npos);
+  // The samplers side by side (--sampler both): their own columns, and the
+  // best fixed-threshold filter is a pseudo-random series.
+  EXPECT_NE(page.find("| Sobol', raw | Sobol', adaptive |"), std::string::npos) << page;
+  EXPECT_EQ(page.find("(Sobol'"), std::string::npos) << page;
 }
 
 TEST(CmdBench, UsageAndModelErrors) {

@@ -312,6 +312,33 @@ TEST(Simulate, SameSeedSameBytesWithOneOrTwoThreads) {
   EXPECT_EQ(a["escaped_lm"], b["escaped_lm"]);
 }
 
+// --sampler sobol: photon i is Sobol' point i of the seed's scramble, so
+// threads and iteration splits change no byte; it differs from random (the
+// default), and report.json names it.
+TEST(Simulate, SobolSamplerSameBytesWithOneOrTwoThreadsAndAnySplit) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  struct Run {
+    const char *name, *threads, *photons, *iterations, *sampler;
+  };
+  for (const Run& run : {Run{"1", "1", "30000", "2", "sobol"}, Run{"2", "2", "30000", "2", "sobol"},
+                         Run{"whole", "2", "60000", "1", "sobol"}, Run{"random", "2", "60000", "1", "random"}}) {
+    auto r = gonio({"simulate", model.string(), "--out", (dir / run.name).string(), "--photons", run.photons,
+                    "--iterations", run.iterations, "--threads", run.threads, "--seed", "42", "--face-size", "16",
+                    "--sampler", run.sampler, "--format", "exr,report"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_EQ(test::read_file(dir / "1" / "farfield.exr"), test::read_file(dir / "2" / "farfield.exr"));
+  EXPECT_EQ(test::read_file(dir / "1" / "farfield.exr"), test::read_file(dir / "whole" / "farfield.exr"));
+  EXPECT_NE(test::read_file(dir / "whole" / "farfield.exr"), test::read_file(dir / "random" / "farfield.exr"));
+  auto a = nlohmann::json::parse(test::read_file(dir / "1" / "report.json"));
+  auto b = nlohmann::json::parse(test::read_file(dir / "random" / "report.json"));
+  EXPECT_EQ(a["settings"]["sampler"], "sobol");
+  EXPECT_EQ(b["settings"]["sampler"], "random");
+  EXPECT_EQ(gonio({"simulate", model.string(), "--out", (dir / "x").string(), "--sampler", "halton"}).exit_code, 2);
+}
+
 // --bvh-quality auto builds the quick tree for a run short for the model's
 // size and the better one otherwise; the tree changes the speed, not the
 // photons' paths: the same bytes either way.
@@ -812,7 +839,7 @@ TEST(Simulate, HelpNamesEveryOption) {
   EXPECT_EQ(r.exit_code, 0);
   for (const char* o : {"--photons", "--iterations", "--seed", "--threads", "--max-bounces", "--face-size", "--out",
                         "--c-step", "--gamma-step", "--symmetry", "--format", "--ies-version", "--name", "--min-lor",
-                        "--flux-tolerance", "--bvh-quality"})
+                        "--flux-tolerance", "--bvh-quality", "--sampler"})
     EXPECT_NE(r.out.find(o), std::string::npos) << o;
 }
 

@@ -145,6 +145,19 @@ TEST_F(MpiRun, ThreeRanksWriteTheBytesOfOneProcess) {
   EXPECT_EQ(single["per_rank"][0]["photons"], 60000);
 }
 
+// --sampler sobol: photon i is Sobol' point i of the seed's scramble on
+// whichever rank traces it, so 3 ranks write one process's bytes too.
+TEST_F(MpiRun, SobolSamplerThreeRanksWriteTheBytesOfOneProcess) {
+  test::TempDir dir;
+  const std::string bell = kSamples + "/bell/bell.gltf";
+  auto one = simulate(0, bell, dir / "one", "2", {"--sampler", "sobol"});
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  auto three = simulate(3, bell, dir / "three", "1", {"--sampler", "sobol"});
+  ASSERT_EQ(three.exit_code, 0) << three.err;
+  expect_same_run(dir / "one", dir / "three", "sobol, 3 ranks x 1 thread");
+  EXPECT_EQ(read_report(dir / "three")["settings"]["sampler"], "sobol");
+}
+
 // Slower (five MPI jobs): every rank count, more ranks than an iteration has
 // chunks among them (7 ranks, 8 chunks: uneven shares), threads 1 and 2.
 TEST_F(MpiRun, EveryRankAndThreadCountWritesTheSameBytes) {
