@@ -52,20 +52,20 @@ constexpr double kDeg = kPi / 180.0;
 //         lies at or under its rating's limit, and B2 and G1 each need some
 //         zone over the limit one rating lower (B1: BH 703.8 > 500 or BM
 //         1447.2 > 1000; G0: FVH 23.1 > 10 or FH 703.8 > 660; Gonio's rows
-//         meet both). And it
-//         shows the Addendum's second glare table: with BH held to the
-//         backlight limits (G1 ≤ 500) this Type V luminaire would be G2, so
-//         for Types V and VS the G1 limit of BH is at least 703.8 lm.
+//         meet both). And it shows the Addendum's second glare table: with
+//         BH held to the backlight limits (G1 ≤ 500) this Type V luminaire
+//         would be G2, so for Types V and VS the G1 limit of BH is at least
+//         703.8 lm.
 // Every other limit below is Gonio's value, typed from memory of the
 // Addendum by an earlier session and NOT confirmed by any outside copy; it is
 // pinned here so that a change has to come with its source. So is the Type
 // V/VS row of BH's glare limits: FH's row, as the Addendum's separate table
 // for quadrilateral-symmetric luminaires is remembered ([SELUX] bounds only
-// its G1 limit from below). One is suspect:
-// FVH/BVH G3 = G4 = 350 makes G4 unreachable by those zones (every other row
-// rises strictly), and one open implementation found by the search carries the
-// row 10/100/225/500/750 (a TypeScript viewer; it applies the row to the wrong
-// zones, so it is no authority either). holg/eulumdat-rs's glare table
+// its G1 limit from below). One is suspect: FVH/BVH G3 = G4 = 350 makes G4
+// unreachable by those zones (every other row rises strictly), and public
+// TypeScript code found by the search (two files) carries the row
+// 10/100/225/500/750 (and applies it to the wrong zones, so it is no
+// authority either). holg/eulumdat-rs's glare table
 // (FH/BH 10/180/600/2000/4000, FVH/BVH 10/10/50/200/400) agrees with none of
 // this and is not used.
 struct PublishedRow {
