@@ -19,10 +19,21 @@
 // tables of maximum zonal lumens). Which of them an outside copy confirms,
 // and where, is stated in tests/photometry/bug_rating_test.cpp
 // (BugRating.ThresholdsAsPublished) and in the README's BUG paragraph: the
-// uplight limits U0…U3 and the G0 limit of FVH/BVH are confirmed; the rest,
-// including the glare table's FVH/BVH limits for G3 and G4 (350, 350 here;
-// equal, so no luminaire is G4 by FVH or BVH alone), could not be checked
-// against a published copy.
+// uplight limits U0…U3 and the G0 limit of FVH/BVH are confirmed; a real
+// luminaire's published rating (a Type V pole-top whose BH of 704 lm still
+// rates G1) shows that the glare table differs for quadrilateral-symmetric
+// luminaires; the rest, including the glare table's FVH/BVH limits for G3
+// and G4 (350, 350 here; equal, so no luminaire is G4 by FVH or BVH alone),
+// could not be checked against a published copy.
+//
+// Glare table. The Addendum rates glare of asymmetric luminaires (IES Types
+// I–IV) with BH held to the backlight limits, and of quadrilateral-symmetric
+// ones (Types V and VS, which have no street side: "back" is just the other
+// half) with BH held to FH's limits. bug_rating() takes a luminaire as
+// quadrilateral-symmetric when its downward (0–90°) lumens in each of the
+// eight 45° octants of C (from C0) lie within ±10 % of the octants' mean
+// (the Type VS test of TM-15-20 Annex A, Note 4; a rotationally symmetric
+// Type V meets it too); rate_bug() is told which table applies.
 #pragma once
 
 #include <array>
@@ -57,7 +68,13 @@ struct BugLimits {
   Row bvh{10, 100, 225, 350, 350};
   Row fh{660, 1800, 5000, 7500, 12000};
   Row bh_glare{110, 500, 1000, 2500, 5000};
+  // Glare G0…G4 of BH for quadrilateral-symmetric luminaires (Types V, VS):
+  // FH's limits.
+  Row bh_glare_symmetric{660, 1800, 5000, 7500, 12000};
 };
+
+// Which glare table: IES Types I–IV, or Types V and VS.
+enum class BugGlareTable { Asymmetric, QuadrilateralSymmetric };
 
 // The one table rate_bug() uses.
 const BugLimits& bug_limits_lm();
@@ -65,12 +82,22 @@ const BugLimits& bug_limits_lm();
 struct BugRating {
   int b = 0, u = 0, g = 0;  // 0…5
   BugZones zones_lm;
+  BugGlareTable glare_table = BugGlareTable::Asymmetric;
+  // Downward (0–90°) lumens in the octants C 0–45°, 45–90°, …, 315–360°
+  // (bug_rating() only; zero from rate_bug()).
+  std::array<double, 8> octants_down_lm{};
 };
 
-// Ratings from zone lumens alone (the tables above).
-BugRating rate_bug(const BugZones& zones_lm);
+// Ratings from zone lumens alone (the tables above), with the glare table
+// of `table`.
+BugRating rate_bug(const BugZones& zones_lm, BugGlareTable table = BugGlareTable::Asymmetric);
 
-// Zone lumens and ratings of `d`. Requires validate(d).ok().
+// The octant test above: every octant within ±10 % of their mean (and some
+// light downward).
+bool quadrilateral_symmetric(const std::array<double, 8>& octants_down_lm);
+
+// Zone lumens, octants, glare table and ratings of `d`. Requires
+// validate(d).ok().
 BugRating bug_rating(const Distribution& d);
 
 // "B1-U0-G1".

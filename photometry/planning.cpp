@@ -38,10 +38,12 @@ std::vector<MethodLabel> method_labels(const PlanningFigures& p) {
                  "S / mounting height above the work plane, in the C0-C180, C90-C270 and diagonal planes",
                  "closed forms for Lambertian and isotropic luminaires (Gonio's tests); no published value yet"});
   out.push_back({"BUG rating", "bug", "IES TM-15-11 Addendum A (backlight, uplight, glare zone lumens)",
-                 "front = the C90 side (the street side of a Type C road luminaire); lumens at the file's flux",
+                 "front = the C90 side (the street side of a Type C road luminaire); lumens at the file's flux; "
+                 "glare of BH held to FH's limits for Types V/VS (downward lumens of all 8 octants within "
+                 "10 % of their mean), to the backlight limits otherwise",
                  "10 of the 45 thresholds (U0-U3, G0's high-angle limit) against the IDA-IES Model Lighting "
-                 "Ordinance's guide and Ashdown (LEUKOS); the other 35 and no real luminaire's published "
-                 "rating not yet (README)"});
+                 "Ordinance's guide and Ashdown (LEUKOS); one real luminaire's published zone lumens and "
+                 "rating (Selux Aya, Type V: B2-U0-G1); the other thresholds not yet (README)"});
   out.push_back({"Luminance", "luminance_table",
                  "average luminance I / A_p of the projected luminous opening (CIE 117 eq. 4.3: A_p = "
                  "A_bottom cos gamma + A_side(C) sin gamma, EULUMDAT side heights per face)",
