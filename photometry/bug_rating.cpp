@@ -120,4 +120,9 @@ std::string to_string(const BugRating& r) {
   return "B" + std::to_string(r.b) + "-U" + std::to_string(r.u) + "-G" + std::to_string(r.g);
 }
 
+std::string to_string(BugGlareTable table) {
+  return table == BugGlareTable::QuadrilateralSymmetric ? "Types V and VS (quadrilateral symmetric)"
+                                                        : "Types I-IV (asymmetric)";
+}
+
 }  // namespace gonio::photometry

@@ -103,4 +103,8 @@ BugRating bug_rating(const Distribution& d);
 // "B1-U0-G1".
 std::string to_string(const BugRating& r);
 
+// "Types I-IV (asymmetric)" or "Types V and VS (quadrilateral symmetric)":
+// the glare table a rating used, as info and the datasheet print it.
+std::string to_string(BugGlareTable table);
+
 }  // namespace gonio::photometry

@@ -232,7 +232,7 @@ void planning_rows(Table& t, const photometry::PlanningFigures& p) {
                           "  BH " + fmt(z.bh, 0) + "  BVH " + fmt(z.bvh, 0) + " lm\nFL " +
                           fmt(z.fl, 0) + "  FM " + fmt(z.fm, 0) + "  FH " + fmt(z.fh, 0) +
                           "  FVH " + fmt(z.fvh, 0) + " lm\nUL " + fmt(z.ul, 0) + "  UH " +
-                          fmt(z.uh, 0) + " lm");
+                          fmt(z.uh, 0) + " lm\nglare table: " + photometry::to_string(p.bug.glare_table));
   if (p.luminance.defined) {
     std::string l = "gamma    C0 cd/m2    C90 cd/m2";
     for (std::size_t g = 0; g < p.luminance.gamma_deg.size(); ++g) {
@@ -482,6 +482,7 @@ void planning_json(json& j, const photometry::PlanningFigures& p) {
               {"u", p.bug.u},
               {"g", p.bug.g},
               {"text", photometry::to_string(p.bug)},
+              {"glare_table", photometry::to_string(p.bug.glare_table)},
               {"zones_lm",
                {{"bl", z.bl}, {"bm", z.bm}, {"bh", z.bh}, {"bvh", z.bvh},
                 {"fl", z.fl}, {"fm", z.fm}, {"fh", z.fh}, {"fvh", z.fvh},

@@ -383,7 +383,7 @@ Result<std::string> entry_html(const DatasheetEntry& e, const DatasheetOptions& 
   h += "<h2>BUG rating " + photometry::to_string(p.bug) + "</h2>\n<table><tr><th></th><th>L 0–30°</th><th>M 30–60°</th><th>H 60–80°</th><th>VH 80–90°</th></tr>\n";
   h += "<tr><th>front (C0–C180)</th><td>" + fmt(z.fl, 0) + "</td><td>" + fmt(z.fm, 0) + "</td><td>" + fmt(z.fh, 0) + "</td><td>" + fmt(z.fvh, 0) + "</td></tr>\n";
   h += "<tr><th>back (C180–C360)</th><td>" + fmt(z.bl, 0) + "</td><td>" + fmt(z.bm, 0) + "</td><td>" + fmt(z.bh, 0) + "</td><td>" + fmt(z.bvh, 0) + "</td></tr>\n";
-  h += "<tr><th>uplight</th><td colspan=2>UL 90–100°: " + fmt(z.ul, 0) + "</td><td colspan=2>UH 100–180°: " + fmt(z.uh, 0) + "</td></tr></table>\n<p class=note>Luminaire lumens per zone (IES TM-15-11 with Addendum A).</p>\n" + method("bug");
+  h += "<tr><th>uplight</th><td colspan=2>UL 90–100°: " + fmt(z.ul, 0) + "</td><td colspan=2>UH 100–180°: " + fmt(z.uh, 0) + "</td></tr></table>\n<p class=note>Luminaire lumens per zone (IES TM-15-11 with Addendum A); glare table of " + photometry::to_string(p.bug.glare_table) + ".</p>\n" + method("bug");
   h += "<h2>Luminance table</h2>\n";
   if (p.luminance.defined) {
     h += "<table><tr><th>γ</th><th>C0 cd/m²</th><th>C90 cd/m²</th><th>C0, bottom only</th><th>C90, bottom only</th></tr>\n";

@@ -96,6 +96,8 @@ TEST(CliInfoPlanning, JsonHasTheIssuesKeysAndShapes) {
   const json& bug = j["bug"];
   for (const char* k : {"b", "u", "g"}) EXPECT_TRUE(bug[k].is_number_integer()) << k;
   EXPECT_EQ(bug["u"].get<int>(), 0);
+  // Rotationally symmetric: every octant alike, so the Types V and VS table.
+  EXPECT_EQ(bug["glare_table"], "Types V and VS (quadrilateral symmetric)");
   for (const char* k : {"bl", "bm", "bh", "bvh", "fl", "fm", "fh", "fvh", "ul", "uh"})
     EXPECT_TRUE(bug["zones_lm"][k].is_number()) << k;
   // 800 lm Lambertian: the zones add up to the flux.
@@ -166,7 +168,7 @@ TEST(CliReport, HtmlIsSelfContainedAndHoldsEveryFigure) {
   const std::string html = test::read_file(out);
   for (const char* part : {"<!DOCTYPE html>", "</html>", "Intensity distribution", "<svg", "UGR table",
                            "Coefficients of utilisation", "Spacing criterion", "BUG rating B", "Luminance table",
-                           "Candela table", "Zonal lumen summary", "isolux", "Efficacy"})
+                           "Candela table", "Zonal lumen summary", "isolux", "Efficacy", "glare table of Types"})
     EXPECT_TRUE(contains(html, part)) << part;
   // Two sections, one per file.
   EXPECT_EQ(std::count(html.begin(), html.end(), '\f'), 0);
