@@ -137,8 +137,9 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
   p.option("iterations", &o->iterations, 1, 1'000'000, "K", "iterations (default 10): K·N photons in all");
   p.option("seed", &o->seed, 0, 9'223'372'036'854'775'807LL, "S", "random seed (default 1)");
   p.choice("sampler", &o->sampler, {"random", "sobol"},
-           "where photons' numbers come from: random (default: pseudo-random) or sobol (Owen-scrambled\n"
-           "Sobol' points, scrambled by the seed); either gives the same bytes for any threads or split");
+           "where photons' numbers come from: sobol (default: Owen-scrambled Sobol' points, four\n"
+           "independent scrambles by the seed, whose spread gives the error estimate) or random\n"
+           "(pseudo-random); either gives the same bytes for any threads or split");
   p.option("threads", &o->threads, 0, 4096, "T", "threads (default 0: every core)");
   p.option("max-bounces", &o->max_bounces, 0, 1'000'000, "B",
            "surface interactions before a photon is cut off (default 100)");
@@ -280,7 +281,7 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   settings.photons_per_iteration = static_cast<std::uint64_t>(photons);
   settings.iterations = static_cast<int>(iterations);
   settings.seed = static_cast<std::uint64_t>(seed);
-  settings.sampler = sim::parse_sampler(o.sampler).value_or(sim::SamplerKind::Random);
+  settings.sampler = sim::parse_sampler(o.sampler).value_or(sim::SamplerKind::Sobol);
   settings.threads = static_cast<int>(threads);
   settings.capture_escaped_photons = tm25 ? static_cast<std::uint64_t>(o.tm25_rays) : 0;
   settings.near_field_distances_m = near_field_m;
