@@ -8,8 +8,9 @@
 //           Sobol' sequence in kSobolDimensions dimensions, each dimension
 //           Owen-scrambled (nested uniform scrambling) with a key from
 //           (seed, replicate r = i mod K, dimension): K independent
-//           scrambles interleaved (replicates, below); draws beyond the Sobol' dimensions come from
-//           the random sampler's stream of (seed, i) (padding). Each point
+//           scrambles interleaved (replicates, below); draws beyond the
+//           Sobol' dimensions come from the random sampler's stream of
+//           (seed, i) (padding). Each point
 //           is uniform in [0, 1)^d whatever the scramble's key, so every
 //           estimate stays unbiased; the points of one key are a
 //           low-discrepancy set, so smooth integrands converge faster than
