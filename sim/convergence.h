@@ -80,6 +80,7 @@ class ConvergenceReference {
   double table_noise_pct() const;
 
   const FarField& far_field() const { return reference_; }
+  const Resampler& resampler() const { return *resampler_; }
   const BinnedField& table() const { return table_; }
   double peak_cd() const { return peak_cd_; }  // R_max [cd]
 

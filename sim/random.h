@@ -7,7 +7,8 @@
 // distinct keys, and each draw costs a handful of multiplies.
 //
 // Under the Sobol' sampler (sim/sampler.h) the first kSobolDimensions draws
-// of photon i are the Owen-scrambled coordinates of Sobol' point i (32 bits
+// of photon i are the coordinates of Sobol' point ⌊i/K⌋ Owen-scrambled with
+// the keys of replicate i mod K (K replicates; 32 bits
 // each: uniform() and uniform_open0() steps of 2⁻³², next_u64() the
 // coordinate above 32 padding bits, uniform_pair() two coordinates), and the
 // draws after them the pseudo-random stream above (padding). Callers ask
@@ -24,13 +25,16 @@ class PhotonRandom {
  public:
   PhotonRandom(std::uint64_t seed, std::uint64_t photon)
       : key_(mix64(mix64(seed) + photon)), counter_(0) {}
-  // Photon `photon` of the run `seed` under `sampler`.
-  PhotonRandom(std::uint64_t seed, std::uint64_t photon, SamplerKind sampler)
+  // Photon `photon` of the run `seed` under `sampler` (Sobol': with
+  // `replicates` interleaved scrambles, 1 … kMaxSobolReplicates).
+  PhotonRandom(std::uint64_t seed, std::uint64_t photon, SamplerKind sampler,
+               int replicates = kSobolReplicates)
       : PhotonRandom(seed, photon) {
     if (sampler == SamplerKind::Sobol) {
+      const auto k = static_cast<std::uint64_t>(replicates);
       sobol_dims_ = kSobolDimensions;
-      index_ = static_cast<std::uint32_t>(photon);
-      scramble_ = sobol_block_key(seed, photon);
+      index_ = static_cast<std::uint32_t>(photon / k);
+      scramble_ = sobol_block_key(seed, static_cast<int>(photon % k), photon / k);
     }
   }
   // The same numbers as (seed, photon, Sobol') from a cursor at `photon`

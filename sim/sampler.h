@@ -4,11 +4,13 @@
 //
 //   random  counter-based pseudo-random numbers (sim/random.h): draw k of
 //           photon i is a hash of (seed, i, k). Errors fall as N^−1/2.
-//   sobol   randomised quasi-Monte Carlo: photon i is point i of a Sobol'
-//           sequence in kSobolDimensions dimensions, each dimension
+//   sobol   randomised quasi-Monte Carlo: photon i is point ⌊i/K⌋ of a
+//           Sobol' sequence in kSobolDimensions dimensions, each dimension
 //           Owen-scrambled (nested uniform scrambling) with a key from
-//           (seed, dimension); draws beyond the Sobol' dimensions come from
-//           the random sampler's stream of (seed, i) (padding). Each point
+//           (seed, replicate r = i mod K, dimension): K independent
+//           scrambles interleaved (replicates, below); draws beyond the
+//           Sobol' dimensions come from the random sampler's stream of
+//           (seed, i) (padding). Each point
 //           is uniform in [0, 1)^d whatever the scramble's key, so every
 //           estimate stays unbiased; the points of one key are a
 //           low-discrepancy set, so smooth integrands converge faster than
@@ -30,9 +32,9 @@
 // sequences with better two-dimensional projections", SIAM J. Sci. Comput.
 // 30, 2635–2654; their table new-joe-kuo-6.21201, dimensions 2–32, typed
 // below as (degree s, coefficients a, initial numbers m)); the first
-// dimension is the van der Corput sequence. Point i is the matrix product of
-// the generator matrices with the bits of i (not the Gray-code order), so
-// photon i needs no other photon. Photons beyond 2³² use further blocks of
+// dimension is the van der Corput sequence. Point j is the matrix product of
+// the generator matrices with the bits of j (not the Gray-code order), so
+// photon i needs no other photon. Points beyond 2³² use further blocks of
 // 2³² points, each block with keys of its own (independent scrambles).
 //
 // Scrambling: Owen scrambling by a hash of the bit-reversed value in which
@@ -163,10 +165,21 @@ constexpr std::uint64_t mix64(std::uint64_t z) {
   return z ^ (z >> 31);
 }
 
-// Scramble keys: one per block of 2³² photons of a seed (apart from the
-// padding stream's keys), then one per dimension of it.
-constexpr std::uint64_t sobol_block_key(std::uint64_t seed, std::uint64_t photon) {
-  return mix64(mix64(seed ^ 0x5ab01d5eed5ab01dULL) + (photon >> 32));
+// Replicates: photon i belongs to replicate r = i mod K and is point ⌊i/K⌋
+// of the Sobol' sequence scrambled with replicate r's keys, so the run is K
+// independent scrambles, each a prefix of its own sequence, interleaved.
+// Their K estimates of the far field are independent and each unbiased: the
+// spread between them gives the error of their mean, which counting photons
+// cannot (tools/progressive_run.h). kSobolReplicates is the measured choice
+// (README, Measured figures: replicates cost error, fewer give a noisier
+// estimate).
+inline constexpr int kSobolReplicates = 4;
+inline constexpr int kMaxSobolReplicates = 32;
+
+// Scramble keys: one per replicate and block of 2³² points of a seed (apart
+// from the padding stream's keys), then one per dimension of it.
+constexpr std::uint64_t sobol_block_key(std::uint64_t seed, int replicate, std::uint64_t point) {
+  return mix64(mix64(mix64(seed ^ 0x5ab01d5eed5ab01dULL) + (point >> 32)) + static_cast<std::uint64_t>(replicate));
 }
 constexpr std::uint32_t sobol_dimension_key(std::uint64_t block_key, int dim) {
   return static_cast<std::uint32_t>(mix64(block_key + static_cast<std::uint64_t>(dim)));
@@ -199,27 +212,32 @@ constexpr std::uint32_t sobol_scrambled_u32(std::uint32_t index, int dim, std::u
 }
 
 // The unscrambled points (bit-reversed) and the keys of consecutive photons
-// of one run, for a thread that traces photons in order: moving to the next
-// photon costs one XOR per dimension (point i differs from point i − 1 by a
-// prefix of columns), where computing a point afresh costs one per set bit
-// of i. A cache only: the values are those of (seed, i) whichever photon
-// the cursor came from.
+// of one run, for a thread that traces photons in order: the K photons of
+// one point share its values (only their replicate's keys differ), and
+// moving to the next point costs one XOR per dimension (point j differs
+// from point j − 1 by a prefix of columns), where computing a point afresh
+// costs one per set bit of j. A cache only: the values are those of
+// (seed, i) whichever photon the cursor came from.
 class SobolCursor {
  public:
-  explicit SobolCursor(std::uint64_t seed) : seed_(seed) {}
+  SobolCursor(std::uint64_t seed, int replicates) : seed_(seed), replicates_(replicates) {}
 
   // Positioned at `photon`; returns itself.
   const SobolCursor& at(std::uint64_t photon) {
-    if (valid_ && photon == photon_ + 1 && static_cast<std::uint32_t>(photon) != 0) {
-      const int k = __builtin_ctz(static_cast<std::uint32_t>(photon));
-      const auto& row = sobol_detail::kPrefix[static_cast<std::size_t>(k)];
+    const auto k = static_cast<std::uint64_t>(replicates_);
+    const std::uint64_t point = photon / k;
+    if (valid_ && point == point_ + 1 && static_cast<std::uint32_t>(point) != 0) {
+      const int z = __builtin_ctz(static_cast<std::uint32_t>(point));
+      const auto& row = sobol_detail::kPrefix[static_cast<std::size_t>(z)];
       for (int d = 0; d < kSobolDimensions; ++d) values_[d] ^= row[static_cast<std::size_t>(d)];
-    } else if (!valid_ || photon != photon_) {
-      if (!valid_ || (photon >> 32) != (photon_ >> 32)) {
-        const std::uint64_t block = sobol_block_key(seed_, photon);
-        for (int d = 0; d < kSobolDimensions; ++d) keys_[d] = sobol_dimension_key(block, d);
+    } else if (!valid_ || point != point_) {
+      if (!valid_ || (point >> 32) != (point_ >> 32)) {
+        for (int r = 0; r < replicates_; ++r) {
+          const std::uint64_t block = sobol_block_key(seed_, r, point);
+          for (int d = 0; d < kSobolDimensions; ++d) keys_[r][d] = sobol_dimension_key(block, d);
+        }
       }
-      const auto index = static_cast<std::uint32_t>(photon);
+      const auto index = static_cast<std::uint32_t>(point);
       for (int d = 0; d < kSobolDimensions; ++d) {
         std::uint32_t x = 0;
         for (std::uint32_t i = index; i != 0; i &= i - 1) x ^= sobol_detail::kMatrices[d][__builtin_ctz(i)];
@@ -227,21 +245,26 @@ class SobolCursor {
       }
     }
     photon_ = photon;
+    point_ = point;
+    replicate_ = static_cast<int>(photon % k);
     valid_ = true;
     return *this;
   }
   std::uint64_t photon() const { return photon_; }
   // Dimension d's value, scrambled, as a 32-bit fraction.
   std::uint32_t value(int d) const {
-    return sobol_detail::reverse_bits(owen_scramble_reversed(values_[d], keys_[d]));
+    return sobol_detail::reverse_bits(owen_scramble_reversed(values_[d], keys_[replicate_][d]));
   }
 
  private:
   std::uint64_t seed_;
+  int replicates_;
   std::uint64_t photon_ = 0;
+  std::uint64_t point_ = 0;
+  int replicate_ = 0;
   bool valid_ = false;
   std::uint32_t values_[kSobolDimensions] = {};  // unscrambled, bit-reversed
-  std::uint32_t keys_[kSobolDimensions] = {};
+  std::uint32_t keys_[kMaxSobolReplicates][kSobolDimensions] = {};
 };
 
 }  // namespace gonio::sim

@@ -54,6 +54,10 @@ struct Simulation::Impl {
 
   std::vector<std::uint64_t> texel_photons;  // over all iterations
   std::vector<std::uint64_t> texel_units;    // power units, ledger.h
+  // Sobol' replicates (plain emission only): escapes per texel and
+  // replicate, texel · K + r, over all iterations; empty: none.
+  int replicates = 0;
+  std::vector<std::uint64_t> replicate_photons;
   // Spectral scenes only: X and Z over all iterations, kColourUnits per
   // photon of Y (sim/spectral.h).
   std::vector<std::uint64_t> texel_x;
@@ -78,6 +82,10 @@ struct Simulation::Impl {
       : scene(std::move(s)), settings(set), tracer(std::move(t)), arena(threads),
         tallies([this] {
           TracerTally tally = tracer.make_tally();
+          if (replicates == 0) {  // guided emission counts no replicates
+            tally.replicates = 0;
+            tally.replicate_photons.clear();
+          }
           tally.capture_below = settings.capture_escaped_photons;
           if (near_planes) {
             tally.near_planes = near_planes.get();
@@ -95,6 +103,10 @@ struct Simulation::Impl {
                   : nullptr),
         guide_tallies([this] { return guide->make_tally(); }) {
     if (guide) guide_iteration = guide->make_tally();
+    if (!guide && set.sampler == SamplerKind::Sobol && set.sobol_replicates > 1) {
+      replicates = set.sobol_replicates;
+      replicate_photons.assign(tracer.grid().texel_count() * static_cast<std::size_t>(replicates), 0);
+    }
     if (tracer.spectral()) {
       texel_x.assign(tracer.grid().texel_count(), 0);
       texel_z.assign(tracer.grid().texel_count(), 0);
@@ -128,6 +140,8 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
   if (static_cast<double>(settings.photons_per_iteration) * settings.iterations > 0x1.0p39)
     return make_error("at most 2^39 (5.5e11) photons per run");
   if (settings.threads < 0) return make_error("the thread count must be >= 0");
+  if (settings.sobol_replicates < 1 || settings.sobol_replicates > kMaxSobolReplicates)
+    return make_error("the Sobol' replicates must lie in 1..32");
   if (settings.importance.enabled && scene.spectral())
     return make_error("guided emission does not carry wavelengths yet: run a spectral model without it");
   if (settings.importance.enabled) {
@@ -140,6 +154,7 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
   TracerSettings ts;
   ts.max_bounces = settings.max_bounces;
   ts.sampler = settings.sampler;
+  ts.sobol_replicates = settings.sobol_replicates;
   ts.embree.robust = settings.robust_embree;
   ts.embree.quality = settings.bvh_quality.value_or(
       bvh_quality_for(scene.unique_triangle_count(), settings.photons_per_iteration *
@@ -216,7 +231,9 @@ std::uint64_t Simulation::Impl::add_iteration() {
   // threads and of ranks does not matter.
   const std::size_t texels = texel_photons.size();
   // Spectral: X and Z per texel follow the photon counts in the same vector.
-  const std::size_t words = texel_x.empty() ? texels : 3 * texels;
+  const std::size_t colour_words = texel_x.empty() ? texels : 3 * texels;
+  // Sobol' replicates' counts follow.
+  const std::size_t words = colour_words + replicate_photons.size();
   iteration.assign(words, 0);
   books_iteration.clear();
   NearFieldTally near_iteration;
@@ -224,12 +241,17 @@ std::uint64_t Simulation::Impl::add_iteration() {
   for (TracerTally& t : tallies) {
     if (near_planes) near_iteration.add(t.near_field);
     for (std::size_t i = 0; i < texels; ++i) iteration[i] += t.texel_photons[i];
-    if (words > texels)
+    if (colour_words > texels)
       for (std::size_t i = 0; i < texels; ++i) {
         iteration[texels + i] += t.texel_xz[2 * i];
         iteration[2 * texels + i] += t.texel_xz[2 * i + 1];
       }
     for (std::uint32_t texel : t.texel_wraps) iteration[texel] += 65536u;
+    if (!replicate_photons.empty()) {
+      std::uint64_t* rep = iteration.data() + colour_words;
+      for (std::size_t i = 0; i < t.replicate_photons.size(); ++i) rep[i] += t.replicate_photons[i];
+      for (std::uint32_t slot : t.replicate_wraps) rep[slot] += 65536u;
+    }
     books_iteration.add(t.ledger);
     t.clear();
     escaped_rays.insert(escaped_rays.end(), t.escaped.begin(), t.escaped.end());
@@ -268,11 +290,12 @@ std::uint64_t Simulation::Impl::add_iteration() {
     texel_photons[i] += iteration[i];
     texel_units[i] += iteration[i] * kPowerUnits;
   }
-  if (words > texels)
+  if (colour_words > texels)
     for (std::size_t i = 0; i < texels; ++i) {
       texel_x[i] += iteration[texels + i];
       texel_z[i] += iteration[2 * texels + i];
     }
+  for (std::size_t i = 0; i < replicate_photons.size(); ++i) replicate_photons[i] += iteration[colour_words + i];
   books.add(books_iteration);
   if (!guide) return 0;
   for (std::size_t i = 0; i < texels; ++i) texel_units[i] += guide_iteration.extra_units[i];
@@ -307,6 +330,26 @@ FarField Simulation::far_field() const {
     for (std::size_t i = 0; i < n; ++i) flux[i] = static_cast<double>(s.texel_units[i]) * per_unit;
   }
   return FarField(s.tracer.grid().face_size(), std::move(flux), s.texel_photons);
+}
+
+int Simulation::sobol_replicates() const { return impl_->replicates; }
+
+FarField Simulation::replicate_far_field(int replicate) const {
+  const Impl& s = *impl_;
+  GONIO_CHECK(replicate >= 0 && replicate < s.replicates);
+  const std::size_t n = s.texel_photons.size();
+  const auto k = static_cast<std::uint64_t>(s.replicates);
+  const auto r = static_cast<std::uint64_t>(replicate);
+  // Photons i < N with i mod K = r.
+  const std::uint64_t photons = s.stats.photons / k + (r < s.stats.photons % k ? 1 : 0);
+  std::vector<double> flux(n, 0.0);
+  std::vector<std::uint64_t> counts(n, 0);
+  const double per_photon = photons > 0 ? total_flux_lm() / static_cast<double>(photons) : 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    counts[i] = s.replicate_photons[i * k + r];
+    flux[i] = static_cast<double>(counts[i]) * per_photon;
+  }
+  return FarField(s.tracer.grid().face_size(), std::move(flux), std::move(counts));
 }
 
 ColourFarField Simulation::colour_far_field() const {

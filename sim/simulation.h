@@ -41,6 +41,10 @@ struct SimulationSettings {
   // Owen-scrambled Sobol' points; either gives the same bytes for any
   // thread count, iteration split or rank split.
   SamplerKind sampler = SamplerKind::Random;
+  // Sobol': photon i belongs to replicate i mod K, an independent scramble
+  // (sim/sampler.h), 1 … kMaxSobolReplicates; their spread gives the error
+  // estimate (tools/progressive_run.h). Part of what photon i draws.
+  int sobol_replicates = kSobolReplicates;
   int threads = 0;                                   // 0: every core
   int max_bounces = 100;                             // see TracerSettings
   int face_size = 128;  // texels per cube face edge: CubeMapGrid::face_size_for_step(2.5)
@@ -125,6 +129,13 @@ class Simulation {
   // their flux, each photon carrying total flux / photons emitted (guided
   // emission: total flux × its power units / all power units emitted).
   FarField far_field() const;
+  // Sobol' replicates counted (plain emission under the Sobol' sampler with
+  // K > 1 replicates: K; 0 otherwise).
+  int sobol_replicates() const;
+  // The far field of replicate r's photons alone (i mod K = r), each
+  // carrying total flux / that replicate's photons: an independent estimate
+  // of the same far field (0 ≤ r < sobol_replicates()).
+  FarField replicate_far_field(int replicate) const;
   // The escapes kept (SimulationSettings::capture_escaped_photons), by
   // photon index: the same whatever the threads.
   const std::vector<EscapedRay>& escaped_rays() const;

@@ -90,6 +90,8 @@ std::uint64_t TracerTally::photons(std::size_t texel) const {
 void TracerTally::clear() {
   std::fill(texel_photons.begin(), texel_photons.end(), std::uint16_t{0});
   texel_wraps.clear();
+  std::fill(replicate_photons.begin(), replicate_photons.end(), std::uint16_t{0});
+  replicate_wraps.clear();
   std::fill(texel_xz.begin(), texel_xz.end(), std::uint64_t{0});
   ledger.clear();
   near_field.clear();
@@ -176,6 +178,10 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
 TracerTally Tracer::make_tally() const {
   TracerTally t;
   t.texel_photons.assign(grid_.texel_count(), std::uint16_t{0});
+  if (settings_.sampler == SamplerKind::Sobol && settings_.sobol_replicates > 1) {
+    t.replicates = settings_.sobol_replicates;
+    t.replicate_photons.assign(grid_.texel_count() * static_cast<std::size_t>(t.replicates), std::uint16_t{0});
+  }
   if (wavelengths_) {
     t.texel_xz.assign(2 * grid_.texel_count(), std::uint64_t{0});
   }
@@ -297,7 +303,7 @@ void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t 
                          std::vector<RayQuery>* rays) const {
   FloatModeGuard float_mode;
   std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
-  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed);
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed, settings_.sobol_replicates);
   for (std::uint64_t i = first; i < first + count; ++i) {
     PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
@@ -317,15 +323,19 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
   std::uint32_t pending = kNone;
   std::uint64_t pending_x = 0, pending_z = 0;  // spectral: the pending escape's X and Z units
   const bool spectral = wavelengths_ != nullptr;
+  // Sobol' replicates: the pending escape's slot texel · K + r as well.
+  const auto replicates = static_cast<std::uint64_t>(tally.replicates);
+  std::uint32_t pending_slot = 0;
   auto count_escape = [&](std::uint32_t texel) {
     if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
+    if (replicates > 0 && ++tally.replicate_photons[pending_slot] == 0) tally.replicate_wraps.push_back(pending_slot);
     if (spectral) {
       tally.texel_xz[2 * static_cast<std::size_t>(texel)] += pending_x;
       tally.texel_xz[2 * static_cast<std::size_t>(texel) + 1] += pending_z;
     }
   };
   std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
-  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed);
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed, settings_.sobol_replicates);
   for (std::uint64_t i = first; i < first + count; ++i) {
     PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
     const EmittedPhoton e = emission_.sample(rng);
@@ -341,6 +351,10 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         __builtin_prefetch(&tally.texel_photons[texel], 1);
         if (pending != kNone) count_escape(pending);
         pending = texel;
+        if (replicates > 0) {
+          pending_slot = static_cast<std::uint32_t>(texel * replicates + i % replicates);
+          __builtin_prefetch(&tally.replicate_photons[pending_slot], 1);
+        }
         eb.escaped.add(r.power_units);
         if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
         if (spectral) {
@@ -370,7 +384,7 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
   FloatModeGuard float_mode;
   LedgerTally& books = tally.ledger;
   std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
-  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed);
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed, settings_.sobol_replicates);
   for (std::uint64_t i = first; i < first + count; ++i) {
     PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
     const EmittedPhoton e = emission_.sample(rng);

@@ -43,6 +43,10 @@ struct TracerSettings {
   int max_bounces = 100;
   // What photon i's numbers come from (sim/sampler.h).
   SamplerKind sampler = SamplerKind::Random;
+  // Sobol': interleaved independent scrambles (replicates, sim/sampler.h),
+  // 1 … kMaxSobolReplicates; with more than one, plain tracing also counts
+  // escapes per replicate (TracerTally::replicate_photons).
+  int sobol_replicates = kSobolReplicates;
   EmbreeSceneOptions embree;
 };
 
@@ -87,6 +91,12 @@ struct TracerTally {
   // t at 2t, Z at 2t + 1: one cache line per escape).
   std::vector<std::uint64_t> texel_xz;
   std::uint64_t photons(std::size_t texel) const;  // for tests: the full count (slow)
+  // Sobol' with K = `replicates` > 1, plain tracing (trace_photons): escapes
+  // per texel and replicate at texel · K + r, mod 65536, wraps as above (the
+  // slot's index); empty (replicates 0) otherwise.
+  int replicates = 0;
+  std::vector<std::uint16_t> replicate_photons;
+  std::vector<std::uint32_t> replicate_wraps;
   LedgerTally ledger;
   // Escapes of photons with a run-wide index below capture_below, kept
   // (EscapedRay); clear() leaves them.

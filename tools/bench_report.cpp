@@ -211,7 +211,7 @@ std::string format_value(double v, int precision) {
 std::string series_csv(const std::vector<SeriesResult>& series) {
   std::ostringstream s;
   s << "series,iteration,photons,photons_traced,trace_s,filter_s,time_s,cube_rmse,cube_psnr_db,"
-       "cube_snr_db,cube_raw_mse,table_rms_pct,table_raw_rms_pct,table_max_pct,flux_pct\n";
+       "cube_snr_db,cube_raw_mse,table_rms_pct,table_raw_rms_pct,table_max_pct,flux_pct,estimated_rms_pct\n";
   for (const SeriesResult& r : series) {
     for (const SeriesPoint& p : r.points) {
       s << r.spec.name << ',' << p.iteration << ',' << p.photons << ',' << p.photons_traced << ','
@@ -220,7 +220,7 @@ std::string series_csv(const std::vector<SeriesResult>& series) {
         << csv_number(p.cube.psnr_db) << ',' << csv_number(p.cube.snr_db) << ','
         << csv_number(p.cube.raw_mse) << ',' << csv_number(p.table.rms_pct) << ','
         << csv_number(p.table.raw_rms_pct) << ',' << csv_number(p.table.max_pct) << ','
-        << csv_number(p.table.flux_pct) << '\n';
+        << csv_number(p.table.flux_pct) << ',' << csv_number(p.estimated_rms_pct) << '\n';
     }
   }
   return s.str();

@@ -1,10 +1,12 @@
 #include "tools/bench_series.h"
 
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <optional>
 
 #include "sim/simulation.h"
+#include "tools/progressive_run.h"
 
 namespace gonio::cli {
 namespace {
@@ -102,6 +104,7 @@ Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const 
     s.iterations = 1;
     s.seed = settings.seed;
     s.sampler = sampler;
+    s.sobol_replicates = settings.sobol_replicates;
     s.threads = settings.threads;
     s.max_bounces = settings.max_bounces;
     s.face_size = settings.face_size;
@@ -125,6 +128,9 @@ Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const 
       const sim::SimulationStats st = sim.stats();
       const sim::FarField field = sim.far_field();
       const std::vector<double> raw = sim::texel_intensities(field);
+      double estimated = std::numeric_limits<double>::quiet_NaN();
+      for (std::size_t i : mine)
+        if (!specs[i].filtered) estimated = estimated_rms_error_pct(sim, reference.resampler());
       for (std::size_t i : mine) {
         std::span<const double> map = raw;
         if (specs[i].filtered) {
@@ -143,6 +149,7 @@ Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const 
         p.time_s = p.trace_s + p.filter_s;
         p.cube = reference.cube_map_error(map);
         p.table = reference.table_error(map);
+        p.estimated_rms_pct = specs[i].filtered ? std::numeric_limits<double>::quiet_NaN() : estimated;
         results[i].points.push_back(p);
       }
       if (progress)

@@ -47,6 +47,7 @@ struct BenchSettings {
   // Sobol' raw and adaptive series are added to pseudo-random ones.
   sim::SamplerKind sampler = sim::SamplerKind::Random;
   bool compare_samplers = false;
+  int sobol_replicates = sim::kSobolReplicates;          // of the Sobol' runs (sim/sampler.h)
   sim::ImportanceSettings importance_settings{true};    // for them
   double target_pct = 1.0;                              // candela RMS error to time [%]
   double cube_target = 0.1;                             // cube-map RMSE to time [1]
@@ -81,6 +82,11 @@ struct SeriesPoint {
   double time_s = 0.0;               // trace_s + filter_s [s]
   sim::CubeMapError cube;
   sim::TableError table;
+  // The run's own estimate of its candela RMS error (tools/progressive_run.h:
+  // count-based, or from the Sobol' replicates) [%]: raw series only (NaN
+  // for filtered ones, and where nothing escaped); against table.rms_pct it
+  // checks the estimate --target-error stops by.
+  double estimated_rms_pct = 0.0;
 };
 
 struct SeriesResult {

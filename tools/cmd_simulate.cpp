@@ -2,7 +2,7 @@
 // files light-planning programs and renderers read.
 //
 //   gonio simulate MODEL --out DIR [--photons N] [--iterations K] [--seed S]
-//                  [--sampler random|sobol] [--threads T] [--max-bounces B] [--face-size F]
+//                  [--sampler sobol|random] [--threads T] [--max-bounces B] [--face-size F]
 //                  [--c-step DEG] [--gamma-step DEG] [--symmetry S]
 //                  [--format LIST] [--ies-version 2002|2019] [--name STEM]
 //                  [--min-lor X] [--flux-tolerance X] [--target-error PCT]
@@ -136,9 +136,10 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
   p.option("photons", &o->photons, 1, 4'294'967'295LL, "N", "photons per iteration (default 1000000)");
   p.option("iterations", &o->iterations, 1, 1'000'000, "K", "iterations (default 10): K·N photons in all");
   p.option("seed", &o->seed, 0, 9'223'372'036'854'775'807LL, "S", "random seed (default 1)");
-  p.choice("sampler", &o->sampler, {"random", "sobol"},
-           "where photons' numbers come from: random (default: pseudo-random) or sobol (Owen-scrambled\n"
-           "Sobol' points, scrambled by the seed); either gives the same bytes for any threads or split");
+  p.choice("sampler", &o->sampler, {"sobol", "random"},
+           "where photons' numbers come from: sobol (default: Owen-scrambled Sobol' points in four "
+           "independent scrambles keyed by the seed, whose spread gives the error estimate) or random "
+           "(pseudo-random); either gives the same bytes for any threads or split");
   p.option("threads", &o->threads, 0, 4096, "T", "threads (default 0: every core)");
   p.option("max-bounces", &o->max_bounces, 0, 1'000'000, "B",
            "surface interactions before a photon is cut off (default 100)");
@@ -280,7 +281,7 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   settings.photons_per_iteration = static_cast<std::uint64_t>(photons);
   settings.iterations = static_cast<int>(iterations);
   settings.seed = static_cast<std::uint64_t>(seed);
-  settings.sampler = sim::parse_sampler(o.sampler).value_or(sim::SamplerKind::Random);
+  settings.sampler = sim::parse_sampler(o.sampler).value_or(sim::SamplerKind::Sobol);
   settings.threads = static_cast<int>(threads);
   settings.capture_escaped_photons = tm25 ? static_cast<std::uint64_t>(o.tm25_rays) : 0;
   settings.near_field_distances_m = near_field_m;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include "sim/convergence.h"
 
@@ -24,6 +25,48 @@ double estimated_rms_error_pct(const sim::FarField& field, const sim::Resampler&
   auto self = sim::ConvergenceReference::create(field, borrowed(resampler));
   if (!self.ok()) return kNaN;
   return self->table_noise_pct();
+}
+
+double replicate_rms_error_pct(const sim::FarField& whole, std::span<const sim::FarField> replicates,
+                               const sim::Resampler& resampler) {
+  GONIO_CHECK(replicates.size() >= 2);
+  std::vector<sim::BinnedField> tables;
+  tables.reserve(replicates.size());
+  for (const sim::FarField& f : replicates) tables.push_back(resampler.bin(f));
+  return replicate_table_error_pct(resampler.bin(whole), tables);
+}
+
+double replicate_table_error_pct(const sim::BinnedField& table, std::span<const sim::BinnedField> tables) {
+  GONIO_CHECK(tables.size() >= 2);
+  const std::size_t bins = table.flux_lm.size();
+  const auto k = static_cast<double>(tables.size());
+  double peak_cd = 0.0, weighted = 0.0, solid_angle = 0.0;
+  for (std::size_t b = 0; b < bins; ++b) {
+    const double omega = table.solid_angle_sr[b];
+    if (!(omega > 0.0)) continue;
+    peak_cd = std::max(peak_cd, table.intensity_cd(b));
+    double m = 0.0;
+    for (const sim::BinnedField& t : tables) m += t.flux_lm[b];
+    m /= k;
+    double ss = 0.0;
+    for (const sim::BinnedField& t : tables) ss += (t.flux_lm[b] - m) * (t.flux_lm[b] - m);
+    // Var of the mean intensity: s² / K, s² = ss / (K − 1), in cd² (÷ Ω²).
+    weighted += omega * ss / (k - 1.0) / k / (omega * omega);
+    solid_angle += omega;
+  }
+  if (!(peak_cd > 0.0)) return kNaN;
+  return 100.0 * std::sqrt(weighted / solid_angle) / peak_cd;
+}
+
+double estimated_rms_error_pct(const sim::Simulation& simulation, const sim::Resampler& resampler) {
+  const int k = simulation.sobol_replicates();
+  if (k < 2 || simulation.stats().photons < static_cast<std::uint64_t>(k))
+    return estimated_rms_error_pct(simulation.far_field(), resampler);
+  // One replicate's far field at a time: K tables, not K cube maps.
+  std::vector<sim::BinnedField> tables;
+  tables.reserve(static_cast<std::size_t>(k));
+  for (int r = 0; r < k; ++r) tables.push_back(resampler.bin(simulation.replicate_far_field(r)));
+  return replicate_table_error_pct(resampler.bin(simulation.far_field()), tables);
 }
 
 const char* to_string(StopReason reason) {
@@ -75,7 +118,7 @@ Result<ProgressiveOutcome> run_progressive(sim::SceneDesc scene, const Progressi
     r.progress.photons_total = total;
     r.progress.elapsed_s = st.trace_s;
     r.progress.photons_per_s = st.photons_per_s();
-    if (resampler) out.estimated_rms_error_pct = estimated_rms_error_pct(s.far_field(), *resampler);
+    if (resampler) out.estimated_rms_error_pct = estimated_rms_error_pct(s, *resampler);
     r.estimated_rms_error_pct = out.estimated_rms_error_pct;
     // Photons still to trace: the rest of the plan, or fewer where the
     // estimate (∝ 1/√photons) reaches the target sooner.

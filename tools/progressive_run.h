@@ -16,18 +16,32 @@
 // time left. A run without escaped flux has no estimate (NaN): it never stops
 // by target error.
 //
-// Under the Sobol' sampler (sim/sampler.h) the same count-based estimate is
-// given. It assumes independent photons, and scrambled Sobol' points are
-// better spread than that, so it over-states their error (README, Measured
-// figures: 1.3–4× at 2²⁰ photons on the samples): --target-error stops where
-// the pseudo-random sampler would, with a smaller error than the target.
-// An estimate from independent scrambles is not made yet.
+// Under the Sobol' sampler (sim/sampler.h) photons are not independent:
+// scrambled Sobol' points are better spread than that, and the count-based
+// estimate over-states their error (1.3–4× at 2²⁰ photons on the samples).
+// There the estimate comes from the run's K replicates (photon i belongs to
+// replicate i mod K, an independent scramble; sim::Simulation::
+// replicate_far_field): each replicate's far field, binned into the same
+// table, is an independent unbiased estimate I_{r,b}, and the run's table is
+// (for N a multiple of K exactly) their mean, whose variance per bin is
+// estimated without bias by s_b² / K, s_b² = Σ_r (I_{r,b} − Ī_b)² / (K − 1):
+//   estimated_rms_error_pct = 100 · √(Σ Ω_b s_b² / K / Σ Ω_b) / max_b I_b
+// The bracket is an unbiased estimate of the mean squared error (no
+// small-K factor is needed for it: s² is unbiased for any K ≥ 2; a
+// Student-t factor would be for a confidence interval of one bin, not for
+// the mean square over thousands of bins, whose sum has many more degrees
+// of freedom). The error of a randomised QMC estimate falls faster than
+// 1/√photons, so the photons still needed for a target are over-stated by
+// the 1/√photons rule: the run just reaches the target sooner than planned.
+// Guided emission (unequal photon power) and runs with K = 1 have no
+// replicates: they keep the count-based estimate.
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 
 #include "photometry/diagnostics.h"
 #include "sim/far_field.h"
@@ -37,9 +51,21 @@
 
 namespace gonio::cli {
 
-// The estimate above for a far field of plain emission on the resampler's
-// grid [%]; NaN where nothing escaped.
+// The count-based estimate above for a far field of plain emission on the
+// resampler's grid [%]; NaN where nothing escaped.
 double estimated_rms_error_pct(const sim::FarField& field, const sim::Resampler& resampler);
+// The replicates' estimate above: `whole` the run's far field (its table's
+// peak), `replicates` (≥ 2) the replicates' far fields [%]; NaN where
+// nothing escaped.
+double replicate_rms_error_pct(const sim::FarField& whole, std::span<const sim::FarField> replicates,
+                               const sim::Resampler& resampler);
+// The same from the tables already binned: the run's and the replicates'
+// (≥ 2, same grid).
+double replicate_table_error_pct(const sim::BinnedField& table, std::span<const sim::BinnedField> tables);
+// The estimate of a simulation: from its replicates where it has them
+// (sim::Simulation::sobol_replicates() ≥ 2, at least one photon each),
+// count-based otherwise [%]; NaN where nothing escaped.
+double estimated_rms_error_pct(const sim::Simulation& simulation, const sim::Resampler& resampler);
 
 struct ProgressiveSettings {
   sim::SimulationSettings simulation;  // photons per iteration, iterations (at most), seed, …

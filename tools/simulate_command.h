@@ -34,7 +34,7 @@ struct SimulateOptions {
   std::string bvh_quality = "auto";  // --bvh-quality
   long long tm25_rays = 1'000'000;   // --tm25-rays N: the ray file's photons
   std::string near_field;            // --near-field D1,D2,… [m]; empty: none
-  std::string sampler = "random";    // --sampler (sim/sampler.h)
+  std::string sampler = "sobol";     // --sampler (sim/sampler.h)
   std::string cache_dir;  // --cache DIR (the model checks' results, the outputs' resamplers)
   bool no_cache = false;  // --no-cache
   long long cache_limit_mb = io::kDefaultCacheLimitBytes >> 20;  // --cache-limit MB; 0: none

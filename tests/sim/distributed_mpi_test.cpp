@@ -41,6 +41,13 @@ void expect_identical(const Simulation& job, const Simulation& alone) {
   ASSERT_EQ(a.texel_count(), b.texel_count());
   EXPECT_EQ(std::memcmp(a.flux_lm().data(), b.flux_lm().data(), a.texel_count() * sizeof(double)), 0);
   EXPECT_EQ(std::memcmp(a.photons().data(), b.photons().data(), a.texel_count() * sizeof(std::uint64_t)), 0);
+  // Sobol' replicates (the error estimate's): summed across the ranks too.
+  ASSERT_EQ(job.sobol_replicates(), alone.sobol_replicates());
+  for (int r = 0; r < job.sobol_replicates(); ++r) {
+    const FarField ra = job.replicate_far_field(r), rb = alone.replicate_far_field(r);
+    EXPECT_EQ(std::memcmp(ra.photons().data(), rb.photons().data(), ra.texel_count() * sizeof(std::uint64_t)), 0)
+        << "replicate " << r;
+  }
   const Ledger la = job.ledger(), lb = alone.ledger();
   EXPECT_EQ(la.emitted.photons, lb.emitted.photons);
   EXPECT_EQ(la.escaped.photons, lb.escaped.photons);
@@ -135,9 +142,9 @@ TEST(DistributedSimulation, UnevenIterationsAndRanksWithoutChunks) {
   expect_shares_add_up(job.value());
 }
 
-// The Sobol' sampler (sim/sampler.h): photon i is point i of the seed's
-// scramble whichever rank and thread traces it — plain and guided, even and
-// uneven iterations.
+// The Sobol' sampler (sim/sampler.h): photon i is point ⌊i/K⌋ of replicate
+// i mod K's scramble whichever rank and thread traces it — plain and guided,
+// even and uneven iterations, the replicates' far fields as well.
 TEST(DistributedSimulation, SobolSamplerGivesTheBytesOfOneProcess) {
   const SceneDesc scene = test_scenes::mixed_scene();
   for (int threads : {1, 2}) {
@@ -151,6 +158,7 @@ TEST(DistributedSimulation, SobolSamplerGivesTheBytesOfOneProcess) {
       if (!alone.ok() || !job.ok()) continue;
       expect_identical(job.value(), alone.value());
       expect_shares_add_up(job.value());
+      EXPECT_EQ(job->sobol_replicates(), guided ? 0 : kSobolReplicates);
     }
   }
   SimulationSettings s = settings(2, 1, 1, false);

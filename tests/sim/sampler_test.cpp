@@ -113,29 +113,65 @@ TEST(PhotonRandom, SobolDrawsDependOnSeedAndPhotonAloneThenPad) {
   for (int k = 0; k < 10; ++k) EXPECT_EQ(e.next_u64(), f.next_u64());
 }
 
-TEST(PhotonRandom, SobolPhotonsOfOneSeedStratifyEachDimension) {
-  // Photons 0 … 2^12 − 1 of one seed: each of the first dimensions takes
-  // one value in each interval of 2^−12, whatever was drawn before it.
+TEST(PhotonRandom, SobolPhotonsOfOneReplicateStratifyEachDimension) {
+  // Photons r, r + K, …, r + (2^12 − 1)·K of one seed (replicate r: points
+  // 0 … 2^12 − 1 of its scramble): each of the first dimensions takes one
+  // value in each interval of 2^−12, whatever was drawn before it.
   const int m = 12;
-  for (int d = 0; d < 6; ++d) {
+  const auto k = static_cast<std::uint64_t>(kSobolReplicates);
+  for (std::uint64_t r : {std::uint64_t{0}, k - 1}) {
+    for (int d = 0; d < 6; ++d) {
+      std::set<int> cells;
+      for (std::uint64_t j = 0; j < (1u << m); ++j) {
+        PhotonRandom p(3, r + k * j, SamplerKind::Sobol);
+        for (int q = 0; q < d; ++q) p.uniform();
+        cells.insert(static_cast<int>(p.uniform() * (1 << m)));
+      }
+      EXPECT_EQ(cells.size(), 1u << m) << "replicate " << r << ", dim " << d;
+    }
+  }
+  // Photons of one point in different replicates are scrambled apart (they
+  // are independent); points beyond 2³² start a block with keys of their own.
+  PhotonRandom first(3, 0, SamplerKind::Sobol), second(3, 1, SamplerKind::Sobol);
+  EXPECT_NE(first.uniform(), second.uniform());
+  PhotonRandom low(3, 5, SamplerKind::Sobol), high(3, (k << 32) + 5, SamplerKind::Sobol);
+  EXPECT_NE(low.uniform(), high.uniform());
+  // One replicate (K = 1): photon i is point i.
+  for (int d = 0; d < 3; ++d) {
     std::set<int> cells;
     for (std::uint64_t i = 0; i < (1u << m); ++i) {
-      PhotonRandom r(3, i, SamplerKind::Sobol);
-      for (int k = 0; k < d; ++k) r.uniform();
-      cells.insert(static_cast<int>(r.uniform() * (1 << m)));
+      PhotonRandom p(3, i, SamplerKind::Sobol, 1);
+      for (int q = 0; q < d; ++q) p.uniform();
+      cells.insert(static_cast<int>(p.uniform() * (1 << m)));
     }
-    EXPECT_EQ(cells.size(), 1u << m) << "dim " << d;
+    EXPECT_EQ(cells.size(), 1u << m) << "K = 1, dim " << d;
   }
-  // Photons beyond 2³² start a block with keys of their own.
-  PhotonRandom low(3, 5, SamplerKind::Sobol), high(3, (std::uint64_t{1} << 32) + 5, SamplerKind::Sobol);
-  EXPECT_NE(low.uniform(), high.uniform());
+}
+
+TEST(PhotonRandom, ReplicatesAreIndependentScramblesOfOnePointSet) {
+  // Replicates share the Sobol' points but not the scramble: over many
+  // seeds, two replicates' draws of one point are uncorrelated, as
+  // independent uniforms are, and each stays uniform.
+  const int seeds = 20000;
+  double sab = 0.0, sa = 0.0, sb = 0.0;
+  for (int s = 0; s < seeds; ++s) {
+    const double a = PhotonRandom(static_cast<std::uint64_t>(s), 8 * 40, SamplerKind::Sobol, 8).uniform();
+    const double b = PhotonRandom(static_cast<std::uint64_t>(s), 8 * 40 + 3, SamplerKind::Sobol, 8).uniform();
+    sa += a;
+    sb += b;
+    sab += a * b;
+  }
+  const double cov = sab / seeds - (sa / seeds) * (sb / seeds);
+  EXPECT_NEAR(cov / (1.0 / 12.0), 0.0, 5.0 / std::sqrt(seeds));
+  EXPECT_NEAR(sa / seeds, 0.5, 5.0 * std::sqrt(1.0 / 12.0 / seeds));
 }
 
 TEST(PhotonRandom, ACursorGivesThePhotonsOwnNumbers) {
   // The tracer's cursor (photons in order, one XOR per dimension each) gives
-  // what (seed, i) gives alone: in order, after jumps, across the 2³² block.
-  SobolCursor cursor(21);
-  const std::uint64_t block = std::uint64_t{1} << 32;
+  // what (seed, i) gives alone: in order, after jumps, across the 2³² block
+  // of points (photon K · 2³²).
+  SobolCursor cursor(21, kSobolReplicates);
+  const std::uint64_t block = static_cast<std::uint64_t>(kSobolReplicates) << 32;
   std::vector<std::uint64_t> photons;
   for (std::uint64_t i = 0; i < 300; ++i) photons.push_back(i);
   for (std::uint64_t i : {std::uint64_t{4096}, std::uint64_t{77}, std::uint64_t{78}, block - 2, block - 1, block,
@@ -144,6 +180,12 @@ TEST(PhotonRandom, ACursorGivesThePhotonsOwnNumbers) {
   for (std::uint64_t i : photons) {
     PhotonRandom direct(21, i, SamplerKind::Sobol), cached(21, cursor.at(i));
     for (int k = 0; k < kSobolDimensions + 3; ++k) ASSERT_EQ(direct.uniform(), cached.uniform()) << i << ", " << k;
+  }
+  // Another replicate count, photons in order across points.
+  SobolCursor three(21, 3);
+  for (std::uint64_t i = 0; i < 100; ++i) {
+    PhotonRandom direct(21, i, SamplerKind::Sobol, 3), cached(21, three.at(i));
+    for (int k = 0; k < kSobolDimensions; ++k) ASSERT_EQ(direct.uniform(), cached.uniform()) << i << ", " << k;
   }
 }
 

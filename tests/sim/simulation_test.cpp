@@ -28,6 +28,14 @@ void expect_identical(const Simulation& a, const Simulation& b) {
   EXPECT_EQ(std::memcmp(fa.flux_lm().data(), fb.flux_lm().data(), fa.texel_count() * sizeof(double)), 0);
   EXPECT_EQ(std::memcmp(fa.photons().data(), fb.photons().data(),
                         fa.texel_count() * sizeof(std::uint64_t)), 0);
+  ASSERT_EQ(a.sobol_replicates(), b.sobol_replicates());
+  for (int r = 0; r < a.sobol_replicates(); ++r) {
+    const FarField ra = a.replicate_far_field(r), rb = b.replicate_far_field(r);
+    EXPECT_EQ(std::memcmp(ra.photons().data(), rb.photons().data(), ra.texel_count() * sizeof(std::uint64_t)), 0)
+        << "replicate " << r;
+    EXPECT_EQ(std::memcmp(ra.flux_lm().data(), rb.flux_lm().data(), ra.texel_count() * sizeof(double)), 0)
+        << "replicate " << r;
+  }
   const Ledger la = a.ledger(), lb = b.ledger();
   EXPECT_EQ(la.escaped.photons, lb.escaped.photons);
   EXPECT_EQ(std::memcmp(&la.escaped.flux_lm, &lb.escaped.flux_lm, sizeof(double)), 0);
@@ -60,7 +68,8 @@ TEST(Simulation, SameBytesWithOneOrTwoThreadsAndAnySplit) {
 }
 
 TEST(Simulation, SobolSamplerGivesTheSameBytesForAnyThreadsAndSplit) {
-  // Photon i is Sobol' point i (sim/sampler.h): no state crosses photons.
+  // Photon i is Sobol' point ⌊i/K⌋ of replicate i mod K (sim/sampler.h): no
+  // state crosses photons; the replicates' far fields are the same bytes too.
   const SceneDesc scene = mixed_scene();
   auto with = [](int threads, std::uint64_t per_iteration, int iterations) {
     SimulationSettings s = settings(threads, per_iteration, iterations);
@@ -87,6 +96,30 @@ TEST(Simulation, SobolSamplerGivesTheSameBytesForAnyThreadsAndSplit) {
   EXPECT_NE(random->ledger().escaped.photons, one->ledger().escaped.photons);
   EXPECT_TRUE(one->ledger().photons_close());
   EXPECT_EQ(one->ledger().emitted.photons, 60000u);
+  // The replicates split the photons: their counts add up to the far
+  // field's, texel by texel, and each carries the flux of its own photons.
+  EXPECT_EQ(random->sobol_replicates(), 0);
+  ASSERT_EQ(one->sobol_replicates(), kSobolReplicates);
+  const FarField all = one->far_field();
+  std::vector<std::uint64_t> sum(all.texel_count(), 0);
+  double flux = 0.0;
+  for (int r = 0; r < kSobolReplicates; ++r) {
+    const FarField f = one->replicate_far_field(r);
+    for (std::size_t t = 0; t < f.texel_count(); ++t) sum[t] += f.photons(t);
+    flux += f.total_flux_lm();
+  }
+  EXPECT_EQ(std::memcmp(sum.data(), all.photons().data(), sum.size() * sizeof(std::uint64_t)), 0);
+  // 60000 = 8 · 7500: equal shares, so the replicates' mean flux is the field's.
+  EXPECT_NEAR(flux / kSobolReplicates, all.total_flux_lm(), 1e-9 * all.total_flux_lm());
+  // One replicate: no replicates counted, photon i is point i.
+  SimulationSettings single = with(2, 60000, 1);
+  single.sobol_replicates = 1;
+  auto k1 = simulate(scene, single);
+  ASSERT_TRUE(k1.ok());
+  EXPECT_EQ(k1->sobol_replicates(), 0);
+  EXPECT_NE(k1->ledger().escaped.photons, one->ledger().escaped.photons);
+  single.sobol_replicates = kMaxSobolReplicates + 1;
+  EXPECT_FALSE(Simulation::create(scene, single).ok());
 }
 
 TEST(Simulation, LedgerClosesAndTheFarFieldHoldsTheEscapedFlux) {

@@ -73,6 +73,18 @@ TEST(CmdBench, WritesSeriesChartsAndReusesItsReference) {
     EXPECT_EQ(column(csv, s, "photons").size(), 9u) << s;
   // Guided emission traces fewer photons than it draws.
   EXPECT_LT(std::stoull(column(csv, "guided", "photons_traced").back()), 65536u);
+  // The run's own error estimate beside the measured error: raw series
+  // only (pseudo-random count-based, Sobol' from its replicates), within
+  // a factor 1.5 of the measured error at the last iteration (README,
+  // Measured figures: 0.9–1.0 on the samples at 2²⁰ photons).
+  for (const char* s : {"raw", "sobol"}) {
+    const std::string estimated = column(csv, s, "estimated_rms_pct").back();
+    ASSERT_FALSE(estimated.empty()) << s;
+    const double ratio = std::stod(estimated) / std::stod(column(csv, s, "table_rms_pct").back());
+    EXPECT_GT(ratio, 1.0 / 1.5) << s;
+    EXPECT_LT(ratio, 1.5) << s;
+  }
+  EXPECT_TRUE(column(csv, "adaptive", "estimated_rms_pct").back().empty());
 
   const nlohmann::json j = nlohmann::json::parse(test::read_file(dir / "bench.json"));
   EXPECT_EQ(j["reference"]["reused"], false);
