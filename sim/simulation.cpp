@@ -34,6 +34,8 @@ void each_count(LedgerTally& t, F&& f) {
     }
   }
   f(t.rays);
+  for (auto* values : {&t.bins.emitted, &t.bins.escaped, &t.bins.absorbed, &t.bins.cutoff})
+    for (std::uint64_t& v : *values) f(v);
 }
 
 template <class F>
@@ -87,9 +89,9 @@ struct Simulation::Impl {
         }),
         texel_photons(tracer.grid().texel_count(), 0),
         texel_units(tracer.grid().texel_count(), 0),
-        books(tracer.emitter_count(), tracer.mesh_count()),
+        books(tracer.emitter_count(), tracer.mesh_count(), tracer.radiant_bin_count()),
         ranks(set.ranks),
-        books_iteration(tracer.emitter_count(), tracer.mesh_count()),
+        books_iteration(tracer.emitter_count(), tracer.mesh_count(), tracer.radiant_bin_count()),
         guide(set.importance.enabled
                   ? std::make_unique<EmissionGuide>(set.importance, set.face_size)
                   : nullptr),
@@ -342,7 +344,9 @@ std::vector<NearFieldPlane> Simulation::near_field() const {
   return sim::near_field_planes(*s.near_planes, s.near_sum, per_unit);
 }
 
-Ledger Simulation::ledger() const { return make_ledger(impl_->books, impl_->scene, total_flux_lm()); }
+Ledger Simulation::ledger() const {
+  return make_ledger(impl_->books, impl_->scene, total_flux_lm(), impl_->tracer.wavelengths());
+}
 
 Result<Simulation> simulate(
     SceneDesc scene, const SimulationSettings& settings,

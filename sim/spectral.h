@@ -96,15 +96,50 @@ class WavelengthSampler {
   const std::array<std::uint64_t, kWavelengthCount>& x_units() const { return x_units_; }
   const std::array<std::uint64_t, kWavelengthCount>& z_units() const { return z_units_; }
 
+  // The radiant books (sim/ledger.h). Method: bins of integer power units.
+  // Bins 0 … kWavelengthCount − 1 are the drawn wavelengths; the following
+  // ones the emitters' spectrum tables (one per over_gamma entry). Every
+  // photon's power goes to the table bins of its emitter at its γ (between
+  // two entries split in integers in the proportion of the interpolation):
+  // their watts are exact, S(λ_k) / (Km Σ S ȳ) W per lm in band k — the
+  // spectrum's own radiant/luminous ratio (CIE 15 5 nm sums over 360–830 nm,
+  // Km = photometry::kKm_lm_per_W). A photon never drawn also books its fate
+  // there (its path did not depend on λ). A drawn one books its fate in its
+  // wavelength's bin; the radiant power that drawn photons emitted in band k
+  // (exact, from their tables) then ends as the drawn photons of band k did
+  // (a ratio estimator stratified by wavelength; a band with fewer than
+  // 256 photons drawn is pooled with its neighbours up to 256, as
+  // material spectra hold their end values: consistent, and exact where
+  // the fates do not depend on λ). Weighting each drawn photon by 1/ȳ(λ) instead would
+  // be unbiased but useless: photons are drawn ∝ S ȳ, so the far red and
+  // violet, which carry a fifth of a 3000 K lamp's watts, are almost never
+  // drawn (measured: 23 % low at 8·10⁴ photons).
+  std::size_t bin_count() const { return kWavelengthCount + table_count_; }
+  struct BinShare {
+    std::uint32_t bin[2] = {0, 0};
+    std::uint64_t units[2] = {0, 0};  // units[0] + units[1] = the photon's power units
+  };
+  // The table bins of a photon's emitter at its γ (its wavelength, drawn or
+  // not, does not matter).
+  BinShare bins(const PhotonColour& colour, std::uint64_t power_units) const;
+  // Radiant power per lumen of a bin in each 5 nm band k [W/lm] (their sum:
+  // the bin's W per lm).
+  const std::array<double, kWavelengthCount>& radiant_per_lm(std::size_t bin) const {
+    return bin_radiant_[bin];
+  }
+
  private:
   struct Table {
     double gamma_rad;
     std::array<double, kWavelengthCount> cdf;  // cumulative, last = 1
     double x_per_y, z_per_y;                   // expectations of x̄/ȳ and z̄/ȳ (rounded ratios)
+    std::uint32_t bin = 0;                     // its radiant bin
   };
   struct PerEmitter {
     std::vector<Table> tables;  // increasing γ
   };
+  std::size_t table_count_ = 0;
+  std::vector<std::array<double, kWavelengthCount>> bin_radiant_;
   int draw(const Table& t, double u) const;
   std::vector<PerEmitter> emitters_;
   std::array<std::uint64_t, kWavelengthCount> x_units_{};

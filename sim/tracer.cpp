@@ -79,6 +79,24 @@ void book_loss(const TraceResult& r, LedgerTally::PerEmitter& emitter, LedgerTal
   }
 }
 
+// Books a spectral photon's power in the radiant bins of its colour state
+// at its end (sim/ledger.h): emitted and its fate together.
+void book_bins(const WavelengthSampler& w, const PhotonColour& colour, const TraceResult& r,
+               LedgerTally::Bins& bins) {
+  std::vector<std::uint64_t>& fate = r.fate == Fate::Escaped    ? bins.escaped
+                                     : r.fate == Fate::Absorbed ? bins.absorbed
+                                                                : bins.cutoff;
+  const WavelengthSampler::BinShare share = w.bins(colour, r.power_units);
+  for (int i = 0; i < 2; ++i) bins.emitted[share.bin[i]] += share.units[i];
+  if (colour.wavelength < 0) {
+    for (int i = 0; i < 2; ++i) fate[share.bin[i]] += share.units[i];
+  } else {
+    const auto k = static_cast<std::size_t>(colour.wavelength);
+    bins.emitted[k] += r.power_units;
+    fate[k] += r.power_units;
+  }
+}
+
 }  // namespace
 
 std::uint64_t TracerTally::photons(std::size_t texel) const {
@@ -179,7 +197,7 @@ TracerTally Tracer::make_tally() const {
   if (wavelengths_) {
     t.texel_xz.assign(2 * grid_.texel_count(), std::uint64_t{0});
   }
-  t.ledger = LedgerTally(emission_.emitter_count(), meshes_.size());
+  t.ledger = LedgerTally(emission_.emitter_count(), meshes_.size(), radiant_bin_count());
   return t;
 }
 
@@ -335,6 +353,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
     const TraceResult r =
         follow(origin, e.direction, rng, &books, nullptr, kPowerUnits, wavelengths_ ? &colour : nullptr);
+    if (spectral) book_bins(*wavelengths_, colour, r, books.bins);
     switch (r.fate) {
       case Fate::Escaped: {
         const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));

@@ -144,6 +144,8 @@ class Tracer {
   // Whether photons carry wavelengths (SceneDesc::spectral()), and their sampler.
   bool spectral() const { return wavelengths_ != nullptr; }
   const WavelengthSampler* wavelengths() const { return wavelengths_.get(); }
+  // The radiant books' bins (WavelengthSampler::bin_count; 0 for grey scenes).
+  std::size_t radiant_bin_count() const { return wavelengths_ ? wavelengths_->bin_count() : 0; }
 
   // A point on a surface moved off it towards unit `side_normal` by the rule
   // at the top (t: the length of the path that reached it; 0 for emission).
