@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include "photometry/diagnostics.h"
-#include "sim/spectral.h"
 
 namespace gonio::sim {
 
@@ -39,7 +38,7 @@ void LedgerTally::clear() {
 }
 
 Ledger make_ledger(const LedgerTally& t, const SceneDesc& scene, double total_flux_lm,
-                   const WavelengthSampler* wavelengths) {
+                   const std::vector<RadiantPerLm>* radiant_bins) {
   GONIO_CHECK(t.emitters.size() == scene.emitters.size() && t.meshes.size() == scene.meshes.size());
   Ledger l;
   // Power units, not photons: under guided emission photons start with
@@ -93,16 +92,16 @@ Ledger make_ledger(const LedgerTally& t, const SceneDesc& scene, double total_fl
       accumulate(ml.cutoff, line(m.cutoff));
     }
   }
-  if (wavelengths && t.bins.emitted.size() == wavelengths->bin_count()) {
+  if (radiant_bins && t.bins.emitted.size() == radiant_bins->size()) {
     // Watts from the bins (sim/spectral.h), summed in a fixed order.
     l.spectral = true;
     RadiantLedger& r = l.radiant;
-    const std::size_t bands = kWavelengthCount;
+    const std::size_t bands = photometry::kCmfCount;
     r.escaped_band_w.assign(bands, 0.0);
     std::vector<double> drawn_band_w(bands, 0.0);  // emitted by photons drawn later, per band
     const LedgerTally::Bins& b = t.bins;
     for (std::size_t j = bands; j < b.emitted.size(); ++j) {
-      const auto& per_lm = wavelengths->radiant_per_lm(j);
+      const RadiantPerLm& per_lm = (*radiant_bins)[j];
       const std::uint64_t drawn = b.emitted[j] - b.escaped[j] - b.absorbed[j] - b.cutoff[j];
       for (std::size_t k = 0; k < bands; ++k) {
         const double w_per_unit = per_unit * per_lm[k];

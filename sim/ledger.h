@@ -17,15 +17,20 @@
 // in W to rounding.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "photometry/colour.h"
 
 #include "sim/scene.h"
 
 namespace gonio::sim {
 
-class WavelengthSampler;
+// A radiant bin's watts per lumen in each 5 nm band of the CIE 1931 table
+// (sim/spectral.h's WavelengthSampler::radiant_bins).
+using RadiantPerLm = std::array<double, photometry::kCmfCount>;
 
 // Fixed-point units of power per photon of nominal power (2^24).
 inline constexpr std::uint64_t kPowerUnits = std::uint64_t{1} << 24;
@@ -135,9 +140,9 @@ struct Ledger {
 // Lumens from the integer books: `total_flux_lm` is the flux the emitters
 // send out, shared by the photons emitted in proportion to the power units
 // they started with (equally, unless emission is guided: sim/emission_guide.h).
-// `wavelengths`: the run's sampler (spectral runs; null otherwise), whose
-// bins give the radiant books.
+// `radiant_bins`: a spectral run's bins (WavelengthSampler::radiant_bins;
+// null for grey runs), which give the radiant books.
 Ledger make_ledger(const LedgerTally& tally, const SceneDesc& scene, double total_flux_lm,
-                   const WavelengthSampler* wavelengths = nullptr);
+                   const std::vector<RadiantPerLm>* radiant_bins = nullptr);
 
 }  // namespace gonio::sim

@@ -345,7 +345,8 @@ std::vector<NearFieldPlane> Simulation::near_field() const {
 }
 
 Ledger Simulation::ledger() const {
-  return make_ledger(impl_->books, impl_->scene, total_flux_lm(), impl_->tracer.wavelengths());
+  const WavelengthSampler* w = impl_->tracer.wavelengths();
+  return make_ledger(impl_->books, impl_->scene, total_flux_lm(), w ? &w->radiant_bins() : nullptr);
 }
 
 Result<Simulation> simulate(

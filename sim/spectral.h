@@ -39,6 +39,7 @@
 #include "photometry/colour.h"
 #include "photometry/diagnostics.h"
 #include "sim/far_field.h"
+#include "sim/ledger.h"
 #include "sim/random.h"
 #include "sim/scene.h"
 
@@ -122,11 +123,9 @@ class WavelengthSampler {
   // The table bins of a photon's emitter at its γ (its wavelength, drawn or
   // not, does not matter).
   BinShare bins(const PhotonColour& colour, std::uint64_t power_units) const;
-  // Radiant power per lumen of a bin in each 5 nm band k [W/lm] (their sum:
-  // the bin's W per lm).
-  const std::array<double, kWavelengthCount>& radiant_per_lm(std::size_t bin) const {
-    return bin_radiant_[bin];
-  }
+  // Per bin, its radiant power per lumen in each 5 nm band k [W/lm] (their
+  // sum: the bin's W per lm).
+  const std::vector<RadiantPerLm>& radiant_bins() const { return bin_radiant_; }
 
  private:
   struct Table {
@@ -139,7 +138,7 @@ class WavelengthSampler {
     std::vector<Table> tables;  // increasing γ
   };
   std::size_t table_count_ = 0;
-  std::vector<std::array<double, kWavelengthCount>> bin_radiant_;
+  std::vector<RadiantPerLm> bin_radiant_;
   int draw(const Table& t, double u) const;
   std::vector<PerEmitter> emitters_;
   std::array<std::uint64_t, kWavelengthCount> x_units_{};

@@ -10,6 +10,7 @@
 
 #include "io/outputs/datasheet.h"
 #include "io/outputs/exr.h"
+#include "io/outputs/report.h"
 #include "io/support/file_io.h"
 #include "io/photometric/gldf.h"
 #include "io/outputs/intensity_diagram.h"
@@ -318,6 +319,8 @@ Status write_report_file(const Distribution& d, const sim::Ledger& ledger, const
                                            {"cutoff_lm", ledger.cutoff.flux_lm}};
   if (request.near_field.is_object())
     for (const auto& [key, value] : request.near_field.items()) (*entry.simulation_report)[key] = value;
+  if (ledger.spectral) (*entry.simulation_report)["radiant"] = io::radiant_json(ledger.radiant);
+  if (request.colour_report.is_object()) entry.simulation_report->update(request.colour_report);
   if (Status s = io::write_datasheet(file->path, {entry}); !s.ok()) return s;
   Result<std::string> back = io::read_file(file->path, std::size_t{64} << 20);
   if (!back.ok()) {
@@ -333,6 +336,36 @@ Status write_report_file(const Distribution& d, const sim::Ledger& ledger, const
 }
 
 }  // namespace
+
+nlohmann::json colour_json(const sim::ColourOverAngle& c) {
+  const auto num = [](double v) { return json_number(v); };
+  const photometry::Chromaticity xy = photometry::chromaticity(c.total);
+  nlohmann::json j;
+  j["colour"] = {{"cie_x", num(xy.x)},          {"cie_y", num(xy.y)},
+                 {"u_prime", num(c.uv.u_prime)}, {"v_prime", num(c.uv.v_prime)},
+                 {"cct_k", num(c.cct.cct_k)},    {"duv", num(c.cct.duv)},
+                 {"method", "CIE 1931 2 deg, 5 nm; CCT and Duv by Ohno 2014"}};
+  nlohmann::json planes = nlohmann::json::array();
+  for (const sim::ColourPlane& p : c.planes) {
+    nlohmann::json g = nlohmann::json::array(), u = g, v = g, t = g, d = g;
+    for (const sim::ColourAtGamma& a : p.points) {
+      g.push_back(a.gamma_deg);
+      u.push_back(num(a.uv.u_prime));
+      v.push_back(num(a.uv.v_prime));
+      t.push_back(num(a.cct.cct_k));
+      d.push_back(num(a.cct.duv));
+    }
+    planes.push_back({{"c_deg", p.c_deg}, {"gamma_deg", g}, {"u_prime", u}, {"v_prime", v},
+                      {"cct_k", t}, {"duv", d}});
+  }
+  j["colour_over_angle"] = {{"threshold_fraction", c.threshold_fraction},
+                            {"mean_u_prime", num(c.mean_uv.u_prime)},
+                            {"mean_v_prime", num(c.mean_uv.v_prime)},
+                            {"delta_uv_max", num(c.delta_uv_max)},
+                            {"bins_counted", c.bins_counted},
+                            {"planes", planes}};
+  return j;
+}
 
 const char* to_string(OutputFormat format) {
   switch (format) {

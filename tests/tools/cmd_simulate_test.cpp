@@ -175,10 +175,29 @@ TEST(Simulate, SpectralModelsReportColourOverAngle) {
   test::write_file(model, g.dump());
   const auto out = dir / "out";
   auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "100000", "--iterations", "2",
-                  "--gamma-step", "5", "--c-step", "15"});
+                  "--gamma-step", "5", "--c-step", "15", "--format", "all,report"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = nlohmann::json::parse(test::read_file(out / "report.json"));
   ASSERT_TRUE(report.contains("colour")) << report.dump();
+  // The radiant books close (the shade absorbs by wavelength).
+  ASSERT_TRUE(report.contains("radiant"));
+  const auto& w = report["radiant"];
+  EXPECT_NEAR(report["ledger"]["radiant_imbalance_w"].get<double>(), 0.0, 1e-9 * w["emitted_w"].get<double>());
+  EXPECT_GT(w["absorbed_w"].get<double>(), 0.0);
+  EXPECT_EQ(w["escaped_spectrum"]["wavelengths_nm"].size(), 95u);
+  // The datasheet shows the colour, Δu′v′ max with its chart, and the watts.
+  const std::string sheet = test::read_file(out / "green.html");
+  const auto fixed = [](double v, int decimals) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.*f", decimals, v);
+    return std::string(b);
+  };
+  for (const std::string& part :
+       {std::string("<h2>Colour</h2>"), fixed(report["colour"]["cct_k"].get<double>(), 0) + " K",
+        fixed(report["colour"]["cie_x"].get<double>(), 4) + ", " + fixed(report["colour"]["cie_y"].get<double>(), 4),
+        fixed(report["colour_over_angle"]["delta_uv_max"].get<double>(), 4), std::string("colour-chart"),
+        fixed(w["emitted_w"].get<double>(), 4) + " W"})
+    EXPECT_NE(sheet.find(part), std::string::npos) << part;
   const auto& c = report["colour"];
   EXPECT_GT(c["cct_k"].get<double>(), 1000.0);
   EXPECT_NEAR(c["cie_x"].get<double>() + c["cie_y"].get<double>(), 0.86, 0.1);
