@@ -367,6 +367,14 @@ nlohmann::json colour_json(const sim::ColourOverAngle& c) {
   return j;
 }
 
+nlohmann::json live_colour_json(const sim::ColourOverAngle& c) {
+  nlohmann::json all = colour_json(c);
+  nlohmann::json j = all["colour"];
+  j.erase("method");
+  j["delta_uv_max"] = all["colour_over_angle"]["delta_uv_max"];
+  return j;
+}
+
 const char* to_string(OutputFormat format) {
   switch (format) {
     case OutputFormat::Ies: return "ies";

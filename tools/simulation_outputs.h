@@ -134,6 +134,9 @@ struct OutputRequest {
 // delta_uv_max, bins_counted, planes: [{c_deg, gamma_deg, u_prime, v_prime,
 // cct_k, duv}]}} (undefined values null).
 nlohmann::json colour_json(const sim::ColourOverAngle& c);
+// The live page's colour (state.json "colour"): colour_json's "colour"
+// without its method, plus delta_uv_max.
+nlohmann::json live_colour_json(const sim::ColourOverAngle& c);
 
 
 // One file written and read back.
