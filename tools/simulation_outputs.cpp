@@ -15,6 +15,7 @@
 #include "io/photometric/gldf.h"
 #include "io/outputs/intensity_diagram.h"
 #include "io/photometric/ldt.h"
+#include "io/photometric/tm33.h"
 #include "io/photometric/photometric_file.h"
 #include "io/outputs/plot.h"
 #include "photometry/direct_ratios.h"
@@ -35,10 +36,10 @@ using photometry::Symmetry;
 constexpr OutputFormat kAllFormats[] = {OutputFormat::Ies, OutputFormat::Ldt, OutputFormat::Exr,
                                         OutputFormat::LatLong, OutputFormat::Plot};
 // Every name parse_formats() knows: "all" and those written only when named
-// (the datasheet, GLDF).
+// (the datasheet, GLDF, TM-33).
 constexpr OutputFormat kKnownFormats[] = {OutputFormat::Ies,     OutputFormat::Ldt,  OutputFormat::Exr,
                                           OutputFormat::LatLong, OutputFormat::Plot, OutputFormat::Report,
-                                          OutputFormat::Gldf};
+                                          OutputFormat::Gldf,    OutputFormat::Tm33};
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t");
@@ -165,6 +166,35 @@ Status write_ldt_file(const Distribution& d, WrittenFile* file) {
   if (!text.ok()) return make_error(file->path, text.error().message);
   if (Status s = io::write_file_atomic(file->path, *text); !s.ok()) return s;
   take_read_back(io::read_ldt(file->path), file);
+  return Ok{};
+}
+
+// STEM.xml: the TM-33-23 document; a spectral run's also carries the
+// luminaire's total spectrum, the escaped light's (sim/ledger.h's
+// RadiantLedger::escaped_band_w, 5 nm bands, normalised to peak 1), and its
+// CCT as FixedCCT (the lamp set's colour). Read back with Gonio's reader.
+Status write_tm33_file(const Distribution& d, const sim::Ledger& ledger, WrittenFile* file) {
+  Distribution tm33 = d;
+  if (ledger.spectral && ledger.radiant.escaped_w > 0.0) {
+    photometry::Spectrum s;
+    s.emitter = "luminaire: the escaped light (Gonio simulation)";
+    s.normalized = true;
+    double peak = 0.0;
+    for (double w : ledger.radiant.escaped_band_w) peak = std::max(peak, w);
+    for (std::size_t k = 0; k < ledger.radiant.escaped_band_w.size(); ++k) {
+      s.wavelength_nm.push_back(photometry::kCmfFirstNm + photometry::kCmfStepNm * static_cast<double>(k));
+      s.values.push_back(ledger.radiant.escaped_band_w[k] / peak);
+    }
+    tm33.spectra = {std::move(s)};
+  }
+  const std::string text = io::write_tm33(tm33, &file->writer_notes);
+  if (Status s = io::write_file_atomic(file->path, text); !s.ok()) return s;
+  Result<std::string> bytes = io::read_file(file->path, std::size_t{256} << 20);
+  if (!bytes.ok()) {
+    file->findings.push_back(finding(Severity::Error, "unreadable", bytes.error().message, file->path));
+    return Ok{};
+  }
+  take_read_back(io::parse_tm33(*bytes, file->path), file);
   return Ok{};
 }
 
@@ -384,13 +414,14 @@ const char* to_string(OutputFormat format) {
     case OutputFormat::Plot: return "plot";
     case OutputFormat::Report: return "report";
     case OutputFormat::Gldf: return "gldf";
+    case OutputFormat::Tm33: return "tm33";
   }
   return "?";
 }
 
 Result<std::vector<OutputFormat>> parse_formats(const std::string& list) {
   std::vector<OutputFormat> out;
-  const std::string valid = "ies, ldt, exr, latlong, plot, report, gldf or all";
+  const std::string valid = "ies, ldt, exr, latlong, plot, report, gldf, tm33 or all";
   std::size_t start = 0;
   while (start <= list.size()) {
     const std::size_t comma = std::min(list.find(',', start), list.size());
@@ -554,7 +585,7 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
     return std::find(request.formats.begin(), request.formats.end(), f) != request.formats.end();
   };
   const bool needs_table = wants(OutputFormat::Ies) || wants(OutputFormat::Ldt) || wants(OutputFormat::Plot) ||
-                           wants(OutputFormat::Report) || wants(OutputFormat::Gldf);
+                           wants(OutputFormat::Report) || wants(OutputFormat::Gldf) || wants(OutputFormat::Tm33);
   if (needs_table) {
     if (request.symmetry) {
       if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
@@ -607,6 +638,10 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
       case OutputFormat::Gldf:
         file.path = (dir / (request.stem + ".gldf")).string();
         s = write_gldf_file(result.distribution, scene, request, &file);
+        break;
+      case OutputFormat::Tm33:
+        file.path = (dir / (request.stem + ".xml")).string();
+        s = write_tm33_file(result.distribution, ledger, &file);
         break;
     }
     if (!s.ok()) {

@@ -62,9 +62,9 @@
 
 namespace gonio::cli {
 
-enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot, Report, Gldf };
+enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot, Report, Gldf, Tm33 };
 
-// "ies", "ldt", "exr", "latlong", "plot", "report", "gldf".
+// "ies", "ldt", "exr", "latlong", "plot", "report", "gldf", "tm33".
 const char* to_string(OutputFormat format);
 
 // A comma-separated list of the names above, or "all" (every format but

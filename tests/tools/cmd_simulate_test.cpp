@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "io/outputs/exr.h"
+#include "io/photometric/tm33.h"
+#include "photometry/colour.h"
 #include "io/support/zip.h"
 #include "sim/shapes.h"
 #include "tests/support/test_support.h"
@@ -175,7 +177,7 @@ TEST(Simulate, SpectralModelsReportColourOverAngle) {
   test::write_file(model, g.dump());
   const auto out = dir / "out";
   auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "100000", "--iterations", "2",
-                  "--gamma-step", "5", "--c-step", "15", "--format", "all,report"});
+                  "--gamma-step", "5", "--c-step", "15", "--format", "all,report,tm33"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = nlohmann::json::parse(test::read_file(out / "report.json"));
   ASSERT_TRUE(report.contains("colour")) << report.dump();
@@ -216,6 +218,24 @@ TEST(Simulate, SpectralModelsReportColourOverAngle) {
   EXPECT_NE(image->find_float("Z"), nullptr);
   EXPECT_NE(test::read_file(out / "green.ies").find("[_CCT] "), std::string::npos);
   EXPECT_NE(test::read_file(out / "green.ldt").find(" K\r\n"), std::string::npos);
+  // TM-33 carries the luminaire's total spectrum (the escaped light's, from
+  // the radiant books) and its CCT: read back by Gonio's reader, the
+  // spectrum has the chromaticity the far field's X, Y, Z give (two
+  // estimators of the same light: within photon noise).
+  auto tm33 = io::parse_tm33(test::read_file(out / "green.xml"), "green.xml");
+  ASSERT_TRUE(tm33.ok()) << tm33.error().message;
+  ASSERT_EQ(tm33->distribution.spectra.size(), 1u);
+  const photometry::Spectrum& spectrum = tm33->distribution.spectra[0];
+  EXPECT_EQ(spectrum.wavelength_nm.size(), 95u);
+  EXPECT_TRUE(spectrum.normalized);
+  const photometry::Chromaticity xy = photometry::chromaticity(photometry::tristimulus(photometry::sampled(spectrum)));
+  EXPECT_NEAR(xy.x, c["cie_x"].get<double>(), 2e-3);
+  EXPECT_NEAR(xy.y, c["cie_y"].get<double>(), 2e-3);
+  std::printf("TM-33 spectrum x, y %.5f, %.5f; far field %.5f, %.5f\n", xy.x, xy.y, c["cie_x"].get<double>(),
+              c["cie_y"].get<double>());
+  ASSERT_FALSE(tm33->distribution.lamps.empty());
+  EXPECT_EQ(tm33->distribution.lamps[0].color,
+            std::to_string(std::lround(c["cct_k"].get<double>())) + " K");
 
   const auto grey = dir / "grey";
   test::write_file(dir / "shade.gltf", shade_model());
