@@ -130,8 +130,6 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
   if (static_cast<double>(settings.photons_per_iteration) * settings.iterations > 0x1.0p39)
     return make_error("at most 2^39 (5.5e11) photons per run");
   if (settings.threads < 0) return make_error("the thread count must be >= 0");
-  if (settings.importance.enabled && scene.spectral())
-    return make_error("guided emission does not carry wavelengths yet: run a spectral model without it");
   if (settings.importance.enabled) {
     if (settings.importance.emission_face_size < 1 || settings.importance.emission_face_size > 1024)
       return make_error("the emission grid of guided emission needs 1..1024 texels per face edge");
@@ -319,8 +317,16 @@ ColourFarField Simulation::colour_far_field() const {
   c.x_lm.assign(n, 0.0);
   c.z_lm.assign(n, 0.0);
   if (s.stats.photons == 0) return c;
-  const double per_unit = total_flux_lm() / static_cast<double>(s.stats.photons) /
-                          static_cast<double>(kColourUnits);
+  double per_unit = total_flux_lm() / static_cast<double>(s.stats.photons) / static_cast<double>(kColourUnits);
+  if (s.guide) {
+    // Photons started with unequal power (X and Z scaled by it, like Y):
+    // share the flux by power emitted, as far_field() does.
+    std::uint64_t emitted_units = 0;
+    for (const auto& e : s.books.emitters) emitted_units += e.emitted.power_units;
+    per_unit = emitted_units > 0 ? total_flux_lm() * static_cast<double>(kPowerUnits) /
+                                       static_cast<double>(emitted_units) / static_cast<double>(kColourUnits)
+                                 : 0.0;
+  }
   for (std::size_t i = 0; i < n; ++i) {
     c.x_lm[i] = static_cast<double>(s.texel_x[i]) * per_unit;
     c.z_lm[i] = static_cast<double>(s.texel_z[i]) * per_unit;

@@ -79,6 +79,14 @@ void book_loss(const TraceResult& r, LedgerTally::PerEmitter& emitter, LedgerTal
   }
 }
 
+// X or Z units (kColourUnits per photon of nominal power) of a photon of
+// `power` units: units × power / kPowerUnits, rounded, in integers (exact
+// for power = kPowerUnits; no overflow below 2³⁹ nominal photons' power).
+std::uint64_t scale_by_power(std::uint64_t units, std::uint64_t power) {
+  const std::uint64_t whole = power / kPowerUnits, part = power % kPowerUnits;
+  return units * whole + (units * part + kPowerUnits / 2) / kPowerUnits;
+}
+
 // Books a spectral photon's power in the radiant bins of its colour state
 // at its end (sim/ledger.h): emitted and its fate together.
 void book_bins(const WavelengthSampler& w, const PhotonColour& colour, const TraceResult& r,
@@ -388,6 +396,7 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
                                   GuideTally& guide_tally) const {
   FloatModeGuard float_mode;
   LedgerTally& books = tally.ledger;
+  const bool spectral = wavelengths_ != nullptr;
   std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
   if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed);
   for (std::uint64_t i = first; i < first + count; ++i) {
@@ -403,11 +412,26 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
     eb.emitted.add(power);
     ++guide_tally.traced[source_texel];
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
-    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, power);
+    // Spectral scenes: the photon's colour as in trace_photons; its X and Z
+    // carry its power like its Y (x_units per kPowerUnits of power).
+    PhotonColour colour = spectral ? start_colour(e) : PhotonColour{};
+    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, power, spectral ? &colour : nullptr);
+    if (spectral) book_bins(*wavelengths_, colour, r, books.bins);
     switch (r.fate) {
       case Fate::Escaped: {
         const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));
         if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
+        if (spectral) {
+          std::uint64_t x = 0, z = 0;
+          if (colour.wavelength >= 0) {
+            x = wavelengths_->x_units()[static_cast<std::size_t>(colour.wavelength)];
+            z = wavelengths_->z_units()[static_cast<std::size_t>(colour.wavelength)];
+          } else {
+            std::tie(x, z) = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
+          }
+          tally.texel_xz[2 * static_cast<std::size_t>(texel)] += scale_by_power(x, r.power_units);
+          tally.texel_xz[2 * static_cast<std::size_t>(texel) + 1] += scale_by_power(z, r.power_units);
+        }
         guide_tally.extra_units[texel] += r.power_units - kPowerUnits;
         guide_tally.importance_sum[source_texel] += guide.importance(texel);
         eb.escaped.add(r.power_units);

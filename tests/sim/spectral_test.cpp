@@ -385,6 +385,61 @@ TEST(Spectral, RadiantBooksClose) {
   EXPECT_FALSE(plain->ledger().spectral);
 }
 
+// Guided emission (sim/emission_guide.h) with a spectral model: photons of
+// unequal power carry X and Z in proportion to it, so the colour is the
+// plain run's (within photon noise), the books close in lumens and watts,
+// and the bytes do not depend on the thread split.
+TEST(Spectral, GuidedEmissionCarriesColourWithItsWeights) {
+  // A 3000 K lamp in a shell of coloured diffuser: light leaves tinted.
+  SceneDesc s = bare_point(single(photometry::blackbody_spectrum(3000.0)));
+  Material opal;
+  opal.name = "opal";
+  opal.diffuse_transmit = 0.6;
+  opal.diffuse_reflect = 0.3;
+  opal.spectral_transmittance = {{400.0, 700.0}, {0.2, 0.7}};
+  s.materials.push_back(opal);
+  Mesh shell = sphere(0.5, 16, 8);
+  shell.material = 1;
+  s.meshes.push_back(shell);
+  SimulationSettings guided = settings(2, 100000, 4);
+  guided.importance.enabled = true;
+  guided.importance.emission_face_size = 8;
+  auto a = simulate(s, guided);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  auto plain = simulate(s, settings(2, 100000, 4));
+  ASSERT_TRUE(plain.ok());
+  // The closed form: the shell passes τ(λ)/(1 − 0.3) of each wavelength
+  // (τ held at its end values), so the light leaves with S(λ)·τ(λ)'s colour.
+  photometry::SampledSpectrum product = photometry::blackbody_spectrum(3000.0);
+  for (std::size_t i = 0; i < product.values.size(); ++i)
+    product.values[i] *= opal.spectral_transmittance.at(std::clamp(product.wavelengths_nm[i], 400.0, 700.0));
+  const photometry::UvPrime want = photometry::uv_prime(photometry::tristimulus(product));
+  const photometry::Tristimulus tg = totals(*a), tp = totals(*plain);
+  const double dg = photometry::delta_uv_prime(photometry::uv_prime(tg), want);
+  const double dp = photometry::delta_uv_prime(photometry::uv_prime(tp), want);
+  std::printf("delta u'v' from the closed form, 4e5 photons: guided %.6f, plain %.6f; Y %.5g against %.5g lm\n", dg,
+              dp, tg.Y, tp.Y);
+  EXPECT_LT(dg, 1.5e-3);
+  EXPECT_LT(dp, 1.5e-3);
+  // The colour is the shell's, not the lamp's: the test tells them apart.
+  EXPECT_GT(photometry::delta_uv_prime(want, photometry::uv_prime(photometry::tristimulus(
+                                                 photometry::blackbody_spectrum(3000.0)))),
+            0.005);
+  const Ledger l = a->ledger();
+  EXPECT_NEAR(l.flux_imbalance_lm(), 0.0, 1e-9 * l.emitted.flux_lm);
+  ASSERT_TRUE(l.spectral);
+  EXPECT_NEAR(l.radiant.imbalance_w(), 0.0, 1e-12 * l.radiant.emitted_w);
+  EXPECT_NEAR(l.radiant.escaped_w / plain->ledger().radiant.escaped_w, 1.0, 0.01);
+  // Same bytes for another thread split.
+  SimulationSettings one = guided;
+  one.threads = 1;
+  auto b = simulate(s, one);
+  ASSERT_TRUE(b.ok());
+  const ColourFarField ca = a->colour_far_field(), cb = b->colour_far_field();
+  EXPECT_EQ(std::memcmp(ca.x_lm.data(), cb.x_lm.data(), ca.x_lm.size() * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(ca.z_lm.data(), cb.z_lm.data(), ca.z_lm.size() * sizeof(double)), 0);
+}
+
 TEST(Spectral, SameBytesForAnyThreadAndIterationSplit) {
   SceneDesc s = bare_point(single(photometry::blackbody_spectrum(3000.0)));
   Material opal;
