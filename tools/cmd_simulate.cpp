@@ -154,9 +154,10 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
   p.option("format", &o->format_list, "LIST",
            "files to write, comma-separated: ies, ldt, exr, latlong, plot, report (the datasheet\n"
            "STEM.html with the energy ledger), gldf (STEM.gldf with the LDT, IES and the model as\n"
-           "L3D), tm25 (STEM.tm25ray: the escaping photons as an IES TM-25 ray file, see\n"
-           "--tm25-rays), or all (default: every one but report, gldf and tm25, which are written\n"
-           "only when named)");
+           "L3D), tm33 (STEM.xml, IES TM-33-23; a spectral run's with its spectrum), tm25\n"
+           "(STEM.tm25ray: the escaping photons as an IES TM-25 ray file, see --tm25-rays), or\n"
+           "all (default: every one but report, gldf, tm33 and tm25, which are written only when\n"
+           "named)");
   p.option("tm25-rays", &o->tm25_rays, 1, 100'000'000, "N",
            "with --format tm25: the escapes of the run's first N photons are the ray file's rays\n"
            "(default 1000000); their fluxes add up to the escaped flux");
