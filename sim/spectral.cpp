@@ -219,6 +219,24 @@ WavelengthSampler::BinShare WavelengthSampler::bins(const PhotonColour& colour,
   return b;
 }
 
+std::pair<std::uint64_t, std::uint64_t> WavelengthSampler::hero_units(const PhotonColour& colour) const {
+  double x = 0.0, z = 0.0, sum = 0.0;
+  for (int j = 0; j < kHeroCount; ++j) {
+    const double w = colour.hero_weight[static_cast<std::size_t>(j)];
+    if (w == 0.0 && j > 0) continue;
+    const int k = hero_companion(colour.wavelength, j);
+    const double q = w * pmf(colour.emitter, colour.cos_gamma, k);
+    sum += q;
+    x += q * static_cast<double>(x_units_[static_cast<std::size_t>(k)]);
+    z += q * static_cast<double>(z_units_[static_cast<std::size_t>(k)]);
+  }
+  if (!(sum > 0.0)) {
+    const auto k = static_cast<std::size_t>(colour.wavelength);
+    return {x_units_[k], z_units_[k]};
+  }
+  return {static_cast<std::uint64_t>(std::llround(x / sum)), static_cast<std::uint64_t>(std::llround(z / sum))};
+}
+
 double WavelengthSampler::pmf(std::uint32_t emitter, double cos_gamma, int k) const {
   const std::vector<Table>& tables = emitters_[emitter].tables;
   const auto p = [k](const Table& t) {

@@ -66,11 +66,34 @@ Material at_wavelength(const Material& m, double wavelength_nm);
 
 // A spectral photon's colour on its way: its wavelength index once drawn,
 // and what it needs to draw it (its emitter and cos γ at emission).
+//
+// Hero wavelengths (Wilkie et al. 2014, "Hero Wavelength Spectral
+// Sampling", EGSR): once drawn, the wavelength λ_h (the hero, which alone
+// steers the path) comes with kHeroCount − 1 companions, λ_h rotated by
+// kHeroStride grid steps (mod 95: the offsets form a group, as the balance
+// heuristic over "which one was the hero" needs). Each keeps the
+// probability of the hero's path at its own wavelength relative to the
+// hero's (the product over events of the chosen lobe's weight at λ_j over
+// its weight at λ_h); an escape's X/Y is then the balance-heuristic
+// combination Σ_j q_j w_j (x̄/ȳ)(λ_j) / Σ_j q_j w_j with q = p(λ | γ) — its
+// Y stays one photon's, so the Y far field is unchanged, and no random
+// number is drawn for it. A dispersive dielectric's refraction sends each
+// wavelength elsewhere: there the companions end (their path probability
+// is zero) and the hero goes on alone, as Wilkie et al. and pbrt-v4 do —
+// which is why this does not help colour noise behind dispersive lenses,
+// only behind surfaces whose weights vary with wavelength.
+inline constexpr int kHeroCount = 5;
+inline constexpr int kHeroStride = 19;  // 5 × 19 = 95 wavelengths
+inline int hero_companion(int hero, int j) { return (hero + kHeroStride * j) % kWavelengthCount; }
+
 struct PhotonColour {
   static constexpr int kUndrawn = -1;
   int wavelength = kUndrawn;
   std::uint32_t emitter = 0;
   double cos_gamma = 1.0;
+  // Path probabilities of the hero's companions relative to the hero's
+  // (index 0, the hero itself, stays 1); all 0 after a dispersive refraction.
+  std::array<double, kHeroCount> hero_weight{1.0, 1.0, 1.0, 1.0, 1.0};
 };
 
 // Draws photons' wavelength indices for the emitters of a scene.
@@ -91,6 +114,10 @@ class WavelengthSampler {
   // X and Z per photon of Y in kColourUnits of a photon whose wavelength
   // was never drawn: the expectation over p(λ | γ), rounded.
   std::pair<std::uint64_t, std::uint64_t> expected_units(std::uint32_t emitter, double cos_gamma) const;
+
+  // X and Z per photon of Y in kColourUnits of a drawn photon at its end:
+  // the hero-wavelength combination above, rounded.
+  std::pair<std::uint64_t, std::uint64_t> hero_units(const PhotonColour& colour) const;
 
   // For each k, X and Z per photon of Y in kColourUnits: round(x̄/ȳ · 2¹⁷),
   // round(z̄/ȳ · 2¹⁷); 0 where ȳ is 0 (never drawn).

@@ -79,6 +79,34 @@ void book_loss(const TraceResult& r, LedgerTally::PerEmitter& emitter, LedgerTal
   }
 }
 
+// A lobe's weight in a material.
+double lobe_weight(const Material& m, Lobe lobe) {
+  switch (lobe) {
+    case Lobe::DiffuseReflect: return m.diffuse_reflect;
+    case Lobe::DiffuseTransmit: return m.diffuse_transmit;
+    case Lobe::Mirror: return m.mirror;
+    case Lobe::Glossy: return m.glossy;
+    case Lobe::Dielectric: return m.dielectric;
+    case Lobe::Absorb: break;
+  }
+  return 1.0 - m.total();
+}
+
+// The hero's companions after an event with `lobe` at a material acting by
+// wavelength (`at`: the material at each wavelength of the grid).
+void update_companions(PhotonColour& c, Lobe lobe, const Material* at, const Material& m) {
+  if (lobe == Lobe::Dielectric && (!m.ior_nm.empty() || m.abbe_number > 0.0)) {
+    for (int j = 1; j < kHeroCount; ++j) c.hero_weight[static_cast<std::size_t>(j)] = 0.0;
+    return;
+  }
+  const double hero = lobe_weight(at[c.wavelength], lobe);
+  if (!(hero > 0.0)) return;
+  for (int j = 1; j < kHeroCount; ++j) {
+    double& w = c.hero_weight[static_cast<std::size_t>(j)];
+    if (w != 0.0) w *= lobe_weight(at[hero_companion(c.wavelength, j)], lobe) / hero;
+  }
+}
+
 // X or Z units (kColourUnits per photon of nominal power) of a photon of
 // `power` units: units × power / kPowerUnits, rounded, in integers (exact
 // for power = kPowerUnits; no overflow below 2³⁹ nominal photons' power).
@@ -283,6 +311,12 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
         if (place) frame.tangent = place->linear(frame.tangent);
       }
     }
+    // Hero wavelengths (sim/spectral.h): each companion's path probability
+    // relative to the hero's takes this event's lobe weight at its own
+    // wavelength; a dispersive refraction ends the companions.
+    if (wavelength >= 0 && material_spectral_[mesh.material] && lobe != Lobe::Absorb)
+      update_companions(*colour, lobe, &spectral_materials_[static_cast<std::size_t>(mesh.material) * kWavelengthCount],
+                        materials_[mesh.material]);
     const ScatterResult s = scatter(material, lobe, frame, direction, rng, &polarization);
     if (s.absorbed) {
       r.fate = Fate::Absorbed;
@@ -373,8 +407,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         if (spectral) {
           __builtin_prefetch(&tally.texel_xz[2 * static_cast<std::size_t>(texel)], 1);
           if (colour.wavelength >= 0) {
-            pending_x = wavelengths_->x_units()[static_cast<std::size_t>(colour.wavelength)];
-            pending_z = wavelengths_->z_units()[static_cast<std::size_t>(colour.wavelength)];
+            std::tie(pending_x, pending_z) = wavelengths_->hero_units(colour);
           } else {
             std::tie(pending_x, pending_z) = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
           }
@@ -424,8 +457,7 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
         if (spectral) {
           std::uint64_t x = 0, z = 0;
           if (colour.wavelength >= 0) {
-            x = wavelengths_->x_units()[static_cast<std::size_t>(colour.wavelength)];
-            z = wavelengths_->z_units()[static_cast<std::size_t>(colour.wavelength)];
+            std::tie(x, z) = wavelengths_->hero_units(colour);
           } else {
             std::tie(x, z) = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
           }
