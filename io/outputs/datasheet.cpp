@@ -15,6 +15,7 @@
 #include "io/outputs/colour_chart.h"
 #include "io/outputs/intensity_diagram.h"
 #include "photometry/colour.h"
+#include "photometry/spectrum.h"
 #include "io/outputs/plot.h"
 #include "io/support/process.h"
 #include "photometry/format.h"
@@ -292,6 +293,27 @@ Result<std::string> colour_html(const nlohmann::json& r) {
   return h;
 }
 
+// A file's spectrum (TM-33 SpectralData): the colour it gives, CIE 15's
+// 5 nm summation and Ohno's CCT (photometry/colour.h).
+std::string spectrum_colour_html(const photometry::Spectrum& spectrum) {
+  const photometry::SampledSpectrum s = photometry::sampled(spectrum);
+  if (!photometry::validate_spectrum(s).ok()) return std::string();
+  const photometry::Tristimulus t = photometry::tristimulus(s);
+  const photometry::Chromaticity xy = photometry::chromaticity(t);
+  const photometry::UvPrime uv = photometry::uv_prime(t);
+  const photometry::CctDuv c = photometry::cct_duv(uv);
+  std::string h = "<h2>Colour</h2>\n<table class=colour>\n";
+  h += row("CIE 1931 x, y", fmt(xy.x, 4) + ", " + fmt(xy.y, 4));
+  h += row("CIE 1976 u′, v′", fmt(uv.u_prime, 4) + ", " + fmt(uv.v_prime, 4));
+  h += row("CCT", fmt(c.cct_k, 0) + " K");
+  h += row("Duv", fmt(c.duv, 4));
+  h += "</table>\n<p class=note>From the file's spectrum" +
+       (spectrum.emitter.empty() ? std::string() : " (" + esc(spectrum.emitter) + ")") + ", " +
+       std::to_string(spectrum.wavelength_nm.size()) +
+       " wavelengths: CIE 1931 2°, 5 nm; CCT and Duv by Ohno 2014.</p>\n";
+  return h;
+}
+
 std::string ledger_html(const nlohmann::json& r) {
   const auto num = [&](const char* key) {
     return r.contains(key) && r[key].is_number() ? r[key].get<double>() : photometry::kNaN;
@@ -454,6 +476,8 @@ Result<std::string> entry_html(const DatasheetEntry& e, const DatasheetOptions& 
     h += "<p>Not defined — " + esc(p.luminance.why_undefined) + ".</p>\n";
   }
   h += method("luminance_table");
+  if ((!e.simulation_report || !e.simulation_report->contains("colour")) && !d.spectra.empty())
+    h += spectrum_colour_html(d.spectra.front());
   if (e.simulation_report) {
     Result<std::string> colour = colour_html(*e.simulation_report);
     if (!colour.ok()) return colour.error();

@@ -233,6 +233,12 @@ TEST(Simulate, SpectralModelsReportColourOverAngle) {
   EXPECT_NEAR(xy.y, c["cie_y"].get<double>(), 2e-3);
   std::printf("TM-33 spectrum x, y %.5f, %.5f; far field %.5f, %.5f\n", xy.x, xy.y, c["cie_x"].get<double>(),
               c["cie_y"].get<double>());
+  // gonio report on that TM-33 file shows the colour of its spectrum.
+  r = gonio({"report", (out / "green.xml").string(), "--out", (dir / "sheet.html").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string from_file = test::read_file(dir / "sheet.html");
+  EXPECT_NE(from_file.find("<h2>Colour</h2>"), std::string::npos);
+  EXPECT_NE(from_file.find("From the file's spectrum"), std::string::npos);
   ASSERT_FALSE(tm33->distribution.lamps.empty());
   EXPECT_EQ(tm33->distribution.lamps[0].color,
             std::to_string(std::lround(c["cct_k"].get<double>())) + " K");

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <string>
 #include <regex>
 #include <vector>
 
@@ -100,6 +102,44 @@ TEST(Datasheet, SpectralSimulationShowsColourAndRadiantBooks) {
   const std::regex external(R"((src|href)\s*=\s*["']?\s*(https?:|//)|url\(|@import|<script|<link|<img)",
                             std::regex::icase);
   EXPECT_FALSE(std::regex_search(h, external));
+}
+
+// A measured file with a spectrum (TM-33 SpectralData): the sheet shows the
+// colour it gives; colord's CIE illuminant A table (2856 K by definition)
+// read in place as the file's spectrum gives CCT 2856 K and Duv 0.
+TEST(Datasheet, FileSpectrumShowsItsColour) {
+  if (!have_gnuplot()) GONIO_MISSING(std::string("gnuplot (scripts/setup.sh installs gnuplot-nox)"));
+  DatasheetEntry e = entry();
+  photometry::Spectrum a;
+  a.emitter = "lamp";
+  a.normalized = true;
+  {
+    // colord's CGATS .sp: SPECTRAL_START_NM, SPECTRAL_END_NM, then the values
+    // between BEGIN_DATA and END_DATA.
+    std::ifstream in("/usr/share/colord/illuminant/CIE-A.sp");
+    if (!in) GONIO_MISSING(std::string("colord-data's /usr/share/colord/illuminant/CIE-A.sp"));
+    std::string word;
+    double first = 0.0, last = 0.0;
+    std::vector<double> values;
+    bool data = false;
+    while (in >> word) {
+      if (word == "SPECTRAL_START_NM") in >> first;
+      else if (word == "SPECTRAL_END_NM") in >> last;
+      else if (word == "BEGIN_DATA") data = true;
+      else if (word == "END_DATA") data = false;
+      else if (data) values.push_back(std::stod(word));
+    }
+    ASSERT_GT(values.size(), 10u);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      a.wavelength_nm.push_back(first + (last - first) * static_cast<double>(i) / static_cast<double>(values.size() - 1));
+      a.values.push_back(values[i]);
+    }
+  }
+  e.distribution.spectra = {a};
+  auto html = datasheet_html({e});
+  ASSERT_TRUE(html.ok()) << html.error().message;
+  for (const char* part : {"<h2>Colour</h2>", "2856 K", "From the file's spectrum (lamp)"})
+    EXPECT_NE(html.value().find(part), std::string::npos) << part;
 }
 
 // The isolux lines of a Lambertian emitter (I = I0 cos γ) on the floor h
