@@ -23,7 +23,8 @@
 // drawn (from the same p(λ | γ)) only at the first such material. Light that
 // meets only grey surfaces so has no colour noise beyond that of its
 // directions; the estimate stays unbiased, since λ is independent of the
-// path up to that event.
+// path up to that event. From the draw on the photon carries hero
+// wavelengths (PhotonColour below), which change its X and Z, never its Y.
 //
 // X and Z are integers per texel in units of 2⁻¹⁷ of one photon's Y
 // (kColourUnits): the ratio of each wavelength is rounded once, a relative

@@ -129,7 +129,8 @@ class Tracer {
   // power of escapes above kPowerUnits goes there; `tally` counts the
   // photons). The ledger books each traced photon's power as
   // emitted, so it closes exactly; dropped photons are counted in
-  // guide_tally.dropped only.
+  // guide_tally.dropped only. Spectral scenes: a photon's X and Z scale with
+  // its power like its Y (sim/spectral.h).
   void trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
                             const EmissionGuide& guide, TracerTally& tally,
                             GuideTally& guide_tally) const;
