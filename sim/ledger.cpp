@@ -1,5 +1,7 @@
 #include "sim/ledger.h"
 
+#include <algorithm>
+
 #include "photometry/diagnostics.h"
 
 namespace gonio::sim {
@@ -18,15 +20,25 @@ void LedgerTally::add(const LedgerTally& o) {
     meshes[i].cutoff += o.meshes[i].cutoff;
   }
   rays += o.rays;
+  GONIO_CHECK(o.bins.emitted.size() == bins.emitted.size());
+  for (std::size_t b = 0; b < bins.emitted.size(); ++b) {
+    bins.emitted[b] += o.bins.emitted[b];
+    bins.escaped[b] += o.bins.escaped[b];
+    bins.absorbed[b] += o.bins.absorbed[b];
+    bins.cutoff[b] += o.bins.cutoff[b];
+  }
 }
 
 void LedgerTally::clear() {
   for (auto& e : emitters) e = {};
   for (auto& m : meshes) m = {};
   rays = 0;
+  for (auto* v : {&bins.emitted, &bins.escaped, &bins.absorbed, &bins.cutoff})
+    std::fill(v->begin(), v->end(), std::uint64_t{0});
 }
 
-Ledger make_ledger(const LedgerTally& t, const SceneDesc& scene, double total_flux_lm) {
+Ledger make_ledger(const LedgerTally& t, const SceneDesc& scene, double total_flux_lm,
+                   const std::vector<RadiantPerLm>* radiant_bins) {
   GONIO_CHECK(t.emitters.size() == scene.emitters.size() && t.meshes.size() == scene.meshes.size());
   Ledger l;
   // Power units, not photons: under guided emission photons start with
@@ -79,6 +91,52 @@ Ledger make_ledger(const LedgerTally& t, const SceneDesc& scene, double total_fl
       accumulate(ml.absorbed, line(m.absorbed));
       accumulate(ml.cutoff, line(m.cutoff));
     }
+  }
+  if (radiant_bins && t.bins.emitted.size() == radiant_bins->size()) {
+    // Watts from the bins (sim/spectral.h), summed in a fixed order.
+    l.spectral = true;
+    RadiantLedger& r = l.radiant;
+    const std::size_t bands = photometry::kCmfCount;
+    r.escaped_band_w.assign(bands, 0.0);
+    std::vector<double> drawn_band_w(bands, 0.0);  // emitted by photons drawn later, per band
+    const LedgerTally::Bins& b = t.bins;
+    for (std::size_t j = bands; j < b.emitted.size(); ++j) {
+      const RadiantPerLm& per_lm = (*radiant_bins)[j];
+      const std::uint64_t drawn = b.emitted[j] - b.escaped[j] - b.absorbed[j] - b.cutoff[j];
+      for (std::size_t k = 0; k < bands; ++k) {
+        const double w_per_unit = per_unit * per_lm[k];
+        r.emitted_w += static_cast<double>(b.emitted[j]) * w_per_unit;
+        r.escaped_band_w[k] += static_cast<double>(b.escaped[j]) * w_per_unit;
+        r.absorbed_w += static_cast<double>(b.absorbed[j]) * w_per_unit;
+        r.cutoff_w += static_cast<double>(b.cutoff[j]) * w_per_unit;
+        drawn_band_w[k] += static_cast<double>(drawn) * w_per_unit;
+      }
+    }
+    // Drawn photons: band k's watts end as band k's drawn photons did,
+    // pooled with the bands around it until they hold 256 photons of
+    // nominal power (bands seldom drawn, such as the far red, would
+    // otherwise hang on a handful of photons).
+    constexpr double kPoolUnits = 256.0 * static_cast<double>(kPowerUnits);
+    for (std::size_t k = 0; k < bands; ++k) {
+      if (drawn_band_w[k] == 0.0) continue;
+      double all = 0.0, escaped = 0.0, absorbed = 0.0, cutoff = 0.0;
+      const auto pool = [&](std::size_t m) {
+        all += static_cast<double>(b.emitted[m]);
+        escaped += static_cast<double>(b.escaped[m]);
+        absorbed += static_cast<double>(b.absorbed[m]);
+        cutoff += static_cast<double>(b.cutoff[m]);
+      };
+      pool(k);
+      for (std::size_t d = 1; d < bands && all < kPoolUnits; ++d) {
+        if (k >= d) pool(k - d);
+        if (k + d < bands) pool(k + d);
+      }
+      if (all == 0.0) continue;
+      r.escaped_band_w[k] += drawn_band_w[k] * (escaped / all);
+      r.absorbed_w += drawn_band_w[k] * (absorbed / all);
+      r.cutoff_w += drawn_band_w[k] * (cutoff / all);
+    }
+    for (double w : r.escaped_band_w) r.escaped_w += w;
   }
   return l;
 }

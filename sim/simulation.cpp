@@ -34,6 +34,8 @@ void each_count(LedgerTally& t, F&& f) {
     }
   }
   f(t.rays);
+  for (auto* values : {&t.bins.emitted, &t.bins.escaped, &t.bins.absorbed, &t.bins.cutoff})
+    for (std::uint64_t& v : *values) f(v);
 }
 
 template <class F>
@@ -95,9 +97,9 @@ struct Simulation::Impl {
         }),
         texel_photons(tracer.grid().texel_count(), 0),
         texel_units(tracer.grid().texel_count(), 0),
-        books(tracer.emitter_count(), tracer.mesh_count()),
+        books(tracer.emitter_count(), tracer.mesh_count(), tracer.radiant_bin_count()),
         ranks(set.ranks),
-        books_iteration(tracer.emitter_count(), tracer.mesh_count()),
+        books_iteration(tracer.emitter_count(), tracer.mesh_count(), tracer.radiant_bin_count()),
         guide(set.importance.enabled
                   ? std::make_unique<EmissionGuide>(set.importance, set.face_size)
                   : nullptr),
@@ -142,8 +144,6 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
   if (settings.threads < 0) return make_error("the thread count must be >= 0");
   if (settings.sobol_replicates < 1 || settings.sobol_replicates > kMaxSobolReplicates)
     return make_error("the Sobol' replicates must lie in 1..32");
-  if (settings.importance.enabled && scene.spectral())
-    return make_error("guided emission does not carry wavelengths yet: run a spectral model without it");
   if (settings.importance.enabled) {
     if (settings.importance.emission_face_size < 1 || settings.importance.emission_face_size > 1024)
       return make_error("the emission grid of guided emission needs 1..1024 texels per face edge");
@@ -360,8 +360,16 @@ ColourFarField Simulation::colour_far_field() const {
   c.x_lm.assign(n, 0.0);
   c.z_lm.assign(n, 0.0);
   if (s.stats.photons == 0) return c;
-  const double per_unit = total_flux_lm() / static_cast<double>(s.stats.photons) /
-                          static_cast<double>(kColourUnits);
+  double per_unit = total_flux_lm() / static_cast<double>(s.stats.photons) / static_cast<double>(kColourUnits);
+  if (s.guide) {
+    // Photons started with unequal power (X and Z scaled by it, like Y):
+    // share the flux by power emitted, as far_field() does.
+    std::uint64_t emitted_units = 0;
+    for (const auto& e : s.books.emitters) emitted_units += e.emitted.power_units;
+    per_unit = emitted_units > 0 ? total_flux_lm() * static_cast<double>(kPowerUnits) /
+                                       static_cast<double>(emitted_units) / static_cast<double>(kColourUnits)
+                                 : 0.0;
+  }
   for (std::size_t i = 0; i < n; ++i) {
     c.x_lm[i] = static_cast<double>(s.texel_x[i]) * per_unit;
     c.z_lm[i] = static_cast<double>(s.texel_z[i]) * per_unit;
@@ -385,7 +393,10 @@ std::vector<NearFieldPlane> Simulation::near_field() const {
   return sim::near_field_planes(*s.near_planes, s.near_sum, per_unit);
 }
 
-Ledger Simulation::ledger() const { return make_ledger(impl_->books, impl_->scene, total_flux_lm()); }
+Ledger Simulation::ledger() const {
+  const WavelengthSampler* w = impl_->tracer.wavelengths();
+  return make_ledger(impl_->books, impl_->scene, total_flux_lm(), w ? &w->radiant_bins() : nullptr);
+}
 
 Result<Simulation> simulate(
     SceneDesc scene, const SimulationSettings& settings,

@@ -108,15 +108,30 @@ Result<WavelengthSampler> WavelengthSampler::create(const SceneDesc& scene) {
           static_cast<std::uint64_t>(std::llround(c.z_bar / c.y_bar * static_cast<double>(kColourUnits)));
     }
   }
+  // Drawn wavelengths' bins: 1/(Km ȳ) W per lm in their own band.
+  w.bin_radiant_.assign(kWavelengthCount, {});
+  for (int k = 0; k < kWavelengthCount; ++k) {
+    const double y_bar = photometry::cie1931_cmf_sample(k).y_bar;
+    if (y_bar > 0.0)
+      w.bin_radiant_[static_cast<std::size_t>(k)][static_cast<std::size_t>(k)] =
+          1.0 / (photometry::kKm_lm_per_W * y_bar);
+  }
   const auto make_table = [&w](double gamma_rad, const photometry::SampledSpectrum* s) {
     Table t;
     t.gamma_rad = gamma_rad;
     double sum = 0.0;
+    std::array<double, kWavelengthCount> radiant{};
     for (int k = 0; k < kWavelengthCount; ++k) {
       const double power = s ? s->at(wavelength_nm(k)) : 1.0;
+      radiant[static_cast<std::size_t>(k)] = power;
       sum += power * photometry::cie1931_cmf_sample(k).y_bar;
       t.cdf[static_cast<std::size_t>(k)] = sum;
     }
+    // The table's bin: S(λ_k) / (Km Σ S ȳ) W per lm in band k.
+    for (double& r : radiant) r /= photometry::kKm_lm_per_W * sum;
+    t.bin = static_cast<std::uint32_t>(w.bin_radiant_.size());
+    w.bin_radiant_.push_back(radiant);
+    ++w.table_count_;
     for (double& c : t.cdf) c /= sum;
     t.cdf.back() = 1.0;
     t.x_per_y = t.z_per_y = 0.0;
@@ -182,6 +197,44 @@ std::pair<std::uint64_t, std::uint64_t> WavelengthSampler::expected_units(std::u
   }
   const double u = static_cast<double>(kColourUnits);
   return {static_cast<std::uint64_t>(std::llround(x * u)), static_cast<std::uint64_t>(std::llround(z * u))};
+}
+
+WavelengthSampler::BinShare WavelengthSampler::bins(const PhotonColour& colour,
+                                                    std::uint64_t power_units) const {
+  BinShare b;
+  b.units[0] = power_units;
+  const std::vector<Table>& tables = emitters_[colour.emitter].tables;
+  if (tables.size() == 1) {
+    b.bin[0] = b.bin[1] = tables[0].bin;
+    return b;
+  }
+  const auto [j, t] = bracket(tables, colour.cos_gamma);
+  b.bin[0] = tables[j].bin;
+  b.bin[1] = t > 0.0 ? tables[j + 1].bin : tables[j].bin;
+  if (t > 0.0) {
+    b.units[1] = static_cast<std::uint64_t>(std::llround(static_cast<double>(power_units) * t));
+    b.units[1] = std::min(b.units[1], power_units);
+    b.units[0] = power_units - b.units[1];
+  }
+  return b;
+}
+
+std::pair<std::uint64_t, std::uint64_t> WavelengthSampler::hero_units(const PhotonColour& colour) const {
+  double x = 0.0, z = 0.0, sum = 0.0;
+  for (int j = 0; j < kHeroCount; ++j) {
+    const double w = colour.hero_weight[static_cast<std::size_t>(j)];
+    if (w == 0.0 && j > 0) continue;
+    const int k = hero_companion(colour.wavelength, j);
+    const double q = w * pmf(colour.emitter, colour.cos_gamma, k);
+    sum += q;
+    x += q * static_cast<double>(x_units_[static_cast<std::size_t>(k)]);
+    z += q * static_cast<double>(z_units_[static_cast<std::size_t>(k)]);
+  }
+  if (!(sum > 0.0)) {
+    const auto k = static_cast<std::size_t>(colour.wavelength);
+    return {x_units_[k], z_units_[k]};
+  }
+  return {static_cast<std::uint64_t>(std::llround(x / sum)), static_cast<std::uint64_t>(std::llround(z / sum))};
 }
 
 double WavelengthSampler::pmf(std::uint32_t emitter, double cos_gamma, int k) const {

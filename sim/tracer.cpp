@@ -79,6 +79,60 @@ void book_loss(const TraceResult& r, LedgerTally::PerEmitter& emitter, LedgerTal
   }
 }
 
+// A lobe's weight in a material.
+double lobe_weight(const Material& m, Lobe lobe) {
+  switch (lobe) {
+    case Lobe::DiffuseReflect: return m.diffuse_reflect;
+    case Lobe::DiffuseTransmit: return m.diffuse_transmit;
+    case Lobe::Mirror: return m.mirror;
+    case Lobe::Glossy: return m.glossy;
+    case Lobe::Dielectric: return m.dielectric;
+    case Lobe::Absorb: break;
+  }
+  return 1.0 - m.total();
+}
+
+// The hero's companions after an event with `lobe` at a material acting by
+// wavelength (`at`: the material at each wavelength of the grid).
+void update_companions(PhotonColour& c, Lobe lobe, const Material* at, const Material& m) {
+  if (lobe == Lobe::Dielectric && (!m.ior_nm.empty() || m.abbe_number > 0.0)) {
+    for (int j = 1; j < kHeroCount; ++j) c.hero_weight[static_cast<std::size_t>(j)] = 0.0;
+    return;
+  }
+  const double hero = lobe_weight(at[c.wavelength], lobe);
+  if (!(hero > 0.0)) return;
+  for (int j = 1; j < kHeroCount; ++j) {
+    double& w = c.hero_weight[static_cast<std::size_t>(j)];
+    if (w != 0.0) w *= lobe_weight(at[hero_companion(c.wavelength, j)], lobe) / hero;
+  }
+}
+
+// X or Z units (kColourUnits per photon of nominal power) of a photon of
+// `power` units: units × power / kPowerUnits, rounded, in integers (exact
+// for power = kPowerUnits; no overflow below 2³⁹ nominal photons' power).
+std::uint64_t scale_by_power(std::uint64_t units, std::uint64_t power) {
+  const std::uint64_t whole = power / kPowerUnits, part = power % kPowerUnits;
+  return units * whole + (units * part + kPowerUnits / 2) / kPowerUnits;
+}
+
+// Books a spectral photon's power in the radiant bins of its colour state
+// at its end (sim/ledger.h): emitted and its fate together.
+void book_bins(const WavelengthSampler& w, const PhotonColour& colour, const TraceResult& r,
+               LedgerTally::Bins& bins) {
+  std::vector<std::uint64_t>& fate = r.fate == Fate::Escaped    ? bins.escaped
+                                     : r.fate == Fate::Absorbed ? bins.absorbed
+                                                                : bins.cutoff;
+  const WavelengthSampler::BinShare share = w.bins(colour, r.power_units);
+  for (int i = 0; i < 2; ++i) bins.emitted[share.bin[i]] += share.units[i];
+  if (colour.wavelength < 0) {
+    for (int i = 0; i < 2; ++i) fate[share.bin[i]] += share.units[i];
+  } else {
+    const auto k = static_cast<std::size_t>(colour.wavelength);
+    bins.emitted[k] += r.power_units;
+    fate[k] += r.power_units;
+  }
+}
+
 }  // namespace
 
 std::uint64_t TracerTally::photons(std::size_t texel) const {
@@ -185,7 +239,7 @@ TracerTally Tracer::make_tally() const {
   if (wavelengths_) {
     t.texel_xz.assign(2 * grid_.texel_count(), std::uint64_t{0});
   }
-  t.ledger = LedgerTally(emission_.emitter_count(), meshes_.size());
+  t.ledger = LedgerTally(emission_.emitter_count(), meshes_.size(), radiant_bin_count());
   return t;
 }
 
@@ -263,6 +317,12 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
         if (place) frame.tangent = place->linear(frame.tangent);
       }
     }
+    // Hero wavelengths (sim/spectral.h): each companion's path probability
+    // relative to the hero's takes this event's lobe weight at its own
+    // wavelength; a dispersive refraction ends the companions.
+    if (wavelength >= 0 && material_spectral_[mesh.material] && lobe != Lobe::Absorb)
+      update_companions(*colour, lobe, &spectral_materials_[static_cast<std::size_t>(mesh.material) * kWavelengthCount],
+                        materials_[mesh.material]);
     const ScatterResult s = scatter(material, lobe, frame, direction, rng, &polarization);
     if (s.absorbed) {
       r.fate = Fate::Absorbed;
@@ -345,6 +405,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
     const TraceResult r =
         follow(origin, e.direction, rng, &books, nullptr, kPowerUnits, wavelengths_ ? &colour : nullptr);
+    if (spectral) book_bins(*wavelengths_, colour, r, books.bins);
     switch (r.fate) {
       case Fate::Escaped: {
         const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));
@@ -360,8 +421,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
         if (spectral) {
           __builtin_prefetch(&tally.texel_xz[2 * static_cast<std::size_t>(texel)], 1);
           if (colour.wavelength >= 0) {
-            pending_x = wavelengths_->x_units()[static_cast<std::size_t>(colour.wavelength)];
-            pending_z = wavelengths_->z_units()[static_cast<std::size_t>(colour.wavelength)];
+            std::tie(pending_x, pending_z) = wavelengths_->hero_units(colour);
           } else {
             std::tie(pending_x, pending_z) = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
           }
@@ -383,6 +443,7 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
                                   GuideTally& guide_tally) const {
   FloatModeGuard float_mode;
   LedgerTally& books = tally.ledger;
+  const bool spectral = wavelengths_ != nullptr;
   std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
   if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed, settings_.sobol_replicates);
   for (std::uint64_t i = first; i < first + count; ++i) {
@@ -398,11 +459,25 @@ void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::
     eb.emitted.add(power);
     ++guide_tally.traced[source_texel];
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
-    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, power);
+    // Spectral scenes: the photon's colour as in trace_photons; its X and Z
+    // carry its power like its Y (x_units per kPowerUnits of power).
+    PhotonColour colour = spectral ? start_colour(e) : PhotonColour{};
+    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, power, spectral ? &colour : nullptr);
+    if (spectral) book_bins(*wavelengths_, colour, r, books.bins);
     switch (r.fate) {
       case Fate::Escaped: {
         const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));
         if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
+        if (spectral) {
+          std::uint64_t x = 0, z = 0;
+          if (colour.wavelength >= 0) {
+            std::tie(x, z) = wavelengths_->hero_units(colour);
+          } else {
+            std::tie(x, z) = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
+          }
+          tally.texel_xz[2 * static_cast<std::size_t>(texel)] += scale_by_power(x, r.power_units);
+          tally.texel_xz[2 * static_cast<std::size_t>(texel) + 1] += scale_by_power(z, r.power_units);
+        }
         guide_tally.extra_units[texel] += r.power_units - kPowerUnits;
         guide_tally.importance_sum[source_texel] += guide.importance(texel);
         eb.escaped.add(r.power_units);

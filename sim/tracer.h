@@ -139,7 +139,8 @@ class Tracer {
   // power of escapes above kPowerUnits goes there; `tally` counts the
   // photons). The ledger books each traced photon's power as
   // emitted, so it closes exactly; dropped photons are counted in
-  // guide_tally.dropped only.
+  // guide_tally.dropped only. Spectral scenes: a photon's X and Z scale with
+  // its power like its Y (sim/spectral.h).
   void trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
                             const EmissionGuide& guide, TracerTally& tally,
                             GuideTally& guide_tally) const;
@@ -154,6 +155,8 @@ class Tracer {
   // Whether photons carry wavelengths (SceneDesc::spectral()), and their sampler.
   bool spectral() const { return wavelengths_ != nullptr; }
   const WavelengthSampler* wavelengths() const { return wavelengths_.get(); }
+  // The radiant books' bins (WavelengthSampler::bin_count; 0 for grey scenes).
+  std::size_t radiant_bin_count() const { return wavelengths_ ? wavelengths_->bin_count() : 0; }
 
   // A point on a surface moved off it towards unit `side_normal` by the rule
   // at the top (t: the length of the path that reached it; 0 for emission).

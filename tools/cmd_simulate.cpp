@@ -155,9 +155,10 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
   p.option("format", &o->format_list, "LIST",
            "files to write, comma-separated: ies, ldt, exr, latlong, plot, report (the datasheet\n"
            "STEM.html with the energy ledger), gldf (STEM.gldf with the LDT, IES and the model as\n"
-           "L3D), tm25 (STEM.tm25ray: the escaping photons as an IES TM-25 ray file, see\n"
-           "--tm25-rays), or all (default: every one but report, gldf and tm25, which are written\n"
-           "only when named)");
+           "L3D), tm33 (STEM.xml, IES TM-33-23; a spectral run's with its spectrum), tm25\n"
+           "(STEM.tm25ray: the escaping photons as an IES TM-25 ray file, see --tm25-rays), or\n"
+           "all (default: every one but report, gldf, tm33 and tm25, which are written only when\n"
+           "named)");
   p.option("tm25-rays", &o->tm25_rays, 1, 100'000'000, "N",
            "with --format tm25: the escapes of the run's first N photons are the ray file's rays\n"
            "(default 1000000); their fluxes add up to the escaped flux");
@@ -575,6 +576,14 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   request.run.issue_date = format_utc(now_unix(), "%Y-%m-%d");
   const sim::ColourFarField colour = sim->colour_far_field();
   if (!colour.empty()) request.colour = &colour;
+  // Spectral runs (sim/spectral.h): the luminaire's colour and its colour
+  // over angle on the output grid (sim/colour_over_angle.h), for
+  // report.json and the datasheet.
+  if (sim->tracer().spectral()) {
+    const sim::Resampler own =
+        cached_resampler(settings.face_size, sim->scene().frame, plan.grid, plan.model_input.cache_dir);
+    request.colour_report = colour_json(sim::colour_over_angle(own, far_field, colour));
+  }
   std::vector<std::string> near_field_files;
   nlohmann::json near_field_list;
   std::optional<double> far_field_distance;
@@ -653,51 +662,15 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
     if (f.format == OutputFormat::Exr) json["far_field"]["file"] = std::filesystem::path(f.path).filename().string();
   json["outputs"] = to_json(*outputs, grid, ledger.escaped.flux_lm);
   std::string colour_chart_path;
-  // Spectral runs (sim/spectral.h): the luminaire's colour and its colour
-  // over angle on the output grid (sim/colour_over_angle.h).
-  if (sim->tracer().spectral()) {
-    const sim::Resampler own =
-        cached_resampler(settings.face_size, sim->scene().frame, plan.grid, plan.model_input.cache_dir);
-    const sim::ColourOverAngle c = sim::colour_over_angle(own, far_field, colour);
-    const auto num = [](double v) { return cli::json_number(v); };
-    const photometry::Chromaticity xy = photometry::chromaticity(c.total);
-    json["colour"] = {{"cie_x", num(xy.x)},          {"cie_y", num(xy.y)},
-                      {"u_prime", num(c.uv.u_prime)}, {"v_prime", num(c.uv.v_prime)},
-                      {"cct_k", num(c.cct.cct_k)},    {"duv", num(c.cct.duv)},
-                      {"method", "CIE 1931 2 deg, 5 nm; CCT and Duv by Ohno 2014"}};
-    nlohmann::json planes = nlohmann::json::array();
-    for (const sim::ColourPlane& p : c.planes) {
-      nlohmann::json g = nlohmann::json::array(), u = g, v = g, t = g, d = g;
-      for (const sim::ColourAtGamma& a : p.points) {
-        g.push_back(a.gamma_deg);
-        u.push_back(num(a.uv.u_prime));
-        v.push_back(num(a.uv.v_prime));
-        t.push_back(num(a.cct.cct_k));
-        d.push_back(num(a.cct.duv));
-      }
-      planes.push_back({{"c_deg", p.c_deg}, {"gamma_deg", g}, {"u_prime", u}, {"v_prime", v},
-                        {"cct_k", t}, {"duv", d}});
-    }
-    json["colour_over_angle"] = {{"threshold_fraction", c.threshold_fraction},
-                                 {"mean_u_prime", num(c.mean_uv.u_prime)},
-                                 {"mean_v_prime", num(c.mean_uv.v_prime)},
-                                 {"delta_uv_max", num(c.delta_uv_max)},
-                                 {"bins_counted", c.bins_counted},
-                                 {"planes", planes}};
-    // The colour-over-angle chart beside the intensity diagram.
-    std::vector<io::ColourCurve> curves;
-    for (const sim::ColourPlane& p : c.planes) {
-      io::ColourCurve cc;
-      cc.c_deg = p.c_deg;
-      for (const sim::ColourAtGamma& a : p.points) {
-        cc.gamma_deg.push_back(a.gamma_deg);
-        cc.cct_k.push_back(a.cct.cct_k);
-        cc.delta_uv.push_back(photometry::delta_uv_prime(a.uv, c.mean_uv));
-      }
-      curves.push_back(std::move(cc));
-    }
+  // Spectral runs: the colour figures and the colour-over-angle chart
+  // beside the intensity diagram.
+  if (request.colour_report.is_object()) {
+    json.update(request.colour_report);
+    const std::vector<io::ColourCurve> curves = io::colour_curves(json["colour_over_angle"]);
     const std::string chart_path = (std::filesystem::path(plan.out_dir) / (plan.stem + "-colour.svg")).string();
-    Result<io::Figure> chart = io::colour_over_angle_chart(curves, model + ": colour over angle", c.delta_uv_max);
+    const nlohmann::json& dmax = json["colour_over_angle"]["delta_uv_max"];
+    Result<io::Figure> chart = io::colour_over_angle_chart(curves, model + ": colour over angle",
+                                                           dmax.is_number() ? dmax.get<double>() : photometry::kNaN);
     Status chart_status = chart.ok() ? io::write_figure(chart_path, *chart) : Status(chart.error());
     if (chart_status.ok()) json["colour_over_angle"]["chart"] = std::filesystem::path(chart_path).filename().string();
     else failures.push_back(chart_status.error());
@@ -759,6 +732,9 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
               l.emitted.flux_lm, l.escaped.flux_lm, percent(l.escaped.flux_lm, l.emitted.flux_lm),
               l.absorbed.flux_lm, percent(l.absorbed.flux_lm, l.emitted.flux_lm), l.cutoff.flux_lm,
               percent(l.cutoff.flux_lm, l.emitted.flux_lm));
+  if (l.spectral)
+    std::printf("  radiant (360-830 nm): emitted %.6g W: escaped %.6g W, absorbed %.6g W, cut off %.6g W\n",
+                l.radiant.emitted_w, l.radiant.escaped_w, l.radiant.absorbed_w, l.radiant.cutoff_w);
   std::printf("  light output ratio %.4f (escaped / emitted)\n", lor);
   for (const auto& p : near_field_list)
     std::printf("  near field at %s m: %s lx on the axis, the far field predicts %s lx; largest deviation %s %% "

@@ -12,6 +12,7 @@
 #include "photometry/summary.h"
 #include "tools/json_figures.h"
 #include "tools/resampler_cache.h"
+#include "tools/simulation_outputs.h"
 
 namespace gonio::cli {
 namespace {
@@ -115,6 +116,7 @@ void LiveView::begin_run(const std::string& model, const sim::SceneDesc& scene, 
   state_["iteration"] = 0;
   state_["photons"] = 0;
   state_["curves"] = nullptr;
+  state_["colour"] = nullptr;
   publish(false);
 }
 
@@ -163,6 +165,11 @@ void LiveView::iteration(const IterationReport& r, const sim::Simulation& simula
                   {"c180", plane(d, 180.0)},
                   {"c270", plane(d, 270.0)}};
   s["curves"] = last_curves_;
+  // A spectral run's colour on the output grid (as report.json's; the raw
+  // far field, not the filtered one).
+  s["colour"] = simulation.tracer().spectral()
+                    ? live_colour_json(sim::colour_over_angle(*resampler_, raw, simulation.colour_far_field()))
+                    : nlohmann::json(nullptr);
   // The colour scale's white point as preview.png's: the intensity under
   // which the texels carrying 99 % of the flux lie (a bright spot must not
   // leave the rest of the picture black).

@@ -19,7 +19,9 @@
 //   io/outputs/cube_cross.h's 99 % flux quantile), version} (GET /field.f32), findings
 //   [{severity, code, message, where}] (the model's check findings),
 //   last_error (null, or {message, time}), load_to_preview_s (from the
-//   change being noticed to this run's first preview).
+//   change being noticed to this run's first preview), colour (a spectral
+//   run: {cie_x, cie_y, u_prime, v_prime, cct_k, duv, delta_uv_max}, as
+//   report.json's colour and colour_over_angle; null otherwise).
 // A run that fails leaves the last good field, curves and numbers up, with
 // last_error set and status "error".
 #pragma once

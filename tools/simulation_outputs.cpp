@@ -10,10 +10,12 @@
 
 #include "io/outputs/datasheet.h"
 #include "io/outputs/exr.h"
+#include "io/outputs/report.h"
 #include "io/support/file_io.h"
 #include "io/photometric/gldf.h"
 #include "io/outputs/intensity_diagram.h"
 #include "io/photometric/ldt.h"
+#include "io/photometric/tm33.h"
 #include "io/photometric/photometric_file.h"
 #include "io/outputs/plot.h"
 #include "photometry/direct_ratios.h"
@@ -34,10 +36,10 @@ using photometry::Symmetry;
 constexpr OutputFormat kAllFormats[] = {OutputFormat::Ies, OutputFormat::Ldt, OutputFormat::Exr,
                                         OutputFormat::LatLong, OutputFormat::Plot};
 // Every name parse_formats() knows: "all" and those written only when named
-// (the datasheet, GLDF).
+// (the datasheet, GLDF, TM-33).
 constexpr OutputFormat kKnownFormats[] = {OutputFormat::Ies,     OutputFormat::Ldt,  OutputFormat::Exr,
                                           OutputFormat::LatLong, OutputFormat::Plot, OutputFormat::Report,
-                                          OutputFormat::Gldf};
+                                          OutputFormat::Gldf,    OutputFormat::Tm33};
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t");
@@ -164,6 +166,35 @@ Status write_ldt_file(const Distribution& d, WrittenFile* file) {
   if (!text.ok()) return make_error(file->path, text.error().message);
   if (Status s = io::write_file_atomic(file->path, *text); !s.ok()) return s;
   take_read_back(io::read_ldt(file->path), file);
+  return Ok{};
+}
+
+// STEM.xml: the TM-33-23 document; a spectral run's also carries the
+// luminaire's total spectrum, the escaped light's (sim/ledger.h's
+// RadiantLedger::escaped_band_w, 5 nm bands, normalised to peak 1), and its
+// CCT as FixedCCT (the lamp set's colour). Read back with Gonio's reader.
+Status write_tm33_file(const Distribution& d, const sim::Ledger& ledger, WrittenFile* file) {
+  Distribution tm33 = d;
+  if (ledger.spectral && ledger.radiant.escaped_w > 0.0) {
+    photometry::Spectrum s;
+    s.emitter = "luminaire: the escaped light (Gonio simulation)";
+    s.normalized = true;
+    double peak = 0.0;
+    for (double w : ledger.radiant.escaped_band_w) peak = std::max(peak, w);
+    for (std::size_t k = 0; k < ledger.radiant.escaped_band_w.size(); ++k) {
+      s.wavelength_nm.push_back(photometry::kCmfFirstNm + photometry::kCmfStepNm * static_cast<double>(k));
+      s.values.push_back(ledger.radiant.escaped_band_w[k] / peak);
+    }
+    tm33.spectra = {std::move(s)};
+  }
+  const std::string text = io::write_tm33(tm33, &file->writer_notes);
+  if (Status s = io::write_file_atomic(file->path, text); !s.ok()) return s;
+  Result<std::string> bytes = io::read_file(file->path, std::size_t{256} << 20);
+  if (!bytes.ok()) {
+    file->findings.push_back(finding(Severity::Error, "unreadable", bytes.error().message, file->path));
+    return Ok{};
+  }
+  take_read_back(io::parse_tm33(*bytes, file->path), file);
   return Ok{};
 }
 
@@ -318,6 +349,8 @@ Status write_report_file(const Distribution& d, const sim::Ledger& ledger, const
                                            {"cutoff_lm", ledger.cutoff.flux_lm}};
   if (request.near_field.is_object())
     for (const auto& [key, value] : request.near_field.items()) (*entry.simulation_report)[key] = value;
+  if (ledger.spectral) (*entry.simulation_report)["radiant"] = io::radiant_json(ledger.radiant);
+  if (request.colour_report.is_object()) entry.simulation_report->update(request.colour_report);
   if (Status s = io::write_datasheet(file->path, {entry}); !s.ok()) return s;
   Result<std::string> back = io::read_file(file->path, std::size_t{64} << 20);
   if (!back.ok()) {
@@ -334,6 +367,44 @@ Status write_report_file(const Distribution& d, const sim::Ledger& ledger, const
 
 }  // namespace
 
+nlohmann::json colour_json(const sim::ColourOverAngle& c) {
+  const auto num = [](double v) { return json_number(v); };
+  const photometry::Chromaticity xy = photometry::chromaticity(c.total);
+  nlohmann::json j;
+  j["colour"] = {{"cie_x", num(xy.x)},          {"cie_y", num(xy.y)},
+                 {"u_prime", num(c.uv.u_prime)}, {"v_prime", num(c.uv.v_prime)},
+                 {"cct_k", num(c.cct.cct_k)},    {"duv", num(c.cct.duv)},
+                 {"method", "CIE 1931 2 deg, 5 nm; CCT and Duv by Ohno 2014"}};
+  nlohmann::json planes = nlohmann::json::array();
+  for (const sim::ColourPlane& p : c.planes) {
+    nlohmann::json g = nlohmann::json::array(), u = g, v = g, t = g, d = g;
+    for (const sim::ColourAtGamma& a : p.points) {
+      g.push_back(a.gamma_deg);
+      u.push_back(num(a.uv.u_prime));
+      v.push_back(num(a.uv.v_prime));
+      t.push_back(num(a.cct.cct_k));
+      d.push_back(num(a.cct.duv));
+    }
+    planes.push_back({{"c_deg", p.c_deg}, {"gamma_deg", g}, {"u_prime", u}, {"v_prime", v},
+                      {"cct_k", t}, {"duv", d}});
+  }
+  j["colour_over_angle"] = {{"threshold_fraction", c.threshold_fraction},
+                            {"mean_u_prime", num(c.mean_uv.u_prime)},
+                            {"mean_v_prime", num(c.mean_uv.v_prime)},
+                            {"delta_uv_max", num(c.delta_uv_max)},
+                            {"bins_counted", c.bins_counted},
+                            {"planes", planes}};
+  return j;
+}
+
+nlohmann::json live_colour_json(const sim::ColourOverAngle& c) {
+  nlohmann::json all = colour_json(c);
+  nlohmann::json j = all["colour"];
+  j.erase("method");
+  j["delta_uv_max"] = all["colour_over_angle"]["delta_uv_max"];
+  return j;
+}
+
 const char* to_string(OutputFormat format) {
   switch (format) {
     case OutputFormat::Ies: return "ies";
@@ -343,13 +414,14 @@ const char* to_string(OutputFormat format) {
     case OutputFormat::Plot: return "plot";
     case OutputFormat::Report: return "report";
     case OutputFormat::Gldf: return "gldf";
+    case OutputFormat::Tm33: return "tm33";
   }
   return "?";
 }
 
 Result<std::vector<OutputFormat>> parse_formats(const std::string& list) {
   std::vector<OutputFormat> out;
-  const std::string valid = "ies, ldt, exr, latlong, plot, report, gldf or all";
+  const std::string valid = "ies, ldt, exr, latlong, plot, report, gldf, tm33 or all";
   std::size_t start = 0;
   while (start <= list.size()) {
     const std::size_t comma = std::min(list.find(',', start), list.size());
@@ -513,7 +585,7 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
     return std::find(request.formats.begin(), request.formats.end(), f) != request.formats.end();
   };
   const bool needs_table = wants(OutputFormat::Ies) || wants(OutputFormat::Ldt) || wants(OutputFormat::Plot) ||
-                           wants(OutputFormat::Report) || wants(OutputFormat::Gldf);
+                           wants(OutputFormat::Report) || wants(OutputFormat::Gldf) || wants(OutputFormat::Tm33);
   if (needs_table) {
     if (request.symmetry) {
       if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
@@ -566,6 +638,10 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
       case OutputFormat::Gldf:
         file.path = (dir / (request.stem + ".gldf")).string();
         s = write_gldf_file(result.distribution, scene, request, &file);
+        break;
+      case OutputFormat::Tm33:
+        file.path = (dir / (request.stem + ".xml")).string();
+        s = write_tm33_file(result.distribution, ledger, &file);
         break;
     }
     if (!s.ok()) {

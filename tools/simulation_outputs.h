@@ -52,6 +52,7 @@
 #include "io/photometric/ies.h"
 #include "photometry/diagnostics.h"
 #include "photometry/distribution.h"
+#include "sim/colour_over_angle.h"
 #include "sim/far_field.h"
 #include "sim/ledger.h"
 #include "sim/resample.h"
@@ -61,9 +62,9 @@
 
 namespace gonio::cli {
 
-enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot, Report, Gldf };
+enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot, Report, Gldf, Tm33 };
 
-// "ies", "ldt", "exr", "latlong", "plot", "report", "gldf".
+// "ies", "ldt", "exr", "latlong", "plot", "report", "gldf", "tm33".
 const char* to_string(OutputFormat format);
 
 // A comma-separated list of the names above, or "all" (every format but
@@ -122,7 +123,21 @@ struct OutputRequest {
   // {near_field: [...], far_field_distance_m} of report.json (--near-field)
   // for the datasheet; null: none.
   nlohmann::json near_field;
+  // {colour: {...}, colour_over_angle: {...}} of report.json (colour_json)
+  // for the datasheet; null: a grey run.
+  nlohmann::json colour_report;
 };
+
+// A spectral run's colour as report.json, the datasheet and the live page
+// give it: {"colour": {cie_x, cie_y, u_prime, v_prime, cct_k, duv, method},
+// "colour_over_angle": {threshold_fraction, mean_u_prime, mean_v_prime,
+// delta_uv_max, bins_counted, planes: [{c_deg, gamma_deg, u_prime, v_prime,
+// cct_k, duv}]}} (undefined values null).
+nlohmann::json colour_json(const sim::ColourOverAngle& c);
+// The live page's colour (state.json "colour"): colour_json's "colour"
+// without its method, plus delta_uv_max.
+nlohmann::json live_colour_json(const sim::ColourOverAngle& c);
+
 
 // One file written and read back.
 struct WrittenFile {

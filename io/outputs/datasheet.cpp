@@ -12,7 +12,10 @@
 #include <sstream>
 
 #include "io/support/file_io.h"
+#include "io/outputs/colour_chart.h"
 #include "io/outputs/intensity_diagram.h"
+#include "photometry/colour.h"
+#include "photometry/spectrum.h"
 #include "io/outputs/plot.h"
 #include "io/support/process.h"
 #include "photometry/format.h"
@@ -253,6 +256,64 @@ std::string sc_text(const photometry::SpacingValue& v) {
   return v.ratio ? fmt(*v.ratio, 2) : "– (" + v.why_undefined + ")";
 }
 
+// A spectral simulation's colour (report.json's "colour" and
+// "colour_over_angle"): the luminaire's CIE x, y, u′v′, CCT and Duv, Δu′v′
+// max, and the colour-over-angle chart; empty without them.
+Result<std::string> colour_html(const nlohmann::json& r) {
+  if (!r.contains("colour") || !r["colour"].is_object()) return std::string();
+  const nlohmann::json& c = r["colour"];
+  const auto num = [](const nlohmann::json& j, const char* key) {
+    return j.contains(key) && j[key].is_number() ? j[key].get<double>() : photometry::kNaN;
+  };
+  std::string h = "<h2>Colour</h2>\n<table class=colour>\n";
+  h += row("CIE 1931 x, y", fmt(num(c, "cie_x"), 4) + ", " + fmt(num(c, "cie_y"), 4));
+  h += row("CIE 1976 u′, v′", fmt(num(c, "u_prime"), 4) + ", " + fmt(num(c, "v_prime"), 4));
+  h += row("CCT", fmt(num(c, "cct_k"), 0) + " K");
+  h += row("Duv", fmt(num(c, "duv"), 4));
+  const nlohmann::json coa = r.value("colour_over_angle", nlohmann::json());
+  if (coa.is_object()) {
+    h += row("Δu′v′ max", fmt(num(coa, "delta_uv_max"), 4) + " (from the flux-weighted mean u′v′ " +
+                               fmt(num(coa, "mean_u_prime"), 4) + ", " + fmt(num(coa, "mean_v_prime"), 4) +
+                               ", over directions of at least " + pct(num(coa, "threshold_fraction"), 0) +
+                               " of the peak intensity)");
+  }
+  h += "</table>\n";
+  if (coa.is_object() && coa.contains("planes") && coa["planes"].is_array()) {
+    const std::vector<ColourCurve> curves = colour_curves(coa);
+    if (!curves.empty()) {
+      Result<Figure> fig = colour_over_angle_chart(curves, "Colour over angle", num(coa, "delta_uv_max"));
+      if (!fig.ok()) return fig.error();
+      Result<std::string> svg = render_figure(fig.value(), ImageFormat::Svg);
+      if (!svg.ok()) return svg.error();
+      h += "<div class=\"svg colour-chart\">" + inline_svg(svg.value()) + "</div>\n";
+    }
+  }
+  h += "<p class=note>" + esc(c.value("method", std::string("CIE 1931 2°"))) +
+       "; per direction from the far field's X, Y and Z binned like the intensity.</p>\n";
+  return h;
+}
+
+// A file's spectrum (TM-33 SpectralData): the colour it gives, CIE 15's
+// 5 nm summation and Ohno's CCT (photometry/colour.h).
+std::string spectrum_colour_html(const photometry::Spectrum& spectrum) {
+  const photometry::SampledSpectrum s = photometry::sampled(spectrum);
+  if (!photometry::validate_spectrum(s).ok()) return std::string();
+  const photometry::Tristimulus t = photometry::tristimulus(s);
+  const photometry::Chromaticity xy = photometry::chromaticity(t);
+  const photometry::UvPrime uv = photometry::uv_prime(t);
+  const photometry::CctDuv c = photometry::cct_duv(uv);
+  std::string h = "<h2>Colour</h2>\n<table class=colour>\n";
+  h += row("CIE 1931 x, y", fmt(xy.x, 4) + ", " + fmt(xy.y, 4));
+  h += row("CIE 1976 u′, v′", fmt(uv.u_prime, 4) + ", " + fmt(uv.v_prime, 4));
+  h += row("CCT", fmt(c.cct_k, 0) + " K");
+  h += row("Duv", fmt(c.duv, 4));
+  h += "</table>\n<p class=note>From the file's spectrum" +
+       (spectrum.emitter.empty() ? std::string() : " (" + esc(spectrum.emitter) + ")") + ", " +
+       std::to_string(spectrum.wavelength_nm.size()) +
+       " wavelengths: CIE 1931 2°, 5 nm; CCT and Duv by Ohno 2014.</p>\n";
+  return h;
+}
+
 std::string ledger_html(const nlohmann::json& r) {
   const auto num = [&](const char* key) {
     return r.contains(key) && r[key].is_number() ? r[key].get<double>() : photometry::kNaN;
@@ -268,6 +329,25 @@ std::string ledger_html(const nlohmann::json& r) {
          (emitted > 0 ? pct(v / emitted, 2) : "–") + "</td></tr>\n";
   }
   t += "</table>";
+  // Spectral runs: the same books in watts (report.json's "radiant").
+  if (r.contains("radiant") && r["radiant"].is_object()) {
+    const nlohmann::json& w = r["radiant"];
+    const auto watts = [&](const char* key) {
+      return w.contains(key) && w[key].is_number() ? w[key].get<double>() : photometry::kNaN;
+    };
+    const double emitted_w = watts("emitted_w");
+    t += "<table class=radiant>";
+    for (const auto& [key, label] : {std::pair{"emitted_w", "emitted (radiant)"},
+                                     {"escaped_w", "escaped (radiant)"},
+                                     {"absorbed_w", "absorbed (radiant)"},
+                                     {"cutoff_w", "cut off (radiant)"}}) {
+      const double v = watts(key);
+      t += "<tr><th class=l>" + std::string(label) + "</th><td>" + fmt(v, 4) + " W</td><td>" +
+           (emitted_w > 0 ? pct(v / emitted_w, 2) : "–") + "</td></tr>\n";
+    }
+    t += "</table><p class=note>Radiant power over 360–830 nm from each photon's wavelength and its emitter's "
+         "spectrum (README, \"Colour over angle\").</p>";
+  }
   if (r.contains("photons_emitted"))
     t += "<p class=note>" + esc(r["photons_emitted"].dump()) + " photons" +
          (r.contains("seed") ? ", seed " + esc(r["seed"].dump()) : std::string()) + ".</p>";
@@ -396,7 +476,14 @@ Result<std::string> entry_html(const DatasheetEntry& e, const DatasheetOptions& 
     h += "<p>Not defined — " + esc(p.luminance.why_undefined) + ".</p>\n";
   }
   h += method("luminance_table");
-  if (e.simulation_report) h += "<h2>Energy ledger of the simulation</h2>\n" + ledger_html(*e.simulation_report);
+  if ((!e.simulation_report || !e.simulation_report->contains("colour")) && !d.spectra.empty())
+    h += spectrum_colour_html(d.spectra.front());
+  if (e.simulation_report) {
+    Result<std::string> colour = colour_html(*e.simulation_report);
+    if (!colour.ok()) return colour.error();
+    h += colour.value();
+    h += "<h2>Energy ledger of the simulation</h2>\n" + ledger_html(*e.simulation_report);
+  }
   h += "<h2>Candela table</h2>\n" + candela_table(d);
   return h + "</section>\n";
 }

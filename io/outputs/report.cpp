@@ -16,6 +16,23 @@ void put_line(nlohmann::json& j, const char* what, const sim::LedgerLine& line) 
 
 }  // namespace
 
+nlohmann::json radiant_json(const sim::RadiantLedger& r) {
+  nlohmann::json bands = nlohmann::json::array(), nm = nlohmann::json::array();
+  for (std::size_t k = 0; k < r.escaped_band_w.size(); ++k) {
+    nm.push_back(photometry::kCmfFirstNm + photometry::kCmfStepNm * static_cast<double>(k));
+    bands.push_back(r.escaped_band_w[k] / photometry::kCmfStepNm);
+  }
+  return {{"emitted_w", r.emitted_w},
+          {"escaped_w", r.escaped_w},
+          {"absorbed_w", r.absorbed_w},
+          {"cutoff_w", r.cutoff_w},
+          {"escaped_spectrum", {{"wavelengths_nm", nm}, {"w_per_nm", bands}}},
+          {"method",
+           "360-830 nm in 5 nm bands; each photon's luminous power in watts by its emitter's spectrum at its "
+           "angle (S / (Km sum S ybar), exact), or, for photons whose wavelength a material drew, as the photons "
+           "drawn in that band ended (sim/spectral.h)"}};
+}
+
 nlohmann::json to_json(const SimulationReport& r) {
   using nlohmann::json;
   const sim::Ledger& l = r.ledger;
@@ -38,6 +55,10 @@ nlohmann::json to_json(const SimulationReport& r) {
   put_line(j, "cutoff", l.cutoff);
   j["photon_power_lm"] = l.photon_power_lm;
   j["ledger"] = {{"photons_close", l.photons_close()}, {"flux_imbalance_lm", l.flux_imbalance_lm()}};
+  if (l.spectral) {
+    j["radiant"] = radiant_json(l.radiant);
+    j["ledger"]["radiant_imbalance_w"] = l.radiant.imbalance_w();
+  }
 
   j["photons_per_s"] = per_second(static_cast<double>(r.photons), r.trace_s);
   j["rays_per_s"] = per_second(static_cast<double>(r.rays), r.trace_s);

@@ -6,7 +6,8 @@
 //   program {name, version}, model, seed, settings {...},
 //   emitted_lm, escaped_lm, absorbed_lm, cutoff_lm,
 //   photons_emitted, photons_escaped, photons_absorbed, photons_cutoff,
-//   photon_power_lm, ledger {photons_close, flux_imbalance_lm},
+//   photon_power_lm, ledger {photons_close, flux_imbalance_lm, and for
+//   spectral runs radiant_imbalance_w}, radiant (spectral runs: radiant_json),
 //   photons_per_s, rays_per_s, rays, rays_per_photon, wall_s, trace_s,
 //   setup_s, threads, iterations_done,
 //   setup {load_s, check_s, validate_s, emission_tables_s, bvh_s, shading_s,
@@ -85,6 +86,12 @@ struct SimulationReport {
 std::uint64_t peak_memory_bytes();
 
 nlohmann::json to_json(const SimulationReport& report);
+
+// A spectral run's radiant books as report.json's "radiant" gives them:
+// emitted_w, escaped_w, absorbed_w, cutoff_w, escaped_spectrum
+// {wavelengths_nm, w_per_nm} (the escaped light's spectrum, 5 nm bands),
+// method.
+nlohmann::json radiant_json(const sim::RadiantLedger& radiant);
 
 // Writes JSON (indented, trailing newline) atomically.
 Status write_json(const std::string& path, const nlohmann::json& json);

@@ -16,7 +16,9 @@
 //   - ends gonio with SIGINT (exit 0);
 //   - then, without the browser, watches the downlight sample and rewrites
 //     the IES profile its model references: GET /state.json shows a new run.
-// Screenshots: build/test-artifacts/watch-page.png (and -run1, -error).
+//   - watches a spectral bell (a 2856 K blackbody lamp): the page shows its
+//     colour as state.json and report.json give it, CCT 2856 K.
+// Screenshots: build/test-artifacts/watch-page.png (and -run1, -error, -colour).
 // Needs node, npm (the registry once) and chromium: skips without them,
 // fails under CI=true. ctest label `browser`.
 #include <gtest/gtest.h>

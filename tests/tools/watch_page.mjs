@@ -124,6 +124,9 @@ try {
   close(state1.flux_lm, report.escaped_lm, 'state.json flux_lm vs report.json');
   check(shown.fluxText.includes('lm'), 'flux shown without its unit: ' + shown.fluxText);
   check(shown.fieldVersion > 0, 'the page never fetched the field');
+  // A grey model: no colour on the page.
+  check(state1.colour === null, 'a grey model has colour in state.json');
+  check(await page.evaluate(() => document.getElementById('colour-group').hidden), 'the colour group shows for a grey model');
   result.photons_per_s = state1.photons_per_s;
   // The cube canvas has content (not one flat colour).
   const cubeColours = await page.evaluate(() => {
@@ -234,5 +237,72 @@ check(stdout.includes('watch: stopped'), 'gonio watch did not say it stopped: ' 
     if (wexit === null) w.kill('SIGKILL');
   }
   check(wexit === 0, 'the second gonio watch did not end cleanly: ' + wexit);
+}
+// 7. A spectral model (the bell's lamp a 2856 K blackbody, every surface
+//    grey): the page shows its colour as state.json and report.json give it,
+//    and the CCT is the blackbody's (grey paths add no colour noise).
+{
+  const dir = path.join(work, 'spectral');
+  fs.mkdirSync(dir);
+  const g = structuredClone(gltf);
+  const light = g.extensions.KHR_lights_punctual.lights[0];
+  light.extras = { gonio: { spectrum: { blackbody_k: 2856 } } };
+  const sm = path.join(dir, 'bell-2856.glb');
+  fs.writeFileSync(sm, packGlb(g, bin));
+  const sout = path.join(dir, 'out');
+  const w = spawn(gonio, ['watch', sm, '--port', '0', '--photons', '50000', '--iterations', '2', '--out', sout],
+    { stdio: ['ignore', 'pipe', 'pipe'] });
+  let wout = '';
+  w.stdout.on('data', (d) => { wout += d; });
+  w.stderr.on('data', () => {});
+  let wexit = null;
+  w.on('exit', (code) => { wexit = code; });
+  let b = null;
+  try {
+    let wurl = null;
+    for (let i = 0; i < 200 && !wurl; ++i) {
+      const m = wout.match(/live page: (\S+)/);
+      if (m) wurl = m[1]; else await sleep(100);
+    }
+    check(wurl, 'the spectral gonio watch printed no URL');
+    b = await puppeteer.launch({ executablePath: chromium, headless: true,
+      userDataDir: path.join(work, 'chromium-profile-2'),
+      args: ['--headless', '--no-sandbox', '--disable-gpu', '--no-first-run', '--window-size=1500,1100',
+        '--enable-unsafe-swiftshader'] });
+    const page = await b.newPage();
+    await page.setViewport({ width: 1500, height: 1100 });
+    await page.goto(wurl, { waitUntil: 'load' });
+    await page.waitForFunction(() => window.gonioPage.state && window.gonioPage.state.status === 'finished',
+      { timeout: 120000 });
+    for (let i = 0; i < 100 && !fs.existsSync(path.join(sout, 'report.json')); ++i) await sleep(100);
+    const report = JSON.parse(fs.readFileSync(path.join(sout, 'report.json'), 'utf8'));
+    const s = await (await fetch(wurl + 'state.json')).json();
+    check(s.colour, 'state.json has no colour for a spectral model');
+    const shown = await page.evaluate(() => {
+      const v = (id) => Number(document.getElementById(id).dataset.value);
+      return { hidden: document.getElementById('colour-group').hidden, cct: v('cct'), duv: v('duv'),
+        x: v('cie-xy'), u: v('uv-prime'), delta: v('delta-uv'), cctText: document.getElementById('cct').textContent };
+    });
+    check(!shown.hidden, 'the colour group is hidden for a spectral model');
+    const same = (a, b, what) => check(Math.abs(a - b) <= 1e-9 * Math.max(1, Math.abs(b)), `${what}: ${a} against ${b}`);
+    same(shown.cct, s.colour.cct_k, 'CCT on the page vs state.json');
+    same(shown.duv, s.colour.duv, 'Duv on the page vs state.json');
+    same(shown.x, s.colour.cie_x, 'x on the page vs state.json');
+    same(shown.u, s.colour.u_prime, "u' on the page vs state.json");
+    same(shown.delta, s.colour.delta_uv_max, "delta u'v' max on the page vs state.json");
+    // The same photons and the same grid as the report's.
+    same(s.colour.cct_k, report.colour.cct_k, 'state.json CCT vs report.json');
+    same(s.colour.delta_uv_max, report.colour_over_angle.delta_uv_max, "state.json delta u'v' max vs report.json");
+    check(Math.abs(shown.cct - 2856) < 1, 'the bare blackbody lamp behind grey surfaces shows CCT ' + shown.cct);
+    check(shown.cctText.endsWith(' K'), 'CCT shown without its unit: ' + shown.cctText);
+    await page.screenshot({ path: path.join(artifacts, 'watch-page-colour.png') });
+    result.colour_cct_k = shown.cct;
+  } finally {
+    if (b) await b.close();
+    if (wexit === null) w.kill('SIGINT');
+    for (let i = 0; i < 100 && wexit === null; ++i) await sleep(50);
+    if (wexit === null) w.kill('SIGKILL');
+  }
+  check(wexit === 0, 'the spectral gonio watch did not end cleanly: ' + wexit);
 }
 console.log(JSON.stringify(result));

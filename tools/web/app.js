@@ -219,6 +219,17 @@ function showNumbers(s) {
   setNumber('beam90', s.beam_angle_c90_c270_deg, deg(s.beam_angle_c90_c270_deg));
   setNumber('field0', s.field_angle_c0_c180_deg, deg(s.field_angle_c0_c180_deg));
   setNumber('field90', s.field_angle_c90_c270_deg, deg(s.field_angle_c90_c270_deg));
+  // A spectral run's colour (state.json "colour"; null for grey models).
+  const c = s.colour;
+  $('colour-group').hidden = !c;
+  if (c) {
+    const f = (v, d) => (Number.isFinite(v) ? v.toFixed(d) : '—');
+    setNumber('cct', c.cct_k, f(c.cct_k, 0) + ' K');
+    setNumber('duv', c.duv, f(c.duv, 4));
+    setNumber('cie-xy', c.cie_x, `${f(c.cie_x, 4)}, ${f(c.cie_y, 4)}`);
+    setNumber('uv-prime', c.u_prime, `${f(c.u_prime, 4)}, ${f(c.v_prime, 4)}`);
+    setNumber('delta-uv', c.delta_uv_max, f(c.delta_uv_max, 4));
+  }
   setNumber('error-est', s.estimated_rms_error_pct,
     Number.isFinite(s.estimated_rms_error_pct) ? s.estimated_rms_error_pct.toFixed(3) + ' %' : '—');
   setNumber('target', s.target_error_pct, Number.isFinite(s.target_error_pct) ? s.target_error_pct + ' %' : 'none');

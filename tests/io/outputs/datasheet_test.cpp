@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <string>
 #include <regex>
 #include <vector>
 
@@ -60,6 +62,84 @@ TEST(Datasheet, HoldsEveryFigureAndEscapesText) {
   ASSERT_TRUE(with.ok());
   EXPECT_NE(with.value().find("Energy ledger"), std::string::npos);
   EXPECT_NE(with.value().find("800.00 lm</td><td>80.00 %"), std::string::npos);
+}
+
+// A spectral simulation's sheet: the luminaire's colour (x, y, u′v′, CCT,
+// Duv), Δu′v′ max with the colour-over-angle chart, and the books in watts;
+// a grey simulation's sheet has none of them.
+TEST(Datasheet, SpectralSimulationShowsColourAndRadiantBooks) {
+  if (!have_gnuplot()) GONIO_MISSING(std::string("gnuplot (scripts/setup.sh installs gnuplot-nox)"));
+  DatasheetEntry sim = entry();
+  sim.simulation_report = nlohmann::json{{"emitted_lm", 1000.0}, {"escaped_lm", 800.0}, {"absorbed_lm", 200.0},
+                                         {"cutoff_lm", 0.0}, {"photons_emitted", 1000}};
+  auto grey = datasheet_html({sim});
+  ASSERT_TRUE(grey.ok());
+  EXPECT_EQ(grey.value().find("<h2>Colour</h2>"), std::string::npos);
+  EXPECT_EQ(grey.value().find("(radiant)"), std::string::npos);
+  nlohmann::json& r = *sim.simulation_report;
+  r["colour"] = {{"cie_x", 0.45986}, {"cie_y", 0.41060}, {"u_prime", 0.25597}, {"v_prime", 0.52423},
+                 {"cct_k", 2856.0}, {"duv", 0.00001}, {"method", "CIE 1931 2 deg, 5 nm; CCT and Duv by Ohno 2014"}};
+  nlohmann::json planes = nlohmann::json::array();
+  for (double c : {0.0, 90.0, 180.0, 270.0})
+    planes.push_back({{"c_deg", c},
+                      {"gamma_deg", {0.0, 45.0, 90.0, 135.0, 180.0}},
+                      {"u_prime", {0.2560, 0.2570, 0.2580, nullptr, nullptr}},
+                      {"v_prime", {0.5242, 0.5250, 0.5260, nullptr, nullptr}},
+                      {"cct_k", {2856.0, 2830.0, 2800.0, nullptr, nullptr}},
+                      {"duv", {0.0, 0.0005, 0.001, nullptr, nullptr}}});
+  r["colour_over_angle"] = {{"threshold_fraction", 0.1}, {"mean_u_prime", 0.2565}, {"mean_v_prime", 0.5246},
+                            {"delta_uv_max", 0.00232}, {"bins_counted", 24},  {"planes", planes}};
+  r["radiant"] = {{"emitted_w", 8.2233}, {"escaped_w", 6.5786}, {"absorbed_w", 1.6447}, {"cutoff_w", 0.0}};
+  auto html = datasheet_html({sim});
+  ASSERT_TRUE(html.ok()) << html.error().message;
+  const std::string& h = html.value();
+  for (const char* part : {"<h2>Colour</h2>", "0.4599, 0.4106", "0.2560, 0.5242", "2856 K", "0.0000", "Δu′v′ max",
+                           "0.0023", "colour-chart", "8.2233 W", "6.5786 W</td><td>80.00 %", "cut off (radiant)"})
+    EXPECT_NE(h.find(part), std::string::npos) << part;
+  // The chart is inline SVG like the others: the page stays self-contained.
+  const std::size_t chart = h.find("<div class=\"svg colour-chart\"><svg");
+  EXPECT_NE(chart, std::string::npos);
+  const std::regex external(R"((src|href)\s*=\s*["']?\s*(https?:|//)|url\(|@import|<script|<link|<img)",
+                            std::regex::icase);
+  EXPECT_FALSE(std::regex_search(h, external));
+}
+
+// A measured file with a spectrum (TM-33 SpectralData): the sheet shows the
+// colour it gives; colord's CIE illuminant A table (2856 K by definition)
+// read in place as the file's spectrum gives CCT 2856 K and Duv 0.
+TEST(Datasheet, FileSpectrumShowsItsColour) {
+  if (!have_gnuplot()) GONIO_MISSING(std::string("gnuplot (scripts/setup.sh installs gnuplot-nox)"));
+  DatasheetEntry e = entry();
+  photometry::Spectrum a;
+  a.emitter = "lamp";
+  a.normalized = true;
+  {
+    // colord's CGATS .sp: SPECTRAL_START_NM, SPECTRAL_END_NM, then the values
+    // between BEGIN_DATA and END_DATA.
+    std::ifstream in("/usr/share/colord/illuminant/CIE-A.sp");
+    if (!in) GONIO_MISSING(std::string("colord-data's /usr/share/colord/illuminant/CIE-A.sp"));
+    std::string word;
+    double first = 0.0, last = 0.0;
+    std::vector<double> values;
+    bool data = false;
+    while (in >> word) {
+      if (word == "SPECTRAL_START_NM") in >> first;
+      else if (word == "SPECTRAL_END_NM") in >> last;
+      else if (word == "BEGIN_DATA") data = true;
+      else if (word == "END_DATA") data = false;
+      else if (data) values.push_back(std::stod(word));
+    }
+    ASSERT_GT(values.size(), 10u);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      a.wavelength_nm.push_back(first + (last - first) * static_cast<double>(i) / static_cast<double>(values.size() - 1));
+      a.values.push_back(values[i]);
+    }
+  }
+  e.distribution.spectra = {a};
+  auto html = datasheet_html({e});
+  ASSERT_TRUE(html.ok()) << html.error().message;
+  for (const char* part : {"<h2>Colour</h2>", "2856 K", "From the file's spectrum (lamp)"})
+    EXPECT_NE(html.value().find(part), std::string::npos) << part;
 }
 
 // The isolux lines of a Lambertian emitter (I = I0 cos γ) on the floor h
