@@ -24,12 +24,7 @@ namespace {
 const Ranks* g_ranks = nullptr;
 
 SimulationSettings settings(int threads, std::uint64_t per_iteration, int iterations, bool guided) {
-  SimulationSettings s;
-  s.threads = threads;
-  s.photons_per_iteration = per_iteration;
-  s.iterations = iterations;
-  s.face_size = 16;
-  s.seed = 91;
+  SimulationSettings s = test_scenes::small_run(threads, per_iteration, iterations, 91);
   s.importance.enabled = guided;
   s.importance.emission_face_size = 8;
   s.near_field_distances_m = {0.05, 1.0};  // its counts are summed over the ranks too
@@ -84,6 +79,23 @@ void expect_shares_add_up(const Simulation& job) {
   EXPECT_LT(job.stats().rank_photons, job.stats().photons);
 }
 
+// Iterations of 5000 (2 chunks: with 3 ranks one traces nothing), 70000
+// (18 chunks) and 1 photon, over the ranks and in one process: the same
+// bytes, and the ranks' shares add up.
+void expect_uneven_iterations_alike(const SceneDesc& scene, SimulationSettings s) {
+  auto alone = Simulation::create(scene, s);
+  s.ranks = g_ranks;
+  auto job = Simulation::create(scene, s);
+  EXPECT_TRUE(alone.ok() && job.ok());
+  if (!alone.ok() || !job.ok()) return;
+  for (std::uint64_t n : {5000ull, 70000ull, 1ull}) {
+    alone->run_iteration(n);
+    job->run_iteration(n);
+  }
+  expect_identical(job.value(), alone.value());
+  expect_shares_add_up(job.value());
+}
+
 TEST(DistributedSimulation, ThisIsAJobOfSeveralRanks) { EXPECT_GE(g_ranks->size(), 2); }
 
 TEST(DistributedSimulation, PlainEmissionGivesTheBytesOfOneProcess) {
@@ -125,21 +137,8 @@ TEST(DistributedSimulation, GuidedEmissionLearnsTheSameGuideOnEveryRank) {
 }
 
 TEST(DistributedSimulation, UnevenIterationsAndRanksWithoutChunks) {
-  // 5000 photons are 2 chunks: with 3 ranks one traces nothing that
-  // iteration; then 70000 (18 chunks) and 1 photon.
   const SceneDesc scene = test_scenes::mixed_scene();
-  SimulationSettings s = settings(1, 1, 1, false);
-  auto alone = Simulation::create(scene, s);
-  s.ranks = g_ranks;
-  auto job = Simulation::create(scene, s);
-  EXPECT_TRUE(alone.ok() && job.ok());
-  if (!alone.ok() || !job.ok()) return;
-  for (std::uint64_t n : {5000ull, 70000ull, 1ull}) {
-    alone->run_iteration(n);
-    job->run_iteration(n);
-  }
-  expect_identical(job.value(), alone.value());
-  expect_shares_add_up(job.value());
+  expect_uneven_iterations_alike(scene, settings(1, 1, 1, false));
 }
 
 // The Sobol' sampler (sim/sampler.h): photon i is point ⌊i/K⌋ of replicate
@@ -163,16 +162,7 @@ TEST(DistributedSimulation, SobolSamplerGivesTheBytesOfOneProcess) {
   }
   SimulationSettings s = settings(2, 1, 1, false);
   s.sampler = SamplerKind::Sobol;
-  auto alone = Simulation::create(scene, s);
-  s.ranks = g_ranks;
-  auto job = Simulation::create(scene, s);
-  EXPECT_TRUE(alone.ok() && job.ok());
-  if (!alone.ok() || !job.ok()) return;
-  for (std::uint64_t n : {5000ull, 70000ull, 1ull}) {
-    alone->run_iteration(n);
-    job->run_iteration(n);
-  }
-  expect_identical(job.value(), alone.value());
+  expect_uneven_iterations_alike(scene, s);
 }
 
 }  // namespace

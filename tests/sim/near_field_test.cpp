@@ -19,12 +19,7 @@ constexpr double kPi = std::numbers::pi;
 
 SimulationSettings near_settings(int threads, std::uint64_t per_iteration, int iterations,
                                  std::vector<double> distances_m) {
-  SimulationSettings s;
-  s.threads = threads;
-  s.photons_per_iteration = per_iteration;
-  s.iterations = iterations;
-  s.face_size = 16;
-  s.seed = 77;
+  SimulationSettings s = test_scenes::small_run(threads, per_iteration, iterations, 77);
   s.near_field_distances_m = std::move(distances_m);
   return s;
 }

@@ -46,4 +46,14 @@ SceneDesc mixed_scene() {
   return s;
 }
 
+SimulationSettings small_run(int threads, std::uint64_t per_iteration, int iterations, std::uint64_t seed) {
+  SimulationSettings s;
+  s.threads = threads;
+  s.photons_per_iteration = per_iteration;
+  s.iterations = iterations;
+  s.face_size = 16;
+  s.seed = seed;
+  return s;
+}
+
 }  // namespace gonio::sim::test_scenes

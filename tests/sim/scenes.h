@@ -1,9 +1,16 @@
 // Scenes shared by the sim test suites.
 #pragma once
 
+#include <cstdint>
+
 #include "sim/scene.h"
+#include "sim/simulation.h"
 
 namespace gonio::sim::test_scenes {
+
+// A small run: `threads` threads, `iterations` of `per_iteration` photons,
+// a 16-texel cube map face, `seed`; everything else at its default.
+SimulationSettings small_run(int threads, std::uint64_t per_iteration, int iterations, std::uint64_t seed);
 
 // A small luminaire with every lobe and both kinds of emitter: an opal bowl
 // (30 % diffuse reflection, 60 % diffuse transmission, 10 % mirror), a

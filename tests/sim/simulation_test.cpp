@@ -13,13 +13,7 @@ namespace {
 using test_scenes::mixed_scene;
 
 SimulationSettings settings(int threads, std::uint64_t per_iteration, int iterations) {
-  SimulationSettings s;
-  s.threads = threads;
-  s.photons_per_iteration = per_iteration;
-  s.iterations = iterations;
-  s.face_size = 16;
-  s.seed = 77;
-  return s;
+  return test_scenes::small_run(threads, per_iteration, iterations, 77);
 }
 
 void expect_identical(const Simulation& a, const Simulation& b) {

@@ -17,6 +17,7 @@
 #include "sim/shapes.h"
 #include "sim/simulation.h"
 #include "sim/tracer.h"
+#include "tests/sim/scenes.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::sim {
@@ -25,13 +26,7 @@ namespace {
 using photometry::SampledSpectrum;
 
 SimulationSettings settings(int threads, std::uint64_t per_iteration, int iterations) {
-  SimulationSettings s;
-  s.threads = threads;
-  s.photons_per_iteration = per_iteration;
-  s.iterations = iterations;
-  s.face_size = 16;
-  s.seed = 5;
-  return s;
+  return test_scenes::small_run(threads, per_iteration, iterations, 5);
 }
 
 EmitterSpectrum single(SampledSpectrum s) { return EmitterSpectrum{{{0.0, std::move(s)}}}; }
