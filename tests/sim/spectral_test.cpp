@@ -10,8 +10,10 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/shapes.h"
@@ -46,6 +48,34 @@ SceneDesc bare_point(EmitterSpectrum spectrum) {
   e.spectrum = std::move(spectrum);
   s.emitters = {e};
   return s;
+}
+
+// The 3000 K bare point inside a diffuser shell (radius 0.5 m; 60 % diffuse
+// transmission, 30 % diffuse reflection), grey, or with a transmittance
+// rising linearly from tau_400 at 400 nm to tau_700 at 700 nm (its material
+// is s.materials[1]).
+SceneDesc lamp_in_shell(std::optional<std::pair<double, double>> tau = std::nullopt) {
+  SceneDesc s = bare_point(single(photometry::blackbody_spectrum(3000.0)));
+  Material opal;
+  opal.name = tau ? "opal" : "grey opal";
+  opal.diffuse_transmit = 0.6;
+  opal.diffuse_reflect = 0.3;
+  if (tau) opal.spectral_transmittance = {{400.0, 700.0}, {tau->first, tau->second}};
+  s.materials.push_back(opal);
+  Mesh shell = sphere(0.5, 16, 8);
+  shell.material = 1;
+  s.meshes.push_back(shell);
+  return s;
+}
+
+// X, Y and Z far fields byte for byte.
+void expect_same_colour_bytes(const Simulation& one, const Simulation& two) {
+  const ColourFarField a = one.colour_far_field(), b = two.colour_far_field();
+  ASSERT_EQ(a.x_lm.size(), b.x_lm.size());
+  EXPECT_EQ(std::memcmp(a.x_lm.data(), b.x_lm.data(), a.x_lm.size() * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(a.z_lm.data(), b.z_lm.data(), a.z_lm.size() * sizeof(double)), 0);
+  const FarField fa = one.far_field(), fb = two.far_field();
+  EXPECT_EQ(std::memcmp(fa.flux_lm().data(), fb.flux_lm().data(), fa.texel_count() * sizeof(double)), 0);
 }
 
 photometry::Tristimulus totals(const Simulation& sim, bool upper_only = false) {
@@ -183,15 +213,7 @@ TEST(Spectral, OneDiffuseBounceGivesTheProductSpectrum) {
 // Grey materials never draw a wavelength: light through a grey opal shell
 // keeps the source's chromaticity in every texel, without colour noise.
 TEST(Spectral, GreyMaterialsAddNoColourNoise) {
-  SceneDesc s = bare_point(single(photometry::blackbody_spectrum(3000.0)));
-  Material opal;
-  opal.name = "grey opal";
-  opal.diffuse_transmit = 0.6;
-  opal.diffuse_reflect = 0.3;
-  s.materials.push_back(opal);
-  Mesh shell = sphere(0.5, 16, 8);
-  shell.material = 1;
-  s.meshes.push_back(shell);
+  SceneDesc s = lamp_in_shell();
   auto sim = simulate(s, settings(2, 100000, 1));
   ASSERT_TRUE(sim.ok()) << sim.error().message;
   const photometry::UvPrime source =
@@ -330,16 +352,8 @@ TEST(Spectral, RadiantBooksClose) {
   // there; the books close, and the escaped watts converge to the closed
   // form (the far red, seldom drawn, pools its fate with the bands nearby:
   // 0.9 % low at 8·10⁴ photons, 0.06 % high at 8·10⁵).
-  SceneDesc s = bare_point(single(photometry::blackbody_spectrum(3000.0)));
-  Material opal;
-  opal.name = "opal";
-  opal.diffuse_transmit = 0.6;
-  opal.diffuse_reflect = 0.3;
-  opal.spectral_transmittance = {{400.0, 700.0}, {0.5, 0.7}};
-  s.materials.push_back(opal);
-  Mesh shell = sphere(0.5, 16, 8);
-  shell.material = 1;
-  s.meshes.push_back(shell);
+  SceneDesc s = lamp_in_shell(std::pair{0.5, 0.7});
+  const Material& opal = s.materials[1];
   auto sim = simulate(s, settings(2, 400000, 2));
   ASSERT_TRUE(sim.ok()) << sim.error().message;
   const Ledger l = sim->ledger();
@@ -389,16 +403,8 @@ TEST(Spectral, RadiantBooksClose) {
 // and the bytes do not depend on the thread split.
 TEST(Spectral, GuidedEmissionCarriesColourWithItsWeights) {
   // A 3000 K lamp in a shell of coloured diffuser: light leaves tinted.
-  SceneDesc s = bare_point(single(photometry::blackbody_spectrum(3000.0)));
-  Material opal;
-  opal.name = "opal";
-  opal.diffuse_transmit = 0.6;
-  opal.diffuse_reflect = 0.3;
-  opal.spectral_transmittance = {{400.0, 700.0}, {0.2, 0.7}};
-  s.materials.push_back(opal);
-  Mesh shell = sphere(0.5, 16, 8);
-  shell.material = 1;
-  s.meshes.push_back(shell);
+  SceneDesc s = lamp_in_shell(std::pair{0.2, 0.7});
+  const Material& opal = s.materials[1];
   SimulationSettings guided = settings(2, 100000, 4);
   guided.importance.enabled = true;
   guided.importance.emission_face_size = 8;
@@ -435,32 +441,16 @@ TEST(Spectral, GuidedEmissionCarriesColourWithItsWeights) {
   one.threads = 1;
   auto b = simulate(s, one);
   ASSERT_TRUE(b.ok());
-  const ColourFarField ca = a->colour_far_field(), cb = b->colour_far_field();
-  EXPECT_EQ(std::memcmp(ca.x_lm.data(), cb.x_lm.data(), ca.x_lm.size() * sizeof(double)), 0);
-  EXPECT_EQ(std::memcmp(ca.z_lm.data(), cb.z_lm.data(), ca.z_lm.size() * sizeof(double)), 0);
+  expect_same_colour_bytes(*a, *b);
 }
 
 TEST(Spectral, SameBytesForAnyThreadAndIterationSplit) {
-  SceneDesc s = bare_point(single(photometry::blackbody_spectrum(3000.0)));
-  Material opal;
-  opal.name = "opal";
-  opal.diffuse_transmit = 0.6;
-  opal.diffuse_reflect = 0.3;
-  opal.spectral_transmittance = {{400.0, 700.0}, {0.5, 0.7}};
-  s.materials.push_back(opal);
-  Mesh shell = sphere(0.5, 16, 8);
-  shell.material = 1;
-  s.meshes.push_back(shell);
+  SceneDesc s = lamp_in_shell(std::pair{0.5, 0.7});
   auto one = simulate(s, settings(1, 20000, 3));
   auto two = simulate(s, settings(2, 60000, 1));
   ASSERT_TRUE(one.ok()) << one.error().message;
   ASSERT_TRUE(two.ok());
-  const ColourFarField a = one->colour_far_field(), b = two->colour_far_field();
-  ASSERT_EQ(a.x_lm.size(), b.x_lm.size());
-  EXPECT_EQ(std::memcmp(a.x_lm.data(), b.x_lm.data(), a.x_lm.size() * sizeof(double)), 0);
-  EXPECT_EQ(std::memcmp(a.z_lm.data(), b.z_lm.data(), a.z_lm.size() * sizeof(double)), 0);
-  const FarField fa = one->far_field(), fb = two->far_field();
-  EXPECT_EQ(std::memcmp(fa.flux_lm().data(), fb.flux_lm().data(), fa.texel_count() * sizeof(double)), 0);
+  expect_same_colour_bytes(*one, *two);
 }
 
 // Dispersion: a beam inside a glass block meets its top face at 30° and

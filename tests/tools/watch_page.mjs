@@ -16,6 +16,33 @@ function check(cond, message) {
   if (!cond) throw new Error(message);
 }
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+// Starts one more `gonio watch ARGS…`: url() waits for its live page's
+// address (null after 20 s), stop() ends it (SIGINT, then SIGKILL) and gives
+// its exit code.
+function startWatch(args) {
+  const w = spawn(gonio, ['watch', ...args], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let out = '';
+  let exit = null;
+  w.stdout.on('data', (d) => { out += d; });
+  w.stderr.on('data', () => {});
+  w.on('exit', (code) => { exit = code; });
+  return {
+    async url() {
+      for (let i = 0; i < 200; ++i) {
+        const m = out.match(/live page: (\S+)/);
+        if (m) return m[1];
+        await sleep(100);
+      }
+      return null;
+    },
+    async stop() {
+      if (exit === null) w.kill('SIGINT');
+      for (let i = 0; i < 100 && exit === null; ++i) await sleep(50);
+      if (exit === null) w.kill('SIGKILL');
+      return exit;
+    },
+  };
+}
 
 // A .glb from a .gltf with one external buffer: JSON chunk + BIN chunk.
 function packGlb(gltf, bin) {
@@ -205,19 +232,10 @@ check(stdout.includes('watch: stopped'), 'gonio watch did not say it stopped: ' 
   fs.mkdirSync(dir);
   for (const f of fs.readdirSync(path.join(samplesDir, 'downlight')))
     fs.copyFileSync(path.join(samplesDir, 'downlight', f), path.join(dir, f));
-  const w = spawn(gonio, ['watch', path.join(dir, 'downlight.gltf'), '--port', '0', '--photons', '50000'],
-    { stdio: ['ignore', 'pipe', 'pipe'] });
-  let wout = '';
-  w.stdout.on('data', (d) => { wout += d; });
-  w.stderr.on('data', () => {});
+  const w = startWatch([path.join(dir, 'downlight.gltf'), '--port', '0', '--photons', '50000']);
   let wexit = null;
-  w.on('exit', (code) => { wexit = code; });
   try {
-    let wurl = null;
-    for (let i = 0; i < 200 && !wurl; ++i) {
-      const m = wout.match(/live page: (\S+)/);
-      if (m) wurl = m[1]; else await sleep(100);
-    }
+    const wurl = await w.url();
     check(wurl, 'the second gonio watch printed no URL');
     const state = async () => (await fetch(wurl + 'state.json')).json();
     let s = await state();
@@ -232,9 +250,7 @@ check(stdout.includes('watch: stopped'), 'gonio watch did not say it stopped: ' 
     check(s.bvh_reused === true && s.bvh_s < 0.05, 'the unchanged geometry was built again: ' + s.bvh_reused + ' ' + s.bvh_s);
     result.profile_change = 'restarted';
   } finally {
-    if (wexit === null) w.kill('SIGINT');
-    for (let i = 0; i < 100 && wexit === null; ++i) await sleep(50);
-    if (wexit === null) w.kill('SIGKILL');
+    wexit = await w.stop();
   }
   check(wexit === 0, 'the second gonio watch did not end cleanly: ' + wexit);
 }
@@ -250,20 +266,11 @@ check(stdout.includes('watch: stopped'), 'gonio watch did not say it stopped: ' 
   const sm = path.join(dir, 'bell-2856.glb');
   fs.writeFileSync(sm, packGlb(g, bin));
   const sout = path.join(dir, 'out');
-  const w = spawn(gonio, ['watch', sm, '--port', '0', '--photons', '50000', '--iterations', '2', '--out', sout],
-    { stdio: ['ignore', 'pipe', 'pipe'] });
-  let wout = '';
-  w.stdout.on('data', (d) => { wout += d; });
-  w.stderr.on('data', () => {});
+  const w = startWatch([sm, '--port', '0', '--photons', '50000', '--iterations', '2', '--out', sout]);
   let wexit = null;
-  w.on('exit', (code) => { wexit = code; });
   let b = null;
   try {
-    let wurl = null;
-    for (let i = 0; i < 200 && !wurl; ++i) {
-      const m = wout.match(/live page: (\S+)/);
-      if (m) wurl = m[1]; else await sleep(100);
-    }
+    const wurl = await w.url();
     check(wurl, 'the spectral gonio watch printed no URL');
     b = await puppeteer.launch({ executablePath: chromium, headless: true,
       userDataDir: path.join(work, 'chromium-profile-2'),
@@ -299,9 +306,7 @@ check(stdout.includes('watch: stopped'), 'gonio watch did not say it stopped: ' 
     result.colour_cct_k = shown.cct;
   } finally {
     if (b) await b.close();
-    if (wexit === null) w.kill('SIGINT');
-    for (let i = 0; i < 100 && wexit === null; ++i) await sleep(50);
-    if (wexit === null) w.kill('SIGKILL');
+    wexit = await w.stop();
   }
   check(wexit === 0, 'the spectral gonio watch did not end cleanly: ' + wexit);
 }
