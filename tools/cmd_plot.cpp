@@ -24,11 +24,12 @@ int run_plot(const Args& args) {
   std::string file, out, unit = "cd", title;
   InputOptions input;
   ArgParser p("plot", "FILE [--out X.svg|X.png] [--unit cd|cdklm] [--ldt-isym3 standard|qlumedit]",
-              "Draws the intensity diagram of an IES or EULUMDAT file: the C0-C180 and C90-C270\n"
-              "planes as a polar diagram (nadir down, C0 and C90 to the right) and on cartesian\n"
-              "axes (gamma -180...180, C180 and C270 on the negative side). cd/klm is per 1000 lm\n"
-              "of the rated lamp flux (of the luminaire's flux for absolute photometry).");
-  p.positional("FILE", &file, "the photometric file (IES, EULUMDAT; by extension, else by content)");
+              "Draws the intensity diagram of a photometric file (IES, LDT, TM-33, GLDF, or a\n"
+              "TM-25 ray file's far field): the C0-C180 and C90-C270 planes as a polar diagram\n"
+              "(nadir down, C0 and C90 to the right) and on cartesian axes (gamma -180...180,\n"
+              "C180 and C270 on the negative side). cd/klm is per 1000 lm of the rated lamp\n"
+              "flux (of the luminaire's flux for absolute photometry).");
+  p.positional("FILE", &file, "the photometric file (by its extension, else by its content)");
   p.option("out", &out, "X.svg|X.png", "the picture to write (default: FILE with the extension .svg)");
   p.choice("unit", &unit, {"cd", "cdklm"}, "candela (default) or cd/klm");
   p.option("title", &title, "T", "title above the diagram (default: the file name)");

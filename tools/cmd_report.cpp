@@ -20,12 +20,12 @@ int run_report(const Args& args) {
   bool timing = false;
   InputOptions input;
   ArgParser p("report", "FILE... --out X.html|X.pdf [--height M] [--cu-floor RHO] [--ugr-background cie190|flux-transfer]",
-              "Writes the datasheet of one or more IES LM-63 (.ies) or EULUMDAT (.ldt) files:\n"
-              "identification, polar and cartesian intensity diagrams, cone diagram and isolux\n"
-              "plot on the floor at the mounting height, zonal lumens, UGR table (CIE\n"
-              "190:2010), coefficients of utilisation (IES zonal cavity), spacing criterion\n"
-              "(IES), BUG rating (IES TM-15-11 Addendum A), luminance table, efficacy and the\n"
-              "candela table.\n"
+              "Writes the datasheet of one or more photometric files (IES, LDT, TM-33, GLDF, or\n"
+              "a TM-25 ray file's far field): identification, polar and cartesian intensity\n"
+              "diagrams, cone diagram and isolux plot on the floor at the mounting height,\n"
+              "zonal lumens, UGR table (CIE 190:2010), coefficients of utilisation (IES zonal\n"
+              "cavity), spacing criterion (IES), BUG rating (IES TM-15-11 Addendum A),\n"
+              "luminance table, efficacy and the candela table.\n"
               "HTML is one self-contained file (inline SVG, no external resource); PDF is that\n"
               "page printed by a headless Chromium (Debian package chromium, or\n"
               "$GONIO_CHROMIUM). Each figure says its method, convention and the outside\n"

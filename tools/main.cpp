@@ -17,11 +17,11 @@ namespace {
 const std::vector<Command> kCommands = {
     {"info", "Show what a photometric file holds: grid, lamps, flux, LOR, beam angles", run_info},
     {"check", "Check photometric files for format and plausibility problems", run_check},
-    {"convert", "Convert between IES LM-63 and EULUMDAT (and between their versions)", run_convert},
-    {"simulate", "Trace a luminaire model (glTF) into IES, LDT and EXR files, checked", run_simulate},
+    {"convert", "Convert between IES, LDT, TM-33 and GLDF, or to another version", run_convert},
+    {"simulate", "Trace a luminaire model (glTF) into photometric, EXR and ray files", run_simulate},
     {"watch", "Simulate a model live in the browser, again whenever it changes on disk", run_watch},
-    {"plot", "Draw the intensity diagram of an IES or LDT file (SVG or PNG)", run_plot},
-    {"report", "Write the datasheet of IES/LDT files: diagrams, UGR, CU, SC, BUG (HTML or PDF)", run_report},
+    {"plot", "Draw the intensity diagram of a photometric file (SVG or PNG)", run_plot},
+    {"report", "Write the datasheet of photometric files: UGR, CU, SC, BUG (HTML or PDF)", run_report},
     {"compare", "Compare two photometric files: RMS, peak, flux and beam differences", run_compare},
     {"bench", "Measure speed against accuracy on luminaire models (error vs time and photons)", run_bench},
 };
@@ -30,7 +30,8 @@ void print_help() {
   std::printf(
       "Usage: gonio COMMAND [ARGS...]\n\n"
       "Gonio %s, a virtual goniophotometer: reads, checks and converts IES LM-63,\n"
-      "EULUMDAT, IES TM-33 and GLDF files, and simulates luminaire models into them.\n\n"
+      "EULUMDAT, IES TM-33 and GLDF files (and IES TM-25 ray files), and simulates\n"
+      "luminaire models into them.\n\n"
       "Commands:\n",
       kVersion);
   for (const Command& c : commands()) std::printf("  %-10s %s\n", c.name, c.summary);
