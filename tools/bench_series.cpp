@@ -1,8 +1,9 @@
 #include "tools/bench_series.h"
 
+#include <algorithm>
 #include <chrono>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "sim/simulation.h"
@@ -128,9 +129,10 @@ Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const 
       const sim::SimulationStats st = sim.stats();
       const sim::FarField field = sim.far_field();
       const std::vector<double> raw = sim::texel_intensities(field);
-      double estimated = std::numeric_limits<double>::quiet_NaN();
-      for (std::size_t i : mine)
-        if (!specs[i].filtered) estimated = estimated_rms_error_pct(sim, reference.resampler());
+      // The run's own error estimate, for its raw series (once per iteration).
+      const bool any_raw = std::any_of(mine.begin(), mine.end(), [&](std::size_t i) { return !specs[i].filtered; });
+      const double estimated = any_raw ? estimated_rms_error_pct(sim, reference.resampler())
+                                       : std::numeric_limits<double>::quiet_NaN();
       for (std::size_t i : mine) {
         std::span<const double> map = raw;
         if (specs[i].filtered) {

@@ -27,15 +27,6 @@ double estimated_rms_error_pct(const sim::FarField& field, const sim::Resampler&
   return self->table_noise_pct();
 }
 
-double replicate_rms_error_pct(const sim::FarField& whole, std::span<const sim::FarField> replicates,
-                               const sim::Resampler& resampler) {
-  GONIO_CHECK(replicates.size() >= 2);
-  std::vector<sim::BinnedField> tables;
-  tables.reserve(replicates.size());
-  for (const sim::FarField& f : replicates) tables.push_back(resampler.bin(f));
-  return replicate_table_error_pct(resampler.bin(whole), tables);
-}
-
 double replicate_table_error_pct(const sim::BinnedField& table, std::span<const sim::BinnedField> tables) {
   GONIO_CHECK(tables.size() >= 2);
   const std::size_t bins = table.flux_lm.size();

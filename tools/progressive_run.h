@@ -54,13 +54,9 @@ namespace gonio::cli {
 // The count-based estimate above for a far field of plain emission on the
 // resampler's grid [%]; NaN where nothing escaped.
 double estimated_rms_error_pct(const sim::FarField& field, const sim::Resampler& resampler);
-// The replicates' estimate above: `whole` the run's far field (its table's
-// peak), `replicates` (≥ 2) the replicates' far fields [%]; NaN where
-// nothing escaped.
-double replicate_rms_error_pct(const sim::FarField& whole, std::span<const sim::FarField> replicates,
-                               const sim::Resampler& resampler);
-// The same from the tables already binned: the run's and the replicates'
-// (≥ 2, same grid).
+// The replicates' estimate above from the tables already binned: the run's
+// (its peak) and the replicates' (≥ 2, same grid) [%]; NaN where nothing
+// escaped.
 double replicate_table_error_pct(const sim::BinnedField& table, std::span<const sim::BinnedField> tables);
 // The estimate of a simulation: from its replicates where it has them
 // (sim::Simulation::sobol_replicates() ≥ 2, at least one photon each),
