@@ -201,7 +201,7 @@ void BM_PreviewOutput(benchmark::State& state) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("gonio_preview_bench_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  gonio::cli::PreviewOutput output(dir.string(), n, PreviewFilterParams{});
+  gonio::app::PreviewOutput output(dir.string(), n, PreviewFilterParams{});
   run_timed(state, [&] {
     if (!output.write(field).ok()) state.SkipWithError("preview write failed");
   });

@@ -14,7 +14,7 @@
 #include "sim/simulation.h"
 #include "tools/run/scene_hash.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 
@@ -159,4 +159,4 @@ Result<Reference> load_or_make_reference(const std::string& dir, const Reference
   return r;
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

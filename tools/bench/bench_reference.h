@@ -29,7 +29,7 @@
 #include "sim/resample.h"
 #include "sim/scene.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 // What a reference is made from; equal keys, equal references.
 struct ReferenceKey {
@@ -77,4 +77,4 @@ Result<Reference> load_or_make_reference(const std::string& dir, const Reference
                                          const std::function<void(std::uint64_t, std::uint64_t)>& progress,
                                          const sim::Ranks* ranks = nullptr);
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -11,7 +11,7 @@
 #include "io/outputs/plot.h"
 #include "photometry/format.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 namespace fs = std::filesystem;
@@ -438,4 +438,4 @@ std::string results_page(const std::vector<BenchOutcome>& outcomes, const std::s
   return s.str();
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -27,7 +27,7 @@
 #include "tools/bench/bench_reference.h"
 #include "tools/bench/bench_series.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 // One model's bench, as the outputs need it.
 struct BenchOutcome {
@@ -57,4 +57,4 @@ std::string results_page(const std::vector<BenchOutcome>& outcomes, const std::s
 // Formats a value for tables: NaN as "—".
 std::string format_value(double v, int precision);
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -9,7 +9,7 @@
 #include "sim/simulation.h"
 #include "tools/run/progressive_run.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -165,4 +165,4 @@ Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const 
   return results;
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -32,7 +32,7 @@
 #include "sim/sampler.h"
 #include "sim/scene.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 struct BenchSettings {
   std::uint64_t photons = std::uint64_t{1} << 25;       // each series, in all
@@ -115,4 +115,4 @@ Result<std::vector<SeriesResult>> run_series(
     const sim::ConvergenceReference& reference,
     const std::function<void(const BenchProgress&)>& progress = {});
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

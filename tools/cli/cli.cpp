@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <memory>
 #include <sstream>
+#include <utility>
 
 #include "gonio/version.h"
 #include "photometry/format.h"
@@ -12,7 +14,8 @@ namespace gonio::cli {
 namespace {
 
 // `text` word-wrapped to lines of at most `width` characters, each starting
-// with `indent`; line breaks in `text` are kept.
+// with `indent`. A line break in `text` is a space: help texts are written as
+// source lines, and reflowed here (an empty line, "\n\n", ends a paragraph).
 std::string wrap(const std::string& text, const std::string& indent, std::size_t width = 80) {
   std::string out, line;
   const auto flush = [&] {
@@ -21,14 +24,14 @@ std::string wrap(const std::string& text, const std::string& indent, std::size_t
   };
   std::size_t start = 0;
   while (start <= text.size()) {
-    const std::size_t end = std::min(text.find('\n', start), text.size());
+    const std::size_t end = std::min(text.find("\n\n", start), text.size());
     std::istringstream words(text.substr(start, end - start));
     for (std::string word; words >> word;) {
       if (!line.empty() && indent.size() + line.size() + 1 + word.size() > width) flush();
       line += (line.empty() ? "" : " ") + word;
     }
     flush();
-    start = end + 1;
+    start = end + 2;
   }
   return out;
 }
@@ -88,6 +91,33 @@ void ArgParser::option(const std::string& name, double* out, double min, double 
          *out = value;
          return std::nullopt;
        }});
+}
+
+template <typename T, typename... Rest>
+void ArgParser::optional_option(const std::string& name, std::optional<T>* out, Rest&&... rest) {
+  auto value = std::make_shared<T>();
+  option(name, value.get(), std::forward<Rest>(rest)...);
+  auto set_value = std::move(options_.back().set);
+  options_.back().set = [set_value, value, out](const std::string& v) -> std::optional<std::string> {
+    if (auto problem = set_value(v)) return problem;
+    *out = *value;
+    return std::nullopt;
+  };
+}
+
+void ArgParser::option(const std::string& name, std::optional<std::string>* out, const std::string& metavar,
+                       const std::string& help) {
+  optional_option(name, out, metavar, help);
+}
+
+void ArgParser::option(const std::string& name, std::optional<long long>* out, long long min, long long max,
+                       const std::string& metavar, const std::string& help) {
+  optional_option(name, out, min, max, metavar, help);
+}
+
+void ArgParser::option(const std::string& name, std::optional<double>* out, double min, double max,
+                       const std::string& metavar, const std::string& help) {
+  optional_option(name, out, min, max, metavar, help);
 }
 
 void ArgParser::choice(const std::string& name, std::string* out, std::vector<std::string> choices,

@@ -12,6 +12,18 @@
 
 namespace gonio::cli {
 
+// The messages and exit codes of every command (tools/run/console.h); the
+// rest of the application is named app::….
+using app::format_finding;
+using app::format_rate;
+using app::kExitFailure;
+using app::kExitOk;
+using app::kExitUsage;
+using app::print_error;
+using app::print_finding;
+using app::print_warning;
+using app::stderr_is_terminal;
+
 class ArgParser {
  public:
   // `command` is the subcommand ("info"); `synopsis` the part of the usage
@@ -27,6 +39,13 @@ class ArgParser {
   void option(const std::string& name, long long* out, long long min, long long max,
               const std::string& metavar, const std::string& help);
   void option(const std::string& name, double* out, double min, double max,
+              const std::string& metavar, const std::string& help);
+  // The same, where whether the option was given matters: set only then.
+  void option(const std::string& name, std::optional<std::string>* out, const std::string& metavar,
+              const std::string& help);
+  void option(const std::string& name, std::optional<long long>* out, long long min, long long max,
+              const std::string& metavar, const std::string& help);
+  void option(const std::string& name, std::optional<double>* out, double min, double max,
               const std::string& metavar, const std::string& help);
   // One of a fixed set of words.
   void choice(const std::string& name, std::string* out, std::vector<std::string> choices,
@@ -66,6 +85,9 @@ class ArgParser {
   };
 
   Option* find(const std::string& name);
+  // Registers an option through a plain value, then sets `*out` from it.
+  template <typename T, typename... Rest>
+  void optional_option(const std::string& name, std::optional<T>* out, Rest&&... rest);
 
   std::string command_;
   std::string synopsis_;

@@ -148,7 +148,7 @@ json finding_json(const Finding& f) {
 int run_check(const Args& args) {
   std::vector<std::string> paths;
   bool as_json = false;
-  InputOptions input;
+  app::InputOptions input;
   ArgParser parser("check", "FILE... [--json] [--ldt-isym3 standard|qlumedit]", kDescription);
   parser.positional_list("FILE", &paths, 1,
                          "IES LM-63 (.ies), EULUMDAT (.ldt), TM-33 (.xml) or GLDF (.gldf) files "
@@ -158,7 +158,7 @@ int run_check(const Args& args) {
   if (const auto outcome = parser.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
 
-  const io::PhotometricReadOptions options = read_options(input);
+  const io::PhotometricReadOptions options = app::read_options(input);
   int clean = 0, with_warnings = 0, with_errors = 0;
   json files = json::array();
   int report_count = 0;

@@ -49,7 +49,7 @@ int run_compare(const Args& args) {
   std::string file_a, file_b, plot;
   bool json_out = false, normalize = false;
   double c_step = 5.0, gamma_step = 2.5;
-  InputOptions input;
+  app::InputOptions input;
   ArgParser p("compare",
               "A B [--json] [--plot X.svg] [--c-step DEG] [--gamma-step DEG] [--normalize] "
               "[--ldt-isym3 standard|qlumedit]",
@@ -86,9 +86,9 @@ int run_compare(const Args& args) {
     return kExitUsage;
   }
 
-  auto a = read_input(file_a, input, false);
+  auto a = app::read_input(file_a, input, false);
   if (!a.ok()) return kExitFailure;
-  auto b = read_input(file_b, input, false);
+  auto b = app::read_input(file_b, input, false);
   if (!b.ok()) return kExitFailure;
   const std::string format_a = io::format_label(*a), format_b = io::format_label(*b);
   Result<photometry::Comparison> cmp = photometry::compare(a->distribution, b->distribution, options);
@@ -130,14 +130,14 @@ int run_compare(const Args& args) {
     j["rms_relative"] = c.rms_relative;
     j["max_relative"] = c.max_relative;
     j["max_at"] = {{"c_deg", c.max_at_c_deg}, {"gamma_deg", c.max_at_gamma_deg}};
-    j["flux_ratio"] = json_number(c.flux_ratio);
+    j["flux_ratio"] = app::json_number(c.flux_ratio);
     j["flux_difference_lm"] = c.flux_b_lm - c.flux_a_lm;
-    j["beam_angle_deg"] = {{"a", {{"c0_c180", json_number(beam_a0)}, {"c90_c270", json_number(beam_a90)}}},
-                           {"b", {{"c0_c180", json_number(beam_b0)}, {"c90_c270", json_number(beam_b90)}}}};
-    j["beam_difference_deg"] = {{"c0_c180", json_number(c.beam_difference_c0_c180_deg)},
-                                {"c90_c270", json_number(c.beam_difference_c90_c270_deg)}};
-    j["field_difference_deg"] = {{"c0_c180", json_number(c.field_difference_c0_c180_deg)},
-                                 {"c90_c270", json_number(c.field_difference_c90_c270_deg)}};
+    j["beam_angle_deg"] = {{"a", {{"c0_c180", app::json_number(beam_a0)}, {"c90_c270", app::json_number(beam_a90)}}},
+                           {"b", {{"c0_c180", app::json_number(beam_b0)}, {"c90_c270", app::json_number(beam_b90)}}}};
+    j["beam_difference_deg"] = {{"c0_c180", app::json_number(c.beam_difference_c0_c180_deg)},
+                                {"c90_c270", app::json_number(c.beam_difference_c90_c270_deg)}};
+    j["field_difference_deg"] = {{"c0_c180", app::json_number(c.field_difference_c0_c180_deg)},
+                                 {"c90_c270", app::json_number(c.field_difference_c90_c270_deg)}};
     if (!plot.empty()) j["plot"] = plot;
     std::printf("%s\n", j.dump(2).c_str());
     return kExitOk;

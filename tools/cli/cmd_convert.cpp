@@ -65,10 +65,10 @@ bool same_file(const std::string& a, const std::string& b) {
 }  // namespace
 
 int run_convert(const Args& args) {
-  std::string in_path, out_path, ies_version = "2019", isym3_out = kIsym3Standard;
+  std::string in_path, out_path, ies_version = "2019", isym3_out = app::kIsym3Standard;
   double c_step = 5.0, gamma_step = 1.0;
   bool quiet = false;
-  InputOptions input;
+  app::InputOptions input;
   ArgParser parser("convert",
                    "IN OUT [--ies-version 2002|2019] [--c-step D --gamma-step D] "
                    "[--ldt-isym3 standard|qlumedit] [--ldt-isym3-out standard|qlumedit] [--quiet]",
@@ -84,7 +84,7 @@ int run_convert(const Args& args) {
   parser.option("gamma-step", &gamma_step, 0.1, 90.0, "D",
                 "Gamma step of the Type C resampling grid [deg] (default 1); must divide 90.");
   add_input_options(parser, &input);
-  parser.choice("ldt-isym3-out", &isym3_out, {kIsym3Standard, kIsym3QLumEdit},
+  parser.choice("ldt-isym3-out", &isym3_out, {app::kIsym3Standard, app::kIsym3QLumEdit},
                 "Plane order of .ldt output with Isym 3 (default standard; see --ldt-isym3).");
   parser.flag("quiet", &quiet, "Print only warnings and errors: no info lines, no summary.");
   if (const auto outcome = parser.parse(args); outcome != ArgParser::Outcome::Run)
@@ -113,13 +113,13 @@ int run_convert(const Args& args) {
     return kExitFailure;
   }
 
-  auto file = read_input(in_path, input, !quiet);
+  auto file = app::read_input(in_path, input, !quiet);
   if (!file.ok()) return kExitFailure;
 
   io::PhotometricWriteOptions options;
   options.ies.version =
       ies_version == "2002" ? io::IesVersion::LM63_2002 : io::IesVersion::LM63_2019;
-  options.ldt.isym3_order = isym3_order(isym3_out);
+  options.ldt.isym3_order = app::isym3_order(isym3_out);
   // [FILEGENINFO] of LM-63-2019 output where the input has none.
   options.ies.file_generation_info = std::string("Converted by Gonio ") + kVersion + " from " +
                                      fs::path(in_path).filename().string() + " (" +

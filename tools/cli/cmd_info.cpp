@@ -304,10 +304,10 @@ json ray_set_json(const io::Tm25RaySet& set) {
   return {{"rays", set.ray_count()},
           {"measured", h.creation_method == 1},
           {"flux_per_ray", set.columns.tri_y >= 0 ? "luminous" : "radiant"},
-          {"rays_flux_lm", json_number<json>(set.total_luminous_flux_lm())},
-          {"rays_radiant_flux_w", json_number<json>(set.total_radiant_flux_w())},
-          {"header_flux_lm", json_number<json>(h.luminous_flux_lm)},
-          {"header_radiant_flux_w", json_number<json>(h.radiant_flux_w)},
+          {"rays_flux_lm", app::json_number<json>(set.total_luminous_flux_lm())},
+          {"rays_radiant_flux_w", app::json_number<json>(set.total_radiant_flux_w())},
+          {"header_flux_lm", app::json_number<json>(h.luminous_flux_lm)},
+          {"header_radiant_flux_w", app::json_number<json>(h.radiant_flux_w)},
           {"extent_mm", {{"min", {e.lo.x, e.lo.y, e.lo.z}}, {"max", {e.hi.x, e.hi.y, e.hi.z}}}},
           {"spectrum", spectrum_text(h.spectrum)},
           {"created", h.created}};
@@ -381,7 +381,7 @@ void print_table(const std::string& path, const io::PhotometricFile& file, const
 
 // ------------------------------------------------------------ JSON
 
-const auto number = json_number<json>;
+const auto number = app::json_number<json>;
 
 json grid_json(const std::vector<double>& a) {
   const auto step = step_of(a);
@@ -556,7 +556,7 @@ json info_json(const std::string& path, const io::PhotometricFile& file, const S
   j["upward_flux_lm"] = number(s.upward_flux_lm);
   j["zones"] = zones_json(s.zones);
   j["zones_10deg"] = zones_json(s.zones_10deg);
-  put_peak_and_spread(j, &s);
+  app::put_peak_and_spread(j, &s);
   j["beam"] = {{"c0_c180", beam_json(s.beam_c0_c180)}, {"c90_c270", beam_json(s.beam_c90_c270)}};
   j["field"] = {{"c0_c180", beam_json(s.field_c0_c180)}, {"c90_c270", beam_json(s.field_c90_c270)}};
   const auto& code = s.cie_flux_code;
@@ -584,7 +584,7 @@ int run_info(const Args& args) {
   bool as_json = false;
   double floor_reflectance = 0.2;
   std::string ugr_background = photometry::to_string(photometry::UgrBackground::Cie190);
-  InputOptions input;
+  app::InputOptions input;
   ArgParser parser("info",
                    "FILE [--json] [--cu-floor RHO] [--ugr-background cie190|flux-transfer] "
                    "[--ldt-isym3 standard|qlumedit]",
@@ -600,7 +600,7 @@ int run_info(const Args& args) {
   if (const auto outcome = parser.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
 
-  auto files = read_inputs(path, input);
+  auto files = app::read_inputs(path, input);
   if (!files.ok()) return kExitFailure;
   // A GLDF container: every photometry, each named CONTAINER:ENTRY.
   const bool container = !files->front().container.empty();
@@ -609,7 +609,7 @@ int run_info(const Args& args) {
     const io::PhotometricFile& file = (*files)[i];
     const std::string name = container ? path + ":" + file.container_entry : path;
     const Summary s = photometry::summarize(file.distribution);
-    const photometry::PlanningFigures planning = photometry::planning_figures(file.distribution, floor_reflectance, ugr_options(ugr_background));
+    const photometry::PlanningFigures planning = photometry::planning_figures(file.distribution, floor_reflectance, app::ugr_options(ugr_background));
     if (as_json) {
       json j = info_json(name, file, s, planning);
       if (container) j["gldf_photometry_id"] = file.container_id;

@@ -23,7 +23,7 @@ namespace gonio::cli {
 
 int run_plot(const Args& args) {
   std::string file, out, unit = "cd", title;
-  InputOptions input;
+  app::InputOptions input;
   ArgParser p("plot", "FILE [--out X.svg|X.png] [--unit cd|cdklm] [--ldt-isym3 standard|qlumedit]",
               "Draws the intensity diagram of a photometric file (IES, LDT, TM-33, GLDF, or a\n"
               "TM-25 ray file's far field): the C0-C180 and C90-C270 planes as a polar diagram\n"
@@ -43,7 +43,7 @@ int run_plot(const Args& args) {
     return kExitUsage;
   }
 
-  auto read = read_input(file, input, false);
+  auto read = app::read_input(file, input, false);
   if (!read.ok()) return kExitFailure;
   photometry::Distribution d = std::move(read->distribution);
   if (d.type != photometry::PhotometricType::C) {

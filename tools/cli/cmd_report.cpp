@@ -19,7 +19,7 @@ int run_report(const Args& args) {
   double height = 3.0, floor_reflectance = 0.2;
   std::string ugr_background = photometry::to_string(photometry::UgrBackground::Cie190);
   bool timing = false;
-  InputOptions input;
+  app::InputOptions input;
   ArgParser p("report", "FILE... --out X.html|X.pdf [--height M] [--cu-floor RHO] [--ugr-background cie190|flux-transfer]",
               "Writes the datasheet of one or more photometric files (IES, LDT, TM-33, GLDF, or\n"
               "a TM-25 ray file's far field): identification, polar and cartesian intensity\n"
@@ -55,7 +55,7 @@ int run_report(const Args& args) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<io::DatasheetEntry> entries;
   for (const std::string& f : files) {
-    Result<io::PhotometricFile> read = read_input(f, input, false);
+    Result<io::PhotometricFile> read = app::read_input(f, input, false);
     if (!read.ok()) return kExitFailure;
     io::DatasheetEntry e;
     e.source = f;
@@ -67,7 +67,7 @@ int run_report(const Args& args) {
   io::DatasheetOptions options;
   options.mounting_height_m = height;
   options.floor_reflectance = floor_reflectance;
-  options.ugr = ugr_options(ugr_background);
+  options.ugr = app::ugr_options(ugr_background);
   if (Status s = io::write_datasheet(out, entries, options); !s.ok()) {
     print_error(s.error());
     return kExitFailure;

@@ -1,50 +1,32 @@
 // What `gonio simulate` and `gonio watch` share on the command line: the
-// simulation's options and their checks into a plan (tools/run/simulation_run.h,
-// which also writes a finished run's files; the code lives in
-// tools/cli/cmd_simulate.cpp; watch runs the same steps per model change).
+// simulation's options (tools/run/simulate.h's SimulateOptions) registered on
+// a parser, the plan or a usage error, and what is printed once a run's
+// files are written (tools/cli/simulate_command.cpp).
 #pragma once
 
-#include <chrono>
-#include <cstdint>
 #include <optional>
 #include <string>
-#include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "io/support/cache_folder.h"
 #include "tools/cli/cli.h"
-#include "tools/cli/input_options.h"
-#include "tools/run/model_input.h"
-#include "tools/run/simulation_run.h"
+#include "tools/run/simulate.h"
 
 namespace gonio::cli {
 
-// The options as parsed (defaults as `gonio simulate --help` states them).
-struct SimulateOptions {
-  std::string out_dir;
-  long long photons = 1'000'000, iterations = 10, seed = 1, threads = 0, max_bounces = 100;
-  long long face_size = 0;
-  double c_step = 5.0, gamma_step = 2.5, min_lor = 0.0, flux_tolerance = 0.005;
-  double target_error_pct = 0.0;  // --target-error PCT; 0: none
-  std::string symmetry_name = "auto", format_list = "all", ies_version = "2019", stem;
-  std::string bvh_quality = "auto";  // --bvh-quality
-  long long tm25_rays = 1'000'000;   // --tm25-rays N: the ray file's photons
-  std::string near_field;            // --near-field D1,D2,… [m]; empty: none
-  std::string sampler = "sobol";     // --sampler (sim/sampler.h)
-  std::string cache_dir;  // --cache DIR (the model checks' results, the outputs' resamplers)
-  bool no_cache = false;  // --no-cache
-  long long cache_limit_mb = io::kDefaultCacheLimitBytes >> 20;  // --cache-limit MB; 0: none
-  ModelInputOptions model_input;  // --allow-outside-paths
-  PreviewOptions preview;
-};
-
 // Registers every option but MODEL and --out (callers word those).
-void add_simulate_options(ArgParser& p, SimulateOptions* options);
+void add_simulate_options(ArgParser& p, app::SimulateOptions* options);
 
-// Checks the options for `model`; on a problem prints "COMMAND: …" and the
-// usage line to stderr and returns nothing (exit kExitUsage).
-std::optional<SimulatePlan> plan_simulation(const std::string& command, const std::string& model,
-                                            const SimulateOptions& options, const ArgParser& p);
+// Prints "gonio: COMMAND: message" and the usage line to stderr.
+void print_usage_error(const std::string& command, const ArgParser& p, const std::string& message);
+
+// The plan of `options` for `model`, or nothing after print_usage_error
+// (exit kExitUsage).
+std::optional<app::SimulatePlan> plan_or_usage(const std::string& command, const std::string& model,
+                                               const app::SimulateOptions& options, const ArgParser& p);
+
+// Prints what a finished run wrote (the ledger, the LOR, every file with its
+// flux read back, report.json; each failure and failed energy check on
+// stderr) and returns the exit code: 1 where a file or report.json could not
+// be written or an energy check failed, else 0.
+int print_run_files(const app::SimulatePlan& plan, const app::ProgressiveOutcome& run, const app::RunFiles& files);
 
 }  // namespace gonio::cli

@@ -13,7 +13,7 @@
 
 #include <httplib.h>
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 std::atomic<bool> g_interrupted{false};
@@ -158,4 +158,4 @@ void wait_for_interrupt() {
   while (!interrupted()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -23,7 +23,7 @@
 
 #include "photometry/diagnostics.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 inline constexpr const char* kLiveHost = "127.0.0.1";
 inline constexpr int kDefaultLivePort = 8765;
@@ -59,4 +59,4 @@ void install_interrupt_handlers();
 bool interrupted();
 void wait_for_interrupt();
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -14,7 +14,7 @@
 #include "tools/run/resampler_cache.h"
 #include "tools/run/simulation_outputs.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 bool same_frame(const photometry::PhotometricFrame& a, const photometry::PhotometricFrame& b) {
@@ -205,4 +205,4 @@ void LiveView::note(const std::string& text) {
   publish(false);
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

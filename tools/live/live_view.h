@@ -42,7 +42,7 @@
 #include "tools/run/progressive_run.h"
 #include "tools/run/simulation_run.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 class LiveView {
  public:
@@ -86,4 +86,4 @@ class LiveView {
   bool first_preview_ = true;
 };
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -2,7 +2,7 @@
 
 #include <sys/stat.h>
 
-namespace gonio::cli {
+namespace gonio::app {
 
 FileStamp stamp_of(const std::string& path) {
   struct stat st {};
@@ -43,4 +43,4 @@ std::optional<WatchClock::time_point> LoadRetry::failed(WatchClock::time_point n
   return now + delays_[static_cast<std::size_t>(failures_++)];
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

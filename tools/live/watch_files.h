@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-namespace gonio::cli {
+namespace gonio::app {
 
 using WatchClock = std::chrono::steady_clock;
 
@@ -76,4 +76,4 @@ class LoadRetry {
   int failures_ = 0;
 };
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -6,7 +6,7 @@
 
 #include "gonio/version.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 void print_error(const std::string& message) {
   std::fprintf(stderr, "%s: %s\n", kProgramName, message.c_str());
@@ -27,6 +27,15 @@ std::string format_finding(const Finding& finding) {
 
 void print_finding(const Finding& finding) { print_error(format_finding(finding)); }
 
+void tell(const MessageSink& sink, Severity severity, const std::string& text) {
+  if (sink)
+    sink(severity, text);
+  else
+    print_error(text);
+}
+
+void tell(const MessageSink& sink, const Error& error) { tell(sink, Severity::Error, to_string(error)); }
+
 bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
 
 std::string format_rate(double per_s) {
@@ -41,4 +50,4 @@ std::string format_rate(double per_s) {
   return buf;
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

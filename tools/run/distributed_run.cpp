@@ -6,12 +6,12 @@
 #include "tools/run/scene_hash.h"
 #include "tools/run/console.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
-std::optional<sim::Ranks> join_job(const std::string& command) {
+std::optional<sim::Ranks> join_job(const std::string& command, const MessageSink& sink) {
   auto ranks = sim::Ranks::join_job();
   if (!ranks.ok()) {
-    print_error(command + ": " + ranks.error().message);
+    tell(sink, Severity::Error, command + ": " + ranks.error().message);
     return std::nullopt;
   }
   return std::move(ranks.value());
@@ -30,7 +30,7 @@ std::string run_fingerprint(const sim::SceneDesc& scene, const sim::SimulationSe
 }
 
 bool ranks_agree(const sim::Ranks& ranks, const std::optional<std::string>& fingerprint,
-                 const std::string& command) {
+                 const std::string& command, const MessageSink& sink) {
   if (!ranks.distributed()) return fingerprint.has_value();
   const std::vector<std::uint64_t> ready = ranks.gather(std::uint64_t{fingerprint.has_value()});
   const std::vector<std::uint64_t> hashes = ranks.gather(
@@ -46,9 +46,9 @@ bool ranks_agree(const sim::Ranks& ranks, const std::optional<std::string>& fing
               "): every rank must load the same model with the same options";
     if (fault.empty()) continue;
     agree = false;
-    if (ranks.rank() == 0) print_error(command + ": " + ranks.name_of(r) + " " + fault);
+    if (ranks.rank() == 0) tell(sink, Severity::Error, command + ": " + ranks.name_of(r) + " " + fault);
   }
-  if (!agree && ranks.rank() == 0) print_error(command + ": nothing was traced");
+  if (!agree && ranks.rank() == 0) tell(sink, Severity::Error, command + ": nothing was traced");
   return agree;
 }
 
@@ -72,4 +72,4 @@ nlohmann::json ranks_json(const sim::Ranks& ranks, const sim::SimulationStats& s
   return {{"ranks", ranks.size()}, {"per_rank", per_rank}};
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

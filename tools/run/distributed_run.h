@@ -13,13 +13,14 @@
 #include "sim/distributed.h"
 #include "sim/scene.h"
 #include "sim/simulation.h"
+#include "tools/run/console.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 // Joins the MPI job gonio was launched in, or a job of one without a
-// launcher. Prints the error and returns nothing where it cannot (an MPI
-// launcher around a build without MPI).
-std::optional<sim::Ranks> join_job(const std::string& command);
+// launcher. Tells the error ("COMMAND: …") and returns nothing where it
+// cannot (an MPI launcher around a build without MPI).
+std::optional<sim::Ranks> join_job(const std::string& command, const MessageSink& sink = {});
 
 // What must be equal on every rank for the ranks' shares to make one run:
 // the loaded scene (scene_hash: geometry, materials, emitters and their
@@ -31,11 +32,11 @@ std::string run_fingerprint(const sim::SceneDesc& scene, const sim::SimulationSe
 // or nothing where this rank could not get ready (could not read its model,
 // make the output folder, …: its own error already printed). True on every
 // rank when every rank is ready with the same fingerprint; otherwise rank 0
-// prints "gonio: COMMAND: rank R of N ..." for each rank at fault (could not
-// get ready, or a fingerprint other than rank 0's) and every rank returns
-// false. In a job of one: whether `fingerprint` is set, printing nothing.
+// tells "COMMAND: rank R of N ..." for each rank at fault (could not get
+// ready, or a fingerprint other than rank 0's) and every rank returns false.
+// In a job of one: whether `fingerprint` is set, telling nothing.
 bool ranks_agree(const sim::Ranks& ranks, const std::optional<std::string>& fingerprint,
-                 const std::string& command);
+                 const std::string& command, const MessageSink& sink = {});
 
 // Collective, after tracing: {"ranks": N, "per_rank": [{"rank", "photons",
 // "threads", "trace_s", "photons_per_s", "wait_s", "reduce_s",
@@ -43,4 +44,4 @@ bool ranks_agree(const sim::Ranks& ranks, const std::optional<std::string>& fing
 // stats (sim/simulation.h), the same on every rank.
 nlohmann::json ranks_json(const sim::Ranks& ranks, const sim::SimulationStats& stats);
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -10,7 +10,7 @@
 
 #include "photometry/summary.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 // v, or null where it is NaN or infinite (JSON has no NaN).
 template <class Json = nlohmann::json>
@@ -38,4 +38,4 @@ void put_peak_and_spread(Json& j, const photometry::Summary* s) {
   j["field_angle_c90_c270_deg"] = value([](const S& x) { return x.field_c90_c270.angle_deg; });
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

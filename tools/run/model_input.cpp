@@ -5,11 +5,12 @@
 #include <vector>
 
 #include "io/model/gltf.h"
+#include "io/model/gltf_files.h"
 #include "io/model/model_check.h"
 #include "io/outputs/report.h"
 #include "tools/run/console.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -50,25 +51,36 @@ ModelLoad load_model(const std::string& model, const ModelInputOptions& options,
   return out;
 }
 
-std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done,
-                                                 const ModelInputOptions& options, ModelInputTimes* times) {
-  ModelLoad loaded = load_model(model, options, times);
-  for (const Finding& f : loaded.findings) {
+std::vector<std::string> model_files(const std::string& model) {
+  auto files = io::gltf_files(model);
+  return files.ok() ? files.value() : std::vector<std::string>{model};
+}
+
+void tell_model_findings(const std::string& model, const std::vector<Finding>& findings, const MessageSink& sink) {
+  for (const Finding& f : findings) {
     const std::string where = f.where.file.empty() ? model : to_string(f.where);
     if (f.severity == Severity::Error)
-      print_error(where + ": " + f.message);
+      tell(sink, Severity::Error, where + ": " + f.message);
     else if (f.severity == Severity::Warning)
-      print_warning(where + ": " + f.message);
+      tell(sink, Severity::Warning, "warning: " + where + ": " + f.message);
   }
+}
+
+std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done,
+                                                 const ModelInputOptions& options, ModelInputTimes* times,
+                                                 const MessageSink& sink, std::vector<Finding>* findings) {
+  ModelLoad loaded = load_model(model, options, times);
+  tell_model_findings(model, loaded.findings, sink);
+  if (findings) *findings = loaded.findings;
   if (loaded.error) {
-    print_error(*loaded.error);
+    tell(sink, *loaded.error);
     return std::nullopt;
   }
   if (loaded.has_errors) {
-    print_error(model + ": the model has errors (above); nothing was " + not_done);
+    tell(sink, Severity::Error, model + ": the model has errors (above); nothing was " + not_done);
     return std::nullopt;
   }
   return std::move(loaded.scene);
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -13,7 +13,7 @@
 #include "sim/scene.h"
 #include "tools/run/console.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 // How a model may be read: what every command that loads one offers.
 struct ModelInputOptions {
@@ -47,12 +47,24 @@ struct ModelLoad {
 ModelLoad load_model(const std::string& model, const ModelInputOptions& options = {},
                      ModelInputTimes* times = nullptr);
 
-// Loads and checks `model`, printing every warning and error to stderr with
-// the file and the part of the model. Returns nothing where the model cannot
-// be loaded or has errors; then the last message says "nothing was
-// `not_done`" (e.g. "simulated").
+// The files a model is read from, the model first (io/model/gltf_files.h):
+// what `gonio watch` watches. Just the model where it cannot be read now (a
+// half-written file: the next look will show the change).
+std::vector<std::string> model_files(const std::string& model);
+
+// Tells the warnings and errors among a model's findings ("warning: WHERE:
+// message", "WHERE: message"; WHERE the finding's place, else the model).
+void tell_model_findings(const std::string& model, const std::vector<Finding>& findings,
+                         const MessageSink& sink = {});
+
+// Loads and checks `model`, telling every warning and error (tools/run/console.h;
+// by default printed to stderr) with the file and the part of the model. Returns
+// nothing where the model cannot be loaded or has errors; then the last
+// message says "nothing was `not_done`" (e.g. "simulated"). `findings`: all of
+// them, the notes too.
 std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done,
                                                  const ModelInputOptions& options = {},
-                                                 ModelInputTimes* times = nullptr);
+                                                 ModelInputTimes* times = nullptr, const MessageSink& sink = {},
+                                                 std::vector<Finding>* findings = nullptr);
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -2,7 +2,7 @@
 
 #include "tools/run/ray_file_far_field.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 photometry::UgrOptions ugr_options(const std::string& word) {
   photometry::UgrOptions o;
@@ -47,4 +47,4 @@ Result<std::vector<io::PhotometricFile>> read_inputs(const std::string& path, co
   return files;
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -9,7 +9,7 @@
 #include "photometry/ugr.h"
 #include "tools/run/console.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 // The words of --ldt-isym3 and --ldt-isym3-out.
 inline constexpr const char* kIsym3Standard = "standard";  // C270 … C0 … C90 (the standard)
@@ -35,4 +35,4 @@ Result<io::PhotometricFile> read_input(const std::string& path, const InputOptio
 Result<std::vector<io::PhotometricFile>> read_inputs(const std::string& path, const InputOptions& options,
                                                      bool print_info = true);
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -7,7 +7,32 @@
 #include "io/outputs/cube_cross.h"
 #include "io/outputs/image.h"
 
-namespace gonio::cli {
+namespace gonio::app {
+
+Result<sim::PreviewFilterParams> preview_params(const PreviewOptions& o) {
+  if (o.adaptive && o.no_adaptive) return make_error("--adaptive and --no-adaptive exclude each other");
+  if (o.filter != "none" && o.filter != "bilinear" && o.filter != "bilateral")
+    return make_error("--filter must be one of none|bilinear|bilateral, got '" + o.filter + "'");
+  for (const Status& s : {o.threshold ? check_range("threshold", *o.threshold, kThresholdBounds) : Status(Ok{}),
+                          check_range("levels", o.levels, kLevelsBounds),
+                          check_range("sigma-d", o.sigma_d, kSigmaBounds),
+                          check_range("sigma-r", o.sigma_r, kSigmaBounds)})
+    if (!s.ok()) return s.error();
+  sim::PreviewFilterParams p;
+  p.interpolation = o.filter == "none"       ? sim::Interpolation::None
+                    : o.filter == "bilinear" ? sim::Interpolation::Bilinear
+                                             : sim::Interpolation::Bilateral;
+  p.adaptive = !o.no_adaptive;
+  if (o.threshold) {
+    p.threshold_photons = *o.threshold;
+  } else if (!p.adaptive) {
+    p.threshold_photons = sim::PreviewFilterParams::kFixedThreshold;
+  }
+  p.levels = static_cast<int>(o.levels);
+  p.sigma_d = o.sigma_d;
+  p.sigma_r = o.sigma_r;
+  return p;
+}
 
 std::string describe(const sim::PreviewFilterParams& p, int face_size) {
   const char* kind = p.interpolation == sim::Interpolation::None       ? "none"
@@ -48,4 +73,4 @@ Status PreviewOutput::write(const sim::FarField& far_field) {
   return io::write_png(png_path(), io::cube_cross_preview(grid_, preview));
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -9,6 +9,7 @@
 // histogram, never from the preview.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "io/outputs/exr.h"
@@ -17,8 +18,29 @@
 #include "sim/far_field.h"
 #include "sim/preview_filter.h"
 #include "tools/run/console.h"
+#include "tools/run/option_bounds.h"
 
-namespace gonio::cli {
+namespace gonio::app {
+
+// The preview as a front end asks for it (gonio simulate's --preview and
+// the filter's options, with their defaults).
+inline constexpr Bounds<double> kThresholdBounds{0.0, 1e15};  // --threshold [photons]
+inline constexpr Bounds<long long> kLevelsBounds{0, 15};      // --levels
+inline constexpr Bounds<double> kSigmaBounds{1e-3, 100.0};    // --sigma-d, --sigma-r
+struct PreviewOptions {
+  bool enabled = false;              // --preview: write the files after every iteration
+  std::string filter = "bilateral";  // --filter none|bilinear|bilateral
+  std::optional<double> threshold;   // --threshold PHOTONS (none: 6400 adaptive, 100 fixed)
+  long long levels = 0;              // --levels N (0: automatic)
+  double sigma_d = 0.5;              // --sigma-d
+  double sigma_r = 0.2;              // --sigma-r
+  bool adaptive = false;             // --adaptive (the default)
+  bool no_adaptive = false;          // --no-adaptive: the thesis's fixed threshold
+};
+
+// The filter parameters the options ask for. Error: --adaptive with
+// --no-adaptive, an unknown filter, a value out of its range.
+Result<sim::PreviewFilterParams> preview_params(const PreviewOptions& options);
 
 // One line describing the filter settings (report, EXR attribute).
 std::string describe(const sim::PreviewFilterParams& params, int face_size);
@@ -42,4 +64,4 @@ class PreviewOutput {
   io::ExrImage image_;
 };
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -9,7 +9,7 @@
 
 #include "sim/convergence.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -135,4 +135,4 @@ Result<ProgressiveOutcome> run_progressive(sim::SceneDesc scene, const Progressi
   return out;
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -49,7 +49,7 @@
 #include "sim/scene.h"
 #include "sim/simulation.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 // The count-based estimate above for a far field of plain emission on the
 // resampler's grid [%]; NaN where nothing escaped.
@@ -105,4 +105,4 @@ Result<ProgressiveOutcome> run_progressive(sim::SceneDesc scene, const Progressi
                                            const CancelCheck& cancel = {},
                                            const sim::Simulation* previous = nullptr);
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -7,7 +7,7 @@
 #include "photometry/format.h"
 #include "sim/far_field.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 photometry::PhotometricFrame ray_file_frame() {
   return photometry::make_frame(Vec3{0.0, 0.0, -1.0}, Vec3{1.0, 0.0, 0.0});
@@ -67,4 +67,4 @@ void enable_ray_files(io::PhotometricReadOptions& options) {
   };
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

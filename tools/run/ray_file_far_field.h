@@ -22,7 +22,7 @@
 #include "photometry/frame.h"
 #include "sim/resample.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 // The ray file's frame (above).
 photometry::PhotometricFrame ray_file_frame();
@@ -37,4 +37,4 @@ Result<photometry::Distribution> ray_set_far_field(const io::Tm25RaySet& set, co
 // default grid.
 void enable_ray_files(io::PhotometricReadOptions& options);
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -13,7 +13,7 @@
 #include "io/support/content_hash.h"
 #include "io/support/file_io.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "the cache stores numbers little-endian");
@@ -149,4 +149,4 @@ sim::Resampler cached_resampler(int face_size, const photometry::PhotometricFram
   return built;
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

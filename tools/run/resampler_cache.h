@@ -17,7 +17,7 @@
 #include "photometry/frame.h"
 #include "sim/resample.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 struct ResamplerSource {
   bool from_cache = false;  // read back, not built
@@ -35,4 +35,4 @@ sim::Resampler cached_resampler(int face_size, const photometry::PhotometricFram
 std::string resampler_cache_name(int face_size, const photometry::PhotometricFrame& frame,
                                  const sim::CGammaGrid& grid);
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

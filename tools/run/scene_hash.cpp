@@ -2,7 +2,7 @@
 
 #include "io/support/content_hash.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 std::string scene_hash(const sim::SceneDesc& scene) {
   io::ContentHash h;
@@ -54,4 +54,4 @@ std::string scene_hash(const sim::SceneDesc& scene) {
   return h.hex();
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -7,10 +7,10 @@
 
 #include "sim/scene.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 // A hash of everything in a scene that the tracer reads: geometry, shading
 // normals and tangents, materials, emitters with their profiles, the frame.
 std::string scene_hash(const sim::SceneDesc& scene);
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

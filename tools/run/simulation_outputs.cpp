@@ -27,7 +27,7 @@
 #include "tools/run/json_figures.h"
 #include "tools/run/resampler_cache.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 using photometry::Distribution;
@@ -771,4 +771,4 @@ int energy_exit_code(const std::string& model, const EnergyCheck& check) {
   return check.passed() ? kExitOk : kExitFailure;
 }
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -60,7 +60,7 @@
 #include "sim/symmetry.h"
 #include "sim/tracer.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 enum class OutputFormat { Ies, Ldt, Exr, LatLong, Plot, Report, Gldf, Tm33 };
 
@@ -207,4 +207,4 @@ EnergyCheck check_energy(const sim::Ledger& ledger, const std::vector<WrittenFil
 // "gonio: MODEL: energy check failed: …" and exit code 1; 0 when all passed.
 int energy_exit_code(const std::string& model, const EnergyCheck& check);
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

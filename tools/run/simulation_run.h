@@ -1,7 +1,7 @@
-// A planned simulation run and the files it leaves: what `gonio simulate`
-// and `gonio watch` (tools/cli/simulate_command.h) resolve their options into,
-// what the live page shows runs of (tools/live/live_view.h), and the writing of a
-// finished run's files and report.json (the code: tools/run/simulation_run.cpp).
+// A planned simulation run and the files it leaves: what the options of
+// `gonio simulate` and `gonio watch` resolve into (tools/run/simulate.h), what
+// the live page shows runs of (tools/live/live_view.h), and the writing of a
+// finished run's files and report.json.
 #pragma once
 
 #include <chrono>
@@ -21,7 +21,7 @@
 #include "tools/run/progressive_run.h"
 #include "tools/run/simulation_outputs.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 
 // The options checked and resolved.
 struct SimulatePlan {
@@ -42,16 +42,39 @@ struct SimulatePlan {
   std::uint64_t cache_limit_bytes = io::kDefaultCacheLimitBytes;  // io/support/cache_folder.h; 0: none
 };
 
+// STEM.tm25ray as written (--format tm25).
+struct RayFileWritten {
+  std::string path;
+  std::size_t rays = 0;
+  double flux_lm = 0.0;  // their luminous flux: the escaped flux [lm]
+};
+
+// What write_run_files left in the folder, and what a front end tells the
+// user about it.
+struct RunFiles {
+  std::string report_path;            // DIR/report.json
+  nlohmann::json report;              // its content
+  std::optional<Error> report_error;  // report.json could not be written (the files listed may have been)
+  OutputResult outputs;               // the photometric and image files, read back; the symmetry chosen
+  std::optional<RayFileWritten> ray_file;
+  std::vector<std::string> preview;   // preview.exr and preview.png, where the run had a preview
+  std::vector<std::string> written;   // every file of the run besides report.json
+  std::vector<Error> failures;        // what failed after tracing (the other files were written)
+  EnergyCheck energy;                 // report.json's "energy"
+  // Everything written and every check passed.
+  bool passed() const { return !report_error && failures.empty() && energy.passed(); }
+};
+
 // Writes the files and report.json of a finished run into plan.out_dir
 // (`preview`: the run's preview output, or null; `start`: when the command or
 // the run began, for wall_s; `input_times`: what loading and checking the
 // model took; `ranks_report`: report.json's "mpi" object,
-// tools/run/distributed_run.h, left out where null), prints the summary, and
-// returns the exit code (the energy checks). `failures`: what already failed
-// (the preview); a failure while writing does not stop the other files:
-// report.json lists what was written and what failed, and the exit code is 1.
-int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
-                    const PreviewOutput* preview, std::chrono::steady_clock::time_point start,
-                    const nlohmann::json& ranks_report = nullptr, std::vector<Error> failures = {});
+// tools/run/distributed_run.h, left out where null), and trims the cache
+// folder to its limit. `failures`: what already failed (the preview); a
+// failure while writing does not stop the other files: report.json lists
+// what was written and what failed. Prints nothing.
+RunFiles write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
+                         const PreviewOutput* preview, std::chrono::steady_clock::time_point start,
+                         const nlohmann::json& ranks_report = nullptr, std::vector<Error> failures = {});
 
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -6,7 +6,7 @@
 
 #include "sim/shapes.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 TEST(BenchReference, HashesSeeWhatTheTracerSees) {
@@ -49,4 +49,4 @@ TEST(BenchReference, HashesSeeWhatTheTracerSees) {
 }
 
 }  // namespace
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 SeriesResult fake(const std::string& name, std::vector<double> rms) {
@@ -70,4 +70,4 @@ TEST(BenchReport, PageLinksChartsRelativeToItself) {
 }
 
 }  // namespace
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -7,7 +7,7 @@
 #include <set>
 #include <string>
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 
@@ -60,4 +60,4 @@ TEST(BenchSeries, TheBriefsSeries) {
 }
 
 }  // namespace
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tests/tools/cli/cli_fixtures.h"
@@ -56,6 +57,54 @@ TEST(Cli, EverySubcommandHasHelp) {
     }
     // --help wins over anything else on the line.
     EXPECT_EQ(gonio({c, "no-such-file.ies", "--help"}).exit_code, 0);
+  }
+}
+
+// An option's help is reflowed to 80 columns even where its source text
+// carries line breaks of its own (simulate's --format, --tm25-rays,
+// --near-field, --bvh-quality; bench's --sampler): each line of an option's
+// help is filled, that is the next line's first word would not have fitted
+// on it. Keeping the source's breaks (the old wrap) leaves lines of one or
+// two words ("      datasheet") after each of them, and fails here; so does
+// a wrap that drops or reorders words (the phrases below span source lines).
+TEST(Cli, OptionHelpIsReflowedToEightyColumnsAcrossItsOwnLineBreaks) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> commands = {
+      {"simulate",
+       {"report (the datasheet STEM.html with the energy ledger), gldf (STEM.gldf with the LDT, IES and the "
+        "model as L3D), tm33",
+        "see --tm25-rays), or all (default: every one but report, gldf, tm33 and tm25, which are written only "
+        "when named)",
+        "are the ray file's rays (default 1000000); their fluxes add up to the escaped flux",
+        "below the luminaire's centre (perpendicular to the nadir, 4D square, 41 x 41 pixels) from every "
+        "escaping photon's path,"}},
+      {"watch", {"report (the datasheet STEM.html with the energy ledger)"}},
+      {"bench", {"the pseudo-random series and Sobol' raw and adaptive, charted against each other); the "
+                 "reference is pseudo-random"}}};
+  for (const auto& [command, phrases] : commands) {
+    SCOPED_TRACE(command);
+    const auto r = gonio({command, "--help"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::size_t options = r.out.find("\nOptions:\n");
+    ASSERT_NE(options, std::string::npos) << r.out;
+    std::vector<std::string> lines;
+    for (std::size_t start = options + 1; start < r.out.size();) {
+      const std::size_t end = r.out.find('\n', start);
+      lines.push_back(r.out.substr(start, end - start));
+      start = end + 1;
+    }
+    const std::string indent = "      ";
+    std::string help;  // every option's help, its lines joined by spaces
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      EXPECT_LE(lines[i].size(), 80u) << lines[i];
+      if (lines[i].rfind(indent, 0) != 0) continue;  // an option's name
+      help += " " + lines[i].substr(indent.size());
+      if (i + 1 == lines.size() || lines[i + 1].rfind(indent, 0) != 0) continue;  // its help's last line
+      const std::string next = lines[i + 1].substr(indent.size());
+      const std::string next_word = next.substr(0, next.find(' '));
+      EXPECT_GT(lines[i].size() + 1 + next_word.size(), 80u)
+          << "'" << next_word << "' would have fitted on:\n" << lines[i] << "\n" << lines[i + 1];
+    }
+    for (const std::string& phrase : phrases) EXPECT_TRUE(contains(help, phrase)) << phrase << "\nin:" << help;
   }
 }
 

@@ -10,7 +10,7 @@
 
 #include "tests/support/test_support.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 using namespace std::chrono_literals;
@@ -97,4 +97,4 @@ TEST(LoadRetry, RetriesAfterEachDelayThenGivesUpUntilTheNextChange) {
 }
 
 }  // namespace
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -20,7 +20,7 @@
 #include "tests/support/test_support.h"
 #include "tools/run/simulation_outputs.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -148,4 +148,4 @@ TEST(OutputsValidation, ABareEmitterGivesBackItsProfileInBothFormats) {
 }
 
 }  // namespace
-}  // namespace gonio::cli
+}  // namespace gonio::app

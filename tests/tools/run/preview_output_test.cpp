@@ -1,4 +1,3 @@
-#include "tools/cli/input_options.h"
 #include "tools/run/preview_output.h"
 
 #include <gtest/gtest.h>
@@ -11,7 +10,7 @@
 #include "io/outputs/image.h"
 #include "tests/support/test_support.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 sim::FarField sample_field(int n) {
@@ -62,17 +61,15 @@ TEST(PreviewOutput, AnUnwritableDirectoryIsAnErrorNamingThePath) {
   EXPECT_NE(to_string(s.error()).find("missing"), std::string::npos);
 }
 
+// What a front end asks for becomes the filter's parameters: the defaults,
+// the fixed threshold that --no-adaptive implies unless one is given, and
+// the errors a front end without the command line's parser must still meet
+// (contradicting modes, an unknown filter, a value out of its range).
 TEST(PreviewOptions, MapToTheFilterParameters) {
-  const auto parse = [](const std::vector<std::string>& args) {
-    PreviewOptions o;
-    ArgParser parser("simulate", "", "");
-    add_preview_options(parser, &o);
-    EXPECT_EQ(parser.parse(args), ArgParser::Outcome::Run);
-    return std::pair{o, preview_params(o, parser)};
-  };
   {
-    const auto [o, p] = parse({"--preview"});
-    EXPECT_TRUE(o.enabled);
+    PreviewOptions o;
+    o.enabled = true;
+    const auto p = preview_params(o);
     ASSERT_TRUE(p.ok());
     const sim::PreviewFilterParams defaults;
     EXPECT_EQ(p->interpolation, defaults.interpolation);
@@ -81,7 +78,11 @@ TEST(PreviewOptions, MapToTheFilterParameters) {
     EXPECT_EQ(p->levels, 0);
   }
   {
-    const auto [o, p] = parse({"--preview", "--no-adaptive", "--filter", "bilinear", "--levels", "3"});
+    PreviewOptions o;
+    o.no_adaptive = true;
+    o.filter = "bilinear";
+    o.levels = 3;
+    const auto p = preview_params(o);
     ASSERT_TRUE(p.ok());
     EXPECT_FALSE(p->adaptive);
     EXPECT_EQ(p->threshold_photons, sim::PreviewFilterParams::kFixedThreshold);
@@ -89,8 +90,12 @@ TEST(PreviewOptions, MapToTheFilterParameters) {
     EXPECT_EQ(p->levels, 3);
   }
   {
-    const auto [o, p] = parse({"--preview", "--threshold=250", "--sigma-d", "0.7", "--sigma-r", "0.3",
-                               "--filter=none"});
+    PreviewOptions o;
+    o.threshold = 250.0;
+    o.sigma_d = 0.7;
+    o.sigma_r = 0.3;
+    o.filter = "none";
+    const auto p = preview_params(o);
     ASSERT_TRUE(p.ok());
     EXPECT_TRUE(p->adaptive);
     EXPECT_EQ(p->threshold_photons, 250.0);
@@ -99,10 +104,30 @@ TEST(PreviewOptions, MapToTheFilterParameters) {
     EXPECT_EQ(p->interpolation, sim::Interpolation::None);
   }
   {
-    const auto [o, p] = parse({"--adaptive", "--no-adaptive"});
-    EXPECT_FALSE(p.ok());
+    PreviewOptions o;
+    o.adaptive = o.no_adaptive = true;
+    EXPECT_FALSE(preview_params(o).ok());
+  }
+  {
+    PreviewOptions o;
+    o.filter = "gaussian";
+    const auto p = preview_params(o);
+    ASSERT_FALSE(p.ok());
+    EXPECT_NE(p.error().message.find("--filter"), std::string::npos) << p.error().message;
+  }
+  {
+    PreviewOptions o;
+    o.threshold = -1.0;
+    const auto p = preview_params(o);
+    ASSERT_FALSE(p.ok());
+    EXPECT_NE(p.error().message.find("--threshold must be between 0 and"), std::string::npos) << p.error().message;
+  }
+  {
+    PreviewOptions o;
+    o.levels = 16;
+    EXPECT_FALSE(preview_params(o).ok());
   }
 }
 
 }  // namespace
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -14,7 +14,7 @@
 #include "sim/resample.h"
 #include "sim/scene.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 // A bare isotropic point lamp of 1000 lm: every bin b of the grid gets
@@ -220,4 +220,4 @@ TEST(ProgressiveRun, ASmallFirstIterationKeepsThePlan) {
 }
 
 }  // namespace
-}  // namespace gonio::cli
+}  // namespace gonio::app

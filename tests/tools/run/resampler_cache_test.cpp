@@ -10,7 +10,7 @@
 
 #include "tests/support/test_support.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 constexpr int kFace = 16;
@@ -141,4 +141,4 @@ TEST(ResamplerCache, StoredRowsOfTheWrongShapeAreRefused) {
 }
 
 }  // namespace
-}  // namespace gonio::cli
+}  // namespace gonio::app

@@ -14,7 +14,7 @@
 #include "photometry/flux.h"
 #include "tests/support/test_support.h"
 
-namespace gonio::cli {
+namespace gonio::app {
 namespace {
 
 TEST(OutputFormats, ParseListsAllAndRefuseUnknownNames) {
@@ -269,4 +269,4 @@ TEST(EnergyCheck, EveryFailedCheckIsListed) {
 }
 
 }  // namespace
-}  // namespace gonio::cli
+}  // namespace gonio::app
