@@ -72,6 +72,13 @@ class Reader {
   // Numbers of a ScatteringData text (whitespace or commas between them).
   Result<std::vector<float>> numbers(const XmlElement& data, std::size_t expected);
 
+  // The blocks of the photopic WavelengthData, each with its direction.
+  struct Block {
+    const XmlElement* element;
+    std::string direction;  // as written, for messages
+    bool transmission, front;
+  };
+  Result<std::vector<Block>> visible_blocks(const XmlElement& layer);
   Status read_klems(const XmlElement& layer, const XmlElement& definition, bool rows_are_incidence);
   Status read_tree(const XmlElement& layer, int dimensions);
   Status check_wavelength(const XmlElement& wd, bool* visible);
@@ -111,6 +118,26 @@ Result<std::vector<float>> Reader::numbers(const XmlElement& data, std::size_t e
     return fail(&data, "ScatteringData holds " + std::to_string(v.size()) + " values, its angle bases call for " +
                            std::to_string(expected));
   return v;
+}
+
+Result<std::vector<Reader::Block>> Reader::visible_blocks(const XmlElement& layer) {
+  std::vector<Block> out;
+  for (const XmlElement* wd : children(&layer, "WavelengthData")) {
+    bool visible = false;
+    if (Status s = check_wavelength(*wd, &visible); !s.ok()) return s.error();
+    if (!visible) continue;
+    for (const XmlElement* block : children(wd, "WavelengthDataBlock")) {
+      const std::string direction = text_of(child(block, "WavelengthDataDirection"));
+      const bool transmission = same_name(direction, "Transmission Front") || same_name(direction, "Transmission Back");
+      const bool reflection = same_name(direction, "Reflection Front") || same_name(direction, "Reflection Back");
+      if (!transmission && !reflection)
+        return fail(block, "WavelengthDataDirection " + shown(direction) +
+                               " is not Transmission Front/Back or Reflection Front/Back");
+      const bool front = same_name(std::string_view(direction).substr(direction.size() - 5), "Front");
+      out.push_back({block, direction, transmission, front});
+    }
+  }
+  return out;
 }
 
 Status Reader::check_wavelength(const XmlElement& wd, bool* visible) {
@@ -198,85 +225,76 @@ Status Reader::read_klems(const XmlElement& layer, const XmlElement& definition,
     return nullptr;
   };
   const sim::PatchBasis* outgoing = nullptr;
-  bool any = false;
-  for (const XmlElement* wd : children(&layer, "WavelengthData")) {
-    bool visible = false;
-    if (Status s = check_wavelength(*wd, &visible); !s.ok()) return s;
-    if (!visible) continue;
-    for (const XmlElement* block : children(wd, "WavelengthDataBlock")) {
-      const std::string direction = text_of(child(block, "WavelengthDataDirection"));
-      const bool transmission = same_name(direction, "Transmission Front") || same_name(direction, "Transmission Back");
-      const bool reflection = same_name(direction, "Reflection Front") || same_name(direction, "Reflection Back");
-      if (!transmission && !reflection)
-        return fail(block, "WavelengthDataDirection " + shown(direction) +
-                               " is not Transmission Front/Back or Reflection Front/Back");
-      const bool front = direction.size() >= 5 && same_name(std::string_view(direction).substr(direction.size() - 5), "Front");
-      const std::string column_name = text_of(child(block, "ColumnAngleBasis"));
-      const std::string row_name = text_of(child(block, "RowAngleBasis"));
-      const KlemsBasis* columns = basis_named(column_name);
-      const KlemsBasis* rows = basis_named(row_name);
-      if (!columns || !rows)
-        return fail(block, "angle basis " + shown(columns ? row_name : column_name) + " is not defined in the file");
-      // Columns layout: data[o · ninc + i] (a line per outgoing patch); Rows: data[i · nout + o].
-      const KlemsBasis& inc = rows_are_incidence ? *rows : *columns;
-      const KlemsBasis& out = rows_are_incidence ? *columns : *rows;
-      if (!outgoing) {
-        outgoing = &out.basis;
-        out_.basis = out.basis;
-      } else if (outgoing->ring_theta_deg != out.basis.ring_theta_deg ||
-                 outgoing->ring_phi_deg != out.basis.ring_phi_deg) {
-        return fail(block, "every block must scatter into the same outgoing angle basis");
-      }
-      const std::size_t ninc = inc.basis.size(), nout = out.basis.size();
-      const XmlElement* data = child(block, "ScatteringData");
-      if (!data) return fail(block, "WavelengthDataBlock without ScatteringData");
-      Result<std::vector<float>> v = numbers(*data, ninc * nout);
-      if (!v.ok()) return v.error();
-      const auto at = [&](std::size_t i, std::size_t o) {
-        return (*v)[rows_are_incidence ? i * nout + o : o * ninc + i];
-      };
-      sim::TabulatedBsdf::Side& side = front ? out_.front : out_.back;
-      if (side.rows.empty()) {
-        for (double c : inc.ring_centre_deg) {
-          sim::TabulatedBsdf::Row r;
-          r.theta_deg = c;
-          side.rows.push_back(std::move(r));
-        }
-      } else if (side.rows.size() != inc.ring_centre_deg.size()) {
-        return fail(block, "reflection and transmission of one side must share an incidence basis");
-      }
-      for (std::size_t ring = 0; ring < inc.ring_first.size(); ++ring) {
-        std::vector<float>& row = transmission ? side.rows[ring].transmit : side.rows[ring].reflect;
-        row.resize(nout);
-        for (std::size_t o = 0; o < nout; ++o) row[o] = at(inc.ring_first[ring], o);
-      }
-      // Anisotropy: the directional albedo of every incidence patch of a ring.
-      double worst = 0.0, at_ring = 0.0;
-      for (std::size_t ring = 0; ring < inc.ring_first.size(); ++ring) {
-        const std::size_t count = inc.basis.ring_phi_deg[ring].size() - 1;
-        double lo = 1e300, hi = 0.0;
-        for (std::size_t k = 0; k < count; ++k) {
-          double a = 0.0;
-          for (std::size_t o = 0; o < nout; ++o)
-            a += static_cast<double>(at(inc.ring_first[ring] + k, o)) * out.basis.projected_solid_angle(o);
-          lo = std::min(lo, a);
-          hi = std::max(hi, a);
-        }
-        if (hi > 1e-3 && (hi - lo) / hi > worst) {
-          worst = (hi - lo) / hi;
-          at_ring = inc.ring_centre_deg[ring];
-        }
-      }
-      if (worst > 0.05)
-        note(Severity::Info, "bsdf-anisotropic",
-             name_ + ": " + direction + " scatters up to " + format_number(100.0 * worst, 3) +
-                 " % differently across the azimuths of one incidence ring (at " + format_number(at_ring) +
-                 " degrees); Gonio reads it as isotropic, along azimuth 0",
-             block);
-      any = true;
+  Result<std::vector<Block>> blocks = visible_blocks(layer);
+  if (!blocks.ok()) return blocks.error();
+  for (const Block& b : *blocks) {
+    const XmlElement* block = b.element;
+    const std::string& direction = b.direction;
+    const bool transmission = b.transmission, front = b.front;
+    const std::string column_name = text_of(child(block, "ColumnAngleBasis"));
+    const std::string row_name = text_of(child(block, "RowAngleBasis"));
+    const KlemsBasis* columns = basis_named(column_name);
+    const KlemsBasis* rows = basis_named(row_name);
+    if (!columns || !rows)
+      return fail(block, "angle basis " + shown(columns ? row_name : column_name) + " is not defined in the file");
+    // Columns layout: data[o · ninc + i] (a line per outgoing patch); Rows: data[i · nout + o].
+    const KlemsBasis& inc = rows_are_incidence ? *rows : *columns;
+    const KlemsBasis& out = rows_are_incidence ? *columns : *rows;
+    if (!outgoing) {
+      outgoing = &out.basis;
+      out_.basis = out.basis;
+    } else if (outgoing->ring_theta_deg != out.basis.ring_theta_deg ||
+               outgoing->ring_phi_deg != out.basis.ring_phi_deg) {
+      return fail(block, "every block must scatter into the same outgoing angle basis");
     }
+    const std::size_t ninc = inc.basis.size(), nout = out.basis.size();
+    const XmlElement* data = child(block, "ScatteringData");
+    if (!data) return fail(block, "WavelengthDataBlock without ScatteringData");
+    Result<std::vector<float>> v = numbers(*data, ninc * nout);
+    if (!v.ok()) return v.error();
+    const auto at = [&](std::size_t i, std::size_t o) {
+      return (*v)[rows_are_incidence ? i * nout + o : o * ninc + i];
+    };
+    sim::TabulatedBsdf::Side& side = front ? out_.front : out_.back;
+    if (side.rows.empty()) {
+      for (double c : inc.ring_centre_deg) {
+        sim::TabulatedBsdf::Row r;
+        r.theta_deg = c;
+        side.rows.push_back(std::move(r));
+      }
+    } else if (side.rows.size() != inc.ring_centre_deg.size()) {
+      return fail(block, "reflection and transmission of one side must share an incidence basis");
+    }
+    for (std::size_t ring = 0; ring < inc.ring_first.size(); ++ring) {
+      std::vector<float>& row = transmission ? side.rows[ring].transmit : side.rows[ring].reflect;
+      row.resize(nout);
+      for (std::size_t o = 0; o < nout; ++o) row[o] = at(inc.ring_first[ring], o);
+    }
+    // Anisotropy: the directional albedo of every incidence patch of a ring.
+    double worst = 0.0, at_ring = 0.0;
+    for (std::size_t ring = 0; ring < inc.ring_first.size(); ++ring) {
+      const std::size_t count = inc.basis.ring_phi_deg[ring].size() - 1;
+      double lo = 1e300, hi = 0.0;
+      for (std::size_t k = 0; k < count; ++k) {
+        double a = 0.0;
+        for (std::size_t o = 0; o < nout; ++o)
+          a += static_cast<double>(at(inc.ring_first[ring] + k, o)) * out.basis.projected_solid_angle(o);
+        lo = std::min(lo, a);
+        hi = std::max(hi, a);
+      }
+      if (hi > 1e-3 && (hi - lo) / hi > worst) {
+        worst = (hi - lo) / hi;
+        at_ring = inc.ring_centre_deg[ring];
+      }
+    }
+    if (worst > 0.05)
+      note(Severity::Info, "bsdf-anisotropic",
+           name_ + ": " + direction + " scatters up to " + format_number(100.0 * worst, 3) +
+               " % differently across the azimuths of one incidence ring (at " + format_number(at_ring) +
+               " degrees); Gonio reads it as isotropic, along azimuth 0",
+           block);
   }
-  if (!any) return fail(&layer, "no Visible WavelengthData with a Klems matrix");
+  if (blocks->empty()) return fail(&layer, "no Visible WavelengthData with a Klems matrix");
   return Ok{};
 }
 
@@ -392,29 +410,20 @@ Status Reader::read_tree(const XmlElement& layer, int dims) {
   };
   std::vector<Read> trees;
   int finest = 0;
-  for (const XmlElement* wd : children(&layer, "WavelengthData")) {
-    bool visible = false;
-    if (Status s = check_wavelength(*wd, &visible); !s.ok()) return s;
-    if (!visible) continue;
-    for (const XmlElement* block : children(wd, "WavelengthDataBlock")) {
-      const std::string direction = text_of(child(block, "WavelengthDataDirection"));
-      const bool transmission = same_name(direction, "Transmission Front") || same_name(direction, "Transmission Back");
-      const bool reflection = same_name(direction, "Reflection Front") || same_name(direction, "Reflection Back");
-      if (!transmission && !reflection)
-        return fail(block, "WavelengthDataDirection " + shown(direction) +
-                               " is not Transmission Front/Back or Reflection Front/Back");
-      const std::string basis = text_of(child(block, "AngleBasis"));
-      if (!same_name(basis, "LBNL/Shirley-Chiu"))
-        return fail(block, "a tensor tree needs the angle basis LBNL/Shirley-Chiu, not " + shown(basis));
-      const XmlElement* data = child(block, "ScatteringData");
-      if (!data) return fail(block, "WavelengthDataBlock without ScatteringData");
-      TreeParser p(data->text, dims);
-      Result<TreeNode> t = p.parse(0, &finest);
-      if (!t.ok()) return fail(data, "tensor tree: " + t.error().message);
-      if (!p.at_end()) return fail(data, "tensor tree: text after the tree's last '}' (" + p.where() + ")");
-      trees.push_back({std::move(*t), transmission,
-                       same_name(std::string_view(direction).substr(direction.size() - 5), "Front")});
-    }
+  Result<std::vector<Block>> blocks = visible_blocks(layer);
+  if (!blocks.ok()) return blocks.error();
+  for (const Block& b : *blocks) {
+    const XmlElement* block = b.element;
+    const std::string basis = text_of(child(block, "AngleBasis"));
+    if (!same_name(basis, "LBNL/Shirley-Chiu"))
+      return fail(block, "a tensor tree needs the angle basis LBNL/Shirley-Chiu, not " + shown(basis));
+    const XmlElement* data = child(block, "ScatteringData");
+    if (!data) return fail(block, "WavelengthDataBlock without ScatteringData");
+    TreeParser p(data->text, dims);
+    Result<TreeNode> t = p.parse(0, &finest);
+    if (!t.ok()) return fail(data, "tensor tree: " + t.error().message);
+    if (!p.at_end()) return fail(data, "tensor tree: text after the tree's last '}' (" + p.where() + ")");
+    trees.push_back({std::move(*t), b.transmission, b.front});
   }
   if (trees.empty()) return fail(&layer, "no Visible WavelengthData with a tensor tree");
   // At least 2 cells per side so that the incidence half has a row.

@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <mutex>
 #include <numbers>
 #include <utility>
 
 #include "sim/bsdfs/abg_integral.h"
+#include "sim/bsdfs/table_cache.h"
 #include "sim/sampling.h"
 
 namespace gonio::sim {
@@ -98,15 +97,7 @@ bool abg_parameters_valid(double b, double g) {
 }
 
 std::shared_ptr<const AbgTable> abg_table(double b, double g) {
-  static std::mutex mutex;
-  static std::map<std::pair<double, double>, std::shared_ptr<const AbgTable>> cache;
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (auto it = cache.find({b, g}); it != cache.end()) return it->second;
-  }
-  std::shared_ptr<const AbgTable> t = build(b, g);
-  std::lock_guard<std::mutex> lock(mutex);
-  return cache.emplace(std::pair{b, g}, std::move(t)).first->second;
+  return cached_table<AbgTable>({b, g}, build);
 }
 
 double abg_a_from_tis(double tis, double b, double g) { return tis / abg_table(b, g)->i0; }

@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <mutex>
 #include <numbers>
 #include <utility>
 
 #include "sim/material.h"
+#include "sim/bsdfs/table_cache.h"
 #include "sim/sampling.h"
 
 namespace gonio::sim {
@@ -97,15 +96,7 @@ std::shared_ptr<const GlossyEnergy> build_table(double mx, double my) {
 }  // namespace
 
 std::shared_ptr<const GlossyEnergy> glossy_energy(double mx, double my) {
-  static std::mutex mutex;
-  static std::map<std::pair<double, double>, std::shared_ptr<const GlossyEnergy>> cache;
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (auto it = cache.find({mx, my}); it != cache.end()) return it->second;
-  }
-  std::shared_ptr<const GlossyEnergy> t = build_table(mx, my);
-  std::lock_guard<std::mutex> lock(mutex);
-  return cache.emplace(std::pair{mx, my}, std::move(t)).first->second;
+  return cached_table<GlossyEnergy>({mx, my}, build_table);
 }
 
 double multiple_scattering_factor(double f0, double e_avg) {
