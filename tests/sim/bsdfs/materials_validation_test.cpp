@@ -8,9 +8,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "sim/bsdfs/slab.h"
+#include "sim/bsdfs/tabulated_bsdf.h"
 #include "sim/bsdfs/volume.h"
 #include "sim/material.h"
 #include "sim/shapes.h"
@@ -260,6 +262,60 @@ TEST(MaterialsValidation, VolumeScatteringKeepsTheLedgerAndTheBytes) {
   EXPECT_EQ(a.escaped.photons, b.escaped.photons);
   for (std::size_t t = 0; t < one->far_field().texel_count(); ++t)
     ASSERT_EQ(one->far_field().photons(t), two->far_field().photons(t)) << t;
+}
+
+TEST(MaterialsValidation, WeightsOverIncidenceAbgAndTablesInTheTracer) {
+  // A beam onto a large plane at 60° from its normal. Each material's
+  // reflected share is known in closed form: a diffuse weight 0.9 times a
+  // factor falling linearly from 1 at 0° to 0 at 90° (0.9 · 1/3 at 60°);
+  // ABg with g = 0 (a Lambertian lobe, albedo 1 at every incidence) of TIS
+  // 0.7; a tabulated Lambertian sheet reflecting 0.25 and transmitting 0.5
+  // (light leaves on both sides).
+  Material angular;
+  angular.diffuse_reflect = 0.9;
+  angular.over_incidence[0] = {{0.0, 90.0}, {1.0, 0.0}};
+  Material abg;
+  abg.abg_reflect = {0.7, 0.5, 0.0};
+  auto table = std::make_shared<TabulatedBsdf>();
+  table->name = "lambertian";
+  table->basis = PatchBasis::klems("LBNL/Klems Full");
+  for (double theta : {0.0, 45.0, 82.5}) {
+    TabulatedBsdf::Row r;
+    r.theta_deg = theta;
+    r.reflect.assign(table->basis.size(), static_cast<float>(0.25 / kPi));
+    r.transmit.assign(table->basis.size(), static_cast<float>(0.5 / kPi));
+    table->front.rows.push_back(r);
+  }
+  std::vector<Finding> findings;
+  ASSERT_TRUE(table->finish(findings).ok());
+  Material tabulated;
+  tabulated.tabulated = 1.0;
+  tabulated.table = table;
+  struct Case {
+    const Material* m;
+    double up, down;
+  };
+  for (const Case& c : {Case{&angular, 0.3, 0.0}, Case{&abg, 0.7, 0.0}, Case{&tabulated, 0.25, 0.5}}) {
+    SceneDesc scene;
+    scene.materials = {*c.m};
+    scene.meshes = {disc(10.0, 64)};  // y = 0, facing +Y
+    Emitter unused;
+    unused.flux_lm = 1.0;
+    scene.emitters = {unused};
+    auto tracer = Tracer::create(scene, 8);
+    ASSERT_TRUE(tracer.ok()) << tracer.error().message;
+    const int n = 200000;
+    int up = 0, down = 0;
+    const Vec3 d{std::sin(60.0 * kDeg), -std::cos(60.0 * kDeg), 0.0};
+    for (int k = 0; k < n; ++k) {
+      PhotonRandom rng(21, static_cast<std::uint64_t>(k));
+      const TraceResult r = tracer->trace(Vec3{0.0, 0.01, 0.0} - d * (0.01 / -d.y), d, rng);
+      if (r.fate != Fate::Escaped) continue;
+      (r.direction.y > 0 ? up : down) += 1;
+    }
+    EXPECT_NEAR(up / double(n), c.up, 5.0 * std::sqrt(0.25 / n)) << c.up;
+    EXPECT_NEAR(down / double(n), c.down, 5.0 * std::sqrt(0.25 / n)) << c.down;
+  }
 }
 
 }  // namespace
