@@ -194,7 +194,7 @@ TEST(NearField, DiscRaisedAboveTheBoxBottomIsLitFromItsOwnHeight) {
   const double area = 0.5 * 64 * std::sin(2.0 * kPi / 64) * a * a;
   const double a2 = area / kPi, radiance = flux / (kPi * area);
   const std::vector<double> distances = {h, 2.0 * h, 4.0 * h};
-  const std::uint64_t photons = 1'000'000;
+  const std::uint64_t photons = 400'000;
   auto sim = simulate(scene, near_settings(2, photons / 2, 2, distances));
   ASSERT_TRUE(sim.ok()) << sim.error().message;
   const std::vector<NearFieldPlane> planes = sim->near_field();

@@ -699,7 +699,7 @@ TEST(Spectral, DiffuserShellMixesTheSpectrumOverGammaBySolidAngle) {
   spectrum.over_gamma.push_back({60.0, photometry::blackbody_spectrum(2700.0)});
   s.emitters[0].spectrum = spectrum;
   const Material& opal = s.materials[1];
-  auto sim = simulate(s, settings(2, 200000, 2));
+  auto sim = simulate(s, settings(2, 50000, 2));
   ASSERT_TRUE(sim.ok()) << sim.error().message;
   const double a = M_PI / 3.0;
   const double share1 = 0.5 * ((std::sin(a) - a * std::cos(a)) / a + (1.0 + std::cos(a)));
