@@ -73,14 +73,14 @@ TEST(Ugr, PositionIndexFollowsCie117Table) {
 
 // Issue 34, case 8 (the Guth table), a check independent of the cells
 // above: the formula the IES Lighting Handbook gives for Guth's position
-// index in its VCP method (Levin's fit to Guth's data, JIES 4 (1975) 99–105;
-// another tool's UGR code carries its first-order constants 35.2, 0.31889,
-// 1.22):
+// index in its VCP method (R. E. Levin's fit to Guth's data, "Position index
+// in VCP calculations", JIES 1975; another tool's UGR code, Manav02012002/luxera
+// luxera/calculation/ugr.py, carries its constants 35.2, 0.31889 and 1.22):
 //   ln p = (35.2 − 0.31889 τ − 1.22 e^(−2τ/9))·10⁻³ σ + (21 + 0.26667 τ − 0.002963 τ²)·10⁻⁵ σ²,
 // τ the angle of the plane through the line of sight and the source from the
 // vertical, σ the angle between the line of sight and the source [deg].
 // Measured: every one of the 607 cells of CIE 117's table within 11.1 % of
-// the formula, mean 4.6 % (the worst, 7.50 at T/R 2.7, H/R 0.6, is also out
+// the formula, mean 4.5 % (the worst, 7.50 at T/R 2.7, H/R 0.6, is also out
 // of line with its neighbours 7.00 and 7.08). The table transposed (T/R and
 // H/R exchanged) is 50 % off in the mean, up to 4×.
 TEST(Ugr, PositionIndexTableFollowsGuthsFormula) {
