@@ -25,6 +25,17 @@ SimulationSettings near_settings(int threads, std::uint64_t per_iteration, int i
   return s;
 }
 
+// The planes of a run of `photons` photons (two threads, two iterations).
+std::vector<NearFieldPlane> planes_of(const SceneDesc& scene, std::uint64_t photons,
+                                      const std::vector<double>& distances) {
+  auto sim = simulate(scene, near_settings(2, photons / 2, 2, distances));
+  EXPECT_TRUE(sim.ok()) << sim.error().message;
+  if (!sim.ok()) return {};
+  std::vector<NearFieldPlane> planes = sim->near_field();
+  EXPECT_EQ(planes.size(), distances.size());
+  return planes;
+}
+
 // Photons in a pixel of illuminance e [lx] for a run of `photons` photons of
 // `flux_lm` in all.
 double photons_in_pixel(const NearFieldPlane& p, double e_lx, double flux_lm, double photons) {
@@ -53,9 +64,7 @@ TEST(NearField, LambertianDiscOnAxisIsTheClosedFormNotTheFarField) {
   const double a2 = area / kPi, radiance = flux / (kPi * area);
   const std::vector<double> distances = {0.5 * a, a, 2.0 * a, 4.0 * a};
   const std::uint64_t photons = 4'000'000;
-  auto sim = simulate(scene, near_settings(2, photons / 2, 2, distances));
-  ASSERT_TRUE(sim.ok()) << sim.error().message;
-  const std::vector<NearFieldPlane> planes = sim->near_field();
+  const std::vector<NearFieldPlane> planes = planes_of(scene, photons, distances);
   ASSERT_EQ(planes.size(), distances.size());
   for (const NearFieldPlane& p : planes) {
     const double D = p.distance_m;
@@ -195,9 +204,7 @@ TEST(NearField, DiscRaisedAboveTheBoxBottomIsLitFromItsOwnHeight) {
   const double a2 = area / kPi, radiance = flux / (kPi * area);
   const std::vector<double> distances = {h, 2.0 * h, 4.0 * h};
   const std::uint64_t photons = 400'000;
-  auto sim = simulate(scene, near_settings(2, photons / 2, 2, distances));
-  ASSERT_TRUE(sim.ok()) << sim.error().message;
-  const std::vector<NearFieldPlane> planes = sim->near_field();
+  const std::vector<NearFieldPlane> planes = planes_of(scene, photons, distances);
   ASSERT_EQ(planes.size(), distances.size());
   for (const NearFieldPlane& p : planes) {
     const double D = p.distance_m;
