@@ -220,19 +220,21 @@ TEST(NearField, DiscRaisedAboveTheBoxBottomIsLitFromItsOwnHeight) {
 // Issue 34, case 5: the image's orientation. Rows run along C90 from +C90 at
 // the top (row 0) to −C90 at the bottom (near_field.h, and the EXR written
 // from it); columns along C0 from −C0 at the left. A small Lambertian disc
-// 5 cm toward +C90 of the luminaire's centre (a speck 5 cm toward −C90
-// keeps the centre between them) lights, 5 cm below, the rows about row 10
-// of 41 most ((0.1 − 0.05) / 0.2 × 41 = 10.25), and the image's centroid
-// lies toward +C90 (measured +0.032 m); the far field's prediction, from
-// the centre, is centred. An image flipped along C90, or C90 taken the
-// wrong way round, puts the brightest row at 30 and the centroid at −0.032 m.
-TEST(NearField, EmitterTowardC90LightsTheTopRowsOfTheImage) {
+// 5 cm toward +C90 and 3 cm toward +C0 of the luminaire's centre (a speck
+// opposite keeps the centre between them) lights, 5 cm below, the rows
+// about row 10 of 41 most ((0.1 − 0.05) / 0.2 × 41 = 10.25) and the columns
+// about 26 ((0.1 + 0.03) / 0.2 × 41 = 26.65); the image's centroid lies
+// toward +C90 and +C0. The far field's prediction, from the centre, is
+// centred. An image flipped along C90, or C90 taken the wrong way round,
+// puts the brightest row at 30 (and flipped along C0, the column at 14).
+TEST(NearField, EmitterTowardC90AndC0LightsTheTopRightOfTheImage) {
   SceneDesc scene;
   Material black;
   black.name = "black";
   scene.materials = {black};
   const Vec3 toward_c90 = scene.frame.c90;
-  scene.meshes = {lambertian_disc(0.005, 0.05 * toward_c90), speck(-0.05 * toward_c90)};
+  const Vec3 offset = 0.05 * toward_c90 + 0.03 * scene.frame.c0;
+  scene.meshes = {lambertian_disc(0.005, offset), speck(-1.0 * offset)};
   Emitter e;
   e.kind = Emitter::Kind::Area;
   e.mesh = 0;
@@ -244,35 +246,40 @@ TEST(NearField, EmitterTowardC90LightsTheTopRowsOfTheImage) {
   ASSERT_EQ(planes.size(), 1u);
   const NearFieldPlane& p = planes[0];
   const auto n = static_cast<std::size_t>(p.pixels);
-  // Per image: the brightest row, and the centroid along C0 and C90 [m].
+  // Per image: the brightest row and column, and the centroid along C0 and C90 [m].
   struct Shape {
-    std::size_t brightest_row;
+    std::size_t brightest_row, brightest_column;
     double c0_m, c90_m;
   };
   const auto shape = [&](const std::vector<double>& lx) {
-    std::vector<double> rows(n, 0.0);
+    std::vector<double> rows(n, 0.0), columns(n, 0.0);
     double sum = 0.0, c0 = 0.0, c90 = 0.0;
     for (std::size_t r = 0; r < n; ++r)
       for (std::size_t c = 0; c < n; ++c) {
         const double v = lx[r * n + c];
         rows[r] += v;
+        columns[c] += v;
         sum += v;
         c0 += v * (-p.half_width_m + (static_cast<double>(c) + 0.5) * p.pixel_size_m);
         c90 += v * (p.half_width_m - (static_cast<double>(r) + 0.5) * p.pixel_size_m);
       }
-    return Shape{static_cast<std::size_t>(std::max_element(rows.begin(), rows.end()) - rows.begin()), c0 / sum,
-                 c90 / sum};
+    const auto brightest = [](const std::vector<double>& v) {
+      return static_cast<std::size_t>(std::max_element(v.begin(), v.end()) - v.begin());
+    };
+    return Shape{brightest(rows), brightest(columns), c0 / sum, c90 / sum};
   };
   const Shape near = shape(p.near_lx), far = shape(p.far_lx);
-  std::printf("  emitter toward C90: near field brightest row %zu, centroid C0 %+.4f m, C90 %+.4f m; far field "
-              "centroid C0 %+.4f m, C90 %+.4f m\n",
-              near.brightest_row, near.c0_m, near.c90_m, far.c0_m, far.c90_m);
+  std::printf("  emitter toward C90 and C0: near field brightest row %zu, column %zu, centroid C0 %+.4f m, C90 "
+              "%+.4f m; far field centroid C0 %+.4f m, C90 %+.4f m\n",
+              near.brightest_row, near.brightest_column, near.c0_m, near.c90_m, far.c0_m, far.c90_m);
   EXPECT_EQ(near.brightest_row, 10u);
+  EXPECT_EQ(near.brightest_column, 26u);
   EXPECT_GT(near.c90_m, 0.02);
-  EXPECT_NEAR(near.c0_m, 0.0, 0.003);
+  EXPECT_GT(near.c0_m, 0.01);
   EXPECT_NEAR(far.c90_m, 0.0, 0.003);
   EXPECT_NEAR(far.c0_m, 0.0, 0.003);
   EXPECT_EQ(far.brightest_row, 20u);
+  EXPECT_EQ(far.brightest_column, 20u);
 }
 
 // Issue 34, case 6: the far-field criterion's constants on a hand-made
