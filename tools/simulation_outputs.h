@@ -176,6 +176,19 @@ photometry::Distribution simulated_distribution(const sim::BinnedField& binned, 
                                                 const sim::SceneDesc& scene, const sim::Ledger& ledger,
                                                 const OutputRequest& request);
 
+// The candela table of a far field, the one the IES and LDT files hold:
+// binned onto request.grid, with request.symmetry or the one
+// sim::detect_symmetry() finds, and simulated_distribution()'s lamp data
+// and keywords. Error: an explicit symmetry the grid does not support.
+struct SimulatedTable {
+  photometry::Distribution distribution;
+  photometry::Symmetry symmetry = photometry::Symmetry::None;
+  std::string symmetry_reason;     // one line: what was chosen and why
+  sim::SymmetryDecision decision;  // the tests (auto only)
+};
+Result<SimulatedTable> simulated_table(const sim::FarField& far_field, const sim::SceneDesc& scene,
+                                       const sim::Ledger& ledger, const OutputRequest& request);
+
 // Resamples, writes every requested file atomically, reads each back and
 // checks it. A file that cannot be written (a missing plot program, a full
 // disk, a path that is a folder) is listed in `failed` and the others are
