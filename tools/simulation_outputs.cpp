@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "gonio/version.h"
 #include "io/outputs/datasheet.h"
 #include "io/outputs/exr.h"
 #include "io/outputs/report.h"
@@ -576,6 +577,23 @@ Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry sym
   const auto ratios = photometry::direct_ratios(d);
   d.direct_ratios.assign(ratios.begin(), ratios.end());
   return d;
+}
+
+OutputRequest table_request(const sim::Simulation& simulation, const std::string& model, const sim::CGammaGrid& grid,
+                            const std::optional<photometry::Symmetry>& symmetry, const std::string& cache_dir) {
+  const sim::SimulationSettings& settings = simulation.settings();
+  OutputRequest request;
+  request.grid = grid;
+  request.symmetry = symmetry;
+  request.cache_dir = cache_dir;
+  request.opening = simulated_opening(simulation.tracer(), simulation.scene(), settings.seed);
+  request.run.program_version = kVersion;
+  request.run.model = model;
+  request.run.photons = simulation.stats().photons;
+  request.run.seed = settings.seed;
+  request.run.max_bounces = settings.max_bounces;
+  request.run.issue_date = format_utc(now_unix(), "%Y-%m-%d");
+  return request;
 }
 
 Result<SimulatedTable> simulated_table(const sim::FarField& far_field, const sim::SceneDesc& scene,

@@ -18,7 +18,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -28,14 +30,28 @@
 
 #include "gonio/version.h"
 #include "io/photometric/photometric_file.h"
+#include "io/support/cache_folder.h"
+#include "io/support/file_io.h"
 #include "photometry/compare.h"
+#include "photometry/format.h"
 #include "photometry/planning.h"
 #include "photometry/summary.h"
 #include "photometry/validation.h"
+#include "sim/distributed.h"
+#include "sim/far_field.h"
+#include "sim/ledger.h"
+#include "sim/sampler.h"
+#include "sim/symmetry.h"
 #include "tools/cli.h"
+#include "tools/distributed_run.h"
 #include "tools/json_figures.h"
+#include "tools/model_input.h"
 #include "tools/photometric_report.h"
+#include "tools/progressive_run.h"
 #include "tools/ray_file_far_field.h"
+#include "tools/resampler_cache.h"
+#include "tools/simulate_command.h"
+#include "tools/simulation_outputs.h"
 
 namespace py = pybind11;
 
@@ -473,6 +489,356 @@ void bind_photometry(py::module_& m) {
         "flux of each, beam and field angle differences.");
 }
 
+// ------------------------------------------------------------ simulate
+
+// The far field of a run: a copy the result owns (the simulation, its scene
+// and its BVH are released when simulate() returns).
+struct FarField {
+  std::shared_ptr<const sim::FarField> field;
+};
+
+// A read-only view of `data` shaped (6, N, N) (cube face, row y, column x),
+// kept alive by `owner`.
+template <class T>
+py::array_t<T> cube_view(const T* data, int n, const py::object& owner) {
+  const py::ssize_t s = static_cast<py::ssize_t>(sizeof(T)), nn = n;
+  py::array_t<T> a({py::ssize_t{6}, nn, nn}, {s * nn * nn, s * nn, s}, data, owner);
+  a.attr("flags").attr("writeable") = false;
+  return a;
+}
+
+struct Iteration {
+  cli::IterationReport report;
+};
+
+struct SimulationResult {
+  std::string model;
+  FarField far_field;
+  Photometry photometry;
+  sim::Ledger ledger;
+  double estimated_rms_error_pct = 0.0;
+  std::string stopped_by;
+  int iterations_done = 0;
+  std::uint64_t photons = 0;
+  double trace_s = 0.0;
+  std::string symmetry_reason;
+  std::vector<Finding> model_findings;
+  std::vector<std::string> files;
+  py::object report = py::none();
+  int exit_code = 0;
+};
+
+py::dict ledger_line(const sim::LedgerLine& l) {
+  py::dict d;
+  d["photons"] = l.photons;
+  d["flux_lm"] = l.flux_lm;
+  return d;
+}
+
+py::dict ledger_py(const sim::Ledger& l) {
+  py::dict d;
+  for (const auto& [key, line] : {std::pair{"emitted", &l.emitted}, {"escaped", &l.escaped},
+                                  {"absorbed", &l.absorbed}, {"cutoff", &l.cutoff}})
+    d[key] = ledger_line(*line);
+  d["photons_close"] = l.photons_close();
+  d["flux_imbalance_lm"] = l.flux_imbalance_lm();
+  py::list emitters, meshes, materials;
+  for (const sim::EmitterLedger& e : l.emitters) {
+    py::dict x;
+    x["name"] = e.name;
+    for (const auto& [key, line] : {std::pair{"emitted", &e.emitted}, {"escaped", &e.escaped},
+                                    {"absorbed", &e.absorbed}, {"cutoff", &e.cutoff}})
+      x[key] = ledger_line(*line);
+    emitters.append(x);
+  }
+  for (const sim::MeshLedger& m : l.meshes) {
+    py::dict x;
+    x["name"] = m.name;
+    x["material"] = m.material;
+    x["placements"] = m.placements;
+    x["hits"] = m.hits;
+    x["absorbed"] = ledger_line(m.absorbed);
+    x["cutoff"] = ledger_line(m.cutoff);
+    meshes.append(x);
+  }
+  for (const sim::MaterialLedger& m : l.materials) {
+    py::dict x;
+    x["name"] = m.name;
+    x["hits"] = m.hits;
+    x["absorbed"] = ledger_line(m.absorbed);
+    x["cutoff"] = ledger_line(m.cutoff);
+    materials.append(x);
+  }
+  d["emitters"] = emitters;
+  d["meshes"] = meshes;
+  d["materials"] = materials;
+  return d;
+}
+
+// What a Python caller's callbacks left: an exception to raise once the run
+// has stopped (KeyboardInterrupt from Ctrl-C, or the callback's own).
+struct PythonStop {
+  std::optional<py::error_already_set> error;
+  // Runs Python's signal handlers (Ctrl-C raises KeyboardInterrupt there);
+  // true where one raised. Needs the GIL.
+  bool signalled() {
+    if (PyErr_CheckSignals() == 0) return false;
+    error.emplace();
+    return true;
+  }
+};
+
+// The checks and plan of gonio simulate through the same library calls
+// (tools/run has no planner of its own yet: cli::plan_simulation parses
+// argv); a bad argument is a ValueError.
+cli::SimulatePlan plan_run(const std::string& model, std::uint64_t photons, int iterations, std::uint64_t seed,
+                           const std::string& sampler, int threads, const std::string& out, double target_error,
+                           double c_step, double gamma_step, const std::string& symmetry, const std::string& formats,
+                           const std::string& ies_version, const std::optional<std::string>& name, int max_bounces,
+                           bool cache) {
+  const auto value_error = [](const std::string& what) { throw py::value_error(what); };
+  if (photons < 1 || photons > 4'294'967'295ULL) value_error("photons must lie in [1, 4294967295] per iteration");
+  if (iterations < 1 || iterations > 1'000'000) value_error("iterations must lie in [1, 1000000]");
+  if (threads < 0 || threads > 4096) value_error("threads must lie in [0, 4096] (0: every core)");
+  if (max_bounces < 0 || max_bounces > 1'000'000) value_error("max_bounces must lie in [0, 1000000]");
+  if (!(target_error >= 0.0 && target_error <= 100.0)) value_error("target_error must lie in [0, 100] (percent)");
+  cli::SimulatePlan plan;
+  plan.model = model;
+  plan.out_dir = out;
+  plan.stem = name.value_or(std::filesystem::path(model).stem().string());
+  if (plan.stem.empty() || plan.stem.find_first_of("/\\") != std::string::npos || plan.stem == "." ||
+      plan.stem == "..")
+    value_error("name: '" + plan.stem + "' is not a plain file name");
+  plan.grid.c_step_deg = c_step;
+  plan.grid.gamma_step_deg = gamma_step;
+  if (Status s = sim::validate(plan.grid); !s.ok()) value_error(s.error().message);
+  if (symmetry != "auto") {
+    plan.symmetry = sim::parse_symmetry(symmetry);
+    if (!plan.symmetry)
+      value_error("symmetry: unknown symmetry '" + symmetry +
+                  "'; expected auto, none, C0-C180, C90-C270, quadrant or rotational");
+    if (Status s = sim::check_grid_supports(plan.grid, *plan.symmetry); !s.ok()) value_error(s.error().message);
+  }
+  Result<std::vector<cli::OutputFormat>> parsed = cli::parse_formats(formats);
+  if (!parsed.ok()) value_error("formats: " + parsed.error().message);
+  plan.formats = parsed.value();
+  if (ies_version != "2019" && ies_version != "2002") value_error("ies_version must be '2019' or '2002'");
+  plan.ies_version = ies_version == "2002" ? io::IesVersion::LM63_2002 : io::IesVersion::LM63_2019;
+  plan.model_input.cache_dir = cache ? io::default_cache_dir() : std::string();
+  plan.progressive.target_error_pct = target_error;
+  sim::SimulationSettings& s = plan.progressive.simulation;
+  s.photons_per_iteration = photons;
+  s.iterations = iterations;
+  s.seed = seed;
+  const std::optional<sim::SamplerKind> kind = sim::parse_sampler(sampler);
+  if (!kind) value_error("sampler must be 'sobol' or 'random', not '" + sampler + "'");
+  s.sampler = *kind;
+  s.threads = threads;
+  s.max_bounces = max_bounces;
+  s.face_size = sim::face_size_for(plan.grid);
+  return plan;
+}
+
+SimulationResult simulate(const py::object& model_object, std::uint64_t photons, int iterations, std::uint64_t seed,
+                          const std::string& sampler, int threads, const py::object& out_object,
+                          const py::object& on_iteration, double target_error, double c_step, double gamma_step,
+                          const std::string& symmetry, const std::string& formats, const std::string& ies_version,
+                          const std::optional<std::string>& name, int max_bounces, bool cache) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::string model = fspath(model_object);
+  const std::string out = out_object.is_none() ? std::string() : fspath(out_object);
+  cli::SimulatePlan plan = plan_run(model, photons, iterations, seed, sampler, threads, out, target_error, c_step,
+                                    gamma_step, symmetry, formats, ies_version, name, max_bounces, cache);
+  sim::Ranks ranks;  // this process alone
+  plan.progressive.simulation.ranks = &ranks;
+
+  SimulationResult result;
+  result.model = model;
+  cli::ModelInputTimes times;
+  cli::ModelLoad loaded = [&] {
+    py::gil_scoped_release unlocked;
+    return cli::load_model(model, plan.model_input, &times);
+  }();
+  result.model_findings = loaded.findings;
+  if (loaded.error) raise_error(*loaded.error);
+  if (loaded.has_errors || !loaded.scene)
+    for (const Finding& f : loaded.findings)
+      if (f.severity == Severity::Error) raise_error(Error{f.where, f.message + " [" + f.code + "]; nothing was simulated"});
+  if (!out.empty()) take(io::make_directories(out));
+  const sim::Resampler resampler = [&] {
+    py::gil_scoped_release unlocked;
+    return cli::cached_resampler(plan.progressive.simulation.face_size, loaded.scene->frame, plan.grid,
+                                 plan.model_input.cache_dir);
+  }();
+
+  // Back in Python after each iteration (its callback, Ctrl-C) and between
+  // slices of an iteration (Ctrl-C only).
+  PythonStop stop;
+  const cli::IterationCallback each = [&](const cli::IterationReport& r, const sim::Simulation&) {
+    py::gil_scoped_acquire locked;
+    if (stop.signalled()) return false;
+    if (on_iteration.is_none()) return true;
+    try {
+      const py::object go_on = on_iteration(Iteration{r});
+      return go_on.is_none() || go_on.cast<bool>();
+    } catch (py::error_already_set& e) {
+      stop.error.emplace(std::move(e));
+      return false;
+    }
+  };
+  const cli::CancelCheck cancel = [&] {
+    py::gil_scoped_acquire locked;
+    return stop.signalled();
+  };
+  Result<cli::ProgressiveOutcome> ran = [&] {
+    py::gil_scoped_release unlocked;
+    return cli::run_progressive(std::move(*loaded.scene), plan.progressive, &resampler, each, cancel);
+  }();
+  // Ctrl-C or the callback's exception: raised here, nothing written.
+  if (stop.error) throw std::move(*stop.error);
+  if (!ran.ok()) {
+    Error e = ran.error();
+    if (e.where.file.empty()) e.where.file = model;
+    raise_error(e);
+  }
+  cli::ProgressiveOutcome& run = ran.value();
+  const sim::Simulation& simulation = run.simulation;
+  const sim::SimulationStats st = simulation.stats();
+  result.ledger = simulation.ledger();
+  result.estimated_rms_error_pct = run.estimated_rms_error_pct;
+  result.stopped_by = cli::to_string(run.stopped_by);
+  result.iterations_done = run.iterations_done;
+  result.photons = st.photons;
+  result.trace_s = st.trace_s;
+
+  // The candela table the IES and LDT files hold (tools/simulation_outputs.h).
+  Result<cli::SimulatedTable> table = [&] {
+    py::gil_scoped_release unlocked;
+    const cli::OutputRequest request =
+        cli::table_request(simulation, model, plan.grid, plan.symmetry, plan.model_input.cache_dir);
+    return cli::simulated_table(simulation.far_field(), simulation.scene(), result.ledger, request);
+  }();
+  cli::SimulatedTable t = take(std::move(table));
+  io::PhotometricFile file;
+  file.distribution = std::move(t.distribution);
+  result.symmetry_reason = t.symmetry_reason;
+  result.photometry = {std::make_shared<io::PhotometricFile>(std::move(file)), model + " (simulated)", true};
+  result.far_field.field = std::make_shared<const sim::FarField>(simulation.far_field());
+  if (!out.empty()) {
+    py::gil_scoped_release unlocked;
+    result.exit_code = cli::write_run_files(plan, run, times, nullptr, start, cli::ranks_json(ranks, st));
+  }
+  if (!out.empty()) {
+    const std::filesystem::path report = std::filesystem::path(out) / "report.json";
+    if (std::filesystem::exists(report)) {
+      const Result<std::string> text = io::read_file(report.string(), std::size_t{1} << 28);
+      const nlohmann::json j = text.ok() ? nlohmann::json::parse(*text, nullptr, false) : nlohmann::json();
+      result.report = to_python(j);
+      if (j.contains("written"))
+        for (const auto& f : j["written"]) result.files.push_back(f.get<std::string>());
+    }
+  }
+  return result;
+}
+
+void bind_simulation(py::module_& m) {
+  py::class_<FarField>(m, "FarField",
+                       "The simulated far field: a direction cube map, faces +X -X +Y -Y +Z -Z of the model's\n"
+                       "world axes (OpenEXR's order; sim/cube_map.h), arrays of shape (6, N, N) indexed\n"
+                       "[face, y, x], read-only views of the result (no copy).")
+      .def_property_readonly("face_size", [](const FarField& f) { return f.field->face_size(); })
+      .def_property_readonly("total_flux_lm", [](const FarField& f) { return f.field->total_flux_lm(); })
+      .def_property_readonly(
+          "flux_lm",
+          [](py::object self) {
+            const FarField& f = self.cast<const FarField&>();
+            return cube_view(f.field->flux_lm().data(), f.field->face_size(), self);
+          },
+          "flux per texel [lm]")
+      .def_property_readonly(
+          "photons",
+          [](py::object self) {
+            const FarField& f = self.cast<const FarField&>();
+            return cube_view(f.field->photons().data(), f.field->face_size(), self);
+          },
+          "photons counted per texel")
+      .def_property_readonly(
+          "solid_angle_sr",
+          [](const FarField& f) {
+            const int n = f.field->face_size();
+            py::array_t<double> a({6, n, n});
+            double* p = a.mutable_data();
+            for (std::size_t t = 0; t < f.field->texel_count(); ++t) p[t] = f.field->grid().texel_solid_angle(t);
+            return a;
+          },
+          "each texel's exact solid angle [sr] (a new array)")
+      .def_property_readonly(
+          "intensity_cd",
+          [](const FarField& f) {
+            const int n = f.field->face_size();
+            py::array_t<double> a({6, n, n});
+            double* p = a.mutable_data();
+            for (std::size_t t = 0; t < f.field->texel_count(); ++t) p[t] = f.field->intensity_cd(t);
+            return a;
+          },
+          "mean intensity over each texel [cd]: flux / solid angle (a new array)");
+
+  py::class_<Iteration>(m, "Iteration", "What on_iteration receives after each iteration.")
+      .def_property_readonly("iteration", [](const Iteration& i) { return i.report.progress.iteration; })
+      .def_property_readonly("iterations", [](const Iteration& i) { return i.report.progress.iterations; })
+      .def_property_readonly("photons_done", [](const Iteration& i) { return i.report.progress.photons_done; })
+      .def_property_readonly("photons_total", [](const Iteration& i) { return i.report.progress.photons_total; })
+      .def_property_readonly("elapsed_s", [](const Iteration& i) { return i.report.progress.elapsed_s; })
+      .def_property_readonly("photons_per_s", [](const Iteration& i) { return i.report.progress.photons_per_s; })
+      .def_property_readonly("remaining_s", [](const Iteration& i) { return i.report.progress.remaining_s; })
+      .def_property_readonly("estimated_rms_error_pct",
+                             [](const Iteration& i) { return i.report.estimated_rms_error_pct; })
+      .def("__repr__", [](const Iteration& i) {
+        return "<gonio.Iteration " + std::to_string(i.report.progress.iteration) + "/" +
+               std::to_string(i.report.progress.iterations) + ", " + std::to_string(i.report.progress.photons_done) +
+               " photons, estimated error " + format_number(i.report.estimated_rms_error_pct, 4) + " %>";
+      });
+
+  py::class_<SimulationResult>(m, "SimulationResult", "What gonio.simulate returns.")
+      .def_readonly("model", &SimulationResult::model)
+      .def_readonly("far_field", &SimulationResult::far_field, "the cube map (FarField)")
+      .def_readonly("photometry", &SimulationResult::photometry,
+                    "the C-gamma candela table the IES and LDT files hold (a Photometry)")
+      .def_property_readonly("ledger", [](const SimulationResult& r) { return ledger_py(r.ledger); },
+                             "the energy ledger: emitted, escaped, absorbed, cutoff (photons, flux_lm), per emitter, "
+                             "mesh and material")
+      .def_readonly("estimated_rms_error_pct", &SimulationResult::estimated_rms_error_pct,
+                    "the run's estimated RMS candela error [% of the peak] (tools/run/progressive_run.h)")
+      .def_readonly("stopped_by", &SimulationResult::stopped_by, "'iterations', 'target-error' or 'cancelled'")
+      .def_readonly("iterations_done", &SimulationResult::iterations_done)
+      .def_readonly("photons", &SimulationResult::photons)
+      .def_readonly("trace_s", &SimulationResult::trace_s, "wall time tracing [s]")
+      .def_readonly("symmetry_reason", &SimulationResult::symmetry_reason)
+      .def_readonly("model_findings", &SimulationResult::model_findings, "warnings of the model's loader and checks")
+      .def_readonly("files", &SimulationResult::files, "the files written into `out` (report.json's 'written')")
+      .def_readonly("report", &SimulationResult::report, "report.json as a dict when `out` was given, else None")
+      .def_readonly("exit_code", &SimulationResult::exit_code,
+                    "gonio simulate's exit code for the files: 0, or 1 where an energy check failed")
+      .def("__repr__", [](const SimulationResult& r) {
+        return "<gonio.SimulationResult " + r.model + ": " + std::to_string(r.photons) + " photons in " +
+               std::to_string(r.iterations_done) + " iterations, stopped by " + r.stopped_by + ">";
+      });
+
+  m.def("simulate", &simulate, py::arg("model"), py::kw_only(), py::arg("photons") = 1'000'000,
+        py::arg("iterations") = 10, py::arg("seed") = 1, py::arg("sampler") = "sobol", py::arg("threads") = 0,
+        py::arg("out") = py::none(), py::arg("on_iteration") = py::none(), py::arg("target_error") = 0.0,
+        py::arg("c_step") = 5.0, py::arg("gamma_step") = 2.5, py::arg("symmetry") = "auto",
+        py::arg("formats") = "all", py::arg("ies_version") = "2019", py::arg("name") = py::none(),
+        py::arg("max_bounces") = 100, py::arg("cache") = true,
+        "Traces a luminaire model (glTF 2.0) as gonio simulate does: `photons` per iteration,\n"
+        "`iterations` at most, stopping early at `target_error` percent (estimated RMS candela\n"
+        "error) where given. With `out`, writes gonio simulate's files there (the same bytes as\n"
+        "the command with the same options). on_iteration(Iteration) is called after each\n"
+        "iteration; returning False stops the run (stopped_by 'cancelled'; the result holds\n"
+        "what was traced). The GIL is released while tracing; Ctrl-C (KeyboardInterrupt)\n"
+        "stops it within a slice of 16384 photons, writes nothing and raises.");
+}
+
 }  // namespace
 }  // namespace gonio::python
 
@@ -490,4 +856,5 @@ PYBIND11_MODULE(_gonio, m) {
   m.attr("GonioError") = py::reinterpret_borrow<py::object>(g_error_type);
   m.attr("UndefinedFigureWarning") = py::reinterpret_borrow<py::object>(g_warning_type);
   bind_photometry(m);
+  bind_simulation(m);
 }

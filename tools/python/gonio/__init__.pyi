@@ -7,7 +7,7 @@ whole surface as one table and a worked example.
 from __future__ import annotations
 
 import os
-from typing import Any, Literal
+from typing import Any, Callable, Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -101,3 +101,64 @@ def compare(
     gamma_step: float = 2.5,
     normalize: bool = False,
 ) -> dict[str, Any]: ...
+
+class FarField:
+    """The simulated far field: a direction cube map, faces +X −X +Y −Y +Z −Z (world axes)."""
+
+    face_size: int
+    flux_lm: npt.NDArray[np.float64]
+    photons: npt.NDArray[np.uint64]
+    solid_angle_sr: npt.NDArray[np.float64]
+    intensity_cd: npt.NDArray[np.float64]
+    total_flux_lm: float
+
+class Iteration:
+    """What on_iteration receives after each iteration."""
+
+    iteration: int
+    iterations: int
+    photons_done: int
+    photons_total: int
+    elapsed_s: float
+    photons_per_s: float
+    remaining_s: float
+    estimated_rms_error_pct: float
+
+class SimulationResult:
+    """What gonio.simulate returns."""
+
+    model: str
+    far_field: FarField
+    photometry: Photometry
+    ledger: dict[str, Any]
+    estimated_rms_error_pct: float
+    stopped_by: Literal["iterations", "target-error", "cancelled"]
+    iterations_done: int
+    photons: int
+    trace_s: float
+    symmetry_reason: str
+    model_findings: list[Finding]
+    files: list[str]
+    report: dict[str, Any] | None
+    exit_code: int
+
+def simulate(
+    model: PathLike,
+    *,
+    photons: int = 1_000_000,
+    iterations: int = 10,
+    seed: int = 1,
+    sampler: Literal["sobol", "random"] = "sobol",
+    threads: int = 0,
+    out: PathLike | None = None,
+    on_iteration: Callable[[Iteration], bool | None] | None = None,
+    target_error: float = 0.0,
+    c_step: float = 5.0,
+    gamma_step: float = 2.5,
+    symmetry: Literal["auto", "none", "C0-C180", "C90-C270", "quadrant", "rotational"] = "auto",
+    formats: str = "all",
+    ies_version: Literal["2019", "2002"] = "2019",
+    name: str | None = None,
+    max_bounces: int = 100,
+    cache: bool = True,
+) -> SimulationResult: ...
