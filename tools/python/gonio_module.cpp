@@ -194,6 +194,13 @@ py::array_t<T> view(std::vector<T>& v, const py::object& owner, std::vector<py::
   return py::array_t<T>(shape, strides, v.data(), owner);
 }
 
+// One of a photometry's angle lists as a view kept alive by the Photometry.
+template <std::vector<double> photometry::Distribution::*angles>
+py::array_t<double> angles_view(const py::object& self) {
+  std::vector<double>& a = self.cast<Photometry&>().file->distribution.*angles;
+  return view(a, self, {static_cast<py::ssize_t>(a.size())});
+}
+
 py::object lamps_py(const std::vector<photometry::LampSet>& lamps) {
   py::list out;
   for (const photometry::LampSet& l : lamps) out.append(to_python(cli::lamp_json(l)));
@@ -327,22 +334,10 @@ void bind_photometry(py::module_& m) {
                              [](const Photometry& p) { return std::string(photometry::to_string(p.d().type)); })
       .def_property_readonly("symmetry",
                              [](const Photometry& p) { return std::string(photometry::to_string(p.d().symmetry)); })
-      .def_property_readonly(
-          "vertical_deg",
-          [](py::object self) {
-            Photometry& p = self.cast<Photometry&>();
-            auto& v = p.file->distribution.vertical_deg;
-            return view(v, self, {static_cast<py::ssize_t>(v.size())});
-          },
-          "vertical angles [deg]: gamma (Type C), V (Types A, B); a view, no copy")
-      .def_property_readonly(
-          "horizontal_deg",
-          [](py::object self) {
-            Photometry& p = self.cast<Photometry&>();
-            auto& h = p.file->distribution.horizontal_deg;
-            return view(h, self, {static_cast<py::ssize_t>(h.size())});
-          },
-          "horizontal angles [deg]: C-planes (Type C), H (Types A, B); a view, no copy")
+      .def_property_readonly("vertical_deg", angles_view<&photometry::Distribution::vertical_deg>,
+                             "vertical angles [deg]: gamma (Type C), V (Types A, B); a view, no copy")
+      .def_property_readonly("horizontal_deg", angles_view<&photometry::Distribution::horizontal_deg>,
+                             "horizontal angles [deg]: C-planes (Type C), H (Types A, B); a view, no copy")
       .def_property_readonly(
           "candela",
           [](py::object self) {
