@@ -79,7 +79,7 @@ stop_cluster "$dir"
 mkdir -p "$dir"
 dir=$(cd "$dir" && pwd)
 rm -rf "$dir/munge" "$dir/state" "$dir/spool" "$dir/log"
-mkdir -p "$dir/munge" "$dir/state" "$dir/spool/slurmd" "$dir/log"
+mkdir -p "$dir/munge" "$dir/state" "$dir/spool/slurmd" "$dir/log" "$dir/tmp"
 chmod 700 "$dir/munge"
 
 mungekey --create --keyfile="$dir/munge/munge.key" --force
@@ -91,6 +91,7 @@ host=$(hostname -s)
 # This machine as slurmd sees it (CPUs, sockets, cores, threads), less its
 # memory: a node configured with more than it has would be drained.
 node=$(slurmd -C | head -1 | sed -e 's/ RealMemory=[0-9]*//' -e "s/^NodeName=[^ ]*/NodeName=$host/")
+first_job=$(( (RANDOM << 8 | RANDOM & 255) % 4000000 + 1000 ))
 ctld_port=$(free_port)
 slurmd_port=$(free_port)
 while [ "$slurmd_port" = "$ctld_port" ]; do slurmd_port=$(free_port); done
@@ -122,6 +123,10 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 MpiDefault=none
 PlugStackConfig=$dir/plugstack.conf
+# Several clusters on one machine (tests run in parallel): job ids of their
+# own, and the steps' temporary files (PMIx's among them) in this folder.
+FirstJobId=$first_job
+TmpFS=$dir/tmp
 ReturnToService=2
 KillWait=5
 MinJobAge=300

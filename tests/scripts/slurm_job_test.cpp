@@ -245,6 +245,21 @@ TEST_F(SlurmJob, ANodeWithoutTheModelStopsTheJobBeforeTracing) {
   EXPECT_TRUE(folder_is_empty(dir_ / "work" / "out"));
 }
 
+// srun exits 0 for a step whose tasks never launched (seen here when two
+// clusters on one machine shared job ids: "task 0 launch failed"); the
+// script must not call that a success. Ranks that exit 0 without running
+// stand in for it.
+TEST_F(SlurmJob, AStepThatLeavesNoReportIsAFailure) {
+  install_gonio("exit 0");
+  const fs::path out = dir_ / "out";
+  const test::ProcessResult r = submit(two_tasks(), (kBell / "bell.gltf").string(), out.string());
+  const std::string log = job_log();
+  EXPECT_NE(r.exit_code, 0) << log;
+  EXPECT_TRUE(contains(log, "srun exited 0 but no report.json was written to " + out.string())) << log;
+  EXPECT_TRUE(contains(log, ": the run failed (srun exit status 0)")) << log;
+  EXPECT_FALSE(contains(log, "traced in")) << log;
+}
+
 TEST_F(SlurmJob, ANodeListTheClusterDoesNotHaveIsRefusedAtSubmission) {
   install_gonio();
   std::vector<std::string> options = two_tasks();
