@@ -1,9 +1,11 @@
 // `import gonio`: the Python module (gonio._gonio, re-exported by
 // gonio/__init__.py; stubs in gonio/__init__.pyi). It binds the libraries
-// the `gonio` command uses and computes nothing of its own: files are read
-// by io::read_photometric_file, figures are gonio info --json's objects
-// (tools/photometric_report.h), simulations run the progressive loop of
-// gonio simulate. The only file that includes pybind11.
+// the `gonio` command uses (the application library tools/run and what it
+// stands on) and computes nothing of its own: files are read by
+// io::read_photometric_file, figures are gonio info --json's objects
+// (tools/run/photometric_report.h), simulations run the progressive loop of
+// gonio simulate and write its files (tools/run/simulation_run.h). The only
+// file that includes pybind11.
 //
 // Conventions a Python user meets:
 // - Arrays share memory with the C++ objects (no copy) and keep them alive;
@@ -42,16 +44,16 @@
 #include "sim/ledger.h"
 #include "sim/sampler.h"
 #include "sim/symmetry.h"
-#include "tools/cli.h"
-#include "tools/distributed_run.h"
-#include "tools/json_figures.h"
-#include "tools/model_input.h"
-#include "tools/photometric_report.h"
-#include "tools/progressive_run.h"
-#include "tools/ray_file_far_field.h"
-#include "tools/resampler_cache.h"
-#include "tools/simulate_command.h"
-#include "tools/simulation_outputs.h"
+#include "tools/run/console.h"
+#include "tools/run/distributed_run.h"
+#include "tools/run/json_figures.h"
+#include "tools/run/model_input.h"
+#include "tools/run/photometric_report.h"
+#include "tools/run/progressive_run.h"
+#include "tools/run/ray_file_far_field.h"
+#include "tools/run/resampler_cache.h"
+#include "tools/run/simulation_outputs.h"
+#include "tools/run/simulation_run.h"
 
 namespace py = pybind11;
 
@@ -584,8 +586,8 @@ struct PythonStop {
 };
 
 // The checks and plan of gonio simulate through the same library calls
-// (tools/run has no planner of its own yet: cli::plan_simulation parses
-// argv); a bad argument is a ValueError.
+// (tools/run has no planner of its own yet: tools/cli's plan_simulation
+// works on the parsed argv); a bad argument is a ValueError.
 cli::SimulatePlan plan_run(const std::string& model, std::uint64_t photons, int iterations, std::uint64_t seed,
                            const std::string& sampler, int threads, const std::string& out, double target_error,
                            double c_step, double gamma_step, const std::string& symmetry, const std::string& formats,
@@ -706,7 +708,7 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
   result.photons = st.photons;
   result.trace_s = st.trace_s;
 
-  // The candela table the IES and LDT files hold (tools/simulation_outputs.h).
+  // The candela table the IES and LDT files hold (tools/run/simulation_outputs.h).
   Result<cli::SimulatedTable> table = [&] {
     py::gil_scoped_release unlocked;
     const cli::OutputRequest request =
