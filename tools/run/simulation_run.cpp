@@ -135,21 +135,11 @@ nlohmann::json write_near_field(const std::string& out_dir, const std::string& s
 OutputRequest output_request(const SimulatePlan& plan, const sim::Simulation& sim, const sim::FarField& far_field,
                              const sim::ColourFarField& colour) {
   const sim::SimulationSettings& settings = plan.progressive.simulation;
-  OutputRequest request;
+  OutputRequest request = table_request(sim, plan.model, plan.grid, plan.symmetry, plan.model_input.cache_dir);
   request.directory = plan.out_dir;
   request.stem = plan.stem;
   request.formats = plan.formats;
-  request.grid = plan.grid;
-  request.symmetry = plan.symmetry;
   request.ies_version = plan.ies_version;
-  request.cache_dir = plan.model_input.cache_dir;
-  request.opening = simulated_opening(sim.tracer(), sim.scene(), settings.seed);
-  request.run.program_version = kVersion;
-  request.run.model = plan.model;
-  request.run.photons = sim.stats().photons;
-  request.run.seed = settings.seed;
-  request.run.max_bounces = settings.max_bounces;
-  request.run.issue_date = format_utc(now_unix(), "%Y-%m-%d");
   if (!colour.empty()) request.colour = &colour;
   // Spectral runs (sim/spectral.h): the luminaire's colour and its colour
   // over angle on the output grid (sim/colour_over_angle.h), for
