@@ -62,7 +62,8 @@ void expect_identical(const Simulation& job, const Simulation& alone) {
   for (std::size_t k = 0; k < std::min(na.size(), nb.size()); ++k) {
     EXPECT_EQ(na[k].near_lx, nb[k].near_lx);
     EXPECT_EQ(na[k].far_lx, nb[k].far_lx);
-    EXPECT_EQ(na[k].max_deviation_bound_pct, nb[k].max_deviation_bound_pct);
+    EXPECT_EQ(na[k].upper_bound_pct, nb[k].upper_bound_pct);
+    EXPECT_EQ(na[k].verdict, nb[k].verdict);
   }
   const SimulationStats sa = job.stats(), sb = alone.stats();
   EXPECT_EQ(sa.photons, sb.photons);

@@ -1,0 +1,101 @@
+#include "sim/bsdf_eval.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "sim/sampling.h"
+
+namespace gonio::sim {
+namespace {
+
+constexpr double kInvPi = std::numbers::inv_pi;
+
+// The normals on wi's side (as scatter()).
+struct Sided {
+  Vec3 ng, ns;
+};
+Sided sided(const SurfaceFrame& f, const Vec3& wi) {
+  const bool front = dot(wi, f.geometric_normal) > 0.0;
+  Sided s{front ? f.geometric_normal : -f.geometric_normal, front ? f.shading_normal : -f.shading_normal};
+  if (dot(s.ns, s.ng) <= 0.0) s.ns = s.ng;
+  return s;
+}
+
+// The glossy lobe's f cos θo (no weight), 0 below the geometric surface.
+double glossy_f_cos(const Material& m, const Sided& s, const Vec3& tangent, const Vec3& wi, const Vec3& wo) {
+  if (dot(wo, s.ng) <= 0.0) return 0.0;
+  const Basis b = basis_from_normal_tangent(s.ns, tangent);
+  const Vec3 li = b.to_local(wi), lo = b.to_local(wo);
+  return glossy_brdf(m, li, lo) * std::max(0.0, lo.z);
+}
+
+// Walter's density of wo reflected about h ~ D(h) cos θh, over the sphere.
+double walter_pdf(const Material& m, const Sided& s, const Vec3& tangent, const Vec3& wi, const Vec3& wo) {
+  const Basis b = basis_from_normal_tangent(s.ns, tangent);
+  const Vec3 li = b.to_local(wi), lo = b.to_local(wo);
+  const Vec3 sum = li + lo;
+  const double len = length(sum);
+  if (!(len > 0.0)) return 0.0;
+  const Vec3 h = sum / len;
+  const double oh = dot(lo, h);
+  if (!(oh > 0.0) || !(h.z > 0.0)) return 0.0;
+  return beckmann_d(m.glossy_mx, m.glossy_my, h) * h.z / (4.0 * oh);
+}
+
+}  // namespace
+
+double non_delta_f_cos(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo) {
+  const Sided s = sided(frame, wi);
+  const double c = dot(wo, s.ng);
+  double f = c > 0.0 ? m.diffuse_reflect * c * kInvPi : -m.diffuse_transmit * c * kInvPi;
+  if (m.glossy > 0.0) f += m.glossy * glossy_f_cos(m, s, frame.tangent, wi, wo);
+  return f;
+}
+
+ConnectionDirection connection_direction(const Material& m, const SurfaceFrame& frame, const Vec3& wi, double u1,
+                                         double u2) {
+  const Sided s = sided(frame, wi);
+  const double total = non_delta_weight(m);
+  ConnectionDirection out;
+  double u = u1 * total;
+  if (u < m.diffuse_reflect || u < m.diffuse_reflect + m.diffuse_transmit) {
+    const bool reflect = u < m.diffuse_reflect;
+    u = reflect ? u / m.diffuse_reflect : (u - m.diffuse_reflect) / m.diffuse_transmit;
+    u = std::min(u, 1.0 - 0x1.0p-53);
+    // Cosine-weighted from (u, u2): radius √u, angle 2πu2.
+    double sn, cs;
+    sincos_turn(u2, &sn, &cs);
+    const double r = std::sqrt(u);
+    const Vec3 local{r * cs, r * sn, std::sqrt(std::max(0.0, 1.0 - u))};
+    out.wo = normalize(basis_from_normal(reflect ? s.ng : -s.ng).to_world(local));
+  } else {
+    u = std::clamp((u - m.diffuse_reflect - m.diffuse_transmit) / m.glossy, 0.0, 1.0 - 0x1.0p-53);
+    double sn, cs;
+    sincos_turn(u2, &sn, &cs);
+    const Basis b = basis_from_normal_tangent(s.ns, frame.tangent);
+    const Vec3 h = sample_beckmann_half_vector(m.glossy_mx, m.glossy_my, 1.0 - u, cs, sn);
+    const Vec3 li = b.to_local(wi);
+    const Vec3 lo = 2.0 * dot(li, h) * h - li;
+    if (!(dot(li, h) > 0.0)) return out;
+    out.wo = normalize(b.to_world(lo));
+  }
+  out.pdf = connection_pdf(m, frame, wi, out.wo);
+  if (!(out.pdf > 0.0)) {
+    out.pdf = 0.0;
+    return out;
+  }
+  out.f_cos = non_delta_f_cos(m, frame, wi, out.wo);
+  return out;
+}
+
+double connection_pdf(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo) {
+  const Sided s = sided(frame, wi);
+  const double total = non_delta_weight(m);
+  const double c = dot(wo, s.ng);
+  double pdf = (m.diffuse_reflect * cosine_hemisphere_pdf(c) + m.diffuse_transmit * cosine_hemisphere_pdf(-c)) / total;
+  if (m.glossy > 0.0) pdf += m.glossy / total * walter_pdf(m, s, frame.tangent, wi, wo);
+  return pdf;
+}
+
+}  // namespace gonio::sim
