@@ -45,23 +45,29 @@ double walter_pdf(const Material& m, const Sided& s, const Vec3& tangent, const 
 
 }  // namespace
 
-double non_delta_f_cos(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo) {
+double non_delta_f_cos(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo, unsigned lobes) {
   const Sided s = sided(frame, wi);
   const double c = dot(wo, s.ng);
-  double f = c > 0.0 ? m.diffuse_reflect * c * kInvPi : -m.diffuse_transmit * c * kInvPi;
-  if (m.glossy > 0.0) f += m.glossy * glossy_f_cos(m, s, frame.tangent, wi, wo);
+  const double kd = (lobes & kLobeDiffuseReflect) ? m.diffuse_reflect : 0.0;
+  const double kt = (lobes & kLobeDiffuseTransmit) ? m.diffuse_transmit : 0.0;
+  double f = c > 0.0 ? kd * c * kInvPi : -kt * c * kInvPi;
+  if ((lobes & kLobeGlossy) && m.glossy > 0.0) f += m.glossy * glossy_f_cos(m, s, frame.tangent, wi, wo);
   return f;
 }
 
 ConnectionDirection connection_direction(const Material& m, const SurfaceFrame& frame, const Vec3& wi, double u1,
-                                         double u2) {
+                                         double u2, unsigned lobes) {
   const Sided s = sided(frame, wi);
-  const double total = non_delta_weight(m);
+  const double total = non_delta_weight(m, lobes);
+  const double kd = (lobes & kLobeDiffuseReflect) ? m.diffuse_reflect : 0.0;
+  const double kt = (lobes & kLobeDiffuseTransmit) ? m.diffuse_transmit : 0.0;
+  const double ks = (lobes & kLobeGlossy) ? m.glossy : 0.0;
   ConnectionDirection out;
   double u = u1 * total;
-  if (u < m.diffuse_reflect || u < m.diffuse_reflect + m.diffuse_transmit) {
-    const bool reflect = u < m.diffuse_reflect;
-    u = reflect ? u / m.diffuse_reflect : (u - m.diffuse_reflect) / m.diffuse_transmit;
+  if (u < kd || u < kd + kt) {
+    const bool reflect = u < kd;
+    out.lobe = reflect ? kLobeDiffuseReflect : kLobeDiffuseTransmit;
+    u = reflect ? u / kd : (u - kd) / kt;
     u = std::min(u, 1.0 - 0x1.0p-53);
     // Cosine-weighted from (u, u2): radius √u, angle 2πu2.
     double sn, cs;
@@ -70,7 +76,8 @@ ConnectionDirection connection_direction(const Material& m, const SurfaceFrame& 
     const Vec3 local{r * cs, r * sn, std::sqrt(std::max(0.0, 1.0 - u))};
     out.wo = normalize(basis_from_normal(reflect ? s.ng : -s.ng).to_world(local));
   } else {
-    u = std::clamp((u - m.diffuse_reflect - m.diffuse_transmit) / m.glossy, 0.0, 1.0 - 0x1.0p-53);
+    out.lobe = kLobeGlossy;
+    u = std::clamp((u - kd - kt) / ks, 0.0, 1.0 - 0x1.0p-53);
     double sn, cs;
     sincos_turn(u2, &sn, &cs);
     const Basis b = basis_from_normal_tangent(s.ns, frame.tangent);
@@ -80,21 +87,23 @@ ConnectionDirection connection_direction(const Material& m, const SurfaceFrame& 
     if (!(dot(li, h) > 0.0)) return out;
     out.wo = normalize(b.to_world(lo));
   }
-  out.pdf = connection_pdf(m, frame, wi, out.wo);
+  out.pdf = connection_pdf(m, frame, wi, out.wo, lobes);
   if (!(out.pdf > 0.0)) {
     out.pdf = 0.0;
     return out;
   }
-  out.f_cos = non_delta_f_cos(m, frame, wi, out.wo);
+  out.f_cos = non_delta_f_cos(m, frame, wi, out.wo, lobes);
   return out;
 }
 
-double connection_pdf(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo) {
+double connection_pdf(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo, unsigned lobes) {
   const Sided s = sided(frame, wi);
-  const double total = non_delta_weight(m);
+  const double total = non_delta_weight(m, lobes);
+  const double kd = (lobes & kLobeDiffuseReflect) ? m.diffuse_reflect : 0.0;
+  const double kt = (lobes & kLobeDiffuseTransmit) ? m.diffuse_transmit : 0.0;
   const double c = dot(wo, s.ng);
-  double pdf = (m.diffuse_reflect * cosine_hemisphere_pdf(c) + m.diffuse_transmit * cosine_hemisphere_pdf(-c)) / total;
-  if (m.glossy > 0.0) pdf += m.glossy / total * walter_pdf(m, s, frame.tangent, wi, wo);
+  double pdf = (kd * cosine_hemisphere_pdf(c) + kt * cosine_hemisphere_pdf(-c)) / total;
+  if ((lobes & kLobeGlossy) && m.glossy > 0.0) pdf += m.glossy / total * walter_pdf(m, s, frame.tangent, wi, wo);
   return pdf;
 }
 

@@ -20,15 +20,24 @@
 
 namespace gonio::sim {
 
+// The non-delta lobes as bits, to restrict a connection to some of them.
+inline constexpr unsigned kLobeDiffuseReflect = 1, kLobeDiffuseTransmit = 2, kLobeGlossy = 4;
+inline constexpr unsigned kNonDeltaLobes = 7;
+
 // Σ over the non-delta lobes of weight · f(wi, wo) · |cos θo| [1/sr]: the
 // power one photon's scattering event sends per steradian towards wo, per
 // unit of its power (its lobe choice, absorption and the glossy lobe's
 // survival included). ∫ of it over the sphere is the part of the photon's
 // power these lobes scatter on average (kd + kt + ks · albedo_glossy(wi)).
-double non_delta_f_cos(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo);
+// `lobes`: only those (bits above).
+double non_delta_f_cos(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo,
+                       unsigned lobes = kNonDeltaLobes);
 
-// The lobes' total weight kd + kt + ks (0: the material has none).
-inline double non_delta_weight(const Material& m) { return m.diffuse_reflect + m.diffuse_transmit + m.glossy; }
+// The lobes' total weight kd + kt + ks, or of those in `lobes` (0: none).
+inline double non_delta_weight(const Material& m, unsigned lobes = kNonDeltaLobes) {
+  return ((lobes & kLobeDiffuseReflect) ? m.diffuse_reflect : 0.0) +
+         ((lobes & kLobeDiffuseTransmit) ? m.diffuse_transmit : 0.0) + ((lobes & kLobeGlossy) ? m.glossy : 0.0);
+}
 
 // A connection direction drawn from two uniforms in [0, 1) — a mixture of
 // the non-delta lobes in proportion to their weights: cosine-weighted about
@@ -37,16 +46,19 @@ inline double non_delta_weight(const Material& m) { return m.diffuse_reflect + m
 // its density over the sphere and non_delta_f_cos there. A stratified pair
 // (u1, u2) gives stratified directions: u1 chooses the lobe and is then
 // stretched to [0, 1) within it. pdf 0 (and f_cos 0) where the draw leaves
-// nothing to book (a glossy reflection below the surface). Requires
-// non_delta_weight(m) > 0.
+// nothing to book (a glossy reflection below the surface). `lobes`: the
+// mixture of those alone, and f_cos theirs. Requires
+// non_delta_weight(m, lobes) > 0.
 struct ConnectionDirection {
   Vec3 wo;             // unit
   double pdf = 0.0;    // density of the mixture at wo [1/sr]
-  double f_cos = 0.0;  // non_delta_f_cos(m, frame, wi, wo) [1/sr]
+  double f_cos = 0.0;  // non_delta_f_cos(m, frame, wi, wo, lobes) [1/sr]
+  unsigned lobe = 0;   // the lobe drawn from (one bit)
 };
 ConnectionDirection connection_direction(const Material& m, const SurfaceFrame& frame, const Vec3& wi, double u1,
-                                         double u2);
+                                         double u2, unsigned lobes = kNonDeltaLobes);
 // The density connection_direction draws wo with [1/sr].
-double connection_pdf(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo);
+double connection_pdf(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo,
+                      unsigned lobes = kNonDeltaLobes);
 
 }  // namespace gonio::sim

@@ -23,24 +23,23 @@ std::optional<NextEventMode> parse_next_event_mode(std::string_view text) {
 void NextEventTally::reset(std::size_t texels, int replicates, std::size_t meshes) {
   texel_units.assign(texels, 0);
   replicate_units.assign(replicates > 1 ? texels * static_cast<std::size_t>(replicates) : 0, 0);
-  mesh_connections.assign(meshes, 0);
-  mesh_escaped.assign(meshes, 0);
-  mesh_covered_units.assign(meshes, 0);
+  for (auto* v : {&slot_connections, &slot_escaped, &slot_covered_units, &slot_multi_units}) v->assign(meshes * 6, 0);
   vertices = connections = escaped = booked_units = covered_units = 0;
 }
 
 void NextEventTally::clear() {
-  for (auto* v : {&texel_units, &replicate_units, &mesh_connections, &mesh_escaped, &mesh_covered_units})
+  for (auto* v : {&texel_units, &replicate_units, &slot_connections, &slot_escaped, &slot_covered_units,
+                  &slot_multi_units})
     std::fill(v->begin(), v->end(), std::uint64_t{0});
   vertices = connections = escaped = booked_units = covered_units = 0;
 }
 
 void NextEventTally::add(const NextEventTally& o) {
-  const std::vector<std::uint64_t>* from[] = {&o.texel_units, &o.replicate_units, &o.mesh_connections,
-                                              &o.mesh_escaped, &o.mesh_covered_units};
-  std::vector<std::uint64_t>* to[] = {&texel_units, &replicate_units, &mesh_connections, &mesh_escaped,
-                                      &mesh_covered_units};
-  for (int k = 0; k < 5; ++k)
+  const std::vector<std::uint64_t>* from[] = {&o.texel_units,        &o.replicate_units,    &o.slot_connections,
+                                              &o.slot_escaped,       &o.slot_covered_units, &o.slot_multi_units};
+  std::vector<std::uint64_t>* to[] = {&texel_units,  &replicate_units,    &slot_connections,
+                                      &slot_escaped, &slot_covered_units, &slot_multi_units};
+  for (int k = 0; k < 6; ++k)
     for (std::size_t i = 0; i < to[k]->size(); ++i) (*to[k])[i] += (*from[k])[i];
   vertices += o.vertices;
   connections += o.connections;
@@ -51,16 +50,19 @@ void NextEventTally::add(const NextEventTally& o) {
 
 NextEventChoice choose_next_event(const NextEventTally& pilot, std::uint64_t escaped_units) {
   NextEventChoice c;
-  c.meshes.assign(pilot.mesh_connections.size(), 0);
-  double covered = 0.0;
-  for (std::size_t m = 0; m < c.meshes.size(); ++m) {
-    const double tried = static_cast<double>(pilot.mesh_connections[m]);
-    if (tried > 0.0 && static_cast<double>(pilot.mesh_escaped[m]) >= kMinConnectionEscape * tried) {
-      c.meshes[m] = 1;
-      covered += static_cast<double>(pilot.mesh_covered_units[m]);
-    }
+  const std::size_t slots = pilot.slot_connections.size();
+  c.lobes.assign(slots / 3, 0);
+  double covered = 0.0, multi = 0.0;
+  for (std::size_t k = 0; k < slots; ++k) {
+    const double tried = static_cast<double>(pilot.slot_connections[k]);
+    if (!(tried > 0.0 && static_cast<double>(pilot.slot_escaped[k]) >= kMinConnectionEscape * tried)) continue;
+    c.lobes[k / 3] = static_cast<std::uint8_t>(c.lobes[k / 3] | (1u << (k % 3)));
+    covered += static_cast<double>(pilot.slot_covered_units[k]);
+    multi += static_cast<double>(pilot.slot_multi_units[k]);
   }
-  c.covered_share = escaped_units > 0 ? covered / static_cast<double>(escaped_units) : 0.0;
+  const double escaped = static_cast<double>(escaped_units);
+  c.covered_share = escaped > 0.0 ? covered / escaped : 0.0;
+  c.multi_share = escaped > 0.0 ? multi / escaped : 0.0;
   c.worthwhile = c.covered_share >= kAutoCoveredShare;
   return c;
 }

@@ -256,13 +256,14 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
     for (const auto& e : pilot.ledger.emitters) escaped_units += e.escaped.power_units;
     const NextEventChoice choice = choose_next_event(pilot.next_event, escaped_units);
     next_event.pilot_covered_share = choice.covered_share;
+    next_event.pilot_multi_share = choice.multi_share;
     next_event.enabled = next_event.mode == NextEventMode::On || choice.worthwhile;
     next_event.connections_per_vertex = next_event.enabled ? settings.next_event_connections : 0;
     NextEventSettings kept;
     kept.enabled = next_event.enabled;
     kept.connections = settings.next_event_connections;
-    kept.meshes = choice.meshes;
-    if (next_event.enabled) next_event.meshes = choice.meshes;
+    kept.lobes = choice.lobes;
+    if (next_event.enabled) next_event.lobes = choice.lobes;
     t.set_next_event(kept);
   }
   const int threads =

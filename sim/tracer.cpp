@@ -260,6 +260,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   RayHit hit;
   Polarization polarization;
   bool covered = false;  // the last event was a connected non-delta one
+  std::uint8_t covered_slot = 0;
   bool image_covered = connect && connect->image_covered_at_start;
   for (;;) {
     ray = ray_query(origin, direction);
@@ -271,6 +272,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       r.origin = origin;
       r.power_units = power;
       r.covered = covered;
+      r.covered_slot = covered_slot;
       r.image_covered = image_covered;
       return r;
     }
@@ -312,7 +314,8 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // Next-event connections here (sim/next_event.h): a non-delta material
     // at a mesh that keeps them, grey in a spectral run.
     const bool non_delta = connect && non_delta_weight(material) > 0.0 && !(colour && material_spectral_[mesh.material]);
-    const bool connect_here = non_delta && connect->far_field && settings_.next_event.at(hit.mesh);
+    const unsigned lobes_here = non_delta && connect->far_field ? settings_.next_event.lobes_at(hit.mesh, from_back) : 0u;
+    const bool connect_here = lobes_here != 0 && non_delta_weight(material, lobes_here) > 0.0;
     const bool image_here = non_delta && connect->images;
     const bool glossy_frame = (connect_here || image_here) && material.glossy > 0.0;
     if (uses_shading_frame(lobe) || glossy_frame) {
@@ -339,7 +342,16 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     if (wavelength >= 0 && material_spectral_[mesh.material] && lobe != Lobe::Absorb)
       update_companions(*colour, lobe, &spectral_materials_[static_cast<std::size_t>(mesh.material) * kWavelengthCount],
                         materials_[mesh.material]);
-    if (connect_here) connect_from(origin + t * direction, t, direction, material, frame, power, colour, hit.mesh, *connect);
+    if (connect_here) {
+      // The lattice's shift from the photon's own numbers: under Sobol'
+      // its next two coordinates, so the shifts are stratified across
+      // photons (a second stream would not be, and a second scramble of
+      // the same points would correlate with the path).
+      double xi1, xi2;
+      rng.uniform_pair(&xi1, &xi2);
+      connect_from(origin + t * direction, t, direction, material, frame, power, colour, hit.mesh, from_back,
+                   lobes_here, xi1, xi2, *connect);
+    }
     if (image_here) connect_images(origin + t * direction, t, direction, material, frame, power, colour, *connect);
     const ScatterResult s = scatter(material, lobe, frame, direction, rng, &polarization);
     if (s.absorbed) {
@@ -347,7 +359,9 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       return r;
     }
     const bool non_delta_lobe = s.lobe == Lobe::DiffuseReflect || s.lobe == Lobe::DiffuseTransmit || s.lobe == Lobe::Glossy;
-    covered = connect_here && non_delta_lobe;
+    const int lobe_index = s.lobe == Lobe::DiffuseReflect ? 0 : s.lobe == Lobe::DiffuseTransmit ? 1 : 2;
+    covered = connect_here && non_delta_lobe && (lobes_here & (1u << lobe_index)) != 0;
+    covered_slot = static_cast<std::uint8_t>((from_back ? 3 : 0) + lobe_index);
     image_covered = image_here && non_delta_lobe;
     // Back along the incoming ray before the offset: near an edge the hit
     // point can lie a rounding error beyond the neighbouring face, and an
@@ -365,17 +379,17 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
 
 void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const Material& m,
                           const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
-                          std::uint32_t mesh, Connections& c) const {
+                          std::uint32_t mesh, bool back, unsigned lobes, double xi1, double xi2,
+                          Connections& c) const {
   NextEventTally& tally = c.tally->next_event;
   const int count = settings_.next_event.connections;
-  // A rank-1 lattice (k/M, k·φ mod 1) shifted by the vertex's own
-  // (ξ1, ξ2): M stratified pairs (one in each 1/M band of the first).
-  const double xi1 = c.rng.uniform(), xi2 = c.rng.uniform();
+  // A rank-1 lattice (k/M, k·φ mod 1) shifted by (ξ1, ξ2): M stratified
+  // pairs (one in each 1/M band of the first).
   constexpr double kGolden = 0.61803398874989484820;
   const Vec3 wi = -1.0 * direction;
   const double scale = max_abs(p) + t;
   const double off = offset_m(scale);
-  const Vec3 back = p - direction * (0x1.0p-20 * scale);
+  const Vec3 start = p - direction * (0x1.0p-20 * scale);
   const Vec3& ng = frame.geometric_normal;
   ++tally.vertices;
   // Spectral runs: the photon's X and Z now (a grey vertex leaves them as
@@ -388,14 +402,17 @@ void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const 
     const double u1 = (static_cast<double>(k) + xi1) / static_cast<double>(count);
     double u2 = xi2 + static_cast<double>(k) * kGolden;
     u2 -= std::floor(u2);
-    const ConnectionDirection cd = connection_direction(m, frame, wi, u1, u2);
+    const ConnectionDirection cd = connection_direction(m, frame, wi, u1, u2, lobes);
     if (!(cd.pdf > 0.0) || !(cd.f_cos > 0.0)) continue;
-    const Vec3 o = back + (dot(cd.wo, ng) > 0.0 ? off : -off) * ng;
+    const Vec3 o = start + (dot(cd.wo, ng) > 0.0 ? off : -off) * ng;
+    const std::size_t slot = next_event_slot(mesh, back, cd.lobe == kLobeDiffuseReflect    ? 0
+                                                         : cd.lobe == kLobeDiffuseTransmit ? 1
+                                                                                           : 2);
     ++tally.connections;
-    ++tally.mesh_connections[mesh];
+    ++tally.slot_connections[slot];
     if (embree_->occluded(ray_query(o, cd.wo))) continue;
     ++tally.escaped;
-    ++tally.mesh_escaped[mesh];
+    ++tally.slot_escaped[slot];
     const double w = cd.f_cos / cd.pdf / static_cast<double>(count);
     const double units_d = static_cast<double>(power) * w;
     const auto units = static_cast<std::uint64_t>(std::llround(units_d));
@@ -456,15 +473,11 @@ void Tracer::connect_emission_images(const EmittedPhoton& e, Connections& c) con
   }
 }
 
-std::optional<Tracer::Connections> Tracer::connections_for(std::uint64_t seed, std::uint64_t photon,
-                                                           TracerTally& tally) const {
+std::optional<Tracer::Connections> Tracer::connections_for(std::uint64_t photon, TracerTally& tally) const {
   const bool far_field = settings_.next_event.enabled, images = tally.camera != nullptr;
   if (!far_field && !images) return std::nullopt;
-  // Their own stream: the photon's draws (and so its path) stay as without.
-  constexpr std::uint64_t kConnectionSalt = 0x6e65787465766e74ULL;  // "nextevnt"
   const auto k = static_cast<std::uint64_t>(tally.replicates > 1 ? tally.replicates : 1);
-  return Connections{PhotonRandom(seed ^ kConnectionSalt, photon), &tally, static_cast<std::uint32_t>(photon % k),
-                     far_field, images};
+  return Connections{&tally, static_cast<std::uint32_t>(photon % k), far_field, images};
 }
 
 TraceResult Tracer::trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng,
@@ -528,7 +541,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     eb.emitted.add(kPowerUnits);
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
     PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
-    std::optional<Connections> connect = connections_for(seed, i, tally);
+    std::optional<Connections> connect = connections_for(i, tally);
     if (connect && connect->images && e.on_surface) {
       connect_emission_images(e, *connect);
       connect->image_covered_at_start = true;
@@ -544,7 +557,9 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     if (r.fate == Fate::Escaped && r.covered) {
       // The connections stand for it in the far field (sim/next_event.h).
       tally.next_event.covered_units += r.power_units;
-      tally.next_event.mesh_covered_units[r.mesh] += r.power_units;
+      const std::size_t slot = static_cast<std::size_t>(r.mesh) * 6 + r.covered_slot;
+      tally.next_event.slot_covered_units[slot] += r.power_units;
+      if (r.hits >= 2) tally.next_event.slot_multi_units[slot] += r.power_units;
       eb.escaped.add(r.power_units);
       if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
       if (tally.near_planes) tally.near_field.add(*tally.near_planes, r.origin, r.direction, r.power_units);

@@ -77,8 +77,10 @@ struct TraceResult {
   std::uint64_t power_units = kPowerUnits;  // its power at the end (ledger.h units)
   // Escaped: its last event was a non-delta scattering at a vertex that
   // made next-event connections, which stand for this escape in the far
-  // field (sim/next_event.h); `mesh` is that vertex's.
+  // field (sim/next_event.h); `mesh` is that vertex's, covered_slot its
+  // side and lobe (next_event_slot's last two).
   bool covered = false;
+  std::uint8_t covered_slot = 0;
   // The same for the luminance images' connections (sim/detectors/
   // luminance_image.h): its last event, or its emission from an area
   // emitter, sent a connection to every view.
@@ -216,9 +218,8 @@ class Tracer {
       : grid_(std::move(grid)), embree_(std::move(embree)), emission_(std::move(emission)),
         settings_(settings) {}
 
-  // One photon's next-event connections: their own numbers, where they book.
+  // One photon's next-event connections: where they book.
   struct Connections {
-    PhotonRandom rng;
     TracerTally* tally;
     std::uint32_t replicate;   // photon mod K
     bool far_field;            // next-event estimation for the far field
@@ -233,7 +234,8 @@ class Tracer {
   // with the material and frame there (sim/next_event.h).
   void connect_from(const Vec3& p, double t, const Vec3& direction, const Material& material,
                     const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
-                    std::uint32_t mesh, Connections& c) const;
+                    std::uint32_t mesh, bool back, unsigned lobes, double xi1, double xi2,
+                    Connections& c) const;
   // The luminance images' connections from a vertex (as connect_from) and
   // from an area emitter's emission.
   void connect_images(const Vec3& p, double t, const Vec3& direction, const Material& material,
@@ -243,7 +245,7 @@ class Tracer {
   // The X and Z units per photon of Y of a photon's colour now (spectral).
   std::pair<std::uint64_t, std::uint64_t> colour_units(const PhotonColour& colour) const;
   // Connections for photon i under this tracer's settings (null when off).
-  std::optional<Connections> connections_for(std::uint64_t seed, std::uint64_t photon, TracerTally& tally) const;
+  std::optional<Connections> connections_for(std::uint64_t photon, TracerTally& tally) const;
   // A spectral photon's colour state at emission (nothing drawn yet).
   PhotonColour start_colour(const EmittedPhoton& e) const;
   // The offset's length for scale = max |coordinate| + t: 2⁻¹⁸·scale plus
