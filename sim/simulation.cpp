@@ -248,7 +248,8 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
     Tracer& t = tracer.value();
     NextEventSettings all;
     all.enabled = true;
-    all.connections = settings.next_event_connections;
+    // Four connections a vertex are enough to see which slots escape.
+    all.connections = std::min(settings.next_event_connections, 4);
     t.set_next_event(all);
     TracerTally pilot = t.make_tally();
     t.trace_photons(settings.seed, 0, kNextEventPilotPhotons, pilot);
