@@ -84,6 +84,17 @@ nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 
 }  // namespace
 
+nlohmann::json luminance_thumbnails(const std::vector<sim::LuminanceImage>& images) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const sim::LuminanceImage& img : images)
+    out.push_back({{"c_deg", img.plane.view.c_deg},
+                   {"gamma_deg", img.plane.view.gamma_deg},
+                   {"intensity_cd", img.intensity_cd},
+                   {"max_cd_m2", img.max_cd_m2},
+                   {"thumbnail", thumbnail(img, lit_square(img))}});
+  return out;
+}
+
 std::string luminance_image_name(const std::string& stem, const sim::LuminanceView& view) {
   return stem + ".luminance-C" + format_number(view.c_deg) + "-G" + format_number(view.gamma_deg) + ".exr";
 }

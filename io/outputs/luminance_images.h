@@ -39,6 +39,10 @@ struct LuminanceOutputs {
   std::vector<Error> failures;
 };
 
+// Per image {c_deg, gamma_deg, intensity_cd, max_cd_m2, thumbnail} (as
+// write_luminance_images reports them), for the live page.
+nlohmann::json luminance_thumbnails(const std::vector<sim::LuminanceImage>& images);
+
 // The file name of a view's image: STEM.luminance-C<c>-G<γ>.exr.
 std::string luminance_image_name(const std::string& stem, const sim::LuminanceView& view);
 
