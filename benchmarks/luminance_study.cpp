@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
                 "A_eff cm2", "L_eff", "k2", "dUGR", "max L");
     for (const auto& img : o.images) {
       const auto& g = img["cie232"];
-      const auto num = [&](const char* k) { return g.contains(k) && g[k].is_number() ? g[k].get<double>() : NAN; };
+      const auto num = [&](const char* k) { return g.contains(k) && g[k].is_number() ? g[k].get<double>() : std::nan(""); };
       std::printf("  C%-3.0f g%-6.0f %9d %9.2f %10.1f %10.0f %10.1f %11.0f %8.3f %8.2f %7.0f\n", img["c_deg"].get<double>(),
                   img["gamma_deg"].get<double>(), img["pixels"].get<int>(), img["intensity_cd"].get<double>(),
                   num("projected_area_m2") * 1e4, num("mean_luminance_cd_m2"), num("glare_area_m2") * 1e4,

@@ -14,9 +14,15 @@
 // (Simulation::create: BVH, emission tables and the next-event pilot).
 // estimate ÷ measured is taken at the step nearest the target.
 //
+// Besides the samples, two held-out closed forms whose reference is exact
+// (no reference run): "opal-sphere", a 1000 lm point lamp in an opal
+// sphere (diffuse transmission 0.6, reflection 0.3): I = Φ·0.6/0.7/4π in
+// every direction; "lambert-disc", a black Lambertian disc of 1000 lm
+// facing down: I = (Φ/π) cos γ below it, nothing above.
+//
 // Usage: gonio_next_event_study [--reference-log2 R (24)] [--threads T (2)]
-//          [--connections M (8)] [--target PCT (1)] [--max-log2 L (25)]
-//          [--sample NAME]...
+//          [--connections M (16)] [--target PCT (1)] [--max-log2 L (25)]
+//          [--sample NAME]...   (NAME: a sample, opal-sphere or lambert-disc)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +39,7 @@
 #include "samples/luminaires.h"
 #include "sim/convergence.h"
 #include "sim/resample.h"
+#include "sim/shapes.h"
 #include "sim/simulation.h"
 #include "tools/progressive_run.h"
 
@@ -67,6 +74,54 @@ struct Series {
   double photons_to_target = NAN, cpu_to_target = NAN, estimate_ratio = NAN;
 };
 
+// The closed forms above: the scene and its exact far field.
+bool closed_form(const std::string& name, int face_size, sim::SceneDesc* scene, sim::FarField* exact) {
+  constexpr double kPi = 3.14159265358979323846;
+  const sim::CubeMapGrid grid(face_size);
+  std::vector<double> flux(grid.texel_count());
+  if (name == "opal-sphere") {
+    sim::Material opal{"opal", 0.3, 0.6, 0.0};
+    scene->materials = {opal};
+    scene->meshes = {sim::sphere(0.1, 96, 48)};
+    sim::Emitter e;
+    e.flux_lm = 1000.0;
+    scene->emitters = {e};
+    const double i = 1000.0 * 0.6 / 0.7 / (4.0 * kPi);
+    for (std::size_t t = 0; t < flux.size(); ++t) flux[t] = i * grid.texel_solid_angle(t);
+  } else if (name == "lambert-disc") {
+    sim::Material black;
+    black.name = "black";
+    scene->materials = {black};
+    sim::Mesh d = sim::disc(0.05, 256);
+    sim::flip(d);
+    scene->meshes = {d};
+    sim::Emitter e;
+    e.kind = sim::Emitter::Kind::Area;
+    e.flux_lm = 1000.0;
+    scene->emitters = {e};
+    // ∫ over each texel of (Φ/π) max(0, −y): sub-sampled 16 × 16.
+    const int n = face_size;
+    for (int face = 0; face < 6; ++face)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          double sum = 0.0;
+          for (int j = 0; j < 16; ++j)
+            for (int k = 0; k < 16; ++k) {
+              const double a0 = -1.0 + 2.0 * (x + k / 16.0) / n, a1 = a0 + 2.0 / (16.0 * n);
+              const double b0 = -1.0 + 2.0 * (y + j / 16.0) / n, b1 = b0 + 2.0 / (16.0 * n);
+              const gonio::Vec3 d3 = normalize(sim::CubeMapGrid::direction(face, 0.5 * (a0 + a1), 0.5 * (b0 + b1)));
+              sum += 1000.0 / kPi * std::max(0.0, -d3.y) * sim::CubeMapGrid::solid_angle(a0, b0, a1, b1);
+            }
+          flux[grid.index(face, x, y)] = sum;
+        }
+  } else {
+    return false;
+  }
+  // Photons so many that the reference's noise term vanishes.
+  *exact = sim::FarField(face_size, std::move(flux), std::vector<std::uint64_t>(grid.texel_count(), std::uint64_t{1} << 50));
+  return true;
+}
+
 void finish(Series& s, double target) {
   for (std::size_t k = 1; k < s.points.size(); ++k) {
     const Point &a = s.points[k - 1], &b = s.points[k];
@@ -95,7 +150,7 @@ int main(int argc, char** argv) {
     else if (a == "--max-log2") max_log2 = std::atoi(argv[i + 1]);
     else if (a == "--sample") names.push_back(argv[i + 1]);
   }
-  if (names.empty()) names = {"bell", "downlight", "spotlight", "led-array"};
+  if (names.empty()) names = {"bell", "downlight", "spotlight", "led-array", "opal-sphere", "lambert-disc"};
   std::printf("load: %s\n", [] {
     std::ifstream f("/proc/loadavg");
     std::string l;
@@ -116,25 +171,32 @@ int main(int argc, char** argv) {
   std::printf("%-10s %-5s %4s %7s %7s %12s %12s %9s %9s %10s %11s\n", "sample", "mode", "on", "share", "multi", "photons",
               "trace CPU s", "est/meas", "ratio", "setup CPU", "with setup");
   for (const std::string& name : names) {
-    auto scene = io::load_gltf((tmp / name / (name + ".gltf")).string(), nullptr);
+    sim::SceneDesc closed;
+    sim::FarField exact(face_size);
+    const bool is_closed = closed_form(name, face_size, &closed, &exact);
+    auto scene = is_closed ? Result<sim::SceneDesc>(closed) : io::load_gltf((tmp / name / (name + ".gltf")).string(), nullptr);
     if (!scene.ok()) {
       std::fprintf(stderr, "%s\n", scene.error().message.c_str());
       return 1;
     }
     auto resampler = std::make_shared<const sim::Resampler>(face_size, scene->frame, grid);
-    sim::SimulationSettings rs;
-    rs.threads = threads;
-    rs.face_size = face_size;
-    rs.seed = 1000;
-    rs.sampler = sim::SamplerKind::Random;
-    rs.iterations = std::max(1, 1 << std::max(0, reference_log2 - 22));
-    rs.photons_per_iteration = (std::uint64_t{1} << reference_log2) / static_cast<std::uint64_t>(rs.iterations);
-    auto reference_run = sim::simulate(*scene, rs);
-    if (!reference_run.ok()) {
-      std::fprintf(stderr, "%s\n", reference_run.error().message.c_str());
-      return 1;
+    sim::FarField reference_field = exact;
+    if (!is_closed) {
+      sim::SimulationSettings rs;
+      rs.threads = threads;
+      rs.face_size = face_size;
+      rs.seed = 1000;
+      rs.sampler = sim::SamplerKind::Random;
+      rs.iterations = std::max(1, 1 << std::max(0, reference_log2 - 22));
+      rs.photons_per_iteration = (std::uint64_t{1} << reference_log2) / static_cast<std::uint64_t>(rs.iterations);
+      auto reference_run = sim::simulate(*scene, rs);
+      if (!reference_run.ok()) {
+        std::fprintf(stderr, "%s\n", reference_run.error().message.c_str());
+        return 1;
+      }
+      reference_field = reference_run->far_field();
     }
-    auto reference = sim::ConvergenceReference::create(reference_run->far_field(), resampler);
+    auto reference = sim::ConvergenceReference::create(reference_field, resampler);
     if (!reference.ok()) return 1;
     std::vector<Series> all;
     for (sim::NextEventMode mode : {sim::NextEventMode::Off, sim::NextEventMode::On, sim::NextEventMode::Auto}) {

@@ -11,6 +11,17 @@
 
 namespace gonio::sim {
 
+void for_each_luminaire_point(const SceneDesc& scene, const std::function<void(const Vec3&)>& f) {
+  for_each_placed_vertex(scene, f);
+  for (const Emitter& e : scene.emitters) {
+    if (e.kind == Emitter::Kind::RaySet && e.rays) {
+      for (const Vec3f& p : e.rays->position_m) f(to_double(p));
+    } else if (e.kind == Emitter::Kind::Point) {
+      f(e.position);
+    }
+  }
+}
+
 Vec3 luminaire_centre(const SceneDesc& scene) {
   // The bounding box in the photometric frame (C0, C90, up components).
   const photometry::PhotometricFrame& f = scene.frame;
@@ -20,14 +31,7 @@ Vec3 luminaire_centre(const SceneDesc& scene) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   };
-  for_each_placed_vertex(scene, take);
-  for (const Emitter& e : scene.emitters) {
-    if (e.kind == Emitter::Kind::RaySet && e.rays) {
-      for (const Vec3f& p : e.rays->position_m) take(to_double(p));
-    } else if (e.kind == Emitter::Kind::Point) {
-      take(e.position);
-    }
-  }
+  for_each_luminaire_point(scene, take);
   if (!(lo.x <= hi.x)) return Vec3{0.0, 0.0, 0.0};
   return f.to_world({0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z});
 }

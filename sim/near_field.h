@@ -36,6 +36,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -81,6 +82,11 @@ struct NearFieldPlanes {
 // bounding box's middle would put the source a half height too far, a
 // 2·h/D error that fades only as 1/D). The origin for an empty scene.
 Vec3 luminaire_centre(const SceneDesc& scene);
+
+// Calls f(world point [m]) for every point that bounds the luminaire: each
+// placed vertex, point emitter and ray-set ray start (luminaire_centre's
+// box, and the luminance images' extent).
+void for_each_luminaire_point(const SceneDesc& scene, const std::function<void(const Vec3&)>& f);
 
 // The photometric centre the planes are measured from: the luminous centre
 // of the light that heads for them, i.e. the power-weighted mean of the

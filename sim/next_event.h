@@ -31,10 +31,11 @@
 //
 // Where connections cannot escape (the walls inside a closed box, the
 // reflection side of a diffuser lit from inside) they cost rays for
-// nothing. Simulation::create traces a pilot of kNextEventPilotPhotons
-// photons with connections everywhere and keeps them per mesh, side of
-// incidence and lobe ("slot") where at least kMinConnectionEscape of them
-// escaped; elsewhere the photons' escapes are binned as without.
+// nothing. Simulation::create traces a pilot of the run's first
+// kNextEventPilotPhotons photons with two connections at every vertex and
+// keeps them per mesh, side of incidence and lobe ("slot") where at least
+// kMinConnectionEscape of them escaped; elsewhere the photons' escapes are
+// binned as without.
 //
 // Spectral runs: connections at materials that act differently by
 // wavelength are not made (their escapes are binned); at grey materials the
@@ -54,7 +55,7 @@ const char* to_string(NextEventMode m);                                // "off",
 std::optional<NextEventMode> parse_next_event_mode(std::string_view text);
 
 inline constexpr int kDefaultConnections = 16;              // M per vertex
-inline constexpr std::uint64_t kNextEventPilotPhotons = 2048;
+inline constexpr std::uint64_t kNextEventPilotPhotons = 1024;
 inline constexpr double kMinConnectionEscape = 0.05;        // a slot's connections that must escape
 // Auto: on when at least this share of the pilot's escaped power left
 // after a non-delta event at a kept slot, i.e. when nearly all the far

@@ -46,14 +46,7 @@ std::pair<Vec3, Vec3> luminaire_box(const SceneDesc& scene) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   };
-  for_each_placed_vertex(scene, take);
-  for (const Emitter& e : scene.emitters) {
-    if (e.kind == Emitter::Kind::RaySet && e.rays) {
-      for (const Vec3f& p : e.rays->position_m) take(to_double(p));
-    } else if (e.kind == Emitter::Kind::Point) {
-      take(e.position);
-    }
-  }
+  for_each_luminaire_point(scene, take);
   if (!(lo.x <= hi.x)) lo = hi = Vec3{0.0, 0.0, 0.0};
   const Vec3 pad{0.01, 0.01, 0.01};
   const Vec3 mid = 0.5 * (lo + hi);
@@ -248,8 +241,8 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
     Tracer& t = tracer.value();
     NextEventSettings all;
     all.enabled = true;
-    // Four connections a vertex are enough to see which slots escape.
-    all.connections = std::min(settings.next_event_connections, 4);
+    // Two connections a vertex are enough to see which slots escape.
+    all.connections = std::min(settings.next_event_connections, 2);
     t.set_next_event(all);
     TracerTally pilot = t.make_tally();
     t.trace_photons(settings.seed, 0, kNextEventPilotPhotons, pilot);

@@ -105,7 +105,7 @@ int run_bench(const Args& args) {
   long long emission_face_size = 32;
   double c_step = 5.0, gamma_step = 2.5, target = 1.0, cube_target = 0.1, min_acceptance = 1.0 / 16.0;
   bool importance = false, no_png = false;
-  std::string sampler_name = "both";
+  std::string sampler_name = "both", next_event = "auto";
   ArgParser p("bench", "MODEL... --out DIR [options]",
               "Measures speed against accuracy on luminaire models (glTF 2.0). A long reference run\n"
               "(cached in DIR, reused while model, program, tracer sources and settings match) is the\n"
@@ -134,6 +134,8 @@ int run_bench(const Args& args) {
   p.option("target", &target, 1e-3, 100.0, "PCT", "RMS candela error to time [% of peak] (default 1)");
   p.option("cube-target", &cube_target, 1e-4, 100.0, "E", "cube-map RMSE to time (default 0.1)");
   p.flag("importance", &importance, "add importance-guided emission (thesis 5.4.1), raw and adaptive");
+  p.choice("next-event", &next_event, {"auto", "on", "off"},
+           "next-event estimation of the unguided series (as gonio simulate: default auto)");
   p.choice("sampler", &sampler_name, {"random", "sobol", "both"},
            "sampler of the series (sim/sampler.h): random, sobol, or both (default: the pseudo-random\n"
            "series and Sobol' raw and adaptive, charted against each other); the reference is\n"
@@ -183,6 +185,7 @@ int run_bench(const Args& args) {
   settings.compare_samplers = sampler_name == "both";
   settings.importance_settings.emission_face_size = static_cast<int>(emission_face_size);
   settings.importance_settings.min_acceptance = min_acceptance;
+  settings.next_event = sim::parse_next_event_mode(next_event).value_or(sim::NextEventMode::Auto);
   settings.target_pct = target;
   settings.cube_target = cube_target;
   char grid_text[64];

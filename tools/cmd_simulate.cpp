@@ -66,6 +66,7 @@
 #include "io/support/cache_folder.h"
 #include "io/outputs/colour_chart.h"
 #include "io/outputs/exr.h"
+#include "io/outputs/luminance_images.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "io/outputs/report.h"
@@ -140,6 +141,18 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
            "where photons' numbers come from: sobol (default: Owen-scrambled Sobol' points in four "
            "independent scrambles keyed by the seed, whose spread gives the error estimate) or random "
            "(pseudo-random); either gives the same bytes for any threads or split");
+  p.choice("next-event", &o->next_event, {"auto", "on", "off"},
+           "next-event estimation for the far field: at every diffuse or glossy surface a photon meets,\n"
+           "M connection rays book what it sends out of the luminaire directly (docs/luminance-and-\n"
+           "glare.md); auto (default): on where a pilot of the first photons finds >= 90 % of the\n"
+           "escaping light leaving that way (the LED array sample: 0.3x the time to 1 % error; the bell:\n"
+           "off); not with guided emission");
+  p.option("connections", &o->connections, 1, 1024, "M", "next-event connections per surface vertex (default 16)");
+  p.option("luminance-image", &o->luminance_images, "C:G,...|ugr",
+           "luminance images of the luminaire seen from these directions (C and gamma in degrees; ugr:\n"
+           "CIE 232's views, gamma 65 and 50 in C0 and C90), orthographic, 1.2 mm pixels, as\n"
+           "STEM.luminance-C<C>-G<G>.exr (L in cd/m2; x, y in spectral runs) and .png, with CIE\n"
+           "232:2019's glare-source figures and the UGR correction in report.json (up to 16 views)");
   p.option("threads", &o->threads, 0, 4096, "T", "threads (default 0: every core)");
   p.option("max-bounces", &o->max_bounces, 0, 1'000'000, "B",
            "surface interactions before a photon is cut off (default 100)");
@@ -248,6 +261,10 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
     if (near_field_m.size() > 16) return usage_error(p, "--near-field: at most 16 distances");
     std::sort(near_field_m.begin(), near_field_m.end());
   }
+  std::vector<sim::LuminanceView> views;
+  if (p.given("luminance-image"))
+    if (const std::string why = sim::parse_luminance_views(o.luminance_images, &views); !why.empty())
+      return usage_error(p, "--luminance-image: " + why);
   if (!tm25 && p.given("tm25-rays")) return usage_error(p, "--tm25-rays applies to --format tm25 only");
   Result<std::vector<OutputFormat>> formats =
       tm25 && other_formats.empty() ? Result<std::vector<OutputFormat>>(std::vector<OutputFormat>{})
@@ -286,6 +303,9 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   settings.threads = static_cast<int>(threads);
   settings.capture_escaped_photons = tm25 ? static_cast<std::uint64_t>(o.tm25_rays) : 0;
   settings.near_field_distances_m = near_field_m;
+  settings.next_event = sim::parse_next_event_mode(o.next_event).value_or(sim::NextEventMode::Auto);
+  settings.next_event_connections = static_cast<int>(o.connections);
+  settings.luminance.views = views;
   settings.max_bounces = static_cast<int>(max_bounces);
   settings.face_size = static_cast<int>(face_size);
   using Quality = sim::EmbreeSceneOptions::Quality;
@@ -536,8 +556,17 @@ nlohmann::json write_near_field(const std::string& out_dir, const std::string& s
                     {"on_axis_lx", p.on_axis_lx},
                     {"far_field_on_axis_lx", p.far_field_on_axis_lx},
                     {"max_deviation_pct", p.max_deviation_pct},
-                    {"max_deviation_bound_pct", p.max_deviation_bound_pct},
-                    {"min_photons_per_pixel", p.min_photons}});
+                    {"max_deviation_bound_pct", p.upper_bound_pct},
+                    {"min_photons_per_pixel", p.min_photons},
+                    {"cells_compared", p.cells_compared},
+                    {"cell_deviation_pct", p.cell_deviation_pct},
+                    {"upper_bound_pct", p.upper_bound_pct},
+                    {"lower_bound_pct", std::isfinite(p.lower_bound_pct) ? nlohmann::json(p.lower_bound_pct)
+                                                                          : nlohmann::json(nullptr)},
+                    {"z_fail", p.z_fail},
+                    {"verdict", sim::to_string(p.verdict)},
+                    {"photons_to_tell", std::isfinite(p.photons_to_tell) ? nlohmann::json(p.photons_to_tell)
+                                                                          : nlohmann::json(nullptr)}});
   }
   return list;
 }
@@ -586,14 +615,37 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   }
   std::vector<std::string> near_field_files;
   nlohmann::json near_field_list;
-  std::optional<double> far_field_distance;
+  sim::FarFieldDistance far_field_distance;
+  nlohmann::json far_field_distance_json;
+  request.near_field = nlohmann::json::object();  // report keys the datasheet reads too
   if (!settings.near_field_distances_m.empty()) {
     const std::vector<sim::NearFieldPlane> planes = sim->near_field();
     near_field_list = write_near_field(out_dir, plan.stem, planes, &near_field_files, &failures);
-    far_field_distance = sim::far_field_distance_m(planes);
-    request.near_field = {{"near_field", near_field_list},
-                          {"far_field_distance_m", far_field_distance ? nlohmann::json(*far_field_distance)
-                                                                      : nlohmann::json(nullptr)}};
+    far_field_distance = sim::far_field_distance(planes);
+    const Vec3 centre = sim->scene().frame.to_local(sim->near_field_planes()->centre);
+    const auto optional_number = [](const std::optional<double>& v) {
+      return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+    };
+    far_field_distance_json = {
+        {"distance_m", optional_number(far_field_distance.distance_m)},
+        {"farthest", sim::to_string(far_field_distance.farthest)},
+        {"nearer_plane_m", optional_number(far_field_distance.nearer_plane_m)},
+        {"photons_to_tell", std::isfinite(far_field_distance.photons_to_tell)
+                                ? nlohmann::json(far_field_distance.photons_to_tell)
+                                : nlohmann::json(nullptr)},
+        {"photometric_centre_m", {centre.x, centre.y, centre.z}}};
+    request.near_field["near_field"] = near_field_list;
+    request.near_field["far_field_distance_m"] = optional_number(far_field_distance.distance_m);
+    request.near_field["far_field_distance"] = far_field_distance_json;
+  }
+  // Luminance images and CIE 232's figures (io/outputs/luminance_images.h).
+  io::LuminanceOutputs luminance;
+  if (!settings.luminance.views.empty()) {
+    luminance = io::write_luminance_images(out_dir, plan.stem, sim->luminance_images(), request.opening->opening,
+                                           settings.luminance.cone_deg);
+    failures.insert(failures.end(), luminance.failures.begin(), luminance.failures.end());
+    request.near_field["luminance_images"] = luminance.images;
+    request.near_field["cie232"] = luminance.cie232;
   }
   Result<OutputResult> written = write_outputs(far_field, sim->scene(), ledger, request);
   if (!written.ok()) failures.push_back(written.error());
@@ -679,11 +731,36 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
   if (!settings.near_field_distances_m.empty()) {
     json["near_field"] = near_field_list;
-    json["far_field_distance_m"] = far_field_distance ? nlohmann::json(*far_field_distance) : nlohmann::json(nullptr);
+    json["far_field_distance_m"] = far_field_distance_json["distance_m"];
+    json["far_field_distance"] = far_field_distance_json;
     json["far_field_distance_method"] =
-        "the smallest distance asked for from which that plane and every farther one asked for have "
-        "|E - E_far| / E_far + 2 sigma <= 1 % in every pixel with E_far >= 10 % of the plane's maximum; "
-        "sigma = sqrt(photons landing in only one of the pixel's two tallies) / photons in E_far";
+        "planes at D below the photometric centre (the power-weighted mean of the points where escaping light "
+        "heading down leaves); each compared on 21 x 21 cells of 4D/21 where E_far >= 10 % of the plane's "
+        "largest cell: a plane passes when every cell has |E - E_far| / E_far + 1.645 sigma <= 1 % (95 %, "
+        "one-sided), fails when one has |E - E_far| / E_far - z sigma > 1 % (z: Sidak for the cells at 95 %), "
+        "else is undecided; sigma = sqrt(photons in only one of the cell's two tallies) / photons in E_far; the "
+        "distance is the smallest asked for from which that plane and every farther one pass";
+  }
+  {
+    const sim::NextEventSummary n = sim->next_event();
+    nlohmann::json ne = {{"mode", sim::to_string(n.mode)}, {"enabled", n.enabled}};
+    if (n.mode != sim::NextEventMode::Off) {
+      ne["pilot_covered_share"] = n.pilot_covered_share;
+      ne["connections_per_vertex"] = n.connections_per_vertex;
+    }
+    if (n.enabled) {
+      ne["vertices"] = n.vertices;
+      ne["connections"] = n.connections;
+      ne["connections_escaped"] = n.escaped;
+      ne["booked_lm"] = n.booked_lm;
+      ne["covered_lm"] = n.covered_lm;
+      ne["far_field_minus_escaped_lm"] = far_field.total_flux_lm() - ledger.escaped.flux_lm;
+    }
+    json["next_event"] = ne;
+  }
+  if (!settings.luminance.views.empty()) {
+    json["luminance_images"] = luminance.images;
+    json["cie232"] = luminance.cie232;
   }
   // The cache folder kept to its limit, now that this run has used and
   // written its entries (each marked used, so they go last).
@@ -703,6 +780,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   for (const WrittenFile& f : outputs->files) written_paths.push_back(f.path);
   if (!colour_chart_path.empty()) written_paths.push_back(colour_chart_path);
   for (const std::string& path : near_field_files) written_paths.push_back(path);
+  for (const std::string& path : luminance.written) written_paths.push_back(path);
   if (preview)
     for (const std::string& path : {preview->exr_path(), preview->png_path()})
       if (std::filesystem::is_regular_file(path)) written_paths.push_back(path);
@@ -743,9 +821,40 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
                 format_number(p["on_axis_lx"].get<double>()).c_str(),
                 format_number(p["far_field_on_axis_lx"].get<double>()).c_str(),
                 format_number(p["max_deviation_pct"].get<double>()).c_str(), p["file"].get<std::string>().c_str());
-  if (!settings.near_field_distances_m.empty())
-    std::printf("  far-field distance: %s\n", far_field_distance ? (format_number(*far_field_distance) + " m").c_str()
-                                                                 : "beyond the distances asked for");
+  if (!settings.near_field_distances_m.empty()) {
+    std::string verdict;
+    if (far_field_distance.distance_m) verdict = format_number(*far_field_distance.distance_m) + " m";
+    else if (far_field_distance.farthest == sim::PlaneVerdict::Fails)
+      verdict = "beyond the distances asked for (the farthest plane deviates by more than 1 %)";
+    else
+      verdict = "undecided (too few photons to tell at the farthest plane; about " +
+                format_number(far_field_distance.photons_to_tell, 2) + " would)";
+    std::printf("  far-field distance: %s\n", verdict.c_str());
+  }
+  {
+    const sim::NextEventSummary n = sim->next_event();
+    if (n.mode != sim::NextEventMode::Off)
+      std::printf("  next-event estimation %s (%s; %.0f %% of the pilot's escaping light leaves after a connected "
+                  "event)%s\n",
+                  n.enabled ? "on" : "off", sim::to_string(n.mode), 100.0 * n.pilot_covered_share,
+                  n.enabled ? (": " + format_number(static_cast<double>(n.connections), 3) + " connections, " +
+                               format_number(n.booked_lm, 6) + " lm booked for " + format_number(n.covered_lm, 6) +
+                               " lm of escapes")
+                                  .c_str()
+                            : "");
+  }
+  for (const auto& img : luminance.images) {
+    const nlohmann::json& g = img["cie232"];
+    std::printf("  luminance image C%s G%s: max %s cd/m2, %s cd; CIE 232: %s\n",
+                format_number(img["c_deg"].get<double>()).c_str(), format_number(img["gamma_deg"].get<double>()).c_str(),
+                format_number(img["max_cd_m2"].get<double>(), 4).c_str(),
+                format_number(img["intensity_cd"].get<double>(), 4).c_str(),
+                g["defined"].get<bool>()
+                    ? ("k2 " + format_number(g["k2"].get<double>(), 3) + ", delta UGR " +
+                       format_fixed(g["delta_ugr"].get<double>(), 1) + ": " + img["file"].get<std::string>())
+                          .c_str()
+                    : ("not defined (" + g["why_undefined"].get<std::string>() + ")").c_str());
+  }
   if (l.escaped.photons == 0 || !(l.escaped.flux_lm > 0.0))
     print_warning(model + ": no light leaves the model: all " + std::to_string(l.emitted.photons) +
                   " photons were absorbed or cut off (is the emitter sealed in?); the files hold zero "

@@ -13,6 +13,7 @@
 
 #include "io/support/cache_folder.h"
 #include "io/photometric/ies.h"
+#include "sim/next_event.h"
 #include "sim/preview_filter.h"
 #include "sim/resample.h"
 #include "tools/cli.h"
@@ -35,6 +36,9 @@ struct SimulateOptions {
   long long tm25_rays = 1'000'000;   // --tm25-rays N: the ray file's photons
   std::string near_field;            // --near-field D1,D2,… [m]; empty: none
   std::string sampler = "sobol";     // --sampler (sim/sampler.h)
+  std::string next_event = "auto";   // --next-event auto|on|off (sim/next_event.h)
+  long long connections = sim::kDefaultConnections;  // --connections M
+  std::string luminance_images;      // --luminance-image C:g[,C:g…] or ugr; empty: none
   std::string cache_dir;  // --cache DIR (the model checks' results, the outputs' resamplers)
   bool no_cache = false;  // --no-cache
   long long cache_limit_mb = io::kDefaultCacheLimitBytes >> 20;  // --cache-limit MB; 0: none

@@ -384,15 +384,22 @@ std::string ledger_html(const nlohmann::json& r) {
 }
 
 // A luminance image's thumbnail (report.json's, row-major cd/m²) as an
-// inline SVG heat map over two decades below its maximum.
+// inline SVG heat map over two decades below the 99th percentile of its lit
+// cells (a bare lamp's cell clips to white rather than darken the rest).
 std::string thumbnail_svg(const nlohmann::json& thumb) {
   if (!thumb.is_object() || !thumb.contains("size") || !thumb.contains("cd_m2")) return {};
   const int n = thumb["size"].get<int>();
   const nlohmann::json& v = thumb["cd_m2"];
   if (n <= 0 || !v.is_array() || v.size() != static_cast<std::size_t>(n) * static_cast<std::size_t>(n)) return {};
-  double vmax = 0.0;
+  std::vector<double> lit;
   for (const auto& x : v)
-    if (x.is_number()) vmax = std::max(vmax, x.get<double>());
+    if (x.is_number() && x.get<double>() > 0.0) lit.push_back(x.get<double>());
+  double vmax = 0.0;
+  if (!lit.empty()) {
+    const std::size_t k = static_cast<std::size_t>(0.99 * static_cast<double>(lit.size() - 1));
+    std::nth_element(lit.begin(), lit.begin() + static_cast<std::ptrdiff_t>(k), lit.end());
+    vmax = lit[k];
+  }
   constexpr int px = 4;
   std::string svg = "<svg xmlns='http://www.w3.org/2000/svg' width='" + std::to_string(n * px) + "' height='" +
                     std::to_string(n * px) + "' viewBox='0 0 " + std::to_string(n) + " " + std::to_string(n) +
@@ -402,7 +409,7 @@ std::string thumbnail_svg(const nlohmann::json& thumb) {
       const auto& c = v[static_cast<std::size_t>(y) * static_cast<std::size_t>(n) + static_cast<std::size_t>(x)];
       if (!c.is_number() || !(c.get<double>() > 0.0) || !(vmax > 0.0)) continue;
       svg += "<rect x='" + std::to_string(x) + "' y='" + std::to_string(y) + "' width='1' height='1' fill='" +
-             heat(c.get<double>() / vmax) + "'/>";
+             heat(std::min(1.0, c.get<double>() / vmax)) + "'/>";
     }
   return svg + "</svg>";
 }

@@ -54,22 +54,48 @@ nlohmann::json thumbnail(const sim::LuminanceImage& img, const Crop& c) {
   return {{"size", m}, {"cd_m2", values}};
 }
 
-// False colour on a log scale over three decades below the maximum: black
-// → blue → red → yellow → white.
+// The picture's white point: the 99.5th percentile of the lit pixels'
+// luminance, so that a bare lamp's few pixels (millions of cd/m²) clip to
+// white instead of leaving the rest of the luminaire black.
+double white_point(const sim::LuminanceImage& img) {
+  std::vector<double> lit;
+  for (double l : img.cd_m2)
+    if (l > 0.0) lit.push_back(l);
+  if (lit.empty()) return 0.0;
+  const std::size_t k = static_cast<std::size_t>(0.995 * static_cast<double>(lit.size() - 1));
+  std::nth_element(lit.begin(), lit.begin() + static_cast<std::ptrdiff_t>(k), lit.end());
+  return lit[k];
+}
+
+// False colour on a log scale over three decades below the white point
+// (brighter clips to white): black → blue → red → yellow → white. Crops
+// under 256 pixels are enlarged (pixel copies), over 384 reduced to block
+// means.
 Image8 picture(const sim::LuminanceImage& img, const Crop& c) {
-  const int scale = std::max(1, 256 / c.side);
+  const int up = std::max(1, 256 / c.side);
+  const int down = c.side > 384 ? (c.side + 383) / 384 : 1;
   Image8 out;
-  out.width = out.height = c.side * scale;
+  out.width = out.height = c.side * up / down;
   out.channels = 3;
   out.pixels.assign(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height) * 3, 0);
   const double stops[5][3] = {{0, 0, 0}, {30, 40, 160}, {200, 40, 40}, {250, 220, 60}, {255, 255, 255}};
   const int n = img.plane.pixels;
+  const double white = white_point(img);
+  const auto at = [&](int x, int y) {
+    return img.cd_m2[static_cast<std::size_t>(c.y0 + y) * static_cast<std::size_t>(n) + static_cast<std::size_t>(c.x0 + x)];
+  };
   for (int y = 0; y < out.height; ++y)
     for (int x = 0; x < out.width; ++x) {
-      const double l = img.cd_m2[static_cast<std::size_t>(c.y0 + y / scale) * static_cast<std::size_t>(n) +
-                                 static_cast<std::size_t>(c.x0 + x / scale)];
-      if (!(l > 0.0) || !(img.max_cd_m2 > 0.0)) continue;
-      const double t = std::clamp(1.0 + std::log10(l / img.max_cd_m2) / 3.0, 0.0, 1.0) * 4.0;
+      double l = 0.0;
+      if (down > 1) {
+        for (int j = 0; j < down; ++j)
+          for (int i = 0; i < down; ++i) l += at(std::min(c.side - 1, x * down + i), std::min(c.side - 1, y * down + j));
+        l /= down * down;
+      } else {
+        l = at(x / up, y / up);
+      }
+      if (!(l > 0.0) || !(white > 0.0)) continue;
+      const double t = std::clamp(1.0 + std::log10(l / white) / 3.0, 0.0, 1.0) * 4.0;
       const int i = std::min(3, static_cast<int>(t));
       const double f = t - i;
       std::uint8_t* p = &out.pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(out.width) +
@@ -125,6 +151,8 @@ LuminanceOutputs write_luminance_images(const std::string& out_dir, const std::s
         {"gonio:pixel_size_m", format_number(img.plane.pixel_m)},
         {"gonio:cone_deg", format_number(cone_deg)},
         {"gonio:axes", "orthographic; rows from the top (the zenith projected), columns to the observer's right"}};
+    // The PNG: log scale over three decades below the 99.5th percentile of
+    // the lit pixels (brighter clips to white).
     if (Status s = write_exr(path, exr); !s.ok()) out.failures.push_back(s.error());
     else out.written.push_back(path);
     const Crop crop = lit_square(img);

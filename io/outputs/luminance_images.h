@@ -2,8 +2,8 @@
 // (sim/detectors/luminance_image.h) as STEM.luminance-C<C>-G<γ>.exr —
 // float channel `L` [cd/m²], and `x`, `y` (CIE 1931 chromaticity) in
 // spectral runs — plus a false-colour PNG of the luminaire's part of it
-// (log scale over three decades below the image's maximum, the same name
-// with .png), and CIE 232:2019's analysis of it (photometry/
+// (log scale over three decades below the 99.5th percentile of its lit
+// pixels, brighter clipping to white; the same name with .png), and CIE 232:2019's analysis of it (photometry/
 // non_uniform_glare.h) with the intensity the image carries and the
 // luminous opening's projected area towards the view, as the UGR table
 // uses it. Files are written atomically; a failure is listed and the
