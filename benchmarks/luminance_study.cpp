@@ -17,7 +17,7 @@
 #include "io/outputs/luminance_images.h"
 #include "samples/luminaires.h"
 #include "sim/simulation.h"
-#include "tools/simulation_outputs.h"
+#include "tools/run/simulation_outputs.h"
 
 int main(int argc, char** argv) {
   using namespace gonio;

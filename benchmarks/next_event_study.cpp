@@ -7,7 +7,7 @@
 // auto, its photon count growing by √2 per step; after each step the RMS
 // candela error of the 5° × 2.5° table against the reference (its own noise
 // taken out: sim/convergence.h, as `gonio bench`) and the run's own error
-// estimate (the replicates', tools/progressive_run.h). The time to the
+// estimate (the replicates', tools/run/progressive_run.h). The time to the
 // target (1 %) is interpolated log-log between the steps around it, in CPU
 // seconds of the process (user + sys, every thread; the machine is shared,
 // CPU time is what the runs cost) spent tracing, and separately the setup
@@ -41,7 +41,7 @@
 #include "sim/resample.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
-#include "tools/progressive_run.h"
+#include "tools/run/progressive_run.h"
 
 namespace {
 
