@@ -15,6 +15,7 @@
 #include "io/model/gltf_lights.h"
 #include "io/photometric/ies.h"
 #include "io/photometric/ldt.h"
+#include "io/photometric/tm25.h"
 #include "photometry/colour.h"
 #include "photometry/flux.h"
 #include "photometry/reflectance.h"
@@ -1022,6 +1023,42 @@ TEST(Gltf, NodeFluxIsSplitOverEmissivePrimitivesByPiLA) {
   EXPECT_NEAR(s.emitters[0].flux_lm, 600.0, 1e-9);
   EXPECT_NEAR(s.emitters[1].flux_lm, 300.0, 1e-9);
   EXPECT_NEAR(s.total_flux_lm(), 900.0, 1e-9);
+}
+
+// Issue 34, case 4: a ray set (TM-25) on a node that rotates, scales and
+// moves it. A flat set in the file's z = 0 (millimetres) must start where
+// the node's whole transform puts it: T + R·S·p with R 90° about +X, S
+// (2, 3, 4), T (0.1, 0.2, 0.3) m — (10, 20, 0) mm lands at (0.12, 0.2,
+// 0.36) m; taking the translation alone would leave it at (0.11, 0.22,
+// 0.3). Directions take the linear part, normalised: +z of the file (S: 4z,
+// R: −4y) points along −Y.
+TEST(Gltf, RaySetsStartWhereTheNodesRotationScaleAndTranslationPutThem) {
+  test::TempDir dir;
+  // x y z [mm], kx ky kz, Tri_Y [lm]
+  std::vector<float> rays = {10.0f, 20.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f,  //
+                             -30.0f, 5.0f, 0.0f, 0.6f, 0.0f, 0.8f, 2.0f};
+  ASSERT_TRUE(write_tm25_file((dir / "flat.tm25ray").string(), make_luminous_ray_set(rays)).ok());
+  Doc d;
+  const double h = std::sqrt(0.5);
+  json node = {{"name", "led"},
+               {"rotation", {h, 0.0, 0.0, h}},
+               {"scale", {2.0, 3.0, 4.0}},
+               {"translation", {0.1, 0.2, 0.3}}};
+  node["extras"]["gonio"]["ray_file"] = "flat.tm25ray";
+  d.node(node);
+  const sim::SceneDesc s = load_ok(d.write(dir, "turned"));
+  ASSERT_EQ(s.emitters.size(), 1u);
+  const sim::Emitter& e = s.emitters[0];
+  ASSERT_EQ(e.kind, sim::Emitter::Kind::RaySet);
+  ASSERT_NE(e.rays, nullptr);
+  ASSERT_EQ(e.rays->size(), 2u);
+  expect_near(sim::to_double(e.rays->position_m[0]), {0.12, 0.2, 0.36}, 1e-6);
+  expect_near(sim::to_double(e.rays->position_m[1]), {0.04, 0.2, 0.315}, 1e-6);
+  expect_near(sim::to_double(e.rays->direction[0]), {0.0, -1.0, 0.0}, 1e-6);
+  const double n = std::hypot(1.2, 3.2);
+  expect_near(sim::to_double(e.rays->direction[1]), {1.2 / n, -3.2 / n, 0.0}, 1e-6);
+  EXPECT_NEAR(e.flux_lm, 3.0, 1e-6);
+  expect_near(e.position, {0.1, 0.2, 0.3}, 1e-12);
 }
 
 // --- extras ----------------------------------------------------------------
