@@ -1,110 +1,161 @@
 #include "sim/bsdf_eval.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
-#include <numbers>
 
+#include "sim/bsdfs/lobes.h"
+#include "sim/random.h"
 #include "sim/sampling.h"
 
 namespace gonio::sim {
 namespace {
 
-constexpr double kInvPi = std::numbers::inv_pi;
+constexpr Lobe kConnectable[] = {Lobe::DiffuseReflect, Lobe::DiffuseTransmit, Lobe::Glossy,
+                                 Lobe::AbgReflect,     Lobe::AbgTransmit,     Lobe::Tabulated};
 
-// The normals on wi's side (as scatter()).
-struct Sided {
+bool diffuse(Lobe lobe) { return lobe == Lobe::DiffuseReflect || lobe == Lobe::DiffuseTransmit; }
+
+// A vertex as scatter() sees it: the normals on wi's side, whether that is
+// the front, the incidence, and the two local bases (diffuse lobes about
+// the geometric normal, the others the shading frame).
+struct Vertex {
   Vec3 ng, ns;
+  bool front = true;
+  double cos_i = 0.0;
+  Basis geometric, glossy, shading;
+  Vertex(const SurfaceFrame& f, const Vec3& wi)
+      : front(dot(wi, f.geometric_normal) > 0.0),
+        geometric(basis_from_normal(front ? f.geometric_normal : -f.geometric_normal)),
+        glossy(geometric),
+        shading(geometric) {
+    ng = front ? f.geometric_normal : -f.geometric_normal;
+    ns = front ? f.shading_normal : -f.shading_normal;
+    if (dot(ns, ng) <= 0.0) ns = ng;
+    cos_i = std::clamp(dot(wi, ng), 0.0, 1.0);
+    // scatter() hands the tangent to the glossy lobe alone (uses_tangent);
+    // the ABg and tabulated lobes build their basis from the normal.
+    glossy = basis_from_normal_tangent(ns, f.tangent);
+    shading = basis_from_normal_tangent(ns, Vec3{});
+  }
+  const Basis& basis(Lobe lobe) const {
+    return diffuse(lobe) ? geometric : lobe == Lobe::Glossy ? glossy : shading;
+  }
+  // Whether wo leaves on the side of the geometry the lobe sends light to
+  // (`local`: wo in the lobe's basis; the tabulated BSDF's side is its
+  // own choice, the local z's sign).
+  bool right_side(Lobe lobe, const Vec3& wo, const Vec3& local) const {
+    const double c = dot(wo, ng);
+    switch (lobe) {
+      case Lobe::DiffuseTransmit:
+      case Lobe::AbgTransmit: return c < 0.0;
+      case Lobe::Tabulated: return local.z != 0.0 && (local.z > 0.0) == (c > 0.0);
+      default: return c > 0.0;
+    }
+  }
 };
-Sided sided(const SurfaceFrame& f, const Vec3& wi) {
-  const bool front = dot(wi, f.geometric_normal) > 0.0;
-  Sided s{front ? f.geometric_normal : -f.geometric_normal, front ? f.shading_normal : -f.shading_normal};
-  if (dot(s.ns, s.ng) <= 0.0) s.ns = s.ng;
-  return s;
+
+double weight(const Material& m, const Vertex& v, Lobe lobe) { return weight_at(m, lobe, v.cos_i); }
+
+double lobe_f_cos(const Material& m, const Vertex& v, Lobe lobe, const Vec3& wi, const Vec3& wo) {
+  const Basis& b = v.basis(lobe);
+  const Vec3 lo = b.to_local(wo);
+  if (!v.right_side(lobe, wo, lo)) return 0.0;
+  return lobe_evaluate(m, lobe, b.to_local(wi), lo, v.front);
 }
 
-// The glossy lobe's f cos θo (no weight), 0 below the geometric surface.
-double glossy_f_cos(const Material& m, const Sided& s, const Vec3& tangent, const Vec3& wi, const Vec3& wo) {
-  if (dot(wo, s.ng) <= 0.0) return 0.0;
-  const Basis b = basis_from_normal_tangent(s.ns, tangent);
-  const Vec3 li = b.to_local(wi), lo = b.to_local(wo);
-  return glossy_brdf(m, li, lo) * std::max(0.0, lo.z);
+double f_cos(const Material& m, const Vertex& v, const Vec3& wi, const Vec3& wo, unsigned lobes) {
+  double f = 0.0;
+  for (Lobe lobe : kConnectable) {
+    if (!(lobes & lobe_bit(lobe))) continue;
+    const double w = weight(m, v, lobe);
+    if (w > 0.0) f += w * lobe_f_cos(m, v, lobe, wi, wo);
+  }
+  return f;
 }
 
-// Walter's density of wo reflected about h ~ D(h) cos θh, over the sphere.
-double walter_pdf(const Material& m, const Sided& s, const Vec3& tangent, const Vec3& wi, const Vec3& wo) {
-  const Basis b = basis_from_normal_tangent(s.ns, tangent);
-  const Vec3 li = b.to_local(wi), lo = b.to_local(wo);
-  const Vec3 sum = li + lo;
-  const double len = length(sum);
-  if (!(len > 0.0)) return 0.0;
-  const Vec3 h = sum / len;
-  const double oh = dot(lo, h);
-  if (!(oh > 0.0) || !(h.z > 0.0)) return 0.0;
-  return beckmann_d(m.glossy_mx, m.glossy_my, h) * h.z / (4.0 * oh);
+double mixture_pdf(const Material& m, const Vertex& v, const Vec3& wi, const Vec3& wo, unsigned lobes) {
+  double total = 0.0, pdf = 0.0;
+  for (Lobe lobe : kConnectable) {
+    if (!(lobes & lobe_bit(lobe))) continue;
+    const double w = weight(m, v, lobe);
+    if (!(w > 0.0)) continue;
+    total += w;
+    const Basis& b = v.basis(lobe);
+    pdf += w * lobe_pdf(m, lobe, b.to_local(wi), b.to_local(wo), v.front);
+  }
+  return total > 0.0 ? pdf / total : 0.0;
 }
 
 }  // namespace
 
 double non_delta_f_cos(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo, unsigned lobes) {
-  const Sided s = sided(frame, wi);
-  const double c = dot(wo, s.ng);
-  const double kd = (lobes & kLobeDiffuseReflect) ? m.diffuse_reflect : 0.0;
-  const double kt = (lobes & kLobeDiffuseTransmit) ? m.diffuse_transmit : 0.0;
-  double f = c > 0.0 ? kd * c * kInvPi : -kt * c * kInvPi;
-  if ((lobes & kLobeGlossy) && m.glossy > 0.0) f += m.glossy * glossy_f_cos(m, s, frame.tangent, wi, wo);
-  return f;
+  return f_cos(m, Vertex(frame, wi), wi, wo, lobes);
+}
+
+bool has_connectable_lobes(const Material& m, unsigned lobes) {
+  for (Lobe lobe : kConnectable)
+    if ((lobes & lobe_bit(lobe)) && lobe_weight(m, lobe) > 0.0) return true;
+  return false;
+}
+
+double non_delta_weight(const Material& m, const SurfaceFrame& frame, const Vec3& wi, unsigned lobes) {
+  const Vertex v(frame, wi);
+  double total = 0.0;
+  for (Lobe lobe : kConnectable)
+    if (lobes & lobe_bit(lobe)) total += std::max(0.0, weight(m, v, lobe));
+  return total;
 }
 
 ConnectionDirection connection_direction(const Material& m, const SurfaceFrame& frame, const Vec3& wi, double u1,
                                          double u2, unsigned lobes) {
-  const Sided s = sided(frame, wi);
-  const double total = non_delta_weight(m, lobes);
-  const double kd = (lobes & kLobeDiffuseReflect) ? m.diffuse_reflect : 0.0;
-  const double kt = (lobes & kLobeDiffuseTransmit) ? m.diffuse_transmit : 0.0;
-  const double ks = (lobes & kLobeGlossy) ? m.glossy : 0.0;
+  const Vertex v(frame, wi);
+  double w[std::size(kConnectable)] = {};
+  double total = 0.0;
+  for (std::size_t k = 0; k < std::size(kConnectable); ++k)
+    if (lobes & lobe_bit(kConnectable[k])) total += w[k] = std::max(0.0, weight(m, v, kConnectable[k]));
   ConnectionDirection out;
+  if (!(total > 0.0)) return out;
+  // The lobe: u1's band among the weights; u1 stretched to [0, 1) in it.
   double u = u1 * total;
-  if (u < kd || u < kd + kt) {
-    const bool reflect = u < kd;
-    out.lobe = reflect ? kLobeDiffuseReflect : kLobeDiffuseTransmit;
-    u = reflect ? u / kd : (u - kd) / kt;
-    u = std::min(u, 1.0 - 0x1.0p-53);
-    // Cosine-weighted from (u, u2): radius √u, angle 2πu2.
+  std::size_t last = 0;
+  for (std::size_t j = 0; j < std::size(kConnectable); ++j)
+    if (w[j] > 0.0) last = j;
+  std::size_t k = 0;
+  for (; k < last; ++k) {
+    if (!(w[k] > 0.0)) continue;
+    if (u < w[k]) break;
+    u -= w[k];
+  }
+  out.lobe = kConnectable[k];
+  u = std::clamp(u / w[k], 0.0, 1.0 - 0x1.0p-53);
+  const Basis& b = v.basis(out.lobe);
+  if (diffuse(out.lobe)) {
+    // Cosine-weighted from (u, u2): radius √u, angle 2πu2 (lobe_pdf's
+    // density, drawn stratified).
     double sn, cs;
     sincos_turn(u2, &sn, &cs);
     const double r = std::sqrt(u);
-    const Vec3 local{r * cs, r * sn, std::sqrt(std::max(0.0, 1.0 - u))};
-    out.wo = normalize(basis_from_normal(reflect ? s.ng : -s.ng).to_world(local));
+    const double z = std::sqrt(std::max(0.0, 1.0 - u));
+    out.wo = normalize(b.to_world({r * cs, r * sn, out.lobe == Lobe::DiffuseReflect ? z : -z}));
   } else {
-    out.lobe = kLobeGlossy;
-    u = std::clamp((u - kd - kt) / ks, 0.0, 1.0 - 0x1.0p-53);
-    double sn, cs;
-    sincos_turn(u2, &sn, &cs);
-    const Basis b = basis_from_normal_tangent(s.ns, frame.tangent);
-    const Vec3 h = sample_beckmann_half_vector(m.glossy_mx, m.glossy_my, 1.0 - u, cs, sn);
-    const Vec3 li = b.to_local(wi);
-    const Vec3 lo = 2.0 * dot(li, h) * h - li;
-    if (!(dot(li, h) > 0.0)) return out;
-    out.wo = normalize(b.to_world(lo));
+    // The lobe's own sampler, from a stream keyed by the pair.
+    PhotonRandom rng(static_cast<std::uint64_t>(u1 * 0x1.0p53), static_cast<std::uint64_t>(u2 * 0x1.0p53));
+    const LobeSample s = lobe_sample(m, out.lobe, b.to_local(wi), rng, v.front);
+    if (!(s.pdf > 0.0) || !(dot(s.wo, s.wo) > 0.0)) return out;
+    out.wo = normalize(b.to_world(s.wo));
   }
-  out.pdf = connection_pdf(m, frame, wi, out.wo, lobes);
+  out.pdf = mixture_pdf(m, v, wi, out.wo, lobes);
   if (!(out.pdf > 0.0)) {
     out.pdf = 0.0;
     return out;
   }
-  out.f_cos = non_delta_f_cos(m, frame, wi, out.wo, lobes);
+  out.f_cos = f_cos(m, v, wi, out.wo, lobes);
   return out;
 }
 
 double connection_pdf(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo, unsigned lobes) {
-  const Sided s = sided(frame, wi);
-  const double total = non_delta_weight(m, lobes);
-  const double kd = (lobes & kLobeDiffuseReflect) ? m.diffuse_reflect : 0.0;
-  const double kt = (lobes & kLobeDiffuseTransmit) ? m.diffuse_transmit : 0.0;
-  const double c = dot(wo, s.ng);
-  double pdf = (kd * cosine_hemisphere_pdf(c) + kt * cosine_hemisphere_pdf(-c)) / total;
-  if ((lobes & kLobeGlossy) && m.glossy > 0.0) pdf += m.glossy / total * walter_pdf(m, s, frame.tangent, wi, wo);
-  return pdf;
+  return mixture_pdf(m, Vertex(frame, wi), wi, wo, lobes);
 }
 
 }  // namespace gonio::sim

@@ -23,7 +23,7 @@ std::optional<NextEventMode> parse_next_event_mode(std::string_view text) {
 void NextEventTally::reset(std::size_t texels, int replicates, std::size_t meshes) {
   texel_units.assign(texels, 0);
   replicate_units.assign(replicates > 1 ? texels * static_cast<std::size_t>(replicates) : 0, 0);
-  for (auto* v : {&slot_connections, &slot_escaped, &slot_covered_units, &slot_multi_units}) v->assign(meshes * 6, 0);
+  for (auto* v : {&slot_connections, &slot_escaped, &slot_covered_units, &slot_multi_units}) v->assign(meshes * kSlotsPerMesh, 0);
   vertices = connections = escaped = booked_units = covered_units = 0;
 }
 
@@ -51,12 +51,13 @@ void NextEventTally::add(const NextEventTally& o) {
 NextEventChoice choose_next_event(const NextEventTally& pilot, std::uint64_t escaped_units) {
   NextEventChoice c;
   const std::size_t slots = pilot.slot_connections.size();
-  c.lobes.assign(slots / 3, 0);
+  constexpr auto kLobes = static_cast<std::size_t>(kLobeCount);
+  c.lobes.assign(slots / kLobes, 0);
   double covered = 0.0, multi = 0.0;
   for (std::size_t k = 0; k < slots; ++k) {
     const double tried = static_cast<double>(pilot.slot_connections[k]);
     if (!(tried > 0.0 && static_cast<double>(pilot.slot_escaped[k]) >= kMinConnectionEscape * tried)) continue;
-    c.lobes[k / 3] = static_cast<std::uint8_t>(c.lobes[k / 3] | (1u << (k % 3)));
+    c.lobes[k / kLobes] = static_cast<std::uint16_t>(c.lobes[k / kLobes] | (1u << (k % kLobes)));
     covered += static_cast<double>(pilot.slot_covered_units[k]);
     multi += static_cast<double>(pilot.slot_multi_units[k]);
   }

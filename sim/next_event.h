@@ -48,6 +48,9 @@
 #include <optional>
 #include <vector>
 
+#include "sim/bsdf_eval.h"
+#include "sim/material.h"
+
 namespace gonio::sim {
 
 enum class NextEventMode : std::uint8_t { Off, On, Auto };
@@ -67,9 +70,11 @@ inline constexpr double kMinConnectionEscape = 0.05;        // a slot's connecti
 inline constexpr double kAutoCoveredShare = 0.9;
 
 // Slots: per mesh, the side the photon arrives on (0 front, 1 back) and
-// the lobe (0 diffuse reflection, 1 diffuse transmission, 2 glossy).
-inline std::size_t next_event_slot(std::uint32_t mesh, bool back, int lobe) {
-  return (static_cast<std::size_t>(mesh) * 2 + (back ? 1 : 0)) * 3 + static_cast<std::size_t>(lobe);
+// the lobe (sim::Lobe's value; the non-delta ones are used).
+inline constexpr std::size_t kSlotsPerMesh = 2 * static_cast<std::size_t>(kLobeCount);
+inline std::size_t next_event_slot(std::uint32_t mesh, bool back, Lobe lobe) {
+  return (static_cast<std::size_t>(mesh) * 2 + (back ? 1 : 0)) * static_cast<std::size_t>(kLobeCount) +
+         static_cast<std::size_t>(lobe);
 }
 
 // What the tracer does (TracerSettings::next_event).
@@ -77,10 +82,10 @@ struct NextEventSettings {
   bool enabled = false;
   int connections = kDefaultConnections;  // M ≥ 1
   // Per mesh and side (mesh · 2 + back): the lobes to connect
-  // (sim/bsdf_eval.h's bits); empty: every lobe everywhere.
-  std::vector<std::uint8_t> lobes;
+  // (sim/bsdf_eval.h's bits, 1 << Lobe); empty: every lobe everywhere.
+  std::vector<std::uint16_t> lobes;
   unsigned lobes_at(std::uint32_t mesh, bool back) const {
-    return lobes.empty() ? 7u : lobes[static_cast<std::size_t>(mesh) * 2 + (back ? 1 : 0)];
+    return lobes.empty() ? kNonDeltaLobes : lobes[static_cast<std::size_t>(mesh) * 2 + (back ? 1 : 0)];
   }
 };
 
@@ -105,7 +110,7 @@ struct NextEventTally {
 // The pilot's verdict: which slots keep connections, and whether `auto`
 // turns them on (covered_share ≥ kAutoCoveredShare).
 struct NextEventChoice {
-  std::vector<std::uint8_t> lobes;  // NextEventSettings::lobes
+  std::vector<std::uint16_t> lobes;  // NextEventSettings::lobes
   double covered_share = 0.0;  // of the escaped power, leaving after a kept slot [0, 1]
   double multi_share = 0.0;    // of it, after ≥ 2 events [0, 1]
   bool worthwhile = false;

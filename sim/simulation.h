@@ -87,7 +87,7 @@ struct NextEventSummary {
   int connections_per_vertex = 0;
   double pilot_covered_share = 0.0;  // the pilot's shares (NextEventChoice) [0, 1]
   double pilot_multi_share = 0.0;
-  std::vector<std::uint8_t> lobes;  // per mesh and side: the lobes connected (NextEventSettings)
+  std::vector<std::uint16_t> lobes;  // per mesh and side: the lobes connected (NextEventSettings)
   std::uint64_t vertices = 0, connections = 0, escaped = 0;  // over the run
   double booked_lm = 0.0;        // the connections' flux in the far field [lm]
   double covered_lm = 0.0;       // escapes they stand for, left out of the far field [lm]

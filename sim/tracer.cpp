@@ -11,10 +11,15 @@
 #include <tbb/parallel_for.h>
 
 #include "sim/bsdf_eval.h"
+#include "sim/bsdfs/lobes.h"
+#include "sim/bsdfs/volume.h"
 #include "sim/material.h"
 
 namespace gonio::sim {
 namespace {
+
+// Scattering events inside volumes a photon may have before it is cut off.
+constexpr int kMaxVolumeEvents = 100000;
 
 bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -78,19 +83,6 @@ void book_loss(const TraceResult& r, LedgerTally::PerEmitter& emitter, LedgerTal
     emitter.cutoff.add(r.power_units);
     mesh.cutoff.add(r.power_units);
   }
-}
-
-// A lobe's weight in a material.
-double lobe_weight(const Material& m, Lobe lobe) {
-  switch (lobe) {
-    case Lobe::DiffuseReflect: return m.diffuse_reflect;
-    case Lobe::DiffuseTransmit: return m.diffuse_transmit;
-    case Lobe::Mirror: return m.mirror;
-    case Lobe::Glossy: return m.glossy;
-    case Lobe::Dielectric: return m.dielectric;
-    case Lobe::Absorb: break;
-  }
-  return 1.0 - m.total();
 }
 
 // The hero's companions after an event with `lobe` at a material acting by
@@ -185,6 +177,10 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   t = std::chrono::steady_clock::now();
   Tracer tracer(CubeMapGrid(face_size), std::move(embree), std::move(emission.value()), settings);
   tracer.materials_ = scene.materials;
+  for (Material& m : tracer.materials_) {
+    prepare(m);
+    tracer.material_angular_.push_back(m.angular() ? 1 : 0);
+  }
   for (const Material& m : scene.materials) tracer.lobe_cdfs_.push_back(lobe_cdf(m));
   tracer.meshes_.reserve(scene.meshes.size());
   for (const Mesh& m : scene.meshes) {
@@ -219,6 +215,7 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
     for (const Material& m : scene.materials)
       for (int k = 0; k < kWavelengthCount; ++k) {
         tracer.spectral_materials_.push_back(at_wavelength(m, wavelength_nm(k)));
+        prepare(tracer.spectral_materials_.back());
         tracer.spectral_lobe_cdfs_.push_back(lobe_cdf(tracer.spectral_materials_.back()));
       }
     for (const Emitter& e : scene.emitters) tracer.emitter_axes_.push_back(-1.0 * e.frame.up);
@@ -262,6 +259,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   bool covered = false;  // the last event was a connected non-delta one
   std::uint8_t covered_slot = 0;
   bool image_covered = connect && connect->image_covered_at_start;
+  int volume_events = 0;
   for (;;) {
     ray = ray_query(origin, direction);
     if (books) ++books->rays;
@@ -293,10 +291,33 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     const bool from_back = dot(ng_raw, direction) > 0.0;
     r.mesh = hit.mesh;
     r.power_units = power;
-    // Beer–Lambert: a photon reaching a surface from its back has crossed
-    // that mesh's volume.
-    if (from_back && material.attenuation_per_m > 0.0 &&
-        rng.uniform() >= internal_transmittance(material.attenuation_per_m, t)) {
+    // A photon reaching a surface from its back has crossed that mesh's
+    // volume. A scattering volume (sim/bsdfs/volume.h): a free path drawn
+    // with μt = μs + μa ends inside it, where the photon is absorbed
+    // (chance μa/μt, booked at the part) or scattered by the phase
+    // function, or reaches the surface. Otherwise Beer–Lambert.
+    if (from_back && material.scattering_per_m > 0.0) {
+      const double mu_t = material.scattering_per_m + material.attenuation_per_m;
+      const double s = -std::log(rng.uniform_open0()) / mu_t;
+      if (s < t) {
+        if (rng.uniform() * mu_t < material.attenuation_per_m) {
+          r.fate = Fate::Absorbed;
+          return r;
+        }
+        if (++volume_events > kMaxVolumeEvents) {
+          r.fate = Fate::CutOff;
+          return r;
+        }
+        polarization.polarized = false;
+        // Light scattered in a volume is not the direct escape a
+        // connection stood for: its escape is binned.
+        covered = image_covered = false;
+        origin = origin + s * direction;
+        direction = sample_henyey_greenstein(direction, material.scattering_g, rng);
+        continue;
+      }
+    } else if (from_back && material.attenuation_per_m > 0.0 &&
+               rng.uniform() >= internal_transmittance(material.attenuation_per_m, t)) {
       r.fate = Fate::Absorbed;
       return r;
     }
@@ -309,16 +330,24 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
 
     const Vec3 ng = ng_raw * (1.0 / std::sqrt(dot(ng_raw, ng_raw)));
     SurfaceFrame frame{ng, ng, {}};
-    const Lobe lobe = choose_lobe(
-        wavelength < 0 ? lobe_cdfs_[mesh.material] : spectral_lobe_cdfs_[spectral_index], rng.uniform());
-    // Next-event connections here (sim/next_event.h): a non-delta material
-    // at a mesh that keeps them, grey in a spectral run.
-    const bool non_delta = connect && non_delta_weight(material) > 0.0 && !(colour && material_spectral_[mesh.material]);
+    const Lobe lobe =
+        material_angular_[mesh.material]
+            ? choose_lobe(lobe_cdf(material, std::abs(dot(direction, ng))), rng.uniform())
+            : choose_lobe(wavelength < 0 ? lobe_cdfs_[mesh.material] : spectral_lobe_cdfs_[spectral_index],
+                          rng.uniform());
+    // Next-event connections here (sim/next_event.h): a material with
+    // non-delta lobes at a mesh that keeps them, grey in a spectral run.
+    const bool non_delta = connect && has_connectable_lobes(material) && !(colour && material_spectral_[mesh.material]);
     const unsigned lobes_here = non_delta && connect->far_field ? settings_.next_event.lobes_at(hit.mesh, from_back) : 0u;
-    const bool connect_here = lobes_here != 0 && non_delta_weight(material, lobes_here) > 0.0;
+    const bool connect_here = lobes_here != 0 && has_connectable_lobes(material, lobes_here);
     const bool image_here = non_delta && connect->images;
-    const bool glossy_frame = (connect_here || image_here) && material.glossy > 0.0;
-    if (uses_shading_frame(lobe) || glossy_frame) {
+    // Connections read the shading normal for every lobe but the diffuse
+    // ones, and the tangent for the glossy lobe; scatter() gets the tangent
+    // only for a lobe that reads it (as without connections).
+    const bool connect_shading = (connect_here || image_here) && has_connectable_lobes(material, kShadingFrameLobes);
+    const bool connect_tangent = (connect_here || image_here) && material.glossy > 0.0;
+    Vec3 tangent{};
+    if (uses_shading_frame(lobe) || connect_shading) {
       const std::size_t c = 3 * static_cast<std::size_t>(hit.triangle);
       const double u = hit.u, v = hit.v, w0 = 1.0 - u - v;
       // An instance's normals and tangents are in its mesh's frame.
@@ -330,12 +359,15 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
         const double len = length(n);
         if (len > 0.0) frame.shading_normal = n / len;
       }
-      if ((uses_tangent(lobe) || glossy_frame) && !mesh.corner_tangents.empty()) {
+      if ((uses_tangent(lobe) || connect_tangent) && !mesh.corner_tangents.empty()) {
         const PackedUnit* t3 = &mesh.corner_tangents[c];
-        frame.tangent = w0 * unpack_unit(t3[0]) + u * unpack_unit(t3[1]) + v * unpack_unit(t3[2]);
-        if (place) frame.tangent = place->linear(frame.tangent);
+        tangent = w0 * unpack_unit(t3[0]) + u * unpack_unit(t3[1]) + v * unpack_unit(t3[2]);
+        if (place) tangent = place->linear(tangent);
       }
     }
+    if (uses_tangent(lobe)) frame.tangent = tangent;
+    SurfaceFrame connect_frame = frame;
+    connect_frame.tangent = tangent;
     // Hero wavelengths (sim/spectral.h): each companion's path probability
     // relative to the hero's takes this event's lobe weight at its own
     // wavelength; a dispersive refraction ends the companions.
@@ -349,19 +381,19 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       // the same points would correlate with the path).
       double xi1, xi2;
       rng.uniform_pair(&xi1, &xi2);
-      connect_from(origin + t * direction, t, direction, material, frame, power, colour, hit.mesh, from_back,
-                   lobes_here, xi1, xi2, *connect);
+      connect_from(origin + t * direction, t, direction, material, connect_frame, power, colour, hit.mesh,
+                   from_back, lobes_here, xi1, xi2, *connect);
     }
-    if (image_here) connect_images(origin + t * direction, t, direction, material, frame, power, colour, *connect);
+    if (image_here)
+      connect_images(origin + t * direction, t, direction, material, connect_frame, power, colour, *connect);
     const ScatterResult s = scatter(material, lobe, frame, direction, rng, &polarization);
     if (s.absorbed) {
       r.fate = Fate::Absorbed;
       return r;
     }
-    const bool non_delta_lobe = s.lobe == Lobe::DiffuseReflect || s.lobe == Lobe::DiffuseTransmit || s.lobe == Lobe::Glossy;
-    const int lobe_index = s.lobe == Lobe::DiffuseReflect ? 0 : s.lobe == Lobe::DiffuseTransmit ? 1 : 2;
-    covered = connect_here && non_delta_lobe && (lobes_here & (1u << lobe_index)) != 0;
-    covered_slot = static_cast<std::uint8_t>((from_back ? 3 : 0) + lobe_index);
+    const bool non_delta_lobe = connectable(s.lobe);
+    covered = connect_here && non_delta_lobe && (lobes_here & lobe_bit(s.lobe)) != 0;
+    covered_slot = static_cast<std::uint8_t>((from_back ? kLobeCount : 0) + static_cast<int>(s.lobe));
     image_covered = image_here && non_delta_lobe;
     // Back along the incoming ray before the offset: near an edge the hit
     // point can lie a rounding error beyond the neighbouring face, and an
@@ -405,9 +437,7 @@ void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const 
     const ConnectionDirection cd = connection_direction(m, frame, wi, u1, u2, lobes);
     if (!(cd.pdf > 0.0) || !(cd.f_cos > 0.0)) continue;
     const Vec3 o = start + (dot(cd.wo, ng) > 0.0 ? off : -off) * ng;
-    const std::size_t slot = next_event_slot(mesh, back, cd.lobe == kLobeDiffuseReflect    ? 0
-                                                         : cd.lobe == kLobeDiffuseTransmit ? 1
-                                                                                           : 2);
+    const std::size_t slot = next_event_slot(mesh, back, cd.lobe);
     ++tally.connections;
     ++tally.slot_connections[slot];
     if (embree_->occluded(ray_query(o, cd.wo))) continue;
@@ -557,7 +587,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     if (r.fate == Fate::Escaped && r.covered) {
       // The connections stand for it in the far field (sim/next_event.h).
       tally.next_event.covered_units += r.power_units;
-      const std::size_t slot = static_cast<std::size_t>(r.mesh) * 6 + r.covered_slot;
+      const std::size_t slot = static_cast<std::size_t>(r.mesh) * kSlotsPerMesh + r.covered_slot;
       tally.next_event.slot_covered_units[slot] += r.power_units;
       if (r.hits >= 2) tally.next_event.slot_multi_units[slot] += r.power_units;
       eb.escaped.add(r.power_units);

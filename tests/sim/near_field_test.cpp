@@ -433,19 +433,21 @@ TEST(NearField, EmitterTowardC90AndC0LightsTheTopRightOfTheImage) {
 }
 
 // Issue 34, case 6: the far-field criterion's constants on a hand-made
-// tally. Pinned here (re-pin both when the criterion changes):
-//   kPixelCut   a pixel counts where the far field reaches this fraction of
-//               its maximum (near_field.h: "≥ 10 %");
-//   kNoiseSigmas the bound is the deviation plus this many standard
-//               deviations of photon noise, σ = √moved / photons.
-// Pixels (far-field photons of nominal power): A 100 (the maximum), B
-// 100·(kPixelCut + 0.01) and C 100·(kPixelCut − 0.01), each with its near
-// count and `moved`. The largest deviation and bound are B's, exactly; C
-// (a 9 % pixel with a 122 % deviation) must be left out, B (11 %) counted.
-// A cut at 9 % counts C (deviation 122 %), one at 12 % drops B (3 %); one
-// or three σ give a bound of 36.4 % or 72.7 % instead of 54.5 %.
+// tally, re-pinned for issue 33's criterion (near_field.h):
+//   kPixelCut   a pixel or cell counts where the far field reaches this
+//               fraction of its maximum ("≥ 10 %");
+//   kPassSigmas a cell passes when |δ| + this many σ ≤ 1 % (one-sided 95 %),
+//               σ = √moved / photons; it fails when |δ| − z_n σ > 1 % with
+//               z_n Šidák's for the n compared cells at 95 % (two-sided).
+// Pixels and cells (far-field photons of nominal power): A 100 (the
+// maximum), B 100·(kPixelCut + 0.01) and C 100·(kPixelCut − 0.01), each
+// with its near count and `moved`. The largest deviation and bound are B's,
+// exactly; C (a 9 % pixel with a 122 % deviation) must be left out, B (11 %)
+// counted. A cut at 9 % counts C (deviation 122 %), one at 12 % drops B
+// (3 %); z = 2 instead of 1.645 gives an upper bound of 54.5 % instead of
+// 48.1 %; counting C changes z_n (3 cells) and the lower bound.
 constexpr double kPixelCut = 0.10;
-constexpr double kNoiseSigmas = 2.0;
+constexpr double kPassSigmas = 1.6448536269514722;
 
 TEST(NearField, CriterionConstantsOnAHandMadeTally) {
   NearFieldPlanes planes;
@@ -466,6 +468,16 @@ TEST(NearField, CriterionConstantsOnAHandMadeTally) {
   t.far_units[c] = units(far_c);
   t.near_units[c] = units(near_c);
   t.moved[c] = 0;
+  // The same three on the criterion's cells (its own lattice).
+  const std::size_t cell_a = 100, cell_b = 300, cell_c = 400;
+  t.cell_far_units[cell_a] = t.far_units[a];
+  t.cell_near_units[cell_a] = t.near_units[a];
+  t.cell_moved[cell_a] = 9;
+  t.cell_far_units[cell_b] = t.far_units[b];
+  t.cell_near_units[cell_b] = t.near_units[b];
+  t.cell_moved[cell_b] = 4;
+  t.cell_far_units[cell_c] = t.far_units[c];
+  t.cell_near_units[cell_c] = t.near_units[c];
   const double lm_per_unit = 1e-6;
   const std::vector<NearFieldPlane> out = near_field_planes(planes, t, lm_per_unit);
   ASSERT_EQ(out.size(), 1u);
@@ -475,18 +487,24 @@ TEST(NearField, CriterionConstantsOnAHandMadeTally) {
   EXPECT_DOUBLE_EQ(p.pixel_size_m, pixel);
   EXPECT_NEAR(p.far_lx[a], far_a * kPowerUnits * lm_per_unit / (pixel * pixel), 1e-9);
   // A: deviation 3 %, σ = √9 / 100 = 3 %. B: deviation 2 / far_b, σ = √4 / far_b.
-  const double dev_a = 3.0, dev_b = 2.0 / far_b * 100.0;
-  const double bound_a = dev_a + kNoiseSigmas * 3.0, bound_b = dev_b + kNoiseSigmas * 2.0 / far_b * 100.0;
+  const double dev_a = 3.0, dev_b = 2.0 / far_b * 100.0, sigma_a = 3.0, sigma_b = 2.0 / far_b * 100.0;
   EXPECT_NEAR(p.max_deviation_pct, std::max(dev_a, dev_b), 1e-9);
-  EXPECT_NEAR(p.max_deviation_bound_pct, std::max(bound_a, bound_b), 1e-9);
   EXPECT_EQ(p.min_photons, static_cast<std::uint64_t>(far_b)) << "the fewest photons of a counted pixel (B's)";
-  // With today's constants: 18.18 % and 54.55 %.
+  EXPECT_EQ(p.cells_compared, 2) << "A and B; C under the cut";
+  EXPECT_NEAR(p.cell_deviation_pct, dev_b, 1e-9);
+  EXPECT_NEAR(p.upper_bound_pct, std::max(dev_a + kPassSigmas * sigma_a, dev_b + kPassSigmas * sigma_b), 1e-6);
+  EXPECT_EQ(p.max_deviation_bound_pct, p.upper_bound_pct);
+  // Šidák for two cells: each two-sided at 1 − 0.95^(1/2).
+  EXPECT_NEAR(p.z_fail, normal_upper_quantile(0.5 * (1.0 - std::sqrt(0.95))), 1e-12);
+  EXPECT_NEAR(p.z_fail, 2.2365, 1e-3);
+  EXPECT_NEAR(p.lower_bound_pct, std::max(dev_a - p.z_fail * sigma_a, dev_b - p.z_fail * sigma_b), 1e-6);
+  // With today's constants: 18.18 % deviation, upper bound 48.09 %.
   EXPECT_NEAR(p.max_deviation_pct, 200.0 / 11.0, 1e-9);
-  EXPECT_NEAR(p.max_deviation_bound_pct, 600.0 / 11.0, 1e-9);
+  EXPECT_NEAR(p.upper_bound_pct, 200.0 / 11.0 * (1.0 + kPassSigmas), 1e-6);
   EXPECT_EQ(p.on_axis_lx, 0.0);  // nothing in the middle pixel
-  // The plane passes a limit just above its bound and fails one just below.
-  EXPECT_EQ(far_field_distance_m(out, p.max_deviation_bound_pct + 1e-9), 1.0);
-  EXPECT_FALSE(far_field_distance_m(out, p.max_deviation_bound_pct - 1e-9).has_value());
+  // Neither bound decides against 1 %: too few photons to tell.
+  EXPECT_EQ(p.verdict, PlaneVerdict::Undecided);
+  EXPECT_FALSE(far_field_distance_m(out).has_value());
 }
 
 }  // namespace
