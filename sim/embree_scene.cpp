@@ -262,6 +262,27 @@ EmbreeSceneOptions::Quality bvh_quality_for(std::size_t unique_triangles, std::u
              : EmbreeSceneOptions::Quality::High;
 }
 
+bool EmbreeScene::occluded(const RayQuery& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r;
+  r.org_x = ray.origin[0];
+  r.org_y = ray.origin[1];
+  r.org_z = ray.origin[2];
+  r.tnear = ray.t_near;
+  r.dir_x = ray.direction[0];
+  r.dir_y = ray.direction[1];
+  r.dir_z = ray.direction[2];
+  r.time = 0.0f;
+  r.tfar = ray.t_far;
+  r.mask = ~0u;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(impl_->scene, &context, &r);
+  // Embree marks an occluded ray by setting tfar to −∞.
+  return r.tfar < 0.0f;
+}
+
 bool EmbreeScene::intersect(const RayQuery& ray, RayHit* hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);

@@ -94,6 +94,9 @@ class EmbreeScene {
 
   // Closest hit, if any.
   bool intersect(const RayQuery& ray, RayHit* hit) const;
+  // Whether the ray meets any surface (Embree's occlusion query: the first
+  // hit found ends it, cheaper than intersect; shadow rays).
+  bool occluded(const RayQuery& ray) const;
 
   // Bounds of every triangle (an instance: its mesh's box transformed, a
   // box around the box); empty scenes give a zero box at the origin.

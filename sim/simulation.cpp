@@ -38,6 +38,22 @@ void each_count(LedgerTally& t, F&& f) {
     for (std::uint64_t& v : *values) f(v);
 }
 
+// The box the luminance images must see: every placed vertex, point
+// emitter and ray start (at least 2 cm a side around a point).
+std::pair<Vec3, Vec3> luminaire_box(const SceneDesc& scene) {
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  const auto take = [&](const Vec3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  };
+  for_each_luminaire_point(scene, take);
+  if (!(lo.x <= hi.x)) lo = hi = Vec3{0.0, 0.0, 0.0};
+  const Vec3 pad{0.01, 0.01, 0.01};
+  const Vec3 mid = 0.5 * (lo + hi);
+  return {Vec3{std::min(lo.x, mid.x - pad.x), std::min(lo.y, mid.y - pad.y), std::min(lo.z, mid.z - pad.z)},
+          Vec3{std::max(hi.x, mid.x + pad.x), std::max(hi.y, mid.y + pad.y), std::max(hi.z, mid.z + pad.z)}};
+}
+
 template <class F>
 void each_count(GuideTally& t, F&& f) {
   for (auto* values : {&t.importance_sum, &t.traced, &t.extra_units})
@@ -66,6 +82,14 @@ struct Simulation::Impl {
   std::vector<std::uint64_t> texel_z;
   LedgerTally books;
   std::vector<EscapedRay> escaped_rays;  // by photon index
+  // Next-event estimation: the connections' power units per texel and per
+  // texel and replicate, over all iterations, and the run's counts.
+  NextEventSummary next_event;
+  std::vector<std::uint64_t> nee_units;
+  std::vector<std::uint64_t> nee_replicate_units;
+  std::uint64_t nee_booked_units = 0, nee_covered_units = 0;
+  std::unique_ptr<LuminanceCamera> camera;       // null: no luminance images
+  LuminanceTally image_sum;                      // over all iterations
   std::unique_ptr<NearFieldPlanes> near_planes;  // null: no near field
   NearFieldTally near_sum;                       // over all iterations
   SimulationStats stats;
@@ -89,6 +113,10 @@ struct Simulation::Impl {
             tally.replicate_photons.clear();
           }
           tally.capture_below = settings.capture_escaped_photons;
+          if (camera) {
+            tally.camera = camera.get();
+            tally.images.reset(*camera);
+          }
           if (near_planes) {
             tally.near_planes = near_planes.get();
             tally.near_field.reset(*near_planes);
@@ -105,21 +133,44 @@ struct Simulation::Impl {
                   : nullptr),
         guide_tallies([this] { return guide->make_tally(); }) {
     if (guide) guide_iteration = guide->make_tally();
-    if (!guide && set.sampler == SamplerKind::Sobol && set.sobol_replicates > 1) {
+    if (!guide && (set.sampler == SamplerKind::Sobol || tracer.settings().next_event.enabled) &&
+        set.sobol_replicates > 1) {
       replicates = set.sobol_replicates;
       replicate_photons.assign(tracer.grid().texel_count() * static_cast<std::size_t>(replicates), 0);
+    }
+    if (tracer.settings().next_event.enabled) {
+      nee_units.assign(tracer.grid().texel_count(), 0);
+      nee_replicate_units.assign(replicate_photons.size(), 0);
     }
     if (tracer.spectral()) {
       texel_x.assign(tracer.grid().texel_count(), 0);
       texel_z.assign(tracer.grid().texel_count(), 0);
     }
+    if (!set.luminance.views.empty()) {
+      const auto [lower, upper] = luminaire_box(scene);
+      camera = std::make_unique<LuminanceCamera>(
+          make_luminance_camera(set.luminance, lower, upper, scene.frame, tracer.spectral()));
+      image_sum.reset(*camera);
+    }
     if (!set.near_field_distances_m.empty()) {
       near_planes = std::make_unique<NearFieldPlanes>();
-      near_planes->centre = luminaire_centre(scene);
+      near_planes->centre = pilot_centre();
       near_planes->frame = scene.frame;
       near_planes->distances_m = set.near_field_distances_m;
       near_sum.reset(*near_planes);
     }
+  }
+
+  // The planes' photometric centre (luminous_centre): the escapes of the
+  // run's first kCentrePilotPhotons photons, traced here on this thread
+  // (every rank traces the same ones: the same centre everywhere).
+  Vec3 pilot_centre() const {
+    TracerTally pilot = tracer.make_tally();
+    pilot.replicates = 0;
+    pilot.replicate_photons.clear();
+    pilot.capture_below = kCentrePilotPhotons;
+    tracer.trace_photons(settings.seed, 0, kCentrePilotPhotons, pilot);
+    return luminous_centre(pilot.escaped, scene.frame, luminaire_centre(scene));
   }
 
   // Adds the threads' tallies of this iteration, summed across the ranks,
@@ -144,6 +195,14 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
   if (settings.threads < 0) return make_error("the thread count must be >= 0");
   if (settings.sobol_replicates < 1 || settings.sobol_replicates > kMaxSobolReplicates)
     return make_error("the Sobol' replicates must lie in 1..32");
+  if (!settings.luminance.views.empty())
+    if (std::string why = validate_luminance_settings(settings.luminance); !why.empty()) return make_error(why);
+  if (settings.next_event_connections < 1 || settings.next_event_connections > 1024)
+    return make_error("next-event connections per vertex must lie in 1..1024");
+  if (settings.importance.enabled && !settings.luminance.views.empty())
+    return make_error("luminance images do not combine with guided emission");
+  if (settings.importance.enabled && settings.next_event == NextEventMode::On)
+    return make_error("next-event estimation does not combine with guided emission");
   if (settings.importance.enabled) {
     if (settings.importance.emission_face_size < 1 || settings.importance.emission_face_size > 1024)
       return make_error("the emission grid of guided emission needs 1..1024 texels per face edge");
@@ -173,9 +232,38 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
         return make_error(settings.ranks->name_of(r) + " could not build its tracer (its own error says why)");
   }
   if (!tracer.ok()) return tracer.error();
+  // Next-event estimation: a pilot with connections at every mesh decides
+  // where they are kept (and, for auto, whether at all); the same photons
+  // on every rank, so every rank decides the same.
+  NextEventSummary next_event;
+  next_event.mode = settings.importance.enabled ? NextEventMode::Off : settings.next_event;
+  if (next_event.mode != NextEventMode::Off) {
+    Tracer& t = tracer.value();
+    NextEventSettings all;
+    all.enabled = true;
+    // Two connections a vertex are enough to see which slots escape.
+    all.connections = std::min(settings.next_event_connections, 2);
+    t.set_next_event(all);
+    TracerTally pilot = t.make_tally();
+    t.trace_photons(settings.seed, 0, kNextEventPilotPhotons, pilot);
+    std::uint64_t escaped_units = 0;
+    for (const auto& e : pilot.ledger.emitters) escaped_units += e.escaped.power_units;
+    const NextEventChoice choice = choose_next_event(pilot.next_event, escaped_units);
+    next_event.pilot_covered_share = choice.covered_share;
+    next_event.pilot_multi_share = choice.multi_share;
+    next_event.enabled = next_event.mode == NextEventMode::On || choice.worthwhile;
+    next_event.connections_per_vertex = next_event.enabled ? settings.next_event_connections : 0;
+    NextEventSettings kept;
+    kept.enabled = next_event.enabled;
+    kept.connections = settings.next_event_connections;
+    kept.lobes = choice.lobes;
+    if (next_event.enabled) next_event.lobes = choice.lobes;
+    t.set_next_event(kept);
+  }
   const int threads =
       settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
   auto impl = std::make_unique<Impl>(std::move(scene), settings, std::move(tracer.value()), threads);
+  impl->next_event = next_event;
   impl->stats.threads = threads;
   impl->stats.tracer_setup = impl->tracer.setup_times();
   impl->stats.ranks = settings.ranks ? settings.ranks->size() : 1;
@@ -232,8 +320,16 @@ std::uint64_t Simulation::Impl::add_iteration() {
   const std::size_t texels = texel_photons.size();
   // Spectral: X and Z per texel follow the photon counts in the same vector.
   const std::size_t colour_words = texel_x.empty() ? texels : 3 * texels;
-  // Sobol' replicates' counts follow.
-  const std::size_t words = colour_words + replicate_photons.size();
+  // Sobol' replicates' counts follow, then next-event units per texel and
+  // per texel and replicate, then its five counts.
+  const std::size_t nee_words = nee_units.empty() ? 0 : nee_units.size() + nee_replicate_units.size() + 5;
+  const std::size_t nee_base = colour_words + replicate_photons.size();
+  // Luminance images' units (and X, Z) last.
+  const std::size_t image_base = nee_base + nee_words;
+  std::size_t image_words = 0;
+  for (const auto* set : {&image_sum.units, &image_sum.x_units, &image_sum.z_units})
+    for (const auto& v : *set) image_words += v.size();
+  const std::size_t words = image_base + image_words;
   iteration.assign(words, 0);
   books_iteration.clear();
   NearFieldTally near_iteration;
@@ -252,6 +348,27 @@ std::uint64_t Simulation::Impl::add_iteration() {
       for (std::size_t i = 0; i < t.replicate_photons.size(); ++i) rep[i] += t.replicate_photons[i];
       for (std::uint32_t slot : t.replicate_wraps) rep[slot] += 65536u;
     }
+    if (nee_words > 0) {
+      const NextEventTally& n = t.next_event;
+      std::uint64_t* w = iteration.data() + nee_base;
+      for (std::size_t i = 0; i < n.texel_units.size(); ++i) w[i] += n.texel_units[i];
+      w += n.texel_units.size();
+      for (std::size_t i = 0; i < n.replicate_units.size(); ++i) w[i] += n.replicate_units[i];
+      w += n.replicate_units.size();
+      w[0] += n.vertices;
+      w[1] += n.connections;
+      w[2] += n.escaped;
+      w[3] += n.booked_units;
+      w[4] += n.covered_units;
+    }
+    if (image_words > 0) {
+      std::uint64_t* w = iteration.data() + image_base;
+      for (const auto* set : {&t.images.units, &t.images.x_units, &t.images.z_units})
+        for (const auto& v : *set) {
+          for (std::size_t i = 0; i < v.size(); ++i) w[i] += v[i];
+          w += v.size();
+        }
+    }
     books_iteration.add(t.ledger);
     t.clear();
     escaped_rays.insert(escaped_rays.end(), t.escaped.begin(), t.escaped.end());
@@ -269,7 +386,8 @@ std::uint64_t Simulation::Impl::add_iteration() {
   if (ranks && ranks->distributed()) {
     each_count(books_iteration, [&](std::uint64_t& v) { iteration.push_back(v); });
     if (guide) each_count(guide_iteration, [&](std::uint64_t& v) { iteration.push_back(v); });
-    for (auto* values : {&near_iteration.near_units, &near_iteration.far_units, &near_iteration.moved})
+    for (auto* values : {&near_iteration.near_units, &near_iteration.far_units, &near_iteration.moved,
+                         &near_iteration.cell_near_units, &near_iteration.cell_far_units, &near_iteration.cell_moved})
       iteration.insert(iteration.end(), values->begin(), values->end());
     auto t = std::chrono::steady_clock::now();
     ranks->barrier();
@@ -282,7 +400,8 @@ std::uint64_t Simulation::Impl::add_iteration() {
     std::size_t k = words;
     each_count(books_iteration, [&](std::uint64_t& v) { v = iteration[k++]; });
     if (guide) each_count(guide_iteration, [&](std::uint64_t& v) { v = iteration[k++]; });
-    for (auto* values : {&near_iteration.near_units, &near_iteration.far_units, &near_iteration.moved})
+    for (auto* values : {&near_iteration.near_units, &near_iteration.far_units, &near_iteration.moved,
+                         &near_iteration.cell_near_units, &near_iteration.cell_far_units, &near_iteration.cell_moved})
       for (std::uint64_t& v : *values) v = iteration[k++];
   }
   if (near_planes) near_sum.add(near_iteration);
@@ -296,6 +415,29 @@ std::uint64_t Simulation::Impl::add_iteration() {
       texel_z[i] += iteration[2 * texels + i];
     }
   for (std::size_t i = 0; i < replicate_photons.size(); ++i) replicate_photons[i] += iteration[colour_words + i];
+  if (nee_words > 0) {
+    const std::uint64_t* w = iteration.data() + nee_base;
+    for (std::size_t i = 0; i < texels; ++i) {
+      nee_units[i] += w[i];
+      texel_units[i] += w[i];
+    }
+    w += texels;
+    for (std::size_t i = 0; i < nee_replicate_units.size(); ++i) nee_replicate_units[i] += w[i];
+    w += nee_replicate_units.size();
+    next_event.vertices += w[0];
+    next_event.connections += w[1];
+    next_event.escaped += w[2];
+    nee_booked_units += w[3];
+    nee_covered_units += w[4];
+  }
+  if (image_words > 0) {
+    const std::uint64_t* w = iteration.data() + image_base;
+    for (auto* set : {&image_sum.units, &image_sum.x_units, &image_sum.z_units})
+      for (auto& v : *set) {
+        for (std::size_t i = 0; i < v.size(); ++i) v[i] += w[i];
+        w += v.size();
+      }
+  }
   books.add(books_iteration);
   if (!guide) return 0;
   for (std::size_t i = 0; i < texels; ++i) texel_units[i] += guide_iteration.extra_units[i];
@@ -303,6 +445,17 @@ std::uint64_t Simulation::Impl::add_iteration() {
 }
 
 const EmissionGuide* Simulation::emission_guide() const { return impl_->guide.get(); }
+
+NextEventSummary Simulation::next_event() const {
+  const Impl& s = *impl_;
+  NextEventSummary out = s.next_event;
+  const double per_unit = s.stats.photons > 0 ? total_flux_lm() / static_cast<double>(s.stats.photons) /
+                                                    static_cast<double>(kPowerUnits)
+                                              : 0.0;
+  out.booked_lm = static_cast<double>(s.nee_booked_units) * per_unit;
+  out.covered_lm = static_cast<double>(s.nee_covered_units) * per_unit;
+  return out;
+}
 
 const SimulationSettings& Simulation::settings() const { return impl_->settings; }
 const SceneDesc& Simulation::scene() const { return impl_->scene; }
@@ -348,6 +501,9 @@ FarField Simulation::replicate_far_field(int replicate) const {
   for (std::size_t i = 0; i < n; ++i) {
     counts[i] = s.replicate_photons[i * k + r];
     flux[i] = static_cast<double>(counts[i]) * per_photon;
+    // Next-event connections of the replicate's photons.
+    if (!s.nee_replicate_units.empty())
+      flux[i] += static_cast<double>(s.nee_replicate_units[i * k + r]) * per_photon / static_cast<double>(kPowerUnits);
   }
   return FarField(s.tracer.grid().face_size(), std::move(flux), std::move(counts));
 }
@@ -379,6 +535,20 @@ ColourFarField Simulation::colour_far_field() const {
 
 const NearFieldPlanes* Simulation::near_field_planes() const { return impl_->near_planes.get(); }
 
+std::vector<LuminanceImage> Simulation::luminance_images() const {
+  const Impl& s = *impl_;
+  if (!s.camera) return {};
+  double per_unit = 0.0;
+  if (s.stats.photons > 0) per_unit = total_flux_lm() / static_cast<double>(s.stats.photons) / static_cast<double>(kPowerUnits);
+  if (s.guide) {
+    std::uint64_t emitted_units = 0;
+    for (const auto& e : s.books.emitters) emitted_units += e.emitted.power_units;
+    per_unit = emitted_units > 0 ? total_flux_lm() / static_cast<double>(emitted_units) : 0.0;
+  }
+  const double per_colour_unit = per_unit * static_cast<double>(kPowerUnits) / static_cast<double>(kColourUnits);
+  return sim::luminance_images(*s.camera, s.image_sum, per_unit, per_colour_unit);
+}
+
 std::vector<NearFieldPlane> Simulation::near_field() const {
   const Impl& s = *impl_;
   if (!s.near_planes) return {};
@@ -390,7 +560,7 @@ std::vector<NearFieldPlane> Simulation::near_field() const {
   } else if (s.stats.photons > 0) {
     per_unit = total_flux_lm() / static_cast<double>(s.stats.photons) / static_cast<double>(kPowerUnits);
   }
-  return sim::near_field_planes(*s.near_planes, s.near_sum, per_unit);
+  return sim::near_field_planes(*s.near_planes, s.near_sum, per_unit, static_cast<double>(s.stats.photons));
 }
 
 Ledger Simulation::ledger() const {

@@ -26,6 +26,7 @@
 #include "sim/far_field.h"
 #include "sim/spectral.h"
 #include "sim/ledger.h"
+#include "sim/next_event.h"
 #include "sim/scene.h"
 #include "sim/tracer.h"
 
@@ -62,11 +63,34 @@ struct SimulationSettings {
   // Keep the escapes of the run's photons 0 … N − 1 (Simulation::escaped_rays;
   // a ray file's rays); 0: none. This process's photons only under MPI.
   std::uint64_t capture_escaped_photons = 0;
-  // Near-field planes at these distances [m] below the luminaire's centre
-  // (sim/near_field.h; luminaire_centre: the bounding box's bottom centre);
-  // empty: none, and the photon loop
-  // pays nothing for them.
+  // Near-field planes at these distances [m] below the luminaire's
+  // photometric centre (sim/near_field.h's luminous_centre, from a pilot of
+  // the run's first photons); empty: none, and the photon loop pays nothing
+  // for them.
   std::vector<double> near_field_distances_m;
+  // Next-event estimation for the far field (sim/next_event.h): off, on, or
+  // auto (on where the pilot finds that most escaping light leaves after a
+  // non-delta event at surfaces whose connections escape). Not with guided
+  // emission (on: an error; auto: off).
+  NextEventMode next_event = NextEventMode::Off;
+  int next_event_connections = kDefaultConnections;  // M per vertex, 1 … 1024
+  // Luminance images from these viewing directions
+  // (sim/detectors/luminance_image.h); no views: none, and the photon loop
+  // pays nothing for them.
+  LuminanceImageSettings luminance;
+};
+
+// What next-event estimation did in a run (Simulation::next_event()).
+struct NextEventSummary {
+  NextEventMode mode = NextEventMode::Off;
+  bool enabled = false;          // connections made
+  int connections_per_vertex = 0;
+  double pilot_covered_share = 0.0;  // the pilot's shares (NextEventChoice) [0, 1]
+  double pilot_multi_share = 0.0;
+  std::vector<std::uint16_t> lobes;  // per mesh and side: the lobes connected (NextEventSettings)
+  std::uint64_t vertices = 0, connections = 0, escaped = 0;  // over the run
+  double booked_lm = 0.0;        // the connections' flux in the far field [lm]
+  double covered_lm = 0.0;       // escapes they stand for, left out of the far field [lm]
 };
 
 struct SimulationStats {
@@ -129,8 +153,9 @@ class Simulation {
   // their flux, each photon carrying total flux / photons emitted (guided
   // emission: total flux × its power units / all power units emitted).
   FarField far_field() const;
-  // Sobol' replicates counted (plain emission under the Sobol' sampler with
-  // K > 1 replicates: K; 0 otherwise).
+  // Replicates counted (plain emission under the Sobol' sampler, or with
+  // next-event estimation under either, with K > 1 replicates: K; 0
+  // otherwise).
   int sobol_replicates() const;
   // The far field of replicate r's photons alone (i mod K = r), each
   // carrying total flux / that replicate's photons: an independent estimate
@@ -145,6 +170,11 @@ class Simulation {
   std::vector<NearFieldPlane> near_field() const;
   // Where the planes lie (null when none).
   const NearFieldPlanes* near_field_planes() const;
+  // The luminance images of every photon so far (settings().luminance's
+  // views, in order; empty when none).
+  std::vector<LuminanceImage> luminance_images() const;
+  // Next-event estimation's choice and counts (mode Off: nothing).
+  NextEventSummary next_event() const;
   // The emission guide (null unless settings().importance.enabled).
   const EmissionGuide* emission_guide() const;
 

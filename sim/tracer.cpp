@@ -10,6 +10,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "sim/bsdf_eval.h"
 #include "sim/bsdfs/lobes.h"
 #include "sim/bsdfs/volume.h"
 #include "sim/material.h"
@@ -141,6 +142,8 @@ void TracerTally::clear() {
   std::fill(texel_xz.begin(), texel_xz.end(), std::uint64_t{0});
   ledger.clear();
   near_field.clear();
+  next_event.clear();
+  images.clear();
 }
 
 Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const TracerSettings& settings,
@@ -218,6 +221,7 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
     for (const Emitter& e : scene.emitters) tracer.emitter_axes_.push_back(-1.0 * e.frame.up);
     for (const Material& m : scene.materials) tracer.material_spectral_.push_back(m.spectral() ? 1 : 0);
   }
+  for (const Emitter& e : scene.emitters) tracer.emitter_two_sided_.push_back(e.two_sided ? 1 : 0);
   tracer.instances_.reserve(scene.instances.size());
   for (const Instance& i : scene.instances) tracer.instances_.push_back(i.to_world);
   times.shading_s = seconds_since(t);
@@ -229,7 +233,7 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
 TracerTally Tracer::make_tally() const {
   TracerTally t;
   t.texel_photons.assign(grid_.texel_count(), std::uint16_t{0});
-  if (settings_.sampler == SamplerKind::Sobol && settings_.sobol_replicates > 1) {
+  if ((settings_.sampler == SamplerKind::Sobol || settings_.next_event.enabled) && settings_.sobol_replicates > 1) {
     t.replicates = settings_.sobol_replicates;
     t.replicate_photons.assign(grid_.texel_count() * static_cast<std::size_t>(t.replicates), std::uint16_t{0});
   }
@@ -237,6 +241,7 @@ TracerTally Tracer::make_tally() const {
     t.texel_xz.assign(2 * grid_.texel_count(), std::uint64_t{0});
   }
   t.ledger = LedgerTally(emission_.emitter_count(), meshes_.size(), radiant_bin_count());
+  if (settings_.next_event.enabled) t.next_event.reset(grid_.texel_count(), t.replicates, meshes_.size());
   return t;
 }
 
@@ -245,11 +250,15 @@ Vec3 Tracer::offset(const Vec3& p, const Vec3& side_normal, double t) const {
 }
 
 TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
-                           std::vector<RayQuery>* record, std::uint64_t power, PhotonColour* colour) const {
+                           std::vector<RayQuery>* record, std::uint64_t power, PhotonColour* colour,
+                           Connections* connect) const {
   TraceResult r;
   RayQuery ray{};
   RayHit hit;
   Polarization polarization;
+  bool covered = false;  // the last event was a connected non-delta one
+  std::uint8_t covered_slot = 0;
+  bool image_covered = connect && connect->image_covered_at_start;
   int volume_events = 0;
   for (;;) {
     ray = ray_query(origin, direction);
@@ -260,6 +269,9 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       r.direction = direction;
       r.origin = origin;
       r.power_units = power;
+      r.covered = covered;
+      r.covered_slot = covered_slot;
+      r.image_covered = image_covered;
       return r;
     }
     const MeshData& mesh = meshes_[hit.mesh];
@@ -297,6 +309,9 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
           return r;
         }
         polarization.polarized = false;
+        // Light scattered in a volume is not the direct escape a
+        // connection stood for: its escape is binned.
+        covered = image_covered = false;
         origin = origin + s * direction;
         direction = sample_henyey_greenstein(direction, material.scattering_g, rng);
         continue;
@@ -320,7 +335,19 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
             ? choose_lobe(lobe_cdf(material, std::abs(dot(direction, ng))), rng.uniform())
             : choose_lobe(wavelength < 0 ? lobe_cdfs_[mesh.material] : spectral_lobe_cdfs_[spectral_index],
                           rng.uniform());
-    if (uses_shading_frame(lobe)) {
+    // Next-event connections here (sim/next_event.h): a material with
+    // non-delta lobes at a mesh that keeps them, grey in a spectral run.
+    const bool non_delta = connect && has_connectable_lobes(material) && !(colour && material_spectral_[mesh.material]);
+    const unsigned lobes_here = non_delta && connect->far_field ? settings_.next_event.lobes_at(hit.mesh, from_back) : 0u;
+    const bool connect_here = lobes_here != 0 && has_connectable_lobes(material, lobes_here);
+    const bool image_here = non_delta && connect->images;
+    // Connections read the shading normal for every lobe but the diffuse
+    // ones, and the tangent for the glossy lobe; scatter() gets the tangent
+    // only for a lobe that reads it (as without connections).
+    const bool connect_shading = (connect_here || image_here) && has_connectable_lobes(material, kShadingFrameLobes);
+    const bool connect_tangent = (connect_here || image_here) && material.glossy > 0.0;
+    Vec3 tangent{};
+    if (uses_shading_frame(lobe) || connect_shading) {
       const std::size_t c = 3 * static_cast<std::size_t>(hit.triangle);
       const double u = hit.u, v = hit.v, w0 = 1.0 - u - v;
       // An instance's normals and tangents are in its mesh's frame.
@@ -332,23 +359,42 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
         const double len = length(n);
         if (len > 0.0) frame.shading_normal = n / len;
       }
-      if (uses_tangent(lobe) && !mesh.corner_tangents.empty()) {
+      if ((uses_tangent(lobe) || connect_tangent) && !mesh.corner_tangents.empty()) {
         const PackedUnit* t3 = &mesh.corner_tangents[c];
-        frame.tangent = w0 * unpack_unit(t3[0]) + u * unpack_unit(t3[1]) + v * unpack_unit(t3[2]);
-        if (place) frame.tangent = place->linear(frame.tangent);
+        tangent = w0 * unpack_unit(t3[0]) + u * unpack_unit(t3[1]) + v * unpack_unit(t3[2]);
+        if (place) tangent = place->linear(tangent);
       }
     }
+    if (uses_tangent(lobe)) frame.tangent = tangent;
+    SurfaceFrame connect_frame = frame;
+    connect_frame.tangent = tangent;
     // Hero wavelengths (sim/spectral.h): each companion's path probability
     // relative to the hero's takes this event's lobe weight at its own
     // wavelength; a dispersive refraction ends the companions.
     if (wavelength >= 0 && material_spectral_[mesh.material] && lobe != Lobe::Absorb)
       update_companions(*colour, lobe, &spectral_materials_[static_cast<std::size_t>(mesh.material) * kWavelengthCount],
                         materials_[mesh.material]);
+    if (connect_here) {
+      // The lattice's shift from the photon's own numbers: under Sobol'
+      // its next two coordinates, so the shifts are stratified across
+      // photons (a second stream would not be, and a second scramble of
+      // the same points would correlate with the path).
+      double xi1, xi2;
+      rng.uniform_pair(&xi1, &xi2);
+      connect_from(origin + t * direction, t, direction, material, connect_frame, power, colour, hit.mesh,
+                   from_back, lobes_here, xi1, xi2, *connect);
+    }
+    if (image_here)
+      connect_images(origin + t * direction, t, direction, material, connect_frame, power, colour, *connect);
     const ScatterResult s = scatter(material, lobe, frame, direction, rng, &polarization);
     if (s.absorbed) {
       r.fate = Fate::Absorbed;
       return r;
     }
+    const bool non_delta_lobe = connectable(s.lobe);
+    covered = connect_here && non_delta_lobe && (lobes_here & lobe_bit(s.lobe)) != 0;
+    covered_slot = static_cast<std::uint8_t>((from_back ? kLobeCount : 0) + static_cast<int>(s.lobe));
+    image_covered = image_here && non_delta_lobe;
     // Back along the incoming ray before the offset: near an edge the hit
     // point can lie a rounding error beyond the neighbouring face, and an
     // offset along this face's normal alone would start the next ray behind
@@ -361,6 +407,107 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     origin = p - direction * (0x1.0p-20 * scale) + (dot(s.direction, ng) > 0.0 ? off : -off) * ng;
     direction = s.direction;
   }
+}
+
+void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const Material& m,
+                          const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
+                          std::uint32_t mesh, bool back, unsigned lobes, double xi1, double xi2,
+                          Connections& c) const {
+  NextEventTally& tally = c.tally->next_event;
+  const int count = settings_.next_event.connections;
+  // A rank-1 lattice (k/M, k·φ mod 1) shifted by (ξ1, ξ2): M stratified
+  // pairs (one in each 1/M band of the first).
+  constexpr double kGolden = 0.61803398874989484820;
+  const Vec3 wi = -1.0 * direction;
+  const double scale = max_abs(p) + t;
+  const double off = offset_m(scale);
+  const Vec3 start = p - direction * (0x1.0p-20 * scale);
+  const Vec3& ng = frame.geometric_normal;
+  ++tally.vertices;
+  // Spectral runs: the photon's X and Z now (a grey vertex leaves them as
+  // they are), per photon of Y.
+  std::uint64_t x_units = 0, z_units = 0;
+  const bool colour_units = colour && wavelengths_;
+  if (colour_units) std::tie(x_units, z_units) = this->colour_units(*colour);
+  const auto replicates = static_cast<std::size_t>(c.tally->replicates);
+  for (int k = 0; k < count; ++k) {
+    const double u1 = (static_cast<double>(k) + xi1) / static_cast<double>(count);
+    double u2 = xi2 + static_cast<double>(k) * kGolden;
+    u2 -= std::floor(u2);
+    const ConnectionDirection cd = connection_direction(m, frame, wi, u1, u2, lobes);
+    if (!(cd.pdf > 0.0) || !(cd.f_cos > 0.0)) continue;
+    const Vec3 o = start + (dot(cd.wo, ng) > 0.0 ? off : -off) * ng;
+    const std::size_t slot = next_event_slot(mesh, back, cd.lobe);
+    ++tally.connections;
+    ++tally.slot_connections[slot];
+    if (embree_->occluded(ray_query(o, cd.wo))) continue;
+    ++tally.escaped;
+    ++tally.slot_escaped[slot];
+    const double w = cd.f_cos / cd.pdf / static_cast<double>(count);
+    const double units_d = static_cast<double>(power) * w;
+    const auto units = static_cast<std::uint64_t>(std::llround(units_d));
+    const std::size_t texel = grid_.texel_of(cd.wo);
+    tally.texel_units[texel] += units;
+    tally.booked_units += units;
+    if (replicates > 1) tally.replicate_units[texel * replicates + c.replicate] += units;
+    if (colour_units) {
+      const double per = units_d / static_cast<double>(kPowerUnits);
+      c.tally->texel_xz[2 * texel] += static_cast<std::uint64_t>(std::llround(static_cast<double>(x_units) * per));
+      c.tally->texel_xz[2 * texel + 1] += static_cast<std::uint64_t>(std::llround(static_cast<double>(z_units) * per));
+    }
+  }
+}
+
+std::pair<std::uint64_t, std::uint64_t> Tracer::colour_units(const PhotonColour& colour) const {
+  return colour.wavelength >= 0 ? wavelengths_->hero_units(colour)
+                                : wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
+}
+
+void Tracer::connect_images(const Vec3& p, double t, const Vec3& direction, const Material& m,
+                            const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
+                            Connections& c) const {
+  const LuminanceCamera& camera = *c.tally->camera;
+  const Vec3 wi = -1.0 * direction;
+  const double scale = max_abs(p) + t;
+  const double off = offset_m(scale);
+  const Vec3 back = p - direction * (0x1.0p-20 * scale);
+  const Vec3& ng = frame.geometric_normal;
+  std::uint64_t x = 0, z = 0;
+  if (colour && wavelengths_) std::tie(x, z) = colour_units(*colour);
+  for (std::size_t k = 0; k < camera.planes.size(); ++k) {
+    const Vec3& v = camera.planes[k].toward;
+    const double f = non_delta_f_cos(m, frame, wi, v);
+    if (!(f > 0.0)) continue;
+    const Vec3 o = back + (dot(v, ng) > 0.0 ? off : -off) * ng;
+    if (embree_->occluded(ray_query(o, v))) continue;
+    c.tally->images.add_connection(camera, k, p, static_cast<double>(power) * f, x, z);
+  }
+}
+
+void Tracer::connect_emission_images(const EmittedPhoton& e, Connections& c) const {
+  const LuminanceCamera& camera = *c.tally->camera;
+  const bool two_sided = emitter_two_sided_[e.emitter] != 0;
+  constexpr double kInvPi = 0.31830988618379067154;
+  for (std::size_t k = 0; k < camera.planes.size(); ++k) {
+    const Vec3& v = camera.planes[k].toward;
+    const double cos_v = dot(v, e.surface_normal);
+    // The emitter's cosine density towards v (either side with half the
+    // photons when two-sided).
+    const double w = two_sided ? 0.5 * std::abs(cos_v) * kInvPi : std::max(0.0, cos_v) * kInvPi;
+    if (!(w > 0.0)) continue;
+    const Vec3 o = offset(e.origin, cos_v > 0.0 ? e.surface_normal : -1.0 * e.surface_normal, 0.0);
+    if (embree_->occluded(ray_query(o, v))) continue;
+    std::uint64_t x = 0, z = 0;
+    if (wavelengths_) std::tie(x, z) = wavelengths_->expected_units(e.emitter, std::abs(cos_v));
+    c.tally->images.add_connection(camera, k, e.origin, static_cast<double>(kPowerUnits) * w, x, z);
+  }
+}
+
+std::optional<Tracer::Connections> Tracer::connections_for(std::uint64_t photon, TracerTally& tally) const {
+  const bool far_field = settings_.next_event.enabled, images = tally.camera != nullptr;
+  if (!far_field && !images) return std::nullopt;
+  const auto k = static_cast<std::uint64_t>(tally.replicates > 1 ? tally.replicates : 1);
+  return Connections{&tally, static_cast<std::uint32_t>(photon % k), far_field, images};
 }
 
 TraceResult Tracer::trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng,
@@ -424,9 +571,30 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     eb.emitted.add(kPowerUnits);
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
     PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
-    const TraceResult r =
-        follow(origin, e.direction, rng, &books, nullptr, kPowerUnits, wavelengths_ ? &colour : nullptr);
+    std::optional<Connections> connect = connections_for(i, tally);
+    if (connect && connect->images && e.on_surface) {
+      connect_emission_images(e, *connect);
+      connect->image_covered_at_start = true;
+    }
+    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, kPowerUnits,
+                                 wavelengths_ ? &colour : nullptr, connect ? &*connect : nullptr);
     if (spectral) book_bins(*wavelengths_, colour, r, books.bins);
+    if (r.fate == Fate::Escaped && tally.camera && !r.image_covered) {
+      std::uint64_t x = 0, z = 0;
+      if (spectral) std::tie(x, z) = colour_units(colour);
+      tally.images.add_escape(*tally.camera, r.origin, r.direction, r.power_units, x, z);
+    }
+    if (r.fate == Fate::Escaped && r.covered) {
+      // The connections stand for it in the far field (sim/next_event.h).
+      tally.next_event.covered_units += r.power_units;
+      const std::size_t slot = static_cast<std::size_t>(r.mesh) * kSlotsPerMesh + r.covered_slot;
+      tally.next_event.slot_covered_units[slot] += r.power_units;
+      if (r.hits >= 2) tally.next_event.slot_multi_units[slot] += r.power_units;
+      eb.escaped.add(r.power_units);
+      if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
+      if (tally.near_planes) tally.near_field.add(*tally.near_planes, r.origin, r.direction, r.power_units);
+      continue;
+    }
     switch (r.fate) {
       case Fate::Escaped: {
         const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));

@@ -17,17 +17,20 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "photometry/diagnostics.h"
 #include "sim/cube_map.h"
+#include "sim/detectors/luminance_image.h"
 #include "sim/embree_scene.h"
 #include "sim/emission.h"
 #include "sim/emission_guide.h"
 #include "sim/ledger.h"
 #include "sim/near_field.h"
 #include "sim/material.h"
+#include "sim/next_event.h"
 #include "sim/random.h"
 #include "sim/sampler.h"
 #include "sim/scene.h"
@@ -48,6 +51,9 @@ struct TracerSettings {
   // escapes per replicate (TracerTally::replicate_photons).
   int sobol_replicates = kSobolReplicates;
   EmbreeSceneOptions embree;
+  // Next-event estimation for the far field (sim/next_event.h); with it,
+  // plain tracing counts replicates under either sampler (K > 1).
+  NextEventSettings next_event;
 };
 
 // Wall time of each part of Tracer::create [s].
@@ -69,6 +75,16 @@ struct TraceResult {
   std::uint32_t mesh = 0;       // where it was absorbed or cut off
   int hits = 0;                 // surfaces reached (scattered or absorbed at)
   std::uint64_t power_units = kPowerUnits;  // its power at the end (ledger.h units)
+  // Escaped: its last event was a non-delta scattering at a vertex that
+  // made next-event connections, which stand for this escape in the far
+  // field (sim/next_event.h); `mesh` is that vertex's, covered_slot its
+  // side and lobe (next_event_slot's last two).
+  bool covered = false;
+  std::uint8_t covered_slot = 0;
+  // The same for the luminance images' connections (sim/detectors/
+  // luminance_image.h): its last event, or its emission from an area
+  // emitter, sent a connection to every view.
+  bool image_covered = false;
 };
 
 // What a thread accumulates: escaped photons per texel and the books.
@@ -106,6 +122,13 @@ struct TracerTally {
   // when set (not owned); clear() zeroes near_field.
   const NearFieldPlanes* near_planes = nullptr;
   NearFieldTally near_field;
+  // Next-event connections (TracerSettings::next_event; empty otherwise).
+  NextEventTally next_event;
+  // Luminance images (sim/detectors/luminance_image.h): escapes and
+  // connections are booked into `images` when set (not owned); clear()
+  // zeroes them.
+  const LuminanceCamera* camera = nullptr;
+  LuminanceTally images;
 
   void clear();
 };
@@ -175,6 +198,9 @@ class Tracer {
   std::size_t mesh_count() const { return meshes_.size(); }
   std::size_t emitter_count() const { return emission_.emitter_count(); }
   const TracerSettings& settings() const { return settings_; }
+  // Sets next-event estimation after a pilot (Simulation::create); not
+  // while photons are traced. Meshes: one entry per mesh or empty.
+  void set_next_event(const NextEventSettings& next_event) { settings_.next_event = next_event; }
   const TracerSetupTimes& setup_times() const { return setup_times_; }
 
  private:
@@ -192,9 +218,34 @@ class Tracer {
       : grid_(std::move(grid)), embree_(std::move(embree)), emission_(std::move(emission)),
         settings_(settings) {}
 
+  // One photon's next-event connections: where they book.
+  struct Connections {
+    TracerTally* tally;
+    std::uint32_t replicate;   // photon mod K
+    bool far_field;            // next-event estimation for the far field
+    bool images;               // connections to the luminance images (tally->camera)
+    bool image_covered_at_start = false;  // its emission connected to the images
+  };
   TraceResult follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
                      std::vector<RayQuery>* record = nullptr,
-                     std::uint64_t power = kPowerUnits, PhotonColour* colour = nullptr) const;
+                     std::uint64_t power = kPowerUnits, PhotonColour* colour = nullptr,
+                     Connections* connect = nullptr) const;
+  // The connections from a vertex at p (reached along `t` of `direction`)
+  // with the material and frame there (sim/next_event.h).
+  void connect_from(const Vec3& p, double t, const Vec3& direction, const Material& material,
+                    const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
+                    std::uint32_t mesh, bool back, unsigned lobes, double xi1, double xi2,
+                    Connections& c) const;
+  // The luminance images' connections from a vertex (as connect_from) and
+  // from an area emitter's emission.
+  void connect_images(const Vec3& p, double t, const Vec3& direction, const Material& material,
+                      const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
+                      Connections& c) const;
+  void connect_emission_images(const EmittedPhoton& e, Connections& c) const;
+  // The X and Z units per photon of Y of a photon's colour now (spectral).
+  std::pair<std::uint64_t, std::uint64_t> colour_units(const PhotonColour& colour) const;
+  // Connections for photon i under this tracer's settings (null when off).
+  std::optional<Connections> connections_for(std::uint64_t photon, TracerTally& tally) const;
   // A spectral photon's colour state at emission (nothing drawn yet).
   PhotonColour start_colour(const EmittedPhoton& e) const;
   // The offset's length for scale = max |coordinate| + t: 2⁻¹⁸·scale plus
@@ -217,6 +268,7 @@ class Tracer {
   std::shared_ptr<const WavelengthSampler> wavelengths_;
   std::vector<char> material_spectral_;  // per material: acts differently by wavelength
   std::vector<Vec3> emitter_axes_;  // per emitter: its γ = 0 direction (point emitters)
+  std::vector<char> emitter_two_sided_;  // per emitter
   double offset_floor_m_ = 0.0;
   TracerSetupTimes setup_times_;
 };

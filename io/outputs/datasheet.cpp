@@ -353,24 +353,117 @@ std::string ledger_html(const nlohmann::json& r) {
          (r.contains("seed") ? ", seed " + esc(r["seed"].dump()) : std::string()) + ".</p>";
   if (r.contains("near_field") && r["near_field"].is_array()) {
     t += "<h2>Near field</h2>\n<table><tr><th>distance</th><th>on axis (centre pixel, 4D/41 wide)</th><th>far field predicts</th>"
-         "<th>largest deviation (E &ge; 10 % of max)</th></tr>\n";
+         "<th>largest deviation (pixels, E &ge; 10 % of max)</th><th>cells (4D/21): largest |&delta;|, bound</th>"
+         "<th>verdict</th></tr>\n";
     for (const auto& p : r["near_field"]) {
       const auto val = [&](const char* key) {
         return p.contains(key) && p[key].is_number() ? p[key].get<double>() : photometry::kNaN;
       };
       t += "<tr><td>" + fmt(val("distance_m"), 3) + " m</td><td>" + fmt(val("on_axis_lx"), 3) + " lx</td><td>" +
-           fmt(val("far_field_on_axis_lx"), 3) + " lx</td><td>" + fmt(val("max_deviation_pct"), 2) +
-           " %</td></tr>\n";
+           fmt(val("far_field_on_axis_lx"), 3) + " lx</td><td>" + fmt(val("max_deviation_pct"), 2) + " %</td><td>" +
+           fmt(val("cell_deviation_pct"), 2) + " %, " + fmt(val("upper_bound_pct"), 2) + " %</td><td class=l>" +
+           esc(p.value("verdict", std::string("–"))) + "</td></tr>\n";
     }
     t += "</table>\n";
     const bool known = r.contains("far_field_distance_m") && r["far_field_distance_m"].is_number();
-    t += "<p>Far-field distance: " +
-         (known ? fmt(r["far_field_distance_m"].get<double>(), 3) + " m"
-                : std::string("not reached at the distances simulated")) +
-         " (the far field predicts the plane's illuminance within 1 % wherever it is at least 10 % of its "
-         "maximum, photon noise included).</p>\n";
+    std::string why = "not reached at the distances simulated";
+    if (!known && r.contains("far_field_distance") && r["far_field_distance"].is_object()) {
+      const nlohmann::json& f = r["far_field_distance"];
+      if (f.value("farthest", std::string()) == "undecided")
+        why = "undecided: too few photons to tell at the farthest plane (about " +
+              fmt(f.value("photons_to_tell", photometry::kNaN) / 1e6, 0) + " million would)";
+      else if (f.value("farthest", std::string()) == "fails")
+        why = "beyond the farthest plane (it deviates by more than 1 %)";
+    }
+    t += "<p>Far-field distance: " + (known ? fmt(r["far_field_distance_m"].get<double>(), 3) + " m" : why) +
+         " (from the photometric centre, the luminous centre of the light heading down; a plane passes when every "
+         "cell where E &ge; 10 % of its maximum is within 1 % of the far field's prediction at 95 % confidence, "
+         "photon noise counted).</p>\n";
   }
   return t + "\n";
+}
+
+// A luminance image's thumbnail (report.json's, row-major cd/m²) as an
+// inline SVG heat map over two decades below the 99th percentile of its lit
+// cells (a bare lamp's cell clips to white rather than darken the rest).
+std::string thumbnail_svg(const nlohmann::json& thumb) {
+  if (!thumb.is_object() || !thumb.contains("size") || !thumb.contains("cd_m2")) return {};
+  const int n = thumb["size"].get<int>();
+  const nlohmann::json& v = thumb["cd_m2"];
+  if (n <= 0 || !v.is_array() || v.size() != static_cast<std::size_t>(n) * static_cast<std::size_t>(n)) return {};
+  std::vector<double> lit;
+  for (const auto& x : v)
+    if (x.is_number() && x.get<double>() > 0.0) lit.push_back(x.get<double>());
+  double vmax = 0.0;
+  if (!lit.empty()) {
+    const std::size_t k = static_cast<std::size_t>(0.99 * static_cast<double>(lit.size() - 1));
+    std::nth_element(lit.begin(), lit.begin() + static_cast<std::ptrdiff_t>(k), lit.end());
+    vmax = lit[k];
+  }
+  constexpr int px = 4;
+  std::string svg = "<svg xmlns='http://www.w3.org/2000/svg' width='" + std::to_string(n * px) + "' height='" +
+                    std::to_string(n * px) + "' viewBox='0 0 " + std::to_string(n) + " " + std::to_string(n) +
+                    "' shape-rendering='crispEdges'><rect width='100%' height='100%' fill='" + heat(0.0) + "'/>";
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const auto& c = v[static_cast<std::size_t>(y) * static_cast<std::size_t>(n) + static_cast<std::size_t>(x)];
+      if (!c.is_number() || !(c.get<double>() > 0.0) || !(vmax > 0.0)) continue;
+      svg += "<rect x='" + std::to_string(x) + "' y='" + std::to_string(y) + "' width='1' height='1' fill='" +
+             heat(std::min(1.0, c.get<double>() / vmax)) + "'/>";
+    }
+  return svg + "</svg>";
+}
+
+// Luminance images and CIE 232:2019's glare figures of a simulation
+// (report.json's "luminance_images" and "cie232"), with the UGR table's
+// 4H × 8H room (70/50/20) corrected by the largest ΔUGR.
+std::string luminance_html(const nlohmann::json& r, const photometry::UgrTable& ugr) {
+  if (!r.contains("luminance_images") || !r["luminance_images"].is_array() || r["luminance_images"].empty()) return {};
+  std::string t = "<h2>Luminance images and glare of a non-uniform source (CIE 232:2019)</h2>\n<div class=grid>";
+  const auto num = [](const nlohmann::json& o, const char* key) {
+    return o.is_object() && o.contains(key) && o[key].is_number() ? o[key].get<double>() : photometry::kNaN;
+  };
+  for (const auto& img : r["luminance_images"]) {
+    t += "<div>" + thumbnail_svg(img.value("thumbnail", nlohmann::json())) + "<p class=note>C " +
+         fmt(num(img, "c_deg"), 0) + "°, γ " + fmt(num(img, "gamma_deg"), 0) + "°: max " + fmt(num(img, "max_cd_m2"), 0) +
+         " cd/m², I " + fmt(num(img, "intensity_cd"), 1) + " cd<br>" + esc(img.value("file", std::string())) + "</p></div>";
+  }
+  t += "</div>\n<table><tr><th>view</th><th>I</th><th>A<sub>p</sub></th><th>L<sub>s</sub> = I/A<sub>p</sub></th>"
+       "<th>A<sub>p,eff</sub></th><th>L<sub>eff</sub></th><th>k²</th><th>ΔUGR</th></tr>\n";
+  for (const auto& img : r["luminance_images"]) {
+    const nlohmann::json g = img.value("cie232", nlohmann::json());
+    t += "<tr><td class=l>C " + fmt(num(img, "c_deg"), 0) + "°, γ " + fmt(num(img, "gamma_deg"), 0) + "°</td>";
+    if (!g.is_object() || !g.value("defined", false)) {
+      t += "<td class=l colspan=7>not defined — " + esc(g.is_object() ? g.value("why_undefined", std::string()) : "") +
+           "</td></tr>\n";
+      continue;
+    }
+    t += "<td>" + fmt(num(g, "intensity_cd"), 1) + " cd</td><td>" + fmt(num(g, "projected_area_m2") * 1e4, 1) +
+         " cm²</td><td>" + fmt(num(g, "mean_luminance_cd_m2"), 0) + " cd/m²</td><td>" +
+         fmt(num(g, "glare_area_m2") * 1e4, 1) + " cm²</td><td>" + fmt(num(g, "glare_luminance_cd_m2"), 0) +
+         " cd/m²</td><td>" + fmt(num(g, "k2"), 2) + "</td><td>" + fmt(num(g, "delta_ugr"), 1) + "</td></tr>\n";
+  }
+  t += "</table>\n";
+  const nlohmann::json c = r.value("cie232", nlohmann::json());
+  const double delta = num(c, "delta_ugr");
+  if (std::isfinite(delta)) {
+    t += "<p>Largest ΔUGR = 8 log<sub>10</sub> k² over the views: " + fmt(delta, 1) + ".";
+    if (ugr.defined)
+      for (const photometry::UgrRoom& room : ugr.rooms)
+        if (room.x_h == 4.0 && room.y_h == 8.0)
+          t += " UGR of the 4H × 8H room (70/50/20) crosswise " + fmt(room.crosswise[0], 1) + " → " +
+               fmt(room.crosswise[0] + delta, 1) + ", endwise " + fmt(room.endwise[0], 1) + " → " +
+               fmt(room.endwise[0] + delta, 1) + " (every value of the table moves by ΔUGR).";
+    t += "</p>\n";
+  }
+  t += "<p class=note>Each image: the luminaire seen from a direction at infinity (orthographic), luminance averaged "
+       "over a cone of " + fmt(num(r["luminance_images"][0], "cone_deg"), 1) +
+       "° half-angle and connected from every diffuse and glossy surface. CIE 232:2019: the image filtered by a "
+       "Gaussian of 12 mm full width at half maximum (the eye's resolution), the glare source where it reaches "
+       "500 cd/m² (area A<sub>p,eff</sub>, mean L<sub>eff</sub>), k² = L<sub>eff</sub>² A<sub>p,eff</sub> "
+       "A<sub>p</sub> / I², the UGR corrected by 8 log<sub>10</sub> k² (A<sub>p</sub> the luminous area of the "
+       "UGR table). Views 25° and 40° above the luminaire's plane (γ 65° and 50°) in C0 and C90.</p>\n";
+  return t;
 }
 
 Result<std::string> entry_html(const DatasheetEntry& e, const DatasheetOptions& o) {
@@ -482,6 +575,7 @@ Result<std::string> entry_html(const DatasheetEntry& e, const DatasheetOptions& 
     Result<std::string> colour = colour_html(*e.simulation_report);
     if (!colour.ok()) return colour.error();
     h += colour.value();
+    h += luminance_html(*e.simulation_report, p.ugr);
     h += "<h2>Energy ledger of the simulation</h2>\n" + ledger_html(*e.simulation_report);
   }
   h += "<h2>Candela table</h2>\n" + candela_table(d);

@@ -231,6 +231,8 @@ Result<BenchPlan> plan_bench(const BenchOptions& o) {
   if (Status s = sim::validate(grid); !s.ok()) return s.error();
   if (!o.importance && (o.emission_face_size || o.min_acceptance))
     return make_error("--emission-face-size and --min-acceptance need --importance");
+  const std::optional<sim::NextEventMode> next_event = sim::parse_next_event_mode(o.next_event);
+  if (!next_event) return make_error("--next-event must be one of auto|on|off, got '" + o.next_event + "'");
   if (o.sampler != "random" && o.sampler != "sobol" && o.sampler != "both")
     return make_error("--sampler must be one of random|sobol|both, got '" + o.sampler + "'");
   std::set<std::string> stems;
@@ -261,6 +263,7 @@ Result<BenchPlan> plan_bench(const BenchOptions& o) {
   settings.compare_samplers = o.sampler == "both";
   settings.importance_settings.emission_face_size = static_cast<int>(o.emission_face_size.value_or(32));
   settings.importance_settings.min_acceptance = o.min_acceptance.value_or(1.0 / 16.0);
+  settings.next_event = *next_event;
   settings.target_pct = o.target;
   settings.cube_target = o.cube_target;
   return plan;

@@ -244,6 +244,9 @@ nlohmann::json bench_json(const BenchOutcome& o) {
                    {"importance", st.importance}};
   j["settings"]["sampler"] = std::string(sim::to_string(st.sampler));
   j["settings"]["compare_samplers"] = st.compare_samplers;
+  // Next-event estimation of the unguided series (bench --next-event).
+  j["settings"]["next_event"] = std::string(sim::to_string(st.next_event));
+  j["settings"]["next_event_connections"] = st.next_event_connections;
   if (st.importance)
     j["settings"]["importance_settings"] = {{"emission_face_size", st.importance_settings.emission_face_size},
                                             {"min_acceptance", st.importance_settings.min_acceptance}};

@@ -113,6 +113,9 @@ Result<std::vector<SeriesResult>> run_series(const sim::SceneDesc& scene, const 
     if (guided) {
       s.importance = settings.importance_settings;
       s.importance.enabled = true;
+    } else {
+      s.next_event = settings.next_event;
+      s.next_event_connections = settings.next_event_connections;
     }
     auto created = sim::Simulation::create(scene, s);
     if (!created.ok()) return created.error();

@@ -27,6 +27,7 @@
 #include "photometry/diagnostics.h"
 #include "sim/convergence.h"
 #include "sim/emission_guide.h"
+#include "sim/next_event.h"
 #include "sim/preview_filter.h"
 #include "sim/resample.h"
 #include "sim/sampler.h"
@@ -49,6 +50,9 @@ struct BenchSettings {
   bool compare_samplers = false;
   int sobol_replicates = sim::kSobolReplicates;          // of the Sobol' runs (sim/sampler.h)
   sim::ImportanceSettings importance_settings{true};    // for them
+  // Next-event estimation of the unguided series (sim/next_event.h).
+  sim::NextEventMode next_event = sim::NextEventMode::Auto;
+  int next_event_connections = sim::kDefaultConnections;
   double target_pct = 1.0;                              // candela RMS error to time [%]
   double cube_target = 0.1;                             // cube-map RMSE to time [1]
 };

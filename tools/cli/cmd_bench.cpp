@@ -105,6 +105,8 @@ int run_bench(const Args& args) {
   p.option("target", &o.target, app::kBenchTargetBounds.min, app::kBenchTargetBounds.max, "PCT", "RMS candela error to time [% of peak] (default 1)");
   p.option("cube-target", &o.cube_target, app::kBenchCubeTargetBounds.min, app::kBenchCubeTargetBounds.max, "E", "cube-map RMSE to time (default 0.1)");
   p.flag("importance", &o.importance, "add importance-guided emission (thesis 5.4.1), raw and adaptive");
+  p.choice("next-event", &o.next_event, {"auto", "on", "off"},
+           "next-event estimation of the unguided series (as gonio simulate: default auto)");
   p.choice("sampler", &o.sampler, {"random", "sobol", "both"},
            "sampler of the series (sim/sampler.h): random, sobol, or both (default: the pseudo-random\n"
            "series and Sobol' raw and adaptive, charted against each other); the reference is\n"

@@ -45,11 +45,43 @@ void print_run_figures(const app::SimulatePlan& plan, const app::ProgressiveOutc
                   format_number(p["on_axis_lx"].get<double>()).c_str(),
                   format_number(p["far_field_on_axis_lx"].get<double>()).c_str(),
                   format_number(p["max_deviation_pct"].get<double>()).c_str(), p["file"].get<std::string>().c_str());
-    const nlohmann::json& distance = files.report["far_field_distance_m"];
-    std::printf("  far-field distance: %s\n",
-                distance.is_number() ? (format_number(distance.get<double>()) + " m").c_str()
-                                     : "beyond the distances asked for");
   }
+  if (files.far_field_distance) {
+    const sim::FarFieldDistance& d = *files.far_field_distance;
+    std::string verdict;
+    if (d.distance_m)
+      verdict = format_number(*d.distance_m) + " m";
+    else if (d.farthest == sim::PlaneVerdict::Fails)
+      verdict = "beyond the distances asked for (the farthest plane deviates by more than 1 %)";
+    else
+      verdict = "undecided (too few photons to tell at the farthest plane; about " +
+                format_number(d.photons_to_tell, 2) + " would)";
+    std::printf("  far-field distance: %s\n", verdict.c_str());
+  }
+  const sim::NextEventSummary n = run.simulation.next_event();
+  if (n.mode != sim::NextEventMode::Off)
+    std::printf("  next-event estimation %s (%s; %.0f %% of the pilot's escaping light leaves after a connected "
+                "event)%s\n",
+                n.enabled ? "on" : "off", sim::to_string(n.mode), 100.0 * n.pilot_covered_share,
+                n.enabled ? (": " + format_number(static_cast<double>(n.connections), 3) + " connections, " +
+                             format_number(n.booked_lm, 6) + " lm booked for " + format_number(n.covered_lm, 6) +
+                             " lm of escapes")
+                                .c_str()
+                          : "");
+  if (files.report.contains("luminance_images"))
+    for (const auto& img : files.report["luminance_images"]) {
+      const nlohmann::json& g = img["cie232"];
+      std::printf("  luminance image C%s G%s: max %s cd/m2, %s cd; CIE 232: %s\n",
+                  format_number(img["c_deg"].get<double>()).c_str(),
+                  format_number(img["gamma_deg"].get<double>()).c_str(),
+                  format_number(img["max_cd_m2"].get<double>(), 4).c_str(),
+                  format_number(img["intensity_cd"].get<double>(), 4).c_str(),
+                  g["defined"].get<bool>()
+                      ? ("k2 " + format_number(g["k2"].get<double>(), 3) + ", delta UGR " +
+                         format_fixed(g["delta_ugr"].get<double>(), 1) + ": " + img["file"].get<std::string>())
+                            .c_str()
+                      : ("not defined (" + g["why_undefined"].get<std::string>() + ")").c_str());
+    }
   if (l.escaped.photons == 0 || !(l.escaped.flux_lm > 0.0))
     print_warning(model + ": no light leaves the model: all " + std::to_string(l.emitted.photons) +
                   " photons were absorbed or cut off (is the emitter sealed in?); the files hold zero "
@@ -95,6 +127,19 @@ void add_simulate_options(ArgParser& p, app::SimulateOptions* o) {
            "where photons' numbers come from: sobol (default: Owen-scrambled Sobol' points in four "
            "independent scrambles keyed by the seed, whose spread gives the error estimate) or random "
            "(pseudo-random); either gives the same bytes for any threads or split");
+  p.choice("next-event", &o->next_event, {"auto", "on", "off"},
+           "next-event estimation for the far field: at every diffuse or glossy surface a photon meets,\n"
+           "M connection rays book what it sends out of the luminaire directly (docs/luminance-and-\n"
+           "glare.md); auto (default): on where a pilot of the first photons finds >= 90 % of the\n"
+           "escaping light leaving that way (the LED array sample: 0.3x the time to 1 % error; the bell:\n"
+           "off); not with guided emission");
+  p.option("connections", &o->connections, app::kConnectionsBounds.min, app::kConnectionsBounds.max, "M",
+           "next-event connections per surface vertex (default 16)");
+  p.option("luminance-image", &o->luminance_images, "C:G,...|ugr",
+           "luminance images of the luminaire seen from these directions (C and gamma in degrees; ugr:\n"
+           "CIE 232's views, gamma 65 and 50 in C0 and C90), orthographic, 1.2 mm pixels, as\n"
+           "STEM.luminance-C<C>-G<G>.exr (L in cd/m2; x, y in spectral runs) and .png, with CIE\n"
+           "232:2019's glare-source figures and the UGR correction in report.json (up to 16 views)");
   p.option("threads", &o->threads, app::kThreadsBounds.min, app::kThreadsBounds.max, "T", "threads (default 0: every core)");
   p.option("max-bounces", &o->max_bounces, app::kMaxBouncesBounds.min, app::kMaxBouncesBounds.max, "B",
            "surface interactions before a photon is cut off (default 100)");

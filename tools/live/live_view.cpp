@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "io/outputs/cube_cross.h"
+#include "io/outputs/luminance_images.h"
 #include "photometry/format.h"
 #include "photometry/summary.h"
 #include "tools/run/json_figures.h"
@@ -117,6 +118,7 @@ void LiveView::begin_run(const std::string& model, const sim::SceneDesc& scene, 
   state_["photons"] = 0;
   state_["curves"] = nullptr;
   state_["colour"] = nullptr;
+  state_["luminance_images"] = nullptr;
   publish(false);
 }
 
@@ -170,6 +172,10 @@ void LiveView::iteration(const IterationReport& r, const sim::Simulation& simula
   s["colour"] = simulation.tracer().spectral()
                     ? live_colour_json(sim::colour_over_angle(*resampler_, raw, simulation.colour_far_field()))
                     : nlohmann::json(nullptr);
+  // Luminance images (--luminance-image): their thumbnails.
+  s["luminance_images"] = simulation.settings().luminance.views.empty()
+                              ? nlohmann::json(nullptr)
+                              : io::luminance_thumbnails(simulation.luminance_images());
   // The colour scale's white point as preview.png's: the intensity under
   // which the texels carrying 99 % of the flux lie (a bright spot must not
   // leave the rest of the picture black).

@@ -21,11 +21,12 @@ std::string run_fingerprint(const sim::SceneDesc& scene, const sim::SimulationSe
   char settings[256];
   std::snprintf(settings, sizeof settings,
                 "photons %llu, iterations %d, seed %llu, max bounces %d, face size %d, robust %d, "
-                "importance %d %d %.17g, bvh quality %d",
+                "importance %d %d %.17g, bvh quality %d, next event %d %d, luminance views %zu",
                 static_cast<unsigned long long>(s.photons_per_iteration), s.iterations,
                 static_cast<unsigned long long>(s.seed), s.max_bounces, s.face_size,
                 s.robust_embree ? 1 : 0, s.importance.enabled ? 1 : 0, s.importance.emission_face_size,
-                s.importance.min_acceptance, s.bvh_quality ? static_cast<int>(*s.bvh_quality) : -1);
+                s.importance.min_acceptance, s.bvh_quality ? static_cast<int>(*s.bvh_quality) : -1,
+                static_cast<int>(s.next_event), s.next_event_connections, s.luminance.views.size());
   return io::content_hash_hex(scene_hash(scene) + "; " + settings);
 }
 

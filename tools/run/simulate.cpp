@@ -10,6 +10,7 @@
 #include "photometry/format.h"
 #include "sim/ray_set_emitter.h"
 #include "sim/sampler.h"
+#include "sim/simulation.h"  // sim::parse_luminance_views (sim/detectors)
 #include "sim/symmetry.h"
 #include "tools/run/distributed_run.h"
 #include "tools/run/resampler_cache.h"
@@ -57,7 +58,8 @@ Status check_ranges(const SimulateOptions& o) {
       {"max-bounces", {o.max_bounces, kMaxBouncesBounds}},
       {"face-size", {o.face_size == 0 ? 1 : o.face_size, kFaceSizeBounds}},
       {"tm25-rays", {o.tm25_rays.value_or(1), kTm25RaysBounds}},
-      {"cache-limit", {o.cache_limit_mb, kCacheLimitMbBounds}}};
+      {"cache-limit", {o.cache_limit_mb, kCacheLimitMbBounds}},
+      {"connections", {o.connections, kConnectionsBounds}}};
   for (const auto& [name, check] : integers)
     if (Status s = check_range(name, check.first, check.second); !s.ok()) return s;
   const std::pair<const char*, std::pair<double, Bounds<double>>> reals[] = {
@@ -105,6 +107,10 @@ Result<SimulatePlan> plan_simulation(const std::string& model, const SimulateOpt
     if (!distances.ok()) return distances.error();
     near_field_m = std::move(distances.value());
   }
+  std::vector<sim::LuminanceView> views;
+  if (o.luminance_images)
+    if (const std::string why = sim::parse_luminance_views(*o.luminance_images, &views); !why.empty())
+      return make_error("--luminance-image: " + why);
   if (!tm25 && o.tm25_rays) return make_error("--tm25-rays applies to --format tm25 only");
   Result<std::vector<OutputFormat>> formats =
       tm25 && other_formats.empty() ? Result<std::vector<OutputFormat>>(std::vector<OutputFormat>{})
@@ -115,6 +121,8 @@ Result<SimulatePlan> plan_simulation(const std::string& model, const SimulateOpt
     return make_error("--name: '" + stem + "' is not a plain file name");
   if (o.ies_version != "2002" && o.ies_version != "2019")
     return make_error("--ies-version must be one of 2002|2019, got '" + o.ies_version + "'");
+  const std::optional<sim::NextEventMode> next_event = sim::parse_next_event_mode(o.next_event);
+  if (!next_event) return make_error("--next-event must be one of auto|on|off, got '" + o.next_event + "'");
   const std::optional<sim::SamplerKind> sampler = sim::parse_sampler(o.sampler);
   if (!sampler) return make_error("--sampler must be one of sobol|random, got '" + o.sampler + "'");
   using Quality = sim::EmbreeSceneOptions::Quality;
@@ -150,6 +158,9 @@ Result<SimulatePlan> plan_simulation(const std::string& model, const SimulateOpt
   settings.threads = static_cast<int>(o.threads);
   settings.capture_escaped_photons = tm25 ? static_cast<std::uint64_t>(o.tm25_rays.value_or(1'000'000)) : 0;
   settings.near_field_distances_m = near_field_m;
+  settings.next_event = *next_event;
+  settings.next_event_connections = static_cast<int>(o.connections);
+  settings.luminance.views = views;
   settings.max_bounces = static_cast<int>(o.max_bounces);
   settings.face_size = o.face_size == 0 ? sim::face_size_for(grid) : static_cast<int>(o.face_size);
   settings.bvh_quality = bvh_quality;  // none: auto

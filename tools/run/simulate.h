@@ -26,6 +26,7 @@
 
 #include "io/support/cache_folder.h"
 #include "photometry/diagnostics.h"
+#include "sim/next_event.h"
 #include "sim/resample.h"
 #include "sim/scene.h"
 #include "tools/run/console.h"
@@ -46,6 +47,7 @@ inline constexpr Bounds<long long> kMaxBouncesBounds{0, 1'000'000};
 inline constexpr Bounds<long long> kFaceSizeBounds{1, 4096};
 inline constexpr Bounds<long long> kTm25RaysBounds{1, 100'000'000};
 inline constexpr Bounds<long long> kCacheLimitMbBounds{0, 1'000'000'000};
+inline constexpr Bounds<long long> kConnectionsBounds{1, 1024};
 inline constexpr Bounds<double> kGridStepBounds{sim::kMinGridStepDeg, sim::kMaxGridStepDeg};
 inline constexpr Bounds<double> kFractionBounds{0.0, 1.0};      // --min-lor, --flux-tolerance
 inline constexpr Bounds<double> kTargetErrorBounds{0.0, 100.0};  // --target-error [%]
@@ -63,6 +65,9 @@ struct SimulateOptions {
   std::optional<long long> tm25_rays;      // --tm25-rays N (format tm25 only; default 1000000)
   std::optional<std::string> near_field;   // --near-field D1,D2,… [m]
   std::string sampler = "sobol";           // --sampler sobol|random (sim/sampler.h)
+  std::string next_event = "auto";         // --next-event auto|on|off (sim/next_event.h)
+  long long connections = sim::kDefaultConnections;  // --connections M
+  std::optional<std::string> luminance_images;       // --luminance-image C:G[,C:G…] or ugr
   std::optional<std::string> cache_dir;    // --cache DIR; none: io::default_cache_dir()
   bool no_cache = false;                   // --no-cache
   long long cache_limit_mb = io::kDefaultCacheLimitBytes >> 20;  // --cache-limit MB; 0: none

@@ -677,7 +677,10 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
       result.failed.push_back({f, file.path, s.error()});
       continue;
     }
-    file.flux_difference = relative_difference(file.flux_lm, ledger.escaped.flux_lm);
+    // Against the far field the files were made from: the escaped flux
+    // without next-event estimation, an unbiased estimate of it with
+    // (sim/next_event.h: the two then differ by the estimator's noise).
+    file.flux_difference = relative_difference(file.flux_lm, far_field.total_flux_lm());
     result.files.push_back(std::move(file));
   }
   return result;

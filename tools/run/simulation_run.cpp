@@ -13,6 +13,7 @@
 #include "io/support/cache_folder.h"
 #include "io/outputs/colour_chart.h"
 #include "io/outputs/exr.h"
+#include "io/outputs/luminance_images.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "io/outputs/report.h"
@@ -124,10 +125,54 @@ nlohmann::json write_near_field(const std::string& out_dir, const std::string& s
                     {"on_axis_lx", p.on_axis_lx},
                     {"far_field_on_axis_lx", p.far_field_on_axis_lx},
                     {"max_deviation_pct", p.max_deviation_pct},
-                    {"max_deviation_bound_pct", p.max_deviation_bound_pct},
-                    {"min_photons_per_pixel", p.min_photons}});
+                    {"max_deviation_bound_pct", p.upper_bound_pct},
+                    {"min_photons_per_pixel", p.min_photons},
+                    {"cells_compared", p.cells_compared},
+                    {"cell_deviation_pct", p.cell_deviation_pct},
+                    {"upper_bound_pct", p.upper_bound_pct},
+                    {"lower_bound_pct", std::isfinite(p.lower_bound_pct) ? nlohmann::json(p.lower_bound_pct)
+                                                                          : nlohmann::json(nullptr)},
+                    {"z_fail", p.z_fail},
+                    {"verdict", sim::to_string(p.verdict)},
+                    {"photons_to_tell", std::isfinite(p.photons_to_tell) ? nlohmann::json(p.photons_to_tell)
+                                                                          : nlohmann::json(nullptr)}});
   }
   return list;
+}
+
+// report.json's "far_field_distance" (sim/near_field.h): the distance, the
+// farthest plane's verdict, and the photometric centre the planes hang from.
+nlohmann::json far_field_distance_json(const sim::Simulation& sim, const sim::FarFieldDistance& d) {
+  const Vec3 centre = sim.scene().frame.to_local(sim.near_field_planes()->centre);
+  const auto optional_number = [](const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+  };
+  return {{"distance_m", optional_number(d.distance_m)},
+          {"farthest", sim::to_string(d.farthest)},
+          {"nearer_plane_m", optional_number(d.nearer_plane_m)},
+          {"photons_to_tell", std::isfinite(d.photons_to_tell) ? nlohmann::json(d.photons_to_tell)
+                                                               : nlohmann::json(nullptr)},
+          {"photometric_centre_m", {centre.x, centre.y, centre.z}}};
+}
+
+// report.json's "next_event" (sim/next_event.h): the mode, the pilot's
+// verdict, and with the estimator on what it booked.
+nlohmann::json next_event_json(const sim::Simulation& sim, const sim::FarField& far_field, const sim::Ledger& ledger) {
+  const sim::NextEventSummary n = sim.next_event();
+  nlohmann::json ne = {{"mode", sim::to_string(n.mode)}, {"enabled", n.enabled}};
+  if (n.mode != sim::NextEventMode::Off) {
+    ne["pilot_covered_share"] = n.pilot_covered_share;
+    ne["connections_per_vertex"] = n.connections_per_vertex;
+  }
+  if (n.enabled) {
+    ne["vertices"] = n.vertices;
+    ne["connections"] = n.connections;
+    ne["connections_escaped"] = n.escaped;
+    ne["booked_lm"] = n.booked_lm;
+    ne["covered_lm"] = n.covered_lm;
+    ne["far_field_minus_escaped_lm"] = far_field.total_flux_lm() - ledger.escaped.flux_lm;
+  }
+  return ne;
 }
 
 // What the files record and are made of, from the plan and the run.
@@ -260,15 +305,25 @@ RunFiles write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run
   const sim::ColourFarField colour = sim.colour_far_field();
   OutputRequest request = output_request(plan, sim, far_field, colour);
   std::vector<std::string> near_field_files;
-  nlohmann::json near_field_list;
-  std::optional<double> far_field_distance;
+  nlohmann::json near_field_list, far_field_distance;
+  request.near_field = nlohmann::json::object();  // report keys the datasheet reads too
   if (!settings.near_field_distances_m.empty()) {
     const std::vector<sim::NearFieldPlane> planes = sim.near_field();
     near_field_list = write_near_field(plan.out_dir, plan.stem, planes, &near_field_files, &failures);
-    far_field_distance = sim::far_field_distance_m(planes);
-    request.near_field = {{"near_field", near_field_list},
-                          {"far_field_distance_m", far_field_distance ? nlohmann::json(*far_field_distance)
-                                                                      : nlohmann::json(nullptr)}};
+    files.far_field_distance = sim::far_field_distance(planes);
+    far_field_distance = far_field_distance_json(sim, *files.far_field_distance);
+    request.near_field["near_field"] = near_field_list;
+    request.near_field["far_field_distance_m"] = far_field_distance["distance_m"];
+    request.near_field["far_field_distance"] = far_field_distance;
+  }
+  // Luminance images and CIE 232's figures (io/outputs/luminance_images.h).
+  io::LuminanceOutputs luminance;
+  if (!settings.luminance.views.empty()) {
+    luminance = io::write_luminance_images(plan.out_dir, plan.stem, sim.luminance_images(), request.opening->opening,
+                                           settings.luminance.cone_deg);
+    failures.insert(failures.end(), luminance.failures.begin(), luminance.failures.end());
+    request.near_field["luminance_images"] = luminance.images;
+    request.near_field["cie232"] = luminance.cie232;
   }
   Result<OutputResult> written = write_outputs(far_field, sim.scene(), ledger, request);
   if (!written.ok()) failures.push_back(written.error());
@@ -297,17 +352,27 @@ RunFiles write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
   if (!settings.near_field_distances_m.empty()) {
     json["near_field"] = near_field_list;
-    json["far_field_distance_m"] = far_field_distance ? nlohmann::json(*far_field_distance) : nlohmann::json(nullptr);
+    json["far_field_distance_m"] = far_field_distance["distance_m"];
+    json["far_field_distance"] = far_field_distance;
     json["far_field_distance_method"] =
-        "the smallest distance asked for from which that plane and every farther one asked for have "
-        "|E - E_far| / E_far + 2 sigma <= 1 % in every pixel with E_far >= 10 % of the plane's maximum; "
-        "sigma = sqrt(photons landing in only one of the pixel's two tallies) / photons in E_far";
+        "planes at D below the photometric centre (the power-weighted mean of the points where escaping light "
+        "heading down leaves); each compared on 21 x 21 cells of 4D/21 where E_far >= 10 % of the plane's "
+        "largest cell: a plane passes when every cell has |E - E_far| / E_far + 1.645 sigma <= 1 % (95 %, "
+        "one-sided), fails when one has |E - E_far| / E_far - z sigma > 1 % (z: Sidak for the cells at 95 %), "
+        "else is undecided; sigma = sqrt(photons in only one of the cell's two tallies) / photons in E_far; the "
+        "distance is the smallest asked for from which that plane and every farther one pass";
+  }
+  json["next_event"] = next_event_json(sim, far_field, ledger);
+  if (!settings.luminance.views.empty()) {
+    json["luminance_images"] = luminance.images;
+    json["cie232"] = luminance.cie232;
   }
   json["cache"] = trimmed_cache_json(plan);
   // Every file this run left in DIR besides report.json, and what failed.
   for (const WrittenFile& f : outputs.files) files.written.push_back(f.path);
   if (!colour_chart_path.empty()) files.written.push_back(colour_chart_path);
   for (const std::string& path : near_field_files) files.written.push_back(path);
+  for (const std::string& path : luminance.written) files.written.push_back(path);
   if (preview)
     for (const std::string& path : {preview->exr_path(), preview->png_path()}) {
       files.preview.push_back(path);

@@ -18,6 +18,7 @@
 #include "sim/resample.h"
 #include "tools/run/model_input.h"
 #include "tools/run/preview_output.h"
+#include "sim/near_field.h"
 #include "tools/run/progressive_run.h"
 #include "tools/run/simulation_outputs.h"
 
@@ -61,6 +62,7 @@ struct RunFiles {
   std::vector<std::string> written;   // every file of the run besides report.json
   std::vector<Error> failures;        // what failed after tracing (the other files were written)
   EnergyCheck energy;                 // report.json's "energy"
+  std::optional<sim::FarFieldDistance> far_field_distance;  // with near-field planes (report.json's too)
   // Everything written and every check passed.
   bool passed() const { return !report_error && failures.empty() && energy.passed(); }
 };

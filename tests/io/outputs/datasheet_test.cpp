@@ -104,6 +104,48 @@ TEST(Datasheet, SpectralSimulationShowsColourAndRadiantBooks) {
   EXPECT_FALSE(std::regex_search(h, external));
 }
 
+// A simulation with luminance images: thumbnails as inline SVG, CIE 232's
+// figures per view, and the UGR table's 4H × 8H room moved by the largest
+// ΔUGR; the near field's verdicts and why the distance has no answer.
+TEST(Datasheet, LuminanceImagesShowCie232FiguresAndTheCorrectedUgr) {
+  if (!have_gnuplot()) GONIO_MISSING(std::string("gnuplot (scripts/setup.sh installs gnuplot-nox)"));
+  DatasheetEntry sim = entry();
+  sim.simulation_report = nlohmann::json{{"emitted_lm", 1000.0}, {"escaped_lm", 800.0}, {"absorbed_lm", 200.0},
+                                         {"cutoff_lm", 0.0}, {"photons_emitted", 1000}};
+  nlohmann::json& r = *sim.simulation_report;
+  nlohmann::json thumb = {{"size", 2}, {"cd_m2", {0.0, 12000.0, 3000.0, 1.0}}};
+  r["luminance_images"] = nlohmann::json::array();
+  r["luminance_images"].push_back({{"c_deg", 0.0}, {"gamma_deg", 65.0}, {"file", "panel.luminance-C0-G65.exr"},
+                                   {"intensity_cd", 123.4}, {"max_cd_m2", 12000.0}, {"cone_deg", 2.5},
+                                   {"thumbnail", thumb},
+                                   {"cie232", {{"defined", true}, {"intensity_cd", 123.4}, {"projected_area_m2", 0.03},
+                                               {"mean_luminance_cd_m2", 4113.3}, {"glare_area_m2", 0.0012},
+                                               {"glare_luminance_cd_m2", 52000.0}, {"k2", 6.37}, {"delta_ugr", 6.43}}}});
+  r["luminance_images"].push_back({{"c_deg", 90.0}, {"gamma_deg", 50.0}, {"file", "panel.luminance-C90-G50.exr"},
+                                   {"cie232", {{"defined", false}, {"why_undefined", "no pixel reaches 500 cd/m2"}}}});
+  r["cie232"] = {{"delta_ugr", 6.43}};
+  r["near_field"] = nlohmann::json::array({{{"distance_m", 2.0}, {"verdict", "undecided"}, {"upper_bound_pct", 1.7},
+                                             {"cell_deviation_pct", 1.5}}});
+  r["far_field_distance"] = {{"farthest", "undecided"}, {"photons_to_tell", 3.0e8}};
+  auto html = datasheet_html({sim});
+  ASSERT_TRUE(html.ok()) << html.error().message;
+  const std::string& h = html.value();
+  for (const char* part : {"CIE 232:2019", "panel.luminance-C0-G65.exr", "12000 cd/m²", "6.37", "6.4",
+                           "no pixel reaches 500 cd/m2", "300.0 cm²", "12.0 cm²", "undecided", "about 300 million"})
+    EXPECT_NE(h.find(part), std::string::npos) << part;
+  // The 4H × 8H room of the table, crosswise and endwise, each + 6.4.
+  const std::regex moved(R"(crosswise (\d+\.\d) → (\d+\.\d), endwise (\d+\.\d) → (\d+\.\d))");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(h, m, moved));
+  EXPECT_NEAR(std::stod(m[2]) - std::stod(m[1]), 6.4, 0.11);
+  EXPECT_NEAR(std::stod(m[4]) - std::stod(m[3]), 6.4, 0.11);
+  // Thumbnails: inline SVG, the brightest pixel white-ish, the dark one not drawn.
+  EXPECT_NE(h.find("<svg xmlns='http://www.w3.org/2000/svg' width='8'"), std::string::npos);
+  const std::regex external(R"((src|href)\s*=\s*["']?\s*(https?:|//)|url\(|@import|<script|<link|<img)",
+                            std::regex::icase);
+  EXPECT_FALSE(std::regex_search(h, external));
+}
+
 // A measured file with a spectrum (TM-33 SpectralData): the sheet shows the
 // colour it gives; colord's CIE illuminant A table (2856 K by definition)
 // read in place as the file's spectrum gives CCT 2856 K and Duv 0.

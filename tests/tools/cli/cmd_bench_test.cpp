@@ -92,6 +92,8 @@ TEST(CmdBench, WritesSeriesChartsAndReusesItsReference) {
   EXPECT_EQ(j["reference"]["key"]["seed"], 2);  // its own seed
   EXPECT_EQ(j["series"].size(), 16u);  // with the Sobol' raw and adaptive series (--sampler both)
   EXPECT_EQ(j["settings"]["sampler"], "random");
+  EXPECT_EQ(j["settings"]["next_event"], "auto");  // as gonio simulate's default
+  EXPECT_EQ(j["settings"]["next_event_connections"], 16);
   EXPECT_EQ(j["series"][14]["name"], "sobol");
   EXPECT_EQ(j["series"][14]["sampler"], "sobol");
   const double estimated = j["reference"]["noise"]["table_estimated_pct"];
@@ -198,6 +200,11 @@ TEST(CmdBench, UsageAndModelErrors) {
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("none.gltf"), std::string::npos) << missing.err;
   EXPECT_EQ(gonio({"bench", "--help"}).exit_code, 0);
+  // --next-event takes auto, on or off only, and the help names it.
+  const test::ProcessResult maybe = gonio(small(dir.path(), {"--next-event", "maybe"}));
+  EXPECT_EQ(maybe.exit_code, 2);
+  EXPECT_NE(maybe.err.find("next-event"), std::string::npos) << maybe.err;
+  EXPECT_NE(gonio({"bench", "--help"}).out.find("--next-event"), std::string::npos);
 }
 
 }  // namespace

@@ -886,8 +886,93 @@ TEST(Simulate, HelpNamesEveryOption) {
   EXPECT_EQ(r.exit_code, 0);
   for (const char* o : {"--photons", "--iterations", "--seed", "--threads", "--max-bounces", "--face-size", "--out",
                         "--c-step", "--gamma-step", "--symmetry", "--format", "--ies-version", "--name", "--min-lor",
-                        "--flux-tolerance", "--bvh-quality", "--sampler"})
+                        "--flux-tolerance", "--bvh-quality", "--sampler", "--next-event", "--connections",
+                        "--luminance-image"})
     EXPECT_NE(r.out.find(o), std::string::npos) << o;
+}
+
+// --luminance-image ugr: four images (γ 65° and 50° in C0 and C90) as EXR
+// and PNG, listed in report.json with CIE 232's figures; the white shade
+// (a diffuse box open at the bottom) glares from its inside. A view that
+// sees only the box's top (from above) has no glare source.
+TEST(Simulate, LuminanceImagesAndCie232FiguresFromTheUgrViews) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  const auto out = dir / "o";
+  auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "50000", "--iterations", "2",
+                  "--face-size", "16", "--luminance-image", "ugr,0:170", "--format", "ies,report"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(test::read_file(out / "report.json"));
+  ASSERT_EQ(report["luminance_images"].size(), 5u);
+  const std::set<std::string> names = [&] {
+    std::set<std::string> n;
+    for (const auto& p : report.at("written")) n.insert(std::filesystem::path(p.get<std::string>()).filename().string());
+    return n;
+  }();
+  for (const char* f : {"shade.luminance-C0-G65.exr", "shade.luminance-C0-G50.exr", "shade.luminance-C90-G65.exr",
+                        "shade.luminance-C90-G50.exr", "shade.luminance-C0-G170.exr", "shade.luminance-C0-G65.png"})
+    EXPECT_TRUE(names.count(f)) << f;
+  auto exr = io::read_exr((out / "shade.luminance-C0-G65.exr").string());
+  ASSERT_TRUE(exr.ok()) << exr.error().message;
+  ASSERT_NE(exr->find_float("L"), nullptr);
+  // Each image carries the intensity towards its view; the views below see
+  // the lit inside of the shade: CIE 232 defined there.
+  for (int k = 0; k < 4; ++k) {
+    const auto& img = report["luminance_images"][k];
+    EXPECT_GT(img["intensity_cd"].get<double>(), 0.0);
+    EXPECT_TRUE(img["cie232"]["defined"].get<bool>()) << img.dump();
+    EXPECT_NEAR(img["cie232"]["delta_ugr"].get<double>(), 8.0 * std::log10(img["cie232"]["k2"].get<double>()), 1e-9);
+  }
+  // From above (γ 170°) only the closed top: no light, no glare source.
+  EXPECT_EQ(report["luminance_images"][4]["intensity_cd"].get<double>(), 0.0);
+  EXPECT_FALSE(report["luminance_images"][4]["cie232"]["defined"].get<bool>());
+  EXPECT_TRUE(report["cie232"]["delta_ugr"].is_number());
+  EXPECT_EQ(report["cie232"]["threshold_cd_m2"].get<double>(), 500.0);
+  // The datasheet shows them.
+  const std::string html = test::read_file(out / "shade.html");
+  EXPECT_NE(html.find("CIE 232:2019"), std::string::npos);
+  EXPECT_NE(html.find("shade.luminance-C90-G50.exr"), std::string::npos);
+  EXPECT_NE(r.out.find("luminance image C0 G65"), std::string::npos) << r.out;
+  // Bad views are usage errors that say why.
+  for (const char* bad : {"0:200", "x", "0:65,", "400:10"}) {
+    r = gonio({"simulate", model.string(), "--out", (dir / "bad").string(), "--luminance-image", bad});
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find("--luminance-image"), std::string::npos) << r.err;
+  }
+}
+
+// --next-event: the report says what was chosen and how the far field's
+// total relates to the books; the written files carry the far field's flux.
+TEST(Simulate, NextEventReportsItsChoiceAndItsBooks) {
+  test::TempDir dir;
+  const auto model = dir / "shade.gltf";
+  test::write_file(model, shade_model());
+  for (const char* mode : {"on", "off", "auto"}) {
+    const auto out = dir / mode;
+    auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "40000", "--iterations", "1",
+                    "--face-size", "16", "--next-event", mode, "--format", "ies,exr"});
+    ASSERT_EQ(r.exit_code, 0) << mode << r.err;
+    const nlohmann::json report = nlohmann::json::parse(test::read_file(out / "report.json"));
+    const nlohmann::json& n = report["next_event"];
+    EXPECT_EQ(n["mode"].get<std::string>(), mode);
+    if (std::string(mode) == "on") {
+      ASSERT_TRUE(n["enabled"].get<bool>());
+      EXPECT_GT(n["connections"].get<double>(), 0.0);
+      // far field − escaped = booked − covered.
+      EXPECT_NEAR(n["far_field_minus_escaped_lm"].get<double>(),
+                  n["booked_lm"].get<double>() - n["covered_lm"].get<double>(), 1e-6);
+      EXPECT_NEAR(report["far_field"]["flux_lm"].get<double>(),
+                  report["escaped_lm"].get<double>() + n["far_field_minus_escaped_lm"].get<double>(),
+                  1e-6);
+    }
+    if (std::string(mode) == "off") {
+      EXPECT_FALSE(n["enabled"].get<bool>());
+    }
+    EXPECT_TRUE(report["energy"]["photons_close"].get<bool>());
+  }
+  auto r = gonio({"simulate", model.string(), "--out", (dir / "x").string(), "--next-event", "maybe"});
+  EXPECT_EQ(r.exit_code, 2);
 }
 
 

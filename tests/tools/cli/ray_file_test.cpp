@@ -400,23 +400,33 @@ TEST(CliRayFile, WrittenRayFileOfASpotAimedAtC90PeaksWhereTheRunsIesDoes) {
   EXPECT_EQ(ray_peak.second, run_peak.second) << "gamma of the ray file's peak";
 }
 
-// Issue 34, case 5 (the written image): the Lambertian disc set moved 50 mm
-// toward C90 (the ray file's −y) and 30 mm toward C0 (+x), with one weak ray
-// as far the other way pointing up, so the luminaire's centre stays between
-// them. 50 mm below, the near-field EXR's channel E is brightest about row
-// 10 of 41 from the top and column 26 from the left ((0.1 − 0.05) / 0.2 × 41,
-// (0.1 + 0.03) / 0.2 × 41), as its gonio:axes attribute says ("columns along
-// C0 (left -, right +), rows along C90 (top +, bottom -)"); written
-// bottom-up, row 30.
+// Issue 34, case 5 (the written image), re-pinned for issue 33's luminous
+// centre (the planes hang below the power-weighted mean of where the
+// downward light leaves): the Lambertian disc set moved 50 mm toward C90
+// (the ray file's −y) and 30 mm toward C0 (+x), and a copy at a quarter of
+// its flux as far the other way, so the centre sits at 0.6 of the offset
+// and the bright disc 20 mm toward C90 and 12 mm toward C0 of it. 50 mm
+// below, the near-field EXR's channel E is brightest about row 16 of 41 from
+// the top and column 23 from the left ((0.1 − 0.02) / 0.2 × 41, (0.1 +
+// 0.012) / 0.2 × 41), as its gonio:axes attribute says ("columns along C0
+// (left -, right +), rows along C90 (top +, bottom -)"); written bottom-up,
+// row 24; mirrored along C0, column 18.
 TEST(CliNearField, EmitterTowardC90AndC0LightsTheExrsTopRight) {
   test::TempDir dir;
   io::Tm25RaySet set = lambertian_disc();
   std::vector<float> rays = set.items;
-  for (std::size_t i = 0; i < rays.size(); i += 7) {
+  const std::size_t count = rays.size();
+  for (std::size_t i = 0; i < count; i += 7) {
     rays[i] += 30.0f;      // toward C0
     rays[i + 1] -= 50.0f;  // toward C90
   }
-  for (float v : {-30.0f, 50.0f, 0.0f, 0.0f, 0.0f, -1.0f, 0.001f}) rays.push_back(v);  // the other way, pointing up
+  for (std::size_t i = 0; i < count; i += 7) {  // the weak copy, the other way
+    const float x = rays[i] - 60.0f, y = rays[i + 1] + 100.0f;
+    const float rest[5] = {rays[i + 2], rays[i + 3], rays[i + 4], rays[i + 5], 0.25f * rays[i + 6]};
+    rays.push_back(x);
+    rays.push_back(y);
+    rays.insert(rays.end(), rest, rest + 5);
+  }
   ASSERT_TRUE(io::write_tm25_file((dir / "moved.tm25ray").string(), io::make_luminous_ray_set(std::move(rays))).ok());
   test::write_file(dir / "led.gltf", ray_file_model("moved.tm25ray"));
   const auto out = dir / "out";
@@ -436,14 +446,14 @@ TEST(CliNearField, EmitterTowardC90AndC0LightsTheExrsTopRight) {
   const auto brightest = [](const std::vector<double>& v) {
     return static_cast<std::size_t>(std::max_element(v.begin(), v.end()) - v.begin());
   };
-  EXPECT_EQ(brightest(rows), 10u) << "brightest row of E (0 = +C90, the top)";
-  EXPECT_EQ(brightest(columns), 26u) << "brightest column of E (0 = -C0, the left)";
+  EXPECT_NEAR(static_cast<double>(brightest(rows)), 16.4, 1.5) << "brightest row of E (0 = +C90, the top)";
+  EXPECT_NEAR(static_cast<double>(brightest(columns)), 23.0, 1.5) << "brightest column of E (0 = -C0, the left)";
   double top = 0.0, bottom = 0.0;
   for (std::size_t k = 0; k < n / 2; ++k) {
     top += rows[k];
     bottom += rows[n - 1 - k];
   }
-  EXPECT_GT(top, 3.0 * bottom);
+  EXPECT_GT(top, bottom);
 }
 
 }  // namespace

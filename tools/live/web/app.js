@@ -393,6 +393,47 @@ async function fetchField() {
     fetching = false;
   }
 }
+// ---------- luminance images ----------
+// state.json "luminance_images": per view {c_deg, gamma_deg, max_cd_m2,
+// intensity_cd, thumbnail {size, cd_m2}} (the run's --luminance-image
+// views; null without). Each thumbnail on the page's ramp, log over three
+// decades below the 99th percentile of its lit cells (a bare lamp clips).
+function drawLuminance(images) {
+  const panel = $('luminance-panel');
+  panel.hidden = !images || images.length === 0;
+  if (panel.hidden) return;
+  const box = $('luminance-images');
+  while (box.children.length > images.length) box.removeChild(box.lastChild);
+  images.forEach((img, k) => {
+    let fig = box.children[k];
+    if (!fig) {
+      fig = document.createElement('figure');
+      fig.appendChild(document.createElement('canvas'));
+      fig.appendChild(document.createElement('figcaption'));
+      box.appendChild(fig);
+    }
+    const t = img.thumbnail || {size: 0, cd_m2: []};
+    const canvas = fig.firstChild;
+    const px = Math.max(1, Math.floor(192 / Math.max(1, t.size)));
+    canvas.width = canvas.height = t.size * px;
+    const ctx = canvas.getContext('2d');
+    ctx.fillStyle = 'rgb(12,14,26)';
+    ctx.fillRect(0, 0, canvas.width, canvas.height);
+    const lit = t.cd_m2.filter((v) => v > 0).sort((a, b) => a - b);
+    const top = lit.length ? lit[Math.floor(0.99 * (lit.length - 1))] : 0;
+    for (let y = 0; y < t.size; ++y)
+      for (let x = 0; x < t.size; ++x) {
+        const v = t.cd_m2[y * t.size + x];
+        if (!(v > 0) || !(top > 0)) continue;
+        const c = ramp(1 + Math.log10(v / top) / 3);
+        ctx.fillStyle = `rgb(${c[0] | 0},${c[1] | 0},${c[2] | 0})`;
+        ctx.fillRect(x * px, y * px, px, px);
+      }
+    fig.lastChild.textContent = `C ${fmt(img.c_deg)}° γ ${fmt(img.gamma_deg)}°: max ${fmtCount(Math.round(img.max_cd_m2 || 0))} cd/m², ` +
+      `${Number.isFinite(img.intensity_cd) ? img.intensity_cd.toFixed(1) : '—'} cd`;
+  });
+}
+
 function onState(s) {
   const newIteration = !page.state || s.iteration !== page.state.iteration || s.run !== page.state.run;
   if (page.state && s.run !== page.state.run) page.updates = [];  // the rate of this run alone
@@ -402,6 +443,7 @@ function onState(s) {
   showNumbers(s);
   showMessages(s);
   drawCurves();
+  drawLuminance(s.luminance_images);
   if (s.field && s.field.version > page.fieldVersion) fetchField();
 }
 function connect() {
