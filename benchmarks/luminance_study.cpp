@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-    const cli::SimulatedOpening opening = cli::simulated_opening(run->tracer(), run->scene(), s.seed);
+    const app::SimulatedOpening opening = app::simulated_opening(run->tracer(), run->scene(), s.seed);
     const io::LuminanceOutputs o = io::write_luminance_images(out, name, run->luminance_images(), opening.opening,
                                                               s.luminance.cone_deg);
     for (const Error& e : o.failures) std::fprintf(stderr, "%s\n", e.message.c_str());

@@ -232,7 +232,7 @@ int main(int argc, char** argv) {
         const double cpu = cpu_s() - t0 - s.setup_cpu_s;
         const sim::FarField f = sim->far_field();
         const double rms = reference->table_error(intensities(f)).rms_pct;
-        const double est = cli::estimated_rms_error_pct(*sim, *resampler);
+        const double est = app::estimated_rms_error_pct(*sim, *resampler);
         s.points.push_back({done, cpu, rms, est});
         if (rms < 0.6 * target) break;
       }
