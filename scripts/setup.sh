@@ -15,6 +15,10 @@ packages=(
   libpugixml-dev libzip-dev libxml2-utils libxxhash-dev
   clang-14 libfuzzer-14-dev llvm-14
   colord-data
+  libocct-data-exchange-dev libocct-ocaf-dev libocct-modeling-algorithms-dev
+  libocct-modeling-data-dev libocct-foundation-dev libocct-visualization-dev
+  libtomlplusplus-dev
+  freecad occt-draw libocct-draw-dev
 )
 
 missing=()

@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "photometry/format.h"
+#include "photometry/spectrum.h"
 
 namespace gonio::io {
 namespace {
@@ -42,7 +45,163 @@ Status check_extra(const std::optional<double>& v, double lo, double hi, const c
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+using nlohmann::json;
+
+// A spectrum in extras.gonio: {"wavelengths_nm": [...], "values": [...]}
+// or, where allowed, {"blackbody_k": T} (Planck's law, 360–830 nm in 1 nm).
+Result<photometry::SampledSpectrum> spectrum_object(const json& j, const SourceLoc& where, const std::string& what,
+                                                    double max_value, bool allow_blackbody) {
+  constexpr std::size_t kMaxSamples = 100000;
+  auto fail = [&](std::string message) { return Error{where, std::move(message)}; };
+  if (!j.is_object()) return fail(what + " must be an object");
+  if (allow_blackbody && j.contains("blackbody_k")) {
+    if (j.contains("wavelengths_nm") || j.contains("values"))
+      return fail(what + ": give either blackbody_k or wavelengths_nm and values, not both");
+    Result<std::optional<double>> t = extras_number(j, "blackbody_k", where, what);
+    if (!t.ok()) return t.error();
+    if (!(**t >= 100.0 && **t <= 1e6)) return fail(what + ".blackbody_k = " + format_number(**t) + " must lie in [100, 1e6] K");
+    return photometry::blackbody_spectrum(**t);
+  }
+  photometry::SampledSpectrum s;
+  const std::pair<const char*, std::vector<double>*> arrays[] = {{"wavelengths_nm", &s.wavelengths_nm},
+                                                                 {"values", &s.values}};
+  for (const auto& [key, out] : arrays) {
+    auto it = j.find(key);
+    if (it == j.end())
+      return fail(what + ": '" + key + "' is missing" +
+                  (allow_blackbody ? " (or give blackbody_k)" : ""));
+    if (!it->is_array() || it->size() > kMaxSamples)
+      return fail(what + "." + key + " must be an array of at most " + std::to_string(kMaxSamples) + " numbers");
+    for (std::size_t i = 0; i < it->size(); ++i) {
+      const json& v = (*it)[i];
+      if (!v.is_number()) return fail(what + "." + key + "[" + std::to_string(i) + "] is not a number");
+      out->push_back(v.get<double>());
+    }
+  }
+  if (Status st = photometry::validate_spectrum(s, max_value); !st.ok())
+    return fail(what + ": " + st.error().message);
+  return s;
+}
+
+Result<std::optional<photometry::SampledSpectrum>> spectrum_key(const json& obj, const char* key,
+                                                                const SourceLoc& where, const std::string& what,
+                                                                double max_value) {
+  auto it = obj.find(key);
+  if (it == obj.end()) return std::optional<photometry::SampledSpectrum>();
+  Result<photometry::SampledSpectrum> s =
+      spectrum_object(*it, where, what + " extras.gonio." + key, max_value, false);
+  if (!s.ok()) return s.error();
+  return std::optional<photometry::SampledSpectrum>(std::move(*s));
+}
+
 }  // namespace
+
+Result<std::optional<double>> extras_number(const json& obj, const char* key, const SourceLoc& where,
+                                            const std::string& what) {
+  if (!obj.is_object()) return std::optional<double>();
+  auto it = obj.find(key);
+  if (it == obj.end()) return std::optional<double>();
+  if (!it->is_number()) return Error{where, what + ": '" + key + "' must be a number"};
+  const double v = it->get<double>();
+  if (!std::isfinite(v)) return Error{where, what + ": '" + key + "' is not finite"};
+  return std::optional<double>(v);
+}
+
+Result<sim::EmitterSpectrum> read_emitter_spectrum(const json& obj, const SourceLoc& where, const std::string& what) {
+  auto fail = [&](std::string message) { return Error{where, std::move(message)}; };
+  sim::EmitterSpectrum out;
+  auto it = obj.find("spectrum");
+  if (it == obj.end()) return out;
+  const std::string w = what + " extras.gonio.spectrum";
+  if (!it->is_object()) return fail(w + " must be an object");
+  if (auto og = it->find("over_gamma"); og != it->end()) {
+    if (it->size() != 1) return fail(w + ": over_gamma stands alone");
+    if (!og->is_array() || og->empty() || og->size() > 1000)
+      return fail(w + ".over_gamma must be an array of 1 to 1000 entries");
+    for (std::size_t i = 0; i < og->size(); ++i) {
+      const std::string wi = w + ".over_gamma[" + std::to_string(i) + "]";
+      const json& entry = (*og)[i];
+      Result<std::optional<double>> g = extras_number(entry, "gamma_deg", where, wi);
+      if (!g.ok()) return g.error();
+      if (!*g) return fail(wi + ": 'gamma_deg' is missing");
+      json rest = entry;
+      if (rest.is_object()) rest.erase("gamma_deg");
+      Result<photometry::SampledSpectrum> s = spectrum_object(rest, where, wi, 1e300, true);
+      if (!s.ok()) return s.error();
+      out.over_gamma.push_back({**g, std::move(*s)});
+    }
+  } else {
+    Result<photometry::SampledSpectrum> s = spectrum_object(*it, where, w, 1e300, true);
+    if (!s.ok()) return s.error();
+    out.over_gamma.push_back({0.0, std::move(*s)});
+  }
+  if (Status st = sim::validate_emitter_spectrum(out); !st.ok()) return fail(w + ": " + st.error().message);
+  return out;
+}
+
+Result<MaterialExtrasRead> read_material_extras(const json& gj, const SourceLoc& where, const std::string& what,
+                                                std::vector<Finding>& findings) {
+  auto fail = [&](std::string message) { return Error{where, std::move(message)}; };
+  if (!gj.is_object()) return fail(what + ": extras.gonio must be an object");
+  static const char* const known[] = {
+      "kd", "ks", "mx", "my", "f0", "diffuse_transmit", "mirror", "dielectric", "ior",
+      "attenuation_per_m", "reflectance", "diffuse_reflectance", "transmittance", "diffusion",
+      "luminance_cd_m2", "spectrum", "spectral_reflectance", "spectral_transmittance", "ior_nm",
+      "abbe_number"};
+  for (const auto& item : gj.items()) {
+    const std::string& key = item.key();  // not a structured binding: clang 14 (fuzz build) cannot capture one
+    if (std::none_of(std::begin(known), std::end(known), [&](const char* k) { return key == k; }))
+      findings.push_back({Severity::Warning, "unknown-extras-key",
+                          what + ": extras.gonio." + key + " is not a Gonio parameter here; ignored", where});
+  }
+  MaterialExtrasRead out;
+  MaterialExtras& x = out.extras;
+  const std::pair<const char*, std::optional<double>*> keys[] = {
+      {"kd", &x.kd},
+      {"ks", &x.ks},
+      {"mx", &x.mx},
+      {"my", &x.my},
+      {"f0", &x.f0},
+      {"diffuse_transmit", &x.diffuse_transmit},
+      {"mirror", &x.mirror},
+      {"dielectric", &x.dielectric},
+      {"ior", &x.ior},
+      {"attenuation_per_m", &x.attenuation_per_m},
+      {"reflectance", &x.reflectance},
+      {"diffuse_reflectance", &x.diffuse_reflectance},
+      {"transmittance", &x.transmittance},
+      {"diffusion", &x.diffusion},
+      {"luminance_cd_m2", &x.luminance_cd_m2},
+  };
+  for (const auto& [key, target] : keys) {
+    Result<std::optional<double>> v = extras_number(gj, key, where, what + " extras.gonio");
+    if (!v.ok()) return v.error();
+    *target = *v;
+  }
+  Result<std::optional<double>> abbe = extras_number(gj, "abbe_number", where, what + " extras.gonio");
+  if (!abbe.ok()) return abbe.error();
+  if (*abbe && !(**abbe > 0.0)) return fail(what + ": extras.gonio.abbe_number must be > 0");
+  x.abbe_number = *abbe;
+  const std::tuple<const char*, std::optional<photometry::SampledSpectrum>*, double> spectra[] = {
+      {"spectral_reflectance", &x.spectral_reflectance, 1.0},
+      {"spectral_transmittance", &x.spectral_transmittance, 1.0},
+      {"ior_nm", &x.ior_nm, 1e300},
+  };
+  for (const auto& [key, target, max_value] : spectra) {
+    Result<std::optional<photometry::SampledSpectrum>> v = spectrum_key(gj, key, where, what, max_value);
+    if (!v.ok()) return v.error();
+    *target = std::move(*v);
+  }
+  if (x.ior_nm)
+    for (std::size_t i = 0; i < x.ior_nm->values.size(); ++i)
+      if (!(x.ior_nm->values[i] >= 1.0))
+        return fail(what + ": extras.gonio.ior_nm: value " + std::to_string(i) + " (" +
+                    format_number(x.ior_nm->values[i]) + ") must be >= 1");
+  Result<sim::EmitterSpectrum> es = read_emitter_spectrum(gj, where, what);
+  if (!es.ok()) return es.error();
+  out.emitted_spectrum = std::move(*es);
+  return out;
+}
 
 double luminance(const Rgb& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
 

@@ -50,6 +50,7 @@
 #pragma once
 
 #include <limits>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -132,5 +133,40 @@ Result<sim::Material> map_material(const GltfMaterial& m, const MaterialExtras& 
 // open; Gonio reads KHR_materials_emissive_strength × emissiveFactor as
 // luminance in cd/m², so a Lambertian side of area A emits Φ = π·L·A.
 double emissive_luminance_cd_m2(const GltfMaterial& m, const MaterialExtras& extras);
+
+// ---------------------------------------------------------------------------
+// `extras.gonio` as JSON: the one reader of the material vocabulary, for
+// glTF's material extras and the CAD sidecar's materials (io/model/parts_file.h
+// turns TOML into this form). `where` names the file, `what` the material or
+// emitter in messages ("material 'glass' (#2)").
+
+// What `extras.gonio` of a material says: its MaterialExtras and, for an
+// emissive material, the spectrum it emits ("spectrum", as
+// read_emitter_spectrum reads it; empty without one).
+struct MaterialExtrasRead {
+  MaterialExtras extras;
+  sim::EmitterSpectrum emitted_spectrum;
+};
+
+// Reads `gonio` (the object of extras.gonio): an error where it is not an
+// object, a value has the wrong type or is not finite, a spectrum is
+// malformed, abbe_number ≤ 0 or ior_nm < 1; unknown keys are warnings
+// ("unknown-extras-key") appended to `findings`. Ranges of the values are
+// map_material's to check.
+Result<MaterialExtrasRead> read_material_extras(const nlohmann::json& gonio, const SourceLoc& where,
+                                                const std::string& what, std::vector<Finding>& findings);
+
+// extras.gonio.spectrum of an object (a light, an emissive material, a CAD
+// emitter): {"blackbody_k": T}, {"wavelengths_nm": [...], "values": [...]},
+// or {"over_gamma": [{"gamma_deg": γ, ...either form}, ...]}. Absent: an
+// empty spectrum (no spectral input).
+Result<sim::EmitterSpectrum> read_emitter_spectrum(const nlohmann::json& obj, const SourceLoc& where,
+                                                   const std::string& what);
+
+// The number `key` of a JSON object: nothing where absent (or `obj` is not
+// an object); an error naming `what` and the key where it is not a finite
+// number.
+Result<std::optional<double>> extras_number(const nlohmann::json& obj, const char* key, const SourceLoc& where,
+                                            const std::string& what);
 
 }  // namespace gonio::io

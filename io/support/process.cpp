@@ -88,6 +88,7 @@ Result<ProcessOutput> run_program(const std::vector<std::string>& args, std::chr
   }
   ProcessOutput result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
   const Result<std::string> err = read_file(err_path, 1u << 20);
   if (err.ok()) result.err = err.value();
   Result<std::string> out = read_file(out_path, max_output_bytes);

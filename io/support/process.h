@@ -29,6 +29,7 @@ class ScratchDir {
 
 struct ProcessOutput {
   int exit_code = -1;   // -1 if it did not exit normally
+  int signal = 0;       // the signal that ended it, if one did
   std::string out;      // standard output (at most max_output_bytes)
   std::string err;      // standard error (at most 1 MiB)
 };
