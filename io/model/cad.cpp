@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -28,6 +29,9 @@
 
 #ifndef GONIO_CAD_HELPER_BUILD_PATH
 #define GONIO_CAD_HELPER_BUILD_PATH ""
+#endif
+#ifndef GONIO_OCCT_VERSION
+#define GONIO_OCCT_VERSION ""
 #endif
 
 namespace gonio::io {
@@ -74,6 +78,8 @@ std::uint64_t cache_key(std::string_view bytes, const CadTessellation& t) {
   ContentHash h;
   h.text("gonio-cad");
   h.value(kCadModelFormat);
+  h.value(kCadReaderRevision);
+  h.text(GONIO_OCCT_VERSION);  // another OpenCASCADE may mesh otherwise
   h.value(t.angular_deflection_deg);
   h.value(t.chordal_relative);
   h.value(t.chordal_min_m);
@@ -498,6 +504,30 @@ bool cad_supported() {
 #else
   return false;
 #endif
+}
+
+CadTessellation tessellation_for_grid(double gamma_step_deg) {
+  CadTessellation t;
+  t.angular_deflection_deg = std::clamp(kDeflectionPerGammaStep * gamma_step_deg, 0.05, 20.0);
+  return t;
+}
+
+Result<CadTessellation> parse_tessellation(const std::string& text, CadTessellation base) {
+  auto number = [](const std::string& s, double& out) {
+    char* end = nullptr;
+    out = std::strtod(s.c_str(), &end);
+    return !s.empty() && end == s.c_str() + s.size() && std::isfinite(out);
+  };
+  const std::size_t comma = text.find(',');
+  double deg = 0.0, mm = 0.0;
+  if (!number(text.substr(0, comma), deg) || !(deg > 0.0 && deg <= 90.0) ||
+      (comma != std::string::npos && (!number(text.substr(comma + 1), mm) || !(mm > 0.0))))
+    return make_error("--tessellation " + shown(text) +
+                      ": give the angular deflection in degrees (0 < DEG ≤ 90), optionally ',MM', an absolute "
+                      "chordal deflection in millimetres (> 0)");
+  base.angular_deflection_deg = deg;
+  if (comma != std::string::npos) base.chordal_m = mm * 1e-3;
+  return base;
 }
 
 std::string default_parts_path(const std::string& model) {

@@ -10,7 +10,8 @@
 //    executable, in ../lib/gonio/, then where the build wrote it.
 // 2. Cache: the tessellation is kept in the cache folder as
 //    cad-<hash>.bin (io/support/cache_folder.h) under the XXH3 of the file's
-//    bytes, the tessellation settings and kCadModelFormat, so an unchanged
+//    bytes, the tessellation settings, kCadModelFormat, kCadReaderRevision
+//    and OpenCASCADE's version (another may mesh otherwise), so an unchanged
 //    model with unchanged settings is not read by OpenCASCADE again. A
 //    damaged entry is ignored and replaced.
 // 3. The sidecar (io/model/parts_file.h): `lamp.gonio.toml` beside
@@ -52,6 +53,18 @@ bool cad_supported();
 
 // The sidecar a model takes by default: "<folder>/<stem>.gonio.toml".
 std::string default_parts_path(const std::string& model);
+
+// How finely a run on a C-γ grid of `gamma_step_deg` needs its CAD parts
+// meshed: the angular deflection kDeflectionPerGammaStep × the step (the
+// default 2.5° grid: 2°), with exact-surface normals; docs/cad.md has the
+// measurements behind the factor. Clamped to [0.05°, 20°].
+inline constexpr double kDeflectionPerGammaStep = 0.8;
+CadTessellation tessellation_for_grid(double gamma_step_deg);
+
+// `--tessellation DEG` (the angular deflection) or `DEG,MM` (also an
+// absolute chordal deflection in millimetres for every part, which turns
+// the angular refinement off), over `base`. Errors name the option.
+Result<CadTessellation> parse_tessellation(const std::string& text, CadTessellation base);
 
 struct CadLoadOptions {
   std::string parts_file;                       // empty: default_parts_path(model)

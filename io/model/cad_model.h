@@ -24,7 +24,10 @@ namespace gonio::io {
 // angular deflection bounds δ between neighbouring facets, the chordal one
 // the distance between facet and surface.
 struct CadTessellation {
-  double angular_deflection_deg = 2.0;  // [deg], > 0: BRepMesh's angular deflection
+  // [deg], in (0, 90]: how far a facet's normal may be off the surface's at
+  // its vertices (io/model/step.h); the default suits the default 2.5° grid
+  // (io/model/cad.h, tessellation_for_grid).
+  double angular_deflection_deg = 2.0;
   // Chordal deflection: the greater of `chordal_relative` × the part's size
   // (its bounding-box diagonal) and chordal_min_m, unless chordal_m is set.
   double chordal_relative = 1e-3;       // [-], > 0
@@ -96,6 +99,10 @@ struct CadModel {
 // every index against its range, so a damaged cache entry is an error, not
 // a crash. `name` is the file named in errors.
 inline constexpr std::uint32_t kCadModelFormat = 1;
+
+// Raised whenever io/model/step.cpp would mesh or name a file differently,
+// so that cached tessellations (io/model/cad.h) are made again.
+inline constexpr std::uint32_t kCadReaderRevision = 1;
 std::string serialize_cad_model(const CadModel& model);
 Result<CadModel> parse_cad_model(std::string_view bytes, const std::string& name);
 

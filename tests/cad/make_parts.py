@@ -99,4 +99,16 @@ export([feature("OpenLens", Part.Shell([half]))], "open_lens.step")
 Part.makeSphere(BALL_R).exportStep(os.path.join(out, "ball_plain.step"))
 plano_convex(20.6, 24.0, 4.5).exportIges(os.path.join(out, "pcx_lens.igs"))
 
+# With GONIO_CAD_LARGE=1 (benchmarks/cad_setup_study.cpp): a lens array of 16
+# spheres of different radii (distinct parts, nothing to instance), about
+# 10^6 triangles at the default tessellation.
+if os.environ.get("GONIO_CAD_LARGE") == "1":
+    array = doc.addObject("App::Part", "LensArray")
+    for i in range(16):
+        r = 4.0 + 0.15 * i
+        lens = feature("Lens%02d" % i, Part.makeSphere(r, Vector(15.0 * (i % 4), 15.0 * (i // 4), 0)))
+        array.addObject(lens)
+    doc.recompute()
+    export([array], "lens_array.step")
+
 print("gonio: CAD test parts written to " + out)

@@ -2,6 +2,8 @@
 // helper process hands gonio and what the cache keeps.
 #include "io/model/cad_model.h"
 
+#include "io/model/cad.h"
+
 #include <gtest/gtest.h>
 
 #include "tests/support/test_support.h"
@@ -41,6 +43,50 @@ TEST(CadModelBytes, EveryTruncationAndByteFlipIsAnErrorNotACrash) {
     for (const CadSurface& q : r->parts.at(0).surfaces)
       for (std::uint32_t k : q.indices) EXPECT_LT(k, q.positions.size());
   }
+}
+
+TEST(CadOptions, TessellationFollowsTheGridAndTheOption) {
+  // A finer grid asks a finer mesh: a reflected ray turns by twice the
+  // facet's error, so the deflection scales with the step.
+  EXPECT_DOUBLE_EQ(tessellation_for_grid(2.5).angular_deflection_deg, kDeflectionPerGammaStep * 2.5);
+  EXPECT_DOUBLE_EQ(tessellation_for_grid(1.0).angular_deflection_deg, kDeflectionPerGammaStep * 1.0);
+  EXPECT_TRUE(tessellation_for_grid(1.0).exact_normals);
+  Result<CadTessellation> t = parse_tessellation("0.5", {});
+  ASSERT_TRUE(t.ok());
+  EXPECT_DOUBLE_EQ(t->angular_deflection_deg, 0.5);
+  EXPECT_DOUBLE_EQ(t->chordal_m, 0.0);
+  t = parse_tessellation("3,0.02", {});
+  ASSERT_TRUE(t.ok());
+  EXPECT_DOUBLE_EQ(t->chordal_m, 2e-5);
+  for (const char* bad : {"", "0", "-1", "91", "2,", "2,0", "x", "2,abc", "nan"}) {
+    Result<CadTessellation> r = parse_tessellation(bad, {});
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_NE(r.error().message.find("--tessellation"), std::string::npos);
+  }
+}
+
+TEST(CadOptions, CadPathsByExtension) {
+  EXPECT_TRUE(is_cad_path("lamp.step"));
+  EXPECT_TRUE(is_cad_path("dir/LAMP.STP"));
+  EXPECT_TRUE(is_cad_path("a.p21"));
+  EXPECT_TRUE(is_cad_path("a.IGS"));
+  EXPECT_TRUE(is_cad_path("a.iges"));
+  EXPECT_FALSE(is_cad_path("a.glb"));
+  EXPECT_FALSE(is_cad_path("step"));
+  EXPECT_EQ(default_parts_path("dir/lamp.step"), "dir/lamp.gonio.toml");
+}
+
+TEST(CadOptions, WithoutItsReaderACadFileIsAnErrorSayingWhy) {
+  test::TempDir dir;
+  const std::string model = (dir / "lamp.step").string();
+  test::write_file(model, "ISO-10303-21;\n");
+  CadLoadOptions o;
+  if (cad_supported()) o.helper = (dir / "no-such-gonio-cad").string();  // a helper gone missing
+  Result<CadModel> m = tessellate_cad(model, o);
+  ASSERT_FALSE(m.ok());
+  EXPECT_EQ(m.error().where.file, model);
+  EXPECT_NE(m.error().message.find(cad_supported() ? "no-such-gonio-cad" : "without OpenCASCADE"), std::string::npos)
+      << m.error().message;
 }
 
 }  // namespace

@@ -32,10 +32,18 @@ constexpr double kHole = 0.004;    // R_HOLE
 constexpr double kAper = 0.030;    // R_APER
 constexpr double kBall = 0.005;    // BALL_R
 
-Result<CadModel> tessellate(const fs::path& file, CadTessellation t = {}, const std::string& cache = {}) {
+// Options with a cache the suite's processes share (ctest runs each test as
+// a process of its own): a part meshed once is read from there after; the
+// cache's own behaviour is CadCache's to test.
+CadLoadOptions cached() {
   CadLoadOptions o;
+  o.cache_dir = GONIO_TEST_DATA_DIR "/cad-cache";
+  return o;
+}
+
+Result<CadModel> tessellate(const fs::path& file, CadTessellation t = {}) {
+  CadLoadOptions o = cached();
   o.tessellation = t;
-  o.cache_dir = cache;
   return tessellate_cad(file.string(), o);
 }
 
@@ -204,8 +212,7 @@ position = [0, 0, 7.5]
 flux_lm = 1000
 )");
   std::vector<Finding> findings;
-  CadLoadOptions o;
-  Result<sim::SceneDesc> scene = load_cad(model.string(), o, &findings);
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), &findings);
   ASSERT_TRUE(scene.ok()) << to_string(scene.error());
   ASSERT_EQ(scene->meshes.size(), 1u);
   EXPECT_GT(scene->materials[0].dielectric, 0.9);
@@ -236,7 +243,7 @@ position = [0, 0, -10]
 flux_lm = 1
 )");
   std::vector<Finding> findings;
-  Result<sim::SceneDesc> scene = load_cad(model.string(), {}, &findings);
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), &findings);
   ASSERT_TRUE(scene.ok()) << to_string(scene.error());
   bool said = false;
   for (const Finding& f : findings) said |= f.code == "cad-open-shell" && f.message.find("OpenLens") != std::string::npos;
@@ -296,7 +303,7 @@ TEST(CadScene, SidecarRulesGiveMaterialsInstancesAndOneEmitterPerPlacement) {
   const fs::path model = with_sidecar(dir, parts / "lamp.step", kLampSidecar);
   std::vector<Finding> findings;
   CadLoadInfo info;
-  Result<sim::SceneDesc> scene = load_cad(model.string(), {}, &findings, &info);
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), &findings, &info);
   ASSERT_TRUE(scene.ok()) << to_string(scene.error());
   auto material_of = [&](const std::string& name) -> const sim::Material* {
     for (const sim::Mesh& m : scene->meshes)
@@ -335,9 +342,9 @@ TEST(CadScene, NoInstancingGivesTheSameGeometryFlat) {
   GONIO_REQUIRE_CAD_PARTS(parts);
   TempDir dir;
   const fs::path model = with_sidecar(dir, parts / "lamp.step", kLampSidecar);
-  CadLoadOptions flat;
+  CadLoadOptions flat = cached();
   flat.instancing = false;
-  Result<sim::SceneDesc> a = load_cad(model.string(), {}, nullptr);
+  Result<sim::SceneDesc> a = load_cad(model.string(), cached(), nullptr);
   Result<sim::SceneDesc> b = load_cad(model.string(), flat, nullptr);
   ASSERT_TRUE(a.ok() && b.ok());
   EXPECT_TRUE(b->instances.empty());
@@ -360,7 +367,7 @@ material = "mirror"
 at = "LED1"
 flux_lm = 1
 )");
-  Result<sim::SceneDesc> scene = load_cad(model.string(), {}, nullptr);
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
   ASSERT_FALSE(scene.ok());
   const std::string& m = scene.error().message;
   for (const char* part : {"Lamp/Housing", "Lamp/LED1", "Lamp/LED2", "Lamp/LED3", "Lamp/FrontLens"})
@@ -375,7 +382,7 @@ TEST(CadScene, WithoutASidecarTheErrorNamesTheFileItLookedFor) {
   TempDir dir;
   const fs::path copy = dir / "reflector.step";
   fs::copy_file(parts / "reflector.step", copy);
-  Result<sim::SceneDesc> scene = load_cad(copy.string(), {}, nullptr);
+  Result<sim::SceneDesc> scene = load_cad(copy.string(), cached(), nullptr);
   ASSERT_FALSE(scene.ok());
   EXPECT_NE(scene.error().message.find("reflector.gonio.toml"), std::string::npos) << scene.error().message;
 }
@@ -409,7 +416,7 @@ material = "chip"
 position = [0, 0, 100]
 flux_lm = 10
 )");
-  Result<sim::SceneDesc> scene = load_cad(model.string(), {}, nullptr);
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
   ASSERT_TRUE(scene.ok()) << to_string(scene.error());
   int green = 0, red = 0;
   for (const sim::Mesh& m : scene->meshes) {
@@ -446,7 +453,7 @@ position = [0, 0, 20]
 flux_lm = 5
 spectrum = { blackbody_k = 3000 }
 )");
-  Result<sim::SceneDesc> scene = load_cad(model.string(), {}, nullptr);
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
   ASSERT_TRUE(scene.ok()) << to_string(scene.error());
   const sim::Material& m = scene->materials.at(0);
   EXPECT_DOUBLE_EQ(m.diffuse_transmit, 0.6 * 0.7);
@@ -474,7 +481,7 @@ profile = "led.ies"
 nadir = [1, 0, 0]
 c0 = [0, 0, 1]
 )"));
-  Result<sim::SceneDesc> scene = load_cad(model.string(), {}, nullptr);
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
   ASSERT_TRUE(scene.ok()) << to_string(scene.error());
   ASSERT_EQ(scene->emitters.size(), 1u);
   const sim::Emitter& e = scene->emitters[0];
@@ -496,7 +503,7 @@ kd = 0.5
 position = [0, 0, 20]
 profile = "../../etc/passwd"
 )");
-  Result<sim::SceneDesc> scene = load_cad(model.string(), {}, nullptr);
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
   ASSERT_FALSE(scene.ok());
   EXPECT_NE(scene.error().message.find("outside"), std::string::npos) << scene.error().message;
 }
