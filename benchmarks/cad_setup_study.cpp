@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "benchmarks/cad_parts.h"
 #include "io/model/cad.h"
 #include "io/model/gltf.h"
 #include "io/model/model_check.h"
@@ -175,15 +176,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (!fs::exists(parts / "lens_array.step")) {
-    fs::create_directories(parts);
-    setenv("GONIO_CAD_OUT", parts.c_str(), 1);
-    setenv("GONIO_CAD_LARGE", "1", 1);
-    Result<io::ProcessOutput> made = io::run_program(
-        {"freecadcmd", (fs::path(GONIO_SOURCE_DIR) / "tests" / "cad" / "make_parts.py").string()},
-        std::chrono::seconds(600), std::size_t{1} << 20, "install FreeCAD (Debian's freecad)");
-    if (!made.ok() || !fs::exists(parts / "lens_array.step")) fail("FreeCAD could not make lens_array.step");
-  }
+  bench::make_cad_parts(parts, "lens_array.step", true);
   io::ScratchDir scratch("gonio-cad-setup");
   const fs::path model = scratch.path() / "lens_array.step";
   fs::copy_file(parts / "lens_array.step", model);

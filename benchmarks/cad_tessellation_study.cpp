@@ -19,15 +19,16 @@
 //              f = nD/4(n − 1)): a beam along the axis with the ball's
 //              spherical aberration. No closed form for the whole beam:
 //              error is the RMS over γ ≤ 30° of I − I_ref, relative to
-//              I_ref's peak, where I_ref is the finest mesh with exact
-//              normals traced with another seed (its own noise is the
-//              floor, printed as the row "noise").
+//              I_ref's peak, where I_ref is a finer mesh (--reference,
+//              default 0.5°) with exact normals and 4× the photons; the
+//              same mesh traced with another seed and 1× gives the floor
+//              (the row "noise").
 //
 // For each it prints the triangles, the setup seconds (the helper's reading
 // and meshing, and the tracer's setup), and the error, as the table
 // docs/cad.md shows. The grid is the default 5° × 2.5°.
 //
-// Usage: gonio_cad_tessellation_study [--photons N] [--parts DIR]
+// Usage: gonio_cad_tessellation_study [--photons N] [--parts DIR] [--reference DEG] [--only reflector|lens]
 //   N: photons per run (default 2²¹); DIR: the parts (default: made here
 //   with freecadcmd into build/benchmarks/cad-parts).
 #include <chrono>
@@ -40,9 +41,9 @@
 #include <string>
 #include <vector>
 
+#include "benchmarks/cad_parts.h"
 #include "io/model/cad.h"
 #include "io/support/file_io.h"
-#include "io/support/process.h"
 #include "photometry/format.h"
 #include "sim/resample.h"
 #include "sim/simulation.h"
@@ -163,27 +164,24 @@ double beam_rms(const sim::BinnedField& a, const sim::BinnedField& b) {
 int main(int argc, char** argv) {
   std::uint64_t photons = std::uint64_t{1} << 21;
   fs::path parts = fs::path(GONIO_BINARY_DIR) / "benchmarks" / "cad-parts";
+  double reference_deg = 0.5;
+  std::string only;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--photons") == 0 && i + 1 < argc) {
       photons = std::strtoull(argv[++i], nullptr, 10);
+    } else if (std::strcmp(argv[i], "--reference") == 0 && i + 1 < argc) {
+      reference_deg = std::atof(argv[++i]);
+    } else if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
+      only = argv[++i];
     } else if (std::strcmp(argv[i], "--parts") == 0 && i + 1 < argc) {
       parts = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: gonio_cad_tessellation_study [--photons N] [--parts DIR]\n");
+      std::fprintf(stderr, "usage: gonio_cad_tessellation_study [--photons N] [--parts DIR] [--reference DEG] "
+                           "[--only reflector|lens]\n");
       return 2;
     }
   }
-  if (!fs::exists(parts / "reflector.step")) {
-    fs::create_directories(parts);
-    setenv("GONIO_CAD_OUT", parts.c_str(), 1);
-    Result<io::ProcessOutput> made = io::run_program(
-        {"freecadcmd", (fs::path(GONIO_SOURCE_DIR) / "tests" / "cad" / "make_parts.py").string()},
-        std::chrono::seconds(300), std::size_t{1} << 20, "install FreeCAD (Debian's freecad)");
-    if (!made.ok() || made->exit_code != 0 || !fs::exists(parts / "reflector.step")) {
-      std::fprintf(stderr, "gonio_cad_tessellation_study: FreeCAD could not make the parts\n");
-      return 1;
-    }
-  }
+  bench::make_cad_parts(parts, "reflector.step", false);
   io::ScratchDir scratch("gonio-cad-study");
   const std::vector<double> angles = {16, 8, 4, 2, 1};
   std::printf("# %llu photons per run, grid 5° x 2.5°; setup = meshing (gonio-cad) + tracer setup [s]\n",
@@ -191,6 +189,7 @@ int main(int argc, char** argv) {
   std::printf("| optic | angular deflection | normals | triangles | setup s | error |\n");
   std::printf("|---|---|---|---|---|---|\n");
   for (const Optic* optic : {&kReflector, &kBall}) {
+    if ((only == "reflector" && optic != &kReflector) || (only == "lens" && optic != &kBall)) continue;
     const fs::path model = scratch.path() / optic->file;
     fs::copy_file(parts / optic->file, model, fs::copy_options::overwrite_existing);
     const std::string stem = fs::path(optic->file).stem().string();
@@ -199,13 +198,14 @@ int main(int argc, char** argv) {
     const bool lens = optic == &kBall;
     sim::BinnedField reference;
     if (lens) {
-      reference = run(model, 0.5, true, photons * 4, 99).field;
-      const Run again = run(model, 0.5, true, photons, 98);
-      std::printf("| %s | 0.5° (reference, 4× photons) | exact | – | – | noise %s |\n", optic->name,
-                  format_number(beam_rms(again.field, reference), 3).c_str());
+      reference = run(model, reference_deg, true, photons * 4, 99).field;
+      const Run again = run(model, reference_deg, true, photons, 98);
+      std::printf("| %s | %s° (reference, 4× photons) | exact | – | – | noise %s |\n", optic->name,
+                  format_number(reference_deg).c_str(), format_number(beam_rms(again.field, reference), 3).c_str());
     }
     for (bool exact : {false, true})
       for (double deg : angles) {
+        if (lens && deg <= reference_deg) continue;
         const Run r = run(model, deg, exact, photons, 1);
         double error = 0.0;
         if (lens) {

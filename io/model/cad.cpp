@@ -50,22 +50,9 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-std::vector<std::string> helper_candidates() {
-  std::vector<std::string> paths;
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    paths.push_back((exe.parent_path() / kHelperName).string());
-    paths.push_back((exe.parent_path().parent_path() / "lib" / "gonio" / kHelperName).string());
-  }
-  const std::string built = GONIO_CAD_HELPER_BUILD_PATH;
-  if (!built.empty()) paths.push_back(built);
-  return paths;
-}
-
 Result<std::string> find_helper(const std::string& model) {
   std::string tried;
-  for (const std::string& p : helper_candidates()) {
+  for (const std::string& p : beside_executable(kHelperName, GONIO_CAD_HELPER_BUILD_PATH)) {
     std::error_code ec;
     if (fs::is_regular_file(p, ec)) return p;
     tried += (tried.empty() ? "" : ", ") + p;

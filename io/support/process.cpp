@@ -38,6 +38,18 @@ ScratchDir::~ScratchDir() {
   if (!path_.empty()) fs::remove_all(path_, ec);
 }
 
+std::vector<std::string> beside_executable(const std::string& name, const std::string& built) {
+  std::vector<std::string> paths;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    paths.push_back((exe.parent_path() / name).string());
+    paths.push_back((exe.parent_path().parent_path() / "lib" / "gonio" / name).string());
+  }
+  if (!built.empty()) paths.push_back(built);
+  return paths;
+}
+
 std::string last_lines(const std::string& text, std::size_t max_chars) {
   std::string t = text;
   while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
