@@ -31,7 +31,7 @@
 #include "sim/preview_filter.h"
 #include "sim/pyramid.h"
 #include "sim/simulation.h"
-#include "tools/preview_output.h"
+#include "tools/run/preview_output.h"
 
 namespace {
 

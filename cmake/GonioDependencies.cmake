@@ -53,7 +53,7 @@ find_program(GONIO_MPIRUN NAMES mpirun mpiexec)
 
 # cpp-httplib (the live page's server): Debian ships it compiled, with a
 # pkg-config file whose flags (OpenSSL, zlib, brotli support) the header
-# must see to match the library. Only tools/live_server.cpp includes it.
+# must see to match the library. Only tools/live/live_server.cpp includes it.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(httplib REQUIRED IMPORTED_TARGET cpp-httplib)
 

@@ -30,7 +30,7 @@
 // defaults (5° × 2.5°, face 128, 155 k non-zeros), 0.35 s for the
 // latitude-longitude map's 1.4° grid at face 128, 0.7 s at 1° × 1° (face
 // 256; gonio_resample_bench); the commands keep it on disk
-// (tools/resampler_cache.h). Applying it to a map costs one multiply-add per non-zero
+// (tools/run/resampler_cache.h). Applying it to a map costs one multiply-add per non-zero
 // (0.3 ms at the defaults, three times one read of the map), so a
 // simulation can resample after every iteration (sim/resample_bench.cpp).
 #pragma once
@@ -99,7 +99,7 @@ struct BinnedField {
 };
 
 // The overlap builder's revision: raise it whenever a change to the builder
-// changes its rows, so that stored ones (tools/resampler_cache.h) are rebuilt.
+// changes its rows, so that stored ones (tools/run/resampler_cache.h) are rebuilt.
 inline constexpr int kResamplerRevision = 2;
 
 // Precomputed overlap of a cube map's texels with a grid's bins, seen through
@@ -123,7 +123,7 @@ class Resampler {
   // Σ fraction² · Var(texel) (0 for a map without photon counts).
   BinnedField bin(const FarField& field) const;
 
-  // The matrix as stored (tools/resampler_cache.h): compressed rows, one per
+  // The matrix as stored (tools/run/resampler_cache.h): compressed rows, one per
   // bin (row_start has bin_count() + 1 entries), each the texels the bin
   // draws from and the fraction of each texel's flux it receives.
   struct Rows {

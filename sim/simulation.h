@@ -43,7 +43,7 @@ struct SimulationSettings {
   SamplerKind sampler = SamplerKind::Random;
   // Sobol': photon i belongs to replicate i mod K, an independent scramble
   // (sim/sampler.h), 1 … kMaxSobolReplicates; their spread gives the error
-  // estimate (tools/progressive_run.h). Part of what photon i draws.
+  // estimate (tools/run/progressive_run.h). Part of what photon i draws.
   int sobol_replicates = kSobolReplicates;
   int threads = 0;                                   // 0: every core
   int max_bounces = 100;                             // see TracerSettings

@@ -110,7 +110,7 @@ struct L3dGeometry {
 // luminaire's: several objects referring to it would multiply its flux.
 // `gonio simulate` replaces that rectangle by the luminous opening its LDT
 // and IES carry (where the light leaves the model, seen from above:
-// tools/simulation_outputs.h, simulated_opening()).
+// tools/run/simulation_outputs.h, simulated_opening()).
 //
 // World meshes go into the body's OBJ. An instanced mesh is written once
 // per scale it is placed at (an OBJ scaled and turned into the luminaire

@@ -96,7 +96,7 @@ struct PhotometricReadOptions {
   // then reads that one only.
   std::string gldf_photometry;
   // TM-25 ray files: their far field as a distribution. The binning lives in
-  // sim/ (tools/ray_file_far_field.h gives it); where this is empty a ray
+  // sim/ (tools/run/ray_file_far_field.h gives it); where this is empty a ray
   // file is refused with an error saying so.
   std::function<Result<photometry::Distribution>(const Tm25RaySet&, const std::string& path)> ray_set_far_field;
 };

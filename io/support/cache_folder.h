@@ -2,7 +2,7 @@
 // each written atomically by its owner (io/support/file_io.h) under a name that says
 // what it holds — the model checks' results (mesh-check-<hash>.json,
 // io/model/model_check_cache.h), the overlaps that resample the far field onto
-// the files' grids (resampler-<hash>.bin, tools/resampler_cache.h) and the
+// the files' grids (resampler-<hash>.bin, tools/run/resampler_cache.h) and the
 // tessellations of CAD models (cad-<hash>.bin, io/model/cad.h).
 //
 // The folder is kept to a size limit, least recently used entries first: a

@@ -85,7 +85,7 @@ TEST(Ranks, TheBuildSaysWhetherItHasMpi) {
 }
 
 #if !GONIO_TEST_WITH_MPI
-// (A build with MPI joins the job instead: tests/tools/distributed_run_test.cpp.)
+// (A build with MPI joins the job instead: tests/tools/cli/distributed_run_test.cpp.)
 TEST(Ranks, ABuildWithoutMpiRefusesToRunUnderALauncher) {
   ScopedEnv set("OMPI_COMM_WORLD_SIZE", "3");
   auto ranks = Ranks::join_job();

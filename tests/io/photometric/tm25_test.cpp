@@ -280,7 +280,7 @@ TEST(Tm25, TheOpenerKnowsRayFilesAndNeedsTheFarFieldHook) {
   test::TempDir dir;
   const std::string path = (dir / "led.dat").string();
   test::write_file(path, bytes);
-  // Without the caller's far-field hook (tools/ray_file_far_field.h) a ray
+  // Without the caller's far-field hook (tools/run/ray_file_far_field.h) a ray
   // file is refused, saying why.
   auto r = read_photometric_file(path);
   ASSERT_FALSE(r.ok());

@@ -7,7 +7,7 @@
 
 #include "io/photometric/photometric_file.h"
 #include "photometry/summary.h"
-#include "tests/tools/cli_fixtures.h"
+#include "tests/tools/cli/cli_fixtures.h"
 
 namespace gonio {
 namespace {

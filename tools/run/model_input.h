@@ -1,0 +1,58 @@
+// How subcommands read luminaire models (glTF 2.0): load, then the model
+// checks (closed refractive volumes, degenerate and self-intersecting
+// faces); errors stop the command, warnings are printed.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "photometry/diagnostics.h"
+#include "sim/scene.h"
+#include "tools/run/console.h"
+
+namespace gonio::cli {
+
+// How a model may be read: what every command that loads one offers.
+struct ModelInputOptions {
+  bool allow_outside_paths = false;  // --allow-outside-paths (io::GltfLoadOptions)
+  bool no_instancing = false;        // --no-instancing: flatten meshes placed more than once
+  // The cache folder: the model checks' results (io/model/model_check.h), and for
+  // the commands that write files, the outputs' resamplers
+  // (tools/run/resampler_cache.h); empty: no cache.
+  std::string cache_dir;
+};
+
+// What loading took.
+struct ModelInputTimes {
+  double load_s = 0.0;   // reading the glTF model [s]
+  double check_s = 0.0;  // the model checks, or finding them in the cache [s]
+  std::size_t meshes = 0;
+  std::size_t meshes_from_cache = 0;
+  std::uint64_t max_rss_after_load_bytes = 0;    // the memory high-water mark then
+  std::uint64_t max_rss_after_checks_bytes = 0;  // (io::peak_memory_bytes)
+};
+
+// A model loaded and checked, nothing printed: the scene unless `error`;
+// `findings` of the reader and the checks; `has_errors` when one of them is
+// an error (the scene must not be simulated).
+struct ModelLoad {
+  std::optional<sim::SceneDesc> scene;
+  std::optional<Error> error;
+  std::vector<Finding> findings;
+  bool has_errors = false;
+};
+ModelLoad load_model(const std::string& model, const ModelInputOptions& options = {},
+                     ModelInputTimes* times = nullptr);
+
+// Loads and checks `model`, printing every warning and error to stderr with
+// the file and the part of the model. Returns nothing where the model cannot
+// be loaded or has errors; then the last message says "nothing was
+// `not_done`" (e.g. "simulated").
+std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done,
+                                                 const ModelInputOptions& options = {},
+                                                 ModelInputTimes* times = nullptr);
+
+}  // namespace gonio::cli

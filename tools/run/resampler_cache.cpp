@@ -1,0 +1,152 @@
+#include "tools/run/resampler_cache.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "io/support/cache_folder.h"
+#include "io/support/content_hash.h"
+#include "io/support/file_io.h"
+
+namespace gonio::cli {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the cache stores numbers little-endian");
+
+constexpr char kMagic[16] = {'g', 'o', 'n', 'i', 'o', '-', 'r', 'e', 's', 'a', 'm', 'p', 'l', 'e', 'r', '\n'};
+// Larger files are not read (a face of 512 at 1° holds a few million entries).
+constexpr std::size_t kMaxFileBytes = std::size_t{1} << 30;
+
+// Everything the rows depend on, hashed: the file's name, and the header's
+// check that the entry is for these parameters.
+void hash_parameters(io::ContentHash& h, int face_size, const photometry::PhotometricFrame& frame,
+                     const sim::CGammaGrid& grid) {
+  h.value(static_cast<std::uint32_t>(sim::kResamplerRevision));
+  h.value(static_cast<std::uint32_t>(face_size));
+  h.value(grid.c_step_deg);
+  h.value(grid.gamma_step_deg);
+  h.vec(frame.c0);
+  h.vec(frame.c90);
+  h.vec(frame.up);
+}
+
+template <class T>
+void put(std::string& out, const T& v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+template <class T>
+void put_all(std::string& out, const std::vector<T>& v) {
+  if (!v.empty()) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+// Reads numbers from the file's bytes; fails once past the end.
+class Reader {
+ public:
+  explicit Reader(std::string_view bytes) : bytes_(bytes) {}
+  template <class T>
+  bool get(T* v) {
+    if (bytes_.size() - at_ < sizeof(T)) return false;
+    std::memcpy(v, bytes_.data() + at_, sizeof(T));
+    at_ += sizeof(T);
+    return true;
+  }
+  template <class T>
+  bool get_all(std::vector<T>* v, std::uint64_t n) {
+    if (n > (bytes_.size() - at_) / sizeof(T)) return false;
+    v->resize(static_cast<std::size_t>(n));
+    if (n > 0) std::memcpy(v->data(), bytes_.data() + at_, static_cast<std::size_t>(n) * sizeof(T));
+    at_ += static_cast<std::size_t>(n) * sizeof(T);
+    return true;
+  }
+  void skip(std::size_t n) { at_ = std::min(bytes_.size(), at_ + n); }
+  std::size_t at() const { return at_; }
+
+ private:
+  std::string_view bytes_;
+  std::size_t at_ = 0;
+};
+
+std::string serialize(const sim::Resampler& r, const photometry::PhotometricFrame& frame) {
+  const sim::Resampler::Rows rows = r.rows();
+  std::string out(kMagic, sizeof kMagic);
+  io::ContentHash parameters;
+  hash_parameters(parameters, r.face_size(), frame, r.grid());
+  put(out, parameters.digest());
+  put(out, static_cast<std::uint64_t>(rows.solid_angle_sr.size()));
+  put(out, static_cast<std::uint64_t>(rows.texel.size()));
+  put_all(out, rows.row_start);
+  put_all(out, rows.texel);
+  put_all(out, rows.fraction);
+  put_all(out, rows.solid_angle_sr);
+  io::ContentHash all;
+  all.bytes(out.data(), out.size());
+  put(out, all.digest());
+  return out;
+}
+
+std::optional<sim::Resampler> deserialize(std::string_view bytes, int face_size,
+                                          const photometry::PhotometricFrame& frame,
+                                          const sim::CGammaGrid& grid) {
+  if (bytes.size() < sizeof kMagic + 8 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    return std::nullopt;
+  std::uint64_t stored_digest = 0;
+  std::memcpy(&stored_digest, bytes.data() + bytes.size() - 8, 8);
+  io::ContentHash all;
+  all.bytes(bytes.data(), bytes.size() - 8);
+  if (all.digest() != stored_digest) return std::nullopt;
+  Reader in(bytes.substr(0, bytes.size() - 8));
+  in.skip(sizeof kMagic);
+  std::uint64_t parameters_digest = 0, bins = 0, nonzeros = 0;
+  io::ContentHash parameters;
+  hash_parameters(parameters, face_size, frame, grid);
+  if (!in.get(&parameters_digest) || parameters_digest != parameters.digest()) return std::nullopt;
+  if (!in.get(&bins) || !in.get(&nonzeros) || bins != grid.bin_count()) return std::nullopt;
+  sim::Resampler::Rows rows;
+  if (!in.get_all(&rows.row_start, bins + 1) || !in.get_all(&rows.texel, nonzeros) ||
+      !in.get_all(&rows.fraction, nonzeros) || !in.get_all(&rows.solid_angle_sr, bins))
+    return std::nullopt;
+  if (in.at() != bytes.size() - 8) return std::nullopt;
+  Result<sim::Resampler> r = sim::Resampler::from_rows(face_size, grid, std::move(rows));
+  if (!r.ok()) return std::nullopt;
+  return std::move(r.value());
+}
+
+}  // namespace
+
+std::string resampler_cache_name(int face_size, const photometry::PhotometricFrame& frame,
+                                 const sim::CGammaGrid& grid) {
+  io::ContentHash h;
+  hash_parameters(h, face_size, frame, grid);
+  return io::cache_entry_name(io::CacheEntry::Resampler, h.digest());
+}
+
+sim::Resampler cached_resampler(int face_size, const photometry::PhotometricFrame& frame,
+                                const sim::CGammaGrid& grid, const std::string& cache_dir,
+                                ResamplerSource* source) {
+  ResamplerSource s;
+  std::string path;
+  if (!cache_dir.empty()) {
+    path = (std::filesystem::path(cache_dir) / resampler_cache_name(face_size, frame, grid)).string();
+    if (Result<std::string> bytes = io::read_file(path, kMaxFileBytes); bytes.ok()) {
+      if (std::optional<sim::Resampler> r = deserialize(*bytes, face_size, frame, grid)) {
+        s.from_cache = true;
+        io::mark_cache_entry_used(path);
+        if (source) *source = s;
+        return std::move(*r);
+      }
+    }
+  }
+  sim::Resampler built(face_size, frame, grid);
+  if (!path.empty()) {
+    s.stored = io::make_directories(cache_dir).ok() && io::write_file_atomic(path, serialize(built, frame)).ok();
+  }
+  if (source) *source = s;
+  return built;
+}
+
+}  // namespace gonio::cli
