@@ -522,6 +522,20 @@ std::string default_parts_path(const std::string& model) {
   return (p.parent_path() / (p.stem().string() + ".gonio.toml")).string();
 }
 
+std::vector<std::string> cad_files(const std::string& model, const std::string& parts_file) {
+  std::vector<std::string> files = {model, parts_file.empty() ? default_parts_path(model) : parts_file};
+  Result<PartsFile> parts = read_parts_file(files[1]);
+  if (!parts.ok()) return files;
+  const fs::path dir = fs::path(files[1]).parent_path();
+  for (const PartsEmitter& e : parts->emitters)
+    for (const std::string* reference : {&e.profile, &e.ray_file}) {
+      if (reference->empty()) continue;
+      const std::string path = (dir / *reference).lexically_normal().string();
+      if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
+    }
+  return files;
+}
+
 Result<CadModel> tessellate_cad(const std::string& path, const CadLoadOptions& options, CadLoadInfo* info) {
   const auto start = std::chrono::steady_clock::now();
   if (!cad_supported() && options.helper.empty())

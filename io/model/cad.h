@@ -54,6 +54,13 @@ bool cad_supported();
 // The sidecar a model takes by default: "<folder>/<stem>.gonio.toml".
 std::string default_parts_path(const std::string& model);
 
+// The files a CAD model is read from: the model, its sidecar (CadLoadOptions'
+// parts_file, else default_parts_path; listed whether or not it exists, so
+// that one written later is noticed), then each profile and ray file the
+// sidecar names, resolved against its folder, once each. `gonio watch`
+// watches these. A sidecar that cannot be read adds no further files.
+std::vector<std::string> cad_files(const std::string& model, const std::string& parts_file = {});
+
 // How finely a run on a C-γ grid of `gamma_step_deg` needs its CAD parts
 // meshed: the angular deflection kDeflectionPerGammaStep × the step (the
 // default 2.5° grid: 2°), with exact-surface normals; docs/cad.md has the
