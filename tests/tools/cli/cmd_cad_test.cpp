@@ -238,6 +238,90 @@ TEST(SimulateCad, TruncatedStepIsAnErrorNamingTheFileAndNothingIsWritten) {
   EXPECT_FALSE(fs::exists(dir / "cache") && !fs::is_empty(dir / "cache"));  // nothing cached either
 }
 
+// A sidecar with a mistake: an error naming the sidecar and the line
+// (toml++'s for syntax, the reader's for an unknown key), exit 1, nothing
+// written. A message that named the model only, or lost the line, would
+// leave the user hunting; one that fell back to a default would hide it.
+TEST(SimulateCad, BadSidecarIsAnErrorNamingItsFileAndLine) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  test::TempDir dir;
+  const fs::path model = reflector_with_sidecar(parts, dir.path());
+  const fs::path sidecar = dir / "reflector.gonio.toml";
+  struct Case {
+    const char* what;
+    std::string text;
+    std::string where;  // "FILE:LINE" expected in the message
+    const char* says;
+  };
+  const std::vector<Case> cases = {
+      {"syntax", "[materials.mirror]\nks = 1\nmx = = 0.1\n", sidecar.string() + ":3", ""},
+      {"unknown key", "[materials.mirror]\nks = 1\n\n[[parts]]\nmatch = \"Reflector\"\nmaterial = \"mirror\"\nshiny = true\n",
+       sidecar.string() + ":7", "unknown key 'shiny'"},
+      {"undefined material", "[[parts]]\nmatch = \"Reflector\"\nmaterial = \"chrome\"\n", sidecar.string() + ":1: ",
+       "chrome' is not defined"},
+  };
+  for (const Case& c : cases) {
+    test::write_file(sidecar, c.text);
+    const fs::path out = dir / "out";
+    const auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "1000", "--iterations",
+                          "1", "--cache", (dir / "cache").string()});
+    EXPECT_EQ(r.exit_code, 1) << c.what << ": " << r.err;
+    EXPECT_NE(r.err.find(c.where), std::string::npos) << c.what << ": " << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << c.what << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.what;
+    EXPECT_EQ(test::read_file(sidecar), c.text) << c.what;  // inputs untouched
+  }
+  // No sidecar at all: the error names the one it looked for.
+  fs::remove(sidecar);
+  const auto r = gonio({"simulate", model.string(), "--out", (dir / "out").string(), "--cache",
+                        (dir / "cache").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(sidecar.string()), std::string::npos) << r.err;
+  // --parts naming a file that is not there: the same, for that file.
+  const auto given = gonio({"simulate", model.string(), "--parts", (dir / "optics.toml").string(), "--out",
+                            (dir / "out").string(), "--cache", (dir / "cache").string()});
+  EXPECT_EQ(given.exit_code, 1) << given.err;
+  EXPECT_NE(given.err.find((dir / "optics.toml").string()), std::string::npos) << given.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+// IGES through the command line (written by FreeCAD and by OpenCASCADE's
+// DRAW): report.json says IGES, and a sidecar's default_material covers
+// whatever the file calls its parts. An isotropic source of Φ inside a
+// black box absorbs (nearly) everything: what escapes is what the box
+// reflects, ks 0, kd 0.05, a closed form only in the limit; asserted as
+// less than a tenth.
+TEST(SimulateCad, IgesModelsAreSimulatedWithTheirSidecar) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  test::TempDir dir;
+  for (const char* name : {"pcx_lens", "block"}) {
+    const fs::path model = dir / (std::string(name) + ".igs");
+    fs::copy_file(parts / (std::string(name) + ".igs"), model);
+    test::write_file(dir / (std::string(name) + ".gonio.toml"), R"(
+default_material = "black"
+
+[materials.black]
+kd = 0.05
+
+[[emitters]]
+name = "lamp"
+position = [0, 0, -1000]      # far below the part, in the file's unit
+flux_lm = 100
+)");
+    const fs::path out = dir / name;
+    const auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "20000", "--iterations",
+                          "1", "--format", "ies", "--cache", (dir / "cache").string()});
+    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_EQ(report["cad"]["format"], "IGES") << name;
+    EXPECT_GE(report["cad"]["parts"].get<int>(), 1) << name;
+    EXPECT_GT(report["cad"]["triangles_unique"].get<int>(), 0) << name;
+    // The part hides a little of the sphere: most of the flux escapes.
+    EXPECT_GT(report["escaped_lm"].get<double>(), 90.0) << name;
+    EXPECT_LE(report["escaped_lm"].get<double>(), 100.0 + 1e-6) << name;
+  }
+}
+
 TEST(SimulateCad, OptionsAreCheckedAndDocumented) {
   test::TempDir dir;
   const std::string out = (dir / "out").string();
@@ -337,7 +421,9 @@ std::optional<nlohmann::json> wait_for_report(const fs::path& file, Background& 
 }
 
 // The sidecar is one of the files watch watches: halving its flux starts a
-// new run whose report says so.
+// new run whose report says so, with the mesh from the cache; a change to
+// the model starts another that meshes it again. A watch that followed the
+// model only would never see the new flux.
 TEST(WatchCad, AnEditedSidecarStartsANewRun) {
   GONIO_REQUIRE_CAD_PARTS(parts);
   test::TempDir dir;
@@ -359,6 +445,13 @@ TEST(WatchCad, AnEditedSidecarStartsANewRun) {
   const auto second = wait_for_report(out / "report.json", watch, escaped_near(kFlux / 2));
   ASSERT_TRUE(second) << test::read_file(dir / "watch.log");
   EXPECT_TRUE((*second)["cad"]["from_cache"].get<bool>());  // the model itself did not change
+  // The model changes (a byte more at its end: another content hash), so
+  // the next run reads and meshes it afresh.
+  test::write_file(model, test::read_file(model) + "\n");
+  const auto third = wait_for_report(out / "report.json", watch, [](const nlohmann::json& j) {
+    return j.contains("cad") && !j["cad"]["from_cache"].get<bool>() && j["escaped_lm"].get<double>() < 0.75 * kFlux;
+  });
+  ASSERT_TRUE(third) << test::read_file(dir / "watch.log");
   EXPECT_EQ(watch.interrupt(std::chrono::seconds(30)), 0) << test::read_file(dir / "watch.log");
 }
 
