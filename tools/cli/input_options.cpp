@@ -38,9 +38,9 @@ void add_model_input_options(ArgParser& parser, ModelInputOptions* options) {
                 "places the emitters (TOML, docs/cad.md; default: MODEL's name with .gonio.toml, beside it)");
   parser.option("tessellation", &options->tessellation, "DEG[,MM]",
                 "CAD models: mesh each part so that no facet's normal is more than DEG degrees off the "
-                "surface's, shading with the exact surface's normals; with ,MM also at most MM millimetres "
-                "from the surface everywhere (default: 0.8 x the gamma step, 2 on the default grid; "
-                "meshes are cached)");
+                "surface's, shading with the exact surface's normals (default: 0.8 x the gamma step, 2 on "
+                "the default grid); DEG,MM instead meshes every part once to MM millimetres from the "
+                "surface, DEG then bounding the facets along edges only (docs/cad.md; meshes are cached)");
 }
 
 void add_preview_options(ArgParser& parser, PreviewOptions* o) {
