@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "io/model/cad.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::cli {
@@ -65,6 +66,26 @@ TEST(ModelFiles, AnUnreadableGltfModelIsJustItself) {
   test::TempDir dir;
   const std::string model = (dir / "lamp.glb").string();
   EXPECT_EQ(model_files(model), std::vector<std::string>{model});
+}
+
+// A .step model goes to the CAD reader, whichever way gonio was built: one
+// without OpenCASCADE (GONIO_OCCT=OFF) refuses it saying so and naming the
+// file; one with it reads it and names the file and what is wrong. A
+// dispatch that sent it to the glTF reader would say "not glTF" instead.
+TEST(LoadModel, AStepModelGoesToTheCadReaderOrIsRefusedByABuildWithoutIt) {
+  test::TempDir dir;
+  const std::string model = (dir / "lamp.step").string();
+  test::write_file(model, "ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\nENDSEC;\nEND-ISO-10303-21;\n");
+  ModelLoad loaded = load_model(model);
+  ASSERT_TRUE(loaded.error.has_value());
+  EXPECT_FALSE(loaded.scene.has_value());
+  const std::string message = to_string(*loaded.error);
+  EXPECT_NE(message.find(model), std::string::npos) << message;
+  EXPECT_EQ(message.find("glTF model"), std::string::npos) << message;
+  if (io::cad_supported())
+    EXPECT_NE(message.find("not a readable STEP file"), std::string::npos) << message;
+  else
+    EXPECT_NE(message.find("built without OpenCASCADE"), std::string::npos) << message;
 }
 
 TEST(CheckModelInput, CadOptionsNeedACadModelAndATessellationThatParses) {
