@@ -18,6 +18,10 @@ packages=(
   munge slurmctld slurmd slurm-client
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
   universal-ctags
+  libocct-data-exchange-dev libocct-ocaf-dev libocct-modeling-algorithms-dev
+  libocct-modeling-data-dev libocct-foundation-dev libocct-visualization-dev
+  libtomlplusplus-dev
+  freecad occt-draw libocct-draw-dev
 )
 
 missing=()

@@ -229,6 +229,9 @@ Result<BenchPlan> plan_bench(const BenchOptions& o) {
   }
   const sim::CGammaGrid grid{o.c_step, o.gamma_step};
   if (Status s = sim::validate(grid); !s.ok()) return s.error();
+  ModelInputOptions model_input = o.model_input;
+  model_input.gamma_step_deg = o.gamma_step;  // a CAD model's default tessellation follows it
+  if (Status s = check_model_input(model_input, o.models); !s.ok()) return s.error();
   if (!o.importance && (o.emission_face_size || o.min_acceptance))
     return make_error("--emission-face-size and --min-acceptance need --importance");
   const std::optional<sim::NextEventMode> next_event = sim::parse_next_event_mode(o.next_event);
@@ -249,7 +252,7 @@ Result<BenchPlan> plan_bench(const BenchOptions& o) {
   plan.reference_photons = static_cast<std::uint64_t>(reference_photons);
   plan.reference_seed = static_cast<std::uint64_t>(reference_seed);
   plan.png = !o.no_png;
-  plan.model_input = o.model_input;
+  plan.model_input = model_input;
   BenchSettings& settings = plan.settings;
   settings.photons = static_cast<std::uint64_t>(o.photons);
   settings.first_photons = static_cast<std::uint64_t>(o.first);

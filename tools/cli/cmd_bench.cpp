@@ -77,16 +77,17 @@ void show_progress(app::BenchHooks& hooks) {
 int run_bench(const Args& args) {
   app::BenchOptions o;
   ArgParser p("bench", "MODEL... --out DIR [options]",
-              "Measures speed against accuracy on luminaire models (glTF 2.0). A long reference run\n"
-              "(cached in DIR, reused while model, program, tracer sources and settings match) is the\n"
-              "truth; series of progressive iterations from one seed are compared with it after every\n"
-              "iteration: the raw far field, the preview filter bilinear and bilateral at fixed\n"
-              "thresholds 50..300 and adaptive, and with --importance the thesis's importance-guided\n"
-              "emission. Errors: the cube map's RMSE, PSNR and SNR after mean scaling, and the\n"
-              "resampled candela table's RMS and max error (% of peak) and flux error. Writes\n"
-              "DIR/series.csv, DIR/bench.json and charts (SVG, PNG) of error against time and photons;\n"
-              "several models go to DIR/<name>/.");
-  p.positional_list("MODEL", &o.models, 1, "luminaire models (.gltf or .glb)");
+              "Measures speed against accuracy on luminaire models (glTF 2.0, or STEP/IGES with a\n"
+              "sidecar, see --parts). A long reference run (cached in DIR, reused while model,\n"
+              "program, tracer sources and settings match) is the truth; series of progressive\n"
+              "iterations from one seed are compared with it after every iteration: the raw far\n"
+              "field, the preview filter bilinear and bilateral at fixed thresholds 50..300 and\n"
+              "adaptive, and with --importance the thesis's importance-guided emission. Errors: the\n"
+              "cube map's RMSE, PSNR and SNR after mean scaling, and the resampled candela table's\n"
+              "RMS and max error (% of peak) and flux error. Writes DIR/series.csv, DIR/bench.json\n"
+              "and charts (SVG, PNG) of error against time and photons; several models go to\n"
+              "DIR/<name>/.");
+  p.positional_list("MODEL", &o.models, 1, "luminaire models (.gltf, .glb, .step, .stp, .iges or .igs)");
   p.option("out", &o.out_dir, "DIR", "output directory (created if missing)");
   p.option("photons", &o.photons, app::kBenchPhotonsBounds.min, app::kBenchPhotonsBounds.max, "N", "photons of each series in all (default 33554432 = 2^25)");
   p.option("first", &o.first, app::kBenchFirstBounds.min, app::kBenchFirstBounds.max, "N", "photons of the first iteration (default 16384)");

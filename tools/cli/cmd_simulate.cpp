@@ -40,6 +40,12 @@
 // cannot read its model, or holds another, stops them all before tracing);
 // rank 0 alone writes files, previews and progress.
 //
+// report.json's "cad" (STEP and IGES models only; tools/run/model_input.h):
+// {format, file_unit, parts_file, tessellation {angular_deflection_deg,
+// chordal_relative, chordal_min_mm, chordal_mm, exact_normals}, parts,
+// placements, triangles_unique, triangles_placed, from_cache, tessellate_s,
+// per_part [{name, triangles, placements, size_mm, chordal_deflection_mm}]}.
+//
 // report.json's "cache" {dir, limit_bytes, entries, bytes, removed_entries,
 // removed_bytes}: the cache folder after this run's trim to --cache-limit
 // (io/support/cache_folder.h); null with --no-cache.
@@ -120,7 +126,8 @@ int run_simulate(const Args& args) {
   bool serve = false;
   long long port = app::kDefaultLivePort;
   ArgParser p("simulate", "MODEL --out DIR [options]",
-              "Traces photons through a luminaire model (glTF 2.0: .gltf or .glb) and writes\n"
+              "Traces photons through a luminaire model (glTF 2.0: .gltf or .glb; or CAD: STEP\n"
+              "or IGES with a sidecar naming materials and emitters, see --parts) and writes\n"
               "what light-planning programs and renderers read, each file read back and\n"
               "checked: DIR/STEM.ies (LM-63-2019, computer simulation), DIR/STEM.ldt\n"
               "(EULUMDAT, cd/klm of the emitters' flux), DIR/farfield.exr (far-field cube\n"
@@ -131,7 +138,7 @@ int run_simulate(const Args& args) {
               "not close, the LOR is under --min-lor, a file's flux misses the escaped flux\n"
               "by more than --flux-tolerance, or a file is not clean. The same seed gives the\n"
               "same files whatever the thread count.");
-  p.positional("MODEL", &model, "the luminaire model (.gltf or .glb)");
+  p.positional("MODEL", &model, "the luminaire model (.gltf, .glb, .step, .stp, .iges or .igs)");
   p.option("out", &options.out_dir, "DIR", "output directory (created if missing)");
   add_simulate_options(p, &options);
   p.flag("serve", &serve, "show the run on the live page of `gonio watch` (127.0.0.1), kept up until Ctrl-C");

@@ -1,7 +1,8 @@
 // gonio watch: the interactive loop (tools/live/watch.h). Runs the
 // progressive simulation of a model, shows it on a local web page
 // (tools/live/live_view.h), and starts again whenever the model, or a file it
-// references, changes on disk. This file parses the options into a plan,
+// references (model_files, tools/run/model_input.h: a CAD model's sidecar and
+// its profiles too), changes on disk. This file parses the options into a plan,
 // calls app::watch, and prints.
 //
 //   gonio watch MODEL [--port P] [--host ADDR] [--out DIR] [simulate options]
@@ -37,12 +38,13 @@ int run_watch(const Args& args) {
               "sphere, the C0-C180 and C90-C270 curves (the previous run's dashed), flux, LOR,\n"
               "beam and field angles, peak, speed, the estimated candela error, the model's\n"
               "check findings and the last error. GET /state.json gives the same numbers to\n"
-              "scripts. Whenever MODEL or a file it references (buffers, profiles) changes,\n"
+              "scripts. Whenever MODEL or a file it references (buffers, profiles; a CAD model's\n"
+              "sidecar and the sidecar's profiles and ray files) changes,\n"
               "the run starts again (debounced; a half-written file is retried; the last good\n"
               "result stays up while the model cannot be read). With --out DIR, each run that\n"
               "finishes writes the files and report.json of `gonio simulate`. Ctrl-C ends it.\n"
               "Unlike simulate, --photons defaults to 262144 and --iterations to 1000 here.");
-  p.positional("MODEL", &model, "the luminaire model (.gltf or .glb)");
+  p.positional("MODEL", &model, "the luminaire model (.gltf, .glb, .step, .stp, .iges or .igs)");
   p.option("port", &port, 0, 65535, "P", "port of the page (default 8765; 0: any free port, printed)");
   p.option("host", &host, "ADDR", "address to listen on (default 127.0.0.1: this machine only)");
   p.option("out", &options.out_dir, "DIR", "write each finished run's files here (default: none)");

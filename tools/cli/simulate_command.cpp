@@ -182,10 +182,11 @@ void add_simulate_options(ArgParser& p, app::SimulateOptions* o) {
            "the model's unique triangles, where building the better tree would cost more than it\n"
            "saves, else high), or low, medium, high");
   p.option("cache", &o->cache_dir, "DIR",
-           "where the model checks' results are kept by content hash, so that an unchanged model "
-           "is not checked again, and the overlaps that resample the far field onto the files' "
-           "grids (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
-  p.flag("no-cache", &o->no_cache, "neither read nor write the cache (check the model, build the overlaps)");
+           "where the model checks' results and CAD models' meshes are kept by content hash, so "
+           "that an unchanged model is not checked or meshed again, and the overlaps that resample "
+           "the far field onto the files' grids (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
+  p.flag("no-cache", &o->no_cache,
+         "neither read nor write the cache (check the model, mesh a CAD model, build the overlaps)");
   p.option("cache-limit", &o->cache_limit_mb, app::kCacheLimitMbBounds.min, app::kCacheLimitMbBounds.max, "MB",
            "after the run, remove the cache's least recently used entries while they hold more than "
            "MB megabytes (MiB), down to nine tenths of it; other files in the folder are left alone "

@@ -38,7 +38,7 @@ constexpr std::uint64_t kFirstIterationPhotons = std::uint64_t{1} << 16;
 class Watcher {
  public:
   Watcher(SimulatePlan plan, LiveView& live, const WatchHooks& hooks)
-      : plan_(std::move(plan)), live_(live), hooks_(hooks), files_(model_files(plan_.model)) {}
+      : plan_(std::move(plan)), live_(live), hooks_(hooks), files_(model_files(plan_.model, plan_.model_input)) {}
 
   // Runs until stopped.
   void loop() {
@@ -74,7 +74,7 @@ class Watcher {
   void run() {
     const std::string& model = plan_.model;
     // What this run is loaded from: a change from here on restarts it.
-    files_ = model_files(model);
+    files_ = model_files(model, plan_.model_input);
     debouncer_.arm(snapshot_of(files_));
     live_.loading(model, noticed_);
     ModelInputTimes input_times;

@@ -147,6 +147,8 @@ Result<SimulatePlan> plan_simulation(const std::string& model, const SimulateOpt
   plan.min_lor = o.min_lor;
   plan.flux_tolerance = o.flux_tolerance;
   plan.model_input = o.model_input;
+  plan.model_input.gamma_step_deg = o.gamma_step;  // a CAD model's default tessellation follows it
+  if (Status s = check_model_input(plan.model_input, {model}); !s.ok()) return s.error();
   plan.model_input.cache_dir = o.no_cache ? std::string() : o.cache_dir.value_or(io::default_cache_dir());
   plan.cache_limit_bytes = static_cast<std::uint64_t>(o.cache_limit_mb) << 20;
   plan.progressive.target_error_pct = o.target_error_pct;

@@ -350,6 +350,7 @@ RunFiles write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run
   if (request.colour_report.is_object())
     colour_chart_path = write_colour_chart(plan, request.colour_report, json, failures);
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
+  if (!input_times.cad.is_null()) json["cad"] = input_times.cad;  // a CAD model: how it was meshed
   if (!settings.near_field_distances_m.empty()) {
     json["near_field"] = near_field_list;
     json["far_field_distance_m"] = far_field_distance["distance_m"];
