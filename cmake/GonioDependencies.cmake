@@ -69,6 +69,29 @@ pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 # libxxhash-dev's header.
 pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
 
+# toml++ (the CAD sidecar, io/model/parts_file.cpp only): header only.
+find_package(tomlplusplus 3 REQUIRED)
+
+# OpenCASCADE 7.6 (STEP and IGES, io/model/step.cpp only): linked by the
+# helper program gonio-cad alone, never by gonio (~60 shared libraries at
+# every start). Debian's config includes a module's targets only where its
+# -dev package is installed, so the modules are named; its version file
+# accepts only the exact version asked for (7.6 refuses 7.6.3), so the
+# version is checked here. Without it (-DGONIO_OCCT=OFF, or not found) gonio
+# refuses CAD files, saying so.
+set(GONIO_WITH_OCCT OFF)
+if(GONIO_OCCT)
+  find_package(OpenCASCADE QUIET COMPONENTS FoundationClasses ModelingData ModelingAlgorithms
+    Visualization ApplicationFramework DataExchange)
+  if(OpenCASCADE_FOUND AND OpenCASCADE_VERSION VERSION_GREATER_EQUAL 7.6 AND TARGET TKXDESTEP
+     AND TARGET TKXDEIGES AND TARGET TKMesh)
+    set(GONIO_WITH_OCCT ON)
+  else()
+    message(STATUS "OpenCASCADE not found: gonio builds without STEP and IGES "
+      "(scripts/setup.sh installs libocct-data-exchange-dev)")
+  endif()
+endif()
+
 if(GONIO_BUILD_TESTS)
   find_package(GTest REQUIRED)
   include(GoogleTest)

@@ -5,8 +5,9 @@
 # the seeds, and runs each harness for SECONDS: the IES reader, the LDT
 # reader, the glTF loader (.gltf and .glb, with buffers and light profiles),
 # the TM-33 reader (XML), the GLDF reader (ZIP, product.xml and the
-# photometries inside), the TM-25 ray-file reader and the measured-BSDF
-# readers (BSDF XML: Klems matrices and tensor trees; goniometer CSV).
+# photometries inside), the TM-25 ray-file reader, the measured-BSDF
+# readers (BSDF XML: Klems matrices and tensor trees; goniometer CSV) and
+# the STEP reader (OpenCASCADE in process, where the build has it).
 # Fails on any finding (crash, sanitizer report, leak, timeout, broken round
 # trip) and names the input that caused it (build-fuzz/findings/).
 #
@@ -17,7 +18,7 @@
 # tests (gonio_io_tests and gonio_model_tests run once with
 # $GONIO_FUZZ_SEEDS set, in build/). What the fuzzer finds new stays in
 # build-fuzz/corpus/ for the next run.
-# $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33, gldf, tm25 or bsdf) runs one harness.
+# $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33, gldf, tm25, bsdf or step) runs one harness.
 #
 # Runs repeat: libFuzzer's random seed is $GONIO_FUZZ_SEED, by default a
 # hash of the committed code (not of README.md or docs/); each harness
@@ -35,7 +36,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 jobs=$(nproc 2>/dev/null || echo 2)
-harnesses=(ies ldt gltf tm33 gldf tm25 bsdf)
+harnesses=(ies ldt gltf tm33 gldf tm25 bsdf step)
 if [ -n "${GONIO_FUZZ_ONLY:-}" ]; then harnesses=("$GONIO_FUZZ_ONLY"); fi
 
 bash scripts/setup.sh
@@ -53,7 +54,7 @@ cmake --build build-fuzz -j"$jobs" --target "${harnesses[@]/#/gonio_fuzz_}"
 echo "== seeds"
 seeds=build-fuzz/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds"/{ies,ldt,gltf,tm33,gldf,tm25,bsdf} build-fuzz/findings
+mkdir -p "$seeds"/{ies,ldt,gltf,tm33,gldf,tm25,bsdf,step} build-fuzz/findings
 corpus=${GONIO_CORPUS:-../shared/corpus}
 if [ -d "$corpus" ]; then
   find "$corpus" -type f -iname '*.ies' -exec cp {} "$seeds/ies/" \;
@@ -96,6 +97,16 @@ done
 convert "$seeds/tm33/downlight-ies.xml" "$seeds/gldf/downlight-xml.gldf"
 GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_model_tests --gtest_brief=1 \
   --gtest_filter='Gltf*' >/dev/null
+# STEP: the CAD test parts FreeCAD and OpenCASCADE's DRAW write
+# (tests/cad/, made by the CAD suite in build/test-data/cad/) and the suite's
+# hand-made broken files.
+if [[ " ${harnesses[*]} " == *" step "* ]]; then
+  bash scripts/build.sh --target gonio_cad_tests >/dev/null
+  GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_cad_tests --gtest_brief=1 \
+    --gtest_filter='CadHostile*:CadStep.FreeCad*' >/dev/null
+  find build/test-data/cad -maxdepth 1 -type f \( -name '*.step' -o -name '*.igs' \) -size -400k \
+    -exec cp {} "$seeds/step/" \;
+fi
 # Each sample model with its buffer as the side file (tests/fuzz/gltf_fuzzer.cpp).
 for model in build/samples/*/*.gltf; do
   stem=$(basename "$model" .gltf)
@@ -130,8 +141,9 @@ echo "fuzz: seed $seed, at most $runs executions or ${seconds} s per harness (GO
 fixed=(env -i PATH=/usr/bin:/bin SOURCE_DATE_EPOCH="$SOURCE_DATE_EPOCH"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1)
+arch=()
 if setarch "$(uname -m)" -R true 2>/dev/null; then
-  fixed+=(setarch "$(uname -m)" -R)
+  arch=(setarch "$(uname -m)" -R)
 else
   echo "fuzz: setarch -R is not allowed here: addresses are random, so runs may not repeat" >&2
 fi
@@ -144,8 +156,15 @@ for h in "${harnesses[@]}"; do
   # Inputs up to 128 KiB (the largest corpus file is 100 KB; the unit tests
   # cover the huge ones), models with their buffer up to 512 KiB.
   max_len=131072
-  if [ "$h" = gltf ]; then max_len=524288; fi
-  "${fixed[@]}" "./build-fuzz/tests/fuzz/gonio_fuzz_$h" "build-fuzz/corpus/$h" "$seeds/$h" \
+  if [ "$h" = gltf ] || [ "$h" = step ]; then max_len=524288; fi
+  # OpenCASCADE keeps singletons alive to the end (its document application,
+  # its messenger): LeakSanitizer is told to ignore what its libraries hold.
+  lsan=()
+  if [ "$h" = step ]; then
+    printf 'leak:libTK\n' >build-fuzz/lsan-occt.supp
+    lsan=(LSAN_OPTIONS=suppressions="$PWD/build-fuzz/lsan-occt.supp")
+  fi
+  "${fixed[@]}" "${lsan[@]}" "${arch[@]}" "./build-fuzz/tests/fuzz/gonio_fuzz_$h" "build-fuzz/corpus/$h" "$seeds/$h" \
     -seed="$seed" -runs="$runs" -reload=0 -entropic=0 -max_total_time="$seconds" -timeout=25 -rss_limit_mb=4096 -max_len="$max_len" \
     -print_final_stats=1 -artifact_prefix="build-fuzz/findings/$h-" >"$log" 2>&1
   rc=$?

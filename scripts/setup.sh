@@ -17,6 +17,10 @@ packages=(
   colord-data
   munge slurmctld slurmd slurm-client
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
+  libocct-data-exchange-dev libocct-ocaf-dev libocct-modeling-algorithms-dev
+  libocct-modeling-data-dev libocct-foundation-dev libocct-visualization-dev
+  libtomlplusplus-dev
+  freecad occt-draw libocct-draw-dev
 )
 
 missing=()

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # README command (2): installs what is missing, builds, and runs every test:
-# the photometry, io and io corpus suites under AddressSanitizer and
+# the photometry, io, io corpus and CAD suites under AddressSanitizer and
 # UndefinedBehaviorSanitizer, then the whole ctest suite on the Release build,
 # then each fuzzer for $GONIO_FUZZ_SECONDS (default 60; scripts/fuzz.sh; 0
 # leaves them out). GONIO_WERROR=1 in the environment (CI sets it) builds with
@@ -15,7 +15,7 @@ bash scripts/setup.sh
 echo "== sanitizer build (AddressSanitizer + UndefinedBehaviorSanitizer)"
 bash scripts/configure.sh build-asan -DCMAKE_BUILD_TYPE=Debug -DGONIO_SANITIZE=ON \
   -DGONIO_BUILD_BENCHMARKS=OFF
-suites=(gonio_photometry_tests gonio_io_tests gonio_io_corpus_tests)
+suites=(gonio_photometry_tests gonio_io_tests gonio_io_corpus_tests gonio_cad_tests)
 cmake --build build-asan -j"$jobs" --target "${suites[@]}"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1

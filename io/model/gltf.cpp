@@ -25,6 +25,7 @@
 #include <utility>
 
 #include "io/support/file_io.h"
+#include "io/model/gltf_files.h"
 #include "io/model/gltf_lights.h"
 #include "io/materials/bsdf_file.h"
 #include "io/model/gltf_material.h"
@@ -219,33 +220,6 @@ Status validate_glb(std::string_view bytes, const std::string& path,
 // tinygltf callbacks: file access limited to the model's folder and to
 // kMaxFileBytes, no image decoding, no writing.
 
-// Why a file reference `uri` (percent-decoded, relative to the model's
-// folder `base_dir`) leaves that folder, or nothing when it stays inside:
-// an absolute path, a `..` that climbs out, or a symbolic link on the way
-// that resolves outside. Files that do not exist resolve as far as they do.
-std::optional<std::string> outside_the_folder(const std::string& base_dir, const std::string& uri) {
-  const fs::path ref(uri);
-  if (ref.is_absolute() || ref.has_root_name() || ref.has_root_directory())
-    return std::string("is an absolute path");
-  const fs::path normal = ref.lexically_normal();
-  if (!normal.empty() && *normal.begin() == "..") return std::string("climbs out with '..'");
-  std::error_code ec;
-  const fs::path base = fs::weakly_canonical(fs::path(base_dir), ec);
-  if (ec) return std::nullopt;  // the folder itself is unreadable: opening the file fails anyway
-  const fs::path target = fs::weakly_canonical(fs::path(base_dir) / ref, ec);
-  if (ec) return std::nullopt;
-  const fs::path inside = target.lexically_relative(base);
-  if (inside.empty() || *inside.begin() == "..")
-    return "resolves through a symbolic link to " + target.string();
-  return std::nullopt;
-}
-
-// `reference` names what refers to the file: "uri '../x.bin'".
-std::string outside_message(const std::string& reference, const std::string& why) {
-  return reference + " " + why + ", outside the model's folder: refused (a model names files " +
-         "beside it; --allow-outside-paths reads it anyway)";
-}
-
 struct FsContext {
   std::string base_dir;  // absolute, without trailing '/'
   bool allow_outside = false;
@@ -393,7 +367,7 @@ class Loader {
   Result<std::optional<Rgb>> rgb(const json& obj, const char* key, const std::string& what) const;
   // extras.gonio.spectrum of a light (io/model/material_extras.h).
   Result<sim::EmitterSpectrum> emitter_spectrum(const json& obj, const std::string& what) const {
-    return read_emitter_spectrum(obj, path_, what);
+    return read_emitter_spectrum(obj, {path_}, what);
   }
 
   Status check_extensions();
@@ -492,7 +466,7 @@ Result<const json*> Loader::gonio_extras(const json& extras, const std::string& 
 
 Result<std::optional<double>> Loader::number(const json& obj, const char* key,
                                              const std::string& what) const {
-  return extras_number(obj, key, path_, what);
+  return extras_number(obj, key, {path_}, what);
 }
 
 Result<std::optional<Vec3>> Loader::vec3(const json& obj, const char* key,
@@ -1073,7 +1047,7 @@ Result<std::uint32_t> Loader::material(int index) {
     Result<json> extras = parse_blob(g.extras_json_string, what + " extras");
     if (!extras.ok()) return extras.error();
     if (extras->is_object() && extras->contains("gonio")) {
-      Result<MaterialExtras> read = read_material_extras(extras->at("gonio"), path_, what, findings_);
+      Result<MaterialExtras> read = read_material_extras(extras->at("gonio"), {path_}, what, findings_);
       if (!read.ok()) return read.error();
       x = std::move(*read);
       emitted_spectrum = x.spectrum;

@@ -43,6 +43,30 @@ std::string percent_decoded(const std::string& uri) {
 
 }  // namespace
 
+namespace fs = std::filesystem;
+
+std::optional<std::string> outside_the_folder(const std::string& base_dir, const std::string& uri) {
+  const fs::path ref(uri);
+  if (ref.is_absolute() || ref.has_root_name() || ref.has_root_directory())
+    return std::string("is an absolute path");
+  const fs::path normal = ref.lexically_normal();
+  if (!normal.empty() && *normal.begin() == "..") return std::string("climbs out with '..'");
+  std::error_code ec;
+  const fs::path base = fs::weakly_canonical(fs::path(base_dir), ec);
+  if (ec) return std::nullopt;  // the folder itself is unreadable: opening the file fails anyway
+  const fs::path target = fs::weakly_canonical(fs::path(base_dir) / ref, ec);
+  if (ec) return std::nullopt;
+  const fs::path inside = target.lexically_relative(base);
+  if (inside.empty() || *inside.begin() == "..")
+    return "resolves through a symbolic link to " + target.string();
+  return std::nullopt;
+}
+
+std::string outside_message(const std::string& reference, const std::string& why) {
+  return reference + " " + why + ", outside the model's folder: refused (a model names files " +
+         "beside it; --allow-outside-paths reads it anyway)";
+}
+
 Result<std::vector<std::string>> gltf_files(const std::string& model) {
   Result<std::string> bytes = read_file(model, kMaxFileBytes);
   if (!bytes.ok()) return bytes.error();

@@ -4,6 +4,7 @@
 // inside the model and name no file. `gonio watch` watches these files.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,5 +17,16 @@ namespace gonio::io {
 // Errors: an unreadable model, bad JSON, or a .glb without a JSON chunk (the
 // file name and what is wrong).
 Result<std::vector<std::string>> gltf_files(const std::string& model);
+
+// Why a file reference `uri` (percent-decoded, relative to the folder
+// `base_dir` of the model or sidecar that names it) leaves that folder, or
+// nothing when it stays inside: an absolute path, a `..` that climbs out,
+// or a symbolic link on the way that resolves outside. Files that do not
+// exist resolve as far as they do.
+std::optional<std::string> outside_the_folder(const std::string& base_dir, const std::string& uri);
+
+// The error text for such a reference: `reference` names what refers to the
+// file ("uri '../x.bin'"), `why` is outside_the_folder's answer.
+std::string outside_message(const std::string& reference, const std::string& why);
 
 }  // namespace gonio::io

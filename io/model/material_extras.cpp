@@ -16,14 +16,20 @@ namespace gonio::io {
 
 using nlohmann::json;
 
-Result<std::optional<double>> extras_number(const json& obj, const char* key, const std::string& file,
+namespace {
+
+Error error_at(const SourceLoc& where, std::string message) { return Error{where, std::move(message)}; }
+
+}  // namespace
+
+Result<std::optional<double>> extras_number(const json& obj, const char* key, const SourceLoc& where,
                                             const std::string& what) {
   if (!obj.is_object()) return std::optional<double>();
   auto it = obj.find(key);
   if (it == obj.end()) return std::optional<double>();
-  if (!it->is_number()) return make_error(file, what + ": '" + key + "' must be a number");
+  if (!it->is_number()) return error_at(where, what + ": '" + key + "' must be a number");
   const double v = it->get<double>();
-  if (!std::isfinite(v)) return make_error(file, what + ": '" + key + "' is not finite");
+  if (!std::isfinite(v)) return error_at(where, what + ": '" + key + "' is not finite");
   return std::optional<double>(v);
 }
 
@@ -31,15 +37,15 @@ namespace {
 
 // A spectrum: {"wavelengths_nm": [...], "values": [...]} or, where allowed,
 // {"blackbody_k": T} (Planck's law, 360–830 nm in 1 nm).
-Result<photometry::SampledSpectrum> spectrum_object(const json& j, const std::string& file, const std::string& what,
+Result<photometry::SampledSpectrum> spectrum_object(const json& j, const SourceLoc& where, const std::string& what,
                                                     double max_value, bool allow_blackbody) {
   constexpr std::size_t kMaxSamples = 100000;
-  const auto fail = [&](const std::string& m) { return make_error(file, m); };
+  const auto fail = [&](const std::string& m) { return error_at(where, m); };
   if (!j.is_object()) return fail(what + " must be an object");
   if (allow_blackbody && j.contains("blackbody_k")) {
     if (j.contains("wavelengths_nm") || j.contains("values"))
       return fail(what + ": give either blackbody_k or wavelengths_nm and values, not both");
-    Result<std::optional<double>> t = extras_number(j, "blackbody_k", file, what);
+    Result<std::optional<double>> t = extras_number(j, "blackbody_k", where, what);
     if (!t.ok()) return t.error();
     if (!(**t >= 100.0 && **t <= 1e6)) return fail(what + ".blackbody_k = " + format_number(**t) + " must lie in [100, 1e6] K");
     return photometry::blackbody_spectrum(**t);
@@ -65,9 +71,9 @@ Result<photometry::SampledSpectrum> spectrum_object(const json& j, const std::st
 
 // {"angles_deg": [...], "values": [...]}: angles increasing within 0..90,
 // values within 0..max_value.
-Result<sim::IncidenceTable> incidence_table(const json& j, const std::string& file, const std::string& what,
+Result<sim::IncidenceTable> incidence_table(const json& j, const SourceLoc& where, const std::string& what,
                                             double max_value) {
-  const auto fail = [&](const std::string& m) { return make_error(file, m); };
+  const auto fail = [&](const std::string& m) { return error_at(where, m); };
   if (!j.is_object()) return fail(what + " must be an object with angles_deg and values");
   sim::IncidenceTable t;
   const std::pair<const char*, std::vector<double>*> arrays[] = {{"angles_deg", &t.theta_deg}, {"values", &t.factor}};
@@ -91,17 +97,17 @@ Result<sim::IncidenceTable> incidence_table(const json& j, const std::string& fi
   return t;
 }
 
-Result<sim::AbgScatter> abg_object(const json& j, const std::string& file, const std::string& what) {
-  const auto fail = [&](const std::string& m) { return make_error(file, m); };
+Result<sim::AbgScatter> abg_object(const json& j, const SourceLoc& where, const std::string& what) {
+  const auto fail = [&](const std::string& m) { return error_at(where, m); };
   if (!j.is_object()) return fail(what + " must be an object with B, g and tis or A");
   for (const auto& item : j.items()) {
     const std::string& key = item.key();
     if (key != "A" && key != "B" && key != "g" && key != "tis") return fail(what + "." + key + " is not A, B, g or tis");
   }
-  Result<std::optional<double>> a = extras_number(j, "A", file, what);
-  Result<std::optional<double>> b = extras_number(j, "B", file, what);
-  Result<std::optional<double>> g = extras_number(j, "g", file, what);
-  Result<std::optional<double>> tis = extras_number(j, "tis", file, what);
+  Result<std::optional<double>> a = extras_number(j, "A", where, what);
+  Result<std::optional<double>> b = extras_number(j, "B", where, what);
+  Result<std::optional<double>> g = extras_number(j, "g", where, what);
+  Result<std::optional<double>> tis = extras_number(j, "tis", where, what);
   for (const auto* r : {&a, &b, &g, &tis})
     if (!r->ok()) return r->error();
   if (!*b || !*g) return fail(what + ": B and g are needed");
@@ -120,13 +126,13 @@ Result<sim::AbgScatter> abg_object(const json& j, const std::string& file, const
 
 }  // namespace
 
-Result<sim::EmitterSpectrum> read_emitter_spectrum(const json& obj, const std::string& file, const std::string& what) {
+Result<sim::EmitterSpectrum> read_emitter_spectrum(const json& obj, const SourceLoc& where, const std::string& what) {
   sim::EmitterSpectrum out;
   if (!obj.is_object()) return out;
   auto it = obj.find("spectrum");
   if (it == obj.end()) return out;
   const std::string w = what + " extras.gonio.spectrum";
-  const auto fail = [&](const std::string& m) { return make_error(file, m); };
+  const auto fail = [&](const std::string& m) { return error_at(where, m); };
   if (!it->is_object()) return fail(w + " must be an object");
   if (auto og = it->find("over_gamma"); og != it->end()) {
     if (it->size() != 1) return fail(w + ": over_gamma stands alone");
@@ -135,17 +141,17 @@ Result<sim::EmitterSpectrum> read_emitter_spectrum(const json& obj, const std::s
     for (std::size_t i = 0; i < og->size(); ++i) {
       const std::string wi = w + ".over_gamma[" + std::to_string(i) + "]";
       const json& entry = (*og)[i];
-      Result<std::optional<double>> g = extras_number(entry, "gamma_deg", file, wi);
+      Result<std::optional<double>> g = extras_number(entry, "gamma_deg", where, wi);
       if (!g.ok()) return g.error();
       if (!*g) return fail(wi + ": 'gamma_deg' is missing");
       json rest = entry;
       if (rest.is_object()) rest.erase("gamma_deg");
-      Result<photometry::SampledSpectrum> s = spectrum_object(rest, file, wi, 1e300, true);
+      Result<photometry::SampledSpectrum> s = spectrum_object(rest, where, wi, 1e300, true);
       if (!s.ok()) return s.error();
       out.over_gamma.push_back({**g, std::move(*s)});
     }
   } else {
-    Result<photometry::SampledSpectrum> s = spectrum_object(*it, file, w, 1e300, true);
+    Result<photometry::SampledSpectrum> s = spectrum_object(*it, where, w, 1e300, true);
     if (!s.ok()) return s.error();
     out.over_gamma.push_back({0.0, std::move(*s)});
   }
@@ -153,10 +159,10 @@ Result<sim::EmitterSpectrum> read_emitter_spectrum(const json& obj, const std::s
   return out;
 }
 
-Result<MaterialExtras> read_material_extras(const json& gj, const std::string& file, const std::string& what,
+Result<MaterialExtras> read_material_extras(const json& gj, const SourceLoc& where, const std::string& what,
                                             std::vector<Finding>& findings) {
   MaterialExtras x;
-  const auto fail = [&](const std::string& m) { return make_error(file, m); };
+  const auto fail = [&](const std::string& m) { return error_at(where, m); };
   if (!gj.is_object()) return fail(what + ": extras.gonio must be an object");
   static const std::initializer_list<const char*> known = {
       "kd", "ks", "mx", "my", "f0", "diffuse_transmit", "mirror", "dielectric", "ior", "attenuation_per_m",
@@ -168,7 +174,7 @@ Result<MaterialExtras> read_material_extras(const json& gj, const std::string& f
     const std::string& key = item.key();  // not a structured binding: clang 14 (fuzz build) cannot capture one
     if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; }))
       findings.push_back({Severity::Warning, "unknown-extras-key",
-                          what + ": extras.gonio." + key + " is not a Gonio parameter here; ignored", {file}});
+                          what + ": extras.gonio." + key + " is not a Gonio parameter here; ignored", where});
   }
   const std::string w = what + " extras.gonio";
   const std::pair<const char*, std::optional<double>*> keys[] = {
@@ -192,11 +198,11 @@ Result<MaterialExtras> read_material_extras(const json& gj, const std::string& f
       {"tabulated", &x.tabulated},
   };
   for (const auto& [key, target] : keys) {
-    Result<std::optional<double>> v = extras_number(gj, key, file, w);
+    Result<std::optional<double>> v = extras_number(gj, key, where, w);
     if (!v.ok()) return v.error();
     *target = *v;
   }
-  Result<std::optional<double>> abbe = extras_number(gj, "abbe_number", file, w);
+  Result<std::optional<double>> abbe = extras_number(gj, "abbe_number", where, w);
   if (!abbe.ok()) return abbe.error();
   if (*abbe && !(**abbe > 0.0)) return fail(what + ": extras.gonio.abbe_number must be > 0");
   x.abbe_number = *abbe;
@@ -208,7 +214,7 @@ Result<MaterialExtras> read_material_extras(const json& gj, const std::string& f
   for (const auto& [key, target, max_value] : spectra) {
     auto it = gj.find(key);
     if (it == gj.end()) continue;
-    Result<photometry::SampledSpectrum> s = spectrum_object(*it, file, what + " extras.gonio." + key, max_value, false);
+    Result<photometry::SampledSpectrum> s = spectrum_object(*it, where, what + " extras.gonio." + key, max_value, false);
     if (!s.ok()) return s.error();
     *target = std::move(*s);
   }
@@ -217,7 +223,7 @@ Result<MaterialExtras> read_material_extras(const json& gj, const std::string& f
       if (!(x.ior_nm->values[i] >= 1.0))
         return fail(what + ": extras.gonio.ior_nm: value " + std::to_string(i) + " (" +
                     format_number(x.ior_nm->values[i]) + ") must be >= 1");
-  Result<sim::EmitterSpectrum> es = read_emitter_spectrum(gj, file, what);
+  Result<sim::EmitterSpectrum> es = read_emitter_spectrum(gj, where, what);
   if (!es.ok()) return es.error();
   x.spectrum = std::move(*es);
 
@@ -234,7 +240,7 @@ Result<MaterialExtras> read_material_extras(const json& gj, const std::string& f
   for (auto [key, target] : {std::pair{"abg", &x.abg_reflect}, std::pair{"abg_transmit", &x.abg_transmit}}) {
     auto it = gj.find(key);
     if (it == gj.end()) continue;
-    Result<sim::AbgScatter> a = abg_object(*it, file, w + "." + key);
+    Result<sim::AbgScatter> a = abg_object(*it, where, w + "." + key);
     if (!a.ok()) return a.error();
     *target = *a;
   }
@@ -247,7 +253,7 @@ Result<MaterialExtras> read_material_extras(const json& gj, const std::string& f
                              std::pair{"transmittance_over_angle", &x.transmittance_over_angle}}) {
     auto it = gj.find(key);
     if (it == gj.end()) continue;
-    Result<sim::IncidenceTable> t = incidence_table(*it, file, w + "." + key, 1.0);
+    Result<sim::IncidenceTable> t = incidence_table(*it, where, w + "." + key, 1.0);
     if (!t.ok()) return t.error();
     *target = std::move(*t);
   }
@@ -260,7 +266,7 @@ Result<MaterialExtras> read_material_extras(const json& gj, const std::string& f
       if (std::none_of(std::begin(lobes), std::end(lobes), [&](const char* l) { return key == l; }))
         return fail(w + ".lobe_over_angle." + key + " is not a lobe (diffuse_reflect, diffuse_transmit, mirror, "
                                                     "glossy, dielectric, abg, abg_transmit, tabulated)");
-      Result<sim::IncidenceTable> t = incidence_table(item.value(), file, w + ".lobe_over_angle." + key, 1e3);
+      Result<sim::IncidenceTable> t = incidence_table(item.value(), where, w + ".lobe_over_angle." + key, 1e3);
       if (!t.ok()) return t.error();
       x.lobe_over_angle.emplace_back(key, std::move(*t));
     }

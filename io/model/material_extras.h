@@ -17,20 +17,21 @@
 
 namespace gonio::io {
 
-// `gonio` is the object (extras.gonio); `file` names the document for
-// errors, `what` the material ("material 'opal' (#2)"). Keys it does not
+// `gonio` is the object (extras.gonio); `where` names the document (and,
+// where the caller knows it, the line: the CAD sidecar's TOML) for errors,
+// `what` the material ("material 'opal' (#2)"). Keys it does not
 // know are Warning findings ("unknown-extras-key"); values of the wrong type
 // or out of range are errors naming the key.
-Result<MaterialExtras> read_material_extras(const nlohmann::json& gonio, const std::string& file,
+Result<MaterialExtras> read_material_extras(const nlohmann::json& gonio, const SourceLoc& where,
                                             const std::string& what, std::vector<Finding>& findings);
 
 // The pieces the vocabulary is made of, for the other extras of a model
 // (lights, the scene): a number (absent: nullopt; not a finite number: an
 // error), and an emitter's spectrum (extras.gonio.spectrum: blackbody_k,
 // wavelengths_nm and values, or over_gamma; absent: empty).
-Result<std::optional<double>> extras_number(const nlohmann::json& obj, const char* key, const std::string& file,
+Result<std::optional<double>> extras_number(const nlohmann::json& obj, const char* key, const SourceLoc& where,
                                             const std::string& what);
-Result<sim::EmitterSpectrum> read_emitter_spectrum(const nlohmann::json& obj, const std::string& file,
+Result<sim::EmitterSpectrum> read_emitter_spectrum(const nlohmann::json& obj, const SourceLoc& where,
                                                    const std::string& what);
 
 }  // namespace gonio::io

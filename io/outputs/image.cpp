@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "io/support/file_io.h"
+#include "io/support/process.h"
 #include "io/outputs/png_module.h"
 
 #ifndef GONIO_PNG_MODULE_BUILD_PATH
@@ -26,16 +27,7 @@ struct PngModule {
 };
 
 std::vector<std::string> module_candidates() {
-  std::vector<std::string> paths;
-  std::error_code ec;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    paths.push_back((exe.parent_path() / kPngModuleName).string());
-    paths.push_back((exe.parent_path().parent_path() / "lib" / "gonio" / kPngModuleName).string());
-  }
-  const std::string built = GONIO_PNG_MODULE_BUILD_PATH;
-  if (!built.empty()) paths.push_back(built);
-  return paths;
+  return beside_executable(kPngModuleName, GONIO_PNG_MODULE_BUILD_PATH);
 }
 
 PngModule load_module(const std::vector<std::string>& candidates) {

@@ -38,6 +38,18 @@ ScratchDir::~ScratchDir() {
   if (!path_.empty()) fs::remove_all(path_, ec);
 }
 
+std::vector<std::string> beside_executable(const std::string& name, const std::string& built) {
+  std::vector<std::string> paths;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    paths.push_back((exe.parent_path() / name).string());
+    paths.push_back((exe.parent_path().parent_path() / "lib" / "gonio" / name).string());
+  }
+  if (!built.empty()) paths.push_back(built);
+  return paths;
+}
+
 std::string last_lines(const std::string& text, std::size_t max_chars) {
   std::string t = text;
   while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
@@ -88,6 +100,7 @@ Result<ProcessOutput> run_program(const std::vector<std::string>& args, std::chr
   }
   ProcessOutput result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
   const Result<std::string> err = read_file(err_path, 1u << 20);
   if (err.ok()) result.err = err.value();
   Result<std::string> out = read_file(out_path, max_output_bytes);

@@ -29,6 +29,7 @@ class ScratchDir {
 
 struct ProcessOutput {
   int exit_code = -1;   // -1 if it did not exit normally
+  int signal = 0;       // the signal that ended it, if one did
   std::string out;      // standard output (at most max_output_bytes)
   std::string err;      // standard error (at most 1 MiB)
 };
@@ -40,6 +41,11 @@ struct ProcessOutput {
 // caller reads exit_code and err.
 Result<ProcessOutput> run_program(const std::vector<std::string>& argv, std::chrono::seconds timeout,
                                   std::size_t max_output_bytes, const std::string& missing_hint);
+
+// Where a file that ships with gonio (a module, a helper program) is looked
+// for, in order: next to the running executable, in ../lib/gonio/ from it,
+// then `built` (where the build wrote it, for the tests; empty: not).
+std::vector<std::string> beside_executable(const std::string& name, const std::string& built);
 
 // The last max_chars of a program's messages on one line (for error texts).
 std::string last_lines(const std::string& text, std::size_t max_chars);

@@ -109,16 +109,17 @@ int run_bench(const Args& args) {
   bool importance = false, no_png = false;
   std::string sampler_name = "both";
   ArgParser p("bench", "MODEL... --out DIR [options]",
-              "Measures speed against accuracy on luminaire models (glTF 2.0). A long reference run\n"
-              "(cached in DIR, reused while model, program, tracer sources and settings match) is the\n"
-              "truth; series of progressive iterations from one seed are compared with it after every\n"
-              "iteration: the raw far field, the preview filter bilinear and bilateral at fixed\n"
-              "thresholds 50..300 and adaptive, and with --importance the thesis's importance-guided\n"
-              "emission. Errors: the cube map's RMSE, PSNR and SNR after mean scaling, and the\n"
-              "resampled candela table's RMS and max error (% of peak) and flux error. Writes\n"
-              "DIR/series.csv, DIR/bench.json and charts (SVG, PNG) of error against time and photons;\n"
-              "several models go to DIR/<name>/.");
-  p.positional_list("MODEL", &models, 1, "luminaire models (.gltf or .glb)");
+              "Measures speed against accuracy on luminaire models (glTF 2.0, or STEP/IGES with a\n"
+              "sidecar, see --parts). A long reference run (cached in DIR, reused while model,\n"
+              "program, tracer sources and settings match) is the truth; series of progressive\n"
+              "iterations from one seed are compared with it after every iteration: the raw far\n"
+              "field, the preview filter bilinear and bilateral at fixed thresholds 50..300 and\n"
+              "adaptive, and with --importance the thesis's importance-guided emission. Errors: the\n"
+              "cube map's RMSE, PSNR and SNR after mean scaling, and the resampled candela table's\n"
+              "RMS and max error (% of peak) and flux error. Writes DIR/series.csv, DIR/bench.json\n"
+              "and charts (SVG, PNG) of error against time and photons; several models go to\n"
+              "DIR/<name>/.");
+  p.positional_list("MODEL", &models, 1, "luminaire models (.gltf, .glb, .step, .stp, .iges or .igs)");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
   p.option("photons", &photons, 1, 1LL << 36, "N", "photons of each series in all (default 33554432 = 2^25)");
   p.option("first", &first, 1, 4'294'967'295LL, "N", "photons of the first iteration (default 16384)");
@@ -164,6 +165,8 @@ int run_bench(const Args& args) {
   }
   const sim::CGammaGrid grid{c_step, gamma_step};
   if (Status s = sim::validate(grid); !s.ok()) return usage_error(s.error().message);
+  model_options.gamma_step_deg = gamma_step;
+  if (Status s = check_model_input(model_options, models); !s.ok()) return usage_error(s.error().message);
   if (face_size == 0) face_size = sim::face_size_for(grid);
   if (!p.given("importance") && (p.given("emission-face-size") || p.given("min-acceptance")))
     return usage_error("--emission-face-size and --min-acceptance need --importance");

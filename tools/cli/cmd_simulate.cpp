@@ -38,6 +38,12 @@
 // cannot read its model, or holds another, stops them all before tracing);
 // rank 0 alone writes files, previews and progress.
 //
+// report.json's "cad" (STEP and IGES models only; tools/run/model_input.h):
+// {format, file_unit, parts_file, tessellation {angular_deflection_deg,
+// chordal_relative, chordal_min_mm, chordal_mm, exact_normals}, parts,
+// placements, triangles_unique, triangles_placed, from_cache, tessellate_s,
+// per_part [{name, triangles, placements, size_mm, chordal_deflection_mm}]}.
+//
 // report.json's "cache" {dir, limit_bytes, entries, bytes, removed_entries,
 // removed_bytes}: the cache folder after this run's trim to --cache-limit
 // (io/support/cache_folder.h); null with --no-cache.
@@ -163,10 +169,11 @@ void add_simulate_options(ArgParser& p, SimulateOptions* o) {
            "the model's unique triangles, where building the better tree would cost more than it\n"
            "saves, else high), or low, medium, high");
   p.option("cache", &o->cache_dir, "DIR",
-           "where the model checks' results are kept by content hash, so that an unchanged model "
-           "is not checked again, and the overlaps that resample the far field onto the files' "
-           "grids (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
-  p.flag("no-cache", &o->no_cache, "neither read nor write the cache (check the model, build the overlaps)");
+           "where the model checks' results and CAD models' meshes are kept by content hash, so "
+           "that an unchanged model is not checked or meshed again, and the overlaps that resample "
+           "the far field onto the files' grids (default $XDG_CACHE_HOME/gonio, else ~/.cache/gonio)");
+  p.flag("no-cache", &o->no_cache,
+         "neither read nor write the cache (check the model, mesh a CAD model, build the overlaps)");
   p.option("cache-limit", &o->cache_limit_mb, 0, 1'000'000'000, "MB",
            "after the run, remove the cache's least recently used entries while they hold more than "
            "MB megabytes (MiB), down to nine tenths of it; other files in the folder are left alone "
@@ -254,6 +261,8 @@ std::optional<SimulatePlan> plan_simulation(const std::string& command, const st
   plan.min_lor = o.min_lor;
   plan.flux_tolerance = o.flux_tolerance;
   plan.model_input = o.model_input;
+  plan.model_input.gamma_step_deg = gamma_step;
+  if (Status s = check_model_input(plan.model_input, {model}); !s.ok()) return usage_error(p, s.error().message);
   plan.model_input.cache_dir = o.no_cache          ? std::string()
                                : p.given("cache") ? o.cache_dir
                                                   : io::default_cache_dir();
@@ -282,7 +291,8 @@ int run_simulate(const Args& args) {
   bool serve = false;
   long long port = kDefaultLivePort;
   ArgParser p("simulate", "MODEL --out DIR [options]",
-              "Traces photons through a luminaire model (glTF 2.0: .gltf or .glb) and writes\n"
+              "Traces photons through a luminaire model (glTF 2.0: .gltf or .glb; or CAD: STEP\n"
+              "or IGES with a sidecar naming materials and emitters, see --parts) and writes\n"
               "what light-planning programs and renderers read, each file read back and\n"
               "checked: DIR/STEM.ies (LM-63-2019, computer simulation), DIR/STEM.ldt\n"
               "(EULUMDAT, cd/klm of the emitters' flux), DIR/farfield.exr (far-field cube\n"
@@ -293,7 +303,7 @@ int run_simulate(const Args& args) {
               "not close, the LOR is under --min-lor, a file's flux misses the escaped flux\n"
               "by more than --flux-tolerance, or a file is not clean. The same seed gives the\n"
               "same files whatever the thread count.");
-  p.positional("MODEL", &model, "the luminaire model (.gltf or .glb)");
+  p.positional("MODEL", &model, "the luminaire model (.gltf, .glb, .step, .stp, .iges or .igs)");
   p.option("out", &options.out_dir, "DIR", "output directory (created if missing)");
   add_simulate_options(p, &options);
   p.flag("serve", &serve, "show the run on the live page of `gonio watch` (127.0.0.1), kept up until Ctrl-C");

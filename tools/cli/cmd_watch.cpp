@@ -1,6 +1,7 @@
 // gonio watch: the interactive loop. Runs the progressive simulation of a
 // model, shows it on a local web page (tools/live/live_view.h), and starts again
-// whenever the model, or a file it references, changes on disk.
+// whenever the model, or a file it references, changes on disk (model_files,
+// tools/run/model_input.h: a CAD model's sidecar and its profiles too).
 //
 //   gonio watch MODEL [--port P] [--host ADDR] [--out DIR] [simulate options]
 //
@@ -24,7 +25,6 @@
 
 #include "io/support/cache_folder.h"
 #include "io/support/file_io.h"
-#include "io/model/gltf_files.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/live/live_server.h"
@@ -44,13 +44,6 @@ constexpr auto kQuiet = 150ms;
 constexpr std::uint64_t kFirstIterationPhotons = std::uint64_t{1} << 16;
 constexpr long long kWatchPhotons = 1 << 18;
 constexpr long long kWatchIterations = 1000;
-
-// The model and the files it references; just the model where it cannot be
-// read now (a half-written file: the next snapshot will show the change).
-std::vector<std::string> watched_files(const std::string& model) {
-  auto files = io::gltf_files(model);
-  return files.ok() ? files.value() : std::vector<std::string>{model};
-}
 
 // Why a load failed: the reader's error, or the check findings' verdict.
 [[gnu::noinline]] Error load_error(const ModelLoad& loaded, const std::string& model) {
@@ -76,12 +69,13 @@ int run_watch(const Args& args) {
               "sphere, the C0-C180 and C90-C270 curves (the previous run's dashed), flux, LOR,\n"
               "beam and field angles, peak, speed, the estimated candela error, the model's\n"
               "check findings and the last error. GET /state.json gives the same numbers to\n"
-              "scripts. Whenever MODEL or a file it references (buffers, profiles) changes,\n"
+              "scripts. Whenever MODEL or a file it references (buffers, profiles; a CAD model's\n"
+              "sidecar and the sidecar's profiles and ray files) changes,\n"
               "the run starts again (debounced; a half-written file is retried; the last good\n"
               "result stays up while the model cannot be read). With --out DIR, each run that\n"
               "finishes writes the files and report.json of `gonio simulate`. Ctrl-C ends it.\n"
               "Unlike simulate, --photons defaults to 262144 and --iterations to 1000 here.");
-  p.positional("MODEL", &model, "the luminaire model (.gltf or .glb)");
+  p.positional("MODEL", &model, "the luminaire model (.gltf, .glb, .step, .stp, .iges or .igs)");
   p.option("port", &port, 0, 65535, "P", "port of the page (default 8765; 0: any free port, printed)");
   p.option("host", &host, "ADDR", "address to listen on (default 127.0.0.1: this machine only)");
   p.option("out", &options.out_dir, "DIR", "write each finished run's files here (default: none)");
@@ -111,7 +105,7 @@ int run_watch(const Args& args) {
   std::printf("watching %s (Ctrl-C to stop)\n", model.c_str());
   std::fflush(stdout);
 
-  std::vector<std::string> files = watched_files(model);
+  std::vector<std::string> files = model_files(model, plan.model_input);
   ChangeDebouncer debouncer(kQuiet);
   LoadRetry retry({250ms, 500ms, 1000ms});
   bool run_now = true;
@@ -138,7 +132,7 @@ int run_watch(const Args& args) {
     }
     run_now = false;
     // What this run is loaded from: a change from here on restarts it.
-    files = watched_files(model);
+    files = model_files(model, plan.model_input);
     debouncer.arm(snapshot_of(files));
     live.loading(model, noticed);
     ModelInputTimes input_times;

@@ -26,12 +26,21 @@ void add_ugr_background_option(ArgParser& parser, std::string* word) {
 
 void add_model_input_options(ArgParser& parser, ModelInputOptions* options) {
   parser.flag("allow-outside-paths", &options->allow_outside_paths,
-              "let the model's uris (buffers, images, light profiles) name files outside its folder "
-              "(absolute paths, '..', symbolic links leading out); refused by default");
+              "let the model's uris (buffers, images, light profiles), or a CAD sidecar's profiles and "
+              "ray files, name files outside its folder (absolute paths, '..', symbolic links leading "
+              "out); refused by default");
   parser.flag("no-instancing", &options->no_instancing,
-              "store a mesh that several nodes (or EXT_mesh_gpu_instancing) place once per copy, as "
-              "world geometry, instead of once with Embree instances: same results within photon "
-              "noise, more memory and setup time (for comparisons)");
+              "store a mesh that several nodes (or EXT_mesh_gpu_instancing, or a CAD assembly) place, "
+              "once per copy as world geometry instead of once with Embree instances: same results "
+              "within photon noise, more memory and setup time (for comparisons)");
+  parser.option("parts", &options->parts_file, "FILE",
+                "CAD models (.step, .stp, .iges, .igs): the sidecar that gives their parts materials and "
+                "places the emitters (TOML, docs/cad.md; default: MODEL's name with .gonio.toml, beside it)");
+  parser.option("tessellation", &options->tessellation, "DEG[,MM]",
+                "CAD models: mesh each part so that no facet's normal is more than DEG degrees off the "
+                "surface's, shading with the exact surface's normals (default: 0.8 x the gamma step, 2 on "
+                "the default grid); DEG,MM instead meshes every part once to MM millimetres from the "
+                "surface, DEG then bounding the facets along edges only (docs/cad.md; meshes are cached)");
 }
 
 void add_preview_options(ArgParser& parser, PreviewOptions* o) {

@@ -20,8 +20,8 @@ void add_input_options(ArgParser& parser, InputOptions* options);
 // Registers --ugr-background cie190|flux-transfer (info, report): the UGR
 // table's background luminance, photometry/ugr.h.
 void add_ugr_background_option(ArgParser& parser, std::string* word);
-// Registers --allow-outside-paths and --no-instancing on a subcommand that
-// loads models.
+// Registers --allow-outside-paths, --no-instancing, and for CAD models
+// --parts and --tessellation, on a subcommand that loads models.
 void add_model_input_options(ArgParser& parser, ModelInputOptions* options);
 
 // The preview's command-line options, as parsed.

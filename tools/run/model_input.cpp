@@ -4,7 +4,9 @@
 #include <utility>
 #include <vector>
 
+#include "io/model/cad.h"
 #include "io/model/gltf.h"
+#include "io/model/gltf_files.h"
 #include "io/model/model_check.h"
 #include "io/outputs/report.h"
 #include "tools/run/console.h"
@@ -16,16 +18,84 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+Result<io::CadTessellation> cad_tessellation(const ModelInputOptions& options) {
+  const io::CadTessellation base = io::tessellation_for_grid(options.gamma_step_deg);
+  return options.tessellation.empty() ? Result<io::CadTessellation>(base)
+                                      : io::parse_tessellation(options.tessellation, base);
+}
+
+// report.json's "cad": what the model was read as and meshed to.
+nlohmann::json cad_report(const io::CadLoadInfo& info) {
+  const io::CadTessellation& t = info.tessellation;
+  nlohmann::json parts = nlohmann::json::array();
+  for (const io::CadLoadInfo::Part& p : info.per_part)
+    parts.push_back({{"name", p.name},
+                     {"triangles", p.triangles},
+                     {"placements", p.placements},
+                     {"size_mm", p.size_m * 1e3},
+                     {"chordal_deflection_mm", p.chordal_m * 1e3}});
+  return {{"format", info.format},
+          {"file_unit", info.file_unit},
+          {"parts_file", info.parts_file.empty() ? nlohmann::json() : nlohmann::json(info.parts_file)},
+          {"tessellation",
+           {{"angular_deflection_deg", t.angular_deflection_deg},
+            {"chordal_relative", t.chordal_relative},
+            {"chordal_min_mm", t.chordal_min_m * 1e3},
+            {"chordal_mm", t.chordal_m > 0.0 ? nlohmann::json(t.chordal_m * 1e3) : nlohmann::json()},
+            {"exact_normals", t.exact_normals}}},
+          {"parts", info.parts},
+          {"placements", info.placements},
+          {"triangles_unique", info.unique_triangles},
+          {"triangles_placed", info.placed_triangles},
+          {"from_cache", info.from_cache},
+          {"tessellate_s", info.tessellate_s},
+          {"per_part", std::move(parts)}};
+}
+
 }  // namespace
+
+Status check_model_input(const ModelInputOptions& options, const std::vector<std::string>& models) {
+  if (Result<io::CadTessellation> t = cad_tessellation(options); !t.ok()) return t.error();
+  if (options.parts_file.empty() && options.tessellation.empty()) return Ok{};
+  for (const std::string& m : models)
+    if (io::is_cad_path(m)) return Ok{};
+  return make_error(std::string(options.parts_file.empty() ? "--tessellation" : "--parts") +
+                    " applies to CAD models (.step, .stp, .p21, .iges, .igs); a glTF model says its materials "
+                    "and is meshed already");
+}
+
+std::vector<std::string> model_files(const std::string& model, const ModelInputOptions& options) {
+  if (io::is_cad_path(model)) return io::cad_files(model, options.parts_file);
+  auto files = io::gltf_files(model);
+  return files.ok() ? files.value() : std::vector<std::string>{model};
+}
 
 ModelLoad load_model(const std::string& model, const ModelInputOptions& options, ModelInputTimes* times) {
   ModelLoad out;
   ModelInputTimes t;
   auto start = std::chrono::steady_clock::now();
-  io::GltfLoadOptions load;
-  load.allow_outside_paths = options.allow_outside_paths;
-  load.instancing = !options.no_instancing;
-  Result<sim::SceneDesc> scene = io::load_gltf(model, &out.findings, load);
+  Result<sim::SceneDesc> scene = Error{};
+  if (io::is_cad_path(model)) {
+    io::CadLoadOptions load;
+    load.parts_file = options.parts_file;
+    load.cache_dir = options.cache_dir;
+    load.instancing = !options.no_instancing;
+    load.allow_outside_paths = options.allow_outside_paths;
+    Result<io::CadTessellation> tessellation = cad_tessellation(options);
+    if (tessellation.ok()) {
+      load.tessellation = *tessellation;
+      io::CadLoadInfo info;
+      scene = io::load_cad(model, load, &out.findings, &info);
+      if (scene.ok()) t.cad = cad_report(info);
+    } else {
+      scene = tessellation.error();
+    }
+  } else {
+    io::GltfLoadOptions load;
+    load.allow_outside_paths = options.allow_outside_paths;
+    load.instancing = !options.no_instancing;
+    scene = io::load_gltf(model, &out.findings, load);
+  }
   t.load_s = seconds_since(start);
   t.max_rss_after_load_bytes = io::peak_memory_bytes();
   if (!scene.ok()) {

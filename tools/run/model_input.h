@@ -1,6 +1,7 @@
-// How subcommands read luminaire models (glTF 2.0): load, then the model
-// checks (closed refractive volumes, degenerate and self-intersecting
-// faces); errors stop the command, warnings are printed.
+// How subcommands read luminaire models (glTF 2.0, and STEP or IGES with
+// their sidecar: io/model/cad.h): load, then the model checks (closed
+// refractive volumes, degenerate and self-intersecting faces); errors stop
+// the command, warnings are printed.
 #pragma once
 
 #include <cstddef>
@@ -8,6 +9,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "photometry/diagnostics.h"
 #include "sim/scene.h"
@@ -19,11 +22,28 @@ namespace gonio::cli {
 struct ModelInputOptions {
   bool allow_outside_paths = false;  // --allow-outside-paths (io::GltfLoadOptions)
   bool no_instancing = false;        // --no-instancing: flatten meshes placed more than once
-  // The cache folder: the model checks' results (io/model/model_check.h), and for
-  // the commands that write files, the outputs' resamplers
-  // (tools/run/resampler_cache.h); empty: no cache.
+  // The cache folder: the model checks' results (io/model/model_check.h), CAD
+  // models' tessellations (io/model/cad.h), and for the commands that write
+  // files, the outputs' resamplers (tools/run/resampler_cache.h); empty: no cache.
   std::string cache_dir;
+  // CAD models only (io::is_cad_path):
+  std::string parts_file;       // --parts FILE; empty: the sidecar beside the model
+  std::string tessellation;     // --tessellation DEG[,MM]; empty: from the grid
+  double gamma_step_deg = 2.5;  // the output grid's γ step, which the default tessellation follows
 };
+
+// Whether the options suit these models: --tessellation parses (a CAD model
+// is meshed to io::parse_tessellation of it over io::tessellation_for_grid of
+// the γ step), and --parts or --tessellation come with at least one CAD
+// model. Errors name the option.
+Status check_model_input(const ModelInputOptions& options, const std::vector<std::string>& models);
+
+// The files a model is read from, the model first: a glTF model's buffers,
+// images and profiles (io::gltf_files); a CAD model's sidecar (whether or not
+// it exists yet) and the sidecar's profiles and ray files (io::cad_files).
+// `gonio watch` starts again when one of them changes. Just the model where
+// it cannot be read now.
+std::vector<std::string> model_files(const std::string& model, const ModelInputOptions& options = {});
 
 // What loading took.
 struct ModelInputTimes {
@@ -33,6 +53,10 @@ struct ModelInputTimes {
   std::size_t meshes_from_cache = 0;
   std::uint64_t max_rss_after_load_bytes = 0;    // the memory high-water mark then
   std::uint64_t max_rss_after_checks_bytes = 0;  // (io::peak_memory_bytes)
+  // A CAD model's report.json section "cad" (cad_report in model_input.cpp):
+  // format, unit, sidecar, the tessellation asked for and its triangles per
+  // part, whether it came from the cache; null for glTF.
+  nlohmann::json cad;
 };
 
 // A model loaded and checked, nothing printed: the scene unless `error`;

@@ -265,6 +265,7 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
     colour_chart_path = chart_status.ok() ? chart_path : std::string();
   }
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
+  if (!input_times.cad.is_null()) json["cad"] = input_times.cad;  // a CAD model: how it was meshed
   if (!settings.near_field_distances_m.empty()) {
     json["near_field"] = near_field_list;
     json["far_field_distance_m"] = far_field_distance ? nlohmann::json(*far_field_distance) : nlohmann::json(nullptr);

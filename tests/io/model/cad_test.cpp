@@ -1,0 +1,611 @@
+// CAD models (io/model/cad.h, step.h): files written by FreeCAD and by
+// OpenCASCADE's DRAW harness (tests/cad/), read through the helper process,
+// against the closed forms their scripts were built from.
+#include "io/model/cad.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <set>
+#include <utility>
+#include <vector>
+#include <algorithm>
+
+#include "io/model/cad_model.h"
+#include "io/model/model_check.h"
+#include "io/support/file_io.h"
+#include "sim/scene.h"
+#include "tests/io/model/cad_parts.h"
+#include "tests/support/test_support.h"
+
+namespace gonio::io {
+namespace {
+
+namespace fs = std::filesystem;
+using test::TempDir;
+
+constexpr double kFocal = 0.010;   // make_parts.py: F [m]
+constexpr double kHole = 0.004;    // R_HOLE
+constexpr double kAper = 0.030;    // R_APER
+constexpr double kBall = 0.005;    // BALL_R
+
+// Options with a cache the suite's processes share (ctest runs each test as
+// a process of its own): a part meshed once is read from there after; the
+// cache's own behaviour is CadCache's to test.
+CadLoadOptions cached() {
+  CadLoadOptions o;
+  o.cache_dir = GONIO_TEST_DATA_DIR "/cad-cache";
+  return o;
+}
+
+Result<CadModel> tessellate(const fs::path& file, CadTessellation t = {}) {
+  CadLoadOptions o = cached();
+  o.tessellation = t;
+  return tessellate_cad(file.string(), o);
+}
+
+// A sidecar beside a copy of `model` in `dir`; returns the copy's path.
+fs::path with_sidecar(const TempDir& dir, const fs::path& model, const std::string& toml) {
+  const fs::path copy = dir / model.filename().string();
+  fs::copy_file(model, copy, fs::copy_options::overwrite_existing);
+  test::write_file(dir / (model.stem().string() + ".gonio.toml"), toml);
+  return copy;
+}
+
+const char* kLampSidecar = R"(
+default_material = "black"
+
+[materials.black]
+kd = 0.05
+
+[materials.mirror]
+reflectance = 0.9
+diffuse_reflectance = 0
+
+[materials.pmma]
+transmittance = 0.92
+diffusion = 0
+ior = 1.49
+
+[[parts]]
+match = "Reflector"
+material = "mirror"
+
+[[parts]]
+match = "Lamp/Front*"
+material = "pmma"
+
+[[emitters]]
+name = "LED"
+at = "LED*"
+position = [0, 0, 1]
+flux_lm = 100
+)";
+
+TEST(CadStep, FreeCadAssemblyKeepsNamesPlacementsAndSharesTheRepeatedPart) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  Result<CadModel> m = tessellate(parts / "lamp.step");
+  ASSERT_TRUE(m.ok()) << to_string(m.error());
+  EXPECT_EQ(m->format, "STEP");
+  ASSERT_EQ(m->parts.size(), 4u);    // housing, reflector, LED (once), lens
+  ASSERT_EQ(m->placements.size(), 6u);
+  std::set<std::string> paths;
+  for (const CadPlacement& p : m->placements) paths.insert(p.path);
+  EXPECT_EQ(paths, (std::set<std::string>{"Lamp/Housing", "Lamp/Reflector", "Lamp/LED1", "Lamp/LED2", "Lamp/LED3",
+                                          "Lamp/FrontLens"}));
+  // The three LEDs are one part: a reader that copied them would make three.
+  std::set<std::uint32_t> led_parts;
+  for (const CadPlacement& p : m->placements)
+    if (p.path.find("LED") != std::string::npos) {
+      led_parts.insert(p.part);
+      EXPECT_EQ(m->parts[p.part].name, "LED");
+    }
+  EXPECT_EQ(led_parts.size(), 1u);
+  // Placements in metres: LED1 at x = -3 mm, z = 0.5 mm, LED3 turned 180°.
+  for (const CadPlacement& p : m->placements) {
+    if (p.path == "Lamp/LED1") {
+      EXPECT_NEAR(p.to_world.offset.x, -0.003, 1e-12);
+      EXPECT_NEAR(p.to_world.offset.z, 0.0005, 1e-12);
+    }
+    if (p.path == "Lamp/LED3") {
+      EXPECT_NEAR(p.to_world.m[0][0], -1.0, 1e-12);
+      EXPECT_NEAR(p.to_world.offset.x, 0.003, 1e-12);
+    }
+  }
+  // The housing is 80 mm square: the file's millimetres became metres.
+  for (const CadPart& p : m->parts) {
+    if (p.name == "Housing") {
+      EXPECT_NEAR(p.size_m, std::sqrt(0.08 * 0.08 * 2 + 0.005 * 0.005), 1e-9);
+    }
+  }
+}
+
+TEST(CadStep, ReflectorVerticesLieOnTheParaboloidAndNormalsAreTheSurfaces) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  Result<CadModel> m = tessellate(parts / "reflector.step");
+  ASSERT_TRUE(m.ok()) << to_string(m.error());
+  ASSERT_EQ(m->parts.size(), 1u);
+  const CadSurface& s = m->parts[0].surfaces.at(0);
+  ASSERT_FALSE(s.normals.empty());
+  double worst_z = 0.0, worst_normal = 0.0, rmin = 1.0, rmax = 0.0;
+  for (std::size_t i = 0; i < s.positions.size(); ++i) {
+    const Vec3 p = sim::to_double(s.positions[i]);
+    const double r = std::hypot(p.x, p.y);
+    rmin = std::min(rmin, r);
+    rmax = std::max(rmax, r);
+    // z = f − r²/(4f): a vertex off the surface is a wrong unit or frame.
+    worst_z = std::max(worst_z, std::abs(p.z - (kFocal - r * r / (4 * kFocal))));
+    // The surface normal (either side): ∇(z + r²/4f) = (x/2f, y/2f, 1).
+    // The angle from the cross product: acos near 1 would read a float
+    // normal's rounding (|n|² = 1 − 4e-8) as 2e-4 rad.
+    const Vec3 exact = normalize(Vec3{p.x / (2 * kFocal), p.y / (2 * kFocal), 1.0});
+    const Vec3 n = normalize(sim::to_double(s.normals[i]));
+    worst_normal = std::max(worst_normal, std::atan2(length(cross(exact, n)), std::abs(dot(exact, n))));
+  }
+  EXPECT_LT(worst_z, 1e-7);                 // float rounding of millimetre-scale values
+  EXPECT_NEAR(rmin, kHole, 1e-7);
+  EXPECT_NEAR(rmax, kAper, 1e-7);
+  EXPECT_LT(worst_normal, 1e-5);            // exact, not averaged facets (those are off by ~1°)
+}
+
+TEST(CadStep, FacetNormalsStayWithinTheAngularDeflectionAndTriangleCountsFollowIt) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  std::size_t previous = 0;
+  for (double deg : {8.0, 4.0, 2.0}) {
+    CadTessellation t;
+    t.angular_deflection_deg = deg;
+    t.chordal_relative = 0.5;  // leave the angle in charge
+    Result<CadModel> m = tessellate(parts / "ball_lens.step", t);
+    ASSERT_TRUE(m.ok()) << to_string(m.error());
+    const CadSurface& s = m->parts[0].surfaces.at(0);
+    // δ of a facet: its normal against the sphere's (radial) at its
+    // vertices; 99 % of the area within the deflection (slivers along the
+    // seam and at the poles tilt more, and catch next to no light).
+    std::vector<std::pair<double, double>> deltas;
+    double area = 0.0;
+    for (std::size_t k = 0; k < s.indices.size(); k += 3) {
+      const Vec3 a = sim::to_double(s.positions[s.indices[k]]), b = sim::to_double(s.positions[s.indices[k + 1]]),
+                 c = sim::to_double(s.positions[s.indices[k + 2]]);
+      const Vec3 n = cross(b - a, c - a);
+      if (!(length(n) > 0.0)) continue;
+      ASSERT_GT(dot(n, a + b + c), 0.0) << "a facet faces inwards: winding lost";
+      double delta = 0.0;
+      for (const Vec3& v : {a, b, c}) {
+        const Vec3 r = normalize(v), f = normalize(n);
+        delta = std::max(delta, std::atan2(length(cross(r, f)), dot(r, f)) * 180.0 / std::numbers::pi);
+      }
+      deltas.emplace_back(delta, length(n));
+      area += length(n);
+    }
+    std::sort(deltas.begin(), deltas.end());
+    double covered = 0.0, quantile = 0.0;
+    for (const auto& [delta, a] : deltas) {
+      covered += a;
+      quantile = delta;
+      if (covered >= 0.99 * area) break;
+    }
+    EXPECT_LT(quantile, deg * 1.02) << "at " << deg << "°";
+    EXPECT_GT(quantile, deg / 4) << "at " << deg << "°: far finer than asked (wasted triangles)";
+    EXPECT_GT(m->unique_triangle_count(), previous) << "a finer deflection must give more triangles";
+    previous = m->unique_triangle_count();
+  }
+}
+
+TEST(CadStep, BallLensMeshIsAClosedVolumeForTheModelChecks) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "ball_lens.step", R"(
+[materials.glass]
+transmittance = 0.92
+diffusion = 0
+ior = 1.5
+
+[[parts]]
+match = "BallLens"
+material = "glass"
+
+[[emitters]]
+position = [0, 0, 7.5]
+flux_lm = 1000
+)");
+  std::vector<Finding> findings;
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), &findings);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  ASSERT_EQ(scene->meshes.size(), 1u);
+  EXPECT_GT(scene->materials[0].dielectric, 0.9);
+  // Faces meet on shared edges at the same positions, so the checks weld
+  // them into one closed, outward volume: no open-volume error.
+  for (const Finding& f : check_model(*scene)) EXPECT_NE(f.severity, Severity::Error) << f.message;
+  for (const sim::Vec3f& p : scene->meshes[0].positions) EXPECT_NEAR(length(sim::to_double(p)), kBall, 1e-8);
+  // The emitter sits 7.5 mm above the centre, in metres.
+  ASSERT_EQ(scene->emitters.size(), 1u);
+  EXPECT_NEAR(scene->emitters[0].position.z, 0.0075, 1e-12);
+  EXPECT_DOUBLE_EQ(scene->emitters[0].flux_lm, 1000.0);
+}
+
+TEST(CadStep, OpenRefractivePartIsRefusedByTheChecksNamingIt) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "open_lens.step", R"(
+[materials.glass]
+transmittance = 0.92
+diffusion = 0
+
+[[parts]]
+match = "OpenLens"
+material = "glass"
+
+[[emitters]]
+position = [0, 0, -10]
+flux_lm = 1
+)");
+  std::vector<Finding> findings;
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), &findings);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  bool said = false;
+  for (const Finding& f : findings) said |= f.code == "cad-open-shell" && f.message.find("OpenLens") != std::string::npos;
+  EXPECT_TRUE(said) << "the reader must say which part does not close";
+  bool refused = false;
+  for (const Finding& f : check_model(*scene))
+    refused |= f.severity == Severity::Error && f.code == "open-volume" && f.message.find("OpenLens") != std::string::npos;
+  EXPECT_TRUE(refused);
+}
+
+TEST(CadStep, OpenCascadeFileInInchesWithColoursLayersAndItsOwnComponentNames) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  Result<CadModel> m = tessellate(parts / "colours_inch.step");
+  ASSERT_TRUE(m.ok()) << to_string(m.error());
+  EXPECT_EQ(m->file_unit, "INCH");
+  const CadPart* block = nullptr;
+  for (const CadPart& p : m->parts)
+    if (p.name == "Block") block = &p;
+  ASSERT_NE(block, nullptr);
+  // 1 × 2 × 3 inches written as inches and read back as metres.
+  EXPECT_NEAR(block->size_m, 0.0254 * std::sqrt(14.0), 1e-9);
+  ASSERT_TRUE(block->colour.has_value());
+  EXPECT_NEAR(block->colour->x, 1.0f, 1e-3f);
+  EXPECT_NEAR(block->colour->y, 0.0f, 1e-3f);
+  EXPECT_EQ(block->layers, std::vector<std::string>{"OPTICS"});
+  // The x = 0 face is green: a surface of its own with its colour.
+  ASSERT_EQ(block->surfaces.size(), 2u);
+  int green = 0;
+  for (const CadSurface& s : block->surfaces)
+    if (s.colour && s.colour->y > 0.99f) {
+      ++green;
+      for (const sim::Vec3f& p : s.positions) EXPECT_NEAR(p.x, 0.0f, 1e-9f);
+    }
+  EXPECT_EQ(green, 1);
+  // OpenCASCADE names components "=>[0:1:1:3]"; the product's name is used.
+  std::set<std::string> paths;
+  for (const CadPlacement& p : m->placements) paths.insert(p.path);
+  EXPECT_EQ(paths, (std::set<std::string>{"Block", "ASSEMBLY/SOLID", "ASSEMBLY/SOLID[2]"}));
+}
+
+TEST(CadStep, IgesFilesFromFreeCadAndOpenCascadeAreRead) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  for (const char* name : {"pcx_lens.igs", "block.igs"}) {
+    Result<CadModel> m = tessellate(parts / name);
+    ASSERT_TRUE(m.ok()) << name << ": " << to_string(m.error());
+    EXPECT_EQ(m->format, "IGES");
+    EXPECT_GT(m->unique_triangle_count(), 0u);
+  }
+  Result<CadModel> block = tessellate(parts / "block.igs");
+  ASSERT_TRUE(block.ok());
+  EXPECT_NEAR(block->parts[0].size_m, 0.0254 * std::sqrt(14.0), 1e-9);
+}
+
+TEST(CadScene, SidecarRulesGiveMaterialsInstancesAndOneEmitterPerPlacement) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "lamp.step", kLampSidecar);
+  std::vector<Finding> findings;
+  CadLoadInfo info;
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), &findings, &info);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  auto material_of = [&](const std::string& name) -> const sim::Material* {
+    for (const sim::Mesh& m : scene->meshes)
+      if (m.name == name) return &scene->materials[m.material];
+    return nullptr;
+  };
+  ASSERT_NE(material_of("Lamp/Reflector"), nullptr);
+  EXPECT_DOUBLE_EQ(material_of("Lamp/Reflector")->mirror, 0.9);
+  ASSERT_NE(material_of("Lamp/FrontLens"), nullptr);
+  EXPECT_NEAR(material_of("Lamp/FrontLens")->dielectric, 0.92, 1e-12);
+  EXPECT_DOUBLE_EQ(material_of("Lamp/Housing")->diffuse_reflect, 0.05);
+  // The LED is one instanced mesh placed three times, named by path.
+  ASSERT_EQ(scene->instances.size(), 3u);
+  std::set<std::string> names;
+  for (const sim::Instance& i : scene->instances) {
+    names.insert(i.name);
+    EXPECT_EQ(scene->meshes[i.mesh].name, "LED");
+    EXPECT_TRUE(scene->meshes[i.mesh].instanced);
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"Lamp/LED1", "Lamp/LED2", "Lamp/LED3"}));
+  // One emitter per LED placement, 1 mm above each LED's origin (0.5 mm up).
+  ASSERT_EQ(scene->emitters.size(), 3u);
+  for (const sim::Emitter& e : scene->emitters) {
+    EXPECT_NEAR(e.position.z, 0.0015, 1e-12);
+    EXPECT_DOUBLE_EQ(e.flux_lm, 100.0);
+  }
+  // The default frame is CAD's Z-up: nadir −Z, C0 +X, C90 +Y.
+  EXPECT_NEAR(scene->frame.up.z, 1.0, 1e-12);
+  EXPECT_NEAR(scene->frame.c90.y, 1.0, 1e-12);
+  EXPECT_EQ(info.placements, 6u);
+  EXPECT_EQ(info.parts, 4u);
+  EXPECT_EQ(info.placed_triangles, scene->placed_triangle_count());
+}
+
+TEST(CadScene, NoInstancingGivesTheSameGeometryFlat) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "lamp.step", kLampSidecar);
+  CadLoadOptions flat = cached();
+  flat.instancing = false;
+  Result<sim::SceneDesc> a = load_cad(model.string(), cached(), nullptr);
+  Result<sim::SceneDesc> b = load_cad(model.string(), flat, nullptr);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_TRUE(b->instances.empty());
+  EXPECT_EQ(a->placed_triangle_count(), b->placed_triangle_count());
+  EXPECT_LT(a->unique_triangle_count(), b->unique_triangle_count());
+}
+
+TEST(CadScene, PartsNoRuleCoversAreListedAllInOneError) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "lamp.step", R"(
+[materials.mirror]
+reflectance = 0.9
+
+[[parts]]
+match = "Reflector"
+material = "mirror"
+
+[[emitters]]
+at = "LED1"
+flux_lm = 1
+)");
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
+  ASSERT_FALSE(scene.ok());
+  const std::string& m = scene.error().message;
+  for (const char* part : {"Lamp/Housing", "Lamp/LED1", "Lamp/LED2", "Lamp/LED3", "Lamp/FrontLens"})
+    EXPECT_NE(m.find(part), std::string::npos) << part << " missing from: " << m;
+  EXPECT_EQ(m.find("Lamp/Reflector"), std::string::npos) << m;
+  EXPECT_NE(m.find("5 part placement(s)"), std::string::npos) << m;
+  EXPECT_EQ(scene.error().where.file, model.string());
+}
+
+TEST(CadScene, WithoutASidecarTheErrorNamesTheFileItLookedFor) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path copy = dir / "reflector.step";
+  fs::copy_file(parts / "reflector.step", copy);
+  Result<sim::SceneDesc> scene = load_cad(copy.string(), cached(), nullptr);
+  ASSERT_FALSE(scene.ok());
+  EXPECT_NE(scene.error().message.find("reflector.gonio.toml"), std::string::npos) << scene.error().message;
+}
+
+TEST(CadScene, RulesByColourAndLayer) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "colours_inch.step", R"(
+length_unit = "mm"
+
+[materials.green]
+kd = 0.3
+[materials.red]
+kd = 0.6
+[materials.chip]
+kd = 0.1
+
+[[parts]]
+colour = "#00ff00"
+material = "green"
+
+[[parts]]
+layer = "OPT*"
+material = "red"
+
+[[parts]]
+match = "SOLID"
+material = "chip"
+
+[[emitters]]
+position = [0, 0, 100]
+flux_lm = 10
+)");
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  int green = 0, red = 0;
+  for (const sim::Mesh& m : scene->meshes) {
+    const double kd = scene->materials[m.material].diffuse_reflect;
+    if (m.name.rfind("Block", 0) != 0) continue;
+    green += kd == 0.3;
+    red += kd == 0.6;
+  }
+  EXPECT_EQ(green, 1);  // the green face, before the layer rule
+  EXPECT_EQ(red, 1);    // the rest of the block, by its layer
+  // length_unit = "mm" overrides the file's inches for sidecar coordinates.
+  EXPECT_NEAR(scene->emitters.at(0).position.z, 0.1, 1e-12);
+}
+
+TEST(CadScene, SidecarMaterialIsTheOneGltfExtrasGive) {
+  // The same extras.gonio through the one reader and mapping: a sidecar
+  // material that differed would mean two vocabularies.
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "ball_lens.step", R"(
+[materials.opal]
+transmittance = 0.6
+diffusion = 0.7
+reflectance = 0.3
+ior = 1.49
+spectral_transmittance = { wavelengths_nm = [400, 700], values = [0.5, 0.7] }
+
+[[parts]]
+match = "*"
+material = "opal"
+
+[[emitters]]
+position = [0, 0, 20]
+flux_lm = 5
+spectrum = { blackbody_k = 3000 }
+)");
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  const sim::Material& m = scene->materials.at(0);
+  EXPECT_DOUBLE_EQ(m.diffuse_transmit, 0.6 * 0.7);
+  EXPECT_DOUBLE_EQ(m.dielectric, 0.6 * 0.3);
+  EXPECT_DOUBLE_EQ(m.diffuse_reflect, 0.3);
+  EXPECT_DOUBLE_EQ(m.ior, 1.49);
+  EXPECT_EQ(m.spectral_transmittance.values, (std::vector<double>{0.5, 0.7}));
+  EXPECT_FALSE(scene->emitters.at(0).spectrum.empty());
+  EXPECT_TRUE(scene->spectral());
+}
+
+TEST(CadScene, PointEmitterWithAProfileFollowsThePartAxes) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  fs::copy_file(test::source_dir() / "samples" / "curves" / "downlight.ies", dir / "led.ies");
+  const fs::path model = with_sidecar(dir, parts / "lamp.step", std::string(R"(
+default_material = "black"
+[materials.black]
+kd = 0.05
+
+[[emitters]]
+name = "LED"
+at = "LED3"
+profile = "led.ies"
+nadir = [1, 0, 0]
+c0 = [0, 0, 1]
+)"));
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  ASSERT_EQ(scene->emitters.size(), 1u);
+  const sim::Emitter& e = scene->emitters[0];
+  ASSERT_NE(e.profile, nullptr);
+  // LED3 is turned 180° about Z: its +X is the world's −X.
+  EXPECT_NEAR(e.frame.up.x, 1.0, 1e-12);
+  EXPECT_NEAR(e.frame.c0.z, 1.0, 1e-12);
+  EXPECT_GT(e.flux_lm, 0.0);
+}
+
+TEST(CadScene, SidecarProfileOutsideTheFolderIsRefused) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "ball_lens.step", R"(
+default_material = "m"
+[materials.m]
+kd = 0.5
+[[emitters]]
+position = [0, 0, 20]
+profile = "../../etc/passwd"
+)");
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
+  ASSERT_FALSE(scene.ok());
+  EXPECT_NE(scene.error().message.find("outside"), std::string::npos) << scene.error().message;
+}
+
+// ---------------------------------------------------------------------------
+// Hostile and broken files: an error naming the file (and entity), never a
+// crash of gonio.
+
+std::string first_part_of(const fs::path& file, std::size_t bytes) {
+  std::string text = test::read_file(file);
+  return text.substr(0, std::min(bytes, text.size()));
+}
+
+TEST(CadHostile, BrokenFilesAreErrorsNamingFileAndEntity) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const std::string box = test::read_file(parts / "lamp.step");
+  struct Case {
+    const char* name;
+    std::string bytes;
+    const char* says;
+  };
+  std::string missing = box;
+  // Point the first CLOSED_SHELL reference of the first solid at an entity
+  // the file does not hold.
+  const std::size_t brep = missing.find("MANIFOLD_SOLID_BREP('',#");
+  ASSERT_NE(brep, std::string::npos);
+  const std::size_t ref = brep + std::string("MANIFOLD_SOLID_BREP('',").size();
+  const std::size_t end = missing.find(')', ref);
+  const std::string target = missing.substr(ref, end - ref);
+  missing.replace(ref, end - ref, "#999999");
+  const Case cases[] = {
+      {"empty.step", "", "empty file"},
+      {"truncated.step", first_part_of(parts / "lamp.step", 4000), "unexpected end of file"},
+      {"missing.step", missing, "#999999"},
+      {"garbage.step", "ISO-10303-21;\nthis is not STEP at all (((\n", "not a readable STEP file"},
+      {"nodata.step", "ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\nENDSEC;\nEND-ISO-10303-21;\n", "no"},
+      {"binary.step", std::string("\0\x01\x02\xff\xfe", 5), "not a"},
+      {"noiges.igs", "this is not IGES\n", "IGES"},
+  };
+  for (const Case& c : cases) {
+    test::offer_fuzz_seed("step", c.bytes);
+    const fs::path file = dir / c.name;
+    test::write_file(file, c.bytes);
+    Result<CadModel> m = tessellate(file);
+    ASSERT_FALSE(m.ok()) << c.name;
+    EXPECT_EQ(m.error().where.file, file.string()) << c.name;
+    EXPECT_NE(m.error().message.find(c.says), std::string::npos) << c.name << ": " << m.error().message;
+  }
+  (void)target;
+}
+
+TEST(CadHostile, ACrashingOrHangingReaderIsAnErrorNotGoniosEnd) {
+  TempDir dir;
+  const fs::path crash = dir / "crash.sh", hang = dir / "hang.sh", model = dir / "m.step";
+  test::write_file(crash, "#!/bin/sh\nkill -SEGV $$\n");
+  test::write_file(hang, "#!/bin/sh\nexec sleep 60\n");
+  test::write_file(model, "ISO-10303-21;\n");
+  fs::permissions(crash, fs::perms::owner_all);
+  fs::permissions(hang, fs::perms::owner_all);
+  CadLoadOptions o;
+  o.helper = crash.string();
+  Result<CadModel> m = tessellate_cad(model.string(), o);
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.error().message.find("crashed"), std::string::npos) << m.error().message;
+  EXPECT_NE(m.error().message.find("SIGSEGV"), std::string::npos) << m.error().message;
+  o.helper = hang.string();
+  o.time_limit = std::chrono::seconds(1);
+  m = tessellate_cad(model.string(), o);
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.error().message.find("within 1 s"), std::string::npos) << m.error().message;
+}
+
+TEST(CadCache, SecondReadComesFromTheCacheAndADamagedEntryIsReplaced) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir cache;
+  CadLoadOptions o;
+  o.cache_dir = cache.path().string();
+  CadLoadInfo first, second, third;
+  Result<CadModel> a = tessellate_cad((parts / "reflector.step").string(), o, &first);
+  Result<CadModel> b = tessellate_cad((parts / "reflector.step").string(), o, &second);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_FALSE(first.from_cache);
+  EXPECT_TRUE(second.from_cache);
+  EXPECT_EQ(serialize_cad_model(*a), serialize_cad_model(*b));
+  // Damage the entry: it is read again from the file and rewritten.
+  std::vector<fs::path> entries;
+  for (const auto& e : fs::directory_iterator(cache.path())) entries.push_back(e.path());
+  ASSERT_EQ(entries.size(), 1u);
+  EXPECT_EQ(entries[0].filename().string().rfind("cad-", 0), 0u);
+  test::write_file(entries[0], "GONIOCAD damaged");
+  Result<CadModel> c = tessellate_cad((parts / "reflector.step").string(), o, &third);
+  ASSERT_TRUE(c.ok());
+  EXPECT_FALSE(third.from_cache);
+  EXPECT_EQ(serialize_cad_model(*c), serialize_cad_model(*a));
+  // Other settings, another entry.
+  o.tessellation.angular_deflection_deg = 5.0;
+  CadLoadInfo fourth;
+  ASSERT_TRUE(tessellate_cad((parts / "reflector.step").string(), o, &fourth).ok());
+  EXPECT_FALSE(fourth.from_cache);
+  EXPECT_LT(fourth.unique_triangles, first.unique_triangles);
+}
+
+}  // namespace
+}  // namespace gonio::io
