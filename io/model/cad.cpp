@@ -15,6 +15,7 @@
 
 #include "io/model/gltf.h"
 #include "io/model/gltf_files.h"
+#include "io/materials/bsdf_file.h"
 #include "io/model/gltf_material.h"
 #include "io/model/material_extras.h"
 #include "io/model/parts_file.h"
@@ -198,16 +199,21 @@ Status SceneBuilder::add_materials() {
     const SourceLoc where{parts_.path, m.line, 0};
     Result<MaterialExtras> read = read_material_extras(m.extras, where, what, findings_);
     if (!read.ok()) return read.error();
-    const MaterialExtras& x = *read;
-    // A measured BSDF is read beside a glTF model (io/model/gltf.cpp); the
-    // sidecar does not resolve the file yet: refused, not ignored.
-    if (x.bsdf_file)
-      return fail_sidecar(m.line, what + ": bsdf_file is read for glTF materials only; a CAD sidecar cannot "
-                                 "name a measured BSDF yet");
-    if (!x.has_lobe_weights() && !x.has_datasheet() && !x.luminance_cd_m2)
+    MaterialExtras& x = *read;
+    if (!x.has_lobe_weights() && !x.has_datasheet() && !x.luminance_cd_m2 && !x.preset && !x.bsdf_file &&
+        !x.abg_reflect && !x.abg_transmit)
       return fail_sidecar(m.line, what + ": says neither how it scatters (lobe weights kd, ks, mirror, dielectric, "
-                                 "diffuse_transmit, or datasheet values reflectance, transmittance) nor what "
-                                 "it emits (luminance_cd_m2)");
+                                 "diffuse_transmit, datasheet values reflectance, transmittance, a preset, abg "
+                                 "or a bsdf_file) nor what it emits (luminance_cd_m2)");
+    // A measured BSDF beside the sidecar, as its profiles and ray files are.
+    std::shared_ptr<const sim::TabulatedBsdf> table;
+    if (x.bsdf_file) {
+      Result<std::string> bsdf_path = sidecar_file(*x.bsdf_file, what + " bsdf_file");
+      if (!bsdf_path.ok()) return bsdf_path.error();
+      Result<std::shared_ptr<const sim::TabulatedBsdf>> t = read_bsdf_file(*bsdf_path, findings_);
+      if (!t.ok()) return Error{t.error().where, what + ": bsdf_file: " + t.error().message};
+      table = std::move(*t);
+    }
     // No glTF factors behind a sidecar material: a black, non-metallic
     // surface without a specular coat, which the extras then define.
     GltfMaterial base;
@@ -215,12 +221,12 @@ Status SceneBuilder::add_materials() {
     base.base_color = {0.0, 0.0, 0.0};
     base.metallic = 0.0;
     base.specular = 0.0;
-    Result<sim::Material> mapped = map_material(base, x, where, what, findings_);
+    Result<sim::Material> mapped = map_material(base, x, where, what, findings_, std::move(table));
     if (!mapped.ok()) return mapped.error();
     material_ids_[m.name] = static_cast<std::uint32_t>(scene_.materials.size());
     scene_.materials.push_back(std::move(*mapped));
     luminance_.push_back(x.luminance_cd_m2.value_or(0.0));
-    emitted_.push_back(read->spectrum);
+    emitted_.push_back(std::move(x.spectrum));
   }
   return Ok{};
 }

@@ -16,14 +16,20 @@ namespace gonio::io {
 
 using nlohmann::json;
 
+namespace {
+
+Error error_at(const SourceLoc& where, std::string message) { return Error{where, std::move(message)}; }
+
+}  // namespace
+
 Result<std::optional<double>> extras_number(const json& obj, const char* key, const SourceLoc& where,
                                             const std::string& what) {
   if (!obj.is_object()) return std::optional<double>();
   auto it = obj.find(key);
   if (it == obj.end()) return std::optional<double>();
-  if (!it->is_number()) return Error{where, what + ": '" + key + "' must be a number"};
+  if (!it->is_number()) return error_at(where, what + ": '" + key + "' must be a number");
   const double v = it->get<double>();
-  if (!std::isfinite(v)) return Error{where, what + ": '" + key + "' is not finite"};
+  if (!std::isfinite(v)) return error_at(where, what + ": '" + key + "' is not finite");
   return std::optional<double>(v);
 }
 
@@ -34,7 +40,7 @@ namespace {
 Result<photometry::SampledSpectrum> spectrum_object(const json& j, const SourceLoc& where, const std::string& what,
                                                     double max_value, bool allow_blackbody) {
   constexpr std::size_t kMaxSamples = 100000;
-  const auto fail = [&](const std::string& m) { return Error{where, m}; };
+  const auto fail = [&](const std::string& m) { return error_at(where, m); };
   if (!j.is_object()) return fail(what + " must be an object");
   if (allow_blackbody && j.contains("blackbody_k")) {
     if (j.contains("wavelengths_nm") || j.contains("values"))
@@ -67,7 +73,7 @@ Result<photometry::SampledSpectrum> spectrum_object(const json& j, const SourceL
 // values within 0..max_value.
 Result<sim::IncidenceTable> incidence_table(const json& j, const SourceLoc& where, const std::string& what,
                                             double max_value) {
-  const auto fail = [&](const std::string& m) { return Error{where, m}; };
+  const auto fail = [&](const std::string& m) { return error_at(where, m); };
   if (!j.is_object()) return fail(what + " must be an object with angles_deg and values");
   sim::IncidenceTable t;
   const std::pair<const char*, std::vector<double>*> arrays[] = {{"angles_deg", &t.theta_deg}, {"values", &t.factor}};
@@ -92,7 +98,7 @@ Result<sim::IncidenceTable> incidence_table(const json& j, const SourceLoc& wher
 }
 
 Result<sim::AbgScatter> abg_object(const json& j, const SourceLoc& where, const std::string& what) {
-  const auto fail = [&](const std::string& m) { return Error{where, m}; };
+  const auto fail = [&](const std::string& m) { return error_at(where, m); };
   if (!j.is_object()) return fail(what + " must be an object with B, g and tis or A");
   for (const auto& item : j.items()) {
     const std::string& key = item.key();
@@ -126,7 +132,7 @@ Result<sim::EmitterSpectrum> read_emitter_spectrum(const json& obj, const Source
   auto it = obj.find("spectrum");
   if (it == obj.end()) return out;
   const std::string w = what + " extras.gonio.spectrum";
-  const auto fail = [&](const std::string& m) { return Error{where, m}; };
+  const auto fail = [&](const std::string& m) { return error_at(where, m); };
   if (!it->is_object()) return fail(w + " must be an object");
   if (auto og = it->find("over_gamma"); og != it->end()) {
     if (it->size() != 1) return fail(w + ": over_gamma stands alone");
@@ -156,7 +162,7 @@ Result<sim::EmitterSpectrum> read_emitter_spectrum(const json& obj, const Source
 Result<MaterialExtras> read_material_extras(const json& gj, const SourceLoc& where, const std::string& what,
                                             std::vector<Finding>& findings) {
   MaterialExtras x;
-  const auto fail = [&](const std::string& m) { return Error{where, m}; };
+  const auto fail = [&](const std::string& m) { return error_at(where, m); };
   if (!gj.is_object()) return fail(what + ": extras.gonio must be an object");
   static const std::initializer_list<const char*> known = {
       "kd", "ks", "mx", "my", "f0", "diffuse_transmit", "mirror", "dielectric", "ior", "attenuation_per_m",

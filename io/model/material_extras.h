@@ -17,8 +17,9 @@
 
 namespace gonio::io {
 
-// `gonio` is the object (extras.gonio); `where` names the document (and for
-// the CAD sidecar the line) for errors, `what` the material ("material 'opal' (#2)"). Keys it does not
+// `gonio` is the object (extras.gonio); `where` names the document (and,
+// where the caller knows it, the line: the CAD sidecar's TOML) for errors,
+// `what` the material ("material 'opal' (#2)"). Keys it does not
 // know are Warning findings ("unknown-extras-key"); values of the wrong type
 // or out of range are errors naming the key.
 Result<MaterialExtras> read_material_extras(const nlohmann::json& gonio, const SourceLoc& where,
