@@ -17,6 +17,8 @@
 #include "io/model/cad_model.h"
 #include "io/model/model_check.h"
 #include "io/support/file_io.h"
+#include "sim/bsdfs/library.h"
+#include "sim/bsdfs/tabulated_bsdf.h"
 #include "sim/scene.h"
 #include "tests/io/model/cad_parts.h"
 #include "tests/support/test_support.h"
@@ -463,6 +465,68 @@ spectrum = { blackbody_k = 3000 }
   EXPECT_EQ(m.spectral_transmittance.values, (std::vector<double>{0.5, 0.7}));
   EXPECT_FALSE(scene->emitters.at(0).spectrum.empty());
   EXPECT_TRUE(scene->spectral());
+}
+
+TEST(CadScene, SidecarTakesTheMeasuredMaterialsVocabularyAndNamesItsLine) {
+  // Issue 31 asks for glTF's vocabulary in the sidecar, issue 32 widened it:
+  // a preset, ABg, a measured BSDF file beside the sidecar. A reader that
+  // knew only the older keys would call these materials empty ("says
+  // neither how it scatters ...") or drop the table; a bad table must be an
+  // error naming the sidecar's material and the CSV's line.
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  std::string csv = "theta_in,theta_out,phi_out,bsdf\n";
+  for (double ti : {0.0, 60.0})
+    for (double to = 0.0; to < 90.0; to += 15.0)
+      for (double p : {0.0, 90.0, 180.0})
+        csv += std::to_string(ti) + "," + std::to_string(to) + "," + std::to_string(p) + "," +
+               std::to_string(0.4 / std::numbers::pi) + "\n";
+  test::write_file(dir / "sheet.csv", csv);
+  test::write_file(dir / "broken.csv", "theta_in,theta_out,phi_out,bsdf\n0,10,0,-1\n");
+  const std::string rules = R"(
+[materials.opal]
+preset = "opal PC 3 mm"
+[materials.blasted]
+mirror = 0.4
+abg = { A = 0.02, B = 0.01, g = 2.0 }
+[materials.measured]
+bsdf_file = "sheet.csv"
+tabulated = 0.9
+
+[[parts]]
+match = "*"
+material = "opal"
+
+[[emitters]]
+position = [0, 0, 20]
+flux_lm = 5
+)";
+  const fs::path model = with_sidecar(dir, parts / "ball_lens.step", rules);
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  const auto named = [&](const std::string& name) -> const sim::Material& {
+    for (const sim::Material& m : scene->materials)
+      if (m.name == name) return m;
+    ADD_FAILURE() << "no material " << name;
+    return scene->materials.at(0);
+  };
+  EXPECT_EQ(named("opal").scattering_per_m, sim::find_preset("opal PC 3 mm")->material.scattering_per_m);
+  EXPECT_NEAR(named("blasted").abg_reflect.tis, 0.02 * std::numbers::pi * std::log(101.0), 1e-6);
+  EXPECT_EQ(named("blasted").mirror, 0.4);
+  ASSERT_TRUE(named("measured").table);
+  EXPECT_EQ(named("measured").tabulated, 0.9);
+  EXPECT_NEAR(named("measured").table->albedo(true, Vec3{0.0, 0.0, 1.0}), 0.4, 1e-6);
+
+  std::string broken = rules;
+  broken.replace(broken.find("sheet.csv"), 9, "broken.csv");
+  TempDir dir2;
+  fs::copy_file(dir / "broken.csv", dir2 / "broken.csv");
+  const fs::path bad = with_sidecar(dir2, parts / "ball_lens.step", broken);
+  Result<sim::SceneDesc> refused = load_cad(bad.string(), cached(), nullptr);
+  ASSERT_FALSE(refused.ok());
+  const std::string message = to_string(refused.error());
+  EXPECT_NE(message.find("material 'measured'"), std::string::npos) << message;
+  EXPECT_NE(message.find("broken.csv:2"), std::string::npos) << message;
 }
 
 TEST(CadScene, PointEmitterWithAProfileFollowsThePartAxes) {
