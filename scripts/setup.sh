@@ -15,6 +15,7 @@ packages=(
   libpugixml-dev libzip-dev libxml2-utils libxxhash-dev
   clang-14 libfuzzer-14-dev llvm-14
   colord-data
+  help2man dpkg-dev file man-db
 )
 
 missing=()
