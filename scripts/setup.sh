@@ -6,6 +6,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config ccache
+  help2man dpkg-dev file man-db
   libembree-dev libopenexr-dev libopenimageio-dev openimageio-tools
   libcgal-dev libtinygltf-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
@@ -15,7 +16,6 @@ packages=(
   libpugixml-dev libzip-dev libxml2-utils libxxhash-dev
   clang-14 libfuzzer-14-dev llvm-14
   colord-data
-  help2man dpkg-dev file man-db
 )
 
 missing=()
