@@ -78,6 +78,11 @@ done
 for c in "${commands[@]}"; do
   [[ -f $prefix/share/man/man1/gonio-$c.1.gz ]] || fail "the package has no man page for '$c'"
 done
+# Nothing else (the Python module, component python, stays out).
+while IFS= read -r f; do
+  [[ $f =~ ^usr/(bin/gonio|lib/gonio/[^/]+|share/(gonio/web|man/man1|bash-completion/completions|doc/gonio/examples)/.+)$ ]] ||
+    fail "the package holds $f, which packaging/ does not put there"
+done < <(cd "$root" && find . -type f | sed 's|^\./||')
 if [[ -f $build/tools/gonio-cad ]]; then
   [[ -x $prefix/lib/gonio/gonio-cad ]] || fail "the build has gonio-cad, the package not"
 fi
@@ -111,7 +116,10 @@ while IFS= read -r -d '' elf; do
   mapfile -t needed < <(readelf -d "$elf" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p')
   ldd_out=$(ldd "$elf" 2>&1)
   for lib in "${needed[@]}"; do
-    path=$(awk -v lib="$lib" '$1 == lib && $2 == "=>" { print $3 }' <<< "$ldd_out")
+    # "libX.so.1 => /path (0x...)", or "/path/ld-linux-x86-64.so.2 (0x...)"
+    # for the dynamic loader (NEEDED where a program uses one of its symbols).
+    path=$(awk -v lib="$lib" '$1 == lib && $2 == "=>" { print $3 }
+      $2 != "=>" && substr($1, length($1) - length(lib)) == "/" lib { print $1 }' <<< "$ldd_out" | head -n1)
     if [[ -z $path || $path == "not" ]]; then
       fail "$rel needs $lib, which ldd does not find"
       continue
