@@ -6,6 +6,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config ccache
+  help2man dpkg-dev file man-db
   libembree-dev libopenexr-dev libopenimageio-dev openimageio-tools
   libcgal-dev libtinygltf-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include <httplib.h>
 
@@ -22,17 +23,29 @@ extern "C" void on_signal(int) { g_interrupted.store(true); }
 
 Error error(std::string message) { return Error{{}, std::move(message)}; }
 
-std::string executable_dir() {
+std::filesystem::path executable_dir() {
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string(".") : exe.parent_path().string();
+  return ec ? std::filesystem::path(".") : exe.parent_path();
+}
+
+// Where the page's files are looked for, in order: web/ beside the
+// executable (the build tree: build/tools/gonio and build/tools/web/), then
+// ../share/gonio/web/ from it (installed: PREFIX/bin/gonio and
+// PREFIX/share/gonio/web/, packaging/CMakeLists.txt).
+std::vector<std::filesystem::path> web_dir_candidates() {
+  const std::filesystem::path exe_dir = executable_dir();
+  return {exe_dir / "web", exe_dir.parent_path() / "share" / "gonio" / "web"};
 }
 
 }  // namespace
 
 std::string live_web_dir() {
   if (const char* dir = std::getenv("GONIO_WEB_DIR"); dir && *dir) return dir;
-  return (std::filesystem::path(executable_dir()) / "web").string();
+  const auto candidates = web_dir_candidates();
+  for (const auto& dir : candidates)
+    if (std::filesystem::is_regular_file(dir / "index.html")) return dir.string();
+  return candidates.front().string();
 }
 
 struct LiveServer::Impl {
@@ -76,9 +89,15 @@ void LiveServer::publish(std::string state_json, std::string field_f32) {
 
 Result<std::unique_ptr<LiveServer>> LiveServer::start(const std::string& host, int port) {
   const std::string web = live_web_dir();
-  if (!std::filesystem::is_regular_file(std::filesystem::path(web) / "index.html"))
-    return error("the live page's files are not installed: " + web +
-                 "/index.html is missing (build the target gonio, or set GONIO_WEB_DIR)");
+  if (!std::filesystem::is_regular_file(std::filesystem::path(web) / "index.html")) {
+    const char* env_dir = std::getenv("GONIO_WEB_DIR");
+    const auto candidates = web_dir_candidates();
+    return error("the live page's files are not installed: " +
+                 (env_dir && *env_dir ? web + "/index.html (GONIO_WEB_DIR) is missing"
+                                      : "neither " + candidates.front().string() + "/index.html nor " +
+                                            candidates.back().string() + "/index.html exists") +
+                 " (build the target gonio, install gonio, or set GONIO_WEB_DIR)");
+  }
   auto impl = std::make_unique<Impl>();
   Impl* s = impl.get();
   s->host = host;
