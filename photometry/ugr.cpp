@@ -118,15 +118,7 @@ const FloorWeights& floor_weights(double x_h, double y_h) {
   return *best;
 }
 
-// The zonal split of CIE 190 §4.2 (eq. 9–12), in fractions of the reference
-// flux Φ: R_DLO, R_ULO and the cumulative downward fluxes Φ1…4.
-struct Cie190Zones {
-  bool defined = false;
-  double reference_lm = kNaN;  // Φ: rated lamp flux, or the luminaire's for absolute photometry
-  double r_dlo = 0.0, r_ulo = 0.0;
-  std::array<double, 4> phi{};  // [1]
-};
-
+// The zonal split of CIE 190 §4.2 (eq. 9–12): Cie190Zones (ugr.h).
 Cie190Zones cie190_zones(const Distribution& d, const IntensitySampler& s, double total_lm) {
   Cie190Zones z;
   const double lamps_lm = d.rated_lamp_flux_lm();
@@ -504,6 +496,12 @@ UgrTable ugr_table(const Distribution& d, const UgrOptions& options) {
   }
   t.defined = true;
   return t;
+}
+
+Cie190Zones cie190_zones(const Distribution& d) {
+  GONIO_CHECK_MSG(validate(d).ok(), "cie190_zones needs a valid distribution");
+  const IntensitySampler s(d);
+  return cie190_zones(d, s, total_flux_lm(d));
 }
 
 }  // namespace gonio::photometry

@@ -104,6 +104,23 @@ std::vector<std::array<double, 2>> ugr_room_sizes();
 // of its blanks (the source is out of the field of view).
 double guth_position_index(double t, double r, double h);
 
+// The zonal split of CIE 190 §4.2 (eq. 9–12) that its background luminance
+// starts from, in fractions of the reference flux Φ (the rated lamp flux;
+// the luminaire's flux for absolute photometry): R_DLO, R_ULO and the
+// cumulative downward fluxes Φ1…4 in the cones of CIE 52's flux code
+// (41.41°, 60°, 75.52°, 90°), from the 18 10° zones (intensity at the zone
+// midpoints, averaged over the C-planes), the zones 40–50° and 70–80° split
+// at 0.130 and 0.547. Scaled to the declared LOR (the computed one where the
+// file declares none). `defined` is false for a dark luminaire. Requires
+// validate(d).ok().
+struct Cie190Zones {
+  bool defined = false;
+  double reference_lm = kNaN;  // Φ [lm]
+  double r_dlo = 0.0, r_ulo = 0.0;  // [1]
+  std::array<double, 4> phi{};      // Φ1…4 [1]
+};
+Cie190Zones cie190_zones(const Distribution& d);
+
 // UGR of room `room` (index into ugr_room_sizes()) and reflectance set
 // `reflectance_set` (index into kUgrReflectances), crosswise or endwise.
 // NaN when no light reaches the observer. Requires validate(d).ok() and a

@@ -51,10 +51,7 @@ Sample bell() {
 
   // Shade: an open surface of revolution walked from the rim up, so its
   // front faces outwards. Rim Ø 400 mm at y = −250 mm; top opening Ø 40 mm.
-  const sim::ProfilePoint shade[] = {
-      {0.200, -0.250}, {0.196, -0.238}, {0.184, -0.215}, {0.160, -0.180}, {0.130, -0.140},
-      {0.104, -0.100}, {0.084, -0.060}, {0.068, -0.025}, {0.052, -0.002}, {0.034, 0.008},
-      {0.020, 0.010}};
+  const std::vector<sim::ProfilePoint> shade = bell_shade_profile();
   sim::LatheOptions smooth;
   smooth.segments = 96;
   w.node({{"name", "shade"}, {"mesh", w.mesh(sim::lathe(shade, smooth), opal, "shade")}});
@@ -243,6 +240,11 @@ Sample led_array() {
 }
 
 }  // namespace
+
+std::vector<sim::ProfilePoint> bell_shade_profile() {
+  return {{0.200, -0.250}, {0.196, -0.238}, {0.184, -0.215}, {0.160, -0.180}, {0.130, -0.140}, {0.104, -0.100},
+          {0.084, -0.060}, {0.068, -0.025}, {0.052, -0.002}, {0.034, 0.008},  {0.020, 0.010}};
+}
 
 std::vector<Sample> make_samples() { return {bell(), downlight(), spotlight(), led_array()}; }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "photometry/diagnostics.h"
+#include "sim/shapes.h"
 
 namespace gonio::samples {
 
@@ -24,6 +25,10 @@ struct Sample {
 
 // The four samples: bell, downlight, spotlight, led-array.
 std::vector<Sample> make_samples();
+
+// The bell's shade: its lathe profile, walked from the rim (Ø 400 mm at
+// y = −250 mm) up to the top opening, so that its front faces outwards.
+std::vector<sim::ProfilePoint> bell_shade_profile();
 
 // Writes every sample to <dir>/<name>/<file> atomically, creating folders.
 Status write_samples(const std::string& dir);

@@ -5,7 +5,8 @@
 # the seeds, and runs each harness for SECONDS: the IES reader, the LDT
 # reader, the glTF loader (.gltf and .glb, with buffers and light profiles),
 # the TM-33 reader (XML), the GLDF reader (ZIP, product.xml and the
-# photometries inside) and the TM-25 ray-file reader.
+# photometries inside), the TM-25 ray-file reader and the measured-BSDF
+# readers (BSDF XML: Klems matrices and tensor trees; goniometer CSV).
 # Fails on any finding (crash, sanitizer report, leak, timeout, broken round
 # trip) and names the input that caused it (build-fuzz/findings/).
 #
@@ -16,7 +17,7 @@
 # tests (gonio_io_tests and gonio_model_tests run once with
 # $GONIO_FUZZ_SEEDS set, in build/). What the fuzzer finds new stays in
 # build-fuzz/corpus/ for the next run.
-# $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33, gldf or tm25) runs one harness.
+# $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33, gldf, tm25 or bsdf) runs one harness.
 #
 # Runs repeat: libFuzzer's random seed is $GONIO_FUZZ_SEED, by default a
 # hash of the committed code (not of README.md or docs/); each harness
@@ -34,7 +35,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 jobs=$(nproc 2>/dev/null || echo 2)
-harnesses=(ies ldt gltf tm33 gldf tm25)
+harnesses=(ies ldt gltf tm33 gldf tm25 bsdf)
 if [ -n "${GONIO_FUZZ_ONLY:-}" ]; then harnesses=("$GONIO_FUZZ_ONLY"); fi
 
 bash scripts/setup.sh
@@ -52,7 +53,7 @@ cmake --build build-fuzz -j"$jobs" --target "${harnesses[@]/#/gonio_fuzz_}"
 echo "== seeds"
 seeds=build-fuzz/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds"/{ies,ldt,gltf,tm33,gldf,tm25} build-fuzz/findings
+mkdir -p "$seeds"/{ies,ldt,gltf,tm33,gldf,tm25,bsdf} build-fuzz/findings
 corpus=${GONIO_CORPUS:-../shared/corpus}
 if [ -d "$corpus" ]; then
   find "$corpus" -type f -iname '*.ies' -exec cp {} "$seeds/ies/" \;
@@ -77,7 +78,7 @@ cp tests/fuzz/seeds/gltf/* "$seeds/gltf/"
 # sample models, from the Release build.
 bash scripts/build.sh --target gonio gonio_io_tests gonio_model_tests gonio_samples >/dev/null
 GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_io_tests --gtest_brief=1 \
-  --gtest_filter='Ies*:Ldt*:Tm33*:Gldf*:Zip*:Tm25*' >/dev/null
+  --gtest_filter='Ies*:Ldt*:Tm33*:Gldf*:Zip*:Tm25*:Bsdf*' >/dev/null
 # The dates the converter writes (GLDF creation time, ZIP entry times) are
 # fixed, so that the seeds are the same bytes on every run.
 export SOURCE_DATE_EPOCH=1764620000

@@ -15,6 +15,8 @@ packages=(
   libpugixml-dev libzip-dev libxml2-utils libxxhash-dev
   clang-14 libfuzzer-14-dev llvm-14
   colord-data
+  munge slurmctld slurmd slurm-client
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
 )
 
 missing=()

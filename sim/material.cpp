@@ -4,7 +4,14 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <string>
+#include <vector>
 
+#include "photometry/format.h"
+#include "sim/bsdfs/abg.h"
+#include "sim/bsdfs/glossy_energy.h"
+#include "sim/bsdfs/lobes.h"
+#include "sim/bsdfs/tabulated_bsdf.h"
 #include "sim/sampling.h"
 
 namespace gonio::sim {
@@ -23,9 +30,43 @@ bool finite_nonneg(double x) { return std::isfinite(x) && x >= 0.0; }
 }  // namespace
 
 Status validate(const Material& m) {
-  for (double w : {m.diffuse_reflect, m.diffuse_transmit, m.mirror, m.glossy, m.dielectric})
+  for (double w : {m.diffuse_reflect, m.diffuse_transmit, m.mirror, m.glossy, m.dielectric, m.abg_reflect.tis,
+                   m.abg_transmit.tis, m.tabulated})
     if (!finite_nonneg(w)) return fail(m, "lobe weights must be finite and >= 0");
   if (m.total() > 1.0 + 1e-9) return fail(m, "lobe weights sum to more than 1");
+  for (std::size_t k = 0; k < m.over_incidence.size(); ++k) {
+    const IncidenceTable& t = m.over_incidence[k];
+    if (t.empty()) continue;
+    const std::string lobe = to_string(static_cast<Lobe>(k + 1));
+    if (t.factor.size() != t.theta_deg.size())
+      return fail(m, (lobe + " over incidence: as many factors as angles are needed").c_str());
+    for (std::size_t i = 0; i < t.theta_deg.size(); ++i) {
+      if (!(t.theta_deg[i] >= 0.0 && t.theta_deg[i] <= 90.0) || (i > 0 && !(t.theta_deg[i] > t.theta_deg[i - 1])))
+        return fail(m, (lobe + " over incidence: angles must increase within 0..90 degrees").c_str());
+      if (!finite_nonneg(t.factor[i]))
+        return fail(m, (lobe + " over incidence: factors must be finite and >= 0").c_str());
+    }
+  }
+  if (m.angular()) {
+    // The weights are linear in θ between the union of the tables' angles,
+    // so their sum is largest at one of those angles.
+    std::vector<double> angles{0.0, 90.0};
+    for (const IncidenceTable& t : m.over_incidence) angles.insert(angles.end(), t.theta_deg.begin(), t.theta_deg.end());
+    for (double a : angles) {
+      const LobeCdf c = lobe_cdf(m, std::cos(a * kPi / 180.0));
+      if (c.bounds[kLobeCount - 2] > 1.0 + 1e-9)
+        return fail(m, ("lobe weights over incidence sum to " + format_number(c.bounds[kLobeCount - 2]) +
+                        " at " + format_number(a) + " degrees, more than 1")
+                           .c_str());
+    }
+  }
+  for (const AbgScatter* a : {&m.abg_reflect, &m.abg_transmit})
+    if (a->tis > 0.0 && !abg_parameters_valid(a->b, a->g))
+      return fail(m, "ABg B must be finite and > 0 and g within 0..6");
+  if (m.tabulated > 0.0 && !m.table) return fail(m, "the tabulated lobe has no table");
+  if (!finite_nonneg(m.scattering_per_m)) return fail(m, "scattering must be finite and >= 0 per metre");
+  if (!(m.scattering_g > -1.0 && m.scattering_g < 1.0))
+    return fail(m, "the phase function's g must lie strictly between -1 and 1");
   if (m.glossy > 0.0) {
     if (!(std::isfinite(m.glossy_mx) && m.glossy_mx > 0.0 && std::isfinite(m.glossy_my) &&
           m.glossy_my > 0.0))
@@ -46,27 +87,43 @@ const char* to_string(Lobe lobe) {
     case Lobe::Mirror: return "mirror";
     case Lobe::Glossy: return "glossy";
     case Lobe::Dielectric: return "dielectric";
+    case Lobe::AbgReflect: return "ABg reflection";
+    case Lobe::AbgTransmit: return "ABg transmission";
+    case Lobe::Tabulated: return "tabulated";
   }
   return "?";
 }
 
-Lobe choose_lobe(const Material& m, double u) {
-  double c = m.diffuse_reflect;
-  if (u < c) return Lobe::DiffuseReflect;
-  if (u < (c += m.diffuse_transmit)) return Lobe::DiffuseTransmit;
-  if (u < (c += m.mirror)) return Lobe::Mirror;
-  if (u < (c += m.glossy)) return Lobe::Glossy;
-  if (u < (c += m.dielectric)) return Lobe::Dielectric;
-  return Lobe::Absorb;
+double lobe_weight(const Material& m, Lobe lobe) {
+  switch (lobe) {
+    case Lobe::DiffuseReflect: return m.diffuse_reflect;
+    case Lobe::DiffuseTransmit: return m.diffuse_transmit;
+    case Lobe::Mirror: return m.mirror;
+    case Lobe::Glossy: return m.glossy;
+    case Lobe::Dielectric: return m.dielectric;
+    case Lobe::AbgReflect: return m.abg_reflect.tis;
+    case Lobe::AbgTransmit: return m.abg_transmit.tis;
+    case Lobe::Tabulated: return m.tabulated;
+    case Lobe::Absorb: break;
+  }
+  return 1.0 - m.total();
 }
+
+Lobe choose_lobe(const Material& m, double u) { return choose_lobe(lobe_cdf(m), u); }
 
 LobeCdf lobe_cdf(const Material& m) {
   LobeCdf c;
-  c.bounds[0] = m.diffuse_reflect;
-  c.bounds[1] = c.bounds[0] + m.diffuse_transmit;
-  c.bounds[2] = c.bounds[1] + m.mirror;
-  c.bounds[3] = c.bounds[2] + m.glossy;
-  c.bounds[4] = c.bounds[3] + m.dielectric;
+  double sum = 0.0;
+  for (int k = 0; k < kLobeCount - 1; ++k) c.bounds[k] = sum += lobe_weight(m, static_cast<Lobe>(k + 1));
+  return c;
+}
+
+LobeCdf lobe_cdf(const Material& m, double cos_theta_i) {
+  LobeCdf c;
+  double sum = 0.0;
+  for (int k = 0; k < kLobeCount - 1; ++k)
+    c.bounds[k] = sum += lobe_weight(m, static_cast<Lobe>(k + 1)) *
+                         m.over_incidence[static_cast<std::size_t>(k)].at(cos_theta_i);
   return c;
 }
 
@@ -219,19 +276,18 @@ double glossy_pdf(const Material& m, const Vec3& wi, const Vec3& wo) {
 }
 
 GlossySample sample_glossy(const Material& m, const Vec3& wi, PhotonRandom& rng) {
-  if (!(wi.z > 0.0)) return {wi, 0.0};
+  if (!(wi.z > 0.0)) return {wi, 0.0, 0.0};
   const double mx = m.glossy_mx, my = m.glossy_my;
   const double lambda_i = beckmann_lambda(mx, my, wi);
-  if (!(lambda_i < std::numeric_limits<double>::infinity())) return {wi, 0.0};  // G1 = 0
+  if (!(lambda_i < std::numeric_limits<double>::infinity())) return {wi, 0.0, 0.0};  // G1 = 0
   const Vec3 h = visible_half_vector(mx, my, wi, lambda_i, rng);
   const double ih = dot(wi, h);
-  if (!(ih > 0.0)) return {h, 0.0};
+  if (!(ih > 0.0)) return {h, 0.0, 0.0};
   const Vec3 wo = 2.0 * ih * h - wi;
-  if (!(wo.z > 0.0)) return {wo, 0.0};
+  if (!(wo.z > 0.0)) return {wo, 0.0, 0.0};
   // f cos θo / pdf = F D G2 / (4 (wi·n)(wo·n)) · (wo·n) · 4 (wi·n) / (G1 D).
-  const double w = schlick_fresnel(m.glossy_f0, ih) * (1.0 + lambda_i) /
-                   (1.0 + lambda_i + beckmann_lambda(mx, my, wo));
-  return {wo, w};
+  const double masking = (1.0 + lambda_i) / (1.0 + lambda_i + beckmann_lambda(mx, my, wo));
+  return {wo, schlick_fresnel(m.glossy_f0, ih) * masking, masking};
 }
 
 double fresnel_dielectric(double cos_i, double eta_i, double eta_t) {
@@ -316,12 +372,60 @@ ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& f, const
       const Basis basis = basis_from_normal_tangent(ns, f.tangent);
       const GlossySample g = sample_glossy(m, basis.to_local(wi), rng);
       const Vec3 o = basis.to_world(g.wo);
-      if (!(g.weight > 0.0) || dot(o, ng) <= 0.0) {
-        r.absorbed = true;
-        return r;
+      // Survival with chance F · masking (≤ 1). A photon lost to masking
+      // (chance 1 − E(wi) in all) leaves in the compensating second lobe
+      // where the material has one (sim/bsdfs/glossy_energy.h); one lost to
+      // Fresnel is absorbed.
+      bool masked = !(g.masking > 0.0) || dot(o, ng) <= 0.0;
+      if (!masked) {
+        const double u = rng.uniform();
+        if (u < g.weight) {
+          r.direction = normalize(o);
+          return r;
+        }
+        masked = u >= g.masking;
       }
+      r.absorbed = true;
+      if (masked && m.tables && m.tables->glossy) {
+        const double kappa = m.tables->glossy_kappa;
+        if (kappa < 1.0 && rng.uniform() >= kappa) return r;
+        const Vec3 ms = basis.to_world(sample_glossy_ms(*m.tables->glossy, rng));
+        if (dot(ms, ng) <= 0.0) return r;
+        r.direction = normalize(ms);
+        r.absorbed = false;
+      }
+      return r;
+    }
+    case Lobe::AbgReflect:
+    case Lobe::AbgTransmit: {
+      if (polarization) polarization->polarized = false;
+      const bool transmit = r.lobe == Lobe::AbgTransmit;
+      const AbgTable* t = m.tables ? (transmit ? m.tables->abg_transmit : m.tables->abg_reflect).get() : nullptr;
+      const Basis basis = basis_from_normal_tangent(ns, f.tangent);
+      const Vec3 wl = basis.to_local(wi);
+      r.absorbed = true;
+      if (!t || rng.uniform() >= abg_albedo(*t, wl)) return r;
+      const Vec3 o = basis.to_world(sample_abg(*t, transmit, wl, rng));
+      if (transmit ? !(dot(o, ng) < 0.0) : !(dot(o, ng) > 0.0)) return r;
       r.direction = normalize(o);
-      r.absorbed = rng.uniform() >= g.weight;  // w ≤ 1
+      r.absorbed = false;
+      return r;
+    }
+    case Lobe::Tabulated: {
+      if (polarization) polarization->polarized = false;
+      const Basis basis = basis_from_normal_tangent(ns, f.tangent);
+      const Vec3 wl = basis.to_local(wi);
+      r.absorbed = true;
+      if (!m.table || rng.uniform() >= m.table->albedo(front, wl)) return r;
+      double u[4];
+      for (double& x : u) x = rng.uniform();
+      const Vec3 l = m.table->sample(front, wl, u[0], u[1], u[2], u[3]);
+      const Vec3 o = basis.to_world(l);
+      // The side it leaves on is the table's choice; a direction that the
+      // shading normal puts on the other side of the geometry is lost.
+      if (!(l.z != 0.0) || (l.z > 0.0) != (dot(o, ng) > 0.0)) return r;
+      r.direction = normalize(o);
+      r.absorbed = false;
       return r;
     }
     case Lobe::Dielectric: {

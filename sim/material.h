@@ -21,14 +21,35 @@
 
 namespace gonio::sim {
 
-// Structural checks: weights finite, ≥ 0, summing to at most 1; roughness
-// > 0; f0 in [0, 1]; ior finite and > 0; attenuation finite and ≥ 0. The
-// error names the material.
+// Structural checks: weights finite, ≥ 0, summing to at most 1 (at every
+// angle of incidence where Material::over_incidence varies them); roughness
+// > 0; f0 in [0, 1]; ior finite and > 0; attenuation and scattering finite
+// and ≥ 0, the phase function's g in (−1, 1); ABg B > 0 and
+// g in [0, 6]; a tabulated lobe has its table; incidence tables well
+// formed. The error names the material.
 Status validate(const Material& material);
 
-enum class Lobe : std::uint8_t { Absorb, DiffuseReflect, DiffuseTransmit, Mirror, Glossy, Dielectric };
+// The lobes (sim/bsdfs/lobes.h gives each one's evaluate, sample, pdf and
+// albedo): AbgReflect and AbgTransmit are the ABg model (sim/bsdfs/abg.h),
+// Tabulated a measured BSDF (sim/bsdfs/tabulated_bsdf.h).
+enum class Lobe : std::uint8_t {
+  Absorb,
+  DiffuseReflect,
+  DiffuseTransmit,
+  Mirror,
+  Glossy,
+  Dielectric,
+  AbgReflect,
+  AbgTransmit,
+  Tabulated
+};
+inline constexpr int kLobeCount = 9;  // with Absorb
 
 const char* to_string(Lobe lobe);
+
+// A lobe's weight in a material (Absorb: 1 − total()), at normal incidence
+// where Material::over_incidence has a table for it.
+double lobe_weight(const Material& m, Lobe lobe);
 
 // The lobe that scatters a photon, for u uniform in [0, 1): each lobe with
 // the probability of its weight, Absorb with 1 − total().
@@ -37,13 +58,16 @@ Lobe choose_lobe(const Material& m, double u);
 // The same from cumulative weights computed once per material (the tracer's
 // per-hit path): bounds[k] = weight of lobes 1..k+1 in Lobe order.
 struct LobeCdf {
-  double bounds[5];
+  double bounds[kLobeCount - 1];
 };
 LobeCdf lobe_cdf(const Material& m);
+// The weights at an angle of incidence (Material::over_incidence applied;
+// cos θi > 0); their sum is kept at most 1 by validate().
+LobeCdf lobe_cdf(const Material& m, double cos_theta_i);
 inline Lobe choose_lobe(const LobeCdf& cdf, double u) {
   int k = 0;
-  while (k < 5 && u >= cdf.bounds[k]) ++k;
-  return static_cast<Lobe>((k + 1) % 6);  // 5 (past every lobe) → Absorb
+  while (k < kLobeCount - 1 && u >= cdf.bounds[k]) ++k;
+  return static_cast<Lobe>((k + 1) % kLobeCount);  // past every lobe → Absorb
 }
 
 // --- Glossy lobe: a microfacet BRDF on the anisotropic Beckmann
@@ -130,8 +154,9 @@ double visible_half_vector_pdf(double mx, double my, const Vec3& wi_local, const
 double glossy_pdf(const Material& m, const Vec3& wi_local, const Vec3& wo_local);
 
 struct GlossySample {
-  Vec3 wo;        // local frame; may point below the surface (weight 0)
-  double weight;  // f · cos θo / pdf = F(wi·h) G2(wi, wo) / G1(wi), in [0, 1]
+  Vec3 wo;         // local frame; may point below the surface (weight 0)
+  double weight;   // f · cos θo / pdf = F(wi·h) G2(wi, wo) / G1(wi), in [0, 1]
+  double masking;  // its masking part G2(wi, wo) / G1(wi) (0 below the surface): weight = F · masking
 };
 // wi reflected about a visible half vector.
 GlossySample sample_glossy(const Material& m, const Vec3& wi_local, PhotonRandom& rng);
@@ -192,7 +217,8 @@ ScatterResult scatter(const Material& m, Lobe lobe, const SurfaceFrame& frame,
                       Polarization* polarization = nullptr);
 // Whether a lobe reads the shading normal (the specular lobes).
 inline bool uses_shading_frame(Lobe lobe) {
-  return lobe == Lobe::Mirror || lobe == Lobe::Glossy || lobe == Lobe::Dielectric;
+  return lobe == Lobe::Mirror || lobe == Lobe::Glossy || lobe == Lobe::Dielectric ||
+         lobe == Lobe::AbgReflect || lobe == Lobe::AbgTransmit || lobe == Lobe::Tabulated;
 }
 // Whether it reads SurfaceFrame::tangent (the anisotropic lobe's axes); the
 // others leave it unread, so the tracer does not interpolate it for them.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -9,6 +10,17 @@
 #include "photometry/format.h"
 
 namespace gonio::sim {
+
+double IncidenceTable::at(double cos_theta) const {
+  if (theta_deg.empty()) return 1.0;
+  const double theta = std::acos(std::clamp(cos_theta, 0.0, 1.0)) * (180.0 / std::numbers::pi);
+  if (theta <= theta_deg.front()) return factor.front();
+  if (theta >= theta_deg.back()) return factor.back();
+  const auto it = std::upper_bound(theta_deg.begin(), theta_deg.end(), theta);
+  const auto i = static_cast<std::size_t>(it - theta_deg.begin());
+  const double t = (theta - theta_deg[i - 1]) / (theta_deg[i] - theta_deg[i - 1]);
+  return (1.0 - t) * factor[i - 1] + t * factor[i];
+}
 
 Status validate_emitter_spectrum(const EmitterSpectrum& s) {
   for (std::size_t i = 0; i < s.over_gamma.size(); ++i) {

@@ -6,6 +6,7 @@
 // setup grow with unique geometry, not with copies.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -30,10 +31,36 @@ inline Vec3f to_float(const Vec3& v) {
   return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
 }
 
+struct TabulatedBsdf;   // sim/bsdfs/tabulated_bsdf.h: a measured BSDF (plain data)
+struct MaterialTables;  // sim/bsdfs/material_tables.h: what sim::prepare derives
+
+// A lobe weight's dependence on the angle of incidence θ (between the
+// incoming light and the surface normal on its side): the weight is
+// multiplied by `factor`, linear in θ between the given angles and constant
+// beyond the first and last. Empty: 1 at every angle.
+struct IncidenceTable {
+  std::vector<double> theta_deg;  // [deg], strictly increasing, within [0, 90]
+  std::vector<double> factor;     // >= 0, one per angle
+  bool empty() const { return theta_deg.empty(); }
+  // The factor at cos θ (clamped to [0, 1]).
+  double at(double cos_theta) const;
+};
+
+// The ABg scatter model of TracePro, LightTools and FRED (Harvey): BSDF =
+// A / (B + |β − β0|^g) with β the outgoing direction projected on the
+// surface and β0 the specular (reflection) or straight-through
+// (transmission) direction projected likewise (sim/bsdfs/abg.h).
+struct AbgScatter {
+  double tis = 0.0;   // lobe weight: the total integrated scatter at normal incidence [-]
+  double b = 1e-3;    // B [-], > 0: sets the width of the core, ~B^(1/g)
+  double g = 2.0;     // g [-], in [0, 4]: the fall-off of the wings
+};
+
 // How a surface scatters a photon. Each hit chooses one event with these
 // probabilities (they sum to at most 1; the remainder is absorbed), and the
 // photon keeps its power: the reference thesis' material model (section 5.2)
-// with Russian roulette.
+// with Russian roulette. The lobes and their interface (evaluate, sample,
+// pdf, albedo) are sim/bsdfs/lobes.h.
 struct Material {
   std::string name;
 
@@ -49,13 +76,36 @@ struct Material {
                                   // refraction, total internal reflection
   double ior = 1.5;               // refractive index of the volume behind the surface
   double attenuation_per_m = 0.0; // absorption coefficient inside that volume [1/m]
+  // Volume scattering inside a closed dielectric part (sim/bsdfs/volume.h):
+  // the scattering coefficient μs [1/m] and the Henyey–Greenstein asymmetry
+  // g of its phase function, in (−1, 1). 0: a clear volume.
+  double scattering_per_m = 0.0;
+  double scattering_g = 0.0;
+  // The glossy lobe's multiple-scattering compensation (Kulla & Conty 2017,
+  // sim/bsdfs/glossy_energy.h): light that a single-scattering microfacet
+  // lobe loses between facets leaves in a diffuse-like second lobe, so a
+  // white lobe reflects all it receives. false: single scattering only.
+  bool glossy_compensation = true;
+  // ABg scatter in reflection and in transmission (weights: their `tis`).
+  AbgScatter abg_reflect{}, abg_transmit{};
+  // A measured (tabulated) BSDF: reflection and transmission on both sides
+  // as read from a file (io/materials); `tabulated` is its weight.
+  double tabulated = 0.0;
+  std::shared_ptr<const TabulatedBsdf> table{};
+  // Lobe weights over the angle of incidence, per lobe in sim::Lobe order
+  // from DiffuseReflect (sim/material.h): index = Lobe − 1.
+  std::array<IncidenceTable, 8> over_incidence{};
+  // Tables derived from the above by sim::prepare (the tracer prepares its
+  // materials; callers of sim::scatter prepare theirs); null until then.
+  std::shared_ptr<const MaterialTables> tables{};
 
   // Spectral behaviour (sim/spectral.h applies it; all empty or 0: the same
   // at every wavelength). The reflectance spectrum is the total of the
-  // reflection lobes (diffuse_reflect, mirror, glossy) at each wavelength,
+  // reflection lobes (diffuse_reflect, mirror, glossy, ABg) at each wavelength,
   // shared among them in the proportion of their weights (all diffuse where
-  // they are all 0); the transmittance spectrum likewise for diffuse_transmit
-  // and dielectric (all diffuse where both are 0). Values in [0, 1].
+  // they are all 0); the transmittance spectrum likewise for diffuse_transmit,
+  // dielectric and ABg (all diffuse where all are 0); the tabulated lobe acts
+  // the same at every wavelength. Values in [0, 1].
   photometry::SampledSpectrum spectral_reflectance{};
   photometry::SampledSpectrum spectral_transmittance{};
   // Dispersion of the dielectric: a table of n over wavelength, or an Abbe
@@ -69,7 +119,16 @@ struct Material {
            abbe_number > 0.0;
   }
 
-  double total() const { return diffuse_reflect + diffuse_transmit + mirror + glossy + dielectric; }
+  double total() const {
+    return diffuse_reflect + diffuse_transmit + mirror + glossy + dielectric + abg_reflect.tis +
+           abg_transmit.tis + tabulated;
+  }
+  // Whether any lobe weight depends on the angle of incidence.
+  bool angular() const {
+    for (const IncidenceTable& t : over_incidence)
+      if (!t.empty()) return true;
+    return false;
+  }
 };
 
 // One triangle mesh with one material. Refractive volumes are closed meshes

@@ -42,23 +42,25 @@ Material at_wavelength(const Material& m, double nm) {
   r.abbe_number = 0.0;
   if (!m.spectral_reflectance.empty()) {
     const double rho = held_at(m.spectral_reflectance, nm);
-    const double sum = m.diffuse_reflect + m.mirror + m.glossy;
+    const double sum = m.diffuse_reflect + m.mirror + m.glossy + m.abg_reflect.tis;
     if (sum > 0.0) {
       const double f = rho / sum;
       r.diffuse_reflect *= f;
       r.mirror *= f;
       r.glossy *= f;
+      r.abg_reflect.tis *= f;
     } else {
       r.diffuse_reflect = rho;
     }
   }
   if (!m.spectral_transmittance.empty()) {
     const double tau = held_at(m.spectral_transmittance, nm);
-    const double sum = m.diffuse_transmit + m.dielectric;
+    const double sum = m.diffuse_transmit + m.dielectric + m.abg_transmit.tis;
     if (sum > 0.0) {
       const double f = tau / sum;
       r.diffuse_transmit *= f;
       r.dielectric *= f;
+      r.abg_transmit.tis *= f;
     } else {
       r.diffuse_transmit = tau;
     }

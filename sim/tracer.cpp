@@ -10,10 +10,15 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "sim/bsdfs/lobes.h"
+#include "sim/bsdfs/volume.h"
 #include "sim/material.h"
 
 namespace gonio::sim {
 namespace {
+
+// Scattering events inside volumes a photon may have before it is cut off.
+constexpr int kMaxVolumeEvents = 100000;
 
 bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -77,19 +82,6 @@ void book_loss(const TraceResult& r, LedgerTally::PerEmitter& emitter, LedgerTal
     emitter.cutoff.add(r.power_units);
     mesh.cutoff.add(r.power_units);
   }
-}
-
-// A lobe's weight in a material.
-double lobe_weight(const Material& m, Lobe lobe) {
-  switch (lobe) {
-    case Lobe::DiffuseReflect: return m.diffuse_reflect;
-    case Lobe::DiffuseTransmit: return m.diffuse_transmit;
-    case Lobe::Mirror: return m.mirror;
-    case Lobe::Glossy: return m.glossy;
-    case Lobe::Dielectric: return m.dielectric;
-    case Lobe::Absorb: break;
-  }
-  return 1.0 - m.total();
 }
 
 // The hero's companions after an event with `lobe` at a material acting by
@@ -182,6 +174,10 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   t = std::chrono::steady_clock::now();
   Tracer tracer(CubeMapGrid(face_size), std::move(embree), std::move(emission.value()), settings);
   tracer.materials_ = scene.materials;
+  for (Material& m : tracer.materials_) {
+    prepare(m);
+    tracer.material_angular_.push_back(m.angular() ? 1 : 0);
+  }
   for (const Material& m : scene.materials) tracer.lobe_cdfs_.push_back(lobe_cdf(m));
   tracer.meshes_.reserve(scene.meshes.size());
   for (const Mesh& m : scene.meshes) {
@@ -216,6 +212,7 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
     for (const Material& m : scene.materials)
       for (int k = 0; k < kWavelengthCount; ++k) {
         tracer.spectral_materials_.push_back(at_wavelength(m, wavelength_nm(k)));
+        prepare(tracer.spectral_materials_.back());
         tracer.spectral_lobe_cdfs_.push_back(lobe_cdf(tracer.spectral_materials_.back()));
       }
     for (const Emitter& e : scene.emitters) tracer.emitter_axes_.push_back(-1.0 * e.frame.up);
@@ -253,6 +250,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   RayQuery ray{};
   RayHit hit;
   Polarization polarization;
+  int volume_events = 0;
   for (;;) {
     ray = ray_query(origin, direction);
     if (books) ++books->rays;
@@ -281,10 +279,30 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     const bool from_back = dot(ng_raw, direction) > 0.0;
     r.mesh = hit.mesh;
     r.power_units = power;
-    // Beer–Lambert: a photon reaching a surface from its back has crossed
-    // that mesh's volume.
-    if (from_back && material.attenuation_per_m > 0.0 &&
-        rng.uniform() >= internal_transmittance(material.attenuation_per_m, t)) {
+    // A photon reaching a surface from its back has crossed that mesh's
+    // volume. A scattering volume (sim/bsdfs/volume.h): a free path drawn
+    // with μt = μs + μa ends inside it, where the photon is absorbed
+    // (chance μa/μt, booked at the part) or scattered by the phase
+    // function, or reaches the surface. Otherwise Beer–Lambert.
+    if (from_back && material.scattering_per_m > 0.0) {
+      const double mu_t = material.scattering_per_m + material.attenuation_per_m;
+      const double s = -std::log(rng.uniform_open0()) / mu_t;
+      if (s < t) {
+        if (rng.uniform() * mu_t < material.attenuation_per_m) {
+          r.fate = Fate::Absorbed;
+          return r;
+        }
+        if (++volume_events > kMaxVolumeEvents) {
+          r.fate = Fate::CutOff;
+          return r;
+        }
+        polarization.polarized = false;
+        origin = origin + s * direction;
+        direction = sample_henyey_greenstein(direction, material.scattering_g, rng);
+        continue;
+      }
+    } else if (from_back && material.attenuation_per_m > 0.0 &&
+               rng.uniform() >= internal_transmittance(material.attenuation_per_m, t)) {
       r.fate = Fate::Absorbed;
       return r;
     }
@@ -297,8 +315,11 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
 
     const Vec3 ng = ng_raw * (1.0 / std::sqrt(dot(ng_raw, ng_raw)));
     SurfaceFrame frame{ng, ng, {}};
-    const Lobe lobe = choose_lobe(
-        wavelength < 0 ? lobe_cdfs_[mesh.material] : spectral_lobe_cdfs_[spectral_index], rng.uniform());
+    const Lobe lobe =
+        material_angular_[mesh.material]
+            ? choose_lobe(lobe_cdf(material, std::abs(dot(direction, ng))), rng.uniform())
+            : choose_lobe(wavelength < 0 ? lobe_cdfs_[mesh.material] : spectral_lobe_cdfs_[spectral_index],
+                          rng.uniform());
     if (uses_shading_frame(lobe)) {
       const std::size_t c = 3 * static_cast<std::size_t>(hit.triangle);
       const double u = hit.u, v = hit.v, w0 = 1.0 - u - v;

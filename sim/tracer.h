@@ -209,6 +209,7 @@ class Tracer {
   std::vector<Affine> instances_;  // SceneDesc::instances' transforms
   std::vector<Material> materials_;
   std::vector<LobeCdf> lobe_cdfs_;  // per material
+  std::vector<char> material_angular_;  // per material: weights vary with incidence (Material::angular)
   // Spectral scenes: each material at each wavelength (material ·
   // kWavelengthCount + k) with its lobe table, and the wavelength sampler.
   std::vector<Material> spectral_materials_;

@@ -26,7 +26,9 @@
 
 #include "io/support/file_io.h"
 #include "io/model/gltf_lights.h"
+#include "io/materials/bsdf_file.h"
 #include "io/model/gltf_material.h"
+#include "io/model/material_extras.h"
 #include "io/photometric/ies.h"
 #include "io/photometric/ldt.h"
 #include "io/photometric/tm25.h"
@@ -389,13 +391,10 @@ class Loader {
                                        const std::string& what) const;
   Result<std::optional<Vec3>> vec3(const json& obj, const char* key, const std::string& what) const;
   Result<std::optional<Rgb>> rgb(const json& obj, const char* key, const std::string& what) const;
-  // extras.gonio spectra (sim::EmitterSpectrum, sim::Material's spectra).
-  Result<photometry::SampledSpectrum> spectrum_object(const json& j, const std::string& what,
-                                                      double max_value, bool allow_blackbody) const;
-  Result<std::optional<photometry::SampledSpectrum>> spectrum_key(const json& obj, const char* key,
-                                                                  const std::string& what,
-                                                                  double max_value) const;
-  Result<sim::EmitterSpectrum> emitter_spectrum(const json& obj, const std::string& what) const;
+  // extras.gonio.spectrum of a light (io/model/material_extras.h).
+  Result<sim::EmitterSpectrum> emitter_spectrum(const json& obj, const std::string& what) const {
+    return read_emitter_spectrum(obj, path_, what);
+  }
 
   Status check_extensions();
   Status read_model_extras();
@@ -493,13 +492,7 @@ Result<const json*> Loader::gonio_extras(const json& extras, const std::string& 
 
 Result<std::optional<double>> Loader::number(const json& obj, const char* key,
                                              const std::string& what) const {
-  if (!obj.is_object()) return std::optional<double>();
-  auto it = obj.find(key);
-  if (it == obj.end()) return std::optional<double>();
-  if (!it->is_number()) return fail(what + ": '" + key + "' must be a number");
-  const double v = it->get<double>();
-  if (!std::isfinite(v)) return fail(what + ": '" + key + "' is not finite");
-  return std::optional<double>(v);
+  return extras_number(obj, key, path_, what);
 }
 
 Result<std::optional<Vec3>> Loader::vec3(const json& obj, const char* key,
@@ -522,85 +515,6 @@ Result<std::optional<Rgb>> Loader::rgb(const json& obj, const char* key,
   if (!v.ok()) return v.error();
   if (!*v) return std::optional<Rgb>();
   return std::optional<Rgb>(Rgb{(*v)->x, (*v)->y, (*v)->z});
-}
-
-// A spectrum in extras.gonio: {"wavelengths_nm": [...], "values": [...]}
-// or, where allowed, {"blackbody_k": T} (Planck's law, 360–830 nm in 1 nm).
-Result<photometry::SampledSpectrum> Loader::spectrum_object(const json& j, const std::string& what,
-                                                            double max_value, bool allow_blackbody) const {
-  constexpr std::size_t kMaxSamples = 100000;
-  if (!j.is_object()) return fail(what + " must be an object");
-  if (allow_blackbody && j.contains("blackbody_k")) {
-    if (j.contains("wavelengths_nm") || j.contains("values"))
-      return fail(what + ": give either blackbody_k or wavelengths_nm and values, not both");
-    Result<std::optional<double>> t = number(j, "blackbody_k", what);
-    if (!t.ok()) return t.error();
-    if (!(**t >= 100.0 && **t <= 1e6)) return fail(what + ".blackbody_k = " + format_number(**t) + " must lie in [100, 1e6] K");
-    return photometry::blackbody_spectrum(**t);
-  }
-  photometry::SampledSpectrum s;
-  const std::pair<const char*, std::vector<double>*> arrays[] = {{"wavelengths_nm", &s.wavelengths_nm},
-                                                                 {"values", &s.values}};
-  for (const auto& [key, out] : arrays) {
-    auto it = j.find(key);
-    if (it == j.end())
-      return fail(what + ": '" + key + "' is missing" +
-                  (allow_blackbody ? " (or give blackbody_k)" : ""));
-    if (!it->is_array() || it->size() > kMaxSamples)
-      return fail(what + "." + key + " must be an array of at most " + std::to_string(kMaxSamples) + " numbers");
-    for (std::size_t i = 0; i < it->size(); ++i) {
-      const json& v = (*it)[i];
-      if (!v.is_number()) return fail(what + "." + key + "[" + std::to_string(i) + "] is not a number");
-      out->push_back(v.get<double>());
-    }
-  }
-  if (Status st = photometry::validate_spectrum(s, max_value); !st.ok())
-    return fail(what + ": " + st.error().message);
-  return s;
-}
-
-Result<std::optional<photometry::SampledSpectrum>> Loader::spectrum_key(const json& obj, const char* key,
-                                                                        const std::string& what,
-                                                                        double max_value) const {
-  auto it = obj.find(key);
-  if (it == obj.end()) return std::optional<photometry::SampledSpectrum>();
-  Result<photometry::SampledSpectrum> s = spectrum_object(*it, what + " extras.gonio." + key, max_value, false);
-  if (!s.ok()) return s.error();
-  return std::optional<photometry::SampledSpectrum>(std::move(*s));
-}
-
-// extras.gonio.spectrum of a light or an emissive material: blackbody_k,
-// wavelengths_nm and values, or over_gamma (entries with gamma_deg and
-// either form). Absent: an empty spectrum (no spectral input).
-Result<sim::EmitterSpectrum> Loader::emitter_spectrum(const json& obj, const std::string& what) const {
-  sim::EmitterSpectrum out;
-  auto it = obj.find("spectrum");
-  if (it == obj.end()) return out;
-  const std::string w = what + " extras.gonio.spectrum";
-  if (!it->is_object()) return fail(w + " must be an object");
-  if (auto og = it->find("over_gamma"); og != it->end()) {
-    if (it->size() != 1) return fail(w + ": over_gamma stands alone");
-    if (!og->is_array() || og->empty() || og->size() > 1000)
-      return fail(w + ".over_gamma must be an array of 1 to 1000 entries");
-    for (std::size_t i = 0; i < og->size(); ++i) {
-      const std::string wi = w + ".over_gamma[" + std::to_string(i) + "]";
-      const json& entry = (*og)[i];
-      Result<std::optional<double>> g = number(entry, "gamma_deg", wi);
-      if (!g.ok()) return g.error();
-      if (!*g) return fail(wi + ": 'gamma_deg' is missing");
-      json rest = entry;
-      if (rest.is_object()) rest.erase("gamma_deg");
-      Result<photometry::SampledSpectrum> s = spectrum_object(rest, wi, 1e300, true);
-      if (!s.ok()) return s.error();
-      out.over_gamma.push_back({**g, std::move(*s)});
-    }
-  } else {
-    Result<photometry::SampledSpectrum> s = spectrum_object(*it, w, 1e300, true);
-    if (!s.ok()) return s.error();
-    out.over_gamma.push_back({0.0, std::move(*s)});
-  }
-  if (Status st = sim::validate_emitter_spectrum(out); !st.ok()) return fail(w + ": " + st.error().message);
-  return out;
 }
 
 // The reflection lobes of a material from a coloured base colour share the
@@ -1075,6 +989,7 @@ Result<std::uint32_t> Loader::material(int index) {
   GltfMaterial m;
   MaterialExtras x;
   sim::EmitterSpectrum emitted_spectrum;
+  std::shared_ptr<const sim::TabulatedBsdf> table;
   std::string what = "default material";
   if (index >= 0) {
     if (static_cast<std::size_t>(index) >= model_.materials.size())
@@ -1157,59 +1072,21 @@ Result<std::uint32_t> Loader::material(int index) {
 
     Result<json> extras = parse_blob(g.extras_json_string, what + " extras");
     if (!extras.ok()) return extras.error();
-    Result<const json*> gx = gonio_extras(
-        *extras, what,
-        {"kd", "ks", "mx", "my", "f0", "diffuse_transmit", "mirror", "dielectric", "ior",
-         "attenuation_per_m", "reflectance", "diffuse_reflectance", "transmittance", "diffusion",
-         "luminance_cd_m2", "spectrum", "spectral_reflectance", "spectral_transmittance", "ior_nm",
-         "abbe_number"});
-    if (!gx.ok()) return gx.error();
-    if (*gx) {
-      const json& gj = **gx;
-      const std::pair<const char*, std::optional<double>*> keys[] = {
-          {"kd", &x.kd},
-          {"ks", &x.ks},
-          {"mx", &x.mx},
-          {"my", &x.my},
-          {"f0", &x.f0},
-          {"diffuse_transmit", &x.diffuse_transmit},
-          {"mirror", &x.mirror},
-          {"dielectric", &x.dielectric},
-          {"ior", &x.ior},
-          {"attenuation_per_m", &x.attenuation_per_m},
-          {"reflectance", &x.reflectance},
-          {"diffuse_reflectance", &x.diffuse_reflectance},
-          {"transmittance", &x.transmittance},
-          {"diffusion", &x.diffusion},
-          {"luminance_cd_m2", &x.luminance_cd_m2},
-      };
-      for (const auto& [key, target] : keys) {
-        Result<std::optional<double>> v = number(gj, key, what + " extras.gonio");
-        if (!v.ok()) return v.error();
-        *target = *v;
-      }
-      Result<std::optional<double>> abbe = number(gj, "abbe_number", what + " extras.gonio");
-      if (!abbe.ok()) return abbe.error();
-      if (*abbe && !(**abbe > 0.0)) return fail(what + ": extras.gonio.abbe_number must be > 0");
-      x.abbe_number = *abbe;
-      const std::tuple<const char*, std::optional<photometry::SampledSpectrum>*, double> spectra[] = {
-          {"spectral_reflectance", &x.spectral_reflectance, 1.0},
-          {"spectral_transmittance", &x.spectral_transmittance, 1.0},
-          {"ior_nm", &x.ior_nm, 1e300},
-      };
-      for (const auto& [key, target, max_value] : spectra) {
-        Result<std::optional<photometry::SampledSpectrum>> v = spectrum_key(gj, key, what, max_value);
-        if (!v.ok()) return v.error();
-        *target = std::move(*v);
-      }
-      if (x.ior_nm)
-        for (std::size_t i = 0; i < x.ior_nm->values.size(); ++i)
-          if (!(x.ior_nm->values[i] >= 1.0))
-            return fail(what + ": extras.gonio.ior_nm: value " + std::to_string(i) + " (" +
-                        format_number(x.ior_nm->values[i]) + ") must be >= 1");
-      Result<sim::EmitterSpectrum> es = emitter_spectrum(gj, what);
-      if (!es.ok()) return es.error();
-      emitted_spectrum = std::move(*es);
+    if (extras->is_object() && extras->contains("gonio")) {
+      Result<MaterialExtras> read = read_material_extras(extras->at("gonio"), path_, what, findings_);
+      if (!read.ok()) return read.error();
+      x = std::move(*read);
+      emitted_spectrum = x.spectrum;
+    }
+    if (x.bsdf_file) {
+      // Beside the model, like its buffers and light profiles.
+      if (!options_.allow_outside_paths)
+        if (const std::optional<std::string> why = outside_the_folder(base_dir_, *x.bsdf_file))
+          return fail(outside_message(what + " extras.gonio.bsdf_file '" + *x.bsdf_file + "'", *why));
+      const std::string bsdf_path = (std::filesystem::path(base_dir_) / *x.bsdf_file).string();
+      Result<std::shared_ptr<const sim::TabulatedBsdf>> t = read_bsdf_file(bsdf_path, findings_);
+      if (!t.ok()) return Error{t.error().where, what + ": extras.gonio.bsdf_file: " + t.error().message};
+      table = std::move(*t);
     }
   } else {
     m.name = "default";
@@ -1218,7 +1095,7 @@ Result<std::uint32_t> Loader::material(int index) {
          "is used");
   }
 
-  Result<sim::Material> mapped = map_material(m, x, {path_}, what, findings_);
+  Result<sim::Material> mapped = map_material(m, x, {path_}, what, findings_, std::move(table));
   if (!mapped.ok()) return mapped.error();
   const auto id = static_cast<std::uint32_t>(scene_.materials.size());
   scene_.materials.push_back(std::move(*mapped));

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include "photometry/format.h"
+#include "sim/bsdfs/library.h"
 
 namespace gonio::io {
 namespace {
@@ -48,7 +50,8 @@ double luminance(const Rgb& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c
 
 Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras& x,
                                    const SourceLoc& where, const std::string& what,
-                                   std::vector<Finding>& findings) {
+                                   std::vector<Finding>& findings,
+                                   std::shared_ptr<const sim::TabulatedBsdf> table) {
   // Extras are checked first: a typo there is the user's explicit intent gone
   // wrong and must stop the load.
   struct Range {
@@ -72,6 +75,9 @@ Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras&
       {&x.transmittance, 0, 1, "transmittance"},
       {&x.diffusion, 0, 1, "diffusion"},
       {&x.luminance_cd_m2, 0, kInf, "luminance_cd_m2"},
+      {&x.scattering_per_m, 0, 1e9, "scattering_per_m"},
+      {&x.scattering_g, -0.999, 0.999, "scattering_g"},
+      {&x.tabulated, 0, 1, "tabulated"},
   };
   for (const Range& r : ranges)
     if (Status s = check_extra(*r.v, r.lo, r.hi, r.key, where, what); !s.ok()) return s.error();
@@ -82,6 +88,10 @@ Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras&
   if (x.has_datasheet() && (x.f0 || x.attenuation_per_m))
     return Error{where, what + ": extras.gonio datasheet values take only ior, mx and my as "
                                "further parameters, not f0 or attenuation_per_m"};
+  if (x.preset && (x.has_lobe_weights() || x.has_datasheet() || x.abg_reflect || x.abg_transmit || x.bsdf_file ||
+                   x.mx || x.my || x.f0 || x.ior || x.attenuation_per_m || x.scattering_per_m || x.scattering_g))
+    return Error{where, what + ": extras.gonio.preset stands alone: a preset's lobes and medium are its own "
+                               "(only spectra, luminance, incidence tables and glossy_compensation may join it)"};
 
   sim::Material out;
   out.name = in.name;
@@ -178,6 +188,24 @@ Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras&
     out.diffuse_transmit = trans * diffusion;
     out.dielectric = trans * (1.0 - diffusion);
   }
+  if (x.preset) {
+    const std::string name = out.name;
+    out = sim::find_preset(*x.preset)->material;
+    out.name = name;
+  }
+  if (x.abg_reflect) out.abg_reflect = *x.abg_reflect;
+  if (x.abg_transmit) out.abg_transmit = *x.abg_transmit;
+  if (x.scattering_per_m) out.scattering_per_m = *x.scattering_per_m;
+  if (x.scattering_g) out.scattering_g = *x.scattering_g;
+  if (x.glossy_compensation) out.glossy_compensation = *x.glossy_compensation;
+  if (table) {
+    // The measured BSDF is the surface, unless the extras give lobes beside it.
+    if (!x.has_lobe_weights() && !x.has_datasheet() && !x.preset) {
+      out.diffuse_reflect = out.diffuse_transmit = out.mirror = out.glossy = out.dielectric = 0.0;
+    }
+    out.table = std::move(table);
+    out.tabulated = x.tabulated.value_or(1.0);
+  }
   if (x.mx) out.glossy_mx = *x.mx;
   if (x.my) out.glossy_my = *x.my;
   if (x.mx && !x.my) out.glossy_my = *x.mx;
@@ -190,10 +218,49 @@ Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras&
   if (x.ior_nm) out.ior_nm = *x.ior_nm;
   if (x.abbe_number) out.abbe_number = *x.abbe_number;
 
+  // Incidence tables, per lobe in sim::Lobe order from DiffuseReflect
+  // (Material::over_incidence). R(θ) and T(θ) scale the reflection and
+  // transmission lobes by R(θ) over their weight at normal incidence.
+  enum : std::size_t { kDr, kDt, kMirror, kGlossy, kDielectric, kAbg, kAbgT, kTabulated };
+  const double weights[] = {out.diffuse_reflect, out.diffuse_transmit, out.mirror,          out.glossy,
+                            out.dielectric,      out.abg_reflect.tis,  out.abg_transmit.tis, out.tabulated};
+  const std::pair<const std::optional<sim::IncidenceTable>*, std::vector<std::size_t>> groups[] = {
+      {&x.reflectance_over_angle, {kDr, kMirror, kGlossy, kAbg}},
+      {&x.transmittance_over_angle, {kDt, kDielectric, kAbgT}}};
+  for (const auto& [table_of, lobes] : groups) {
+    if (!*table_of) continue;
+    double sum = 0.0;
+    for (std::size_t l : lobes) sum += weights[l];
+    const char* key = table_of == &x.reflectance_over_angle ? "reflectance_over_angle" : "transmittance_over_angle";
+    if (!(sum > 0.0))
+      return Error{where, what + ": extras.gonio." + key + " needs lobes to scale, and the material has none"};
+    sim::IncidenceTable factor = **table_of;
+    for (double& v : factor.factor) v /= sum;
+    for (std::size_t l : lobes) out.over_incidence[l] = factor;
+  }
+  for (const auto& [name, table_of_lobe] : x.lobe_over_angle) {
+    const std::pair<const char*, std::size_t> names[] = {
+        {"diffuse_reflect", kDr}, {"diffuse_transmit", kDt}, {"mirror", kMirror}, {"glossy", kGlossy},
+        {"dielectric", kDielectric}, {"abg", kAbg}, {"abg_transmit", kAbgT}, {"tabulated", kTabulated}};
+    for (const auto& [n, l] : names)
+      if (name == n) out.over_incidence[l] = table_of_lobe;
+  }
+
   const double total = out.total();
   if (total > 1.0 + 1e-9)
     return Error{where, what + ": extras.gonio lobe weights sum to " + format_number(total) +
                             ", more than 1 (a surface cannot scatter more than it receives)"};
+  // Over incidence the weights are linear between the tables' angles: their
+  // sum is largest at one of them.
+  for (const sim::IncidenceTable& angles : out.over_incidence)
+    for (double a : angles.theta_deg) {
+      const double c = std::cos(a * std::numbers::pi / 180.0);
+      double sum = 0.0;
+      for (std::size_t l = 0; l < out.over_incidence.size(); ++l) sum += weights[l] * out.over_incidence[l].at(c);
+      if (sum > 1.0 + 1e-9)
+        return Error{where, what + ": extras.gonio: at " + format_number(a) + " degrees of incidence the lobes scatter " +
+                                format_number(sum) + ", more than 1"};
+    }
   return out;
 }
 

@@ -50,6 +50,7 @@
 #pragma once
 
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -113,6 +114,38 @@ struct MaterialExtras {
   // material ("spectrum") is read by io/model/gltf.cpp into its emitters.
   std::optional<photometry::SampledSpectrum> spectral_reflectance, spectral_transmittance, ior_nm;
   std::optional<double> abbe_number;
+  // The emitted spectrum of an emissive material ("spectrum"; empty: none).
+  sim::EmitterSpectrum spectrum;
+
+  // Measured materials (docs/materials.md):
+  //   "preset": a name of the material library (sim/bsdfs/library.h); it
+  //     stands alone (no lobe weights or datasheet values beside it).
+  std::optional<std::string> preset;
+  //   "abg" / "abg_transmit": {"B": b, "g": g} with "tis" (Gonio's weight:
+  //     total integrated scatter at normal incidence) or "A" (TracePro's
+  //     BSDF scale [1/sr], TIS = A · I0(B, g)): ABg scatter in reflection /
+  //     transmission, beside the other lobes.
+  std::optional<sim::AbgScatter> abg_reflect, abg_transmit;
+  //   "scattering_per_m", "scattering_g": volume scattering inside the part
+  //     (μs [1/m], Henyey–Greenstein g); absorption is attenuation_per_m.
+  std::optional<double> scattering_per_m, scattering_g;
+  //   "bsdf_file": a measured BSDF (BSDF XML or CSV, io/materials) beside
+  //     the model, with the weight "tabulated" (default 1 with a file); it
+  //     replaces the lobes glTF's factors give, unless lobe weights or
+  //     datasheet values in the extras set lobes beside it.
+  std::optional<std::string> bsdf_file;
+  std::optional<double> tabulated;
+  //   "reflectance_over_angle" / "transmittance_over_angle":
+  //     {"angles_deg": [...], "values": [...]}: total reflectance /
+  //     transmittance at those angles of incidence (Photopia-style R(θ),
+  //     T(θ)); the reflection / transmission lobes keep their shares.
+  //   "lobe_over_angle": {"<lobe>": {"angles_deg", "values"}, ...}: a
+  //     factor on one lobe's weight ("diffuse_reflect", "diffuse_transmit",
+  //     "mirror", "glossy", "dielectric", "abg", "abg_transmit", "tabulated").
+  std::optional<sim::IncidenceTable> reflectance_over_angle, transmittance_over_angle;
+  std::vector<std::pair<std::string, sim::IncidenceTable>> lobe_over_angle;
+  //   "glossy_compensation": false switches Kulla–Conty's compensation off.
+  std::optional<bool> glossy_compensation;
 
   bool has_lobe_weights() const { return kd || ks || diffuse_transmit || mirror || dielectric; }
   bool has_datasheet() const {
@@ -123,9 +156,12 @@ struct MaterialExtras {
 // The simulation material for a glTF material and its extras. `where` names
 // the file and `what` the material for errors and findings (out-of-range glTF
 // factors are clamped with a warning; out-of-range extras are errors).
+// `table`: the measured BSDF extras.bsdf_file names, read by the caller
+// (null without one).
 Result<sim::Material> map_material(const GltfMaterial& m, const MaterialExtras& extras,
                                    const SourceLoc& where, const std::string& what,
-                                   std::vector<Finding>& findings);
+                                   std::vector<Finding>& findings,
+                                   std::shared_ptr<const sim::TabulatedBsdf> table = nullptr);
 
 // Luminance of an emissive surface [cd/m²]: extras.luminance_cd_m2 when set,
 // else emissive_strength × luminance(emissive). glTF leaves emission units

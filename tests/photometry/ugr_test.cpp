@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "io/photometric/ldt.h"
+#include "photometry/cie_flux_code.h"
 #include "photometry/flux.h"
 #include "tests/support/photometry_fixtures.h"
 #include "tests/support/test_support.h"
@@ -67,6 +69,86 @@ TEST(Ugr, PositionIndexFollowsCie117Table) {
   EXPECT_TRUE(std::isfinite(guth_position_index(1.0, 1.0, 1.85)));
   EXPECT_TRUE(std::isnan(guth_position_index(0.0, 1.0, 2.5)));   // beyond the table
   EXPECT_TRUE(std::isnan(guth_position_index(3.5, 1.0, 0.5)));
+}
+
+// Issue 34, case 8 (the Guth table), a check independent of the cells
+// above: the formula the IES Lighting Handbook gives for Guth's position
+// index in its VCP method (R. E. Levin's fit to Guth's data, "Position index
+// in VCP calculations", JIES 1975; another tool's UGR code, Manav02012002/luxera
+// luxera/calculation/ugr.py, carries its constants 35.2, 0.31889 and 1.22):
+//   ln p = (35.2 − 0.31889 τ − 1.22 e^(−2τ/9))·10⁻³ σ + (21 + 0.26667 τ − 0.002963 τ²)·10⁻⁵ σ²,
+// τ the angle of the plane through the line of sight and the source from the
+// vertical, σ the angle between the line of sight and the source [deg].
+// Measured: every one of the 607 cells of CIE 117's table within 11.1 % of
+// the formula, mean 4.5 % (the worst, 7.50 at T/R 2.7, H/R 0.6, is also out
+// of line with its neighbours 7.00 and 7.08). The table transposed (T/R and
+// H/R exchanged) is 50 % off in the mean, up to 4×.
+TEST(Ugr, PositionIndexTableFollowsGuthsFormula) {
+  const auto formula = [](double t, double r, double h) {
+    const double sigma = std::atan2(std::hypot(t, h), r) * 180.0 / kPi;
+    const double tau = std::atan2(t, h) * 180.0 / kPi;
+    return std::exp((35.2 - 0.31889 * tau - 1.22 * std::exp(-2.0 * tau / 9.0)) * 1e-3 * sigma +
+                    (21.0 + 0.26667 * tau - 0.002963 * tau * tau) * 1e-5 * sigma * sigma);
+  };
+  int cells = 0;
+  double sum = 0.0, worst = 0.0;
+  for (int i = 0; i <= 30; ++i)
+    for (int j = 0; j <= 19; ++j) {
+      const double t = i / 10.0, h = j / 10.0;
+      const double p = guth_position_index(t, 1.0, h);
+      if (std::isnan(p)) continue;  // a blank of the table
+      const double rel = std::abs(p / formula(t, 1.0, h) - 1.0);
+      EXPECT_LT(rel, 0.12) << "T/R " << t << ", H/R " << h << ": table " << p << ", formula " << formula(t, 1.0, h);
+      sum += rel;
+      worst = std::max(worst, rel);
+      ++cells;
+    }
+  std::printf("Guth's position index: %d cells, mean %.3f, largest %.3f from the formula\n", cells, sum / cells,
+              worst);
+  EXPECT_EQ(cells, 607);
+  EXPECT_LT(sum / cells, 0.05);
+  // Straight ahead 45° up (τ 0, σ 45°) and 45° to the side at eye height
+  // (τ 90°, σ 45°): 7.06 and 2.05 by the formula, 7.00 and 2.11 in the table.
+  EXPECT_NEAR(formula(0.0, 1.0, 1.0), 7.06, 0.01);
+  EXPECT_NEAR(formula(1.0, 1.0, 0.0), 2.05, 0.01);
+}
+
+// Issue 34, case 8 (CIE 190's zonal coefficients), a check independent of
+// the CIE 190 example: Φ1…Φ4 are the flux in CIE 52's cones of π/2, π,
+// 3π/2 and 2π sr, which a luminaire of uniform intensity below the horizon
+// fills in the ratios 1/4, 1/2, 3/4, 1 exactly. 10° zones cannot end at
+// 41.41° and 75.52°, so CIE 190 takes 0.130 of the zone 40–50° and 0.547 of
+// 70–80°: the solid-angle shares (cos 40° − 3/4)/(cos 40° − cos 50°) =
+// 0.1302 and (cos 70° − 1/4)/(cos 70° − cos 80°) = 0.5465, which is what
+// makes the uniform case exact. The coefficients exchanged put Φ1 5 %
+// and Φ3 7 % off; a cos γ luminaire's Φ against CIE 52's flux code
+// (photometry/cie_flux_code.h, exact integration) is within 0.007.
+TEST(Ugr, Cie190ZonesAreTheFluxCodesCones) {
+  const double c40 = std::cos(40 * kPi / 180), c50 = std::cos(50 * kPi / 180);
+  const double c70 = std::cos(70 * kPi / 180), c80 = std::cos(80 * kPi / 180);
+  EXPECT_NEAR((c40 - 0.75) / (c40 - c50), 0.130, 5e-4);
+  EXPECT_NEAR((c70 - 0.25) / (c70 - c80), 0.547, 5e-4);
+  // Uniform intensity below the horizon, absolute photometry (Φ is the
+  // luminaire's flux, LOR 1).
+  Distribution uniform = sample_c(Symmetry::Rotational, {0}, angles(0, 180, 2.5),
+                                  [](double, double g) { return g < 90.0 ? 1000.0 : 0.0; });
+  uniform.absolute = true;
+  const Cie190Zones z = cie190_zones(uniform);
+  ASSERT_TRUE(z.defined);
+  EXPECT_NEAR(z.reference_lm, total_flux_lm(uniform), 1e-9);
+  const double cones[4] = {0.25, 0.5, 0.75, 1.0};
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(z.phi[static_cast<std::size_t>(k)], cones[k], 2e-4) << "Phi" << k + 1;
+  EXPECT_NEAR(z.r_dlo, 1.0, 1e-12);
+  EXPECT_NEAR(z.r_ulo, 0.0, 1e-12);
+  // A cosine luminaire against the flux code's exact cones.
+  Distribution lobe = sample_direction(PhotometricType::C, Symmetry::Rotational, {0}, angles(0, 180, 2.5),
+                                       cos_lobe(1000, 1));
+  lobe.absolute = true;
+  const Cie190Zones zl = cie190_zones(lobe);
+  const CieFluxCode code = cie_flux_code(lobe);
+  const double exact[4] = {code.n1 / 100, code.n2 / 100, code.n3 / 100, code.n4 / 100};
+  for (int k = 0; k < 4; ++k)
+    EXPECT_NEAR(zl.phi[static_cast<std::size_t>(k)], exact[k], 0.008) << "Phi" << k + 1;
 }
 
 // The UGR table of sample_11.ldt (../shared/reference) read in place, or a

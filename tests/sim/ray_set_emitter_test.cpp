@@ -8,6 +8,8 @@
 
 #include "sim/emission.h"
 #include "sim/random.h"
+#include "sim/simulation.h"
+#include "tests/sim/scenes.h"
 
 namespace gonio::sim {
 namespace {
@@ -56,7 +58,8 @@ TEST(RaySetSampler, RefusesBrokenSets) {
   EXPECT_FALSE(make_ray_set_sampler(std::make_shared<RaySet>()).ok());
 }
 
-TEST(RaySetSampler, EmissionDrawsFromTheSetAndOversamplingIsFound) {
+// A scene of the three rays as one ray-set emitter of 8 lm.
+SceneDesc three_ray_scene() {
   SceneDesc scene;
   Emitter e;
   e.kind = Emitter::Kind::RaySet;
@@ -64,6 +67,11 @@ TEST(RaySetSampler, EmissionDrawsFromTheSetAndOversamplingIsFound) {
   e.flux_lm = 8.0;
   e.rays = three_rays();
   scene.emitters.push_back(e);
+  return scene;
+}
+
+TEST(RaySetSampler, EmissionDrawsFromTheSetAndOversamplingIsFound) {
+  const SceneDesc scene = three_ray_scene();
   auto emission = EmissionSampler::create(scene);
   ASSERT_TRUE(emission.ok()) << emission.error().message;
   PhotonRandom rng(1, 2);
@@ -75,6 +83,32 @@ TEST(RaySetSampler, EmissionDrawsFromTheSetAndOversamplingIsFound) {
   const auto findings = ray_set_photon_findings(scene, 3);
   ASSERT_EQ(findings.size(), 1u);
   EXPECT_EQ(findings[0].code, "ray-set-oversampled");
+}
+
+// Issue 34, case 8 (flux-proportional drawing), a check independent of the
+// sampler test above (which feeds the alias table evenly spaced u): a whole
+// simulation of the three rays, photons drawn with the run's own random
+// numbers, binned into the far field. Each ray points into its own texel;
+// its texel holds N·φ_i/Σφ photons (binomial, within 5σ) and its flux
+// φ_i (the far field's lumens). Drawing rays evenly would give each a third.
+TEST(RaySetSampler, SimulatedFarFieldHoldsEachRaysShareOfTheFlux) {
+  const SceneDesc scene = three_ray_scene();
+  auto sim = simulate(scene, test_scenes::small_run(2, 40000, 2, 3));
+  ASSERT_TRUE(sim.ok()) << sim.error().message;
+  const FarField f = sim->far_field();
+  const double n = 80000.0;
+  const double share[3] = {1.0 / 8.0, 2.0 / 8.0, 5.0 / 8.0};
+  double total = 0.0;
+  for (int r = 0; r < 3; ++r) {
+    const Vec3f d = scene.emitters[0].rays->direction[static_cast<std::size_t>(r)];
+    const std::size_t texel = f.grid().texel_of(to_double(d));
+    const double photons = static_cast<double>(f.photons(texel));
+    const double sigma = std::sqrt(n * share[r] * (1.0 - share[r]));
+    EXPECT_NEAR(photons, n * share[r], 5.0 * sigma) << "ray " << r;
+    EXPECT_NEAR(f.flux_lm(texel), 8.0 * share[r], 8.0 * 5.0 * sigma / n) << "ray " << r;
+    total += photons;
+  }
+  EXPECT_EQ(total, n) << "every photon in one of the three texels";
 }
 
 }  // namespace

@@ -22,8 +22,8 @@
 #include "tools/cli/cli.h"
 #include "tools/cli/input_options.h"
 #include "tools/cli/commands.h"
-#include "tools/run/json_figures.h"
 #include "tools/run/photometric_input.h"
+#include "tools/run/photometric_report.h"
 
 namespace gonio::cli {
 namespace {
@@ -120,24 +120,7 @@ int run_compare(const Args& args) {
   }
 
   if (json_out) {
-    nlohmann::json j;
-    j["a"] = {{"path", file_a}, {"format", format_a}, {"flux_lm", c.flux_a_lm}};
-    j["b"] = {{"path", file_b}, {"format", format_b}, {"flux_lm", c.flux_b_lm}};
-    j["grid"] = {{"c_step_deg", c_step}, {"gamma_step_deg", gamma_step}};
-    j["normalized"] = normalize;
-    j["scale_b"] = c.scale;
-    j["reference_cd"] = c.reference_cd;
-    j["rms_relative"] = c.rms_relative;
-    j["max_relative"] = c.max_relative;
-    j["max_at"] = {{"c_deg", c.max_at_c_deg}, {"gamma_deg", c.max_at_gamma_deg}};
-    j["flux_ratio"] = json_number(c.flux_ratio);
-    j["flux_difference_lm"] = c.flux_b_lm - c.flux_a_lm;
-    j["beam_angle_deg"] = {{"a", {{"c0_c180", json_number(beam_a0)}, {"c90_c270", json_number(beam_a90)}}},
-                           {"b", {{"c0_c180", json_number(beam_b0)}, {"c90_c270", json_number(beam_b90)}}}};
-    j["beam_difference_deg"] = {{"c0_c180", json_number(c.beam_difference_c0_c180_deg)},
-                                {"c90_c270", json_number(c.beam_difference_c90_c270_deg)}};
-    j["field_difference_deg"] = {{"c0_c180", json_number(c.field_difference_c0_c180_deg)},
-                                 {"c90_c270", json_number(c.field_difference_c90_c270_deg)}};
+    nlohmann::json j = compare_json(file_a, *a, file_b, *b, c, options);
     if (!plot.empty()) j["plot"] = plot;
     std::printf("%s\n", j.dump(2).c_str());
     return kExitOk;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "gonio/version.h"
 #include "io/outputs/datasheet.h"
 #include "io/outputs/exr.h"
 #include "io/outputs/report.h"
@@ -578,6 +579,44 @@ Distribution simulated_distribution(const sim::BinnedField& binned, Symmetry sym
   return d;
 }
 
+OutputRequest table_request(const sim::Simulation& simulation, const std::string& model, const sim::CGammaGrid& grid,
+                            const std::optional<photometry::Symmetry>& symmetry, const std::string& cache_dir) {
+  const sim::SimulationSettings& settings = simulation.settings();
+  OutputRequest request;
+  request.grid = grid;
+  request.symmetry = symmetry;
+  request.cache_dir = cache_dir;
+  request.opening = simulated_opening(simulation.tracer(), simulation.scene(), settings.seed);
+  request.run.program_version = kVersion;
+  request.run.model = model;
+  request.run.photons = simulation.stats().photons;
+  request.run.seed = settings.seed;
+  request.run.max_bounces = settings.max_bounces;
+  request.run.issue_date = format_utc(now_unix(), "%Y-%m-%d");
+  return request;
+}
+
+Result<SimulatedTable> simulated_table(const sim::FarField& far_field, const sim::SceneDesc& scene,
+                                       const sim::Ledger& ledger, const OutputRequest& request) {
+  if (request.symmetry) {
+    if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
+  }
+  const sim::Resampler resampler = cached_resampler(far_field.face_size(), scene.frame, request.grid, request.cache_dir);
+  const sim::BinnedField binned = resampler.bin(far_field);
+  SimulatedTable table;
+  if (request.symmetry) {
+    table.symmetry = *request.symmetry;
+    table.symmetry_reason =
+        "symmetry " + std::string(photometry::to_string(table.symmetry)) + ", as requested (--symmetry)";
+  } else {
+    table.decision = sim::detect_symmetry(binned);
+    table.symmetry = table.decision.symmetry;
+    table.symmetry_reason = table.decision.explanation;
+  }
+  table.distribution = simulated_distribution(binned, table.symmetry, scene, ledger, request);
+  return table;
+}
+
 Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::SceneDesc& scene,
                                    const sim::Ledger& ledger, const OutputRequest& request) {
   OutputResult result;
@@ -587,22 +626,12 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
   const bool needs_table = wants(OutputFormat::Ies) || wants(OutputFormat::Ldt) || wants(OutputFormat::Plot) ||
                            wants(OutputFormat::Report) || wants(OutputFormat::Gldf) || wants(OutputFormat::Tm33);
   if (needs_table) {
-    if (request.symmetry) {
-      if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
-    }
-    const sim::Resampler resampler =
-        cached_resampler(far_field.face_size(), scene.frame, request.grid, request.cache_dir);
-    const sim::BinnedField binned = resampler.bin(far_field);
-    if (request.symmetry) {
-      result.symmetry = *request.symmetry;
-      result.symmetry_reason = "symmetry " + std::string(photometry::to_string(result.symmetry)) +
-                               ", as requested (--symmetry)";
-    } else {
-      result.decision = sim::detect_symmetry(binned);
-      result.symmetry = result.decision.symmetry;
-      result.symmetry_reason = result.decision.explanation;
-    }
-    result.distribution = simulated_distribution(binned, result.symmetry, scene, ledger, request);
+    Result<SimulatedTable> table = simulated_table(far_field, scene, ledger, request);
+    if (!table.ok()) return table.error();
+    result.distribution = std::move(table->distribution);
+    result.symmetry = table->symmetry;
+    result.symmetry_reason = std::move(table->symmetry_reason);
+    result.decision = std::move(table->decision);
   }
 
   const std::filesystem::path dir(request.directory);

@@ -57,6 +57,7 @@
 #include "sim/ledger.h"
 #include "sim/resample.h"
 #include "sim/scene.h"
+#include "sim/simulation.h"
 #include "sim/symmetry.h"
 #include "sim/tracer.h"
 
@@ -175,6 +176,28 @@ struct OutputResult {
 photometry::Distribution simulated_distribution(const sim::BinnedField& binned, photometry::Symmetry symmetry,
                                                 const sim::SceneDesc& scene, const sim::Ledger& ledger,
                                                 const OutputRequest& request);
+
+// What `gonio simulate` asks of a finished simulation's table, whatever
+// files it then writes: `grid` and `symmetry` (none: detect), the
+// resamplers' cache folder, the opening the light leaves by
+// (simulated_opening, from the run's own seed), and the run's facts (this
+// version, `model` as given, the photons traced, seed, bounce limit, today's
+// date). The caller adds the folder, stem and formats.
+OutputRequest table_request(const sim::Simulation& simulation, const std::string& model, const sim::CGammaGrid& grid,
+                            const std::optional<photometry::Symmetry>& symmetry, const std::string& cache_dir);
+
+// The candela table of a far field, the one the IES and LDT files hold:
+// binned onto request.grid, with request.symmetry or the one
+// sim::detect_symmetry() finds, and simulated_distribution()'s lamp data
+// and keywords. Error: an explicit symmetry the grid does not support.
+struct SimulatedTable {
+  photometry::Distribution distribution;
+  photometry::Symmetry symmetry = photometry::Symmetry::None;
+  std::string symmetry_reason;     // one line: what was chosen and why
+  sim::SymmetryDecision decision;  // the tests (auto only)
+};
+Result<SimulatedTable> simulated_table(const sim::FarField& far_field, const sim::SceneDesc& scene,
+                                       const sim::Ledger& ledger, const OutputRequest& request);
 
 // Resamples, writes every requested file atomically, reads each back and
 // checks it. A file that cannot be written (a missing plot program, a full

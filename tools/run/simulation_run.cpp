@@ -157,21 +157,11 @@ int write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, con
   const sim::SimulationStats st = sim->stats();
   const sim::Ledger ledger = sim->ledger();
 
-  OutputRequest request;
+  OutputRequest request = table_request(*sim, model, grid, symmetry, plan.model_input.cache_dir);
   request.directory = out_dir;
   request.stem = plan.stem;
   request.formats = plan.formats;
-  request.grid = grid;
-  request.symmetry = symmetry;
   request.ies_version = plan.ies_version;
-  request.cache_dir = plan.model_input.cache_dir;
-  request.opening = simulated_opening(sim->tracer(), sim->scene(), settings.seed);
-  request.run.program_version = kVersion;
-  request.run.model = model;
-  request.run.photons = st.photons;
-  request.run.seed = settings.seed;
-  request.run.max_bounces = settings.max_bounces;
-  request.run.issue_date = format_utc(now_unix(), "%Y-%m-%d");
   const sim::ColourFarField colour = sim->colour_far_field();
   if (!colour.empty()) request.colour = &colour;
   // Spectral runs (sim/spectral.h): the luminaire's colour and its colour

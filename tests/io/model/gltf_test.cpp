@@ -15,9 +15,12 @@
 #include "io/model/gltf_lights.h"
 #include "io/photometric/ies.h"
 #include "io/photometric/ldt.h"
+#include "io/photometric/tm25.h"
 #include "photometry/colour.h"
 #include "photometry/flux.h"
 #include "photometry/reflectance.h"
+#include "sim/bsdfs/library.h"
+#include "sim/bsdfs/tabulated_bsdf.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
@@ -1024,6 +1027,42 @@ TEST(Gltf, NodeFluxIsSplitOverEmissivePrimitivesByPiLA) {
   EXPECT_NEAR(s.total_flux_lm(), 900.0, 1e-9);
 }
 
+// Issue 34, case 4: a ray set (TM-25) on a node that rotates, scales and
+// moves it. A flat set in the file's z = 0 (millimetres) must start where
+// the node's whole transform puts it: T + R·S·p with R 90° about +X, S
+// (2, 3, 4), T (0.1, 0.2, 0.3) m — (10, 20, 0) mm lands at (0.12, 0.2,
+// 0.36) m; taking the translation alone would leave it at (0.11, 0.22,
+// 0.3). Directions take the linear part, normalised: +z of the file (S: 4z,
+// R: −4y) points along −Y.
+TEST(Gltf, RaySetsStartWhereTheNodesRotationScaleAndTranslationPutThem) {
+  test::TempDir dir;
+  // x y z [mm], kx ky kz, Tri_Y [lm]
+  std::vector<float> rays = {10.0f, 20.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f,  //
+                             -30.0f, 5.0f, 0.0f, 0.6f, 0.0f, 0.8f, 2.0f};
+  ASSERT_TRUE(write_tm25_file((dir / "flat.tm25ray").string(), make_luminous_ray_set(rays)).ok());
+  Doc d;
+  const double h = std::sqrt(0.5);
+  json node = {{"name", "led"},
+               {"rotation", {h, 0.0, 0.0, h}},
+               {"scale", {2.0, 3.0, 4.0}},
+               {"translation", {0.1, 0.2, 0.3}}};
+  node["extras"]["gonio"]["ray_file"] = "flat.tm25ray";
+  d.node(node);
+  const sim::SceneDesc s = load_ok(d.write(dir, "turned"));
+  ASSERT_EQ(s.emitters.size(), 1u);
+  const sim::Emitter& e = s.emitters[0];
+  ASSERT_EQ(e.kind, sim::Emitter::Kind::RaySet);
+  ASSERT_NE(e.rays, nullptr);
+  ASSERT_EQ(e.rays->size(), 2u);
+  expect_near(sim::to_double(e.rays->position_m[0]), {0.12, 0.2, 0.36}, 1e-6);
+  expect_near(sim::to_double(e.rays->position_m[1]), {0.04, 0.2, 0.315}, 1e-6);
+  expect_near(sim::to_double(e.rays->direction[0]), {0.0, -1.0, 0.0}, 1e-6);
+  const double n = std::hypot(1.2, 3.2);
+  expect_near(sim::to_double(e.rays->direction[1]), {1.2 / n, -3.2 / n, 0.0}, 1e-6);
+  EXPECT_NEAR(e.flux_lm, 3.0, 1e-6);
+  expect_near(e.position, {0.1, 0.2, 0.3}, 1e-12);
+}
+
 // --- extras ----------------------------------------------------------------
 
 TEST(Gltf, FluxExtrasOnNodeWinOverLightWhichWinsOverIntensity) {
@@ -1611,6 +1650,95 @@ TEST(GltfSpectral, BadSpectraAreErrorsNamingFilePartAndKey) {
   EXPECT_CONTAINS(material_error({{"ior_nm", {{"wavelengths_nm", {400.0, 700.0}}, {"values", {1.5, 0.9}}}}}, "ior"),
                   "extras.gonio.ior_nm: value 1 (0.9) must be >= 1");
   EXPECT_CONTAINS(material_error({{"abbe_number", -3.0}}, "abbe"), "extras.gonio.abbe_number must be > 0");
+}
+
+}  // namespace
+}  // namespace gonio::io
+
+namespace gonio::io {
+namespace {
+
+// Measured materials in extras.gonio (io/model/material_extras.h): a preset
+// by name, ABg from TracePro's A, a measured BSDF beside the model,
+// incidence tables; and the errors that name the key.
+TEST(GltfMaterials, PresetAbgBsdfFileAndIncidenceTablesAreRead) {
+  test::TempDir dir;
+  // A CSV goniometer table beside the model: Lambertian reflection 0.4.
+  std::string csv = "theta_in,theta_out,phi_out,bsdf\n";
+  for (double ti : {0.0, 60.0})
+    for (double to = 0.0; to < 90.0; to += 15.0)
+      for (double p : {0.0, 90.0, 180.0}) csv += std::to_string(ti) + "," + std::to_string(to) + "," + std::to_string(p) + "," + std::to_string(0.4 / 3.14159265358979) + "\n";
+  test::write_file(dir / "sheet.csv", csv);
+  Doc d;
+  d.point_light(1.0);
+  const int opal = d.material({{"name", "opal"}, {"extras", {{"gonio", {{"preset", "opal PC 3 mm"}}}}}});
+  const int blast = d.material(
+      {{"name", "blasted"},
+       {"extras", {{"gonio", {{"mirror", 0.4}, {"abg", {{"A", 0.02}, {"B", 0.01}, {"g", 2.0}}}}}}}});
+  const int measured = d.material(
+      {{"name", "measured"}, {"extras", {{"gonio", {{"bsdf_file", "sheet.csv"}, {"tabulated", 0.9}}}}}});
+  const int paint = d.material(
+      {{"name", "paint"},
+       {"extras",
+        {{"gonio", {{"kd", 0.8}, {"reflectance_over_angle", {{"angles_deg", {0.0, 60.0, 85.0}}, {"values", {0.8, 0.7, 0.4}}}},
+                    {"glossy_compensation", false}}}}}});
+  for (int m : {opal, blast, measured, paint}) d.node({{"mesh", d.mesh(kQuad, kQuadIdx, m)}});
+  const sim::SceneDesc s = load_ok(d.write(dir, "measured"));
+  ASSERT_EQ(s.materials.size(), 4u);
+  const sim::Material& o = s.materials[0];
+  EXPECT_EQ(o.name, "opal");
+  EXPECT_EQ(o.scattering_per_m, sim::find_preset("opal PC 3 mm")->material.scattering_per_m);
+  EXPECT_EQ(o.dielectric, 1.0);
+  // TIS = A · π ln((B + 1)/B) for g = 2.
+  EXPECT_NEAR(s.materials[1].abg_reflect.tis, 0.02 * 3.14159265358979 * std::log(101.0), 1e-6);
+  EXPECT_EQ(s.materials[1].mirror, 0.4);
+  ASSERT_TRUE(s.materials[2].table);
+  EXPECT_EQ(s.materials[2].tabulated, 0.9);
+  EXPECT_NEAR(s.materials[2].table->albedo(true, Vec3{0.0, 0.0, 1.0}), 0.4, 1e-6);
+  const sim::Material& p = s.materials[3];
+  EXPECT_FALSE(p.glossy_compensation);
+  EXPECT_NEAR(p.diffuse_reflect * p.over_incidence[0].at(std::cos(60.0 * 3.14159265358979 / 180.0)), 0.7, 1e-12);
+  EXPECT_TRUE(p.over_incidence[1].empty());
+}
+
+TEST(GltfMaterials, BadMeasuredMaterialsAreErrorsNamingTheKey) {
+  test::TempDir dir;
+  test::write_file(dir / "broken.csv", "theta_in,theta_out,phi_out,bsdf\n0,10,0,-1\n");
+  auto material_error = [&](json gonio, const std::string& stem) {
+    Doc d;
+    d.point_light(1.0);
+    const int m = d.material({{"name", "skin"}, {"extras", {{"gonio", std::move(gonio)}}}});
+    d.node({{"mesh", d.mesh(kQuad, kQuadIdx, m)}});
+    return load_error(d.write(dir, stem));
+  };
+  EXPECT_CONTAINS(material_error({{"preset", "opal glass"}}, "nopreset"), "preset 'opal glass' is not in the library");
+  EXPECT_CONTAINS(material_error({{"preset", "black"}, {"kd", 0.5}}, "mixed"), "preset stands alone");
+  EXPECT_CONTAINS(material_error({{"abg", {{"B", 0.01}, {"g", 2.0}}}}, "notis"), "give either tis or A");
+  EXPECT_CONTAINS(material_error({{"abg", {{"tis", 0.5}, {"B", 0.0}, {"g", 2.0}}}}, "b0"), "extras.gonio.abg.B = 0");
+  EXPECT_CONTAINS(material_error({{"abg", {{"A", 50.0}, {"B", 0.01}, {"g", 2.0}}}}, "bigA"), "(A · I0) must lie in 0..1");
+  // A broken or missing BSDF file: the error names that file (and line),
+  // its message the material that refers to it.
+  auto file_error = [&](const std::string& file, const std::string& stem) {
+    Doc d;
+    d.point_light(1.0);
+    const int m = d.material({{"name", "skin"}, {"extras", {{"gonio", {{"bsdf_file", file}}}}}});
+    d.node({{"mesh", d.mesh(kQuad, kQuadIdx, m)}});
+    Result<sim::SceneDesc> r = load_gltf(d.write(dir, stem), nullptr);
+    EXPECT_FALSE(r.ok()) << file;
+    return r.ok() ? std::string() : to_string(r.error());
+  };
+  EXPECT_CONTAINS(file_error("missing.xml", "missing"), "missing.xml: material 'skin' (#0): extras.gonio.bsdf_file");
+  EXPECT_CONTAINS(file_error("broken.csv", "broken"), "broken.csv:2: material 'skin' (#0): extras.gonio.bsdf_file: bsdf -1");
+  EXPECT_CONTAINS(material_error({{"bsdf_file", "../outside.csv"}}, "outside"), "outside the model's folder");
+  EXPECT_CONTAINS(material_error({{"tabulated", 0.5}}, "notable"), "'tabulated' weighs a bsdf_file");
+  EXPECT_CONTAINS(material_error({{"kd", 0.5}, {"reflectance_over_angle", {{"angles_deg", {0.0, 95.0}}, {"values", {0.5, 0.5}}}}}, "angle"),
+                  "reflectance_over_angle.angles_deg must increase within 0..90");
+  EXPECT_CONTAINS(material_error({{"kd", 0.5}, {"lobe_over_angle", {{"shiny", {{"angles_deg", {0.0}}, {"values", {1.0}}}}}}}, "lobe"),
+                  "lobe_over_angle.shiny is not a lobe");
+  EXPECT_CONTAINS(material_error({{"kd", 0.9}, {"lobe_over_angle", {{"diffuse_reflect", {{"angles_deg", {0.0, 80.0}}, {"values", {1.0, 1.5}}}}}}}, "over1"),
+                  "scatter 1.35, more than 1");
+  EXPECT_CONTAINS(material_error({{"dielectric", 1.0}, {"scattering_g", 1.0}}, "g1"), "extras.gonio.scattering_g = 1");
+  EXPECT_CONTAINS(material_error({{"glossy_compensation", 1}}, "comp"), "'glossy_compensation' must be true or false");
 }
 
 }  // namespace

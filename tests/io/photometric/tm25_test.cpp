@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numbers>
 #include <string>
 
 #include "io/photometric/photometric_file.h"
@@ -46,7 +47,7 @@ Tm25RaySet rich_set() {
   h.radiant_flux_w = 0.01f;
   h.luminous_flux_lm = 3.0f;
   h.created = "2026-12-02T22:00:00+00:00";
-  h.start_position = 2;
+  h.start_position = 5;  // not the spectral identifier's 2: a swap of the two is seen
   h.spectrum = Tm25Spectrum::PerRayWavelength;
   h.min_wavelength_nm = 400.0f;
   h.max_wavelength_nm = 700.0f;
@@ -79,6 +80,7 @@ TEST(Tm25, LayoutOfTheWrittenFile) {
   EXPECT_EQ(peek<std::int32_t>(*bytes, 4), 2013);
   EXPECT_EQ(peek<std::uint64_t>(*bytes, 20), 4u);
   EXPECT_EQ(bytes->substr(28, 25), "2026-12-02T22:00:00+00:00");
+  EXPECT_EQ(peek<std::int32_t>(*bytes, 56), 5);   // ray start position
   EXPECT_EQ(peek<std::int32_t>(*bytes, 60), 2);   // spectral identifier
   EXPECT_EQ(peek<std::int32_t>(*bytes, 76), 1);   // tables
   EXPECT_EQ(peek<std::int32_t>(*bytes, 80), 1);   // additional items
@@ -103,7 +105,7 @@ TEST(Tm25, RoundTripKeepsEverything) {
   EXPECT_EQ(h.radiant_flux_w, 0.01f);
   EXPECT_EQ(h.luminous_flux_lm, 3.0f);
   EXPECT_EQ(h.created, "2026-12-02T22:00:00+00:00");
-  EXPECT_EQ(h.start_position, 2);
+  EXPECT_EQ(h.start_position, 5);
   EXPECT_EQ(h.spectrum, Tm25Spectrum::PerRayWavelength);
   EXPECT_EQ(h.light_source, "Test LED µ");
   EXPECT_EQ(h.manufacturer, "Gonio — test");
@@ -123,6 +125,100 @@ TEST(Tm25, RoundTripKeepsEverything) {
   auto again = write_tm25(*r);
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(*again, *bytes);
+}
+
+// Issue 34, cases 3 and 8 (the header layout and a ray's direction), a check
+// independent of Gonio's writer and of the corpus file: a file put together
+// byte by byte in the field order of another reader, Julius Muschaweck's
+// TM25RaySetTools (TM25Library/TM25_impl.h, ReadHeader: 4.7.1.1 … 4.7.1.16,
+// 4.7.2.1 … 4.7.2.8, 4.7.3.1 … 4.7.3.9; public domain), every field a value
+// no other field has, so a reader that swaps or shifts two fields is seen.
+// Its one ray points at C 30°, γ 40° of the ray file's frame (+x C0, −y
+// C90, +z the nadir): direction (kx, ky, kz) = (sin 40° cos 30°,
+// −sin 40° sin 30°, cos 40°); read as (ky, kx, kz) it would be C 300°-ish.
+TEST(Tm25, HandBuiltFileReadsFieldByFieldInAnotherReadersOrder) {
+  std::string b;
+  const auto i32 = [&b](std::int32_t v) { b.append(reinterpret_cast<const char*>(&v), 4); };
+  const auto u64 = [&b](std::uint64_t v) { b.append(reinterpret_cast<const char*>(&v), 8); };
+  const auto f32 = [&b](float v) { b.append(reinterpret_cast<const char*>(&v), 4); };
+  const auto utf32 = [&b](const std::u32string& text, std::size_t bytes) {
+    const std::size_t start = b.size();
+    for (char32_t c : text) b.append(reinterpret_cast<const char*>(&c), 4);
+    b.resize(start + bytes, '\0');
+  };
+  b += "TM25";                 // 4.7.1.1 file type
+  i32(2013);                   // 4.7.1.2 version
+  i32(1);                      // 4.7.1.3 creation method: measurement
+  f32(12.5f);                  // 4.7.1.4 luminous flux [lm]
+  f32(0.04f);                  // 4.7.1.5 radiant flux [W]
+  u64(2);                      // 4.7.1.6 rays
+  b += "2024-05-06T07:08:09+02:00";
+  b.resize(28 + 28, '\0');     // 4.7.1.7 date, 28 bytes
+  i32(3);                      // 4.7.1.8 ray start position
+  i32(1);                      // 4.7.1.9 spectral identifier: one wavelength
+  f32(555.0f);                 // 4.7.1.10 the wavelength [nm]
+  f32(501.0f);                 // 4.7.1.11 minimum
+  f32(602.0f);                 // 4.7.1.12 maximum
+  i32(0);                      // 4.7.1.13 spectral tables
+  i32(0);                      // 4.7.1.14 additional ray items
+  i32(0);                      // 4.7.1.15 additional text bytes
+  b.resize(256, '\0');         // 4.7.1.16 reserved
+  for (std::int32_t flag : {1, 1, 1, 0, 1, 0, 0, 0}) i32(flag);  // 4.7.2.1-8: radiant and luminous flux
+  const std::u32string texts[9] = {U"source µ", U"maker", U"modeller", U"ray filer", U"goniometer",
+                                   U"camera", U"350 mA", U"more", U"ref"};
+  for (const std::u32string& t : texts) utf32(t, 4000);  // 4.7.3.1-9
+  ASSERT_EQ(b.size(), kTm25FixedBytes);
+  const double g = 40.0 * std::numbers::pi / 180.0, c = 30.0 * std::numbers::pi / 180.0;
+  const float k[3] = {static_cast<float>(std::sin(g) * std::cos(c)), static_cast<float>(-std::sin(g) * std::sin(c)),
+                      static_cast<float>(std::cos(g))};
+  for (float v : {1.0f, 2.0f, 3.0f, k[0], k[1], k[2], 0.03f, 9.0f}) f32(v);         // x y z kx ky kz Φe Tri_Y
+  for (float v : {-4.0f, -5.0f, -6.0f, 0.0f, 0.0f, 1.0f, 0.01f, 3.5f}) f32(v);
+
+  auto r = parse(b);
+  ASSERT_TRUE(r.ok()) << to_string(r.error());
+  for (const Finding& f : r->findings) ADD_FAILURE() << f.code << ": " << f.message;
+  const Tm25Header& h = r->header;
+  EXPECT_EQ(h.creation_method, 1);
+  EXPECT_EQ(h.luminous_flux_lm, 12.5f);
+  EXPECT_EQ(h.radiant_flux_w, 0.04f);
+  EXPECT_EQ(h.created, "2024-05-06T07:08:09+02:00");
+  EXPECT_EQ(h.start_position, 3);
+  EXPECT_EQ(h.spectrum, Tm25Spectrum::SingleWavelength);
+  EXPECT_EQ(h.wavelength_nm, 555.0f);
+  EXPECT_EQ(h.min_wavelength_nm, 501.0f);
+  EXPECT_EQ(h.max_wavelength_nm, 602.0f);
+  EXPECT_TRUE(h.radiant_flux);
+  EXPECT_FALSE(h.wavelength);
+  EXPECT_TRUE(h.luminous_flux);
+  EXPECT_EQ(h.light_source, "source µ");
+  EXPECT_EQ(h.manufacturer, "maker");
+  EXPECT_EQ(h.model_creator, "modeller");
+  EXPECT_EQ(h.ray_file_creator, "ray filer");
+  EXPECT_EQ(h.equipment, "goniometer");
+  EXPECT_EQ(h.camera, "camera");
+  EXPECT_EQ(h.operation, "350 mA");
+  EXPECT_EQ(h.additional_info, "more");
+  EXPECT_EQ(h.data_reference, "ref");
+  ASSERT_EQ(r->ray_count(), 2u);
+  EXPECT_EQ(r->columns.count, 8);
+  const Vec3 p = r->position_mm(0), d = r->direction(0);
+  EXPECT_EQ(p.x, 1.0);
+  EXPECT_EQ(p.y, 2.0);
+  EXPECT_EQ(p.z, 3.0);
+  EXPECT_EQ(d.x, static_cast<double>(k[0])) << "kx";
+  EXPECT_EQ(d.y, static_cast<double>(k[1])) << "ky";
+  EXPECT_EQ(d.z, static_cast<double>(k[2])) << "kz";
+  // Back to C and γ in the ray file's frame.
+  EXPECT_NEAR(std::acos(d.z) * 180.0 / std::numbers::pi, 40.0, 1e-4);
+  EXPECT_NEAR(std::atan2(-d.y, d.x) * 180.0 / std::numbers::pi, 30.0, 1e-4);
+  EXPECT_EQ(r->position_mm(1).z, -6.0);
+  EXPECT_DOUBLE_EQ(r->radiant_flux_w(0), static_cast<double>(0.03f));
+  EXPECT_DOUBLE_EQ(r->luminous_flux_lm(0), 9.0);
+  EXPECT_DOUBLE_EQ(r->luminous_flux_lm(1), 3.5);
+  // Written again by Gonio: the same bytes.
+  auto again = write_tm25(*r);
+  ASSERT_TRUE(again.ok());
+  EXPECT_TRUE(*again == b);
 }
 
 TEST(Tm25, LuminousFluxPerRayFromTriY) {

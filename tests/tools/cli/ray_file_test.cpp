@@ -1,11 +1,14 @@
 // gonio info and convert on IES TM-25 ray files, run as a user would.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "io/outputs/exr.h"
 #include "io/photometric/photometric_file.h"
@@ -327,6 +330,120 @@ TEST(CliNearField, SimulateWritesPlanesTheirFiguresAndTheFarFieldDistance) {
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_TRUE(contains(r.err, "--near-field")) << r.err;
   }
+}
+
+
+// The IES file's peak: its C and γ [deg].
+std::pair<double, double> peak_of(const photometry::Distribution& d) {
+  const std::size_t nv = d.vertical_deg.size();
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < d.candela.size(); ++i)
+    if (d.candela[i] > d.candela[best]) best = i;
+  return {d.horizontal_deg[best / nv], d.vertical_deg[best % nv]};
+}
+
+// Issue 34, case 3 (read): rays all pointing at C 30°, γ 40° of the ray
+// file's frame (+x C0, −y C90, +z the nadir: k = (sin γ cos C, −sin γ sin C,
+// cos γ)) give a far field whose peak is there. Read as (ky, kx, kz) the
+// peak moves to C 240°; with +y taken along C90, to C 330°.
+TEST(CliRayFile, OneObliqueDirectionPeaksAtItsCAndGamma) {
+  test::TempDir dir;
+  const double g = 40.0 * kPi / 180.0, c = 30.0 * kPi / 180.0;
+  std::vector<float> rays;
+  for (int i = 0; i < 1000; ++i)
+    for (double v : {0.0, 0.0, 0.0, std::sin(g) * std::cos(c), -std::sin(g) * std::sin(c), std::cos(g), 1.0})
+      rays.push_back(static_cast<float>(v));
+  ASSERT_TRUE(io::write_tm25_file((dir / "oblique.tm25ray").string(), io::make_luminous_ray_set(std::move(rays))).ok());
+  auto r = gonio({"convert", (dir / "oblique.tm25ray").string(), (dir / "oblique.ies").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto file = io::read_photometric_file((dir / "oblique.ies").string());
+  ASSERT_TRUE(file.ok()) << to_string(file.error());
+  const auto [peak_c, peak_gamma] = peak_of(file->distribution);
+  EXPECT_EQ(peak_c, 30.0);
+  EXPECT_EQ(peak_gamma, 40.0);
+}
+
+// Issue 34, case 3 (written): a narrow spot aimed at C 90°, γ 60° (a
+// KHR_lights_punctual spot down its node's −Z, turned −30° about X: −Z
+// becomes (0, −½, −√3/2), i.e. γ 60° toward −Z, the default frame's C90).
+// The run's own IES file peaks there, and so must the far field of the ray
+// file it writes (+x C0, −y C90, +z nadir); written with +y along C90, the
+// ray file's peak would be at C 270°.
+TEST(CliRayFile, WrittenRayFileOfASpotAimedAtC90PeaksWhereTheRunsIesDoes) {
+  test::TempDir dir;
+  const double half = -15.0 * kPi / 180.0;
+  nlohmann::json g;
+  g["asset"] = {{"version", "2.0"}};
+  g["scene"] = 0;
+  g["scenes"] = nlohmann::json::array({nlohmann::json{{"nodes", nlohmann::json::array({0})}}});
+  g["extensionsUsed"] = nlohmann::json::array({"KHR_lights_punctual"});
+  g["extensions"]["KHR_lights_punctual"]["lights"] = nlohmann::json::array(
+      {{{"type", "spot"}, {"intensity", 100.0}, {"spot", {{"innerConeAngle", 0.05}, {"outerConeAngle", 0.15}}}}});
+  g["nodes"] = nlohmann::json::array({{{"name", "spot"},
+                                       {"rotation", {std::sin(half), 0.0, 0.0, std::cos(half)}},
+                                       {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}});
+  test::write_file(dir / "spot.gltf", g.dump());
+  const auto out = dir / "out";
+  auto r = gonio({"simulate", (dir / "spot.gltf").string(), "--out", out.string(), "--photons", "100000",
+                  "--iterations", "1", "--format", "ies,tm25", "--tm25-rays", "50000"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = gonio({"convert", (out / "spot.tm25ray").string(), (dir / "rays.ies").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto run = io::read_photometric_file((out / "spot.ies").string());
+  auto rays = io::read_photometric_file((dir / "rays.ies").string());
+  ASSERT_TRUE(run.ok()) << to_string(run.error());
+  ASSERT_TRUE(rays.ok()) << to_string(rays.error());
+  const auto run_peak = peak_of(run->distribution), ray_peak = peak_of(rays->distribution);
+  EXPECT_EQ(run_peak.first, 90.0) << "the run's IES file";
+  EXPECT_EQ(run_peak.second, 60.0) << "the run's IES file";
+  EXPECT_EQ(ray_peak.first, run_peak.first) << "C of the ray file's peak";
+  EXPECT_EQ(ray_peak.second, run_peak.second) << "gamma of the ray file's peak";
+}
+
+// Issue 34, case 5 (the written image): the Lambertian disc set moved 50 mm
+// toward C90 (the ray file's −y) and 30 mm toward C0 (+x), with one weak ray
+// as far the other way pointing up, so the luminaire's centre stays between
+// them. 50 mm below, the near-field EXR's channel E is brightest about row
+// 10 of 41 from the top and column 26 from the left ((0.1 − 0.05) / 0.2 × 41,
+// (0.1 + 0.03) / 0.2 × 41), as its gonio:axes attribute says ("columns along
+// C0 (left -, right +), rows along C90 (top +, bottom -)"); written
+// bottom-up, row 30.
+TEST(CliNearField, EmitterTowardC90AndC0LightsTheExrsTopRight) {
+  test::TempDir dir;
+  io::Tm25RaySet set = lambertian_disc();
+  std::vector<float> rays = set.items;
+  for (std::size_t i = 0; i < rays.size(); i += 7) {
+    rays[i] += 30.0f;      // toward C0
+    rays[i + 1] -= 50.0f;  // toward C90
+  }
+  for (float v : {-30.0f, 50.0f, 0.0f, 0.0f, 0.0f, -1.0f, 0.001f}) rays.push_back(v);  // the other way, pointing up
+  ASSERT_TRUE(io::write_tm25_file((dir / "moved.tm25ray").string(), io::make_luminous_ray_set(std::move(rays))).ok());
+  test::write_file(dir / "led.gltf", ray_file_model("moved.tm25ray"));
+  const auto out = dir / "out";
+  auto r = gonio({"simulate", (dir / "led.gltf").string(), "--out", out.string(), "--photons", "100000",
+                  "--iterations", "1", "--format", "ies,report", "--near-field", "0.05"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto image = io::read_exr((out / "led.near-field-0.05m.exr").string());
+  ASSERT_TRUE(image.ok()) << to_string(image.error());
+  const io::ExrImage::FloatChannel* e = image->find_float("E");
+  ASSERT_NE(e, nullptr);
+  const auto n = static_cast<std::size_t>(image->width);
+  std::vector<double> rows(n, 0.0), columns(n, 0.0);
+  for (std::size_t i = 0; i < e->values.size(); ++i) {
+    rows[i / n] += static_cast<double>(e->values[i]);
+    columns[i % n] += static_cast<double>(e->values[i]);
+  }
+  const auto brightest = [](const std::vector<double>& v) {
+    return static_cast<std::size_t>(std::max_element(v.begin(), v.end()) - v.begin());
+  };
+  EXPECT_EQ(brightest(rows), 10u) << "brightest row of E (0 = +C90, the top)";
+  EXPECT_EQ(brightest(columns), 26u) << "brightest column of E (0 = -C0, the left)";
+  double top = 0.0, bottom = 0.0;
+  for (std::size_t k = 0; k < n / 2; ++k) {
+    top += rows[k];
+    bottom += rows[n - 1 - k];
+  }
+  EXPECT_GT(top, 3.0 * bottom);
 }
 
 }  // namespace

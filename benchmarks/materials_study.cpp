@@ -1,0 +1,182 @@
+// The measurements issue 32 asks for, on the bell sample (an isotropic
+// 1000 lm lamp under an opal shade):
+//   (a) today's opal: the thesis's weights on a single sheet of triangles —
+//       0.6 Lambertian transmission, 0.3 Lambertian and 0.1 mirror reflection;
+//   (b) a volume diffuser: the shade as a closed 3 mm shell of the library's
+//       "opal PMMA 3 mm" (smooth faces, n 1.49, the fitted μs, μa, g 0.8);
+//   (c) a tabulated BSDF: the same sheet as a goniophotometer would record
+//       it (sim::sheet_bsdf of that medium) on the single-sheet shade.
+// For each: photons per second (the same photon count and seed, the three
+// run one after another, then again in the reverse order; wall and CPU
+// time), flux out, the peak intensity, the beam and field angles in the
+// C0–C180 plane, and the candela differences from (a) on a 5° × 2.5° grid.
+//
+// Usage: gonio_materials_study [--photons N] (default 2^21)
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include "io/model/gltf.h"
+#include "photometry/beam.h"
+#include "samples/luminaires.h"
+#include "sim/bsdfs/library.h"
+#include "sim/bsdfs/slab.h"
+#include "sim/resample.h"
+#include "sim/shapes.h"
+#include "sim/simulation.h"
+
+using namespace gonio;
+
+namespace {
+
+double cpu_s() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+struct Outcome {
+  double photons_per_s = 0.0, cpu_per_mphoton = 0.0, escaped_lm = 0.0;
+  photometry::Distribution d;
+};
+
+Outcome run(const sim::SceneDesc& scene, std::uint64_t photons) {
+  sim::SimulationSettings s;
+  s.photons_per_iteration = photons;
+  s.iterations = 1;
+  s.seed = 7;
+  s.threads = 2;
+  s.face_size = 128;
+  const double c0 = cpu_s();
+  auto sim = sim::simulate(scene, s);
+  const double c1 = cpu_s();
+  if (!sim.ok()) {
+    std::fprintf(stderr, "%s\n", sim.error().message.c_str());
+    std::exit(1);
+  }
+  Outcome o;
+  o.photons_per_s = sim->stats().photons_per_s();
+  o.cpu_per_mphoton = (c1 - c0) / (static_cast<double>(photons) / 1e6);
+  o.escaped_lm = sim->ledger().escaped.flux_lm;
+  sim::CGammaGrid grid;
+  const sim::Resampler rs(s.face_size, scene.frame, grid);
+  o.d = sim::to_distribution(rs.bin(sim->far_field()), photometry::Symmetry::None);
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::uint64_t photons = std::uint64_t{1} << 21;
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--photons") == 0 && i + 1 < argc) photons = std::stoull(argv[++i]);
+  std::vector<Finding> findings;
+  const std::string path = std::string(GONIO_SAMPLES_DIR) + "/bell/bell.gltf";
+  Result<sim::SceneDesc> loaded = io::load_gltf(path, &findings);
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "%s\n", to_string(loaded.error()).c_str());
+    return 1;
+  }
+  const sim::SceneDesc a = *loaded;
+  std::size_t shade = a.meshes.size();
+  for (std::size_t m = 0; m < a.meshes.size(); ++m)
+    if (a.meshes[m].name.find("shade") != std::string::npos) shade = m;
+  if (shade == a.meshes.size()) {
+    std::fprintf(stderr, "no shade mesh in %s\n", path.c_str());
+    return 1;
+  }
+  const sim::MaterialPreset& opal = *sim::find_preset("opal PMMA 3 mm");
+
+  // (b): the shade as a closed shell, the profile offset 3 mm inwards.
+  sim::SceneDesc b = a;
+  {
+    const std::vector<sim::ProfilePoint> outer = samples::bell_shade_profile();
+    std::vector<sim::ProfilePoint> loop = outer;
+    for (std::size_t k = outer.size(); k-- > 0;) {
+      const sim::ProfilePoint& p0 = outer[k == 0 ? 0 : k - 1];
+      const sim::ProfilePoint& p1 = outer[k + 1 < outer.size() ? k + 1 : k];
+      const double dr = p1.r_m - p0.r_m, dy = p1.y_m - p0.y_m, len = std::hypot(dr, dy);
+      // The outward normal is (dy, −dr)/len: step against it.
+      loop.push_back({outer[k].r_m - opal.thickness_m * dy / len, outer[k].y_m + opal.thickness_m * dr / len});
+    }
+    sim::LatheOptions o;
+    o.segments = 96;
+    o.closed_profile = true;
+    sim::Mesh shell = sim::lathe(loop, o);
+    shell.name = "shade (3 mm shell)";
+    shell.material = static_cast<std::uint32_t>(b.materials.size());
+    b.materials.push_back(opal.material);
+    b.meshes[shade] = std::move(shell);
+  }
+  // (c): the single sheet with the medium's tabulated BSDF.
+  sim::SceneDesc c = a;
+  sim::SlabMedium medium;
+  medium.scattering_per_m = opal.material.scattering_per_m;
+  medium.absorption_per_m = opal.material.attenuation_per_m;
+  medium.g = opal.material.scattering_g;
+  medium.ior = opal.material.ior;
+  medium.thickness_m = opal.thickness_m;
+  const double t0 = cpu_s();
+  auto table = std::make_shared<sim::TabulatedBsdf>(sim::sheet_bsdf(medium, 200000, 3));
+  const double table_s = cpu_s() - t0;
+  {
+    sim::Material m;
+    m.name = "opal PMMA 3 mm (tabulated)";
+    m.tabulated = 1.0;
+    m.table = table;
+    c.meshes[shade].material = static_cast<std::uint32_t>(c.materials.size());
+    c.materials.push_back(m);
+  }
+  std::printf("bell sample, %llu photons per run, 2 threads; the sheet's table took %.1f s CPU "
+              "(normal incidence: T %.4f, R %.4f)\n",
+              static_cast<unsigned long long>(photons), table_s, table->albedo(true, Vec3{0, 0, 1}) - table->front.rows[0].reflect_albedo,
+              table->front.rows[0].reflect_albedo);
+  const char* names[] = {"(a) today's opal", "(b) volume diffuser", "(c) tabulated BSDF"};
+  const sim::SceneDesc* scenes[] = {&a, &b, &c};
+  Outcome out[3];
+  double rate[3] = {0, 0, 0}, cpu[3] = {0, 0, 0};
+  for (int pass = 0; pass < 2; ++pass)
+    for (int k = 0; k < 3; ++k) {
+      const int i = pass == 0 ? k : 2 - k;
+      out[i] = run(*scenes[i], photons);
+      rate[i] += out[i].photons_per_s / 2.0;
+      cpu[i] += out[i].cpu_per_mphoton / 2.0;
+    }
+  std::printf("%-22s %12s %14s %10s %10s %10s %10s\n", "", "photons/s", "CPU s/10^6", "flux lm", "max cd",
+              "beam C0", "field C0");
+  for (int i = 0; i < 3; ++i) {
+    const auto beam = photometry::beam_angle(out[i].d, 0.0), field = photometry::field_angle(out[i].d, 0.0);
+    double max_cd = 0.0;
+    for (double v : out[i].d.candela) max_cd = std::max(max_cd, v);
+    std::printf("%-22s %12.0f %14.2f %10.1f %10.2f %10.1f %10.1f\n", names[i], rate[i], cpu[i], out[i].escaped_lm,
+                max_cd, beam.angle_deg, field.angle_deg);
+  }
+  // Candela against (a): at a few γ in C0, and the RMS relative difference
+  // over the grid (bins above 1 % of the peak).
+  std::printf("candela in C0 at gamma:   ");
+  for (double g : {0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0}) std::printf("%8.0f", g);
+  std::printf("\n");
+  for (int i = 0; i < 3; ++i) {
+    std::printf("%-26s", names[i]);
+    for (double g : {0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0})
+      std::printf("%8.2f", photometry::interpolate(out[i].d, 0.0, g));
+    std::printf("\n");
+  }
+  for (int i = 1; i < 3; ++i) {
+    double max_cd = 0.0;
+    for (double v : out[0].d.candela) max_cd = std::max(max_cd, v);
+    double sum = 0.0, worst = 0.0;
+    int n = 0;
+    for (std::size_t k = 0; k < out[0].d.candela.size(); ++k) {
+      const double ref = out[0].d.candela[k];
+      if (ref < 0.01 * max_cd) continue;
+      const double rel = (out[i].d.candela[k] - ref) / ref;
+      sum += rel * rel;
+      worst = std::max(worst, std::abs(rel));
+      ++n;
+    }
+    std::printf("%s against (a): RMS relative candela difference %.1f %%, largest %.1f %%\n", names[i],
+                100.0 * std::sqrt(sum / n), 100.0 * worst);
+  }
+  return 0;
+}

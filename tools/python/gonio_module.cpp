@@ -1,0 +1,857 @@
+// `import gonio`: the Python module (gonio._gonio, re-exported by
+// gonio/__init__.py; stubs in gonio/__init__.pyi). It binds the libraries
+// the `gonio` command uses (the application library tools/run and what it
+// stands on) and computes nothing of its own: files are read by
+// io::read_photometric_file, figures are gonio info --json's objects
+// (tools/run/photometric_report.h), simulations run the progressive loop of
+// gonio simulate and write its files (tools/run/simulation_run.h). The only
+// file that includes pybind11.
+//
+// Conventions a Python user meets:
+// - Arrays share memory with the C++ objects (no copy) and keep them alive;
+//   the candela table is (horizontal angles, vertical angles), i.e. (C, γ)
+//   for Type C, in candela.
+// - Figures are plain Python data (dict, list, float, None): the JSON of
+//   `gonio info --json` under the same keys, null as None.
+// - Bad input raises gonio.GonioError with .file, .line, .column and
+//   .message; bad arguments raise ValueError; an undefined planning figure
+//   returns None with a gonio.UndefinedFigureWarning saying why.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gonio/version.h"
+#include "io/photometric/photometric_file.h"
+#include "io/support/cache_folder.h"
+#include "io/support/file_io.h"
+#include "photometry/compare.h"
+#include "photometry/format.h"
+#include "photometry/planning.h"
+#include "photometry/summary.h"
+#include "photometry/validation.h"
+#include "sim/distributed.h"
+#include "sim/far_field.h"
+#include "sim/ledger.h"
+#include "sim/sampler.h"
+#include "sim/symmetry.h"
+#include "tools/run/console.h"
+#include "tools/run/distributed_run.h"
+#include "tools/run/json_figures.h"
+#include "tools/run/model_input.h"
+#include "tools/run/photometric_report.h"
+#include "tools/run/progressive_run.h"
+#include "tools/run/ray_file_far_field.h"
+#include "tools/run/resampler_cache.h"
+#include "tools/run/simulation_outputs.h"
+#include "tools/run/simulation_run.h"
+
+namespace py = pybind11;
+
+namespace gonio::python {
+namespace {
+
+// The exception and warning classes, made once at import (kept for the
+// interpreter's life: a static py::object would be released after it ends).
+PyObject* g_error_type = nullptr;
+PyObject* g_warning_type = nullptr;
+
+py::object none_if_empty(const std::string& s) { return s.empty() ? py::object(py::none()) : py::object(py::str(s)); }
+py::object none_if_zero(int v) { return v > 0 ? py::object(py::int_(v)) : py::object(py::none()); }
+
+// gonio.GonioError(str(error)) with .message, .file, .line, .column.
+[[noreturn]] void raise_error(const Error& e) {
+  py::object type = py::reinterpret_borrow<py::object>(g_error_type);
+  py::object error = type(to_string(e));
+  error.attr("message") = e.message;
+  error.attr("file") = none_if_empty(e.where.file);
+  error.attr("line") = none_if_zero(e.where.line);
+  error.attr("column") = none_if_zero(e.where.column);
+  PyErr_SetObject(g_error_type, error.ptr());
+  throw py::error_already_set();
+}
+
+template <class T>
+T take(Result<T> r) {
+  if (!r.ok()) raise_error(r.error());
+  return std::move(r.value());
+}
+
+// A JSON value as plain Python data (objects keep their key order).
+template <class Json>
+py::object to_python(const Json& j) {
+  switch (j.type()) {
+    case Json::value_t::null: return py::none();
+    case Json::value_t::boolean: return py::bool_(j.template get<bool>());
+    case Json::value_t::number_integer: return py::int_(j.template get<std::int64_t>());
+    case Json::value_t::number_unsigned: return py::int_(j.template get<std::uint64_t>());
+    case Json::value_t::number_float: return py::float_(j.template get<double>());
+    case Json::value_t::string: return py::str(j.template get_ref<const std::string&>());
+    case Json::value_t::array: {
+      py::list out;
+      for (const auto& v : j) out.append(to_python(v));
+      return out;
+    }
+    case Json::value_t::object: {
+      py::dict out;
+      for (auto it = j.begin(); it != j.end(); ++it) out[py::str(it.key())] = to_python(it.value());
+      return out;
+    }
+    default: return py::none();  // binary and discarded values: never built here
+  }
+}
+
+// os.fspath(path): str or os.PathLike.
+std::string fspath(const py::object& path) {
+  return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+}
+
+io::LdtIsym3Order isym3_order(const std::string& word) {
+  if (word == "standard") return io::LdtIsym3Order::C270_C0_C90;
+  if (word == "qlumedit") return io::LdtIsym3Order::C90_C180_C270;
+  throw py::value_error("ldt_isym3 must be 'standard' or 'qlumedit', not '" + word + "'");
+}
+
+photometry::UgrOptions ugr_options(const std::string& word) {
+  const std::optional<photometry::UgrBackground> b = photometry::parse_ugr_background(word);
+  if (!b) throw py::value_error("background must be 'cie190' or 'flux-transfer', not '" + word + "'");
+  photometry::UgrOptions o;
+  o.background = *b;
+  return o;
+}
+
+// A photometry as Python holds it: the file as read (or simulated) and the
+// name its figures and messages carry.
+struct Photometry {
+  std::shared_ptr<io::PhotometricFile> file;
+  std::string name;
+  bool simulated = false;  // a simulation's table, not read from a file
+
+  const photometry::Distribution& d() const { return file->distribution; }
+  // Arrays are writable views: check before every computation.
+  void require_valid() const {
+    if (Status s = photometry::validate(d()); !s.ok()) {
+      Error e = s.error();
+      if (e.where.file.empty()) e.where.file = name;
+      raise_error(e);
+    }
+  }
+  photometry::PlanningFigures planning(double floor_reflectance, const photometry::UgrOptions& ugr) const {
+    require_valid();
+    return photometry::planning_figures(d(), floor_reflectance, ugr);
+  }
+};
+
+Photometry make_photometry(io::PhotometricFile file, const std::string& path) {
+  const bool container = !file.container.empty();
+  const std::string name = container ? path + ":" + file.container_entry : path;
+  return {std::make_shared<io::PhotometricFile>(std::move(file)), name, false};
+}
+
+io::PhotometricReadOptions read_options(const std::string& isym3, const std::string& gldf_photometry) {
+  io::PhotometricReadOptions o;
+  o.ldt.isym3_order = isym3_order(isym3);
+  o.gldf_photometry = gldf_photometry;
+  cli::enable_ray_files(o);
+  return o;
+}
+
+Photometry read(const py::object& path_object, const std::optional<std::string>& photometry,
+                const std::string& ldt_isym3) {
+  const std::string path = fspath(path_object);
+  const io::PhotometricReadOptions options = read_options(ldt_isym3, photometry.value_or(""));
+  Result<io::PhotometricFile> file = [&] {
+    py::gil_scoped_release unlocked;
+    return io::read_photometric_file(path, options);
+  }();
+  return make_photometry(take(std::move(file)), path);
+}
+
+std::vector<Photometry> read_all(const py::object& path_object, const std::string& ldt_isym3) {
+  const std::string path = fspath(path_object);
+  const io::PhotometricReadOptions options = read_options(ldt_isym3, "");
+  Result<std::vector<io::PhotometricFile>> files = [&] {
+    py::gil_scoped_release unlocked;
+    return io::read_photometric_files(path, options);
+  }();
+  std::vector<Photometry> out;
+  for (io::PhotometricFile& f : take(std::move(files))) out.push_back(make_photometry(std::move(f), path));
+  return out;
+}
+
+// A view of a vector owned by `owner` (a Python object holding it alive).
+template <class T>
+py::array_t<T> view(std::vector<T>& v, const py::object& owner, std::vector<py::ssize_t> shape) {
+  std::vector<py::ssize_t> strides(shape.size(), static_cast<py::ssize_t>(sizeof(T)));
+  for (std::size_t i = shape.size() - 1; i > 0; --i) strides[i - 1] = strides[i] * shape[i];
+  return py::array_t<T>(shape, strides, v.data(), owner);
+}
+
+// One of a photometry's angle lists as a view kept alive by the Photometry.
+template <std::vector<double> photometry::Distribution::*angles>
+py::array_t<double> angles_view(const py::object& self) {
+  std::vector<double>& a = self.cast<Photometry&>().file->distribution.*angles;
+  return view(a, self, {static_cast<py::ssize_t>(a.size())});
+}
+
+py::object lamps_py(const std::vector<photometry::LampSet>& lamps) {
+  py::list out;
+  for (const photometry::LampSet& l : lamps) out.append(to_python(cli::lamp_json(l)));
+  return out;
+}
+
+cli::OrderedJson planning_json(const Photometry& p, double floor_reflectance, const std::string& background) {
+  cli::OrderedJson j;
+  cli::put_planning(j, p.planning(floor_reflectance, ugr_options(background)));
+  return j;
+}
+
+// One planning figure of info --json: its object, or None with a warning
+// that says why it is undefined.
+py::object figure(const cli::OrderedJson& j, const std::string& key) {
+  if (!j[key].is_null()) return to_python(j[key]);
+  const std::string why = j.contains(key + "_why") ? j[key + "_why"].template get<std::string>() : "undefined";
+  if (PyErr_WarnEx(g_warning_type, (key + ": " + why).c_str(), 2) != 0) throw py::error_already_set();
+  return py::none();
+}
+
+double checked_floor(double floor_reflectance) {
+  if (!(floor_reflectance >= 0.0 && floor_reflectance <= 0.95))
+    throw py::value_error("floor_reflectance must lie in [0, 0.95] (gonio info --cu-floor)");
+  return floor_reflectance;
+}
+
+std::vector<Finding> write(const Photometry& p, const py::object& path_object, const std::optional<std::string>& version,
+                           const std::string& ldt_isym3, const std::string& gldf_photometry) {
+  const std::string path = fspath(path_object);
+  p.require_valid();
+  const std::optional<io::PhotometricFormat> format = io::format_for_path(path);
+  if (!format || *format == io::PhotometricFormat::Tm25)
+    throw py::value_error("cannot tell the output format from '" + path +
+                          "': its extension must be .ies, .ldt, .xml or .gldf");
+  io::PhotometricWriteOptions options;
+  if (version) {
+    if (*format != io::PhotometricFormat::Ies && *format != io::PhotometricFormat::Gldf)
+      throw py::value_error("version applies to .ies output only");
+    if (*version != "2019" && *version != "2002") throw py::value_error("version must be '2019' or '2002'");
+    options.ies.version = *version == "2002" ? io::IesVersion::LM63_2002 : io::IesVersion::LM63_2019;
+  }
+  options.ldt.isym3_order = isym3_order(ldt_isym3);
+  options.ies.file_generation_info = std::string("Written by Gonio ") + kVersion + " (Python) from " +
+                                     std::filesystem::path(p.name).filename().string() + " (" +
+                                     io::to_string(p.file->format) + ")";
+  if (gldf_photometry == "ldt") {
+    options.gldf_photometry = io::PhotometricFormat::Ldt;
+  } else if (gldf_photometry == "ies") {
+    options.gldf_photometry = io::PhotometricFormat::Ies;
+  } else if (gldf_photometry == "tm33") {
+    options.gldf_photometry = io::PhotometricFormat::Tm33;
+  } else {
+    throw py::value_error("gldf_photometry must be 'ldt', 'ies' or 'tm33'");
+  }
+  std::vector<Finding> warnings;
+  Status written = [&] {
+    py::gil_scoped_release unlocked;
+    return io::write_photometric_file(path, p.d(), options, &warnings);
+  }();
+  take(std::move(written));
+  for (Finding& w : warnings)
+    if (w.where.file.empty()) w.where.file = path;
+  return warnings;
+}
+
+py::object compare(const py::object& a_object, const py::object& b_object, double c_step, double gamma_step,
+                   bool normalize) {
+  const auto photometry_of = [](const py::object& o) {
+    if (py::isinstance<Photometry>(o)) return o.cast<Photometry>();
+    return read(o, std::nullopt, "standard");
+  };
+  const Photometry a = photometry_of(a_object), b = photometry_of(b_object);
+  const double c_steps = 360.0 / c_step, g_steps = 90.0 / gamma_step;
+  if (!(c_step > 0.0 && gamma_step > 0.0) || std::abs(c_steps - std::round(c_steps)) > 1e-9 * c_steps ||
+      std::abs(g_steps - std::round(g_steps)) > 1e-9 * g_steps)
+    throw py::value_error("c_step must divide 360 and gamma_step 90 into whole steps (e.g. 5 and 2.5)");
+  a.require_valid();
+  b.require_valid();
+  photometry::CompareOptions options;
+  options.c_step_deg = c_step;
+  options.gamma_step_deg = gamma_step;
+  options.normalize_flux = normalize;
+  const photometry::Comparison c = take(photometry::compare(a.d(), b.d(), options));
+  return to_python(cli::compare_json(a.name, *a.file, b.name, *b.file, c, options));
+}
+
+void bind_photometry(py::module_& m) {
+  py::class_<Finding>(m, "Finding", "One observation of a reader or check: a stable code, a message, where.")
+      .def_property_readonly("severity", [](const Finding& f) { return std::string(to_string(f.severity)); })
+      .def_readonly("code", &Finding::code)
+      .def_readonly("message", &Finding::message)
+      .def_property_readonly("file", [](const Finding& f) { return none_if_empty(f.where.file); })
+      .def_property_readonly("line", [](const Finding& f) { return none_if_zero(f.where.line); })
+      .def_property_readonly("column", [](const Finding& f) { return none_if_zero(f.where.column); })
+      .def("__str__", [](const Finding& f) { return cli::format_finding(f); })
+      .def("__repr__", [](const Finding& f) { return "<gonio.Finding " + cli::format_finding(f) + ">"; });
+
+  py::class_<Photometry>(m, "Photometry",
+                         "A light distribution read from a file (or simulated), with what follows from it.\n\n"
+                         "vertical_deg, horizontal_deg and candela share the object's memory (no copy):\n"
+                         "writing into them changes what write() writes and what the figures are computed\n"
+                         "from. candela[h, v] is the intensity [cd] at horizontal_deg[h] (C, or H for\n"
+                         "Types A and B) and vertical_deg[v] (gamma, or V).")
+      .def_readonly("path", &Photometry::name, "the file it was read from (FILE:ENTRY inside a GLDF)")
+      .def_property_readonly(
+          "format",
+          [](const Photometry& p) -> py::object {
+            if (p.simulated) return py::none();
+            return py::str(io::to_string(p.file->format));
+          },
+          "the format of the photometry itself: IES, EULUMDAT, TM-33 or TM-25; None for a simulation's table")
+      .def_property_readonly(
+          "format_label",
+          [](const Photometry& p) { return p.simulated ? std::string("simulated") : io::format_label(*p.file); },
+          "format and version as messages name them, e.g. 'IES LM-63-2019'; 'simulated' for a simulation's table")
+      .def_property_readonly(
+          "version",
+          [](const Photometry& p) -> py::object {
+            if (p.file->ies_version) return py::str(io::to_string(*p.file->ies_version));
+            if (p.file->tm33_version) return py::str(io::to_string(*p.file->tm33_version));
+            return py::none();
+          },
+          "the IES LM-63 or TM-33 version the file declared; None for other formats")
+      .def_property_readonly("container", [](const Photometry& p) { return none_if_empty(p.file->container); },
+                             "the GLDF container it was read from, else None")
+      .def_property_readonly("container_entry",
+                             [](const Photometry& p) { return none_if_empty(p.file->container_entry); })
+      .def_property_readonly("container_id", [](const Photometry& p) { return none_if_empty(p.file->container_id); })
+      .def_property_readonly("photometric_type",
+                             [](const Photometry& p) { return std::string(photometry::to_string(p.d().type)); })
+      .def_property_readonly("symmetry",
+                             [](const Photometry& p) { return std::string(photometry::to_string(p.d().symmetry)); })
+      .def_property_readonly("vertical_deg", angles_view<&photometry::Distribution::vertical_deg>,
+                             "vertical angles [deg]: gamma (Type C), V (Types A, B); a view, no copy")
+      .def_property_readonly("horizontal_deg", angles_view<&photometry::Distribution::horizontal_deg>,
+                             "horizontal angles [deg]: C-planes (Type C), H (Types A, B); a view, no copy")
+      .def_property_readonly(
+          "candela",
+          [](py::object self) {
+            Photometry& p = self.cast<Photometry&>();
+            photometry::Distribution& d = p.file->distribution;
+            return view(d.candela, self,
+                        {static_cast<py::ssize_t>(d.horizontal_deg.size()),
+                         static_cast<py::ssize_t>(d.vertical_deg.size())});
+          },
+          "intensities [cd], shape (horizontal angles, vertical angles); a view, no copy")
+      .def_property_readonly("absolute", [](const Photometry& p) { return p.d().absolute; },
+                             "absolute photometry (candela as measured, no rated lamp flux)")
+      .def_property_readonly("lamps", [](const Photometry& p) { return lamps_py(p.d().lamps); },
+                             "lamp sets: count, type, flux_lm, color, color_rendering, power_w")
+      .def_property_readonly("alternative_lamps", [](const Photometry& p) { return lamps_py(p.d().alternative_lamps); })
+      .def_property_readonly("ballast_factor", [](const Photometry& p) { return p.d().ballast_factor; })
+      .def_property_readonly("input_watts",
+                             [](const Photometry& p) -> py::object {
+                               const double w = p.d().input_watts;
+                               return std::isfinite(w) ? py::object(py::float_(w)) : py::object(py::none());
+                             })
+      .def_property_readonly(
+          "opening",
+          [](const Photometry& p) {
+            const photometry::LuminousOpening& o = p.d().opening;
+            py::dict out;
+            out["shape"] = photometry::to_string(o.shape);
+            out["length_m"] = o.length_m;
+            out["width_m"] = o.width_m;
+            out["height_m"] = o.height_m;
+            return out;
+          },
+          "the luminous opening: shape, length_m (along C0-C180), width_m (C90-C270), height_m")
+      .def_property_readonly(
+          "luminaire_dimensions",
+          [](const Photometry& p) {
+            const photometry::LuminaireDimensions& l = p.d().luminaire;
+            cli::OrderedJson j = {{"length_m", cli::json_number<cli::OrderedJson>(l.length_m)},
+                                  {"width_m", cli::json_number<cli::OrderedJson>(l.width_m)},
+                                  {"height_m", cli::json_number<cli::OrderedJson>(l.height_m)}};
+            return to_python(j);
+          })
+      .def_property_readonly(
+          "keywords",
+          [](const Photometry& p) {
+            py::list out;
+            for (const photometry::Keyword& k : p.d().keywords) out.append(py::make_tuple(k.key, k.value));
+            return out;
+          },
+          "(KEY, value) pairs in file order: LM-63 keywords, and EULUMDAT's header strings under the same keys")
+      .def_property_readonly("findings", [](const Photometry& p) { return p.file->findings; },
+                             "what the reader noticed: warnings and notes with file and line")
+      .def_property_readonly(
+          "ray_set",
+          [](const Photometry& p) -> py::object {
+            if (!p.file->ray_set) return py::none();
+            return to_python(cli::ray_set_json(*p.file->ray_set));
+          },
+          "of a TM-25 ray file its rays (count, flux, extent, spectrum), else None")
+      .def(
+          "summary",
+          [](const Photometry& p) {
+            p.require_valid();
+            const photometry::Summary s = photometry::summarize(p.d());
+            cli::OrderedJson j;
+            j["rated_lamp_flux_lm"] = cli::json_number<cli::OrderedJson>(s.rated_lamp_flux_lm);
+            cli::put_summary(j, p.d(), s);
+            return to_python(j);
+          },
+          "Flux, LOR, DFF, zonal flux, peak, beam and field angles, CIE flux code, efficacy:\n"
+          "gonio info --json's keys (flux_lm, lor, dff, zones, max_cd, beam, field, ...).")
+      .def(
+          "ugr_table",
+          [](const Photometry& p, const std::string& background) {
+            return figure(planning_json(p, 0.2, background), "ugr_table");
+          },
+          py::arg("background") = "cie190",
+          "The UGR catalogue table (CIE 190:2010, CIE 117 tabular method), as gonio info --json's\n"
+          "ugr_table; None (with an UndefinedFigureWarning) where it is undefined.")
+      .def(
+          "cu_table",
+          [](const Photometry& p, double floor_reflectance) {
+            return figure(planning_json(p, checked_floor(floor_reflectance), "cie190"), "cu_table");
+          },
+          py::arg("floor_reflectance") = 0.2,
+          "Coefficients of utilisation (IES zonal cavity method) as gonio info --json's cu_table;\n"
+          "None (with an UndefinedFigureWarning) where undefined.")
+      .def(
+          "luminance_table",
+          [](const Photometry& p) { return figure(planning_json(p, 0.2, "cie190"), "luminance_table"); },
+          "Luminance over gamma in C0 and C90 [cd/m2] as gonio info --json's luminance_table;\n"
+          "None (with an UndefinedFigureWarning) where undefined (no luminous opening).")
+      .def(
+          "bug", [](const Photometry& p) { return to_python(planning_json(p, 0.2, "cie190")["bug"]); },
+          "The BUG rating (IES TM-15-11 Addendum A): b, u, g, text, zones_lm.")
+      .def(
+          "spacing_criterion",
+          [](const Photometry& p) { return to_python(planning_json(p, 0.2, "cie190")["spacing_criterion"]); },
+          "The IES spacing criterion in C0-C180, C90-C270 and diagonal (None with a *_why key where undefined).")
+      .def(
+          "info",
+          [](const Photometry& p, double cu_floor, const std::string& ugr_background) {
+            const photometry::PlanningFigures planning = p.planning(checked_floor(cu_floor), ugr_options(ugr_background));
+            cli::OrderedJson j = cli::info_json(p.name, *p.file, photometry::summarize(p.d()), planning);
+            if (!p.file->container.empty()) j["gldf_photometry_id"] = p.file->container_id;
+            return to_python(j);
+          },
+          py::arg("cu_floor") = 0.2, py::arg("ugr_background") = "cie190",
+          "Everything gonio info --json prints for this photometry, as one dict.")
+      .def(
+          "check",
+          [](const Photometry& p) {
+            p.require_valid();
+            std::vector<Finding> findings = photometry::check(p.d());
+            for (Finding& f : findings)
+              if (f.where.file.empty()) f.where.file = p.name;
+            return findings;
+          },
+          "The plausibility checks of gonio check (default options): a list of Findings.")
+      .def("write", &write, py::arg("path"), py::arg("version") = py::none(), py::kw_only(),
+           py::arg("ldt_isym3") = "standard", py::arg("gldf_photometry") = "ldt",
+           "Writes the photometry to PATH (.ies, .ldt, .xml for TM-33, .gldf), atomically, as\n"
+           "gonio convert does: version '2019' or '2002' for IES. Returns the writer's notes\n"
+           "(what was converted or filled in). Raises GonioError where it cannot write.")
+      .def("__repr__", [](const Photometry& p) {
+        return "<gonio.Photometry " + p.name + " (" + (p.simulated ? std::string("simulated") : io::format_label(*p.file)) + ", Type " +
+               photometry::to_string(p.d().type) + ", " + std::to_string(p.d().horizontal_deg.size()) + " x " +
+               std::to_string(p.d().vertical_deg.size()) + " angles)>";
+      });
+
+  m.def("read", &read, py::arg("path"), py::arg("photometry") = py::none(), py::kw_only(),
+        py::arg("ldt_isym3") = "standard",
+        "Reads a photometric file of any format Gonio reads (IES LM-63, EULUMDAT, IES TM-33,\n"
+        "GLDF, a TM-25 ray file's far field), by extension, else by content. Of a GLDF the\n"
+        "photometry with id (or entry 'ldc/NAME') `photometry`, else the first. ldt_isym3:\n"
+        "the plane order of EULUMDAT Isym 3 ('standard' or 'qlumedit'). Raises GonioError\n"
+        "(file, line) where the file cannot be read.");
+  m.def("read_all", &read_all, py::arg("path"), py::kw_only(), py::arg("ldt_isym3") = "standard",
+        "Every photometry of a file: one, or each of a GLDF container's.");
+  m.def("compare", &compare, py::arg("a"), py::arg("b"), py::kw_only(), py::arg("c_step") = 5.0,
+        py::arg("gamma_step") = 2.5, py::arg("normalize") = false,
+        "Compares B with the reference A (Photometry objects or paths) on one Type C grid over\n"
+        "the sphere, as gonio compare --json: rms_relative and max_relative to A's peak, the\n"
+        "flux of each, beam and field angle differences.");
+}
+
+// ------------------------------------------------------------ simulate
+
+// The far field of a run: a copy the result owns (the simulation, its scene
+// and its BVH are released when simulate() returns).
+struct FarField {
+  std::shared_ptr<const sim::FarField> field;
+};
+
+// A read-only view of `data` shaped (6, N, N) (cube face, row y, column x),
+// kept alive by `owner`.
+template <class T>
+py::array_t<T> cube_view(const T* data, int n, const py::object& owner) {
+  const py::ssize_t s = static_cast<py::ssize_t>(sizeof(T)), nn = n;
+  py::array_t<T> a({py::ssize_t{6}, nn, nn}, {s * nn * nn, s * nn, s}, data, owner);
+  a.attr("flags").attr("writeable") = false;
+  return a;
+}
+
+struct Iteration {
+  cli::IterationReport report;
+};
+
+struct SimulationResult {
+  std::string model;
+  FarField far_field;
+  Photometry photometry;
+  sim::Ledger ledger;
+  double estimated_rms_error_pct = 0.0;
+  std::string stopped_by;
+  int iterations_done = 0;
+  std::uint64_t photons = 0;
+  double trace_s = 0.0;
+  std::string symmetry_reason;
+  std::vector<Finding> model_findings;
+  std::vector<std::string> files;
+  py::object report = py::none();
+  int exit_code = 0;
+};
+
+py::dict ledger_line(const sim::LedgerLine& l) {
+  py::dict d;
+  d["photons"] = l.photons;
+  d["flux_lm"] = l.flux_lm;
+  return d;
+}
+
+py::dict ledger_py(const sim::Ledger& l) {
+  py::dict d;
+  for (const auto& [key, line] : {std::pair{"emitted", &l.emitted}, {"escaped", &l.escaped},
+                                  {"absorbed", &l.absorbed}, {"cutoff", &l.cutoff}})
+    d[key] = ledger_line(*line);
+  d["photons_close"] = l.photons_close();
+  d["flux_imbalance_lm"] = l.flux_imbalance_lm();
+  py::list emitters, meshes, materials;
+  for (const sim::EmitterLedger& e : l.emitters) {
+    py::dict x;
+    x["name"] = e.name;
+    for (const auto& [key, line] : {std::pair{"emitted", &e.emitted}, {"escaped", &e.escaped},
+                                    {"absorbed", &e.absorbed}, {"cutoff", &e.cutoff}})
+      x[key] = ledger_line(*line);
+    emitters.append(x);
+  }
+  for (const sim::MeshLedger& m : l.meshes) {
+    py::dict x;
+    x["name"] = m.name;
+    x["material"] = m.material;
+    x["placements"] = m.placements;
+    x["hits"] = m.hits;
+    x["absorbed"] = ledger_line(m.absorbed);
+    x["cutoff"] = ledger_line(m.cutoff);
+    meshes.append(x);
+  }
+  for (const sim::MaterialLedger& m : l.materials) {
+    py::dict x;
+    x["name"] = m.name;
+    x["hits"] = m.hits;
+    x["absorbed"] = ledger_line(m.absorbed);
+    x["cutoff"] = ledger_line(m.cutoff);
+    materials.append(x);
+  }
+  d["emitters"] = emitters;
+  d["meshes"] = meshes;
+  d["materials"] = materials;
+  return d;
+}
+
+// What a Python caller's callbacks left: an exception to raise once the run
+// has stopped (KeyboardInterrupt from Ctrl-C, or the callback's own).
+struct PythonStop {
+  std::optional<py::error_already_set> error;
+  // Runs Python's signal handlers (Ctrl-C raises KeyboardInterrupt there);
+  // true where one raised. Needs the GIL.
+  bool signalled() {
+    if (PyErr_CheckSignals() == 0) return false;
+    error.emplace();
+    return true;
+  }
+};
+
+// The checks and plan of gonio simulate through the same library calls
+// (tools/run has no planner of its own yet: tools/cli's plan_simulation
+// works on the parsed argv); a bad argument is a ValueError.
+cli::SimulatePlan plan_run(const std::string& model, std::uint64_t photons, int iterations, std::uint64_t seed,
+                           const std::string& sampler, int threads, const std::string& out, double target_error,
+                           double c_step, double gamma_step, const std::string& symmetry, const std::string& formats,
+                           const std::string& ies_version, const std::optional<std::string>& name, int max_bounces,
+                           bool cache) {
+  const auto value_error = [](const std::string& what) { throw py::value_error(what); };
+  if (photons < 1 || photons > 4'294'967'295ULL) value_error("photons must lie in [1, 4294967295] per iteration");
+  if (iterations < 1 || iterations > 1'000'000) value_error("iterations must lie in [1, 1000000]");
+  if (threads < 0 || threads > 4096) value_error("threads must lie in [0, 4096] (0: every core)");
+  if (max_bounces < 0 || max_bounces > 1'000'000) value_error("max_bounces must lie in [0, 1000000]");
+  if (!(target_error >= 0.0 && target_error <= 100.0)) value_error("target_error must lie in [0, 100] (percent)");
+  cli::SimulatePlan plan;
+  plan.model = model;
+  plan.out_dir = out;
+  plan.stem = name.value_or(std::filesystem::path(model).stem().string());
+  if (plan.stem.empty() || plan.stem.find_first_of("/\\") != std::string::npos || plan.stem == "." ||
+      plan.stem == "..")
+    value_error("name: '" + plan.stem + "' is not a plain file name");
+  plan.grid.c_step_deg = c_step;
+  plan.grid.gamma_step_deg = gamma_step;
+  if (Status s = sim::validate(plan.grid); !s.ok()) value_error(s.error().message);
+  if (symmetry != "auto") {
+    plan.symmetry = sim::parse_symmetry(symmetry);
+    if (!plan.symmetry)
+      value_error("symmetry: unknown symmetry '" + symmetry +
+                  "'; expected auto, none, C0-C180, C90-C270, quadrant or rotational");
+    if (Status s = sim::check_grid_supports(plan.grid, *plan.symmetry); !s.ok()) value_error(s.error().message);
+  }
+  Result<std::vector<cli::OutputFormat>> parsed = cli::parse_formats(formats);
+  if (!parsed.ok()) value_error("formats: " + parsed.error().message);
+  plan.formats = parsed.value();
+  if (ies_version != "2019" && ies_version != "2002") value_error("ies_version must be '2019' or '2002'");
+  plan.ies_version = ies_version == "2002" ? io::IesVersion::LM63_2002 : io::IesVersion::LM63_2019;
+  plan.model_input.cache_dir = cache ? io::default_cache_dir() : std::string();
+  plan.progressive.target_error_pct = target_error;
+  sim::SimulationSettings& s = plan.progressive.simulation;
+  s.photons_per_iteration = photons;
+  s.iterations = iterations;
+  s.seed = seed;
+  const std::optional<sim::SamplerKind> kind = sim::parse_sampler(sampler);
+  if (!kind) value_error("sampler must be 'sobol' or 'random', not '" + sampler + "'");
+  s.sampler = *kind;
+  s.threads = threads;
+  s.max_bounces = max_bounces;
+  s.face_size = sim::face_size_for(plan.grid);
+  return plan;
+}
+
+SimulationResult simulate(const py::object& model_object, std::uint64_t photons, int iterations, std::uint64_t seed,
+                          const std::string& sampler, int threads, const py::object& out_object,
+                          const py::object& on_iteration, double target_error, double c_step, double gamma_step,
+                          const std::string& symmetry, const std::string& formats, const std::string& ies_version,
+                          const std::optional<std::string>& name, int max_bounces, bool cache) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::string model = fspath(model_object);
+  const std::string out = out_object.is_none() ? std::string() : fspath(out_object);
+  cli::SimulatePlan plan = plan_run(model, photons, iterations, seed, sampler, threads, out, target_error, c_step,
+                                    gamma_step, symmetry, formats, ies_version, name, max_bounces, cache);
+  sim::Ranks ranks;  // this process alone
+  plan.progressive.simulation.ranks = &ranks;
+
+  SimulationResult result;
+  result.model = model;
+  cli::ModelInputTimes times;
+  cli::ModelLoad loaded = [&] {
+    py::gil_scoped_release unlocked;
+    return cli::load_model(model, plan.model_input, &times);
+  }();
+  result.model_findings = loaded.findings;
+  if (loaded.error) raise_error(*loaded.error);
+  if (loaded.has_errors || !loaded.scene)
+    for (const Finding& f : loaded.findings)
+      if (f.severity == Severity::Error) raise_error(Error{f.where, f.message + " [" + f.code + "]; nothing was simulated"});
+  if (!out.empty()) take(io::make_directories(out));
+  const sim::Resampler resampler = [&] {
+    py::gil_scoped_release unlocked;
+    return cli::cached_resampler(plan.progressive.simulation.face_size, loaded.scene->frame, plan.grid,
+                                 plan.model_input.cache_dir);
+  }();
+
+  // Back in Python after each iteration (its callback, Ctrl-C) and between
+  // slices of an iteration (Ctrl-C only).
+  PythonStop stop;
+  const cli::IterationCallback each = [&](const cli::IterationReport& r, const sim::Simulation&) {
+    py::gil_scoped_acquire locked;
+    if (stop.signalled()) return false;
+    if (on_iteration.is_none()) return true;
+    try {
+      const py::object go_on = on_iteration(Iteration{r});
+      return go_on.is_none() || go_on.cast<bool>();
+    } catch (py::error_already_set& e) {
+      stop.error.emplace(std::move(e));
+      return false;
+    }
+  };
+  const cli::CancelCheck cancel = [&] {
+    py::gil_scoped_acquire locked;
+    return stop.signalled();
+  };
+  Result<cli::ProgressiveOutcome> ran = [&] {
+    py::gil_scoped_release unlocked;
+    return cli::run_progressive(std::move(*loaded.scene), plan.progressive, &resampler, each, cancel);
+  }();
+  // Ctrl-C or the callback's exception: raised here, nothing written.
+  if (stop.error) throw std::move(*stop.error);
+  if (!ran.ok()) {
+    Error e = ran.error();
+    if (e.where.file.empty()) e.where.file = model;
+    raise_error(e);
+  }
+  cli::ProgressiveOutcome& run = ran.value();
+  const sim::Simulation& simulation = run.simulation;
+  const sim::SimulationStats st = simulation.stats();
+  result.ledger = simulation.ledger();
+  result.estimated_rms_error_pct = run.estimated_rms_error_pct;
+  result.stopped_by = cli::to_string(run.stopped_by);
+  result.iterations_done = run.iterations_done;
+  result.photons = st.photons;
+  result.trace_s = st.trace_s;
+
+  // The candela table the IES and LDT files hold (tools/run/simulation_outputs.h).
+  Result<cli::SimulatedTable> table = [&] {
+    py::gil_scoped_release unlocked;
+    const cli::OutputRequest request =
+        cli::table_request(simulation, model, plan.grid, plan.symmetry, plan.model_input.cache_dir);
+    return cli::simulated_table(simulation.far_field(), simulation.scene(), result.ledger, request);
+  }();
+  cli::SimulatedTable t = take(std::move(table));
+  io::PhotometricFile file;
+  file.distribution = std::move(t.distribution);
+  result.symmetry_reason = t.symmetry_reason;
+  result.photometry = {std::make_shared<io::PhotometricFile>(std::move(file)), model + " (simulated)", true};
+  result.far_field.field = std::make_shared<const sim::FarField>(simulation.far_field());
+  if (!out.empty()) {
+    py::gil_scoped_release unlocked;
+    result.exit_code = cli::write_run_files(plan, run, times, nullptr, start, cli::ranks_json(ranks, st));
+  }
+  if (!out.empty()) {
+    const std::filesystem::path report = std::filesystem::path(out) / "report.json";
+    if (std::filesystem::exists(report)) {
+      const Result<std::string> text = io::read_file(report.string(), std::size_t{1} << 28);
+      const nlohmann::json j = text.ok() ? nlohmann::json::parse(*text, nullptr, false) : nlohmann::json();
+      result.report = to_python(j);
+      if (j.contains("written"))
+        for (const auto& f : j["written"]) result.files.push_back(f.get<std::string>());
+    }
+  }
+  return result;
+}
+
+void bind_simulation(py::module_& m) {
+  py::class_<FarField>(m, "FarField",
+                       "The simulated far field: a direction cube map, faces +X -X +Y -Y +Z -Z of the model's\n"
+                       "world axes (OpenEXR's order; sim/cube_map.h), arrays of shape (6, N, N) indexed\n"
+                       "[face, y, x], read-only views of the result (no copy).")
+      .def_property_readonly("face_size", [](const FarField& f) { return f.field->face_size(); })
+      .def_property_readonly("total_flux_lm", [](const FarField& f) { return f.field->total_flux_lm(); })
+      .def_property_readonly(
+          "flux_lm",
+          [](py::object self) {
+            const FarField& f = self.cast<const FarField&>();
+            return cube_view(f.field->flux_lm().data(), f.field->face_size(), self);
+          },
+          "flux per texel [lm]")
+      .def_property_readonly(
+          "photons",
+          [](py::object self) {
+            const FarField& f = self.cast<const FarField&>();
+            return cube_view(f.field->photons().data(), f.field->face_size(), self);
+          },
+          "photons counted per texel")
+      .def_property_readonly(
+          "solid_angle_sr",
+          [](const FarField& f) {
+            const int n = f.field->face_size();
+            py::array_t<double> a({6, n, n});
+            double* p = a.mutable_data();
+            for (std::size_t t = 0; t < f.field->texel_count(); ++t) p[t] = f.field->grid().texel_solid_angle(t);
+            return a;
+          },
+          "each texel's exact solid angle [sr] (a new array)")
+      .def_property_readonly(
+          "intensity_cd",
+          [](const FarField& f) {
+            const int n = f.field->face_size();
+            py::array_t<double> a({6, n, n});
+            double* p = a.mutable_data();
+            for (std::size_t t = 0; t < f.field->texel_count(); ++t) p[t] = f.field->intensity_cd(t);
+            return a;
+          },
+          "mean intensity over each texel [cd]: flux / solid angle (a new array)");
+
+  py::class_<Iteration>(m, "Iteration", "What on_iteration receives after each iteration.")
+      .def_property_readonly("iteration", [](const Iteration& i) { return i.report.progress.iteration; })
+      .def_property_readonly("iterations", [](const Iteration& i) { return i.report.progress.iterations; })
+      .def_property_readonly("photons_done", [](const Iteration& i) { return i.report.progress.photons_done; })
+      .def_property_readonly("photons_total", [](const Iteration& i) { return i.report.progress.photons_total; })
+      .def_property_readonly("elapsed_s", [](const Iteration& i) { return i.report.progress.elapsed_s; })
+      .def_property_readonly("photons_per_s", [](const Iteration& i) { return i.report.progress.photons_per_s; })
+      .def_property_readonly("remaining_s", [](const Iteration& i) { return i.report.progress.remaining_s; })
+      .def_property_readonly("estimated_rms_error_pct",
+                             [](const Iteration& i) { return i.report.estimated_rms_error_pct; })
+      .def("__repr__", [](const Iteration& i) {
+        return "<gonio.Iteration " + std::to_string(i.report.progress.iteration) + "/" +
+               std::to_string(i.report.progress.iterations) + ", " + std::to_string(i.report.progress.photons_done) +
+               " photons, estimated error " + format_number(i.report.estimated_rms_error_pct, 4) + " %>";
+      });
+
+  py::class_<SimulationResult>(m, "SimulationResult", "What gonio.simulate returns.")
+      .def_readonly("model", &SimulationResult::model)
+      .def_readonly("far_field", &SimulationResult::far_field, "the cube map (FarField)")
+      .def_readonly("photometry", &SimulationResult::photometry,
+                    "the C-gamma candela table the IES and LDT files hold (a Photometry)")
+      .def_property_readonly("ledger", [](const SimulationResult& r) { return ledger_py(r.ledger); },
+                             "the energy ledger: emitted, escaped, absorbed, cutoff (photons, flux_lm), per emitter, "
+                             "mesh and material")
+      .def_readonly("estimated_rms_error_pct", &SimulationResult::estimated_rms_error_pct,
+                    "the run's estimated RMS candela error [% of the peak] (tools/run/progressive_run.h)")
+      .def_readonly("stopped_by", &SimulationResult::stopped_by, "'iterations', 'target-error' or 'cancelled'")
+      .def_readonly("iterations_done", &SimulationResult::iterations_done)
+      .def_readonly("photons", &SimulationResult::photons)
+      .def_readonly("trace_s", &SimulationResult::trace_s, "wall time tracing [s]")
+      .def_readonly("symmetry_reason", &SimulationResult::symmetry_reason)
+      .def_readonly("model_findings", &SimulationResult::model_findings, "warnings of the model's loader and checks")
+      .def_readonly("files", &SimulationResult::files, "the files written into `out` (report.json's 'written')")
+      .def_readonly("report", &SimulationResult::report, "report.json as a dict when `out` was given, else None")
+      .def_readonly("exit_code", &SimulationResult::exit_code,
+                    "gonio simulate's exit code for the files: 0, or 1 where an energy check failed")
+      .def("__repr__", [](const SimulationResult& r) {
+        return "<gonio.SimulationResult " + r.model + ": " + std::to_string(r.photons) + " photons in " +
+               std::to_string(r.iterations_done) + " iterations, stopped by " + r.stopped_by + ">";
+      });
+
+  m.def("simulate", &simulate, py::arg("model"), py::kw_only(), py::arg("photons") = 1'000'000,
+        py::arg("iterations") = 10, py::arg("seed") = 1, py::arg("sampler") = "sobol", py::arg("threads") = 0,
+        py::arg("out") = py::none(), py::arg("on_iteration") = py::none(), py::arg("target_error") = 0.0,
+        py::arg("c_step") = 5.0, py::arg("gamma_step") = 2.5, py::arg("symmetry") = "auto",
+        py::arg("formats") = "all", py::arg("ies_version") = "2019", py::arg("name") = py::none(),
+        py::arg("max_bounces") = 100, py::arg("cache") = true,
+        "Traces a luminaire model (glTF 2.0) as gonio simulate does: `photons` per iteration,\n"
+        "`iterations` at most, stopping early at `target_error` percent (estimated RMS candela\n"
+        "error) where given. With `out`, writes gonio simulate's files there (the same bytes as\n"
+        "the command with the same options). on_iteration(Iteration) is called after each\n"
+        "iteration; returning False stops the run (stopped_by 'cancelled'; the result holds\n"
+        "what was traced). The GIL is released while tracing; Ctrl-C (KeyboardInterrupt)\n"
+        "stops it within a slice of 16384 photons, writes nothing and raises.");
+}
+
+}  // namespace
+}  // namespace gonio::python
+
+PYBIND11_MODULE(_gonio, m) {
+  using namespace gonio::python;
+  m.doc() = "Gonio's libraries from Python (import gonio; see help(gonio)).";
+  m.attr("__version__") = gonio::kVersion;
+  g_error_type = PyErr_NewExceptionWithDoc("gonio.GonioError",
+                                           "An input Gonio refuses: .message, and .file, .line, .column where known.",
+                                           PyExc_Exception, nullptr);
+  g_warning_type = PyErr_NewExceptionWithDoc(
+      "gonio.UndefinedFigureWarning", "A planning figure that is undefined for this photometry (the message says why).",
+      PyExc_UserWarning, nullptr);
+  if (!g_error_type || !g_warning_type) throw py::error_already_set();
+  m.attr("GonioError") = py::reinterpret_borrow<py::object>(g_error_type);
+  m.attr("UndefinedFigureWarning") = py::reinterpret_borrow<py::object>(g_warning_type);
+  bind_photometry(m);
+  bind_simulation(m);
+}
