@@ -18,7 +18,7 @@
 // when none does. The limits are bug_limits_lm() below (TM-15-11 Addendum A,
 // tables of maximum zonal lumens). Which of them an outside copy confirms,
 // and where, is stated in tests/photometry/bug_rating_test.cpp
-// (BugRating.ThresholdsAsPublished) and in the README's BUG paragraph: the
+// (BugRating.ThresholdsAsPublished) and in docs/methods.md's BUG paragraph: the
 // uplight limits U0…U3 and the G0 limit of FVH/BVH are confirmed; a real
 // luminaire's published rating (a Type V pole-top whose BH of 704 lm still
 // rates G1) shows that the glare table differs for quadrilateral-symmetric

@@ -1,7 +1,7 @@
 // The data model of a measured or simulated light distribution: the common
 // ground of IES LM-63 and EULUMDAT files and of simulation results.
 //
-// Conventions (see README "Conventions"):
+// Conventions (see docs/conventions.md):
 // - Angles in this model are degrees, exactly as files carry them, so that a
 //   round trip through a file is exact. Functions that take directions take
 //   unit vectors or radians and say so.

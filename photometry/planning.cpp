@@ -43,7 +43,7 @@ std::vector<MethodLabel> method_labels(const PlanningFigures& p) {
                  "10 % of their mean), to the backlight limits otherwise",
                  "10 of the 45 thresholds (U0-U3, G0's high-angle limit) against the IDA-IES Model Lighting "
                  "Ordinance's guide and Ashdown (LEUKOS); one real luminaire's published zone lumens and "
-                 "rating (Selux Aya, Type V: B2-U0-G1); the other thresholds not yet (README)"});
+                 "rating (Selux Aya, Type V: B2-U0-G1); the other thresholds not yet (docs/methods.md)"});
   out.push_back({"Luminance", "luminance_table",
                  "average luminance I / A_p of the projected luminous opening (CIE 117 eq. 4.3: A_p = "
                  "A_bottom cos gamma + A_side(C) sin gamma, EULUMDAT side heights per face)",

@@ -44,7 +44,7 @@
 //     the ceiling, then the inter-reflections of the box with exact view
 //     factors; E = (wall flux − direct wall flux) / wall area. It follows the
 //     luminaire's distribution beyond CIE 190's four zone weights; on eleven
-//     published luminaires it is within −0.27…+0.02 of CIE 190 (README).
+//     published luminaires it is within −0.27…+0.02 of CIE 190 (docs/methods.md).
 // - Flux: L² ω ∝ F and L_b ∝ F, so another luminaire flux F′ adds
 //   8 log10(F′ / F) to every value (CIE 190's correction).
 #pragma once

@@ -31,7 +31,7 @@
 # prefix of them (address-space randomisation off, below). So code whose
 # run is clean here is clean in CI, and a finding in CI is found again here
 # with the seed it prints. New inputs come from new code's seeds and from long
-# campaigns (README, Fuzzing).
+# campaigns (DEVELOPERS.md, Build: scripts/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Prints the README's table "Setup against model size": the large generated
+# Prints the table "Setup against model size" of docs/validation.md: the large generated
 # models (gonio_make_samples --large) traced by `gonio simulate` for one
 # iteration, first with an empty check cache (cold), then again (cached),
 # with the setup times, the memory high-water mark and photons/s from each

@@ -137,7 +137,7 @@ Box mesh_box(const Mesh& mesh) {
 // repay a better build (bvh_quality_for), is also built on small pages:
 // there its 10⁷-triangle build took 0.6–1.2 s (median of six 0.7 s) instead
 // of 1.7–2.6 s (median 2.4 s). Linux's PR_SET_THP_DISABLE turns them off for
-// the process during the build and back on after (README, Measured figures).
+// the process during the build and back on after (docs/validation.md).
 class HugePagesOffWhileBuilding {
  public:
   explicit HugePagesOffWhileBuilding(bool wanted)

@@ -58,7 +58,7 @@ enum class RangeScale {
 };
 
 // The defaults were chosen by measurement (benchmarks/filter_study.cpp, see
-// the README): the preview's error against the converged map on synthetic
+// docs/validation.md): the preview's error against the converged map on synthetic
 // far fields (smooth lobes, hard cut-offs, a 10° beam, a spot over a cube
 // corner, strut shadows) from 0.25 to 640 photons per texel, on faces of 128
 // and 256 texels.

@@ -60,7 +60,7 @@ std::vector<Finding> ray_set_photon_findings(const SceneDesc& scene, std::uint64
                          " photons from " + std::to_string(s->ray_count()) + " rays (effective " +
                          std::to_string(std::llround(limit)) + "): beyond that the set's own sampling noise dominates, "
                          "and the error stays about " + format_number(std::sqrt(1.0 + limit / drawn), 3) +
-                         " times the set's own (README, Ray-file emitters)",
+                         " times the set's own (docs/formats.md, Ray-file emitters)",
                      {}});
   }
   return out;

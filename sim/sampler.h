@@ -171,7 +171,7 @@ constexpr std::uint64_t mix64(std::uint64_t z) {
 // Their K estimates of the far field are independent and each unbiased: the
 // spread between them gives the error of their mean, which counting photons
 // cannot (tools/run/progressive_run.h). kSobolReplicates is the measured choice
-// (README, Measured figures: replicates cost error, fewer give a noisier
+// (docs/validation.md: replicates cost error, fewer give a noisier
 // estimate).
 inline constexpr int kSobolReplicates = 4;
 inline constexpr int kMaxSobolReplicates = 32;

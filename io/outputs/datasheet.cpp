@@ -346,7 +346,7 @@ std::string ledger_html(const nlohmann::json& r) {
            (emitted_w > 0 ? pct(v / emitted_w, 2) : "–") + "</td></tr>\n";
     }
     t += "</table><p class=note>Radiant power over 360–830 nm from each photon's wavelength and its emitter's "
-         "spectrum (README, \"Colour over angle\").</p>";
+         "spectrum (docs/methods.md, \"Radiant books\").</p>";
   }
   if (r.contains("photons_emitted"))
     t += "<p class=note>" + esc(r["photons_emitted"].dump()) + " photons" +
@@ -601,7 +601,7 @@ Result<std::string> datasheet_html(const std::vector<DatasheetEntry>& entries, c
     if (!part.ok()) return part.error();
     html += part.value();
   }
-  html += "<p class=note>Written by Gonio. Methods: README, \"Light-planning figures\".</p>\n</body></html>\n";
+  html += "<p class=note>Written by Gonio. Methods: docs/methods.md, \"Light-planning figures\".</p>\n</body></html>\n";
   return html;
 }
 

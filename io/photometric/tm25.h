@@ -35,7 +35,7 @@
 // ray items, negative fluxes and zero directions are errors; directions that
 // are not unit (|k| off 1 by more than 1e-3; every direction off by more than 1e-6 is normalised), header
 // fluxes that disagree with the rays' sum by more than 1 %, trailing bytes
-// and unusual header values are warnings ("tm25-..." codes, README).
+// and unusual header values are warnings ("tm25-..." codes, docs/formats.md).
 //
 // Luminous flux per ray: the Tri_Y column where the file has one; else the
 // radiant flux times the header's efficacy Φv/Φe where the spectrum is the

@@ -46,7 +46,7 @@
 // PwrData w), the one its published examples use: the DesignLights
 // Consortium's TM-33 template and ATLA's sample document; what TM-33 cannot hold, or
 // what a required element lacks, is a warning with a stable code
-// ("tm33-...", listed in the README), never dropped silently.
+// ("tm33-...", listed in docs/formats.md), never dropped silently.
 #pragma once
 
 #include <string>

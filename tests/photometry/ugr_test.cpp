@@ -238,7 +238,7 @@ TEST(Ugr, ReproducesTheCie190ExampleTable) {
 // commit 9f60147; "<10.0" where Relux prints no value). Ours agrees to 0.1
 // in every cell (measured: largest 0.1, mean 0.03). Gonio's table of ten
 // more luminaires of that repository against DIALux and Relux (not committed:
-// other projects' files) is in the README.
+// other projects' files) is in docs/methods.md.
 TEST(Ugr, AgreesWithReluxOnTheCie190Example) {
   const std::optional<UgrTable> t = cie190_example_table(nullptr);
   if (!t) GONIO_MISSING(kCie190Example);

@@ -44,7 +44,7 @@ constexpr const char* kDescription =
     "utilisation (IES zonal cavity method), IES spacing criterion, BUG rating\n"
     "(IES TM-15-11 Addendum A) and the luminance table, each with its method,\n"
     "convention and the outside reference it is checked against (\"Methods\";\n"
-    "--json: \"methods\"; README \"Light-planning figures\"). Reader warnings go\n"
+    "--json: \"methods\"; docs/methods.md). Reader warnings go\n"
     "to stderr as\n"
     "'gonio: FILE:LINE: warning: message [code]'.\n"
     "\n"

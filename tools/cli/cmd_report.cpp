@@ -30,7 +30,7 @@ int run_report(const Args& args) {
               "HTML is one self-contained file (inline SVG, no external resource); PDF is that\n"
               "page printed by a headless Chromium (Debian package chromium, or\n"
               "$GONIO_CHROMIUM). Each figure says its method, convention and the outside\n"
-              "reference it is checked against; README \"Light-planning figures\".\n"
+              "reference it is checked against; docs/methods.md, \"Light-planning figures\".\n"
               "\n"
               "Exit status: 0 written, 1 a file could not be read or the sheet not written,\n"
               "2 usage error.\n"

@@ -20,7 +20,7 @@ void add_ugr_background_option(ArgParser& parser, std::string* word) {
                  photometry::to_string(photometry::UgrBackground::FluxTransfer)},
                 "Background luminance of the UGR table: 'cie190' as CIE 190:2010 eq. 7-12 with its "
                 "Tables 4 and 5 (what DIALux, Relux and the CIE's example use; default), or "
-                "'flux-transfer', Gonio's own inter-reflection model of each room (README "
+                "'flux-transfer', Gonio's own inter-reflection model of each room (docs/methods.md "
                 "\"Light-planning figures\" says when they differ).");
 }
 

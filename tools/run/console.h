@@ -2,7 +2,7 @@
 // message conventions (`gonio: FILE:LINE: message` on stderr), the exit
 // codes, and the rate and figure formats of progress lines.
 //
-// Exit codes shared by all subcommands (README "Exit codes"):
+// Exit codes shared by all subcommands (docs/conventions.md "Exit codes"):
 //   0  success
 //   1  the work failed: unreadable or invalid input, a write error, a failed
 //      energy check

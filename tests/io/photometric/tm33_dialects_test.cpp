@@ -1,6 +1,6 @@
 // The TM-33 layouts in circulation beside the standard's, each written here
 // by the test (our own text, following the layout other tools write; the
-// tools' files themselves are not committed: README "TM-33 files of other
+// tools' files themselves are not committed: docs/formats.md "TM-33 files of other
 // tools" lists which of them read). Each must read as the same distribution
 // as the standard's layout of the same data.
 #include <gtest/gtest.h>

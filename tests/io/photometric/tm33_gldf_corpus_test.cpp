@@ -3,7 +3,7 @@
 // Every file must come back with the same intensities (exactly, since TM-33
 // writes the shortest decimal that reads back as the same double and GLDF
 // holds the LDT writer's own bytes) and the same flux within 0.1 %; the
-// counts and the largest flux difference are printed for the README.
+// counts and the largest flux difference are printed for docs/formats.md.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -75,8 +75,8 @@ TEST(CmdBench, WritesSeriesChartsAndReusesItsReference) {
   EXPECT_LT(std::stoull(column(csv, "guided", "photons_traced").back()), 65536u);
   // The run's own error estimate beside the measured error: raw series
   // only (pseudo-random count-based, Sobol' from its replicates), within
-  // a factor 1.5 of the measured error at the last iteration (README,
-  // Measured figures: 0.9–1.0 on the samples at 2²⁰ photons).
+  // a factor 1.5 of the measured error at the last iteration
+  // (docs/validation.md: 0.9–1.0 on the samples at 2²⁰ photons).
   for (const char* s : {"raw", "sobol"}) {
     const std::string estimated = column(csv, s, "estimated_rms_pct").back();
     ASSERT_FALSE(estimated.empty()) << s;
