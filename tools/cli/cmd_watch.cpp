@@ -48,11 +48,11 @@ int run_watch(const Args& args) {
   p.option("port", &port, 0, 65535, "P", "port of the page (default 8765; 0: any free port, printed)");
   p.option("host", &host, "ADDR", "address to listen on (default 127.0.0.1: this machine only)");
   p.option("out", &options.out_dir, "DIR", "write each finished run's files here (default: none)");
+  options.photons = app::kWatchPhotons;  // before the options, so that --help shows them
+  options.iterations = app::kWatchIterations;
   add_simulate_options(p, &options);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
-  if (!p.given("photons")) options.photons = app::kWatchPhotons;
-  if (!p.given("iterations")) options.iterations = app::kWatchIterations;
   std::optional<app::SimulatePlan> plan = plan_or_usage("watch", model, options, p);
   if (!plan) return kExitUsage;
   app::WatchHooks hooks;

@@ -120,8 +120,11 @@ void print_written(const app::SimulatePlan& plan, const app::RunFiles& files) {
 }  // namespace
 
 void add_simulate_options(ArgParser& p, app::SimulateOptions* o) {
-  p.option("photons", &o->photons, app::kPhotonsBounds.min, app::kPhotonsBounds.max, "N", "photons per iteration (default 1000000)");
-  p.option("iterations", &o->iterations, app::kIterationsBounds.min, app::kIterationsBounds.max, "K", "iterations (default 10): K·N photons in all");
+  // The defaults shown are the command's own: watch sets other ones first.
+  p.option("photons", &o->photons, app::kPhotonsBounds.min, app::kPhotonsBounds.max, "N",
+           "photons per iteration (default " + std::to_string(o->photons) + ")");
+  p.option("iterations", &o->iterations, app::kIterationsBounds.min, app::kIterationsBounds.max, "K",
+           "iterations (default " + std::to_string(o->iterations) + "): K·N photons in all");
   p.option("seed", &o->seed, app::kSeedBounds.min, app::kSeedBounds.max, "S", "random seed (default 1)");
   p.choice("sampler", &o->sampler, {"sobol", "random"},
            "where photons' numbers come from: sobol (default: Owen-scrambled Sobol' points in four "

@@ -124,6 +124,18 @@ TEST(Watch, UsageErrorsAndHelp) {
   EXPECT_NE(top.out.find("watch"), std::string::npos);
 }
 
+// watch's defaults differ from simulate's; the shared option texts once
+// printed simulate's (1000000, 10) under watch as well.
+TEST(Watch, HelpStatesWatchsOwnDefaults) {
+  const auto watch = gonio({"watch", "--help"});
+  EXPECT_NE(watch.out.find("(default 262144)"), std::string::npos) << watch.out;
+  EXPECT_NE(watch.out.find("iterations (default 1000)"), std::string::npos) << watch.out;
+  EXPECT_EQ(watch.out.find("(default 1000000)"), std::string::npos) << watch.out;
+  const auto simulate = gonio({"simulate", "--help"});
+  EXPECT_NE(simulate.out.find("(default 1000000)"), std::string::npos) << simulate.out;
+  EXPECT_NE(simulate.out.find("iterations (default 10)"), std::string::npos) << simulate.out;
+}
+
 TEST(Watch, SimulateServeAndWatchShareTheOptions) {
   const auto help = gonio({"simulate", "--help"});
   EXPECT_EQ(help.exit_code, 0);
