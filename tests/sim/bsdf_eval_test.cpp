@@ -52,25 +52,6 @@ TEST(BsdfEval, DiffuseLobesSendTheirWeightOverTheSphere) {
   EXPECT_NEAR(non_delta_f_cos(m, f, wi, -1.0 * ng), 0.6 / kPi, 1e-12);
 }
 
-// A Klems sheet that is not Lambertian: a brighter patch on each side.
-std::shared_ptr<TabulatedBsdf> sheet() {
-  auto table = std::make_shared<TabulatedBsdf>();
-  table->name = "sheet";
-  table->basis = PatchBasis::klems("LBNL/Klems Full");
-  for (double theta : {0.0, 45.0, 82.5}) {
-    TabulatedBsdf::Row r;
-    r.theta_deg = theta;
-    r.reflect.assign(table->basis.size(), static_cast<float>(0.25 / kPi));
-    r.transmit.assign(table->basis.size(), static_cast<float>(0.5 / kPi));
-    r.reflect[3] *= 4.0f;
-    r.transmit[10] *= 3.0f;
-    table->front.rows.push_back(r);
-  }
-  std::vector<Finding> findings;
-  EXPECT_TRUE(table->finish(findings).ok());
-  return table;
-}
-
 // Every non-delta lobe of sim/bsdfs at once, with a weight over incidence.
 Material every_lobe() {
   Material m;
@@ -83,7 +64,7 @@ Material every_lobe() {
   m.abg_reflect = {0.15, 0.02, 1.5};
   m.abg_transmit = {0.1, 0.05, 1.2};
   m.tabulated = 0.2;
-  m.table = sheet();
+  m.table = test::non_lambertian_klems_sheet();
   m.over_incidence[0] = {{0.0, 90.0}, {1.0, 0.3}};  // diffuse reflection falls with incidence
   prepare(m);
   return m;

@@ -10,6 +10,7 @@
 #include "sim/bsdfs/tabulated_bsdf.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
+#include "tests/sim/bsdfs/lobe_checks.h"
 #include "tests/sim/scenes.h"
 
 namespace gonio::sim {
@@ -169,21 +170,7 @@ std::vector<LobeCase> lobe_cases() {
   Material abg_t;
   abg_t.abg_transmit = {0.6, 0.05, 1.2};
   cases.push_back({"abg-transmit", abg_t});
-  auto table = std::make_shared<TabulatedBsdf>();
-  table->name = "sheet";
-  table->basis = PatchBasis::klems("LBNL/Klems Full");
-  for (double theta : {0.0, 45.0, 82.5}) {
-    TabulatedBsdf::Row r;
-    r.theta_deg = theta;
-    r.reflect.assign(table->basis.size(), static_cast<float>(0.25 / kPi));
-    r.transmit.assign(table->basis.size(), static_cast<float>(0.5 / kPi));
-    // A brighter patch in each half, so the table is not Lambertian.
-    r.reflect[3] *= 4.0f;
-    r.transmit[10] *= 3.0f;
-    table->front.rows.push_back(r);
-  }
-  std::vector<Finding> findings;
-  EXPECT_TRUE(table->finish(findings).ok());
+  auto table = test::non_lambertian_klems_sheet();
   Material tabulated;
   tabulated.tabulated = 0.9;
   tabulated.table = table;

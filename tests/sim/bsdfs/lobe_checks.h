@@ -1,16 +1,42 @@
-// What the lobe suites share: quadrature over the sphere and a chi-square
-// test of sampled directions against a density.
+// What the lobe suites share: quadrature over the sphere, a chi-square
+// test of sampled directions against a density, and a measured sheet.
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <numbers>
 #include <vector>
 
+#include "photometry/diagnostics.h"
 #include "photometry/vec3.h"
+#include "sim/bsdfs/tabulated_bsdf.h"
 #include "sim/chi_square.h"
 
 namespace gonio::sim::test {
+
+// A Klems sheet that is not Lambertian: reflection 0.25 and transmission 0.5
+// with a brighter patch on each side (reflect[3] ×4, transmit[10] ×3), at
+// θ 0°, 45° and 82.5°.
+inline std::shared_ptr<TabulatedBsdf> non_lambertian_klems_sheet() {
+  auto table = std::make_shared<TabulatedBsdf>();
+  table->name = "sheet";
+  table->basis = PatchBasis::klems("LBNL/Klems Full");
+  for (double theta : {0.0, 45.0, 82.5}) {
+    TabulatedBsdf::Row r;
+    r.theta_deg = theta;
+    r.reflect.assign(table->basis.size(), static_cast<float>(0.25 / std::numbers::pi));
+    r.transmit.assign(table->basis.size(), static_cast<float>(0.5 / std::numbers::pi));
+    r.reflect[3] *= 4.0f;
+    r.transmit[10] *= 3.0f;
+    table->front.rows.push_back(r);
+  }
+  std::vector<Finding> findings;
+  EXPECT_TRUE(table->finish(findings).ok());
+  return table;
+}
 
 inline constexpr double kPi = std::numbers::pi;
 inline constexpr double kDeg = kPi / 180.0;
