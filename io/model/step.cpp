@@ -54,10 +54,12 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <set>
 
+#include "io/model/step_references.h"
 #include "photometry/format.h"
 
 namespace gonio::io {
@@ -266,6 +268,21 @@ std::vector<std::string> CadReader::layers_of(const TDF_Label& label) const {
 Status CadReader::read_step() {
   if (!has_step_header(path_))
     return fail("not a STEP file: it does not begin with the ISO-10303-21 header");
+  // A cycle or a deep chain of references would make OpenCASCADE's
+  // translators recurse until the stack runs out (io/model/step_references.h).
+  {
+    std::ifstream in(path_, std::ios::binary);
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    if (!in.good() && !in.eof()) return fail("cannot read the file");
+    Result<StepReferenceStats> refs = check_step_references(text, path_);
+    if (!refs.ok()) return refs.error();
+    if (refs->harmless_cycles > 0)
+      warn("step-reference-cycle",
+           refs->first_harmless_cycle +
+               (refs->harmless_cycles > 1 ? " (and " + std::to_string(refs->harmless_cycles - 1) + " more circles)"
+                                          : std::string()) +
+               ": the file is damaged there, but no shape depends on it");
+  }
   STEPCAFControl_Reader reader;
   reader.SetColorMode(true);
   reader.SetNameMode(true);

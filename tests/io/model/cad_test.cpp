@@ -599,8 +599,19 @@ TEST(CadHostile, BrokenFilesAreErrorsNamingFileAndEntity) {
   const std::size_t end = missing.find(')', ref);
   const std::string target = missing.substr(ref, end - ref);
   missing.replace(ref, end - ref, "#999999");
+  // The fuzzer's finding: a SEAM_CURVE (here a SURFACE_CURVE) whose basis
+  // curve is itself made OpenCASCADE recurse until the stack ran out.
+  std::string cycle = box;
+  const std::size_t curve = cycle.find("= SURFACE_CURVE('',#");
+  ASSERT_NE(curve, std::string::npos);
+  const std::size_t hash = cycle.rfind('#', curve);
+  const std::string self = cycle.substr(hash, cycle.find(' ', hash) - hash);
+  const std::size_t basis = curve + std::string("= SURFACE_CURVE('',").size();
+  cycle.replace(basis, cycle.find(',', basis) - basis, self);
+  const std::string refers_to_itself = "entity " + self + " (line ";
   const Case cases[] = {
       {"empty.step", "", "empty file"},
+      {"cycle.step", cycle, refers_to_itself.c_str()},
       {"truncated.step", first_part_of(parts / "lamp.step", 4000), "unexpected end of file"},
       {"missing.step", missing, "#999999"},
       {"garbage.step", "ISO-10303-21;\nthis is not STEP at all (((\n", "not a readable STEP file"},
