@@ -53,10 +53,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 
 #include "io/model/step_references.h"
@@ -164,7 +167,11 @@ class CadReader {
   // "#123" of the file's entity that became `shape`, or empty.
   std::string entity_of(const TopoDS_Shape& shape) const;
   std::string entity_label(const Handle(Standard_Transient)& ent) const;
-  std::string checks_text(const Interface_CheckIterator& checks, bool fails_only) const;
+  // The fails (and, unless fails_only, warnings) of a check list, each with
+  // its entity, of the entities `take` accepts (by their "#12"; all where
+  // empty).
+  std::string checks_text(const Interface_CheckIterator& checks, bool fails_only,
+                          const std::function<bool(const std::string&)>& take = {}) const;
   std::string name_of(const TDF_Label& label) const;
   std::optional<sim::Vec3f> colour_of(const TDF_Label& label) const;
   std::vector<std::string> layers_of(const TDF_Label& label) const;
@@ -173,7 +180,10 @@ class CadReader {
   Status read_iges();
   Status walk(const TDF_Label& label, const TopLoc_Location& location, const std::string& path,
               const std::optional<sim::Vec3f>& colour, const std::vector<std::string>& layers, int depth);
-  Result<std::uint32_t> part(const TDF_Label& label, const std::string& path);
+  // The part of a shape label, tessellated at its first occurrence; none
+  // where the shape has no faces (wires, points, or nothing: the product of
+  // an external reference), which is left out with a warning, once.
+  Result<std::optional<std::uint32_t>> part(const TDF_Label& label, const std::string& path);
   Status tessellate(const TopoDS_Shape& shape, CadPart& part, const std::string& what,
                     const TDF_Label& label);
   Result<double> collect(const TopoDS_Shape& shape, CadPart& part, const std::string& what,
@@ -190,9 +200,11 @@ class CadReader {
   Handle(XCAFDoc_LayerTool) layers_;
   Handle(XSControl_WorkSession) session_;
   Handle(Interface_InterfaceModel) file_model_;
+  StepReferenceStats references_;  // of a STEP file, read before OpenCASCADE reads it
   double unit_m_ = 0.001;  // metres per unit of the shapes (OpenCASCADE's millimetres)
   CadModel model_;
-  std::map<std::string, std::uint32_t> parts_;  // shape label entry → part
+  std::map<std::string, std::optional<std::uint32_t>> parts_;  // shape label entry → part (none: left out)
+  std::string first_left_out_;                                 // why the first part left out was
 };
 
 std::string CadReader::entity_label(const Handle(Standard_Transient)& ent) const {
@@ -211,9 +223,9 @@ std::string CadReader::entity_of(const TopoDS_Shape& shape) const {
   }
 }
 
-// The fails (and, unless fails_only, warnings) of a check list, each with
-// its entity: "#12: message; #40: message", at most eight.
-std::string CadReader::checks_text(const Interface_CheckIterator& checks, bool fails_only) const {
+// "#12: message; #40: message", at most eight.
+std::string CadReader::checks_text(const Interface_CheckIterator& checks, bool fails_only,
+                                   const std::function<bool(const std::string&)>& take) const {
   std::string out;
   int shown = 0, more = 0;
   for (checks.Start(); checks.More(); checks.Next()) {
@@ -223,6 +235,7 @@ std::string CadReader::checks_text(const Interface_CheckIterator& checks, bool f
     if (where.empty() && !file_model_.IsNull() && checks.Number() > 0 &&
         checks.Number() <= file_model_->NbEntities())
       where = entity_label(file_model_->Value(checks.Number()));
+    if (take && !take(where)) continue;
     auto add = [&](const char* text) {
       if (shown >= 8) {
         ++more;
@@ -276,12 +289,14 @@ Status CadReader::read_step() {
     if (!in.good() && !in.eof()) return fail("cannot read the file");
     Result<StepReferenceStats> refs = check_step_references(text, path_);
     if (!refs.ok()) return refs.error();
-    if (refs->harmless_cycles > 0)
+    references_ = std::move(*refs);
+    if (references_.harmless_cycles > 0)
       warn("step-reference-cycle",
-           refs->first_harmless_cycle +
-               (refs->harmless_cycles > 1 ? " (and " + std::to_string(refs->harmless_cycles - 1) + " more circles)"
-                                          : std::string()) +
-               ": the file is damaged there, but no shape depends on it");
+           references_.first_harmless_cycle +
+               (references_.harmless_cycles > 1
+                    ? " (and " + std::to_string(references_.harmless_cycles - 1) + " more circles)"
+                    : std::string()) +
+               ": the file is damaged there, in entities no shape is made of");
   }
   STEPCAFControl_Reader reader;
   reader.SetColorMode(true);
@@ -302,8 +317,20 @@ Status CadReader::read_step() {
   if (file_model_.IsNull() || file_model_->NbEntities() == 0) return fail("the STEP file holds no entities");
   // Parse errors the reader got past (a reference to a missing entity, a
   // wrong parameter) are errors: the part they hit would be missing.
-  const std::string fails = checks_text(session_->ModelCheckList(), true);
+  // Damage in an entity no shape is made of (a property, a style, a text;
+  // io/model/step_references.h) loses only that: a warning.
+  auto shape_entity = [this](const std::string& where) {
+    if (where.size() < 2 || where[0] != '#') return true;
+    char* end = nullptr;
+    const unsigned long long id = std::strtoull(where.c_str() + 1, &end, 10);
+    return *end != '\0' || references_.is_shape_entity(id);
+  };
+  const std::string fails = checks_text(session_->ModelCheckList(), true, shape_entity);
   if (!fails.empty()) return fail("the STEP file is damaged: " + fails);
+  const std::string other =
+      checks_text(session_->ModelCheckList(), true, [&](const std::string& where) { return !shape_entity(where); });
+  if (!other.empty())
+    warn("step-damaged-entity", "the STEP file is damaged in entities no shape is made of, read without them: " + other);
 
   TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
   step.FileUnits(lengths, angles, solid_angles);
@@ -555,7 +582,7 @@ Result<double> CadReader::collect(const TopoDS_Shape& shape, CadPart& part, cons
   return deviations.empty() ? 0.0 : deviations.back().first;
 }
 
-Result<std::uint32_t> CadReader::part(const TDF_Label& label, const std::string& path) {
+Result<std::optional<std::uint32_t>> CadReader::part(const TDF_Label& label, const std::string& path) {
   TCollection_AsciiString entry;
   TDF_Tool::Entry(label, entry);
   if (auto it = parts_.find(entry.ToCString()); it != parts_.end()) return it->second;
@@ -566,12 +593,22 @@ Result<std::uint32_t> CadReader::part(const TDF_Label& label, const std::string&
   p.layers = layers_of(label);
   const std::string entity = entity_of(shape);
   const std::string what = "part '" + path + "'" + (entity.empty() ? std::string() : " (entity " + entity + ")");
-  if (shape.IsNull()) return fail(what + ": no shape");
+  if (shape.IsNull() || !TopExp_Explorer(shape, TopAbs_FACE).More()) {
+    // Construction geometry beside the solids, or an assembly's component
+    // kept in another file: nothing light could meet.
+    const bool empty = shape.IsNull() || !TopExp_Explorer(shape, TopAbs_VERTEX).More();
+    const std::string why = what + (empty ? ": holds no geometry (a product whose shape is in another file?)"
+                                          : ": holds no faces, only wires, edges or points");
+    if (first_left_out_.empty()) first_left_out_ = why;
+    warn("cad-part-left-out", why + "; left out");
+    parts_[entry.ToCString()] = std::nullopt;
+    return std::optional<std::uint32_t>();
+  }
   if (Status s = tessellate(shape, p, what, label); !s.ok()) return s.error();
   const auto id = static_cast<std::uint32_t>(model_.parts.size());
   model_.parts.push_back(std::move(p));
   parts_[entry.ToCString()] = id;
-  return id;
+  return std::optional<std::uint32_t>(id);
 }
 
 Status CadReader::walk(const TDF_Label& label, const TopLoc_Location& location, const std::string& path,
@@ -605,10 +642,11 @@ Status CadReader::walk(const TDF_Label& label, const TopLoc_Location& location, 
     }
     return Ok{};
   }
-  Result<std::uint32_t> id = part(label, path);
+  Result<std::optional<std::uint32_t>> id = part(label, path);
   if (!id.ok()) return id.error();
+  if (!*id) return Ok{};
   CadPlacement p;
-  p.part = *id;
+  p.part = **id;
   p.to_world = to_affine(location.Transformation(), unit_m_);
   if (!p.to_world.finite()) return fail("'" + path + "': the placement is not finite");
   p.path = path;
@@ -644,7 +682,10 @@ Result<CadModel> CadReader::read() {
     if (Status s = walk(root, TopLoc_Location(), name, colour_of(root), layers_of(root), 0); !s.ok())
       return s.error();
   }
-  if (model_.placements.empty()) return fail("the file holds no shapes");
+  if (model_.placements.empty())
+    return fail(parts_.empty() ? std::string("the file holds no shapes")
+                               : "the file holds no shapes with faces (" + std::to_string(parts_.size()) +
+                                     " left out, the first " + first_left_out_ + ")");
   return std::move(model_);
 }
 

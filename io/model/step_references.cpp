@@ -15,24 +15,26 @@ struct Instance {
   std::uint64_t id = 0;
   int line = 0;
   std::size_t first_ref = 0, end_ref = 0;  // range in Scan::ref_ids
-  bool followed = false;                   // of a type OpenCASCADE follows by recursion
+  bool shape = false;                      // of a type shapes are made of (shape_type)
 };
 
-// The entity types whose references OpenCASCADE's translators follow by
-// recursion, by the words of their names (a complex instance's partial
-// types count each): the geometry and topology of ISO 10303-42 (curves and
-// surfaces by their basis curves and surfaces, replicas, points,
+// The entity types shapes are made of, by the words of their names (a
+// complex instance's partial types count each): the geometry and topology
+// of ISO 10303-42 (curves and surfaces, which OpenCASCADE's translators
+// follow by recursion to their basis curves and surfaces, replicas, points,
 // placements; edges, loops, faces, shells, solids), the mapped items of
-// ISO 10303-43 and the assembly structure of ISO 10303-44 (XCAF's tree).
-// Other entities (properties, presentation, units) are looked up without
-// recursion: a cycle among them only (a measured file has one, docs/cad.md)
-// is reported, not refused.
-bool followed_type(std::string_view name) {
+// ISO 10303-43, the assembly structure of ISO 10303-44 (XCAF's tree), the
+// shape representations, and the units and representation contexts that
+// scale them. Other entities (properties, presentation, text) are looked
+// up without recursion: a cycle among them only (a measured file has one,
+// docs/cad.md) is reported, not refused, and so is damage OpenCASCADE
+// finds in them.
+bool shape_type(std::string_view name) {
   static constexpr std::string_view kWords[] = {
       "CURVE", "SURFACE", "LINE", "CIRCLE", "ELLIPSE", "PARABOLA", "HYPERBOLA", "PLANE", "POINT",
       "PLACEMENT", "DIRECTION", "VECTOR", "REPLICA", "VERTEX", "EDGE", "LOOP", "FACE", "SHELL", "SOLID",
       "BREP", "MAPPED_ITEM", "REPRESENTATION_MAP", "USAGE_OCCURRENCE", "REPRESENTATION_RELATIONSHIP",
-      "PRODUCT_DEFINITION"};
+      "PRODUCT_DEFINITION", "SHAPE", "UNIT", "REPRESENTATION_CONTEXT"};
   for (std::string_view w : kWords)
     if (name.find(w) != std::string_view::npos) return true;
   return false;
@@ -82,7 +84,7 @@ class Scanner {
       in.id = id;
       in.line = line;
       in.first_ref = scan_.ref_ids.size();
-      if (Status st = statement(instance, in.followed); !st.ok()) return st.error();
+      if (Status st = statement(instance, in.shape); !st.ok()) return st.error();
       in.end_ref = scan_.ref_ids.size();
       if (instance) scan_.instances.push_back(in);
     }
@@ -137,10 +139,10 @@ class Scanner {
 
   // To the `;` that ends the statement, outside strings, binaries and
   // comments; the references on the way are recorded where `instance`, and
-  // `followed` set where one of its types is (a simple instance's type name
+  // `shape` set where one of its types is (a simple instance's type name
   // stands before its parentheses, a complex instance's partial types just
   // inside its outer ones).
-  Status statement(bool instance, bool& followed) {
+  Status statement(bool instance, bool& shape) {
     int depth = 0;
     bool complex = false, typed = false;
     while (i_ < s_.size()) {
@@ -182,7 +184,7 @@ class Scanner {
       } else if (is_letter(c) && depth == (complex ? 1 : 0)) {
         const std::size_t start = i_;
         while (i_ < s_.size() && is_name_char(s_[i_])) ++i_;
-        if (instance && followed_type(s_.substr(start, i_ - start))) followed = true;
+        if (instance && shape_type(s_.substr(start, i_ - start))) shape = true;
         typed = true;
       } else {
         if (c == '(') {
@@ -213,6 +215,10 @@ std::string named(const Instance& in) {
 }
 
 }  // namespace
+
+bool StepReferenceStats::is_shape_entity(std::uint64_t id) const {
+  return std::binary_search(shape_entities.begin(), shape_entities.end(), id);
+}
 
 Result<StepReferenceStats> check_step_references(std::string_view text, const std::string& file,
                                                  std::size_t max_depth) {
@@ -247,6 +253,9 @@ Result<StepReferenceStats> check_step_references(std::string_view text, const st
   StepReferenceStats stats;
   stats.entities = n;
   stats.references = to.size();
+  for (const Instance& in : scan.instances)
+    if (in.shape) stats.shape_entities.push_back(in.id);
+  std::sort(stats.shape_entities.begin(), stats.shape_entities.end());
   for (std::uint32_t root = 0; root < n; ++root) {
     if (colour[root] != 0) continue;
     colour[root] = 1;
@@ -261,8 +270,8 @@ Result<StepReferenceStats> check_step_references(std::string_view text, const st
           std::size_t from = path.size();
           while (path[from - 1].first != m) --from;
           --from;
-          bool followed = false;
-          for (std::size_t p = from; p < path.size(); ++p) followed |= scan.instances[path[p].first].followed;
+          bool shape = false;
+          for (std::size_t p = from; p < path.size(); ++p) shape |= scan.instances[path[p].first].shape;
           std::string what;
           if (m == k) {
             what = "entity " + named(head) + " refers to itself";
@@ -278,7 +287,7 @@ Result<StepReferenceStats> check_step_references(std::string_view text, const st
             }
             what += " → #" + std::to_string(head.id);
           }
-          if (followed) {
+          if (shape) {
             Error e = make_error(file, std::move(what));
             e.where.line = head.line;
             return e;

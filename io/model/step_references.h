@@ -11,8 +11,8 @@
 // ISO 10303-43's acyclic_mapped_representation, ISO 10303-41's
 // acyclic_product_definition_relationship), and their reference chains are
 // short (docs/cad.md gives the depths of the files we test with). So a
-// cycle through an entity of a type OpenCASCADE follows by recursion
-// (geometry, topology, mapped items, the assembly structure) or a chain
+// cycle through an entity of a type shapes are made of (geometry, topology,
+// mapped items, the assembly structure, units) or a chain
 // deeper than the limit is an error naming the entities and their lines,
 // found by one pass over the text and one depth-first walk of the
 // references, both linear in the file's size; gonio-cad then never hands
@@ -30,6 +30,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "photometry/diagnostics.h"
 
@@ -47,6 +48,12 @@ struct StepReferenceStats {
   // items): passed over, and the first described for a warning.
   std::size_t harmless_cycles = 0;
   std::string first_harmless_cycle;
+  // The numbers of the entities of the types shapes are made of (geometry,
+  // topology, mapped items, the assembly structure, units and contexts),
+  // ascending: damage OpenCASCADE finds in one of these loses or misplaces
+  // a shape; damage elsewhere (a property, a style, a text) does not.
+  std::vector<std::uint64_t> shape_entities;
+  bool is_shape_entity(std::uint64_t id) const;
 };
 
 // Checks `text`, the content of `file` (named in errors, with the line of

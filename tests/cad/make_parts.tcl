@@ -31,6 +31,17 @@ compound chip chip2 pair
 XAddShape D pair 1
 WriteStep D $out/colours_inch.step
 
+# The block beside construction geometry, as CAD systems export it: a wire
+# of two edges as a part of its own (the reader leaves it out, warning).
+param write.step.unit MM
+polyline guide 0 0 0 10 0 0 10 10 0
+XNewDoc W
+XAddShape W block 0
+SetName W 0:1:1:1 Block
+XAddShape W guide 0
+SetName W 0:1:1:2 Guide
+WriteStep W $out/with_wire.step
+
 # The same block written as IGES (millimetres), colour and layer kept.
 param write.iges.unit MM
 XNewDoc I

@@ -299,6 +299,65 @@ TEST(CadStep, IgesFilesFromFreeCadAndOpenCascadeAreRead) {
   EXPECT_NEAR(block->parts[0].size_m, 0.0254 * std::sqrt(14.0), 1e-9);
 }
 
+// Real files carry more than the optics: construction wires beside the
+// solids (the Pro/E files of the CAx-IF round robin), and damage in
+// entities no shape is made of (CAx-IF's dm1-oc-214.stp: a density
+// REPRESENTATION listing itself among its items). Both are read, with a
+// warning naming what was left out.
+const Finding* finding(const CadModel& m, const std::string& code) {
+  for (const Finding& f : m.findings)
+    if (f.code == code) return &f;
+  return nullptr;
+}
+
+TEST(CadStep, ConstructionWiresAreLeftOutWithAWarning) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  Result<CadModel> m = tessellate(parts / "with_wire.step");
+  ASSERT_TRUE(m.ok()) << to_string(m.error());
+  ASSERT_EQ(m->parts.size(), 1u);
+  EXPECT_EQ(m->parts[0].name, "Block");
+  ASSERT_EQ(m->placements.size(), 1u);
+  const Finding* left = finding(*m, "cad-part-left-out");
+  ASSERT_NE(left, nullptr);
+  EXPECT_EQ(left->severity, Severity::Warning);
+  EXPECT_NE(left->message.find("part 'Guide'"), std::string::npos) << left->message;
+  EXPECT_NE(left->message.find("only wires, edges or points"), std::string::npos) << left->message;
+}
+
+TEST(CadStep, DamageOutsideTheShapesIsAWarningAndInsideThemAnError) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const std::string lamp = test::read_file(parts / "lamp.step");
+  const std::size_t data_end = lamp.rfind("ENDSEC;");
+  ASSERT_NE(data_end, std::string::npos);
+  std::string damaged = lamp;
+  damaged.insert(data_end, "#900001 = REPRESENTATION_CONTEXT('','');\n"
+                           "#900002 = REPRESENTATION('density',(#900002),#900001);\n");
+  const fs::path file = dir / "damaged_property.step";
+  test::write_file(file, damaged);
+  Result<CadModel> whole = tessellate(parts / "lamp.step");
+  Result<CadModel> m = tessellate(file);
+  ASSERT_TRUE(whole.ok());
+  ASSERT_TRUE(m.ok()) << to_string(m.error());
+  EXPECT_EQ(m->unique_triangle_count(), whole->unique_triangle_count());
+  EXPECT_EQ(m->placements.size(), whole->placements.size());
+  const Finding* cycle = finding(*m, "step-reference-cycle");
+  ASSERT_NE(cycle, nullptr);
+  EXPECT_NE(cycle->message.find("#900002"), std::string::npos) << cycle->message;
+  const Finding* damage = finding(*m, "step-damaged-entity");
+  ASSERT_NE(damage, nullptr);
+  EXPECT_NE(damage->message.find("#900002"), std::string::npos) << damage->message;
+  // The same damage in an entity shapes are made of is an error.
+  std::string in_shape = lamp;
+  in_shape.insert(data_end, "#900001 = REPRESENTATION_CONTEXT('','');\n"
+                            "#900002 = SHAPE_REPRESENTATION('',(#900001),#900001);\n");
+  const fs::path bad = dir / "damaged_shape.step";
+  test::write_file(bad, in_shape);
+  Result<CadModel> refused = tessellate(bad);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("damaged"), std::string::npos) << refused.error().message;
+}
+
 TEST(CadScene, SidecarRulesGiveMaterialsInstancesAndOneEmitterPerPlacement) {
   GONIO_REQUIRE_CAD_PARTS(parts);
   TempDir dir;

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "tests/support/test_support.h"
 
@@ -35,6 +37,7 @@ TEST(StepReferences, CountsEntitiesReferencesAndTheLongestChain) {
   EXPECT_EQ(r->entities, 5u);
   EXPECT_EQ(r->references, 6u);  // #3: 2, #4: 1, #5: 3
   EXPECT_EQ(r->depth, 4u);       // #5 → #4 → #3 → #1
+  EXPECT_EQ(r->shape_entities, (std::vector<std::uint64_t>{1, 2, 3, 4, 5}));
 }
 
 TEST(StepReferences, AnEntityThatRefersToItselfIsNamedWithItsLine) {
@@ -88,6 +91,10 @@ TEST(StepReferences, ACircleAmongPropertiesIsPassedOverAndDescribed) {
   EXPECT_EQ(r->harmless_cycles, 2u);
   EXPECT_EQ(r->first_harmless_cycle, "entity #3 (line 10) refers to itself");
   EXPECT_EQ(r->entities, 5u);
+  // The unit and the context scale shapes; the property's entities do not.
+  EXPECT_EQ(r->shape_entities, (std::vector<std::uint64_t>{1, 2}));
+  EXPECT_TRUE(r->is_shape_entity(2));
+  EXPECT_FALSE(r->is_shape_entity(3));
 }
 
 TEST(StepReferences, ChainsUpToTheLimitPassAndOneLongerIsRefused) {
