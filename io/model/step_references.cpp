@@ -9,8 +9,6 @@
 namespace gonio::io {
 namespace {
 
-constexpr std::uint32_t kMissing = UINT32_MAX;
-
 struct Instance {
   std::uint64_t id = 0;
   int line = 0;
