@@ -5,12 +5,15 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <regex>
 
 #include "tests/support/test_support.h"
 
 namespace gonio::io {
 namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Point {
   double x, y;
@@ -95,7 +98,7 @@ TEST(Plot, LogLogLineChartsSkipPointsThatCannotBeShown) {
   s.x.push_back(0.0);
   s.y.push_back(1.0);
   s.x.push_back(1e9);
-  s.y.push_back(NAN);
+  s.y.push_back(std::numeric_limits<double>::quiet_NaN());
   chart.series.push_back(s);
   const Result<std::string> svg = render_figure(one_chart(chart), ImageFormat::Svg);
   ASSERT_TRUE(svg.ok()) << svg.error().message;
@@ -114,11 +117,11 @@ TEST(Plot, LogLogLineChartsSkipPointsThatCannotBeShown) {
 Point key_sample(const std::string& svg, const std::string& id) {
   const std::size_t group = svg.find("<g id=\"" + id + "\"");
   const std::size_t d = svg.find(" d='M", group);
-  if (group == std::string::npos || d == std::string::npos) return {NAN, NAN};
+  if (group == std::string::npos || d == std::string::npos) return {kNaN, kNaN};
   const std::regex number_pair(R"(([-0-9.]+),([-0-9.]+))");
   std::smatch m;
   const std::string rest = svg.substr(d + 5, 64);
-  if (!std::regex_search(rest, m, number_pair)) return {NAN, NAN};
+  if (!std::regex_search(rest, m, number_pair)) return {kNaN, kNaN};
   return {std::stod(m[1]), std::stod(m[2])};
 }
 
