@@ -58,7 +58,21 @@ if(GONIO_FUZZ)
   target_link_options(gonio_sanitize INTERFACE -fsanitize=address,undefined)
 endif()
 
+# The test programs' own files at -O1: the code they test is built -O3 (its
+# libraries), while they themselves run little but set-ups and comparisons;
+# at -O3 they were more than half the Release build's compile time
+# (docs/validation.md, "Continuous integration"). Same floating-point flags.
+add_library(gonio_optimize_tests INTERFACE)
+target_compile_options(gonio_optimize_tests INTERFACE
+  $<$<CONFIG:Release,RelWithDebInfo>:-O1 -fno-math-errno -ffp-contract=fast>
+  -fno-semantic-interposition)
+
 # One line per Gonio target: warnings, optimisation and sanitizers.
 function(gonio_target_defaults target)
   target_link_libraries(${target} PRIVATE gonio::warnings gonio::optimize gonio::sanitize)
+endfunction()
+
+# The same for a test program's own files (-O1, above).
+function(gonio_test_defaults target)
+  target_link_libraries(${target} PRIVATE gonio::warnings gonio_optimize_tests gonio::sanitize)
 endfunction()

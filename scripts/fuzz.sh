@@ -176,8 +176,10 @@ contained() {
   return 1
 }
 
-status=0
-for h in "${harnesses[@]}"; do
+# One harness: its run, and the next seeds after contained OpenCASCADE
+# faults; 1 on a finding.
+fuzz_one() {
+  local h=$1 log max_len lsan started left round rc execs last finding verdict
   echo "== fuzz $h (${seconds} s)"
   mkdir -p "build-fuzz/corpus/$h"
   log="build-fuzz/fuzz-$h.log"
@@ -224,7 +226,31 @@ for h in "${harnesses[@]}"; do
   if [ "$rc" -ne 0 ]; then
     echo "fuzz: $h: FINDING (exit $rc) in ${verdict#* }; the log is $log:" >&2
     grep -E 'ERROR|SUMMARY|fuzz finding|Test unit written|runtime error' "$log" | head -20 >&2 || true
-    status=1
+    return 1
   fi
-done
+  return 0
+}
+lane() {
+  local h st=0
+  for h in "$@"; do fuzz_one "$h" || st=1; done
+  return "$st"
+}
+
+# Two harnesses at a time, one per core (each is one process), in two
+# lanes whose output is shown when both have ended; alone where the machine
+# has one core or one harness is asked for.
+status=0
+n=${#harnesses[@]}
+if [ "$jobs" -ge 2 ] && [ "$n" -ge 2 ]; then
+  half=$(((n + 1) / 2))
+  lane "${harnesses[@]:0:half}" >build-fuzz/lane-1.log 2>&1 &
+  first=$!
+  lane "${harnesses[@]:half}" >build-fuzz/lane-2.log 2>&1 &
+  second=$!
+  wait "$first" || status=1
+  wait "$second" || status=1
+  cat build-fuzz/lane-1.log build-fuzz/lane-2.log
+else
+  lane "${harnesses[@]}" || status=1
+fi
 exit "$status"
