@@ -447,7 +447,6 @@ Status CadReader::tessellate(const TopoDS_Shape& shape, CadPart& part, const std
          what + ": facets stay up to " + format_number(worst * 180.0 / M_PI, 3) + "° off the surface (asked " +
              format_number(tess_.angular_deflection_deg, 3) + "°) after four refinements, at a chordal deflection of " +
              format_number(chordal_m * 1e3, 3) + " mm");
-  if (part.faces == 0) return fail(what + ": the part has no faces (only wires, edges or points)");
   return Ok{};
 }
 
