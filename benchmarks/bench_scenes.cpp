@@ -4,9 +4,9 @@
 #include <numbers>
 #include <vector>
 
-#include "sim/alias_table.h"
-#include "sim/random.h"
-#include "sim/sampling.h"
+#include "sim/samplers/alias_table.h"
+#include "sim/samplers/random.h"
+#include "sim/samplers/sampling.h"
 #include "sim/shapes.h"
 
 namespace gonio::bench {

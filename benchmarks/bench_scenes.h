@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/embree_scene.h"
+#include "sim/tracer/embree_scene.h"
 #include "sim/scene.h"
-#include "sim/tracer.h"
+#include "sim/tracer/tracer.h"
 
 namespace gonio::bench {
 

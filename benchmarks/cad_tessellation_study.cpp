@@ -45,7 +45,7 @@
 #include "io/model/cad.h"
 #include "io/support/file_io.h"
 #include "photometry/format.h"
-#include "sim/resample.h"
+#include "sim/detectors/resample.h"
 #include "sim/simulation.h"
 
 #ifndef GONIO_SOURCE_DIR

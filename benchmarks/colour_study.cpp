@@ -7,7 +7,7 @@
 //  2. Colour over angle of a white-LED luminaire whose phosphor LED changes
 //     colour with angle — bare, behind an opal diffuser, behind a clear
 //     polycarbonate ball lens (dispersive: Abbe number 30): Δu′v′ max
-//     (sim/colour_over_angle.h) and how many photons it takes to know it
+//     (sim/detectors/colour_over_angle.h) and how many photons it takes to know it
 //     within 0.001 (every one of three seeds within 0.001 of a 2²³-photon
 //     reference).
 //
@@ -30,7 +30,7 @@
 #include "io/model/gltf.h"
 #include "photometry/colour.h"
 #include "samples/luminaires.h"
-#include "sim/colour_over_angle.h"
+#include "sim/detectors/colour_over_angle.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
 

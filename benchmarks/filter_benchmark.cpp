@@ -27,9 +27,9 @@
 #include <utility>
 
 #include "io/model/gltf.h"
-#include "sim/far_field_sampler.h"
-#include "sim/preview_filter.h"
-#include "sim/pyramid.h"
+#include "sim/detectors/far_field_sampler.h"
+#include "sim/filter/preview_filter.h"
+#include "sim/filter/pyramid.h"
 #include "sim/simulation.h"
 #include "tools/run/preview_output.h"
 

@@ -36,8 +36,8 @@
 
 #include "benchmarks/bench_scenes.h"
 #include "io/model/gltf.h"
-#include "sim/far_field_sampler.h"
-#include "sim/preview_filter.h"
+#include "sim/detectors/far_field_sampler.h"
+#include "sim/filter/preview_filter.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
 

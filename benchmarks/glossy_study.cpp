@@ -1,5 +1,5 @@
 // gonio_glossy_study: the measurement behind the glossy lobe's sampling
-// (sim/material.h).
+// (sim/bsdfs/material.h).
 //
 // For a grid of roughness and incidence (f0 = 1, the white furnace) it
 // prints, from the same number of samples each:
@@ -22,8 +22,8 @@
 #include <numbers>
 #include <utility>
 
-#include "sim/material.h"
-#include "sim/sampling.h"
+#include "sim/bsdfs/material.h"
+#include "sim/samplers/sampling.h"
 
 namespace {
 

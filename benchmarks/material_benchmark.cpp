@@ -1,6 +1,6 @@
 // The glossy lobe's cost per scattering event against the thesis's sampler
 // measured in the same run: Walter's half vector with the thesis's weight
-// F √(cos θo / cos θi) / cos θh (what sim/material.cpp did before the lobe
+// F √(cos θo / cos θi) / cos θh (what sim/bsdfs/material.cpp did before the lobe
 // became a microfacet BRDF with visible-normal sampling).
 //
 //   build/benchmarks/gonio_material_benchmarks
@@ -16,8 +16,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "sim/material.h"
-#include "sim/sampling.h"
+#include "sim/bsdfs/material.h"
+#include "sim/samplers/sampling.h"
 
 namespace gonio::bench {
 namespace {

@@ -25,7 +25,7 @@
 #include "samples/luminaires.h"
 #include "sim/bsdfs/library.h"
 #include "sim/bsdfs/slab.h"
-#include "sim/resample.h"
+#include "sim/detectors/resample.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
 

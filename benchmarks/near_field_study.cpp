@@ -2,7 +2,7 @@
 //
 // A black Lambertian disc of radius 0.25 m facing the nadir (1000 lm) with
 // near-field planes at 0.5, 2, 5 and 10 m (or those given): per plane the
-// verdict of sim/near_field.h's criterion, its bounds and the photons it
+// verdict of sim/detectors/near_field.h's criterion, its bounds and the photons it
 // would need, and the far-field distance. On the axis the near field is
 // within 1 % of the far field from D = a·√99 = 2.49 m.
 //
@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/near_field.h"
+#include "sim/detectors/near_field.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
 

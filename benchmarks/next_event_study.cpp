@@ -1,5 +1,5 @@
 // gonio_next_event_study: issue 33's measurement of next-event estimation
-// (sim/next_event.h) against today's default on the four samples.
+// (sim/tracer/next_event.h) against today's default on the four samples.
 //
 // For each sample: a pseudo-random reference run of 2^R photons (seed
 // 1000), then the default sampler (Owen-scrambled Sobol', 4 replicates,
@@ -38,7 +38,7 @@
 #include "io/model/gltf.h"
 #include "samples/luminaires.h"
 #include "sim/convergence.h"
-#include "sim/resample.h"
+#include "sim/detectors/resample.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
 #include "tools/run/progressive_run.h"

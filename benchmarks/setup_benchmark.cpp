@@ -31,8 +31,8 @@
 #include "io/model/gltf.h"
 #include "io/model/model_check.h"
 #include "samples/large_models.h"
-#include "sim/embree_scene.h"
-#include "sim/emission.h"
+#include "sim/tracer/embree_scene.h"
+#include "sim/emitters/emission.h"
 
 namespace gonio::bench {
 namespace {

@@ -37,8 +37,8 @@
 #include "benchmarks/bench_scenes.h"
 #include "benchmarks/large_model_files.h"
 #include "io/model/gltf.h"
-#include "sim/random.h"
-#include "sim/sampling.h"
+#include "sim/samplers/random.h"
+#include "sim/samplers/sampling.h"
 #include "sim/simulation.h"
 
 namespace gonio::bench {
@@ -249,7 +249,7 @@ const bool kLeaksRegistered = [] {
   return true;
 }();
 
-// Importance-guided emission (sim/emission_guide.h) on the samples, after the
+// Importance-guided emission (sim/emitters/emission_guide.h) on the samples, after the
 // two plain iterations the guide learns from: photons drawn per
 // second (the rate the far field's noise depends on, with unequal power),
 // photons traced per second, and plain_ratio = photons drawn per CPU-second

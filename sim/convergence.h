@@ -22,9 +22,9 @@
 // reference's noise lets one see) RMSE, PSNR and SNR are NaN.
 //
 // Candela table. The map (a preview as flux = intensity × texel solid angle)
-// is resampled into the bins of a Type C grid (sim/resample.h, no symmetry
+// is resampled into the bins of a Type C grid (sim/detectors/resample.h, no symmetry
 // averaging), giving per bin b its intensity I_b, solid angle Ω_b and the
-// reference's R_b with variance v_b (sim/resample.h's estimate). Errors are
+// reference's R_b with variance v_b (sim/detectors/resample.h's estimate). Errors are
 // relative to the reference's peak R_max = max_b R_b, as in
 // photometry/compare.h:
 //   rms_pct = 100 · √((Σ Ω_b (I_b − R_b)² − Σ Ω_b v_b) / Σ Ω_b) / R_max
@@ -40,8 +40,8 @@
 #include <span>
 #include <vector>
 
-#include "sim/far_field.h"
-#include "sim/resample.h"
+#include "sim/detectors/far_field.h"
+#include "sim/detectors/resample.h"
 
 namespace gonio::sim {
 

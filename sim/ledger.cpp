@@ -93,7 +93,7 @@ Ledger make_ledger(const LedgerTally& t, const SceneDesc& scene, double total_fl
     }
   }
   if (radiant_bins && t.bins.emitted.size() == radiant_bins->size()) {
-    // Watts from the bins (sim/spectral.h), summed in a fixed order.
+    // Watts from the bins (sim/tracer/spectral.h), summed in a fixed order.
     l.spectral = true;
     RadiantLedger& r = l.radiant;
     const std::size_t bands = photometry::kCmfCount;

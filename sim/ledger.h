@@ -29,7 +29,7 @@
 namespace gonio::sim {
 
 // A radiant bin's watts per lumen in each 5 nm band of the CIE 1931 table
-// (sim/spectral.h's WavelengthSampler::radiant_bins).
+// (sim/tracer/spectral.h's WavelengthSampler::radiant_bins).
 using RadiantPerLm = std::array<double, photometry::kCmfCount>;
 
 // Fixed-point units of power per photon of nominal power (2^24).
@@ -111,7 +111,7 @@ struct MaterialLedger {
 // The radiant books of a spectral run [W], over 360–830 nm.
 struct RadiantLedger {
   double emitted_w = 0.0, escaped_w = 0.0, absorbed_w = 0.0, cutoff_w = 0.0;
-  // The escaped radiant power in each 5 nm band of sim/spectral.h's grid
+  // The escaped radiant power in each 5 nm band of sim/tracer/spectral.h's grid
   // (band k centred on wavelength_nm(k)) [W]; the luminaire's total spectrum.
   std::vector<double> escaped_band_w;
   // emitted − escaped − absorbed − cutoff [W]: zero to rounding.
@@ -139,7 +139,7 @@ struct Ledger {
 
 // Lumens from the integer books: `total_flux_lm` is the flux the emitters
 // send out, shared by the photons emitted in proportion to the power units
-// they started with (equally, unless emission is guided: sim/emission_guide.h).
+// they started with (equally, unless emission is guided: sim/emitters/emission_guide.h).
 // `radiant_bins`: a spectral run's bins (WavelengthSampler::radiant_bins;
 // null for grey runs), which give the radiant books.
 Ledger make_ledger(const LedgerTally& tally, const SceneDesc& scene, double total_flux_lm,

@@ -68,7 +68,7 @@ struct Material {
   double diffuse_transmit = 0.0;  // Lambertian transmission to the far side (opal, diffusers)
   double mirror = 0.0;            // perfect specular reflection
   double glossy = 0.0;            // glossy reflection (the thesis' ks): microfacet lobe on the
-                                  // anisotropic Beckmann distribution (sim/material.h)
+                                  // anisotropic Beckmann distribution (sim/bsdfs/material.h)
   double glossy_mx = 0.1;         // lobe roughness (RMS slope) along the surface tangent
   double glossy_my = 0.1;         // lobe roughness along the bitangent
   double glossy_f0 = 1.0;         // Schlick's reflectance at normal incidence for the lobe
@@ -93,13 +93,13 @@ struct Material {
   double tabulated = 0.0;
   std::shared_ptr<const TabulatedBsdf> table{};
   // Lobe weights over the angle of incidence, per lobe in sim::Lobe order
-  // from DiffuseReflect (sim/material.h): index = Lobe − 1.
+  // from DiffuseReflect (sim/bsdfs/material.h): index = Lobe − 1.
   std::array<IncidenceTable, 8> over_incidence{};
   // Tables derived from the above by sim::prepare (the tracer prepares its
   // materials; callers of sim::scatter prepare theirs); null until then.
   std::shared_ptr<const MaterialTables> tables{};
 
-  // Spectral behaviour (sim/spectral.h applies it; all empty or 0: the same
+  // Spectral behaviour (sim/tracer/spectral.h applies it; all empty or 0: the same
   // at every wavelength). The reflectance spectrum is the total of the
   // reflection lobes (diffuse_reflect, mirror, glossy, ABg) at each wavelength,
   // shared among them in the proportion of their weights (all diffuse where
@@ -161,7 +161,7 @@ struct Instance {
 
 // A near-field ray set (an IES TM-25 file placed in the world): per ray a
 // start point [m], a unit direction and its luminous flux [lm], all in the
-// world (sim/ray_set_emitter.h samples it).
+// world (sim/emitters/ray_set_emitter.h samples it).
 struct RaySet {
   std::vector<Vec3f> position_m;
   std::vector<Vec3f> direction;
@@ -217,7 +217,7 @@ struct Emitter {
   // reports); flux_lm is the emitter's, the rays' fluxes only weigh them.
   std::shared_ptr<const RaySet> rays;
 
-  EmitterSpectrum spectrum;  // empty: no spectral input (sim/spectral.h)
+  EmitterSpectrum spectrum;  // empty: no spectral input (sim/tracer/spectral.h)
 };
 
 struct SceneDesc {
@@ -229,7 +229,7 @@ struct SceneDesc {
   photometry::PhotometricFrame frame;  // the luminaire's photometric frame in the world
 
   // Whether any emitter or material has spectral input: photons then carry
-  // wavelengths and the far field gains X and Z (sim/spectral.h); an emitter
+  // wavelengths and the far field gains X and Z (sim/tracer/spectral.h); an emitter
   // without a spectrum then emits the equal-energy spectrum (CIE illuminant
   // E). Otherwise the tracer takes today's path, draw for draw.
   bool spectral() const {

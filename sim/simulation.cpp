@@ -77,7 +77,7 @@ struct Simulation::Impl {
   int replicates = 0;
   std::vector<std::uint64_t> replicate_photons;
   // Spectral scenes only: X and Z over all iterations, kColourUnits per
-  // photon of Y (sim/spectral.h).
+  // photon of Y (sim/tracer/spectral.h).
   std::vector<std::uint64_t> texel_x;
   std::vector<std::uint64_t> texel_z;
   LedgerTally books;

@@ -22,13 +22,13 @@
 
 #include "photometry/diagnostics.h"
 #include "sim/distributed.h"
-#include "sim/emission_guide.h"
-#include "sim/far_field.h"
-#include "sim/spectral.h"
+#include "sim/emitters/emission_guide.h"
+#include "sim/detectors/far_field.h"
+#include "sim/tracer/spectral.h"
 #include "sim/ledger.h"
-#include "sim/next_event.h"
+#include "sim/tracer/next_event.h"
 #include "sim/scene.h"
-#include "sim/tracer.h"
+#include "sim/tracer/tracer.h"
 
 namespace gonio::sim {
 
@@ -38,12 +38,12 @@ struct SimulationSettings {
   std::uint64_t photons_per_iteration = 1'000'000;  // ≥ 1, < 2³²
   int iterations = 10;                               // ≥ 1; at most 2³⁹ photons in all
   std::uint64_t seed = 1;
-  // Where photons' numbers come from (sim/sampler.h): pseudo-random or
+  // Where photons' numbers come from (sim/samplers/sampler.h): pseudo-random or
   // Owen-scrambled Sobol' points; either gives the same bytes for any
   // thread count, iteration split or rank split.
   SamplerKind sampler = SamplerKind::Random;
   // Sobol': photon i belongs to replicate i mod K, an independent scramble
-  // (sim/sampler.h), 1 … kMaxSobolReplicates; their spread gives the error
+  // (sim/samplers/sampler.h), 1 … kMaxSobolReplicates; their spread gives the error
   // estimate (tools/run/progressive_run.h). Part of what photon i draws.
   int sobol_replicates = kSobolReplicates;
   int threads = 0;                                   // 0: every core
@@ -53,7 +53,7 @@ struct SimulationSettings {
   // BVH build quality (EmbreeSceneOptions); none: bvh_quality_for the
   // scene's unique triangles and photons_per_iteration · iterations.
   std::optional<EmbreeSceneOptions::Quality> bvh_quality;
-  // Importance-guided emission (sim/emission_guide.h); off: plain emission.
+  // Importance-guided emission (sim/emitters/emission_guide.h); off: plain emission.
   ImportanceSettings importance;
   // The job's ranks to share every iteration with (they must all run the
   // same scene and settings, iteration for iteration: run_iteration is
@@ -64,11 +64,11 @@ struct SimulationSettings {
   // a ray file's rays); 0: none. This process's photons only under MPI.
   std::uint64_t capture_escaped_photons = 0;
   // Near-field planes at these distances [m] below the luminaire's
-  // photometric centre (sim/near_field.h's luminous_centre, from a pilot of
+  // photometric centre (sim/detectors/near_field.h's luminous_centre, from a pilot of
   // the run's first photons); empty: none, and the photon loop pays nothing
   // for them.
   std::vector<double> near_field_distances_m;
-  // Next-event estimation for the far field (sim/next_event.h): off, on, or
+  // Next-event estimation for the far field (sim/tracer/next_event.h): off, on, or
   // auto (on where the pilot finds that most escaping light leaves after a
   // non-delta event at surfaces whose connections escape). Not with guided
   // emission (on: an error; auto: off).
@@ -179,7 +179,7 @@ class Simulation {
   const EmissionGuide* emission_guide() const;
 
   // Spectral scenes (SceneDesc::spectral()): X and Z per texel beside the
-  // far field's Y (its flux), same units; empty otherwise (sim/spectral.h).
+  // far field's Y (its flux), same units; empty otherwise (sim/tracer/spectral.h).
   ColourFarField colour_far_field() const;
   // The books of every photon so far.
   Ledger ledger() const;

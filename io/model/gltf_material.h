@@ -17,7 +17,7 @@
 //       → mirror when roughness < kMirrorRoughness, else the glossy lobe
 //         with mx = my = α and f0 = 1 (reflectance equal to the weight, as
 //         datasheets state it, for smooth lobes; rough ones reflect less,
-//         e.g. 0.94 of it at α = 0.5 and normal incidence: sim/material.h)
+//         e.g. 0.94 of it at α = 0.5 and normal incidence: sim/bsdfs/material.h)
 //   dielectric           = (1 − m)·t·ρ  (smooth interface: Fresnel reflection,
 //                          refraction, total internal reflection; ior = n)
 //   diffuse_transmit     = (1 − m)(1 − t)(1 − F0)·dt·ρdt

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "sim/cube_map.h"
+#include "sim/detectors/cube_map.h"
 
 #include "photometry/diagnostics.h"
 

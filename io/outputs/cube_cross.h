@@ -4,7 +4,7 @@
 //       −X   −Z   +X   +Z
 //            −Y
 //
-// (4N × 3N texels), every face as stored in the cube map (sim/cube_map.h,
+// (4N × 3N texels), every face as stored in the cube map (sim/detectors/cube_map.h,
 // OpenEXR's layout: x right, y down), none rotated: with this arrangement
 // every shared edge of the cross joins texels that are neighbours on the
 // sphere. In Gonio's default photometric frame (nadir −Y) the downward
@@ -28,7 +28,7 @@
 #include <span>
 
 #include "io/outputs/image8.h"
-#include "sim/cube_map.h"
+#include "sim/detectors/cube_map.h"
 
 namespace gonio::io {
 

@@ -2,7 +2,7 @@
 // image of named channels (previews, equirectangular maps). io/outputs/exr.cpp is
 // the one file that includes OpenEXR.
 //
-// Cube maps follow OpenEXR's layout (ImfEnvmap.h), which sim/cube_map.h
+// Cube maps follow OpenEXR's layout (ImfEnvmap.h), which sim/detectors/cube_map.h
 // already uses: an N × 6N image, faces +X, −X, +Y, −Y, +Z, −Z from top to
 // bottom, so pixel (x, face·N + y) is texel (face·N + y)·N + x and a
 // channel's values in texel order are its pixels row by row.
@@ -18,7 +18,7 @@
 
 #include "photometry/diagnostics.h"
 #include "photometry/vec3.h"
-#include "sim/far_field.h"
+#include "sim/detectors/far_field.h"
 
 namespace gonio::io {
 
@@ -66,7 +66,7 @@ Result<ExrImage> read_exr(const std::string& path);
 // (float), `photons` = photon count per texel (UINT, exact), `flux` = flux
 // per texel [lm] (float), envmap cube, attributes `gonio:quantity`,
 // `gonio:units`. Error if a count exceeds 2³² − 1. A spectral run's
-// `colour` (sim/far_field.h; null or empty: none) adds the channels `X` and
+// `colour` (sim/detectors/far_field.h; null or empty: none) adds the channels `X` and
 // `Z` beside `Y`: the CIE 1931 tristimulus values per steradian, in the
 // units of Y (so x = X/(X+Y+Z) per texel).
 Result<ExrImage> far_field_image(const sim::FarField& far_field,

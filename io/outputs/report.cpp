@@ -30,7 +30,7 @@ nlohmann::json radiant_json(const sim::RadiantLedger& r) {
           {"method",
            "360-830 nm in 5 nm bands; each photon's luminous power in watts by its emitter's spectrum at its "
            "angle (S / (Km sum S ybar), exact), or, for photons whose wavelength a material drew, as the photons "
-           "drawn in that band ended (sim/spectral.h)"}};
+           "drawn in that band ended (sim/tracer/spectral.h)"}};
 }
 
 nlohmann::json to_json(const SimulationReport& r) {

@@ -16,7 +16,7 @@
 //          and the first photon [s]: reading the model, the model checks
 //          (io/model/model_check.h; meshes found in the check cache are not checked
 //          again), and the tracer's setup: scene validation, emission tables,
-//          Embree BVH, per-corner shading data (sim/tracer.h),
+//          Embree BVH, per-corner shading data (sim/tracer/tracer.h),
 //   max_rss_bytes (the process's memory high-water mark, getrusage ru_maxrss),
 //   emitters [{name, emitted_lm, escaped_lm, absorbed_lm, cutoff_lm,
 //              photons_emitted, photons_escaped, photons_absorbed, photons_cutoff}],

@@ -7,7 +7,7 @@
 
 #include "sim/bsdfs/abg_integral.h"
 #include "sim/bsdfs/table_cache.h"
-#include "sim/sampling.h"
+#include "sim/samplers/sampling.h"
 
 namespace gonio::sim {
 namespace {

@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "photometry/vec3.h"
-#include "sim/random.h"
+#include "sim/samplers/random.h"
 
 namespace gonio::sim {
 

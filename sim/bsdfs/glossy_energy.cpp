@@ -5,9 +5,9 @@
 #include <numbers>
 #include <utility>
 
-#include "sim/material.h"
+#include "sim/bsdfs/material.h"
 #include "sim/bsdfs/table_cache.h"
-#include "sim/sampling.h"
+#include "sim/samplers/sampling.h"
 
 namespace gonio::sim {
 namespace {

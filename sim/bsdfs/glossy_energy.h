@@ -2,7 +2,7 @@
 // the multiple-scattering compensation of Kulla and Conty (2017, "Revisiting
 // physically based shading at Imageworks", SIGGRAPH course notes).
 //
-// The single-scattering microfacet lobe of sim/material.h reflects
+// The single-scattering microfacet lobe of sim/bsdfs/material.h reflects
 //   E_F(wi) = ∫ f cos θo dωo ≤ 1,
 // and with F = 1 (a white lobe) E(wi) falls below 1 for rough lobes: light
 // that meets a second facet is not followed (0.46 at mx = my = 1 and normal
@@ -15,7 +15,7 @@
 // at every incidence: a white lobe reflects all it receives.
 //
 // The tracer does not read E(wi) from a table: the glossy sampler's survival
-// weight F·G2/G1 (sim/material.h) is split into the masking part G2/G1 and
+// weight F·G2/G1 (sim/bsdfs/material.h) is split into the masking part G2/G1 and
 // Fresnel's F, and a photon that the masking roulette would absorb (chance
 // 1 − E(wi), exactly) leaves instead in the second lobe with chance κ. So
 // the compensated lobe conserves energy exactly, whatever the table's
@@ -28,7 +28,7 @@
 #include <memory>
 
 #include "photometry/vec3.h"
-#include "sim/random.h"
+#include "sim/samplers/random.h"
 
 namespace gonio::sim {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "sim/bsdfs/tabulated_bsdf.h"
-#include "sim/sampling.h"
+#include "sim/samplers/sampling.h"
 
 namespace gonio::sim {
 

@@ -23,7 +23,7 @@
 // over the non-delta lobes; that is the BSDF · |cos θo| a next-event
 // connection multiplies by.
 //
-// The tracer scatters with sim::scatter (sim/material.h), which for each
+// The tracer scatters with sim::scatter (sim/bsdfs/material.h), which for each
 // lobe is the analog process these functions describe: the photon leaves
 // with density lobe_evaluate / lobe_albedo and survives with chance
 // lobe_albedo (for the compensated glossy lobe by roulette and redirection:
@@ -35,8 +35,8 @@
 #include "photometry/vec3.h"
 #include "sim/bsdfs/abg.h"
 #include "sim/bsdfs/glossy_energy.h"
-#include "sim/material.h"
-#include "sim/random.h"
+#include "sim/bsdfs/material.h"
+#include "sim/samplers/random.h"
 #include "sim/scene.h"
 
 namespace gonio::sim {

@@ -7,8 +7,8 @@
 #include "photometry/format.h"
 #include "sim/bsdfs/tabulated_bsdf.h"
 #include "sim/bsdfs/volume.h"
-#include "sim/material.h"
-#include "sim/random.h"
+#include "sim/bsdfs/material.h"
+#include "sim/samplers/random.h"
 
 namespace gonio::sim {
 namespace {

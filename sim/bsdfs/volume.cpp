@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "sim/sampling.h"
+#include "sim/samplers/sampling.h"
 
 namespace gonio::sim {
 

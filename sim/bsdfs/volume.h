@@ -1,5 +1,5 @@
 // Volume scattering inside a closed part: the Henyey–Greenstein phase
-// function. The tracer (sim/tracer.cpp) draws a photon's free path inside a
+// function. The tracer (sim/tracer/tracer.cpp) draws a photon's free path inside a
 // part whose material has Material::scattering_per_m > 0 with
 // μt = μs + μa (μa: Material::attenuation_per_m); where it ends inside, the
 // photon is absorbed with chance μa/μt (booked at that part in the ledger)
@@ -12,7 +12,7 @@
 #pragma once
 
 #include "photometry/vec3.h"
-#include "sim/random.h"
+#include "sim/samplers/random.h"
 
 namespace gonio::sim {
 

@@ -18,7 +18,7 @@
 //   starts (the surface point it leaves), projected along t, with weight
 //   1/Ω_cone: the luminance averaged over the cone;
 // - a next-event connection: a photon at a vertex with non-delta lobes
-//   (sim/bsdf_eval.h) — or leaving an area emitter — sends, when nothing
+//   (sim/bsdfs/bsdf_eval.h) — or leaving an area emitter — sends, when nothing
 //   blocks the straight line from that point along t, f(wi, t)·|cos θt|
 //   (an area emitter: cos θt/π, two-sided |cos θt|/2π) at the vertex's
 //   pixel: the intensity that event sends towards the observer. Its escape
@@ -99,7 +99,7 @@ LuminanceCamera make_luminance_camera(const LuminanceImageSettings& settings, co
 std::string validate_luminance_settings(const LuminanceImageSettings& settings);  // empty: valid
 
 // A thread's (or a run's) units per view and pixel; X and Z beside them in
-// spectral runs (kColourUnits per photon of Y, sim/spectral.h, × 1/sr).
+// spectral runs (kColourUnits per photon of Y, sim/tracer/spectral.h, × 1/sr).
 struct LuminanceTally {
   std::vector<std::vector<std::uint64_t>> units;
   std::vector<std::vector<std::uint64_t>> x_units, z_units;

@@ -176,7 +176,7 @@ TEST(DistributedSimulation, UnevenIterationsAndRanksWithoutChunks) {
   expect_uneven_iterations_alike(scene, settings(1, 1, 1, false));
 }
 
-// The Sobol' sampler (sim/sampler.h): photon i is point ⌊i/K⌋ of replicate
+// The Sobol' sampler (sim/samplers/sampler.h): photon i is point ⌊i/K⌋ of replicate
 // i mod K's scramble whichever rank and thread traces it — plain and guided,
 // even and uneven iterations, the replicates' far fields as well.
 TEST(DistributedSimulation, SobolSamplerGivesTheBytesOfOneProcess) {

@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "sim/embree_scene.h"
-#include "sim/emission.h"
-#include "sim/random.h"
-#include "sim/sampling.h"
+#include "sim/tracer/embree_scene.h"
+#include "sim/emitters/emission.h"
+#include "sim/samplers/random.h"
+#include "sim/samplers/sampling.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
-#include "sim/tracer.h"
+#include "sim/tracer/tracer.h"
 
 namespace gonio::sim {
 namespace {

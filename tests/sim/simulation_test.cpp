@@ -62,7 +62,7 @@ TEST(Simulation, SameBytesWithOneOrTwoThreadsAndAnySplit) {
 }
 
 TEST(Simulation, SobolSamplerGivesTheSameBytesForAnyThreadsAndSplit) {
-  // Photon i is Sobol' point ⌊i/K⌋ of replicate i mod K (sim/sampler.h): no
+  // Photon i is Sobol' point ⌊i/K⌋ of replicate i mod K (sim/samplers/sampler.h): no
   // state crosses photons; the replicates' far fields are the same bytes too.
   const SceneDesc scene = mixed_scene();
   auto with = [](int threads, std::uint64_t per_iteration, int iterations) {

@@ -21,7 +21,7 @@
 // prints slopes and ratios) every slope lay in [−0.54, −0.46].
 //
 // GONIO_STABILITY_SAMPLER=sobol (ctest's stability_sobol) runs the series
-// with Owen-scrambled Sobol' points (sim/sampler.h); the references stay
+// with Owen-scrambled Sobol' points (sim/samplers/sampler.h); the references stay
 // pseudo-random (their noise is taken out as Poisson noise). The raw error
 // must then fall at least as fast as Monte Carlo's (slope ≤ −0.4). The
 // preview filters' statistics assume Poisson noise, which Sobol' points
@@ -51,8 +51,8 @@
 #include "io/outputs/report.h"
 #include "photometry/distribution.h"
 #include "sim/convergence.h"
-#include "sim/preview_filter.h"
-#include "sim/resample.h"
+#include "sim/filter/preview_filter.h"
+#include "sim/detectors/resample.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "photometry/vec3.h"
-#include "sim/far_field.h"
+#include "sim/detectors/far_field.h"
 
 namespace gonio::sim::test {
 

@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "photometry/frame.h"
-#include "sim/material.h"
-#include "sim/sampling.h"
+#include "sim/bsdfs/material.h"
+#include "sim/samplers/sampling.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
-#include "sim/tracer.h"
+#include "sim/tracer/tracer.h"
 
 namespace gonio::sim {
 namespace {

@@ -16,7 +16,7 @@
 
 #include "photometry/diagnostics.h"
 #include "sim/distributed.h"
-#include "sim/resample.h"
+#include "sim/detectors/resample.h"
 #include "tools/bench/bench_report.h"
 #include "tools/bench/bench_series.h"
 #include "tools/run/console.h"
@@ -49,7 +49,7 @@ struct BenchOptions {
   long long face_size = 0;                      // --face-size F; 0: what the grid needs
   double c_step = 5.0, gamma_step = 2.5, target = 1.0, cube_target = 0.1;
   bool importance = false;                      // --importance
-  std::string next_event = "auto";              // --next-event auto|on|off (unguided series; sim/next_event.h)
+  std::string next_event = "auto";              // --next-event auto|on|off (unguided series; sim/tracer/next_event.h)
   std::optional<long long> emission_face_size;  // --emission-face-size E (guided; default 32)
   std::optional<double> min_acceptance;         // --min-acceptance A (guided; default 1/16)
   std::string sampler = "both";                 // --sampler random|sobol|both

@@ -25,8 +25,8 @@
 #include "photometry/diagnostics.h"
 #include "sim/convergence.h"
 #include "sim/distributed.h"
-#include "sim/far_field.h"
-#include "sim/resample.h"
+#include "sim/detectors/far_field.h"
+#include "sim/detectors/resample.h"
 #include "sim/scene.h"
 
 namespace gonio::app {

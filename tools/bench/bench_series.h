@@ -10,7 +10,7 @@
 // nothing else: computing the errors is the benchmark's own cost. A guided
 // series traces a run of its own (same seed, same iterations); its time
 // includes the guide's update after each iteration. So does each series of
-// another sampler (sim/sampler.h: the Sobol' series against the
+// another sampler (sim/samplers/sampler.h: the Sobol' series against the
 // pseudo-random ones, same seed, same iterations).
 //
 // Iterations grow geometrically: the run reaches first · 2^(k / steps)
@@ -26,11 +26,11 @@
 
 #include "photometry/diagnostics.h"
 #include "sim/convergence.h"
-#include "sim/emission_guide.h"
-#include "sim/next_event.h"
-#include "sim/preview_filter.h"
-#include "sim/resample.h"
-#include "sim/sampler.h"
+#include "sim/emitters/emission_guide.h"
+#include "sim/tracer/next_event.h"
+#include "sim/filter/preview_filter.h"
+#include "sim/detectors/resample.h"
+#include "sim/samplers/sampler.h"
 #include "sim/scene.h"
 
 namespace gonio::app {
@@ -44,13 +44,13 @@ struct BenchSettings {
   int max_bounces = 100;
   int face_size = 128;                                  // far-field cube map
   bool importance = false;                              // add the guided series
-  // Sampler of the series above (sim/sampler.h); with compare_samplers the
+  // Sampler of the series above (sim/samplers/sampler.h); with compare_samplers the
   // Sobol' raw and adaptive series are added to pseudo-random ones.
   sim::SamplerKind sampler = sim::SamplerKind::Random;
   bool compare_samplers = false;
-  int sobol_replicates = sim::kSobolReplicates;          // of the Sobol' runs (sim/sampler.h)
+  int sobol_replicates = sim::kSobolReplicates;          // of the Sobol' runs (sim/samplers/sampler.h)
   sim::ImportanceSettings importance_settings{true};    // for them
-  // Next-event estimation of the unguided series (sim/next_event.h).
+  // Next-event estimation of the unguided series (sim/tracer/next_event.h).
   sim::NextEventMode next_event = sim::NextEventMode::Auto;
   int next_event_connections = sim::kDefaultConnections;
   double target_pct = 1.0;                              // candela RMS error to time [%]

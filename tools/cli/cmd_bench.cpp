@@ -109,7 +109,7 @@ int run_bench(const Args& args) {
   p.choice("next-event", &o.next_event, {"auto", "on", "off"},
            "next-event estimation of the unguided series (as gonio simulate: default auto)");
   p.choice("sampler", &o.sampler, {"random", "sobol", "both"},
-           "sampler of the series (sim/sampler.h): random, sobol, or both (default: the pseudo-random\n"
+           "sampler of the series (sim/samplers/sampler.h): random, sobol, or both (default: the pseudo-random\n"
            "series and Sobol' raw and adaptive, charted against each other); the reference is\n"
            "pseudo-random either way (its noise is taken out as Poisson noise)");
   p.option("emission-face-size", &o.emission_face_size, app::kBenchFaceSizeBounds.min,

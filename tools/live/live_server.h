@@ -8,7 +8,7 @@
 //   GET /state.json     the latest published state (application/json)
 //   GET /field.f32      the latest filtered far field: float32 intensities
 //                       [cd], little-endian, in cube-map texel order
-//                       (sim/cube_map.h); header X-Gonio-Version
+//                       (sim/detectors/cube_map.h); header X-Gonio-Version
 //   GET /events         server-sent events: one `data: <state JSON>` event
 //                       per publish (and the current state on connect)
 // The web dir is $GONIO_WEB_DIR, else `web/` beside the gonio executable

@@ -1,7 +1,7 @@
 // What the live page shows, computed from a running simulation and published
 // through tools/live/live_server.h after every iteration: the filtered far field
-// (sim/preview_filter.h, the --filter options), its candela table on the
-// output grid (sim/resample.h), and the numbers a designer watches.
+// (sim/filter/preview_filter.h, the --filter options), its candela table on the
+// output grid (sim/detectors/resample.h), and the numbers a designer watches.
 //
 // state.json (every publish; NaN numbers are null):
 //   version, run (1, 2, … one per model load), model, status ("loading",
@@ -35,8 +35,8 @@
 #include <nlohmann/json.hpp>
 
 #include "photometry/diagnostics.h"
-#include "sim/preview_filter.h"
-#include "sim/resample.h"
+#include "sim/filter/preview_filter.h"
+#include "sim/detectors/resample.h"
 #include "sim/scene.h"
 #include "tools/live/live_server.h"
 #include "tools/run/progressive_run.h"

@@ -40,7 +40,7 @@
 #include "photometry/summary.h"
 #include "photometry/validation.h"
 #include "sim/distributed.h"
-#include "sim/far_field.h"
+#include "sim/detectors/far_field.h"
 #include "sim/ledger.h"
 #include "tools/run/console.h"
 #include "tools/run/distributed_run.h"
@@ -724,7 +724,7 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
 void bind_simulation(py::module_& m) {
   py::class_<FarField>(m, "FarField",
                        "The simulated far field: a direction cube map, faces +X -X +Y -Y +Z -Z of the model's\n"
-                       "world axes (OpenEXR's order; sim/cube_map.h), arrays of shape (6, N, N) indexed\n"
+                       "world axes (OpenEXR's order; sim/detectors/cube_map.h), arrays of shape (6, N, N) indexed\n"
                        "[face, y, x], read-only views of the result (no copy).")
       .def_property_readonly("face_size", [](const FarField& f) { return f.field->face_size(); })
       .def_property_readonly("total_flux_lm", [](const FarField& f) { return f.field->total_flux_lm(); })

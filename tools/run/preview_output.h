@@ -1,5 +1,5 @@
 // The progressive preview of `gonio simulate --preview`: after every
-// iteration the far field is filtered (sim/preview_filter.h) and written as
+// iteration the far field is filtered (sim/filter/preview_filter.h) and written as
 //   DIR/preview.exr — the filtered cube map (OpenEXR cube environment map,
 //                     like farfield.exr), channel Y = intensity [cd];
 //   DIR/preview.png — the unfolded cube (io/outputs/cube_cross.h), exposed robustly
@@ -14,9 +14,9 @@
 
 #include "io/outputs/exr.h"
 #include "photometry/diagnostics.h"
-#include "sim/cube_map.h"
-#include "sim/far_field.h"
-#include "sim/preview_filter.h"
+#include "sim/detectors/cube_map.h"
+#include "sim/detectors/far_field.h"
+#include "sim/filter/preview_filter.h"
 #include "tools/run/console.h"
 #include "tools/run/option_bounds.h"
 

@@ -16,7 +16,7 @@
 // time left. A run without escaped flux has no estimate (NaN): it never stops
 // by target error.
 //
-// Under the Sobol' sampler (sim/sampler.h) photons are not independent:
+// Under the Sobol' sampler (sim/samplers/sampler.h) photons are not independent:
 // scrambled Sobol' points are better spread than that, and the count-based
 // estimate over-states their error (1.3–4× at 2²⁰ photons on the samples).
 // There the estimate comes from the run's K replicates (photon i belongs to
@@ -44,8 +44,8 @@
 #include <span>
 
 #include "photometry/diagnostics.h"
-#include "sim/far_field.h"
-#include "sim/resample.h"
+#include "sim/detectors/far_field.h"
+#include "sim/detectors/resample.h"
 #include "sim/scene.h"
 #include "sim/simulation.h"
 

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "photometry/format.h"
-#include "sim/far_field.h"
+#include "sim/detectors/far_field.h"
 
 namespace gonio::app {
 

@@ -20,7 +20,7 @@
 #include "io/photometric/tm25.h"
 #include "photometry/distribution.h"
 #include "photometry/frame.h"
-#include "sim/resample.h"
+#include "sim/detectors/resample.h"
 
 namespace gonio::app {
 

@@ -1,4 +1,4 @@
-// The outputs' resamplers (sim/resample.h) kept on disk, keyed by all they
+// The outputs' resamplers (sim/detectors/resample.h) kept on disk, keyed by all they
 // depend on: the face size, the photometric frame, the grid and the
 // builder's revision (sim::kResamplerRevision). Building one is the largest
 // part of writing a run's files (the latitude-longitude map's 1.4° grid at
@@ -15,7 +15,7 @@
 #include <string>
 
 #include "photometry/frame.h"
-#include "sim/resample.h"
+#include "sim/detectors/resample.h"
 
 namespace gonio::app {
 

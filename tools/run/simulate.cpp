@@ -8,10 +8,10 @@
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
-#include "sim/ray_set_emitter.h"
-#include "sim/sampler.h"
+#include "sim/emitters/ray_set_emitter.h"
+#include "sim/samplers/sampler.h"
 #include "sim/simulation.h"  // sim::parse_luminance_views (sim/detectors)
-#include "sim/symmetry.h"
+#include "sim/detectors/symmetry.h"
 #include "tools/run/distributed_run.h"
 #include "tools/run/resampler_cache.h"
 

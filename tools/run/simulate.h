@@ -26,8 +26,8 @@
 
 #include "io/support/cache_folder.h"
 #include "photometry/diagnostics.h"
-#include "sim/next_event.h"
-#include "sim/resample.h"
+#include "sim/tracer/next_event.h"
+#include "sim/detectors/resample.h"
 #include "sim/scene.h"
 #include "tools/run/console.h"
 #include "tools/run/model_input.h"
@@ -64,8 +64,8 @@ struct SimulateOptions {
   std::string bvh_quality = "auto";        // --bvh-quality auto|low|medium|high
   std::optional<long long> tm25_rays;      // --tm25-rays N (format tm25 only; default 1000000)
   std::optional<std::string> near_field;   // --near-field D1,D2,… [m]
-  std::string sampler = "sobol";           // --sampler sobol|random (sim/sampler.h)
-  std::string next_event = "auto";         // --next-event auto|on|off (sim/next_event.h)
+  std::string sampler = "sobol";           // --sampler sobol|random (sim/samplers/sampler.h)
+  std::string next_event = "auto";         // --next-event auto|on|off (sim/tracer/next_event.h)
   long long connections = sim::kDefaultConnections;  // --connections M
   std::optional<std::string> luminance_images;       // --luminance-image C:G[,C:G…] or ugr
   std::optional<std::string> cache_dir;    // --cache DIR; none: io::default_cache_dir()

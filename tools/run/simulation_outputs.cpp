@@ -679,7 +679,7 @@ Result<OutputResult> write_outputs(const sim::FarField& far_field, const sim::Sc
     }
     // Against the far field the files were made from: the escaped flux
     // without next-event estimation, an unbiased estimate of it with
-    // (sim/next_event.h: the two then differ by the estimator's noise).
+    // (sim/tracer/next_event.h: the two then differ by the estimator's noise).
     file.flux_difference = relative_difference(file.flux_lm, far_field.total_flux_lm());
     result.files.push_back(std::move(file));
   }

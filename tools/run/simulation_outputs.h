@@ -20,9 +20,9 @@
 //                     (the same bytes) and the model's geometry as L3D
 //
 // The candela table. The far field is resampled to the Type C grid
-// (sim/resample.h: every value is the flux of its bin over the bin's solid
+// (sim/detectors/resample.h: every value is the flux of its bin over the bin's solid
 // angle) in the scene's photometric frame, then averaged over the
-// directions the symmetry makes equivalent (sim/symmetry.h), chosen by the
+// directions the symmetry makes equivalent (sim/detectors/symmetry.h), chosen by the
 // statistical test of sim::detect_symmetry() unless the user names one.
 // Lamp data: one set, count = number of emitters, rated flux = the emitters'
 // flux [lm] (relative photometry), so a planning program's LOR is
@@ -52,14 +52,14 @@
 #include "io/photometric/ies.h"
 #include "photometry/diagnostics.h"
 #include "photometry/distribution.h"
-#include "sim/colour_over_angle.h"
-#include "sim/far_field.h"
+#include "sim/detectors/colour_over_angle.h"
+#include "sim/detectors/far_field.h"
 #include "sim/ledger.h"
-#include "sim/resample.h"
+#include "sim/detectors/resample.h"
 #include "sim/scene.h"
 #include "sim/simulation.h"
-#include "sim/symmetry.h"
-#include "sim/tracer.h"
+#include "sim/detectors/symmetry.h"
+#include "sim/tracer/tracer.h"
 
 namespace gonio::app {
 

@@ -19,11 +19,11 @@
 #include "io/outputs/report.h"
 #include "io/photometric/tm25.h"
 #include "photometry/format.h"
-#include "sim/colour_over_angle.h"
-#include "sim/resample.h"
+#include "sim/detectors/colour_over_angle.h"
+#include "sim/detectors/resample.h"
 #include "sim/simulation.h"
-#include "sim/symmetry.h"
-#include "sim/ray_set_emitter.h"
+#include "sim/detectors/symmetry.h"
+#include "sim/emitters/ray_set_emitter.h"
 #include "tools/run/console.h"
 #include "tools/run/distributed_run.h"
 #include "tools/run/json_figures.h"
@@ -140,7 +140,7 @@ nlohmann::json write_near_field(const std::string& out_dir, const std::string& s
   return list;
 }
 
-// report.json's "far_field_distance" (sim/near_field.h): the distance, the
+// report.json's "far_field_distance" (sim/detectors/near_field.h): the distance, the
 // farthest plane's verdict, and the photometric centre the planes hang from.
 nlohmann::json far_field_distance_json(const sim::Simulation& sim, const sim::FarFieldDistance& d) {
   const Vec3 centre = sim.scene().frame.to_local(sim.near_field_planes()->centre);
@@ -155,7 +155,7 @@ nlohmann::json far_field_distance_json(const sim::Simulation& sim, const sim::Fa
           {"photometric_centre_m", {centre.x, centre.y, centre.z}}};
 }
 
-// report.json's "next_event" (sim/next_event.h): the mode, the pilot's
+// report.json's "next_event" (sim/tracer/next_event.h): the mode, the pilot's
 // verdict, and with the estimator on what it booked.
 nlohmann::json next_event_json(const sim::Simulation& sim, const sim::FarField& far_field, const sim::Ledger& ledger) {
   const sim::NextEventSummary n = sim.next_event();
@@ -186,8 +186,8 @@ OutputRequest output_request(const SimulatePlan& plan, const sim::Simulation& si
   request.formats = plan.formats;
   request.ies_version = plan.ies_version;
   if (!colour.empty()) request.colour = &colour;
-  // Spectral runs (sim/spectral.h): the luminaire's colour and its colour
-  // over angle on the output grid (sim/colour_over_angle.h), for
+  // Spectral runs (sim/tracer/spectral.h): the luminaire's colour and its colour
+  // over angle on the output grid (sim/detectors/colour_over_angle.h), for
   // report.json and the datasheet.
   if (sim.tracer().spectral()) {
     const sim::Resampler own =

@@ -14,11 +14,11 @@
 
 #include "io/photometric/ies.h"
 #include "io/support/cache_folder.h"
-#include "sim/preview_filter.h"
-#include "sim/resample.h"
+#include "sim/filter/preview_filter.h"
+#include "sim/detectors/resample.h"
 #include "tools/run/model_input.h"
 #include "tools/run/preview_output.h"
-#include "sim/near_field.h"
+#include "sim/detectors/near_field.h"
 #include "tools/run/progressive_run.h"
 #include "tools/run/simulation_outputs.h"
 

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "sim/cube_map.h"
+#include "sim/detectors/cube_map.h"
 
 namespace gonio::io {
 namespace {

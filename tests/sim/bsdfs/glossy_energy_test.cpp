@@ -8,8 +8,8 @@
 #include <cstdio>
 
 #include "sim/bsdfs/lobes.h"
-#include "sim/material.h"
-#include "sim/sampling.h"
+#include "sim/bsdfs/material.h"
+#include "sim/samplers/sampling.h"
 #include "tests/sim/bsdfs/lobe_checks.h"
 
 namespace gonio::sim {

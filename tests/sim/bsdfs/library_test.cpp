@@ -11,7 +11,7 @@
 #include <set>
 
 #include "sim/bsdfs/slab.h"
-#include "sim/material.h"
+#include "sim/bsdfs/material.h"
 
 namespace gonio::sim {
 namespace {

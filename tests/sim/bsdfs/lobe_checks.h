@@ -13,7 +13,7 @@
 #include "photometry/diagnostics.h"
 #include "photometry/vec3.h"
 #include "sim/bsdfs/tabulated_bsdf.h"
-#include "sim/chi_square.h"
+#include "sim/detectors/chi_square.h"
 
 namespace gonio::sim::test {
 

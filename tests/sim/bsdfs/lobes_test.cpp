@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "sim/bsdfs/tabulated_bsdf.h"
-#include "sim/sampling.h"
+#include "sim/samplers/sampling.h"
 #include "tests/sim/bsdfs/lobe_checks.h"
 
 namespace gonio::sim {

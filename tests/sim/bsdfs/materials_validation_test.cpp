@@ -14,10 +14,10 @@
 #include "sim/bsdfs/slab.h"
 #include "sim/bsdfs/tabulated_bsdf.h"
 #include "sim/bsdfs/volume.h"
-#include "sim/material.h"
+#include "sim/bsdfs/material.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
-#include "sim/tracer.h"
+#include "sim/tracer/tracer.h"
 #include "tests/sim/bsdfs/lobe_checks.h"
 
 namespace gonio::sim {

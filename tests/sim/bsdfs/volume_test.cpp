@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "sim/bsdfs/slab.h"
-#include "sim/material.h"
-#include "sim/sampling.h"
+#include "sim/bsdfs/material.h"
+#include "sim/samplers/sampling.h"
 #include "tests/sim/bsdfs/lobe_checks.h"
 
 namespace gonio::sim {

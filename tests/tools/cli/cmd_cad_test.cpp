@@ -13,7 +13,7 @@
 //   - the mirror's share of the sphere, (cos 22.62° − cos 112.62°)/2 = 0.654,
 //     leaves about the axis: a beam at γ = 0.
 // The mirror is a smooth glossy lobe (Beckmann roughness 0.1, f0 = 1, whose
-// albedo is 1 − 3·10⁻⁵ at these incidences, sim/material.h), so that the beam
+// albedo is 1 − 3·10⁻⁵ at these incidences, sim/bsdfs/material.h), so that the beam
 // is about ten degrees wide: an ideal mirror's would be a delta, which no
 // C-γ grid carries (the energy check says so, rightly: the IES file's flux
 // would miss the escaped flux by 13 %, by 1 % at roughness 0.05). Its tail

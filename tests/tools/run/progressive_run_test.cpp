@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "sim/convergence.h"
-#include "sim/resample.h"
+#include "sim/detectors/resample.h"
 #include "sim/scene.h"
 
 namespace gonio::app {

@@ -4,7 +4,7 @@
 // curves and the numbers. Every number element carries its raw value in
 // data-value, so scripts and tests can read what the page shows.
 //
-// Cube-map layout (sim/cube_map.h): faces +X, −X, +Y, −Y, +Z, −Z; texel
+// Cube-map layout (sim/detectors/cube_map.h): faces +X, −X, +Y, −Y, +Z, −Z; texel
 // (face, x, y) at index (face·N + y)·N + x; face coordinates a, b at texel
 // centres give the directions +X (1, −b, a), −X (−1, −b, −a), +Y (a, 1, −b),
 // −Y (a, −1, b), +Z (−a, −b, 1), −Z (a, −b, −1).

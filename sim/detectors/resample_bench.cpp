@@ -1,0 +1,78 @@
+// Cost of resampling the far field to a Type C grid: building the overlap
+// matrix once, and applying it to a map (what a simulation does after every
+// iteration), against the floor of reading every texel once.
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "sim/detectors/resample.h"
+#include "sim/detectors/symmetry.h"
+
+namespace {
+
+using namespace gonio;
+
+sim::CGammaGrid grid_of(const benchmark::State& state) {
+  return {static_cast<double>(state.range(0)) / 10.0, static_cast<double>(state.range(1)) / 10.0};
+}
+
+sim::FarField random_field(int face) {
+  sim::FarField field(face);
+  std::mt19937_64 rng(1);
+  std::exponential_distribution<double> e(1.0);
+  for (std::size_t t = 0; t < field.texel_count(); ++t) field.add(t, e(rng), 1 + rng() % 50);
+  return field;
+}
+
+// Arguments: C-step and γ-step in tenths of a degree.
+void BM_BuildResampler(benchmark::State& state) {
+  const sim::CGammaGrid g = grid_of(state);
+  const int face = sim::face_size_for(g);
+  const auto frame = photometry::make_frame({0.3, 1.0, 0.2}, {1.0, 0.1, -0.4});
+  for (auto _ : state) {
+    sim::Resampler r(face, frame, g);
+    benchmark::DoNotOptimize(r.nonzeros());
+  }
+  state.counters["face"] = face;
+}
+BENCHMARK(BM_BuildResampler)->Args({50, 25})->Args({100, 50})->Args({10, 10})->Unit(benchmark::kMillisecond);
+
+void BM_ResampleMap(benchmark::State& state) {
+  const sim::CGammaGrid g = grid_of(state);
+  const int face = sim::face_size_for(g);
+  const sim::Resampler r(face, {}, g);
+  const sim::FarField field = random_field(face);
+  for (auto _ : state) {
+    sim::BinnedField b = r.bin(field);
+    benchmark::DoNotOptimize(b.flux_lm.data());
+  }
+  state.counters["nonzeros"] = static_cast<double>(r.nonzeros());
+  state.counters["texels"] = static_cast<double>(field.texel_count());
+}
+BENCHMARK(BM_ResampleMap)->Args({50, 25})->Args({10, 10})->Unit(benchmark::kMicrosecond);
+
+// Baseline: one pass over the map's flux and photon counts.
+void BM_ReadMapOnce(benchmark::State& state) {
+  const int face = sim::face_size_for(grid_of(state));
+  const sim::FarField field = random_field(face);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(field.total_flux_lm());
+    benchmark::DoNotOptimize(field.total_photons());
+  }
+}
+BENCHMARK(BM_ReadMapOnce)->Args({50, 25})->Args({10, 10})->Unit(benchmark::kMicrosecond);
+
+void BM_DetectSymmetry(benchmark::State& state) {
+  const sim::CGammaGrid g = grid_of(state);
+  const int face = sim::face_size_for(g);
+  const sim::BinnedField b = sim::Resampler(face, {}, g).bin(random_field(face));
+  for (auto _ : state) {
+    sim::SymmetryDecision d = sim::detect_symmetry(b);
+    benchmark::DoNotOptimize(d.symmetry);
+  }
+}
+BENCHMARK(BM_DetectSymmetry)->Args({50, 25})->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,685 @@
+#include "sim/tracer/tracer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <tuple>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "sim/bsdfs/bsdf_eval.h"
+#include "sim/bsdfs/lobes.h"
+#include "sim/bsdfs/volume.h"
+#include "sim/bsdfs/material.h"
+
+namespace gonio::sim {
+namespace {
+
+// Scattering events inside volumes a photon may have before it is cut off.
+constexpr int kMaxVolumeEvents = 100000;
+
+bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+double max_abs(const Vec3& p) { return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}); }
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::string mesh_label(const Mesh& m, std::size_t i) {
+  return "mesh " + std::to_string(i) + (m.name.empty() ? "" : " '" + m.name + "'");
+}
+
+Status validate_mesh(const Mesh& m, std::size_t i, std::size_t material_count) {
+  const std::string what = mesh_label(m, i);
+  if (m.indices.size() % 3 != 0) return make_error(what + ": index count is not a multiple of 3");
+  if (m.positions.size() > (std::size_t{1} << 32) || m.triangle_count() > (std::size_t{1} << 32))
+    return make_error(what + ": too many vertices or triangles");
+  for (std::uint32_t idx : m.indices)
+    if (idx >= m.positions.size())
+      return make_error(what + ": vertex index " + std::to_string(idx) + " out of range");
+  for (const Vec3f& p : m.positions)
+    if (!finite(p)) return make_error(what + ": vertex position is not finite");
+  if (!m.normals.empty() && m.normals.size() != m.positions.size())
+    return make_error(what + ": normal count differs from vertex count");
+  if (!m.tangents.empty() && m.tangents.size() != m.positions.size())
+    return make_error(what + ": tangent count differs from vertex count");
+  for (const Vec3f& n : m.normals)
+    if (!finite(n)) return make_error(what + ": shading normal is not finite");
+  for (const Vec3f& t : m.tangents)
+    if (!finite(t)) return make_error(what + ": tangent is not finite");
+  if (m.material >= material_count)
+    return make_error(what + ": material " + std::to_string(m.material) + " does not exist");
+  return Ok{};
+}
+
+Status validate_instance(const SceneDesc& scene, std::size_t i) {
+  const Instance& inst = scene.instances[i];
+  const std::string what = "instance " + std::to_string(i) + (inst.name.empty() ? "" : " '" + inst.name + "'");
+  if (inst.mesh >= scene.meshes.size())
+    return make_error(what + ": mesh " + std::to_string(inst.mesh) + " does not exist");
+  if (!scene.meshes[inst.mesh].instanced)
+    return make_error(what + ": " + mesh_label(scene.meshes[inst.mesh], inst.mesh) +
+                      " is world geometry, not an instanced mesh");
+  const Affine& a = inst.to_world;
+  if (!a.finite()) return make_error(what + ": the transform is not finite");
+  const double det = a.determinant();
+  if (!(std::abs(det) > 1e-300) || !std::isfinite(det))
+    return make_error(what + ": the transform is singular");
+  return Ok{};
+}
+
+// Books a photon that did not escape (absorbed or cut off) for its emitter
+// and the mesh where it ended.
+void book_loss(const TraceResult& r, LedgerTally::PerEmitter& emitter, LedgerTally& books) {
+  LedgerTally::PerMesh& mesh = books.meshes[r.mesh];
+  if (r.fate == Fate::Absorbed) {
+    emitter.absorbed.add(r.power_units);
+    mesh.absorbed.add(r.power_units);
+  } else {
+    emitter.cutoff.add(r.power_units);
+    mesh.cutoff.add(r.power_units);
+  }
+}
+
+// The hero's companions after an event with `lobe` at a material acting by
+// wavelength (`at`: the material at each wavelength of the grid).
+void update_companions(PhotonColour& c, Lobe lobe, const Material* at, const Material& m) {
+  if (lobe == Lobe::Dielectric && (!m.ior_nm.empty() || m.abbe_number > 0.0)) {
+    for (int j = 1; j < kHeroCount; ++j) c.hero_weight[static_cast<std::size_t>(j)] = 0.0;
+    return;
+  }
+  const double hero = lobe_weight(at[c.wavelength], lobe);
+  if (!(hero > 0.0)) return;
+  for (int j = 1; j < kHeroCount; ++j) {
+    double& w = c.hero_weight[static_cast<std::size_t>(j)];
+    if (w != 0.0) w *= lobe_weight(at[hero_companion(c.wavelength, j)], lobe) / hero;
+  }
+}
+
+// X or Z units (kColourUnits per photon of nominal power) of a photon of
+// `power` units: units × power / kPowerUnits, rounded, in integers (exact
+// for power = kPowerUnits; no overflow below 2³⁹ nominal photons' power).
+std::uint64_t scale_by_power(std::uint64_t units, std::uint64_t power) {
+  const std::uint64_t whole = power / kPowerUnits, part = power % kPowerUnits;
+  return units * whole + (units * part + kPowerUnits / 2) / kPowerUnits;
+}
+
+// Books a spectral photon's power in the radiant bins of its colour state
+// at its end (sim/ledger.h): emitted and its fate together.
+void book_bins(const WavelengthSampler& w, const PhotonColour& colour, const TraceResult& r,
+               LedgerTally::Bins& bins) {
+  std::vector<std::uint64_t>& fate = r.fate == Fate::Escaped    ? bins.escaped
+                                     : r.fate == Fate::Absorbed ? bins.absorbed
+                                                                : bins.cutoff;
+  const WavelengthSampler::BinShare share = w.bins(colour, r.power_units);
+  for (int i = 0; i < 2; ++i) bins.emitted[share.bin[i]] += share.units[i];
+  if (colour.wavelength < 0) {
+    for (int i = 0; i < 2; ++i) fate[share.bin[i]] += share.units[i];
+  } else {
+    const auto k = static_cast<std::size_t>(colour.wavelength);
+    bins.emitted[k] += r.power_units;
+    fate[k] += r.power_units;
+  }
+}
+
+}  // namespace
+
+std::uint64_t TracerTally::photons(std::size_t texel) const {
+  std::uint64_t n = texel_photons[texel];
+  for (std::uint32_t w : texel_wraps) n += w == texel ? 65536u : 0u;
+  return n;
+}
+
+void TracerTally::clear() {
+  std::fill(texel_photons.begin(), texel_photons.end(), std::uint16_t{0});
+  texel_wraps.clear();
+  std::fill(replicate_photons.begin(), replicate_photons.end(), std::uint16_t{0});
+  replicate_wraps.clear();
+  std::fill(texel_xz.begin(), texel_xz.end(), std::uint64_t{0});
+  ledger.clear();
+  near_field.clear();
+  next_event.clear();
+  images.clear();
+}
+
+Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const TracerSettings& settings,
+                              std::shared_ptr<const EmbreeScene> reuse) {
+  if (face_size < 1 || face_size > 16384) return make_error("cube-map face size must lie in 1..16384");
+  if (settings.max_bounces < 0) return make_error("the bounce limit must be >= 0");
+  TracerSetupTimes times;
+  auto t = std::chrono::steady_clock::now();
+  for (const Material& m : scene.materials)
+    if (Status s = validate(m); !s.ok()) return s.error();
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i)
+    if (Status s = validate_mesh(scene.meshes[i], i, scene.materials.size()); !s.ok())
+      return s.error();
+  for (std::size_t i = 0; i < scene.instances.size(); ++i)
+    if (Status s = validate_instance(scene, i); !s.ok()) return s.error();
+  times.validate_s = seconds_since(t);
+  t = std::chrono::steady_clock::now();
+  auto emission = EmissionSampler::create(scene);
+  if (!emission.ok()) return emission.error();
+  times.emission_s = seconds_since(t);
+  t = std::chrono::steady_clock::now();
+  std::shared_ptr<const EmbreeScene> embree = std::move(reuse);
+  times.bvh_reused = embree != nullptr;
+  if (!embree) {
+    auto built = EmbreeScene::build(scene.meshes, settings.embree, scene.instances);
+    if (!built.ok()) return built.error();
+    embree = std::make_shared<const EmbreeScene>(std::move(built.value()));
+  }
+  times.bvh_s = seconds_since(t);
+
+  t = std::chrono::steady_clock::now();
+  Tracer tracer(CubeMapGrid(face_size), std::move(embree), std::move(emission.value()), settings);
+  tracer.materials_ = scene.materials;
+  for (Material& m : tracer.materials_) {
+    prepare(m);
+    tracer.material_angular_.push_back(m.angular() ? 1 : 0);
+  }
+  for (const Material& m : scene.materials) tracer.lobe_cdfs_.push_back(lobe_cdf(m));
+  tracer.meshes_.reserve(scene.meshes.size());
+  for (const Mesh& m : scene.meshes) {
+    MeshData d;
+    d.material = m.material;
+    const std::size_t corners = m.indices.size();
+    // Per corner, packed; in parallel (a 10⁶-triangle part has 3·10⁶ corners,
+    // about six for each vertex: each vertex is packed once, then copied).
+    const auto per_corner = [&](const std::vector<Vec3f>& per_vertex, std::vector<PackedUnit>* out) {
+      if (per_vertex.empty()) return;
+      std::vector<PackedUnit> packed(per_vertex.size());
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, per_vertex.size(), 16384),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t v = r.begin(); v != r.end(); ++v) packed[v] = pack_unit(per_vertex[v]);
+                        });
+      out->resize(corners);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, corners, 16384),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t c = r.begin(); c != r.end(); ++c) (*out)[c] = packed[m.indices[c]];
+                        });
+    };
+    per_corner(m.normals, &d.corner_normals);
+    per_corner(m.tangents, &d.corner_tangents);
+    tracer.meshes_.push_back(std::move(d));
+  }
+  if (scene.spectral()) {
+    for (const Material& m : scene.materials)
+      if (Status st = validate_spectral_material(m); !st.ok()) return st.error();
+    auto wavelengths = WavelengthSampler::create(scene);
+    if (!wavelengths.ok()) return wavelengths.error();
+    tracer.wavelengths_ = std::make_shared<const WavelengthSampler>(std::move(wavelengths.value()));
+    for (const Material& m : scene.materials)
+      for (int k = 0; k < kWavelengthCount; ++k) {
+        tracer.spectral_materials_.push_back(at_wavelength(m, wavelength_nm(k)));
+        prepare(tracer.spectral_materials_.back());
+        tracer.spectral_lobe_cdfs_.push_back(lobe_cdf(tracer.spectral_materials_.back()));
+      }
+    for (const Emitter& e : scene.emitters) tracer.emitter_axes_.push_back(-1.0 * e.frame.up);
+    for (const Material& m : scene.materials) tracer.material_spectral_.push_back(m.spectral() ? 1 : 0);
+  }
+  for (const Emitter& e : scene.emitters) tracer.emitter_two_sided_.push_back(e.two_sided ? 1 : 0);
+  tracer.instances_.reserve(scene.instances.size());
+  for (const Instance& i : scene.instances) tracer.instances_.push_back(i.to_world);
+  times.shading_s = seconds_since(t);
+  tracer.setup_times_ = times;
+  tracer.offset_floor_m_ = 0x1.0p-24 * tracer.embree_->bounds().diagonal();
+  return tracer;
+}
+
+TracerTally Tracer::make_tally() const {
+  TracerTally t;
+  t.texel_photons.assign(grid_.texel_count(), std::uint16_t{0});
+  if ((settings_.sampler == SamplerKind::Sobol || settings_.next_event.enabled) && settings_.sobol_replicates > 1) {
+    t.replicates = settings_.sobol_replicates;
+    t.replicate_photons.assign(grid_.texel_count() * static_cast<std::size_t>(t.replicates), std::uint16_t{0});
+  }
+  if (wavelengths_) {
+    t.texel_xz.assign(2 * grid_.texel_count(), std::uint64_t{0});
+  }
+  t.ledger = LedgerTally(emission_.emitter_count(), meshes_.size(), radiant_bin_count());
+  if (settings_.next_event.enabled) t.next_event.reset(grid_.texel_count(), t.replicates, meshes_.size());
+  return t;
+}
+
+Vec3 Tracer::offset(const Vec3& p, const Vec3& side_normal, double t) const {
+  return p + side_normal * offset_m(max_abs(p) + t);
+}
+
+TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
+                           std::vector<RayQuery>* record, std::uint64_t power, PhotonColour* colour,
+                           Connections* connect) const {
+  TraceResult r;
+  RayQuery ray{};
+  RayHit hit;
+  Polarization polarization;
+  bool covered = false;  // the last event was a connected non-delta one
+  std::uint8_t covered_slot = 0;
+  bool image_covered = connect && connect->image_covered_at_start;
+  int volume_events = 0;
+  for (;;) {
+    ray = ray_query(origin, direction);
+    if (books) ++books->rays;
+    if (record) record->push_back(ray);
+    if (!embree_->intersect(ray, &hit)) {
+      r.fate = Fate::Escaped;
+      r.direction = direction;
+      r.origin = origin;
+      r.power_units = power;
+      r.covered = covered;
+      r.covered_slot = covered_slot;
+      r.image_covered = image_covered;
+      return r;
+    }
+    const MeshData& mesh = meshes_[hit.mesh];
+    // The shading normals are a likely cache miss: start loading them now.
+    if (!mesh.corner_normals.empty())
+      __builtin_prefetch(&mesh.corner_normals[3 * static_cast<std::size_t>(hit.triangle)]);
+    // A spectral photon draws its wavelength at the first material that
+    // acts differently by wavelength (sim/tracer/spectral.h).
+    if (colour && colour->wavelength == PhotonColour::kUndrawn && material_spectral_[mesh.material])
+      colour->wavelength = wavelengths_->sample(colour->emitter, colour->cos_gamma, rng);
+    const int wavelength = colour ? colour->wavelength : PhotonColour::kUndrawn;
+    const std::size_t spectral_index =
+        static_cast<std::size_t>(mesh.material) * kWavelengthCount + static_cast<std::size_t>(wavelength);
+    const Material& material = wavelength < 0 ? materials_[mesh.material] : spectral_materials_[spectral_index];
+    const double t = hit.t;
+    const Vec3 ng_raw{hit.ng[0], hit.ng[1], hit.ng[2]};
+    const bool from_back = dot(ng_raw, direction) > 0.0;
+    r.mesh = hit.mesh;
+    r.power_units = power;
+    // A photon reaching a surface from its back has crossed that mesh's
+    // volume. A scattering volume (sim/bsdfs/volume.h): a free path drawn
+    // with μt = μs + μa ends inside it, where the photon is absorbed
+    // (chance μa/μt, booked at the part) or scattered by the phase
+    // function, or reaches the surface. Otherwise Beer–Lambert.
+    if (from_back && material.scattering_per_m > 0.0) {
+      const double mu_t = material.scattering_per_m + material.attenuation_per_m;
+      const double s = -std::log(rng.uniform_open0()) / mu_t;
+      if (s < t) {
+        if (rng.uniform() * mu_t < material.attenuation_per_m) {
+          r.fate = Fate::Absorbed;
+          return r;
+        }
+        if (++volume_events > kMaxVolumeEvents) {
+          r.fate = Fate::CutOff;
+          return r;
+        }
+        polarization.polarized = false;
+        // Light scattered in a volume is not the direct escape a
+        // connection stood for: its escape is binned.
+        covered = image_covered = false;
+        origin = origin + s * direction;
+        direction = sample_henyey_greenstein(direction, material.scattering_g, rng);
+        continue;
+      }
+    } else if (from_back && material.attenuation_per_m > 0.0 &&
+               rng.uniform() >= internal_transmittance(material.attenuation_per_m, t)) {
+      r.fate = Fate::Absorbed;
+      return r;
+    }
+    ++r.hits;
+    if (books) ++books->meshes[hit.mesh].hits;
+    if (r.hits > settings_.max_bounces) {
+      r.fate = Fate::CutOff;
+      return r;
+    }
+
+    const Vec3 ng = ng_raw * (1.0 / std::sqrt(dot(ng_raw, ng_raw)));
+    SurfaceFrame frame{ng, ng, {}};
+    const Lobe lobe =
+        material_angular_[mesh.material]
+            ? choose_lobe(lobe_cdf(material, std::abs(dot(direction, ng))), rng.uniform())
+            : choose_lobe(wavelength < 0 ? lobe_cdfs_[mesh.material] : spectral_lobe_cdfs_[spectral_index],
+                          rng.uniform());
+    // Next-event connections here (sim/tracer/next_event.h): a material with
+    // non-delta lobes at a mesh that keeps them, grey in a spectral run.
+    const bool non_delta = connect && has_connectable_lobes(material) && !(colour && material_spectral_[mesh.material]);
+    const unsigned lobes_here = non_delta && connect->far_field ? settings_.next_event.lobes_at(hit.mesh, from_back) : 0u;
+    const bool connect_here = lobes_here != 0 && has_connectable_lobes(material, lobes_here);
+    const bool image_here = non_delta && connect->images;
+    // Connections read the shading normal for every lobe but the diffuse
+    // ones, and the tangent for the glossy lobe; scatter() gets the tangent
+    // only for a lobe that reads it (as without connections).
+    const bool connect_shading = (connect_here || image_here) && has_connectable_lobes(material, kShadingFrameLobes);
+    const bool connect_tangent = (connect_here || image_here) && material.glossy > 0.0;
+    Vec3 tangent{};
+    if (uses_shading_frame(lobe) || connect_shading) {
+      const std::size_t c = 3 * static_cast<std::size_t>(hit.triangle);
+      const double u = hit.u, v = hit.v, w0 = 1.0 - u - v;
+      // An instance's normals and tangents are in its mesh's frame.
+      const Affine* place = hit.instance == kNoInstance ? nullptr : &instances_[hit.instance];
+      if (!mesh.corner_normals.empty()) {
+        const PackedUnit* n3 = &mesh.corner_normals[c];
+        Vec3 n = w0 * unpack_unit(n3[0]) + u * unpack_unit(n3[1]) + v * unpack_unit(n3[2]);
+        if (place) n = place->normal(n);
+        const double len = length(n);
+        if (len > 0.0) frame.shading_normal = n / len;
+      }
+      if ((uses_tangent(lobe) || connect_tangent) && !mesh.corner_tangents.empty()) {
+        const PackedUnit* t3 = &mesh.corner_tangents[c];
+        tangent = w0 * unpack_unit(t3[0]) + u * unpack_unit(t3[1]) + v * unpack_unit(t3[2]);
+        if (place) tangent = place->linear(tangent);
+      }
+    }
+    if (uses_tangent(lobe)) frame.tangent = tangent;
+    SurfaceFrame connect_frame = frame;
+    connect_frame.tangent = tangent;
+    // Hero wavelengths (sim/tracer/spectral.h): each companion's path probability
+    // relative to the hero's takes this event's lobe weight at its own
+    // wavelength; a dispersive refraction ends the companions.
+    if (wavelength >= 0 && material_spectral_[mesh.material] && lobe != Lobe::Absorb)
+      update_companions(*colour, lobe, &spectral_materials_[static_cast<std::size_t>(mesh.material) * kWavelengthCount],
+                        materials_[mesh.material]);
+    if (connect_here) {
+      // The lattice's shift from the photon's own numbers: under Sobol'
+      // its next two coordinates, so the shifts are stratified across
+      // photons (a second stream would not be, and a second scramble of
+      // the same points would correlate with the path).
+      double xi1, xi2;
+      rng.uniform_pair(&xi1, &xi2);
+      connect_from(origin + t * direction, t, direction, material, connect_frame, power, colour, hit.mesh,
+                   from_back, lobes_here, xi1, xi2, *connect);
+    }
+    if (image_here)
+      connect_images(origin + t * direction, t, direction, material, connect_frame, power, colour, *connect);
+    const ScatterResult s = scatter(material, lobe, frame, direction, rng, &polarization);
+    if (s.absorbed) {
+      r.fate = Fate::Absorbed;
+      return r;
+    }
+    const bool non_delta_lobe = connectable(s.lobe);
+    covered = connect_here && non_delta_lobe && (lobes_here & lobe_bit(s.lobe)) != 0;
+    covered_slot = static_cast<std::uint8_t>((from_back ? kLobeCount : 0) + static_cast<int>(s.lobe));
+    image_covered = image_here && non_delta_lobe;
+    // Back along the incoming ray before the offset: near an edge the hit
+    // point can lie a rounding error beyond the neighbouring face, and an
+    // offset along this face's normal alone would start the next ray behind
+    // that face (a closed box leaked there). A quarter of the offset, so a
+    // transmitted ray still starts on the far side.
+    // Both offsets scale with the hit point's largest coordinate.
+    const Vec3 p = origin + t * direction;
+    const double scale = max_abs(p) + t;
+    const double off = offset_m(scale);
+    origin = p - direction * (0x1.0p-20 * scale) + (dot(s.direction, ng) > 0.0 ? off : -off) * ng;
+    direction = s.direction;
+  }
+}
+
+void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const Material& m,
+                          const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
+                          std::uint32_t mesh, bool back, unsigned lobes, double xi1, double xi2,
+                          Connections& c) const {
+  NextEventTally& tally = c.tally->next_event;
+  const int count = settings_.next_event.connections;
+  // A rank-1 lattice (k/M, k·φ mod 1) shifted by (ξ1, ξ2): M stratified
+  // pairs (one in each 1/M band of the first).
+  constexpr double kGolden = 0.61803398874989484820;
+  const Vec3 wi = -1.0 * direction;
+  const double scale = max_abs(p) + t;
+  const double off = offset_m(scale);
+  const Vec3 start = p - direction * (0x1.0p-20 * scale);
+  const Vec3& ng = frame.geometric_normal;
+  ++tally.vertices;
+  // Spectral runs: the photon's X and Z now (a grey vertex leaves them as
+  // they are), per photon of Y.
+  std::uint64_t x_units = 0, z_units = 0;
+  const bool colour_units = colour && wavelengths_;
+  if (colour_units) std::tie(x_units, z_units) = this->colour_units(*colour);
+  const auto replicates = static_cast<std::size_t>(c.tally->replicates);
+  for (int k = 0; k < count; ++k) {
+    const double u1 = (static_cast<double>(k) + xi1) / static_cast<double>(count);
+    double u2 = xi2 + static_cast<double>(k) * kGolden;
+    u2 -= std::floor(u2);
+    const ConnectionDirection cd = connection_direction(m, frame, wi, u1, u2, lobes);
+    if (!(cd.pdf > 0.0) || !(cd.f_cos > 0.0)) continue;
+    const Vec3 o = start + (dot(cd.wo, ng) > 0.0 ? off : -off) * ng;
+    const std::size_t slot = next_event_slot(mesh, back, cd.lobe);
+    ++tally.connections;
+    ++tally.slot_connections[slot];
+    if (embree_->occluded(ray_query(o, cd.wo))) continue;
+    ++tally.escaped;
+    ++tally.slot_escaped[slot];
+    const double w = cd.f_cos / cd.pdf / static_cast<double>(count);
+    const double units_d = static_cast<double>(power) * w;
+    const auto units = static_cast<std::uint64_t>(std::llround(units_d));
+    const std::size_t texel = grid_.texel_of(cd.wo);
+    tally.texel_units[texel] += units;
+    tally.booked_units += units;
+    if (replicates > 1) tally.replicate_units[texel * replicates + c.replicate] += units;
+    if (colour_units) {
+      const double per = units_d / static_cast<double>(kPowerUnits);
+      c.tally->texel_xz[2 * texel] += static_cast<std::uint64_t>(std::llround(static_cast<double>(x_units) * per));
+      c.tally->texel_xz[2 * texel + 1] += static_cast<std::uint64_t>(std::llround(static_cast<double>(z_units) * per));
+    }
+  }
+}
+
+std::pair<std::uint64_t, std::uint64_t> Tracer::colour_units(const PhotonColour& colour) const {
+  return colour.wavelength >= 0 ? wavelengths_->hero_units(colour)
+                                : wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
+}
+
+void Tracer::connect_images(const Vec3& p, double t, const Vec3& direction, const Material& m,
+                            const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
+                            Connections& c) const {
+  const LuminanceCamera& camera = *c.tally->camera;
+  const Vec3 wi = -1.0 * direction;
+  const double scale = max_abs(p) + t;
+  const double off = offset_m(scale);
+  const Vec3 back = p - direction * (0x1.0p-20 * scale);
+  const Vec3& ng = frame.geometric_normal;
+  std::uint64_t x = 0, z = 0;
+  if (colour && wavelengths_) std::tie(x, z) = colour_units(*colour);
+  for (std::size_t k = 0; k < camera.planes.size(); ++k) {
+    const Vec3& v = camera.planes[k].toward;
+    const double f = non_delta_f_cos(m, frame, wi, v);
+    if (!(f > 0.0)) continue;
+    const Vec3 o = back + (dot(v, ng) > 0.0 ? off : -off) * ng;
+    if (embree_->occluded(ray_query(o, v))) continue;
+    c.tally->images.add_connection(camera, k, p, static_cast<double>(power) * f, x, z);
+  }
+}
+
+void Tracer::connect_emission_images(const EmittedPhoton& e, Connections& c) const {
+  const LuminanceCamera& camera = *c.tally->camera;
+  const bool two_sided = emitter_two_sided_[e.emitter] != 0;
+  constexpr double kInvPi = 0.31830988618379067154;
+  for (std::size_t k = 0; k < camera.planes.size(); ++k) {
+    const Vec3& v = camera.planes[k].toward;
+    const double cos_v = dot(v, e.surface_normal);
+    // The emitter's cosine density towards v (either side with half the
+    // photons when two-sided).
+    const double w = two_sided ? 0.5 * std::abs(cos_v) * kInvPi : std::max(0.0, cos_v) * kInvPi;
+    if (!(w > 0.0)) continue;
+    const Vec3 o = offset(e.origin, cos_v > 0.0 ? e.surface_normal : -1.0 * e.surface_normal, 0.0);
+    if (embree_->occluded(ray_query(o, v))) continue;
+    std::uint64_t x = 0, z = 0;
+    if (wavelengths_) std::tie(x, z) = wavelengths_->expected_units(e.emitter, std::abs(cos_v));
+    c.tally->images.add_connection(camera, k, e.origin, static_cast<double>(kPowerUnits) * w, x, z);
+  }
+}
+
+std::optional<Tracer::Connections> Tracer::connections_for(std::uint64_t photon, TracerTally& tally) const {
+  const bool far_field = settings_.next_event.enabled, images = tally.camera != nullptr;
+  if (!far_field && !images) return std::nullopt;
+  const auto k = static_cast<std::uint64_t>(tally.replicates > 1 ? tally.replicates : 1);
+  return Connections{&tally, static_cast<std::uint32_t>(photon % k), far_field, images};
+}
+
+TraceResult Tracer::trace(const Vec3& origin, const Vec3& direction, PhotonRandom& rng,
+                          int wavelength) const {
+  FloatModeGuard float_mode;
+  GONIO_CHECK(wavelength < kWavelengthCount && (wavelength < 0 || wavelengths_));
+  PhotonColour colour;
+  colour.wavelength = wavelength;
+  return follow(origin, normalize(direction), rng, nullptr, nullptr, kPowerUnits,
+                wavelength >= 0 ? &colour : nullptr);
+}
+
+PhotonColour Tracer::start_colour(const EmittedPhoton& e) const {
+  PhotonColour c;
+  c.emitter = e.emitter;
+  c.cos_gamma = e.on_surface ? dot(e.direction, e.surface_normal) : dot(e.direction, emitter_axes_[e.emitter]);
+  return c;
+}
+
+void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
+                         std::vector<RayQuery>* rays) const {
+  FloatModeGuard float_mode;
+  std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed, settings_.sobol_replicates);
+  for (std::uint64_t i = first; i < first + count; ++i) {
+    PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
+    const EmittedPhoton e = emission_.sample(rng);
+    PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
+    const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
+    follow(origin, e.direction, rng, nullptr, rays, kPowerUnits, wavelengths_ ? &colour : nullptr);
+  }
+}
+
+void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
+                           TracerTally& tally) const {
+  FloatModeGuard float_mode;
+  LedgerTally& books = tally.ledger;
+  // Escapes land on random texels: each count is incremented one escape
+  // later, after a prefetch, so that the cache miss overlaps tracing.
+  constexpr std::uint32_t kNone = ~0u;
+  std::uint32_t pending = kNone;
+  std::uint64_t pending_x = 0, pending_z = 0;  // spectral: the pending escape's X and Z units
+  const bool spectral = wavelengths_ != nullptr;
+  // Sobol' replicates: the pending escape's slot texel · K + r as well.
+  const auto replicates = static_cast<std::uint64_t>(tally.replicates);
+  std::uint32_t pending_slot = 0;
+  auto count_escape = [&](std::uint32_t texel) {
+    if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
+    if (replicates > 0 && ++tally.replicate_photons[pending_slot] == 0) tally.replicate_wraps.push_back(pending_slot);
+    if (spectral) {
+      tally.texel_xz[2 * static_cast<std::size_t>(texel)] += pending_x;
+      tally.texel_xz[2 * static_cast<std::size_t>(texel) + 1] += pending_z;
+    }
+  };
+  std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed, settings_.sobol_replicates);
+  for (std::uint64_t i = first; i < first + count; ++i) {
+    PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
+    const EmittedPhoton e = emission_.sample(rng);
+    LedgerTally::PerEmitter& eb = books.emitters[e.emitter];
+    eb.emitted.add(kPowerUnits);
+    const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
+    PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
+    std::optional<Connections> connect = connections_for(i, tally);
+    if (connect && connect->images && e.on_surface) {
+      connect_emission_images(e, *connect);
+      connect->image_covered_at_start = true;
+    }
+    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, kPowerUnits,
+                                 wavelengths_ ? &colour : nullptr, connect ? &*connect : nullptr);
+    if (spectral) book_bins(*wavelengths_, colour, r, books.bins);
+    if (r.fate == Fate::Escaped && tally.camera && !r.image_covered) {
+      std::uint64_t x = 0, z = 0;
+      if (spectral) std::tie(x, z) = colour_units(colour);
+      tally.images.add_escape(*tally.camera, r.origin, r.direction, r.power_units, x, z);
+    }
+    if (r.fate == Fate::Escaped && r.covered) {
+      // The connections stand for it in the far field (sim/tracer/next_event.h).
+      tally.next_event.covered_units += r.power_units;
+      const std::size_t slot = static_cast<std::size_t>(r.mesh) * kSlotsPerMesh + r.covered_slot;
+      tally.next_event.slot_covered_units[slot] += r.power_units;
+      if (r.hits >= 2) tally.next_event.slot_multi_units[slot] += r.power_units;
+      eb.escaped.add(r.power_units);
+      if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
+      if (tally.near_planes) tally.near_field.add(*tally.near_planes, r.origin, r.direction, r.power_units);
+      continue;
+    }
+    switch (r.fate) {
+      case Fate::Escaped: {
+        const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));
+        __builtin_prefetch(&tally.texel_photons[texel], 1);
+        if (pending != kNone) count_escape(pending);
+        pending = texel;
+        if (replicates > 0) {
+          pending_slot = static_cast<std::uint32_t>(texel * replicates + i % replicates);
+          __builtin_prefetch(&tally.replicate_photons[pending_slot], 1);
+        }
+        eb.escaped.add(r.power_units);
+        if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
+        if (spectral) {
+          __builtin_prefetch(&tally.texel_xz[2 * static_cast<std::size_t>(texel)], 1);
+          if (colour.wavelength >= 0) {
+            std::tie(pending_x, pending_z) = wavelengths_->hero_units(colour);
+          } else {
+            std::tie(pending_x, pending_z) = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
+          }
+        }
+        if (tally.near_planes) tally.near_field.add(*tally.near_planes, r.origin, r.direction, r.power_units);
+        break;
+      }
+      case Fate::Absorbed:
+      case Fate::CutOff:
+        book_loss(r, eb, books);
+        break;
+    }
+  }
+  if (pending != kNone) count_escape(pending);
+}
+
+void Tracer::trace_photons_guided(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
+                                  const EmissionGuide& guide, TracerTally& tally,
+                                  GuideTally& guide_tally) const {
+  FloatModeGuard float_mode;
+  LedgerTally& books = tally.ledger;
+  const bool spectral = wavelengths_ != nullptr;
+  std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
+  if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed, settings_.sobol_replicates);
+  for (std::uint64_t i = first; i < first + count; ++i) {
+    PhotonRandom rng = cursor ? PhotonRandom(seed, cursor->at(i)) : PhotonRandom(seed, i);
+    const EmittedPhoton e = emission_.sample(rng);
+    const std::uint32_t source_texel = guide.emission_texel(e.direction);
+    if (!guide.accept(source_texel, rng)) {
+      ++guide_tally.dropped;
+      continue;
+    }
+    const std::uint64_t power = guide.power_units(source_texel);
+    LedgerTally::PerEmitter& eb = books.emitters[e.emitter];
+    eb.emitted.add(power);
+    ++guide_tally.traced[source_texel];
+    const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
+    // Spectral scenes: the photon's colour as in trace_photons; its X and Z
+    // carry its power like its Y (x_units per kPowerUnits of power).
+    PhotonColour colour = spectral ? start_colour(e) : PhotonColour{};
+    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, power, spectral ? &colour : nullptr);
+    if (spectral) book_bins(*wavelengths_, colour, r, books.bins);
+    switch (r.fate) {
+      case Fate::Escaped: {
+        const auto texel = static_cast<std::uint32_t>(grid_.texel_of(r.direction));
+        if (++tally.texel_photons[texel] == 0) tally.texel_wraps.push_back(texel);
+        if (spectral) {
+          std::uint64_t x = 0, z = 0;
+          if (colour.wavelength >= 0) {
+            std::tie(x, z) = wavelengths_->hero_units(colour);
+          } else {
+            std::tie(x, z) = wavelengths_->expected_units(colour.emitter, colour.cos_gamma);
+          }
+          tally.texel_xz[2 * static_cast<std::size_t>(texel)] += scale_by_power(x, r.power_units);
+          tally.texel_xz[2 * static_cast<std::size_t>(texel) + 1] += scale_by_power(z, r.power_units);
+        }
+        guide_tally.extra_units[texel] += r.power_units - kPowerUnits;
+        guide_tally.importance_sum[source_texel] += guide.importance(texel);
+        eb.escaped.add(r.power_units);
+        if (i < tally.capture_below) tally.escaped.push_back({i, r.origin, r.direction, r.power_units});
+        if (tally.near_planes) tally.near_field.add(*tally.near_planes, r.origin, r.direction, r.power_units);
+        break;
+      }
+      case Fate::Absorbed:
+      case Fate::CutOff:
+        book_loss(r, eb, books);
+        break;
+    }
+  }
+}
+
+}  // namespace gonio::sim

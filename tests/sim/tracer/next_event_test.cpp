@@ -1,0 +1,312 @@
+#include "sim/tracer/next_event.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include "photometry/diagnostics.h"
+#include "sim/bsdfs/tabulated_bsdf.h"
+#include "sim/shapes.h"
+#include "sim/simulation.h"
+#include "tests/sim/bsdfs/lobe_checks.h"
+#include "tests/sim/scenes.h"
+
+namespace gonio::sim {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+SimulationSettings run(NextEventMode mode, int threads, std::uint64_t per_iteration, int iterations,
+                       std::uint64_t seed = 21) {
+  SimulationSettings s = test_scenes::small_run(threads, per_iteration, iterations, seed);
+  s.next_event = mode;
+  return s;
+}
+
+// A point lamp inside an opal sphere (diffuse transmission t, reflection r
+// inward): every escape follows a diffuse transmission, so with next-event
+// estimation the far field is the connections alone. Escaped fraction
+// t / (1 − r) (a closed sphere: each inward reflection lands on it again);
+// the intensity is the same in every direction.
+SceneDesc opal_sphere(double t, double r) {
+  SceneDesc scene;
+  Material opal{"opal", r, t, 0.0};
+  scene.materials = {opal};
+  scene.meshes = {sphere(0.1, 48, 24)};
+  Emitter e;
+  e.position = {0.0, 0.0, 0.0};
+  e.flux_lm = 1000.0;
+  scene.emitters = {e};
+  return scene;
+}
+
+TEST(NextEvent, OpalSphereFarFieldIsIsotropicAtTheClosedFormFluxFromConnectionsAlone) {
+  const double t = 0.6, r = 0.3, want = 1000.0 * t / (1.0 - r);
+  SimulationSettings s = run(NextEventMode::On, 2, 100000, 2);
+  s.next_event_connections = 8;
+  auto sim = simulate(opal_sphere(t, r), s);
+  ASSERT_TRUE(sim.ok()) << sim.error().message;
+  const NextEventSummary n = sim->next_event();
+  ASSERT_TRUE(n.enabled);
+  EXPECT_GT(n.connections, 0u);
+  // Every escape is covered: nothing binned, the far field is the booked flux.
+  const FarField f = sim->far_field();
+  EXPECT_EQ(f.total_photons(), 0u);
+  EXPECT_NEAR(f.total_flux_lm(), n.booked_lm, 1e-9 * want);
+  // Booked and covered (the escapes they stand for) agree in expectation:
+  // within 1 % at 2·10⁵ photons (each photon escapes with weight t/(1−r)
+  // on average; the covered flux is binomial, σ ≈ 0.2 %).
+  EXPECT_NEAR(n.booked_lm / want, 1.0, 0.01);
+  EXPECT_NEAR(n.covered_lm / want, 1.0, 0.01);
+  // Isotropic: each cube face carries a sixth of the flux. The connections
+  // from a sphere's inside are cosine-distributed about its radial normal,
+  // so a face sees an even spread; 1 % per face at this count.
+  const std::size_t per_face = f.texel_count() / 6;
+  for (std::size_t face = 0; face < 6; ++face) {
+    double sum = 0.0;
+    for (std::size_t i = face * per_face; i < (face + 1) * per_face; ++i) sum += f.flux_lm(i);
+    EXPECT_NEAR(sum / (f.total_flux_lm() / 6.0), 1.0, 0.02) << "face " << face;
+  }
+  // The intensity per texel: I = Φ/(4π) everywhere, to the noise.
+  double worst = 0.0;
+  for (std::size_t i = 0; i < f.texel_count(); ++i)
+    worst = std::max(worst, std::abs(f.intensity_cd(i) / (want / (4.0 * kPi)) - 1.0));
+  EXPECT_LT(worst, 0.15);
+}
+
+TEST(NextEvent, BooksStayExactAndTheFarFieldsTotalIsBinnedPlusBooked) {
+  // Every photon's fate is booked as without connections (emitted =
+  // escaped + absorbed + cut off, exact); the escapes the connections stand
+  // for are left out of the far field's photons, and its flux is the binned
+  // escapes plus the booked connections.
+  const SceneDesc scene = test_scenes::mixed_scene();
+  auto on = simulate(scene, run(NextEventMode::On, 2, 20000, 2));
+  ASSERT_TRUE(on.ok()) << on.error().message;
+  const NextEventSummary n = on->next_event();
+  ASSERT_TRUE(n.enabled);
+  const Ledger b = on->ledger();
+  EXPECT_TRUE(b.photons_close());
+  EXPECT_NEAR(b.flux_imbalance_lm(), 0.0, 1e-9 * b.emitted.flux_lm);
+  const FarField f = on->far_field();
+  const double binned = static_cast<double>(f.total_photons()) * b.photon_power_lm;
+  EXPECT_NEAR(binned + n.covered_lm, b.escaped.flux_lm, 1e-9 * b.escaped.flux_lm);
+  EXPECT_NEAR(f.total_flux_lm(), binned + n.booked_lm, 1e-9 * b.escaped.flux_lm);
+  EXPECT_GT(n.covered_lm, 0.0);
+  // Booked and covered agree in expectation: within 2 % here.
+  EXPECT_NEAR(n.booked_lm / n.covered_lm, 1.0, 0.02);
+}
+
+// Flux in 24 regions of the sphere (each cube face in four quadrants).
+std::vector<double> regions(const FarField& f) {
+  std::vector<double> out(24, 0.0);
+  const int n = f.face_size();
+  for (std::size_t i = 0; i < f.texel_count(); ++i) {
+    const int face = static_cast<int>(i / static_cast<std::size_t>(n * n));
+    const int rest = static_cast<int>(i % static_cast<std::size_t>(n * n));
+    const int quad = (rest / n >= n / 2 ? 2 : 0) + (rest % n >= n / 2 ? 1 : 0);
+    out[static_cast<std::size_t>(4 * face + quad)] += f.flux_lm(i);
+  }
+  return out;
+}
+
+TEST(NextEvent, FarFieldMeanIsThePhotonHistogramsOnEveryLobe) {
+  // Unbiased: the mixed scene (diffuse reflection and transmission, mirror,
+  // glossy, dielectric, two emitters) traced with and without connections,
+  // flux in 24 regions against each other, within 4.5 standard deviations
+  // of their difference (the histogram's Poisson variance, twice, as a
+  // bound for both). A connection booking f·cos without /pdf, or an escape
+  // counted twice, moves regions by far more.
+  const SceneDesc scene = test_scenes::mixed_scene();
+  SimulationSettings with = run(NextEventMode::On, 2, 150000, 2, 6);
+  with.next_event_connections = 4;  // the estimator's mean does not depend on M; the test's time does
+  auto off = simulate(scene, run(NextEventMode::Off, 2, 150000, 2, 5));
+  auto on = simulate(scene, with);
+  ASSERT_TRUE(off.ok());
+  ASSERT_TRUE(on.ok());
+  const FarField a = off->far_field(), b = on->far_field();
+  const std::vector<double> ra = regions(a), rb = regions(b);
+  const double per_photon = off->ledger().photon_power_lm;
+  for (std::size_t k = 0; k < ra.size(); ++k) {
+    const double sigma = std::sqrt(2.0 * std::max(ra[k], per_photon) * per_photon);
+    EXPECT_NEAR(rb[k], ra[k], 4.5 * sigma + 1e-3 * ra[k]) << "region " << k;
+  }
+  EXPECT_NEAR(b.total_flux_lm() / a.total_flux_lm(), 1.0, 0.005);
+}
+
+// One lobe at a time (sim/bsdfs/lobes.h), each the only lobe of a disc
+// under a point lamp, traced with and without connections: the far
+// fields agree in 24 regions within their noise, and the connections'
+// bytes are the same on one and two threads. A lobe whose value or
+// density the connections took from anywhere but sim/bsdfs (a weight
+// over incidence left out, the tabulated BSDF's side, the ABg lobe's
+// normalisation, the compensated glossy lobe's second lobe) moves regions
+// by far more than the noise.
+struct LobeCase {
+  const char* name;
+  Material material;
+};
+
+std::vector<LobeCase> lobe_cases() {
+  std::vector<LobeCase> cases;
+  Material angular;  // diffuse reflection falling with incidence
+  angular.diffuse_reflect = 0.9;
+  angular.over_incidence[0] = {{0.0, 90.0}, {1.0, 0.2}};
+  cases.push_back({"diffuse-reflect-over-incidence", angular});
+  Material opal;
+  opal.diffuse_transmit = 0.7;
+  cases.push_back({"diffuse-transmit", opal});
+  Material glossy;
+  glossy.glossy = 0.9;
+  glossy.glossy_mx = 0.35;
+  glossy.glossy_my = 0.2;
+  glossy.glossy_f0 = 0.8;
+  glossy.glossy_compensation = true;
+  cases.push_back({"glossy-compensated", glossy});
+  Material abg_r;
+  abg_r.abg_reflect = {0.7, 0.02, 1.5};
+  cases.push_back({"abg-reflect", abg_r});
+  Material abg_t;
+  abg_t.abg_transmit = {0.6, 0.05, 1.2};
+  cases.push_back({"abg-transmit", abg_t});
+  auto table = test::non_lambertian_klems_sheet();
+  Material tabulated;
+  tabulated.tabulated = 0.9;
+  tabulated.table = table;
+  cases.push_back({"tabulated", tabulated});
+  return cases;
+}
+
+SceneDesc lamp_over_disc(const Material& m) {
+  SceneDesc scene;
+  scene.materials = {m};
+  scene.meshes = {disc(0.25, 48)};
+  Emitter e;
+  e.position = {0.0, 0.08, 0.0};
+  e.flux_lm = 1000.0;
+  scene.emitters = {e};
+  return scene;
+}
+
+TEST(NextEvent, EachLobeKindAgreesWithPlainTracingAndKeepsItsBytes) {
+  const std::vector<LobeCase> cases = lobe_cases();
+  ASSERT_EQ(cases.size(), 6u);
+  for (const LobeCase& c : cases) {
+    SCOPED_TRACE(c.name);
+    const SceneDesc scene = lamp_over_disc(c.material);
+    SimulationSettings with = run(NextEventMode::On, 2, 100000, 2, 6);
+    with.next_event_connections = 4;
+    auto off = simulate(scene, run(NextEventMode::Off, 2, 100000, 2, 5));
+    auto on = simulate(scene, with);
+    ASSERT_TRUE(off.ok()) << off.error().message;
+    ASSERT_TRUE(on.ok()) << on.error().message;
+    ASSERT_TRUE(on->next_event().enabled);
+    EXPECT_GT(on->next_event().escaped, 0u);
+    const FarField a = off->far_field(), b = on->far_field();
+    const std::vector<double> ra = regions(a), rb = regions(b);
+    const double per_photon = off->ledger().photon_power_lm;
+    for (std::size_t k = 0; k < ra.size(); ++k) {
+      const double sigma = std::sqrt(2.0 * std::max(ra[k], per_photon) * per_photon);
+      EXPECT_NEAR(rb[k], ra[k], 4.5 * sigma + 1e-3 * ra[k]) << "region " << k;
+    }
+    EXPECT_NEAR(b.total_flux_lm() / a.total_flux_lm(), 1.0, 0.01);
+    // The same bytes on one thread and in another split.
+    SimulationSettings one = with;
+    one.threads = 1;
+    one.photons_per_iteration = 200000;
+    one.iterations = 1;
+    auto single = simulate(scene, one);
+    ASSERT_TRUE(single.ok());
+    const FarField s = single->far_field();
+    ASSERT_EQ(s.texel_count(), b.texel_count());
+    EXPECT_EQ(std::memcmp(s.flux_lm().data(), b.flux_lm().data(), s.texel_count() * sizeof(double)), 0);
+  }
+}
+
+TEST(NextEvent, SameBytesWithOneOrTwoThreadsAndAnySplit) {
+  const SceneDesc scene = test_scenes::mixed_scene();
+  auto one = simulate(scene, run(NextEventMode::On, 1, 12000, 2));
+  auto two = simulate(scene, run(NextEventMode::On, 2, 12000, 2));
+  auto whole = simulate(scene, run(NextEventMode::On, 2, 24000, 1));
+  ASSERT_TRUE(one.ok());
+  ASSERT_TRUE(two.ok());
+  ASSERT_TRUE(whole.ok());
+  for (const auto* other : {&two, &whole}) {
+    const FarField a = one->far_field(), b = (*other)->far_field();
+    ASSERT_EQ(a.texel_count(), b.texel_count());
+    EXPECT_EQ(std::memcmp(a.flux_lm().data(), b.flux_lm().data(), a.texel_count() * sizeof(double)), 0);
+    EXPECT_EQ(one->next_event().connections, (*other)->next_event().connections);
+    for (int r = 0; r < one->sobol_replicates(); ++r) {
+      const FarField ra = one->replicate_far_field(r), rb = (*other)->replicate_far_field(r);
+      EXPECT_EQ(std::memcmp(ra.flux_lm().data(), rb.flux_lm().data(), ra.texel_count() * sizeof(double)), 0);
+    }
+  }
+}
+
+TEST(NextEvent, ReplicatesCarryTheConnectionsUnderEitherSampler) {
+  // The error estimate reads the replicates: with connections they must hold
+  // them (their mean is the run's far field), also under the random sampler.
+  for (SamplerKind sampler : {SamplerKind::Random, SamplerKind::Sobol}) {
+    SimulationSettings s = run(NextEventMode::On, 2, 40000, 1);
+    s.sampler = sampler;
+    auto sim = simulate(opal_sphere(0.6, 0.3), s);
+    ASSERT_TRUE(sim.ok());
+    const int k = sim->sobol_replicates();
+    ASSERT_EQ(k, kSobolReplicates);
+    const FarField all = sim->far_field();
+    double mean = 0.0;
+    for (int r = 0; r < k; ++r) mean += sim->replicate_far_field(r).total_flux_lm() / k;
+    EXPECT_NEAR(mean / all.total_flux_lm(), 1.0, 1e-9);
+  }
+}
+
+TEST(NextEvent, AutoKeepsConnectionsWhereTheyEscapeAndOnlyWhereTheyPay) {
+  // Inside a closed white box nothing escapes: the pilot keeps no mesh, and
+  // auto stays off. The opal sphere: every escape covered, auto turns on.
+  SceneDesc box_scene;
+  Material white{"white", 0.8, 0.0, 0.0};
+  box_scene.materials = {white};
+  box_scene.meshes = {box(0.2, 0.2, 0.2)};
+  Emitter e;
+  e.flux_lm = 100.0;
+  box_scene.emitters = {e};
+  auto boxed = simulate(box_scene, run(NextEventMode::Auto, 2, 10000, 1));
+  ASSERT_TRUE(boxed.ok());
+  EXPECT_FALSE(boxed->next_event().enabled);
+  ASSERT_EQ(boxed->next_event().mode, NextEventMode::Auto);
+  auto opal = simulate(opal_sphere(0.6, 0.3), run(NextEventMode::Auto, 2, 10000, 1));
+  ASSERT_TRUE(opal.ok());
+  EXPECT_TRUE(opal->next_event().enabled);
+  EXPECT_NEAR(opal->next_event().pilot_covered_share, 1.0, 1e-12);
+  // A bare lamp: nothing to connect from.
+  SceneDesc bare;
+  bare.emitters = {e};
+  auto lamp = simulate(bare, run(NextEventMode::Auto, 1, 1000, 1));
+  ASSERT_TRUE(lamp.ok());
+  EXPECT_FALSE(lamp->next_event().enabled);
+}
+
+TEST(NextEvent, RefusesGuidedEmissionAndBadCounts) {
+  SimulationSettings s = run(NextEventMode::On, 1, 1000, 1);
+  s.importance.enabled = true;
+  auto guided = Simulation::create(opal_sphere(0.6, 0.3), s);
+  ASSERT_FALSE(guided.ok());
+  EXPECT_NE(guided.error().message.find("guided"), std::string::npos);
+  s.next_event = NextEventMode::Auto;  // auto simply stays off
+  auto quiet = Simulation::create(opal_sphere(0.6, 0.3), s);
+  ASSERT_TRUE(quiet.ok());
+  EXPECT_FALSE(quiet->next_event().enabled);
+  SimulationSettings bad = run(NextEventMode::On, 1, 1000, 1);
+  bad.next_event_connections = 0;
+  EXPECT_FALSE(Simulation::create(opal_sphere(0.6, 0.3), bad).ok());
+}
+
+TEST(NextEvent, ModeNamesRoundTrip) {
+  for (NextEventMode m : {NextEventMode::Off, NextEventMode::On, NextEventMode::Auto})
+    EXPECT_EQ(parse_next_event_mode(to_string(m)), m);
+  EXPECT_FALSE(parse_next_event_mode("yes").has_value());
+}
+
+}  // namespace
+}  // namespace gonio::sim
