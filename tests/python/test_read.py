@@ -30,6 +30,22 @@ def test_reads_angles_and_candela_as_the_command_does(curves, gonio_exe):
     assert ("LUMCAT", "DL-68") in p.keywords
 
 
+def test_the_openings_length_and_width_are_the_files_and_the_commands(curves, gonio_exe):
+    """Issue 45, case 9: the wall washer's opening is 0.12 m long (along
+    C0-C180) and 0.09 m wide (C90-C270): the IES file's line holds width
+    0.09, length 0.12 in metres, and the LDT the same. Length and width
+    swapped in the module would still pass a square opening; this one is
+    not."""
+    for name in ("wall_washer.ies", "wall_washer.ldt"):
+        p = gonio.read(curves / name)
+        info = info_json(gonio_exe, curves / name)["luminous_opening"]
+        assert p.opening["length_m"] != p.opening["width_m"], name
+        for key in ("shape", "length_m", "width_m", "height_m"):
+            assert p.opening[key] == info[key], (name, key)
+        assert p.opening["length_m"] == pytest.approx(0.12, abs=1e-9), name
+        assert p.opening["width_m"] == pytest.approx(0.09, abs=1e-9), name
+
+
 def test_arrays_are_views_of_the_photometry_not_copies(curves, tmp_path):
     """A copy would not see the write, nor would write() write it."""
     p = gonio.read(curves / "downlight.ldt")

@@ -1,10 +1,13 @@
 """gonio.simulate against `gonio simulate` (the same bytes for the same
 seed), its result (far field, candela table, ledger, estimate), and how it
 stops: the callback, Ctrl-C, an exception (ctest label `python`)."""
+import base64
 import json
+import math
 import os
 import pathlib
 import signal
+import struct
 import subprocess
 import sys
 import threading
@@ -76,6 +79,64 @@ def test_the_result_holds_the_far_field_the_table_and_closed_books(bell, tmp_pat
     assert bare.files == [] and bare.report is None
     assert np.array_equal(bare.far_field.photons, ff.photons)
     assert np.array_equal(bare.photometry.candela, table.candela)
+
+
+def sealed_white_box(path, reflectance):
+    """A closed box 0.2 m a side, Lambertian white (extras.gonio kd) inside
+    and out, with a 1000 lm point light at its centre: a glTF with its
+    buffer in a data URI. No light leaves it."""
+    h = 0.1
+    corners = [(x, y, z) for x in (-h, h) for y in (-h, h) for z in (-h, h)]
+    # Two triangles per face, wound so that the front faces outwards.
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    indices = [i for a, b, c, d in quads for i in (a, b, c, a, c, d)]
+    blob = struct.pack(f"<{3 * len(corners)}f", *[v for c in corners for v in c]) + struct.pack(
+        f"<{len(indices)}I", *indices)
+    positions = 12 * len(corners)
+    g = {
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 1000.0 / (4 * math.pi)}]}},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"name": "box", "mesh": 0}, {"name": "lamp", "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+        "meshes": [{"name": "box", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+        "materials": [{"name": "white", "extras": {"gonio": {"kd": reflectance}}}],
+        "buffers": [{"byteLength": len(blob),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": positions},
+                        {"buffer": 0, "byteOffset": positions, "byteLength": len(blob) - positions}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": len(corners), "type": "VEC3",
+                       "min": [-h, -h, -h], "max": [h, h, h]},
+                      {"bufferView": 1, "componentType": 5125, "count": len(indices), "type": "SCALAR"}],
+    }
+    path.write_text(json.dumps(g))
+    return path
+
+
+def test_the_ledger_tells_cut_off_from_absorbed(tmp_path):
+    """Issue 45, case 9: in a sealed box of reflectance ρ a photon survives
+    each hit with chance ρ and is cut off at hit B + 1: with B = 2 bounces
+    allowed, ρ² = 0.64 of the photons are cut off and 0.36 absorbed, by
+    photon and by flux, in total, for the lamp, and at the box (mesh and
+    material). `absorbed` and `cutoff` swapped in the module would read
+    0.36 and 0.64; four standard deviations here are 0.008."""
+    rho, bounces, photons = 0.8, 2, 40000
+    model = sealed_white_box(tmp_path / "sealed.gltf", rho)
+    r = gonio.simulate(model, photons=photons, iterations=1, seed=3, max_bounces=bounces)
+    led = r.ledger
+    assert led["photons_close"]
+    assert led["emitted"]["photons"] == photons and led["escaped"]["photons"] == 0
+    cut, absorbed = rho**bounces, 1 - rho**bounces
+    tol = 4 * math.sqrt(cut * absorbed / photons)
+    for books in (led, led["emitters"][0]):
+        assert books["cutoff"]["photons"] / photons == pytest.approx(cut, abs=tol)
+        assert books["absorbed"]["photons"] / photons == pytest.approx(absorbed, abs=tol)
+        assert books["cutoff"]["flux_lm"] / books["emitted"]["flux_lm"] == pytest.approx(cut, abs=tol)
+        assert books["absorbed"]["flux_lm"] / books["emitted"]["flux_lm"] == pytest.approx(absorbed, abs=tol)
+    for part in (led["meshes"][0], led["materials"][0]):
+        assert part["cutoff"]["photons"] == led["cutoff"]["photons"]
+        assert part["absorbed"]["photons"] == led["absorbed"]["photons"]
 
 
 def test_threads_do_not_change_a_photon(bell):

@@ -281,6 +281,38 @@ TEST(BsdfCsv, ForwardPeakLandsInTheRightPatch) {
   EXPECT_EQ(t->evaluate(true, wi, Vec3{wi.x, wi.y, -wi.z}), 0.0);  // backwards: φ = 180
 }
 
+// Issue 45, case 13: a table measured over φ_out 0..180 is completed by
+// the mirror about the plane of incidence, φ → 360 − φ (bsdf_file.h), not
+// by a half turn, φ → φ − 180. Data that differ at φ 30 (0.2/sr) and 150
+// (0.05/sr): the mirror puts 30's value at 330 and 150's at 210; a half
+// turn would put them the other way round, which symmetric data cannot
+// tell apart.
+TEST(BsdfCsv, HalfPlaneTableIsCompletedByTheMirrorAboutThePlaneOfIncidence) {
+  const auto value = [](double phi) { return phi == 30.0 ? 0.2 : phi == 150.0 ? 0.05 : 0.1; };
+  std::ostringstream s;
+  s << "theta_in,theta_out,phi_out,brdf\n";
+  for (double ti : {0.0, 30.0})
+    for (double to : {10.0, 30.0, 50.0, 70.0})
+      for (double p : {0.0, 30.0, 150.0, 180.0}) s << ti << "," << to << "," << p << "," << value(p) << "\n";
+  std::vector<Finding> findings;
+  Result<sim::TabulatedBsdf> t = read_bsdf_csv(s.str(), "half.csv", findings);
+  ASSERT_TRUE(t.ok()) << to_string(t.error());
+  // φ_out = 0 is the plane of incidence on the far side: for light arriving
+  // from azimuth 0, the outgoing azimuth φ_out lies at 180° + φ_out.
+  const Vec3 wi = incident(30.0);
+  const double theta = 50.0 * kDeg;
+  const auto f = [&](double phi_out) {
+    const Vec3 wo = incident(50.0, 180.0 + phi_out);
+    return t->evaluate(true, wi, wo) / std::cos(theta);
+  };
+  EXPECT_NEAR(f(30.0), 0.2, 1e-6);
+  EXPECT_NEAR(f(150.0), 0.05, 1e-6);
+  EXPECT_NEAR(f(330.0), 0.2, 1e-6);   // the mirror of 30
+  EXPECT_NEAR(f(210.0), 0.05, 1e-6);  // the mirror of 150
+  EXPECT_NEAR(f(0.0), 0.1, 1e-6);
+  EXPECT_NEAR(f(180.0), 0.1, 1e-6);
+}
+
 TEST(BsdfCsv, HostileTablesAreRefusedWithTheLine) {
   struct Case {
     std::string doc, expect;

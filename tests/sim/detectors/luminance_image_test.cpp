@@ -117,6 +117,56 @@ TEST(LuminanceImage, LambertianDiscIsUniformAtItsLuminanceFromAnyDirection) {
   EXPECT_EQ(images[2].intensity_cd, 0.0);
 }
 
+// Issue 45, case 10: a two-sided Lambertian sheet of luminance L on each
+// face sends 2πLA in all, half of its photons to each side; its image from
+// either side reads L, as a one-sided sheet of the same luminance does
+// (πLA, every photon to the front). The emission connection of a two-sided
+// emitter weighs |cos|/π by the half of the photons that leave on the
+// observer's side: left whole, the sheet reads 2L.
+TEST(LuminanceImage, TwoSidedSheetReadsItsLuminanceFromEitherSideAsAOneSidedOneDoes) {
+  const double a = 0.05, l = 5000.0;  // [m], [cd/m²]
+  const double area = 0.5 * 128 * std::sin(2.0 * kPi / 128) * a * a;
+  for (const bool two_sided : {false, true}) {
+    SCOPED_TRACE(two_sided ? "two-sided" : "one-sided");
+    SceneDesc scene;
+    Material black;
+    black.name = "black";
+    scene.materials = {black};
+    Mesh d = disc(a, 128);
+    flip(d);  // the front faces the nadir
+    scene.meshes = {d};
+    Emitter e;
+    e.kind = Emitter::Kind::Area;
+    e.two_sided = two_sided;
+    e.flux_lm = (two_sided ? 2.0 : 1.0) * kPi * l * area;
+    scene.emitters = {e};
+    // Face-on from below (the front) and from above (the back).
+    auto sim = simulate(scene, image_run({{0.0, 0.0}, {0.0, 180.0}}, 400000));
+    ASSERT_TRUE(sim.ok()) << sim.error().message;
+    const std::vector<LuminanceImage> images = sim->luminance_images();
+    ASSERT_EQ(images.size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) {
+      const LuminanceImage& img = images[k];
+      if (k == 1 && !two_sided) {
+        EXPECT_EQ(img.intensity_cd, 0.0);  // a one-sided sheet's back is dark
+        continue;
+      }
+      // I = L·A face-on, on either lit side.
+      EXPECT_NEAR(img.intensity_cd / (l * area), 1.0, 0.01) << k;
+      double sum = 0.0;
+      int n = 0;
+      for (std::size_t i = 0; i < img.cd_m2.size(); ++i) {
+        const Vec3 c = pixel_centre(img, i);
+        if (std::hypot(c.x, c.z) > a - 1.5 * img.plane.pixel_m) continue;
+        sum += img.cd_m2[i];
+        ++n;
+      }
+      ASSERT_GT(n, 100);
+      EXPECT_NEAR(sum / n / l, 1.0, 0.01) << k;
+    }
+  }
+}
+
 TEST(LuminanceImage, MirrorShowsThePointSourcesImageWhereItsReflectionLies) {
   // An isotropic point 5 cm above a mirror (ρ = 1, facing up), seen from
   // γ = 150° in C0 (from above): the light reaches the observer only via

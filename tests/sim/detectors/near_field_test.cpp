@@ -368,6 +368,86 @@ TEST(NearField, DiscRaisedAboveTheBoxBottomIsLitFromItsOwnHeight) {
   }
 }
 
+// Configuration factor from a plane element facing up to a parallel disc
+// of radius r facing down, h above it, the element r_off off the disc's
+// axis (Howell's catalogue of configuration factors, "plane element to
+// parallel disk"): F = ½[1 − (r_off² + h² − r²) / √((r_off² + h² + r²)² −
+// 4 r_off² r²)]; on the axis r²/(r² + h²).
+double element_to_disc(double r_off, double h, double r) {
+  const double z = r_off * r_off + h * h + r * r;
+  return 0.5 * (1.0 - (r_off * r_off + h * h - r * r) / std::sqrt(z * z - 4.0 * r_off * r_off * r * r));
+}
+
+// Issue 45, case 11: photons start above and below the photometric
+// centre. Two equal Lambertian discs facing the nadir, A h above and 6 cm
+// toward +C0, B h below and 6 cm toward −C0: the luminous centre lies
+// between them, so A's photons start h above it and B's h below. Under
+// each disc the plane D below the centre is lit mostly by that disc, from
+// D + h (A) and D − h (B): the pixel's closed form, both discs' shares
+// averaged over the pixel, holds for each. A start depth taken with the
+// wrong sign swaps the discs' heights (B's spot then reads about half).
+TEST(NearField, EmittersAboveAndBelowTheCentreLightThePlanesFromTheirOwnHeights) {
+  const double a = 0.02, h = 0.04, s = 0.06, flux = 1000.0;
+  SceneDesc scene;
+  Material black;
+  black.name = "black";
+  scene.materials = {black};
+  scene.meshes = {lambertian_disc(a, {s, h, 0.0}), lambertian_disc(a, {-s, -h, 0.0})};
+  Emitter e;
+  e.kind = Emitter::Kind::Area;
+  e.mesh = 0;
+  e.flux_lm = flux;
+  Emitter low = e;
+  low.mesh = 1;
+  scene.emitters = {e, low};
+  const double area = 0.5 * 64 * std::sin(2.0 * kPi / 64) * a * a;
+  const double r = std::sqrt(area / kPi), radiance = flux / (kPi * area);
+  const std::vector<double> distances = {0.1, 0.2};
+  const std::uint64_t photons = 1'000'000;
+  auto sim = simulate(scene, near_settings(2, photons / 2, 2, distances));
+  ASSERT_TRUE(sim.ok()) << sim.error().message;
+  const NearFieldPlanes& where = *sim->near_field_planes();
+  const Vec3 c = where.centre;
+  // The luminous centre: halfway between the discs, to the pilot's noise.
+  EXPECT_NEAR(c.y, 0.0, 0.002);
+  EXPECT_NEAR(c.x, 0.0, 0.003);
+  const std::vector<NearFieldPlane> planes = sim->near_field();
+  ASSERT_EQ(planes.size(), distances.size());
+  const Vec3 up = where.frame.up, c0 = where.frame.c0, c90 = where.frame.c90;
+  const Vec3 centres[2] = {{s, h, 0.0}, {-s, -h, 0.0}};
+  for (const NearFieldPlane& p : planes) {
+    const double D = p.distance_m;
+    const auto n = static_cast<std::size_t>(p.pixels);
+    for (const Vec3& under : centres) {
+      // The pixel under the disc's centre.
+      const double x0 = dot(under - c, c0), y0 = dot(under - c, c90);
+      const auto col = static_cast<std::size_t>((x0 + p.half_width_m) / p.pixel_size_m);
+      const auto row = static_cast<std::size_t>((p.half_width_m - y0) / p.pixel_size_m);
+      // The closed form averaged over the pixel (24 × 24 points), both discs.
+      double want = 0.0;
+      constexpr int kSub = 24;
+      for (int i = 0; i < kSub; ++i)
+        for (int j = 0; j < kSub; ++j) {
+          const double x = -p.half_width_m + (static_cast<double>(col) + (i + 0.5) / kSub) * p.pixel_size_m;
+          const double y = p.half_width_m - (static_cast<double>(row) + (j + 0.5) / kSub) * p.pixel_size_m;
+          const Vec3 at = c + x * c0 + y * c90 - D * up;
+          for (const Vec3& disc_at : centres) {
+            const Vec3 d = disc_at - at;
+            const double height = dot(d, up);
+            const double off = length(d - height * up);
+            want += kPi * radiance * element_to_disc(off, height, r) / (kSub * kSub);
+          }
+        }
+      const double got = p.near_lx[row * n + col];
+      const double count = photons_in_pixel(p, want, 2.0 * flux, static_cast<double>(photons));
+      const double tol = 4.0 / std::sqrt(count) + 0.005;
+      std::printf("  disc at height %+.2f m, plane D = %.2f m: pixel (%zu, %zu) %.1f lx, closed form %.1f lx\n",
+                  under.y, D, row, col, got, want);
+      EXPECT_NEAR(got / want, 1.0, tol) << "D = " << D << ", disc at " << under.y;
+    }
+  }
+}
+
 // Issue 34, case 5: the image's orientation, re-pinned for issue 33's
 // luminous centre. Rows run along C90 from +C90 at the top (row 0) to −C90
 // at the bottom (near_field.h, and the EXR written from it); columns along
