@@ -16,6 +16,7 @@
 
 #include "io/model/cad_model.h"
 #include "io/model/model_check.h"
+#include "io/support/content_hash.h"
 #include "io/support/file_io.h"
 #include "sim/affine.h"
 #include "sim/bsdfs/library.h"
@@ -37,10 +38,19 @@ constexpr double kBall = 0.005;    // BALL_R
 
 // Options with a cache the suite's processes share (ctest runs each test as
 // a process of its own): a part meshed once is read from there after; the
-// cache's own behaviour is CadCache's to test.
+// cache's own behaviour is CadCache's to test. The cache's key holds
+// kCadReaderRevision but not the helper's code, so the folder is one per
+// build of the helper (its bytes' hash): a changed io/model/step.cpp — a
+// fix, or a mistake put in to see a test fail — must not be tested on the
+// meshes the helper made before it.
 CadLoadOptions cached() {
+  static const std::string folder = [] {
+    Result<std::string> helper = read_file(GONIO_CAD_HELPER_PATH, std::size_t{1} << 30);
+    return std::string(GONIO_TEST_DATA_DIR "/cad-cache/helper-") +
+           (helper.ok() ? content_hash_hex(*helper) : std::string("unread"));
+  }();
   CadLoadOptions o;
-  o.cache_dir = GONIO_TEST_DATA_DIR "/cad-cache";
+  o.cache_dir = folder;
   return o;
 }
 
