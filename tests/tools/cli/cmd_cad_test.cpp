@@ -380,10 +380,10 @@ material = "panel"
 // the collimated beam widens. An ideal mirror (mirror = 1) and an isotropic
 // source of Φ at the focus give, in closed form, the nadir cap (γ < 1.25°)
 // I₀ = Φ·(f_r + Ω_cap/4π)/Ω_cap, f_r the share of the sphere the mirror
-// subtends from the focus (0.654), and beside it, at γ = 2.5°, the direct
-// light Φ/4π alone. Measured at 2¹⁸ photons: both files
-// 437 256 cd at the nadir (closed form 437 368) and 97 cd at 2.5°
-// (Φ/4π = 79.6); with the mistake the reversed file's beam spills 592 cd
+// subtends from the focus (0.654), and beside it, at γ = 2.5°, little more
+// than the direct light Φ/4π.
+// Measured at 2¹⁸ photons: both files 437 256 cd at the nadir (closed form
+// 437 368) and 97 cd at 2.5° (Φ/4π = 79.6); with the mistake the reversed file's beam spills 592 cd
 // into 2.5° and its peak falls 0.9 %. An ideal mirror's beam is narrower
 // than the grid, so the IES file's flux misses the escaped flux by ~13 %:
 // --flux-tolerance 0.5.
