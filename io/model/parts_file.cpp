@@ -293,7 +293,7 @@ std::optional<double> length_unit_m(std::string_view name) {
 }
 
 bool glob_match(const std::string& pattern, const std::string& text) {
-  return ::fnmatch(pattern.c_str(), text.c_str(), 0) == 0;
+  return ::fnmatch(pattern.c_str(), text.c_str(), FNM_CASEFOLD) == 0;
 }
 
 Result<PartsFile> parse_parts_file(std::string_view text, const std::string& name) {

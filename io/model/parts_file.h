@@ -32,7 +32,8 @@
 //   flux_lm = 1200                # the emitter's flux (default: the profile's or ray file's)
 //   spectrum = { blackbody_k = 4000 }   # as extras.gonio.spectrum
 //
-// Patterns are globs (fnmatch: *, ?, [...]). A pattern with a '/' is matched
+// Patterns are globs (fnmatch: *, ?, [...]), blind to the case of ASCII
+// letters ("led*" matches "LED1"). A pattern with a '/' is matched
 // against the whole assembly path ("Lamp/Optic/Lens[2]", '*' crossing '/'),
 // one without against the path's last component and against the part's
 // product name. A rule with several conditions needs all of them.
@@ -110,7 +111,9 @@ Result<PartsFile> read_parts_file(const std::string& path);
 // "foot", "µm", "micrometre"; case-insensitive); nothing for other names.
 std::optional<double> length_unit_m(std::string_view name);
 
-// fnmatch(3) of `pattern` against `text`, '*' crossing '/'.
+// fnmatch(3) of `pattern` against `text`, '*' crossing '/', blind to the
+// case of ASCII letters (FNM_CASEFOLD): exporters change the case of names
+// (Creo and IGES write capitals), and CAD on Windows treats names case-blind.
 bool glob_match(const std::string& pattern, const std::string& text);
 
 }  // namespace gonio::io

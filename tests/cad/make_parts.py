@@ -90,6 +90,44 @@ lamp.addObject(lens_link)
 doc.recompute()
 export([lamp], "lamp.step")
 
+# Placements that are not their own transpose (issue 45): a bar of
+# 10 x 2 x 1 mm from the origin (no symmetry to hide a rotation's sense)
+# placed three times, turned 90 deg about X, 30 deg about Y and 90 deg about
+# Z, and once more in a two-level assembly whose middle level (Arm) is
+# itself turned and moved: the tests know where each corner lands.
+bar = feature("Bar", Part.makeBox(10, 2, 1))
+turned = doc.addObject("App::Part", "Turned")
+
+
+def placed_link(name, target, placement):
+    link = doc.addObject("App::Link", name)
+    link.LinkedObject = target
+    link.Placement = placement
+    return link
+
+
+turned.addObject(placed_link("BarX90", bar, Placement(Vector(20, 0, 0), Rotation(Vector(1, 0, 0), 90))))
+turned.addObject(placed_link("BarY30", bar, Placement(Vector(0, 20, 0), Rotation(Vector(0, 1, 0), 30))))
+turned.addObject(placed_link("BarZ90", bar, Placement(Vector(0, 0, 20), Rotation(Vector(0, 0, 1), 90))))
+arm = doc.addObject("App::Part", "Arm")
+arm.Placement = Placement(Vector(40, 0, 0), Rotation(Vector(0, 0, 1), 90))
+arm.addObject(placed_link("Tip", bar, Placement(Vector(0, 10, 0), Rotation(Vector(1, 0, 0), 90))))
+turned.addObject(arm)
+doc.recompute()
+export([turned], "turned.step")
+
+# A flat square of 10 x 10 mm in z = 0, facing +Z: an emissive panel of
+# known area.
+panel = feature("Panel", Part.makePlane(10, 10))
+doc.recompute()
+export([panel], "panel.step")
+
+# The reflector with its face written reversed (ADVANCED_FACE's same_sense
+# .F.: OpenCASCADE reads the face REVERSED), the same surface otherwise.
+reversed_reflector = feature("ReflectorReversed", paraboloid(F, R_HOLE, R_APER).reversed())
+doc.recompute()
+export([reversed_reflector], "reflector_reversed.step")
+
 # A lens whose surfaces do not close: half a sphere's surface, no cap.
 half = Part.makeSphere(BALL_R, Vector(0, 0, 0), Vector(0, 0, 1), 0, 90).Faces[0]
 export([feature("OpenLens", Part.Shell([half]))], "open_lens.step")

@@ -16,7 +16,9 @@
 
 #include "io/model/cad_model.h"
 #include "io/model/model_check.h"
+#include "io/support/content_hash.h"
 #include "io/support/file_io.h"
+#include "sim/affine.h"
 #include "sim/bsdfs/library.h"
 #include "sim/bsdfs/tabulated_bsdf.h"
 #include "sim/scene.h"
@@ -36,10 +38,19 @@ constexpr double kBall = 0.005;    // BALL_R
 
 // Options with a cache the suite's processes share (ctest runs each test as
 // a process of its own): a part meshed once is read from there after; the
-// cache's own behaviour is CadCache's to test.
+// cache's own behaviour is CadCache's to test. The cache's key holds
+// kCadReaderRevision but not the helper's code, so the folder is one per
+// build of the helper (its bytes' hash): a changed io/model/step.cpp — a
+// fix, or a mistake put in to see a test fail — must not be tested on the
+// meshes the helper made before it.
 CadLoadOptions cached() {
+  static const std::string folder = [] {
+    Result<std::string> helper = read_file(GONIO_CAD_HELPER_PATH, std::size_t{1} << 30);
+    return std::string(GONIO_TEST_DATA_DIR "/cad-cache/helper-") +
+           (helper.ok() ? content_hash_hex(*helper) : std::string("unread"));
+  }();
   CadLoadOptions o;
-  o.cache_dir = GONIO_TEST_DATA_DIR "/cad-cache";
+  o.cache_dir = folder;
   return o;
 }
 
@@ -629,6 +640,362 @@ profile = "../../etc/passwd"
   Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
   ASSERT_FALSE(scene.ok());
   EXPECT_NE(scene.error().message.find("outside"), std::string::npos) << scene.error().message;
+}
+
+// ---------------------------------------------------------------------------
+// The mistakes a CAD user would see (issue 45): each test names the
+// plausible mistake in the reader or the sidecar that makes it fail.
+
+// FreeCAD's Placement(t, Rotation(axis, deg)): p ↦ R·p + t, right-handed,
+// in millimetres; here in metres.
+sim::Affine freecad_placement(const Vec3& t_mm, const Vec3& axis, double deg) {
+  return sim::translation(t_mm * 1e-3) * sim::rotation(axis, deg * std::numbers::pi / 180.0);
+}
+
+const CadPlacement* placement_at(const CadModel& m, const std::string& path) {
+  for (const CadPlacement& p : m.placements)
+    if (p.path == path) return &p;
+  return nullptr;
+}
+
+// Every vertex of a placement of make_parts.py's bar (10 × 2 × 1 mm from the
+// origin) against where `expected` puts the bar: mapped back by its inverse
+// (a rotation's is its transpose) each must lie in the bar, and each of the
+// bar's eight corners must be a vertex. The placement's own split between
+// the part's mesh and its location does not matter; only where the bar ends
+// up in the world does.
+void expect_bar_where(const CadModel& m, const std::string& path, const sim::Affine& expected) {
+  SCOPED_TRACE(path);
+  const CadPlacement* p = placement_at(m, path);
+  ASSERT_NE(p, nullptr);
+  EXPECT_EQ(m.parts[p->part].name, "Bar");
+  const Vec3 size{0.010, 0.002, 0.001};
+  std::vector<Vec3> world;
+  for (const CadSurface& s : m.parts[p->part].surfaces)
+    for (const sim::Vec3f& v : s.positions) world.push_back(p->to_world.point(sim::to_double(v)));
+  ASSERT_FALSE(world.empty());
+  double outside = 0.0;
+  for (const Vec3& w : world) {
+    const Vec3 d = w - expected.offset;
+    // Rᵀ·d: the columns of R dotted with d.
+    const Vec3 local{expected.m[0][0] * d.x + expected.m[1][0] * d.y + expected.m[2][0] * d.z,
+                     expected.m[0][1] * d.x + expected.m[1][1] * d.y + expected.m[2][1] * d.z,
+                     expected.m[0][2] * d.x + expected.m[1][2] * d.y + expected.m[2][2] * d.z};
+    outside = std::max({outside, -local.x, -local.y, -local.z, local.x - size.x, local.y - size.y, local.z - size.z});
+  }
+  EXPECT_LT(outside, 1e-8) << "a vertex lies outside where the bar should be [m]";
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 c = expected.point({corner & 1 ? size.x : 0.0, corner & 2 ? size.y : 0.0, corner & 4 ? size.z : 0.0});
+    double nearest = 1.0;
+    for (const Vec3& w : world) nearest = std::min(nearest, length(w - c));
+    EXPECT_LT(nearest, 1e-8) << "no vertex at corner " << corner << " (" << c.x << ", " << c.y << ", " << c.z << ")";
+  }
+}
+
+// The nearest world vertex of a placement to `point` [m].
+double nearest_vertex(const CadModel& m, const CadPlacement& p, const Vec3& point) {
+  double nearest = 1.0;
+  for (const CadSurface& s : m.parts[p.part].surfaces)
+    for (const sim::Vec3f& v : s.positions) nearest = std::min(nearest, length(p.to_world.point(sim::to_double(v)) - point));
+  return nearest;
+}
+
+// Mistake: the placement's rotation read transposed (turned the other way).
+// The lamp's LEDs are translated or turned by 180°, where a rotation is its
+// own transpose; here the turns are 90° about X and Z and 30° about Y, none
+// about a symmetry axis of the bar (it has none).
+TEST(CadStep, TurnedPlacementsPutTheVerticesWhereTheRotationSays) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  Result<CadModel> m = tessellate(parts / "turned.step");
+  ASSERT_TRUE(m.ok()) << to_string(m.error());
+  ASSERT_EQ(m->parts.size(), 1u);  // one bar, placed four times
+  ASSERT_EQ(m->placements.size(), 4u);
+  expect_bar_where(*m, "Turned/BarX90", freecad_placement({20, 0, 0}, {1, 0, 0}, 90));
+  expect_bar_where(*m, "Turned/BarY30", freecad_placement({0, 20, 0}, {0, 1, 0}, 30));
+  expect_bar_where(*m, "Turned/BarZ90", freecad_placement({0, 0, 20}, {0, 0, 1}, 90));
+  // The far corner (10, 2, 1) mm by hand: about X by 90°, (x, y, z) ↦
+  // (x, −z, y); about Y by 30°, (x cos 30° + z sin 30°, y, −x sin 30° + z cos 30°);
+  // about Z by 90°, (−y, x, z). Transposed, each would land elsewhere.
+  const double c30 = std::cos(std::numbers::pi / 6), s30 = 0.5;
+  const std::pair<const char*, Vec3> corners[] = {
+      {"Turned/BarX90", Vec3{30, -1, 2}},
+      {"Turned/BarY30", Vec3{10 * c30 + s30, 22, -10 * s30 + c30}},
+      {"Turned/BarZ90", Vec3{-2, 10, 21}},
+  };
+  for (const auto& [path, corner_mm] : corners) {
+    const CadPlacement* p = placement_at(*m, path);
+    ASSERT_NE(p, nullptr) << path;
+    EXPECT_LT(nearest_vertex(*m, *p, corner_mm * 1e-3), 1e-8) << path;
+  }
+}
+
+// Mistake: a component's placement applied before its parent's instead of
+// after (world = child · parent). Turned/Arm is turned 90° about Z and moved
+// 40 mm along X; its component Tip is turned 90° about X and moved 10 mm
+// along Y inside it.
+TEST(CadStep, NestedAssemblyAppliesTheChildsPlacementInsideTheParents) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  Result<CadModel> m = tessellate(parts / "turned.step");
+  ASSERT_TRUE(m.ok()) << to_string(m.error());
+  const sim::Affine arm = freecad_placement({40, 0, 0}, {0, 0, 1}, 90);
+  const sim::Affine tip = freecad_placement({0, 10, 0}, {1, 0, 0}, 90);
+  expect_bar_where(*m, "Turned/Arm/Tip", arm * tip);
+  // By hand: (10, 2, 1) → Tip's (10, −1, 2) + (0, 10, 0) = (10, 9, 2) →
+  // Arm's (−9, 10, 2) + (40, 0, 0) = (31, 10, 2) mm. The other order would
+  // put it at (38, 9, 10) mm.
+  const CadPlacement* p = placement_at(*m, "Turned/Arm/Tip");
+  ASSERT_NE(p, nullptr);
+  EXPECT_LT(nearest_vertex(*m, *p, Vec3{31, 10, 2} * 1e-3), 1e-8);
+  EXPECT_GT(nearest_vertex(*m, *p, Vec3{38, 9, 10} * 1e-3), 1e-3);
+}
+
+// Mistake: an emitter placed `at` a part moved with the part's origin but
+// not turned with its axes (origin + position instead of the placement of
+// position). BarZ90 is turned 90° about Z: its local X is the world's +Y.
+// Tip (two levels down) is turned about X, then about Z: its local X is
+// the world's +Y, its −Z the world's −X.
+TEST(CadScene, EmitterAtATurnedPartTurnsWithThePartsAxes) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "turned.step", R"(
+default_material = "black"
+[materials.black]
+kd = 0.05
+
+[[emitters]]
+name = "side"
+at = "BarZ90"
+position = [5, 0, 0]
+flux_lm = 10
+
+[[emitters]]
+name = "tip"
+at = "Tip"
+position = [5, 0, 0.5]
+flux_lm = 10
+)");
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  ASSERT_EQ(scene->emitters.size(), 2u);
+  const sim::Emitter& side = scene->emitters[0];
+  const sim::Emitter& tip = scene->emitters[1];
+  ASSERT_EQ(side.name, "side");
+  // (5, 0, 0) turned to (0, 5, 0), plus the part's origin (0, 0, 20) mm;
+  // moved without turning it would be at (5, 0, 20) mm.
+  EXPECT_NEAR(side.position.x, 0.0, 1e-12);
+  EXPECT_NEAR(side.position.y, 0.005, 1e-12);
+  EXPECT_NEAR(side.position.z, 0.020, 1e-12);
+  // The default nadir (the part's −Z) and C0 (its +X) turn too.
+  EXPECT_NEAR(side.frame.up.z, 1.0, 1e-12);
+  EXPECT_NEAR(side.frame.c0.y, 1.0, 1e-12);
+  // Tip: (5, 0, 0.5) → about X (5, −0.5, 0) + (0, 10, 0) → about Z
+  // (−9.5, 5, 0) + (40, 0, 0) = (30.5, 5, 0) mm.
+  ASSERT_EQ(tip.name, "tip");
+  EXPECT_NEAR(tip.position.x, 0.0305, 1e-12);
+  EXPECT_NEAR(tip.position.y, 0.005, 1e-12);
+  EXPECT_NEAR(tip.position.z, 0.0, 1e-12);
+  EXPECT_NEAR(tip.frame.up.x, 1.0, 1e-12);  // the zenith is −nadir: the part's +Z, the world's +X
+  EXPECT_NEAR(tip.frame.c0.y, 1.0, 1e-12);
+}
+
+// Mistake: an emissive part's flux taken as L·A instead of π·L·A (a
+// Lambertian surface of luminance L emits π·L per unit area). make_parts.py's
+// panel is 10 × 10 mm, placed once (world geometry); the lamp's LED, a
+// 2 × 2 × 1 mm box (16 mm²), is placed three times (an instanced mesh):
+// the two ways the scene builder takes an emissive surface. (The area is
+// the mesh's, of float vertices: to 1e-6.)
+TEST(CadScene, EmissivePartsEmitPiTimesLuminanceTimesArea) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  constexpr double kL = 1.0e4;  // [cd/m²]
+  TempDir dir;
+  const fs::path panel = with_sidecar(dir, parts / "panel.step", R"(
+[materials.panel]
+luminance_cd_m2 = 1.0e4
+
+[[parts]]
+match = "Panel"
+material = "panel"
+)");
+  Result<sim::SceneDesc> scene = load_cad(panel.string(), cached(), nullptr);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  ASSERT_EQ(scene->emitters.size(), 1u);
+  EXPECT_EQ(scene->emitters[0].kind, sim::Emitter::Kind::Area);
+  EXPECT_NEAR(scene->emitters[0].flux_lm, std::numbers::pi * kL * 1e-4, 1e-6 * std::numbers::pi * kL * 1e-4);
+
+  const fs::path lamp = with_sidecar(dir, parts / "lamp.step", R"(
+default_material = "black"
+[materials.black]
+kd = 0.05
+[materials.led]
+luminance_cd_m2 = 1.0e4
+
+[[parts]]
+match = "LED*"
+material = "led"
+)");
+  Result<sim::SceneDesc> leds = load_cad(lamp.string(), cached(), nullptr);
+  ASSERT_TRUE(leds.ok()) << to_string(leds.error());
+  ASSERT_EQ(leds->emitters.size(), 3u);
+  for (const sim::Emitter& e : leds->emitters) {
+    EXPECT_EQ(e.kind, sim::Emitter::Kind::Area);
+    EXPECT_NE(e.instance, sim::kNoInstance) << e.name << ": the LED is instanced";
+    EXPECT_NEAR(e.flux_lm, std::numbers::pi * kL * 16e-6, 1e-6 * std::numbers::pi * kL * 16e-6) << e.name;
+  }
+}
+
+// Mistake: the sidecar's coordinates read as millimetres whatever the
+// model's unit. Without length_unit they are in the file's unit: the DRAW
+// block is written in inches, so 4 is 4 in above the origin and 1 along
+// the block's X is 1 in.
+TEST(CadScene, SidecarCoordinatesAreInTheModelFilesUnitWithoutLengthUnit) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "colours_inch.step", R"(
+default_material = "grey"
+[materials.grey]
+kd = 0.5
+
+[[emitters]]
+name = "above"
+position = [0, 0, 4]
+flux_lm = 1
+
+[[emitters]]
+name = "on the block"
+at = "Block"
+position = [1, 0, 0]
+flux_lm = 1
+)");
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), nullptr);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  ASSERT_EQ(scene->emitters.size(), 2u);
+  EXPECT_NEAR(scene->emitters[0].position.z, 4 * 0.0254, 1e-12);
+  EXPECT_NEAR(scene->emitters[1].position.x, 0.0254, 1e-12);
+  EXPECT_NEAR(scene->emitters[1].position.z, 0.0, 1e-12);
+}
+
+// Mistake: a face OpenCASCADE reads REVERSED (STEP's ADVANCED_FACE with
+// same_sense .F.) keeps the surface's own normal, which then points against
+// its facets (whose winding is swapped), and the reader falls back to the
+// facets' normals averaged at each vertex (measured: up to 1.7° off at the
+// default δ = 2°). The reversed reflector's every vertex normal must be the
+// paraboloid's to 1e-5 rad, on the facets' side, and opposite to the
+// forward file's.
+TEST(CadStep, ReversedFaceGetsTheSurfacesNormalsFlipped) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  for (const char* name : {"reflector.step", "reflector_reversed.step"}) {
+    SCOPED_TRACE(name);
+    const bool reversed = std::string(name) == "reflector_reversed.step";
+    Result<CadModel> m = tessellate(parts / name);
+    ASSERT_TRUE(m.ok()) << to_string(m.error());
+    ASSERT_EQ(m->parts.size(), 1u);
+    const CadSurface& s = m->parts[0].surfaces.at(0);
+    ASSERT_EQ(s.normals.size(), s.positions.size());
+    // Facet normals summed per vertex: the side the winding says.
+    std::vector<Vec3> facets(s.positions.size());
+    for (std::size_t k = 0; k + 2 < s.indices.size(); k += 3) {
+      const Vec3 a = sim::to_double(s.positions[s.indices[k]]), b = sim::to_double(s.positions[s.indices[k + 1]]),
+                 c = sim::to_double(s.positions[s.indices[k + 2]]);
+      for (std::size_t j = 0; j < 3; ++j) facets[s.indices[k + j]] += cross(b - a, c - a);
+    }
+    double worst = 0.0;
+    int against_facets = 0, towards_focus = 0;
+    for (std::size_t i = 0; i < s.positions.size(); ++i) {
+      const Vec3 p = sim::to_double(s.positions[i]);
+      // ∇(z + r²/4f) = (x/2f, y/2f, 1): away from the focus's side of the
+      // mirror, which the forward face's normal points to.
+      const Vec3 away = normalize(Vec3{p.x / (2 * kFocal), p.y / (2 * kFocal), 1.0});
+      const Vec3 exact = reversed ? away : away * -1.0;
+      const Vec3 n = normalize(sim::to_double(s.normals[i]));
+      worst = std::max(worst, std::atan2(length(cross(exact, n)), dot(exact, n)));
+      against_facets += dot(n, facets[i]) < 0.0;
+      towards_focus += dot(n, away) < 0.0;
+    }
+    EXPECT_LT(worst, 1e-5) << "[rad]: the surface's normal, on the facets' side";
+    EXPECT_EQ(against_facets, 0);
+    EXPECT_EQ(towards_focus, reversed ? 0 : static_cast<int>(s.positions.size()));
+  }
+}
+
+// Glob case: sidecar patterns match names whatever their case (docs/cad.md,
+// "The sidecar"): exporters change the case of names (Creo and IGES write
+// them in capitals) and Windows CAD treats them case-blind. Mistake: a
+// case-sensitive match, under which `led*` covers no part named LED and the
+// emitter `at` it names nothing.
+TEST(CadScene, PartPatternsMatchNamesWhateverTheirCase) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  TempDir dir;
+  const fs::path model = with_sidecar(dir, parts / "lamp.step", R"(
+default_material = "black"
+[materials.black]
+kd = 0.05
+[materials.mirror]
+reflectance = 0.9
+diffuse_reflectance = 0
+
+[[parts]]
+match = "reflector"
+material = "mirror"
+
+[[parts]]
+match = "lamp/front*"
+material = "mirror"
+
+[[emitters]]
+name = "LED"
+at = "LED1"
+flux_lm = 1
+)");
+  // The rules: a case-sensitive match would leave the reflector and the
+  // lens black, with only a warning (cad-rule-unused) to say so.
+  std::vector<Finding> findings;
+  Result<sim::SceneDesc> scene = load_cad(model.string(), cached(), &findings);
+  ASSERT_TRUE(scene.ok()) << to_string(scene.error());
+  for (const sim::Mesh& m : scene->meshes) {
+    if (m.name == "Lamp/Reflector" || m.name == "Lamp/FrontLens") {
+      EXPECT_DOUBLE_EQ(scene->materials[m.material].mirror, 0.9) << m.name;
+    }
+  }
+  for (const Finding& f : findings) EXPECT_NE(f.code, "cad-rule-unused") << f.message;
+  // An emitter `at` every LED: case-sensitive, an error ("names no part").
+  const fs::path leds = with_sidecar(dir, parts / "lamp.step", R"(
+default_material = "black"
+[materials.black]
+kd = 0.05
+
+[[emitters]]
+name = "LED"
+at = "led*"
+flux_lm = 1
+)");
+  Result<sim::SceneDesc> at_leds = load_cad(leds.string(), cached(), nullptr);
+  if (at_leds.ok()) {
+    EXPECT_EQ(at_leds->emitters.size(), 3u);  // LED1, LED2, LED3
+  } else {
+    ADD_FAILURE() << to_string(at_leds.error());
+  }
+  // Layers too: the DRAW block's layer is OPTICS.
+  const fs::path block = with_sidecar(dir, parts / "colours_inch.step", R"(
+default_material = "black"
+[materials.black]
+kd = 0.05
+[materials.red]
+kd = 0.6
+
+[[parts]]
+layer = "optics"
+match = "block"
+material = "red"
+
+[[emitters]]
+position = [0, 0, 10]
+flux_lm = 1
+)");
+  Result<sim::SceneDesc> blocks = load_cad(block.string(), cached(), nullptr);
+  ASSERT_TRUE(blocks.ok()) << to_string(blocks.error());
+  int red = 0;
+  for (const sim::Mesh& m : blocks->meshes) red += blocks->materials[m.material].diffuse_reflect == 0.6;
+  EXPECT_GE(red, 1);
 }
 
 // ---------------------------------------------------------------------------

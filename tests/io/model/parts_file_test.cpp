@@ -123,6 +123,13 @@ TEST(PartsFile, LengthUnitsAndGlobs) {
   EXPECT_TRUE(glob_match("Lamp/*", "Lamp/Optic/Lens"));  // '*' crosses '/'
   EXPECT_FALSE(glob_match("LED?", "LED12"));
   EXPECT_TRUE(glob_match("LED\\[2\\]", "LED[2]"));
+  // Blind to the case of letters (docs/cad.md): a case-sensitive match
+  // would leave `led*` without the part named LED.
+  EXPECT_TRUE(glob_match("led*", "LED1"));
+  EXPECT_TRUE(glob_match("LED*", "led1"));
+  EXPECT_TRUE(glob_match("lamp/optic/*", "Lamp/Optic/Lens"));
+  EXPECT_TRUE(glob_match("[l]ens", "Lens"));
+  EXPECT_FALSE(glob_match("led*", "Lens"));
 }
 
 }  // namespace

@@ -322,6 +322,113 @@ flux_lm = 100
   }
 }
 
+// An emissive part, as a user runs it (issue 45). Mistake: Φ = L·A instead
+// of π·L·A for a sidecar material with luminance_cd_m2. make_parts.py's
+// panel is a 10 × 10 mm square in z = 0 facing +Z (the zenith, γ = 180°, of
+// CAD's default frame); at L = 10⁴ cd/m² it emits Φ = π·L·A = π lm, the
+// ledger's emitted flux to rounding, and its far field is Lambertian,
+// I(γ) = L·A·|cos γ| = 1 cd·|cos γ| above it and nothing below. The peak is
+// fitted to every bin above the panel (I₀ = Σ I·c·w / Σ c²·w, c = |cos γ|,
+// w = sin γ), and the zenith's own bin (the cap γ > 178.75°, 4.8·10⁻⁴ of the
+// photons: ±3 % at 2²¹) is checked loosely.
+TEST(SimulateCad, EmissivePanelEmitsPiLuminanceAreaAndPeaksAtLuminanceArea) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  test::TempDir dir;
+  const fs::path model = dir / "panel.step";
+  fs::copy_file(parts / "panel.step", model);
+  test::write_file(dir / "panel.gonio.toml", R"(
+[materials.panel]
+luminance_cd_m2 = 1.0e4
+
+[[parts]]
+match = "Panel"
+material = "panel"
+)");
+  const double peak = 1.0e4 * 1.0e-4;  // L·A [cd]
+  const fs::path out = dir / "out";
+  const auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "2097152", "--iterations",
+                        "1", "--format", "ies", "--cache", (dir / "cache").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_json(out / "report.json");
+  // (The area is the mesh's, of float vertices: to 1e-6.)
+  EXPECT_NEAR(report["emitted_lm"].get<double>(), std::numbers::pi * peak, 1e-6 * std::numbers::pi * peak);
+  EXPECT_NEAR(report["escaped_lm"].get<double>(), report["emitted_lm"].get<double>(), 1e-9);
+
+  Result<io::PhotometricFile> f = io::read_photometric_file((out / "panel.ies").string());
+  ASSERT_TRUE(f.ok()) << to_string(f.error());
+  const photometry::Distribution& d = f->distribution;
+  double icw = 0.0, ccw = 0.0;
+  for (std::size_t h = 0; h < d.horizontal_count(); ++h)
+    for (std::size_t v = 0; v < d.vertical_count(); ++v) {
+      const double g = d.vertical_deg[v] * std::numbers::pi / 180.0;
+      if (d.vertical_deg[v] <= 90.0) continue;
+      const double c = -std::cos(g), w = std::sin(g);
+      icw += d.at(h, v) * c * w;
+      ccw += c * c * w;
+    }
+  ASSERT_GT(ccw, 0.0);
+  EXPECT_NEAR(icw / ccw, peak, 0.01 * peak) << "the Lambertian fit's peak";
+  EXPECT_NEAR(mean_intensity(out / "panel.ies", 180.0, 180.0), peak, 0.12 * peak) << "the zenith's bin";
+  EXPECT_LT(mean_intensity(out / "panel.ies", 0.0, 87.5), 1e-3 * peak) << "one-sided: nothing below the panel";
+}
+
+// A reflector whose face is written reversed (issue 45) must reflect as the
+// one written forward. Mistake: the exact-surface normals of a REVERSED face
+// not flipped, so that they point against the facets and the reader falls
+// back to the facets' normals averaged at each vertex (up to 1.7° off the
+// surface at the default δ = 2°): a reflected ray turns by twice that, and
+// the collimated beam widens. An ideal mirror (mirror = 1) and an isotropic
+// source of Φ at the focus give, in closed form, the nadir cap (γ < 1.25°)
+// I₀ = Φ·(f_r + Ω_cap/4π)/Ω_cap, f_r the share of the sphere the mirror
+// subtends from the focus (0.654), and beside it, at γ = 2.5°, little more
+// than the direct light Φ/4π.
+// Measured at 2¹⁸ photons: both files 437 256 cd at the nadir (closed form
+// 437 368) and 97 cd at 2.5° (Φ/4π = 79.6); with the mistake the reversed file's beam spills 592 cd
+// into 2.5° and its peak falls 0.9 %. An ideal mirror's beam is narrower
+// than the grid, so the IES file's flux misses the escaped flux by ~13 %:
+// --flux-tolerance 0.5.
+TEST(SimulateCad, ReversedReflectorCollimatesAsTheForwardOne) {
+  GONIO_REQUIRE_CAD_PARTS(parts);
+  test::TempDir dir;
+  const double f = 10.0, r0 = 4.0, r1 = 30.0;  // make_parts.py [mm]
+  auto polar = [&](double r) { return std::atan2(r, f - r * r / (4 * f)); };
+  const double share = (std::cos(polar(r0)) - std::cos(polar(r1))) / 2.0;
+  const double cap = 2 * std::numbers::pi * (1 - std::cos(1.25 * std::numbers::pi / 180));
+  const double nadir = kFlux * (share + cap / (4 * std::numbers::pi)) / cap;
+  double peaks[2] = {}, beside[2] = {};
+  int i = 0;
+  for (const char* stem : {"reflector", "reflector_reversed"}) {
+    SCOPED_TRACE(stem);
+    const fs::path model = dir / (std::string(stem) + ".step");
+    fs::copy_file(parts / (std::string(stem) + ".step"), model);
+    test::write_file(dir / (std::string(stem) + ".gonio.toml"), R"(
+[materials.mirror]
+mirror = 1.0
+
+[[parts]]
+match = "Reflector*"
+material = "mirror"
+
+[[emitters]]
+name = "lamp"
+position = [0, 0, 0]
+flux_lm = )" + std::to_string(kFlux) + "\n");
+    const fs::path out = dir / stem;
+    const auto r = gonio({"simulate", model.string(), "--out", out.string(), "--photons", "262144", "--iterations",
+                          "1", "--format", "ies", "--flux-tolerance", "0.5", "--cache", (dir / "cache").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const fs::path ies = out / (std::string(stem) + ".ies");
+    peaks[i] = mean_intensity(ies, 0.0, 0.0);
+    beside[i] = mean_intensity(ies, 2.5, 2.5);
+    EXPECT_NEAR(peaks[i], nadir, 0.01 * nadir) << "the beam's peak against the closed form";
+    EXPECT_LT(beside[i], 1.5 * kDirect) << "the beam's width: light beside the nadir cap beyond the direct light";
+    ++i;
+  }
+  // The same mesh, its facets wound the other way: the same far field.
+  EXPECT_NEAR(peaks[1], peaks[0], 0.002 * peaks[0]) << "reversed against forward";
+  EXPECT_NEAR(beside[1], beside[0], 0.05 * beside[0]) << "reversed against forward";
+}
+
 TEST(SimulateCad, OptionsAreCheckedAndDocumented) {
   test::TempDir dir;
   const std::string out = (dir / "out").string();
