@@ -3,8 +3,8 @@
 // the `gonio` command uses (the application library tools/run and what it
 // stands on) and computes nothing of its own: files are read by
 // io::read_photometric_file, figures are gonio info --json's objects
-// (tools/run/photometric_report.h), simulations run the progressive loop of
-// gonio simulate and write its files (tools/run/simulation_run.h). The only
+// (tools/run/photometric_report.h), simulations run gonio simulate's own
+// loop, app::simulate, and write its files (tools/run/simulate.h). The only
 // file that includes pybind11.
 //
 // Conventions a Python user meets:
