@@ -10,6 +10,8 @@
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <string_view>
+#include <vector>
 
 #include "io/support/file_io.h"
 #include "io/outputs/colour_chart.h"
@@ -605,6 +607,53 @@ Result<std::string> datasheet_html(const std::vector<DatasheetEntry>& entries, c
   return html;
 }
 
+void make_pdf_deterministic(std::string& pdf) {
+  // The dates: "/CreationDate (D:20261207132317+00'00')".
+  std::string dated;
+  if (const char* epoch = std::getenv("SOURCE_DATE_EPOCH"); epoch && *epoch) {
+    char* end = nullptr;
+    const long long seconds = std::strtoll(epoch, &end, 10);
+    if (end && *end == '\0' && seconds >= 0) dated = format_utc(seconds, "D:%Y%m%d%H%M%S+00'00'");
+  }
+  for (const std::string_view key : {"/CreationDate (", "/ModDate ("}) {
+    for (std::size_t at = pdf.find(key); at != std::string::npos; at = pdf.find(key, at + 1)) {
+      const std::size_t value = at + key.size(), close = pdf.find(')', value);
+      if (close == std::string::npos || close - value > 64) continue;
+      if (!dated.empty() && close - value == dated.size()) {
+        pdf.replace(value, dated.size(), dated);
+      } else {
+        std::fill(pdf.begin() + static_cast<std::ptrdiff_t>(at), pdf.begin() + static_cast<std::ptrdiff_t>(close) + 1, ' ');
+      }
+    }
+  }
+  // The structure ids: every "(node" + digits + ")", renumbered by rank.
+  constexpr std::string_view kNode = "(node";
+  struct Id {
+    std::size_t at, digits;
+    unsigned long long value;
+  };
+  std::vector<Id> ids;
+  for (std::size_t at = pdf.find(kNode); at != std::string::npos; at = pdf.find(kNode, at + 1)) {
+    std::size_t end = at + kNode.size();
+    unsigned long long v = 0;
+    while (end < pdf.size() && end - at - kNode.size() < 19 && std::isdigit(static_cast<unsigned char>(pdf[end])))
+      v = v * 10 + static_cast<unsigned long long>(pdf[end++] - '0');
+    const std::size_t digits = end - at - kNode.size();
+    if (digits > 0 && end < pdf.size() && pdf[end] == ')') ids.push_back({at + kNode.size(), digits, v});
+  }
+  std::vector<unsigned long long> values;
+  for (const Id& id : ids) values.push_back(id.value);
+  std::sort(values.begin(), values.end());
+  values.erase(std::unique(values.begin(), values.end()), values.end());
+  for (const Id& id : ids) {
+    // Distinct values from 0 up: a rank is never above its value, so it fits the digits.
+    std::string rank = std::to_string(std::lower_bound(values.begin(), values.end(), id.value) - values.begin());
+    if (rank.size() > id.digits) continue;
+    rank.insert(0, id.digits - rank.size(), '0');
+    pdf.replace(id.at, id.digits, rank);
+  }
+}
+
 Result<std::string> html_to_pdf(const std::string& html) {
   ScratchDir dir("gonio-pdf");
   if (dir.path().empty()) return error("cannot create a scratch directory for the PDF");
@@ -628,6 +677,7 @@ Result<std::string> html_to_pdf(const std::string& html) {
   if (run.value().exit_code != 0 || !pdf.ok() || pdf.value().rfind("%PDF", 0) != 0)
     return error(program + " did not print the PDF" +
                  (run.value().err.empty() ? std::string() : ": " + last_lines(run.value().err, 400)));
+  make_pdf_deterministic(pdf.value());
   return pdf;
 }
 

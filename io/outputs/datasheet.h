@@ -43,9 +43,20 @@ struct DatasheetOptions {
 Result<std::string> datasheet_html(const std::vector<DatasheetEntry>& entries,
                                    const DatasheetOptions& options = {});
 
-// HTML printed to PDF bytes (A4) by the headless browser. Errors name the
-// program and what it said.
+// HTML printed to PDF bytes (A4) by the headless browser, made
+// deterministic (make_pdf_deterministic). Errors name the program and what
+// it said.
 Result<std::string> html_to_pdf(const std::string& html);
+
+// Makes a PDF printed by Chromium the same bytes for the same page, its
+// length and every cross-reference offset kept: the info dictionary's
+// /CreationDate and /ModDate (the time of printing) become the date of
+// $SOURCE_DATE_EPOCH where it is set, else are blanked out with spaces (a
+// PDF without dates); the tagged structure's ids "(nodeNNNNNNNN)" — DOM node
+// numbers of the browser session, which shift from run to run — are
+// renumbered 0, 1, 2, … in their order with the same number of digits, so
+// the ID tree stays sorted and every reference to an id follows it.
+void make_pdf_deterministic(std::string& pdf);
 
 // Writes the datasheet atomically to `path`: HTML for .html/.htm, PDF for
 // .pdf (any case); any other extension is an error naming the file.

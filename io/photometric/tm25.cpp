@@ -189,6 +189,10 @@ class Tm25Reader {
     if (text_bytes < 0 || text_bytes % 4 != 0)
       return error_at(84, "the additional text block's size is " + std::to_string(text_bytes) +
                               " bytes; it must be a non-negative multiple of 4");
+    if (text_bytes % 32 != 0)
+      warn(84, "tm25-header-value",
+           "the additional text block's size is " + std::to_string(text_bytes) +
+               " bytes, not a multiple of 32 as TM-25 asks (4.7.1.15); read as stated, written padded");
     pos_ = kTm25FileHeaderBytes;
 
     // 4.7.2
@@ -462,7 +466,7 @@ Result<std::string> write_tm25(const Tm25RaySet& set) {
   for (const auto& t : h.spectral_tables) table_bytes += 4 + 8 * t.wavelength_nm.size();
   const std::size_t padded_tables = (table_bytes + 31) / 32 * 32;
   out.reserve(kTm25FixedBytes + padded_tables + h.additional_items.size() * kAdditionalItemNameBytes +
-              set.items.size() * 4 + 4 * h.additional_text.size());
+              set.items.size() * 4 + 4 * h.additional_text.size() + 32);
   Tm25Writer w(out);
   out += "TM25";
   w.put<std::int32_t>(kTm25Version);
@@ -480,8 +484,11 @@ Result<std::string> write_tm25(const Tm25RaySet& set) {
   w.put<float>(h.max_wavelength_nm);
   w.put<std::int32_t>(static_cast<std::int32_t>(h.spectral_tables.size()));
   w.put<std::int32_t>(static_cast<std::int32_t>(h.additional_items.size()));
+  // 4.7.1.15: the additional text block's size is a multiple of 32 bytes
+  // (as the spectral tables' block), the text NUL-padded to it.
   const std::vector<std::uint32_t> text = utf8_to_utf32(h.additional_text, 1u << 28);
-  w.put<std::int32_t>(static_cast<std::int32_t>(text.size() * 4));
+  const std::size_t text_bytes = (text.size() * 4 + 31) / 32 * 32;
+  w.put<std::int32_t>(static_cast<std::int32_t>(text_bytes));
   w.zeros(kTm25FileHeaderBytes - out.size());
   for (bool f : {true, true, h.radiant_flux, h.wavelength, h.luminous_flux, h.stokes, h.tristimulus,
                  h.spectrum_index})
@@ -499,6 +506,7 @@ Result<std::string> write_tm25(const Tm25RaySet& set) {
   w.zeros(padded_tables - table_bytes);
   for (const std::string& name : h.additional_items) w.text(name, kAdditionalItemNameBytes);
   for (std::uint32_t c : text) w.put(c);
+  w.zeros(text_bytes - text.size() * 4);
   const std::size_t ray_start = out.size();
   out.resize(ray_start + set.items.size() * 4);
   if (!set.items.empty()) std::memcpy(out.data() + ray_start, set.items.data(), set.items.size() * 4);

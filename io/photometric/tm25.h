@@ -11,7 +11,8 @@
 //   ray, 3 one spectral table for all rays, 4 a spectral table per ray by
 //   index), the single wavelength and the minimum and maximum wavelength
 //   [nm], the number of spectral tables, of additional ray items and the size
-//   of the additional text block [bytes], then 168 reserved bytes.
+//   of the additional text block [bytes] (a multiple of 32: the writer pads
+//   the text with NULs; the reader warns of another size), then 168 reserved bytes.
 // - 4.7.2 known data flags, 8 int32 (0 or 1): position and direction (always
 //   1), radiant flux, wavelength, luminous flux (the Tri_Y column), Stokes
 //   parameters, tristimulus (Tri_X and Tri_Z) and spectrum index.
@@ -21,7 +22,7 @@
 // - 4.7.4 the spectral tables: per table an int32 pair count and that many
 //   (wavelength [nm], weight) float pairs; the block padded to 32 bytes.
 // - 4.7.5 one 512-byte UTF-32 name per additional ray item.
-// - 4.7.6 the additional text (UTF-32, the size the header states).
+// - 4.7.6 the additional text (UTF-32, NUL-padded to the size the header states).
 // - 4.7.7 the rays: per ray, float32 items in this order, those the flags
 //   declare: x y z [mm], kx ky kz (direction), radiant flux [W], wavelength
 //   [nm], Tri_Y (luminous flux [lm]), S1 S2 S3 and the polarisation

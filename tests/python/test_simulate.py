@@ -48,6 +48,17 @@ def test_the_same_seed_writes_the_commands_bytes(bell, gonio_exe, tmp_path):
     a = json.loads((tmp_path / "cmd" / "report.json").read_text())
     for key in ("photons_emitted", "photons_escaped", "photons_absorbed", "emitted_lm", "escaped_lm"):
         assert result.report[key] == a[key], key
+    # report.json's figures that hold no time, path or thread count: the
+    # same loop (app::simulate) wrote both. (Python always makes the
+    # estimate, for its callback; the command only for --target-error.)
+    assert a["estimated_rms_error_pct"] is None and result.report["estimated_rms_error_pct"] > 0
+    for key in ("emitters", "materials", "meshes", "far_field", "iterations_done", "stopped_by", "ledger",
+                "next_event"):
+        assert result.report[key] == a[key], key
+    for key in ("grid", "symmetry", "escaped_lm"):
+        assert result.report["outputs"][key] == a["outputs"][key], key
+    for mine, theirs in zip(result.report["outputs"]["files"], a["outputs"]["files"]):
+        assert {k: v for k, v in mine.items() if k != "path"} == {k: v for k, v in theirs.items() if k != "path"}
     assert sorted(pathlib.Path(f).name for f in result.files) == sorted(n for n in written if n != "report.json")
 
 
@@ -161,6 +172,33 @@ def test_the_callback_sees_each_iteration_and_can_stop_the_run(bell, tmp_path):
     assert r.stopped_by == "cancelled" and r.iterations_done == 3 and r.photons == 60000
     # What was traced is kept, and written where asked.
     assert r.report["photons_emitted"] == 60000
+    assert r.report["stopped_by"] == "cancelled"
+
+
+def test_a_run_the_callback_stopped_writes_the_bytes_of_that_many_iterations(bell, gonio_exe, tmp_path):
+    """Stopped after 3 of 10 iterations, the files are those of `gonio
+    simulate --iterations 3` with the same seed (app::simulate's
+    keep_when_stopped: photon i draws from (seed, i) alone)."""
+    code, _, err = run_gonio(gonio_exe, "simulate", bell, "--out", tmp_path / "cmd", "--photons", 20000,
+                             "--iterations", 3, "--seed", 3)
+    assert code == 0, err
+    r = gonio.simulate(bell, photons=20000, iterations=10, seed=3, out=tmp_path / "py",
+                       on_iteration=lambda it: it.iteration < 3)
+    assert r.stopped_by == "cancelled" and r.iterations_done == 3 and r.exit_code == 0
+    written = sorted(p.name for p in (tmp_path / "cmd").iterdir())
+    assert sorted(p.name for p in (tmp_path / "py").iterdir()) == written
+    for name in written:
+        if name != "report.json":
+            assert (tmp_path / "cmd" / name).read_bytes() == (tmp_path / "py" / name).read_bytes(), name
+
+
+def test_a_model_with_errors_raises_its_first_error(tmp_path):
+    """The error app::simulate stops on is raised with its file (on_failed)."""
+    bad = tmp_path / "bad.gltf"
+    bad.write_text('{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 7}]}')
+    with pytest.raises(gonio.GonioError) as caught:
+        gonio.simulate(bad, photons=1000, iterations=1)
+    assert caught.value.file == str(bad)
 
 
 def test_an_exception_in_the_callback_stops_the_run_and_propagates(bell, tmp_path):

@@ -178,8 +178,9 @@ void add_simulate_options(ArgParser& p, app::SimulateOptions* o) {
            "fail when a written file's flux differs from the escaped flux by more than X "
            "(a fraction; default 0.005 = 0.5 %)");
   p.option("target-error", &o->target_error_pct, app::kTargetErrorBounds.min, app::kTargetErrorBounds.max, "PCT",
-           "stop once the estimated RMS candela error (from photon counts, relative to the peak) is "
-           "at or under PCT percent (default 0: run every iteration)");
+           "stop once the estimated RMS candela error (relative to the peak; under --sampler sobol from "
+           "the spread of its four replicates, under random from photon counts) is at or under PCT "
+           "percent (default 0: run every iteration)");
   p.choice("bvh-quality", &o->bvh_quality, {"auto", "low", "medium", "high"},
            "Embree's BVH build quality: auto (default: low when the run has fewer photons than half\n"
            "the model's unique triangles, where building the better tree would cost more than it\n"

@@ -3,8 +3,8 @@
 // the `gonio` command uses (the application library tools/run and what it
 // stands on) and computes nothing of its own: files are read by
 // io::read_photometric_file, figures are gonio info --json's objects
-// (tools/run/photometric_report.h), simulations run the progressive loop of
-// gonio simulate and write its files (tools/run/simulation_run.h). The only
+// (tools/run/photometric_report.h), simulations run gonio simulate's own
+// loop, app::simulate, and write its files (tools/run/simulate.h). The only
 // file that includes pybind11.
 //
 // Conventions a Python user meets:
@@ -631,29 +631,23 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
   sim::Ranks ranks;  // this process alone
   plan.progressive.simulation.ranks = &ranks;
 
-  SimulationResult result;
-  result.model = model;
-  app::ModelInputTimes times;
-  app::ModelLoad loaded = [&] {
-    py::gil_scoped_release unlocked;
-    return app::load_model(model, plan.model_input, &times);
-  }();
-  result.model_findings = loaded.findings;
-  if (loaded.error) raise_error(*loaded.error);
-  if (loaded.has_errors || !loaded.scene)
-    for (const Finding& f : loaded.findings)
-      if (f.severity == Severity::Error) raise_error(Error{f.where, f.message + " [" + f.code + "]; nothing was simulated"});
-  if (!out.empty()) take(io::make_directories(out));
-  const sim::Resampler resampler = [&] {
-    py::gil_scoped_release unlocked;
-    return app::cached_resampler(plan.progressive.simulation.face_size, loaded.scene->frame, plan.grid,
-                                 plan.model_input.cache_dir);
-  }();
-
-  // Back in Python after each iteration (its callback, Ctrl-C) and between
-  // slices of an iteration (Ctrl-C only).
+  // gonio simulate's own loop (app::simulate), followed from Python: after
+  // each iteration (its callback, Ctrl-C) and between slices of an iteration
+  // (Ctrl-C only). A callback returning False keeps what was traced (and
+  // writes it where `out` is given); Ctrl-C or the callback's exception
+  // writes nothing and is raised once the run has stopped.
   PythonStop stop;
-  const app::IterationCallback each = [&](const app::IterationReport& r, const sim::Simulation&) {
+  app::SimulateHooks hooks;
+  hooks.on_message = [](Severity, const std::string&) {};  // the findings are the result's; the error is raised
+  std::optional<Error> failure;
+  hooks.on_failed = [&failure](const Error& e) { failure = e; };
+  // The resampler of the output grid, for the estimate after each iteration.
+  std::optional<sim::Resampler> resampler;
+  hooks.on_loaded = [&](const sim::SceneDesc& scene, const std::vector<Finding>&) -> const sim::Resampler* {
+    return &resampler.emplace(app::cached_resampler(plan.progressive.simulation.face_size, scene.frame, plan.grid,
+                                                    plan.model_input.cache_dir));
+  };
+  hooks.on_iteration = [&](const app::IterationReport& r, const sim::Simulation&) {
     py::gil_scoped_acquire locked;
     if (stop.signalled()) return false;
     if (on_iteration.is_none()) return true;
@@ -665,22 +659,26 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
       return false;
     }
   };
-  const app::CancelCheck cancel = [&] {
+  hooks.cancel = [&] {
     py::gil_scoped_acquire locked;
     return stop.signalled();
   };
-  Result<app::ProgressiveOutcome> ran = [&] {
+  hooks.keep_when_stopped = [&] { return !stop.error; };
+  std::optional<app::SimulateResult> ran = [&] {
     py::gil_scoped_release unlocked;
-    return app::run_progressive(std::move(*loaded.scene), plan.progressive, &resampler, each, cancel);
+    return app::simulate(plan, hooks, start);
   }();
   // Ctrl-C or the callback's exception: raised here, nothing written.
   if (stop.error) throw std::move(*stop.error);
-  if (!ran.ok()) {
-    Error e = ran.error();
-    if (e.where.file.empty()) e.where.file = model;
-    raise_error(e);
+  if (!ran) {
+    if (failure) raise_error(*failure);
+    raise_error(make_error(model, "the simulation failed; nothing was simulated"));
   }
-  app::ProgressiveOutcome& run = ran.value();
+
+  SimulationResult result;
+  result.model = model;
+  result.model_findings = ran->findings;
+  const app::ProgressiveOutcome& run = ran->run;
   const sim::Simulation& simulation = run.simulation;
   const sim::SimulationStats st = simulation.stats();
   result.ledger = simulation.ledger();
@@ -703,11 +701,7 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
   result.symmetry_reason = t.symmetry_reason;
   result.photometry = {std::make_shared<io::PhotometricFile>(std::move(file)), model + " (simulated)", true};
   result.far_field.field = std::make_shared<const sim::FarField>(simulation.far_field());
-  if (!out.empty()) {
-    py::gil_scoped_release unlocked;
-    const app::RunFiles files = app::write_run_files(plan, run, times, nullptr, start, app::ranks_json(ranks, st));
-    result.exit_code = files.passed() ? app::kExitOk : app::kExitFailure;
-  }
+  if (ran->files) result.exit_code = ran->files->passed() ? app::kExitOk : app::kExitFailure;
   if (!out.empty()) {
     const std::filesystem::path report = std::filesystem::path(out) / "report.json";
     if (std::filesystem::exists(report)) {

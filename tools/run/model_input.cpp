@@ -132,16 +132,25 @@ void tell_model_findings(const std::string& model, const std::vector<Finding>& f
 
 std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done,
                                                  const ModelInputOptions& options, ModelInputTimes* times,
-                                                 const MessageSink& sink, std::vector<Finding>* findings) {
+                                                 const MessageSink& sink, std::vector<Finding>* findings,
+                                                 std::optional<Error>* failure) {
   ModelLoad loaded = load_model(model, options, times);
   tell_model_findings(model, loaded.findings, sink);
   if (findings) *findings = loaded.findings;
   if (loaded.error) {
     tell(sink, *loaded.error);
+    if (failure) *failure = *loaded.error;
     return std::nullopt;
   }
   if (loaded.has_errors) {
     tell(sink, Severity::Error, model + ": the model has errors (above); nothing was " + not_done);
+    if (failure)
+      for (const Finding& f : loaded.findings)
+        if (f.severity == Severity::Error && !*failure) {
+          Error e{f.where, f.message + " [" + f.code + "]; nothing was " + not_done};
+          if (e.where.file.empty()) e.where.file = model;
+          *failure = std::move(e);
+        }
     return std::nullopt;
   }
   return std::move(loaded.scene);

@@ -80,10 +80,13 @@ void tell_model_findings(const std::string& model, const std::vector<Finding>& f
 // by default printed to stderr) with the file and the part of the model. Returns
 // nothing where the model cannot be loaded or has errors; then the last
 // message says "nothing was `not_done`" (e.g. "simulated"). `findings`: all of
-// them, the notes too.
+// them, the notes too. `failure`: where it returns nothing, the error that
+// stopped it as a value (the loader's, or the model's first error finding,
+// "MESSAGE [CODE]; nothing was NOT_DONE"), for a front end that raises it.
 std::optional<sim::SceneDesc> load_checked_model(const std::string& model, const std::string& not_done,
                                                  const ModelInputOptions& options = {},
                                                  ModelInputTimes* times = nullptr, const MessageSink& sink = {},
-                                                 std::vector<Finding>* findings = nullptr);
+                                                 std::vector<Finding>* findings = nullptr,
+                                                 std::optional<Error>* failure = nullptr);
 
 }  // namespace gonio::app

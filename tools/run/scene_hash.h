@@ -9,8 +9,13 @@
 
 namespace gonio::app {
 
-// A hash of everything in a scene that the tracer reads: geometry, shading
-// normals and tangents, materials, emitters with their profiles, the frame.
+// A hash of everything in a scene that the tracer reads, field by field of
+// sim/scene.h: geometry, shading normals and tangents, instances; every
+// material field (lobe weights and roughness, ABg, the measured BSDF's basis
+// and rows, the weights over incidence, volume scattering, the reflectance
+// and transmittance spectra, dispersion as n(λ) or Abbe number); emitters
+// with their profiles, ray sets and spectra over γ; the frame. Names (and
+// what sim::prepare derives) are left out: they do not change a photon.
 std::string scene_hash(const sim::SceneDesc& scene);
 
 }  // namespace gonio::app

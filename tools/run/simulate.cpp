@@ -179,8 +179,12 @@ std::optional<SimulateResult> simulate(const SimulatePlan& plan, const SimulateH
   std::vector<Finding> findings;
 
   // Load, then check the geometry: errors stop the run, warnings are told.
+  std::optional<Error> failure;
+  const auto failed = [&] {
+    if (failure && hooks.on_failed) hooks.on_failed(*failure);
+  };
   std::optional<sim::SceneDesc> scene = load_checked_model(plan.model, "simulated", plan.model_input,
-                                                           &input_times, hooks.on_message, &findings);
+                                                           &input_times, hooks.on_message, &findings, &failure);
   // Ray-set emitters asked for more photons than their rays can give.
   if (scene)
     for (Finding& f : sim::ray_set_photon_findings(
@@ -194,9 +198,11 @@ std::optional<SimulateResult> simulate(const SimulatePlan& plan, const SimulateH
   if (ready && lead && !plan.out_dir.empty()) {
     if (Status s = io::make_directories(plan.out_dir); !s.ok()) {
       tell(hooks.on_message, s.error());
+      failure = s.error();
       ready = false;
     }
   }
+  if (!ready) failed();
   // Every rank ready, with the same model and settings, or none traces.
   std::optional<std::string> fingerprint;
   if (ready) fingerprint = ranks.distributed() ? run_fingerprint(*scene, settings) : std::string();
@@ -233,7 +239,8 @@ std::optional<SimulateResult> simulate(const SimulatePlan& plan, const SimulateH
       settings.ranks ? ranks_json(ranks, run->simulation.stats()) : nlohmann::json(nullptr);
   if (lead && hooks.on_traced) hooks.on_traced(run.value());
   std::optional<RunFiles> files;
-  if (lead && !plan.out_dir.empty() && run->stopped_by != StopReason::Cancelled) {
+  const bool keep = run->stopped_by != StopReason::Cancelled || (hooks.keep_when_stopped && hooks.keep_when_stopped());
+  if (lead && !plan.out_dir.empty() && keep) {
     // From here on a failure loses nothing (write_run_files): a preview that
     // could not be written is listed in report.json with the files that were.
     std::vector<Error> failures;

@@ -96,19 +96,29 @@ struct SimulateHooks {
   IterationCallback on_iteration;
   // Asked between slices of photons; true stops the run at once.
   CancelCheck cancel;
+  // A run stopped by on_iteration or cancel (StopReason::Cancelled): true
+  // keeps what was traced, and its files are written as for a finished run
+  // (the Python module's callback returning False); empty or false: nothing
+  // is written (Ctrl-C on the command line).
+  std::function<bool()> keep_when_stopped;
   // The trace ended (all iterations, the target error, or cancelled),
-  // before any file is written; or it failed (told to on_message too).
+  // before any file is written.
   std::function<void(const ProgressiveOutcome&)> on_traced;
+  // The error that stopped the run, whatever stopped it (the model could not
+  // be loaded or has errors, the folder could not be made, the trace
+  // failed), as a value, once it was told to on_message; the run returns
+  // nothing after it. Not called where the ranks disagree (each rank's own
+  // problem is told).
   std::function<void(const Error&)> on_failed;
 };
 
 struct SimulateResult {
-  ProgressiveOutcome run;  // stopped_by Cancelled: nothing was written
+  ProgressiveOutcome run;  // stopped_by Cancelled: nothing was written, unless keep_when_stopped
   ModelInputTimes input_times;
   std::vector<Finding> findings;  // the model's: reader, checks, ray sets asked for too many photons
   bool lead = true;  // this process writes: the only one, or rank 0 of an MPI job
   // The files and report.json: where the plan names a folder, on the rank
-  // that writes, unless the run was cancelled.
+  // that writes, unless the run was cancelled (and not kept).
   std::optional<RunFiles> files;
 };
 

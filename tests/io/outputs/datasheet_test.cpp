@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -235,6 +236,47 @@ TEST(Datasheet, UnknownExtensionWritesNothing) {
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().where.file, path);
   EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+// make_pdf_deterministic on the parts of a Chromium PDF that change from
+// run to run: the dates are blanked (or set from $SOURCE_DATE_EPOCH), the
+// structure ids renumbered by rank with their widths, so two prints whose
+// node ids are shifted become the same bytes; the length never changes
+// (the cross-reference table's offsets hold). A renumbering out of order
+// would unsort the ID tree; one by first appearance would too.
+TEST(Datasheet, PdfIdsAndDatesBecomeDeterministic) {
+  const auto print = [](int shift, const std::string& date) {
+    const auto id = [shift](int n) {
+      char b[16];
+      std::snprintf(b, sizeof b, "node%08d", n + shift);
+      return std::string(b);
+    };
+    return "%PDF-1.4\n1 0 obj\n<</Producer (Skia/PDF m156)\n/CreationDate (D:" + date +
+           "+00'00')\n/ModDate (D:" + date + "+00'00')>>\nendobj\n2 0 obj\n<</K 30 0 R /ID (" + id(27) +
+           ")>> <</Headers [(" + id(15) + ")]>>\n<</Limits [(" + id(15) + ") (" + id(5001) + ")]\n/Names [(" +
+           id(15) + ") 27 0 R (" + id(27) + ") 32 0 R (" + id(5001) + ") 40 0 R]>> (node) (node12a) (nodes)\n";
+  };
+  std::string a = print(0, "20261207132317"), b = print(-1, "20261207132324");
+  const std::size_t size = a.size();
+  ASSERT_NE(a, b);
+  make_pdf_deterministic(a);
+  make_pdf_deterministic(b);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(a.size(), size);
+  EXPECT_EQ(a.find("CreationDate"), std::string::npos);
+  EXPECT_EQ(a.find("ModDate"), std::string::npos);
+  EXPECT_NE(a.find("/Producer (Skia/PDF m156)"), std::string::npos);
+  EXPECT_NE(a.find("/Limits [(node00000000) (node00000002)]"), std::string::npos) << a;
+  EXPECT_NE(a.find("/Names [(node00000000) 27 0 R (node00000001) 32 0 R (node00000002) 40 0 R]"), std::string::npos);
+  EXPECT_NE(a.find("/ID (node00000001)"), std::string::npos);
+  EXPECT_NE(a.find("(node) (node12a) (nodes)"), std::string::npos);  // not ids: left alone
+
+  test::ScopedEnv epoch("SOURCE_DATE_EPOCH", "86400");
+  std::string c = print(0, "20261207132317");
+  make_pdf_deterministic(c);
+  EXPECT_EQ(c.size(), size);
+  EXPECT_NE(c.find("/CreationDate (D:19700102000000+00'00')"), std::string::npos) << c;
+  EXPECT_NE(c.find("/ModDate (D:19700102000000+00'00')"), std::string::npos);
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <string>
 
 #include "io/photometric/tm25.h"
 #include "tests/support/test_support.h"
@@ -80,6 +82,42 @@ TEST(Tm25Corpus, OsramRaySetWrittenAgainIsTheSameFile) {
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(again->items, r->items);
   EXPECT_EQ(bytes->substr(0, 36928), original.substr(0, 36928));
+}
+
+// The corpus file's layout, by TM-25's rules as the reference reader
+// (Muschaweck's TM25RaySetTools) applies them: no additional text (size 0,
+// a multiple of 32), one spectral table of 76 pairs (612 bytes) padded with
+// NULs to 640, the rays from byte 36 928. The same set written with an
+// additional text grows by a whole number of 32-byte blocks, the text's
+// size in the header, the rays unchanged after it.
+TEST(Tm25Corpus, OsramLayoutAndAnAddedTextFollowTm25sPadding) {
+  REQUIRE_OSRAM();
+  const std::string original = test::read_file(osram_file());
+  const auto i32 = [](const std::string& b, std::size_t at) {
+    std::int32_t v;
+    std::memcpy(&v, b.data() + at, 4);
+    return v;
+  };
+  EXPECT_EQ(i32(original, 84), 0);
+  EXPECT_EQ(i32(original, 76), 1);
+  EXPECT_EQ(i32(original, static_cast<std::size_t>(kTm25FixedBytes)), 76);
+  EXPECT_EQ(original.substr(kTm25FixedBytes + 612, 28), std::string(28, '\0'));
+  EXPECT_EQ(original.size(), 36928u + 100000u * 7u * 4u);
+
+  auto r = read_tm25_file(osram_file().string());
+  ASSERT_TRUE(r.ok());
+  r->header.additional_text = "LERTDUW S2WP, 100k rays (45 ASCII characters)";
+  auto bytes = write_tm25(*r);
+  ASSERT_TRUE(bytes.ok());
+  const std::size_t text = 4 * r->header.additional_text.size();  // 180 bytes, padded to 192
+  ASSERT_EQ(text, 180u);
+  EXPECT_EQ(i32(*bytes, 84), 192);
+  EXPECT_EQ(bytes->size(), original.size() + 192);
+  EXPECT_EQ(bytes->substr(36928 + text, 192 - text), std::string(192 - text, '\0'));
+  EXPECT_EQ(bytes->substr(36928 + 192), original.substr(36928));
+  auto again = parse_tm25(*bytes, "again");
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->header.additional_text, r->header.additional_text);
 }
 
 }  // namespace

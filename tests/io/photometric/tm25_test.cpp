@@ -74,8 +74,9 @@ TEST(Tm25, LayoutOfTheWrittenFile) {
   auto bytes = write_tm25(s);
   ASSERT_TRUE(bytes.ok()) << to_string(bytes.error());
   // 256 + 32 + 9 × 4000, one table of 4 + 3 × 8 = 28 bytes padded to 32,
-  // one 512-byte item name, the text's 11 characters × 4, 4 rays × 9 × 4.
-  EXPECT_EQ(bytes->size(), 36288u + 32u + 512u + 44u + 144u);
+  // one 512-byte item name, the text's 11 characters × 4 = 44 bytes padded
+  // to 64, 4 rays × 9 × 4.
+  EXPECT_EQ(bytes->size(), 36288u + 32u + 512u + 64u + 144u);
   EXPECT_EQ(bytes->substr(0, 4), "TM25");
   EXPECT_EQ(peek<std::int32_t>(*bytes, 4), 2013);
   EXPECT_EQ(peek<std::uint64_t>(*bytes, 20), 4u);
@@ -84,7 +85,7 @@ TEST(Tm25, LayoutOfTheWrittenFile) {
   EXPECT_EQ(peek<std::int32_t>(*bytes, 60), 2);   // spectral identifier
   EXPECT_EQ(peek<std::int32_t>(*bytes, 76), 1);   // tables
   EXPECT_EQ(peek<std::int32_t>(*bytes, 80), 1);   // additional items
-  EXPECT_EQ(peek<std::int32_t>(*bytes, 84), 44);  // text bytes
+  EXPECT_EQ(peek<std::int32_t>(*bytes, 84), 64);  // text bytes, padded to 32
   for (int f = 0; f < 8; ++f)  // position, direction, radiant, wavelength, luminous, Stokes, tristimulus, index
     EXPECT_EQ(peek<std::int32_t>(*bytes, 256 + 4 * f), f < 4 ? 1 : 0) << f;
   EXPECT_EQ(peek<char32_t>(*bytes, 288), U'T');
@@ -125,6 +126,80 @@ TEST(Tm25, RoundTripKeepsEverything) {
   auto again = write_tm25(*r);
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(*again, *bytes);
+}
+
+// Where the blocks of a TM-25 file lie by the reference reader's rules
+// (Julius Muschaweck's TM25RaySetTools, TM25_impl.h ReadHeader, public
+// domain), independent of Gonio's reader: the additional text block's size
+// (4.7.1.15, byte 84) must be a non-negative multiple of 32, the spectral
+// tables (4.7.4) are padded to 32 bytes, 512 bytes per additional item name
+// (4.7.5), then the text, then the rays. `error` says what it refuses.
+struct ReferenceLayout {
+  std::string error;
+  std::size_t text_at = 0, text_bytes = 0, rays_at = 0;
+};
+ReferenceLayout reference_layout(const std::string& b) {
+  ReferenceLayout l;
+  if (b.size() < kTm25FixedBytes) return {"short", 0, 0, 0};
+  const auto tables = peek<std::int32_t>(b, 76), items = peek<std::int32_t>(b, 80), text = peek<std::int32_t>(b, 84);
+  if (text < 0 || text % 32 != 0) return {"additional text block size must be nonnegative multiple of 32", 0, 0, 0};
+  std::size_t pos = kTm25FixedBytes, used = 0;
+  for (std::int32_t t = 0; t < tables; ++t) {
+    const std::size_t bytes = 4 + 8 * static_cast<std::size_t>(peek<std::int32_t>(b, pos));
+    pos += bytes;
+    used += bytes;
+  }
+  if (used % 32 != 0) pos += 32 - used % 32;
+  pos += 512 * static_cast<std::size_t>(items);
+  l.text_at = pos;
+  l.text_bytes = static_cast<std::size_t>(text);
+  l.rays_at = pos + l.text_bytes;
+  return l;
+}
+
+// Issue 44: the additional text block is NUL-padded to a multiple of 32
+// bytes, as the reference reader requires, for texts of every length about
+// a boundary (0, 1, 7, 8, 9 and 11 characters, non-ASCII among them); the
+// text reads back, the rays lie where the reference reader looks for them.
+// A writer that wrote the text unpadded (as before) is refused by the
+// reference rules for any length that is not a multiple of 8 characters.
+TEST(Tm25, TheAdditionalTextIsPaddedAsTheReferenceReaderRequires) {
+  for (const std::string text : {"", "a", "µ-text", "12345678", "123456789", "free text ✓"}) {
+    Tm25RaySet s = rich_set();
+    s.header.additional_text = text;
+    auto bytes = write_tm25(s);
+    ASSERT_TRUE(bytes.ok()) << text;
+    const ReferenceLayout l = reference_layout(*bytes);
+    ASSERT_EQ(l.error, "") << text;
+    std::u32string chars;
+    for (std::size_t i = 0; i < l.text_bytes / 4 && peek<char32_t>(*bytes, l.text_at + 4 * i) != 0; ++i)
+      chars += peek<char32_t>(*bytes, l.text_at + 4 * i);
+    EXPECT_EQ(l.text_bytes, (chars.size() * 4 + 31) / 32 * 32) << text;  // the least padding
+    for (std::size_t i = l.text_at + 4 * chars.size(); i < l.rays_at; ++i) EXPECT_EQ((*bytes)[i], '\0') << text;
+    ASSERT_EQ(l.rays_at + s.items.size() * 4, bytes->size()) << text;
+    EXPECT_EQ(peek<float>(*bytes, l.rays_at + 4 * 9 + 7 * 4), 550.0f) << text;  // ray 2's wavelength
+    auto r = parse(*bytes);
+    ASSERT_TRUE(r.ok()) << to_string(r.error());
+    EXPECT_EQ(r->header.additional_text, text);
+    EXPECT_EQ(find(r->findings, "tm25-header-value"), nullptr) << text;
+  }
+  // A file from a writer that left the text unpadded (44 bytes): read as
+  // stated, with a warning; written again, padded.
+  Tm25RaySet s = rich_set();
+  std::string padded = write_tm25(s).value();
+  const ReferenceLayout l = reference_layout(padded);
+  std::string unpadded = padded;
+  unpadded.erase(l.text_at + 44, 20);
+  poke<std::int32_t>(unpadded, 84, 44);
+  EXPECT_NE(reference_layout(unpadded).error, "");
+  auto r = parse(unpadded);
+  ASSERT_TRUE(r.ok()) << to_string(r.error());
+  EXPECT_EQ(r->header.additional_text, "free text ✓");
+  EXPECT_EQ(r->items, s.items);
+  const Finding* warned = find(r->findings, "tm25-header-value");
+  ASSERT_NE(warned, nullptr);
+  EXPECT_NE(warned->message.find("multiple of 32"), std::string::npos) << warned->message;
+  EXPECT_EQ(write_tm25(*r).value(), padded);
 }
 
 // Issue 34, cases 3 and 8 (the header layout and a ray's direction), a check

@@ -138,6 +138,44 @@ TEST(MaterialsValidation, SphereWithAPortOfRoughMetal) {
   EXPECT_LT(before.escaped, 0.6 * formula);
 }
 
+// Issue 44: the rough white dielectric of glTF (base 0.8, metallic 0) in
+// the tracer. Its expected directional albedo, by quadrature of its BRDF,
+// is 0.808 at every incidence and roughness (0.768 Lambertian under a
+// compensated 0.04 coat; tests/io/model/gltf_material_test.cpp,
+// GltfMaterial.WhiteDielectricAlbedoByQuadrature). Furnace: in a closed
+// sphere a photon is reflected until absorbed, 1/(1 − a) hits on average,
+// so 1 − 1/hits is the albedo the tracer gives. With the 30° port (f =
+// 0.067) the integrating sphere's closed form f/(1 − a(1 − f)) — exact for
+// a Lambertian wall (uniform irradiance after each reflection), here an
+// approximation: the albedo is the same at every incidence, so its
+// hemispherical average is a, and only 4 % of the light leaves in the
+// non-Lambertian coat — gives 0.2722 where a 0.8 wall gives 0.2642. A
+// tracer or mapping that lost the coat (0.768), counted ρ undiminished
+// (0.84) or dropped the compensation (0.79 at roughness 1) misses both.
+TEST(MaterialsValidation, RoughWhiteDielectricReflects0808InTheFurnaceAndTheSphere) {
+  const std::uint64_t n = 400000;
+  std::printf("  rough white dielectric: roughness, closed-sphere albedo, escaped through a 30 deg port (formula)\n");
+  for (double roughness : {0.5, 1.0}) {
+    Material white;
+    white.name = "white";
+    white.diffuse_reflect = 0.768;
+    white.glossy = 0.04;
+    white.glossy_mx = white.glossy_my = roughness * roughness;
+    white.glossy_f0 = 1.0;
+    double f = 0.0;
+    const SphereRun closed = run_sphere(sphere_scene(white, 0.0, &f), n);
+    const double albedo = 1.0 - 1.0 / closed.hits;
+    // σ of 1/hits ≈ √a/√n: 2e-3 of the albedo at 5σ.
+    EXPECT_NEAR(albedo, 0.808, 0.002) << roughness;
+    const SphereRun port = run_sphere(sphere_scene(white, 30.0 * kDeg, &f), n);
+    const double formula = f / (1.0 - 0.808 * (1.0 - f));
+    const double lambert_08 = f / (1.0 - 0.8 * (1.0 - f));
+    std::printf("    %.2f: %.4f, %.4f (%.4f; a 0.8 wall %.4f)\n", roughness, albedo, port.escaped, formula, lambert_08);
+    EXPECT_NEAR(port.escaped, formula, 0.01 * formula) << roughness;
+    EXPECT_GT(port.escaped, lambert_08 * 1.015) << roughness;
+  }
+}
+
 // A sheet (1 m × 1 m, `thickness`) of a scattering medium in air, as a
 // closed box part; photons shot along −y at its middle.
 struct SheetCounts {

@@ -111,6 +111,72 @@ TEST(AppSimulate, AHookStopsTheRunAndNothingIsWritten) {
   EXPECT_TRUE(std::filesystem::is_empty(dir / "stopped"));
 }
 
+// keep_when_stopped (the Python module's callback returning False): a run
+// stopped after its second iteration keeps what was traced and writes the
+// bytes of a two-iteration run (photon i draws from (seed, i) alone). A
+// simulate() that ignored the hook would write nothing; one that wrote the
+// plan's iteration count, or traced on, would give other bytes.
+TEST(AppSimulate, AStoppedRunKeptWritesWhatWasTraced) {
+  test::TempDir dir;
+  SimulateOptions o = small_run((dir / "kept").string());
+  o.iterations = 10;
+  Result<SimulatePlan> plan = plan_simulation(bell(), o);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  SimulateHooks hooks;
+  int seen = 0;
+  hooks.on_iteration = [&](const IterationReport&, const sim::Simulation&) { return ++seen < 2; };
+  int asked = 0;
+  hooks.keep_when_stopped = [&] { return ++asked > 0; };
+  std::optional<SimulateResult> result = simulate(plan.value(), hooks);
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(asked, 1);
+  EXPECT_EQ(result->run.stopped_by, StopReason::Cancelled);
+  EXPECT_EQ(result->run.iterations_done, 2);
+  ASSERT_TRUE(result->files.has_value());
+  EXPECT_EQ(result->files->report["photons_emitted"], 40000);
+  EXPECT_EQ(result->files->report["stopped_by"], "cancelled");
+
+  Result<SimulatePlan> two = plan_simulation(bell(), small_run((dir / "two").string()));
+  ASSERT_TRUE(two.ok()) << two.error().message;
+  ASSERT_TRUE(simulate(two.value()).has_value());
+  for (const char* name : {"bell.ies", "bell.ldt"})
+    EXPECT_EQ(test::read_file(dir / "kept" / name), test::read_file(dir / "two" / name)) << name;
+}
+
+// on_failed receives the error that stopped the run as a value (the Python
+// module raises it with its file): a model that cannot be read, a folder
+// that cannot be made. One that was told only as text would leave it unset.
+TEST(AppSimulate, TheErrorThatStopsTheRunIsGivenAsAValue) {
+  test::TempDir dir;
+  const std::string missing = (dir / "none.gltf").string();
+  {
+    Result<SimulatePlan> plan = plan_simulation(missing, small_run((dir / "a").string()));
+    ASSERT_TRUE(plan.ok()) << plan.error().message;
+    Messages messages;
+    SimulateHooks hooks;
+    hooks.on_message = messages.sink();
+    std::optional<Error> failure;
+    hooks.on_failed = [&](const Error& e) { failure = e; };
+    EXPECT_FALSE(simulate(plan.value(), hooks).has_value());
+    ASSERT_TRUE(failure.has_value());
+    EXPECT_EQ(failure->where.file, missing);
+    ASSERT_FALSE(messages.told.empty());
+    EXPECT_EQ(messages.told.back().first, Severity::Error);
+  }
+  {
+    test::write_file(dir / "file", "not a folder");
+    Result<SimulatePlan> plan = plan_simulation(bell(), small_run((dir / "file" / "out").string()));
+    ASSERT_TRUE(plan.ok()) << plan.error().message;
+    SimulateHooks hooks;
+    hooks.on_message = [](Severity, const std::string&) {};
+    std::optional<Error> failure;
+    hooks.on_failed = [&](const Error& e) { failure = e; };
+    EXPECT_FALSE(simulate(plan.value(), hooks).has_value());
+    ASSERT_TRUE(failure.has_value());
+    EXPECT_NE(to_string(*failure).find("file"), std::string::npos) << to_string(*failure);
+  }
+}
+
 // Plain options meet the command line's bounds and words, option named as
 // the command spells it: a planner that trusted its caller (the parser
 // checks these before it on the command line) would accept them.
