@@ -182,7 +182,13 @@ Result<sim::CGammaGrid> resolve_grid(const GridOptions& o, std::string* note) {
     grid.c_angles_deg = full_circle_c_angles(std::move(list.value()), o.symmetry.value_or(photometry::Symmetry::None));
     sim::CGammaGrid check;
     check.c_angles_deg = grid.c_angles_deg;
-    if (Status s = sim::validate(check); !s.ok()) return make_error("--c-angles: " + s.error().message);
+    if (Status s = sim::validate(check); !s.ok()) {
+      const bool partial = !o.symmetry && !grid.c_angles_deg.empty() && grid.c_angles_deg.back() <= 270.0;
+      return make_error("--c-angles: " + s.error().message +
+                        (partial ? " (a symmetry's range alone, e.g. 0:15:90, needs --symmetry quadrant, "
+                                   "C0-C180 or C90-C270)"
+                                 : ""));
+    }
   }
   if (Status s = sim::validate(grid); !s.ok()) {
     const char* option = o.grid_like ? "--grid-like" : "--gamma-step/--c-step";

@@ -181,6 +181,21 @@ TEST(SimulateGrids, GridLikeTakesAMeasuredFilesAngles) {
     expect_angles(file.value().distribution.vertical_deg, gamma, name);
     expect_angles(photometry::expand_symmetry(file.value().distribution).horizontal_deg, c, name);
   }
+  // The same angles from the file as EULUMDAT and as TM-33 (gonio convert keeps a Type C grid).
+  for (const char* ext : {"ldt", "xml"}) {
+    const fs::path measured = dir / (std::string("measured.") + ext);
+    r = gonio({"convert", (dir / "measured.ies").string(), measured.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const fs::path from = dir / (std::string("like-") + ext);
+    r = gonio({"simulate", model.string(), "--out", from.string(), "--photons", "20000", "--iterations", "1",
+               "--face-size", "64", "--format", "ies", "--symmetry", "none", "--flux-tolerance", "1",
+               "--grid-like", measured.string()});
+    ASSERT_EQ(r.exit_code, 0) << ext << ": " << r.err;
+    auto file = io::read_photometric_file((from / "paraboloid.ies").string());
+    ASSERT_TRUE(file.ok()) << file.error().message;
+    expect_angles(file.value().distribution.vertical_deg, gamma, ext);
+    expect_angles(photometry::expand_symmetry(file.value().distribution).horizontal_deg, c, ext);
+  }
   r = gonio({"compare", (dir / "measured.ies").string(), (out / "paraboloid.ies").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("angles: A and B share theirs"), std::string::npos) << r.out;
@@ -239,6 +254,7 @@ TEST(SimulateGrids, BadGridsAreErrorsNamingTheOption) {
            {{"--c-angles", "0,90,400"}, {"--c-angles", "outside"}},
            {{"--c-angles", "0:0.2:359.8"}, {"--c-angles", "EULUMDAT", "1800 C-planes"}},
            {{"--c-angles", "0,45", "--symmetry", "C90-C270"}, {"--c-angles"}},
+           {{"--c-angles", "0:15:90"}, {"--c-angles", "--symmetry quadrant"}},
            {{"--gamma-step", "0.05"}, {"--gamma-step"}},
            {{"--gamma-step", "0.5", "--gamma-angles", "0:1:180"}, {"--gamma-step", "--gamma-angles", "exclude"}},
            {{"--grid-like", missing}, {"--grid-like", missing}},
