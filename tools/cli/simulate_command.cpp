@@ -153,7 +153,7 @@ void add_simulate_options(ArgParser& p, app::SimulateOptions* o) {
            "C-plane spacing of the IES/LDT grid (default 5; divides 360)");
   p.option("gamma-step", &o->gamma_step, app::kGammaStepBounds.min, app::kGammaStepBounds.max, "DEG",
            "gamma spacing of the IES/LDT grid (default 2.5; divides 180; down to 0.1, the cube map\n"
-           "following: two texels per step)");
+           "following, see --face-size)");
   p.option("gamma-angles", &o->gamma_angles, "LIST",
            "the grid's gamma angles instead of a step, 0 to 180, ascending: numbers and ranges\n"
            "FROM:STEP:TO, e.g. 0:0.1:5,6:1:90,92.5:2.5:180 for a narrow beam (gaps down to 0.1)");
