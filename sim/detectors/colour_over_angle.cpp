@@ -27,9 +27,8 @@ ColourOverAngle colour_over_angle(const Resampler& resampler, const FarField& y,
   out.cct = photometry::cct_duv(out.uv);
 
   for (double c : {0.0, 90.0, 180.0, 270.0}) {
-    const double i_real = c / grid.c_step_deg;
-    const int i = static_cast<int>(std::lround(i_real));
-    if (std::abs(i_real - i) > 1e-9 || i >= grid.c_count()) continue;
+    const int i = grid.c_index_of(c);
+    if (i < 0) continue;
     ColourPlane plane;
     plane.c_deg = c;
     for (int j = 0; j < grid.gamma_count(); ++j) {

@@ -108,12 +108,32 @@ double cone_crossing(const Vec3& dp, const Vec3& dq, double c, double fp, double
 class OverlapBuilder {
  public:
   OverlapBuilder(const photometry::PhotometricFrame& frame, const CGammaGrid& grid)
-      : frame_(frame),
-        grid_(grid),
-        nc_(grid.c_count()),
-        ng_(grid.gamma_count()),
-        dc_(grid.c_step_deg * kDeg),
-        dg_(grid.gamma_step_deg * kDeg) {}
+      : frame_(frame), grid_(grid), nc_(grid.c_count()), ng_(grid.gamma_count()) {
+    // Bin edges [rad]: γ bin j spans [g_edge_[j], g_edge_[j + 1]]; C bin i
+    // spans [c_edge_[i], c_edge_[i + 1]] (c_edge_[0] ≤ 0, c_edge_[nc_] =
+    // c_edge_[0] + 2π). For uniform steps the same expressions as before
+    // lists existed, (j − ½)·Δγ, so those grids' matrices keep their bits.
+    g_edge_.resize(static_cast<std::size_t>(ng_) + 1);
+    for (int j = 0; j <= ng_; ++j) {
+      double e;
+      if (j == 0) {
+        e = 0.0;
+      } else if (j == ng_) {
+        e = kPi;
+      } else if (grid.gamma_angles_deg.empty()) {
+        e = (j - 0.5) * (grid.gamma_step_deg * kDeg);
+      } else {
+        e = grid.gamma_lower_deg(j) * kDeg;
+      }
+      g_edge_[static_cast<std::size_t>(j)] = e;
+    }
+    c_edge_.resize(static_cast<std::size_t>(nc_) + 1);
+    for (int i = 0; i < nc_; ++i)
+      c_edge_[static_cast<std::size_t>(i)] = grid.c_angles_deg.empty() ? (i - 0.5) * (grid.c_step_deg * kDeg)
+                                                                      : grid.c_lower_deg(i) * kDeg;
+    c_edge_[static_cast<std::size_t>(nc_)] = c_edge_[0] + 2.0 * kPi;
+    cap_ = std::min(g_edge_[1], kPi - g_edge_[static_cast<std::size_t>(ng_ - 1)]);
+  }
 
   struct Piece {
     std::size_t bin;
@@ -138,10 +158,37 @@ class OverlapBuilder {
   Where where(const Vec3& local_dir) const {
     Where w;
     w.cg = photometry::c_gamma_from_direction(local_dir);
-    w.j = std::clamp(static_cast<int>(std::floor(w.cg.gamma_rad / dg_ + 0.5)), 0, ng_ - 1);
-    w.i = static_cast<int>(std::floor(w.cg.c_rad / dc_ + 0.5));
-    if (w.i >= nc_) w.i -= nc_;
+    // The bin whose edges hold γ: the last edge at or below it.
+    const auto g_it = std::upper_bound(g_edge_.begin() + 1, g_edge_.end() - 1, w.cg.gamma_rad);
+    w.j = static_cast<int>(g_it - g_edge_.begin()) - 1;
+    double c = w.cg.c_rad;
+    if (c >= c_edge_[static_cast<std::size_t>(nc_)]) c -= 2.0 * kPi;
+    const auto c_it = std::upper_bound(c_edge_.begin() + 1, c_edge_.end() - 1, c);
+    w.i = static_cast<int>(c_it - c_edge_.begin()) - 1;
     return w;
+  }
+
+  double g_lo(int j) const { return g_edge_[static_cast<std::size_t>(j)]; }
+  double g_hi(int j) const { return g_edge_[static_cast<std::size_t>(j + 1)]; }
+  // The γ-width of a ring of bins; the caps (one γ-boundary each) and
+  // beyond count as wide, as a leaf cannot cross two of their boundaries.
+  double g_width(int j) const {
+    if (j <= 0 || j >= ng_ - 1) return kPi;
+    return g_hi(j) - g_lo(j);
+  }
+  double c_width(int i) const {
+    const int k = (i % nc_ + nc_) % nc_;
+    return c_edge_[static_cast<std::size_t>(k + 1)] - c_edge_[static_cast<std::size_t>(k)];
+  }
+  // Signed C distances of the centre from its bin's lower and upper edge
+  // [rad]: below ≥ 0, above ≥ 0 inside the bin.
+  void c_distances(const Where& w, double* below, double* above) const {
+    double c = w.cg.c_rad;
+    const double lo = c_edge_[static_cast<std::size_t>(w.i)], hi = c_edge_[static_cast<std::size_t>(w.i + 1)];
+    if (c > hi) c -= 2.0 * kPi;
+    if (c < lo && c + 2.0 * kPi <= hi) c += 2.0 * kPi;
+    *below = c - lo;
+    *above = hi - c;
   }
 
   void add(std::size_t bin, double sa, std::vector<Piece>& out) const {
@@ -173,20 +220,24 @@ class OverlapBuilder {
     // 1-Lipschitz in angular distance; C moves by at most asin(sin r / sin γ)
     // while the cap keeps clear of the poles.
     bool inside = true;
-    if (w.j > 0 && g - r <= (w.j - 0.5) * dg_) inside = false;
-    if (w.j < ng_ - 1 && g + r >= (w.j + 0.5) * dg_) inside = false;
-    if (inside && w.j > 0 && w.j < ng_ - 1 && 0.5 * dc_ - std::abs(c_offset(w)) <= c_reach(g, r))
-      inside = false;
+    if (w.j > 0 && g - r <= g_lo(w.j)) inside = false;
+    if (w.j < ng_ - 1 && g + r >= g_hi(w.j)) inside = false;
+    double c_below = 0.0, c_above = 0.0;
+    c_distances(w, &c_below, &c_above);
+    if (inside && w.j > 0 && w.j < ng_ - 1 && std::min(c_below, c_above) <= c_reach(g, r)) inside = false;
     const double sa = CubeMapGrid::solid_angle(a0, b0, a1, b1);
     if (inside) {
       add(grid_.bin(w.i, w.j), sa, out);
       return;
     }
 
-    // Narrowest bin width near the piece: Δγ, or the C-width of the ring
-    // nearest the pole it approaches.
-    const double pole_distance = std::max(0.5 * dg_, std::min(g, kPi - g) - r);
-    const double feature = std::min(dg_, dc_ * std::sin(pole_distance));
+    // Narrowest bin width near the piece: the γ-widths of its bin and the
+    // two beside it, or the C-width (its plane's and the neighbours') of the
+    // ring nearest the pole it approaches.
+    const double pole_distance = std::max(cap_, std::min(g, kPi - g) - r);
+    const double dg = std::min({g_width(w.j - 1), g_width(w.j), g_width(w.j + 1)});
+    const double dc = std::min({c_width(w.i - 1), c_width(w.i), c_width(w.i + 1)});
+    const double feature = std::min(dg, dc * std::sin(pole_distance));
     // A γ-boundary is a circle of geodesic curvature cot γ; its chord across
     // a leaf of diameter L strays by about L² cot γ / 8 from it, which the
     // second bound keeps below L/400.
@@ -199,14 +250,6 @@ class OverlapBuilder {
     visit(face, am, b0, a1, bm, depth + 1, out);
     visit(face, a0, bm, am, b1, depth + 1, out);
     visit(face, am, bm, a1, b1, depth + 1, out);
-  }
-
-  // Signed C distance of the centre from its bin's central plane [rad].
-  double c_offset(const Where& w) const {
-    double offset = w.cg.c_rad - w.i * dc_;
-    if (offset > kPi) offset -= 2.0 * kPi;
-    if (offset < -kPi) offset += 2.0 * kPi;
-    return offset;
   }
 
   // How far C can move within angular distance r of a point at polar angle g.
@@ -225,25 +268,32 @@ class OverlapBuilder {
                 double r, std::vector<Piece>& out) const {
     const double g = w.cg.gamma_rad;
     double gamma_boundary = -1.0;  // none
+    int gamma_above = w.j;         // the bin on the boundary's larger-γ side
     if (w.j == 0) {
-      gamma_boundary = 0.5 * dg_;
+      gamma_boundary = g_hi(0);
+      gamma_above = 1;
     } else if (w.j == ng_ - 1) {
-      gamma_boundary = kPi - 0.5 * dg_;
+      gamma_boundary = g_lo(w.j);
+    } else if (g - g_lo(w.j) < g_hi(w.j) - g) {
+      gamma_boundary = g_lo(w.j);
     } else {
-      gamma_boundary = g < w.j * dg_ ? (w.j - 0.5) * dg_ : (w.j + 0.5) * dg_;
+      gamma_boundary = g_hi(w.j);
+      gamma_above = w.j + 1;
     }
     if (std::abs(g - gamma_boundary) > r) gamma_boundary = -1.0;
 
     bool c_cut = false;
     Vec3 c_normal;
     int c_above = w.i;  // the C index on the boundary's positive side (larger C)
-    if (g + r > 0.5 * dg_ && g - r < kPi - 0.5 * dg_) {
-      const double offset = c_offset(w);
-      const double c_b = w.i * dc_ + (offset < 0.0 ? -0.5 : 0.5) * dc_;
-      if (0.5 * dc_ - std::abs(offset) <= c_reach(g, r)) {
+    if (g + r > g_hi(0) && g - r < g_lo(ng_ - 1)) {
+      double below = 0.0, above = 0.0;
+      c_distances(w, &below, &above);
+      const bool upper = above <= below;
+      const double c_b = upper ? c_edge_[static_cast<std::size_t>(w.i + 1)] : c_edge_[static_cast<std::size_t>(w.i)];
+      if (std::min(below, above) <= c_reach(g, r)) {
         c_cut = true;
         c_normal = {-std::sin(c_b), std::cos(c_b), 0.0};
-        if (offset >= 0.0) c_above = (w.i + 1) % nc_;
+        if (upper) c_above = (w.i + 1) % nc_;
       }
     }
 
@@ -291,8 +341,6 @@ class OverlapBuilder {
     // the γ cut's side k % γ-parts (0: larger γ) and the C cut's side
     // k / γ-parts (0: smaller C).
     const int gamma_parts = gamma_boundary >= 0.0 ? 2 : 1;
-    // The ring on the γ boundary's larger-γ side.
-    const int gamma_above = gamma_parts == 2 ? static_cast<int>(std::lround(gamma_boundary / dg_ + 0.5)) : w.j;
     const auto part_bin = [&](int k) {
       const int j = gamma_parts == 1 ? w.j : gamma_above - k % gamma_parts;
       const int i = !c_cut ? w.i : k / gamma_parts == 1 ? c_above : (c_above + nc_ - 1) % nc_;
@@ -339,13 +387,18 @@ class OverlapBuilder {
   photometry::PhotometricFrame frame_;
   CGammaGrid grid_;
   int nc_, ng_;
-  double dc_, dg_;
+  std::vector<double> g_edge_, c_edge_;  // bin edges [rad], see the constructor
+  double cap_;                           // the smaller cap's radius [rad]
 };
 
 }  // namespace
 
-int CGammaGrid::c_count() const { return static_cast<int>(std::lround(360.0 / c_step_deg)); }
+int CGammaGrid::c_count() const {
+  if (!c_angles_deg.empty()) return static_cast<int>(c_angles_deg.size());
+  return static_cast<int>(std::lround(360.0 / c_step_deg));
+}
 int CGammaGrid::gamma_count() const {
+  if (!gamma_angles_deg.empty()) return static_cast<int>(gamma_angles_deg.size());
   return static_cast<int>(std::lround(180.0 / gamma_step_deg)) + 1;
 }
 std::size_t CGammaGrid::bin_count() const {
@@ -358,12 +411,107 @@ std::size_t CGammaGrid::bin(int c_index, int gamma_index) const {
          static_cast<std::size_t>(c_index);
 }
 
-Status validate(const CGammaGrid& grid) {
-  const auto check = [](double step, double whole, const char* what) -> Status {
+double CGammaGrid::gamma_lower_deg(int j) const {
+  if (j <= 0) return 0.0;
+  return 0.5 * (gamma_deg(j - 1) + gamma_deg(j));
+}
+double CGammaGrid::gamma_upper_deg(int j) const {
+  if (j >= gamma_count() - 1) return 180.0;
+  return 0.5 * (gamma_deg(j) + gamma_deg(j + 1));
+}
+double CGammaGrid::c_lower_deg(int i) const {
+  if (i == 0) return 0.5 * (c_deg(c_count() - 1) - 360.0);
+  return 0.5 * (c_deg(i - 1) + c_deg(i));
+}
+double CGammaGrid::c_upper_deg(int i) const {
+  if (i == c_count() - 1) return 0.5 * (c_deg(i) + 360.0);
+  return 0.5 * (c_deg(i) + c_deg(i + 1));
+}
+int CGammaGrid::c_index_of(double c) const {
+  c = std::fmod(c, 360.0);
+  if (c < 0.0) c += 360.0;
+  if (c > 360.0 - 1e-9) c -= 360.0;
+  if (c_angles_deg.empty()) {
+    const double k = c / c_step_deg;
+    const long i = std::lround(k);
+    if (std::abs(k - static_cast<double>(i)) > 1e-9 * std::max(1.0, k)) return -1;
+    return static_cast<int>(i % c_count());
+  }
+  const auto it = std::lower_bound(c_angles_deg.begin(), c_angles_deg.end(), c - 1e-9);
+  if (it == c_angles_deg.end() || std::abs(*it - c) > 1e-9) return -1;
+  return static_cast<int>(it - c_angles_deg.begin());
+}
+double CGammaGrid::finest_gamma_step_deg() const {
+  if (gamma_angles_deg.empty()) return gamma_step_deg;
+  double step = 180.0;
+  for (std::size_t k = 1; k < gamma_angles_deg.size(); ++k)
+    step = std::min(step, gamma_angles_deg[k] - gamma_angles_deg[k - 1]);
+  return step;
+}
+double CGammaGrid::finest_c_step_deg() const {
+  if (c_angles_deg.empty()) return c_step_deg;
+  double step = 360.0 - c_angles_deg.back() + c_angles_deg.front();
+  for (std::size_t k = 1; k < c_angles_deg.size(); ++k)
+    step = std::min(step, c_angles_deg[k] - c_angles_deg[k - 1]);
+  return step;
+}
+std::string CGammaGrid::describe() const {
+  const auto axis = [](const char* name, const std::vector<double>& list, double step, int count, double finest) {
+    if (list.empty()) return std::string(name) + " step " + format_number(step) + " deg";
+    return std::string(name) + " " + std::to_string(count) + " angles " + format_number(list.front()) + "-" +
+           format_number(list.back()) + " deg (finest step " + format_number(finest) + " deg)";
+  };
+  return axis("C", c_angles_deg, c_step_deg, c_count(), finest_c_step_deg()) + ", " +
+         axis("gamma", gamma_angles_deg, gamma_step_deg, gamma_count(), finest_gamma_step_deg());
+}
+
+namespace {
+
+Status check_list(const std::vector<double>& list, double last_max, bool ends_at_max, const char* what) {
+  const auto fail = [&](const std::string& why) -> Status {
     Error e;
-    if (!std::isfinite(step) || step < kMinGridStepDeg || step > kMaxGridStepDeg) {
-      e.message = std::string(what) + " step " + format_number(step) + "° is outside " +
-                  format_number(kMinGridStepDeg) + "…" + format_number(kMaxGridStepDeg) + "°";
+    e.message = std::string(what) + " angles: " + why;
+    return e;
+  };
+  if (list.size() < 2) return fail("need at least two angles");
+  if (list.size() > kMaxGridAngles)
+    return fail(std::to_string(list.size()) + " angles, more than " + std::to_string(kMaxGridAngles));
+  for (std::size_t k = 0; k < list.size(); ++k)
+    if (!std::isfinite(list[k])) return fail("angle " + std::to_string(k + 1) + " is not a number");
+  if (list.front() != 0.0) return fail("the first angle must be 0, not " + format_number(list.front()));
+  for (std::size_t k = 1; k < list.size(); ++k) {
+    if (!(list[k] > list[k - 1]))
+      return fail("not in ascending order: " + format_number(list[k]) + " after " + format_number(list[k - 1]));
+    if (list[k] - list[k - 1] < kMinGammaStepDeg - 1e-9)
+      return fail(format_number(list[k - 1]) + " and " + format_number(list[k]) + " are closer than " +
+                  format_number(kMinGammaStepDeg) + "°");
+  }
+  if (ends_at_max && list.back() != last_max)
+    return fail("the last angle must be " + format_number(last_max) + ", not " + format_number(list.back()));
+  if (!ends_at_max && !(list.back() < last_max))
+    return fail(format_number(list.back()) + " is outside 0…" + format_number(last_max) + "° (" +
+                format_number(last_max) + " repeats 0)");
+  if (!ends_at_max && last_max - list.back() < kMinGammaStepDeg - 1e-9)
+    return fail(format_number(list.back()) + " and 360 (C = 0) are closer than " +
+                format_number(kMinGammaStepDeg) + "°");
+  // As for steps, no gap wider than kMaxGridStepDeg (C: the wrap to 360 too).
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const double next = k + 1 < list.size() ? list[k + 1] : ends_at_max ? list[k] : last_max;
+    if (next - list[k] > kMaxGridStepDeg + 1e-9)
+      return fail("the gap from " + format_number(list[k]) + " to " + format_number(next) + "° is more than " +
+                  format_number(kMaxGridStepDeg) + "°");
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+Status validate(const CGammaGrid& grid) {
+  const auto check = [](double step, double whole, double min, const char* what) -> Status {
+    Error e;
+    if (!std::isfinite(step) || step < min - 1e-12 || step > kMaxGridStepDeg) {
+      e.message = std::string(what) + " step " + format_number(step) + "° is outside " + format_number(min) +
+                  "…" + format_number(kMaxGridStepDeg) + "°";
       return e;
     }
     if (!divides(whole, step)) {
@@ -373,20 +521,29 @@ Status validate(const CGammaGrid& grid) {
     }
     return Ok{};
   };
-  if (Status s = check(grid.c_step_deg, 360.0, "C"); !s.ok()) return s;
-  return check(grid.gamma_step_deg, 180.0, "gamma");
+  if (grid.c_angles_deg.empty()) {
+    if (Status s = check(grid.c_step_deg, 360.0, kMinGridStepDeg, "C"); !s.ok()) return s;
+  } else if (Status s = check_list(grid.c_angles_deg, 360.0, false, "C"); !s.ok()) {
+    return s;
+  }
+  if (grid.gamma_angles_deg.empty()) return check(grid.gamma_step_deg, 180.0, kMinGammaStepDeg, "gamma");
+  return check_list(grid.gamma_angles_deg, 180.0, true, "gamma");
 }
 
 int face_size_for(const CGammaGrid& grid) {
-  return CubeMapGrid::face_size_for_step(std::min(grid.c_step_deg, grid.gamma_step_deg));
+  return std::min(kMaxAutoFaceSize,
+                  CubeMapGrid::face_size_for_step(std::min(grid.finest_c_step_deg(), grid.finest_gamma_step_deg())));
 }
 
 double exact_bin_solid_angle(const CGammaGrid& grid, std::size_t bin) {
-  const double dg = grid.gamma_step_deg * kDeg;
-  if (bin < 2) return 2.0 * kPi * (1.0 - std::cos(0.5 * dg));
-  const std::size_t ring = (bin - 2) / static_cast<std::size_t>(grid.c_count()) + 1;
-  const double g = static_cast<double>(ring) * dg;
-  return grid.c_step_deg * kDeg * (std::cos(g - 0.5 * dg) - std::cos(g + 0.5 * dg));
+  const int ng = grid.gamma_count();
+  if (bin == 0) return 2.0 * kPi * (1.0 - std::cos(grid.gamma_upper_deg(0) * kDeg));
+  if (bin == 1) return 2.0 * kPi * (1.0 + std::cos(grid.gamma_lower_deg(ng - 1) * kDeg));
+  const auto nc = static_cast<std::size_t>(grid.c_count());
+  const int j = static_cast<int>((bin - 2) / nc) + 1;
+  const int i = static_cast<int>((bin - 2) % nc);
+  const double dc = (grid.c_upper_deg(i) - grid.c_lower_deg(i)) * kDeg;
+  return dc * (std::cos(grid.gamma_lower_deg(j) * kDeg) - std::cos(grid.gamma_upper_deg(j) * kDeg));
 }
 
 double BinnedField::total_flux_lm() const {
@@ -527,29 +684,24 @@ photometry::Distribution to_distribution(const BinnedField& field, photometry::S
   const int nc = g.c_count(), ng = g.gamma_count();
 
   std::vector<int> planes;  // C indices; nc stands for C = 360 (a copy of 0)
+  const auto range = [&](double from, double to) {
+    const int a = g.c_index_of(from), b = to >= 360.0 ? nc : g.c_index_of(to);
+    for (int i = a; i <= b; ++i) planes.push_back(i);
+  };
   switch (symmetry) {
-    case Symmetry::None:
-      for (int i = 0; i <= nc; ++i) planes.push_back(i);
-      break;
+    case Symmetry::None: range(0.0, 360.0); break;
     case Symmetry::Rotational: planes = {0}; break;
-    case Symmetry::C0_C180:
-      for (int i = 0; i <= nc / 2; ++i) planes.push_back(i);
-      break;
-    case Symmetry::C90_C270:
-      for (int i = nc / 4; i <= 3 * nc / 4; ++i) planes.push_back(i);
-      break;
-    case Symmetry::Quadrant:
-      for (int i = 0; i <= nc / 4; ++i) planes.push_back(i);
-      break;
+    case Symmetry::C0_C180: range(0.0, 180.0); break;
+    case Symmetry::C90_C270: range(90.0, 270.0); break;
+    case Symmetry::Quadrant: range(0.0, 90.0); break;
     case Symmetry::Lateral: GONIO_CHECK_MSG(false, "lateral symmetry is not Type C");
   }
-
   photometry::Distribution d;
   d.type = photometry::PhotometricType::C;
   d.symmetry = symmetry;
   d.absolute = true;
   for (int j = 0; j < ng; ++j) d.vertical_deg.push_back(g.gamma_deg(j));
-  for (int i : planes) d.horizontal_deg.push_back(g.c_deg(i));
+  for (int i : planes) d.horizontal_deg.push_back(i == nc ? 360.0 : g.c_deg(i));
   d.candela.reserve(planes.size() * static_cast<std::size_t>(ng));
   for (int i : planes) {
     for (int j = 0; j < ng; ++j) d.candela.push_back(intensity[g.bin(i % nc, j)]);

@@ -37,6 +37,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "photometry/diagnostics.h"
@@ -46,10 +47,24 @@
 
 namespace gonio::sim {
 
-// The Type C grid of an output file.
+// The Type C grid of an output file: uniform steps, or (non-uniform grids:
+// --gamma-angles, --c-angles, --grid-like) the angles themselves.
+//
+// Non-uniform bins. Every angle owns the interval up to the midpoints with its
+// neighbours: γ_j's bin is [(γ_{j−1} + γ_j)/2, (γ_j + γ_{j+1})/2], C_i's
+// likewise, wrapping at 0/360 (C_0 = 0 reaches back to (C_last − 360)/2).
+// For uniform steps these are the bins described above.
 struct CGammaGrid {
+  CGammaGrid() = default;
+  // Uniform steps (C, then γ).
+  CGammaGrid(double c_step, double gamma_step) : c_step_deg(c_step), gamma_step_deg(gamma_step) {}
+
   double c_step_deg = 5.0;      // [deg] spacing of C-planes; 360 / c_step_deg is whole
   double gamma_step_deg = 2.5;  // [deg] spacing of γ; 180 / gamma_step_deg is whole
+  // Explicit angles [deg], ascending; empty: the step above. C-planes lie in
+  // [0, 360) with the first at 0; γ runs from 0 to 180, both ends included.
+  std::vector<double> c_angles_deg;
+  std::vector<double> gamma_angles_deg;
 
   int c_count() const;      // C-planes in [0, 360)
   int gamma_count() const;  // γ angles in [0, 180], both ends included
@@ -61,27 +76,63 @@ struct CGammaGrid {
   // j = gamma_count() − 1.
   std::size_t bin(int c_index, int gamma_index) const;
 
-  double c_deg(int c_index) const { return c_index * c_step_deg; }
-  double gamma_deg(int gamma_index) const { return gamma_index * gamma_step_deg; }
+  double c_deg(int c_index) const {
+    return c_angles_deg.empty() ? c_index * c_step_deg : c_angles_deg[static_cast<std::size_t>(c_index)];
+  }
+  double gamma_deg(int gamma_index) const {
+    return gamma_angles_deg.empty() ? gamma_index * gamma_step_deg
+                                    : gamma_angles_deg[static_cast<std::size_t>(gamma_index)];
+  }
+  // The edges of a bin [deg]: γ from gamma_lower_deg to gamma_upper_deg (0
+  // and 180 at the caps' outer ends); C from c_lower_deg (below 0 for plane
+  // 0) to c_upper_deg (above 360 only for the last plane when wrapping).
+  double gamma_lower_deg(int gamma_index) const;
+  double gamma_upper_deg(int gamma_index) const;
+  double c_lower_deg(int c_index) const;
+  double c_upper_deg(int c_index) const;
+  // The index of C-plane `c_deg` (within 1e-9°), or −1 where there is none.
+  int c_index_of(double c_deg) const;
+  // Whether both axes are uniform steps (no explicit lists).
+  bool uniform() const { return c_angles_deg.empty() && gamma_angles_deg.empty(); }
+  // The narrowest bin width along γ, and along C [deg].
+  double finest_gamma_step_deg() const;
+  double finest_c_step_deg() const;
+  // "C step 5 deg, gamma step 2.5 deg", or the lists' counts and ranges.
+  std::string describe() const;
 };
 
-// Smallest and largest steps accepted [deg]. Below 0.5° the cube map the grid
-// needs (face size 512, 1.5 M texels) grows past what a run can fill.
+// Smallest and largest steps accepted [deg]. Uniform C steps stay at 0.5° or
+// more (C-planes 0.1° apart would be 3600 planes, more than any format
+// reader expects); γ goes down to 0.1°, for narrow beams, and so do the
+// gaps of an explicit list. The cube map follows the finest γ step (see
+// face_size_for); docs/validation.md, "Narrow beams and non-uniform grids",
+// has what that costs.
 inline constexpr double kMinGridStepDeg = 0.5;
+inline constexpr double kMinGammaStepDeg = 0.1;
 inline constexpr double kMaxGridStepDeg = 90.0;
+// Most angles in an explicit list (γ every 0.1° from 0 to 180 is 1801).
+inline constexpr std::size_t kMaxGridAngles = 3601;
 
-// Checks that both steps lie in [kMinGridStepDeg, kMaxGridStepDeg] and divide
-// 360° (C) and 180° (γ) into whole numbers of steps. The error names the
-// step and what would be valid.
+// Checks that both steps lie in their ranges ([kMinGridStepDeg,
+// kMaxGridStepDeg] for C, from kMinGammaStepDeg for γ) and divide 360° (C)
+// and 180° (γ) into whole numbers of steps; explicit lists instead must be
+// finite, strictly ascending with gaps of at least kMinGammaStepDeg (1e-9°
+// slack), C in [0, 360) from 0, γ from 0 to 180. The error names the step
+// or list and what would be valid.
 Status validate(const CGammaGrid& grid);
 
-// Cube-map face size for a grid: two texels per step of the finer of the two
-// steps at the face centre, where texels are largest (so at least two
-// everywhere): CubeMapGrid::face_size_for_step(min(ΔC, Δγ)). 5° × 2.5° → 128,
-// 1° steps → 256 (face sizes are powers of two).
+// Cube-map face size for a grid: two texels per step of the finest bin width
+// (C or γ) at the face centre, where texels are largest (so at least two
+// everywhere): CubeMapGrid::face_size_for_step, up to kMaxAutoFaceSize.
+// 5° × 2.5° → 128, 1° steps → 256, 0.5° → 512, 0.25° and finer → 1024 (face
+// sizes are powers of two). Below 0.25° a texel at the face centre spans
+// 0.11°, about one 0.1° step; two per step (2048) cost four times the memory
+// (4 GB against 1 GB on two threads, docs/validation.md), so --face-size asks
+// for it explicitly.
+inline constexpr int kMaxAutoFaceSize = 1024;
 int face_size_for(const CGammaGrid& grid);
 
-// Exact solid angle [sr] of a bin: ΔC·(cos γ_lo − cos γ_hi), or 2π(1 − cos(Δγ/2))
+// Exact solid angle [sr] of a bin: ΔC·(cos γ_lo − cos γ_hi), or 2π(1 − cos γ_edge)
 // for a cap.
 double exact_bin_solid_angle(const CGammaGrid& grid, std::size_t bin);
 
@@ -100,7 +151,7 @@ struct BinnedField {
 
 // The overlap builder's revision: raise it whenever a change to the builder
 // changes its rows, so that stored ones (tools/run/resampler_cache.h) are rebuilt.
-inline constexpr int kResamplerRevision = 2;
+inline constexpr int kResamplerRevision = 3;
 
 // Precomputed overlap of a cube map's texels with a grid's bins, seen through
 // the luminaire's photometric frame (world direction → local (C, γ) by

@@ -37,6 +37,27 @@ void BM_BuildResampler(benchmark::State& state) {
 }
 BENCHMARK(BM_BuildResampler)->Args({50, 25})->Args({100, 50})->Args({10, 10})->Unit(benchmark::kMillisecond);
 
+// A narrow beam's list (issue 44): γ every 0.1° to 5°, then every 1°, C every
+// 5°, at the face given (128: the default map; 1024: the face it selects);
+// against it the uniform 0.1° γ step (argument 0) at its face 1024.
+void BM_BuildResamplerNarrowBeamList(benchmark::State& state) {
+  sim::CGammaGrid g{5.0, 0.1};
+  if (state.range(0) > 0) {
+    for (int k = 0; k <= 50; ++k) g.gamma_angles_deg.push_back(k / 10.0);
+    for (int k = 6; k <= 180; ++k) g.gamma_angles_deg.push_back(k);
+  }
+  const int face = state.range(0) > 0 ? static_cast<int>(state.range(0)) : sim::face_size_for(g);
+  const auto frame = photometry::make_frame({0.3, 1.0, 0.2}, {1.0, 0.1, -0.4});
+  for (auto _ : state) {
+    sim::Resampler r(face, frame, g);
+    benchmark::DoNotOptimize(r.nonzeros());
+    state.counters["nonzeros"] = static_cast<double>(r.nonzeros());
+  }
+  state.counters["face"] = face;
+  state.counters["bins"] = static_cast<double>(g.bin_count());
+}
+BENCHMARK(BM_BuildResamplerNarrowBeamList)->Arg(128)->Arg(1024)->Arg(0)->Iterations(1)->Unit(benchmark::kMillisecond);
+
 void BM_ResampleMap(benchmark::State& state) {
   const sim::CGammaGrid g = grid_of(state);
   const int face = sim::face_size_for(g);

@@ -28,8 +28,10 @@ bool iequals(std::string_view a, std::string_view b) {
 }
 
 // The C-plane indices equivalent to plane i (its orbit under the symmetry's
-// group), sorted.
-std::vector<int> plane_orbit(int i, int nc, Symmetry symmetry) {
+// group), sorted. Mirror images are looked up by angle, so non-uniform C
+// lists work alike (grid_supports has checked that every image exists).
+std::vector<int> plane_orbit(int i, const CGammaGrid& grid, Symmetry symmetry) {
+  const int nc = grid.c_count();
   const bool mirror0 = symmetry == Symmetry::C0_C180 || symmetry == Symmetry::Quadrant;
   const bool mirror90 = symmetry == Symmetry::C90_C270 || symmetry == Symmetry::Quadrant;
   const bool rotate = symmetry == Symmetry::Rotational;
@@ -37,14 +39,26 @@ std::vector<int> plane_orbit(int i, int nc, Symmetry symmetry) {
   for (std::size_t k = 0; k < orbit.size(); ++k) {
     const int c = orbit[k];
     std::vector<int> images;
-    if (mirror0) images.push_back((nc - c) % nc);            // C → 360° − C
-    if (mirror90) images.push_back(((nc / 2 - c) % nc + nc) % nc);  // C → 180° − C
+    if (mirror0) images.push_back(grid.c_index_of(360.0 - grid.c_deg(c)));  // C → 360° − C
+    if (mirror90) images.push_back(grid.c_index_of(180.0 - grid.c_deg(c)));  // C → 180° − C
     if (rotate) images.push_back((c + 1) % nc);
     for (int image : images)
-      if (std::find(orbit.begin(), orbit.end(), image) == orbit.end()) orbit.push_back(image);
+      if (image >= 0 && std::find(orbit.begin(), orbit.end(), image) == orbit.end()) orbit.push_back(image);
   }
   std::sort(orbit.begin(), orbit.end());
   return orbit;
+}
+
+// Whether every C-plane's mirror image in the plane `mirror_deg` (C → 2·mirror
+// − C) is a plane of the grid too, with the same bin width.
+bool mirror_closed(const CGammaGrid& grid, double mirror_deg) {
+  for (int i = 0; i < grid.c_count(); ++i) {
+    const int k = grid.c_index_of(2.0 * mirror_deg - grid.c_deg(i));
+    if (k < 0) return false;
+    const double wi = grid.c_upper_deg(i) - grid.c_lower_deg(i), wk = grid.c_upper_deg(k) - grid.c_lower_deg(k);
+    if (std::abs(wi - wk) > 1e-9) return false;
+  }
+  return true;
 }
 
 // The χ² value beyond which a test with `dof` degrees of freedom rejects at
@@ -140,12 +154,26 @@ std::optional<Symmetry> parse_symmetry(std::string_view name) {
 }
 
 bool grid_supports(const CGammaGrid& grid, Symmetry symmetry) {
+  if (grid.c_angles_deg.empty()) {
+    switch (symmetry) {
+      case Symmetry::None:
+      case Symmetry::Rotational: return true;
+      case Symmetry::C0_C180: return divides(180.0, grid.c_step_deg);
+      case Symmetry::C90_C270:
+      case Symmetry::Quadrant: return divides(90.0, grid.c_step_deg);
+      case Symmetry::Lateral: return false;
+    }
+    return false;
+  }
+  // A C list: the planes the output range starts and ends at, and a set of
+  // planes closed under the symmetry's mirrors.
+  const auto has = [&](double c) { return grid.c_index_of(c) >= 0; };
   switch (symmetry) {
     case Symmetry::None:
     case Symmetry::Rotational: return true;
-    case Symmetry::C0_C180: return divides(180.0, grid.c_step_deg);
-    case Symmetry::C90_C270:
-    case Symmetry::Quadrant: return divides(90.0, grid.c_step_deg);
+    case Symmetry::C0_C180: return has(180.0) && mirror_closed(grid, 0.0);
+    case Symmetry::C90_C270: return has(90.0) && has(270.0) && mirror_closed(grid, 90.0);
+    case Symmetry::Quadrant: return has(90.0) && mirror_closed(grid, 0.0) && mirror_closed(grid, 90.0);
     case Symmetry::Lateral: return false;
   }
   return false;
@@ -156,6 +184,11 @@ Status check_grid_supports(const CGammaGrid& grid, Symmetry symmetry) {
   Error e;
   if (symmetry == Symmetry::Lateral) {
     e.message = "lateral symmetry belongs to Types A and B; simulations write Type C";
+  } else if (!grid.c_angles_deg.empty()) {
+    const char* what = symmetry == Symmetry::C0_C180    ? "C = 180° and planes mirrored about C0-C180"
+                       : symmetry == Symmetry::C90_C270 ? "C = 90°, 270° and planes mirrored about C90-C270"
+                                                        : "C = 90° and planes mirrored about C0-C180 and C90-C270";
+    e.message = std::string("symmetry ") + photometry::to_string(symmetry) + " needs C angles with " + what;
   } else {
     const char* whole = symmetry == Symmetry::C0_C180 ? "180" : "90";
     e.message = std::string("symmetry ") + photometry::to_string(symmetry) +
@@ -185,7 +218,7 @@ std::vector<std::vector<std::size_t>> equivalent_bins(const CGammaGrid& grid, Sy
   std::vector<bool> seen(static_cast<std::size_t>(nc), false);
   for (int i = 0; i < nc; ++i) {
     if (seen[static_cast<std::size_t>(i)]) continue;
-    orbits.push_back(plane_orbit(i, nc, symmetry));
+    orbits.push_back(plane_orbit(i, grid, symmetry));
     for (int c : orbits.back()) seen[static_cast<std::size_t>(c)] = true;
   }
   for (int j = 1; j < ng - 1; ++j) {

@@ -43,6 +43,28 @@ std::string signed_degrees(double v) {
   return buf;
 }
 
+// Whether two distributions were measured on the same angles: the same type
+// and vertical angles, and the same planes once each is expanded over the
+// whole circle by its symmetry (to 1e-6°).
+bool same_angles(const photometry::Distribution& a, const photometry::Distribution& b) {
+  if (a.type != b.type) return false;
+  const auto same = [](const std::vector<double>& x, const std::vector<double>& y) {
+    if (x.size() != y.size()) return false;
+    for (std::size_t k = 0; k < x.size(); ++k)
+      if (std::abs(x[k] - y[k]) > 1e-6) return false;
+    return true;
+  };
+  if (!same(a.vertical_deg, b.vertical_deg)) return false;
+  if (a.symmetry == b.symmetry && same(a.horizontal_deg, b.horizontal_deg)) return true;
+  return same(photometry::expand_symmetry(a).horizontal_deg, photometry::expand_symmetry(b).horizontal_deg);
+}
+
+std::string angle_counts(const photometry::Distribution& d) {
+  const photometry::Distribution full = photometry::expand_symmetry(d);
+  return std::to_string(full.horizontal_deg.size()) + " planes x " + std::to_string(d.vertical_deg.size()) +
+         " vertical angles";
+}
+
 }  // namespace
 
 int run_compare(const Args& args) {
@@ -119,8 +141,12 @@ int run_compare(const Args& args) {
     }
   }
 
+  // Files on different angles are each interpolated onto the common grid:
+  // the comparison then holds the interpolation's error too.
+  const bool grids_differ = !same_angles(a->distribution, b->distribution);
   if (json_out) {
     nlohmann::json j = app::compare_json(file_a, *a, file_b, *b, c, options);
+    j["grids_differ"] = grids_differ;
     if (!plot.empty()) j["plot"] = plot;
     std::printf("%s\n", j.dump(2).c_str());
     return kExitOk;
@@ -129,6 +155,12 @@ int run_compare(const Args& args) {
   std::printf("B: %s (%s), %.6g lm\n", file_b.c_str(), format_b.c_str(), c.flux_b_lm);
   std::printf("grid: C every %g°, gamma every %g°, whole sphere%s\n", c_step, gamma_step,
               normalize ? "; B scaled to A's flux" : "");
+  if (grids_differ)
+    std::printf("angles: A and B differ (A %s, B %s): both are interpolated onto the common grid, whose\n"
+                "  error adds to the differences (gonio simulate --grid-like A puts a simulation on A's angles)\n",
+                angle_counts(a->distribution).c_str(), angle_counts(b->distribution).c_str());
+  else
+    std::printf("angles: A and B share theirs (%s)\n", angle_counts(a->distribution).c_str());
   std::printf("RMS difference:     %.3f %% of A's peak (%.6g cd)\n", 100.0 * c.rms_relative, c.reference_cd);
   std::printf("largest difference: %.3f %% of A's peak, at C %g°, gamma %g°\n", 100.0 * c.max_relative,
               c.max_at_c_deg, c.max_at_gamma_deg);

@@ -147,11 +147,23 @@ void add_simulate_options(ArgParser& p, app::SimulateOptions* o) {
   p.option("max-bounces", &o->max_bounces, app::kMaxBouncesBounds.min, app::kMaxBouncesBounds.max, "B",
            "surface interactions before a photon is cut off (default 100)");
   p.option("face-size", &o->face_size, app::kFaceSizeBounds.min, app::kFaceSizeBounds.max, "F",
-           "cube-map texels per face edge (default: two texels per grid step, 128 for 5 x 2.5 deg)");
+           "cube-map texels per face edge (default: two texels per grid step, 128 for 5 x 2.5 deg, at\n"
+           "most 1024: a 0.1 deg step gets one texel per step; 2048 gives two at 4x the memory)");
   p.option("c-step", &o->c_step, app::kGridStepBounds.min, app::kGridStepBounds.max, "DEG",
            "C-plane spacing of the IES/LDT grid (default 5; divides 360)");
-  p.option("gamma-step", &o->gamma_step, app::kGridStepBounds.min, app::kGridStepBounds.max, "DEG",
-           "gamma spacing of the IES/LDT grid (default 2.5; divides 180)");
+  p.option("gamma-step", &o->gamma_step, app::kGammaStepBounds.min, app::kGammaStepBounds.max, "DEG",
+           "gamma spacing of the IES/LDT grid (default 2.5; divides 180; down to 0.1, the cube map\n"
+           "following, see --face-size)");
+  p.option("gamma-angles", &o->gamma_angles, "LIST",
+           "the grid's gamma angles instead of a step, 0 to 180, ascending: numbers and ranges\n"
+           "FROM:STEP:TO, e.g. 0:0.1:5,6:1:90,92.5:2.5:180 for a narrow beam (gaps down to 0.1)");
+  p.option("c-angles", &o->c_angles, "LIST",
+           "the grid's C-planes instead of a step, in [0, 360) (360 repeats 0), as --gamma-angles;\n"
+           "with --symmetry C0-C180, C90-C270 or quadrant its range alone, mirrored (0:15:90)");
+  p.option("grid-like", &o->grid_like, "FILE",
+           "the grid of a measured Type C file (IES, LDT, TM-33, GLDF): its C-planes and gamma\n"
+           "angles, so the simulated files share its angles (gamma extended to 0-180 where it\n"
+           "covers less, said on stderr)");
   p.option("symmetry", &o->symmetry_name, "S",
            "auto (default: a chi-square test per symmetry on the photon counts), none, C0-C180, "
            "C90-C270, quadrant or rotational");
@@ -206,8 +218,23 @@ void print_usage_error(const std::string& command, const ArgParser& p, const std
 
 std::optional<app::SimulatePlan> plan_or_usage(const std::string& command, const std::string& model,
                                                const app::SimulateOptions& options, const ArgParser& p) {
+  // A step and a list (or --grid-like) for the same axis: which one was meant?
+  for (const auto& [step, lists] : {std::pair<const char*, const char*>{"gamma-step", "gamma-angles"},
+                                    std::pair<const char*, const char*>{"c-step", "c-angles"}}) {
+    for (const char* other : {lists, "grid-like"}) {
+      if (p.given(step) && p.given(other)) {
+        print_usage_error(command, p, std::string("--") + step + " and --" + other + " exclude each other");
+        return std::nullopt;
+      }
+    }
+  }
   Result<app::SimulatePlan> plan = app::plan_simulation(model, options);
-  if (plan.ok()) return std::move(plan.value());
+  if (plan.ok()) {
+    if (!plan.value().grid_note.empty())
+      std::fprintf(stderr, "%s: %s: --grid-like %s: added to its angles: %s\n", kProgramName, command.c_str(),
+                   options.grid_like->c_str(), plan.value().grid_note.c_str());
+    return std::move(plan.value());
+  }
   print_usage_error(command, p, plan.error().message);
   return std::nullopt;
 }

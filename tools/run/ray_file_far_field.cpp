@@ -54,9 +54,11 @@ Result<photometry::Distribution> ray_set_far_field(const io::Tm25RaySet& set, co
   d.set_keyword("TEST", std::string(h.creation_method == 1 ? "measured" : "simulated") + " ray set, " +
                             std::to_string(n) + " rays" + (h.created.empty() ? "" : ", " + h.created));
   if (!h.equipment.empty()) d.set_keyword("TESTLAB", h.equipment);
-  d.set_keyword("OTHER", "far field of the TM-25 ray file's directions binned by luminous flux (C every " +
-                             format_number(grid.c_step_deg) + " deg, gamma every " +
-                             format_number(grid.gamma_step_deg) + " deg; +z of the ray file is the nadir)");
+  const std::string grid_words = grid.uniform() ? "C every " + format_number(grid.c_step_deg) + " deg, gamma every " +
+                                                      format_number(grid.gamma_step_deg) + " deg"
+                                                : grid.describe();
+  d.set_keyword("OTHER", "far field of the TM-25 ray file's directions binned by luminous flux (" + grid_words +
+                             "; +z of the ray file is the nadir)");
   if (Status valid = photometry::validate(d); !valid.ok()) return make_error(path, valid.error().message);
   return d;
 }

@@ -30,6 +30,11 @@ void hash_parameters(io::ContentHash& h, int face_size, const photometry::Photom
   h.value(static_cast<std::uint32_t>(face_size));
   h.value(grid.c_step_deg);
   h.value(grid.gamma_step_deg);
+  // Explicit angle lists (non-uniform grids); empty lists add their sizes only.
+  h.value(static_cast<std::uint64_t>(grid.c_angles_deg.size()));
+  for (double c : grid.c_angles_deg) h.value(c);
+  h.value(static_cast<std::uint64_t>(grid.gamma_angles_deg.size()));
+  for (double g : grid.gamma_angles_deg) h.value(g);
   h.vec(frame.c0);
   h.vec(frame.c90);
   h.vec(frame.up);

@@ -64,7 +64,7 @@ Status check_ranges(const SimulateOptions& o) {
     if (Status s = check_range(name, check.first, check.second); !s.ok()) return s;
   const std::pair<const char*, std::pair<double, Bounds<double>>> reals[] = {
       {"c-step", {o.c_step, kGridStepBounds}},
-      {"gamma-step", {o.gamma_step, kGridStepBounds}},
+      {"gamma-step", {o.gamma_step, kGammaStepBounds}},
       {"min-lor", {o.min_lor, kFractionBounds}},
       {"flux-tolerance", {o.flux_tolerance, kFractionBounds}},
       {"target-error", {o.target_error_pct, kTargetErrorBounds}}};
@@ -79,18 +79,29 @@ Result<SimulatePlan> plan_simulation(const std::string& model, const SimulateOpt
   if (Status s = check_ranges(o); !s.ok()) return s.error();
   const Result<sim::PreviewFilterParams> preview_params_result = preview_params(o.preview);
   if (!preview_params_result.ok()) return preview_params_result.error();
-  sim::CGammaGrid grid;
-  grid.c_step_deg = o.c_step;
-  grid.gamma_step_deg = o.gamma_step;
-  if (Status s = sim::validate(grid); !s.ok()) return s.error();
   std::optional<photometry::Symmetry> symmetry;
   if (o.symmetry_name != "auto") {
     symmetry = sim::parse_symmetry(o.symmetry_name);
     if (!symmetry)
       return make_error("--symmetry: unknown symmetry '" + o.symmetry_name +
                         "'; expected auto, none, C0-C180, C90-C270, quadrant or rotational");
-    if (Status s = sim::check_grid_supports(grid, *symmetry); !s.ok()) return s.error();
   }
+  GridOptions grid_options;
+  grid_options.c_step = o.c_step;
+  grid_options.gamma_step = o.gamma_step;
+  grid_options.c_angles = o.c_angles;
+  grid_options.gamma_angles = o.gamma_angles;
+  grid_options.grid_like = o.grid_like;
+  grid_options.symmetry = symmetry;
+  std::string grid_note;
+  Result<sim::CGammaGrid> resolved = resolve_grid(grid_options, &grid_note);
+  if (!resolved.ok()) return resolved.error();
+  const sim::CGammaGrid grid = std::move(resolved.value());
+  const std::string c_source = o.c_angles ? "--c-angles" : o.grid_like ? "--grid-like" : "--c-step";
+  const std::string gamma_source = o.gamma_angles ? "--gamma-angles" : o.grid_like ? "--grid-like" : "--gamma-step";
+  if (symmetry)
+    if (Status s = sim::check_grid_supports(grid, *symmetry); !s.ok())
+      return make_error(c_source + ": " + s.error().message);
   // tm25 is written by write_run_files (the ray file), the others by write_outputs.
   bool tm25 = false;
   std::string other_formats;
@@ -116,6 +127,9 @@ Result<SimulatePlan> plan_simulation(const std::string& model, const SimulateOpt
       tm25 && other_formats.empty() ? Result<std::vector<OutputFormat>>(std::vector<OutputFormat>{})
                                     : parse_formats(other_formats);
   if (!formats.ok()) return formats.error();
+  for (OutputFormat f : formats.value())
+    if (f == OutputFormat::Ldt || f == OutputFormat::Gldf)
+      if (Status s = check_grid_for_ldt(grid, c_source, gamma_source); !s.ok()) return s.error();
   std::string stem = o.stem.empty() ? std::filesystem::path(model).stem().string() : o.stem;
   if (stem.empty() || stem.find_first_of("/\\") != std::string::npos || stem == "." || stem == "..")
     return make_error("--name: '" + stem + "' is not a plain file name");
@@ -138,6 +152,7 @@ Result<SimulatePlan> plan_simulation(const std::string& model, const SimulateOpt
   plan.out_dir = o.out_dir;
   plan.stem = stem;
   plan.grid = grid;
+  plan.grid_note = grid_note;
   plan.symmetry = symmetry;
   plan.formats = formats.value();
   plan.tm25 = tm25;
@@ -147,7 +162,8 @@ Result<SimulatePlan> plan_simulation(const std::string& model, const SimulateOpt
   plan.min_lor = o.min_lor;
   plan.flux_tolerance = o.flux_tolerance;
   plan.model_input = o.model_input;
-  plan.model_input.gamma_step_deg = o.gamma_step;  // a CAD model's default tessellation follows it
+  // A CAD model's default tessellation follows the γ step (the finest of a list).
+  plan.model_input.gamma_step_deg = grid.finest_gamma_step_deg();
   if (Status s = check_model_input(plan.model_input, {model}); !s.ok()) return s.error();
   plan.model_input.cache_dir = o.no_cache ? std::string() : o.cache_dir.value_or(io::default_cache_dir());
   plan.cache_limit_bytes = static_cast<std::uint64_t>(o.cache_limit_mb) << 20;

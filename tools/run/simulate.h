@@ -30,6 +30,7 @@
 #include "sim/detectors/resample.h"
 #include "sim/scene.h"
 #include "tools/run/console.h"
+#include "tools/run/grid_options.h"
 #include "tools/run/model_input.h"
 #include "tools/run/option_bounds.h"
 #include "tools/run/preview_output.h"
@@ -49,6 +50,7 @@ inline constexpr Bounds<long long> kTm25RaysBounds{1, 100'000'000};
 inline constexpr Bounds<long long> kCacheLimitMbBounds{0, 1'000'000'000};
 inline constexpr Bounds<long long> kConnectionsBounds{1, 1024};
 inline constexpr Bounds<double> kGridStepBounds{sim::kMinGridStepDeg, sim::kMaxGridStepDeg};
+inline constexpr Bounds<double> kGammaStepBounds{sim::kMinGammaStepDeg, sim::kMaxGridStepDeg};
 inline constexpr Bounds<double> kFractionBounds{0.0, 1.0};      // --min-lor, --flux-tolerance
 inline constexpr Bounds<double> kTargetErrorBounds{0.0, 100.0};  // --target-error [%]
 
@@ -60,6 +62,9 @@ struct SimulateOptions {
   long long face_size = 0;  // --face-size F; 0: two texels per grid step
   double c_step = 5.0, gamma_step = 2.5, min_lor = 0.0, flux_tolerance = 0.005;
   double target_error_pct = 0.0;  // --target-error PCT; 0: none
+  // Non-uniform grids (tools/run/grid_options.h): --c-angles LIST,
+  // --gamma-angles LIST, --grid-like FILE; each replaces the step it covers.
+  std::optional<std::string> c_angles, gamma_angles, grid_like;
   std::string symmetry_name = "auto", format_list = "all", ies_version = "2019", stem;
   std::string bvh_quality = "auto";        // --bvh-quality auto|low|medium|high
   std::optional<long long> tm25_rays;      // --tm25-rays N (format tm25 only; default 1000000)

@@ -85,10 +85,7 @@ photometry::LuminaireDimensions bounding_box(const sim::SceneDesc& scene) {
   return d;
 }
 
-std::string grid_text(const sim::CGammaGrid& g) {
-  return "C step " + format_number(g.c_step_deg) + " deg, gamma step " +
-         format_number(g.gamma_step_deg) + " deg";
-}
+std::string grid_text(const sim::CGammaGrid& g) { return g.describe(); }
 
 std::string file_stem_name(const std::string& model) {
   return std::filesystem::path(model).filename().string();
@@ -703,6 +700,9 @@ nlohmann::json to_json(const OutputResult& r, const sim::CGammaGrid& grid, doubl
   using nlohmann::json;
   json j;
   j["grid"] = {{"c_step_deg", grid.c_step_deg}, {"gamma_step_deg", grid.gamma_step_deg}};
+  // Non-uniform grids: the angles themselves (the steps above are then unused).
+  if (!grid.c_angles_deg.empty()) j["grid"]["c_angles_deg"] = grid.c_angles_deg;
+  if (!grid.gamma_angles_deg.empty()) j["grid"]["gamma_angles_deg"] = grid.gamma_angles_deg;
   json sym = {{"chosen", photometry::to_string(r.symmetry)}, {"reason", r.symmetry_reason}};
   json tests = json::array();
   for (const sim::SymmetryTest& t : r.decision.tests)

@@ -30,6 +30,8 @@ struct SimulatePlan {
   std::string out_dir;
   std::string stem;
   sim::CGammaGrid grid;
+  // --grid-like: the angles added to the file's own (tools/run/grid_options.h); empty: none.
+  std::string grid_note;
   std::optional<photometry::Symmetry> symmetry;  // none: auto
   std::vector<OutputFormat> formats;
   bool tm25 = false;  // --format …,tm25: STEM.tm25ray of the escaping photons

@@ -859,7 +859,7 @@ TEST(SimulateOutputs, BadOptionValuesAreUsageErrorsThatSayWhy) {
   };
   const Case cases[] = {
       {{"--c-step", "7"}, "7"},
-      {{"--gamma-step", "0.1"}, "gamma-step"},
+      {{"--gamma-step", "0.05"}, "gamma-step"},  // 0.1 is the finest (issue 44)
       {{"--gamma-step", "abc"}, "gamma-step"},
       {{"--symmetry", "diagonal"}, "diagonal"},
       {{"--symmetry", "quadrant", "--c-step", "60"}, "quadrant"},
