@@ -100,8 +100,19 @@ TEST(DesignFile, TessellationFollowsTheAngularDeflection) {
         const Vec3 b = sim::to_double(m.normals[m.indices[t + static_cast<std::size_t>((k + 1) % 3)]]);
         worst = std::max(worst, angle(a, b));
       }
-    // Along the profile ≤ δ, around ≤ δ: across a quad's diagonal ≤ √2·δ.
+    // Along the profile ≤ δ/4, around ≤ δ: across a quad's diagonal under √2·δ.
     EXPECT_LE(worst, std::sqrt(2.0) * deg * kPi / 180.0 * (1 + 1e-6)) << deg;
+    double along = 0.0;  // between neighbouring rows at one azimuth
+    for (std::size_t t = 0; t < m.indices.size(); t += 3)
+      for (int k = 0; k < 3; ++k) {
+        const sim::Vec3f& pa = m.positions[m.indices[t + static_cast<std::size_t>(k)]];
+        const sim::Vec3f& pb = m.positions[m.indices[t + static_cast<std::size_t>((k + 1) % 3)]];
+        if (std::abs(std::atan2(double(pa.y), double(pa.x)) - std::atan2(double(pb.y), double(pb.x))) > 1e-6) continue;
+        along = std::max(along, angle(sim::to_double(m.normals[m.indices[t + static_cast<std::size_t>(k)]]),
+                                      sim::to_double(m.normals[m.indices[t + static_cast<std::size_t>((k + 1) % 3)]])));
+      }
+    EXPECT_GT(along, 0.0) << deg;
+    EXPECT_LE(along, 0.25 * deg * kPi / 180.0 * (1 + 1e-3)) << deg;
     EXPECT_GT(m.triangle_count(), previous) << deg;
     previous = m.triangle_count();
   }
