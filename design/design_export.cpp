@@ -1,5 +1,6 @@
 #include "design/design_export.h"
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 
@@ -40,6 +41,19 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
     mesh.indices = s.indices;
     const int index = w.mesh(mesh, materials[r.material], r.name);
     w.node({{"name", r.name}, {"mesh", index}});
+  }
+  // Emitters with a profile in the design's frame: EXT_lights_ies lights,
+  // their γ = 0 (the node's −Z) turned to glTF's −Y as the samples do.
+  for (const io::PartsEmitter& e : sidecar->emitters) {
+    if (e.profile.empty() || !e.at.empty() || e.nadir || e.c0 || !e.spectrum.is_null()) continue;
+    const int light = w.ies_light({{"name", e.name}, {"uri", e.profile}});
+    const Vec3 p = e.position.value_or(Vec3{}) * parts->unit_m;
+    nlohmann::json node = {{"name", e.name},
+                           {"translation", {p.x, p.z, -p.y}},
+                           {"rotation", {-std::sqrt(0.5), 0.0, 0.0, std::sqrt(0.5)}},
+                           {"extensions", {{"EXT_lights_ies", {{"light", light}}}}}};
+    if (e.flux_lm) node["extras"] = {{"gonio", {{"flux_lm", *e.flux_lm}}}};
+    w.node(std::move(node));
   }
   const std::filesystem::path path(gltf_path);
   const std::string bin_name = path.stem().string() + ".bin";

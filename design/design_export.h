@@ -2,9 +2,12 @@
 // one mesh per part with its exact normals, in glTF's Y-up frame (the design's
 // nadir −Z becomes glTF's −Y, Gonio's default for glTF luminaires), each
 // material's design-file keys as extras.gonio so that Gonio reads the same
-// materials back. Emitters are not written (glTF's lights cannot say a
-// measured profile's flux as the design does): the design file stays the
-// luminaire's description.
+// materials back. Emitters with a profile in the design's own frame (no
+// `at`, `nadir`, `c0` or spectrum) become EXT_lights_ies lights naming the
+// same profile file (so the glTF beside the design file is a luminaire Gonio
+// simulates), `flux_lm` as the node's extras.gonio.flux_lm; others (ray
+// files, isotropic, turned or coloured emitters) are left out: the design
+// file stays the luminaire's description.
 #pragma once
 
 #include <string>

@@ -7,16 +7,23 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <string>
 
+#include "design/design_export.h"
 #include "design/design_scene.h"
+#include "design/reflector_design.h"
 #include "design/revolved.h"
+#include "io/model/gltf.h"
+#include "io/photometric/photometric_file.h"
+#include "tests/support/test_support.h"
 
 namespace gonio::design {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+namespace fs = std::filesystem;
 
 // A paraboloid with its focus at the source: f = 10 mm, vertex above at z = f.
 const char* kParaboloid = R"(length_unit = "mm"
@@ -279,6 +286,62 @@ TEST(DesignFile, DesignPathsAndFiles) {
   EXPECT_TRUE(is_design_path("LAMP.Design.TOML"));
   EXPECT_FALSE(is_design_path("lamp.gonio.toml"));
   EXPECT_FALSE(is_design_path(".design.toml"));
+}
+
+}  // namespace
+}  // namespace gonio::design
+
+namespace gonio::design {
+namespace {
+
+// The glTF a design exports is the same luminaire in glTF's Y-up frame: the
+// mesh vertex for vertex with its normals, the material's keys, the emitter
+// with its profile, place and flux; and design_files lists what watch watches.
+TEST(DesignExport, GltfIsTheSameLuminaireInYUp) {
+  test::TempDir dir;
+  std::vector<double> g, c;
+  for (int i = 0; i <= 180; ++i) {
+    g.push_back(i);
+    c.push_back(50.0);
+  }
+  ASSERT_TRUE(io::write_photometric_file((dir / "emitter.ies").string(), rotational_distribution(g, c), {}, nullptr).ok());
+  std::string text = kParaboloid;
+  text.replace(text.find("flux_lm = 1000"), 14, "flux_lm = 500\nprofile = \"emitter.ies\"");
+  text.replace(text.find("position = [0, 0, 0]"), 20, "position = [1, 2, -3]");
+  test::write_file(dir / "lamp.design.toml", text);
+  Result<Design> d = read_design_file((dir / "lamp.design.toml").string());
+  ASSERT_TRUE(d.ok()) << to_string(d.error());
+  std::vector<Finding> findings;
+  Result<sim::SceneDesc> a = design_scene(*d, options(2.0), &findings);
+  ASSERT_TRUE(a.ok()) << to_string(a.error());
+  ASSERT_TRUE(write_design_gltf(*d, (dir / "lamp.gltf").string(), options(2.0).tessellation).ok());
+  Result<sim::SceneDesc> b = io::load_gltf((dir / "lamp.gltf").string(), &findings);
+  ASSERT_TRUE(b.ok()) << to_string(b.error());
+  ASSERT_EQ(b->meshes.size(), 1u);
+  const sim::Mesh& ma = a->meshes[0];
+  const sim::Mesh& mb = b->meshes[0];
+  // The loader orders vertices its own way: the same triangles, every vertex
+  // on the paraboloid turned to Y-up, y = f − (x² + z²)/4f, with its normal.
+  ASSERT_EQ(mb.triangle_count(), ma.triangle_count());
+  const double f = 0.010;
+  for (std::size_t i = 0; i < mb.positions.size(); ++i) {
+    const Vec3 p = sim::to_double(mb.positions[i]);
+    ASSERT_NEAR(p.y, f - (p.x * p.x + p.z * p.z) / (4 * f), 1e-8);
+    ASSERT_LT(angle(sim::to_double(mb.normals[i]), normalize(Vec3{-p.x / (2 * f), -1.0, -p.z / (2 * f)})), 1e-6);
+  }
+  EXPECT_EQ(b->materials[mb.material].mirror, 1.0);
+  ASSERT_EQ(b->emitters.size(), 1u);
+  EXPECT_EQ(a->emitters[0].flux_lm, 500.0);
+  EXPECT_NEAR(b->emitters[0].flux_lm, 500.0, 1e-9);
+  const Vec3 pa = a->emitters[0].position, pb = b->emitters[0].position;
+  EXPECT_NEAR(pa.x, 0.001, 1e-12);
+  EXPECT_NEAR(pb.x, pa.x, 1e-12);
+  EXPECT_NEAR(pb.y, pa.z, 1e-12);
+  EXPECT_NEAR(pb.z, -pa.y, 1e-12);
+
+  const std::vector<std::string> files = design_files((dir / "lamp.design.toml").string());
+  ASSERT_EQ(files.size(), 2u);
+  EXPECT_EQ(fs::path(files[1]).filename(), "emitter.ies");
 }
 
 }  // namespace
