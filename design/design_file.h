@@ -30,6 +30,13 @@
 //   theta_deg = [60, 90, 120, 150, 180]
 //   r = [{ value = 20, min = 15, max = 30 }, 21, 22, 23, 24]
 //
+//   [[reflectors]]
+//   name = "spline"
+//   material = "mirror"
+//   profile = "bspline"                # a clamped B-spline through control points
+//   degree = 3                         # 1 … 5 (default 3)
+//   points = [[4, 10], [15, 8], [25, 2], [30, -5]]   # (ρ, z), ρ ≥ 0
+//
 // The frame is the luminaire's photometric frame: zenith +Z, C0 +X, so the
 // nadir (γ = 0) is −Z; every reflector turns about the Z axis.
 //

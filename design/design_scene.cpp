@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 
 #include "io/model/parts_file.h"
@@ -15,6 +16,8 @@ namespace {
 
 using io::TomlNode;
 namespace fs = std::filesystem;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 Error fail(const std::string& file, int line, std::string message) {
   return Error{{file, line, 0}, std::move(message)};
@@ -122,8 +125,33 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t) const {
     for (double v : *theta) p.theta.push_back(v * std::numbers::pi / 180.0);
     for (double v : *radii) p.r.push_back(v * unit_);
     r.profile = p;
+  } else if (*kind == "bspline") {
+    if (Status s = keys(t, {"name", "material", "profile", "degree", "points"}, what); !s.ok()) return s.error();
+    BSplineProfile b;
+    Result<std::optional<double>> degree = number(t, "degree", what);
+    if (!degree.ok()) return degree.error();
+    b.degree = static_cast<int>(degree->value_or(3.0));
+    if (static_cast<double>(b.degree) != degree->value_or(3.0))
+      return fail(path_, t.get("degree")->line, what + ": 'degree' must be a whole number");
+    const TomlNode* points = t.get("points");
+    if (!points) return fail(path_, t.line, what + ": 'points' is missing");
+    bool ok = points->is_array();
+    for (std::size_t i = 0; ok && i < points->array.size(); ++i) {
+      const TomlNode& pt = points->array[i];
+      ok = pt.is_array() && pt.array.size() == 2;
+      const double pr = ok ? pt.array[0].number().value_or(kNaN) : kNaN;
+      const double pz = ok ? pt.array[1].number().value_or(kNaN) : kNaN;
+      ok = std::isfinite(pr) && std::isfinite(pz);
+      if (ok) {
+        b.rho.push_back(pr * unit_);
+        b.z.push_back(pz * unit_);
+      }
+    }
+    if (!ok) return fail(path_, points->line, what + ": 'points' must be an array of [ρ, z] pairs of finite numbers");
+    r.profile = b;
   } else {
-    return fail(path_, profile_line, what + ": profile " + io::shown(*kind) + " is not one Gonio knows (conic, polar)");
+    return fail(path_, profile_line,
+                what + ": profile " + io::shown(*kind) + " is not one Gonio knows (conic, polar, bspline)");
   }
   Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
   if (!curve.ok()) return fail(path_, profile_line, what + " (" + r.name + "): " + curve.error().message);

@@ -78,6 +78,68 @@ double conic_root(const ConicProfile& p, double rho) {
   return 1.0 - (1.0 + p.conic) * c * c * rho * rho;
 }
 
+// The clamped uniform knot vector of n control points and degree p.
+std::vector<double> clamped_knots(std::size_t n, int p) {
+  const std::size_t m = n + static_cast<std::size_t>(p) + 1;
+  std::vector<double> u(m);
+  const std::size_t spans = n - static_cast<std::size_t>(p);
+  for (std::size_t i = 0; i < m; ++i) {
+    const double k = static_cast<double>(std::clamp<std::ptrdiff_t>(
+        static_cast<std::ptrdiff_t>(i) - p, 0, static_cast<std::ptrdiff_t>(spans)));
+    u[i] = k / static_cast<double>(spans);
+  }
+  return u;
+}
+
+// de Boor: the point of the B-spline of degree p with knots u and control
+// values c at t.
+double de_boor(const std::vector<double>& u, const std::vector<double>& c, int p, double t) {
+  const std::size_t n = c.size();
+  std::size_t k = static_cast<std::size_t>(p);
+  while (k + 1 < n && t >= u[k + 1]) ++k;
+  std::vector<double> d(static_cast<std::size_t>(p) + 1);
+  for (int j = 0; j <= p; ++j) d[static_cast<std::size_t>(j)] = c[k - static_cast<std::size_t>(p) + static_cast<std::size_t>(j)];
+  for (int r = 1; r <= p; ++r)
+    for (int j = p; j >= r; --j) {
+      const std::size_t i = k - static_cast<std::size_t>(p) + static_cast<std::size_t>(j);
+      const double den = u[i + static_cast<std::size_t>(p - r) + 1] - u[i];
+      const double a = den > 0.0 ? (t - u[i]) / den : 0.0;
+      d[static_cast<std::size_t>(j)] = (1.0 - a) * d[static_cast<std::size_t>(j) - 1] + a * d[static_cast<std::size_t>(j)];
+    }
+  return d[static_cast<std::size_t>(p)];
+}
+
+// The point and derivative of a B-spline profile at t.
+void bspline_eval(const BSplineProfile& b, double t, double& rho, double& z, double& drho, double& dz) {
+  const std::size_t n = b.rho.size();
+  const int p = b.degree;
+  const std::vector<double> u = clamped_knots(n, p);
+  rho = de_boor(u, b.rho, p, t);
+  z = de_boor(u, b.z, p, t);
+  // The derivative: degree p − 1 over the inner knots, Q_i = p (P_{i+1} − P_i)/(u_{i+p+1} − u_{i+1}).
+  std::vector<double> qr(n - 1), qz(n - 1);
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const double den = u[i + static_cast<std::size_t>(p) + 1] - u[i + 1];
+    const double w = den > 0.0 ? p / den : 0.0;
+    qr[i] = w * (b.rho[i + 1] - b.rho[i]);
+    qz[i] = w * (b.z[i + 1] - b.z[i]);
+  }
+  const std::vector<double> inner(u.begin() + 1, u.end() - 1);
+  drho = p > 1 ? de_boor(inner, qr, p - 1, t) : qr[std::min<std::size_t>(static_cast<std::size_t>(t * static_cast<double>(n - 1)), n - 2)];
+  dz = p > 1 ? de_boor(inner, qz, p - 1, t) : qz[std::min<std::size_t>(static_cast<std::size_t>(t * static_cast<double>(n - 1)), n - 2)];
+}
+
+// Whether segments ab and cd cross (touching ends of neighbours excepted by the caller).
+bool segments_cross(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
+  auto orient = [](double px, double py, double qx, double qy, double rx, double ry) {
+    const double v = (qx - px) * (ry - py) - (qy - py) * (rx - px);
+    return (v > 0.0) - (v < 0.0);
+  };
+  const int o1 = orient(ax, ay, bx, by, cx, cy), o2 = orient(ax, ay, bx, by, dx, dy);
+  const int o3 = orient(cx, cy, dx, dy, ax, ay), o4 = orient(cx, cy, dx, dy, bx, by);
+  return o1 * o2 < 0 && o3 * o4 < 0;
+}
+
 }  // namespace
 
 double polar_r(const PolarProfile& p, double theta, double* dlnr) {
@@ -113,6 +175,34 @@ Result<ProfileCurve> ProfileCurve::make(const Profile& profile) {
                           " mm: its surface turns back before it (1 − (1+κ)ρ²/R² ≤ 0)");
     out.t0_ = c->inner;
     out.t1_ = c->outer;
+    return out;
+  }
+  if (const auto* b = std::get_if<BSplineProfile>(&profile)) {
+    if (b->degree < 1 || b->degree > 5) return make_error("the degree must be 1 … 5");
+    if (b->rho.size() < static_cast<std::size_t>(b->degree) + 1)
+      return make_error("a B-spline of degree " + std::to_string(b->degree) + " needs at least " +
+                        std::to_string(b->degree + 1) + " points");
+    for (std::size_t i = 0; i < b->rho.size(); ++i)
+      if (!(b->rho[i] >= 0.0))
+        return make_error("points[" + std::to_string(i) + "] has ρ = " + format_number(b->rho[i] * 1e3) +
+                          " mm: a profile of revolution stays on its side of the axis (ρ ≥ 0)");
+    out.t0_ = 0.0;
+    out.t1_ = 1.0;
+    // Regular (no cusp) and simple (no crossing), on a polyline of the curve.
+    constexpr std::size_t kCheck = 1024;
+    std::vector<double> pr(kCheck + 1), pz(kCheck + 1);
+    for (std::size_t k = 0; k <= kCheck; ++k) {
+      double dr = 0, dzz = 0;
+      bspline_eval(*b, static_cast<double>(k) / kCheck, pr[k], pz[k], dr, dzz);
+      if (!(std::hypot(dr, dzz) > 0.0))
+        return make_error("the profile has a cusp (a zero tangent) near (ρ, z) = (" + format_number(pr[k] * 1e3) + ", " +
+                          format_number(pz[k] * 1e3) + ") mm");
+    }
+    for (std::size_t i = 0; i < kCheck; ++i)
+      for (std::size_t j = i + 2; j < kCheck; ++j)
+        if (segments_cross(pr[i], pz[i], pr[i + 1], pz[i + 1], pr[j], pz[j], pr[j + 1], pz[j + 1]))
+          return make_error("the profile crosses itself near (ρ, z) = (" + format_number(pr[j] * 1e3) + ", " +
+                            format_number(pz[j] * 1e3) + ") mm");
     return out;
   }
   const auto& p = std::get<PolarProfile>(profile);
@@ -155,6 +245,10 @@ void ProfileCurve::eval(double t, double& rho, double& z, double& drho, double& 
     z = c->vertex - sag;
     drho = 1.0;
     dz = -dsag;
+    return;
+  }
+  if (const auto* b = std::get_if<BSplineProfile>(&profile_)) {
+    bspline_eval(*b, t, rho, z, drho, dz);
     return;
   }
   const auto& p = std::get<PolarProfile>(profile_);

@@ -7,7 +7,9 @@
 //   - polar: r(θ) about the origin, θ from the nadir (−Z): (ρ, z) = r·(sin θ,
 //     −cos θ), t = θ; ln r is a cubic spline through the table (clamped, end
 //     slopes from the three nearest nodes), so the curve and its normal are
-//     smooth between the nodes.
+//     smooth between the nodes;
+//   - bspline: a clamped B-spline through control points (ρ, z), t over [0, 1]
+//     (a profile that crosses itself or has a cusp is an error).
 //
 // Tessellation from the output's needs (the rule of CAD parts,
 // io::CadTessellation, made finer along the profile): a new row wherever the
@@ -43,7 +45,15 @@ struct PolarProfile {
   std::vector<double> r;          // [m], > 0
 };
 
-using Profile = std::variant<ConicProfile, PolarProfile>;
+// A clamped B-spline through control points (ρ, z) of the meridian half
+// plane, uniform knots, t over [0, 1]; degree 1…5, at least degree + 1
+// points, every ρ ≥ 0 (the curve stays in its control points' hull).
+struct BSplineProfile {
+  int degree = 3;
+  std::vector<double> rho, z;     // [m]
+};
+
+using Profile = std::variant<ConicProfile, PolarProfile, BSplineProfile>;
 
 // The profile as a curve: point, derivative and normal at t.
 class ProfileCurve {

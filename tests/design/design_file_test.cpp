@@ -232,7 +232,7 @@ TEST(DesignFile, MistakesAreErrorsNamingTheLine) {
       {"radius = { value = 20, min = 10, max = 40 }", "radius = { value = 50, min = 10, max = 40 }", 15,
        "outside its bounds [10, 40]"},
       {"min = 10, max = 40", "min = 40, max = 10", 15, "is above max"},
-      {"profile = \"conic\"", "profile = \"bspline\"", 14, "profile 'bspline' is not one Gonio knows"},
+      {"profile = \"conic\"", "profile = \"nurbs\"", 14, "profile 'nurbs' is not one Gonio knows"},
       {"material = \"mirror\"\nprofile", "material = \"chrome\"\nprofile", 11, "material 'chrome' is not defined"},
       // κ = 1 (an oblate ellipse) with R = 20 mm turns back at ρ = R/√2 ≈ 14 mm.
       {"conic = -1", "conic = 1", 14, "is not defined out to ρ = 30 mm"},
@@ -342,6 +342,76 @@ TEST(DesignExport, GltfIsTheSameLuminaireInYUp) {
   const std::vector<std::string> files = design_files((dir / "lamp.design.toml").string());
   ASSERT_EQ(files.size(), 2u);
   EXPECT_EQ(fs::path(files[1]).filename(), "emitter.ies");
+}
+
+}  // namespace
+}  // namespace gonio::design
+
+namespace gonio::design {
+namespace {
+
+std::string bspline_design(const std::string& points, int degree) {
+  return R"(
+[materials.mirror]
+mirror = 1.0
+[[emitters]]
+name = "LED"
+position = [0, 0, 0]
+flux_lm = 1
+[[reflectors]]
+name = "spline"
+material = "mirror"
+profile = "bspline"
+degree = )" + std::to_string(degree) + "\npoints = " + points + "\n";
+}
+
+// A quadratic Bézier (a clamped B-spline of degree 2 through three points)
+// whose ρ is linear in t and z quadratic is exactly the paraboloid
+// z = f − ρ²/4f: from (0, f) along the vertex's tangent to (30, f − 900/4f).
+TEST(DesignFile, BSplineOfDegreeTwoIsTheParaboloid) {
+  Result<sim::SceneDesc> s = scene_of(bspline_design("[[0, 10], [15, 10], [30, -12.5]]", 2));
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  const sim::Mesh& m = s->meshes[0];
+  const double f = 0.010;
+  double worst_z = 0.0, worst_n = 0.0, rho_max = 0.0;
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    const Vec3 p = sim::to_double(m.positions[i]);
+    const double rho = std::hypot(p.x, p.y);
+    rho_max = std::max(rho_max, rho);
+    worst_z = std::max(worst_z, std::abs(p.z - (f - rho * rho / (4 * f))));
+    worst_n = std::max(worst_n, angle(sim::to_double(m.normals[i]), normalize(Vec3{-p.x / (2 * f), -p.y / (2 * f), -1.0})));
+  }
+  EXPECT_NEAR(rho_max, 0.030, 1e-7);
+  EXPECT_LT(worst_z, 1e-8);
+  EXPECT_LT(worst_n, 1e-6);
+  // A cubic through four points of the same parabola's control polygon
+  // (degree elevation) is the same surface.
+  s = scene_of(bspline_design("[[0, 10], [10, 10], [20, 2.5], [30, -12.5]]", 3));
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  for (const sim::Vec3f& pf : s->meshes[0].positions) {
+    const Vec3 p = sim::to_double(pf);
+    const double rho = std::hypot(p.x, p.y);
+    ASSERT_NEAR(p.z, f - rho * rho / (4 * f), 1e-8);
+  }
+}
+
+TEST(DesignFile, BSplineThatCrossesItselfOrTheAxisIsAnError) {
+  struct Case {
+    std::string points;
+    int degree;
+    std::string says;
+  };
+  for (const Case& c : std::vector<Case>{{"[[10, 0], [20, 10], [20, 0], [10, 10]]", 1, "crosses itself"},
+                                         {"[[30, 0], [60, 30], [10, 30], [40, 0]]", 3, "crosses itself"},
+                                         {"[[10, 0], [-5, 10], [20, 20]]", 2, "ρ ≥ 0"},
+                                         {"[[10, 0], [20, 10]]", 2, "needs at least 3 points"},
+                                         {"[[10, 0], [20, 10], [10, 10], [20, 0]]", 7, "degree must be 1 … 5"},
+                                         {"[[10, 0], [20, 10, 3]]", 1, "[ρ, z] pairs"}}) {
+    Result<sim::SceneDesc> s = scene_of(bspline_design(c.points, c.degree));
+    ASSERT_FALSE(s.ok()) << c.points;
+    EXPECT_NE(s.error().message.find(c.says), std::string::npos) << c.points << ": " << s.error().message;
+    EXPECT_GT(s.error().where.line, 0) << c.points;
+  }
 }
 
 }  // namespace
