@@ -33,7 +33,9 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
                       {"extras", {{"gonio", m->extras}}}});
     Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
     if (!curve.ok()) return make_error(design.path, curve.error().message);
-    const io::CadSurface s = revolve(*curve, tessellation);
+    Result<io::CadSurface> meshed = revolve(*curve, tessellation, std::size_t{16'000'000});
+    if (!meshed.ok()) return make_error(design.path, r.name + ": " + meshed.error().message);
+    const io::CadSurface& s = *meshed;
     sim::Mesh mesh;
     // Z-up (the design) to glTF's Y-up: (x, y, z) → (x, z, −y).
     for (const sim::Vec3f& p : s.positions) mesh.positions.push_back({p.x, p.z, -p.y});

@@ -18,6 +18,7 @@ using io::TomlNode;
 namespace fs = std::filesystem;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr std::size_t kMaxPartTriangles = 16'000'000;  // as a glTF scene's (io::kMaxTriangles)
 
 Error fail(const std::string& file, int line, std::string message) {
   return Error{{file, line, 0}, std::move(message)};
@@ -130,9 +131,10 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t) const {
     BSplineProfile b;
     Result<std::optional<double>> degree = number(t, "degree", what);
     if (!degree.ok()) return degree.error();
-    b.degree = static_cast<int>(degree->value_or(3.0));
-    if (static_cast<double>(b.degree) != degree->value_or(3.0))
-      return fail(path_, t.get("degree")->line, what + ": 'degree' must be a whole number");
+    const double wanted = degree->value_or(3.0);
+    if (!(wanted >= 1.0 && wanted <= 5.0) || wanted != std::trunc(wanted))
+      return fail(path_, t.get("degree")->line, what + ": 'degree' must be a whole number, 1 … 5");
+    b.degree = static_cast<int>(wanted);
     const TomlNode* points = t.get("points");
     if (!points) return fail(path_, t.line, what + ": 'points' is missing");
     bool ok = points->is_array();
@@ -148,6 +150,7 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t) const {
       }
     }
     if (!ok) return fail(path_, points->line, what + ": 'points' must be an array of [ρ, z] pairs of finite numbers");
+    if (b.rho.size() > 10000) return fail(path_, points->line, what + ": more than 10000 points");
     r.profile = b;
   } else {
     return fail(path_, profile_line,
@@ -213,7 +216,11 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
     if (!curve.ok()) return fail(design.path, r.line, curve.error().message);
     io::CadPart part;
     part.name = r.name;
-    io::CadSurface surface = revolve(*curve, options.tessellation, &part.size_m, &part.chordal_m);
+    Result<io::CadSurface> meshed = revolve(*curve, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m);
+    if (!meshed.ok())
+      return fail(design.path, r.line, "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " +
+                                           meshed.error().message);
+    io::CadSurface surface = std::move(*meshed);
     // An emitter on the profile (within the chordal deflection) would sit on the mesh's either side.
     for (const io::PartsEmitter& e : sidecar->emitters) {
       if (!e.at.empty() || !e.position) continue;

@@ -271,8 +271,8 @@ void ProfileCurve::eval(double t, double& rho, double& z, double& drho, double& 
   dz = -dr * std::cos(t) + r * std::sin(t);
 }
 
-io::CadSurface revolve(const ProfileCurve& curve, const io::CadTessellation& tess, double* size_out,
-                       double* chordal_out) {
+Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellation& tess, std::size_t max_triangles,
+                               double* size_out, double* chordal_out) {
   struct Sample {
     double t, rho, z, drho, dz, angle;
   };
@@ -321,6 +321,10 @@ io::CadSurface revolve(const ProfileCurve& curve, const io::CadTessellation& tes
     segments = std::max(segments, static_cast<std::size_t>(std::ceil(by_chord)));
   }
   segments = std::max<std::size_t>(segments, 8);
+  if (2.0 * static_cast<double>(rows.size()) * static_cast<double>(segments) > static_cast<double>(max_triangles))
+    return make_error("meshed to an angular deflection of " + format_number(tess.angular_deflection_deg) + "° it would take " +
+                      format_number(2.0 * static_cast<double>(rows.size()) * static_cast<double>(segments), 3) +
+                      " triangles, more than " + std::to_string(max_triangles) + ": coarsen the tessellation");
 
   // The normal's side: toward the origin (where the source sits) over the profile as a whole.
   double facing = 0.0;

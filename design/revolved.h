@@ -81,8 +81,9 @@ double polar_r(const PolarProfile& p, double theta, double* dlnr = nullptr);
 // deflection is the surface's bounding-box diagonal), normals facing the
 // Z axis's side of the profile where `normals_toward_origin`, and the
 // triangles wound counter-clockwise seen from the side the normals face.
-io::CadSurface revolve(const ProfileCurve& curve, const io::CadTessellation& t, double* size_m = nullptr,
-                       double* chordal_m = nullptr);
+// Errors: more than `max_triangles` (a deflection too fine for the part).
+Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellation& t, std::size_t max_triangles,
+                               double* size_m = nullptr, double* chordal_m = nullptr);
 
 // The smallest distance from the point (ρ, z) to the profile [m].
 double distance_to_profile(const ProfileCurve& curve, double rho, double z);

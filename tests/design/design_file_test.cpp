@@ -161,6 +161,13 @@ profile = "polar"
   EXPECT_LT(worst_n, 1e-5);
 }
 
+TEST(DesignFile, ADeflectionTooFineForThePartIsAnErrorNotAnAllocation) {
+  Result<sim::SceneDesc> s = scene_of(kParaboloid, 0.001);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().where.line, 11);
+  EXPECT_NE(s.error().message.find("coarsen the tessellation"), std::string::npos) << s.error().message;
+}
+
 TEST(DesignFile, VariablesAreFoundSetAndWrittenBack) {
   Result<Design> d = parse_design(kParaboloid, "lamp.design.toml");
   ASSERT_TRUE(d.ok()) << to_string(d.error());
@@ -405,7 +412,7 @@ TEST(DesignFile, BSplineThatCrossesItselfOrTheAxisIsAnError) {
                                          {"[[30, 0], [60, 30], [10, 30], [40, 0]]", 3, "crosses itself"},
                                          {"[[10, 0], [-5, 10], [20, 20]]", 2, "ρ ≥ 0"},
                                          {"[[10, 0], [20, 10]]", 2, "needs at least 3 points"},
-                                         {"[[10, 0], [20, 10], [10, 10], [20, 0]]", 7, "degree must be 1 … 5"},
+                                         {"[[10, 0], [20, 10], [10, 10], [20, 0]]", 7, "'degree' must be a whole number, 1 … 5"},
                                          {"[[10, 0], [20, 10, 3]]", 1, "[ρ, z] pairs"}}) {
     Result<sim::SceneDesc> s = scene_of(bspline_design(c.points, c.degree));
     ASSERT_FALSE(s.ok()) << c.points;
