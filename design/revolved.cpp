@@ -162,7 +162,25 @@ double polar_r(const PolarProfile& p, double theta, double* dlnr) {
   return std::exp(v);
 }
 
-Result<ProfileCurve> ProfileCurve::make(const Profile& profile) {
+namespace {
+Result<ProfileCurve> finite_or_error(Result<ProfileCurve> curve) {
+  if (!curve.ok()) return curve;
+  for (int k = 0; k <= 1024; ++k) {
+    const double t = curve->t0() + (curve->t1() - curve->t0()) * k / 1024.0;
+    double rho = 0, z = 0, dr = 0, dz = 0;
+    curve->eval(t, rho, z, dr, dz);
+    if (!(std::isfinite(rho) && std::isfinite(z) && std::isfinite(dr) && std::isfinite(dz) && std::abs(rho) < 1e6 &&
+          std::abs(z) < 1e6))
+      return make_error("the profile leaves any size a luminaire has (|ρ|, |z| above 1000 km, or not finite) near its " +
+                        std::string(k == 0 ? "start" : k == 1024 ? "end" : "middle"));
+  }
+  return curve;
+}
+}  // namespace
+
+Result<ProfileCurve> ProfileCurve::make(const Profile& profile) { return finite_or_error(make_unchecked(profile)); }
+
+Result<ProfileCurve> ProfileCurve::make_unchecked(const Profile& profile) {
   ProfileCurve out;
   out.profile_ = profile;
   if (const auto* c = std::get_if<ConicProfile>(&profile)) {

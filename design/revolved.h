@@ -60,6 +60,7 @@ class ProfileCurve {
  public:
   // Errors (without a place: the caller names the file and line): a conic
   // undefined over its aperture, a table out of order.
+  // A profile whose points are not finite or beyond 10⁶ m is an error too.
   static Result<ProfileCurve> make(const Profile& profile);
 
   double t0() const { return t0_; }
@@ -68,6 +69,7 @@ class ProfileCurve {
   void eval(double t, double& rho, double& z, double& drho, double& dz) const;
 
  private:
+  static Result<ProfileCurve> make_unchecked(const Profile& profile);
   Profile profile_;
   double t0_ = 0.0, t1_ = 0.0;
   std::vector<double> slope_;  // polar: d ln r/dθ at the nodes

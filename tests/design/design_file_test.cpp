@@ -247,6 +247,8 @@ TEST(DesignFile, MistakesAreErrorsNamingTheLine) {
       {"position = [0, 0, 0]", "position = [20, 0, 0]", 11, "passes through the emitter 'LED'"},
       {"aperture = [4, 30]", "aperture = [30, 4]", 14, "aperture must be [inner, outer]"},
       {"radius = { value", "radius = { valeur = 3, value", 15, "'radius' must be a finite number"},
+      {"aperture = [4, 30]", "aperture = [4, 30]\naspheric = [1e300]", 14, "leaves any size a luminaire has"},
+      {"radius = { value = 20, min = 10, max = 40 }", "radius = 1e-300", 14, "leaves any size a luminaire has"},
   };
   for (const Case& c : cases) {
     std::string text = kParaboloid;
