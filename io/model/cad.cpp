@@ -141,8 +141,8 @@ double world_area(const sim::Mesh& mesh, const sim::Affine* to_world) {
 class SceneBuilder {
  public:
   SceneBuilder(const CadModel& model, std::string model_path, const CadLoadOptions& options,
-               std::vector<Finding>& findings)
-      : model_(model), model_path_(std::move(model_path)), options_(options), findings_(findings) {}
+               std::vector<Finding>& findings, const PartsFile* given = nullptr)
+      : model_(model), model_path_(std::move(model_path)), options_(options), findings_(findings), given_(given) {}
 
   Result<sim::SceneDesc> build(CadLoadInfo* info);
 
@@ -160,6 +160,7 @@ class SceneBuilder {
   std::string model_path_;
   const CadLoadOptions& options_;
   std::vector<Finding>& findings_;
+  const PartsFile* given_;  // the sidecar, read already (a design file's); null: read it
   PartsFile parts_;
   bool has_sidecar_ = false;
   double unit_m_ = 0.001;  // metres per unit of the sidecar's coordinates
@@ -180,6 +181,11 @@ class SceneBuilder {
 }
 
 Status SceneBuilder::read_sidecar() {
+  if (given_) {
+    parts_ = *given_;
+    has_sidecar_ = true;
+    return Ok{};
+  }
   const std::string path = options_.parts_file.empty() ? default_parts_path(model_path_) : options_.parts_file;
   std::error_code ec;
   if (options_.parts_file.empty() && !fs::exists(path, ec)) {
@@ -647,6 +653,13 @@ Result<sim::SceneDesc> cad_scene(const CadModel& model, const std::string& model
                                  std::vector<Finding>* findings, CadLoadInfo* info) {
   std::vector<Finding> local;
   SceneBuilder builder(model, model_path, options, findings ? *findings : local);
+  return builder.build(info);
+}
+
+Result<sim::SceneDesc> cad_scene(const CadModel& model, const PartsFile& parts, const std::string& model_path,
+                                 const CadLoadOptions& options, std::vector<Finding>* findings, CadLoadInfo* info) {
+  std::vector<Finding> local;
+  SceneBuilder builder(model, model_path, options, findings ? *findings : local, &parts);
   return builder.build(info);
 }
 

@@ -109,6 +109,14 @@ Result<CadModel> tessellate_cad(const std::string& path, const CadLoadOptions& o
 Result<sim::SceneDesc> cad_scene(const CadModel& model, const std::string& model_path, const CadLoadOptions& options,
                                  std::vector<Finding>* findings, CadLoadInfo* info = nullptr);
 
+// Steps 3 and 4 with the sidecar given, read already (a design file's parts
+// and its sidecar vocabulary, design/design_file.h): `model_path` names the
+// model in messages; profiles and ray files are found beside parts.path.
+struct PartsFile;
+Result<sim::SceneDesc> cad_scene(const CadModel& model, const PartsFile& parts, const std::string& model_path,
+                                 const CadLoadOptions& options, std::vector<Finding>* findings,
+                                 CadLoadInfo* info = nullptr);
+
 // All of it. Findings (the reader's and the sidecar's warnings) are appended
 // to `findings` when it is not null.
 Result<sim::SceneDesc> load_cad(const std::string& path, const CadLoadOptions& options,

@@ -1,4 +1,5 @@
-// The only file that includes toml++ (io/model/parts_file.h).
+// The CAD sidecar (io/model/parts_file.h), read from the TOML tree of
+// io/model/toml_tree.h (toml++ is included there only).
 #include "io/model/parts_file.h"
 
 #include <fnmatch.h>
@@ -6,8 +7,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <sstream>
-#include <toml++/toml.h>
 
 #include "io/support/file_io.h"
 #include "io/support/text.h"
@@ -17,53 +16,50 @@ namespace {
 
 using nlohmann::json;
 
-int line_of(const toml::node& n) { return static_cast<int>(n.source().begin.line); }
+int line_of(const TomlNode& n) { return n.line; }
 
 // A TOML value as the JSON that extras.gonio would hold.
-json to_json(const toml::node& n) {
-  if (const toml::table* t = n.as_table()) {
-    json out = json::object();
-    for (const auto& [k, v] : *t) out[std::string(k.str())] = to_json(v);
-    return out;
+json to_json(const TomlNode& n) {
+  switch (n.type) {
+    case TomlNode::Type::Table: {
+      json out = json::object();
+      for (const auto& [k, v] : n.table) out[k] = to_json(v);
+      return out;
+    }
+    case TomlNode::Type::Array: {
+      json out = json::array();
+      for (const TomlNode& v : n.array) out.push_back(to_json(v));
+      return out;
+    }
+    case TomlNode::Type::String: return n.string;
+    case TomlNode::Type::Integer: return n.integer;
+    case TomlNode::Type::Float: return n.floating;
+    case TomlNode::Type::Boolean: return n.boolean;
+    case TomlNode::Type::Other: break;
   }
-  if (const toml::array* a = n.as_array()) {
-    json out = json::array();
-    for (const toml::node& v : *a) out.push_back(to_json(v));
-    return out;
-  }
-  if (const auto* s = n.as_string()) return s->get();
-  if (const auto* i = n.as_integer()) return i->get();
-  if (const auto* f = n.as_floating_point()) return f->get();
-  if (const auto* b = n.as_boolean()) return b->get();
-  // Dates and times: their TOML text (no Gonio key takes one).
-  return n.visit([](const auto& v) {
-    std::ostringstream text;
-    text << v;
-    return text.str();
-  });
+  return n.string;  // dates and times: their TOML text (no Gonio key takes one)
 }
 
 class Parser {
  public:
   explicit Parser(std::string name) : name_(std::move(name)) {}
 
-  Result<PartsFile> parse(std::string_view text);
+  Result<PartsFile> parse(const TomlNode& root, const std::vector<std::string>& root_keys, const std::string& what);
 
  private:
   Error fail(int line, std::string message) const { return Error{{name_, line, 0}, std::move(message)}; }
-  Status keys(const toml::table& t, std::initializer_list<const char*> known, const std::string& what) const;
-  Result<std::string> string(const toml::table& t, const char* key, const std::string& what) const;
-  Result<std::optional<double>> number(const toml::table& t, const char* key, const std::string& what) const;
-  Result<std::optional<Vec3>> vec3(const toml::table& t, const char* key, const std::string& what,
+  Status keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const;
+  Result<std::string> string(const TomlNode& t, const char* key, const std::string& what) const;
+  Result<std::optional<double>> number(const TomlNode& t, const char* key, const std::string& what) const;
+  Result<std::optional<Vec3>> vec3(const TomlNode& t, const char* key, const std::string& what,
                                    bool direction) const;
-  Result<std::optional<Vec3>> colour(const toml::table& t, const std::string& what) const;
+  Result<std::optional<Vec3>> colour(const TomlNode& t, const std::string& what) const;
 
   std::string name_;
 };
 
-Status Parser::keys(const toml::table& t, std::initializer_list<const char*> known, const std::string& what) const {
-  for (const auto& [k, v] : t) {
-    const std::string key(k.str());
+Status Parser::keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const {
+  for (const auto& [key, v] : t.table) {
     if (std::none_of(known.begin(), known.end(), [&](const char* n) { return key == n; })) {
       std::string list;
       for (const char* n : known) list += (list.empty() ? "" : ", ") + std::string(n);
@@ -73,41 +69,32 @@ Status Parser::keys(const toml::table& t, std::initializer_list<const char*> kno
   return Ok{};
 }
 
-Result<std::string> Parser::string(const toml::table& t, const char* key, const std::string& what) const {
-  const toml::node* n = t.get(key);
+Result<std::string> Parser::string(const TomlNode& t, const char* key, const std::string& what) const {
+  const TomlNode* n = t.get(key);
   if (!n) return std::string();
-  const auto* s = n->as_string();
-  if (!s) return fail(line_of(*n), what + ": '" + key + "' must be a string");
-  return s->get();
+  if (!n->is_string()) return fail(line_of(*n), what + ": '" + key + "' must be a string");
+  return n->string;
 }
 
-Result<std::optional<double>> Parser::number(const toml::table& t, const char* key, const std::string& what) const {
-  const toml::node* n = t.get(key);
+Result<std::optional<double>> Parser::number(const TomlNode& t, const char* key, const std::string& what) const {
+  const TomlNode* n = t.get(key);
   if (!n) return std::optional<double>();
-  std::optional<double> v;
-  if (const auto* i = n->as_integer()) v = static_cast<double>(i->get());
-  if (const auto* f = n->as_floating_point()) v = f->get();
+  const std::optional<double> v = n->number();
   if (!v) return fail(line_of(*n), what + ": '" + key + "' must be a number");
   if (!std::isfinite(*v)) return fail(line_of(*n), what + ": '" + key + "' is not finite");
   return v;
 }
 
-Result<std::optional<Vec3>> Parser::vec3(const toml::table& t, const char* key, const std::string& what,
+Result<std::optional<Vec3>> Parser::vec3(const TomlNode& t, const char* key, const std::string& what,
                                          bool direction) const {
-  const toml::node* n = t.get(key);
+  const TomlNode* n = t.get(key);
   if (!n) return std::optional<Vec3>();
-  const toml::array* a = n->as_array();
   double v[3] = {};
-  bool ok = a && a->size() == 3;
+  bool ok = n->is_array() && n->array.size() == 3;
   for (std::size_t i = 0; ok && i < 3; ++i) {
-    const toml::node& e = *a->get(i);
-    if (const auto* x = e.as_integer())
-      v[i] = static_cast<double>(x->get());
-    else if (const auto* y = e.as_floating_point())
-      v[i] = y->get();
-    else
-      ok = false;
-    ok = ok && std::isfinite(v[i]);
+    const std::optional<double> x = n->array[i].number();
+    ok = x && std::isfinite(*x);
+    if (ok) v[i] = *x;
   }
   if (!ok) return fail(line_of(*n), what + ": '" + key + "' must be an array of three finite numbers");
   const Vec3 out{v[0], v[1], v[2]};
@@ -116,11 +103,11 @@ Result<std::optional<Vec3>> Parser::vec3(const toml::table& t, const char* key, 
 }
 
 // "#rrggbb" or [r, g, b] in 0..1.
-Result<std::optional<Vec3>> Parser::colour(const toml::table& t, const std::string& what) const {
-  const toml::node* n = t.get("colour");
+Result<std::optional<Vec3>> Parser::colour(const TomlNode& t, const std::string& what) const {
+  const TomlNode* n = t.get("colour");
   if (!n) return std::optional<Vec3>();
-  if (const auto* s = n->as_string()) {
-    const std::string& text = s->get();
+  if (n->is_string()) {
+    const std::string& text = n->string;
     auto hex = [](char c) {
       return std::isdigit(static_cast<unsigned char>(c)) ? c - '0' : std::tolower(static_cast<unsigned char>(c)) - 'a' + 10;
     };
@@ -139,22 +126,18 @@ Result<std::optional<Vec3>> Parser::colour(const toml::table& t, const std::stri
   return c;
 }
 
-Result<PartsFile> Parser::parse(std::string_view text) {
+Result<PartsFile> Parser::parse(const TomlNode& root, const std::vector<std::string>& root_keys,
+                                const std::string& document) {
   PartsFile out;
   out.path = name_;
-  toml::table root;
-  try {
-    root = toml::parse(text, name_);
-  } catch (const toml::parse_error& e) {
-    return Error{{name_, static_cast<int>(e.source().begin.line), static_cast<int>(e.source().begin.column)},
-                 "not a readable TOML file: " + std::string(e.description())};
-  }
-  if (Status s = keys(root, {"length_unit", "default_material", "frame", "materials", "parts", "emitters"},
-                      "the sidecar");
-      !s.ok())
-    return s.error();
+  for (const auto& [key, v] : root.table)
+    if (std::find(root_keys.begin(), root_keys.end(), key) == root_keys.end()) {
+      std::string list;
+      for (const std::string& n : root_keys) list += (list.empty() ? "" : ", ") + n;
+      return fail(line_of(v), document + ": unknown key " + shown(key) + " (known: " + list + ")");
+    }
 
-  Result<std::string> unit = string(root, "length_unit", "the sidecar");
+  Result<std::string> unit = string(root, "length_unit", document);
   if (!unit.ok()) return unit.error();
   if (!unit->empty()) {
     out.length_unit_m = length_unit_m(*unit);
@@ -162,12 +145,12 @@ Result<PartsFile> Parser::parse(std::string_view text) {
       return fail(line_of(*root.get("length_unit")),
                   "length_unit " + shown(*unit) + " is not a unit Gonio knows (mm, cm, m, in, ft, µm)");
   }
-  Result<std::string> def = string(root, "default_material", "the sidecar");
+  Result<std::string> def = string(root, "default_material", document);
   if (!def.ok()) return def.error();
   out.default_material = *def;
 
-  if (const toml::node* f = root.get("frame")) {
-    const toml::table* t = f->as_table();
+  if (const TomlNode* f = root.get("frame")) {
+    const TomlNode* t = f->is_table() ? f : nullptr;
     if (!t) return fail(line_of(*f), "[frame] must be a table");
     if (Status s = keys(*t, {"up", "c0"}, "[frame]"); !s.ok()) return s.error();
     Result<std::optional<Vec3>> up = vec3(*t, "up", "[frame]", true);
@@ -181,21 +164,18 @@ Result<PartsFile> Parser::parse(std::string_view text) {
       return fail(line_of(*f), "[frame]: up and c0 are parallel");
   }
 
-  if (const toml::node* m = root.get("materials")) {
-    const toml::table* t = m->as_table();
-    if (!t) return fail(line_of(*m), "[materials] must be a table of tables ([materials.NAME])");
-    for (const auto& [k, v] : *t) {
-      const toml::table* mt = v.as_table();
-      if (!mt) return fail(line_of(v), "materials." + std::string(k.str()) + " must be a table");
-      out.materials.push_back({std::string(k.str()), to_json(v), line_of(v)});
+  if (const TomlNode* m = root.get("materials")) {
+    if (!m->is_table()) return fail(line_of(*m), "[materials] must be a table of tables ([materials.NAME])");
+    for (const auto& [k, v] : m->table) {
+      if (!v.is_table()) return fail(line_of(v), "materials." + k + " must be a table");
+      out.materials.push_back({k, to_json(v), line_of(v)});
     }
   }
 
-  if (const toml::node* p = root.get("parts")) {
-    const toml::array* a = p->as_array();
-    if (!a || !a->is_array_of_tables()) return fail(line_of(*p), "'parts' must be an array of tables ([[parts]])");
-    for (const toml::node& n : *a) {
-      const toml::table& t = *n.as_table();
+  if (const TomlNode* p = root.get("parts")) {
+    if (!p->is_array_of_tables()) return fail(line_of(*p), "'parts' must be an array of tables ([[parts]])");
+    for (const TomlNode& n : p->array) {
+      const TomlNode& t = n;
       const std::string what = "[[parts]] at line " + std::to_string(line_of(n));
       if (Status s = keys(t, {"match", "colour", "layer", "material"}, what); !s.ok()) return s.error();
       PartsRule r;
@@ -219,12 +199,11 @@ Result<PartsFile> Parser::parse(std::string_view text) {
     }
   }
 
-  if (const toml::node* e = root.get("emitters")) {
-    const toml::array* a = e->as_array();
-    if (!a || !a->is_array_of_tables())
+  if (const TomlNode* e = root.get("emitters")) {
+    if (!e->is_array_of_tables())
       return fail(line_of(*e), "'emitters' must be an array of tables ([[emitters]])");
-    for (const toml::node& n : *a) {
-      const toml::table& t = *n.as_table();
+    for (const TomlNode& n : e->array) {
+      const TomlNode& t = n;
       const std::string what = "[[emitters]] at line " + std::to_string(line_of(n));
       if (Status s = keys(t, {"name", "at", "position", "nadir", "c0", "profile", "ray_file", "flux_lm", "spectrum"},
                           what);
@@ -251,7 +230,7 @@ Result<PartsFile> Parser::parse(std::string_view text) {
       if (!flux.ok()) return flux.error();
       em.flux_lm = *flux;
       if (em.flux_lm && !(*em.flux_lm > 0.0)) return fail(em.line, what + ": 'flux_lm' must be > 0");
-      if (const toml::node* s = t.get("spectrum")) em.spectrum = json{{"spectrum", to_json(*s)}};
+      if (const TomlNode* s = t.get("spectrum")) em.spectrum = json{{"spectrum", to_json(*s)}};
       if (!em.profile.empty() && !em.ray_file.empty())
         return fail(em.line, what + ": give a profile or a ray_file, not both");
       if (em.profile.empty() && em.ray_file.empty() && !em.flux_lm)
@@ -297,8 +276,16 @@ bool glob_match(const std::string& pattern, const std::string& text) {
 }
 
 Result<PartsFile> parse_parts_file(std::string_view text, const std::string& name) {
+  Result<TomlNode> root = parse_toml(text, name);
+  if (!root.ok()) return root.error();
+  return parse_parts_tree(*root, name, {"length_unit", "default_material", "frame", "materials", "parts", "emitters"},
+                          "the sidecar");
+}
+
+Result<PartsFile> parse_parts_tree(const TomlNode& root, const std::string& name,
+                                   const std::vector<std::string>& root_keys, const std::string& what) {
   Parser p(name);
-  return p.parse(text);
+  return p.parse(root, root_keys, what);
 }
 
 Result<PartsFile> read_parts_file(const std::string& path) {

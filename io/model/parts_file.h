@@ -1,7 +1,7 @@
 // The CAD sidecar: a TOML file beside a STEP or IGES model (lamp.gonio.toml
 // beside lamp.step, or `--parts FILE`) that says what the model's parts are
-// made of and where its light comes from. toml++ reads it (parts_file.cpp
-// is the only file that includes it); this header is its plain-data form,
+// made of and where its light comes from. toml++ reads it into the plain
+// tree of io/model/toml_tree.h; this header is its plain-data form,
 // and io/model/cad.h applies it to the tessellated model. docs/cad.md has
 // the format with a full example:
 //
@@ -52,6 +52,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/model/toml_tree.h"
 #include "photometry/diagnostics.h"
 #include "photometry/vec3.h"
 
@@ -102,6 +103,14 @@ struct PartsFile {
 
 // Parses sidecar text; `name` is the file named in messages.
 Result<PartsFile> parse_parts_file(std::string_view text, const std::string& name);
+
+// The sidecar's vocabulary in another TOML document (a design file,
+// design/design_file.h): `root` may hold the keys `root_keys` (others are
+// errors naming the line, `what` first: "the design file: unknown key …");
+// those the sidecar knows (length_unit, default_material, frame, materials,
+// parts, emitters) are read as in a sidecar, the caller reads the rest.
+Result<PartsFile> parse_parts_tree(const TomlNode& root, const std::string& name,
+                                   const std::vector<std::string>& root_keys, const std::string& what);
 
 // Reads and parses the sidecar at `path` (at most 16 MiB).
 Result<PartsFile> read_parts_file(const std::string& path);

@@ -24,6 +24,7 @@ const std::vector<Command> kCommands = {
     {"report", "Write the datasheet of photometric files: UGR, CU, SC, BUG (HTML or PDF)", run_report},
     {"compare", "Compare two photometric files: RMS, peak, flux and beam differences", run_compare},
     {"bench", "Measure speed against accuracy on luminaire models (error vs time and photons)", run_bench},
+    {"design", "Design a reflector from a target distribution and trace it", run_design},
 };
 
 void print_help() {

@@ -4,6 +4,8 @@
 #include <utility>
 #include <vector>
 
+#include "design/design_file.h"
+#include "design/design_scene.h"
 #include "io/model/cad.h"
 #include "io/model/gltf.h"
 #include "io/model/gltf_files.h"
@@ -58,13 +60,14 @@ Status check_model_input(const ModelInputOptions& options, const std::vector<std
   if (Result<io::CadTessellation> t = cad_tessellation(options); !t.ok()) return t.error();
   if (options.parts_file.empty() && options.tessellation.empty()) return Ok{};
   for (const std::string& m : models)
-    if (io::is_cad_path(m)) return Ok{};
+    if (io::is_cad_path(m) || (options.parts_file.empty() && design::is_design_path(m))) return Ok{};
   return make_error(std::string(options.parts_file.empty() ? "--tessellation" : "--parts") +
                     " applies to CAD models (.step, .stp, .p21, .iges, .igs); a glTF model says its materials "
                     "and is meshed already");
 }
 
 std::vector<std::string> model_files(const std::string& model, const ModelInputOptions& options) {
+  if (design::is_design_path(model)) return design::design_files(model);
   if (io::is_cad_path(model)) return io::cad_files(model, options.parts_file);
   auto files = io::gltf_files(model);
   return files.ok() ? files.value() : std::vector<std::string>{model};
@@ -75,7 +78,20 @@ ModelLoad load_model(const std::string& model, const ModelInputOptions& options,
   ModelInputTimes t;
   auto start = std::chrono::steady_clock::now();
   Result<sim::SceneDesc> scene = Error{};
-  if (io::is_cad_path(model)) {
+  if (design::is_design_path(model)) {
+    // A design file: its parts tessellated as CAD parts are, to the same rule.
+    io::CadLoadOptions load;
+    load.allow_outside_paths = options.allow_outside_paths;
+    Result<io::CadTessellation> tessellation = cad_tessellation(options);
+    if (tessellation.ok()) {
+      load.tessellation = *tessellation;
+      io::CadLoadInfo info;
+      scene = design::load_design(model, load, &out.findings, &info);
+      if (scene.ok()) t.cad = cad_report(info);
+    } else {
+      scene = tessellation.error();
+    }
+  } else if (io::is_cad_path(model)) {
     io::CadLoadOptions load;
     load.parts_file = options.parts_file;
     load.cache_dir = options.cache_dir;

@@ -1,0 +1,287 @@
+#include "design/design_scene.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <numbers>
+
+#include "io/model/parts_file.h"
+#include "io/support/text.h"
+#include "photometry/format.h"
+
+namespace gonio::design {
+namespace {
+
+using io::TomlNode;
+namespace fs = std::filesystem;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr std::size_t kMaxPartTriangles = 16'000'000;  // as a glTF scene's (io::kMaxTriangles)
+
+Error fail(const std::string& file, int line, std::string message) {
+  return Error{{file, line, 0}, std::move(message)};
+}
+
+class PartsReader {
+ public:
+  PartsReader(const std::string& path, double unit_m) : path_(path), unit_(unit_m) {}
+
+  Result<Reflector> reflector(const TomlNode& t) const;
+
+ private:
+  Status keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const {
+    for (const auto& [key, v] : t.table)
+      if (std::none_of(known.begin(), known.end(), [&](const char* n) { return key == n; })) {
+        std::string list;
+        for (const char* n : known) list += (list.empty() ? "" : ", ") + std::string(n);
+        return fail(path_, v.line, what + ": unknown key " + io::shown(key) + " (known: " + list + ")");
+      }
+    return Ok{};
+  }
+  Result<std::string> string(const TomlNode& t, const char* key, const std::string& what) const {
+    const TomlNode* n = t.get(key);
+    if (!n) return fail(path_, t.line, what + ": '" + key + "' is missing");
+    if (!n->is_string()) return fail(path_, n->line, what + ": '" + key + "' must be a string");
+    return n->string;
+  }
+  Result<std::optional<double>> number(const TomlNode& t, const char* key, const std::string& what) const {
+    const TomlNode* n = t.get(key);
+    if (!n) return std::optional<double>();
+    const std::optional<double> v = n->number();
+    if (!v || !std::isfinite(*v)) return fail(path_, n->line, what + ": '" + key + "' must be a finite number");
+    return v;
+  }
+  Result<std::vector<double>> numbers(const TomlNode& t, const char* key, const std::string& what,
+                                      bool required) const {
+    const TomlNode* n = t.get(key);
+    if (!n) {
+      if (required) return fail(path_, t.line, what + ": '" + key + "' is missing");
+      return std::vector<double>();
+    }
+    std::vector<double> out;
+    bool ok = n->is_array();
+    for (std::size_t i = 0; ok && i < n->array.size(); ++i) {
+      const std::optional<double> v = n->array[i].number();
+      ok = v && std::isfinite(*v);
+      if (ok) out.push_back(*v);
+    }
+    if (!ok) return fail(path_, n->line, what + ": '" + key + "' must be an array of finite numbers");
+    return out;
+  }
+
+  const std::string& path_;
+  double unit_;
+};
+
+Result<Reflector> PartsReader::reflector(const TomlNode& t) const {
+  const std::string what = "[[reflectors]] at line " + std::to_string(t.line);
+  Reflector r;
+  r.line = t.line;
+  Result<std::string> name = string(t, "name", what);
+  if (!name.ok()) return name.error();
+  r.name = *name;
+  if (r.name.empty() || r.name.find_first_of("*?[]/\\") != std::string::npos)
+    return fail(path_, t.get("name")->line, what + ": 'name' must be non-empty, without * ? [ ] / \\");
+  Result<std::string> material = string(t, "material", what);
+  if (!material.ok()) return material.error();
+  r.material = *material;
+  Result<std::string> kind = string(t, "profile", what);
+  if (!kind.ok()) return kind.error();
+  const int profile_line = t.get("profile")->line;
+  if (*kind == "conic") {
+    if (Status s = keys(t, {"name", "material", "profile", "radius", "conic", "aspheric", "vertex", "aperture"}, what);
+        !s.ok())
+      return s.error();
+    ConicProfile c;
+    Result<std::optional<double>> radius = number(t, "radius", what);
+    if (!radius.ok()) return radius.error();
+    Result<std::optional<double>> conic = number(t, "conic", what);
+    if (!conic.ok()) return conic.error();
+    Result<std::optional<double>> vertex = number(t, "vertex", what);
+    if (!vertex.ok()) return vertex.error();
+    Result<std::vector<double>> aspheric = numbers(t, "aspheric", what, false);
+    if (!aspheric.ok()) return aspheric.error();
+    Result<std::vector<double>> aperture = numbers(t, "aperture", what, true);
+    if (!aperture.ok()) return aperture.error();
+    if (aperture->size() != 2)
+      return fail(path_, t.get("aperture")->line, what + ": 'aperture' must be [inner, outer], ρ from the axis");
+    c.radius = radius->value_or(0.0) * unit_;
+    c.conic = conic->value_or(0.0);
+    c.vertex = vertex->value_or(0.0) * unit_;
+    c.inner = (*aperture)[0] * unit_;
+    c.outer = (*aperture)[1] * unit_;
+    // a_{2i} multiplies ρ^{2i}: in metres, a·unit^(1−2i).
+    for (std::size_t i = 0; i < aspheric->size(); ++i)
+      c.aspheric.push_back((*aspheric)[i] * std::pow(unit_, 1.0 - 2.0 * static_cast<double>(i + 2)));
+    r.profile = c;
+  } else if (*kind == "polar") {
+    if (Status s = keys(t, {"name", "material", "profile", "theta_deg", "r"}, what); !s.ok()) return s.error();
+    PolarProfile p;
+    Result<std::vector<double>> theta = numbers(t, "theta_deg", what, true);
+    if (!theta.ok()) return theta.error();
+    Result<std::vector<double>> radii = numbers(t, "r", what, true);
+    if (!radii.ok()) return radii.error();
+    for (double v : *theta) p.theta.push_back(v * std::numbers::pi / 180.0);
+    for (double v : *radii) p.r.push_back(v * unit_);
+    r.profile = p;
+  } else if (*kind == "bspline") {
+    if (Status s = keys(t, {"name", "material", "profile", "degree", "points"}, what); !s.ok()) return s.error();
+    BSplineProfile b;
+    Result<std::optional<double>> degree = number(t, "degree", what);
+    if (!degree.ok()) return degree.error();
+    const double wanted = degree->value_or(3.0);
+    if (!(wanted >= 1.0 && wanted <= 5.0) || wanted != std::trunc(wanted))
+      return fail(path_, t.get("degree")->line, what + ": 'degree' must be a whole number, 1 … 5");
+    b.degree = static_cast<int>(wanted);
+    const TomlNode* points = t.get("points");
+    if (!points) return fail(path_, t.line, what + ": 'points' is missing");
+    bool ok = points->is_array();
+    for (std::size_t i = 0; ok && i < points->array.size(); ++i) {
+      const TomlNode& pt = points->array[i];
+      ok = pt.is_array() && pt.array.size() == 2;
+      const double pr = ok ? pt.array[0].number().value_or(kNaN) : kNaN;
+      const double pz = ok ? pt.array[1].number().value_or(kNaN) : kNaN;
+      ok = std::isfinite(pr) && std::isfinite(pz);
+      if (ok) {
+        b.rho.push_back(pr * unit_);
+        b.z.push_back(pz * unit_);
+      }
+    }
+    if (!ok) return fail(path_, points->line, what + ": 'points' must be an array of [ρ, z] pairs of finite numbers");
+    if (b.rho.size() > 10000) return fail(path_, points->line, what + ": more than 10000 points");
+    r.profile = b;
+  } else {
+    return fail(path_, profile_line,
+                what + ": profile " + io::shown(*kind) + " is not one Gonio knows (conic, polar, bspline)");
+  }
+  Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
+  if (!curve.ok()) return fail(path_, profile_line, what + " (" + r.name + "): " + curve.error().message);
+  return r;
+}
+
+}  // namespace
+
+const std::vector<std::string>& design_root_keys() {
+  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors"};
+  return keys;
+}
+
+Result<DesignParts> read_design_parts(const TomlNode& resolved, const std::string& path) {
+  DesignParts out;
+  if (const TomlNode* u = resolved.get("length_unit")) {
+    const std::optional<double> m = u->is_string() ? io::length_unit_m(u->string) : std::nullopt;
+    if (!m) return fail(path, u->line, "length_unit must be a unit Gonio knows (mm, cm, m, in, ft, µm)");
+    out.unit_m = *m;
+  }
+  PartsReader reader(path, out.unit_m);
+  if (const TomlNode* r = resolved.get("reflectors")) {
+    if (!r->is_array_of_tables()) return fail(path, r->line, "'reflectors' must be an array of tables ([[reflectors]])");
+    for (const TomlNode& t : r->array) {
+      Result<Reflector> one = reader.reflector(t);
+      if (!one.ok()) return one.error();
+      for (const Reflector& other : out.reflectors)
+        if (other.name == one->name)
+          return fail(path, t.line, "[[reflectors]] at line " + std::to_string(t.line) + ": the name " +
+                                        io::shown(one->name) + " is taken by the reflector at line " +
+                                        std::to_string(other.line));
+      out.reflectors.push_back(std::move(*one));
+    }
+  }
+  if (out.reflectors.empty()) return fail(path, 0, "the design has no parts: add [[reflectors]]");
+  return out;
+}
+
+Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptions& options,
+                                    std::vector<Finding>* findings, io::CadLoadInfo* info) {
+  const auto start = std::chrono::steady_clock::now();
+  const TomlNode resolved = resolved_document(design);
+  Result<io::PartsFile> sidecar = io::parse_parts_tree(resolved, design.path, design_root_keys(), "the design file");
+  if (!sidecar.ok()) return sidecar.error();
+  Result<DesignParts> parts = read_design_parts(resolved, design.path);
+  if (!parts.ok()) return parts.error();
+  sidecar->length_unit_m = parts->unit_m;
+
+  io::CadModel model;
+  model.format = "Gonio design";
+  model.file_unit = "m";
+  model.file_unit_m = 1.0;
+  model.tessellation = options.tessellation;
+  for (const Reflector& r : parts->reflectors) {
+    if (!sidecar->material(r.material))
+      return fail(design.path, r.line, "[[reflectors]] at line " + std::to_string(r.line) + ": material " +
+                                           io::shown(r.material) + " is not defined ([materials." + r.material + "])");
+    Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
+    if (!curve.ok()) return fail(design.path, r.line, curve.error().message);
+    io::CadPart part;
+    part.name = r.name;
+    Result<io::CadSurface> meshed = revolve(*curve, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m);
+    if (!meshed.ok())
+      return fail(design.path, r.line, "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " +
+                                           meshed.error().message);
+    io::CadSurface surface = std::move(*meshed);
+    // An emitter on the profile (within the chordal deflection) would sit on the mesh's either side.
+    for (const io::PartsEmitter& e : sidecar->emitters) {
+      if (!e.at.empty() || !e.position) continue;
+      const Vec3 p = *e.position * parts->unit_m;
+      const double d = distance_to_profile(*curve, std::hypot(p.x, p.y), p.z);
+      if (d <= part.chordal_m)
+        return fail(design.path, r.line,
+                    "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): the profile passes through the emitter " +
+                        io::shown(e.name) + " (line " + std::to_string(e.line) + "; " + format_number(d * 1e3) +
+                        " mm from it, within the chordal deflection " + format_number(part.chordal_m * 1e3) + " mm)");
+    }
+    part.surfaces.push_back(std::move(surface));
+    io::CadPlacement placement;
+    placement.part = static_cast<std::uint32_t>(model.parts.size());
+    placement.path = r.name;
+    model.parts.push_back(std::move(part));
+    model.placements.push_back(std::move(placement));
+    io::PartsRule rule;
+    rule.match = r.name;
+    rule.material = r.material;
+    rule.line = r.line;
+    sidecar->rules.push_back(std::move(rule));
+  }
+  const double tessellate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  Result<sim::SceneDesc> scene = io::cad_scene(model, *sidecar, design.path, options, findings, info);
+  if (scene.ok() && info) {
+    info->format = model.format;
+    info->file_unit = parts->unit_m == 1e-3 ? "mm" : format_number(parts->unit_m) + " m";
+    info->tessellation = options.tessellation;
+    info->parts = model.parts.size();
+    info->placements = model.placements.size();
+    info->unique_triangles = model.unique_triangle_count();
+    info->placed_triangles = model.placed_triangle_count();
+    info->from_cache = false;
+    info->tessellate_s = tessellate_s;
+  }
+  return scene;
+}
+
+Result<sim::SceneDesc> load_design(const std::string& path, const io::CadLoadOptions& options,
+                                   std::vector<Finding>* findings, io::CadLoadInfo* info) {
+  Result<Design> design = read_design_file(path);
+  if (!design.ok()) return design.error();
+  return design_scene(*design, options, findings, info);
+}
+
+std::vector<std::string> design_files(const std::string& path) {
+  std::vector<std::string> files = {path};
+  Result<Design> design = read_design_file(path);
+  if (!design.ok()) return files;
+  Result<io::PartsFile> sidecar =
+      io::parse_parts_tree(resolved_document(*design), path, design_root_keys(), "the design file");
+  if (!sidecar.ok()) return files;
+  const fs::path dir = fs::path(path).parent_path();
+  for (const io::PartsEmitter& e : sidecar->emitters)
+    for (const std::string* reference : {&e.profile, &e.ray_file}) {
+      if (reference->empty()) continue;
+      const std::string file = (dir / *reference).lexically_normal().string();
+      if (std::find(files.begin(), files.end(), file) == files.end()) files.push_back(file);
+    }
+  return files;
+}
+
+}  // namespace gonio::design

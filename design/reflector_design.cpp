@@ -1,0 +1,260 @@
+#include "design/reflector_design.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "design/design_file.h"
+#include "photometry/format.h"
+
+namespace gonio::design {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+constexpr std::size_t kFine = 36001;  // γ samples over 0…180° (0.005°) for the cumulative fluxes
+
+// Cumulative of 2π·f(γ)·sin γ over the fine grid (trapezoids) [lm for f in cd].
+std::vector<double> cumulative(const std::vector<double>& f) {
+  std::vector<double> out(f.size(), 0.0);
+  const double h = kPi / static_cast<double>(f.size() - 1);
+  for (std::size_t i = 1; i < f.size(); ++i) {
+    const double a = f[i - 1] * std::sin(h * static_cast<double>(i - 1));
+    const double b = f[i] * std::sin(h * static_cast<double>(i));
+    out[i] = out[i - 1] + 2.0 * kPi * 0.5 * (a + b) * h;
+  }
+  return out;
+}
+
+// Linear interpolation of a table on the fine grid at γ [rad].
+double at(const std::vector<double>& table, double gamma) {
+  const double h = kPi / static_cast<double>(table.size() - 1);
+  const double x = std::clamp(gamma / h, 0.0, static_cast<double>(table.size() - 1));
+  const std::size_t i = std::min(static_cast<std::size_t>(x), table.size() - 2);
+  const double t = x - static_cast<double>(i);
+  return table[i] + t * (table[i + 1] - table[i]);
+}
+
+// γ [rad] where the increasing table reaches `value` (the first such γ).
+double inverse(const std::vector<double>& table, double value) {
+  const double h = kPi / static_cast<double>(table.size() - 1);
+  if (value <= table.front()) return 0.0;
+  if (value >= table.back()) {
+    std::size_t i = table.size() - 1;
+    while (i > 0 && table[i - 1] >= table.back()) --i;
+    return h * static_cast<double>(i);
+  }
+  const std::size_t i = static_cast<std::size_t>(std::lower_bound(table.begin(), table.end(), value) - table.begin());
+  const double a = table[i - 1], b = table[i];
+  const double t = b > a ? (value - a) / (b - a) : 0.0;
+  return h * (static_cast<double>(i - 1) + t);
+}
+
+std::string deg(double rad) { return format_number(rad / kDeg, 4) + "°"; }
+
+}  // namespace
+
+double rotational_intensity(const photometry::Distribution& expanded, double gamma_deg) {
+  if (expanded.horizontal_deg.size() <= 2) return photometry::interpolate(expanded, 0.0, gamma_deg);
+  double sum = 0.0;
+  const int planes = 72;
+  for (int i = 0; i < planes; ++i) sum += photometry::interpolate(expanded, 5.0 * i, gamma_deg);
+  return sum / planes;
+}
+
+photometry::Distribution rotational_distribution(const std::vector<double>& gamma_deg,
+                                                 const std::vector<double>& candela) {
+  photometry::Distribution d;
+  d.type = photometry::PhotometricType::C;
+  d.symmetry = photometry::Symmetry::Rotational;
+  d.horizontal_deg = {0.0};
+  d.vertical_deg = gamma_deg;
+  d.candela = candela;
+  d.absolute = true;
+  d.lamps.push_back(photometry::LampSet{});
+  d.lamps.back().flux_lm = photometry::kNaN;
+  return d;
+}
+
+Result<ReflectorDesign> design_reflector(const photometry::Distribution& emitter_in,
+                                         const photometry::Distribution& target_in,
+                                         const ReflectorDesignOptions& o) {
+  if (!(o.from_deg >= 0.0 && o.to_deg <= 180.0 && o.from_deg < o.to_deg))
+    return make_error("the cone must be FROM,TO with 0 ≤ FROM < TO ≤ 180 (degrees from the nadir)");
+  if (o.nodes < 4) return make_error("the profile needs at least 4 points");
+  const photometry::Distribution emitter = photometry::expand_symmetry(emitter_in);
+  const photometry::Distribution target = photometry::expand_symmetry(target_in);
+  const double from = o.from_deg * kDeg, to = o.to_deg * kDeg;
+
+  std::vector<double> is(kFine), it(kFine), direct(kFine), inside(kFine);
+  for (std::size_t i = 0; i < kFine; ++i) {
+    const double g = 180.0 * static_cast<double>(i) / static_cast<double>(kFine - 1);
+    is[i] = rotational_intensity(emitter, g);
+    it[i] = rotational_intensity(target, g);
+  }
+  // The emitter's light inside the cone and below it, on the fine grid (a
+  // cone edge between samples splits that sample's interval).
+  const std::vector<double> emitted = cumulative(is);
+  ReflectorDesign out;
+  out.emitter_flux_lm = emitted.back();
+  out.cone_flux_lm = at(emitted, to) - at(emitted, from);
+  out.direct_flux_lm = at(emitted, from);
+  if (!(out.cone_flux_lm > 1e-9 * out.emitter_flux_lm) || !(out.emitter_flux_lm > 0.0))
+    return make_error("the emitter sends no light into the cone " + deg(from) + " … " + deg(to) +
+                      ", which the reflector would catch");
+  for (std::size_t i = 0; i < kFine; ++i) {
+    const double g = kPi * static_cast<double>(i) / static_cast<double>(kFine - 1);
+    direct[i] = g < from ? is[i] : 0.0;
+  }
+  const double target_flux = cumulative(it).back();
+  if (!(target_flux > 0.0)) return make_error("the target emits no light");
+  if (!(o.reflectance > 0.0 && o.reflectance <= 1.0)) return make_error("the reflectance must lie in (0, 1]");
+  const double reflected_lm = o.reflectance * out.cone_flux_lm;
+  out.target_scale = o.absolute ? 1.0 : (out.direct_flux_lm + reflected_lm) / target_flux;
+  // What the reflector must add; where the target asks less than the direct
+  // light, no reflector can take light away.
+  std::vector<double> reflected(kFine);
+  double worst = 0.0, worst_at = 0.0;
+  for (std::size_t i = 0; i < kFine; ++i) {
+    reflected[i] = out.target_scale * it[i] - direct[i];
+    if (-reflected[i] > worst) {
+      worst = -reflected[i];
+      worst_at = kPi * static_cast<double>(i) / static_cast<double>(kFine - 1);
+    }
+  }
+  std::vector<double> deficit(kFine);
+  for (std::size_t i = 0; i < kFine; ++i) deficit[i] = std::max(-reflected[i], 0.0);
+  const double deficit_lm = cumulative(deficit).back();
+  if (deficit_lm > 0.01 * reflected_lm)
+    return make_error("the target asks for less light than the emitter sends there directly (at γ = " + deg(worst_at) +
+                      ": " + format_number(out.target_scale * at(it, worst_at)) + " cd against " +
+                      format_number(at(direct, worst_at)) + " cd direct; " + format_number(deficit_lm) +
+                      " lm in all): a reflector can only add light. Widen the cone the reflector catches (a smaller "
+                      "FROM in --cone) or give a target with more light there");
+  for (double& v : reflected) v = std::max(v, 0.0);
+  const std::vector<double> g = cumulative(reflected);
+  if (!(g.back() > 0.0)) return make_error("the target leaves nothing for the reflector to add to the direct light");
+  if (o.absolute) {
+    const double asked = g.back();
+    if (std::abs(asked - reflected_lm) > 0.01 * reflected_lm)
+      return make_error("the target asks the reflector for " + format_number(asked) + " lm beyond the direct light, "
+                        "but it reflects " + format_number(reflected_lm) + " lm of what the emitter sends into the cone " +
+                        deg(from) + " … " + deg(to) + (asked > reflected_lm ? ": more flux than the emitter has there"
+                                                                            : ": the rest would have nowhere to go") +
+                        " (change the cone, or drop --absolute to design the target's shape)");
+  }
+  out.target_from_deg = inverse(g, 0.0) / kDeg;
+  out.target_to_deg = inverse(g, g.back()) / kDeg;
+
+  // The map θ → φ.
+  const double f_from = at(emitted, from), f_cone = out.cone_flux_lm, g_total = g.back();
+  const double sign = o.map == ReflectorMap::Uncrossed ? 1.0 : -1.0;
+  auto phi_of = [&](double theta) {
+    const double u = std::clamp((at(emitted, theta) - f_from) / f_cone, 0.0, 1.0);
+    return sign * inverse(g, (1.0 - u) * g_total);
+  };
+  // RK4 from θ_to down to θ_from on d(ln r)/dθ = cot((φ − θ)/2).
+  const int n = std::max(o.steps, o.nodes);
+  const int per_node = (n + o.nodes - 2) / (o.nodes - 1);
+  const int steps = per_node * (o.nodes - 1);
+  const double h = (to - from) / steps;
+  out.theta.resize(static_cast<std::size_t>(steps) + 1);
+  out.phi.resize(out.theta.size());
+  out.r.resize(out.theta.size());
+  auto slope = [&](double theta) {
+    const double half = 0.5 * (phi_of(theta) - theta);
+    return std::cos(half) / std::sin(half);
+  };
+  // φ − θ must keep its sign over the cone.
+  double first_sign = 0.0;
+  for (int i = 0; i <= steps; ++i) {
+    const double theta = from + h * i;
+    const double d = phi_of(theta) - theta;
+    const double s = d > 0.0 ? 1.0 : -1.0;
+    if (std::abs(d) < 1e-9 || (first_sign != 0.0 && s != first_sign))
+      return make_error("the map sends the ray at θ = " + deg(theta) + " back along itself (φ = " +
+                        deg(phi_of(theta)) + "): a reflector there would have to pass through the source or run to "
+                        "infinity. Choose the crossed map (--map crossed) or another cone (--cone)");
+    first_sign = s;
+  }
+  double y = std::log(o.distance_m);
+  for (int i = steps; i >= 0; --i) {
+    const double theta = from + h * i;
+    const auto k = static_cast<std::size_t>(i);
+    out.theta[k] = theta;
+    out.phi[k] = phi_of(theta);
+    out.r[k] = std::exp(y);
+    if (i == 0) break;
+    // The slope depends on θ alone, so RK4 is Simpson's rule over each step (downward in θ).
+    const double k1 = slope(theta), k2 = slope(theta - 0.5 * h), k4 = slope(theta - h);
+    y -= h * (k1 + 4.0 * k2 + k4) / 6.0;
+    if (!std::isfinite(y) || y > std::log(o.distance_m) + 30.0)
+      return make_error("the profile runs to infinity near θ = " + deg(theta) + ": the map turns the ray there by "
+                        "almost nothing");
+  }
+  for (int j = 0; j < o.nodes; ++j) {
+    const auto k = static_cast<std::size_t>(j * per_node);
+    out.profile.theta.push_back(out.theta[k]);
+    out.profile.r.push_back(out.r[k]);
+  }
+  return out;
+}
+
+photometry::Distribution linear_map_target(const photometry::Distribution& emitter_in, double k, double c,
+                                           double from_deg, double to_deg, double step_deg) {
+  const photometry::Distribution emitter = photometry::expand_symmetry(emitter_in);
+  std::vector<double> gamma, candela;
+  const int n = static_cast<int>(std::lround(180.0 / step_deg));
+  const double from = from_deg * kDeg, to = to_deg * kDeg;
+  for (int i = 0; i <= n; ++i) {
+    const double gd = 180.0 * i / n;
+    const double gr = std::max(gd * kDeg, 1e-7);
+    double v = gd < from_deg ? rotational_intensity(emitter, gd) : 0.0;
+    for (double sgn : {1.0, -1.0}) {  // φ = ±γ
+      const double theta = (sgn * gr - c) / k;
+      if (theta >= from - 1e-12 && theta <= to + 1e-12)
+        v += rotational_intensity(emitter, theta / kDeg) * std::sin(theta) / (std::abs(k) * std::sin(gr));
+    }
+    gamma.push_back(gd);
+    candela.push_back(v);
+  }
+  return rotational_distribution(gamma, candela);
+}
+
+io::TomlNode reflector_design_document(const ReflectorDesign& design, const std::string& emitter_file,
+                                       double reflectance, const std::string& name) {
+  io::TomlNode doc = toml_table();
+  toml_set(doc, "length_unit", toml_string("mm"));
+  io::TomlNode mirror = toml_table();
+  toml_set(mirror, "mirror", toml_number(reflectance));
+  io::TomlNode materials = toml_table();
+  toml_set(materials, "reflector", std::move(mirror));
+  toml_set(doc, "materials", std::move(materials));
+  io::TomlNode emitter = toml_table();
+  toml_set(emitter, "name", toml_string("emitter"));
+  toml_set(emitter, "position", toml_array({toml_number(0.0), toml_number(0.0), toml_number(0.0)}));
+  toml_set(emitter, "profile", toml_string(emitter_file));
+  toml_set(doc, "emitters", toml_array({std::move(emitter)}));
+  io::TomlNode reflector = toml_table();
+  toml_set(reflector, "name", toml_string(name));
+  toml_set(reflector, "material", toml_string("reflector"));
+  toml_set(reflector, "profile", toml_string("polar"));
+  std::vector<io::TomlNode> theta, r;
+  for (std::size_t i = 0; i < design.profile.theta.size(); ++i) {
+    // Rounded to what the file needs: 1e-9 of a degree, 1 nm.
+    theta.push_back(toml_number(std::round(design.profile.theta[i] / kDeg * 1e9) / 1e9));
+    const double mm = std::round(design.profile.r[i] * 1e9) / 1e6;
+    r.push_back(toml_variable(mm, std::round(0.8 * mm * 1e6) / 1e6, std::round(1.25 * mm * 1e6) / 1e6));
+  }
+  toml_set(reflector, "theta_deg", toml_array(std::move(theta)));
+  toml_set(reflector, "r", toml_array(std::move(r)));
+  toml_set(doc, "reflectors", toml_array({std::move(reflector)}));
+  return doc;
+}
+
+double linear_map_r(double k, double c, double theta, double to, double distance_m) {
+  auto f = [&](double t) { return std::pow(std::abs(std::sin(((k - 1.0) * t + c) / 2.0)), 2.0 / (k - 1.0)); };
+  return distance_m * f(theta) / f(to);
+}
+
+}  // namespace gonio::design

@@ -1,0 +1,92 @@
+// Direct design of a reflector of revolution for a point source and a
+// rotationally symmetric target (`gonio design reflector`, docs/design.md).
+//
+// Angles: θ is the emitter's γ (from the nadir, −Z) of a ray leaving the
+// source at the origin; φ the γ of the reflected ray, signed in the meridian
+// half-plane of the reflector point: φ > 0 on the point's own side of the
+// axis, φ < 0 across it.
+//
+// 1. The emitter's intensity I_s(θ) and the target's T(φ) are averaged over C.
+// 2. Light the reflector does not catch leaves directly: D(φ) = I_s(φ) for
+//    φ < θ_from. The reflector must add R(φ) = s·T(φ) − D(φ), where s scales
+//    the target to the flux that leaves (direct + reflectance × the cone's; or s = 1 with
+//    `absolute`, where the target's candela are meant as they are). A target
+//    below the direct light somewhere (R < 0, by more than 1 % of the
+//    reflected flux in all) cannot be made by adding light: an error says where.
+// 3. The energy-conserving map: |φ(θ)| = G⁻¹(1 − F(θ)), F the emitter's
+//    cumulative flux over the cone [θ_from, θ_to], G the cumulative of R
+//    from φ = 0: the cone's inner edge goes to the target's outer edge.
+//    Uncrossed: φ ≥ 0, φ decreasing in θ (reflected rays diverge as from a
+//    virtual image, like a hyperbola's); crossed: φ ≤ 0, φ increasing in θ
+//    (reflected rays cross the axis and each other, like an ellipse's).
+// 4. The profile: d(ln r)/dθ = cot((φ − θ)/2), integrated with RK4 from
+//    r(θ_to) = distance toward θ_from on a fine grid. Where φ − θ changes sign
+//    the profile would pass through the source or run to infinity: an error
+//    (uncrossed maps only; a crossed map has φ − θ < 0 throughout).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "design/revolved.h"
+#include "io/model/toml_tree.h"
+#include "photometry/diagnostics.h"
+#include "photometry/distribution.h"
+
+namespace gonio::design {
+
+enum class ReflectorMap { Uncrossed, Crossed };
+
+struct ReflectorDesignOptions {
+  double from_deg = 45.0;   // the emitter cone the reflector catches: θ from…
+  double to_deg = 180.0;    // …to [deg]
+  ReflectorMap map = ReflectorMap::Uncrossed;
+  double distance_m = 0.02;  // r(θ_to) [m]
+  int nodes = 61;            // the polar table's points (the design file's variables)
+  int steps = 20000;         // RK4 steps over the cone
+  bool absolute = false;     // the target's candela as they are, not scaled to the flux that leaves
+  double reflectance = 1.0;  // of the mirror: the reflected flux is reflectance × the cone's
+};
+
+struct ReflectorDesign {
+  PolarProfile profile;                // the table: `nodes` points over the cone [rad, m]
+  std::vector<double> theta, phi, r;   // the fine solution: steps + 1 points [rad, rad, m]
+  double emitter_flux_lm = 0.0;        // the emitter's, all directions
+  double cone_flux_lm = 0.0;           // into the cone, which the reflector catches
+  double direct_flux_lm = 0.0;         // θ < θ_from
+  double target_scale = 1.0;           // s
+  double target_from_deg = 0.0, target_to_deg = 0.0;  // where R > 0: the reflected light's |φ| range
+};
+
+// Designs the profile; errors say why no reflector of this kind can give
+// the target (without a file or line: the caller names its inputs).
+Result<ReflectorDesign> design_reflector(const photometry::Distribution& emitter,
+                                         const photometry::Distribution& target,
+                                         const ReflectorDesignOptions& options);
+
+// The design file of a designed reflector (design/design_file.h), lengths in
+// millimetres: [materials.reflector] a specular mirror of `reflectance`, one
+// emitter at the origin with the profile `emitter_file` (a path relative to
+// the design file), and [[reflectors]] `name` with the polar table, each r a
+// variable bounded to [0.8 r, 1.25 r] for an optimiser to refine.
+io::TomlNode reflector_design_document(const ReflectorDesign& design, const std::string& emitter_file,
+                                       double reflectance, const std::string& name);
+
+// The mean over C of a distribution's intensity at γ [cd].
+double rotational_intensity(const photometry::Distribution& expanded, double gamma_deg);
+
+// A rotationally symmetric Type C distribution with these intensities on γ
+// (increasing, 0…180) [deg, cd]: targets made from formulas.
+photometry::Distribution rotational_distribution(const std::vector<double>& gamma_deg,
+                                                 const std::vector<double>& candela);
+
+// The exact case: the intensity a linear map φ = kθ + c (signed, as above)
+// makes of the emitter's light caught over [from, to] (I_t(|φ|) =
+// I_s(θ)·sin θ/(|k|·|sin φ|)) plus the direct light below `from`, on a γ grid
+// of `step_deg`; and the reflector r(θ) = r₀·|sin(((k − 1)θ + c)/2)|^(2/(k − 1))
+// with r(to) = distance.
+photometry::Distribution linear_map_target(const photometry::Distribution& emitter, double k, double c_rad,
+                                           double from_deg, double to_deg, double step_deg = 0.05);
+double linear_map_r(double k, double c_rad, double theta, double to_rad, double distance_m);
+
+}  // namespace gonio::design

@@ -1,0 +1,46 @@
+// A TOML document as plain data: the one place toml++ is read
+// (io/model/toml_tree.cpp is the only file that includes it). The CAD sidecar
+// (io/model/parts_file.h) and design files (design/design_file.h) walk this
+// tree, so that both speak one vocabulary and every node keeps its line for
+// messages.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "photometry/diagnostics.h"
+
+namespace gonio::io {
+
+struct TomlNode {
+  enum class Type { Table, Array, String, Integer, Float, Boolean, Other };
+  Type type = Type::Table;
+  int line = 0;                // 1-based; 0 where the node was made, not read
+  std::string string;          // String; Other (dates, times): its TOML text
+  std::int64_t integer = 0;    // Integer
+  double floating = 0.0;       // Float
+  bool boolean = false;        // Boolean
+  // Table: its keys in the order toml++ keeps them (sorted by key).
+  std::vector<std::pair<std::string, TomlNode>> table;
+  std::vector<TomlNode> array;  // Array
+
+  bool is_table() const { return type == Type::Table; }
+  bool is_array() const { return type == Type::Array; }
+  bool is_string() const { return type == Type::String; }
+  bool is_array_of_tables() const;
+  // Integer or Float as a double; nothing for other types.
+  std::optional<double> number() const;
+  // A table's member; null where absent (or not a table).
+  const TomlNode* get(std::string_view key) const;
+  TomlNode* get(std::string_view key);
+};
+
+// Parses TOML text; errors name `name`, the line and the column ("not a
+// readable TOML file: …").
+Result<TomlNode> parse_toml(std::string_view text, const std::string& name);
+
+}  // namespace gonio::io

@@ -1,0 +1,270 @@
+// gonio design: optics from a target distribution (docs/design.md).
+//
+//   gonio design reflector --emitter FILE --target FILE|FORMULA --out DIR
+//                [--cone FROM,TO] [--map uncrossed|crossed] [--distance MM]
+//                [--nodes N] [--reflectance R] [--absolute] [--name NAME]
+//                [--photons N] [--seed S] [--threads T] [--gamma-step DEG]
+//
+// A reflector of revolution for a point source at the origin (the emitter's
+// file in the luminaire's photometric frame) and a rotationally symmetric
+// target (both averaged over C): design/reflector_design.h computes the
+// profile. DIR gets NAME.design.toml (the polar table as variables), the
+// emitter's file beside it, NAME.gltf and NAME.bin, target.ies (the target
+// as designed against), and the design traced by app::simulate: NAME.ies,
+// NAME.ldt and report.json, the run's report with a "design" section: the
+// inputs, the fluxes, the map, the profile, and the traced distribution
+// against the target (gonio compare's figures, flux-normalised, and the
+// beam angles).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "design/design_export.h"
+#include "design/design_file.h"
+#include "design/reflector_design.h"
+#include "io/model/cad.h"
+#include "io/photometric/photometric_file.h"
+#include "io/support/file_io.h"
+#include "io/support/text.h"
+#include "photometry/beam.h"
+#include "photometry/compare.h"
+#include "photometry/format.h"
+#include "tools/cli/cli.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/simulate_command.h"
+#include "tools/run/json_figures.h"
+#include "tools/run/photometric_input.h"
+#include "tools/run/photometric_report.h"
+#include "tools/run/simulate.h"
+
+namespace gonio::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// "A,B" as two numbers.
+bool two_numbers(const std::string& text, double& a, double& b) {
+  const std::size_t comma = text.find(',');
+  if (comma == std::string::npos) return false;
+  const std::optional<double> x = io::parse_number(text.substr(0, comma));
+  const std::optional<double> y = io::parse_number(text.substr(comma + 1));
+  if (!x || !y) return false;
+  a = *x;
+  b = *y;
+  return true;
+}
+
+// A target formula: uniform:FROM,TO | cos:N,TO | linear:K,C (C in degrees).
+// Nothing where `text` is not one (a file, then).
+std::optional<Result<photometry::Distribution>> target_formula(const std::string& text,
+                                                               const photometry::Distribution& emitter,
+                                                               const design::ReflectorDesignOptions& o) {
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) return std::nullopt;
+  const std::string kind = text.substr(0, colon);
+  if (kind != "uniform" && kind != "cos" && kind != "linear") return std::nullopt;
+  double a = 0, b = 0;
+  if (!two_numbers(text.substr(colon + 1), a, b))
+    return Result<photometry::Distribution>(
+        make_error("--target " + io::shown(text) + ": write " + kind + ":A,B with two numbers"));
+  if (kind == "linear") {
+    if (a == 0.0 || a == 1.0)
+      return Result<photometry::Distribution>(make_error("--target linear:K,C: K must be neither 0 nor 1"));
+    return Result<photometry::Distribution>(
+        design::linear_map_target(emitter, a, b * std::numbers::pi / 180.0, o.from_deg, o.to_deg, 0.01));
+  }
+  const double to = b, from = kind == "uniform" ? a : 0.0;
+  if (!(from >= 0.0 && to > from && to <= 180.0) || (kind == "cos" && !(a >= 0.0)))
+    return Result<photometry::Distribution>(make_error(
+        "--target " + io::shown(text) + ": uniform:FROM,TO needs 0 ≤ FROM < TO ≤ 180, cos:N,TO needs N ≥ 0, 0 < TO ≤ 180"));
+  std::vector<double> gamma, candela;
+  for (int i = 0; i <= 3600; ++i) {
+    const double g = 0.05 * i;
+    gamma.push_back(g);
+    const bool in = g >= from - 1e-9 && g <= to + 1e-9;
+    candela.push_back(!in ? 0.0 : kind == "uniform" ? 1000.0 : 1000.0 * std::pow(std::max(std::cos(g * std::numbers::pi / 180.0), 0.0), a));
+  }
+  return Result<photometry::Distribution>(design::rotational_distribution(gamma, candela));
+}
+
+int fail(const std::string& message) {
+  print_error("design: " + message);
+  return kExitFailure;
+}
+
+}  // namespace
+
+int run_design(const Args& args) {
+  const auto start = std::chrono::steady_clock::now();
+  std::string kind, emitter_path, target_text, out_dir, cone = "45,180", map = "uncrossed", name = "reflector";
+  double distance_mm = 20.0, reflectance = 1.0, gamma_step = 1.0;
+  long long nodes = 61, photons = 2'000'000, seed = 1, threads = 0;
+  bool absolute = false;
+  ArgParser p("design", "reflector --emitter FILE --target FILE|FORMULA --out DIR [options]",
+              "Designs a reflector of revolution that turns a point source's light into a\n"
+              "rotationally symmetric target (both averaged over C): the energy-conserving map\n"
+              "from the emitter's cone to the target's, and the profile from the reflector\n"
+              "equation d(ln r)/dθ = cot((φ − θ)/2). Writes DIR/NAME.design.toml (the profile's\n"
+              "polar table as variables), the emitter's file beside it, DIR/NAME.gltf,\n"
+              "DIR/target.ies, and the design traced: DIR/NAME.ies, DIR/NAME.ldt and\n"
+              "DIR/report.json with the design's figures against the target. A target no\n"
+              "reflector can give is an error saying why. FORMULA: uniform:FROM,TO (constant\n"
+              "intensity over γ FROM…TO), cos:N,TO (cosⁿγ to TO), linear:K,C (the exact case\n"
+              "φ = Kθ + C° of the emitter over the cone, with its direct light).");
+  p.positional("KIND", &kind, "what to design: reflector");
+  p.option("emitter", &emitter_path, "FILE", "the point source's photometric file (IES, LDT, TM-33), nadir −Z");
+  p.option("target", &target_text, "FILE|FORMULA", "the target distribution: a photometric file or a formula");
+  p.option("out", &out_dir, "DIR", "output directory (created if missing)");
+  p.option("cone", &cone, "FROM,TO", "the emitter's γ range the reflector catches [deg] (default 45,180)");
+  p.option("map", &map, "uncrossed|crossed",
+           "uncrossed: reflected rays stay on their side of the axis (default); crossed: they cross it");
+  p.option("distance", &distance_mm, 0.001, 1e6, "MM", "the reflector's distance from the source at TO (default 20)");
+  p.option("nodes", &nodes, 4, 10000, "N", "points of the profile's polar table (default 61)");
+  p.option("reflectance", &reflectance, 1e-6, 1.0, "R", "the mirror's specular reflectance (default 1)");
+  p.flag("absolute", &absolute, "take the target's candela as they are, not scaled to the flux that leaves");
+  p.option("name", &name, "NAME", "the reflector's and the files' name (default reflector)");
+  p.option("photons", &photons, 1, 4'294'967'295LL, "N", "photons of the trace (default 2000000)");
+  p.option("seed", &seed, 0, 9'223'372'036'854'775'807LL, "S", "seed of the trace (default 1)");
+  p.option("threads", &threads, 0, 4096, "T", "threads of the trace (default 0: all cores)");
+  p.option("gamma-step", &gamma_step, 0.1, 90.0, "DEG", "γ step of the traced files and the comparison (default 1)");
+  if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
+  if (kind != "reflector") {
+    print_usage_error("design", p,
+                      kind == "lens" ? "lenses are not designed yet; only 'reflector'" : "KIND must be 'reflector'");
+    return kExitUsage;
+  }
+  for (auto [value, option] : {std::pair{&emitter_path, "--emitter FILE"}, std::pair{&target_text, "--target"},
+                               std::pair{&out_dir, "--out DIR"}})
+    if (value->empty()) {
+      print_usage_error("design", p, std::string(option) + " is required");
+      return kExitUsage;
+    }
+  design::ReflectorDesignOptions o;
+  if (!two_numbers(cone, o.from_deg, o.to_deg) || !(o.from_deg >= 0 && o.from_deg < o.to_deg && o.to_deg <= 180)) {
+    print_usage_error("design", p, "--cone " + io::shown(cone) + ": give FROM,TO in degrees, 0 ≤ FROM < TO ≤ 180");
+    return kExitUsage;
+  }
+  if (map != "uncrossed" && map != "crossed") {
+    print_usage_error("design", p, "--map must be uncrossed or crossed");
+    return kExitUsage;
+  }
+  if (name.empty() || name.find_first_of("/\\*?[]") != std::string::npos) {
+    print_usage_error("design", p, "--name must be a plain name (no / \\ * ? [ ])");
+    return kExitUsage;
+  }
+  o.map = map == "crossed" ? design::ReflectorMap::Crossed : design::ReflectorMap::Uncrossed;
+  o.distance_m = distance_mm * 1e-3;
+  o.nodes = static_cast<int>(nodes);
+  o.absolute = absolute;
+  o.reflectance = reflectance;
+
+  Result<io::PhotometricFile> emitter = app::read_input(emitter_path, app::InputOptions{}, false);
+  if (!emitter.ok()) return kExitFailure;
+  photometry::Distribution target;
+  if (std::optional<Result<photometry::Distribution>> formula = target_formula(target_text, emitter->distribution, o)) {
+    if (!formula->ok()) {
+      print_usage_error("design", p, formula->error().message);
+      return kExitUsage;
+    }
+    target = std::move(formula->value());
+  } else {
+    Result<io::PhotometricFile> file = app::read_input(target_text, app::InputOptions{}, false);
+    if (!file.ok()) return kExitFailure;
+    target = std::move(file->distribution);
+  }
+  Result<design::ReflectorDesign> d = design::design_reflector(emitter->distribution, target, o);
+  if (!d.ok()) return fail("no reflector gives this target: " + d.error().message);
+
+  // The design's files.
+  if (Status s = io::make_directories(out_dir); !s.ok()) return fail(to_string(s.error()));
+  const std::string emitter_copy = "emitter" + fs::path(emitter_path).extension().string();
+  Result<std::string> emitter_bytes = io::read_file(emitter_path, std::size_t{256} << 20);
+  if (!emitter_bytes.ok()) return fail(to_string(emitter_bytes.error()));
+  if (Status s = io::write_file_atomic((fs::path(out_dir) / emitter_copy).string(), *emitter_bytes); !s.ok())
+    return fail(to_string(s.error()));
+  const std::string design_path = (fs::path(out_dir) / (name + ".design.toml")).string();
+  const io::TomlNode document = design::reflector_design_document(*d, emitter_copy, reflectance, name);
+  const std::string text = design::write_design(
+      document, {"A reflector designed by gonio design reflector (docs/design.md).",
+                 "Emitter " + fs::path(emitter_path).filename().string() + ", target " + target_text + ", cone " + cone +
+                     "°, map " + map + "."});
+  if (Status s = io::write_file_atomic(design_path, text); !s.ok()) return fail(to_string(s.error()));
+  const std::string target_path = (fs::path(out_dir) / "target.ies").string();
+  if (Status s = io::write_photometric_file(target_path, target, {}, nullptr); !s.ok()) return fail(to_string(s.error()));
+  Result<design::Design> written = design::read_design_file(design_path);
+  if (!written.ok()) return fail(to_string(written.error()));
+  const std::string gltf_path = (fs::path(out_dir) / (name + ".gltf")).string();
+  if (Status s = design::write_design_gltf(*written, gltf_path, io::tessellation_for_grid(gamma_step)); !s.ok())
+    return fail(to_string(s.error()));
+
+  // The trace.
+  app::SimulateOptions options;
+  options.out_dir = out_dir;
+  options.stem = name;
+  options.format_list = "ies,ldt";
+  options.photons = photons;
+  options.iterations = 1;
+  options.seed = seed;
+  options.threads = threads;
+  options.gamma_step = gamma_step;
+  options.no_cache = true;
+  std::optional<app::SimulatePlan> plan = plan_or_usage("design", design_path, options, p);
+  if (!plan) return kExitUsage;
+  std::optional<app::SimulateResult> result = app::simulate(*plan, {}, start);
+  if (!result || !result->files) return kExitFailure;
+  const int code = print_run_files(*plan, result->run, *result->files);
+
+  // Against the target.
+  const std::string traced_path = (fs::path(out_dir) / (name + ".ies")).string();
+  Result<io::PhotometricFile> traced = app::read_input(traced_path, app::InputOptions{}, false);
+  if (!traced.ok()) return kExitFailure;
+  photometry::CompareOptions compare;
+  compare.gamma_step_deg = 90.0 / std::round(90.0 / gamma_step);
+  compare.normalize_flux = true;
+  Result<photometry::Comparison> cmp = photometry::compare(target, traced->distribution, compare);
+  if (!cmp.ok()) return fail(cmp.error().message);
+  const double beam_target = photometry::beam_angle(target, 0.0).angle_deg;
+  const double beam_traced = photometry::beam_angle(traced->distribution, 0.0).angle_deg;
+  io::PhotometricFile target_file;
+  target_file.distribution = target;
+  nlohmann::json against = app::compare_json(target_path, target_file, traced_path, *traced, *cmp, compare);
+  against["beam_angle_target_deg"] = app::json_number(beam_target);
+  against["beam_angle_traced_deg"] = app::json_number(beam_traced);
+  nlohmann::json profile = {{"theta_deg", nlohmann::json::array()}, {"r_mm", nlohmann::json::array()}};
+  for (std::size_t i = 0; i < d->profile.theta.size(); ++i) {
+    profile["theta_deg"].push_back(d->profile.theta[i] * 180.0 / std::numbers::pi);
+    profile["r_mm"].push_back(d->profile.r[i] * 1e3);
+  }
+  nlohmann::json report = result->files->report;
+  report["design"] = {{"kind", "reflector"},
+                      {"emitter", emitter_path},
+                      {"target", target_text},
+                      {"map", map},
+                      {"cone_deg", {o.from_deg, o.to_deg}},
+                      {"distance_mm", distance_mm},
+                      {"reflectance", reflectance},
+                      {"absolute", absolute},
+                      {"emitter_flux_lm", d->emitter_flux_lm},
+                      {"cone_flux_lm", d->cone_flux_lm},
+                      {"direct_flux_lm", d->direct_flux_lm},
+                      {"target_scale", d->target_scale},
+                      {"reflected_gamma_deg", {d->target_from_deg, d->target_to_deg}},
+                      {"files", {design_path, emitter_copy, gltf_path, target_path}},
+                      {"profile", profile},
+                      {"against_target", against}};
+  if (Status s = io::write_file_atomic(result->files->report_path, report.dump(2) + "\n"); !s.ok())
+    return fail(to_string(s.error()));
+  std::printf("design: %s (%zu points, map %s, cone %s°), %s, target.ies\n", design_path.c_str(),
+              d->profile.theta.size(), map.c_str(), cone.c_str(), gltf_path.c_str());
+  std::printf("against the target: RMS %s %% of its peak, largest %s %%, beam angle %s° (target %s°)\n",
+              format_number(100.0 * cmp->rms_relative, 3).c_str(), format_number(100.0 * cmp->max_relative, 3).c_str(),
+              format_number(beam_traced, 4).c_str(), format_number(beam_target, 4).c_str());
+  return code;
+}
+
+}  // namespace gonio::cli
