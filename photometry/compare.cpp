@@ -38,6 +38,19 @@ double difference(const BeamSpread& a, const BeamSpread& b) { return b.angle_deg
 
 }  // namespace
 
+bool same_angles(const Distribution& a, const Distribution& b) {
+  if (a.type != b.type) return false;
+  const auto same = [](const std::vector<double>& x, const std::vector<double>& y) {
+    if (x.size() != y.size()) return false;
+    for (std::size_t k = 0; k < x.size(); ++k)
+      if (std::abs(x[k] - y[k]) > 1e-6) return false;
+    return true;
+  };
+  if (!same(a.vertical_deg, b.vertical_deg)) return false;
+  if (a.symmetry == b.symmetry && same(a.horizontal_deg, b.horizontal_deg)) return true;
+  return same(expand_symmetry(a).horizontal_deg, expand_symmetry(b).horizontal_deg);
+}
+
 Result<Comparison> compare(const Distribution& a, const Distribution& b,
                            const CompareOptions& options) {
   TypeCGrid grid;

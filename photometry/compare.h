@@ -46,6 +46,12 @@ struct Comparison {
   double field_difference_c90_c270_deg = kNaN;
 };
 
+// Whether a and b are given on the same angles (to 1e-6°) over the whole
+// sphere: the same type, vertical angles and C-planes once each file's
+// symmetry is expanded. Where they differ, compare() interpolates both onto
+// its common grid, and its figures hold the interpolation's error too.
+bool same_angles(const Distribution& a, const Distribution& b);
+
 // Compares B against the reference A. Errors: a grid the options cannot
 // describe (see to_type_c()). Requires validate() of both to be ok.
 Result<Comparison> compare(const Distribution& a, const Distribution& b,

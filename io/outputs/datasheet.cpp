@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <sstream>
 #include <string_view>
@@ -626,31 +627,95 @@ void make_pdf_deterministic(std::string& pdf) {
       }
     }
   }
-  // The structure ids: every "(node" + digits + ")", renumbered by rank.
+  // The structure ids: Chromium names the tagged structure's elements by its
+  // session's DOM node ids, whose order shifts from run to run (an element's
+  // id may fall above its neighbour's in one run and below it in the next),
+  // while the objects they name are laid out the same way every time. So the
+  // ids are renumbered by the objects they name in the ID tree (/IDTree's
+  // /Names: "(id) N 0 R" pairs sorted by id): 0 up in the order of the
+  // objects, each in its old width. The tree's pairs are then put back in the
+  // order of the new ids (the same pairs, so the same length and offsets)
+  // and its /Limits name the first and the last.
   constexpr std::string_view kNode = "(node";
-  struct Id {
-    std::size_t at, digits;
-    unsigned long long value;
-  };
-  std::vector<Id> ids;
-  for (std::size_t at = pdf.find(kNode); at != std::string::npos; at = pdf.find(kNode, at + 1)) {
+  const auto parse_id = [&pdf, kNode](std::size_t at, std::size_t* digits, unsigned long long* value) {
+    // at: the '(' of "(node"; true for "(node" + 1 to 19 digits + ")".
+    if (pdf.compare(at, kNode.size(), kNode) != 0) return false;
     std::size_t end = at + kNode.size();
     unsigned long long v = 0;
     while (end < pdf.size() && end - at - kNode.size() < 19 && std::isdigit(static_cast<unsigned char>(pdf[end])))
       v = v * 10 + static_cast<unsigned long long>(pdf[end++] - '0');
-    const std::size_t digits = end - at - kNode.size();
-    if (digits > 0 && end < pdf.size() && pdf[end] == ')') ids.push_back({at + kNode.size(), digits, v});
+    *digits = end - at - kNode.size();
+    *value = v;
+    return *digits > 0 && end < pdf.size() && pdf[end] == ')';
+  };
+  const std::size_t names = pdf.find("/Names [(node");
+  if (names == std::string::npos || pdf.find("/Names [(node", names + 1) != std::string::npos) return;
+  struct Pair {
+    unsigned long long id;
+    std::size_t digits;
+    unsigned long long object;
+    std::string text;  // "(nodeX) N 0 R"
+  };
+  std::vector<Pair> pairs;
+  const std::size_t first = names + std::string_view("/Names [").size();
+  std::size_t at = first;
+  for (;;) {
+    Pair q{};
+    if (!parse_id(at, &q.digits, &q.id)) return;
+    std::size_t end = at + kNode.size() + q.digits + 1;
+    if (end >= pdf.size() || pdf[end] != ' ') return;
+    std::size_t num = end + 1;
+    while (num < pdf.size() && std::isdigit(static_cast<unsigned char>(pdf[num])))
+      q.object = q.object * 10 + static_cast<unsigned long long>(pdf[num++] - '0');
+    if (num == end + 1 || pdf.compare(num, 4, " 0 R") != 0) return;
+    end = num + 4;
+    q.text = pdf.substr(at, end - at);
+    pairs.push_back(std::move(q));
+    if (end < pdf.size() && pdf[end] == ']') break;
+    if (end >= pdf.size() || pdf[end] != ' ') return;
+    at = end + 1;
   }
-  std::vector<unsigned long long> values;
-  for (const Id& id : ids) values.push_back(id.value);
-  std::sort(values.begin(), values.end());
-  values.erase(std::unique(values.begin(), values.end()), values.end());
-  for (const Id& id : ids) {
-    // Distinct values from 0 up: a rank is never above its value, so it fits the digits.
-    std::string rank = std::to_string(std::lower_bound(values.begin(), values.end(), id.value) - values.begin());
-    if (rank.size() > id.digits) continue;
-    rank.insert(0, id.digits - rank.size(), '0');
-    pdf.replace(id.at, id.digits, rank);
+  const std::size_t last = at + pairs.back().text.size();  // the ']'
+  std::vector<Pair> by_object = pairs;
+  std::stable_sort(by_object.begin(), by_object.end(),
+                   [](const Pair& x, const Pair& y) { return x.object < y.object; });
+  std::map<unsigned long long, std::string> renamed;  // old id → new digits
+  for (std::size_t k = 0; k < by_object.size(); ++k) {
+    std::string n = std::to_string(k);
+    if (n.size() > by_object[k].digits || !renamed.emplace(by_object[k].id, std::string()).second) return;
+    n.insert(0, by_object[k].digits - n.size(), '0');
+    renamed[by_object[k].id] = n;
+  }
+  // Every "(nodeX)" of the file that the tree names.
+  for (std::size_t p = pdf.find(kNode); p != std::string::npos; p = pdf.find(kNode, p + 1)) {
+    std::size_t digits = 0;
+    unsigned long long value = 0;
+    if (!parse_id(p, &digits, &value)) continue;
+    const auto r = renamed.find(value);
+    if (r != renamed.end() && r->second.size() == digits) pdf.replace(p + kNode.size(), digits, r->second);
+  }
+  // The tree's pairs in the order of their new ids: the order of the objects.
+  std::string sorted;
+  for (const Pair& q : by_object) {
+    if (!sorted.empty()) sorted += ' ';
+    sorted += "(node" + renamed[q.id] + q.text.substr(kNode.size() + q.digits);
+  }
+  if (sorted.size() == last - first) pdf.replace(first, sorted.size(), sorted);
+  // "/Limits [(first) (last)]" of the same node of the tree.
+  const std::size_t limits = pdf.rfind("/Limits [(node", names);
+  if (limits != std::string::npos && names - limits < 128) {
+    const std::size_t lo = limits + std::string_view("/Limits [").size();
+    std::size_t lo_digits = 0, hi_digits = 0;
+    unsigned long long lo_value = 0, hi_value = 0;
+    if (parse_id(lo, &lo_digits, &lo_value)) {
+      const std::size_t hi = lo + kNode.size() + lo_digits + 2;
+      if (parse_id(hi, &hi_digits, &hi_value)) {
+        const std::string& a = renamed[by_object.front().id];
+        const std::string& b = renamed[by_object.back().id];
+        if (a.size() == lo_digits) pdf.replace(lo + kNode.size(), lo_digits, a);
+        if (b.size() == hi_digits) pdf.replace(hi + kNode.size(), hi_digits, b);
+      }
+    }
   }
 }
 

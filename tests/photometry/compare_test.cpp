@@ -112,6 +112,28 @@ TEST(Compare, DifferentTypesAndGridsOfOneFunction) {
   }
 }
 
+// Mistakes it catches: symmetry not expanded (a quadrant file and its full
+// copy on the same angles would read as different), a vertical list or a
+// type not compared, a tolerance so loose that 0.1° apart reads the same.
+TEST(Compare, SameAnglesOverTheWholeSphere) {
+  const Distribution full = asymmetric();
+  EXPECT_TRUE(same_angles(full, full));
+  const auto lobe = [](double c, double g) { return g < 90 ? 100 + c * 0.0 + g : 1.0; };
+  const Distribution quadrant = sample_c(Symmetry::Quadrant, angles(0, 90, 5), angles(0, 180, 2.5), lobe);
+  const Distribution whole = sample_c(Symmetry::None, angles(0, 360, 5), angles(0, 180, 2.5), lobe);
+  EXPECT_TRUE(same_angles(quadrant, whole));
+  const Distribution finer = sample_c(Symmetry::None, angles(0, 360, 5), angles(0, 180, 1.25), lobe);
+  EXPECT_FALSE(same_angles(whole, finer));
+  Distribution shifted = whole;
+  shifted.vertical_deg[1] += 0.1;
+  EXPECT_FALSE(same_angles(whole, shifted));
+  const Distribution coarser_c = sample_c(Symmetry::None, angles(0, 360, 10), angles(0, 180, 2.5), lobe);
+  EXPECT_FALSE(same_angles(whole, coarser_c));
+  Distribution type_b = whole;
+  type_b.type = PhotometricType::B;
+  EXPECT_FALSE(same_angles(whole, type_b));
+}
+
 TEST(Compare, BadOptionsAreErrors) {
   const Distribution a = asymmetric();
   CompareOptions o;

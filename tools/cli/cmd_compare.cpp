@@ -46,19 +46,6 @@ std::string signed_degrees(double v) {
 // Whether two distributions were measured on the same angles: the same type
 // and vertical angles, and the same planes once each is expanded over the
 // whole circle by its symmetry (to 1e-6°).
-bool same_angles(const photometry::Distribution& a, const photometry::Distribution& b) {
-  if (a.type != b.type) return false;
-  const auto same = [](const std::vector<double>& x, const std::vector<double>& y) {
-    if (x.size() != y.size()) return false;
-    for (std::size_t k = 0; k < x.size(); ++k)
-      if (std::abs(x[k] - y[k]) > 1e-6) return false;
-    return true;
-  };
-  if (!same(a.vertical_deg, b.vertical_deg)) return false;
-  if (a.symmetry == b.symmetry && same(a.horizontal_deg, b.horizontal_deg)) return true;
-  return same(photometry::expand_symmetry(a).horizontal_deg, photometry::expand_symmetry(b).horizontal_deg);
-}
-
 std::string angle_counts(const photometry::Distribution& d) {
   const photometry::Distribution full = photometry::expand_symmetry(d);
   return std::to_string(full.horizontal_deg.size()) + " planes x " + std::to_string(d.vertical_deg.size()) +
@@ -143,10 +130,9 @@ int run_compare(const Args& args) {
 
   // Files on different angles are each interpolated onto the common grid:
   // the comparison then holds the interpolation's error too.
-  const bool grids_differ = !same_angles(a->distribution, b->distribution);
+  const bool grids_differ = !photometry::same_angles(a->distribution, b->distribution);
   if (json_out) {
     nlohmann::json j = app::compare_json(file_a, *a, file_b, *b, c, options);
-    j["grids_differ"] = grids_differ;
     if (!plot.empty()) j["plot"] = plot;
     std::printf("%s\n", j.dump(2).c_str());
     return kExitOk;

@@ -285,6 +285,8 @@ nlohmann::json compare_json(const std::string& path_a, const io::PhotometricFile
   j["b"] = {{"path", path_b}, {"format", io::format_label(b)}, {"flux_lm", c.flux_b_lm}};
   j["grid"] = {{"c_step_deg", options.c_step_deg}, {"gamma_step_deg", options.gamma_step_deg}};
   j["normalized"] = options.normalize_flux;
+  // Files on different angles are each interpolated onto the common grid.
+  j["grids_differ"] = !photometry::same_angles(a.distribution, b.distribution);
   j["scale_b"] = c.scale;
   j["reference_cd"] = c.reference_cd;
   j["rms_relative"] = c.rms_relative;
