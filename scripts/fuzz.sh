@@ -8,9 +8,9 @@
 # photometries inside), the TM-25 ray-file reader, the measured-BSDF
 # readers (BSDF XML: Klems matrices and tensor trees; goniometer CSV),
 # Gonio's own scan of a STEP file before OpenCASCADE reads it (stepscan:
-# the header and the reference check, thousands of executions a second) and
-# the whole STEP reader (step: OpenCASCADE in process, where the build has
-# it, a few executions a second). The two STEP harnesses share one
+# the header and the reference check, about a thousand executions a
+# second) and the whole STEP reader (step: OpenCASCADE in process, where
+# the build has it, a few executions a second). The two STEP harnesses share one
 # harness's time (below) and libFuzzer's dictionary tests/fuzz/step.dict.
 # Fails on any finding (crash, sanitizer report, leak, timeout, broken round
 # trip) and names the input that caused it (build-fuzz/findings/); a fault
@@ -251,7 +251,7 @@ fuzz_one() {
 # The harnesses of one lane, one after another. Each gets SECONDS (or its
 # $runs executions, where they come sooner), but for the two STEP harnesses,
 # which share one harness's time in the same lane: the scan (stepscan),
-# thousands of executions a second on Gonio's own code, a third of it;
+# about a thousand executions a second on Gonio's own code, a third of it;
 # OpenCASCADE's harness (step), a few executions a second, what is left of
 # the lane's budget (SECONDS per harness, the two counted as one) when its
 # turn comes, and never less than the other two thirds: the time harnesses
