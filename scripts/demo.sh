@@ -1,5 +1,9 @@
 #!/usr/bin/env bash
-# README command (1): installs what is missing, builds, and runs the main job:
+# README command (1): installs what the main job needs and is missing
+# (scripts/setup.sh --main: the build tools and the libraries gonio needs,
+# not what the tests need), builds gonio and the samples (scripts/build.sh
+# --main: a new build/ without the test programs and benchmarks, which
+# command (2) adds), and runs the main job:
 # the bell sample (an opal pendant, samples/bell) traced end to end into the
 # files a light-planning program reads, each read back and checked.
 #
@@ -10,8 +14,8 @@
 # 1 % of the converged distribution.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-bash scripts/build.sh --target gonio gonio_samples
+bash scripts/setup.sh --main
+bash scripts/build.sh --main --target gonio gonio_samples
 gonio=./build/tools/gonio
 "$gonio" --version
 

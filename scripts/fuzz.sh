@@ -6,8 +6,12 @@
 # reader, the glTF loader (.gltf and .glb, with buffers and light profiles),
 # the TM-33 reader (XML), the GLDF reader (ZIP, product.xml and the
 # photometries inside), the TM-25 ray-file reader, the measured-BSDF
-# readers (BSDF XML: Klems matrices and tensor trees; goniometer CSV) and
-# the STEP reader (OpenCASCADE in process, where the build has it).
+# readers (BSDF XML: Klems matrices and tensor trees; goniometer CSV),
+# Gonio's own scan of a STEP file before OpenCASCADE reads it (stepscan:
+# the header and the reference check, about a thousand executions a
+# second) and the whole STEP reader (step: OpenCASCADE in process, where
+# the build has it, a few executions a second). The two STEP harnesses share one
+# harness's time (below) and libFuzzer's dictionary tests/fuzz/step.dict.
 # Fails on any finding (crash, sanitizer report, leak, timeout, broken round
 # trip) and names the input that caused it (build-fuzz/findings/); a fault
 # inside OpenCASCADE (STEP harness) fails only where gonio, which runs it in
@@ -20,7 +24,10 @@
 # tests (gonio_io_tests and gonio_model_tests run once with
 # $GONIO_FUZZ_SEEDS set, in build/). What the fuzzer finds new stays in
 # build-fuzz/corpus/ for the next run.
-# $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33, gldf, tm25, bsdf or step) runs one harness.
+# $GONIO_FUZZ_ONLY (ies, ldt, gltf, tm33, gldf, tm25, bsdf, stepscan or step;
+# several separated by spaces) runs those harnesses only. $GONIO_FUZZ_STEP_SEEDS,
+# a folder, adds the STEP files in it to the STEP harnesses' seeds (the
+# CAx-IF files of docs/cad.md, fetched for a local campaign, never committed).
 #
 # Runs repeat: libFuzzer's random seed is $GONIO_FUZZ_SEED, by default a
 # hash of the committed code (not of README.md or docs/); each harness
@@ -38,8 +45,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 jobs=$(nproc 2>/dev/null || echo 2)
-harnesses=(ies ldt gltf tm33 gldf tm25 bsdf step)
-if [ -n "${GONIO_FUZZ_ONLY:-}" ]; then harnesses=("$GONIO_FUZZ_ONLY"); fi
+harnesses=(ies ldt gltf tm33 gldf tm25 bsdf stepscan step)
+if [ -n "${GONIO_FUZZ_ONLY:-}" ]; then read -ra harnesses <<<"$GONIO_FUZZ_ONLY"; fi
 
 bash scripts/setup.sh
 
@@ -56,7 +63,7 @@ cmake --build build-fuzz -j"$jobs" --target "${harnesses[@]/#/gonio_fuzz_}"
 echo "== seeds"
 seeds=build-fuzz/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds"/{ies,ldt,gltf,tm33,gldf,tm25,bsdf,step} build-fuzz/findings
+mkdir -p "$seeds"/{ies,ldt,gltf,tm33,gldf,tm25,bsdf,stepscan,step} build-fuzz/findings
 corpus=${GONIO_CORPUS:-../shared/corpus}
 if [ -d "$corpus" ]; then
   find "$corpus" -type f -iname '*.ies' -exec cp {} "$seeds/ies/" \;
@@ -99,15 +106,20 @@ done
 convert "$seeds/tm33/downlight-ies.xml" "$seeds/gldf/downlight-xml.gldf"
 GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_model_tests --gtest_brief=1 \
   --gtest_filter='Gltf*' >/dev/null
-# STEP: the CAD test parts FreeCAD and OpenCASCADE's DRAW write
-# (tests/cad/, made by the CAD suite in build/test-data/cad/) and the suite's
-# hand-made broken files.
-if [[ " ${harnesses[*]} " == *" step "* ]]; then
+# STEP (both harnesses): the CAD test parts FreeCAD and OpenCASCADE's DRAW
+# write (tests/cad/, made by the CAD suite in build/test-data/cad/) and the
+# suite's hand-made broken files.
+if [[ " ${harnesses[*]} " == *" step "* || " ${harnesses[*]} " == *" stepscan "* ]]; then
   bash scripts/build.sh --target gonio_cad_tests >/dev/null
   GONIO_FUZZ_SEEDS="$PWD/$seeds" ./build/tests/gonio_cad_tests --gtest_brief=1 \
     --gtest_filter='CadHostile*:CadStep.FreeCad*:StepReferences*' >/dev/null
   find build/test-data/cad -maxdepth 1 -type f \( -name '*.step' -o -name '*.igs' \) -size -400k \
     -exec cp {} "$seeds/step/" \;
+  if [ -n "${GONIO_FUZZ_STEP_SEEDS:-}" ]; then
+    find "$GONIO_FUZZ_STEP_SEEDS" -maxdepth 1 -type f \( -iname '*.stp' -o -iname '*.step' \) -size -512k \
+      -exec cp {} "$seeds/step/" \;
+  fi
+  find "$seeds/step" -type f -exec cp {} "$seeds/stepscan/" \;
 fi
 # Each sample model with its buffer as the side file (tests/fuzz/gltf_fuzzer.cpp).
 for model in build/samples/*/*.gltf; do
@@ -131,7 +143,7 @@ if [ -z "$seed" ]; then
   seed=$((16#$code))
 fi
 runs=${GONIO_FUZZ_RUNS:-150000}
-echo "fuzz: seed $seed, at most $runs executions or ${seconds} s per harness (GONIO_FUZZ_SEED=$seed repeats this run)"
+echo "fuzz: seed $seed, at most $runs executions or ${seconds} s per harness, the two STEP harnesses ${seconds} s together (GONIO_FUZZ_SEED=$seed repeats this run)"
 
 # A run repeats only where the addresses it sees repeat: comparisons of
 # pointers feed libFuzzer's comparison-guided mutations. So the harnesses
@@ -179,14 +191,20 @@ contained() {
 # One harness: its run, and the next seeds after contained OpenCASCADE
 # faults; 1 on a finding.
 fuzz_one() {
-  local h=$1 log max_len lsan started left round rc execs last finding verdict
-  echo "== fuzz $h (${seconds} s)"
+  local h=$1 time=$2 log max_len lsan started left round rc execs last finding verdict dict
+  echo "== fuzz $h (${time} s)"
   mkdir -p "build-fuzz/corpus/$h"
   log="build-fuzz/fuzz-$h.log"
   # Inputs up to 128 KiB (the largest corpus file is 100 KB; the unit tests
-  # cover the huge ones), models with their buffer up to 512 KiB.
+  # cover the huge ones), models with their buffer up to 512 KiB. The STEP
+  # scan's up to 4 KiB (the seeds' first 4 KiB: the header and some 60
+  # entities): it costs about 100 ns a byte under libFuzzer's comparison
+  # tracing, so whole parts would make it five times slower (docs/cad.md).
   max_len=131072
   if [ "$h" = gltf ] || [ "$h" = step ]; then max_len=524288; fi
+  if [ "$h" = stepscan ]; then max_len=4096; fi
+  dict=()
+  if [ "$h" = step ] || [ "$h" = stepscan ]; then dict=(-dict=tests/fuzz/step.dict); fi
   # OpenCASCADE keeps singletons alive to the end (its document application,
   # its messenger): LeakSanitizer is told to ignore what its libraries hold.
   lsan=()
@@ -195,13 +213,13 @@ fuzz_one() {
     lsan=(LSAN_OPTIONS=suppressions="$PWD/build-fuzz/lsan-occt.supp")
   fi
   started=$(date +%s)
-  left=$seconds
+  left=$time
   round=0
   while :; do
     set +e
     "${fixed[@]}" "${lsan[@]}" "${arch[@]}" "./build-fuzz/tests/fuzz/gonio_fuzz_$h" "build-fuzz/corpus/$h" "$seeds/$h" \
       -seed="$((seed + round))" -runs="$runs" -reload=0 -entropic=0 -max_total_time="$left" -timeout=25 -rss_limit_mb=4096 \
-      -max_len="$max_len" -print_final_stats=1 -artifact_prefix="build-fuzz/findings/$h-" >"$log" 2>&1
+      -max_len="$max_len" "${dict[@]}" -print_final_stats=1 -artifact_prefix="build-fuzz/findings/$h-" >"$log" 2>&1
     rc=$?
     set -e
     # Executions, coverage (edges) and features at the end, from libFuzzer's
@@ -217,7 +235,7 @@ fuzz_one() {
       echo "fuzz: step: a fault inside OpenCASCADE (${verdict#* }), contained by gonio-cad; the input is $finding"
       cp "$log" "build-fuzz/fuzz-$h-contained-$round.log"
       round=$((round + 1))
-      left=$((seconds - ($(date +%s) - started)))
+      left=$((time - ($(date +%s) - started)))
       if [ "$left" -lt 5 ]; then rc=0; break; fi
       continue
     fi
@@ -230,19 +248,51 @@ fuzz_one() {
   fi
   return 0
 }
+# The harnesses of one lane, one after another. Each gets SECONDS (or its
+# $runs executions, where they come sooner), but for the two STEP harnesses,
+# which share one harness's time in the same lane: the scan (stepscan),
+# about a thousand executions a second on Gonio's own code, a third of it;
+# OpenCASCADE's harness (step), a few executions a second, what is left of
+# the lane's budget (SECONDS per harness, the two counted as one) when its
+# turn comes, and never less than the other two thirds: the time harnesses
+# before it saved by reaching $runs early (tm25 in CI) goes to it, and the
+# lane ends when it would have ended with eight harnesses.
 lane() {
-  local h st=0
-  for h in "$@"; do fuzz_one "$h" || st=1; done
+  local h st=0 both=0 slots=$# started scan_time step_time
+  if [[ " $* " == *" stepscan "* && " $* " == *" step "* ]]; then
+    both=1
+    slots=$((slots - 1))
+  fi
+  scan_time=$seconds
+  if [ "$both" = 1 ]; then scan_time=$(((seconds + 2) / 3)); fi
+  started=$(date +%s)
+  for h in "$@"; do
+    case $h in
+      stepscan) fuzz_one "$h" "$scan_time" || st=1 ;;
+      step)
+        step_time=$seconds
+        if [ "$both" = 1 ]; then
+          step_time=$((slots * seconds - ($(date +%s) - started)))
+          if [ "$step_time" -lt $((seconds - scan_time)) ]; then step_time=$((seconds - scan_time)); fi
+        fi
+        fuzz_one "$h" "$step_time" || st=1
+        ;;
+      *) fuzz_one "$h" "$seconds" || st=1 ;;
+    esac
+  done
   return "$st"
 }
 
 # Two harnesses at a time, one per core (each is one process), in two
-# lanes whose output is shown when both have ended; alone where the machine
-# has one core or one harness is asked for.
+# lanes whose output is shown when both have ended, the two STEP harnesses
+# (last in the list) in the same one; alone where the machine has one core
+# or one harness is asked for.
 status=0
 n=${#harnesses[@]}
-if [ "$jobs" -ge 2 ] && [ "$n" -ge 2 ]; then
-  half=$(((n + 1) / 2))
+slots=$n
+if [[ " ${harnesses[*]} " == *" stepscan "* && " ${harnesses[*]} " == *" step "* ]]; then slots=$((n - 1)); fi
+if [ "$jobs" -ge 2 ] && [ "$slots" -ge 2 ]; then
+  half=$(((slots + 1) / 2))
   lane "${harnesses[@]:0:half}" >build-fuzz/lane-1.log 2>&1 &
   first=$!
   lane "${harnesses[@]:half}" >build-fuzz/lane-2.log 2>&1 &

@@ -1,29 +1,70 @@
 #!/usr/bin/env bash
-# Installs what Gonio needs to build and test from Debian 12's packages, and
-# nothing when everything is already there. Needs root (or sudo) only when
-# something is missing.
+# Installs what Gonio needs from Debian 12's packages, and nothing when
+# everything is already there. Needs root (or sudo) only when something is
+# missing.
+#
+#   scripts/setup.sh --main   what README command (1), scripts/demo.sh, needs:
+#                             the build tools, the libraries the Release
+#                             build's configure step requires and `gonio`,
+#                             gonio_png.so and the samples link, and the
+#                             programs gonio runs for the main job's files
+#   scripts/setup.sh [--all]  that and the rest, for command (2),
+#                             scripts/test.sh: the tests, benchmarks, fuzzers,
+#                             CAD, MPI, Python, the live page's client, PDF
+#
+# Each package is named once, in the first list that needs it; --all
+# installs both. The sizes of each on a fresh Debian 12 are in
+# docs/install.md ("What the two commands install").
 set -euo pipefail
 
-packages=(
+mode=all
+case "${1:-}" in
+  --main) mode=main ;;
+  --all | "") mode=all ;;
+  *)
+    echo "setup: unknown option $1 (--main or --all)" >&2
+    exit 2
+    ;;
+esac
+
+# Command (1): cmake/GonioDependencies.cmake's REQUIRED packages (with
+# openimageio-tools, which OpenImageIO's CMake package needs, and
+# colord-data, whose CIE tables cmake/cie_cmf.cmake reads at configure
+# time), the build tools, and gnuplot, which draws the intensity diagram
+# `simulate` writes (fonts-dejavu-core for its text, as the .deb recommends).
+main_packages=(
   cmake ninja-build g++ pkg-config ccache
-  help2man dpkg-dev file man-db
   libembree-dev libopenexr-dev libopenimageio-dev openimageio-tools
   libcgal-dev libtinygltf-dev libtbb-dev nlohmann-json3-dev
+  libcpp-httplib-dev libpugixml-dev libzip-dev libxxhash-dev libtomlplusplus-dev
+  colord-data
+  gnuplot-nox fonts-dejavu-core
+)
+
+# Command (2) also: GoogleTest and Google Benchmark (GONIO_BUILD_TESTS and
+# GONIO_BUILD_BENCHMARKS), the optional parts of the build (MPI, OpenCASCADE
+# for STEP and IGES, the Python module, man pages), the sanitizer and fuzz
+# builds (clang, libFuzzer, llvm-symbolizer), and what the tests run: the
+# package test (dpkg-dev, file, man-db), the PDF datasheet (chromium,
+# poppler-utils), the CAD parts' writers (freecad, occt-draw), the Slurm
+# scripts' cluster (munge, slurm), the Python tests, the code-size check.
+test_packages=(
+  help2man dpkg-dev file man-db
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin
-  gnuplot-nox fonts-dejavu-core
-  libcpp-httplib-dev chromium poppler-utils
-  libpugixml-dev libzip-dev libxml2-utils libxxhash-dev
+  libxml2-utils
+  chromium poppler-utils
   clang-14 libfuzzer-14-dev llvm-14
-  colord-data
   munge slurmctld slurmd slurm-client
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
   universal-ctags
   libocct-data-exchange-dev libocct-ocaf-dev libocct-modeling-algorithms-dev
   libocct-modeling-data-dev libocct-foundation-dev libocct-visualization-dev
-  libtomlplusplus-dev
   freecad occt-draw libocct-draw-dev
 )
+
+packages=("${main_packages[@]}")
+if [ "$mode" = all ]; then packages+=("${test_packages[@]}"); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -35,7 +76,8 @@ done
 # node and npm for the three.js client test (tests/client): any node with
 # its npm will do (a NodeSource nodejs bundles npm, and Debian's npm package
 # would conflict with it), so Debian's are installed only when none is there.
-if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+# Command (2) only.
+if [ "$mode" = all ] && { ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; }; then
   missing+=(nodejs npm)
 fi
 

@@ -1,6 +1,7 @@
 #include "io/model/step_references.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <unordered_map>
 #include <utility>
@@ -213,6 +214,13 @@ std::string named(const Instance& in) {
 }
 
 }  // namespace
+
+bool has_step_header(std::string_view text) {
+  text = text.substr(0, 256);
+  std::size_t i = 0;
+  while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
+  return text.substr(i).substr(0, 13) == "ISO-10303-21;";
+}
 
 bool StepReferenceStats::is_shape_entity(std::uint64_t id) const {
   return std::binary_search(shape_entities.begin(), shape_entities.end(), id);

@@ -56,6 +56,11 @@ struct StepReferenceStats {
   bool is_shape_entity(std::uint64_t id) const;
 };
 
+// Whether `text`, a file's content, begins (after white space, within its
+// first 256 bytes) with STEP's ISO-10303-21 header; gonio-cad reads a file
+// without it as IGES where its name ends .igs or .iges, else refuses it.
+bool has_step_header(std::string_view text);
+
 // Checks `text`, the content of `file` (named in errors, with the line of
 // the entity concerned).
 Result<StepReferenceStats> check_step_references(std::string_view text, const std::string& file,

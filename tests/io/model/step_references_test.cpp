@@ -152,5 +152,18 @@ TEST(StepReferences, MissingTargetsAreLeftToTheReaderAndBrokenTextIsNamed) {
   }
 }
 
+TEST(StepReferences, TheHeaderIsLookedForAfterWhiteSpaceInTheFirst256Bytes) {
+  // gonio-cad reads a file without it as IGES (by its name) or refuses it.
+  EXPECT_TRUE(has_step_header(kHead));
+  EXPECT_TRUE(has_step_header(" \t\r\n\v\f" + kHead));
+  EXPECT_TRUE(has_step_header("ISO-10303-21;"));
+  EXPECT_FALSE(has_step_header("ISO-10303-21"));            // cut short
+  EXPECT_FALSE(has_step_header("iso-10303-21;\nHEADER;"));  // the keyword is upper case
+  EXPECT_FALSE(has_step_header("/* */ISO-10303-21;"));     // a comment is not white space here
+  EXPECT_FALSE(has_step_header(""));
+  EXPECT_TRUE(has_step_header(std::string(243, ' ') + "ISO-10303-21;"));  // ends at byte 256
+  EXPECT_FALSE(has_step_header(std::string(244, ' ') + "ISO-10303-21;"));
+}
+
 }  // namespace
 }  // namespace gonio::io
