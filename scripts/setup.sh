@@ -21,7 +21,7 @@ packages=(
   universal-ctags
   libocct-data-exchange-dev libocct-ocaf-dev libocct-modeling-algorithms-dev
   libocct-modeling-data-dev libocct-foundation-dev libocct-visualization-dev
-  libtomlplusplus-dev
+  libtomlplusplus-dev libnlopt-cxx-dev
   freecad occt-draw libocct-draw-dev
 )
 
