@@ -251,15 +251,13 @@ MeritValue evaluate_merit(const MeritSpec& spec, const MeritGrid& grid, const Me
   }
   m.candela_rms_pct = weights > 0.0 ? 100.0 * std::sqrt(sum / weights) / target.peak_cd : 0.0;
   m.merit = spec.candela_weight * m.candela_rms_pct + spec.lor_weight * 100.0 * (1.0 - lor);
+  m.beam_deg = flux > 0.0 ? photometry::beam_angle(merit_distribution(grid, scaled), 0.0).angle_deg
+                          : std::numeric_limits<double>::quiet_NaN();
   if (spec.beam_weight > 0.0) {
-    m.beam_deg = flux > 0.0 ? photometry::beam_angle(merit_distribution(grid, scaled), 0.0).angle_deg
-                            : std::numeric_limits<double>::quiet_NaN();
     const double miss = std::isfinite(m.beam_deg) && std::isfinite(target.beam_deg)
                             ? std::abs(m.beam_deg - target.beam_deg)
                             : 180.0;
     m.merit += spec.beam_weight * miss;
-  } else {
-    m.beam_deg = std::numeric_limits<double>::quiet_NaN();
   }
   return m;
 }

@@ -183,6 +183,18 @@ int run_optimize(const Args& args) {
     if (Status s = io::make_directories(to.parent_path().string()); !s.ok()) return fail(to_string(s.error()));
     if (Status s = io::write_file_atomic(to.string(), *bytes); !s.ok()) return fail(to_string(s.error()));
   }
+  // The [merit] table's target, where it lies in or under the design's folder,
+  // so that the best design's table names a file beside it.
+  if (!spec.target.empty()) {
+    const fs::path rel = fs::absolute(fs::path(spec.target)).lexically_normal().lexically_relative(folder);
+    if (!rel.empty() && !rel.is_absolute() && *rel.begin() != "..") {
+      Result<std::string> bytes = io::read_file(spec.target, std::size_t{256} << 20);
+      if (!bytes.ok()) return fail(to_string(bytes.error()));
+      const fs::path to = fs::path(out_dir) / rel;
+      if (Status s = io::make_directories(to.parent_path().string()); !s.ok()) return fail(to_string(s.error()));
+      if (Status s = io::write_file_atomic(to.string(), *bytes); !s.ok()) return fail(to_string(s.error()));
+    }
+  }
   const std::string evaluation_path = (fs::path(out_dir) / ".evaluation.design.toml").string();
 
   // One trace of the design at `values`: the merit of its escaped photons.

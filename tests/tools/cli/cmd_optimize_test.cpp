@@ -135,5 +135,38 @@ TEST(OptimizeCli, RefusesWhatItCannotOptimise) {
   EXPECT_EQ(scan.at("scan").size(), 3u);
 }
 
+TEST(OptimizeCli, TheMeritTableNamesItsTargetAndTerms) {
+  test::TempDir dir;
+  write_emitter(dir / "up.ies");
+  write(dir / "truth.design.toml", design_text("-1.5"));
+  ASSERT_EQ(gonio({"simulate", (dir / "truth.design.toml").string(), "--out", (dir / "t").string(), "--photons",
+                   "100000", "--iterations", "1", "--format", "ies", "--no-cache"})
+                .exit_code,
+            0);
+  write(dir / "m.design.toml", design_text("{ value = -2, min = -3, max = -1 }") +
+                                   "[merit]\ntarget = \"t/truth.design.ies\"\ngamma_step = 10\nlor = 0.1\nbeam = 0.05\n"
+                                   "gamma_weights = [[0, 40, 1], [40, 90, 0.5]]\n");
+  const fs::path out = dir / "o";
+  test::ProcessResult r = gonio({"optimize", (dir / "m.design.toml").string(), "--out", out.string(), "--stages", "1",
+                                 "--max-evals", "6", "--gamma-step", "5", "--final-photons", "20000"});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  // 19 nodes (γ every 10°, one C column) × 40 photons.
+  EXPECT_NE(r.out.find("merit grid 19 nodes (smooth), 760 photons in stage 1"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(out / "t" / "truth.design.ies"));
+  const nlohmann::json o = nlohmann::json::parse(test::read_file(out / "report.json")).at("optimize");
+  EXPECT_EQ(o.at("evaluations").get<int>(), 6);
+  EXPECT_EQ(o.at("stopped_by").get<std::string>(), "evaluations");
+  EXPECT_EQ(o.at("merit").at("weights").at("lor").get<double>(), 0.1);
+  EXPECT_EQ(o.at("merit").at("gamma_weights").size(), 2u);
+  const nlohmann::json f = o.at("final");
+  // merit = RMS + 0.1·100·(1 − LOR) + 0.05·|beam − the target's|.
+  const double expected = f.at("candela_rms_pct").get<double>() + 10.0 * (1.0 - f.at("lor").get<double>()) +
+                          0.05 * std::abs(f.at("beam_angle_deg").get<double>() -
+                                          f.at("target_beam_angle_deg").get<double>());
+  EXPECT_NEAR(f.at("merit").get<double>(), expected, 1e-9);
+  EXPECT_GT(f.at("lor").get<double>(), 0.8);
+  EXPECT_LT(f.at("lor").get<double>(), 0.9);
+}
+
 }  // namespace
 }  // namespace gonio
