@@ -27,7 +27,8 @@ struct Stage {
   double best = std::numeric_limits<double>::infinity();
   std::vector<double> best_values;
   double failed_merit = 0.0;  // what a failed evaluation counts as
-  bool cancelled = false;
+  double max_time_s = 0.0;
+  bool cancelled = false, out_of_time = false;
 };
 
 std::vector<double> values_of(const std::vector<OptimizeVariable>& v, const double* x) {
@@ -71,6 +72,10 @@ double objective(unsigned n, const double* x, double* /*grad*/, void* data) {
     s.cancelled = true;
     s.opt->force_stop();
   }
+  if (s.max_time_s > 0.0 && r.time_s >= s.max_time_s) {
+    s.out_of_time = true;
+    s.opt->force_stop();
+  }
   if (std::isfinite(r.merit)) {
     s.failed_merit = std::max(s.failed_merit, 2.0 * r.merit + 1.0);
     return r.merit;
@@ -108,6 +113,7 @@ Result<OptimizeResult> optimize(const std::vector<OptimizeVariable>& variables, 
   s.result = &result;
   s.start = std::chrono::steady_clock::now();
   s.seed = options.seed;
+  s.max_time_s = options.max_time_s;
   std::vector<double> x(n);
   for (std::size_t i = 0; i < n; ++i) x[i] = (variables[i].value - variables[i].min) / (variables[i].max - variables[i].min);
   result.stopped_by = "converged";
@@ -157,6 +163,10 @@ Result<OptimizeResult> optimize(const std::vector<OptimizeVariable>& variables, 
     if (s.cancelled) {
       result.stopped_by = "cancelled";
       return result;
+    }
+    if (s.out_of_time) {
+      result.stopped_by = "time";
+      break;
     }
   }
   // The noise floor: the best traced again with independent seeds.

@@ -41,6 +41,8 @@ struct OptimizeOptions {
   std::uint64_t start_photons = 10'000;
   std::uint64_t seed = 1;
   int noise_seeds = 4;        // ≥ 2
+  double max_time_s = 0.0;    // > 0: no stage evaluation starts after this [s]; the noise
+                              // floor's traces still run
 };
 
 // One evaluation's merit; an error (the design cannot be built or traced at
@@ -69,7 +71,7 @@ struct OptimizeResult {
   int evaluations = 0;              // of the stages
   std::uint64_t final_photons = 0;
   std::vector<EvaluationRecord> history;
-  std::string stopped_by;           // "converged", "evaluations", "cancelled"
+  std::string stopped_by;           // "converged", "evaluations", "time", "cancelled"
 };
 
 // Minimises `merit` over the variables (each with min < max and value inside).

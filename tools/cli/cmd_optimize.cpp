@@ -2,7 +2,7 @@
 // "Optimisation"; docs/commands/optimize.md).
 //
 //   gonio optimize DESIGN.design.toml --target FILE --out DIR [--method bobyqa|cobyla]
-//                  [--max-evals N] [--stages N] [--photons-per-bin N] [--no-smooth]
+//                  [--max-evals N] [--max-time S] [--stages N] [--photons-per-bin N] [--no-smooth]
 //                  [--seed S] [--threads T] [--gamma-step DEG] [--final-photons N] [--name NAME]
 //
 // Every evaluation is one app::simulate of the design at the variables'
@@ -83,7 +83,7 @@ int run_optimize(const Args& args) {
   std::string design_path, target_path, out_dir, method_name = "bobyqa", name;
   long long max_evals = 200, stages = 3, seed = 1, threads = 0, final_photons = 1'000'000;
   std::optional<double> photons_per_bin;
-  double gamma_step = 1.0;
+  double gamma_step = 1.0, max_time = 0.0;
   bool no_smooth = false;
   std::optional<std::string> scan;
   ArgParser p("optimize", "DESIGN.design.toml --target FILE --out DIR [options]",
@@ -103,6 +103,8 @@ int run_optimize(const Args& args) {
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
   p.choice("method", &method_name, {"bobyqa", "cobyla"}, "NLopt's method: bobyqa (default) or cobyla");
   p.option("max-evals", &max_evals, 1, 1'000'000, "N", "evaluations of all stages together (default 200)");
+  p.option("max-time", &max_time, 0.0, 1e7, "S",
+           "no evaluation of a stage starts after S seconds (default 0: no limit); the best so far is kept");
   p.option("stages", &stages, 1, 8, "N", "stages of growing photons and shrinking steps (default 3)");
   p.option("photons-per-bin", &photons_per_bin, 40.0, 1e6, "N",
            "the first stage's photons per merit node (default: [merit] photons_per_bin, 40)");
@@ -257,6 +259,7 @@ int run_optimize(const Args& args) {
   oo.max_evaluations = static_cast<int>(max_evals);
   oo.stages = static_cast<int>(stages);
   oo.seed = static_cast<std::uint64_t>(seed);
+  oo.max_time_s = max_time;
   oo.start_photons = static_cast<std::uint64_t>(std::ceil(spec.photons_per_bin * static_cast<double>(grid.size())));
   std::printf("optimize: %zu variables, %s, merit grid %zu nodes (%s), %llu photons in stage 1\n", variables.size(),
               design::to_string(method), grid.size(), spec.smooth ? "smooth" : "binned",
@@ -303,10 +306,12 @@ int run_optimize(const Args& args) {
   };
   const auto on_evaluation = [&](const design::EvaluationRecord& r) {
     std::string where = r.stage < 0 ? "noise" : "stage " + std::to_string(r.stage + 1);
+    const std::string left =
+        max_time > 0.0 && r.stage >= 0 ? ", " + format_number(std::max(max_time - r.time_s, 0.0), 3) + " s left" : "";
     if (std::isfinite(r.merit))
-      std::printf("optimize: %d (%s): merit %s, best %s, %llu photons, %s s\n", r.index, where.c_str(),
+      std::printf("optimize: %d (%s): merit %s, best %s, %llu photons, %s s%s\n", r.index, where.c_str(),
                   format_number(r.merit, 5).c_str(), format_number(r.best, 5).c_str(),
-                  static_cast<unsigned long long>(r.photons), format_number(r.time_s, 3).c_str());
+                  static_cast<unsigned long long>(r.photons), format_number(r.time_s, 3).c_str(), left.c_str());
     else
       std::printf("optimize: %d (%s): failed (%s), best %s\n", r.index, where.c_str(), r.error.c_str(),
                   format_number(r.best, 5).c_str());

@@ -165,6 +165,14 @@ TEST(OptimizeCli, TheMeritTableNamesItsTargetAndTerms) {
                                           f.at("target_beam_angle_deg").get<double>());
   EXPECT_NEAR(f.at("merit").get<double>(), expected, 1e-9);
   EXPECT_GT(f.at("lor").get<double>(), 0.8);
+  // A time limit stops the stages and keeps the best so far.
+  r = gonio({"optimize", (dir / "m.design.toml").string(), "--out", (dir / "timed").string(), "--max-time", "0.001",
+             "--gamma-step", "5", "--final-photons", "20000"});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find(" s left"), std::string::npos) << r.out;
+  const nlohmann::json timed = nlohmann::json::parse(test::read_file(dir / "timed" / "report.json")).at("optimize");
+  EXPECT_EQ(timed.at("stopped_by").get<std::string>(), "time");
+  EXPECT_EQ(timed.at("evaluations").get<int>(), 1);
   EXPECT_LT(f.at("lor").get<double>(), 0.9);
 }
 
