@@ -72,6 +72,10 @@ pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
 # toml++ (the CAD sidecar, io/model/parts_file.cpp only): header only.
 find_package(tomlplusplus 3 REQUIRED)
 
+# NLopt (gonio optimize's methods, design/optimize.cpp only): libnlopt-cxx-dev
+# (its C library's CMake package, target NLopt::nlopt; nlopt.hpp wraps it).
+find_package(NLopt REQUIRED)
+
 # OpenCASCADE 7.6 (STEP and IGES, io/model/step.cpp only): linked by the
 # helper program gonio-cad alone, never by gonio (~60 shared libraries at
 # every start). Debian's config includes a module's targets only where its

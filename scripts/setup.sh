@@ -37,6 +37,7 @@ main_packages=(
   libembree-dev libopenexr-dev libopenimageio-dev openimageio-tools
   libcgal-dev libtinygltf-dev libtbb-dev nlohmann-json3-dev
   libcpp-httplib-dev libpugixml-dev libzip-dev libxxhash-dev libtomlplusplus-dev
+  libnlopt-cxx-dev
   colord-data
   gnuplot-nox fonts-dejavu-core
 )

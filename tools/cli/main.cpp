@@ -25,6 +25,7 @@ const std::vector<Command> kCommands = {
     {"compare", "Compare two photometric files: RMS, peak, flux and beam differences", run_compare},
     {"bench", "Measure speed against accuracy on luminaire models (error vs time and photons)", run_bench},
     {"design", "Design a reflector from a target distribution and trace it", run_design},
+    {"optimize", "Optimise a design's variables toward a target distribution", run_optimize},
 };
 
 void print_help() {

@@ -1,0 +1,265 @@
+#include "design/merit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "io/support/text.h"
+#include "photometry/beam.h"
+#include "photometry/format.h"
+#include "photometry/frame.h"
+
+namespace gonio::design {
+namespace {
+
+using io::TomlNode;
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+Error fail(const std::string& file, int line, std::string message) {
+  return Error{{file, line, 0}, std::move(message)};
+}
+
+// Whether `step` divides `range` into a whole number of steps.
+bool divides(double step, double range) {
+  const double n = range / step;
+  return step > 0.0 && std::abs(n - std::round(n)) < 1e-9 * n && std::round(n) >= 1.0;
+}
+
+// The basis function of node j on a line of nodes x_k = k·h (tent or cell),
+// at x (the line's ends clamp nothing: the sphere's ends are γ = 0 and 180).
+double basis(double x, double node, double h, bool smooth) {
+  const double d = std::abs(x - node);
+  if (smooth) return std::max(0.0, 1.0 - d / h);
+  return d <= 0.5 * h ? 1.0 : 0.0;
+}
+
+// ∫ f(γ)·basis_j(γ)·sin γ dγ over [0, π] on the node's support, by the
+// midpoint rule on `n` pieces; f in candela, or 1 for the solid angle.
+template <typename F>
+double gamma_integral(double node, double h, bool smooth, F&& f, int n = 64) {
+  const double lo = std::max(0.0, node - (smooth ? h : 0.5 * h));
+  const double hi = std::min(std::numbers::pi, node + (smooth ? h : 0.5 * h));
+  const double dx = (hi - lo) / n;
+  double sum = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double x = lo + (k + 0.5) * dx;
+    sum += f(x) * basis(x, node, h, smooth) * std::sin(x) * dx;
+  }
+  return sum;
+}
+
+}  // namespace
+
+Result<MeritSpec> read_merit(const io::TomlNode& resolved, const std::string& path) {
+  MeritSpec spec;
+  const TomlNode* m = resolved.get("merit");
+  if (!m) return spec;
+  if (!m->is_table()) return fail(path, m->line, "'merit' must be a table ([merit])");
+  spec.line = m->line;
+  static const std::vector<std::string> known = {"target",    "c_step",          "gamma_step", "normalize",
+                                                 "smooth",    "photons_per_bin", "candela",    "gamma_weights",
+                                                 "lor",       "beam"};
+  for (const auto& [key, v] : m->table)
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
+      std::string list;
+      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+      return fail(path, v.line, "[merit]: unknown key " + io::shown(key) + " (known: " + list + ")");
+    }
+  const auto number = [&](const char* key, double& out, double lo, double hi) -> Status {
+    const TomlNode* n = m->get(key);
+    if (!n) return Ok{};
+    const std::optional<double> v = n->number();
+    if (!v || !std::isfinite(*v) || *v < lo || *v > hi)
+      return fail(path, n->line,
+                  std::string("[merit]: '") + key + "' must be a number in [" + format_number(lo) + ", " +
+                      format_number(hi) + "]");
+    out = *v;
+    return Ok{};
+  };
+  for (auto [key, out, lo, hi] : {std::tuple{"c_step", &spec.c_step_deg, 1.0, 360.0},
+                                  std::tuple{"gamma_step", &spec.gamma_step_deg, 0.5, 90.0},
+                                  std::tuple{"photons_per_bin", &spec.photons_per_bin, 40.0, 1e6},
+                                  std::tuple{"candela", &spec.candela_weight, 0.0, 1e6},
+                                  std::tuple{"lor", &spec.lor_weight, 0.0, 1e6},
+                                  std::tuple{"beam", &spec.beam_weight, 0.0, 1e6}})
+    if (Status s = number(key, *out, lo, hi); !s.ok()) return s.error();
+  if (!divides(spec.c_step_deg, 360.0))
+    return fail(path, m->get("c_step")->line, "[merit]: c_step must divide 360");
+  if (!divides(spec.gamma_step_deg, 180.0))
+    return fail(path, m->get("gamma_step")->line, "[merit]: gamma_step must divide 180");
+  if (const TomlNode* t = m->get("target")) {
+    if (!t->is_string() || t->string.empty()) return fail(path, t->line, "[merit]: 'target' must be a file name");
+    const std::filesystem::path p(t->string);
+    spec.target = p.is_absolute() ? p.string() : (std::filesystem::path(path).parent_path() / p).string();
+  }
+  if (const TomlNode* n = m->get("normalize")) {
+    if (!n->is_string() || (n->string != "flux" && n->string != "absolute"))
+      return fail(path, n->line, "[merit]: 'normalize' must be \"flux\" or \"absolute\"");
+    spec.absolute = n->string == "absolute";
+  }
+  if (const TomlNode* n = m->get("smooth")) {
+    if (n->type != TomlNode::Type::Boolean) return fail(path, n->line, "[merit]: 'smooth' must be true or false");
+    spec.smooth = n->boolean;
+  }
+  if (const TomlNode* n = m->get("gamma_weights")) {
+    if (!n->is_array()) return fail(path, n->line, "[merit]: 'gamma_weights' must be an array of [from, to, weight]");
+    for (const TomlNode& row : n->array) {
+      const int line = row.line ? row.line : n->line;
+      if (!row.is_array() || row.array.size() != 3)
+        return fail(path, line, "[merit]: each of 'gamma_weights' must be [from, to, weight]");
+      std::optional<double> v[3];
+      for (int k = 0; k < 3; ++k) v[k] = row.array[static_cast<std::size_t>(k)].number();
+      if (!v[0] || !v[1] || !v[2] || !(*v[0] >= 0.0 && *v[0] < *v[1] && *v[1] <= 180.0) || !(*v[2] >= 0.0) ||
+          !std::isfinite(*v[2]))
+        return fail(path, line, "[merit]: 'gamma_weights' rows need 0 ≤ from < to ≤ 180 and a weight ≥ 0");
+      spec.gamma_weights.push_back({*v[0], *v[1], *v[2]});
+    }
+  }
+  return spec;
+}
+
+MeritGrid merit_grid(const MeritSpec& spec) {
+  MeritGrid g;
+  g.smooth = spec.smooth;
+  const int nc = static_cast<int>(std::round(360.0 / spec.c_step_deg));
+  const int ng = static_cast<int>(std::round(180.0 / spec.gamma_step_deg));
+  for (int i = 0; i < nc; ++i) g.c_deg.push_back(i * spec.c_step_deg);
+  for (int j = 0; j <= ng; ++j) g.gamma_deg.push_back(j * spec.gamma_step_deg);
+  const double dc = 2.0 * std::numbers::pi / nc, h = spec.gamma_step_deg * kDeg;
+  std::vector<double> per_gamma;
+  for (double gamma : g.gamma_deg)
+    per_gamma.push_back(dc * gamma_integral(gamma * kDeg, h, g.smooth, [](double) { return 1.0; }));
+  for (int i = 0; i < nc; ++i) g.solid_angle_sr.insert(g.solid_angle_sr.end(), per_gamma.begin(), per_gamma.end());
+  return g;
+}
+
+std::vector<double> bin_photons(const MeritGrid& grid, const std::vector<MeritPhoton>& photons) {
+  const std::size_t nc = grid.c_deg.size(), ng = grid.gamma_deg.size();
+  std::vector<double> flux(grid.size(), 0.0);
+  const double dc = 360.0 / static_cast<double>(nc), dg = 180.0 / static_cast<double>(ng - 1);
+  for (const MeritPhoton& p : photons) {
+    const photometry::CGamma a = photometry::c_gamma_from_direction(p.direction);
+    const double u = a.gamma_rad / kDeg / dg, v = a.c_rad / kDeg / dc;
+    if (grid.smooth) {
+      const double j0 = std::clamp(std::floor(u), 0.0, static_cast<double>(ng - 2));
+      const double f = std::clamp(u - j0, 0.0, 1.0);
+      const double i0 = std::floor(v), gfrac = v - i0;
+      const std::size_t ia = static_cast<std::size_t>(i0) % nc, ib = (ia + 1) % nc;
+      const std::size_t ja = static_cast<std::size_t>(j0), jb = ja + 1;
+      flux[ia * ng + ja] += p.flux_lm * (1.0 - gfrac) * (1.0 - f);
+      flux[ia * ng + jb] += p.flux_lm * (1.0 - gfrac) * f;
+      flux[ib * ng + ja] += p.flux_lm * gfrac * (1.0 - f);
+      flux[ib * ng + jb] += p.flux_lm * gfrac * f;
+    } else {
+      const std::size_t j = std::min(static_cast<std::size_t>(std::lround(u)), ng - 1);
+      const std::size_t i = static_cast<std::size_t>(std::lround(v)) % nc;
+      flux[i * ng + j] += p.flux_lm;
+    }
+  }
+  for (std::size_t k = 0; k < flux.size(); ++k) flux[k] /= grid.solid_angle_sr[k];
+  return flux;
+}
+
+Result<MeritTarget> merit_target(const MeritGrid& grid, const photometry::Distribution& target_in) {
+  if (Status s = photometry::validate(target_in); !s.ok()) return s.error();
+  if (target_in.type != photometry::PhotometricType::C)
+    return make_error("the target must be a Type C distribution (Type A and B are not compared on a C-γ grid)");
+  const photometry::Distribution target = photometry::expand_symmetry(target_in);
+  const std::size_t nc = grid.c_deg.size(), ng = grid.gamma_deg.size();
+  const double dc = 360.0 / static_cast<double>(nc), h = (180.0 / static_cast<double>(ng - 1)) * kDeg;
+  MeritTarget t;
+  t.candela.assign(grid.size(), 0.0);
+  // Each node's value: the target averaged with the node's basis function
+  // (what the traced nodes estimate), over 8 C samples across its support
+  // (every 5° for one column).
+  for (std::size_t i = 0; i < nc; ++i) {
+    std::vector<std::pair<double, double>> cs;  // C [deg], weight
+    if (nc == 1) {
+      for (int k = 0; k < 72; ++k) cs.push_back({5.0 * k, 1.0 / 72.0});
+    } else {
+      double sum = 0.0;
+      for (int k = 0; k < 16; ++k) {
+        const double x = -1.0 + (k + 0.5) / 8.0;  // in units of ΔC, over (−1, 1)
+        const double w = grid.smooth ? 1.0 - std::abs(x) : (std::abs(x) <= 0.5 ? 1.0 : 0.0);
+        cs.push_back({std::fmod(grid.c_deg[i] + x * dc + 360.0, 360.0), w});
+        sum += w;
+      }
+      for (auto& c : cs) c.second /= sum;
+    }
+    for (std::size_t j = 0; j < ng; ++j) {
+      const double gamma = grid.gamma_deg[j] * kDeg;
+      const auto f = [&](double x) {
+        double v = 0.0;
+        for (const auto& [c, w] : cs) v += w * photometry::interpolate(target, c, x / kDeg);
+        return v;
+      };
+      const double omega = gamma_integral(gamma, h, grid.smooth, [](double) { return 1.0; });
+      t.candela[i * ng + j] = gamma_integral(gamma, h, grid.smooth, f) / omega;
+    }
+  }
+  for (std::size_t k = 0; k < t.candela.size(); ++k) {
+    t.peak_cd = std::max(t.peak_cd, t.candela[k]);
+    t.flux_lm += t.candela[k] * grid.solid_angle_sr[k];
+  }
+  if (!(t.peak_cd > 0.0)) return make_error("the target has no light on the merit's grid");
+  t.beam_deg = photometry::beam_angle(merit_distribution(grid, t.candela), 0.0).angle_deg;
+  return t;
+}
+
+photometry::Distribution merit_distribution(const MeritGrid& grid, const std::vector<double>& candela) {
+  photometry::Distribution d;
+  d.type = photometry::PhotometricType::C;
+  const std::size_t nc = grid.c_deg.size();
+  d.symmetry = nc == 1 ? photometry::Symmetry::Rotational : photometry::Symmetry::None;
+  d.horizontal_deg = grid.c_deg;
+  d.vertical_deg = grid.gamma_deg;
+  d.candela = candela;
+  if (nc > 1) {  // the closing plane at 360
+    d.horizontal_deg.push_back(360.0);
+    d.candela.insert(d.candela.end(), candela.begin(), candela.begin() + static_cast<long>(grid.gamma_deg.size()));
+  }
+  d.absolute = true;
+  d.lamps.push_back(photometry::LampSet{});
+  d.lamps.back().flux_lm = photometry::kNaN;
+  return d;
+}
+
+MeritValue evaluate_merit(const MeritSpec& spec, const MeritGrid& grid, const MeritTarget& target,
+                          const std::vector<double>& candela, double lor) {
+  MeritValue m;
+  m.lor = lor;
+  m.target_beam_deg = target.beam_deg;
+  double flux = 0.0;
+  for (std::size_t k = 0; k < candela.size(); ++k) flux += candela[k] * grid.solid_angle_sr[k];
+  const double scale = spec.absolute ? 1.0 : flux > 0.0 ? target.flux_lm / flux : 0.0;
+  const std::size_t ng = grid.gamma_deg.size();
+  double sum = 0.0, weights = 0.0;
+  std::vector<double> scaled(candela.size());
+  for (std::size_t k = 0; k < candela.size(); ++k) {
+    scaled[k] = scale * candela[k];
+    double w = spec.gamma_weights.empty() ? 1.0 : 0.0;
+    const double gamma = grid.gamma_deg[k % ng];
+    for (const GammaWeight& r : spec.gamma_weights)
+      if (gamma >= r.from_deg - 1e-9 && gamma <= r.to_deg + 1e-9) {
+        w = r.weight;
+        break;
+      }
+    const double d = scaled[k] - target.candela[k];
+    sum += w * d * d;
+    weights += w;
+  }
+  m.candela_rms_pct = weights > 0.0 ? 100.0 * std::sqrt(sum / weights) / target.peak_cd : 0.0;
+  m.merit = spec.candela_weight * m.candela_rms_pct + spec.lor_weight * 100.0 * (1.0 - lor);
+  m.beam_deg = flux > 0.0 ? photometry::beam_angle(merit_distribution(grid, scaled), 0.0).angle_deg
+                          : std::numeric_limits<double>::quiet_NaN();
+  if (spec.beam_weight > 0.0) {
+    const double miss = std::isfinite(m.beam_deg) && std::isfinite(target.beam_deg)
+                            ? std::abs(m.beam_deg - target.beam_deg)
+                            : 180.0;
+    m.merit += spec.beam_weight * miss;
+  }
+  return m;
+}
+
+}  // namespace gonio::design

@@ -1,0 +1,197 @@
+#include "design/optimize.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <nlopt.hpp>
+
+#include "photometry/format.h"
+
+namespace gonio::design {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// What the objective needs, through NLopt's void*.
+struct Stage {
+  const std::vector<OptimizeVariable>* variables = nullptr;
+  const MeritFunction* merit = nullptr;
+  const std::function<bool(const EvaluationRecord&)>* on_evaluation = nullptr;
+  OptimizeResult* result = nullptr;
+  nlopt::opt* opt = nullptr;
+  std::chrono::steady_clock::time_point start;
+  int stage = 0;
+  std::uint64_t photons = 0, seed = 0;
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<double> best_values;
+  double failed_merit = 0.0;  // what a failed evaluation counts as
+  double max_time_s = 0.0;
+  bool cancelled = false, out_of_time = false;
+};
+
+std::vector<double> values_of(const std::vector<OptimizeVariable>& v, const double* x) {
+  std::vector<double> out(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i)
+    out[i] = std::clamp(v[i].min + std::clamp(x[i], 0.0, 1.0) * (v[i].max - v[i].min), v[i].min, v[i].max);
+  return out;
+}
+
+EvaluationRecord evaluate(Stage& s, const std::vector<double>& values, std::uint64_t seed, int stage) {
+  EvaluationRecord r;
+  r.index = static_cast<int>(s.result->history.size()) + 1;
+  r.stage = stage;
+  r.values = values;
+  r.photons = s.photons;
+  r.seed = seed;
+  Result<double> m = (*s.merit)(values, s.photons, seed);
+  if (m.ok() && std::isfinite(*m)) {
+    r.merit = *m;
+  } else {
+    r.merit = kNaN;
+    r.error = m.ok() ? "the merit is not finite" : m.error().message;
+  }
+  r.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start).count();
+  return r;
+}
+
+double objective(unsigned n, const double* x, double* /*grad*/, void* data) {
+  Stage& s = *static_cast<Stage*>(data);
+  (void)n;
+  EvaluationRecord r = evaluate(s, values_of(*s.variables, x), s.seed, s.stage);
+  if (std::isfinite(r.merit) && r.merit < s.best) {
+    s.best = r.merit;
+    s.best_values = r.values;
+  }
+  r.best = s.best;
+  s.result->history.push_back(r);
+  ++s.result->evaluations;
+  if (s.result->evaluations == 1) s.result->start_merit = r.merit;
+  if (*s.on_evaluation && !(*s.on_evaluation)(r)) {
+    s.cancelled = true;
+    s.opt->force_stop();
+  }
+  if (s.max_time_s > 0.0 && r.time_s >= s.max_time_s) {
+    s.out_of_time = true;
+    s.opt->force_stop();
+  }
+  if (std::isfinite(r.merit)) {
+    s.failed_merit = std::max(s.failed_merit, 2.0 * r.merit + 1.0);
+    return r.merit;
+  }
+  return s.failed_merit > 0.0 ? s.failed_merit : 1e6;
+}
+
+}  // namespace
+
+std::optional<OptimizeMethod> parse_optimize_method(const std::string& name) {
+  if (name == "bobyqa") return OptimizeMethod::Bobyqa;
+  if (name == "cobyla") return OptimizeMethod::Cobyla;
+  return std::nullopt;
+}
+
+const char* to_string(OptimizeMethod method) { return method == OptimizeMethod::Cobyla ? "cobyla" : "bobyqa"; }
+
+Result<OptimizeResult> optimize(const std::vector<OptimizeVariable>& variables, const MeritFunction& merit,
+                                const OptimizeOptions& options,
+                                const std::function<bool(const EvaluationRecord&)>& on_evaluation) {
+  if (variables.empty()) return make_error("the design has no variables to optimise");
+  for (const OptimizeVariable& v : variables)
+    if (!(std::isfinite(v.min) && std::isfinite(v.max) && v.min < v.max && v.value >= v.min && v.value <= v.max))
+      return make_error("variable '" + v.name + "': the optimiser needs min < max with the value between them");
+  if (options.stages < 1 || options.max_evaluations < 1 || options.start_photons < 1 || options.noise_seeds < 2)
+    return make_error("the optimiser needs at least one stage, one evaluation, one photon and two noise seeds");
+  const std::size_t n = variables.size();
+  const OptimizeMethod method = options.method;
+
+  OptimizeResult result;
+  Stage s;
+  s.variables = &variables;
+  s.merit = &merit;
+  s.on_evaluation = &on_evaluation;
+  s.result = &result;
+  s.start = std::chrono::steady_clock::now();
+  s.seed = options.seed;
+  s.max_time_s = options.max_time_s;
+  std::vector<double> x(n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = (variables[i].value - variables[i].min) / (variables[i].max - variables[i].min);
+  result.stopped_by = "converged";
+  for (int stage = 0; stage < options.stages; ++stage) {
+    const int left = options.max_evaluations - result.evaluations;
+    if (left <= 0) {
+      result.stopped_by = "evaluations";
+      break;
+    }
+    const int share = std::max(1, left / (options.stages - stage));
+    nlopt::opt opt(method == OptimizeMethod::Bobyqa ? nlopt::LN_BOBYQA : nlopt::LN_COBYLA, static_cast<unsigned>(n));
+    opt.set_lower_bounds(std::vector<double>(n, 0.0));
+    opt.set_upper_bounds(std::vector<double>(n, 1.0));
+    const double step = 0.25 / std::pow(2.0, stage);
+    std::vector<double> steps(n);
+    for (std::size_t i = 0; i < n; ++i) steps[i] = std::min(step, std::max(x[i], 1.0 - x[i]) * 0.999);
+    opt.set_initial_step(steps);
+    opt.set_xtol_abs(step / 16.0);
+    opt.set_maxeval(share);
+    s.opt = &opt;
+    s.stage = stage;
+    s.photons = options.start_photons << (2 * stage);
+    s.best = std::numeric_limits<double>::infinity();
+    s.best_values.clear();
+    opt.set_min_objective(objective, &s);
+    double value = 0.0;
+    std::vector<double> start = x;
+    try {
+      const nlopt::result r = opt.optimize(start, value);
+      if (r == nlopt::MAXEVAL_REACHED && stage + 1 == options.stages) result.stopped_by = "evaluations";
+    } catch (const nlopt::forced_stop&) {
+    } catch (const nlopt::roundoff_limited&) {
+    } catch (const std::exception& e) {
+      if (s.best_values.empty()) return make_error(std::string("NLopt: ") + e.what());
+    }
+    if (s.best_values.empty()) {
+      if (s.cancelled) return make_error("cancelled before any evaluation succeeded");
+      std::string why = result.history.empty() ? "" : result.history.back().error;
+      return make_error("no evaluation of stage " + std::to_string(stage + 1) + " succeeded" +
+                        (why.empty() ? "" : ": " + why));
+    }
+    result.best_values = s.best_values;
+    result.best_merit = s.best;
+    result.final_photons = s.photons;
+    for (std::size_t i = 0; i < n; ++i)
+      x[i] = (s.best_values[i] - variables[i].min) / (variables[i].max - variables[i].min);
+    if (s.cancelled) {
+      result.stopped_by = "cancelled";
+      return result;
+    }
+    if (s.out_of_time) {
+      result.stopped_by = "time";
+      break;
+    }
+  }
+  // The noise floor: the best traced again with independent seeds.
+  std::vector<double> merits;
+  for (int k = 0; k < options.noise_seeds; ++k) {
+    const std::uint64_t seed = options.seed + 1'000'003ULL * static_cast<std::uint64_t>(k + 1);
+    EvaluationRecord r = evaluate(s, result.best_values, seed, -1);
+    r.best = result.best_merit;
+    result.history.push_back(r);
+    if (on_evaluation && !on_evaluation(r)) {
+      result.stopped_by = "cancelled";
+      break;
+    }
+    if (std::isfinite(r.merit)) merits.push_back(r.merit);
+  }
+  result.independent_merit = merits.empty() ? kNaN : merits.front();
+  if (merits.size() >= 2) {
+    double mean = 0.0, var = 0.0;
+    for (double m : merits) mean += m / static_cast<double>(merits.size());
+    for (double m : merits) var += (m - mean) * (m - mean) / static_cast<double>(merits.size() - 1);
+    result.noise_floor = std::sqrt(var);
+  } else {
+    result.noise_floor = kNaN;
+  }
+  return result;
+}
+
+}  // namespace gonio::design
