@@ -341,7 +341,7 @@ void toml_set(TomlNode& table, const std::string& key, TomlNode value) {
     *existing = std::move(value);
     return;
   }
-  table.table.emplace_back(key, std::move(value));
+  table.table.push_back(io::TomlMember{key, std::move(value)});
 }
 
 }  // namespace gonio::design

@@ -59,7 +59,10 @@ class Parser {
 };
 
 Status Parser::keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const {
-  for (const auto& [key, v] : t.table) {
+  for (const TomlMember& member : t.table) {
+    // (Named, not a structured binding: clang 14 captures no binding.)
+    const std::string& key = member.first;
+    const TomlNode& v = member.second;
     if (std::none_of(known.begin(), known.end(), [&](const char* n) { return key == n; })) {
       std::string list;
       for (const char* n : known) list += (list.empty() ? "" : ", ") + std::string(n);

@@ -13,7 +13,7 @@ TomlNode convert(const toml::node& n) {
   out.line = static_cast<int>(n.source().begin.line);
   if (const toml::table* t = n.as_table()) {
     out.type = TomlNode::Type::Table;
-    for (const auto& [k, v] : *t) out.table.emplace_back(std::string(k.str()), convert(v));
+    for (const auto& [k, v] : *t) out.table.push_back(TomlMember{std::string(k.str()), convert(v)});
   } else if (const toml::array* a = n.as_array()) {
     out.type = TomlNode::Type::Array;
     for (const toml::node& v : *a) out.array.push_back(convert(v));

@@ -16,6 +16,8 @@
 
 namespace gonio::io {
 
+struct TomlMember;
+
 struct TomlNode {
   enum class Type { Table, Array, String, Integer, Float, Boolean, Other };
   Type type = Type::Table;
@@ -25,7 +27,9 @@ struct TomlNode {
   double floating = 0.0;       // Float
   bool boolean = false;        // Boolean
   // Table: its keys in the order toml++ keeps them (sorted by key).
-  std::vector<std::pair<std::string, TomlNode>> table;
+  // (A member type of its own, not std::pair: a pair of an incomplete
+  // TomlNode is ill-formed, which clang says and GCC lets pass.)
+  std::vector<TomlMember> table;
   std::vector<TomlNode> array;  // Array
 
   bool is_table() const { return type == Type::Table; }
@@ -37,6 +41,12 @@ struct TomlNode {
   // A table's member; null where absent (or not a table).
   const TomlNode* get(std::string_view key) const;
   TomlNode* get(std::string_view key);
+};
+
+// A table's member: its key and its value.
+struct TomlMember {
+  std::string first;  // the key
+  TomlNode second;    // the value
 };
 
 // Parses TOML text; errors name `name`, the line and the column ("not a
