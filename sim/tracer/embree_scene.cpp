@@ -14,6 +14,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <mutex>
@@ -175,6 +176,13 @@ Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
     impl->packet_width = 8;
   else if (rtcGetDeviceProperty(impl->device, RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED))
     impl->packet_width = 4;
+  // For measurement only (docs/validation.md, issue 43): GONIO_PACKET_WIDTH
+  // 1, 4 or 8 caps the width (1: one rtcOccluded1 a ray, as before packets).
+  // The answers are the same at every width, so the bytes are too.
+  if (const char* cap = std::getenv("GONIO_PACKET_WIDTH"); cap && *cap) {
+    const int w = std::atoi(cap);
+    if (w == 1 || w == 4 || w == 8 || w == 16) impl->packet_width = std::min(impl->packet_width, w);
+  }
   const RTCSceneFlags flags = options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE;
   const RTCBuildQuality quality = options.quality == EmbreeSceneOptions::Quality::Low      ? RTC_BUILD_QUALITY_LOW
                                   : options.quality == EmbreeSceneOptions::Quality::Medium ? RTC_BUILD_QUALITY_MEDIUM

@@ -4,9 +4,11 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <new>
 #include <optional>
 #include <string>
 #include <tuple>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -414,6 +416,26 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
 // packets): a block's directions, queries and answers stay on the stack.
 constexpr int kConnectionBlock = 64;
 
+namespace {
+
+// kConnectionBlock elements of T left unwritten until used: a std::array
+// would store every element's default member initialisers at each vertex
+// (about 1,000 instructions for a block, measured with callgrind: more than
+// one connection costs).
+template <class T>
+class BlockScratch {
+  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+
+ public:
+  T* data() { return std::launder(reinterpret_cast<T*>(bytes_)); }
+  T& operator[](std::size_t i) { return data()[i]; }
+
+ private:
+  alignas(T) unsigned char bytes_[kConnectionBlock * sizeof(T)];
+};
+
+}  // namespace
+
 void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const Material& m,
                           const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
                           std::uint32_t mesh, bool back, unsigned lobes, double xi1, double xi2,
@@ -438,24 +460,31 @@ void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const 
   // In blocks of kConnectionBlock: the directions first, then their shadow
   // rays (one origin, so as Embree packets), then the bookings in the order
   // of k — integer sums, so the bytes are those of one ray at a time.
-  std::array<ConnectionDirection, kConnectionBlock> cds;
-  std::array<RayQuery, kConnectionBlock> queries;
+  BlockScratch<ConnectionDirection> drawn;
+  BlockScratch<RayQuery> queries;
   std::array<std::uint8_t, kConnectionBlock> blocked;
+  std::array<std::uint8_t, kConnectionBlock> which;  // the query's draw in `drawn`
   std::array<std::size_t, kConnectionBlock> slots;
+  std::array<double, kConnectionBlock> u1s, u2s;
   for (int k0 = 0; k0 < count; k0 += kConnectionBlock) {
     const int k1 = std::min(count, k0 + kConnectionBlock);
-    std::size_t n = 0;
     for (int k = k0; k < k1; ++k) {
-      const double u1 = (static_cast<double>(k) + xi1) / static_cast<double>(count);
+      u1s[static_cast<std::size_t>(k - k0)] = (static_cast<double>(k) + xi1) / static_cast<double>(count);
       double u2 = xi2 + static_cast<double>(k) * kGolden;
       u2 -= std::floor(u2);
-      const ConnectionDirection cd = connection_direction(m, frame, wi, u1, u2, lobes);
+      u2s[static_cast<std::size_t>(k - k0)] = u2;
+    }
+    connection_directions(m, frame, wi, u1s.data(), u2s.data(), static_cast<std::size_t>(k1 - k0), drawn.data(),
+                          lobes);
+    std::size_t n = 0;
+    for (int k = k0; k < k1; ++k) {
+      const ConnectionDirection& cd = drawn[static_cast<std::size_t>(k - k0)];
       if (!(cd.pdf > 0.0) || !(cd.f_cos > 0.0)) continue;
       const Vec3 o = start + (dot(cd.wo, ng) > 0.0 ? off : -off) * ng;
       const std::size_t slot = next_event_slot(mesh, back, cd.lobe);
       ++tally.connections;
       ++tally.slot_connections[slot];
-      cds[n] = cd;
+      which[n] = static_cast<std::uint8_t>(k - k0);
       slots[n] = slot;
       queries[n] = ray_query(o, cd.wo);
       ++n;
@@ -463,7 +492,7 @@ void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const 
     embree_->occluded(queries.data(), n, blocked.data());
     for (std::size_t i = 0; i < n; ++i) {
       if (blocked[i]) continue;
-      const ConnectionDirection& cd = cds[i];
+      const ConnectionDirection& cd = drawn[which[i]];
       ++tally.escaped;
       ++tally.slot_escaped[slots[i]];
       const double w = cd.f_cos / cd.pdf / static_cast<double>(count);
@@ -500,7 +529,7 @@ void Tracer::connect_images(const Vec3& p, double t, const Vec3& direction, cons
   if (colour && wavelengths_) std::tie(x, z) = colour_units(*colour);
   // The views' shadow rays share their origin: one packet a block (as
   // connect_from), booked in the order of the views.
-  std::array<RayQuery, kConnectionBlock> queries;
+  BlockScratch<RayQuery> queries;
   std::array<std::uint8_t, kConnectionBlock> blocked;
   std::array<std::size_t, kConnectionBlock> views;
   std::array<double, kConnectionBlock> fs;
