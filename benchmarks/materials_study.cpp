@@ -11,7 +11,10 @@
 // time), flux out, the peak intensity, the beam and field angles in the
 // C0–C180 plane, and the candela differences from (a) on a 5° × 2.5° grid.
 //
-// Usage: gonio_materials_study [--photons N] (default 2^21)
+// Usage: gonio_materials_study [--photons N] (default 2^21) [--skip-table]
+// (--skip-table: (a) and (b) only, without the 4 s of building (c)'s table;
+// for profiling the volume walk, docs/validation.md's issue 43 section)
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -37,6 +40,10 @@ double cpu_s() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 struct Outcome {
   double photons_per_s = 0.0, cpu_per_mphoton = 0.0, escaped_lm = 0.0;
+  // The walk, per photon: Embree queries, surface events (every mesh's
+  // hits), and the events inside volumes (a query whose free path ended
+  // inside: the queries that neither escaped nor reached a surface).
+  double rays = 0.0, surface_events = 0.0, volume_events = 0.0;
   photometry::Distribution d;
 };
 
@@ -57,7 +64,14 @@ Outcome run(const sim::SceneDesc& scene, std::uint64_t photons) {
   Outcome o;
   o.photons_per_s = sim->stats().photons_per_s();
   o.cpu_per_mphoton = (c1 - c0) / (static_cast<double>(photons) / 1e6);
-  o.escaped_lm = sim->ledger().escaped.flux_lm;
+  const sim::Ledger ledger = sim->ledger();
+  o.escaped_lm = ledger.escaped.flux_lm;
+  const double n = static_cast<double>(photons);
+  std::uint64_t hits = 0;
+  for (const sim::MeshLedger& m : ledger.meshes) hits += m.hits;
+  o.rays = static_cast<double>(sim->stats().rays) / n;
+  o.surface_events = static_cast<double>(hits) / n;
+  o.volume_events = static_cast<double>(sim->stats().rays - hits - ledger.escaped.photons) / n;
   sim::CGammaGrid grid;
   const sim::Resampler rs(s.face_size, scene.frame, grid);
   o.d = sim::to_distribution(rs.bin(sim->far_field()), photometry::Symmetry::None);
@@ -68,8 +82,11 @@ Outcome run(const sim::SceneDesc& scene, std::uint64_t photons) {
 
 int main(int argc, char** argv) {
   std::uint64_t photons = std::uint64_t{1} << 21;
-  for (int i = 1; i < argc; ++i)
+  bool skip_table = false;
+  for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--photons") == 0 && i + 1 < argc) photons = std::stoull(argv[++i]);
+    if (std::strcmp(argv[i], "--skip-table") == 0) skip_table = true;
+  }
   std::vector<Finding> findings;
   const std::string path = std::string(GONIO_SAMPLES_DIR) + "/bell/bell.gltf";
   Result<sim::SceneDesc> loaded = io::load_gltf(path, &findings);
@@ -117,7 +134,7 @@ int main(int argc, char** argv) {
   medium.ior = opal.material.ior;
   medium.thickness_m = opal.thickness_m;
   const double t0 = cpu_s();
-  auto table = std::make_shared<sim::TabulatedBsdf>(sim::sheet_bsdf(medium, 200000, 3));
+  auto table = std::make_shared<sim::TabulatedBsdf>(sim::sheet_bsdf(medium, skip_table ? 1000 : 200000, 3));
   const double table_s = cpu_s() - t0;
   {
     sim::Material m;
@@ -135,34 +152,40 @@ int main(int argc, char** argv) {
   const sim::SceneDesc* scenes[] = {&a, &b, &c};
   Outcome out[3];
   double rate[3] = {0, 0, 0}, cpu[3] = {0, 0, 0};
+  const int scenes_run = skip_table ? 2 : 3;
   for (int pass = 0; pass < 2; ++pass)
-    for (int k = 0; k < 3; ++k) {
-      const int i = pass == 0 ? k : 2 - k;
+    for (int k = 0; k < scenes_run; ++k) {
+      const int i = pass == 0 ? k : scenes_run - 1 - k;
       out[i] = run(*scenes[i], photons);
       rate[i] += out[i].photons_per_s / 2.0;
       cpu[i] += out[i].cpu_per_mphoton / 2.0;
     }
   std::printf("%-22s %12s %14s %10s %10s %10s %10s\n", "", "photons/s", "CPU s/10^6", "flux lm", "max cd",
               "beam C0", "field C0");
-  for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < scenes_run; ++i) {
     const auto beam = photometry::beam_angle(out[i].d, 0.0), field = photometry::field_angle(out[i].d, 0.0);
     double max_cd = 0.0;
     for (double v : out[i].d.candela) max_cd = std::max(max_cd, v);
     std::printf("%-22s %12.0f %14.2f %10.1f %10.2f %10.1f %10.1f\n", names[i], rate[i], cpu[i], out[i].escaped_lm,
                 max_cd, beam.angle_deg, field.angle_deg);
   }
+  std::printf("%-22s %12s %14s %14s %14s\n", "per photon", "queries", "surface events", "volume events",
+              "queries/event");
+  for (int i = 0; i < scenes_run; ++i)
+    std::printf("%-22s %12.2f %14.2f %14.2f %14.3f\n", names[i], out[i].rays, out[i].surface_events,
+                out[i].volume_events, out[i].rays / std::max(1e-9, out[i].surface_events + out[i].volume_events));
   // Candela against (a): at a few γ in C0, and the RMS relative difference
   // over the grid (bins above 1 % of the peak).
   std::printf("candela in C0 at gamma:   ");
   for (double g : {0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0}) std::printf("%8.0f", g);
   std::printf("\n");
-  for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < scenes_run; ++i) {
     std::printf("%-26s", names[i]);
     for (double g : {0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0})
       std::printf("%8.2f", photometry::interpolate(out[i].d, 0.0, g));
     std::printf("\n");
   }
-  for (int i = 1; i < 3; ++i) {
+  for (int i = 1; i < scenes_run; ++i) {
     double max_cd = 0.0;
     for (double v : out[0].d.candela) max_cd = std::max(max_cd, v);
     double sum = 0.0, worst = 0.0;

@@ -1,6 +1,7 @@
 #include "sim/bsdfs/bsdf_eval.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 
@@ -37,10 +38,18 @@ struct Vertex {
     // the ABg and tabulated lobes build their basis from the normal.
     glossy = basis_from_normal_tangent(ns, f.tangent);
     shading = basis_from_normal_tangent(ns, Vec3{});
+    wi_geometric = geometric.to_local(wi);
+    wi_glossy = glossy.to_local(wi);
+    wi_shading = shading.to_local(wi);
   }
   const Basis& basis(Lobe lobe) const {
     return diffuse(lobe) ? geometric : lobe == Lobe::Glossy ? glossy : shading;
   }
+  // wi in basis(lobe), computed once for all of a vertex's connections.
+  const Vec3& local_wi(Lobe lobe) const {
+    return diffuse(lobe) ? wi_geometric : lobe == Lobe::Glossy ? wi_glossy : wi_shading;
+  }
+  Vec3 wi_geometric, wi_glossy, wi_shading;
   // Whether wo leaves on the side of the geometry the lobe sends light to
   // (`local`: wo in the lobe's basis; the tabulated BSDF's side is its
   // own choice, the local z's sign).
@@ -57,40 +66,49 @@ struct Vertex {
 
 double weight(const Material& m, const Vertex& v, Lobe lobe) { return weight_at(m, lobe, v.cos_i); }
 
-double lobe_f_cos(const Material& m, const Vertex& v, Lobe lobe, const Vec3& wi, const Vec3& wo) {
+double lobe_f_cos(const Material& m, const Vertex& v, Lobe lobe, const Vec3& wo) {
   const Basis& b = v.basis(lobe);
   const Vec3 lo = b.to_local(wo);
   if (!v.right_side(lobe, wo, lo)) return 0.0;
-  return lobe_evaluate(m, lobe, b.to_local(wi), lo, v.front);
+  return lobe_evaluate(m, lobe, v.local_wi(lobe), lo, v.front);
 }
 
-double f_cos(const Material& m, const Vertex& v, const Vec3& wi, const Vec3& wo, unsigned lobes) {
+// The weights of kConnectable's lobes at v, 0 for a lobe not in `lobes`
+// (and for a weight that is not positive: every sum below skips those).
+using Weights = std::array<double, std::size(kConnectable)>;
+Weights weights(const Material& m, const Vertex& v, unsigned lobes) {
+  Weights w{};
+  for (std::size_t k = 0; k < std::size(kConnectable); ++k)
+    if (lobes & lobe_bit(kConnectable[k])) w[k] = std::max(0.0, weight(m, v, kConnectable[k]));
+  return w;
+}
+
+double f_cos(const Material& m, const Vertex& v, const Weights& w, const Vec3& wo) {
   double f = 0.0;
-  for (Lobe lobe : kConnectable) {
-    if (!(lobes & lobe_bit(lobe))) continue;
-    const double w = weight(m, v, lobe);
-    if (w > 0.0) f += w * lobe_f_cos(m, v, lobe, wi, wo);
-  }
+  for (std::size_t k = 0; k < std::size(kConnectable); ++k)
+    if (w[k] > 0.0) f += w[k] * lobe_f_cos(m, v, kConnectable[k], wo);
   return f;
 }
 
-double mixture_pdf(const Material& m, const Vertex& v, const Vec3& wi, const Vec3& wo, unsigned lobes) {
+double mixture_pdf(const Material& m, const Vertex& v, const Weights& w, const Vec3& wo) {
   double total = 0.0, pdf = 0.0;
-  for (Lobe lobe : kConnectable) {
-    if (!(lobes & lobe_bit(lobe))) continue;
-    const double w = weight(m, v, lobe);
-    if (!(w > 0.0)) continue;
-    total += w;
-    const Basis& b = v.basis(lobe);
-    pdf += w * lobe_pdf(m, lobe, b.to_local(wi), b.to_local(wo), v.front);
+  for (std::size_t k = 0; k < std::size(kConnectable); ++k) {
+    if (!(w[k] > 0.0)) continue;
+    total += w[k];
+    const Basis& b = v.basis(kConnectable[k]);
+    pdf += w[k] * lobe_pdf(m, kConnectable[k], v.local_wi(kConnectable[k]), b.to_local(wo), v.front);
   }
   return total > 0.0 ? pdf / total : 0.0;
 }
 
+// One connection direction at v, whose lobe weights are w.
+ConnectionDirection draw(const Material& m, const Vertex& v, const Weights& w, double u1, double u2);
+
 }  // namespace
 
 double non_delta_f_cos(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo, unsigned lobes) {
-  return f_cos(m, Vertex(frame, wi), wi, wo, lobes);
+  const Vertex v(frame, wi);
+  return f_cos(m, v, weights(m, v, lobes), wo);
 }
 
 bool has_connectable_lobes(const Material& m, unsigned lobes) {
@@ -110,10 +128,22 @@ double non_delta_weight(const Material& m, const SurfaceFrame& frame, const Vec3
 ConnectionDirection connection_direction(const Material& m, const SurfaceFrame& frame, const Vec3& wi, double u1,
                                          double u2, unsigned lobes) {
   const Vertex v(frame, wi);
-  double w[std::size(kConnectable)] = {};
+  return draw(m, v, weights(m, v, lobes), u1, u2);
+}
+
+void connection_directions(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const double* u1,
+                           const double* u2, std::size_t n, ConnectionDirection* out, unsigned lobes) {
+  if (n == 0) return;
+  const Vertex v(frame, wi);
+  const Weights w = weights(m, v, lobes);
+  for (std::size_t i = 0; i < n; ++i) out[i] = draw(m, v, w, u1[i], u2[i]);
+}
+
+namespace {
+
+ConnectionDirection draw(const Material& m, const Vertex& v, const Weights& w, double u1, double u2) {
   double total = 0.0;
-  for (std::size_t k = 0; k < std::size(kConnectable); ++k)
-    if (lobes & lobe_bit(kConnectable[k])) total += w[k] = std::max(0.0, weight(m, v, kConnectable[k]));
+  for (std::size_t k = 0; k < std::size(kConnectable); ++k) total += w[k];
   ConnectionDirection out;
   if (!(total > 0.0)) return out;
   // The lobe: u1's band among the weights; u1 stretched to [0, 1) in it.
@@ -141,21 +171,24 @@ ConnectionDirection connection_direction(const Material& m, const SurfaceFrame& 
   } else {
     // The lobe's own sampler, from a stream keyed by the pair.
     PhotonRandom rng(static_cast<std::uint64_t>(u1 * 0x1.0p53), static_cast<std::uint64_t>(u2 * 0x1.0p53));
-    const LobeSample s = lobe_sample(m, out.lobe, b.to_local(wi), rng, v.front);
+    const LobeSample s = lobe_sample(m, out.lobe, v.local_wi(out.lobe), rng, v.front);
     if (!(s.pdf > 0.0) || !(dot(s.wo, s.wo) > 0.0)) return out;
     out.wo = normalize(b.to_world(s.wo));
   }
-  out.pdf = mixture_pdf(m, v, wi, out.wo, lobes);
+  out.pdf = mixture_pdf(m, v, w, out.wo);
   if (!(out.pdf > 0.0)) {
     out.pdf = 0.0;
     return out;
   }
-  out.f_cos = f_cos(m, v, wi, out.wo, lobes);
+  out.f_cos = f_cos(m, v, w, out.wo);
   return out;
 }
 
+}  // namespace
+
 double connection_pdf(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo, unsigned lobes) {
-  return mixture_pdf(m, Vertex(frame, wi), wi, wo, lobes);
+  const Vertex v(frame, wi);
+  return mixture_pdf(m, v, weights(m, v, lobes), wo);
 }
 
 }  // namespace gonio::sim

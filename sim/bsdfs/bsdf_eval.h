@@ -21,6 +21,7 @@
 // (Material::over_incidence), as the tracer chooses lobes.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "photometry/vec3.h"
@@ -73,6 +74,13 @@ struct ConnectionDirection {
 };
 ConnectionDirection connection_direction(const Material& m, const SurfaceFrame& frame, const Vec3& wi, double u1,
                                          double u2, unsigned lobes = kNonDeltaLobes);
+// connection_direction for n draws (u1[i], u2[i]) at one vertex into
+// out[0, n): the same directions, densities and values bit for bit, the
+// vertex's bases and the lobes' weights computed once (next-event
+// estimation's connections of one vertex).
+void connection_directions(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const double* u1,
+                           const double* u2, std::size_t n, ConnectionDirection* out,
+                           unsigned lobes = kNonDeltaLobes);
 // The density connection_direction draws wo with [1/sr]: Σ (w_k / W) ·
 // lobe_pdf_k.
 double connection_pdf(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo,

@@ -14,6 +14,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <mutex>
@@ -53,6 +54,7 @@ struct EmbreeScene::Impl {
   std::uint32_t instance_base = 0;
   std::vector<std::uint32_t> instance_mesh;
   std::vector<std::array<float, 9>> instance_normal;  // sign(det)·cofactor, row-major
+  int packet_width = 1;  // lanes of occluded(rays, n, ·): 16, 8, 4 or 1
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -166,6 +168,21 @@ Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
     return make_error("cannot create an Embree device (error " +
                       std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   rtcSetDeviceErrorFunction(impl->device, on_embree_error, &impl->errors);
+  // The widest packet the device runs natively (its ISA: AVX-512 16, AVX 8,
+  // SSE 4); a wider packet than native is split by Embree into narrower ones.
+  if (rtcGetDeviceProperty(impl->device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED))
+    impl->packet_width = 16;
+  else if (rtcGetDeviceProperty(impl->device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED))
+    impl->packet_width = 8;
+  else if (rtcGetDeviceProperty(impl->device, RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED))
+    impl->packet_width = 4;
+  // For measurement only (docs/validation.md, issue 43): GONIO_PACKET_WIDTH
+  // 1, 4 or 8 caps the width (1: one rtcOccluded1 a ray, as before packets).
+  // The answers are the same at every width, so the bytes are too.
+  if (const char* cap = std::getenv("GONIO_PACKET_WIDTH"); cap && *cap) {
+    const int w = std::atoi(cap);
+    if (w == 1 || w == 4 || w == 8 || w == 16) impl->packet_width = std::min(impl->packet_width, w);
+  }
   const RTCSceneFlags flags = options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE;
   const RTCBuildQuality quality = options.quality == EmbreeSceneOptions::Quality::Low      ? RTC_BUILD_QUALITY_LOW
                                   : options.quality == EmbreeSceneOptions::Quality::Medium ? RTC_BUILD_QUALITY_MEDIUM
@@ -281,6 +298,58 @@ bool EmbreeScene::occluded(const RayQuery& ray) const {
   rtcOccluded1(impl_->scene, &context, &r);
   // Embree marks an occluded ray by setting tfar to −∞.
   return r.tfar < 0.0f;
+}
+
+namespace {
+
+// One packet of W lanes (RTCRay4/8/16) from rays[0, n), n ≤ W; inactive
+// lanes are masked off.
+template <int W, typename Packet, typename Occluded>
+void occluded_packet(RTCScene scene, const RayQuery* rays, std::size_t n, std::uint8_t* out,
+                     Occluded occluded) {
+  alignas(64) int valid[W];
+  alignas(64) Packet r;
+  for (int i = 0; i < W; ++i) {
+    const bool on = static_cast<std::size_t>(i) < n;
+    valid[i] = on ? -1 : 0;
+    const RayQuery& q = rays[on ? i : 0];
+    r.org_x[i] = q.origin[0];
+    r.org_y[i] = q.origin[1];
+    r.org_z[i] = q.origin[2];
+    r.tnear[i] = q.t_near;
+    r.dir_x[i] = q.direction[0];
+    r.dir_y[i] = q.direction[1];
+    r.dir_z[i] = q.direction[2];
+    r.time[i] = 0.0f;
+    r.tfar[i] = q.t_far;
+    r.mask[i] = ~0u;
+    r.id[i] = static_cast<unsigned>(i);
+    r.flags[i] = 0;
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  occluded(valid, scene, &context, &r);
+  for (std::size_t i = 0; i < n; ++i) out[i] = r.tfar[i] < 0.0f ? 1 : 0;
+}
+
+}  // namespace
+
+int EmbreeScene::packet_width() const { return impl_->packet_width; }
+
+void EmbreeScene::occluded(const RayQuery* rays, std::size_t n, std::uint8_t* occluded) const {
+  const auto width = static_cast<std::size_t>(impl_->packet_width);
+  for (std::size_t i = 0; i < n; i += width) {
+    const std::size_t m = std::min(width, n - i);
+    if (m == 1 || width == 1) {
+      for (std::size_t j = 0; j < m; ++j) occluded[i + j] = this->occluded(rays[i + j]) ? 1 : 0;
+    } else if (width == 16) {
+      occluded_packet<16, RTCRay16>(impl_->scene, rays + i, m, occluded + i, rtcOccluded16);
+    } else if (width == 8) {
+      occluded_packet<8, RTCRay8>(impl_->scene, rays + i, m, occluded + i, rtcOccluded8);
+    } else {
+      occluded_packet<4, RTCRay4>(impl_->scene, rays + i, m, occluded + i, rtcOccluded4);
+    }
+  }
 }
 
 bool EmbreeScene::intersect(const RayQuery& ray, RayHit* hit) const {

@@ -1,11 +1,14 @@
 #include "sim/tracer/tracer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <new>
 #include <optional>
 #include <string>
 #include <tuple>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -409,6 +412,30 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   }
 }
 
+// Connections of one vertex traced together (sim/tracer/embree_scene.h's
+// packets): a block's directions, queries and answers stay on the stack.
+constexpr int kConnectionBlock = 64;
+
+namespace {
+
+// kConnectionBlock elements of T left unwritten until used: a std::array
+// would store every element's default member initialisers at each vertex
+// (about 1,000 instructions for a block, measured with callgrind: more than
+// one connection costs).
+template <class T>
+class BlockScratch {
+  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+
+ public:
+  T* data() { return std::launder(reinterpret_cast<T*>(bytes_)); }
+  T& operator[](std::size_t i) { return data()[i]; }
+
+ private:
+  alignas(T) unsigned char bytes_[kConnectionBlock * sizeof(T)];
+};
+
+}  // namespace
+
 void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const Material& m,
                           const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
                           std::uint32_t mesh, bool back, unsigned lobes, double xi1, double xi2,
@@ -430,30 +457,56 @@ void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const 
   const bool colour_units = colour && wavelengths_;
   if (colour_units) std::tie(x_units, z_units) = this->colour_units(*colour);
   const auto replicates = static_cast<std::size_t>(c.tally->replicates);
-  for (int k = 0; k < count; ++k) {
-    const double u1 = (static_cast<double>(k) + xi1) / static_cast<double>(count);
-    double u2 = xi2 + static_cast<double>(k) * kGolden;
-    u2 -= std::floor(u2);
-    const ConnectionDirection cd = connection_direction(m, frame, wi, u1, u2, lobes);
-    if (!(cd.pdf > 0.0) || !(cd.f_cos > 0.0)) continue;
-    const Vec3 o = start + (dot(cd.wo, ng) > 0.0 ? off : -off) * ng;
-    const std::size_t slot = next_event_slot(mesh, back, cd.lobe);
-    ++tally.connections;
-    ++tally.slot_connections[slot];
-    if (embree_->occluded(ray_query(o, cd.wo))) continue;
-    ++tally.escaped;
-    ++tally.slot_escaped[slot];
-    const double w = cd.f_cos / cd.pdf / static_cast<double>(count);
-    const double units_d = static_cast<double>(power) * w;
-    const auto units = static_cast<std::uint64_t>(std::llround(units_d));
-    const std::size_t texel = grid_.texel_of(cd.wo);
-    tally.texel_units[texel] += units;
-    tally.booked_units += units;
-    if (replicates > 1) tally.replicate_units[texel * replicates + c.replicate] += units;
-    if (colour_units) {
-      const double per = units_d / static_cast<double>(kPowerUnits);
-      c.tally->texel_xz[2 * texel] += static_cast<std::uint64_t>(std::llround(static_cast<double>(x_units) * per));
-      c.tally->texel_xz[2 * texel + 1] += static_cast<std::uint64_t>(std::llround(static_cast<double>(z_units) * per));
+  // In blocks of kConnectionBlock: the directions first, then their shadow
+  // rays (one origin, so as Embree packets), then the bookings in the order
+  // of k — integer sums, so the bytes are those of one ray at a time.
+  BlockScratch<ConnectionDirection> drawn;
+  BlockScratch<RayQuery> queries;
+  std::array<std::uint8_t, kConnectionBlock> blocked;
+  std::array<std::uint8_t, kConnectionBlock> which;  // the query's draw in `drawn`
+  std::array<std::size_t, kConnectionBlock> slots;
+  std::array<double, kConnectionBlock> u1s, u2s;
+  for (int k0 = 0; k0 < count; k0 += kConnectionBlock) {
+    const int k1 = std::min(count, k0 + kConnectionBlock);
+    for (int k = k0; k < k1; ++k) {
+      u1s[static_cast<std::size_t>(k - k0)] = (static_cast<double>(k) + xi1) / static_cast<double>(count);
+      double u2 = xi2 + static_cast<double>(k) * kGolden;
+      u2 -= std::floor(u2);
+      u2s[static_cast<std::size_t>(k - k0)] = u2;
+    }
+    connection_directions(m, frame, wi, u1s.data(), u2s.data(), static_cast<std::size_t>(k1 - k0), drawn.data(),
+                          lobes);
+    std::size_t n = 0;
+    for (int k = k0; k < k1; ++k) {
+      const ConnectionDirection& cd = drawn[static_cast<std::size_t>(k - k0)];
+      if (!(cd.pdf > 0.0) || !(cd.f_cos > 0.0)) continue;
+      const Vec3 o = start + (dot(cd.wo, ng) > 0.0 ? off : -off) * ng;
+      const std::size_t slot = next_event_slot(mesh, back, cd.lobe);
+      ++tally.connections;
+      ++tally.slot_connections[slot];
+      which[n] = static_cast<std::uint8_t>(k - k0);
+      slots[n] = slot;
+      queries[n] = ray_query(o, cd.wo);
+      ++n;
+    }
+    embree_->occluded(queries.data(), n, blocked.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      if (blocked[i]) continue;
+      const ConnectionDirection& cd = drawn[which[i]];
+      ++tally.escaped;
+      ++tally.slot_escaped[slots[i]];
+      const double w = cd.f_cos / cd.pdf / static_cast<double>(count);
+      const double units_d = static_cast<double>(power) * w;
+      const auto units = static_cast<std::uint64_t>(std::llround(units_d));
+      const std::size_t texel = grid_.texel_of(cd.wo);
+      tally.texel_units[texel] += units;
+      tally.booked_units += units;
+      if (replicates > 1) tally.replicate_units[texel * replicates + c.replicate] += units;
+      if (colour_units) {
+        const double per = units_d / static_cast<double>(kPowerUnits);
+        c.tally->texel_xz[2 * texel] += static_cast<std::uint64_t>(std::llround(static_cast<double>(x_units) * per));
+        c.tally->texel_xz[2 * texel + 1] += static_cast<std::uint64_t>(std::llround(static_cast<double>(z_units) * per));
+      }
     }
   }
 }
@@ -474,13 +527,30 @@ void Tracer::connect_images(const Vec3& p, double t, const Vec3& direction, cons
   const Vec3& ng = frame.geometric_normal;
   std::uint64_t x = 0, z = 0;
   if (colour && wavelengths_) std::tie(x, z) = colour_units(*colour);
-  for (std::size_t k = 0; k < camera.planes.size(); ++k) {
-    const Vec3& v = camera.planes[k].toward;
-    const double f = non_delta_f_cos(m, frame, wi, v);
-    if (!(f > 0.0)) continue;
-    const Vec3 o = back + (dot(v, ng) > 0.0 ? off : -off) * ng;
-    if (embree_->occluded(ray_query(o, v))) continue;
-    c.tally->images.add_connection(camera, k, p, static_cast<double>(power) * f, x, z);
+  // The views' shadow rays share their origin: one packet a block (as
+  // connect_from), booked in the order of the views.
+  BlockScratch<RayQuery> queries;
+  std::array<std::uint8_t, kConnectionBlock> blocked;
+  std::array<std::size_t, kConnectionBlock> views;
+  std::array<double, kConnectionBlock> fs;
+  for (std::size_t k0 = 0; k0 < camera.planes.size(); k0 += kConnectionBlock) {
+    const std::size_t k1 = std::min(camera.planes.size(), k0 + kConnectionBlock);
+    std::size_t n = 0;
+    for (std::size_t k = k0; k < k1; ++k) {
+      const Vec3& v = camera.planes[k].toward;
+      const double f = non_delta_f_cos(m, frame, wi, v);
+      if (!(f > 0.0)) continue;
+      const Vec3 o = back + (dot(v, ng) > 0.0 ? off : -off) * ng;
+      queries[n] = ray_query(o, v);
+      views[n] = k;
+      fs[n] = f;
+      ++n;
+    }
+    embree_->occluded(queries.data(), n, blocked.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      if (blocked[i]) continue;
+      c.tally->images.add_connection(camera, views[i], p, static_cast<double>(power) * fs[i], x, z);
+    }
   }
 }
 

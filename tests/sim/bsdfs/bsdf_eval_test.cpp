@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "photometry/diagnostics.h"
 #include "sim/bsdfs/lobes.h"
@@ -153,6 +154,48 @@ TEST(BsdfEval, StratifiedPairsGiveStratifiedDiffuseDirections) {
     EXPECT_NEAR(sin2, u1, 1e-9) << k;
     EXPECT_NEAR(c.f_cos / c.pdf, 0.8, 1e-12);  // kd exactly: no variance in the weight
   }
+}
+
+// The batched draw of one vertex's connections (the vertex's bases and the
+// lobes' weights computed once) gives connection_direction's answers bit for
+// bit, from the front and the back, for every lobe subset the tracer hands
+// over. Mistakes it catches: the weights computed for every lobe instead of
+// the vertex's subset, a basis kept from the front for a back incidence, a
+// draw's pair read from the wrong index.
+TEST(BsdfEval, ConnectionDirectionsOfOneVertexAreThoseDrawnOneByOne) {
+  const Material m = every_lobe();
+  const SurfaceFrame f = tilted_frame();
+  const unsigned subsets[] = {
+      kNonDeltaLobes, lobe_bit(Lobe::DiffuseReflect) | lobe_bit(Lobe::Glossy),
+      lobe_bit(Lobe::DiffuseTransmit) | lobe_bit(Lobe::AbgTransmit) | lobe_bit(Lobe::Tabulated)};
+  std::vector<double> u1(37), u2(37);
+  for (std::size_t i = 0; i < u1.size(); ++i) {
+    PhotonRandom rng(11, i);
+    u1[i] = rng.uniform();
+    u2[i] = rng.uniform();
+  }
+  for (const Vec3& wi : {normalize(Vec3{-0.4, 0.8, 0.3}), normalize(Vec3{0.3, -0.7, 0.2})})
+    for (const unsigned lobes : subsets)
+      for (const std::size_t n : {std::size_t{0}, std::size_t{1}, u1.size()}) {
+        std::vector<ConnectionDirection> got(n + 1);
+        got[n].pdf = -7.0;  // one past the end stays untouched
+        connection_directions(m, f, wi, u1.data(), u2.data(), n, got.data(), lobes);
+        int booked = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+          const ConnectionDirection one = connection_direction(m, f, wi, u1[i], u2[i], lobes);
+          EXPECT_EQ(got[i].wo.x, one.wo.x) << i;
+          EXPECT_EQ(got[i].wo.y, one.wo.y) << i;
+          EXPECT_EQ(got[i].wo.z, one.wo.z) << i;
+          EXPECT_EQ(got[i].pdf, one.pdf) << i;
+          EXPECT_EQ(got[i].f_cos, one.f_cos) << i;
+          EXPECT_EQ(got[i].lobe, one.lobe) << i;
+          if (one.pdf > 0.0) ++booked;
+        }
+        EXPECT_EQ(got[n].pdf, -7.0);
+        if (n == u1.size()) {
+          EXPECT_GT(booked, 20) << lobes;  // not a comparison of empty draws
+        }
+      }
 }
 
 }  // namespace
