@@ -25,6 +25,7 @@ const std::vector<Command> kCommands = {
     {"compare", "Compare two photometric files: RMS, peak, flux and beam differences", run_compare},
     {"bench", "Measure speed against accuracy on luminaire models (error vs time and photons)", run_bench},
     {"design", "Design a reflector from a target distribution and trace it", run_design},
+    {"tolerance", "How robust a luminaire is: sensitivities, noise floor, Monte Carlo yield", run_tolerance},
 };
 
 void print_help() {
