@@ -6,6 +6,7 @@
 // numbers); bad tolerance files are errors naming the line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -102,6 +103,39 @@ TEST(ToleranceCli, DisplacedSourceTiltsTheCollimatedBeamByArctanDeltaOverF) {
   // The nominal's peak is at the nadir, C 0: +Δ (towards C0) sends the beam to C180.
   EXPECT_EQ(c["change_high"].get<double>(), 180.0);
   EXPECT_EQ(c["change_low"].get<double>(), 0.0);
+}
+
+// Monte Carlo with Δ ~ N(0, 1 mm) truncated at ±2σ: every trial's beam
+// leaves at arctan(Δ/f) of its own drawn Δ, to C180 for Δ > 0 and C0 for
+// Δ < 0 (the same bounds as above on a 0.5° grid), so the trials' spread of
+// beam directions is the closed form's over the same draws.
+TEST(ToleranceCli, MonteCarloBeamDirectionsFollowArctanDeltaOverF) {
+  test::TempDir dir;
+  write_paraboloid(dir.path());
+  const json report = run_tolerance(dir.path(), "[emitter.lamp]\nx = { normal = 1.0, truncate = 2 }\n",
+                                    {"--photons", "200000", "--gamma-step", "0.5", "--c-step", "5", "--trials", "8",
+                                     "--noise-seeds", "0"});
+  ASSERT_FALSE(report.is_null());
+  ASSERT_EQ(report["monte_carlo"]["trials"].size(), 8u);
+  std::vector<double> drawn;
+  for (const json& trial : report["monte_carlo"]["trials"]) {
+    const double delta = trial["values"]["lamp.x"].get<double>();
+    drawn.push_back(delta);
+    const double want = std::atan(delta / 20.0) * 180.0 / std::numbers::pi;
+    const double gamma = trial["figures"]["peak_gamma"].get<double>();
+    // Towards C180 (cos C < 0) for Δ > 0; near the nadir C may stray a plane or two.
+    const double signed_tilt =
+        std::cos(trial["figures"]["peak_c"].get<double>() * std::numbers::pi / 180.0) < 0.0 ? gamma : -gamma;
+    EXPECT_GE(std::abs(signed_tilt), std::abs(want) - 0.75) << "Δ = " << delta;
+    EXPECT_LE(std::abs(signed_tilt), std::abs(want) + 0.5) << "Δ = " << delta;
+    if (gamma > 0.0) {
+      EXPECT_EQ(signed_tilt > 0.0, delta > 0.0) << "Δ = " << delta;
+    }
+  }
+  // The Latin hypercube spreads the draws over the law: one in each eighth.
+  std::sort(drawn.begin(), drawn.end());
+  EXPECT_LT(drawn.front(), -1.0);
+  EXPECT_GT(drawn.back(), 1.0);
 }
 
 // Reflectance ±10 % of a mirror that every reflected photon meets once:
