@@ -404,7 +404,7 @@ int run_tolerance(const Args& args) {
   if (Status s = io::write_file_atomic((fs::path(out_dir) / "report.json").string(), report.dump(2) + "\n"); !s.ok())
     return fail(to_string(s.error()));
   if (!limits.empty() && !u.empty())
-    std::printf("yield: %s of %zu trials within %s\n", format_number(100.0 * yield["all"].get<double>(), 4).c_str(),
+    std::printf("yield: %s %% of %zu trials within %s\n", format_number(100.0 * yield["all"].get<double>(), 4).c_str(),
                 u.size(), spec_text.c_str());
   std::printf("%zu traces, %.2f s each on average; report: %s\n", seconds.size(),
               seconds.empty() ? 0.0 : total / static_cast<double>(seconds.size()),
