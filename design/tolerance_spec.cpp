@@ -7,6 +7,7 @@
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
+#include "sim/affine.h"
 
 namespace gonio::design {
 namespace {
@@ -21,6 +22,7 @@ Error at(const std::string& path, int line, std::string message) {
 
 constexpr const char* kEmitterQuantities[] = {"x", "y", "z", "tilt_x", "tilt_y", "flux"};
 constexpr const char* kMaterialQuantities[] = {"reflectance", "transmittance", "roughness"};
+constexpr const char* kPartQuantities[] = {"x", "y", "z", "tilt_x", "tilt_y"};
 
 template <std::size_t N>
 bool one_of(const std::string& q, const char* const (&list)[N]) {
@@ -107,6 +109,13 @@ const sim::Material* find_material(const sim::SceneDesc& scene, const std::strin
   return nullptr;
 }
 
+// A part's meshes: the name itself, or a node's name before a '/' of the
+// mesh's name ("reflector" is "reflector/reflector/0", glTF's node/mesh/primitive).
+bool in_part(const sim::Mesh& mesh, const std::string& name) {
+  return mesh.name == name || (mesh.name.size() > name.size() && mesh.name.compare(0, name.size(), name) == 0 &&
+                               mesh.name[name.size()] == '/');
+}
+
 double reflection(const sim::Material& m) { return m.diffuse_reflect + m.mirror + m.glossy + m.abg_reflect.tis; }
 double transmission(const sim::Material& m) { return m.diffuse_transmit + m.dielectric + m.abg_transmit.tis; }
 
@@ -179,9 +188,9 @@ Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string&
   ToleranceSpec spec;
   spec.path = path;
   for (const auto& [section, node] : root->table) {
-    const bool emitter = section == "emitter";
-    if (!emitter && section != "material")
-      return at(path, node.line, "unknown section " + io::shown(section) + " (emitter, material)");
+    const bool emitter = section == "emitter", part = section == "part";
+    if (!emitter && !part && section != "material")
+      return at(path, node.line, "unknown section " + io::shown(section) + " (emitter, part, material)");
     if (!node.is_table())
       return at(path, node.line, section + " must be tables by name: [" + section + ".NAME]");
     for (const auto& [name, quantities] : node.table) {
@@ -189,14 +198,22 @@ Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string&
         return at(path, quantities.line, "[" + section + "." + name + "] must be a table of values");
       for (const auto& [quantity, law_node] : quantities.table) {
         const std::string what = section + "." + name + "." + quantity;
-        if (emitter ? !one_of(quantity, kEmitterQuantities) : !one_of(quantity, kMaterialQuantities))
+        const bool known = emitter ? one_of(quantity, kEmitterQuantities)
+                           : part  ? one_of(quantity, kPartQuantities)
+                                   : one_of(quantity, kMaterialQuantities);
+        if (!known)
           return at(path, law_node.line,
                     "unknown " + section + " value " + io::shown(quantity) + " (" +
-                        (emitter ? listed(kEmitterQuantities) : listed(kMaterialQuantities)) + ")");
+                        (emitter ? listed(kEmitterQuantities)
+                         : part  ? listed(kPartQuantities)
+                                 : listed(kMaterialQuantities)) +
+                        ")");
         Result<ToleranceLaw> law = parse_law(law_node, what, path);
         if (!law.ok()) return law.error();
         Tolerance t;
-        t.target = emitter ? Tolerance::Target::Emitter : Tolerance::Target::Material;
+        t.target = emitter ? Tolerance::Target::Emitter
+                   : part  ? Tolerance::Target::Part
+                           : Tolerance::Target::Material;
         t.name = name;
         t.quantity = quantity;
         t.law = std::move(law.value());
@@ -207,7 +224,8 @@ Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string&
       }
     }
   }
-  if (spec.tolerances.empty()) return make_error(path, "no tolerances: give [emitter.NAME] or [material.NAME] tables");
+  if (spec.tolerances.empty())
+    return make_error(path, "no tolerances: give [emitter.NAME], [part.NAME] or [material.NAME] tables");
   return spec;
 }
 
@@ -231,6 +249,23 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
         return at(spec.path, t.line, t.label() + ": position and tilt apply to point emitters; " + io::shown(t.name) +
                                          " is an " + (e->kind == sim::Emitter::Kind::Area ? "area" : "ray-set") +
                                          " emitter");
+      continue;
+    }
+    if (t.target == Tolerance::Target::Part) {
+      bool world = false, instanced = false;
+      for (const sim::Mesh& mesh : scene.meshes)
+        if (in_part(mesh, t.name)) (mesh.instanced ? instanced : world) = true;
+      if (instanced)
+        return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
+                                         " is an instanced mesh (placed by its instances); part tolerances move world "
+                                         "meshes only so far");
+      if (!world) {
+        std::string names;
+        for (const sim::Mesh& x : scene.meshes)
+          if (names.find(io::shown(x.name)) == std::string::npos) names += (names.empty() ? "" : ", ") + io::shown(x.name);
+        return at(spec.path, t.line, "the model has no part " + io::shown(t.name) + " (it has " +
+                                         (names.empty() ? "none" : names) + ")");
+      }
       continue;
     }
     const sim::Material* m = find_material(scene, t.name);
@@ -282,6 +317,31 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
           e.frame.up = rotate(e.frame.up, axis, angle);
         }
       }
+      continue;
+    }
+    if (t.target == Tolerance::Target::Part) {
+      // Every mesh of that name, moved along or turned about the luminaire's
+      // axes through the centre of their common bounding box.
+      const photometry::PhotometricFrame& f = scene.frame;
+      Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+      for (const sim::Mesh& mesh : scene.meshes)
+        if (in_part(mesh, t.name) && !mesh.instanced)
+          for (const sim::Vec3f& p : mesh.positions) {
+            const Vec3 q = sim::to_double(p);
+            lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+            hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+          }
+      const Vec3 centre = 0.5 * (lo + hi);
+      sim::Affine map;
+      if (t.quantity == "x") map = sim::translation((v * 1e-3) * f.c0);
+      else if (t.quantity == "y") map = sim::translation((v * 1e-3) * f.c90);
+      else if (t.quantity == "z") map = sim::translation((v * 1e-3) * f.up);
+      else
+        map = sim::translation(centre) *
+              sim::rotation(t.quantity == "tilt_x" ? f.c0 : f.c90, v * std::numbers::pi / 180.0) *
+              sim::translation(-1.0 * centre);
+      for (sim::Mesh& mesh : scene.meshes)
+        if (in_part(mesh, t.name) && !mesh.instanced) sim::transform(mesh, map);
       continue;
     }
     for (sim::Material& m : scene.materials) {

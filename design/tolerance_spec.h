@@ -12,7 +12,10 @@
 //
 // Emitters: x, y, z [mm] (the luminaire's photometric frame: x along C0,
 // y along C90, z up), tilt_x, tilt_y [deg] (about the C0 and C90 axes),
-// flux [%]. Materials: reflectance, transmittance, roughness [%], relative
+// flux [%]. Parts ([part.NAME]: every mesh of that name or under that node,
+// "NAME/…", not instanced):
+// x, y, z [mm] and tilt_x, tilt_y [deg] about the luminaire's C0 and C90
+// axes through the centre of their bounding box. Materials: reflectance, transmittance, roughness [%], relative
 // changes. Each value has one law: normal (σ, truncated at ±truncate·σ,
 // default 3), uniform (±half width), or a list of values. Mistakes are
 // errors naming the file's line; check_tolerances() names what the model
@@ -51,10 +54,10 @@ struct ToleranceLaw {
 };
 
 struct Tolerance {
-  enum class Target { Emitter, Material };
+  enum class Target { Emitter, Part, Material };
   Target target = Target::Emitter;
-  std::string name;      // the emitter's or material's name in the model
-  std::string quantity;  // x, y, z, tilt_x, tilt_y, flux | reflectance, transmittance, roughness
+  std::string name;      // the emitter's, part's (meshes') or material's name in the model
+  std::string quantity;  // x, y, z, tilt_x, tilt_y, flux | x, y, z, tilt_x, tilt_y | reflectance, transmittance, roughness
   ToleranceLaw law;
   int line = 0;  // the value's line in the file
   std::string label() const { return name + "." + quantity; }  // "LED.x"

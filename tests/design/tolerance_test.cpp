@@ -168,6 +168,44 @@ TEST(ToleranceSpec, PerturbationsAgainstClosedForms) {
   EXPECT_EQ(scene.emitters[1].flux_lm, 50.0);
 }
 
+// A part: every mesh of that name moved along, or turned about, the
+// luminaire's axes through the centre of their bounding box.
+TEST(ToleranceSpec, PartsMoveAndTurnAboutTheirCentre) {
+  sim::SceneDesc scene = small_scene();
+  sim::Mesh lens;
+  lens.name = "lens";
+  lens.positions = {{0.0f, 0.0f, 0.0f}, {0.02f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.02f}};
+  lens.indices = {0, 1, 2};
+  lens.normals = {{0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  scene.meshes.push_back(lens);
+  sim::Mesh copy = lens;
+  copy.instanced = true;
+  copy.name = "screw";
+  scene.meshes.push_back(copy);
+  const ToleranceSpec s = parse_ok("[part.lens]\nx = { uniform = 1 }\ntilt_y = { uniform = 1 }\n");
+  ASSERT_TRUE(check_tolerances(s, scene).ok());
+  // Spec order: lens.tilt_y, then lens.x.
+  apply_tolerances(s, std::vector<double>{90.0, 0.5}, scene);
+  const sim::Mesh& m = scene.meshes[0];
+  // A right-handed quarter turn about C90 (world −Z) through the box's
+  // centre (0.01, 0, 0.01) maps (x, y) about it to (y, −x); then +0.5 mm
+  // along C0 (+X).
+  const auto near = [](const sim::Vec3f& p, double x, double y, double z) {
+    EXPECT_NEAR(p.x, x, 1e-7);
+    EXPECT_NEAR(p.y, y, 1e-7);
+    EXPECT_NEAR(p.z, z, 1e-7);
+  };
+  near(m.positions[0], 0.0105, 0.01, 0.0);
+  near(m.positions[1], 0.0105, -0.01, 0.0);
+  near(m.positions[2], 0.0105, 0.01, 0.02);
+  near(m.normals[0], 1.0, 0.0, 0.0);
+  near(scene.meshes[1].positions[1], 0.02, 0.0, 0.0);  // another part stays
+  const ToleranceSpec bad = parse_ok("[part.screw]\nx = { uniform = 1 }\n");
+  EXPECT_NE(to_string(check_tolerances(bad, scene).error()).find("instanced mesh"), std::string::npos);
+  const ToleranceSpec none = parse_ok("[part.len]\nz = { uniform = 1 }\n");
+  EXPECT_EQ(to_string(check_tolerances(none, scene).error()), "t.toml:2: the model has no part 'len' (it has 'lens', 'screw')");
+}
+
 TEST(ToleranceLaw, QuantilesFollowTheLaws) {
   ToleranceLaw n;
   n.kind = ToleranceLaw::Kind::Normal;

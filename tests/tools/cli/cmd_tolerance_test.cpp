@@ -83,10 +83,11 @@ const json& row(const json& report, const std::string& figure, const std::string
 // meet the mirror at distance r from the focus turn by about Δ·cos θ / r,
 // less than that, so the beam's peak lies within [arctan(Δ/f) − 1.5 steps,
 // arctan(Δ/f) + 1 step] on a 0.5° γ grid, and in C180 for +Δ, C0 for −Δ.
+// Moving the mirror (a part) instead turns the beam the other way.
 TEST(ToleranceCli, DisplacedSourceTiltsTheCollimatedBeamByArctanDeltaOverF) {
   test::TempDir dir;
   write_paraboloid(dir.path());
-  const json report = run_tolerance(dir.path(), "[emitter.lamp]\nx = { uniform = 2.0 }\n",
+  const json report = run_tolerance(dir.path(), "[emitter.lamp]\nx = { uniform = 2.0 }\n[part.reflector]\nx = { uniform = 2.0 }\n",
                                     {"--photons", "400000", "--gamma-step", "0.5", "--c-step", "5", "--trials", "0",
                                      "--noise-seeds", "2"});
   ASSERT_FALSE(report.is_null());
@@ -103,6 +104,12 @@ TEST(ToleranceCli, DisplacedSourceTiltsTheCollimatedBeamByArctanDeltaOverF) {
   // The nominal's peak is at the nadir, C 0: +Δ (towards C0) sends the beam to C180.
   EXPECT_EQ(c["change_high"].get<double>(), 180.0);
   EXPECT_EQ(c["change_low"].get<double>(), 0.0);
+  // The mirror moved by −Δ is the source moved by +Δ: the same tilt, mirrored limits.
+  const json& part_gamma = row(report, "peak_gamma", "reflector.x");
+  EXPECT_EQ(part_gamma["change_high"], gamma["change_low"]);
+  EXPECT_EQ(part_gamma["change_low"], gamma["change_high"]);
+  EXPECT_EQ(row(report, "peak_c", "reflector.x")["change_low"].get<double>(), 180.0);
+  EXPECT_EQ(row(report, "peak_c", "reflector.x")["change_high"].get<double>(), 0.0);
 }
 
 // Monte Carlo with Δ ~ N(0, 1 mm) truncated at ±2σ: every trial's beam
