@@ -252,6 +252,33 @@ TEST(LatinHypercube, OnePointPerStratumInEveryDimension) {
   EXPECT_LT(same, n);
 }
 
+// The Latin hypercube through a law's quantile: one draw in each of N
+// equally likely strata, so the draws' empirical distribution function is
+// within 1/N of the law's everywhere (Kolmogorov–Smirnov D ≤ 1/N, a bound
+// by construction, not a tolerance). A quantile that forgot the
+// truncation's renormalisation breaks it.
+TEST(LatinHypercube, DrawsFollowATruncatedNormalWithinOneOverN) {
+  ToleranceLaw law;
+  law.kind = ToleranceLaw::Kind::Normal;
+  law.sigma = 0.05;
+  law.truncate = 2.0;
+  const std::size_t n = 200;
+  const auto u = latin_hypercube(n, 1, 3);
+  std::vector<double> x;
+  for (const auto& p : u) x.push_back(law.quantile(p[0]));
+  std::sort(x.begin(), x.end());
+  const auto phi = [](double z) { return 0.5 * std::erfc(-z / std::numbers::sqrt2); };
+  const auto cdf = [&](double v) { return (phi(v / 0.05) - phi(-2.0)) / (phi(2.0) - phi(-2.0)); };
+  double d = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double f = cdf(x[i]);
+    d = std::max({d, std::abs(f - static_cast<double>(i) / n), std::abs(f - static_cast<double>(i + 1) / n)});
+  }
+  EXPECT_LE(d, 1.0 / n + 1e-9);
+  EXPECT_GE(x.front(), -0.1);
+  EXPECT_LE(x.back(), 0.1);
+}
+
 TEST(SpecLimits, Parse) {
   const auto l = parse_spec("beam_c0=24..28,flux=900..,rms=..1.5");
   ASSERT_TRUE(l.ok()) << l.error().message;
