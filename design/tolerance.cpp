@@ -127,6 +127,17 @@ Result<std::vector<SpecLimit>> parse_spec(const std::string& text) {
   return limits;
 }
 
+double allowed_scale(double nominal, double change_low, double change_high, const SpecLimit& limit) {
+  if (!limit.holds(nominal)) return 0.0;
+  double k = std::numeric_limits<double>::infinity();
+  for (double c : {change_low, change_high}) {
+    if (!std::isfinite(c)) continue;
+    if (c > 0.0 && std::isfinite(limit.hi)) k = std::min(k, (limit.hi - nominal) / c);
+    if (c < 0.0 && std::isfinite(limit.lo)) k = std::min(k, (nominal - limit.lo) / -c);
+  }
+  return k;
+}
+
 FigureValues noise_floor(const FigureValues& nominal, const std::vector<FigureValues>& independent) {
   FigureValues noise{};
   const double n = static_cast<double>(independent.size() + 1);

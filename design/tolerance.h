@@ -69,6 +69,13 @@ struct SpecLimit {
 // "beam_c0=24..28,flux=900.." as limits; errors name the item.
 Result<std::vector<SpecLimit>> parse_spec(const std::string& text);
 
+// The inverse sensitivity of one tolerance, linear: the largest factor k
+// by which its limits may be scaled so that nominal + k·change stays within
+// the limit for the changes at both of its limits (a figure taken as linear
+// in the tolerance); +inf where neither change moves towards a finite
+// limit, 0 where the nominal is outside the limit already.
+double allowed_scale(double nominal, double change_low, double change_high, const SpecLimit& limit);
+
 // The photon noise of each figure: the sample standard deviation over the
 // nominal and its re-traces with independent seeds; for the RMS difference
 // the mean RMS difference of the re-traces from the nominal (the floor an

@@ -299,6 +299,24 @@ TEST(SpecLimits, Parse) {
   }
 }
 
+TEST(SpecLimits, InverseSensitivityIsLinear) {
+  SpecLimit l;
+  l.figure = kBeamC0;
+  l.lo = 24.0;
+  l.hi = 28.0;
+  // Nominal 26: +0.5° at the high limit reaches 28 at 4× the tolerance,
+  // −0.25° at the low limit reaches 24 at 8×: 4.
+  EXPECT_DOUBLE_EQ(allowed_scale(26.0, -0.25, 0.5, l), 4.0);
+  EXPECT_DOUBLE_EQ(allowed_scale(27.0, -2.0, 0.1, l), 1.5);  // the low side binds
+  EXPECT_TRUE(std::isinf(allowed_scale(26.0, 0.0, 0.0, l)));
+  EXPECT_EQ(allowed_scale(29.0, 0.1, 0.1, l), 0.0);  // out already
+  SpecLimit open;
+  open.figure = kFlux;
+  open.lo = 900.0;
+  EXPECT_TRUE(std::isinf(allowed_scale(950.0, 10.0, 20.0, open)));  // no upper limit to reach
+  EXPECT_DOUBLE_EQ(allowed_scale(950.0, -10.0, 20.0, open), 5.0);
+}
+
 TEST(NoiseFloor, StandardDeviationAndRmsMean) {
   FigureValues nominal{}, a{}, b{};
   nominal[kFlux] = 10.0;

@@ -11,7 +11,7 @@
 // noise floor. Then each tolerance alone at its limits (sensitivity), and N
 // Monte Carlo trials with all of them drawn at once from a Latin hypercube.
 // DIR gets report.json (every trace's parameters and figures), sensitivity.txt,
-// tornado_FIGURE.svg, nominal.ies, and the best and worst trials' IES.
+// tornado_FIGURE.svg, nominal.ies/.ldt, and the best and worst trials' IES and LDT.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -115,6 +115,16 @@ std::string padded(std::string s, std::size_t width) {
   return s;
 }
 
+// STEM.ies and STEM.ldt in `dir`, listed in `files`.
+Status write_tables(const std::string& dir, const std::string& stem, const photometry::Distribution& d, json& files) {
+  for (const char* ext : {".ies", ".ldt"}) {
+    const std::string name = stem + ext;
+    if (Status s = io::write_photometric_file((fs::path(dir) / name).string(), d, {}, nullptr); !s.ok()) return s;
+    files.push_back(name);
+  }
+  return Ok{};
+}
+
 int fail(const std::string& message) {
   print_error("tolerance: " + message);
   return kExitFailure;
@@ -136,9 +146,11 @@ int run_tolerance(const Args& args) {
               "alone at its limits (the sensitivity table and tornado charts), and N Monte\n"
               "Carlo trials with every tolerance drawn at once from a Latin hypercube (per\n"
               "figure a histogram; the yield against --spec). Writes DIR/report.json,\n"
-              "DIR/sensitivity.txt, DIR/tornado_FIGURE.svg, DIR/nominal.ies, DIR/best.ies\n"
-              "and DIR/worst.ies (the trials nearest to and farthest from the nominal\n"
-              "distribution by RMS difference).");
+              "DIR/sensitivity.txt, DIR/tornado_FIGURE.svg, DIR/nominal.{ies,ldt},\n"
+              "DIR/best.{ies,ldt} and DIR/worst.{ies,ldt} (the trials nearest to and\n"
+              "farthest from the nominal distribution by RMS difference). With --spec, the\n"
+              "inverse sensitivity: per limit, how far each tolerance may grow, linear\n"
+              "from its changes at its limits.");
   p.positional("MODEL", &model, "the luminaire model (glTF, STEP/IGES with its sidecar, design file)");
   p.option("tolerances", &tolerances_path, "FILE", "the tolerance specification (TOML, docs/tolerance.md)");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
@@ -215,9 +227,8 @@ int run_tolerance(const Args& args) {
   if (!nominal) return fail("the nominal model could not be traced; nothing was analysed");
   seconds.push_back(nominal->seconds);
   const photometry::Distribution& nominal_d = nominal->distribution;
-  if (Status s = io::write_photometric_file((fs::path(out_dir) / "nominal.ies").string(), nominal_d, {}, nullptr);
-      !s.ok())
-    return fail(to_string(s.error()));
+  json files = json::array();
+  if (Status s = write_tables(out_dir, "nominal", nominal_d, files); !s.ok()) return fail(to_string(s.error()));
   report["nominal"] = figures_json(nominal->figures);
   std::vector<FigureValues> independent;
   json noise_runs = json::array();
@@ -311,6 +322,32 @@ int run_tolerance(const Args& args) {
       plot_failures.push_back(to_string(s.error()));
   }
   report["sensitivity"] = sensitivity;
+  // The inverse: per --spec limit, how far each tolerance may be scaled,
+  // linear from its changes at its limits (not traced again).
+  json inverse = json::array();
+  if (!limits.empty())
+    table += "\nLargest tolerances that keep a figure within its limit (each alone; linear from the\n"
+             "changes at the limits, not traced; a factor of the tolerance as given):\n";
+  for (const design::SpecLimit& limit : limits) {
+    table += "\n" + limit.text() + " (nominal " + format_number(nominal->figures[limit.figure]) + ")\n";
+    for (std::size_t i = 0; i < dims; ++i) {
+      const design::Tolerance& t = spec->tolerances[i];
+      const double base = limit.figure == design::kRms ? 0.0 : nominal->figures[limit.figure];
+      const double low = at_limits[i][0][limit.figure] - base, high = at_limits[i][1][limit.figure] - base;
+      const bool quiet = design::below_noise(std::max(std::abs(low), std::abs(high)), noise[limit.figure]);
+      const double k = design::allowed_scale(nominal->figures[limit.figure], low, high, limit);
+      std::string says = quiet ? "below noise: not estimated"
+                         : std::isinf(k) ? "any (no change towards the limit)"
+                                         : "× " + format_number(k, 3) + ": " + format_number(k * t.law.low(), 3) +
+                                               " … " + format_number(k * t.law.high(), 3) + " " + t.unit();
+      table += "  " + padded(t.label() + " " + t.law.text() + " " + t.unit(), 44) + "  " + says + "\n";
+      inverse.push_back({{"limit", limit.text()},
+                         {"tolerance", t.label()},
+                         {"scale", quiet || std::isinf(k) ? json(nullptr) : json(k)},
+                         {"why", quiet ? "below noise" : std::isinf(k) ? "no change towards the limit" : ""}});
+    }
+  }
+  report["inverse_sensitivity"] = inverse;
   if (Status s = io::write_file_atomic((fs::path(out_dir) / "sensitivity.txt").string(), table); !s.ok())
     return fail(to_string(s.error()));
   std::fputs(table.c_str(), stdout);
@@ -378,17 +415,10 @@ int run_tolerance(const Args& args) {
       yield[limits[l].text()] = static_cast<double>(passed_by[l]) / static_cast<double>(u.size());
     yield["all"] = static_cast<double>(passed) / static_cast<double>(u.size());
   }
-  json files = json::array({"nominal.ies"});
-  if (best) {
-    for (int k = 0; k < 2; ++k) {
-      const std::string name = k == 0 ? "best.ies" : "worst.ies";
-      if (Status s = io::write_photometric_file((fs::path(out_dir) / name).string(), kept[static_cast<std::size_t>(k)],
-                                                {}, nullptr);
-          !s.ok())
+  if (best)
+    for (int k = 0; k < 2; ++k)
+      if (Status s = write_tables(out_dir, k == 0 ? "best" : "worst", kept[static_cast<std::size_t>(k)], files); !s.ok())
         return fail(to_string(s.error()));
-      files.push_back(name);
-    }
-  }
   report["monte_carlo"] = {{"trials", mc_trials},
                            {"histograms", histograms},
                            {"yield", yield},

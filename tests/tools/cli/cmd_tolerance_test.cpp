@@ -211,6 +211,7 @@ TEST(ToleranceCli, ZeroTolerancesGiveTheNominalBytes) {
   EXPECT_EQ(report["monte_carlo"]["yield"]["all"].get<double>(), 1.0);
   EXPECT_EQ(test::read_file(dir.path() / "out" / "best.ies"), test::read_file(dir.path() / "out" / "nominal.ies"));
   EXPECT_EQ(test::read_file(dir.path() / "out" / "worst.ies"), test::read_file(dir.path() / "out" / "nominal.ies"));
+  EXPECT_EQ(test::read_file(dir.path() / "out" / "best.ldt"), test::read_file(dir.path() / "out" / "nominal.ldt"));
   // The independent seed is not the nominal: the noise floor is real.
   EXPECT_GT(report["noise"]["floor"]["rms"].get<double>(), 0.0);
 }
