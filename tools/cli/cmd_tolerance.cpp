@@ -56,13 +56,19 @@ class Tracer {
   Tracer(const app::SimulatePlan& plan, const design::ToleranceSpec& spec) : plan_(plan), spec_(spec) {}
 
   // The distribution traced with `values` and `seed`; nothing after the
-  // error was printed.
+  // error was printed. The model's warnings are told at the first trace
+  // only (every trace loads the model again).
   std::optional<Trace> trace(const std::vector<double>& values, std::uint64_t seed,
                              const photometry::Distribution* nominal) const {
     const auto start = std::chrono::steady_clock::now();
     app::SimulatePlan plan = plan_;
     plan.progressive.simulation.seed = seed;
     app::SimulateHooks hooks;
+    if (told_)
+      hooks.on_message = [](Severity severity, const std::string& text) {
+        if (severity >= Severity::Error) app::tell({}, severity, text);
+      };
+    told_ = true;
     hooks.adjust_scene = [&](sim::SceneDesc& scene) -> Status {
       if (Status s = design::check_tolerances(spec_, scene); !s.ok()) return s;
       design::apply_tolerances(spec_, values, scene);
@@ -95,6 +101,7 @@ class Tracer {
  private:
   const app::SimulatePlan& plan_;
   const design::ToleranceSpec& spec_;
+  mutable bool told_ = false;
 };
 
 json figures_json(const FigureValues& f) {
