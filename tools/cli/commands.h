@@ -31,5 +31,6 @@ int run_watch(const Args& args);     // gonio watch MODEL
 int run_report(const Args& args);    // gonio report FILE... --out X.html|X.pdf
 int run_design(const Args& args);    // gonio design reflector --emitter FILE --target FILE --out DIR
 int run_optimize(const Args& args);  // gonio optimize DESIGN.design.toml --target FILE --out DIR
+int run_tolerance(const Args& args);  // gonio tolerance MODEL --tolerances FILE --out DIR
 
 }  // namespace gonio::cli

@@ -26,6 +26,7 @@ const std::vector<Command> kCommands = {
     {"bench", "Measure speed against accuracy on luminaire models (error vs time and photons)", run_bench},
     {"design", "Design a reflector from a target distribution and trace it", run_design},
     {"optimize", "Optimise a design's variables toward a target distribution", run_optimize},
+    {"tolerance", "How robust a luminaire is: sensitivities, noise floor, Monte Carlo yield", run_tolerance},
 };
 
 void print_help() {

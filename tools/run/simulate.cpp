@@ -201,6 +201,12 @@ std::optional<SimulateResult> simulate(const SimulatePlan& plan, const SimulateH
   };
   std::optional<sim::SceneDesc> scene = load_checked_model(plan.model, "simulated", plan.model_input,
                                                            &input_times, hooks.on_message, &findings, &failure);
+  if (scene && hooks.adjust_scene)
+    if (Status s = hooks.adjust_scene(*scene); !s.ok()) {
+      tell(hooks.on_message, s.error());
+      failure = s.error();
+      scene.reset();
+    }
   // Ray-set emitters asked for more photons than their rays can give.
   if (scene)
     for (Finding& f : sim::ray_set_photon_findings(

@@ -96,6 +96,10 @@ struct SimulateHooks {
   // needs it (a target error), so the estimate is NaN otherwise.
   std::function<const sim::Resampler*(const sim::SceneDesc& scene, const std::vector<Finding>& findings)>
       on_loaded;
+  // The model loaded and checked, before anything else sees it: may change
+  // the scene (gonio tolerance's perturbed trials); an error stops the run
+  // as the loader's would, told and given to on_failed.
+  std::function<Status(sim::SceneDesc& scene)> adjust_scene;
   // After each iteration, once the preview is written (on the rank that
   // writes); false stops the run (StopReason::Cancelled).
   IterationCallback on_iteration;

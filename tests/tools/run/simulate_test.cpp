@@ -243,5 +243,42 @@ TEST(AppSimulate, AMissingModelIsToldToTheSinkAndNothingRuns) {
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }
 
+// adjust_scene changes the loaded scene before it is traced (gonio
+// tolerance): doubling every emitter's flux doubles the escaped flux of the
+// same photons exactly; its error stops the run, told and given as a value,
+// with nothing written.
+TEST(AppSimulate, AdjustSceneChangesWhatIsTracedAndItsErrorStopsTheRun) {
+  test::TempDir dir;
+  SimulateOptions o = small_run("");
+  Result<SimulatePlan> plan = plan_simulation(bell(), o);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  std::optional<SimulateResult> plain = simulate(plan.value());
+  ASSERT_TRUE(plain.has_value());
+  SimulateHooks hooks;
+  hooks.adjust_scene = [](sim::SceneDesc& scene) -> Status {
+    for (sim::Emitter& e : scene.emitters) e.flux_lm *= 2.0;
+    return Ok{};
+  };
+  std::optional<SimulateResult> doubled = simulate(plan.value(), hooks);
+  ASSERT_TRUE(doubled.has_value());
+  const sim::Ledger a = plain->run.simulation.ledger(), b = doubled->run.simulation.ledger();
+  EXPECT_EQ(b.escaped.photons, a.escaped.photons);
+  EXPECT_DOUBLE_EQ(b.escaped.flux_lm, 2.0 * a.escaped.flux_lm);
+
+  Result<SimulatePlan> folder = plan_simulation(bell(), small_run((dir / "out").string()));
+  ASSERT_TRUE(folder.ok());
+  Messages messages;
+  std::optional<Error> failed;
+  hooks.on_message = messages.sink();
+  hooks.on_failed = [&](const Error& e) { failed = e; };
+  hooks.adjust_scene = [](sim::SceneDesc&) -> Status { return make_error("t.toml", "no such emitter"); };
+  EXPECT_FALSE(simulate(folder.value(), hooks).has_value());
+  ASSERT_TRUE(failed.has_value());
+  EXPECT_EQ(to_string(*failed), "t.toml: no such emitter");
+  ASSERT_FALSE(messages.told.empty());
+  EXPECT_NE(messages.told.back().second.find("no such emitter"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
 }  // namespace
 }  // namespace gonio::app

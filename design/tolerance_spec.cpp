@@ -1,0 +1,367 @@
+#include "design/tolerance_spec.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "io/support/file_io.h"
+#include "io/support/text.h"
+#include "photometry/format.h"
+#include "sim/affine.h"
+
+namespace gonio::design {
+namespace {
+
+Error at(const std::string& path, int line, std::string message) {
+  Error e;
+  e.where.file = path;
+  e.where.line = line;
+  e.message = std::move(message);
+  return e;
+}
+
+constexpr const char* kEmitterQuantities[] = {"x", "y", "z", "tilt_x", "tilt_y", "flux"};
+constexpr const char* kMaterialQuantities[] = {"reflectance", "transmittance", "roughness"};
+constexpr const char* kPartQuantities[] = {"x", "y", "z", "tilt_x", "tilt_y"};
+
+template <std::size_t N>
+bool one_of(const std::string& q, const char* const (&list)[N]) {
+  return std::find_if(std::begin(list), std::end(list), [&](const char* s) { return q == s; }) != std::end(list);
+}
+
+template <std::size_t N>
+std::string listed(const char* const (&list)[N]) {
+  std::string s;
+  for (const char* q : list) s += (s.empty() ? "" : ", ") + std::string(q);
+  return s;
+}
+
+// A finite number of a law's table.
+Result<double> number_of(const io::TomlNode& node, const std::string& key, const std::string& path) {
+  const std::optional<double> v = node.number();
+  if (!v || !std::isfinite(*v)) return at(path, node.line, key + " must be a finite number");
+  return *v;
+}
+
+Result<ToleranceLaw> parse_law(const io::TomlNode& node, const std::string& what, const std::string& path) {
+  if (!node.is_table())
+    return at(path, node.line,
+              what + ": write a law as a table: { normal = SIGMA[, truncate = K] }, { uniform = HALF_WIDTH } or "
+                     "{ values = [V1, V2, …] }");
+  ToleranceLaw law;
+  int laws = 0;
+  bool truncate = false;
+  for (const auto& [key, value] : node.table) {
+    if (key == "normal") {
+      Result<double> s = number_of(value, what + ".normal", path);
+      if (!s.ok()) return s.error();
+      if (!(*s >= 0.0)) return at(path, value.line, what + ".normal: σ must be ≥ 0");
+      law.kind = ToleranceLaw::Kind::Normal;
+      law.sigma = *s;
+      ++laws;
+    } else if (key == "uniform") {
+      Result<double> a = number_of(value, what + ".uniform", path);
+      if (!a.ok()) return a.error();
+      if (!(*a >= 0.0)) return at(path, value.line, what + ".uniform: the half width must be ≥ 0");
+      law.kind = ToleranceLaw::Kind::Uniform;
+      law.half_width = *a;
+      ++laws;
+    } else if (key == "values") {
+      if (!value.is_array() || value.array.empty())
+        return at(path, value.line, what + ".values must be a non-empty array of numbers");
+      law.kind = ToleranceLaw::Kind::Values;
+      for (const io::TomlNode& v : value.array) {
+        Result<double> x = number_of(v, what + ".values", path);
+        if (!x.ok()) return x.error();
+        law.values.push_back(*x);
+      }
+      ++laws;
+    } else if (key == "truncate") {
+      Result<double> k = number_of(value, what + ".truncate", path);
+      if (!k.ok()) return k.error();
+      if (!(*k > 0.0 && *k <= 10.0)) return at(path, value.line, what + ".truncate must lie in (0, 10] (σ)");
+      law.truncate = *k;
+      truncate = true;
+    } else {
+      return at(path, value.line, what + ": unknown key " + io::shown(key) + " (normal, truncate, uniform, values)");
+    }
+  }
+  if (laws != 1) return at(path, node.line, what + ": give exactly one of normal, uniform, values");
+  if (truncate && law.kind != ToleranceLaw::Kind::Normal)
+    return at(path, node.line, what + ": truncate goes with normal only");
+  return law;
+}
+
+// Rotates v about the unit axis a by angle t (Rodrigues).
+Vec3 rotate(const Vec3& v, const Vec3& a, double t) {
+  const double c = std::cos(t), s = std::sin(t);
+  return c * v + s * cross(a, v) + (1.0 - c) * dot(a, v) * a;
+}
+
+const sim::Emitter* find_emitter(const sim::SceneDesc& scene, const std::string& name) {
+  for (const sim::Emitter& e : scene.emitters)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+const sim::Material* find_material(const sim::SceneDesc& scene, const std::string& name) {
+  for (const sim::Material& m : scene.materials)
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+// A part's meshes: the name itself, or a node's name before a '/' of the
+// mesh's name ("reflector" is "reflector/reflector/0", glTF's node/mesh/primitive).
+bool in_part(const sim::Mesh& mesh, const std::string& name) {
+  return mesh.name == name || (mesh.name.size() > name.size() && mesh.name.compare(0, name.size(), name) == 0 &&
+                               mesh.name[name.size()] == '/');
+}
+
+double reflection(const sim::Material& m) { return m.diffuse_reflect + m.mirror + m.glossy + m.abg_reflect.tis; }
+double transmission(const sim::Material& m) { return m.diffuse_transmit + m.dielectric + m.abg_transmit.tis; }
+
+}  // namespace
+
+double ToleranceLaw::low() const {
+  switch (kind) {
+    case Kind::Normal: return -truncate * sigma;
+    case Kind::Uniform: return -half_width;
+    case Kind::Values: return *std::min_element(values.begin(), values.end());
+  }
+  return 0.0;
+}
+
+double ToleranceLaw::high() const {
+  switch (kind) {
+    case Kind::Normal: return truncate * sigma;
+    case Kind::Uniform: return half_width;
+    case Kind::Values: return *std::max_element(values.begin(), values.end());
+  }
+  return 0.0;
+}
+
+double ToleranceLaw::quantile(double u) const {
+  u = std::clamp(u, 0.0, 1.0);
+  switch (kind) {
+    case Kind::Uniform: return -half_width + 2.0 * half_width * u;
+    case Kind::Values: {
+      const std::size_t i = std::min(values.size() - 1, static_cast<std::size_t>(u * static_cast<double>(values.size())));
+      return values[i];
+    }
+    case Kind::Normal: {
+      if (sigma == 0.0) return 0.0;
+      // Φ(x) = erfc(−x/√2)/2; the truncated law's u maps to Φ(−k) + u·(Φ(k) − Φ(−k)).
+      const auto phi = [](double x) { return 0.5 * std::erfc(-x / std::numbers::sqrt2); };
+      const double p = phi(-truncate) + u * (phi(truncate) - phi(-truncate));
+      double lo = -truncate, hi = truncate;
+      for (int i = 0; i < 100; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (phi(mid) < p ? lo : hi) = mid;
+      }
+      return sigma * 0.5 * (lo + hi);
+    }
+  }
+  return 0.0;
+}
+
+std::string ToleranceLaw::text() const {
+  switch (kind) {
+    case Kind::Normal: return "N(0, " + format_number(sigma) + ") ±" + format_number(truncate) + "σ";
+    case Kind::Uniform: return "U(±" + format_number(half_width) + ")";
+    case Kind::Values: {
+      std::string s = "{";
+      for (std::size_t i = 0; i < values.size(); ++i) s += (i ? ", " : "") + format_number(values[i]);
+      return s + "}";
+    }
+  }
+  return {};
+}
+
+const char* Tolerance::unit() const {
+  if (quantity == "x" || quantity == "y" || quantity == "z") return "mm";
+  if (quantity == "tilt_x" || quantity == "tilt_y") return "deg";
+  return "%";
+}
+
+Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string& path) {
+  Result<io::TomlNode> root = io::parse_toml(text, path);
+  if (!root.ok()) return root.error();
+  ToleranceSpec spec;
+  spec.path = path;
+  for (const auto& [section, node] : root->table) {
+    const bool emitter = section == "emitter", part = section == "part";
+    if (!emitter && !part && section != "material")
+      return at(path, node.line, "unknown section " + io::shown(section) + " (emitter, part, material)");
+    if (!node.is_table())
+      return at(path, node.line, section + " must be tables by name: [" + section + ".NAME]");
+    for (const auto& [name, quantities] : node.table) {
+      if (!quantities.is_table())
+        return at(path, quantities.line, "[" + section + "." + name + "] must be a table of values");
+      for (const auto& [quantity, law_node] : quantities.table) {
+        const std::string what = section + "." + name + "." + quantity;
+        const bool known = emitter ? one_of(quantity, kEmitterQuantities)
+                           : part  ? one_of(quantity, kPartQuantities)
+                                   : one_of(quantity, kMaterialQuantities);
+        if (!known)
+          return at(path, law_node.line,
+                    "unknown " + section + " value " + io::shown(quantity) + " (" +
+                        (emitter ? listed(kEmitterQuantities)
+                         : part  ? listed(kPartQuantities)
+                                 : listed(kMaterialQuantities)) +
+                        ")");
+        Result<ToleranceLaw> law = parse_law(law_node, what, path);
+        if (!law.ok()) return law.error();
+        Tolerance t;
+        t.target = emitter ? Tolerance::Target::Emitter
+                   : part  ? Tolerance::Target::Part
+                           : Tolerance::Target::Material;
+        t.name = name;
+        t.quantity = quantity;
+        t.law = std::move(law.value());
+        t.line = law_node.line;
+        if (t.unit() == std::string("%") && t.law.low() <= -100.0)
+          return at(path, t.line, what + ": a change of −100 % or less leaves nothing (" + t.law.text() + ")");
+        spec.tolerances.push_back(std::move(t));
+      }
+    }
+  }
+  if (spec.tolerances.empty())
+    return make_error(path, "no tolerances: give [emitter.NAME], [part.NAME] or [material.NAME] tables");
+  return spec;
+}
+
+Result<ToleranceSpec> read_tolerances(const std::string& path) {
+  Result<std::string> text = io::read_file(path, std::size_t{16} << 20);
+  if (!text.ok()) return text.error();
+  return parse_tolerances(*text, path);
+}
+
+Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) {
+  for (const Tolerance& t : spec.tolerances) {
+    if (t.target == Tolerance::Target::Emitter) {
+      const sim::Emitter* e = find_emitter(scene, t.name);
+      if (!e) {
+        std::string names;
+        for (const sim::Emitter& x : scene.emitters) names += (names.empty() ? "" : ", ") + io::shown(x.name);
+        return at(spec.path, t.line, "the model has no emitter " + io::shown(t.name) + " (it has " +
+                                         (names.empty() ? "none" : names) + ")");
+      }
+      if (t.quantity != "flux" && e->kind != sim::Emitter::Kind::Point)
+        return at(spec.path, t.line, t.label() + ": position and tilt apply to point emitters; " + io::shown(t.name) +
+                                         " is an " + (e->kind == sim::Emitter::Kind::Area ? "area" : "ray-set") +
+                                         " emitter");
+      continue;
+    }
+    if (t.target == Tolerance::Target::Part) {
+      bool world = false, instanced = false;
+      for (const sim::Mesh& mesh : scene.meshes)
+        if (in_part(mesh, t.name)) (mesh.instanced ? instanced : world) = true;
+      if (instanced)
+        return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
+                                         " is an instanced mesh (placed by its instances); part tolerances move world "
+                                         "meshes only so far");
+      if (!world) {
+        std::string names;
+        for (const sim::Mesh& x : scene.meshes)
+          if (names.find(io::shown(x.name)) == std::string::npos) names += (names.empty() ? "" : ", ") + io::shown(x.name);
+        return at(spec.path, t.line, "the model has no part " + io::shown(t.name) + " (it has " +
+                                         (names.empty() ? "none" : names) + ")");
+      }
+      continue;
+    }
+    const sim::Material* m = find_material(scene, t.name);
+    if (!m) {
+      std::string names;
+      for (const sim::Material& x : scene.materials) names += (names.empty() ? "" : ", ") + io::shown(x.name);
+      return at(spec.path, t.line, "the model has no material " + io::shown(t.name) + " (it has " +
+                                       (names.empty() ? "none" : names) + ")");
+    }
+    const double r = reflection(*m), tr = transmission(*m);
+    if (t.quantity == "reflectance" && !(r > 0.0))
+      return at(spec.path, t.line, t.label() + ": the material reflects nothing (no reflection lobe)");
+    if (t.quantity == "transmittance" && !(tr > 0.0))
+      return at(spec.path, t.line, t.label() + ": the material transmits nothing (no transmission lobe)");
+    if (t.quantity == "roughness" && !(m->glossy > 0.0))
+      return at(spec.path, t.line, t.label() + ": the material has no glossy lobe to roughen");
+    const double grow = 1.0 + t.law.high() / 100.0;
+    const double total = t.quantity == "reflectance"     ? m->total() + r * (grow - 1.0)
+                         : t.quantity == "transmittance" ? m->total() + tr * (grow - 1.0)
+                                                         : m->total();
+    if (total > 1.0 + 1e-12)
+      return at(spec.path, t.line,
+                t.label() + " at +" + format_number(t.law.high()) + " % would make the material's lobes sum to " +
+                    format_number(total) + " > 1");
+  }
+  return Ok{};
+}
+
+void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values, sim::SceneDesc& scene) {
+  GONIO_CHECK(values.size() == spec.tolerances.size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const Tolerance& t = spec.tolerances[i];
+    const double v = values[i];
+    if (v == 0.0) continue;  // bit for bit the nominal
+    const double scale = 1.0 + v / 100.0;
+    if (t.target == Tolerance::Target::Emitter) {
+      for (sim::Emitter& e : scene.emitters) {
+        if (e.name != t.name) continue;
+        const photometry::PhotometricFrame& f = scene.frame;
+        if (t.quantity == "x") e.position = e.position + (v * 1e-3) * f.c0;
+        else if (t.quantity == "y") e.position = e.position + (v * 1e-3) * f.c90;
+        else if (t.quantity == "z") e.position = e.position + (v * 1e-3) * f.up;
+        else if (t.quantity == "flux") e.flux_lm *= scale;
+        else {
+          const Vec3 axis = t.quantity == "tilt_x" ? f.c0 : f.c90;
+          const double angle = v * std::numbers::pi / 180.0;
+          e.frame.c0 = rotate(e.frame.c0, axis, angle);
+          e.frame.c90 = rotate(e.frame.c90, axis, angle);
+          e.frame.up = rotate(e.frame.up, axis, angle);
+        }
+      }
+      continue;
+    }
+    if (t.target == Tolerance::Target::Part) {
+      // Every mesh of that name, moved along or turned about the luminaire's
+      // axes through the centre of their common bounding box.
+      const photometry::PhotometricFrame& f = scene.frame;
+      Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+      for (const sim::Mesh& mesh : scene.meshes)
+        if (in_part(mesh, t.name) && !mesh.instanced)
+          for (const sim::Vec3f& p : mesh.positions) {
+            const Vec3 q = sim::to_double(p);
+            lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+            hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+          }
+      const Vec3 centre = 0.5 * (lo + hi);
+      sim::Affine map;
+      if (t.quantity == "x") map = sim::translation((v * 1e-3) * f.c0);
+      else if (t.quantity == "y") map = sim::translation((v * 1e-3) * f.c90);
+      else if (t.quantity == "z") map = sim::translation((v * 1e-3) * f.up);
+      else
+        map = sim::translation(centre) *
+              sim::rotation(t.quantity == "tilt_x" ? f.c0 : f.c90, v * std::numbers::pi / 180.0) *
+              sim::translation(-1.0 * centre);
+      for (sim::Mesh& mesh : scene.meshes)
+        if (in_part(mesh, t.name) && !mesh.instanced) sim::transform(mesh, map);
+      continue;
+    }
+    for (sim::Material& m : scene.materials) {
+      if (m.name != t.name) continue;
+      if (t.quantity == "reflectance") {
+        m.diffuse_reflect *= scale;
+        m.mirror *= scale;
+        m.glossy *= scale;
+        m.abg_reflect.tis *= scale;
+      } else if (t.quantity == "transmittance") {
+        m.diffuse_transmit *= scale;
+        m.dielectric *= scale;
+        m.abg_transmit.tis *= scale;
+      } else {
+        m.glossy_mx *= scale;
+        m.glossy_my *= scale;
+      }
+      m.tables = nullptr;  // sim::prepare derives them again
+    }
+  }
+}
+
+}  // namespace gonio::design

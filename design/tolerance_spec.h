@@ -1,0 +1,88 @@
+// A tolerance specification (issue 42): what of a loaded model varies from
+// one luminaire to the next, and how. Read from a TOML file (`gonio tolerance
+// --tolerances FILE`, docs/tolerance.md) through io/model/toml_tree.h:
+//
+//   [emitter.LED]                              # an emitter by its name in the model
+//   x = { normal = 0.05, truncate = 2 }        # [mm] along the luminaire's C0 axis; σ, ±2σ
+//   tilt_x = { uniform = 1.0 }                 # [deg] about the C0 axis, ±1°
+//   flux = { values = [-5, 0, 5] }             # [%] of the emitter's flux
+//   [material."semi-specular aluminium"]       # a material by its name
+//   reflectance = { uniform = 2 }              # [%] of the reflection lobes' weights
+//   roughness = { uniform = 20 }               # [%] of the glossy lobe's RMS slopes
+//
+// Emitters: x, y, z [mm] (the luminaire's photometric frame: x along C0,
+// y along C90, z up), tilt_x, tilt_y [deg] (about the C0 and C90 axes),
+// flux [%]. Parts ([part.NAME]: every mesh of that name or under that node,
+// "NAME/…", not instanced):
+// x, y, z [mm] and tilt_x, tilt_y [deg] about the luminaire's C0 and C90
+// axes through the centre of their bounding box. Materials: reflectance, transmittance, roughness [%], relative
+// changes. Each value has one law: normal (σ, truncated at ±truncate·σ,
+// default 3), uniform (±half width), or a list of values. Mistakes are
+// errors naming the file's line; check_tolerances() names what the model
+// lacks.
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/model/toml_tree.h"
+#include "photometry/diagnostics.h"
+#include "sim/scene.h"
+
+namespace gonio::design {
+
+// How one value is distributed about its nominal (0: no change).
+struct ToleranceLaw {
+  enum class Kind { Normal, Uniform, Values };
+  Kind kind = Kind::Uniform;
+  double sigma = 0.0;       // Normal
+  double truncate = 3.0;    // Normal: limits at ±truncate·σ
+  double half_width = 0.0;  // Uniform: ±half_width
+  std::vector<double> values;  // Values
+  // The limits the sensitivity analysis sets it to: ±truncate·σ, ±half
+  // width, the smallest and largest value.
+  double low() const;
+  double high() const;
+  // The value at probability u in [0, 1) (the inverse of its distribution
+  // function; a truncated normal's by bisection on erfc; Values: equally
+  // likely).
+  double quantile(double u) const;
+  // Its text: "N(0, σ) ±kσ", "U(±a)", "{v1, v2, …}".
+  std::string text() const;
+};
+
+struct Tolerance {
+  enum class Target { Emitter, Part, Material };
+  Target target = Target::Emitter;
+  std::string name;      // the emitter's, part's (meshes') or material's name in the model
+  std::string quantity;  // x, y, z, tilt_x, tilt_y, flux | x, y, z, tilt_x, tilt_y | reflectance, transmittance, roughness
+  ToleranceLaw law;
+  int line = 0;  // the value's line in the file
+  std::string label() const { return name + "." + quantity; }  // "LED.x"
+  const char* unit() const;                                     // "mm", "deg", "%"
+};
+
+struct ToleranceSpec {
+  std::string path;  // for messages
+  std::vector<Tolerance> tolerances;
+};
+
+// Parses a tolerance file's text; errors name `path` and the line.
+Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string& path);
+Result<ToleranceSpec> read_tolerances(const std::string& path);
+
+// Whether `scene` has what each tolerance names: the emitter or material by
+// that name; position and tilt only on point emitters; reflectance on a
+// material that reflects, transmittance on one that transmits, roughness on
+// one with a glossy lobe; and whether the limits keep a material's lobes
+// within 1. Errors name the file's line and the model's names.
+Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene);
+
+// Applies one value per tolerance (spec order) to the scene; a value of 0
+// leaves its part of the scene as it was, bit for bit. The scene must have
+// passed check_tolerances().
+void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values, sim::SceneDesc& scene);
+
+}  // namespace gonio::design

@@ -1,0 +1,343 @@
+// Tolerance files and the tolerance analysis' parts (design/tolerance_spec.h,
+// design/tolerance.h): parsing with lines in the errors, what a model must
+// have, perturbations against closed forms, the Latin hypercube's strata,
+// the truncated normal's quantiles, --spec limits, the noise floor.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "design/tolerance.h"
+#include "design/tolerance_spec.h"
+#include "sim/scene.h"
+
+namespace gonio::design {
+namespace {
+
+sim::SceneDesc small_scene() {
+  sim::SceneDesc s;
+  sim::Emitter led;
+  led.name = "LED";
+  led.flux_lm = 100.0;
+  led.position = {0.0, 0.01, 0.0};
+  s.emitters.push_back(led);
+  sim::Emitter panel;
+  panel.name = "panel";
+  panel.kind = sim::Emitter::Kind::Area;
+  panel.flux_lm = 50.0;
+  s.emitters.push_back(panel);
+  sim::Material alu;
+  alu.name = "alu";
+  alu.glossy = 0.9;
+  alu.glossy_mx = alu.glossy_my = 0.09;
+  s.materials.push_back(alu);
+  sim::Material opal;
+  opal.name = "opal";
+  opal.diffuse_transmit = 0.6;
+  opal.diffuse_reflect = 0.3;
+  s.materials.push_back(opal);
+  return s;
+}
+
+ToleranceSpec parse_ok(const std::string& text) {
+  Result<ToleranceSpec> s = parse_tolerances(text, "t.toml");
+  EXPECT_TRUE(s.ok()) << (s.ok() ? "" : to_string(s.error()));
+  return s.ok() ? s.value() : ToleranceSpec{};
+}
+
+std::string error_of(const std::string& text) {
+  Result<ToleranceSpec> s = parse_tolerances(text, "t.toml");
+  return s.ok() ? std::string("(parsed)") : to_string(s.error());
+}
+
+TEST(ToleranceSpec, ParsesEveryLawWithItsLine) {
+  const ToleranceSpec s = parse_ok(
+      "[emitter.LED]\n"
+      "x = { normal = 0.05, truncate = 2 }\n"
+      "tilt_y = { uniform = 1.0 }\n"
+      "flux = { values = [-5, 0, 7.5] }\n"
+      "[material.alu]\n"
+      "roughness = { uniform = 20 }\n");
+  ASSERT_EQ(s.tolerances.size(), 4u);
+  // toml++ keeps keys sorted: flux, tilt_y, x; then the material.
+  EXPECT_EQ(s.tolerances[0].label(), "LED.flux");
+  EXPECT_EQ(s.tolerances[0].line, 4);
+  EXPECT_EQ(s.tolerances[0].law.low(), -5.0);
+  EXPECT_EQ(s.tolerances[0].law.high(), 7.5);
+  EXPECT_EQ(s.tolerances[2].label(), "LED.x");
+  EXPECT_EQ(s.tolerances[2].line, 2);
+  EXPECT_DOUBLE_EQ(s.tolerances[2].law.high(), 0.1);  // ±2σ
+  EXPECT_STREQ(s.tolerances[2].unit(), "mm");
+  EXPECT_STREQ(s.tolerances[1].unit(), "deg");
+  EXPECT_EQ(s.tolerances[3].label(), "alu.roughness");
+  EXPECT_EQ(s.tolerances[3].line, 6);
+}
+
+TEST(ToleranceSpec, MistakesNameTheLine) {
+  for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+           {"[emitter.LED]\nx = 0.1\n", "t.toml:2: emitter.LED.x: write a law as a table"},
+           {"[emitter.LED]\n\nwobble = { uniform = 1 }\n", "t.toml:3: unknown emitter value 'wobble'"},
+           {"[material.alu]\nx = { uniform = 1 }\n", "t.toml:2: unknown material value 'x'"},
+           {"[lamp.LED]\nx = { uniform = 1 }\n", "t.toml:1: unknown section 'lamp'"},
+           {"[emitter.LED]\nx = { uniform = 1, normal = 2 }\n", "t.toml:2: emitter.LED.x: give exactly one of"},
+           {"[emitter.LED]\nx = { }\n", "t.toml:2: emitter.LED.x: give exactly one of"},
+           {"[emitter.LED]\nx = { normal = -1 }\n", "t.toml:2: emitter.LED.x.normal: σ must be ≥ 0"},
+           {"[emitter.LED]\nx = { uniform = 1, truncate = 2 }\n", "t.toml:2: emitter.LED.x: truncate goes with normal"},
+           {"[emitter.LED]\nx = { normal = 1, truncate = 0 }\n", "t.toml:2: emitter.LED.x.truncate must lie in"},
+           {"[emitter.LED]\nx = { values = [] }\n", "t.toml:2: emitter.LED.x.values must be a non-empty array"},
+           {"[emitter.LED]\nx = { values = [1, \"a\"] }\n", "t.toml:2: emitter.LED.x.values must be a finite"},
+           {"[emitter.LED]\nx = { uniform = nan }\n", "t.toml:2: emitter.LED.x.uniform must be a finite"},
+           {"[emitter.LED]\nflux = { uniform = 100 }\n", "t.toml:2: emitter.LED.flux: a change of −100 %"},
+           {"[emitter.LED]\nx = { sigma = 1 }\n", "t.toml:2: emitter.LED.x: unknown key 'sigma'"},
+           {"[emitter]\nLED = 3\n", "t.toml:2: [emitter.LED] must be a table"},
+           {"", "t.toml: no tolerances"},
+           {"[emitter.LED\n", "t.toml:1"},
+       }) {
+    const std::string e = error_of(text);
+    EXPECT_EQ(e.rfind(says, 0), 0u) << "input:\n" << text << "error: " << e;
+  }
+}
+
+TEST(ToleranceSpec, WhatTheModelLacksIsNamed) {
+  const sim::SceneDesc scene = small_scene();
+  for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+           {"[emitter.LEDs]\nx = { uniform = 1 }\n", "t.toml:2: the model has no emitter 'LEDs' (it has 'LED', 'panel')"},
+           {"[emitter.panel]\ntilt_x = { uniform = 1 }\n", "t.toml:2: panel.tilt_x: position and tilt apply to point emitters"},
+           {"[material.steel]\nroughness = { uniform = 1 }\n", "t.toml:2: the model has no material 'steel' (it has 'alu', 'opal')"},
+           {"[material.alu]\ntransmittance = { uniform = 1 }\n", "t.toml:2: alu.transmittance: the material transmits nothing"},
+           {"[material.opal]\nroughness = { uniform = 1 }\n", "t.toml:2: opal.roughness: the material has no glossy lobe"},
+           {"[material.alu]\nreflectance = { uniform = 12 }\n", "t.toml:2: alu.reflectance at +12 % would make the material's lobes sum to 1.008 > 1"},
+       }) {
+    const ToleranceSpec s = parse_ok(text);
+    const Status st = check_tolerances(s, scene);
+    ASSERT_FALSE(st.ok()) << text;
+    EXPECT_EQ(to_string(st.error()).rfind(says, 0), 0u) << to_string(st.error());
+  }
+  // The panel's flux may vary: flux applies to any emitter.
+  EXPECT_TRUE(check_tolerances(parse_ok("[emitter.panel]\nflux = { uniform = 5 }\n"), scene).ok());
+}
+
+TEST(ToleranceSpec, ZeroLeavesTheSceneBitForBit) {
+  const ToleranceSpec s = parse_ok(
+      "[emitter.LED]\nx = { uniform = 1 }\ntilt_x = { uniform = 1 }\nflux = { uniform = 1 }\n"
+      "[material.alu]\nreflectance = { uniform = 1 }\nroughness = { uniform = 1 }\n");
+  sim::SceneDesc a = small_scene();
+  ASSERT_TRUE(check_tolerances(s, a).ok());
+  apply_tolerances(s, std::vector<double>(s.tolerances.size(), 0.0), a);
+  const sim::SceneDesc b = small_scene();
+  const sim::Emitter &ea = a.emitters[0], &eb = b.emitters[0];
+  EXPECT_EQ(std::memcmp(&ea.position, &eb.position, sizeof(Vec3)), 0);
+  EXPECT_EQ(std::memcmp(&ea.frame, &eb.frame, sizeof(photometry::PhotometricFrame)), 0);
+  EXPECT_EQ(ea.flux_lm, eb.flux_lm);
+  EXPECT_EQ(a.materials[0].glossy, b.materials[0].glossy);
+  EXPECT_EQ(a.materials[0].glossy_mx, b.materials[0].glossy_mx);
+}
+
+TEST(ToleranceSpec, PerturbationsAgainstClosedForms) {
+  const ToleranceSpec s = parse_ok(
+      "[emitter.LED]\ny = { uniform = 1 }\ntilt_x = { uniform = 1 }\nflux = { uniform = 1 }\n"
+      "[material.alu]\nreflectance = { uniform = 1 }\nroughness = { uniform = 1 }\n"
+      "[material.opal]\ntransmittance = { uniform = 1 }\n");
+  // Order: LED.flux, LED.tilt_x, LED.y, alu.reflectance, alu.roughness, opal.transmittance.
+  sim::SceneDesc scene = small_scene();
+  ASSERT_TRUE(check_tolerances(s, scene).ok());
+  apply_tolerances(s, std::vector<double>{-10.0, 30.0, 0.25, -5.0, 20.0, 10.0}, scene);
+  const sim::Emitter& e = scene.emitters[0];
+  EXPECT_DOUBLE_EQ(e.flux_lm, 90.0);
+  // y runs along C90, which is world −Z in Gonio's default frame: 0.25 mm.
+  EXPECT_DOUBLE_EQ(e.position.z, -0.25e-3);
+  EXPECT_DOUBLE_EQ(e.position.y, 0.01);
+  // Tilted 30° about C0 (+X): the nadir (−up) turns from −Y by 30° towards…
+  // a right-handed turn about +X takes −Y to (0, −cos 30°, −sin 30°).
+  const Vec3 nadir = -1.0 * e.frame.up;
+  EXPECT_NEAR(nadir.x, 0.0, 1e-15);
+  EXPECT_NEAR(nadir.y, -std::cos(std::numbers::pi / 6), 1e-15);
+  EXPECT_NEAR(nadir.z, -std::sin(std::numbers::pi / 6), 1e-15);
+  EXPECT_NEAR(dot(e.frame.c0, e.frame.up), 0.0, 1e-15);  // still orthonormal
+  EXPECT_DOUBLE_EQ(scene.materials[0].glossy, 0.9 * 0.95);
+  EXPECT_DOUBLE_EQ(scene.materials[0].glossy_mx, 0.09 * 1.2);
+  EXPECT_DOUBLE_EQ(scene.materials[0].glossy_my, 0.09 * 1.2);
+  EXPECT_DOUBLE_EQ(scene.materials[1].diffuse_transmit, 0.6 * 1.1);
+  EXPECT_DOUBLE_EQ(scene.materials[1].diffuse_reflect, 0.3);  // reflectance untouched
+  // The area emitter kept its flux.
+  EXPECT_EQ(scene.emitters[1].flux_lm, 50.0);
+}
+
+// A part: every mesh of that name moved along, or turned about, the
+// luminaire's axes through the centre of their bounding box.
+TEST(ToleranceSpec, PartsMoveAndTurnAboutTheirCentre) {
+  sim::SceneDesc scene = small_scene();
+  sim::Mesh lens;
+  lens.name = "lens";
+  lens.positions = {{0.0f, 0.0f, 0.0f}, {0.02f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.02f}};
+  lens.indices = {0, 1, 2};
+  lens.normals = {{0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  scene.meshes.push_back(lens);
+  sim::Mesh copy = lens;
+  copy.instanced = true;
+  copy.name = "screw";
+  scene.meshes.push_back(copy);
+  const ToleranceSpec s = parse_ok("[part.lens]\nx = { uniform = 1 }\ntilt_y = { uniform = 1 }\n");
+  ASSERT_TRUE(check_tolerances(s, scene).ok());
+  // Spec order: lens.tilt_y, then lens.x.
+  apply_tolerances(s, std::vector<double>{90.0, 0.5}, scene);
+  const sim::Mesh& m = scene.meshes[0];
+  // A right-handed quarter turn about C90 (world −Z) through the box's
+  // centre (0.01, 0, 0.01) maps (x, y) about it to (y, −x); then +0.5 mm
+  // along C0 (+X).
+  const auto near = [](const sim::Vec3f& p, double x, double y, double z) {
+    EXPECT_NEAR(p.x, x, 1e-7);
+    EXPECT_NEAR(p.y, y, 1e-7);
+    EXPECT_NEAR(p.z, z, 1e-7);
+  };
+  near(m.positions[0], 0.0105, 0.01, 0.0);
+  near(m.positions[1], 0.0105, -0.01, 0.0);
+  near(m.positions[2], 0.0105, 0.01, 0.02);
+  near(m.normals[0], 1.0, 0.0, 0.0);
+  near(scene.meshes[1].positions[1], 0.02, 0.0, 0.0);  // another part stays
+  const ToleranceSpec bad = parse_ok("[part.screw]\nx = { uniform = 1 }\n");
+  EXPECT_NE(to_string(check_tolerances(bad, scene).error()).find("instanced mesh"), std::string::npos);
+  const ToleranceSpec none = parse_ok("[part.len]\nz = { uniform = 1 }\n");
+  EXPECT_EQ(to_string(check_tolerances(none, scene).error()), "t.toml:2: the model has no part 'len' (it has 'lens', 'screw')");
+}
+
+TEST(ToleranceLaw, QuantilesFollowTheLaws) {
+  ToleranceLaw n;
+  n.kind = ToleranceLaw::Kind::Normal;
+  n.sigma = 2.0;
+  n.truncate = 10.0;  // as good as untruncated
+  EXPECT_NEAR(n.quantile(0.5), 0.0, 1e-12);
+  // Φ(1) = 0.841344746…: one σ.
+  EXPECT_NEAR(n.quantile(0.8413447460685429), 2.0, 1e-9);
+  EXPECT_NEAR(n.quantile(1.0 - 0.8413447460685429), -2.0, 1e-9);
+  n.truncate = 1.0;  // truncated at ±σ: the ends are the limits
+  EXPECT_NEAR(n.quantile(0.0), -2.0, 1e-12);
+  EXPECT_NEAR(n.quantile(1.0), 2.0, 1e-12);
+  ToleranceLaw u;
+  u.half_width = 0.5;
+  EXPECT_DOUBLE_EQ(u.quantile(0.25), -0.25);
+  ToleranceLaw v;
+  v.kind = ToleranceLaw::Kind::Values;
+  v.values = {3.0, 1.0, 2.0};
+  EXPECT_EQ(v.quantile(0.0), 3.0);
+  EXPECT_EQ(v.quantile(0.5), 1.0);
+  EXPECT_EQ(v.quantile(0.99), 2.0);
+  EXPECT_EQ(v.low(), 1.0);
+  EXPECT_EQ(v.high(), 3.0);
+}
+
+TEST(LatinHypercube, OnePointPerStratumInEveryDimension) {
+  const std::size_t n = 37, dims = 5;
+  const auto u = latin_hypercube(n, dims, 7);
+  ASSERT_EQ(u.size(), n);
+  for (std::size_t d = 0; d < dims; ++d) {
+    std::set<std::size_t> strata;
+    for (const auto& p : u) {
+      ASSERT_GE(p[d], 0.0);
+      ASSERT_LT(p[d], 1.0);
+      strata.insert(static_cast<std::size_t>(p[d] * n));
+    }
+    EXPECT_EQ(strata.size(), n) << "dimension " << d;
+  }
+  EXPECT_EQ(latin_hypercube(n, dims, 7), u);  // seeded
+  EXPECT_NE(latin_hypercube(n, dims, 8), u);
+  // Dimensions are shuffled independently: not the same order.
+  std::size_t same = 0;
+  for (const auto& p : u) same += static_cast<std::size_t>(p[0] * n) == static_cast<std::size_t>(p[1] * n);
+  EXPECT_LT(same, n);
+}
+
+// The Latin hypercube through a law's quantile: one draw in each of N
+// equally likely strata, so the draws' empirical distribution function is
+// within 1/N of the law's everywhere (Kolmogorov–Smirnov D ≤ 1/N, a bound
+// by construction, not a tolerance). A quantile that forgot the
+// truncation's renormalisation breaks it.
+TEST(LatinHypercube, DrawsFollowATruncatedNormalWithinOneOverN) {
+  ToleranceLaw law;
+  law.kind = ToleranceLaw::Kind::Normal;
+  law.sigma = 0.05;
+  law.truncate = 2.0;
+  const std::size_t n = 200;
+  const auto u = latin_hypercube(n, 1, 3);
+  std::vector<double> x;
+  for (const auto& p : u) x.push_back(law.quantile(p[0]));
+  std::sort(x.begin(), x.end());
+  const auto phi = [](double z) { return 0.5 * std::erfc(-z / std::numbers::sqrt2); };
+  const auto cdf = [&](double v) { return (phi(v / 0.05) - phi(-2.0)) / (phi(2.0) - phi(-2.0)); };
+  double d = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double f = cdf(x[i]);
+    d = std::max({d, std::abs(f - static_cast<double>(i) / n), std::abs(f - static_cast<double>(i + 1) / n)});
+  }
+  EXPECT_LE(d, 1.0 / n + 1e-9);
+  EXPECT_GE(x.front(), -0.1);
+  EXPECT_LE(x.back(), 0.1);
+}
+
+TEST(SpecLimits, Parse) {
+  const auto l = parse_spec("beam_c0=24..28,flux=900..,rms=..1.5");
+  ASSERT_TRUE(l.ok()) << l.error().message;
+  ASSERT_EQ(l->size(), 3u);
+  EXPECT_EQ((*l)[0].figure, kBeamC0);
+  EXPECT_TRUE((*l)[0].holds(24.0));
+  EXPECT_FALSE((*l)[0].holds(28.01));
+  EXPECT_TRUE((*l)[1].holds(1e9));
+  EXPECT_FALSE((*l)[2].holds(1.6));
+  EXPECT_EQ((*l)[0].text(), "beam_c0=24..28");
+  EXPECT_EQ((*l)[1].text(), "flux=900..");
+  for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+           {"beam=24..28", "unknown figure"}, {"beam_c0=24", "FIGURE=LO..HI"}, {"beam_c0=..", "at least one"},
+           {"beam_c0=28..24", "above the high"}, {"beam_c0=a..28", "not a number"}, {"", "FIGURE=LO..HI"}}) {
+    const auto r = parse_spec(text);
+    ASSERT_FALSE(r.ok()) << text;
+    EXPECT_NE(r.error().message.find(says), std::string::npos) << r.error().message;
+  }
+}
+
+TEST(SpecLimits, InverseSensitivityIsLinear) {
+  SpecLimit l;
+  l.figure = kBeamC0;
+  l.lo = 24.0;
+  l.hi = 28.0;
+  // Nominal 26: +0.5° at the high limit reaches 28 at 4× the tolerance,
+  // −0.25° at the low limit reaches 24 at 8×: 4.
+  EXPECT_DOUBLE_EQ(allowed_scale(26.0, -0.25, 0.5, l), 4.0);
+  EXPECT_DOUBLE_EQ(allowed_scale(27.0, -2.0, 0.1, l), 1.5);  // the low side binds
+  EXPECT_TRUE(std::isinf(allowed_scale(26.0, 0.0, 0.0, l)));
+  EXPECT_EQ(allowed_scale(29.0, 0.1, 0.1, l), 0.0);  // out already
+  SpecLimit open;
+  open.figure = kFlux;
+  open.lo = 900.0;
+  EXPECT_TRUE(std::isinf(allowed_scale(950.0, 10.0, 20.0, open)));  // no upper limit to reach
+  EXPECT_DOUBLE_EQ(allowed_scale(950.0, -10.0, 20.0, open), 5.0);
+}
+
+TEST(NoiseFloor, StandardDeviationAndRmsMean) {
+  FigureValues nominal{}, a{}, b{};
+  nominal[kFlux] = 10.0;
+  a[kFlux] = 12.0;
+  b[kFlux] = 14.0;
+  a[kRms] = 0.2;
+  b[kRms] = 0.4;
+  const FigureValues noise = noise_floor(nominal, {a, b});
+  EXPECT_DOUBLE_EQ(noise[kFlux], 2.0);  // sample σ of 10, 12, 14
+  EXPECT_DOUBLE_EQ(noise[kRms], 0.3);
+  EXPECT_TRUE(below_noise(3.9, 2.0));
+  EXPECT_FALSE(below_noise(4.1, 2.0));
+  EXPECT_FALSE(below_noise(1.0, std::nan("")));  // no floor: ranked
+  EXPECT_TRUE(std::isnan(noise_floor(nominal, {})[kFlux]));
+}
+
+TEST(Histogram, CountsEveryValue) {
+  const Histogram h = histogram({0.0, 0.1, 0.5, 0.99, 1.0, std::nan("")}, 4);
+  ASSERT_EQ(h.edges.size(), 5u);
+  EXPECT_EQ(h.counts, (std::vector<std::size_t>{2, 0, 1, 2}));
+}
+
+}  // namespace
+}  // namespace gonio::design
