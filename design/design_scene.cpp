@@ -32,17 +32,7 @@ class PartsReader {
 
  private:
   Status keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const {
-    for (const io::TomlMember& member : t.table) {
-      // (Named, not a structured binding: clang 14 captures no binding.)
-      const std::string& key = member.first;
-      const io::TomlNode& v = member.second;
-      if (std::none_of(known.begin(), known.end(), [&](const char* n) { return key == n; })) {
-        std::string list;
-        for (const char* n : known) list += (list.empty() ? "" : ", ") + std::string(n);
-        return fail(path_, v.line, what + ": unknown key " + io::shown(key) + " (known: " + list + ")");
-      }
-    }
-    return Ok{};
+    return io::check_keys(t, known, what, path_);
   }
   Result<std::string> string(const TomlNode& t, const char* key, const std::string& what) const {
     const TomlNode* n = t.get(key);

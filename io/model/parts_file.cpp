@@ -59,17 +59,7 @@ class Parser {
 };
 
 Status Parser::keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const {
-  for (const TomlMember& member : t.table) {
-    // (Named, not a structured binding: clang 14 captures no binding.)
-    const std::string& key = member.first;
-    const TomlNode& v = member.second;
-    if (std::none_of(known.begin(), known.end(), [&](const char* n) { return key == n; })) {
-      std::string list;
-      for (const char* n : known) list += (list.empty() ? "" : ", ") + std::string(n);
-      return fail(line_of(v), what + ": unknown key " + shown(key) + " (known: " + list + ")");
-    }
-  }
-  return Ok{};
+  return check_keys(t, known, what, name_);
 }
 
 Result<std::string> Parser::string(const TomlNode& t, const char* key, const std::string& what) const {

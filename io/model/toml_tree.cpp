@@ -5,6 +5,8 @@
 #include <sstream>
 #include <toml++/toml.h>
 
+#include "io/support/text.h"
+
 namespace gonio::io {
 namespace {
 
@@ -76,6 +78,22 @@ Result<TomlNode> parse_toml(std::string_view text, const std::string& name) {
   TomlNode out = convert(root);
   out.line = 0;
   return out;
+}
+
+Status check_keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what,
+                  const std::string& file) {
+  for (const TomlMember& member : t.table) {
+    if (std::none_of(known.begin(), known.end(), [&member](const char* n) { return member.first == n; })) {
+      std::string list;
+      for (const char* n : known) list += (list.empty() ? "" : ", ") + std::string(n);
+      Error e;
+      e.where.file = file;
+      e.where.line = member.second.line;
+      e.message = what + ": unknown key " + shown(member.first) + " (known: " + list + ")";
+      return e;
+    }
+  }
+  return Ok{};
 }
 
 }  // namespace gonio::io

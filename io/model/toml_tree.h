@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -48,6 +49,12 @@ struct TomlMember {
   std::string first;  // the key
   TomlNode second;    // the value
 };
+
+// Ok where every key of table t is among `known`; else the error
+// "WHAT: unknown key 'K' (known: A, B, …)" naming `file` and the member's
+// line (the sidecar's and the design file's one check).
+Status check_keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what,
+                  const std::string& file);
 
 // Parses TOML text; errors name `name`, the line and the column ("not a
 // readable TOML file: …").
