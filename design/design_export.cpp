@@ -99,6 +99,8 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
     toml_set(rule, "material", toml_string(r.material));
     rules.array.push_back(std::move(rule));
   }
+  if (const fs::path folder = fs::path(step_path).parent_path(); !folder.empty())
+    if (Status s = io::make_directories(folder.string()); !s.ok()) return s.error();
   io::CadLoadOptions options;
   options.helper = helper;
   Result<double> deviation = io::export_step(request, step_path, options);

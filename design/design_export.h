@@ -31,7 +31,8 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
 // with the design's length_unit, materials and emitters and a [[parts]] rule
 // per part giving its material; the emitters' profile and ray files are
 // copied beside the STEP where they are elsewhere (a sidecar's files stay in
-// its folder), and named by their file names. All by atomic writes.
+// its folder), and named by their file names. All by atomic writes; the
+// STEP's folder is made where missing.
 inline constexpr int kStepProfileSamples = 2001;
 inline constexpr double kStepToleranceMm = 1e-3;
 struct StepExportInfo {
