@@ -76,6 +76,8 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
     }
     r.parts.push_back(std::move(p));
   }
+  while (next(line))
+    if (!line.empty()) return bad("unexpected text after the last part");
   return r;
 }
 

@@ -31,7 +31,8 @@ struct StepExport {
 std::string serialize_step_export(const StepExport& request);
 
 // Reads the text back; `name` names it in messages. Errors: a malformed or
-// truncated request, points not finite, ρ < 0, fewer than 2 points.
+// truncated request, text after its last part, points not finite, ρ < 0,
+// fewer than 2 points.
 Result<StepExport> parse_step_export(std::string_view text, const std::string& name);
 
 }  // namespace gonio::io

@@ -26,6 +26,7 @@
 #include "design/revolved.h"
 #include "io/model/cad.h"
 #include "io/model/parts_file.h"
+#include "io/model/step_export.h"
 #include "io/support/process.h"
 #include "tests/support/test_support.h"
 
@@ -165,6 +166,34 @@ TEST(DesignStep, PartsReadBackOnTheExactSurfacesWithTheirNames) {
   EXPECT_EQ(material_of["Outer dish"], "mirror");
   EXPECT_EQ(material_of["polar"], "white");
   EXPECT_EQ(material_of["spline"], "mirror");
+}
+
+// The request gonio hands the helper: a round trip, and malformed ones refused.
+TEST(DesignStep, TheHelpersRequestRoundTripsAndRefusesMalformedText) {
+  io::StepExport r;
+  r.product = "lamp";
+  r.tolerance_mm = 2.5e-4;
+  r.parts.push_back({"a dish", {0.0, 1.0 / 3.0, 30.0}, {10.0, 9.5, -12.5}});
+  r.parts.push_back({"b", {4.0, 5.0}, {1.0, 2.0}});
+  Result<io::StepExport> back = io::parse_step_export(io::serialize_step_export(r), "request");
+  ASSERT_TRUE(back.ok()) << to_string(back.error());
+  EXPECT_EQ(back->product, "lamp");
+  EXPECT_EQ(back->tolerance_mm, 2.5e-4);
+  ASSERT_EQ(back->parts.size(), 2u);
+  EXPECT_EQ(back->parts[0].name, "a dish");
+  EXPECT_EQ(back->parts[0].rho, r.parts[0].rho);  // 17 digits: exact
+  EXPECT_EQ(back->parts[0].z, r.parts[0].z);
+  const std::string good = io::serialize_step_export(r);
+  for (const std::string& bad :
+       {std::string(), std::string("gonio-step-export 2\n"), good.substr(0, good.size() - 6),
+        good + "trailing\n",
+        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\npoints 2\n-1 2\n2 3\n"),
+        std::string("gonio-step-export 1\nproduct p\ntolerance 0\nparts 1\n"),
+        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\npoints 2\n1 nan\n2 3\n"),
+        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\npoints 1\n1 2\n")}) {
+    Result<io::StepExport> parsed = io::parse_step_export(bad, "request");
+    EXPECT_FALSE(parsed.ok()) << bad;
+  }
 }
 
 TEST(DesignStep, ADesignWithoutPartsOrWithABadToleranceIsAnError) {
