@@ -6,9 +6,11 @@
 
 #include "design/design_scene.h"
 #include "design/revolved.h"
+#include "io/model/cad.h"
 #include "io/model/gltf_writer.h"
 #include "io/model/parts_file.h"
 #include "io/support/file_io.h"
+#include "io/support/text.h"
 
 namespace gonio::design {
 
@@ -63,6 +65,88 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
   const std::string text = w.finish(bin_name, bin);
   if (Status s = io::write_file_atomic((path.parent_path() / bin_name).string(), bin); !s.ok()) return s;
   return io::write_file_atomic(gltf_path, text);
+}
+
+Result<StepExportInfo> write_design_step(const Design& design, const std::string& step_path, double tolerance_mm,
+                                         const std::string& helper) {
+  namespace fs = std::filesystem;
+  const io::TomlNode resolved = resolved_document(design);
+  Result<io::PartsFile> sidecar = io::parse_parts_tree(resolved, design.path, design_root_keys(), "the design file");
+  if (!sidecar.ok()) return sidecar.error();
+  Result<DesignParts> parts = read_design_parts(resolved, design.path);
+  if (!parts.ok()) return parts.error();
+  if (parts->reflectors.empty()) return make_error(design.path, "the design has no parts to write as STEP");
+
+  io::StepExport request;
+  request.tolerance_mm = tolerance_mm;
+  request.product = std::filesystem::path(step_path).stem().string();
+  io::TomlNode rules = toml_array({});
+  for (const Reflector& r : parts->reflectors) {
+    Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
+    if (!curve.ok()) return make_error(design.path, r.name + ": " + curve.error().message);
+    io::StepRevolvedPart part;
+    part.name = r.name;
+    for (int i = 0; i < kStepProfileSamples; ++i) {
+      const double t = curve->t0() + (curve->t1() - curve->t0()) * i / (kStepProfileSamples - 1);
+      double rho = 0.0, z = 0.0, drho = 0.0, dz = 0.0;
+      curve->eval(t, rho, z, drho, dz);
+      part.rho.push_back(std::max(0.0, rho) * 1e3);
+      part.z.push_back(z * 1e3);
+    }
+    request.parts.push_back(std::move(part));
+    io::TomlNode rule = toml_table();
+    toml_set(rule, "match", toml_string(r.name));  // names hold no glob characters
+    toml_set(rule, "material", toml_string(r.material));
+    rules.array.push_back(std::move(rule));
+  }
+  if (const fs::path folder = fs::path(step_path).parent_path(); !folder.empty())
+    if (Status s = io::make_directories(folder.string()); !s.ok()) return s.error();
+  io::CadLoadOptions options;
+  options.helper = helper;
+  Result<double> deviation = io::export_step(request, step_path, options);
+  if (!deviation.ok()) return deviation.error();
+
+  // The sidecar: the design's own sidecar vocabulary, its parts as rules.
+  io::TomlNode doc = toml_table();
+  std::map<std::string, std::string> copied;  // target: source
+  const fs::path design_dir = fs::absolute(design.path).parent_path();
+  const fs::path step_dir = fs::absolute(step_path).parent_path();
+  for (const auto& [key, value] : resolved.table) {
+    if (key == "reflectors") continue;
+    io::TomlNode copy = value;
+    // The emitters' files: copied beside the STEP where they are elsewhere
+    // (a sidecar's paths stay in its folder, as glTF's uris do), by name.
+    if (key == "emitters" && copy.is_array())
+      for (io::TomlNode& e : copy.array)
+        for (const char* file_key : {"profile", "ray_file"}) {
+          io::TomlNode* f = e.get(file_key);
+          if (!f || !f->is_string() || f->string.empty()) continue;
+          const fs::path source = (design_dir / f->string).lexically_normal();
+          const fs::path target = step_dir / source.filename();
+          std::error_code ec;
+          if (!fs::equivalent(source, target, ec)) {
+            if (copied.count(target.string()) && copied[target.string()] != source.string())
+              return make_error(design.path, "two emitters' files are named " + io::shown(source.filename().string()) +
+                                                 "; the STEP's folder can hold one");
+            Result<std::string> bytes = io::read_file(source.string(), std::size_t{1} << 30);
+            if (!bytes.ok()) return make_error(design.path, "emitter file " + to_string(bytes.error()));
+            if (Status s = io::write_file_atomic(target.string(), *bytes); !s.ok()) return s.error();
+            copied[target.string()] = source.string();
+          }
+          f->string = source.filename().string();
+        }
+    toml_set(doc, key, std::move(copy));
+  }
+  toml_set(doc, "parts", std::move(rules));
+  StepExportInfo info;
+  info.sidecar = io::default_parts_path(step_path);
+  info.max_deviation_mm = *deviation;
+  info.parts = request.parts.size();
+  const std::string text =
+      write_design(doc, {"The sidecar of " + fs::path(step_path).filename().string() + ", written by gonio from " +
+                             fs::path(design.path).filename().string() + " (docs/design.md)."});
+  if (Status s = io::write_file_atomic(info.sidecar, text); !s.ok()) return s.error();
+  return info;
 }
 
 }  // namespace gonio::design

@@ -22,4 +22,25 @@ namespace gonio::design {
 // an atomic write. `tessellation`: as for a run (io::CadTessellation).
 Status write_design_gltf(const Design& design, const std::string& gltf_path, const io::CadTessellation& tessellation);
 
+// STEP export (through the helper gonio-cad, io/model/cad.h's export_step):
+// each reflector a face of revolution about Z whose meridian is a B-spline
+// within `tolerance_mm` of the exact profile sampled at kStepProfileSamples
+// points (equal steps of the profile's parameter), named by the part's name,
+// in millimetres; and beside it the sidecar that makes it a luminaire for
+// `gonio simulate NAME.step`: `<folder>/<stem>.gonio.toml` (io::default_parts_path)
+// with the design's length_unit, materials and emitters and a [[parts]] rule
+// per part giving its material; the emitters' profile and ray files are
+// copied beside the STEP where they are elsewhere (a sidecar's files stay in
+// its folder), and named by their file names. All by atomic writes; the
+// STEP's folder is made where missing.
+inline constexpr int kStepProfileSamples = 2001;
+inline constexpr double kStepToleranceMm = 1e-3;
+struct StepExportInfo {
+  std::string sidecar;            // the sidecar written
+  double max_deviation_mm = 0.0;  // the B-splines' largest distance from the samples
+  std::size_t parts = 0;
+};
+Result<StepExportInfo> write_design_step(const Design& design, const std::string& step_path,
+                                         double tolerance_mm = kStepToleranceMm, const std::string& helper = {});
+
 }  // namespace gonio::design

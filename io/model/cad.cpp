@@ -670,4 +670,41 @@ Result<sim::SceneDesc> load_cad(const std::string& path, const CadLoadOptions& o
   return cad_scene(*model, path, options, findings, info);
 }
 
+Result<double> export_step(const StepExport& request, const std::string& path, const CadLoadOptions& options) {
+  if (!cad_supported() && options.helper.empty())
+    return make_error(path, "this gonio was built without OpenCASCADE (GONIO_OCCT off or not found), so it "
+                            "cannot write STEP; the glTF export is there");
+  std::string helper = options.helper;
+  if (helper.empty()) {
+    Result<std::string> found = find_helper(path);
+    if (!found.ok()) return found.error();
+    helper = *found;
+  }
+  ScratchDir scratch("gonio-cad");
+  if (scratch.path().empty()) return make_error(path, "cannot create a scratch folder for the STEP writer");
+  const std::string in = (scratch.path() / "request.txt").string();
+  const std::string out = (scratch.path() / "model.step").string();
+  const std::string err = (scratch.path() / "error.txt").string();
+  if (Status s = write_file_atomic(in, serialize_step_export(request)); !s.ok()) return s.error();
+  Result<ProcessOutput> run = run_program({helper, "--write-step", in, out, err}, options.time_limit,
+                                          std::size_t{1} << 20, "the CAD helper that comes with gonio");
+  if (!run.ok()) return make_error(path, run.error().message);
+  if (run->signal != 0)
+    return make_error(path, "OpenCASCADE crashed writing STEP (signal " + std::to_string(run->signal) + ")");
+  if (run->exit_code != 0) {
+    Result<std::string> message = read_file(err, std::size_t{1} << 20);
+    std::string text = message.ok() ? *message : std::string();
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+    if (text.empty()) text = "the STEP writer failed (exit " + std::to_string(run->exit_code) + "): " + last_lines(run->err, 400);
+    return make_error(path, text);
+  }
+  Result<std::string> produced = read_file(out, std::size_t{4} << 30);
+  if (!produced.ok()) return make_error(path, "the STEP writer wrote nothing: " + produced.error().message);
+  char* end = nullptr;
+  const double deviation = std::strtod(run->out.c_str(), &end);
+  if (end == run->out.c_str()) return make_error(path, "the STEP writer did not say how close its curves are");
+  if (Status s = write_file_atomic(path, *produced); !s.ok()) return s.error();
+  return deviation;
+}
+
 }  // namespace gonio::io

@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "io/model/cad_model.h"
+#include "io/model/step_export.h"
 #include "photometry/diagnostics.h"
 #include "sim/scene.h"
 
@@ -121,5 +122,12 @@ Result<sim::SceneDesc> cad_scene(const CadModel& model, const PartsFile& parts, 
 // to `findings` when it is not null.
 Result<sim::SceneDesc> load_cad(const std::string& path, const CadLoadOptions& options,
                                 std::vector<Finding>* findings, CadLoadInfo* info = nullptr);
+
+// Writes `request` as a STEP file at `path` (an atomic write) through the
+// helper gonio-cad (its --write-step mode; io/model/step.h's write_step_file),
+// with options.helper and options.time_limit as for reading. Returns the
+// largest distance of a profile point from its B-spline [mm] (≤ the
+// request's tolerance). Errors name `path`.
+Result<double> export_step(const StepExport& request, const std::string& path, const CadLoadOptions& options = {});
 
 }  // namespace gonio::io

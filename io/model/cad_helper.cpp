@@ -3,6 +3,11 @@
 // (io/model/cad.h) so that OpenCASCADE cannot crash or hang gonio itself.
 //
 //   gonio-cad MODEL OUT ERROR ANGULAR_DEG CHORDAL_RELATIVE CHORDAL_MIN_M CHORDAL_M EXACT_NORMALS
+//   gonio-cad --write-step REQUEST OUT ERROR
+//
+// The second form writes STEP: REQUEST is io/model/step_export.h's text,
+// OUT the STEP file; it prints the largest deviation of the B-spline
+// profiles from the request's points [mm] on stdout.
 //
 // Writes the tessellated model (io/model/cad_model.h's binary form) to OUT
 // and exits 0, or writes the error message to ERROR and exits 1 (2 for bad
@@ -27,10 +32,27 @@ bool number(const char* text, double& out) {
   return end && *end == '\0' && end != text;
 }
 
+int write_step(char** argv) {
+  using namespace gonio;
+  Result<std::string> text = io::read_file(argv[2], std::size_t{1} << 30);
+  Result<io::StepExport> request =
+      text.ok() ? io::parse_step_export(*text, argv[2]) : Result<io::StepExport>(text.error());
+  double deviation = 0.0;
+  Status written = request.ok() ? io::write_step_file(*request, argv[3], &deviation) : Status(request.error());
+  if (!written.ok()) {
+    (void)io::write_file_atomic(argv[4], written.error().message + "\n");
+    std::_Exit(1);
+  }
+  std::printf("%.17g\n", deviation);
+  std::fflush(stdout);
+  std::_Exit(0);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace gonio;
+  if (argc == 5 && std::string(argv[1]) == "--write-step") return write_step(argv);
   if (argc != 9) {
     std::fprintf(stderr, "usage: gonio-cad MODEL OUT ERROR ANGULAR_DEG CHORDAL_RELATIVE CHORDAL_MIN_M CHORDAL_M "
                          "EXACT_NORMALS (run by gonio)\n");

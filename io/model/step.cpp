@@ -2,6 +2,14 @@
 #include "io/model/step.h"
 
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepPrimAPI_MakeRevol.hxx>
+#include <GeomAPI_PointsToBSpline.hxx>
+#include <GeomAPI_ProjectPointOnCurve.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <STEPCAFControl_Writer.hxx>
+#include <TColgp_Array1OfPnt.hxx>
+#include <gp_Ax1.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
@@ -38,6 +46,7 @@
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
 #include <Transfer_TransientProcess.hxx>
@@ -690,6 +699,58 @@ Result<CadModel> read_cad_file(const std::string& path, const CadTessellation& t
   try {
     CadReader reader(path, tessellation, parallel, quiet_messenger());
     return reader.read();
+  } catch (const Standard_Failure& e) {
+    return make_error(path, std::string("OpenCASCADE failed: ") + e.GetMessageString());
+  } catch (const std::exception& e) {
+    return make_error(path, std::string("OpenCASCADE failed: ") + e.what());
+  }
+}
+
+Status write_step_file(const StepExport& request, const std::string& path, double* max_deviation_mm) {
+  if (request.parts.empty()) return make_error(path, "nothing to write: no parts");
+  if (!(request.tolerance_mm > 0.0)) return make_error(path, "the tolerance must be > 0");
+  try {
+    Handle(CollectingPrinter) printer = quiet_messenger();
+    Handle(TDocStd_Document) doc;
+    XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
+    Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
+    const TDF_Label assembly = shapes->NewShape();
+    TDataStd_Name::Set(assembly, TCollection_ExtendedString(request.product.empty() ? "design" : request.product.c_str(), true));
+    double deviation = 0.0;
+    for (const StepRevolvedPart& part : request.parts) {
+      const std::size_t n = std::min(part.rho.size(), part.z.size());
+      if (n < 2) return make_error(path, part.name + ": a profile needs at least 2 points");
+      TColgp_Array1OfPnt points(1, static_cast<int>(n));
+      for (std::size_t i = 0; i < n; ++i) points.SetValue(static_cast<int>(i) + 1, gp_Pnt(part.rho[i], 0.0, part.z[i]));
+      GeomAPI_PointsToBSpline fit(points, 3, 8, GeomAbs_C2, request.tolerance_mm);
+      if (!fit.IsDone() || fit.Curve().IsNull())
+        return make_error(path, part.name + ": OpenCASCADE found no B-spline within " +
+                                    format_number(request.tolerance_mm) + " mm of the profile");
+      const Handle(Geom_BSplineCurve) curve = fit.Curve();
+      for (int i = points.Lower(); i <= points.Upper(); ++i) {
+        GeomAPI_ProjectPointOnCurve projection(points.Value(i), curve);
+        if (projection.NbPoints() > 0) deviation = std::max(deviation, projection.LowerDistance());
+      }
+      BRepBuilderAPI_MakeEdge edge(curve);
+      if (!edge.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not make the profile's edge");
+      const TopoDS_Shape profile = edge.Edge();
+      BRepPrimAPI_MakeRevol revol(profile, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)));
+      if (!revol.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not turn the profile about the axis");
+      const TDF_Label label = shapes->AddShape(revol.Shape(), false);
+      TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
+      const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());
+      TDataStd_Name::Set(component, TCollection_ExtendedString(part.name.c_str(), true));
+    }
+    shapes->UpdateAssemblies();
+    STEPCAFControl_Writer writer;
+    writer.SetNameMode(true);
+    Interface_Static::SetCVal("write.step.schema", "AP214IS");
+    Interface_Static::SetCVal("write.step.unit", "MM");
+    if (!writer.Transfer(doc, STEPControl_AsIs)) return make_error(path, "OpenCASCADE could not translate the parts to STEP");
+    if (writer.Write(path.c_str()) != IFSelect_RetDone) return make_error(path, "OpenCASCADE could not write the file");
+    if (max_deviation_mm) *max_deviation_mm = deviation;
+    (void)printer;
+    return Ok{};
   } catch (const Standard_Failure& e) {
     return make_error(path, std::string("OpenCASCADE failed: ") + e.GetMessageString());
   } catch (const std::exception& e) {

@@ -44,3 +44,19 @@ Result<CadModel> read_cad_file(const std::string& path, const CadTessellation& t
                                bool parallel = true);
 
 }  // namespace gonio::io
+
+#include "io/model/step_export.h"
+
+namespace gonio::io {
+
+// Writes `request` as a STEP AP214 file at `path` (millimetres), in this
+// process: each part's profile points approximated by a B-spline curve
+// (GeomAPI_PointsToBSpline, degree 3…8, C2, within request.tolerance_mm of
+// every point) in the XZ plane, turned about the Z axis
+// (BRepPrimAPI_MakeRevol: a face on a surface of revolution whose meridian
+// is that B-spline), each a shape named by its part name (XCAF, STEP product
+// names), the components of one assembly named request.product. `max_deviation_mm`: the
+// largest distance of a point from its part's curve.
+Status write_step_file(const StepExport& request, const std::string& path, double* max_deviation_mm = nullptr);
+
+}  // namespace gonio::io

@@ -4,6 +4,7 @@
 //                [--cone FROM,TO] [--map uncrossed|crossed] [--distance MM]
 //                [--nodes N] [--reflectance R] [--absolute] [--name NAME]
 //                [--photons N] [--seed S] [--threads T] [--gamma-step DEG]
+//   gonio design export FILE.design.toml --out DIR [--tolerance MM] [--gamma-step DEG]
 //
 // A reflector of revolution for a point source at the origin (the emitter's
 // file in the luminaire's photometric frame) and a rotationally symmetric
@@ -14,13 +15,17 @@
 // NAME.ldt and report.json, the run's report with a "design" section: the
 // inputs, the fluxes, the map, the profile, and the traced distribution
 // against the target (gonio compare's figures, flux-normalised, and the
-// beam angles).
+// beam angles). It also writes NAME.step and its sidecar NAME.gonio.toml
+// (design::write_design_step), as `gonio design export` does for any design
+// file: DIR/STEM.step, DIR/STEM.gonio.toml, DIR/STEM.gltf and .bin.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -97,6 +102,27 @@ int fail(const std::string& message) {
   return kExitFailure;
 }
 
+// gonio design export: a design file's parts as STEP (with its sidecar) and glTF.
+int export_design(const std::string& path, const std::string& out_dir, double tolerance_mm, double gamma_step) {
+  std::string stem = fs::path(path).filename().string();
+  stem = stem.substr(0, stem.size() - std::min(stem.size(), std::string(".design.toml").size()));
+  if (!design::is_design_path(path) || stem.empty()) return fail(path + ": not a design file (NAME.design.toml)");
+  Result<design::Design> d = design::read_design_file(path);
+  if (!d.ok()) return fail(to_string(d.error()));
+  if (Status s = io::make_directories(out_dir); !s.ok()) return fail(to_string(s.error()));
+  const std::string step_path = (fs::path(out_dir) / (stem + ".step")).string();
+  Result<design::StepExportInfo> step = design::write_design_step(*d, step_path, tolerance_mm);
+  if (!step.ok()) return fail(to_string(step.error()));
+  const std::string gltf_path = (fs::path(out_dir) / (stem + ".gltf")).string();
+  if (Status s = design::write_design_gltf(*d, gltf_path, io::tessellation_for_grid(gamma_step)); !s.ok())
+    return fail(to_string(s.error()));
+  std::printf("design: %s (%zu part(s), B-spline profiles within %s mm of the exact ones' samples, largest %s mm), "
+              "%s, %s\n",
+              step_path.c_str(), step->parts, format_number(tolerance_mm).c_str(),
+              format_number(step->max_deviation_mm, 3).c_str(), step->sidecar.c_str(), gltf_path.c_str());
+  return kExitOk;
+}
+
 }  // namespace
 
 int run_design(const Args& args) {
@@ -105,7 +131,11 @@ int run_design(const Args& args) {
   double distance_mm = 20.0, reflectance = 1.0, gamma_step = 1.0;
   long long nodes = 61, photons = 2'000'000, seed = 1, threads = 0;
   bool absolute = false;
-  ArgParser p("design", "reflector --emitter FILE --target FILE|FORMULA --out DIR [options]",
+  double tolerance_mm = design::kStepToleranceMm;
+  std::vector<std::string> files;
+  ArgParser p("design",
+              "reflector --emitter FILE --target FILE|FORMULA --out DIR [options]\n"
+              "       gonio design export FILE.design.toml --out DIR [--tolerance MM] [--gamma-step DEG]",
               "Designs a reflector of revolution that turns a point source's light into a\n"
               "rotationally symmetric target (both averaged over C): the energy-conserving map\n"
               "from the emitter's cone to the target's, and the profile from the reflector\n"
@@ -115,8 +145,12 @@ int run_design(const Args& args) {
               "DIR/report.json with the design's figures against the target. A target no\n"
               "reflector can give is an error saying why. FORMULA: uniform:FROM,TO (constant\n"
               "intensity over γ FROM…TO), cos:N,TO (cosⁿγ to TO), linear:K,C (the exact case\n"
-              "φ = Kθ + C° of the emitter over the cone, with its direct light).");
-  p.positional("KIND", &kind, "what to design: reflector");
+              "φ = Kθ + C° of the emitter over the cone, with its direct light); it also writes\n"
+              "DIR/NAME.step (B-spline surfaces of revolution, named parts) and its sidecar\n"
+              "DIR/NAME.gonio.toml. `gonio design export FILE.design.toml --out DIR` writes\n"
+              "any design file's parts as DIR/STEM.step (with STEM.gonio.toml) and DIR/STEM.gltf.");
+  p.positional("KIND", &kind, "what to do: reflector (design one) or export (write a design file as STEP and glTF)");
+  p.positional_list("FILE", &files, 0, "export: the design file");
   p.option("emitter", &emitter_path, "FILE", "the point source's photometric file (IES, LDT, TM-33), nadir −Z");
   p.option("target", &target_text, "FILE|FORMULA", "the target distribution: a photometric file or a formula");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
@@ -132,10 +166,23 @@ int run_design(const Args& args) {
   p.option("seed", &seed, 0, 9'223'372'036'854'775'807LL, "S", "seed of the trace (default 1)");
   p.option("threads", &threads, 0, 4096, "T", "threads of the trace (default 0: all cores)");
   p.option("gamma-step", &gamma_step, 0.1, 90.0, "DEG", "γ step of the traced files and the comparison (default 1)");
+  p.option("tolerance", &tolerance_mm, 1e-6, 1.0, "MM",
+           "STEP: the B-spline profiles' largest distance from the exact profile's samples (default 0.001)");
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
+  if (kind == "export") {
+    if (files.size() != 1 || out_dir.empty()) {
+      print_usage_error("design", p, files.size() != 1 ? "export takes one design file" : "--out DIR is required");
+      return kExitUsage;
+    }
+    return export_design(files[0], out_dir, tolerance_mm, gamma_step);
+  }
+  if (!files.empty()) {
+    print_usage_error("design", p, "unexpected argument " + io::shown(files[0]));
+    return kExitUsage;
+  }
   if (kind != "reflector") {
     print_usage_error("design", p,
-                      kind == "lens" ? "lenses are not designed yet; only 'reflector'" : "KIND must be 'reflector'");
+                      kind == "lens" ? "lenses are not designed yet; only 'reflector'" : "KIND must be 'reflector' or 'export'");
     return kExitUsage;
   }
   for (auto [value, option] : {std::pair{&emitter_path, "--emitter FILE"}, std::pair{&target_text, "--target"},
@@ -201,6 +248,15 @@ int run_design(const Args& args) {
   const std::string gltf_path = (fs::path(out_dir) / (name + ".gltf")).string();
   if (Status s = design::write_design_gltf(*written, gltf_path, io::tessellation_for_grid(gamma_step)); !s.ok())
     return fail(to_string(s.error()));
+  const std::string step_path = (fs::path(out_dir) / (name + ".step")).string();
+  std::string step_note;
+  if (io::cad_supported()) {
+    Result<design::StepExportInfo> step = design::write_design_step(*written, step_path, tolerance_mm);
+    if (!step.ok()) return fail(to_string(step.error()));
+    step_note = ", " + step_path;
+  } else {
+    step_note = " (no STEP: this gonio was built without OpenCASCADE)";
+  }
 
   // The trace.
   app::SimulateOptions options;
@@ -254,13 +310,13 @@ int run_design(const Args& args) {
                       {"direct_flux_lm", d->direct_flux_lm},
                       {"target_scale", d->target_scale},
                       {"reflected_gamma_deg", {d->target_from_deg, d->target_to_deg}},
-                      {"files", {design_path, emitter_copy, gltf_path, target_path}},
+                      {"files", {design_path, emitter_copy, gltf_path, step_path, target_path}},
                       {"profile", profile},
                       {"against_target", against}};
   if (Status s = io::write_file_atomic(result->files->report_path, report.dump(2) + "\n"); !s.ok())
     return fail(to_string(s.error()));
-  std::printf("design: %s (%zu points, map %s, cone %s°), %s, target.ies\n", design_path.c_str(),
-              d->profile.theta.size(), map.c_str(), cone.c_str(), gltf_path.c_str());
+  std::printf("design: %s (%zu points, map %s, cone %s°), %s%s, target.ies\n", design_path.c_str(),
+              d->profile.theta.size(), map.c_str(), cone.c_str(), gltf_path.c_str(), step_note.c_str());
   std::printf("against the target: RMS %s %% of its peak, largest %s %%, beam angle %s° (target %s°)\n",
               format_number(100.0 * cmp->rms_relative, 3).c_str(), format_number(100.0 * cmp->max_relative, 3).c_str(),
               format_number(beam_traced, 4).c_str(), format_number(beam_target, 4).c_str());

@@ -31,6 +31,8 @@
 #include <utility>
 #include <vector>
 
+#include "design/design_export.h"
+#include "design/design_file.h"
 #include "gonio/version.h"
 #include "io/photometric/photometric_file.h"
 #include "io/support/file_io.h"
@@ -503,6 +505,59 @@ py::array_t<T> cube_view(const T* data, int n, const py::object& owner) {
   return a;
 }
 
+// gonio.Design: a design file held in memory (design/design_file.h); its
+// variables set by name, written back, exported as STEP, and simulated as it
+// stands without writing a file (gonio.simulate: app::ModelInputOptions::design).
+struct PyDesign {
+  std::shared_ptr<design::Design> d;
+};
+
+PyDesign load_design(const py::object& path_object) {
+  const std::string path = fspath(path_object);
+  if (!design::is_design_path(path))
+    raise_error(make_error(path, "not a design file: its name must end with .design.toml"));
+  return {std::make_shared<design::Design>(take(design::read_design_file(path)))};
+}
+
+py::dict design_variables(const PyDesign& self) {
+  py::dict out;
+  for (const design::Variable& v : self.d->variables) out[py::str(v.name)] = v.value;
+  return out;
+}
+
+py::dict design_bounds(const PyDesign& self) {
+  py::dict out;
+  for (const design::Variable& v : self.d->variables)
+    out[py::str(v.name)] = py::make_tuple(v.min ? py::object(py::float_(*v.min)) : py::object(py::none()),
+                                          v.max ? py::object(py::float_(*v.max)) : py::object(py::none()));
+  return out;
+}
+
+void design_set(PyDesign& self, const std::string& name, double value) {
+  if (Status s = design::set_variable(*self.d, name, value); !s.ok()) raise_error(s.error());
+}
+
+void design_write(const PyDesign& self, const py::object& path_object) {
+  const std::string path = fspath(path_object);
+  if (Status s = io::write_file_atomic(path, design::write_design(self.d->document)); !s.ok()) raise_error(s.error());
+}
+
+py::dict design_export_step(const PyDesign& self, const py::object& path_object, double tolerance_mm) {
+  const std::string path = fspath(path_object);
+  if (!(tolerance_mm > 0.0)) throw py::value_error("tolerance_mm must be > 0");
+  Result<design::StepExportInfo> info = [&] {
+    py::gil_scoped_release unlocked;
+    return design::write_design_step(*self.d, path, tolerance_mm);
+  }();
+  const design::StepExportInfo i = take(std::move(info));
+  py::dict out;
+  out["step"] = path;
+  out["sidecar"] = i.sidecar;
+  out["parts"] = i.parts;
+  out["max_deviation_mm"] = i.max_deviation_mm;
+  return out;
+}
+
 struct Iteration {
   app::IterationReport report;
 };
@@ -624,10 +679,16 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
                           const std::string& symmetry, const std::string& formats, const std::string& ies_version,
                           const std::optional<std::string>& name, int max_bounces, bool cache) {
   const auto start = std::chrono::steady_clock::now();
-  const std::string model = fspath(model_object);
+  // A gonio.Design is simulated as it stands now (a copy: setting its
+  // variables during the run changes nothing), named by its file.
+  std::shared_ptr<const design::Design> in_memory;
+  if (py::isinstance<PyDesign>(model_object))
+    in_memory = std::make_shared<const design::Design>(*model_object.cast<const PyDesign&>().d);
+  const std::string model = in_memory ? in_memory->path : fspath(model_object);
   const std::string out = out_object.is_none() ? std::string() : fspath(out_object);
   app::SimulatePlan plan = plan_run(model, photons, iterations, seed, sampler, threads, out, target_error, c_step,
                                     gamma_step, symmetry, formats, ies_version, name, max_bounces, cache);
+  plan.model_input.design = in_memory;
   sim::Ranks ranks;  // this process alone
   plan.progressive.simulation.ranks = &ranks;
 
@@ -713,6 +774,28 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
     }
   }
   return result;
+}
+
+void bind_design(py::module_& m) {
+  py::class_<PyDesign>(m, "Design",
+                       "A design file (NAME.design.toml, docs/design.md) held in memory: its named variables\n"
+                       "set by name, written back, exported as STEP, and simulated as it stands by\n"
+                       "gonio.simulate(design) without writing a file.")
+      .def(py::init(&load_design), py::arg("path"), "Reads a design file; a mistake raises GonioError naming its line.")
+      .def_property_readonly("path", [](const PyDesign& self) { return self.d->path; }, "the file it was read from")
+      .def_property_readonly("variables", &design_variables, "{name: value} of its variables, in the file's order")
+      .def_property_readonly("bounds", &design_bounds, "{name: (min, max)} of its variables (None: unbounded)")
+      .def("set", &design_set, py::arg("name"), py::arg("value"),
+           "Sets a variable; one unknown, outside its bounds or not finite raises GonioError.")
+      .def("write", &design_write, py::arg("path"), "Writes the design file with the variables' current values.")
+      .def("export_step", &design_export_step, py::arg("path"), py::kw_only(),
+           py::arg("tolerance_mm") = design::kStepToleranceMm,
+           "Writes its parts as STEP (B-spline surfaces of revolution within tolerance_mm of the exact\n"
+           "profiles, named parts) and the sidecar beside it, as gonio design export does; returns\n"
+           "{step, sidecar, parts, max_deviation_mm}.")
+      .def("__repr__", [](const PyDesign& self) {
+        return "<gonio.Design " + self.d->path + ": " + std::to_string(self.d->variables.size()) + " variables>";
+      });
 }
 
 void bind_simulation(py::module_& m) {
@@ -804,7 +887,8 @@ void bind_simulation(py::module_& m) {
         py::arg("c_step") = 5.0, py::arg("gamma_step") = 2.5, py::arg("symmetry") = "auto",
         py::arg("formats") = "all", py::arg("ies_version") = "2019", py::arg("name") = py::none(),
         py::arg("max_bounces") = 100, py::arg("cache") = true,
-        "Traces a luminaire model (glTF 2.0) as gonio simulate does: `photons` per iteration,\n"
+        "Traces a luminaire model (glTF 2.0, STEP, a design file, or a gonio.Design in memory) as\n"
+        "gonio simulate does: `photons` per iteration,\n"
         "`iterations` at most, stopping early at `target_error` percent (estimated RMS candela\n"
         "error) where given. With `out`, writes gonio simulate's files there (the same bytes as\n"
         "the command with the same options). on_iteration(Iteration) is called after each\n"
@@ -830,5 +914,6 @@ PYBIND11_MODULE(_gonio, m) {
   m.attr("GonioError") = py::reinterpret_borrow<py::object>(g_error_type);
   m.attr("UndefinedFigureWarning") = py::reinterpret_borrow<py::object>(g_warning_type);
   bind_photometry(m);
+  bind_design(m);
   bind_simulation(m);
 }

@@ -78,15 +78,17 @@ ModelLoad load_model(const std::string& model, const ModelInputOptions& options,
   ModelInputTimes t;
   auto start = std::chrono::steady_clock::now();
   Result<sim::SceneDesc> scene = Error{};
-  if (design::is_design_path(model)) {
-    // A design file: its parts tessellated as CAD parts are, to the same rule.
+  if (options.design || design::is_design_path(model)) {
+    // A design file (or one in memory): its parts tessellated as CAD parts
+    // are, to the same rule.
     io::CadLoadOptions load;
     load.allow_outside_paths = options.allow_outside_paths;
     Result<io::CadTessellation> tessellation = cad_tessellation(options);
     if (tessellation.ok()) {
       load.tessellation = *tessellation;
       io::CadLoadInfo info;
-      scene = design::load_design(model, load, &out.findings, &info);
+      scene = options.design ? design::design_scene(*options.design, load, &out.findings, &info)
+                             : design::load_design(model, load, &out.findings, &info);
       if (scene.ok()) t.cad = cad_report(info);
     } else {
       scene = tessellation.error();

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +16,10 @@
 #include "photometry/diagnostics.h"
 #include "sim/scene.h"
 #include "tools/run/console.h"
+
+namespace gonio::design {
+struct Design;
+}
 
 namespace gonio::app {
 
@@ -30,6 +35,10 @@ struct ModelInputOptions {
   std::string parts_file;       // --parts FILE; empty: the sidecar beside the model
   std::string tessellation;     // --tessellation DEG[,MM]; empty: from the grid
   double gamma_step_deg = 2.5;  // the output grid's γ step, which the default tessellation follows
+  // A design held in memory (the Python module's gonio.Design): the model is
+  // built from it, at its variables' current values, and the model's name
+  // only names it in messages and outputs; no file is read for it.
+  std::shared_ptr<const design::Design> design;
 };
 
 // Whether the options suit these models: --tessellation parses (a CAD model

@@ -142,8 +142,19 @@ class SimulationResult:
     report: dict[str, Any] | None
     exit_code: int
 
+class Design:
+    """A design file (NAME.design.toml) held in memory; gonio.simulate(design) traces it as it stands."""
+
+    def __init__(self, path: PathLike) -> None: ...
+    path: str
+    variables: dict[str, float]
+    bounds: dict[str, tuple[float | None, float | None]]
+    def set(self, name: str, value: float) -> None: ...
+    def write(self, path: PathLike) -> None: ...
+    def export_step(self, path: PathLike, *, tolerance_mm: float = 0.001) -> dict[str, Any]: ...
+
 def simulate(
-    model: PathLike,
+    model: PathLike | Design,
     *,
     photons: int = 1_000_000,
     iterations: int = 10,

@@ -1,0 +1,84 @@
+#include "io/model/step_export.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "photometry/format.h"
+
+namespace gonio::io {
+namespace {
+
+constexpr const char* kHeader = "gonio-step-export 1";
+
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  return s;
+}
+
+}  // namespace
+
+std::string serialize_step_export(const StepExport& request) {
+  std::string out = std::string(kHeader) + "\n";
+  out += "product " + one_line(request.product) + "\n";
+  out += "tolerance " + format_number(request.tolerance_mm, 17) + "\n";
+  out += "parts " + std::to_string(request.parts.size()) + "\n";
+  for (const StepRevolvedPart& p : request.parts) {
+    out += "part " + one_line(p.name) + "\n";
+    out += "points " + std::to_string(p.rho.size()) + "\n";
+    for (std::size_t i = 0; i < p.rho.size() && i < p.z.size(); ++i)
+      out += format_number(p.rho[i], 17) + " " + format_number(p.z[i], 17) + "\n";
+  }
+  return out;
+}
+
+Result<StepExport> parse_step_export(std::string_view text, const std::string& name) {
+  std::istringstream in{std::string(text)};
+  std::string line;
+  int number = 0;
+  auto next = [&](std::string& l) -> bool {
+    if (!std::getline(in, l)) return false;
+    ++number;
+    return true;
+  };
+  auto bad = [&](const std::string& why) { return make_error(name, "line " + std::to_string(number) + ": " + why); };
+  auto keyed = [&](const std::string& key, std::string& value) -> bool {
+    if (!next(line) || line.rfind(key + " ", 0) != 0) return false;
+    value = line.substr(key.size() + 1);
+    return true;
+  };
+  if (!next(line) || line != kHeader) return bad("not a STEP export request");
+  StepExport r;
+  std::string value;
+  if (!keyed("product", r.product)) return bad("expected 'product NAME'");
+  if (!keyed("tolerance", value)) return bad("expected 'tolerance MM'");
+  char* end = nullptr;
+  r.tolerance_mm = std::strtod(value.c_str(), &end);
+  if (*end != '\0' || !(r.tolerance_mm > 0.0) || !std::isfinite(r.tolerance_mm)) return bad("bad tolerance");
+  if (!keyed("parts", value)) return bad("expected 'parts N'");
+  const long parts = std::strtol(value.c_str(), &end, 10);
+  if (*end != '\0' || parts < 1 || parts > 100000) return bad("bad part count");
+  for (long k = 0; k < parts; ++k) {
+    StepRevolvedPart p;
+    if (!keyed("part", p.name)) return bad("expected 'part NAME'");
+    if (!keyed("points", value)) return bad("expected 'points N'");
+    const long n = std::strtol(value.c_str(), &end, 10);
+    if (*end != '\0' || n < 2 || n > 10'000'000) return bad("bad point count (at least 2)");
+    for (long i = 0; i < n; ++i) {
+      if (!next(line)) return bad("the points end early");
+      std::istringstream pt(line);
+      double rho = 0.0, z = 0.0;
+      std::string rest;
+      if (!(pt >> rho >> z) || (pt >> rest) || !std::isfinite(rho) || !std::isfinite(z) || rho < 0.0)
+        return bad("expected two finite numbers ρ ≥ 0, z");
+      p.rho.push_back(rho);
+      p.z.push_back(z);
+    }
+    r.parts.push_back(std::move(p));
+  }
+  while (next(line))
+    if (!line.empty()) return bad("unexpected text after the last part");
+  return r;
+}
+
+}  // namespace gonio::io

@@ -1,0 +1,38 @@
+// What gonio asks the helper gonio-cad to write as STEP (io/model/cad.h's
+// export_step; io/model/step.h's write_step_file): named surfaces of
+// revolution about the Z axis, each given by points of its meridian profile
+// (ρ, z) that the helper approximates by a B-spline curve within a stated
+// tolerance and turns about the axis. Plain data and its text form (the
+// request file the helper reads), so that only the helper links
+// OpenCASCADE.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "photometry/diagnostics.h"
+
+namespace gonio::io {
+
+struct StepRevolvedPart {
+  std::string name;              // the part's product name (XCAF name)
+  std::vector<double> rho, z;    // the profile's points in order [mm], ρ ≥ 0
+};
+
+struct StepExport {
+  std::string product;           // the assembly's name, above the parts
+  double tolerance_mm = 1e-3;    // the B-spline's largest distance from the points
+  std::vector<StepRevolvedPart> parts;
+};
+
+// The request as text: a header line, then per part its name on one line
+// and its points one per line (names lose their line breaks).
+std::string serialize_step_export(const StepExport& request);
+
+// Reads the text back; `name` names it in messages. Errors: a malformed or
+// truncated request, text after its last part, points not finite, ρ < 0,
+// fewer than 2 points.
+Result<StepExport> parse_step_export(std::string_view text, const std::string& name);
+
+}  // namespace gonio::io

@@ -1,0 +1,261 @@
+// STEP export of design files (design/design_export.h, write_design_step):
+// each reflector written by the helper gonio-cad as a face of revolution
+// whose meridian is a B-spline within the stated tolerance of the exact
+// profile, named by its part's name, with a sidecar that makes the STEP a
+// luminaire. Read back by gonio's own CAD reader (every vertex on the exact
+// surface, the names, the materials) and by FreeCAD (the names, and the
+// paraboloid's area against its closed form).
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "design/design_export.h"
+#include "design/design_file.h"
+#include "design/design_scene.h"
+#include "design/revolved.h"
+#include "io/model/cad.h"
+#include "io/model/parts_file.h"
+#include "io/model/step_export.h"
+#include "io/support/process.h"
+#include "tests/support/test_support.h"
+
+#ifndef GONIO_TEST_DATA_DIR
+#error "GONIO_TEST_DATA_DIR must name the build's test-data folder"
+#endif
+
+namespace gonio::design {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+namespace fs = std::filesystem;
+
+// Three profiles of the three kinds; the dish is the paraboloid z = 10 − ρ²/40
+// mm over ρ 4…30 mm.
+const char* kDesign = R"(length_unit = "mm"
+
+[materials.mirror]
+mirror = 0.9
+
+[materials.white]
+reflectance = 0.8
+
+[[emitters]]
+name = "LED"
+position = [0, 0, 0]
+profile = "led.ies"
+
+[[reflectors]]
+name = "Outer dish"
+material = "mirror"
+profile = "conic"
+radius = { value = 20, min = 10, max = 40 }
+conic = -1
+vertex = 10
+aperture = [4, 30]
+
+[[reflectors]]
+name = "polar"
+material = "white"
+profile = "polar"
+theta_deg = [100, 120, 140, 160, 180]
+r = [40, 38, 37, 36, 35]
+
+[[reflectors]]
+name = "spline"
+material = "mirror"
+profile = "bspline"
+points = [[0, 60], [20, 58], [40, 50], [50, 30]]
+)";
+
+// The paraboloid's area, (2πR²/3)·[(1 + ρ²/R²)^(3/2)] from ρ₀ to ρ₁ [mm²].
+double dish_area_mm2() {
+  const double R = 20.0;
+  auto F = [&](double rho) { return 2.0 * kPi * R * R / 3.0 * std::pow(1.0 + rho * rho / (R * R), 1.5); };
+  return F(30.0) - F(4.0);
+}
+
+struct Written {
+  Design design;
+  DesignParts parts;
+  StepExportInfo info;
+};
+
+Written write_step(const fs::path& dir) {
+  test::write_file(dir / "lamp.design.toml", kDesign);
+  test::write_file(dir / "led.ies", "not read by the export\n");
+  Result<Design> d = read_design_file((dir / "lamp.design.toml").string());
+  EXPECT_TRUE(d.ok()) << (d.ok() ? "" : to_string(d.error()));
+  Result<DesignParts> parts = read_design_parts(resolved_document(*d), d->path);
+  EXPECT_TRUE(parts.ok());
+  fs::create_directories(dir / "cad");
+  Result<StepExportInfo> info = write_design_step(*d, (dir / "cad" / "lamp.step").string());
+  EXPECT_TRUE(info.ok()) << (info.ok() ? "" : to_string(info.error()));
+  return {*d, *parts, info.ok() ? *info : StepExportInfo{}};
+}
+
+TEST(DesignStep, PartsReadBackOnTheExactSurfacesWithTheirNames) {
+  test::TempDir dir;
+  const Written w = write_step(dir.path());
+  ASSERT_EQ(w.info.parts, 3u);
+  EXPECT_LE(w.info.max_deviation_mm, kStepToleranceMm);
+  EXPECT_EQ(w.info.sidecar, (dir / "cad" / "lamp.gonio.toml").string());
+
+  io::CadLoadOptions o;
+  o.tessellation.angular_deflection_deg = 2.0;
+  Result<io::CadModel> model = io::tessellate_cad((dir / "cad" / "lamp.step").string(), o);
+  ASSERT_TRUE(model.ok()) << to_string(model.error());
+  ASSERT_EQ(model->parts.size(), 3u);
+  for (const Reflector& r : w.parts.reflectors) {
+    const auto part = std::find_if(model->parts.begin(), model->parts.end(),
+                                   [&](const io::CadPart& p) { return p.name == r.name; });
+    ASSERT_NE(part, model->parts.end()) << r.name;
+    EXPECT_EQ(part->faces, 1u) << r.name;
+    Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
+    ASSERT_TRUE(curve.ok());
+    // Every vertex on the exact surface (within the B-spline's tolerance and
+    // the samples' spacing) and the profile's whole span covered.
+    double worst = 0.0, z_lo = 1e9, z_hi = -1e9, rho_lo = 1e9, rho_hi = -1e9;
+    std::size_t vertices = 0;
+    for (const io::CadSurface& s : part->surfaces)
+      for (std::size_t i = 0; i < s.positions.size(); ++i) {
+        const sim::Vec3f& p = s.positions[i];
+        const double rho = std::hypot(double(p.x), double(p.y)), z = p.z;
+        // distance_to_profile walks the whole curve: every 7th vertex.
+        if (i % 7 == 0) worst = std::max(worst, distance_to_profile(*curve, rho, z));
+        z_lo = std::min(z_lo, z), z_hi = std::max(z_hi, z);
+        rho_lo = std::min(rho_lo, rho), rho_hi = std::max(rho_hi, rho);
+        ++vertices;
+      }
+    EXPECT_GT(vertices, 100u) << r.name;
+    // 1 µm of the B-spline, and the float of the vertices (60 mm · 2⁻²⁴ ≈ 4 nm).
+    EXPECT_LT(worst, 1.5e-6) << r.name;
+    double e_rho_lo = 1e9, e_rho_hi = -1e9, e_z_lo = 1e9, e_z_hi = -1e9;
+    for (int i = 0; i <= 1000; ++i) {
+      double rho = 0, z = 0, dr = 0, dz = 0;
+      curve->eval(curve->t0() + (curve->t1() - curve->t0()) * i / 1000.0, rho, z, dr, dz);
+      e_rho_lo = std::min(e_rho_lo, rho), e_rho_hi = std::max(e_rho_hi, rho);
+      e_z_lo = std::min(e_z_lo, z), e_z_hi = std::max(e_z_hi, z);
+    }
+    EXPECT_NEAR(rho_hi, e_rho_hi, 2e-6) << r.name;
+    EXPECT_NEAR(rho_lo, e_rho_lo, 2e-6) << r.name;
+    EXPECT_NEAR(z_hi, e_z_hi, 2e-6) << r.name;
+    EXPECT_NEAR(z_lo, e_z_lo, 2e-6) << r.name;
+  }
+
+  // The sidecar: a rule per part with its material, the emitter's profile
+  // found from the STEP's folder, so that the STEP loads as a luminaire.
+  Result<io::PartsFile> sidecar = io::read_parts_file(w.info.sidecar);
+  ASSERT_TRUE(sidecar.ok()) << to_string(sidecar.error());
+  ASSERT_EQ(sidecar->rules.size(), 3u);
+  ASSERT_EQ(sidecar->emitters.size(), 1u);
+  EXPECT_EQ(sidecar->emitters[0].profile, "led.ies");
+  EXPECT_EQ(test::read_file(dir / "cad" / "led.ies"), "not read by the export\n");
+  std::map<std::string, std::string> material_of;
+  for (const io::PartsRule& rule : sidecar->rules) material_of[rule.match] = rule.material;
+  EXPECT_EQ(material_of["Outer dish"], "mirror");
+  EXPECT_EQ(material_of["polar"], "white");
+  EXPECT_EQ(material_of["spline"], "mirror");
+}
+
+// The request gonio hands the helper: a round trip, and malformed ones refused.
+TEST(DesignStep, TheHelpersRequestRoundTripsAndRefusesMalformedText) {
+  io::StepExport r;
+  r.product = "lamp";
+  r.tolerance_mm = 2.5e-4;
+  r.parts.push_back({"a dish", {0.0, 1.0 / 3.0, 30.0}, {10.0, 9.5, -12.5}});
+  r.parts.push_back({"b", {4.0, 5.0}, {1.0, 2.0}});
+  Result<io::StepExport> back = io::parse_step_export(io::serialize_step_export(r), "request");
+  ASSERT_TRUE(back.ok()) << to_string(back.error());
+  EXPECT_EQ(back->product, "lamp");
+  EXPECT_EQ(back->tolerance_mm, 2.5e-4);
+  ASSERT_EQ(back->parts.size(), 2u);
+  EXPECT_EQ(back->parts[0].name, "a dish");
+  EXPECT_EQ(back->parts[0].rho, r.parts[0].rho);  // 17 digits: exact
+  EXPECT_EQ(back->parts[0].z, r.parts[0].z);
+  const std::string good = io::serialize_step_export(r);
+  for (const std::string& bad :
+       {std::string(), std::string("gonio-step-export 2\n"), good.substr(0, good.size() - 6),
+        good + "trailing\n",
+        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\npoints 2\n-1 2\n2 3\n"),
+        std::string("gonio-step-export 1\nproduct p\ntolerance 0\nparts 1\n"),
+        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\npoints 2\n1 nan\n2 3\n"),
+        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\npoints 1\n1 2\n")}) {
+    Result<io::StepExport> parsed = io::parse_step_export(bad, "request");
+    EXPECT_FALSE(parsed.ok()) << bad;
+  }
+}
+
+TEST(DesignStep, ADesignWithoutPartsOrWithABadToleranceIsAnError) {
+  test::TempDir dir;
+  Result<Design> empty = parse_design("length_unit = \"mm\"\n", (dir / "e.design.toml").string());
+  ASSERT_TRUE(empty.ok());
+  Result<StepExportInfo> r = write_design_step(*empty, (dir / "e.step").string());
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("no parts"), std::string::npos) << r.error().message;
+  EXPECT_FALSE(fs::exists(dir / "e.step"));
+  Result<Design> d = parse_design(kDesign, (dir / "lamp.design.toml").string());
+  ASSERT_TRUE(d.ok());
+  r = write_design_step(*d, (dir / "lamp.step").string(), 0.0);
+  ASSERT_FALSE(r.ok());
+  EXPECT_FALSE(fs::exists(dir / "lamp.step"));
+}
+
+TEST(DesignStep, FreeCadFindsThePartsByName) {
+  test::TempDir dir;
+  const Written w = write_step(dir.path());
+  const fs::path py = test::source_dir() / "tests" / "design" / "read_step.py";
+  const fs::path listing = dir / "parts.txt";
+  // FreeCAD runs one at a time (its user folder is shared): the CAD tests' lock.
+  const fs::path lock_dir = fs::path(GONIO_TEST_DATA_DIR) / "cad";
+  fs::create_directories(lock_dir);
+  const int lock = ::open((lock_dir / ".lock").c_str(), O_CREAT | O_RDWR, 0644);
+  if (lock >= 0) ::flock(lock, LOCK_EX);
+  test::ScopedEnv in("GONIO_STEP_IN", (dir / "cad" / "lamp.step").c_str());
+  test::ScopedEnv out("GONIO_STEP_OUT", listing.c_str());
+  Result<io::ProcessOutput> fc = io::run_program({"freecadcmd", py.string()}, std::chrono::seconds(300),
+                                                 std::size_t{1} << 20, "install Debian's freecad (scripts/setup.sh)");
+  if (lock >= 0) ::close(lock);
+  if (!fc.ok()) GONIO_MISSING("FreeCAD's freecadcmd on PATH: " + fc.error().message);
+  ASSERT_TRUE(fs::exists(listing)) << fc->out << fc->err;
+  struct Object {
+    std::string type;
+    double area_mm2 = 0.0;
+    int faces = 0;
+  };
+  std::map<std::string, Object> found;
+  std::istringstream lines(test::read_file(listing));
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    std::string label, type, area, faces;
+    ASSERT_TRUE(std::getline(fields, label, '\t') && std::getline(fields, type, '\t') &&
+                std::getline(fields, area, '\t') && std::getline(fields, faces, '\t'))
+        << line;
+    found[label] = {type, std::stod(area), std::stoi(faces)};
+  }
+  ASSERT_EQ(found.size(), 4u) << test::read_file(listing);
+  // The assembly, named by the file, holds the three parts.
+  ASSERT_TRUE(found.count("lamp")) << test::read_file(listing);
+  EXPECT_EQ(found["lamp"].type, "App::Part");
+  EXPECT_EQ(found["lamp"].faces, 3);
+  for (const char* name : {"Outer dish", "polar", "spline"}) {
+    ASSERT_TRUE(found.count(name)) << name << "\n" << test::read_file(listing);
+    EXPECT_EQ(found[name].type, "Part::Feature") << name;
+    EXPECT_EQ(found[name].faces, 1) << name;
+  }
+  // The paraboloid's area as FreeCAD integrates it on the B-spline surface.
+  EXPECT_NEAR(found["Outer dish"].area_mm2 / dish_area_mm2(), 1.0, 1e-5);  // measured 1.1e-6
+}
+
+}  // namespace
+}  // namespace gonio::design
