@@ -129,6 +129,20 @@ TEST(Colour, BlackbodyKeepsItsCctAndOffsetsComeBack) {
   }
 }
 
+// A value another tool published: the Lighting Toolbox's documentation of
+// cieuv2cct (frudawski.de/cieuv2cct, CIE 15:2018) gives CIE 1960 (u, v) =
+// (0.2308, 0.2825) as 7519.3 K by its 'exact' method (7513 K by Robertson's).
+// Ohno's combined method is within 1 K of exact (LEUKOS 10:47, 2014); this
+// point lies 0.041 below the locus, where the parabolic solution holds.
+// Mistakes it catches: the locus searched in (u′, v′) instead of (u′, 2/3 v′)
+// (put in and seen to fail, 2026-12-07), Robertson's isotemperature lines in
+// place of the nearest Planckian point (6 K off).
+TEST(Colour, CctOfAPointAnotherToolPublished) {
+  const CctDuv r = cct_duv(UvPrime{0.2308, 1.5 * 0.2825});
+  EXPECT_NEAR(r.cct_k, 7519.3, 0.5);
+  EXPECT_LT(r.duv, -0.03);
+}
+
 // Issue 45, case 12: between |Duv| 0.002 and 0.02 Ohno's combined method
 // takes the parabolic solution (Ohno 2014, LEUKOS 10(1):47–55, section on
 // the combined method): the triangular one, exact on the locus, drifts
