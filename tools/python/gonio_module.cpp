@@ -48,6 +48,7 @@
 #include "tools/run/distributed_run.h"
 #include "tools/run/json_figures.h"
 #include "tools/run/model_input.h"
+#include "tools/run/optimize_run.h"
 #include "tools/run/photometric_report.h"
 #include "tools/run/progressive_run.h"
 #include "tools/run/ray_file_far_field.h"
@@ -776,6 +777,108 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
   return result;
 }
 
+
+// gonio optimize's own run (app::optimize_design). Without `out` it works in
+// a temporary folder, removed afterwards. `callback(evaluation)` after each
+// evaluation (a dict as history.json's rows); False stops, keeping the best.
+py::dict optimize(const py::object& design_object, const py::object& target_object, const py::object& out_object,
+                  const std::string& method, long long max_evals, long long stages, long long seed, int threads,
+                  const std::optional<double>& photons_per_bin, bool smooth, double gamma_step,
+                  long long final_photons, double max_time, const std::optional<std::string>& name,
+                  const py::object& callback) {
+  const auto start = std::chrono::steady_clock::now();
+  namespace fs = std::filesystem;
+  app::OptimizeRunOptions o;
+  o.design_path = py::isinstance<PyDesign>(design_object) ? design_object.cast<const PyDesign&>().d->path
+                                                          : fspath(design_object);
+  o.target_path = target_object.is_none() ? std::string() : fspath(target_object);
+  const std::optional<design::OptimizeMethod> m = design::parse_optimize_method(method);
+  if (!m) throw py::value_error("method must be 'bobyqa' or 'cobyla', not '" + method + "'");
+  o.method = *m;
+  if (max_evals < 1) throw py::value_error("max_evals must be at least 1");
+  if (stages < 1 || stages > 8) throw py::value_error("stages must be between 1 and 8");
+  if (photons_per_bin && !(*photons_per_bin >= 40.0 && *photons_per_bin <= 1e6))
+    throw py::value_error("photons_per_bin must be between 40 and 1000000");
+  if (!(gamma_step >= 0.1 && gamma_step <= 90.0)) throw py::value_error("gamma_step must be between 0.1 and 90");
+  if (final_photons < 1) throw py::value_error("final_photons must be at least 1");
+  if (seed < 0) throw py::value_error("seed must be at least 0");
+  o.max_evals = max_evals;
+  o.stages = stages;
+  o.seed = seed;
+  o.threads = threads;
+  o.photons_per_bin = photons_per_bin;
+  o.no_smooth = !smooth;
+  o.gamma_step = gamma_step;
+  o.final_photons = final_photons;
+  o.max_time = max_time;
+  o.name = name.value_or(std::string());
+  // The working folder: `out`, or a fresh temporary one.
+  std::string temporary;
+  if (out_object.is_none()) {
+    const std::string base = py::str(py::module_::import("tempfile").attr("mkdtemp")("", "gonio-optimize-"));
+    temporary = base;
+    o.out_dir = base;
+  } else {
+    o.out_dir = fspath(out_object);
+  }
+  struct RemoveTemporary {
+    std::string path;
+    ~RemoveTemporary() {
+      std::error_code ignored;
+      if (!path.empty()) fs::remove_all(path, ignored);
+    }
+  } remove_temporary{temporary};
+
+  std::optional<py::error_already_set> raised;
+  app::OptimizeRunHooks hooks;
+  std::vector<design::OptimizeVariable> variables;
+  hooks.on_start = [&](const std::vector<design::OptimizeVariable>& v, const design::MeritSpec&, std::size_t,
+                       std::uint64_t) { variables = v; };
+  hooks.on_evaluation = [&](const design::EvaluationRecord& r) {
+    if (PyErr_CheckSignals() != 0) {
+      raised.emplace();
+      return false;
+    }
+    if (callback.is_none()) return true;
+    try {
+      const py::object go_on = callback(to_python(app::evaluation_json(r, variables)));
+      return go_on.is_none() || go_on.cast<bool>();
+    } catch (py::error_already_set& e) {
+      raised.emplace(std::move(e));
+      return false;
+    }
+  };
+  bool usage = false;
+  Result<app::OptimizeRunOutcome> outcome = app::optimize_design(o, hooks, start, &usage);
+  if (raised) throw std::move(*raised);
+  if (!outcome.ok()) {
+    if (usage) throw py::value_error(outcome.error().message);
+    raise_error(outcome.error());
+  }
+  py::dict best;
+  for (std::size_t i = 0; i < outcome->variables.size(); ++i)
+    best[py::str(outcome->variables[i].name)] = outcome->run.best_values[i];
+  std::vector<double> merits;
+  for (const design::EvaluationRecord& r : outcome->run.history)
+    if (r.stage >= 0) merits.push_back(r.merit);
+  py::dict result;
+  result["variables"] = best;
+  result["merit_history"] = py::array_t<double>(static_cast<py::ssize_t>(merits.size()), merits.data());
+  result["history"] = to_python(outcome->history);
+  result["optimize"] = to_python(outcome->report["optimize"]);
+  result["final"] = to_python(outcome->report["optimize"]["final"]);
+  result["report"] = to_python(outcome->report);
+  py::list files;
+  if (temporary.empty()) {
+    files.append(outcome->best_path);
+    files.append(outcome->history_path);
+    files.append(outcome->result->files->report_path);
+    for (const auto& f : outcome->report.value("written", nlohmann::json::array())) files.append(f.get<std::string>());
+  }
+  result["files"] = files;
+  return result;
+}
+
 void bind_design(py::module_& m) {
   py::class_<PyDesign>(m, "Design",
                        "A design file (NAME.design.toml, docs/design.md) held in memory: its named variables\n"
@@ -881,6 +984,17 @@ void bind_simulation(py::module_& m) {
                std::to_string(r.iterations_done) + " iterations, stopped by " + r.stopped_by + ">";
       });
 
+  m.def("optimize", &optimize, py::arg("design"), py::arg("target") = py::none(), py::kw_only(),
+        py::arg("out") = py::none(), py::arg("method") = "bobyqa", py::arg("max_evals") = 200,
+        py::arg("stages") = 3, py::arg("seed") = 1, py::arg("threads") = 0, py::arg("photons_per_bin") = py::none(),
+        py::arg("smooth") = true, py::arg("gamma_step") = 1.0, py::arg("final_photons") = 1'000'000,
+        py::arg("max_time") = 0.0, py::arg("name") = py::none(), py::arg("callback") = py::none(),
+        "Optimises a design file's variables toward a target as gonio optimize does (the same run;\n"
+        "docs/commands/optimize.md): returns {variables: the best {name: value}, merit_history:\n"
+        "the stages' merits (numpy), history: every evaluation as history.json, optimize: report.json's\n"
+        "optimize section, final: its final trace's figures, report, files}. Without out it works in a\n"
+        "temporary folder. callback(evaluation) after each evaluation; False stops, keeping the best.\n"
+        "Raises GonioError naming the file; bad arguments raise ValueError.");
   m.def("simulate", &simulate, py::arg("model"), py::kw_only(), py::arg("photons") = 1'000'000,
         py::arg("iterations") = 10, py::arg("seed") = 1, py::arg("sampler") = "sobol", py::arg("threads") = 0,
         py::arg("out") = py::none(), py::arg("on_iteration") = py::none(), py::arg("target_error") = 0.0,

@@ -1,0 +1,107 @@
+"""gonio.optimize: gonio optimize's own run (tools/run/optimize_run.h) from
+Python: the same best values, history and final figures as the command's
+report.json for the same inputs and seed, a callback that stops it, and
+errors naming the file (ctest label `python`)."""
+import json
+
+import numpy as np
+import pytest
+
+import gonio
+from conftest import run_gonio
+
+# A conic dish over an isotropic source; its conic constant the variable.
+DESIGN = """length_unit = "mm"
+[materials.mirror]
+reflectance = 0.9
+[[emitters]]
+name = "LED"
+position = [0, 0, 0]
+flux_lm = 1000
+[[reflectors]]
+name = "dish"
+material = "mirror"
+profile = "conic"
+radius = 10
+conic = CONIC
+vertex = 5
+aperture = [2, 30]
+"""
+
+# Small budgets: a few seconds a run.
+RUN = dict(max_evals=6, stages=2, final_photons=20000, gamma_step=5, seed=2, threads=1)
+CLI = ["--max-evals", "6", "--stages", "2", "--final-photons", "20000", "--gamma-step", "5", "--seed", "2",
+       "--threads", "1"]
+
+
+@pytest.fixture(scope="module")
+def setup(tmp_path_factory, gonio_exe):
+    d = tmp_path_factory.mktemp("optimize")
+    (d / "truth.design.toml").write_text(DESIGN.replace("CONIC", "-1.5"))
+    (d / "start.design.toml").write_text(DESIGN.replace("CONIC", "{ value = -2.6, min = -3, max = -1 }"))
+    code, _, err = run_gonio(gonio_exe, "simulate", d / "truth.design.toml", "--out", d / "truth", "--photons",
+                             "20000", "--iterations", "1", "--gamma-step", "5", "--format", "ies", "--no-cache")
+    assert code == 0, err
+    return d, d / "truth" / "truth.design.ies"
+
+
+def test_equals_the_command(setup, gonio_exe):
+    d, target = setup
+    code, _, err = run_gonio(gonio_exe, "optimize", d / "start.design.toml", "--target", target, "--out",
+                             d / "cli", *CLI)
+    assert code == 0, err
+    report = json.loads((d / "cli" / "report.json").read_text())["optimize"]
+    history = json.loads((d / "cli" / "history.json").read_text())
+
+    seen = []
+    result = gonio.optimize(d / "start.design.toml", target, out=d / "py", callback=seen.append, **RUN)
+    assert result["variables"] == {v["name"]: v["best"] for v in report["variables"]}
+    assert result["final"] == report["final"]
+    for key in ("best_merit", "start_merit", "independent_merit", "noise_floor", "evaluations", "stopped_by"):
+        assert result["optimize"][key] == report[key], key
+    def untimed(rows):
+        return [{k: v for k, v in e.items() if k != "time_s"} for e in rows]
+
+    assert untimed(result["history"]) == untimed(history)
+    merits = [e["merit"] for e in history if e["stage"] != "noise"]
+    assert isinstance(result["merit_history"], np.ndarray)
+    np.testing.assert_array_equal(result["merit_history"], merits)
+    # The callback saw every evaluation, the noise floor's too, as history.json's rows.
+    assert untimed(seen) == untimed(history)
+    assert (d / "py" / "start.design.toml").exists() and str(d / "py" / "report.json") in result["files"]
+    # Without out: the same run in a temporary folder, which is gone afterwards.
+    again = gonio.optimize(d / "start.design.toml", target, **RUN)
+    assert again["variables"] == result["variables"] and again["files"] == []
+
+
+def test_callback_returning_false_stops_and_keeps_the_best(setup):
+    d, target = setup
+    seen = []
+
+    def stop_after_three(evaluation):
+        seen.append(evaluation)
+        return evaluation["index"] < 3
+
+    result = gonio.optimize(d / "start.design.toml", target, callback=stop_after_three, **RUN)
+    assert result["optimize"]["stopped_by"] == "cancelled"
+    assert result["optimize"]["evaluations"] == 3
+    assert len(result["merit_history"]) == 3
+    best = min(range(3), key=lambda i: result["merit_history"][i])
+    assert result["variables"]["reflectors[0].conic"] == seen[best]["values"]["reflectors[0].conic"]
+    assert result["optimize"]["best_merit"] == result["merit_history"][best]
+
+
+def test_errors_name_the_file(setup, tmp_path):
+    d, target = setup
+    bad = d / "bad.design.toml"
+    bad.write_text(DESIGN.replace("CONIC", "{ value = -2, min = -3, max = -1 }") + "[merit]\ngamma_step = 7\n")
+    with pytest.raises(gonio.GonioError, match=r"bad\.design\.toml:17: \[merit\]: gamma_step must divide 180"):
+        gonio.optimize(bad, target, **RUN)
+    with pytest.raises(gonio.GonioError, match="absent.ies"):
+        gonio.optimize(d / "start.design.toml", tmp_path / "absent.ies", **RUN)
+    with pytest.raises(gonio.GonioError, match=r"truth\.design\.toml.*no variables"):
+        gonio.optimize(d / "truth.design.toml", target, **RUN)
+    with pytest.raises(ValueError, match="target"):
+        gonio.optimize(d / "start.design.toml", **RUN)
+    with pytest.raises(ValueError, match="method"):
+        gonio.optimize(d / "start.design.toml", target, method="newton")

@@ -1,0 +1,357 @@
+// gonio optimize as a library function (tools/run/optimize_run.h).
+#include "tools/run/optimize_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <system_error>
+
+#include "design/design_file.h"
+#include "design/design_scene.h"
+#include "io/photometric/photometric_file.h"
+#include "io/support/file_io.h"
+#include "io/support/text.h"
+#include "photometry/format.h"
+#include "sim/ledger.h"
+#include "tools/run/json_figures.h"
+#include "tools/run/photometric_input.h"
+#include "tools/run/resampler_cache.h"
+
+namespace gonio::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The escaped photons of a finished simulation, in the photometric frame,
+// each with its flux, and the light output ratio.
+std::vector<design::MeritPhoton> escaped_photons(const sim::Simulation& simulation, double* lor) {
+  const std::vector<sim::EscapedRay>& rays = simulation.escaped_rays();
+  const double total = simulation.total_flux_lm();
+  const double photons = static_cast<double>(simulation.stats().photons);
+  const double per_unit = photons > 0.0 ? total / photons / static_cast<double>(sim::kPowerUnits) : 0.0;
+  const photometry::PhotometricFrame& frame = simulation.scene().frame;
+  std::vector<design::MeritPhoton> out;
+  out.reserve(rays.size());
+  double escaped = 0.0;
+  for (const sim::EscapedRay& r : rays) {
+    const double flux = per_unit * static_cast<double>(r.power_units);
+    out.push_back({frame.to_local(r.direction), flux});
+    escaped += flux;
+  }
+  *lor = total > 0.0 ? escaped / total : 0.0;
+  return out;
+}
+
+// What one traced design gives: its merit's terms, or the run's error.
+struct Traced {
+  std::optional<design::MeritValue> merit;
+  std::string error;
+  std::optional<SimulatePlan> plan;
+  std::optional<SimulateResult> result;
+  double estimated_error_pct = std::nan("");
+};
+
+}  // namespace
+
+nlohmann::json evaluation_json(const design::EvaluationRecord& r, const std::vector<design::OptimizeVariable>& variables) {
+  nlohmann::json values = nlohmann::json::object();
+  for (std::size_t i = 0; i < variables.size() && i < r.values.size(); ++i) values[variables[i].name] = r.values[i];
+  nlohmann::json e = {{"index", r.index},  {"stage", r.stage + 1}, {"merit", json_number(r.merit)},
+                      {"best", json_number(r.best)}, {"photons", r.photons}, {"seed", r.seed},
+                      {"time_s", r.time_s}, {"values", values}};
+  if (r.stage < 0) e["stage"] = "noise";
+  if (!r.error.empty()) e["error"] = r.error;
+  return e;
+}
+
+Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, const OptimizeRunHooks& hooks,
+                                           std::chrono::steady_clock::time_point start, bool* usage) {
+  const std::string& design_path = options.design_path;
+  std::string target_path = options.target_path;
+  const std::string& out_dir = options.out_dir;
+  const design::OptimizeMethod method = options.method;
+  const long long max_evals = options.max_evals, stages = options.stages, seed = options.seed,
+                  threads = options.threads, final_photons = options.final_photons;
+  const std::optional<double>& photons_per_bin = options.photons_per_bin;
+  const double gamma_step = options.gamma_step, max_time = options.max_time;
+  const bool no_smooth = options.no_smooth;
+  const std::optional<std::string>& scan = options.scan;
+  std::string name = options.name;
+  if (name.empty()) {
+    name = fs::path(design_path).filename().string();
+    const std::string suffix = ".design.toml";
+    if (name.size() >= suffix.size()) name = name.substr(0, name.size() - suffix.size());
+  }
+  if (out_dir.empty()) {
+    if (usage) *usage = true;
+    return make_error("--out DIR is required");
+  }
+  if (!design::is_design_path(design_path)) {
+    if (usage) *usage = true;
+    return make_error("DESIGN must be a design file (NAME.design.toml), got " + io::shown(design_path));
+  }
+  if (name.empty() || name.find_first_of("/\\*?[]") != std::string::npos || name.front() == '.') {
+    if (usage) *usage = true;
+    return make_error("--name must be a plain name (no / \\ * ? [ ], not starting with .)");
+  }
+  // The design, its variables and merit.
+  Result<design::Design> read = design::read_design_file(design_path);
+  if (!read.ok()) return make_error(to_string(read.error()));
+  design::Design design = std::move(read.value());
+  std::vector<design::OptimizeVariable> variables;
+  for (const design::Variable& v : design.variables) {
+    if (!v.min || !v.max)
+      return make_error(design.path + ":" + std::to_string(v.line) + ": variable '" + v.name +
+                  "' has no " + (!v.min ? "min" : "max") + ": the optimiser searches between a variable's bounds");
+    if (!(*v.min < *v.max))
+      return make_error(design.path + ":" + std::to_string(v.line) + ": variable '" + v.name +
+                  "': min must be below max to search between them");
+    variables.push_back({v.name, v.value, *v.min, *v.max});
+  }
+  if (variables.empty())
+    return make_error(design.path + ": the design has no variables ({ value = …, min = …, max = … }) to optimise");
+  Result<design::MeritSpec> spec_read = design::read_merit(design::resolved_document(design), design.path);
+  if (!spec_read.ok()) return make_error(to_string(spec_read.error()));
+  design::MeritSpec spec = spec_read.value();
+  if (no_smooth) spec.smooth = false;
+  if (photons_per_bin) spec.photons_per_bin = *photons_per_bin;
+  if (target_path.empty()) target_path = spec.target;
+  if (target_path.empty()) {
+    if (usage) *usage = true;
+    return make_error("--target FILE is required (the design's [merit] table names none)");
+  }
+  Result<io::PhotometricFile> target_file = io::read_photometric_file(target_path, read_options(InputOptions{}));
+  if (!target_file.ok()) return target_file.error();
+  for (const Finding& f : target_file->findings)
+    if (f.severity != Severity::Info && hooks.on_message) hooks.on_message(f.severity, format_finding(f));
+  const design::MeritGrid grid = design::merit_grid(spec);
+  Result<design::MeritTarget> target = design::merit_target(grid, target_file->distribution);
+  if (!target.ok()) return make_error(target_path + ": " + target.error().message);
+
+  // DIR with the files the design reads (its emitters' profiles and ray files).
+  if (Status s = io::make_directories(out_dir); !s.ok()) return make_error(to_string(s.error()));
+  const fs::path folder = fs::absolute(fs::path(design_path)).parent_path();
+  const std::vector<std::string> files = design::design_files(design_path);
+  for (std::size_t i = 1; i < files.size(); ++i) {
+    const fs::path rel = fs::absolute(fs::path(files[i])).lexically_normal().lexically_relative(folder);
+    if (rel.empty() || rel.is_absolute() || *rel.begin() == "..")
+      return make_error(files[i] + ": the design's file lies outside its folder; gonio optimize copies the design's files into "
+                  "DIR, so keep them in or under the design's folder");
+    Result<std::string> bytes = io::read_file(files[i], std::size_t{1} << 30);
+    if (!bytes.ok()) return make_error(to_string(bytes.error()));
+    const fs::path to = fs::path(out_dir) / rel;
+    if (Status s = io::make_directories(to.parent_path().string()); !s.ok()) return make_error(to_string(s.error()));
+    if (Status s = io::write_file_atomic(to.string(), *bytes); !s.ok()) return make_error(to_string(s.error()));
+  }
+  // The [merit] table's target, where it lies in or under the design's folder,
+  // so that the best design's table names a file beside it.
+  if (!spec.target.empty()) {
+    const fs::path rel = fs::absolute(fs::path(spec.target)).lexically_normal().lexically_relative(folder);
+    if (!rel.empty() && !rel.is_absolute() && *rel.begin() != "..") {
+      Result<std::string> bytes = io::read_file(spec.target, std::size_t{256} << 20);
+      if (!bytes.ok()) return make_error(to_string(bytes.error()));
+      const fs::path to = fs::path(out_dir) / rel;
+      if (Status s = io::make_directories(to.parent_path().string()); !s.ok()) return make_error(to_string(s.error()));
+      if (Status s = io::write_file_atomic(to.string(), *bytes); !s.ok()) return make_error(to_string(s.error()));
+    }
+  }
+  const std::string evaluation_path = (fs::path(out_dir) / ".evaluation.design.toml").string();
+
+  // One trace of the design at `values`: the merit of its escaped photons.
+  const auto trace = [&](const std::vector<double>& values, std::uint64_t photons, std::uint64_t trace_seed,
+                         const std::string& path, bool files_out) {
+    Traced t;
+    design::Design d = design;
+    for (std::size_t i = 0; i < variables.size(); ++i)
+      if (Status s = design::set_variable(d, variables[i].name, values[i]); !s.ok()) {
+        t.error = s.error().message;
+        return t;
+      }
+    if (Status s = io::write_file_atomic(path, design::write_design(d.document)); !s.ok()) {
+      t.error = to_string(s.error());
+      return t;
+    }
+    SimulateOptions o;
+    o.photons = static_cast<long long>(photons);
+    o.iterations = 1;
+    o.seed = static_cast<long long>(trace_seed);
+    o.threads = threads;
+    o.gamma_step = gamma_step;
+    o.no_cache = true;
+    o.next_event = "off";  // every escape a photon of the merit
+    o.format_list = "ies,ldt";
+    o.stem = name;
+    if (files_out) o.out_dir = out_dir;
+    Result<SimulatePlan> planned = plan_simulation(path, o);
+    if (!planned.ok()) {
+      t.error = planned.error().message;
+      return t;
+    }
+    SimulatePlan* plan = &t.plan.emplace(std::move(planned.value()));
+    plan->progressive.simulation.capture_escaped_photons = photons;
+    SimulateHooks sim_hooks;
+    sim_hooks.on_message = [&](Severity severity, const std::string& text) {
+      if (severity == Severity::Error && t.error.empty()) t.error = text;
+      if (files_out && severity != Severity::Error && hooks.on_message) hooks.on_message(severity, text);
+    };
+    std::optional<sim::Resampler> resampler;
+    if (files_out)
+      sim_hooks.on_loaded = [&](const sim::SceneDesc& scene, const std::vector<Finding>&) {
+        return &resampler.emplace(
+            cached_resampler(plan->progressive.simulation.face_size, scene.frame, plan->grid, std::string()));
+      };
+    sim_hooks.on_traced = [&](const ProgressiveOutcome& run) {
+      double lor = 0.0;
+      const std::vector<design::MeritPhoton> escaped = escaped_photons(run.simulation, &lor);
+      t.merit = design::evaluate_merit(spec, grid, *target, design::bin_photons(grid, escaped), lor);
+      t.estimated_error_pct = run.estimated_rms_error_pct;
+    };
+    t.result = simulate(*plan, sim_hooks, start);
+    if (!t.result && t.error.empty()) t.error = "the trace failed";
+    if (!t.result) t.merit.reset();
+    return t;
+  };
+
+  design::OptimizeOptions oo;
+  oo.method = method;
+  oo.max_evaluations = static_cast<int>(max_evals);
+  oo.stages = static_cast<int>(stages);
+  oo.seed = static_cast<std::uint64_t>(seed);
+  oo.max_time_s = max_time;
+  oo.start_photons = static_cast<std::uint64_t>(std::ceil(spec.photons_per_bin * static_cast<double>(grid.size())));
+  if (hooks.on_start) hooks.on_start(variables, spec, grid.size(), oo.start_photons);
+  if (scan) {  // --scan VAR:N
+    const std::size_t colon = scan->rfind(':');
+    const double n_value =
+        colon == std::string::npos ? 0.0 : io::parse_number(scan->substr(colon + 1)).value_or(0.0);
+    const double* n = &n_value;
+    const std::string var = colon == std::string::npos ? *scan : scan->substr(0, colon);
+    std::size_t index = variables.size();
+    for (std::size_t i = 0; i < variables.size(); ++i)
+      if (variables[i].name == var) index = i;
+    if (index == variables.size() || !(*n >= 2 && *n <= 100000) || *n != std::floor(*n)) {
+      if (usage) *usage = true;
+      return make_error("--scan " + io::shown(*scan) + ": give VAR:N, a variable of the design and 2 ≤ N ≤ 100000");
+    }
+    nlohmann::json rows = nlohmann::json::array();
+    std::vector<double> values;
+    for (const design::OptimizeVariable& v : variables) values.push_back(v.value);
+    const design::OptimizeVariable& v = variables[index];
+    for (int k = 0; k < static_cast<int>(*n); ++k) {
+      values[index] = v.min + (v.max - v.min) * k / (*n - 1.0);
+      Traced t = trace(values, oo.start_photons, oo.seed, evaluation_path, false);
+      const double m = t.merit ? t.merit->merit : std::nan("");
+      if (hooks.on_scan) hooks.on_scan(v.name, values[index], m, t.merit ? std::string() : t.error);
+      rows.push_back({{"value", values[index]}, {"merit", json_number(m)}});
+    }
+    std::error_code ignored_scan;
+    fs::remove(evaluation_path, ignored_scan);
+    nlohmann::json out = {{"variable", v.name}, {"photons", oo.start_photons}, {"seed", oo.seed},
+                          {"smooth", spec.smooth}, {"scan", rows}};
+    if (Status s = io::write_file_atomic((fs::path(out_dir) / "scan.json").string(), out.dump(1) + "\n"); !s.ok())
+      return make_error(to_string(s.error()));
+    OptimizeRunOutcome scanned;
+    scanned.variables = variables;
+    scanned.scanned = true;
+    return scanned;
+  }
+  const design::MeritFunction merit = [&](const std::vector<double>& values, std::uint64_t photons,
+                                          std::uint64_t trace_seed) -> Result<double> {
+    Traced t = trace(values, photons, trace_seed, evaluation_path, false);
+    if (!t.merit) return make_error(t.error);
+    return t.merit->merit;
+  };
+  const auto on_evaluation = [&](const design::EvaluationRecord& r) {
+    return hooks.on_evaluation ? hooks.on_evaluation(r) : true;
+  };
+  Result<design::OptimizeResult> run = design::optimize(variables, merit, oo, on_evaluation);
+  std::error_code ignored;
+  fs::remove(evaluation_path, ignored);
+  if (!run.ok()) return make_error(design.path + ": " + run.error().message);
+
+  // The best design, traced with an independent seed into DIR.
+  for (std::size_t i = 0; i < variables.size(); ++i)
+    if (Status s = design::set_variable(design, variables[i].name, run->best_values[i]); !s.ok())
+      return make_error(to_string(s.error()));
+  const std::string best_path = (fs::path(out_dir) / (name + ".design.toml")).string();
+  const std::uint64_t final_seed = static_cast<std::uint64_t>(seed) + 7'000'003ULL;
+  Traced final = trace(run->best_values, static_cast<std::uint64_t>(final_photons), final_seed, best_path, true);
+  if (!final.result || !final.result->files || !final.merit)
+    return make_error("the best design's final trace failed: " + final.error);
+  // The design file again, with a header (trace wrote it bare).
+  const std::string text = design::write_design(
+      design.document, {"Optimised by gonio optimize (docs/design.md) from " + fs::path(design_path).filename().string() +
+                            " against " + fs::path(target_path).filename().string() + ".",
+                        std::string("Method ") + design::to_string(method) + ", " + std::to_string(run->evaluations) +
+                            " evaluations, merit " + format_number(run->best_merit, 5) + "."});
+  if (Status s = io::write_file_atomic(best_path, text); !s.ok()) return make_error(to_string(s.error()));
+
+  // history.json and the report.
+  nlohmann::json history = nlohmann::json::array();
+  for (const design::EvaluationRecord& r : run->history) history.push_back(evaluation_json(r, variables));
+  const std::string history_path = (fs::path(out_dir) / "history.json").string();
+  if (Status s = io::write_file_atomic(history_path, history.dump(1) + "\n"); !s.ok()) return make_error(to_string(s.error()));
+  nlohmann::json vars = nlohmann::json::array();
+  for (std::size_t i = 0; i < variables.size(); ++i)
+    vars.push_back({{"name", variables[i].name},
+                    {"start", variables[i].value},
+                    {"best", run->best_values[i]},
+                    {"min", variables[i].min},
+                    {"max", variables[i].max}});
+  nlohmann::json weights = nlohmann::json::array();
+  for (const design::GammaWeight& w : spec.gamma_weights) weights.push_back({w.from_deg, w.to_deg, w.weight});
+  const design::MeritValue& fm = *final.merit;
+  nlohmann::json report = final.result->files->report;
+  report["optimize"] = {
+      {"design", design_path},
+      {"target", target_path},
+      {"method", design::to_string(method)},
+      {"variables", vars},
+      {"merit",
+       {{"c_step_deg", spec.c_step_deg},
+        {"gamma_step_deg", spec.gamma_step_deg},
+        {"nodes", grid.size()},
+        {"normalize", spec.absolute ? "absolute" : "flux"},
+        {"smooth", spec.smooth},
+        {"photons_per_bin", spec.photons_per_bin},
+        {"weights", {{"candela", spec.candela_weight}, {"lor", spec.lor_weight}, {"beam", spec.beam_weight}}},
+        {"gamma_weights", weights}}},
+      {"evaluations", run->evaluations},
+      {"stages", stages},
+      {"stopped_by", run->stopped_by},
+      {"start_merit", json_number(run->start_merit)},
+      {"best_merit", json_number(run->best_merit)},
+      {"stage_photons", run->final_photons},
+      {"independent_merit", json_number(run->independent_merit)},
+      {"noise_floor", json_number(run->noise_floor)},
+      {"final",
+       {{"photons", final_photons},
+        {"seed", final_seed},
+        {"merit", json_number(fm.merit)},
+        {"candela_rms_pct", json_number(fm.candela_rms_pct)},
+        {"lor", json_number(fm.lor)},
+        {"beam_angle_deg", json_number(fm.beam_deg)},
+        {"target_beam_angle_deg", json_number(fm.target_beam_deg)},
+        {"estimated_rms_error_pct", json_number(final.estimated_error_pct)}}},
+      {"files", {best_path, history_path}},
+      {"wall_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+  if (Status s = io::write_file_atomic(final.result->files->report_path, report.dump(2) + "\n"); !s.ok())
+    return make_error(to_string(s.error()));
+  OptimizeRunOutcome out;
+  out.variables = variables;
+  out.run = std::move(run.value());
+  out.final_merit = fm;
+  out.final_estimated_error_pct = final.estimated_error_pct;
+  out.report = std::move(report);
+  out.best_path = best_path;
+  out.history_path = history_path;
+  out.history = std::move(history);
+  out.plan = std::move(final.plan);
+  out.result = std::move(final.result);
+  return out;
+
+}
+
+}  // namespace gonio::app

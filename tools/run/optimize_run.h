@@ -1,0 +1,74 @@
+// gonio optimize as a library function (docs/design.md "Optimisation";
+// docs/commands/optimize.md): what the command (tools/cli/cmd_optimize.cpp)
+// and the Python module's gonio.optimize both call. Every evaluation is one
+// app::simulate of the design at the variables' values (written to
+// DIR/.evaluation.design.toml beside copies of the emitters' files), keeping
+// the escaped photons, whose merit design/merit.h computes; design/optimize.h
+// drives NLopt over them. DIR gets the best design (NAME.design.toml), its
+// trace with an independent seed (NAME.ies, NAME.ldt, report.json with an
+// "optimize" section) and history.json.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "design/merit.h"
+#include "design/optimize.h"
+#include "photometry/diagnostics.h"
+#include "tools/run/simulate.h"
+
+namespace gonio::app {
+
+struct OptimizeRunOptions {
+  std::string design_path, target_path, out_dir, name;  // name: default the design file's
+  design::OptimizeMethod method = design::OptimizeMethod::Bobyqa;
+  long long max_evals = 200, stages = 3, seed = 1, threads = 0, final_photons = 1'000'000;
+  std::optional<double> photons_per_bin;
+  double gamma_step = 1.0, max_time = 0.0;
+  bool no_smooth = false;
+  std::optional<std::string> scan;  // VAR:N: the merit across VAR's bounds, no optimisation
+};
+
+struct OptimizeRunHooks {
+  // Once the merit is set up: the variables, the grid's nodes and stage 1's photons.
+  std::function<void(const std::vector<design::OptimizeVariable>&, const design::MeritSpec&, std::size_t nodes,
+                     std::uint64_t start_photons)>
+      on_start;
+  // After each evaluation (the noise floor's too); false stops (the best is kept).
+  std::function<bool(const design::EvaluationRecord&)> on_evaluation;
+  // --scan: each value's merit (NaN and the error where it failed).
+  std::function<void(const std::string& variable, double value, double merit, const std::string& error)> on_scan;
+  // The final trace's messages (not its errors).
+  std::function<void(Severity, const std::string&)> on_message;
+};
+
+struct OptimizeRunOutcome {
+  std::vector<design::OptimizeVariable> variables;  // as in the design (start values)
+  design::OptimizeResult run;
+  design::MeritValue final_merit;
+  double final_estimated_error_pct = 0.0;  // the final trace's estimated RMS error [%]
+  std::optional<SimulatePlan> plan;      // the final trace's
+  std::optional<SimulateResult> result;  // its files (result->files) and run
+  nlohmann::json report;                 // report.json as written (its "optimize" section)
+  nlohmann::json history;                // history.json as written
+  std::string best_path, history_path;
+  bool scanned = false;                  // --scan: only scan.json was written
+};
+
+// One evaluation as history.json holds it: index, stage (1-based, or
+// "noise"), merit, best, photons, seed, time_s, values {name: value}, error.
+nlohmann::json evaluation_json(const design::EvaluationRecord& record,
+                               const std::vector<design::OptimizeVariable>& variables);
+
+// Runs gonio optimize. Errors name the file (and line); where `usage` is
+// given, a mistake of the options sets it true (the command's exit 2).
+Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, const OptimizeRunHooks& hooks,
+                                           std::chrono::steady_clock::time_point start, bool* usage = nullptr);
+
+}  // namespace gonio::app
