@@ -153,6 +153,27 @@ class Design:
     def write(self, path: PathLike) -> None: ...
     def export_step(self, path: PathLike, *, tolerance_mm: float = 0.001) -> dict[str, Any]: ...
 
+def optimize(
+    design: PathLike | Design,
+    target: PathLike | None = None,
+    *,
+    out: PathLike | None = None,
+    method: str = "bobyqa",
+    max_evals: int = 200,
+    stages: int = 3,
+    seed: int = 1,
+    threads: int = 0,
+    photons_per_bin: float | None = None,
+    smooth: bool = True,
+    gamma_step: float = 1.0,
+    final_photons: int = 1_000_000,
+    max_time: float = 0.0,
+    name: str | None = None,
+    callback: Callable[[dict[str, Any]], bool | None] | None = None,
+) -> dict[str, Any]:
+    """gonio optimize's run: {variables, merit_history, history, optimize, final, report, files}."""
+    ...
+
 def simulate(
     model: PathLike | Design,
     *,
