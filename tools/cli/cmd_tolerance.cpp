@@ -22,115 +22,17 @@
 
 #include <nlohmann/json.hpp>
 
-#include "design/tolerance.h"
-#include "design/tolerance_spec.h"
-#include "io/outputs/plot.h"
-#include "io/photometric/photometric_file.h"
-#include "io/support/file_io.h"
-#include "io/support/text.h"
 #include "photometry/format.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/simulate_command.h"
-#include "tools/run/json_figures.h"
 #include "tools/run/simulate.h"
-#include "tools/run/simulation_outputs.h"
+#include "tools/run/tolerance_run.h"
 
 namespace gonio::cli {
 namespace {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
-using design::FigureValues;
-using design::kFigureCount;
-
-// One trace of the model with one value per tolerance.
-struct Trace {
-  photometry::Distribution distribution;
-  FigureValues figures{};
-  double seconds = 0.0;
-};
-
-class Tracer {
- public:
-  Tracer(const app::SimulatePlan& plan, const design::ToleranceSpec& spec) : plan_(plan), spec_(spec) {}
-
-  // The distribution traced with `values` and `seed`; nothing after the
-  // error was printed. The model's warnings are told at the first trace
-  // only (every trace loads the model again).
-  std::optional<Trace> trace(const std::vector<double>& values, std::uint64_t seed,
-                             const photometry::Distribution* nominal) const {
-    const auto start = std::chrono::steady_clock::now();
-    app::SimulatePlan plan = plan_;
-    plan.progressive.simulation.seed = seed;
-    app::SimulateHooks hooks;
-    if (told_)
-      hooks.on_message = [](Severity severity, const std::string& text) {
-        if (severity >= Severity::Error) app::tell({}, severity, text);
-      };
-    told_ = true;
-    hooks.adjust_scene = [&](sim::SceneDesc& scene) -> Status {
-      if (Status s = design::check_tolerances(spec_, scene); !s.ok()) return s;
-      design::apply_tolerances(spec_, values, scene);
-      return Ok{};
-    };
-    std::optional<app::SimulateResult> run = app::simulate(plan, hooks);
-    if (!run) return std::nullopt;
-    const sim::Simulation& simulation = run->run.simulation;
-    const app::OutputRequest request =
-        app::table_request(simulation, plan.model, plan.grid, plan.symmetry, plan.model_input.cache_dir);
-    Result<app::SimulatedTable> table =
-        app::simulated_table(simulation.far_field(), simulation.scene(), simulation.ledger(), request);
-    if (!table.ok()) {
-      print_error(to_string(table.error()));
-      return std::nullopt;
-    }
-    Trace t;
-    t.distribution = std::move(table->distribution);
-    Result<FigureValues> f = design::figures_of(t.distribution, nominal ? *nominal : t.distribution,
-                                                plan.grid.c_step_deg, plan.grid.gamma_step_deg);
-    if (!f.ok()) {
-      print_error(to_string(f.error()));
-      return std::nullopt;
-    }
-    t.figures = *f;
-    t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return t;
-  }
-
- private:
-  const app::SimulatePlan& plan_;
-  const design::ToleranceSpec& spec_;
-  mutable bool told_ = false;
-};
-
-json figures_json(const FigureValues& f) {
-  json j = json::object();
-  for (std::size_t i = 0; i < kFigureCount; ++i) j[design::figure_info()[i].key] = app::json_number(f[i]);
-  return j;
-}
-
-json values_json(const design::ToleranceSpec& spec, const std::vector<double>& values) {
-  json j = json::object();
-  for (std::size_t i = 0; i < values.size(); ++i) j[spec.tolerances[i].label()] = values[i];
-  return j;
-}
-
-std::string padded(std::string s, std::size_t width) {
-  // Pads by bytes; labels are mostly ASCII.
-  if (s.size() < width) s.append(width - s.size(), ' ');
-  return s;
-}
-
-// STEM.ies and STEM.ldt in `dir`, listed in `files`.
-Status write_tables(const std::string& dir, const std::string& stem, const photometry::Distribution& d, json& files) {
-  for (const char* ext : {".ies", ".ldt"}) {
-    const std::string name = stem + ext;
-    if (Status s = io::write_photometric_file((fs::path(dir) / name).string(), d, {}, nullptr); !s.ok()) return s;
-    files.push_back(name);
-  }
-  return Ok{};
-}
 
 int fail(const std::string& message) {
   print_error("tolerance: " + message);
@@ -184,268 +86,41 @@ int run_tolerance(const Args& args) {
     if (value->empty()) {
       print_usage_error("tolerance", p, std::string(option) + " is required");
       return kExitUsage;
-    }
-  std::vector<design::SpecLimit> limits;
-  if (!spec_text.empty()) {
-    Result<std::vector<design::SpecLimit>> l = design::parse_spec(spec_text);
-    if (!l.ok()) {
-      print_usage_error("tolerance", p, l.error().message);
+    }  std::optional<app::SimulatePlan> plan = plan_or_usage("tolerance", model, options, p);
+  if (!plan) return kExitUsage;
+  app::ToleranceRunOptions o;
+  o.model = model;
+  o.tolerances_path = tolerances_path;
+  o.out_dir = out_dir;
+  o.spec_text = spec_text;
+  o.trials = trials;
+  o.noise_seeds = noise_seeds;
+  o.sampling_seed = sampling_seed;
+  o.bins = bins;
+  o.simulate = options;
+  app::ToleranceRunHooks hooks;
+  hooks.on_output = [](const std::string& text) {
+    std::fputs(text.c_str(), stdout);
+    std::fflush(stdout);
+  };
+  hooks.on_warning = [](const std::string& text) { print_error("tolerance: warning: " + text); };
+  bool usage = false;
+  Result<app::ToleranceRunOutcome> outcome = app::tolerance_analysis(o, *plan, hooks, &usage);
+  if (!outcome.ok()) {
+    if (usage) {
+      print_usage_error("tolerance", p, outcome.error().message);
       return kExitUsage;
     }
-    limits = std::move(l.value());
+    return fail(to_string(outcome.error()));
   }
-  Result<design::ToleranceSpec> spec = design::read_tolerances(tolerances_path);
-  if (!spec.ok()) return fail(to_string(spec.error()));
-  std::optional<app::SimulatePlan> plan = plan_or_usage("tolerance", model, options, p);
-  if (!plan) return kExitUsage;
-  if (Status s = io::make_directories(out_dir); !s.ok()) return fail(to_string(s.error()));
-
-  const Tracer tracer(*plan, *spec);
-  const std::size_t dims = spec->tolerances.size();
-  const std::uint64_t seed = static_cast<std::uint64_t>(options.seed);
-  const std::vector<double> zeros(dims, 0.0);
-  json report = {{"model", model},
-                 {"tolerances_file", tolerances_path},
-                 {"settings",
-                  {{"photons", options.photons},
-                   {"seed", options.seed},
-                   {"c_step_deg", options.c_step},
-                   {"gamma_step_deg", options.gamma_step},
-                   {"noise_seeds", noise_seeds},
-                   {"trials", trials},
-                   {"sampling", "latin hypercube"},
-                   {"sampling_seed", sampling_seed}}}};
-  json tolerances = json::array();
-  for (const design::Tolerance& t : spec->tolerances)
-    tolerances.push_back({{"name", t.label()},
-                          {"unit", t.unit()},
-                          {"law", t.law.text()},
-                          {"low", t.law.low()},
-                          {"high", t.law.high()},
-                          {"line", t.line}});
-  report["tolerances"] = tolerances;
-  std::vector<double> seconds;
-
-  // The nominal, and its noise.
-  std::printf("nominal: tracing %s photons (seed %lld)\n", format_number(static_cast<double>(options.photons)).c_str(),
-              options.seed);
-  std::fflush(stdout);
-  std::optional<Trace> nominal = tracer.trace(zeros, seed, nullptr);
-  if (!nominal) return fail("the nominal model could not be traced; nothing was analysed");
-  seconds.push_back(nominal->seconds);
-  const photometry::Distribution& nominal_d = nominal->distribution;
-  json files = json::array();
-  if (Status s = write_tables(out_dir, "nominal", nominal_d, files); !s.ok()) return fail(to_string(s.error()));
-  report["nominal"] = figures_json(nominal->figures);
-  std::vector<FigureValues> independent;
-  json noise_runs = json::array();
-  for (long long k = 1; k <= noise_seeds; ++k) {
-    std::printf("noise floor %lld/%lld: the nominal with seed %llu\n", k, noise_seeds,
-                static_cast<unsigned long long>(seed + static_cast<std::uint64_t>(k)));
-    std::fflush(stdout);
-    std::optional<Trace> t = tracer.trace(zeros, seed + static_cast<std::uint64_t>(k), &nominal_d);
-    if (!t) return fail("a noise trace failed; nothing more was analysed");
-    seconds.push_back(t->seconds);
-    independent.push_back(t->figures);
-    noise_runs.push_back({{"seed", seed + static_cast<std::uint64_t>(k)}, {"figures", figures_json(t->figures)}});
-  }
-  const FigureValues noise = design::noise_floor(nominal->figures, independent);
-  report["noise"] = {{"runs", noise_runs},
-                     {"floor", figures_json(noise)},
-                     {"below_noise_when", "|change| < " + format_number(design::kNoiseFactor) +
-                                              " × the standard deviation over the nominal and its re-traces"}};
-
-  // Sensitivity: each tolerance alone at its limits.
-  std::vector<std::array<double, 2>> limit_values(dims);
-  std::vector<std::array<FigureValues, 2>> at_limits(dims);
-  for (std::size_t i = 0; i < dims; ++i) {
-    const design::Tolerance& t = spec->tolerances[i];
-    limit_values[i] = {t.law.low(), t.law.high()};
-    for (int side = 0; side < 2; ++side) {
-      const double v = limit_values[i][static_cast<std::size_t>(side)];
-      std::printf("sensitivity %zu/%zu: %s = %s %s\n", 2 * i + static_cast<std::size_t>(side) + 1, 2 * dims,
-                  t.label().c_str(), format_number(v).c_str(), t.unit());
-      std::fflush(stdout);
-      if (v == 0.0) {  // the nominal itself, bit for bit
-        at_limits[i][static_cast<std::size_t>(side)] = nominal->figures;
-        continue;
-      }
-      std::vector<double> values = zeros;
-      values[i] = v;
-      std::optional<Trace> trace = tracer.trace(values, seed, &nominal_d);
-      if (!trace) return fail("a sensitivity trace failed; nothing more was analysed");
-      seconds.push_back(trace->seconds);
-      at_limits[i][static_cast<std::size_t>(side)] = trace->figures;
-    }
-  }
-  json sensitivity = json::object();
-  std::string table = "Sensitivity of " + model + " (" + tolerances_path + "), " +
-                      format_number(static_cast<double>(options.photons)) + " photons per trace, seed " +
-                      std::to_string(options.seed) + ".\nChange of each figure with each tolerance alone at its low and high limit;\n" +
-                      "below noise: |change| < " + format_number(design::kNoiseFactor) +
-                      " σ of the nominal traced with independent seeds (not ranked).\n";
-  std::vector<std::string> plot_failures;
-  for (std::size_t f = 0; f < kFigureCount; ++f) {
-    const design::FigureInfo& info = design::figure_info()[f];
-    std::vector<design::SensitivityRow> ranked, below;
-    for (std::size_t i = 0; i < dims; ++i) {
-      const design::Tolerance& t = spec->tolerances[i];
-      design::SensitivityRow r;
-      r.label = t.label() + " " + t.law.text() + " " + t.unit();
-      r.low = limit_values[i][0];
-      r.high = limit_values[i][1];
-      // The RMS difference is from the nominal already.
-      const double base = f == design::kRms ? 0.0 : nominal->figures[f];
-      r.change_low = at_limits[i][0][f] - base;
-      r.change_high = at_limits[i][1][f] - base;
-      const bool quiet = design::below_noise(r.largest(), noise[f]);
-      (quiet ? below : ranked).push_back(r);
-    }
-    std::stable_sort(ranked.begin(), ranked.end(),
-                     [](const design::SensitivityRow& a, const design::SensitivityRow& b) { return a.largest() > b.largest(); });
-    table += "\n" + std::string(info.text) + " [" + info.unit + "]: nominal " + format_number(nominal->figures[f]) +
-             ", noise σ " + format_number(noise[f]) + "\n";
-    json rows = json::array();
-    for (const auto* group : {&ranked, &below})
-      for (const design::SensitivityRow& r : *group) {
-        const bool quiet = group == &below;
-        table += "  " + padded(r.label, 44) + "  " + padded(format_number(r.change_low, 4), 12) +
-                 padded(format_number(r.change_high, 4), 12) + (quiet ? "below noise" : "") + "\n";
-        rows.push_back({{"tolerance", r.label},
-                        {"low", r.low},
-                        {"high", r.high},
-                        {"change_low", app::json_number(r.change_low)},
-                        {"change_high", app::json_number(r.change_high)},
-                        {"below_noise", quiet}});
-      }
-    sensitivity[info.key] = {{"unit", info.unit},
-                             {"nominal", app::json_number(nominal->figures[f])},
-                             {"noise", app::json_number(noise[f])},
-                             {"rows", rows}};
-    std::vector<design::SensitivityRow> all = ranked;
-    all.insert(all.end(), below.begin(), below.end());
-    const std::string svg = (fs::path(out_dir) / ("tornado_" + std::string(info.key) + ".svg")).string();
-    if (Status s = io::write_figure(svg, design::tornado_figure(info.text, info.unit, all, noise[f])); !s.ok())
-      plot_failures.push_back(to_string(s.error()));
-  }
-  report["sensitivity"] = sensitivity;
-  // The inverse: per --spec limit, how far each tolerance may be scaled,
-  // linear from its changes at its limits (not traced again).
-  json inverse = json::array();
-  if (!limits.empty())
-    table += "\nLargest tolerances that keep a figure within its limit (each alone; linear from the\n"
-             "changes at the limits, not traced; a factor of the tolerance as given):\n";
-  for (const design::SpecLimit& limit : limits) {
-    table += "\n" + limit.text() + " (nominal " + format_number(nominal->figures[limit.figure]) + ")\n";
-    for (std::size_t i = 0; i < dims; ++i) {
-      const design::Tolerance& t = spec->tolerances[i];
-      const double base = limit.figure == design::kRms ? 0.0 : nominal->figures[limit.figure];
-      const double low = at_limits[i][0][limit.figure] - base, high = at_limits[i][1][limit.figure] - base;
-      const bool quiet = design::below_noise(std::max(std::abs(low), std::abs(high)), noise[limit.figure]);
-      const double k = design::allowed_scale(nominal->figures[limit.figure], low, high, limit);
-      std::string says = quiet ? "below noise: not estimated"
-                         : std::isinf(k) ? "any (no change towards the limit)"
-                                         : "× " + format_number(k, 3) + ": " + format_number(k * t.law.low(), 3) +
-                                               " … " + format_number(k * t.law.high(), 3) + " " + t.unit();
-      table += "  " + padded(t.label() + " " + t.law.text() + " " + t.unit(), 44) + "  " + says + "\n";
-      inverse.push_back({{"limit", limit.text()},
-                         {"tolerance", t.label()},
-                         {"scale", quiet || std::isinf(k) ? json(nullptr) : json(k)},
-                         {"why", quiet ? "below noise" : std::isinf(k) ? "no change towards the limit" : ""}});
-    }
-  }
-  report["inverse_sensitivity"] = inverse;
-  if (Status s = io::write_file_atomic((fs::path(out_dir) / "sensitivity.txt").string(), table); !s.ok())
-    return fail(to_string(s.error()));
-  std::fputs(table.c_str(), stdout);
-  for (const std::string& f : plot_failures) print_error("tolerance: warning: tornado chart not drawn: " + f);
-  report["plot_failures"] = plot_failures;
-
-  // Monte Carlo: every tolerance drawn at once.
-  json mc_trials = json::array();
-  std::vector<std::vector<double>> figure_values(kFigureCount);
-  std::size_t passed = 0;
-  std::vector<std::size_t> passed_by(limits.size(), 0);
-  std::optional<std::size_t> best, worst;
-  std::vector<photometry::Distribution> kept(2);  // best, worst
-  double best_rms = 0.0, worst_rms = 0.0;
-  const std::vector<std::vector<double>> u =
-      design::latin_hypercube(static_cast<std::size_t>(trials), dims, static_cast<std::uint64_t>(sampling_seed));
-  for (std::size_t n = 0; n < u.size(); ++n) {
-    std::vector<double> values(dims);
-    for (std::size_t i = 0; i < dims; ++i) values[i] = spec->tolerances[i].law.quantile(u[n][i]);
-    std::optional<Trace> t = tracer.trace(values, seed, &nominal_d);
-    if (!t) return fail("Monte Carlo trial " + std::to_string(n + 1) + " failed; nothing more was analysed");
-    seconds.push_back(t->seconds);
-    bool in_spec = true;
-    json verdicts = json::object();
-    for (std::size_t l = 0; l < limits.size(); ++l) {
-      const bool ok = limits[l].holds(t->figures[limits[l].figure]);
-      verdicts[limits[l].text()] = ok;
-      if (ok) ++passed_by[l];
-      in_spec = in_spec && ok;
-    }
-    if (in_spec) ++passed;
-    for (std::size_t f = 0; f < kFigureCount; ++f) figure_values[f].push_back(t->figures[f]);
-    const double rms = t->figures[design::kRms];
-    if (!best || rms < best_rms) {
-      best = n;
-      best_rms = rms;
-      kept[0] = t->distribution;
-    }
-    if (!worst || rms > worst_rms) {
-      worst = n;
-      worst_rms = rms;
-      kept[1] = t->distribution;
-    }
-    std::printf("trial %zu/%zu: %.2f s, beam %s/%s deg, peak %s cd, flux %s lm, rms %s %%%s\n", n + 1, u.size(),
-                t->seconds, format_number(t->figures[design::kBeamC0], 4).c_str(),
-                format_number(t->figures[design::kBeamC90], 4).c_str(),
-                format_number(t->figures[design::kPeakCd], 5).c_str(), format_number(t->figures[design::kFlux], 5).c_str(),
-                format_number(rms, 3).c_str(), limits.empty() ? "" : in_spec ? ", in spec" : ", OUT of spec");
-    std::fflush(stdout);
-    mc_trials.push_back({{"trial", n + 1},
-                         {"values", values_json(*spec, values)},
-                         {"figures", figures_json(t->figures)},
-                         {"in_spec", limits.empty() ? json(nullptr) : json(in_spec)},
-                         {"limits", verdicts},
-                         {"seconds", t->seconds}});
-  }
-  json histograms = json::object();
-  for (std::size_t f = 0; f < kFigureCount && !u.empty(); ++f) {
-    const design::Histogram h = design::histogram(figure_values[f], static_cast<std::size_t>(bins));
-    histograms[design::figure_info()[f].key] = {{"edges", h.edges}, {"counts", h.counts}};
-  }
-  json yield = json::object();
-  if (!limits.empty() && !u.empty()) {
-    for (std::size_t l = 0; l < limits.size(); ++l)
-      yield[limits[l].text()] = static_cast<double>(passed_by[l]) / static_cast<double>(u.size());
-    yield["all"] = static_cast<double>(passed) / static_cast<double>(u.size());
-  }
-  if (best)
-    for (int k = 0; k < 2; ++k)
-      if (Status s = write_tables(out_dir, k == 0 ? "best" : "worst", kept[static_cast<std::size_t>(k)], files); !s.ok())
-        return fail(to_string(s.error()));
-  report["monte_carlo"] = {{"trials", mc_trials},
-                           {"histograms", histograms},
-                           {"yield", yield},
-                           {"best_trial", best ? json(*best + 1) : json(nullptr)},
-                           {"worst_trial", worst ? json(*worst + 1) : json(nullptr)},
-                           {"best_and_worst_by", "RMS difference from the nominal"}};
-  double total = 0.0;
-  for (double s : seconds) total += s;
-  report["timing"] = {{"traces", seconds.size()},
-                      {"seconds_per_trace", seconds.empty() ? 0.0 : total / static_cast<double>(seconds.size())},
-                      {"seconds", seconds}};
-  report["files"] = files;
-  if (Status s = io::write_file_atomic((fs::path(out_dir) / "report.json").string(), report.dump(2) + "\n"); !s.ok())
-    return fail(to_string(s.error()));
-  if (!limits.empty() && !u.empty())
+  const nlohmann::json& report = outcome->report;
+  const nlohmann::json& yield = report["monte_carlo"]["yield"];
+  const std::size_t trial_count = report["monte_carlo"]["trials"].size();
+  if (yield.contains("all"))
     std::printf("yield: %s %% of %zu trials within %s\n", format_number(100.0 * yield["all"].get<double>(), 4).c_str(),
-                u.size(), spec_text.c_str());
-  std::printf("%zu traces, %.2f s each on average; report: %s\n", seconds.size(),
-              seconds.empty() ? 0.0 : total / static_cast<double>(seconds.size()),
-              (fs::path(out_dir) / "report.json").string().c_str());
+                trial_count, spec_text.c_str());
+  std::printf("%zu traces, %.2f s each on average; report: %s\n", report["timing"]["traces"].get<std::size_t>(),
+              report["timing"]["seconds_per_trace"].get<double>(), outcome->report_path.c_str());
   return kExitOk;
 }
 

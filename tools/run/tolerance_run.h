@@ -1,0 +1,50 @@
+// gonio tolerance as a library function (issue 42, docs/tolerance.md): what
+// the command (tools/cli/cmd_tolerance.cpp) and the Python module's
+// gonio.tolerance both call. Every trace is app::simulate on the model with
+// the tolerances applied to the loaded scene (SimulateHooks::adjust_scene),
+// all with the same seed (common random numbers). The nominal is traced
+// again with K other seeds for the noise floor; then each tolerance alone at
+// its limits (sensitivity), and N Monte Carlo trials with all of them drawn
+// at once from a Latin hypercube. DIR gets report.json (every trace's
+// parameters and figures), sensitivity.txt, tornado_FIGURE.svg,
+// nominal.ies/.ldt, and the best and worst trials' IES and LDT.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "photometry/diagnostics.h"
+#include "tools/run/console.h"
+#include "tools/run/simulate.h"
+
+namespace gonio::app {
+
+struct ToleranceRunOptions {
+  std::string model, tolerances_path, out_dir;
+  std::string spec_text;  // FIGURE=LO..HI,… (empty: none)
+  long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10;
+  SimulateOptions simulate;  // photons, seed, c_step, gamma_step for report.json (the plan's own)
+};
+
+struct ToleranceRunHooks {
+  std::function<void(const std::string&)> on_output;   // progress lines and the sensitivity table
+  std::function<void(const std::string&)> on_warning;  // a tornado chart not drawn
+  MessageSink on_message;                              // the model's messages (first trace) and errors
+};
+
+struct ToleranceRunOutcome {
+  nlohmann::json report;  // report.json as written
+  std::string report_path;
+  std::string table;      // sensitivity.txt
+};
+
+// Runs gonio tolerance with `plan` (app::plan_simulation of options.model
+// and options.simulate). Errors name the file (and line); where `usage` is
+// given, a mistake of the options sets it true (the command's exit 2).
+Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& options, const SimulatePlan& plan,
+                                               const ToleranceRunHooks& hooks, bool* usage = nullptr);
+
+}  // namespace gonio::app
