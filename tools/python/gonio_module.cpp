@@ -56,6 +56,7 @@
 #include "tools/run/simulate.h"
 #include "tools/run/simulation_outputs.h"
 #include "tools/run/simulation_run.h"
+#include "tools/run/tolerance_run.h"
 
 namespace py = pybind11;
 
@@ -879,6 +880,99 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
   return result;
 }
 
+
+// gonio tolerance's own run (app::tolerance_analysis). Without `out` it
+// works in a temporary folder, removed afterwards.
+py::dict tolerance(const py::object& model_object, const py::object& tolerances_object, long long trials,
+                   const std::optional<std::string>& spec, long long seed, long long noise_seeds,
+                   long long sampling_seed, long long bins, long long photons, int threads, int max_bounces,
+                   double c_step, double gamma_step, const py::object& out_object) {
+  namespace fs = std::filesystem;
+  if (trials < 0 || trials > 100000) throw py::value_error("trials must be between 0 and 100000");
+  if (noise_seeds < 0 || noise_seeds > 1000) throw py::value_error("noise_seeds must be between 0 and 1000");
+  if (bins < 1 || bins > 1000) throw py::value_error("bins must be between 1 and 1000");
+  if (seed < 0 || sampling_seed < 0) throw py::value_error("seed and sampling_seed must be at least 0");
+  app::ToleranceRunOptions o;
+  o.model = py::isinstance<PyDesign>(model_object) ? model_object.cast<const PyDesign&>().d->path
+                                                   : fspath(model_object);
+  o.tolerances_path = fspath(tolerances_object);
+  o.spec_text = spec.value_or(std::string());
+  o.trials = trials;
+  o.noise_seeds = noise_seeds;
+  o.sampling_seed = sampling_seed;
+  o.bins = bins;
+  app::SimulateOptions& so = o.simulate;
+  so.iterations = 1;
+  so.symmetry_name = "none";
+  so.photons = photons;
+  so.seed = seed;
+  so.threads = threads;
+  so.max_bounces = max_bounces;
+  so.c_step = c_step;
+  so.gamma_step = gamma_step;
+  std::string temporary;
+  if (out_object.is_none()) {
+    temporary = py::str(py::module_::import("tempfile").attr("mkdtemp")("", "gonio-tolerance-"));
+    o.out_dir = temporary;
+  } else {
+    o.out_dir = fspath(out_object);
+  }
+  struct RemoveTemporary {
+    std::string path;
+    ~RemoveTemporary() {
+      std::error_code ignored;
+      if (!path.empty()) fs::remove_all(path, ignored);
+    }
+  } remove_temporary{temporary};
+  Result<app::SimulatePlan> plan = app::plan_simulation(o.model, so);
+  if (!plan.ok()) throw py::value_error(plan.error().message);
+  app::ToleranceRunHooks hooks;
+  hooks.on_message = [](Severity, const std::string&) {};  // the error is raised
+  bool usage = false;
+  Result<app::ToleranceRunOutcome> outcome = [&] {
+    py::gil_scoped_release unlocked;
+    return app::tolerance_analysis(o, *plan, hooks, &usage);
+  }();
+  if (!outcome.ok()) {
+    if (usage) throw py::value_error(outcome.error().message);
+    raise_error(outcome.error());
+  }
+  const nlohmann::json& report = outcome->report;
+  // Per figure (and per tolerance) the Monte Carlo trials as arrays.
+  py::dict figures, values;
+  const nlohmann::json& mc = report["monte_carlo"]["trials"];
+  for (const auto& [key, unused] : report["nominal"].items()) {
+    std::vector<double> v;
+    for (const auto& t : mc) v.push_back(t["figures"][key].is_null() ? std::nan("") : t["figures"][key].get<double>());
+    figures[py::str(key)] = py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
+  }
+  for (const auto& tol : report["tolerances"]) {
+    const std::string name = tol["name"].get<std::string>();
+    std::vector<double> v;
+    for (const auto& t : mc) v.push_back(t["values"][name].get<double>());
+    values[py::str(name)] = py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
+  }
+  py::list sensitivity;
+  for (const auto& [key, figure] : report["sensitivity"].items())
+    for (const auto& row : figure["rows"]) {
+      py::dict r = to_python(row);
+      r["figure"] = key;
+      r["unit"] = to_python(figure["unit"]);
+      sensitivity.append(r);
+    }
+  py::dict result;
+  result["trials"] = figures;
+  result["values"] = values;
+  result["sensitivity"] = sensitivity;
+  result["noise_floor"] = to_python(report["noise"]["floor"]);
+  result["nominal"] = to_python(report["nominal"]);
+  result["yield"] = to_python(report["monte_carlo"]["yield"]);
+  result["inverse_sensitivity"] = to_python(report["inverse_sensitivity"]);
+  result["table"] = outcome->table;
+  result["report"] = to_python(report);
+  return result;
+}
+
 void bind_design(py::module_& m) {
   py::class_<PyDesign>(m, "Design",
                        "A design file (NAME.design.toml, docs/design.md) held in memory: its named variables\n"
@@ -994,6 +1088,16 @@ void bind_simulation(py::module_& m) {
         "the stages' merits (numpy), history: every evaluation as history.json, optimize: report.json's\n"
         "optimize section, final: its final trace's figures, report, files}. Without out it works in a\n"
         "temporary folder. callback(evaluation) after each evaluation; False stops, keeping the best.\n"
+        "Raises GonioError naming the file; bad arguments raise ValueError.");
+  m.def("tolerance", &tolerance, py::arg("model"), py::arg("tolerances"), py::kw_only(), py::arg("trials") = 20,
+        py::arg("spec") = py::none(), py::arg("seed") = 1, py::arg("noise_seeds") = 3, py::arg("sampling_seed") = 1,
+        py::arg("bins") = 10, py::arg("photons") = 1'000'000, py::arg("threads") = 0, py::arg("max_bounces") = 100,
+        py::arg("c_step") = 5.0, py::arg("gamma_step") = 2.5, py::arg("out") = py::none(),
+        "How robust a luminaire is, as gonio tolerance does (the same run; docs/tolerance.md): returns\n"
+        "{trials: {figure: numpy array over the Monte Carlo trials}, values: {tolerance: array of its\n"
+        "drawn values}, sensitivity: [{figure, unit, tolerance, low, high, change_low, change_high,\n"
+        "below_noise}], noise_floor: {figure: value}, nominal, yield, inverse_sensitivity, table, report}.\n"
+        "spec: 'beam_c0=24..28,flux=900..'. Without out it works in a temporary folder.\n"
         "Raises GonioError naming the file; bad arguments raise ValueError.");
   m.def("simulate", &simulate, py::arg("model"), py::kw_only(), py::arg("photons") = 1'000'000,
         py::arg("iterations") = 10, py::arg("seed") = 1, py::arg("sampler") = "sobol", py::arg("threads") = 0,

@@ -1,0 +1,92 @@
+"""gonio.tolerance: gonio tolerance's own run (tools/run/tolerance_run.h)
+from Python: the Monte Carlo trials as numpy arrays per figure, the
+sensitivity table and the noise floor equal to the command's report.json
+for the same inputs and seeds, and errors naming the file (ctest label
+`python`)."""
+import json
+
+import numpy as np
+import pytest
+
+import gonio
+from conftest import run_gonio
+
+# A conic dish over an isotropic point emitter "LED".
+DESIGN = """length_unit = "mm"
+[materials.mirror]
+reflectance = 0.9
+[[emitters]]
+name = "LED"
+position = [0, 0, 0]
+flux_lm = 1000
+[[reflectors]]
+name = "dish"
+material = "mirror"
+profile = "conic"
+radius = 10
+conic = -1.5
+vertex = 5
+aperture = [2, 30]
+"""
+
+TOLERANCES = """[emitter.LED]
+x = { uniform = 0.5 }
+z = { normal = 0.2 }
+
+[material.mirror]
+reflectance = { uniform = 5 }
+"""
+
+# Small budgets: a few seconds a run.
+RUN = dict(trials=4, spec="beam_c0=0..200,flux=850..", seed=3, noise_seeds=2, sampling_seed=5, photons=5000,
+           threads=1)
+CLI = ["--trials", "4", "--spec", "beam_c0=0..200,flux=850..", "--seed", "3", "--noise-seeds", "2",
+       "--sampling-seed", "5", "--photons", "5000", "--threads", "1"]
+
+
+@pytest.fixture(scope="module")
+def setup(tmp_path_factory):
+    d = tmp_path_factory.mktemp("tolerance")
+    (d / "dish.design.toml").write_text(DESIGN)
+    (d / "t.toml").write_text(TOLERANCES)
+    return d
+
+
+def test_equals_the_command(setup, gonio_exe):
+    d = setup
+    code, _, err = run_gonio(gonio_exe, "tolerance", d / "dish.design.toml", "--tolerances", d / "t.toml", "--out",
+                             d / "cli", *CLI)
+    assert code == 0, err
+    report = json.loads((d / "cli" / "report.json").read_text())
+
+    result = gonio.tolerance(d / "dish.design.toml", d / "t.toml", **RUN)
+    trials = report["monte_carlo"]["trials"]
+    assert len(trials) == 4
+    assert set(result["trials"]) == set(report["nominal"])
+    for key, values in result["trials"].items():
+        assert isinstance(values, np.ndarray) and values.shape == (4,)
+        np.testing.assert_array_equal(values, [t["figures"][key] for t in trials], err_msg=key)
+    for name, values in result["values"].items():
+        np.testing.assert_array_equal(values, [t["values"][name] for t in trials], err_msg=name)
+    # The trials differ: the tolerances were applied.
+    assert np.ptp(result["trials"]["flux"]) > 0
+    assert result["noise_floor"] == report["noise"]["floor"]
+    assert result["nominal"] == report["nominal"]
+    assert result["yield"] == report["monte_carlo"]["yield"]
+    rows = [dict(r, figure=key, unit=f["unit"]) for key, f in report["sensitivity"].items() for r in f["rows"]]
+    assert result["sensitivity"] == rows
+    assert len(result["sensitivity"]) == 3 * len(report["nominal"])
+    assert result["table"] == (d / "cli" / "sensitivity.txt").read_text()
+
+
+def test_errors_name_the_file(setup, tmp_path):
+    d = setup
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[emitter.LED]\n\nx = { uniform = 1, normal = 1 }\n")
+    with pytest.raises(gonio.GonioError, match=r"bad\.toml:3: emitter\.LED\.x: give exactly one of"):
+        gonio.tolerance(d / "dish.design.toml", bad, **RUN)
+    bad.write_text("[emitter.lamp]\nx = { uniform = 1 }\n")
+    with pytest.raises(gonio.GonioError, match=r"bad\.toml:2: the model has no emitter 'lamp'"):
+        gonio.tolerance(d / "dish.design.toml", bad, **RUN)
+    with pytest.raises(ValueError, match="unknown figure"):
+        gonio.tolerance(d / "dish.design.toml", d / "t.toml", spec="beam=1..2")
