@@ -174,6 +174,26 @@ def optimize(
     """gonio optimize's run: {variables, merit_history, history, optimize, final, report, files}."""
     ...
 
+def tolerance(
+    model: PathLike | Design,
+    tolerances: PathLike,
+    *,
+    trials: int = 20,
+    spec: str | None = None,
+    seed: int = 1,
+    noise_seeds: int = 3,
+    sampling_seed: int = 1,
+    bins: int = 10,
+    photons: int = 1_000_000,
+    threads: int = 0,
+    max_bounces: int = 100,
+    c_step: float = 5.0,
+    gamma_step: float = 2.5,
+    out: PathLike | None = None,
+) -> dict[str, Any]:
+    """gonio tolerance's run: {trials, values, sensitivity, noise_floor, nominal, yield, inverse_sensitivity, table, report}."""
+    ...
+
 def simulate(
     model: PathLike | Design,
     *,
