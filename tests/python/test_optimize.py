@@ -105,3 +105,32 @@ def test_errors_name_the_file(setup, tmp_path):
         gonio.optimize(d / "start.design.toml", **RUN)
     with pytest.raises(ValueError, match="method"):
         gonio.optimize(d / "start.design.toml", target, method="newton")
+
+
+def test_merit_is_the_commands_evaluation(setup, gonio_exe):
+    d, target = setup
+    code, _, err = run_gonio(gonio_exe, "optimize", d / "start.design.toml", "--target", target, "--out",
+                             d / "cli_merit", *CLI)
+    assert code == 0, err
+    history = json.loads((d / "cli_merit" / "history.json").read_text())
+    merit = gonio.Merit(d / "start.design.toml", target, seed=2, threads=1, gamma_step=5)
+    assert merit.names == ["reflectors[0].conic"]
+    assert merit.bounds == [(-3.0, -1.0)]
+    np.testing.assert_array_equal(merit.x0, [-2.6])
+    # Stage 1's evaluations: the same photons and seed, so the same merits.
+    for e in history[:3]:
+        assert e["stage"] == 1 and e["photons"] == merit.photons
+        assert merit([e["values"]["reflectors[0].conic"]]) == e["merit"]
+        assert merit(e["values"]) == e["merit"]
+    # Common random numbers: a deterministic function, and not a constant one.
+    assert merit([-1.5]) == merit(np.array([-1.5])) < merit([-2.9])
+    terms = merit.terms([-1.5])
+    assert terms["merit"] == merit([-1.5]) and 0 < terms["lor"] <= 1
+    with pytest.raises(ValueError, match="give 1 values"):
+        merit([-1.5, 0.0])
+    with pytest.raises(ValueError, match="no value for the variable"):
+        merit({"conic": -1.5})
+    with pytest.raises(gonio.GonioError, match=r"bad\.design\.toml"):
+        bad = d / "bad.design.toml"
+        bad.write_text(DESIGN.replace("CONIC", "{ value = -2 }"))
+        gonio.Merit(bad, target)

@@ -973,6 +973,83 @@ py::dict tolerance(const py::object& model_object, const py::object& tolerances_
   return result;
 }
 
+
+// gonio.Merit: the merit gonio optimize minimises, as a function of the
+// variables' values for scipy and the like: every call is the command's own
+// evaluation (app::optimize_design with `evaluate`), traced with the same
+// seed (common random numbers), in a temporary folder kept for its life.
+struct PyMerit {
+  app::OptimizeRunOptions options;
+  std::vector<design::OptimizeVariable> variables;
+  std::uint64_t photons = 0;
+  std::string folder;
+  ~PyMerit() {
+    std::error_code ignored;
+    if (!folder.empty()) std::filesystem::remove_all(folder, ignored);
+  }
+
+  std::vector<design::MeritValue> evaluate(std::vector<std::vector<double>> points) {
+    app::OptimizeRunOptions o = options;
+    o.evaluate_only = true;
+    o.evaluate = std::move(points);
+    o.evaluate_photons = photons;
+    app::OptimizeRunHooks hooks;
+    bool usage = false;
+    Result<app::OptimizeRunOutcome> outcome = [&] {
+      py::gil_scoped_release unlocked;
+      return app::optimize_design(o, hooks, std::chrono::steady_clock::now(), &usage);
+    }();
+    if (!outcome.ok()) {
+      if (usage) throw py::value_error(outcome.error().message);
+      raise_error(outcome.error());
+    }
+    variables = outcome->variables;
+    photons = outcome->evaluate_photons;
+    return outcome->merits;
+  }
+  // Values as a sequence in the design's order, or {name: value}.
+  std::vector<double> values_of(const py::object& values) const {
+    std::vector<double> out;
+    if (py::isinstance<py::dict>(values)) {
+      const py::dict d = values.cast<py::dict>();
+      for (const design::OptimizeVariable& v : variables) {
+        if (!d.contains(v.name)) throw py::value_error("no value for the variable '" + v.name + "'");
+        out.push_back(d[py::str(v.name)].cast<double>());
+      }
+      if (d.size() != variables.size()) throw py::value_error("a value for a variable the design does not have");
+      return out;
+    }
+    for (const py::handle& h : values) out.push_back(h.cast<double>());
+    return out;
+  }
+};
+
+std::unique_ptr<PyMerit> make_merit(const py::object& design_object, const py::object& target_object,
+                                    const std::optional<double>& photons_per_bin, bool smooth,
+                                    std::optional<std::uint64_t> photons, long long seed, int threads,
+                                    double gamma_step) {
+  auto m = std::make_unique<PyMerit>();
+  app::OptimizeRunOptions& o = m->options;
+  o.design_path = py::isinstance<PyDesign>(design_object) ? design_object.cast<const PyDesign&>().d->path
+                                                          : fspath(design_object);
+  o.target_path = target_object.is_none() ? std::string() : fspath(target_object);
+  if (photons_per_bin && !(*photons_per_bin >= 40.0 && *photons_per_bin <= 1e6))
+    throw py::value_error("photons_per_bin must be between 40 and 1000000");
+  if (photons && *photons == 0) throw py::value_error("photons must be at least 1");
+  if (seed < 0) throw py::value_error("seed must be at least 0");
+  if (!(gamma_step >= 0.1 && gamma_step <= 90.0)) throw py::value_error("gamma_step must be between 0.1 and 90");
+  o.photons_per_bin = photons_per_bin;
+  o.no_smooth = !smooth;
+  o.seed = seed;
+  o.threads = threads;
+  o.gamma_step = gamma_step;
+  m->photons = photons.value_or(0);
+  m->folder = py::str(py::module_::import("tempfile").attr("mkdtemp")("", "gonio-merit-"));
+  o.out_dir = m->folder;
+  m->evaluate({});  // reads and checks the design, its variables and the target
+  return m;
+}
+
 void bind_design(py::module_& m) {
   py::class_<PyDesign>(m, "Design",
                        "A design file (NAME.design.toml, docs/design.md) held in memory: its named variables\n"
@@ -1099,6 +1176,57 @@ void bind_simulation(py::module_& m) {
         "below_noise}], noise_floor: {figure: value}, nominal, yield, inverse_sensitivity, table, report}.\n"
         "spec: 'beam_c0=24..28,flux=900..'. Without out it works in a temporary folder.\n"
         "Raises GonioError naming the file; bad arguments raise ValueError.");
+  py::class_<PyMerit>(m, "Merit",
+                      "The merit gonio optimize minimises (docs/design.md \"Optimisation\") as a function of a\n"
+                      "design's variables, for scipy.optimize and the like: merit(values) traces the design at\n"
+                      "those values with the same photons every call (common random numbers: a deterministic\n"
+                      "function), as the command's own evaluation does.")
+      .def(py::init(&make_merit), py::arg("design"), py::arg("target") = py::none(), py::kw_only(),
+           py::arg("photons_per_bin") = py::none(), py::arg("smooth") = true, py::arg("photons") = py::none(),
+           py::arg("seed") = 1, py::arg("threads") = 0, py::arg("gamma_step") = 1.0,
+           "Reads the design (its variables with bounds, its [merit] table) and the target (default: the\n"
+           "table's); photons per call default to the first stage's (photons_per_bin × the merit's nodes);\n"
+           "seed, threads and gamma_step (the tessellation's) as gonio optimize's options.\n"
+           "Raises GonioError naming the file.")
+      .def(
+          "__call__",
+          [](PyMerit& self, const py::object& values) {
+            return self.evaluate({self.values_of(values)}).front().merit;
+          },
+          py::arg("values"), "The merit at values (a sequence in the design's order, or {name: value}).")
+      .def(
+          "terms",
+          [](PyMerit& self, const py::object& values) {
+            const design::MeritValue v = self.evaluate({self.values_of(values)}).front();
+            py::dict d;
+            d["merit"] = v.merit;
+            d["candela_rms_pct"] = v.candela_rms_pct;
+            d["lor"] = v.lor;
+            d["beam_angle_deg"] = v.beam_deg;
+            d["target_beam_angle_deg"] = v.target_beam_deg;
+            return d;
+          },
+          py::arg("values"), "The merit and its terms at values: merit, candela_rms_pct, lor, beam angles.")
+      .def_property_readonly(
+          "names", [](const PyMerit& self) {
+            py::list l;
+            for (const auto& v : self.variables) l.append(v.name);
+            return l;
+          }, "the variables' names, in the design's order")
+      .def_property_readonly(
+          "x0", [](const PyMerit& self) {
+            std::vector<double> x;
+            for (const auto& v : self.variables) x.push_back(v.value);
+            return py::array_t<double>(static_cast<py::ssize_t>(x.size()), x.data());
+          }, "the variables' values in the design")
+      .def_property_readonly(
+          "bounds", [](const PyMerit& self) {
+            py::list l;
+            for (const auto& v : self.variables) l.append(py::make_tuple(v.min, v.max));
+            return l;
+          }, "[(min, max)] of the variables (scipy's bounds)")
+      .def_readonly("photons", &PyMerit::photons, "photons of each call's trace")
+      .def_property_readonly("seed", [](const PyMerit& self) { return self.options.seed; }, "the seed of every call");
   m.def("simulate", &simulate, py::arg("model"), py::kw_only(), py::arg("photons") = 1'000'000,
         py::arg("iterations") = 10, py::arg("seed") = 1, py::arg("sampler") = "sobol", py::arg("threads") = 0,
         py::arg("out") = py::none(), py::arg("on_iteration") = py::none(), py::arg("target_error") = 0.0,

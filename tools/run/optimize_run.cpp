@@ -222,6 +222,25 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   oo.max_time_s = max_time;
   oo.start_photons = static_cast<std::uint64_t>(std::ceil(spec.photons_per_bin * static_cast<double>(grid.size())));
   if (hooks.on_start) hooks.on_start(variables, spec, grid.size(), oo.start_photons);
+  if (options.evaluate_only) {  // the merit at given values, no optimisation
+    OptimizeRunOutcome evaluated;
+    evaluated.variables = variables;
+    evaluated.scanned = true;
+    evaluated.evaluate_photons = options.evaluate_photons > 0 ? options.evaluate_photons : oo.start_photons;
+    for (const std::vector<double>& values : options.evaluate) {
+      if (values.size() != variables.size()) {
+        if (usage) *usage = true;
+        return make_error("give " + std::to_string(variables.size()) + " values (the design's variables), not " +
+                          std::to_string(values.size()));
+      }
+      Traced t = trace(values, evaluated.evaluate_photons, oo.seed, evaluation_path, false);
+      if (!t.merit) return make_error(design_path + ": " + t.error);
+      evaluated.merits.push_back(*t.merit);
+    }
+    std::error_code ignored_evaluate;
+    fs::remove(evaluation_path, ignored_evaluate);
+    return evaluated;
+  }
   if (scan) {  // --scan VAR:N
     const std::size_t colon = scan->rfind(':');
     const double n_value =

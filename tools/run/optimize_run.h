@@ -33,6 +33,13 @@ struct OptimizeRunOptions {
   double gamma_step = 1.0, max_time = 0.0;
   bool no_smooth = false;
   std::optional<std::string> scan;  // VAR:N: the merit across VAR's bounds, no optimisation
+  // evaluate_only: no optimisation, no file but the evaluation's: the merit
+  // at each of `evaluate` (the variables' values in the design's order), each
+  // traced with `seed` (common random numbers) and evaluate_photons (0: the
+  // first stage's); OptimizeRunOutcome::merits (gonio.Merit).
+  bool evaluate_only = false;
+  std::vector<std::vector<double>> evaluate;
+  std::uint64_t evaluate_photons = 0;
 };
 
 struct OptimizeRunHooks {
@@ -58,7 +65,9 @@ struct OptimizeRunOutcome {
   nlohmann::json report;                 // report.json as written (its "optimize" section)
   nlohmann::json history;                // history.json as written
   std::string best_path, history_path;
-  bool scanned = false;                  // --scan: only scan.json was written
+  bool scanned = false;                  // --scan or evaluate: no optimisation
+  std::vector<design::MeritValue> merits;  // evaluate: the merit at each
+  std::uint64_t evaluate_photons = 0;      // evaluate: the photons of each trace
 };
 
 // One evaluation as history.json holds it: index, stage (1-based, or

@@ -153,6 +153,34 @@ class Design:
     def write(self, path: PathLike) -> None: ...
     def export_step(self, path: PathLike, *, tolerance_mm: float = 0.001) -> dict[str, Any]: ...
 
+class Merit:
+    """The merit gonio optimize minimises, as a function of a design's variables (common random numbers)."""
+
+    def __init__(
+        self,
+        design: PathLike | Design,
+        target: PathLike | None = None,
+        *,
+        photons_per_bin: float | None = None,
+        smooth: bool = True,
+        photons: int | None = None,
+        seed: int = 1,
+        threads: int = 0,
+        gamma_step: float = 1.0,
+    ) -> None: ...
+    def __call__(self, values: Any) -> float: ...
+    def terms(self, values: Any) -> dict[str, float]: ...
+    @property
+    def names(self) -> list[str]: ...
+    @property
+    def x0(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def bounds(self) -> list[tuple[float, float]]: ...
+    @property
+    def photons(self) -> int: ...
+    @property
+    def seed(self) -> int: ...
+
 def optimize(
     design: PathLike | Design,
     target: PathLike | None = None,
