@@ -36,6 +36,7 @@
 #include "gonio/version.h"
 #include "io/photometric/photometric_file.h"
 #include "io/support/file_io.h"
+#include "io/support/process.h"
 #include "photometry/compare.h"
 #include "photometry/format.h"
 #include "photometry/planning.h"
@@ -116,6 +117,15 @@ py::object to_python(const Json& j) {
 // os.fspath(path): str or os.PathLike.
 std::string fspath(const py::object& path) {
   return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+}
+
+// The folder a run writes into: `out` where given, else a fresh scratch
+// folder (io::ScratchDir, held in `scratch` and removed with it).
+std::string working_folder(const py::object& out, const char* prefix, std::optional<io::ScratchDir>& scratch) {
+  if (!out.is_none()) return fspath(out);
+  scratch.emplace(prefix);
+  if (scratch->path().empty()) throw std::runtime_error("cannot create a scratch folder for the run");
+  return scratch->path().string();
 }
 
 io::LdtIsym3Order isym3_order(const std::string& word) {
@@ -813,22 +823,9 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
   o.final_photons = final_photons;
   o.max_time = max_time;
   o.name = name.value_or(std::string());
-  // The working folder: `out`, or a fresh temporary one.
-  std::string temporary;
-  if (out_object.is_none()) {
-    const std::string base = py::str(py::module_::import("tempfile").attr("mkdtemp")("", "gonio-optimize-"));
-    temporary = base;
-    o.out_dir = base;
-  } else {
-    o.out_dir = fspath(out_object);
-  }
-  struct RemoveTemporary {
-    std::string path;
-    ~RemoveTemporary() {
-      std::error_code ignored;
-      if (!path.empty()) fs::remove_all(path, ignored);
-    }
-  } remove_temporary{temporary};
+  // The working folder: `out`, or a fresh temporary one, removed after.
+  std::optional<io::ScratchDir> scratch;
+  o.out_dir = working_folder(out_object, "gonio-optimize", scratch);
 
   std::optional<py::error_already_set> raised;
   app::OptimizeRunHooks hooks;
@@ -870,7 +867,7 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
   result["final"] = to_python(outcome->report["optimize"]["final"]);
   result["report"] = to_python(outcome->report);
   py::list files;
-  if (temporary.empty()) {
+  if (!scratch) {  // files in a scratch folder are gone on return
     files.append(outcome->best_path);
     files.append(outcome->history_path);
     files.append(outcome->result->files->report_path);
@@ -910,20 +907,8 @@ py::dict tolerance(const py::object& model_object, const py::object& tolerances_
   so.max_bounces = max_bounces;
   so.c_step = c_step;
   so.gamma_step = gamma_step;
-  std::string temporary;
-  if (out_object.is_none()) {
-    temporary = py::str(py::module_::import("tempfile").attr("mkdtemp")("", "gonio-tolerance-"));
-    o.out_dir = temporary;
-  } else {
-    o.out_dir = fspath(out_object);
-  }
-  struct RemoveTemporary {
-    std::string path;
-    ~RemoveTemporary() {
-      std::error_code ignored;
-      if (!path.empty()) fs::remove_all(path, ignored);
-    }
-  } remove_temporary{temporary};
+  std::optional<io::ScratchDir> scratch;
+  o.out_dir = working_folder(out_object, "gonio-tolerance", scratch);
   Result<app::SimulatePlan> plan = app::plan_simulation(o.model, so);
   if (!plan.ok()) throw py::value_error(plan.error().message);
   app::ToleranceRunHooks hooks;
