@@ -63,6 +63,12 @@ Result<std::string> find_helper(const std::string& model) {
                                tried);
 }
 
+// The helper program: the options' one, else the one that comes with gonio.
+Result<std::string> helper_for(const std::string& path, const CadLoadOptions& options) {
+  if (!options.helper.empty()) return options.helper;
+  return find_helper(path);
+}
+
 std::uint64_t cache_key(std::string_view bytes, const CadTessellation& t) {
   ContentHash h;
   h.text("gonio-cad");
@@ -594,18 +600,14 @@ Result<CadModel> tessellate_cad(const std::string& path, const CadLoadOptions& o
     }
   }
 
-  std::string helper = options.helper;
-  if (helper.empty()) {
-    Result<std::string> found = find_helper(path);
-    if (!found.ok()) return found.error();
-    helper = *found;
-  }
+  Result<std::string> helper = helper_for(path, options);
+  if (!helper.ok()) return helper.error();
   ScratchDir scratch("gonio-cad");
   if (scratch.path().empty()) return make_error(path, "cannot create a scratch folder for the CAD reader");
   const std::string out = (scratch.path() / "model.bin").string();
   const std::string err = (scratch.path() / "error.txt").string();
   const CadTessellation& t = options.tessellation;
-  const std::vector<std::string> argv = {helper,
+  const std::vector<std::string> argv = {*helper,
                                          fs::absolute(path).string(),
                                          out,
                                          err,
@@ -674,19 +676,15 @@ Result<double> export_step(const StepExport& request, const std::string& path, c
   if (!cad_supported() && options.helper.empty())
     return make_error(path, "this gonio was built without OpenCASCADE (GONIO_OCCT off or not found), so it "
                             "cannot write STEP; the glTF export is there");
-  std::string helper = options.helper;
-  if (helper.empty()) {
-    Result<std::string> found = find_helper(path);
-    if (!found.ok()) return found.error();
-    helper = *found;
-  }
+  Result<std::string> helper = helper_for(path, options);
+  if (!helper.ok()) return helper.error();
   ScratchDir scratch("gonio-cad");
   if (scratch.path().empty()) return make_error(path, "cannot create a scratch folder for the STEP writer");
   const std::string in = (scratch.path() / "request.txt").string();
   const std::string out = (scratch.path() / "model.step").string();
   const std::string err = (scratch.path() / "error.txt").string();
   if (Status s = write_file_atomic(in, serialize_step_export(request)); !s.ok()) return s.error();
-  Result<ProcessOutput> run = run_program({helper, "--write-step", in, out, err}, options.time_limit,
+  Result<ProcessOutput> run = run_program({*helper, "--write-step", in, out, err}, options.time_limit,
                                           std::size_t{1} << 20, "the CAD helper that comes with gonio");
   if (!run.ok()) return make_error(path, run.error().message);
   if (run->signal != 0)
