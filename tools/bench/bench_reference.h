@@ -35,8 +35,8 @@ namespace gonio::app {
 struct ReferenceKey {
   std::string program_version;
   std::string tracer_revision;  // kTracerRevision: a hash of the sim/ sources
-  std::string model_hash;  // FNV-1a 64 of the model file's bytes, 16 hex digits
-  std::string scene_hash;  // FNV-1a 64 of the loaded scene (scene_hash()), 16 hex digits
+  std::string model_hash;  // io::content_hash_hex (XXH3-64) of the model file's bytes, 16 hex digits
+  std::string scene_hash;  // scene_hash() of the loaded scene (XXH3-64), 16 hex digits
   std::uint64_t seed = 0;
   std::uint64_t photons = 0;
   int face_size = 0;
