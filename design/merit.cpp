@@ -84,12 +84,17 @@ Status read_merit_limits(const TomlNode& m, const std::string& path, MeritSpec& 
     if (!t.ok()) return t.error();
     if (*t) {
       const TomlNode& n = **t;
-      if (Status s = io::check_keys(n, {"gamma", "limit", "weight"}, "[merit] max_cd_above", path); !s.ok()) return s;
+      if (Status s = io::check_keys(n, {"gamma", "to", "limit", "weight"}, "[merit] max_cd_above", path); !s.ok())
+        return s;
       MeritSpec::MaxCdAbove x;
       x.line = n.line;
       if (!n.get("gamma")) return fail(path, n.line, "[merit]: 'max_cd_above' needs 'gamma' (the cut-off angle [deg])");
       if (Status s = table_number(n, "max_cd_above", "gamma", 0.0, 180.0, path, &(v = std::nullopt)); !s.ok()) return s;
       x.gamma_deg = *v;
+      if (Status s = table_number(n, "max_cd_above", "to", 0.0, 180.0, path, &(v = std::nullopt)); !s.ok()) return s;
+      if (v) x.to_deg = *v;
+      if (!(x.to_deg > x.gamma_deg))
+        return fail(path, n.line, "[merit]: 'max_cd_above' needs gamma < to (the range of γ it looks at)");
       if (Status s = table_number(n, "max_cd_above", "limit", 1e-12, 1e12, path, &x.limit_cd); !s.ok()) return s;
       if (Status s = table_number(n, "max_cd_above", "weight", 0.0, 1e6, path, &(v = std::nullopt)); !s.ok()) return s;
       if (v) x.weight = *v;
@@ -460,7 +465,9 @@ MeritValue evaluate_merit(const MeritSpec& spec, const MeritGrid& grid, const Me
   if (spec.max_cd_above) {
     double largest = 0.0;
     for (std::size_t k = 0; k < scaled.size(); ++k)
-      if (grid.gamma_deg[k % ng] >= spec.max_cd_above->gamma_deg - 1e-9) largest = std::max(largest, scaled[k]);
+      if (grid.gamma_deg[k % ng] >= spec.max_cd_above->gamma_deg - 1e-9 &&
+          grid.gamma_deg[k % ng] <= spec.max_cd_above->to_deg + 1e-9)
+        largest = std::max(largest, scaled[k]);
     m.max_cd_above = largest;
     if (spec.max_cd_above->limit_cd)
       m.limits.push_back(limit_value("max_cd_above", largest, *spec.max_cd_above->limit_cd));

@@ -15,8 +15,9 @@
 //   lor = 0                        # weight of the light lost, 100·(1 − LOR) [%]
 //   beam = 0                       # weight of |beam angle − the target's| [deg]
 //   field = 0                      # weight of |field angle − the target's| [deg]
-//   max_cd_above = { gamma = 65, limit = 500, weight = 1 }  # cut-off: the largest candela
-//                                  #   at γ ≥ gamma, a limit [cd] or (no limit) a term [% of peak]
+//   max_cd_above = { gamma = 65, to = 90, limit = 500, weight = 1 }  # cut-off: the largest
+//                                  #   candela at gamma ≤ γ ≤ to (default 180), a limit [cd]
+//                                  #   or (no limit) a term [% of the target's peak]
 //   ugr = { limit = 19, weight = 1 }   # UGR 4H × 8H (70/50/20, the larger of crosswise and
 //                                  #   endwise): a limit, or (no limit) |UGR − the target's|
 //   bug = { b = 1, u = 0, g = 1, table = "asymmetric", weight = 1 }  # BUG class limits
@@ -65,10 +66,11 @@ struct MeritSpec {
   double lor_weight = 0.0;
   double beam_weight = 0.0;
   double field_weight = 0.0;
-  // max_cd_above: the largest candela of the nodes at γ ≥ gamma_deg (the
-  // merit's candela: scaled to the target's flux with normalize = "flux").
+  // max_cd_above: the largest candela of the nodes at gamma_deg ≤ γ ≤ to_deg
+  // (the merit's candela: scaled to the target's flux with normalize = "flux").
   struct MaxCdAbove {
     double gamma_deg = 90.0;
+    double to_deg = 180.0;
     std::optional<double> limit_cd;  // a limit; none: a term (% of the target's peak)
     double weight = 1.0;
     int line = 0;

@@ -244,7 +244,7 @@ TEST(MeritTerms, FieldAngleAndCutOffAgainstClosedForms) {
   spec.gamma_step_deg = 0.5;
   spec.absolute = true;
   spec.field_weight = 2.0;
-  spec.max_cd_above = MeritSpec::MaxCdAbove{30.0, 100.0, 1.0, 0};
+  spec.max_cd_above = MeritSpec::MaxCdAbove{30.0, 180.0, 100.0, 1.0, 0};
   const MeritGrid grid = merit_grid(spec);
   const Result<MeritTarget> target = merit_target(grid, cos_power(2.0));
   ASSERT_TRUE(target.ok());
@@ -262,6 +262,14 @@ TEST(MeritTerms, FieldAngleAndCutOffAgainstClosedForms) {
   EXPECT_NEAR(m.penalty, 462.5, 1e-9);
   EXPECT_NEAR(m.merit, m.candela_rms_pct + 2.0 * std::abs(field4 - field2) + 462.5, 0.2);
   EXPECT_NEAR(m.merit, m.candela_rms_pct + 2.0 * std::abs(m.field_deg - m.target_field_deg) + m.penalty, 1e-9);
+  // Only up to `to`: at 30° … 45°, still cos⁴ 30°; at 60° … 90°, cos⁴ 60°.
+  spec.max_cd_above->to_deg = 45.0;
+  EXPECT_NEAR(evaluate_merit(spec, grid, *target, cos_power_nodes(grid, 4.0), 1.0).max_cd_above, 562.5, 1e-9);
+  spec.max_cd_above->gamma_deg = 60.0;
+  spec.max_cd_above->to_deg = 90.0;
+  EXPECT_NEAR(evaluate_merit(spec, grid, *target, cos_power_nodes(grid, 4.0), 1.0).max_cd_above, 62.5, 1e-9);
+  spec.max_cd_above->gamma_deg = 30.0;
+  spec.max_cd_above->to_deg = 180.0;
   // Within the limit: no penalty.
   spec.max_cd_above->limit_cd = 600.0;
   const MeritValue within = evaluate_merit(spec, grid, *target, cos_power_nodes(grid, 4.0), 1.0);
@@ -409,7 +417,7 @@ TEST(MeritTerms, UgrIsTheCie190TablesFourByEightRoom) {
 TEST(MeritTerms, TermsAreContinuousInTheScan) {
   MeritSpec spec;
   spec.c_step_deg = 30.0;
-  spec.max_cd_above = MeritSpec::MaxCdAbove{50.0, std::nullopt, 1.0, 0};
+  spec.max_cd_above = MeritSpec::MaxCdAbove{50.0, 180.0, std::nullopt, 1.0, 0};
   spec.ugr = MeritSpec::Ugr{30.0, 1.0, 0};
   spec.bug = MeritSpec::Bug{2, -1, 2, false, 1.0, 0};
   const MeritGrid grid = merit_grid(spec);
@@ -494,12 +502,13 @@ TEST(MeritTerms, LimitTablesNameTheirMistakes) {
     return read_merit(resolved_document(*d), "lamp.design.toml");
   };
   Result<MeritSpec> ok = merit_of(
-      "field = 0.5\nmax_cd_above = { gamma = 65, limit = 500 }\nugr = { limit = 19, weight = 2 }\n"
+      "field = 0.5\nmax_cd_above = { gamma = 65, to = 90, limit = 500 }\nugr = { limit = 19, weight = 2 }\n"
       "bug = { b = 1, g = 2, table = \"symmetric\" }\nsize = { radius = 40 }\n");
   ASSERT_TRUE(ok.ok()) << ok.error().message;
   EXPECT_EQ(ok->field_weight, 0.5);
   ASSERT_TRUE(ok->max_cd_above && ok->max_cd_above->limit_cd);
   EXPECT_EQ(ok->max_cd_above->gamma_deg, 65.0);
+  EXPECT_EQ(ok->max_cd_above->to_deg, 90.0);
   EXPECT_EQ(*ok->max_cd_above->limit_cd, 500.0);
   EXPECT_EQ(ok->max_cd_above->line, 4);
   ASSERT_TRUE(ok->ugr && ok->ugr->limit);
@@ -519,6 +528,7 @@ TEST(MeritTerms, LimitTablesNameTheirMistakes) {
   };
   for (const Bad& b : {Bad{"max_cd_above = { limit = 5 }\n", 3, "needs 'gamma'"},
                        Bad{"max_cd_above = { gamma = 200 }\n", 3, "'max_cd_above.gamma'"},
+                       Bad{"max_cd_above = { gamma = 60, to = 50 }\n", 3, "gamma < to"},
                        Bad{"field = 1\nugr = { lmit = 19 }\n", 4, "unknown key 'lmit'"},
                        Bad{"ugr = 19\n", 3, "'ugr' must be a table"},
                        Bad{"bug = { b = 5 }\n", 3, "class 0"}, Bad{"bug = { table = \"symmetric\" }\n", 3, "limits nothing"},

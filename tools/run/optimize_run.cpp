@@ -104,6 +104,7 @@ nlohmann::json evaluation_json(const design::EvaluationRecord& r, const std::vec
                       {"time_s", r.time_s}, {"values", values}};
   if (r.stage < 0) e["stage"] = "noise";
   if (!r.error.empty()) e["error"] = r.error;
+  if (r.violation > 0.0) e["violation"] = r.violation;  // the hard limits' largest excess (COBYLA)
   return e;
 }
 
