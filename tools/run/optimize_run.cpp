@@ -154,7 +154,23 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   }
   if (variables.empty())
     return make_error(design.path + ": the design has no variables ({ value = …, min = …, max = … }) to optimise");
-  Result<design::MeritSpec> spec_read = design::read_merit(design::resolved_document(design), design.path);
+  io::TomlNode resolved = design::resolved_document(design);
+  std::string merit_path = design.path;
+  if (options.merit) {  // merit=: the table given replaces the design's
+    if (!options.merit->is_table()) {
+      if (usage) *usage = true;
+      return make_error("merit must be a table of the [merit] keys (a dict)");
+    }
+    bool replaced = false;
+    for (io::TomlMember& member : resolved.table)
+      if (member.first == "merit") {
+        member.second = *options.merit;
+        replaced = true;
+      }
+    if (!replaced) resolved.table.push_back({"merit", *options.merit});
+    merit_path = design.path + " (merit=)";
+  }
+  Result<design::MeritSpec> spec_read = design::read_merit(resolved, merit_path);
   if (!spec_read.ok()) return make_error(to_string(spec_read.error()));
   design::MeritSpec spec = spec_read.value();
   if (no_smooth) spec.smooth = false;
