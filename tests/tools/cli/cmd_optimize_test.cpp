@@ -245,6 +245,19 @@ TEST(OptimizeCli, TermsItCannotComputeAndRunsThatCannotImprove) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("ugr.design.toml:17: [merit]: 'ugr' without a limit"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("'up.ies' has none"), std::string::npos) << r.err;
+  // A UGR limit on a design from which no light leaves downward (a black
+  // dish; the source shines up): no luminous area, every evaluation fails
+  // saying so, and the run ends with the reason.
+  std::string black = design_text("{ value = -2, min = -3, max = -1 }");
+  black.replace(black.find("material = \"mirror\""), 19, "material = \"black\"");
+  write(dir / "black.design.toml", black + "[materials.black]\nreflectance = 0\n[merit]\nugr = { limit = 19 }\n");
+  r = gonio({"optimize", (dir / "black.design.toml").string(), "--target", target, "--out", (dir / "o").string(),
+             "--stages", "1", "--max-evals", "2", "--gamma-step", "5"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no evaluation of stage 1 succeeded: [merit] ugr (line 19): the design's UGR is undefined: "
+                       "no luminous area"),
+            std::string::npos)
+      << r.err;
   // An unknown key of a limit's table names its line.
   write(dir / "key.design.toml", start + "[merit]\nbug = { b = 1, q = 2 }\n");
   r = gonio({"optimize", (dir / "key.design.toml").string(), "--target", target, "--out", (dir / "o").string()});
