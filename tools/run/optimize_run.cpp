@@ -47,13 +47,18 @@ std::vector<design::MeritPhoton> escaped_photons(const sim::Simulation& simulati
 }
 
 // What the merit's terms need of the traced design beyond its photons: the
-// luminous opening (for UGR: the one gonio simulate writes, from 2^14 of the
-// trace's own photons, so common to every evaluation) and the size [mm] of
-// every surface (for the size limits).
-design::MeritGeometry merit_geometry(const design::MeritSpec& spec, const sim::Simulation& simulation,
-                                     std::uint64_t seed) {
+// luminous opening (for UGR: as gonio simulate finds it, from the points the
+// evaluation's own downward escapes leave from, so the same photons in every
+// evaluation) and the size [mm] of every surface (for the size limits).
+design::MeritGeometry merit_geometry(const design::MeritSpec& spec, const sim::Simulation& simulation) {
   design::MeritGeometry g;
-  if (spec.ugr) g.opening = simulated_opening(simulation.tracer(), simulation.scene(), seed, std::uint64_t{1} << 14).opening;
+  if (spec.ugr) {
+    const photometry::PhotometricFrame& frame = simulation.scene().frame;
+    std::vector<Vec3> exits;
+    for (const sim::EscapedRay& r : simulation.escaped_rays())
+      if (frame.to_local(r.direction).z < 0.0) exits.push_back(frame.to_local(r.origin));
+    g.opening = opening_of_exits(exits).opening;
+  }
   if (spec.size) {
     const photometry::PhotometricFrame& frame = simulation.scene().frame;
     double radius = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -269,7 +274,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       double lor = 0.0;
       const std::vector<design::MeritPhoton> escaped = escaped_photons(run.simulation, &lor);
       t.merit = design::evaluate_merit(spec, grid, *target, design::bin_photons(grid, escaped), lor,
-                                       merit_geometry(spec, run.simulation, trace_seed));
+                                       merit_geometry(spec, run.simulation));
       if (!t.merit->error.empty()) {
         t.error = t.merit->error;
         t.merit.reset();
