@@ -160,6 +160,8 @@ def test_merit_argument_is_the_designs_table(setup):
     assert limit["value"] == terms["max_cd_above"]
     assert limit["c"] == pytest.approx((limit["value"] - 100.0) / 100.0, rel=1e-12)
     assert terms["penalty"] == pytest.approx(100.0 * max(0.0, limit["c"]), rel=1e-12)
+    np.testing.assert_array_equal(given.limits([-1.5]), [limit["c"]])
+    assert plain.limits([-1.5]).shape == (0,)
     assert terms["merit"] == pytest.approx(
         terms["candela_rms_pct"] + 0.5 * abs(terms["field_angle_deg"] - terms["target_field_angle_deg"])
         + terms["penalty"], rel=1e-12)
@@ -169,6 +171,8 @@ def test_merit_argument_is_the_designs_table(setup):
     assert result["optimize"]["merit"]["limits_as"] == "constraints"
     assert result["optimize"]["merit"]["weights"]["field"] == 0.5
     assert result["final"]["limits"][0]["name"] == "max_cd_above"
+    assert result["optimize"]["merit"]["limit_tables"]["max_cd_above"] == {"gamma": 50, "to": 90, "limit": 100,
+                                                                           "weight": 1}
 
 
 def test_merit_argument_mistakes(setup):

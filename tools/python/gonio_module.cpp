@@ -1258,6 +1258,17 @@ void bind_simulation(py::module_& m) {
           py::arg("values"),
           "The merit and its terms at values: merit, candela_rms_pct, lor, beam and field angles,\n"
           "max_cd_above, ugr, penalty and limits [{name, value, limit, c, within}] (c ≤ 0 within).")
+      .def(
+          "limits",
+          [](PyMerit& self, const py::object& values) {
+            const design::MeritValue v = self.evaluate({self.values_of(values)}).front();
+            std::vector<double> c;
+            for (const design::MeritLimitValue& l : v.limits) c.push_back(l.c);
+            return py::array_t<double>(static_cast<py::ssize_t>(c.size()), c.data());
+          },
+          py::arg("values"),
+          "The [merit] table's hard limits at values: c = (figure − limit) / limit for each (≤ 0 within),\n"
+          "as numpy, in the order terms()['limits'] lists them; for scipy's constraints use -c ≥ 0.")
       .def_property_readonly(
           "names", [](const PyMerit& self) {
             py::list l;

@@ -90,6 +90,31 @@ nlohmann::json limits_json(const design::MeritValue& m) {
   return out;
 }
 
+// The limits' tables as read (report.json's optimize.merit.limit_tables).
+nlohmann::json limit_tables_json(const design::MeritSpec& spec) {
+  nlohmann::json t = nlohmann::json::object();
+  const auto optional = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
+  if (spec.max_cd_above)
+    t["max_cd_above"] = {{"gamma", spec.max_cd_above->gamma_deg},
+                         {"to", spec.max_cd_above->to_deg},
+                         {"limit", optional(spec.max_cd_above->limit_cd)},
+                         {"weight", spec.max_cd_above->weight}};
+  if (spec.ugr) t["ugr"] = {{"limit", optional(spec.ugr->limit)}, {"weight", spec.ugr->weight}};
+  if (spec.bug) {
+    const auto cls = [](int c) { return c >= 0 ? nlohmann::json(c) : nlohmann::json(nullptr); };
+    t["bug"] = {{"b", cls(spec.bug->b)},
+                {"u", cls(spec.bug->u)},
+                {"g", cls(spec.bug->g)},
+                {"table", spec.bug->symmetric ? "symmetric" : "asymmetric"},
+                {"weight", spec.bug->weight}};
+  }
+  if (spec.size)
+    t["size"] = {{"radius", optional(spec.size->radius_mm)},
+                 {"height", optional(spec.size->height_mm)},
+                 {"weight", spec.size->weight}};
+  return t;
+}
+
 // What one traced design gives: its merit's terms, or the run's error.
 struct Traced {
   std::optional<design::MeritValue> merit;
@@ -459,6 +484,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
           {"beam", spec.beam_weight},
           {"field", spec.field_weight}}},
         {"limits", design::merit_limit_names(spec)},
+        {"limit_tables", limit_tables_json(spec)},
         {"limits_as", limit_count == 0 ? "none" : as_constraints ? "constraints" : "penalties"},
         {"gamma_weights", weights}}},
       {"evaluations", run->evaluations},
