@@ -236,6 +236,8 @@ Result<MeritSpec> read_merit(const io::TomlNode& resolved, const std::string& pa
                                   std::tuple{"beam", &spec.beam_weight, 0.0, 1e6},
                                   std::tuple{"field", &spec.field_weight, 0.0, 1e6}})
     if (Status s = number(key, *out, lo, hi); !s.ok()) return s.error();
+  if (const TomlNode* n = m->get("beam")) spec.beam_line = n->line;
+  if (const TomlNode* n = m->get("field")) spec.field_line = n->line;
   if (!divides(spec.c_step_deg, 360.0))
     return fail(path, m->get("c_step")->line, "[merit]: c_step must divide 360");
   if (!divides(spec.gamma_step_deg, 180.0))
@@ -390,6 +392,14 @@ Status check_merit_terms(const MeritSpec& spec, const MeritTarget& target, const
                     io::shown(std::filesystem::path(target_path).filename().string()) + " has none (" +
                     (target.ugr_undefined.empty() ? std::string("undefined") : target.ugr_undefined) +
                     "); give the target's luminous opening, or write the term as a limit (ugr = { limit = 19 })");
+  for (auto [weight, angle, key, line, fraction] :
+       {std::tuple{spec.beam_weight, target.beam_deg, "beam", spec.beam_line, "50"},
+        std::tuple{spec.field_weight, target.field_deg, "field", spec.field_line, "10"}})
+    if (weight > 0.0 && !std::isfinite(angle))
+      return fail(design_path, line ? line : spec.line,
+                  std::string("[merit]: '") + key + "' compares with the target's " + key + " angle, but the target " +
+                      io::shown(std::filesystem::path(target_path).filename().string()) +
+                      " has none (its C0–C180 plane never falls to " + fraction + " % of its maximum)");
   return Ok{};
 }
 

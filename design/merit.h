@@ -66,6 +66,7 @@ struct MeritSpec {
   double lor_weight = 0.0;
   double beam_weight = 0.0;
   double field_weight = 0.0;
+  int beam_line = 0, field_line = 0;  // their keys' lines (0: not in the file)
   // max_cd_above: the largest candela of the nodes at gamma_deg ≤ γ ≤ to_deg
   // (the merit's candela: scaled to the target's flux with normalize = "flux").
   struct MaxCdAbove {
@@ -184,7 +185,8 @@ double merit_ugr(const photometry::Distribution& d, std::string* why = nullptr);
 
 // Whether the spec's terms can be computed against this target; the error
 // names the design file and the term's line: a UGR term without a limit
-// against a target without a luminous area.
+// against a target without a luminous area, a beam or field term against a
+// target without that angle (its C0 plane never falls to 50 % / 10 %).
 Status check_merit_terms(const MeritSpec& spec, const MeritTarget& target, const std::string& design_path,
                          const std::string& target_path);
 

@@ -494,6 +494,39 @@ TEST(MeritTerms, FieldAngleIsContinuousOnASmoothLobe) {
   EXPECT_LT(step, 0.01 * range) << "range " << range;
 }
 
+// A beam or field term against a target without that angle (isotropic: it
+// never falls to 50 % or 10 %): refused, naming the key's line.
+TEST(MeritTerms, SpreadTermsNeedTheTargetsAngle) {
+  Result<Design> d = parse_design("length_unit = \"mm\"\n[merit]\nbeam = 0\nfield = 1\n", "lamp.design.toml");
+  ASSERT_TRUE(d.ok());
+  Result<MeritSpec> spec = read_merit(resolved_document(*d), "lamp.design.toml");
+  ASSERT_TRUE(spec.ok());
+  const MeritGrid grid = merit_grid(*spec);
+  std::vector<double> g, c;
+  for (int i = 0; i <= 180; ++i) {
+    g.push_back(i);
+    c.push_back(100.0);
+  }
+  const Result<MeritTarget> flat = merit_target(grid, rotational_distribution(g, c));
+  ASSERT_TRUE(flat.ok());
+  EXPECT_FALSE(std::isfinite(flat->field_deg));
+  const Status refused = check_merit_terms(*spec, *flat, "lamp.design.toml", "flat.ies");
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().where.line, 4);
+  EXPECT_NE(refused.error().message.find("'field' compares with the target's field angle, but the target 'flat.ies' "
+                                         "has none"),
+            std::string::npos)
+      << refused.error().message;
+  // Weight 0 (beam here) asks nothing of the target; a cosine target has both angles.
+  spec->field_weight = 0.0;
+  EXPECT_TRUE(check_merit_terms(*spec, *flat, "lamp.design.toml", "flat.ies").ok());
+  spec->field_weight = 1.0;
+  spec->beam_weight = 1.0;
+  const Result<MeritTarget> cosine = merit_target(grid, cosine_target());
+  ASSERT_TRUE(cosine.ok());
+  EXPECT_TRUE(check_merit_terms(*spec, *cosine, "lamp.design.toml", "cosine.ies").ok());
+}
+
 // The limits' tables: their mistakes name the line.
 TEST(MeritTerms, LimitTablesNameTheirMistakes) {
   const auto merit_of = [](const std::string& table) {
