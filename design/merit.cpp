@@ -4,9 +4,14 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <array>
+#include <limits>
+#include <tuple>
 
 #include "io/support/text.h"
 #include "photometry/beam.h"
+#include "photometry/bug_rating.h"
+#include "photometry/ugr.h"
 #include "photometry/format.h"
 #include "photometry/frame.h"
 
@@ -49,6 +54,152 @@ double gamma_integral(double node, double h, bool smooth, F&& f, int n = 64) {
   return sum;
 }
 
+
+// A number of a limit's table: absent stays as it is; else within [lo, hi].
+Status table_number(const TomlNode& t, const char* table, const char* key, double lo, double hi,
+                    const std::string& path, std::optional<double>* out) {
+  const TomlNode* n = t.get(key);
+  if (!n) return Ok{};
+  const std::optional<double> v = n->number();
+  if (!v || !std::isfinite(*v) || *v < lo || *v > hi)
+    return fail(path, n->line ? n->line : t.line,
+                std::string("[merit]: '") + table + "." + key + "' must be a number in [" + format_number(lo) + ", " +
+                    format_number(hi) + "]");
+  *out = *v;
+  return Ok{};
+}
+
+// The limits' tables: max_cd_above, ugr, bug, size (merit.h).
+Status read_merit_limits(const TomlNode& m, const std::string& path, MeritSpec& spec) {
+  const auto table_of = [&](const char* key) -> Result<const TomlNode*> {
+    const TomlNode* t = m.get(key);
+    if (!t) return static_cast<const TomlNode*>(nullptr);
+    if (!t->is_table())
+      return fail(path, t->line, std::string("[merit]: '") + key + "' must be a table ({ … })");
+    return t;
+  };
+  std::optional<double> v;
+  {
+    Result<const TomlNode*> t = table_of("max_cd_above");
+    if (!t.ok()) return t.error();
+    if (*t) {
+      const TomlNode& n = **t;
+      if (Status s = io::check_keys(n, {"gamma", "to", "limit", "weight"}, "[merit] max_cd_above", path); !s.ok())
+        return s;
+      MeritSpec::MaxCdAbove x;
+      x.line = n.line;
+      if (!n.get("gamma")) return fail(path, n.line, "[merit]: 'max_cd_above' needs 'gamma' (the cut-off angle [deg])");
+      if (Status s = table_number(n, "max_cd_above", "gamma", 0.0, 180.0, path, &(v = std::nullopt)); !s.ok()) return s;
+      x.gamma_deg = *v;
+      if (Status s = table_number(n, "max_cd_above", "to", 0.0, 180.0, path, &(v = std::nullopt)); !s.ok()) return s;
+      if (v) x.to_deg = *v;
+      if (!(x.to_deg > x.gamma_deg))
+        return fail(path, n.line, "[merit]: 'max_cd_above' needs gamma < to (the range of γ it looks at)");
+      if (Status s = table_number(n, "max_cd_above", "limit", 1e-12, 1e12, path, &x.limit_cd); !s.ok()) return s;
+      if (Status s = table_number(n, "max_cd_above", "weight", 0.0, 1e6, path, &(v = std::nullopt)); !s.ok()) return s;
+      if (v) x.weight = *v;
+      spec.max_cd_above = x;
+    }
+  }
+  {
+    Result<const TomlNode*> t = table_of("ugr");
+    if (!t.ok()) return t.error();
+    if (*t) {
+      const TomlNode& n = **t;
+      if (Status s = io::check_keys(n, {"limit", "weight"}, "[merit] ugr", path); !s.ok()) return s;
+      MeritSpec::Ugr x;
+      x.line = n.line;
+      if (Status s = table_number(n, "ugr", "limit", 0.0, 60.0, path, &x.limit); !s.ok()) return s;
+      if (Status s = table_number(n, "ugr", "weight", 0.0, 1e6, path, &(v = std::nullopt)); !s.ok()) return s;
+      if (v) x.weight = *v;
+      spec.ugr = x;
+    }
+  }
+  {
+    Result<const TomlNode*> t = table_of("bug");
+    if (!t.ok()) return t.error();
+    if (*t) {
+      const TomlNode& n = **t;
+      if (Status s = io::check_keys(n, {"b", "u", "g", "table", "weight"}, "[merit] bug", path); !s.ok()) return s;
+      MeritSpec::Bug x;
+      x.line = n.line;
+      for (auto [key, out] : {std::pair{"b", &x.b}, std::pair{"u", &x.u}, std::pair{"g", &x.g}}) {
+        const TomlNode* k = n.get(key);
+        if (!k) continue;
+        if (k->type != TomlNode::Type::Integer || k->integer < 0 || k->integer > 4)
+          return fail(path, k->line ? k->line : n.line,
+                      std::string("[merit]: 'bug.") + key + "' must be a class 0 … 4 (the largest allowed; 5 is no limit)");
+        *out = static_cast<int>(k->integer);
+      }
+      if (x.b < 0 && x.u < 0 && x.g < 0)
+        return fail(path, n.line, "[merit]: 'bug' limits nothing: give b, u or g (the largest class allowed)");
+      if (const TomlNode* k = n.get("table")) {
+        if (!k->is_string() || (k->string != "asymmetric" && k->string != "symmetric"))
+          return fail(path, k->line ? k->line : n.line,
+                      "[merit]: 'bug.table' must be \"asymmetric\" (IES Types I–IV) or \"symmetric\" (Types V, VS)");
+        x.symmetric = k->string == "symmetric";
+      }
+      if (Status s = table_number(n, "bug", "weight", 0.0, 1e6, path, &(v = std::nullopt)); !s.ok()) return s;
+      if (v) x.weight = *v;
+      spec.bug = x;
+    }
+  }
+  {
+    Result<const TomlNode*> t = table_of("size");
+    if (!t.ok()) return t.error();
+    if (*t) {
+      const TomlNode& n = **t;
+      if (Status s = io::check_keys(n, {"radius", "height", "weight"}, "[merit] size", path); !s.ok()) return s;
+      MeritSpec::Size x;
+      x.line = n.line;
+      if (Status s = table_number(n, "size", "radius", 1e-6, 1e9, path, &x.radius_mm); !s.ok()) return s;
+      if (Status s = table_number(n, "size", "height", 1e-6, 1e9, path, &x.height_mm); !s.ok()) return s;
+      if (!x.radius_mm && !x.height_mm)
+        return fail(path, n.line, "[merit]: 'size' limits nothing: give radius or height [mm]");
+      if (Status s = table_number(n, "size", "weight", 0.0, 1e6, path, &(v = std::nullopt)); !s.ok()) return s;
+      if (v) x.weight = *v;
+      spec.size = x;
+    }
+  }
+  return Ok{};
+}
+
+// The BUG zones a spec limits, with each zone's lumens and limit.
+struct BugZoneLimit {
+  const char* name;
+  double photometry::BugZones::*zone;
+  double limit;
+};
+std::vector<BugZoneLimit> bug_zone_limits(const MeritSpec::Bug& b) {
+  const photometry::BugLimits& l = photometry::bug_limits_lm();
+  using Z = photometry::BugZones;
+  std::vector<BugZoneLimit> out;
+  if (b.b >= 0) {
+    const auto n = static_cast<std::size_t>(b.b);
+    out.push_back({"bug BL", &Z::bl, l.bl[n]});
+    out.push_back({"bug BM", &Z::bm, l.bm[n]});
+    out.push_back({"bug BH", &Z::bh, l.bh[n]});
+  }
+  if (b.u >= 0) {
+    const auto n = static_cast<std::size_t>(b.u);
+    out.push_back({"bug UL", &Z::ul, l.ul[n]});
+    out.push_back({"bug UH", &Z::uh, l.uh[n]});
+  }
+  if (b.g >= 0) {
+    const auto n = static_cast<std::size_t>(b.g);
+    out.push_back({"bug FVH", &Z::fvh, l.fvh[n]});
+    out.push_back({"bug BVH", &Z::bvh, l.bvh[n]});
+    out.push_back({"bug FH", &Z::fh, l.fh[n]});
+    out.push_back({"bug BH (glare)", &Z::bh, b.symmetric ? l.bh_glare_symmetric[n] : l.bh_glare[n]});
+  }
+  return out;
+}
+
+// A limit's value: (value − limit) / limit, per unit where the limit is 0.
+MeritLimitValue limit_value(std::string name, double value, double limit) {
+  return {std::move(name), value, limit, (value - limit) / (limit > 0.0 ? limit : 1.0)};
+}
+
 }  // namespace
 
 Result<MeritSpec> read_merit(const io::TomlNode& resolved, const std::string& path) {
@@ -59,7 +210,7 @@ Result<MeritSpec> read_merit(const io::TomlNode& resolved, const std::string& pa
   spec.line = m->line;
   static const std::vector<std::string> known = {"target",    "c_step",          "gamma_step", "normalize",
                                                  "smooth",    "photons_per_bin", "candela",    "gamma_weights",
-                                                 "lor",       "beam"};
+                                                 "lor",       "beam",       "field",      "max_cd_above", "ugr", "bug", "size"};
   for (const auto& [key, v] : m->table)
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       std::string list;
@@ -82,8 +233,11 @@ Result<MeritSpec> read_merit(const io::TomlNode& resolved, const std::string& pa
                                   std::tuple{"photons_per_bin", &spec.photons_per_bin, 40.0, 1e6},
                                   std::tuple{"candela", &spec.candela_weight, 0.0, 1e6},
                                   std::tuple{"lor", &spec.lor_weight, 0.0, 1e6},
-                                  std::tuple{"beam", &spec.beam_weight, 0.0, 1e6}})
+                                  std::tuple{"beam", &spec.beam_weight, 0.0, 1e6},
+                                  std::tuple{"field", &spec.field_weight, 0.0, 1e6}})
     if (Status s = number(key, *out, lo, hi); !s.ok()) return s.error();
+  if (const TomlNode* n = m->get("beam")) spec.beam_line = n->line;
+  if (const TomlNode* n = m->get("field")) spec.field_line = n->line;
   if (!divides(spec.c_step_deg, 360.0))
     return fail(path, m->get("c_step")->line, "[merit]: c_step must divide 360");
   if (!divides(spec.gamma_step_deg, 180.0))
@@ -116,6 +270,7 @@ Result<MeritSpec> read_merit(const io::TomlNode& resolved, const std::string& pa
       spec.gamma_weights.push_back({*v[0], *v[1], *v[2]});
     }
   }
+  if (Status s = read_merit_limits(*m, path, spec); !s.ok()) return s.error();
   return spec;
 }
 
@@ -203,8 +358,62 @@ Result<MeritTarget> merit_target(const MeritGrid& grid, const photometry::Distri
     t.flux_lm += t.candela[k] * grid.solid_angle_sr[k];
   }
   if (!(t.peak_cd > 0.0)) return make_error("the target has no light on the merit's grid");
-  t.beam_deg = photometry::beam_angle(merit_distribution(grid, t.candela), 0.0).angle_deg;
+  photometry::Distribution at_nodes = merit_distribution(grid, t.candela);
+  t.beam_deg = photometry::beam_angle(at_nodes, 0.0).angle_deg;
+  t.field_deg = photometry::field_angle(at_nodes, 0.0).angle_deg;
+  t.opening = target.opening;
+  at_nodes.opening = target.opening;
+  t.ugr = merit_ugr(at_nodes, &t.ugr_undefined);
   return t;
+}
+
+double merit_ugr(const photometry::Distribution& d, std::string* why) {
+  const photometry::UgrTable table = photometry::ugr_table(d);
+  if (!table.defined) {
+    if (why) *why = table.why_undefined;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  const std::vector<std::array<double, 2>> rooms = photometry::ugr_room_sizes();
+  for (std::size_t r = 0; r < rooms.size(); ++r)
+    if (rooms[r][0] == 4.0 && rooms[r][1] == 8.0) {
+      const double a = table.rooms[r].crosswise[0], b = table.rooms[r].endwise[0];
+      if (why && !std::isfinite(a) && !std::isfinite(b)) *why = "no light reaches the eye in the 4H × 8H room";
+      return std::isfinite(a) && std::isfinite(b) ? std::max(a, b) : std::isfinite(a) ? a : b;
+    }
+  if (why) *why = "no 4H × 8H room in the UGR table";
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+Status check_merit_terms(const MeritSpec& spec, const MeritTarget& target, const std::string& design_path,
+                         const std::string& target_path) {
+  if (spec.ugr && !spec.ugr->limit && !std::isfinite(target.ugr))
+    return fail(design_path, spec.ugr->line,
+                "[merit]: 'ugr' without a limit compares the design's UGR with the target's, but the target " +
+                    io::shown(std::filesystem::path(target_path).filename().string()) + " has none (" +
+                    (target.ugr_undefined.empty() ? std::string("undefined") : target.ugr_undefined) +
+                    "); give the target's luminous opening, or write the term as a limit (ugr = { limit = 19 })");
+  for (auto [weight, angle, key, line, fraction] :
+       {std::tuple{spec.beam_weight, target.beam_deg, "beam", spec.beam_line, "50"},
+        std::tuple{spec.field_weight, target.field_deg, "field", spec.field_line, "10"}})
+    if (weight > 0.0 && !std::isfinite(angle))
+      return fail(design_path, line ? line : spec.line,
+                  std::string("[merit]: '") + key + "' compares with the target's " + key + " angle, but the target " +
+                      io::shown(std::filesystem::path(target_path).filename().string()) +
+                      " has none (its C0–C180 plane never falls to " + fraction + " % of its maximum)");
+  return Ok{};
+}
+
+std::vector<std::string> merit_limit_names(const MeritSpec& spec) {
+  std::vector<std::string> out;
+  if (spec.max_cd_above && spec.max_cd_above->limit_cd) out.push_back("max_cd_above");
+  if (spec.ugr && spec.ugr->limit) out.push_back("ugr");
+  if (spec.bug)
+    for (const BugZoneLimit& z : bug_zone_limits(*spec.bug)) out.push_back(z.name);
+  if (spec.size) {
+    if (spec.size->radius_mm) out.push_back("size radius");
+    if (spec.size->height_mm) out.push_back("size height");
+  }
+  return out;
 }
 
 photometry::Distribution merit_distribution(const MeritGrid& grid, const std::vector<double>& candela) {
@@ -226,7 +435,7 @@ photometry::Distribution merit_distribution(const MeritGrid& grid, const std::ve
 }
 
 MeritValue evaluate_merit(const MeritSpec& spec, const MeritGrid& grid, const MeritTarget& target,
-                          const std::vector<double>& candela, double lor) {
+                          const std::vector<double>& candela, double lor, const MeritGeometry& geometry) {
   MeritValue m;
   m.lor = lor;
   m.target_beam_deg = target.beam_deg;
@@ -251,14 +460,72 @@ MeritValue evaluate_merit(const MeritSpec& spec, const MeritGrid& grid, const Me
   }
   m.candela_rms_pct = weights > 0.0 ? 100.0 * std::sqrt(sum / weights) / target.peak_cd : 0.0;
   m.merit = spec.candela_weight * m.candela_rms_pct + spec.lor_weight * 100.0 * (1.0 - lor);
-  m.beam_deg = flux > 0.0 ? photometry::beam_angle(merit_distribution(grid, scaled), 0.0).angle_deg
-                          : std::numeric_limits<double>::quiet_NaN();
-  if (spec.beam_weight > 0.0) {
-    const double miss = std::isfinite(m.beam_deg) && std::isfinite(target.beam_deg)
-                            ? std::abs(m.beam_deg - target.beam_deg)
-                            : 180.0;
-    m.merit += spec.beam_weight * miss;
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  photometry::Distribution at_nodes = merit_distribution(grid, scaled);
+  at_nodes.opening = geometry.opening;
+  m.beam_deg = flux > 0.0 ? photometry::beam_angle(at_nodes, 0.0).angle_deg : kNaN;
+  m.field_deg = flux > 0.0 ? photometry::field_angle(at_nodes, 0.0).angle_deg : kNaN;
+  m.target_field_deg = target.field_deg;
+  // A spread term: the miss in degrees; 180 where either angle is undefined.
+  const auto miss = [](double a, double b) { return std::isfinite(a) && std::isfinite(b) ? std::abs(a - b) : 180.0; };
+  if (spec.beam_weight > 0.0) m.merit += spec.beam_weight * miss(m.beam_deg, target.beam_deg);
+  if (spec.field_weight > 0.0) m.merit += spec.field_weight * miss(m.field_deg, target.field_deg);
+  // The largest candela at γ ≥ the cut-off: a limit or a term.
+  m.max_cd_above = kNaN;
+  if (spec.max_cd_above) {
+    double largest = 0.0;
+    for (std::size_t k = 0; k < scaled.size(); ++k)
+      if (grid.gamma_deg[k % ng] >= spec.max_cd_above->gamma_deg - 1e-9 &&
+          grid.gamma_deg[k % ng] <= spec.max_cd_above->to_deg + 1e-9)
+        largest = std::max(largest, scaled[k]);
+    m.max_cd_above = largest;
+    if (spec.max_cd_above->limit_cd)
+      m.limits.push_back(limit_value("max_cd_above", largest, *spec.max_cd_above->limit_cd));
+    else
+      m.merit += spec.max_cd_above->weight * 100.0 * largest / target.peak_cd;
   }
+  // UGR 4H × 8H of the merit's candela from the design's opening.
+  m.ugr = kNaN;
+  m.target_ugr = target.ugr;
+  if (spec.ugr) {
+    std::string why;
+    m.ugr = flux > 0.0 ? merit_ugr(at_nodes, &why) : kNaN;
+    const bool no_area = geometry.opening.shape == photometry::OpeningShape::Point || !why.empty();
+    if (spec.ugr->limit) {
+      if (!std::isfinite(m.ugr) && no_area && flux > 0.0) {
+        m.error = "[merit] ugr (line " + std::to_string(spec.ugr->line) + "): the design's UGR is undefined: " +
+                  (why.empty() ? "no luminous opening" : why);
+      }
+      // No light reaches the eye: the limit holds.
+      m.limits.push_back(std::isfinite(m.ugr) ? limit_value("ugr", m.ugr, *spec.ugr->limit)
+                                              : MeritLimitValue{"ugr", m.ugr, *spec.ugr->limit, -1.0});
+    } else if (std::isfinite(m.ugr)) {
+      m.merit += spec.ugr->weight * std::abs(m.ugr - target.ugr);
+    } else {
+      m.error = "[merit] ugr (line " + std::to_string(spec.ugr->line) + "): the design's UGR is undefined: " +
+                (why.empty() ? "no luminous opening" : why);
+    }
+  }
+  // BUG: each limited zone's lumens against its class limit.
+  if (spec.bug) {
+    const photometry::BugZones zones =
+        flux > 0.0 ? photometry::bug_rating(at_nodes).zones_lm : photometry::BugZones{};
+    for (const BugZoneLimit& z : bug_zone_limits(*spec.bug)) m.limits.push_back(limit_value(z.name, zones.*z.zone, z.limit));
+  }
+  if (spec.size) {
+    if (spec.size->radius_mm) m.limits.push_back(limit_value("size radius", geometry.radius_mm, *spec.size->radius_mm));
+    if (spec.size->height_mm) m.limits.push_back(limit_value("size height", geometry.height_mm, *spec.size->height_mm));
+  }
+  // Penalties: each limit's excess at its table's weight.
+  for (const MeritLimitValue& l : m.limits) {
+    const double weight = l.name == "max_cd_above" ? spec.max_cd_above->weight
+                          : l.name == "ugr"         ? spec.ugr->weight
+                          : l.name.rfind("bug", 0) == 0 ? spec.bug->weight
+                                                        : spec.size->weight;
+    const double excess = std::isfinite(l.c) ? std::max(0.0, l.c) : 1.0;
+    m.penalty += weight * 100.0 * excess;
+  }
+  m.merit += m.penalty;
   return m;
 }
 

@@ -14,6 +14,20 @@
 //   gamma_weights = [[0, 60, 1], [60, 180, 0.5]]   # [from, to, weight] of nodes by γ
 //   lor = 0                        # weight of the light lost, 100·(1 − LOR) [%]
 //   beam = 0                       # weight of |beam angle − the target's| [deg]
+//   field = 0                      # weight of |field angle − the target's| [deg]
+//   max_cd_above = { gamma = 65, to = 90, limit = 500, weight = 1 }  # cut-off: the largest
+//                                  #   candela at gamma ≤ γ ≤ to (default 180), a limit [cd]
+//                                  #   or (no limit) a term [% of the target's peak]
+//   ugr = { limit = 19, weight = 1 }   # UGR 4H × 8H (70/50/20, the larger of crosswise and
+//                                  #   endwise): a limit, or (no limit) |UGR − the target's|
+//   bug = { b = 1, u = 0, g = 1, table = "asymmetric", weight = 1 }  # BUG class limits
+//   size = { radius = 40, height = 30, weight = 1 }  # the luminaire's size limits [mm]
+//
+// Limits (docs/design.md "Merit terms and limits"): each gives values
+// c = (figure − limit) / limit (c ≤ 0: within; a limit of 0 lm: per lumen);
+// COBYLA takes them as NLopt inequality constraints, the other methods as a
+// penalty weight · 100 · max(0, c) added to the merit (1 % over a limit
+// costs as much as 1 % of candela RMS at weight 1).
 //
 // Noise by construction: every evaluation traces the same photons (the same
 // seed: photon i draws its numbers from (seed, i, dimension) alone), and with
@@ -24,6 +38,7 @@
 // a bin's edge). Without it each photon counts in the nearest node alone.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,8 +65,49 @@ struct MeritSpec {
   std::vector<GammaWeight> gamma_weights;  // none: every node weight 1
   double lor_weight = 0.0;
   double beam_weight = 0.0;
+  double field_weight = 0.0;
+  int beam_line = 0, field_line = 0;  // their keys' lines (0: not in the file)
+  // max_cd_above: the largest candela of the nodes at gamma_deg ≤ γ ≤ to_deg
+  // (the merit's candela: scaled to the target's flux with normalize = "flux").
+  struct MaxCdAbove {
+    double gamma_deg = 90.0;
+    double to_deg = 180.0;
+    std::optional<double> limit_cd;  // a limit; none: a term (% of the target's peak)
+    double weight = 1.0;
+    int line = 0;
+  };
+  std::optional<MaxCdAbove> max_cd_above;
+  // ugr: 4H × 8H, reflectances 0.7/0.5/0.2, the larger of crosswise and
+  // endwise (photometry/ugr.h, CIE 190), of the merit's candela.
+  struct Ugr {
+    std::optional<double> limit;  // a limit; none: |UGR − the target's| is a term
+    double weight = 1.0;
+    int line = 0;
+  };
+  std::optional<Ugr> ugr;
+  // bug: the largest B, U and G classes allowed (−1: no limit), each zone's
+  // lumens against its class limit (photometry/bug_rating.h).
+  struct Bug {
+    int b = -1, u = -1, g = -1;
+    bool symmetric = false;  // the glare table of Types V and VS
+    double weight = 1.0;
+    int line = 0;
+  };
+  std::optional<Bug> bug;
+  // size: the largest distance of the luminaire's surfaces from the
+  // photometric axis and their height along it [mm].
+  struct Size {
+    std::optional<double> radius_mm, height_mm;
+    double weight = 1.0;
+    int line = 0;
+  };
+  std::optional<Size> size;
   int line = 0;                  // the [merit] table's line (0: none in the file)
 };
+
+// The merit's hard limits, one per figure limited, in a fixed order:
+// "max_cd_above", "ugr", "bug BL", …, "size radius", "size height".
+std::vector<std::string> merit_limit_names(const MeritSpec& spec);
 
 // The [merit] table of a resolved design document (resolved_document): its
 // defaults where absent. Errors name the file and line: unknown keys, wrong
@@ -80,9 +136,22 @@ struct MeritPhoton {
 // The candela at the grid's nodes ([c * gamma_count + g]) from the photons.
 std::vector<double> bin_photons(const MeritGrid& grid, const std::vector<MeritPhoton>& photons);
 
+// One hard limit at an evaluation.
+struct MeritLimitValue {
+  std::string name;
+  double value = 0.0, limit = 0.0;
+  double c = 0.0;  // (value − limit) / limit (per unit where the limit is 0): ≤ 0 within
+};
+
 // The merit's terms and sum.
 struct MeritValue {
-  double merit = 0.0;
+  double merit = 0.0;            // the weighted terms plus `penalty`
+  double penalty = 0.0;          // Σ weight · 100 · max(0, c) over the limits
+  double field_deg = 0.0, target_field_deg = 0.0;  // at C0 (NaN where undefined)
+  double max_cd_above = 0.0;     // [cd]; NaN without the term
+  double ugr = 0.0, target_ugr = 0.0;  // NaN without the term
+  std::vector<MeritLimitValue> limits;  // merit_limit_names' order
+  std::string error;             // a term that cannot be computed for this design (the evaluation fails)
   double candela_rms_pct = 0.0;  // RMS of traced − target at the nodes, % of the target's peak
   double lor = 0.0;              // escaped flux / the emitters' flux
   double beam_deg = 0.0, target_beam_deg = 0.0;  // at C0 (NaN where undefined)
@@ -93,12 +162,37 @@ struct MeritTarget {
   std::vector<double> candela;  // [c * gamma_count + g]
   double peak_cd = 0.0, flux_lm = 0.0;  // flux on the grid's quadrature
   double beam_deg = 0.0;
+  double field_deg = 0.0;
+  photometry::LuminousOpening opening;  // the target file's
+  double ugr = std::numeric_limits<double>::quiet_NaN();  // merit_ugr at the nodes; NaN: undefined
+  std::string ugr_undefined;           // why
 };
 Result<MeritTarget> merit_target(const MeritGrid& grid, const photometry::Distribution& target);
 
+// What a term needs of the traced design beyond its photons: where its light
+// leaves (the luminous opening gonio simulate writes: tools/run
+// simulated_opening) and its size [mm].
+struct MeritGeometry {
+  photometry::LuminousOpening opening;
+  double radius_mm = std::numeric_limits<double>::quiet_NaN();
+  double height_mm = std::numeric_limits<double>::quiet_NaN();
+};
+
+// UGR 4H × 8H, reflectances 0.7/0.5/0.2 (CIE 190), the larger of crosswise
+// and endwise, of `d` (its opening the luminous area); NaN where the table
+// is undefined (`why` says why) or no light reaches the eye in that room.
+double merit_ugr(const photometry::Distribution& d, std::string* why = nullptr);
+
+// Whether the spec's terms can be computed against this target; the error
+// names the design file and the term's line: a UGR term without a limit
+// against a target without a luminous area, a beam or field term against a
+// target without that angle (its C0 plane never falls to 50 % / 10 %).
+Status check_merit_terms(const MeritSpec& spec, const MeritTarget& target, const std::string& design_path,
+                         const std::string& target_path);
+
 // The merit of `candela` (bin_photons) with `lor` against the target.
 MeritValue evaluate_merit(const MeritSpec& spec, const MeritGrid& grid, const MeritTarget& target,
-                          const std::vector<double>& candela, double lor);
+                          const std::vector<double>& candela, double lor, const MeritGeometry& geometry = {});
 
 // The grid's nodes as a Type C distribution (for the beam angle, files).
 photometry::Distribution merit_distribution(const MeritGrid& grid, const std::vector<double>& candela);

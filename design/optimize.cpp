@@ -25,7 +25,9 @@ struct Stage {
   int stage = 0;
   std::uint64_t photons = 0, seed = 0;
   double best = std::numeric_limits<double>::infinity();
+  double best_violation = std::numeric_limits<double>::infinity();
   std::vector<double> best_values;
+  const OptimizeOptions* options = nullptr;
   double failed_merit = 0.0;  // what a failed evaluation counts as
   double max_time_s = 0.0;
   bool cancelled = false, out_of_time = false;
@@ -60,8 +62,13 @@ double objective(unsigned n, const double* x, double* /*grad*/, void* data) {
   Stage& s = *static_cast<Stage*>(data);
   (void)n;
   EvaluationRecord r = evaluate(s, values_of(*s.variables, x), s.seed, s.stage);
-  if (std::isfinite(r.merit) && r.merit < s.best) {
+  if (std::isfinite(r.merit) && s.options->constraint_count > 0) {
+    for (double c : s.options->constraints(r.values, s.photons, s.seed))
+      r.violation = std::max(r.violation, std::isfinite(c) ? c : 1.0);
+  }
+  if (std::isfinite(r.merit) && (r.violation < s.best_violation || (r.violation == s.best_violation && r.merit < s.best))) {
     s.best = r.merit;
+    s.best_violation = r.violation;
     s.best_values = r.values;
   }
   r.best = s.best;
@@ -83,7 +90,16 @@ double objective(unsigned n, const double* x, double* /*grad*/, void* data) {
   return s.failed_merit > 0.0 ? s.failed_merit : 1e6;
 }
 
+// The hard limits for COBYLA: the values the objective's trace gave.
+void constraints(unsigned m, double* result, unsigned /*n*/, const double* x, double* /*grad*/, void* data) {
+  Stage& s = *static_cast<Stage*>(data);
+  const std::vector<double> c = s.options->constraints(values_of(*s.variables, x), s.photons, s.seed);
+  for (unsigned k = 0; k < m; ++k) result[k] = k < c.size() && std::isfinite(c[k]) ? c[k] : 1.0;
+}
+
 }  // namespace
+
+bool takes_constraints(OptimizeMethod method) { return method == OptimizeMethod::Cobyla; }
 
 std::optional<OptimizeMethod> parse_optimize_method(const std::string& name) {
   if (name == "bobyqa") return OptimizeMethod::Bobyqa;
@@ -114,6 +130,10 @@ Result<OptimizeResult> optimize(const std::vector<OptimizeVariable>& variables, 
   s.start = std::chrono::steady_clock::now();
   s.seed = options.seed;
   s.max_time_s = options.max_time_s;
+  s.options = &options;
+  if (options.constraint_count > 0 && (!takes_constraints(method) || !options.constraints))
+    return make_error(std::string("hard limits as constraints need a method that takes them (cobyla), not ") +
+                      to_string(method));
   std::vector<double> x(n);
   for (std::size_t i = 0; i < n; ++i) x[i] = (variables[i].value - variables[i].min) / (variables[i].max - variables[i].min);
   result.stopped_by = "converged";
@@ -137,8 +157,11 @@ Result<OptimizeResult> optimize(const std::vector<OptimizeVariable>& variables, 
     s.stage = stage;
     s.photons = options.start_photons << (2 * stage);
     s.best = std::numeric_limits<double>::infinity();
+    s.best_violation = std::numeric_limits<double>::infinity();
     s.best_values.clear();
     opt.set_min_objective(objective, &s);
+    if (options.constraint_count > 0)
+      opt.add_inequality_mconstraint(constraints, &s, std::vector<double>(options.constraint_count, 0.0));
     double value = 0.0;
     std::vector<double> start = x;
     try {
@@ -175,6 +198,9 @@ Result<OptimizeResult> optimize(const std::vector<OptimizeVariable>& variables, 
     const std::uint64_t seed = options.seed + 1'000'003ULL * static_cast<std::uint64_t>(k + 1);
     EvaluationRecord r = evaluate(s, result.best_values, seed, -1);
     r.best = result.best_merit;
+    if (std::isfinite(r.merit) && options.constraint_count > 0)
+      for (double c : options.constraints(r.values, s.photons, seed))
+        r.violation = std::max(r.violation, std::isfinite(c) ? c : 1.0);
     result.history.push_back(r);
     if (on_evaluation && !on_evaluation(r)) {
       result.stopped_by = "cancelled";

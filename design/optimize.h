@@ -34,6 +34,16 @@ enum class OptimizeMethod { Bobyqa, Cobyla };
 std::optional<OptimizeMethod> parse_optimize_method(const std::string& name);
 const char* to_string(OptimizeMethod method);
 
+// Whether a method takes hard limits as NLopt inequality constraints
+// (COBYLA); the others get them as penalties in the merit (design/merit.h).
+bool takes_constraints(OptimizeMethod method);
+
+// The hard limits' values c_k at an evaluation (c_k ≤ 0: within the limit),
+// for the same values, photons and seed as the merit's call just before (a
+// caller may keep that trace's values rather than trace again).
+using ConstraintFunction = std::function<std::vector<double>(const std::vector<double>& values,
+                                                             std::uint64_t photons, std::uint64_t seed)>;
+
 struct OptimizeOptions {
   OptimizeMethod method = OptimizeMethod::Bobyqa;
   int max_evaluations = 200;  // all stages together, the noise floor's traces not counted
@@ -43,6 +53,10 @@ struct OptimizeOptions {
   int noise_seeds = 4;        // ≥ 2
   double max_time_s = 0.0;    // > 0: no stage evaluation starts after this [s]; the noise
                               // floor's traces still run
+  // Hard limits (takes_constraints(method) only; else leave 0): the best is
+  // then the least violation first (0 within every limit), the merit second.
+  std::size_t constraint_count = 0;
+  ConstraintFunction constraints;
 };
 
 // One evaluation's merit; an error (the design cannot be built or traced at
@@ -59,6 +73,7 @@ struct EvaluationRecord {
   std::uint64_t photons = 0, seed = 0;
   double time_s = 0.0;  // since the optimisation began
   std::string error;    // why it failed
+  double violation = 0.0;  // the largest c_k above 0 of the hard limits (0: within, or none)
 };
 
 struct OptimizeResult {

@@ -134,3 +134,67 @@ def test_merit_is_the_commands_evaluation(setup, gonio_exe):
         bad = d / "bad.design.toml"
         bad.write_text(DESIGN.replace("CONIC", "{ value = -2 }"))
         gonio.Merit(bad, target)
+
+
+# merit=: a dict of the [merit] table's keys, replacing the design's table.
+MERIT = {"field": 0.5, "max_cd_above": {"gamma": 50, "to": 90, "limit": 100.0}}
+MERIT_TOML = "[merit]\nfield = 0.5\nmax_cd_above = { gamma = 50, to = 90, limit = 100.0 }\n"
+
+
+def test_merit_argument_is_the_designs_table(setup):
+    d, target = setup
+    # The same table written in the design file gives the same merit, bit for bit.
+    written = d / "written.design.toml"
+    written.write_text(DESIGN.replace("CONIC", "{ value = -2.6, min = -3, max = -1 }") + MERIT_TOML)
+    given = gonio.Merit(d / "start.design.toml", target, seed=2, threads=1, gamma_step=5, merit=MERIT)
+    in_file = gonio.Merit(written, target, seed=2, threads=1, gamma_step=5)
+    for x in ([-1.5], [-2.2]):
+        assert given(x) == in_file(x)
+    # It replaces the design's own table (here the written one's).
+    plain = gonio.Merit(written, target, seed=2, threads=1, gamma_step=5, merit={})
+    terms = given.terms([-1.5])
+    assert plain([-1.5]) == terms["candela_rms_pct"]
+    # Its terms: the field angle's miss at weight 0.5, the cut-off's penalty.
+    [limit] = terms["limits"]
+    assert limit["name"] == "max_cd_above" and limit["limit"] == 100.0
+    assert limit["value"] == terms["max_cd_above"]
+    assert limit["c"] == pytest.approx((limit["value"] - 100.0) / 100.0, rel=1e-12)
+    assert terms["penalty"] == pytest.approx(100.0 * max(0.0, limit["c"]), rel=1e-12)
+    np.testing.assert_array_equal(given.limits([-1.5]), [limit["c"]])
+    assert plain.limits([-1.5]).shape == (0,)
+    assert terms["merit"] == pytest.approx(
+        terms["candela_rms_pct"] + 0.5 * abs(terms["field_angle_deg"] - terms["target_field_angle_deg"])
+        + terms["penalty"], rel=1e-12)
+    # gonio.optimize takes it too: COBYLA with the limit as a constraint.
+    result = gonio.optimize(d / "start.design.toml", target, method="cobyla", merit=MERIT, **RUN)
+    assert result["optimize"]["merit"]["limits"] == ["max_cd_above"]
+    assert result["optimize"]["merit"]["limits_as"] == "constraints"
+    assert result["optimize"]["merit"]["weights"]["field"] == 0.5
+    assert result["final"]["limits"][0]["name"] == "max_cd_above"
+    assert result["optimize"]["merit"]["limit_tables"]["max_cd_above"] == {"gamma": 50, "to": 90, "limit": 100,
+                                                                           "weight": 1}
+
+
+def test_merit_argument_mistakes(setup):
+    d, target = setup
+    with pytest.raises(gonio.GonioError, match=r"start\.design\.toml \(merit=\).*unknown key 'colour'"):
+        gonio.Merit(d / "start.design.toml", target, merit={"colour": 1})
+    with pytest.raises(gonio.GonioError, match=r"\(merit=\).*'bug\.b' must be a class 0"):
+        gonio.optimize(d / "start.design.toml", target, merit={"bug": {"b": 7}}, **RUN)
+    with pytest.raises(TypeError, match="'ugr.limit' must be a dict, list, bool, int, float or str"):
+        gonio.Merit(d / "start.design.toml", target, merit={"ugr": {"limit": object()}})
+    with pytest.raises(TypeError, match="merit must be a dict"):
+        gonio.Merit(d / "start.design.toml", target, merit=[1])
+    # A UGR term needs the target's luminous opening: a target without one (a
+    # point: width, length and height 0) says so.
+    point = d / "point.ies"
+    point.write_text("IESNA:LM-63-2002\n[TEST] t\n[TESTLAB] t\n[ISSUEDATE] t\n[MANUFAC] t\nTILT=NONE\n"
+                     "1 -1 1 3 1 1 2 0 0 0\n1 1 0\n0 45 90\n0\n300 200 0\n")
+    with pytest.raises(gonio.GonioError, match=r"'ugr' without a limit.*'point\.ies' has none"):
+        gonio.Merit(d / "start.design.toml", point, merit={"ugr": {"weight": 1}}, gamma_step=5)
+    # With the simulated target's opening (gonio simulate writes the one it finds) it is defined.
+    ugr = gonio.Merit(d / "start.design.toml", target, merit={"ugr": {"weight": 1}}, seed=2, threads=1, gamma_step=5)
+    terms = ugr.terms([-1.5])
+    assert np.isfinite(terms["ugr"]) and np.isfinite(terms["target_ugr"])
+    assert terms["merit"] == pytest.approx(terms["candela_rms_pct"] + abs(terms["ugr"] - terms["target_ugr"]),
+                                           rel=1e-12)

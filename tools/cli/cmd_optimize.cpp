@@ -147,6 +147,11 @@ int run_optimize(const Args& args) {
   std::printf("optimize: final trace (%lld photons): candela RMS %s %% of the target's peak, LOR %s, estimated error %s %%\n",
               final_photons, format_number(fm.candela_rms_pct, 4).c_str(), format_number(fm.lor, 4).c_str(),
               format_number(outcome->final_estimated_error_pct, 3).c_str());
+  // The [merit] table's hard limits in the final trace.
+  for (const design::MeritLimitValue& l : fm.limits)
+    std::printf("optimize: limit %s: %s against %s (%s)\n", l.name.c_str(), format_number(l.value, 5).c_str(),
+                format_number(l.limit, 5).c_str(),
+                l.c <= 0.0 ? "within" : ("over by " + format_number(100.0 * l.c, 3) + " %").c_str());
   return code;
 }
 

@@ -33,6 +33,7 @@
 
 #include "design/design_export.h"
 #include "design/design_file.h"
+#include "io/model/toml_tree.h"
 #include "gonio/version.h"
 #include "io/photometric/photometric_file.h"
 #include "io/support/file_io.h"
@@ -789,6 +790,47 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
 }
 
 
+// A Python value as a TOML node (merit=): dict a table, list or tuple an
+// array, bool, int, float, str; anything else a TypeError naming the key.
+io::TomlNode toml_of(const py::handle& value, const std::string& key) {
+  io::TomlNode n;
+  if (py::isinstance<py::dict>(value)) {
+    n.type = io::TomlNode::Type::Table;
+    for (const auto& [k, v] : value.cast<py::dict>()) {
+      if (!py::isinstance<py::str>(k)) throw py::type_error("merit: the keys of " + key + " must be strings");
+      const std::string name = k.cast<std::string>();
+      n.table.push_back({name, toml_of(v, key.empty() ? name : key + "." + name)});
+    }
+  } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    n.type = io::TomlNode::Type::Array;
+    for (const py::handle& v : value) n.array.push_back(toml_of(v, key));
+  } else if (py::isinstance<py::bool_>(value)) {
+    n.type = io::TomlNode::Type::Boolean;
+    n.boolean = value.cast<bool>();
+  } else if (py::isinstance<py::int_>(value)) {
+    n.type = io::TomlNode::Type::Integer;
+    n.integer = value.cast<std::int64_t>();
+  } else if (py::isinstance<py::float_>(value)) {
+    n.type = io::TomlNode::Type::Float;
+    n.floating = value.cast<double>();
+  } else if (py::isinstance<py::str>(value)) {
+    n.type = io::TomlNode::Type::String;
+    n.string = value.cast<std::string>();
+  } else {
+    throw py::type_error("merit: " + (key.empty() ? std::string("the table") : "'" + key + "'") +
+                         " must be a dict, list, bool, int, float or str, not " +
+                         std::string(py::str(py::type::of(value).attr("__name__"))));
+  }
+  return n;
+}
+
+// merit=: None, or a dict of the [merit] table's keys.
+std::optional<io::TomlNode> merit_table(const py::object& merit) {
+  if (merit.is_none()) return std::nullopt;
+  if (!py::isinstance<py::dict>(merit)) throw py::type_error("merit must be a dict of the [merit] table's keys");
+  return toml_of(merit, "");
+}
+
 // gonio optimize's own run (app::optimize_design). Without `out` it works in
 // a temporary folder, removed afterwards. `callback(evaluation)` after each
 // evaluation (a dict as history.json's rows); False stops, keeping the best.
@@ -796,7 +838,7 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
                   const std::string& method, long long max_evals, long long stages, long long seed, int threads,
                   const std::optional<double>& photons_per_bin, bool smooth, double gamma_step,
                   long long final_photons, double max_time, const std::optional<std::string>& name,
-                  const py::object& callback) {
+                  const py::object& callback, const py::object& merit) {
   const auto start = std::chrono::steady_clock::now();
   namespace fs = std::filesystem;
   app::OptimizeRunOptions o;
@@ -823,6 +865,7 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
   o.final_photons = final_photons;
   o.max_time = max_time;
   o.name = name.value_or(std::string());
+  o.merit = merit_table(merit);
   // The working folder: `out`, or a fresh temporary one, removed after.
   std::optional<io::ScratchDir> scratch;
   o.out_dir = working_folder(out_object, "gonio-optimize", scratch);
@@ -1012,7 +1055,7 @@ struct PyMerit {
 std::unique_ptr<PyMerit> make_merit(const py::object& design_object, const py::object& target_object,
                                     const std::optional<double>& photons_per_bin, bool smooth,
                                     std::optional<std::uint64_t> photons, long long seed, int threads,
-                                    double gamma_step) {
+                                    double gamma_step, const py::object& merit) {
   auto m = std::make_unique<PyMerit>();
   app::OptimizeRunOptions& o = m->options;
   o.design_path = py::isinstance<PyDesign>(design_object) ? design_object.cast<const PyDesign&>().d->path
@@ -1028,6 +1071,7 @@ std::unique_ptr<PyMerit> make_merit(const py::object& design_object, const py::o
   o.seed = seed;
   o.threads = threads;
   o.gamma_step = gamma_step;
+  o.merit = merit_table(merit);
   m->photons = photons.value_or(0);
   m->folder = py::str(py::module_::import("tempfile").attr("mkdtemp")("", "gonio-merit-"));
   o.out_dir = m->folder;
@@ -1145,11 +1189,13 @@ void bind_simulation(py::module_& m) {
         py::arg("stages") = 3, py::arg("seed") = 1, py::arg("threads") = 0, py::arg("photons_per_bin") = py::none(),
         py::arg("smooth") = true, py::arg("gamma_step") = 1.0, py::arg("final_photons") = 1'000'000,
         py::arg("max_time") = 0.0, py::arg("name") = py::none(), py::arg("callback") = py::none(),
+        py::arg("merit") = py::none(),
         "Optimises a design file's variables toward a target as gonio optimize does (the same run;\n"
         "docs/commands/optimize.md): returns {variables: the best {name: value}, merit_history:\n"
         "the stages' merits (numpy), history: every evaluation as history.json, optimize: report.json's\n"
         "optimize section, final: its final trace's figures, report, files}. Without out it works in a\n"
         "temporary folder. callback(evaluation) after each evaluation; False stops, keeping the best.\n"
+        "merit: a dict of the [merit] table's keys (docs/design.md), replacing the design's table.\n"
         "Raises GonioError naming the file; bad arguments raise ValueError.");
   m.def("tolerance", &tolerance, py::arg("model"), py::arg("tolerances"), py::kw_only(), py::arg("trials") = 20,
         py::arg("spec") = py::none(), py::arg("seed") = 1, py::arg("noise_seeds") = 3, py::arg("sampling_seed") = 1,
@@ -1168,10 +1214,11 @@ void bind_simulation(py::module_& m) {
                       "function), as the command's own evaluation does.")
       .def(py::init(&make_merit), py::arg("design"), py::arg("target") = py::none(), py::kw_only(),
            py::arg("photons_per_bin") = py::none(), py::arg("smooth") = true, py::arg("photons") = py::none(),
-           py::arg("seed") = 1, py::arg("threads") = 0, py::arg("gamma_step") = 1.0,
+           py::arg("seed") = 1, py::arg("threads") = 0, py::arg("gamma_step") = 1.0, py::arg("merit") = py::none(),
            "Reads the design (its variables with bounds, its [merit] table) and the target (default: the\n"
            "table's); photons per call default to the first stage's (photons_per_bin × the merit's nodes);\n"
-           "seed, threads and gamma_step (the tessellation's) as gonio optimize's options.\n"
+           "seed, threads and gamma_step (the tessellation's) as gonio optimize's options; merit: a dict\n"
+           "of the [merit] table's keys, replacing the design's table.\n"
            "Raises GonioError naming the file.")
       .def(
           "__call__",
@@ -1189,9 +1236,39 @@ void bind_simulation(py::module_& m) {
             d["lor"] = v.lor;
             d["beam_angle_deg"] = v.beam_deg;
             d["target_beam_angle_deg"] = v.target_beam_deg;
+            d["field_angle_deg"] = v.field_deg;
+            d["target_field_angle_deg"] = v.target_field_deg;
+            d["max_cd_above"] = v.max_cd_above;
+            d["ugr"] = v.ugr;
+            d["target_ugr"] = v.target_ugr;
+            d["penalty"] = v.penalty;
+            py::list limits;
+            for (const design::MeritLimitValue& l : v.limits) {
+              py::dict one;
+              one["name"] = l.name;
+              one["value"] = l.value;
+              one["limit"] = l.limit;
+              one["c"] = l.c;
+              one["within"] = l.c <= 0.0;
+              limits.append(one);
+            }
+            d["limits"] = limits;
             return d;
           },
-          py::arg("values"), "The merit and its terms at values: merit, candela_rms_pct, lor, beam angles.")
+          py::arg("values"),
+          "The merit and its terms at values: merit, candela_rms_pct, lor, beam and field angles,\n"
+          "max_cd_above, ugr, penalty and limits [{name, value, limit, c, within}] (c ≤ 0 within).")
+      .def(
+          "limits",
+          [](PyMerit& self, const py::object& values) {
+            const design::MeritValue v = self.evaluate({self.values_of(values)}).front();
+            std::vector<double> c;
+            for (const design::MeritLimitValue& l : v.limits) c.push_back(l.c);
+            return py::array_t<double>(static_cast<py::ssize_t>(c.size()), c.data());
+          },
+          py::arg("values"),
+          "The [merit] table's hard limits at values: c = (figure − limit) / limit for each (≤ 0 within),\n"
+          "as numpy, in the order terms()['limits'] lists them; for scipy's constraints use -c ≥ 0.")
       .def_property_readonly(
           "names", [](const PyMerit& self) {
             py::list l;

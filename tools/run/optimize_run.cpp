@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <system_error>
 
@@ -18,6 +19,7 @@
 #include "tools/run/json_figures.h"
 #include "tools/run/photometric_input.h"
 #include "tools/run/resampler_cache.h"
+#include "tools/run/simulation_outputs.h"
 
 namespace gonio::app {
 namespace {
@@ -44,6 +46,75 @@ std::vector<design::MeritPhoton> escaped_photons(const sim::Simulation& simulati
   return out;
 }
 
+// What the merit's terms need of the traced design beyond its photons: the
+// luminous opening (for UGR: as gonio simulate finds it, from the points the
+// evaluation's own downward escapes leave from, so the same photons in every
+// evaluation) and the size [mm] of every surface (for the size limits).
+design::MeritGeometry merit_geometry(const design::MeritSpec& spec, const sim::Simulation& simulation) {
+  design::MeritGeometry g;
+  if (spec.ugr) {
+    const photometry::PhotometricFrame& frame = simulation.scene().frame;
+    std::vector<Vec3> exits;
+    for (const sim::EscapedRay& r : simulation.escaped_rays())
+      if (frame.to_local(r.direction).z < 0.0) exits.push_back(frame.to_local(r.origin));
+    g.opening = opening_of_exits(exits).opening;
+  }
+  if (spec.size) {
+    const photometry::PhotometricFrame& frame = simulation.scene().frame;
+    double radius = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    sim::for_each_placed_vertex(simulation.scene(), [&](const Vec3& world) {
+      const Vec3 p = frame.to_local(world);
+      radius = std::max(radius, std::hypot(p.x, p.y));
+      lo = std::min(lo, p.z);
+      hi = std::max(hi, p.z);
+    });
+    g.radius_mm = 1000.0 * radius;
+    g.height_mm = hi >= lo ? 1000.0 * (hi - lo) : 0.0;
+  }
+  return g;
+}
+
+// The hard limits' values c of a merit (merit_limit_names' order).
+std::vector<double> limit_values(const design::MeritValue& m) {
+  std::vector<double> c;
+  for (const design::MeritLimitValue& l : m.limits) c.push_back(l.c);
+  return c;
+}
+
+// The limits of a merit as report.json holds them.
+nlohmann::json limits_json(const design::MeritValue& m) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const design::MeritLimitValue& l : m.limits)
+    out.push_back({{"name", l.name}, {"value", json_number(l.value)}, {"limit", l.limit}, {"c", json_number(l.c)},
+                   {"within", l.c <= 0.0}});
+  return out;
+}
+
+// The limits' tables as read (report.json's optimize.merit.limit_tables).
+nlohmann::json limit_tables_json(const design::MeritSpec& spec) {
+  nlohmann::json t = nlohmann::json::object();
+  const auto optional = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
+  if (spec.max_cd_above)
+    t["max_cd_above"] = {{"gamma", spec.max_cd_above->gamma_deg},
+                         {"to", spec.max_cd_above->to_deg},
+                         {"limit", optional(spec.max_cd_above->limit_cd)},
+                         {"weight", spec.max_cd_above->weight}};
+  if (spec.ugr) t["ugr"] = {{"limit", optional(spec.ugr->limit)}, {"weight", spec.ugr->weight}};
+  if (spec.bug) {
+    const auto cls = [](int c) { return c >= 0 ? nlohmann::json(c) : nlohmann::json(nullptr); };
+    t["bug"] = {{"b", cls(spec.bug->b)},
+                {"u", cls(spec.bug->u)},
+                {"g", cls(spec.bug->g)},
+                {"table", spec.bug->symmetric ? "symmetric" : "asymmetric"},
+                {"weight", spec.bug->weight}};
+  }
+  if (spec.size)
+    t["size"] = {{"radius", optional(spec.size->radius_mm)},
+                 {"height", optional(spec.size->height_mm)},
+                 {"weight", spec.size->weight}};
+  return t;
+}
+
 // What one traced design gives: its merit's terms, or the run's error.
 struct Traced {
   std::optional<design::MeritValue> merit;
@@ -63,6 +134,7 @@ nlohmann::json evaluation_json(const design::EvaluationRecord& r, const std::vec
                       {"time_s", r.time_s}, {"values", values}};
   if (r.stage < 0) e["stage"] = "noise";
   if (!r.error.empty()) e["error"] = r.error;
+  if (r.violation > 0.0) e["violation"] = r.violation;  // the hard limits' largest excess (COBYLA)
   return e;
 }
 
@@ -112,7 +184,23 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   }
   if (variables.empty())
     return make_error(design.path + ": the design has no variables ({ value = …, min = …, max = … }) to optimise");
-  Result<design::MeritSpec> spec_read = design::read_merit(design::resolved_document(design), design.path);
+  io::TomlNode resolved = design::resolved_document(design);
+  std::string merit_path = design.path;
+  if (options.merit) {  // merit=: the table given replaces the design's
+    if (!options.merit->is_table()) {
+      if (usage) *usage = true;
+      return make_error("merit must be a table of the [merit] keys (a dict)");
+    }
+    bool replaced = false;
+    for (io::TomlMember& member : resolved.table)
+      if (member.first == "merit") {
+        member.second = *options.merit;
+        replaced = true;
+      }
+    if (!replaced) resolved.table.push_back({"merit", *options.merit});
+    merit_path = design.path + " (merit=)";
+  }
+  Result<design::MeritSpec> spec_read = design::read_merit(resolved, merit_path);
   if (!spec_read.ok()) return make_error(to_string(spec_read.error()));
   design::MeritSpec spec = spec_read.value();
   if (no_smooth) spec.smooth = false;
@@ -129,6 +217,11 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   const design::MeritGrid grid = design::merit_grid(spec);
   Result<design::MeritTarget> target = design::merit_target(grid, target_file->distribution);
   if (!target.ok()) return make_error(target_path + ": " + target.error().message);
+  if (Status s = design::check_merit_terms(spec, *target, design.path, target_path); !s.ok())
+    return make_error(to_string(s.error()));
+  const std::size_t limit_count = design::merit_limit_names(spec).size();
+  // Hard limits: constraints for a method that takes them, else penalties.
+  const bool as_constraints = limit_count > 0 && design::takes_constraints(method);
 
   // DIR with the files the design reads (its emitters' profiles and ray files).
   if (Status s = io::make_directories(out_dir); !s.ok()) return make_error(to_string(s.error()));
@@ -205,12 +298,18 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     sim_hooks.on_traced = [&](const ProgressiveOutcome& run) {
       double lor = 0.0;
       const std::vector<design::MeritPhoton> escaped = escaped_photons(run.simulation, &lor);
-      t.merit = design::evaluate_merit(spec, grid, *target, design::bin_photons(grid, escaped), lor);
+      t.merit = design::evaluate_merit(spec, grid, *target, design::bin_photons(grid, escaped), lor,
+                                       merit_geometry(spec, run.simulation));
+      if (!t.merit->error.empty()) {
+        t.error = t.merit->error;
+        t.merit.reset();
+      }
       t.estimated_error_pct = run.estimated_rms_error_pct;
     };
     t.result = simulate(*plan, sim_hooks, start);
     if (!t.result && t.error.empty()) t.error = "the trace failed";
     if (!t.result) t.merit.reset();
+    if (!t.result && t.error.empty()) t.error = "the trace failed";
     return t;
   };
 
@@ -276,12 +375,35 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     scanned.scanned = true;
     return scanned;
   }
+  // The last trace's limits, for the constraints' call at the same point.
+  struct LastTrace {
+    std::vector<double> values;
+    std::uint64_t photons = 0, seed = 0;
+    std::optional<design::MeritValue> merit;
+  } last;
+  const auto traced_merit = [&](const std::vector<double>& values, std::uint64_t photons,
+                                std::uint64_t trace_seed) -> Result<design::MeritValue> {
+    if (last.merit && last.values == values && last.photons == photons && last.seed == trace_seed) return *last.merit;
+    Traced t = trace(values, photons, trace_seed, evaluation_path, false);
+    last = {values, photons, trace_seed, t.merit};
+    if (!t.merit) return make_error(t.error);
+    return *t.merit;
+  };
   const design::MeritFunction merit = [&](const std::vector<double>& values, std::uint64_t photons,
                                           std::uint64_t trace_seed) -> Result<double> {
-    Traced t = trace(values, photons, trace_seed, evaluation_path, false);
-    if (!t.merit) return make_error(t.error);
-    return t.merit->merit;
+    Result<design::MeritValue> m = traced_merit(values, photons, trace_seed);
+    if (!m.ok()) return m.error();
+    // COBYLA minimises the terms with the limits as constraints; the other
+    // methods the terms with the limits' penalties.
+    return as_constraints ? m->merit - m->penalty : m->merit;
   };
+  if (as_constraints) {
+    oo.constraint_count = limit_count;
+    oo.constraints = [&](const std::vector<double>& values, std::uint64_t photons, std::uint64_t trace_seed) {
+      Result<design::MeritValue> m = traced_merit(values, photons, trace_seed);
+      return m.ok() ? limit_values(*m) : std::vector<double>(limit_count, 1.0);
+    };
+  }
   const auto on_evaluation = [&](const design::EvaluationRecord& r) {
     return hooks.on_evaluation ? hooks.on_evaluation(r) : true;
   };
@@ -289,6 +411,27 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   std::error_code ignored;
   fs::remove(evaluation_path, ignored);
   if (!run.ok()) return make_error(design.path + ": " + run.error().message);
+  // An optimisation that cannot improve: every evaluation of the first stage
+  // (one seed, one photon count) within the merit's noise floor of the others.
+  std::string cannot_improve;
+  {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    int counted = 0;
+    for (const design::EvaluationRecord& r : run->history)
+      if (r.stage == 0 && std::isfinite(r.merit)) {
+        lo = std::min(lo, r.merit);
+        hi = std::max(hi, r.merit);
+        ++counted;
+      }
+    const double floor = std::isfinite(run->noise_floor) ? run->noise_floor : 0.0;
+    if (counted >= 2 && hi - lo <= std::max(floor, 1e-12 * std::abs(hi))) {
+      cannot_improve = "every evaluation of stage 1 (" + std::to_string(counted) + ") has the merit " +
+                       format_number(lo, 6) + (hi > lo ? " … " + format_number(hi, 6) : std::string()) +
+                       ", within the merit's noise floor (" + format_number(floor, 3) +
+                       "): the variables do not move the merit, so the optimiser cannot improve the design";
+      if (hooks.on_message) hooks.on_message(Severity::Warning, design.path + ": " + cannot_improve);
+    }
+  }
 
   // The best design, traced with an independent seed into DIR.
   for (std::size_t i = 0; i < variables.size(); ++i)
@@ -335,7 +478,14 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
         {"normalize", spec.absolute ? "absolute" : "flux"},
         {"smooth", spec.smooth},
         {"photons_per_bin", spec.photons_per_bin},
-        {"weights", {{"candela", spec.candela_weight}, {"lor", spec.lor_weight}, {"beam", spec.beam_weight}}},
+        {"weights",
+         {{"candela", spec.candela_weight},
+          {"lor", spec.lor_weight},
+          {"beam", spec.beam_weight},
+          {"field", spec.field_weight}}},
+        {"limits", design::merit_limit_names(spec)},
+        {"limit_tables", limit_tables_json(spec)},
+        {"limits_as", limit_count == 0 ? "none" : as_constraints ? "constraints" : "penalties"},
         {"gamma_weights", weights}}},
       {"evaluations", run->evaluations},
       {"stages", stages},
@@ -345,6 +495,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       {"stage_photons", run->final_photons},
       {"independent_merit", json_number(run->independent_merit)},
       {"noise_floor", json_number(run->noise_floor)},
+      {"improvable", cannot_improve.empty()},
       {"final",
        {{"photons", final_photons},
         {"seed", final_seed},
@@ -353,8 +504,16 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
         {"lor", json_number(fm.lor)},
         {"beam_angle_deg", json_number(fm.beam_deg)},
         {"target_beam_angle_deg", json_number(fm.target_beam_deg)},
+        {"field_angle_deg", json_number(fm.field_deg)},
+        {"target_field_angle_deg", json_number(fm.target_field_deg)},
+        {"max_cd_above", json_number(fm.max_cd_above)},
+        {"ugr", json_number(fm.ugr)},
+        {"target_ugr", json_number(fm.target_ugr)},
+        {"penalty", json_number(fm.penalty)},
+        {"limits", limits_json(fm)},
         {"estimated_rms_error_pct", json_number(final.estimated_error_pct)}}},
       {"files", {best_path, history_path}},
+      {"cannot_improve", cannot_improve.empty() ? nlohmann::json(nullptr) : nlohmann::json(cannot_improve)},
       {"wall_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
   if (Status s = io::write_file_atomic(final.result->files->report_path, report.dump(2) + "\n"); !s.ok())
     return make_error(to_string(s.error()));

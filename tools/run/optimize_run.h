@@ -33,6 +33,9 @@ struct OptimizeRunOptions {
   double gamma_step = 1.0, max_time = 0.0;
   bool no_smooth = false;
   std::optional<std::string> scan;  // VAR:N: the merit across VAR's bounds, no optimisation
+  // A [merit] table that replaces the design's (Python's merit=): its errors
+  // name "DESIGN (merit=)" and the key, not a line.
+  std::optional<io::TomlNode> merit;
   // evaluate_only: no optimisation, no file but the evaluation's: the merit
   // at each of `evaluate` (the variables' values in the design's order), each
   // traced with `seed` (common random numbers) and evaluate_photons (0: the

@@ -448,11 +448,7 @@ Result<std::vector<OutputFormat>> parse_formats(const std::string& list) {
 
 SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDesc& scene, std::uint64_t seed,
                                    std::uint64_t photons) {
-  SimulatedOpening out;
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
-  double z_sum = 0.0;
-  std::vector<std::array<double, 2>> exits;  // seen from above [m]
+  std::vector<Vec3> points;
   // A chunk of photons at a time: their rays, then which of them escape.
   constexpr std::uint64_t kChunk = 4096;
   std::vector<sim::RayQuery> rays;
@@ -464,13 +460,24 @@ SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDe
       if (!(dir.z < 0.0)) continue;  // upward or horizontal: not seen from below
       sim::RayHit hit;
       if (tracer.embree().intersect(q, &hit)) continue;  // not an escape
-      const Vec3 p = scene.frame.to_local(Vec3{q.origin[0], q.origin[1], q.origin[2]});
-      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-      z_sum += p.z;
-      exits.push_back({p.x, p.y});
-      ++out.exits;
+      points.push_back(scene.frame.to_local(Vec3{q.origin[0], q.origin[1], q.origin[2]}));
     }
+  }
+  return opening_of_exits(points);
+}
+
+SimulatedOpening opening_of_exits(const std::vector<Vec3>& exits_local) {
+  SimulatedOpening out;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  double z_sum = 0.0;
+  std::vector<std::array<double, 2>> exits;  // seen from above [m]
+  for (const Vec3& p : exits_local) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    z_sum += p.z;
+    exits.push_back({p.x, p.y});
+    ++out.exits;
   }
   if (out.exits == 0) return out;
   // To 0.1 mm, as the outer dimensions: float positions carry no finer size.

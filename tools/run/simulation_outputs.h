@@ -105,6 +105,10 @@ struct SimulatedOpening {
 };
 SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDesc& scene, std::uint64_t seed,
                                    std::uint64_t photons = std::uint64_t{1} << 16);
+// The same opening from points downward escapes leave from, given in the
+// photometric frame [m] (simulated_opening's second half; gonio optimize's
+// UGR takes them from an evaluation's own escaped photons).
+SimulatedOpening opening_of_exits(const std::vector<Vec3>& exits_local);
 
 struct OutputRequest {
   std::string directory;             // exists

@@ -176,5 +176,131 @@ TEST(OptimizeCli, TheMeritTableNamesItsTargetAndTerms) {
   EXPECT_LT(f.at("lor").get<double>(), 0.9);
 }
 
+// Hard limits as constraints: the dish's unconstrained optimum (κ ≈ −1.5)
+// puts 140 cd between γ 50° and 90°; with a cut-off of 100 cd there COBYLA
+// (NLopt's inequality constraint) ends within it (measured: κ = −1.313,
+// 99.1 cd with the final trace's independent seed), and BOBYQA, which takes
+// it as a penalty, ends near it (−1.325, 101.8 cd: a penalty trades a little
+// excess for a lower RMS). From κ = −1.1 in [−3, −1].
+TEST(OptimizeCli, CobylaKeepsACutOffThatTheUnconstrainedOptimumBreaks) {
+  test::TempDir dir;
+  write_emitter(dir / "up.ies");
+  write(dir / "truth.design.toml", design_text("-1.5"));
+  ASSERT_EQ(gonio({"simulate", (dir / "truth.design.toml").string(), "--out", (dir / "t").string(), "--photons",
+                   "1000000", "--iterations", "1", "--gamma-step", "2.5", "--format", "ies", "--no-cache"})
+                .exit_code,
+            0);
+  const std::string target = (dir / "t" / "truth.design.ies").string();
+  const std::string start = design_text("{ value = -1.1, min = -3, max = -1 }");
+  const auto run = [&](const std::string& name, const std::string& merit, const std::string& method) {
+    write(dir / (name + ".design.toml"), start + "[merit]\n" + merit + "\n");
+    test::ProcessResult r = gonio({"optimize", (dir / (name + ".design.toml")).string(), "--target", target, "--out",
+                                   (dir / name).string(), "--method", method, "--gamma-step", "5", "--final-photons",
+                                   "200000"});
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    if (merit.find("limit =") != std::string::npos) {
+      EXPECT_NE(r.out.find("optimize: limit max_cd_above: "), std::string::npos) << r.out;
+    }
+    return nlohmann::json::parse(test::read_file(dir / name / "report.json")).at("optimize");
+  };
+  // Unconstrained (the figure reported, weight 0): over the limit.
+  const nlohmann::json free = run("free", "max_cd_above = { gamma = 50, to = 90, weight = 0 }", "bobyqa");
+  EXPECT_NEAR(free.at("variables").at(0).at("best").get<double>(), -1.5, 0.05);
+  EXPECT_GT(free.at("final").at("max_cd_above").get<double>(), 120.0);
+  EXPECT_EQ(free.at("merit").at("limits_as").get<std::string>(), "none");
+  // COBYLA: within the limit.
+  const nlohmann::json cobyla = run("cobyla", "max_cd_above = { gamma = 50, to = 90, limit = 100 }", "cobyla");
+  EXPECT_EQ(cobyla.at("merit").at("limits_as").get<std::string>(), "constraints");
+  const nlohmann::json limit = cobyla.at("final").at("limits").at(0);
+  EXPECT_EQ(limit.at("name").get<std::string>(), "max_cd_above");
+  EXPECT_EQ(limit.at("limit").get<double>(), 100.0);
+  EXPECT_LT(limit.at("value").get<double>(), 102.0);  // the final trace's own noise (~2 %)
+  EXPECT_GT(cobyla.at("variables").at(0).at("best").get<double>(), -1.45);
+  // The stages' best evaluation is within the limit.
+  const nlohmann::json history = nlohmann::json::parse(test::read_file(dir / "cobyla" / "history.json"));
+  double best_merit = 1e300;
+  for (const nlohmann::json& e : history)
+    if (e.at("stage").is_number() && e.at("merit").is_number() && e.value("violation", 0.0) == 0.0)
+      best_merit = std::min(best_merit, e.at("merit").get<double>());
+  EXPECT_NEAR(cobyla.at("best_merit").get<double>(), best_merit, 1e-9);
+  // BOBYQA: a penalty; near the limit.
+  const nlohmann::json bobyqa = run("bobyqa", "max_cd_above = { gamma = 50, to = 90, limit = 100 }", "bobyqa");
+  EXPECT_EQ(bobyqa.at("merit").at("limits_as").get<std::string>(), "penalties");
+  EXPECT_LT(bobyqa.at("final").at("limits").at(0).at("value").get<double>(), 110.0);
+}
+
+// The merit terms a target or design cannot define, and an optimisation that
+// cannot improve, each say why.
+TEST(OptimizeCli, TermsItCannotComputeAndRunsThatCannotImprove) {
+  test::TempDir dir;
+  write_emitter(dir / "up.ies");
+  write(dir / "truth.design.toml", design_text("-1.5"));
+  ASSERT_EQ(gonio({"simulate", (dir / "truth.design.toml").string(), "--out", (dir / "t").string(), "--photons",
+                   "100000", "--iterations", "1", "--format", "ies", "--no-cache"})
+                .exit_code,
+            0);
+  const std::string target = (dir / "t" / "truth.design.ies").string();
+  const std::string start = design_text("{ value = -2, min = -3, max = -1 }");
+  // A UGR term against a target without a luminous opening (up.ies: a point).
+  write(dir / "ugr.design.toml", start + "[merit]\nugr = { weight = 1 }\n");
+  test::ProcessResult r = gonio({"optimize", (dir / "ugr.design.toml").string(), "--target", (dir / "up.ies").string(),
+                                 "--out", (dir / "o").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("ugr.design.toml:17: [merit]: 'ugr' without a limit"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'up.ies' has none"), std::string::npos) << r.err;
+  // A UGR limit on a design from which no light leaves downward (a black
+  // dish; the source shines up): no luminous area, every evaluation fails
+  // saying so, and the run ends with the reason.
+  std::string black = design_text("{ value = -2, min = -3, max = -1 }");
+  black.replace(black.find("material = \"mirror\""), 19, "material = \"black\"");
+  write(dir / "black.design.toml", black + "[materials.black]\nreflectance = 0\n[merit]\nugr = { limit = 19 }\n");
+  r = gonio({"optimize", (dir / "black.design.toml").string(), "--target", target, "--out", (dir / "o").string(),
+             "--stages", "1", "--max-evals", "2", "--gamma-step", "5"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no evaluation of stage 1 succeeded: [merit] ugr (line 19): the design's UGR is undefined: "
+                       "no luminous area"),
+            std::string::npos)
+      << r.err;
+  // An unknown key of a limit's table names its line.
+  write(dir / "key.design.toml", start + "[merit]\nbug = { b = 1, q = 2 }\n");
+  r = gonio({"optimize", (dir / "key.design.toml").string(), "--target", target, "--out", (dir / "o").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("key.design.toml:17"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("unknown key 'q'"), std::string::npos) << r.err;
+  // A UGR limit on the dish (its opening found as gonio simulate finds it),
+  // BUG and size limits: computed and reported.
+  write(dir / "all.design.toml", start + "[merit]\nugr = { limit = 25 }\nbug = { b = 2, u = 4, g = 3 }\n"
+                                         "size = { radius = 29, height = 40 }\nfield = 0.01\n");
+  r = gonio({"optimize", (dir / "all.design.toml").string(), "--target", target, "--out", (dir / "all").string(),
+             "--stages", "1", "--max-evals", "4", "--gamma-step", "5", "--final-photons", "20000"});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const nlohmann::json all = nlohmann::json::parse(test::read_file(dir / "all" / "report.json")).at("optimize");
+  EXPECT_TRUE(all.at("final").at("ugr").is_number());
+  EXPECT_TRUE(all.at("final").at("field_angle_deg").is_number());
+  const nlohmann::json limits = all.at("final").at("limits");
+  ASSERT_EQ(limits.size(), all.at("merit").at("limits").size());
+  EXPECT_EQ(limits.size(), 1u + 3u + 2u + 4u + 2u);
+  // The dish's rim: ρ = 30 mm, over the 29 mm limit; its height (the dish
+  // from its rim to its inner edge) under 40 mm.
+  const nlohmann::json radius = limits.at(limits.size() - 2);
+  EXPECT_EQ(radius.at("name").get<std::string>(), "size radius");
+  EXPECT_NEAR(radius.at("value").get<double>(), 30.0, 0.05);
+  EXPECT_FALSE(radius.at("within").get<bool>());
+  EXPECT_TRUE(limits.back().at("within").get<bool>());
+  // A variable that moves nothing (an unused material's reflectance): every
+  // evaluation the same; the run says it cannot improve.
+  write(dir / "flat.design.toml", design_text("-1.5") + "[materials.spare]\nreflectance = { value = 0.5, min = 0.1, max = 0.9 }\n");
+  r = gonio({"optimize", (dir / "flat.design.toml").string(), "--target", target, "--out", (dir / "flat").string(),
+             "--stages", "1", "--max-evals", "6", "--gamma-step", "5", "--final-photons", "20000"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("the variables do not move the merit, so the optimiser cannot improve the design"),
+            std::string::npos)
+      << r.err;
+  const nlohmann::json flat = nlohmann::json::parse(test::read_file(dir / "flat" / "report.json")).at("optimize");
+  EXPECT_FALSE(flat.at("improvable").get<bool>());
+  EXPECT_TRUE(flat.at("cannot_improve").is_string());
+  EXPECT_TRUE(all.at("improvable").get<bool>());
+}
+
 }  // namespace
 }  // namespace gonio
