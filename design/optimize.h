@@ -1,7 +1,10 @@
 // Optimisation of a design's variables toward a merit (gonio optimize,
 // docs/design.md "Optimisation"), by NLopt's methods (design/optimize.cpp
 // alone includes nlopt.hpp): BOBYQA (bounded, derivative-free, quadratic
-// models in a trust region) or COBYLA (linear models; takes constraints).
+// models in a trust region), COBYLA (linear models; takes constraints) or
+// Nelder–Mead (a simplex); or by pagmo2's CMA-ES (design/optimize_cmaes.cpp
+// alone includes pagmo's headers), a population of λ points a generation
+// whose evaluations run `jobs` at a time, with the same run for any `jobs`.
 //
 // The variables are searched in [0, 1] each (their bounds mapped), in stages:
 // stage s traces start_photons · 4^s photons with one seed for every
@@ -30,7 +33,8 @@ struct OptimizeVariable {
   double value = 0.0, min = 0.0, max = 1.0;
 };
 
-enum class OptimizeMethod { Bobyqa, Cobyla };
+enum class OptimizeMethod { Bobyqa, Cobyla, NelderMead, Cmaes };
+// "bobyqa", "cobyla", "neldermead", "cmaes".
 std::optional<OptimizeMethod> parse_optimize_method(const std::string& name);
 const char* to_string(OptimizeMethod method);
 
@@ -43,6 +47,10 @@ struct OptimizeOptions {
   int noise_seeds = 4;        // ≥ 2
   double max_time_s = 0.0;    // > 0: no stage evaluation starts after this [s]; the noise
                               // floor's traces still run
+  int jobs = 1;               // CMA-ES: evaluations of a generation at a time (threads calling
+                              // `merit` at once, which must then be safe to call so); the
+                              // NLopt methods evaluate one at a time
+  int population = 0;         // CMA-ES's λ; 0: 4 + ⌊3 ln n⌋, at least 5
 };
 
 // One evaluation's merit; an error (the design cannot be built or traced at

@@ -2,11 +2,13 @@
 #include "tools/run/optimize_run.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <string>
 #include <system_error>
+#include <thread>
 
 #include "design/design_file.h"
 #include "design/design_scene.h"
@@ -158,6 +160,12 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     }
   }
   const std::string evaluation_path = (fs::path(out_dir) / ".evaluation.design.toml").string();
+  // Evaluations run `jobs` at a time (CMA-ES): each writes its own design file.
+  const long long cores = std::max(1u, std::thread::hardware_concurrency());
+  const long long jobs =
+      method == design::OptimizeMethod::Cmaes ? (options.jobs > 0 ? options.jobs : cores) : 1;
+  const long long trace_threads = threads > 0 ? threads : std::max(1LL, cores / jobs);
+  std::atomic<unsigned long long> evaluations_made{0};
 
   // One trace of the design at `values`: the merit of its escaped photons.
   const auto trace = [&](const std::vector<double>& values, std::uint64_t photons, std::uint64_t trace_seed,
@@ -177,7 +185,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     o.photons = static_cast<long long>(photons);
     o.iterations = 1;
     o.seed = static_cast<long long>(trace_seed);
-    o.threads = threads;
+    o.threads = files_out ? threads : trace_threads;
     o.gamma_step = gamma_step;
     o.no_cache = true;
     o.next_event = "off";  // every escape a photon of the merit
@@ -220,6 +228,8 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   oo.stages = static_cast<int>(stages);
   oo.seed = static_cast<std::uint64_t>(seed);
   oo.max_time_s = max_time;
+  oo.jobs = static_cast<int>(jobs);
+  oo.population = static_cast<int>(options.population);
   oo.start_photons = static_cast<std::uint64_t>(std::ceil(spec.photons_per_bin * static_cast<double>(grid.size())));
   if (hooks.on_start) hooks.on_start(variables, spec, grid.size(), oo.start_photons);
   if (options.evaluate_only) {  // the merit at given values, no optimisation
@@ -278,7 +288,15 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   }
   const design::MeritFunction merit = [&](const std::vector<double>& values, std::uint64_t photons,
                                           std::uint64_t trace_seed) -> Result<double> {
-    Traced t = trace(values, photons, trace_seed, evaluation_path, false);
+    // One file per evaluation where several run at once (CMA-ES's jobs).
+    const std::string path =
+        jobs > 1 ? (fs::path(out_dir) / (".evaluation-" + std::to_string(evaluations_made++) + ".design.toml")).string()
+                 : evaluation_path;
+    Traced t = trace(values, photons, trace_seed, path, false);
+    if (jobs > 1) {
+      std::error_code ignored_own;
+      fs::remove(path, ignored_own);
+    }
     if (!t.merit) return make_error(t.error);
     return t.merit->merit;
   };
@@ -327,6 +345,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       {"design", design_path},
       {"target", target_path},
       {"method", design::to_string(method)},
+      {"jobs", jobs},
       {"variables", vars},
       {"merit",
        {{"c_step_deg", spec.c_step_deg},

@@ -29,6 +29,11 @@ struct OptimizeRunOptions {
   std::string design_path, target_path, out_dir, name;  // name: default the design file's
   design::OptimizeMethod method = design::OptimizeMethod::Bobyqa;
   long long max_evals = 200, stages = 3, seed = 1, threads = 0, final_photons = 1'000'000;
+  // CMA-ES: evaluations of a generation traced at a time (0: one per core;
+  // each trace then gets threads / jobs threads where threads is 0) and the
+  // population (0: pagmo's default for the variables); the run is the same
+  // for any jobs.
+  long long jobs = 0, population = 0;
   std::optional<double> photons_per_bin;
   double gamma_step = 1.0, max_time = 0.0;
   bool no_smooth = false;
