@@ -34,6 +34,11 @@ struct Stage {
   double failed_merit = 0.0;  // what a failed evaluation counts as
   double max_time_s = 0.0;
   bool cancelled = false, out_of_time = false;
+  bool common_random = true;
+  // The seed of the evaluation `ahead` evaluations after the last recorded.
+  std::uint64_t seed_of(int ahead) const {
+    return common_random ? seed : fresh_seed(seed, result->evaluations + 1 + ahead);
+  }
 };
 
 std::vector<double> values_of(const std::vector<OptimizeVariable>& v, const double* x) {
@@ -99,7 +104,7 @@ double account(Stage& s, EvaluationRecord r) {
 double objective(unsigned n, const double* x, double* /*grad*/, void* data) {
   Stage& s = *static_cast<Stage*>(data);
   (void)n;
-  const double m = account(s, evaluate(s, values_of(*s.variables, x), s.seed, s.stage));
+  const double m = account(s, evaluate(s, values_of(*s.variables, x), s.seed_of(0), s.stage));
   if (s.cancelled || s.out_of_time) s.opt->force_stop();
   return m;
 }
@@ -111,9 +116,11 @@ bool evaluate_batch(Stage& s, const std::vector<std::vector<double>>& points, st
   std::vector<std::vector<double>> values;
   for (const std::vector<double>& x : points) values.push_back(values_of(*s.variables, x.data()));
   std::vector<std::optional<Result<double>>> results(points.size());
+  std::vector<std::uint64_t> seeds;
+  for (std::size_t i = 0; i < points.size(); ++i) seeds.push_back(s.seed_of(static_cast<int>(i)));
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
-    for (std::size_t i = next++; i < values.size(); i = next++) results[i].emplace(call_merit(s, values[i], s.seed));
+    for (std::size_t i = next++; i < values.size(); i = next++) results[i].emplace(call_merit(s, values[i], seeds[i]));
   };
   const std::size_t helpers = std::min<std::size_t>(static_cast<std::size_t>(std::max(jobs, 1)), values.size());
   std::vector<std::thread> threads;
@@ -122,11 +129,15 @@ bool evaluate_batch(Stage& s, const std::vector<std::vector<double>>& points, st
   for (std::thread& t : threads) t.join();
   merits->clear();
   for (std::size_t i = 0; i < values.size(); ++i)
-    merits->push_back(account(s, make_record(s, values[i], s.seed, s.stage, *results[i])));
+    merits->push_back(account(s, make_record(s, values[i], seeds[i], s.stage, *results[i])));
   return !s.cancelled && !s.out_of_time;
 }
 
 }  // namespace
+
+std::uint64_t fresh_seed(std::uint64_t seed, int k) {
+  return seed + 2'000'000'011ULL + 7'919ULL * static_cast<std::uint64_t>(k);
+}
 
 std::optional<OptimizeMethod> parse_optimize_method(const std::string& name) {
   if (name == "bobyqa") return OptimizeMethod::Bobyqa;
@@ -167,6 +178,7 @@ Result<OptimizeResult> optimize(const std::vector<OptimizeVariable>& variables, 
   s.start = std::chrono::steady_clock::now();
   s.seed = options.seed;
   s.max_time_s = options.max_time_s;
+  s.common_random = options.common_random;
   std::vector<double> x(n);
   for (std::size_t i = 0; i < n; ++i) x[i] = (variables[i].value - variables[i].min) / (variables[i].max - variables[i].min);
   result.stopped_by = "converged";
@@ -186,7 +198,7 @@ Result<OptimizeResult> optimize(const std::vector<OptimizeVariable>& variables, 
       // The start evaluated at this stage's photons, then generations of λ
       // points around the best so far with a first step of `step`.
       s.opt = nullptr;
-      const double start_merit = account(s, evaluate(s, values_of(variables, x.data()), s.seed, stage));
+      const double start_merit = account(s, evaluate(s, values_of(variables, x.data()), s.seed_of(0), stage));
       if (!s.cancelled && !s.out_of_time && share > 1) {
         detail::CmaesStage c;
         c.start = x;

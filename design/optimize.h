@@ -51,7 +51,13 @@ struct OptimizeOptions {
                               // `merit` at once, which must then be safe to call so); the
                               // NLopt methods evaluate one at a time
   int population = 0;         // CMA-ES's λ; 0: 4 + ⌊3 ln n⌋, at least 5
+  bool common_random = true;  // false: evaluation k traces the photons of its own seed
+                              // (fresh_seed), not the run's: for comparison only
 };
+
+// The seed of the k-th evaluation (1-based) where common random numbers are
+// off: distinct for every k, and from the run's seed and the noise floor's.
+std::uint64_t fresh_seed(std::uint64_t seed, int k);
 
 // One evaluation's merit; an error (the design cannot be built or traced at
 // these values) counts as a bad merit, told once in the record.

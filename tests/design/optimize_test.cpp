@@ -178,5 +178,43 @@ TEST(OptimizeMethods, CmaesKeepsTheBudgetAndStopsWhenAsked) {
   }
 }
 
+// Without common random numbers every evaluation traces its own photons:
+// seeds distinct from each other, from the run's and from the noise floor's,
+// the same for any number of jobs.
+TEST(OptimizeMethods, WithoutCommonRandomNumbersEveryEvaluationHasItsOwnSeed) {
+  for (OptimizeMethod m : {OptimizeMethod::Bobyqa, OptimizeMethod::Cmaes}) {
+    std::vector<std::vector<std::uint64_t>> runs;
+    for (int jobs : {1, 2}) {
+      OptimizeOptions o;
+      o.method = m;
+      o.start_photons = 10;
+      o.max_evaluations = 40;
+      o.common_random = false;
+      o.jobs = jobs;
+      std::vector<std::uint64_t> stage_seeds, noise_seeds;
+      const MeritFunction merit = [](const std::vector<double>& v, std::uint64_t, std::uint64_t seed) -> Result<double> {
+        Result<double> b = bowl(v);
+        if (!b.ok()) return b;
+        return *b + 1e-3 * static_cast<double>(seed % 7);  // noise that follows the seed
+      };
+      Result<OptimizeResult> r = optimize(kVariables, merit, o, [&](const EvaluationRecord& e) {
+        (e.stage >= 0 ? stage_seeds : noise_seeds).push_back(e.seed);
+        if (e.stage >= 0) {
+          EXPECT_EQ(e.seed, fresh_seed(o.seed, e.index)) << to_string(m);
+        }
+        return true;
+      });
+      ASSERT_TRUE(r.ok()) << to_string(m);
+      std::set<std::uint64_t> all(stage_seeds.begin(), stage_seeds.end());
+      EXPECT_EQ(all.size(), stage_seeds.size()) << to_string(m);
+      EXPECT_EQ(all.count(o.seed), 0u);
+      for (std::uint64_t seed : noise_seeds) EXPECT_EQ(all.count(seed), 0u) << to_string(m);
+      EXPECT_GT(r->noise_floor, 0.0) << to_string(m);
+      runs.push_back(stage_seeds);
+    }
+    EXPECT_EQ(runs[0], runs[1]) << to_string(m);
+  }
+}
+
 }  // namespace
 }  // namespace gonio::design

@@ -63,7 +63,7 @@ int run_optimize(const Args& args) {
   long long max_evals = 200, stages = 3, seed = 1, threads = 0, final_photons = 1'000'000, jobs = 0, population = 0;
   std::optional<double> photons_per_bin;
   double gamma_step = 1.0, max_time = 0.0;
-  bool no_smooth = false;
+  bool no_smooth = false, no_step = false, no_common_random = false;
   std::optional<std::string> scan;
   ArgParser p("optimize", "DESIGN.design.toml --target FILE --out DIR [options]",
               "Optimises a design file's variables (each with min and max) toward a target\n"
@@ -89,6 +89,8 @@ int run_optimize(const Args& args) {
   p.option("photons-per-bin", &photons_per_bin, 40.0, 1e6, "N",
            "the first stage's photons per merit node (default: [merit] photons_per_bin, 40)");
   p.flag("no-smooth", &no_smooth, "count each photon in its nearest node (a piecewise constant merit)");
+  p.flag("no-common-random", &no_common_random,
+         "each evaluation traces photons of its own seed (a merit that is noisy in the variables: for comparison)");
   p.option("seed", &seed, 0, 1'000'000'000'000LL, "S", "the seed of the stages' photons (default 1)");
   p.option("threads", &threads, 0, 4096, "T", "threads of each trace (default 0: all cores)");
   p.option("jobs", &jobs, 0, 4096, "J",
@@ -99,6 +101,7 @@ int run_optimize(const Args& args) {
            "γ step of the written files, which the tessellation follows (default 1)");
   p.option("final-photons", &final_photons, 1, 4'294'967'295LL, "N",
            "photons of the best design's final trace (default 1000000)");
+  p.flag("no-step", &no_step, "no NAME.step of the best design (its glTF is written all the same)");
   p.option("name", &name, "NAME", "the files' name (default: the design file's)");
   p.option("scan", &scan, "VAR:N",
            "no optimisation: the merit at N values of variable VAR across its bounds (the others as given), at the first\n"
@@ -121,6 +124,8 @@ int run_optimize(const Args& args) {
   o.gamma_step = gamma_step;
   o.max_time = max_time;
   o.no_smooth = no_smooth;
+  o.no_step = no_step;
+  o.no_common_random = no_common_random;
   o.scan = scan;
   app::OptimizeRunHooks hooks;
   hooks.on_start = [&](const std::vector<design::OptimizeVariable>& variables, const design::MeritSpec& spec,
@@ -180,6 +185,8 @@ int run_optimize(const Args& args) {
               outcome->best_path.c_str(), format_number(run.start_merit, 5).c_str(),
               format_number(run.best_merit, 5).c_str(), run.evaluations, run.stopped_by.c_str(),
               format_number(run.independent_merit, 5).c_str(), format_number(run.noise_floor, 3).c_str());
+  for (const std::string& f : outcome->extra_files) std::printf("optimize: %s\n", f.c_str());
+  for (const std::string& note : outcome->notes) app::tell({}, Severity::Warning, "optimize: " + note);
   std::printf("optimize: final trace (%lld photons): candela RMS %s %% of the target's peak, LOR %s, estimated error %s %%\n",
               final_photons, format_number(fm.candela_rms_pct, 4).c_str(), format_number(fm.lor, 4).c_str(),
               format_number(outcome->final_estimated_error_pct, 3).c_str());

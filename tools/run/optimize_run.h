@@ -37,6 +37,8 @@ struct OptimizeRunOptions {
   std::optional<double> photons_per_bin;
   double gamma_step = 1.0, max_time = 0.0;
   bool no_smooth = false;
+  bool no_step = false;
+  bool no_common_random = false;  // each evaluation its own seed (for comparison)  // no NAME.step (and its sidecar) of the best design
   std::optional<std::string> scan;  // VAR:N: the merit across VAR's bounds, no optimisation
   // evaluate_only: no optimisation, no file but the evaluation's: the merit
   // at each of `evaluate` (the variables' values in the design's order), each
@@ -70,6 +72,10 @@ struct OptimizeRunOutcome {
   nlohmann::json report;                 // report.json as written (its "optimize" section)
   nlohmann::json history;                // history.json as written
   std::string best_path, history_path;
+  // The best design's other files (NAME.gltf, NAME.step, history.svg,
+  // compare.json, compare.svg), and why one is missing (not an error).
+  std::vector<std::string> extra_files;
+  std::vector<std::string> notes;
   bool scanned = false;                  // --scan or evaluate: no optimisation
   std::vector<design::MeritValue> merits;  // evaluate: the merit at each
   std::uint64_t evaluate_photons = 0;      // evaluate: the photons of each trace
@@ -79,6 +85,11 @@ struct OptimizeRunOutcome {
 // "noise"), merit, best, photons, seed, time_s, values {name: value}, error.
 nlohmann::json evaluation_json(const design::EvaluationRecord& record,
                                const std::vector<design::OptimizeVariable>& variables);
+
+// history.svg: the merit and the best so far against the evaluations, and
+// the best against the wall time (the noise floor's traces as points).
+Status write_history_chart(const std::string& path, const std::vector<design::EvaluationRecord>& history,
+                           const std::string& title);
 
 // Runs gonio optimize. Errors name the file (and line); where `usage` is
 // given, a mistake of the options sets it true (the command's exit 2).
