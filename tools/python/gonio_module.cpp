@@ -804,7 +804,7 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
                                                           : fspath(design_object);
   o.target_path = target_object.is_none() ? std::string() : fspath(target_object);
   const std::optional<design::OptimizeMethod> m = design::parse_optimize_method(method);
-  if (!m) throw py::value_error("method must be 'bobyqa' or 'cobyla', not '" + method + "'");
+  if (!m) throw py::value_error("method must be 'bobyqa', 'cobyla', 'neldermead' or 'cmaes', not '" + method + "'");
   o.method = *m;
   if (max_evals < 1) throw py::value_error("max_evals must be at least 1");
   if (stages < 1 || stages > 8) throw py::value_error("stages must be between 1 and 8");
