@@ -169,7 +169,7 @@ def main():
               open(os.path.join(a.out, "methods.json"), "w"), indent=1)
     with open(os.path.join(a.out, "methods.md"), "w") as f:
         f.write("| method | CRN | smooth | median \\|κ + 1.5\\| | worst | evaluations (mean) | "
-                "final RMS vs target [%% of peak] (median) | wall (mean) |\n")
+                "final RMS vs target [% of peak] (median) | wall (mean) |\n")
         f.write("|---|---|---|---|---|---|---|---|\n")
         for method in a.methods.split(","):
             for variant, _ in VARIANTS:
