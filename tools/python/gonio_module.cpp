@@ -823,6 +823,7 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
   o.final_photons = final_photons;
   o.max_time = max_time;
   o.name = name.value_or(std::string());
+  o.no_step = out_object.is_none();  // no STEP export into a folder removed on return
   // The working folder: `out`, or a fresh temporary one, removed after.
   std::optional<io::ScratchDir> scratch;
   o.out_dir = working_folder(out_object, "gonio-optimize", scratch);
