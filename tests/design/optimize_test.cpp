@@ -176,6 +176,17 @@ TEST(OptimizeMethods, CmaesKeepsTheBudgetAndStopsWhenAsked) {
       if (std::isfinite(e.merit)) best = std::min(best, e.merit);
     EXPECT_EQ(r->best_merit, best) << to_string(m);
   }
+  // --population: a stop inside the first generation ends with its λ points
+  // (1 start + 8); below pagmo's least, 5.
+  for (const auto& [population, evaluations] : {std::pair{8, 9}, std::pair{2, 6}}) {
+    OptimizeOptions o;
+    o.method = OptimizeMethod::Cmaes;
+    o.start_photons = 10;
+    o.population = population;
+    Result<OptimizeResult> r = optimize(kVariables, merit, o, [](const EvaluationRecord& e) { return e.index < 3; });
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(r->evaluations, evaluations) << population;
+  }
 }
 
 // Without common random numbers every evaluation traces its own photons:
