@@ -1,5 +1,8 @@
 #include "design/optimize.h"
 
+#include <dlfcn.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -12,7 +15,12 @@
 #include <nlopt.hpp>
 
 #include "design/optimize_cmaes.h"
+#include "io/support/process.h"
 #include "photometry/format.h"
+
+#ifndef GONIO_CMAES_MODULE_BUILD_PATH
+#define GONIO_CMAES_MODULE_BUILD_PATH ""
+#endif
 
 namespace gonio::design {
 namespace {
@@ -133,7 +141,51 @@ bool evaluate_batch(Stage& s, const std::vector<std::vector<double>>& points, st
   return !s.cancelled && !s.out_of_time;
 }
 
+// gonio_cmaes.so's entry point, or why it could not be loaded (once per
+// process, at the first CMA-ES stage; the handle stays open).
+struct CmaesModule {
+  decltype(&gonio_cmaes_run) run = nullptr;
+  std::string error;
+};
+
+CmaesModule load_cmaes_module() {
+  CmaesModule m;
+  std::string tried;
+  for (const std::string& path : io::beside_executable(detail::kCmaesModuleName, GONIO_CMAES_MODULE_BUILD_PATH)) {
+    tried += (tried.empty() ? "" : ", ") + path;
+    if (access(path.c_str(), R_OK) != 0) continue;
+    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle) {
+      const char* why = dlerror();
+      m.error = "cannot load the CMA-ES module " + path + ": " + (why ? why : "unknown error");
+      return m;
+    }
+    auto version = reinterpret_cast<decltype(&gonio_cmaes_module_version)>(dlsym(handle, "gonio_cmaes_module_version"));
+    m.run = reinterpret_cast<decltype(&gonio_cmaes_run)>(dlsym(handle, "gonio_cmaes_run"));
+    if (!version || !m.run || version() != detail::kCmaesModuleVersion) {
+      m.run = nullptr;
+      m.error = "the CMA-ES module " + path + " is not the one this gonio was built with";
+    }
+    return m;
+  }
+  m.error = std::string("the CMA-ES module ") + detail::kCmaesModuleName + " (pagmo2) is missing; looked for " + tried;
+  return m;
+}
+
 }  // namespace
+
+namespace detail {
+
+Result<int> run_cmaes_stage(const CmaesStage& stage, const BatchEvaluate& evaluate) {
+  static const CmaesModule module = load_cmaes_module();
+  if (!module.run) return make_error(module.error);
+  int used = 0;
+  std::string error;
+  if (!module.run(&stage, &evaluate, &used, &error)) return make_error(error);
+  return used;
+}
+
+}  // namespace detail
 
 std::uint64_t fresh_seed(std::uint64_t seed, int k) {
   return seed + 2'000'000'011ULL + 7'919ULL * static_cast<std::uint64_t>(k);

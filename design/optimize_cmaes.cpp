@@ -1,5 +1,5 @@
 // One CMA-ES stage by pagmo2 (design/optimize_cmaes.h): the only file that
-// includes pagmo's headers.
+// includes pagmo's headers, built as the module gonio_cmaes.so.
 #include "design/optimize_cmaes.h"
 
 #include <algorithm>
@@ -58,11 +58,19 @@ struct UnitBoxProblem {
 
 }  // namespace
 
-int cmaes_population(std::size_t n) {
-  return std::max(5, 4 + static_cast<int>(std::floor(3.0 * std::log(static_cast<double>(std::max<std::size_t>(n, 1))))));
-}
+}  // namespace gonio::design::detail
 
-Result<int> run_cmaes_stage(const CmaesStage& stage, const BatchEvaluate& evaluate) {
+using gonio::design::detail::BatchEvaluate;
+using gonio::design::detail::CmaesStage;
+using gonio::design::detail::cmaes_population;
+
+extern "C" int gonio_cmaes_module_version() { return gonio::design::detail::kCmaesModuleVersion; }
+
+extern "C" bool gonio_cmaes_run(const CmaesStage* stage_in, const BatchEvaluate* evaluate_in, int* used_out,
+                                std::string* error) {
+  using namespace gonio::design::detail;
+  const CmaesStage& stage = *stage_in;
+  const BatchEvaluate& evaluate = *evaluate_in;
   const std::size_t n = stage.start.size();
   const int lambda = stage.population > 0 ? std::max(5, stage.population) : cmaes_population(n);
   Ledger ledger;
@@ -100,9 +108,10 @@ Result<int> run_cmaes_stage(const CmaesStage& stage, const BatchEvaluate& evalua
       if (ledger.stop) break;
     }
   } catch (const std::exception& e) {
-    return make_error(std::string("pagmo's CMA-ES: ") + e.what());
+    *used_out = used;
+    *error = std::string("pagmo's CMA-ES: ") + e.what();
+    return false;
   }
-  return used;
+  *used_out = used;
+  return true;
 }
-
-}  // namespace gonio::design::detail

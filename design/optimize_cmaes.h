@@ -2,6 +2,14 @@
 // pagmo::cmaes (Debian's libpagmo-dev; design/optimize_cmaes.cpp alone
 // includes pagmo's headers). Internal to design/optimize.cpp.
 //
+// libpagmo's static initialisers (Boost.Serialization's registrations) cost
+// ~50 ms at every process start that links it, so gonio does not: the stage
+// is the module gonio_cmaes.so (design/optimize_cmaes.cpp), which
+// design/optimize.cpp loads with dlopen at the first CMA-ES stage, looking
+// next to the executable, in ../lib/gonio/, then where the build wrote it
+// (as io/outputs/image.cpp loads gonio_png.so). Both sides are built
+// together, so C++ types cross; the version guards against a stale module.
+//
 // pagmo 2.18's cmaes evaluates a generation's points one by one through the
 // problem's fitness and has no batch evaluator, but it samples all λ points
 // of a generation from its own generator before it evaluates any. So each
@@ -13,8 +21,11 @@
 // evaluations over threads.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "photometry/diagnostics.h"
@@ -36,9 +47,24 @@ struct CmaesStage {
 using BatchEvaluate = std::function<bool(const std::vector<std::vector<double>>& points, std::vector<double>* merits)>;
 
 // Hansen's default population, 4 + ⌊3 ln n⌋, at least pagmo's 5.
-int cmaes_population(std::size_t n);
+inline int cmaes_population(std::size_t n) {
+  return std::max(5, 4 + static_cast<int>(std::floor(3.0 * std::log(static_cast<double>(std::max<std::size_t>(n, 1))))));
+}
 
-// Runs the stage: the evaluations used, or pagmo's error.
+// Runs the stage (through the module): the evaluations used, or pagmo's
+// error, or why the module could not be loaded.
 Result<int> run_cmaes_stage(const CmaesStage& stage, const BatchEvaluate& evaluate);
 
+inline constexpr int kCmaesModuleVersion = 1;
+inline constexpr const char* kCmaesModuleName = "gonio_cmaes.so";
+
 }  // namespace gonio::design::detail
+
+extern "C" {
+// kCmaesModuleVersion of the module.
+int gonio_cmaes_module_version();
+// The stage: the evaluations used into `used`; false and `error` set where
+// pagmo failed.
+bool gonio_cmaes_run(const gonio::design::detail::CmaesStage* stage,
+                     const gonio::design::detail::BatchEvaluate* evaluate, int* used, std::string* error);
+}
