@@ -76,7 +76,10 @@ int run_optimize(const Args& args) {
               "stage as the steps halve. A line per evaluation (merit, best, photons, time).\n"
               "DIR gets NAME.design.toml (the best design), NAME.ies and NAME.ldt (it traced\n"
               "with an independent seed), report.json (an \"optimize\" section: the variables,\n"
-              "the merit's terms, its noise floor) and history.json (every evaluation).");
+              "the merit's terms, its noise floor), history.json and history.svg (every\n"
+              "evaluation), NAME.gltf and NAME.step (the best design's parts), compare.json\n"
+              "and compare.svg (gonio compare of the target and NAME.ies). Ctrl-C stops and\n"
+              "keeps the best so far, writing every file.");
   p.positional("DESIGN", &design_path, "the design file (NAME.design.toml)");
   p.option("target", &target_path, "FILE", "the target distribution (IES, LDT, TM-33); default: [merit] target");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
