@@ -76,6 +76,11 @@ find_package(tomlplusplus 3 REQUIRED)
 # (its C library's CMake package, target NLopt::nlopt; nlopt.hpp wraps it).
 find_package(NLopt REQUIRED)
 
+# pagmo2 (gonio optimize's CMA-ES, design/optimize_cmaes.cpp only):
+# libpagmo-dev, its CMake package (target Pagmo::pagmo; it finds Boost,
+# Eigen 3 and TBB itself).
+find_package(pagmo REQUIRED)
+
 # OpenCASCADE 7.6 (STEP and IGES, io/model/step.cpp only): linked by the
 # helper program gonio-cad alone, never by gonio (~60 shared libraries at
 # every start). Debian's config includes a module's targets only where its

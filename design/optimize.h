@@ -1,7 +1,10 @@
 // Optimisation of a design's variables toward a merit (gonio optimize,
 // docs/design.md "Optimisation"), by NLopt's methods (design/optimize.cpp
 // alone includes nlopt.hpp): BOBYQA (bounded, derivative-free, quadratic
-// models in a trust region) or COBYLA (linear models; takes constraints).
+// models in a trust region), COBYLA (linear models; takes constraints) or
+// Nelder–Mead (a simplex); or by pagmo2's CMA-ES (design/optimize_cmaes.cpp
+// alone includes pagmo's headers), a population of λ points a generation
+// whose evaluations run `jobs` at a time, with the same run for any `jobs`.
 //
 // The variables are searched in [0, 1] each (their bounds mapped), in stages:
 // stage s traces start_photons · 4^s photons with one seed for every
@@ -30,7 +33,8 @@ struct OptimizeVariable {
   double value = 0.0, min = 0.0, max = 1.0;
 };
 
-enum class OptimizeMethod { Bobyqa, Cobyla };
+enum class OptimizeMethod { Bobyqa, Cobyla, NelderMead, Cmaes };
+// "bobyqa", "cobyla", "neldermead", "cmaes".
 std::optional<OptimizeMethod> parse_optimize_method(const std::string& name);
 const char* to_string(OptimizeMethod method);
 
@@ -57,7 +61,17 @@ struct OptimizeOptions {
   // then the least violation first (0 within every limit), the merit second.
   std::size_t constraint_count = 0;
   ConstraintFunction constraints;
+  int jobs = 1;               // CMA-ES: evaluations of a generation at a time (threads calling
+                              // `merit` at once, which must then be safe to call so); the
+                              // NLopt methods evaluate one at a time
+  int population = 0;         // CMA-ES's λ; 0: 4 + ⌊3 ln n⌋, at least 5
+  bool common_random = true;  // false: evaluation k traces the photons of its own seed
+                              // (fresh_seed), not the run's: for comparison only
 };
+
+// The seed of the k-th evaluation (1-based) where common random numbers are
+// off: distinct for every k, and from the run's seed and the noise floor's.
+std::uint64_t fresh_seed(std::uint64_t seed, int k);
 
 // One evaluation's merit; an error (the design cannot be built or traced at
 // these values) counts as a bad merit, told once in the record.

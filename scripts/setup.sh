@@ -37,7 +37,7 @@ main_packages=(
   libembree-dev libopenexr-dev libopenimageio-dev openimageio-tools
   libcgal-dev libtinygltf-dev libtbb-dev nlohmann-json3-dev
   libcpp-httplib-dev libpugixml-dev libzip-dev libxxhash-dev libtomlplusplus-dev
-  libnlopt-cxx-dev
+  libnlopt-cxx-dev libpagmo-dev
   colord-data
   gnuplot-nox fonts-dejavu-core
 )

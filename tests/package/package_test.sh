@@ -70,7 +70,7 @@ gonio="$prefix/bin/gonio"
 mapfile -t commands < <("$gonio" --help | sed -n '/^Commands:/,/^$/p' | sed -n 's/^  \([a-z][a-z0-9-]*\) .*/\1/p')
 ((${#commands[@]} >= 9)) || fail "the installed gonio --help lists ${#commands[@]} commands: ${commands[*]}"
 
-for f in bin/gonio lib/gonio/gonio_png.so share/gonio/web/index.html share/gonio/web/app.js \
+for f in bin/gonio lib/gonio/gonio_png.so lib/gonio/gonio_cmaes.so share/gonio/web/index.html share/gonio/web/app.js \
          share/bash-completion/completions/gonio share/man/man1/gonio.1.gz \
          share/doc/gonio/examples/downlight/downlight.gltf; do
   [[ -f $prefix/$f ]] || fail "the package has no usr/$f"

@@ -1,9 +1,14 @@
 // gonio optimize: a design's variables toward a target (docs/design.md,
 // "Optimisation"; docs/commands/optimize.md).
 //
-//   gonio optimize DESIGN.design.toml --target FILE --out DIR [--method bobyqa|cobyla]
+//   gonio optimize DESIGN.design.toml --target FILE --out DIR [--method bobyqa|cobyla|neldermead|cmaes]
 //                  [--max-evals N] [--max-time S] [--stages N] [--photons-per-bin N] [--no-smooth]
-//                  [--seed S] [--threads T] [--gamma-step DEG] [--final-photons N] [--name NAME]
+//                  [--seed S] [--threads T] [--jobs J] [--population N] [--gamma-step DEG]
+//                  [--final-photons N] [--name NAME]
+//
+// Ctrl-C (SIGINT) stops the search after the evaluation under way and keeps
+// the best so far: its final trace and every file are written as at the end
+// (a second Ctrl-C ends the process at once).
 //
 // Every evaluation is one app::simulate of the design at the variables'
 // values (written to DIR/.evaluation.design.toml beside copies of the
@@ -12,7 +17,9 @@
 // design (NAME.design.toml), its trace with an independent seed (NAME.ies,
 // NAME.ldt, report.json with an "optimize" section) and history.json.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -35,6 +42,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Set by the first SIGINT; the handler then gives the signal back to its
+// default, so that a second Ctrl-C ends the process.
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_interrupt(int) {
+  g_interrupted.store(true);
+  std::signal(SIGINT, SIG_DFL);
+}
+
 int fail(const std::string& message) {
   print_error("optimize: " + message);
   return kExitFailure;
@@ -45,10 +60,10 @@ int fail(const std::string& message) {
 int run_optimize(const Args& args) {
   const auto start = std::chrono::steady_clock::now();
   std::string design_path, target_path, out_dir, method_name = "bobyqa", name;
-  long long max_evals = 200, stages = 3, seed = 1, threads = 0, final_photons = 1'000'000;
+  long long max_evals = 200, stages = 3, seed = 1, threads = 0, final_photons = 1'000'000, jobs = 0, population = 0;
   std::optional<double> photons_per_bin;
   double gamma_step = 1.0, max_time = 0.0;
-  bool no_smooth = false;
+  bool no_smooth = false, no_step = false, no_common_random = false;
   std::optional<std::string> scan;
   ArgParser p("optimize", "DESIGN.design.toml --target FILE --out DIR [options]",
               "Optimises a design file's variables (each with min and max) toward a target\n"
@@ -61,11 +76,15 @@ int run_optimize(const Args& args) {
               "stage as the steps halve. A line per evaluation (merit, best, photons, time).\n"
               "DIR gets NAME.design.toml (the best design), NAME.ies and NAME.ldt (it traced\n"
               "with an independent seed), report.json (an \"optimize\" section: the variables,\n"
-              "the merit's terms, its noise floor) and history.json (every evaluation).");
+              "the merit's terms, its noise floor), history.json and history.svg (every\n"
+              "evaluation), NAME.gltf and NAME.step (the best design's parts), compare.json\n"
+              "and compare.svg (gonio compare of the target and NAME.ies). Ctrl-C stops and\n"
+              "keeps the best so far, writing every file.");
   p.positional("DESIGN", &design_path, "the design file (NAME.design.toml)");
   p.option("target", &target_path, "FILE", "the target distribution (IES, LDT, TM-33); default: [merit] target");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
-  p.choice("method", &method_name, {"bobyqa", "cobyla"}, "NLopt's method: bobyqa (default) or cobyla");
+  p.choice("method", &method_name, {"bobyqa", "cobyla", "neldermead", "cmaes"},
+           "NLopt's bobyqa (default), cobyla or neldermead, or pagmo2's cmaes (a population, global)");
   p.option("max-evals", &max_evals, 1, 1'000'000, "N", "evaluations of all stages together (default 200)");
   p.option("max-time", &max_time, 0.0, 1e7, "S",
            "no evaluation of a stage starts after S seconds (default 0: no limit); the best so far is kept");
@@ -73,12 +92,19 @@ int run_optimize(const Args& args) {
   p.option("photons-per-bin", &photons_per_bin, 40.0, 1e6, "N",
            "the first stage's photons per merit node (default: [merit] photons_per_bin, 40)");
   p.flag("no-smooth", &no_smooth, "count each photon in its nearest node (a piecewise constant merit)");
+  p.flag("no-common-random", &no_common_random,
+         "each evaluation traces photons of its own seed (a merit that is noisy in the variables: for comparison)");
   p.option("seed", &seed, 0, 1'000'000'000'000LL, "S", "the seed of the stages' photons (default 1)");
   p.option("threads", &threads, 0, 4096, "T", "threads of each trace (default 0: all cores)");
+  p.option("jobs", &jobs, 0, 4096, "J",
+           "cmaes: a generation's evaluations traced J at a time (default 0: one per core); the same run for any J");
+  p.option("population", &population, 0, 100000, "N",
+           "cmaes: points per generation (default 0: 4 + 3 ln(variables), at least 5)");
   p.option("gamma-step", &gamma_step, 0.1, 90.0, "DEG",
            "γ step of the written files, which the tessellation follows (default 1)");
   p.option("final-photons", &final_photons, 1, 4'294'967'295LL, "N",
            "photons of the best design's final trace (default 1000000)");
+  p.flag("no-step", &no_step, "no NAME.step of the best design (its glTF is written all the same)");
   p.option("name", &name, "NAME", "the files' name (default: the design file's)");
   p.option("scan", &scan, "VAR:N",
            "no optimisation: the merit at N values of variable VAR across its bounds (the others as given), at the first\n"
@@ -94,11 +120,15 @@ int run_optimize(const Args& args) {
   o.stages = stages;
   o.seed = seed;
   o.threads = threads;
+  o.jobs = jobs;
+  o.population = population;
   o.final_photons = final_photons;
   o.photons_per_bin = photons_per_bin;
   o.gamma_step = gamma_step;
   o.max_time = max_time;
   o.no_smooth = no_smooth;
+  o.no_step = no_step;
+  o.no_common_random = no_common_random;
   o.scan = scan;
   app::OptimizeRunHooks hooks;
   hooks.on_start = [&](const std::vector<design::OptimizeVariable>& variables, const design::MeritSpec& spec,
@@ -114,8 +144,13 @@ int run_optimize(const Args& args) {
   };
   hooks.on_evaluation = [&](const design::EvaluationRecord& r) {
     std::string where = r.stage < 0 ? "noise" : "stage " + std::to_string(r.stage + 1);
-    const std::string left =
-        max_time > 0.0 && r.stage >= 0 ? ", " + format_number(std::max(max_time - r.time_s, 0.0), 3) + " s left" : "";
+    // The time left: to --max-time, else at the mean pace so far to the end
+    // of the evaluation budget (an estimate: a stage may converge sooner).
+    std::string left;
+    if (max_time > 0.0 && r.stage >= 0)
+      left = ", " + format_number(std::max(max_time - r.time_s, 0.0), 3) + " s left";
+    else if (r.stage >= 0 && r.index < max_evals)
+      left = ", ~" + format_number(r.time_s / r.index * static_cast<double>(max_evals - r.index), 2) + " s left";
     if (std::isfinite(r.merit))
       std::printf("optimize: %d (%s): merit %s, best %s, %llu photons, %s s%s\n", r.index, where.c_str(),
                   format_number(r.merit, 5).c_str(), format_number(r.best, 5).c_str(),
@@ -124,11 +159,20 @@ int run_optimize(const Args& args) {
       std::printf("optimize: %d (%s): failed (%s), best %s\n", r.index, where.c_str(), r.error.c_str(),
                   format_number(r.best, 5).c_str());
     std::fflush(stdout);
+    if (g_interrupted.load()) {
+      std::printf("optimize: interrupted: keeping the best so far and writing its files (Ctrl-C again to quit)\n");
+      std::fflush(stdout);
+      return false;
+    }
     return true;
   };
   hooks.on_message = [](Severity severity, const std::string& text) { app::tell({}, severity, text); };
   bool usage = false;
+  g_interrupted.store(false);
+  using Handler = void (*)(int);
+  const Handler previous = std::signal(SIGINT, on_interrupt);
   Result<app::OptimizeRunOutcome> outcome = app::optimize_design(o, hooks, start, &usage);
+  std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
   if (!outcome.ok()) {
     if (usage) {
       print_usage_error("optimize", p, outcome.error().message);
@@ -144,6 +188,8 @@ int run_optimize(const Args& args) {
               outcome->best_path.c_str(), format_number(run.start_merit, 5).c_str(),
               format_number(run.best_merit, 5).c_str(), run.evaluations, run.stopped_by.c_str(),
               format_number(run.independent_merit, 5).c_str(), format_number(run.noise_floor, 3).c_str());
+  for (const std::string& f : outcome->extra_files) std::printf("optimize: %s\n", f.c_str());
+  for (const std::string& note : outcome->notes) app::tell({}, Severity::Warning, "optimize: " + note);
   std::printf("optimize: final trace (%lld photons): candela RMS %s %% of the target's peak, LOR %s, estimated error %s %%\n",
               final_photons, format_number(fm.candela_rms_pct, 4).c_str(), format_number(fm.lor, 4).c_str(),
               format_number(outcome->final_estimated_error_pct, 3).c_str());

@@ -846,7 +846,7 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
                                                           : fspath(design_object);
   o.target_path = target_object.is_none() ? std::string() : fspath(target_object);
   const std::optional<design::OptimizeMethod> m = design::parse_optimize_method(method);
-  if (!m) throw py::value_error("method must be 'bobyqa' or 'cobyla', not '" + method + "'");
+  if (!m) throw py::value_error("method must be 'bobyqa', 'cobyla', 'neldermead' or 'cmaes', not '" + method + "'");
   o.method = *m;
   if (max_evals < 1) throw py::value_error("max_evals must be at least 1");
   if (stages < 1 || stages > 8) throw py::value_error("stages must be between 1 and 8");
@@ -866,6 +866,7 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
   o.max_time = max_time;
   o.name = name.value_or(std::string());
   o.merit = merit_table(merit);
+  o.no_step = out_object.is_none();  // no STEP export into a folder removed on return
   // The working folder: `out`, or a fresh temporary one, removed after.
   std::optional<io::ScratchDir> scratch;
   o.out_dir = working_folder(out_object, "gonio-optimize", scratch);

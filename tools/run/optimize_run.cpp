@@ -2,22 +2,30 @@
 #include "tools/run/optimize_run.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <string>
 #include <system_error>
+#include <thread>
 
+#include "design/design_export.h"
 #include "design/design_file.h"
 #include "design/design_scene.h"
+#include "io/model/cad.h"
+#include "io/outputs/intensity_diagram.h"
+#include "io/outputs/plot.h"
 #include "io/photometric/photometric_file.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
+#include "photometry/compare.h"
 #include "photometry/format.h"
 #include "sim/ledger.h"
 #include "tools/run/json_figures.h"
 #include "tools/run/photometric_input.h"
+#include "tools/run/photometric_report.h"
 #include "tools/run/resampler_cache.h"
 #include "tools/run/simulation_outputs.h"
 
@@ -138,6 +146,37 @@ nlohmann::json evaluation_json(const design::EvaluationRecord& r, const std::vec
   return e;
 }
 
+Status write_history_chart(const std::string& path, const std::vector<design::EvaluationRecord>& history,
+                           const std::string& title) {
+  io::Series merit{"merit", {}, {}, io::LineStyle::Dotted, true};
+  io::Series best{"best so far", {}, {}, io::LineStyle::Solid, false};
+  io::Series noise{"best, independent seeds", {}, {}, io::LineStyle::Solid, true};
+  io::Series best_time{"best so far", {}, {}, io::LineStyle::Solid, false};
+  for (const design::EvaluationRecord& r : history) {
+    const double index = static_cast<double>(r.index);
+    if (r.stage < 0) {
+      noise.x.push_back(index);
+      noise.y.push_back(r.merit);
+      continue;
+    }
+    merit.x.push_back(index);
+    merit.y.push_back(r.merit);
+    best.x.push_back(index);
+    best.y.push_back(r.best);
+    best_time.x.push_back(r.time_s);
+    best_time.y.push_back(r.best);
+  }
+  io::LineChart by_evaluation{"merit by evaluation", "evaluation", "merit", false, true, {}, {}, {}, {}, true, {}};
+  by_evaluation.series = {merit, best};
+  if (!noise.x.empty()) by_evaluation.series.push_back(noise);
+  io::LineChart by_time{"best merit by wall time", "wall time [s]", "merit", false, true, {}, {}, {}, {}, true, {}};
+  by_time.series = {best_time};
+  io::Figure figure;
+  figure.title = title;
+  figure.charts = {by_evaluation, by_time};
+  return io::write_figure(path, figure);
+}
+
 Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, const OptimizeRunHooks& hooks,
                                            std::chrono::steady_clock::time_point start, bool* usage) {
   const std::string& design_path = options.design_path;
@@ -251,6 +290,12 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     }
   }
   const std::string evaluation_path = (fs::path(out_dir) / ".evaluation.design.toml").string();
+  // Evaluations run `jobs` at a time (CMA-ES): each writes its own design file.
+  const long long cores = std::max(1u, std::thread::hardware_concurrency());
+  const long long jobs =
+      method == design::OptimizeMethod::Cmaes ? (options.jobs > 0 ? options.jobs : cores) : 1;
+  const long long trace_threads = threads > 0 ? threads : std::max(1LL, cores / jobs);
+  std::atomic<unsigned long long> evaluations_made{0};
 
   // One trace of the design at `values`: the merit of its escaped photons.
   const auto trace = [&](const std::vector<double>& values, std::uint64_t photons, std::uint64_t trace_seed,
@@ -270,7 +315,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     o.photons = static_cast<long long>(photons);
     o.iterations = 1;
     o.seed = static_cast<long long>(trace_seed);
-    o.threads = threads;
+    o.threads = files_out ? threads : trace_threads;
     o.gamma_step = gamma_step;
     o.no_cache = true;
     o.next_event = "off";  // every escape a photon of the merit
@@ -319,6 +364,9 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   oo.stages = static_cast<int>(stages);
   oo.seed = static_cast<std::uint64_t>(seed);
   oo.max_time_s = max_time;
+  oo.jobs = static_cast<int>(jobs);
+  oo.common_random = !options.no_common_random;
+  oo.population = static_cast<int>(options.population);
   oo.start_photons = static_cast<std::uint64_t>(std::ceil(spec.photons_per_bin * static_cast<double>(grid.size())));
   if (hooks.on_start) hooks.on_start(variables, spec, grid.size(), oo.start_photons);
   if (options.evaluate_only) {  // the merit at given values, no optimisation
@@ -391,8 +439,22 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   };
   const design::MeritFunction merit = [&](const std::vector<double>& values, std::uint64_t photons,
                                           std::uint64_t trace_seed) -> Result<double> {
-    Result<design::MeritValue> m = traced_merit(values, photons, trace_seed);
-    if (!m.ok()) return m.error();
+    // One file per evaluation where several run at once (CMA-ES's jobs,
+    // which take no constraints: the last trace's cache is for one thread).
+    std::optional<design::MeritValue> m;
+    if (jobs > 1) {
+      const std::string path =
+          (fs::path(out_dir) / (".evaluation-" + std::to_string(evaluations_made++) + ".design.toml")).string();
+      Traced t = trace(values, photons, trace_seed, path, false);
+      std::error_code ignored_own;
+      fs::remove(path, ignored_own);
+      if (!t.merit) return make_error(t.error);
+      m = *t.merit;
+    } else {
+      Result<design::MeritValue> traced = traced_merit(values, photons, trace_seed);
+      if (!traced.ok()) return traced.error();
+      m = *traced;
+    }
     // COBYLA minimises the terms with the limits as constraints; the other
     // methods the terms with the limits' penalties.
     return as_constraints ? m->merit - m->penalty : m->merit;
@@ -470,6 +532,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       {"design", design_path},
       {"target", target_path},
       {"method", design::to_string(method)},
+      {"jobs", jobs},
       {"variables", vars},
       {"merit",
        {{"c_step_deg", spec.c_step_deg},
@@ -477,6 +540,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
         {"nodes", grid.size()},
         {"normalize", spec.absolute ? "absolute" : "flux"},
         {"smooth", spec.smooth},
+        {"common_random_numbers", !options.no_common_random},
         {"photons_per_bin", spec.photons_per_bin},
         {"weights",
          {{"candela", spec.candela_weight},
@@ -515,9 +579,68 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       {"files", {best_path, history_path}},
       {"cannot_improve", cannot_improve.empty() ? nlohmann::json(nullptr) : nlohmann::json(cannot_improve)},
       {"wall_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+  OptimizeRunOutcome out;
+  // The best design's geometry (glTF; STEP through gonio-cad where built),
+  // the history's chart and the comparison with the target, as gonio compare
+  // makes it. None of them fails the run: a missing one is said why.
+  const auto extra = [&](const std::string& file, const Status& status) {
+    if (status.ok()) {
+      out.extra_files.push_back(file);
+    } else {
+      out.notes.push_back(file + " not written: " + to_string(status.error()));
+    }
+  };
+  Result<design::Design> best_read = design::read_design_file(best_path);
+  if (best_read.ok()) {
+    const std::string gltf = (fs::path(out_dir) / (name + ".gltf")).string();
+    extra(gltf, design::write_design_gltf(*best_read, gltf, io::tessellation_for_grid(gamma_step)));
+    const std::string step = (fs::path(out_dir) / (name + ".step")).string();
+    if (options.no_step) {
+    } else if (!io::cad_supported()) {
+      out.notes.push_back(step + " not written: this gonio was built without OpenCASCADE");
+    } else {
+      Result<design::StepExportInfo> written = design::write_design_step(*best_read, step);
+      extra(step, written.ok() ? Status(Ok{}) : Status(written.error()));
+    }
+  } else {
+    out.notes.push_back(best_path + " does not read back: " + to_string(best_read.error()));
+  }
+  const std::string chart = (fs::path(out_dir) / "history.svg").string();
+  extra(chart, write_history_chart(chart, run->history,
+                                   std::string(design::to_string(method)) + ", " + (spec.smooth ? "smooth" : "binned") +
+                                       ": " + std::to_string(run->evaluations) + " evaluations"));
+  const std::string traced_path = (fs::path(out_dir) / (name + ".ies")).string();
+  Result<io::PhotometricFile> traced = io::read_photometric_file(traced_path, read_options(InputOptions{}));
+  if (traced.ok()) {
+    photometry::CompareOptions compare;
+    compare.gamma_step_deg = 90.0 / std::max(1.0, std::round(90.0 / std::max(gamma_step, 2.5)));
+    compare.normalize_flux = !spec.absolute;
+    Result<photometry::Comparison> cmp = photometry::compare(target_file->distribution, traced->distribution, compare);
+    if (cmp.ok()) {
+      nlohmann::json against = compare_json(target_path, *target_file, traced_path, *traced, *cmp, compare);
+      const std::string compare_svg = (fs::path(out_dir) / "compare.svg").string();
+      io::OverlayOptions overlay;
+      overlay.label_a = "target " + fs::path(target_path).filename().string();
+      overlay.label_b = "best " + fs::path(traced_path).filename().string();
+      overlay.scale_b = cmp->scale;
+      overlay.title = compare.normalize_flux ? "the best design scaled to the target's flux" : "";
+      Result<io::Figure> figure = io::overlay_diagram(target_file->distribution, traced->distribution, overlay);
+      const Status plotted = figure.ok() ? io::write_figure(compare_svg, *figure) : Status(figure.error());
+      extra(compare_svg, plotted);
+      if (plotted.ok()) against["plot"] = compare_svg;
+      const std::string compare_path = (fs::path(out_dir) / "compare.json").string();
+      extra(compare_path, io::write_file_atomic(compare_path, against.dump(2) + "\n"));
+      report["optimize"]["compare"] = against;
+    } else {
+      out.notes.push_back("no comparison with the target: " + cmp.error().message);
+    }
+  } else {
+    out.notes.push_back("no comparison with the target: " + to_string(traced.error()));
+  }
+  for (const std::string& f : out.extra_files) report["optimize"]["files"].push_back(f);
+  if (!out.notes.empty()) report["optimize"]["notes"] = out.notes;
   if (Status s = io::write_file_atomic(final.result->files->report_path, report.dump(2) + "\n"); !s.ok())
     return make_error(to_string(s.error()));
-  OptimizeRunOutcome out;
   out.variables = variables;
   out.run = std::move(run.value());
   out.final_merit = fm;

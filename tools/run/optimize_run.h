@@ -29,9 +29,16 @@ struct OptimizeRunOptions {
   std::string design_path, target_path, out_dir, name;  // name: default the design file's
   design::OptimizeMethod method = design::OptimizeMethod::Bobyqa;
   long long max_evals = 200, stages = 3, seed = 1, threads = 0, final_photons = 1'000'000;
+  // CMA-ES: evaluations of a generation traced at a time (0: one per core;
+  // each trace then gets threads / jobs threads where threads is 0) and the
+  // population (0: pagmo's default for the variables); the run is the same
+  // for any jobs.
+  long long jobs = 0, population = 0;
   std::optional<double> photons_per_bin;
   double gamma_step = 1.0, max_time = 0.0;
   bool no_smooth = false;
+  bool no_step = false;
+  bool no_common_random = false;  // each evaluation its own seed (for comparison)  // no NAME.step (and its sidecar) of the best design
   std::optional<std::string> scan;  // VAR:N: the merit across VAR's bounds, no optimisation
   // A [merit] table that replaces the design's (Python's merit=): its errors
   // name "DESIGN (merit=)" and the key, not a line.
@@ -68,6 +75,10 @@ struct OptimizeRunOutcome {
   nlohmann::json report;                 // report.json as written (its "optimize" section)
   nlohmann::json history;                // history.json as written
   std::string best_path, history_path;
+  // The best design's other files (NAME.gltf, NAME.step, history.svg,
+  // compare.json, compare.svg), and why one is missing (not an error).
+  std::vector<std::string> extra_files;
+  std::vector<std::string> notes;
   bool scanned = false;                  // --scan or evaluate: no optimisation
   std::vector<design::MeritValue> merits;  // evaluate: the merit at each
   std::uint64_t evaluate_photons = 0;      // evaluate: the photons of each trace
@@ -77,6 +88,11 @@ struct OptimizeRunOutcome {
 // "noise"), merit, best, photons, seed, time_s, values {name: value}, error.
 nlohmann::json evaluation_json(const design::EvaluationRecord& record,
                                const std::vector<design::OptimizeVariable>& variables);
+
+// history.svg: the merit and the best so far against the evaluations, and
+// the best against the wall time (the noise floor's traces as points).
+Status write_history_chart(const std::string& path, const std::vector<design::EvaluationRecord>& history,
+                           const std::string& title);
 
 // Runs gonio optimize. Errors name the file (and line); where `usage` is
 // given, a mistake of the options sets it true (the command's exit 2).
