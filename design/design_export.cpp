@@ -13,6 +13,35 @@
 #include "io/support/text.h"
 
 namespace gonio::design {
+namespace {
+
+// A lens as one glTF mesh (its three surfaces, exact normals, glTF's Y-up)
+// with its material's keys as extras.gonio.
+Status add_lens_gltf(io::GltfWriter& w, const Lens& lens, const io::PartsFile& sidecar, const std::string& path,
+                     const io::CadTessellation& tessellation, std::map<std::string, int>& materials) {
+  const io::PartsMaterial* m = sidecar.material(lens.material);
+  if (!m) return make_error(path, "material " + lens.material + " is not defined");
+  if (!materials.count(lens.material))
+    materials[lens.material] =
+        w.material({{"name", lens.material},
+                    {"pbrMetallicRoughness",
+                     {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.0}}},
+                    {"extras", {{"gonio", m->extras}}}});
+  Result<io::CadPart> part = lens_part(lens, tessellation, std::size_t{16'000'000});
+  if (!part.ok()) return make_error(path, lens.name + ": " + part.error().message);
+  sim::Mesh mesh;
+  for (const io::CadSurface& s : part->surfaces) {
+    const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+    for (const sim::Vec3f& p : s.positions) mesh.positions.push_back({p.x, p.z, -p.y});
+    for (const sim::Vec3f& n : s.normals) mesh.normals.push_back({n.x, n.z, -n.y});
+    for (std::uint32_t i : s.indices) mesh.indices.push_back(base + i);
+  }
+  const int index = w.mesh(mesh, materials[lens.material], lens.name);
+  w.node({{"name", lens.name}, {"mesh", index}});
+  return Ok{};
+}
+
+}  // namespace
 
 Status write_design_gltf(const Design& design, const std::string& gltf_path, const io::CadTessellation& tessellation) {
   const io::TomlNode resolved = resolved_document(design);
@@ -46,6 +75,8 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
     const int index = w.mesh(mesh, materials[r.material], r.name);
     w.node({{"name", r.name}, {"mesh", index}});
   }
+  for (const Lens& lens : parts->lenses)
+    if (Status s = add_lens_gltf(w, lens, *sidecar, design.path, tessellation, materials); !s.ok()) return s;
   // Emitters with a profile in the design's frame: EXT_lights_ies lights,
   // their γ = 0 (the node's −Z) turned to glTF's −Y as the samples do.
   for (const io::PartsEmitter& e : sidecar->emitters) {
@@ -75,7 +106,8 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   if (!sidecar.ok()) return sidecar.error();
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
-  if (parts->reflectors.empty()) return make_error(design.path, "the design has no parts to write as STEP");
+  if (parts->reflectors.empty() && parts->lenses.empty())
+    return make_error(design.path, "the design has no parts to write as STEP");
 
   io::StepExport request;
   request.tolerance_mm = tolerance_mm;
@@ -112,7 +144,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   const fs::path design_dir = fs::absolute(design.path).parent_path();
   const fs::path step_dir = fs::absolute(step_path).parent_path();
   for (const auto& [key, value] : resolved.table) {
-    if (key == "reflectors") continue;
+    if (key == "reflectors" || key == "lenses") continue;
     io::TomlNode copy = value;
     // The emitters' files: copied beside the STEP where they are elsewhere
     // (a sidecar's paths stay in its folder, as glTF's uris do), by name.
