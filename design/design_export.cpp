@@ -9,6 +9,7 @@
 #include "io/model/cad.h"
 #include "io/model/gltf_writer.h"
 #include "io/model/parts_file.h"
+#include "io/model/step_export.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 
@@ -39,6 +40,27 @@ Status add_lens_gltf(io::GltfWriter& w, const Lens& lens, const io::PartsFile& s
   const int index = w.mesh(mesh, materials[lens.material], lens.name);
   w.node({{"name", lens.name}, {"mesh", index}});
   return Ok{};
+}
+
+// A lens for STEP: its closed meridian, inner (axis to rim), side, outer
+// (rim to axis), each curve sampled at kStepProfileSamples points.
+io::StepRevolvedPart lens_step_part(const Lens& lens) {
+  const LensCurves c = lens_curves_mm(lens, kStepProfileSamples);
+  io::StepRevolvedPart part;
+  part.name = lens.name;
+  for (std::size_t k = 0; k < c.rho.size(); ++k) {
+    const bool reversed = k + 1 == c.rho.size();  // the outer surface, back to the axis
+    const std::size_t m = c.rho[k].size();
+    if (k > 0) part.curves.push_back(part.rho.size() - 1);
+    else part.curves.push_back(0);
+    for (std::size_t i = k > 0 ? 1 : 0; i < m; ++i) {
+      const std::size_t j = reversed ? m - 1 - i : i;
+      part.rho.push_back(c.rho[k][j]);
+      part.z.push_back(c.z[k][j]);
+    }
+  }
+  part.rho.back() = 0.0;  // on the axis, as the first point
+  return part;
 }
 
 }  // namespace
@@ -129,6 +151,13 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
     io::TomlNode rule = toml_table();
     toml_set(rule, "match", toml_string(r.name));  // names hold no glob characters
     toml_set(rule, "material", toml_string(r.material));
+    rules.array.push_back(std::move(rule));
+  }
+  for (const Lens& lens : parts->lenses) {
+    request.parts.push_back(lens_step_part(lens));
+    io::TomlNode rule = toml_table();
+    toml_set(rule, "match", toml_string(lens.name));
+    toml_set(rule, "material", toml_string(lens.material));
     rules.array.push_back(std::move(rule));
   }
   if (const fs::path folder = fs::path(step_path).parent_path(); !folder.empty())
