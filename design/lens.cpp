@@ -367,6 +367,17 @@ Result<io::CadPart> lens_part(const Lens& lens, const io::CadTessellation& t, st
     std::copy_n(ring(inner, true), segments, ring(outer, true));
   }
   part.faces = static_cast<std::uint32_t>(part.surfaces.size());
+  // One surface, so that the solid is one mesh (the model checks ask each
+  // refractive mesh to be closed on its own); vertices stay per surface,
+  // each with its surface's normal, the rims' positions shared.
+  io::CadSurface solid;
+  for (const io::CadSurface& s : part.surfaces) {
+    const auto base = static_cast<std::uint32_t>(solid.positions.size());
+    solid.positions.insert(solid.positions.end(), s.positions.begin(), s.positions.end());
+    solid.normals.insert(solid.normals.end(), s.normals.begin(), s.normals.end());
+    for (std::uint32_t i : s.indices) solid.indices.push_back(base + i);
+  }
+  part.surfaces.assign(1, std::move(solid));
   return part;
 }
 

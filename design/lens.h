@@ -67,8 +67,9 @@ Result<Lens> read_lens(const io::TomlNode& table, const std::string& path, doubl
 // points per curve (inner, side, outer reversed); the axis closes it.
 std::vector<std::pair<double, double>> lens_meridian(const Lens& lens, std::size_t samples = 1024);
 
-// The lens as a CAD part of three surfaces (inner, side, outer; two without
-// a side) tessellated to `t`, normals outward. Errors: as revolve's.
+// The lens as a CAD part of one closed surface (inner, side and outer, or
+// two without a side, with their own vertices and normals, the rims'
+// positions shared) tessellated to `t`, normals outward. Errors: as revolve's.
 Result<io::CadPart> lens_part(const Lens& lens, const io::CadTessellation& t, std::size_t max_triangles);
 
 // An emitter placed at `position_m` on a surface (within `chordal_m`) or

@@ -107,7 +107,7 @@ Closure closure(const sim::Mesh& m) {
 TEST(Lens, MeniscusIsAClosedSolidOnItsExactSurfacesWithOutwardNormals) {
   Result<sim::SceneDesc> s = scene_of(kLens);
   ASSERT_TRUE(s.ok()) << to_string(s.error());
-  ASSERT_EQ(s->meshes.size(), 3u);  // one per surface: inner, side, outer
+  ASSERT_EQ(s->meshes.size(), 1u);  // one closed mesh: inner, side, outer
   const sim::Mesh m = part_mesh(*s, "lens");
   ASSERT_EQ(m.normals.size(), m.positions.size());
   // Inner: sphere of radius 40 mm centred at z = −5 + 40 mm; outer: radius
