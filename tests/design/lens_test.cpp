@@ -190,6 +190,17 @@ TEST(Lens, ClosedAtEveryTessellation) {
     }
 }
 
+TEST(Lens, TheLibrarysClearPlasticIsTheLensesMaterial) {
+  std::string text = kLens;
+  const std::string glass = "dielectric = 1.0\nior = 1.491";
+  text.replace(text.find(glass), glass.size(), "preset = \"clear PC\"");
+  Result<sim::SceneDesc> s = scene_of(text);
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  const sim::Material& m = s->materials.at(s->meshes[0].material);
+  EXPECT_EQ(m.dielectric, 1.0);
+  EXPECT_EQ(m.ior, 1.585);
+}
+
 TEST(Lens, VariablesMoveTheSurfaces) {
   Result<Design> d = parse_design(kLens, "lamp.design.toml");
   ASSERT_TRUE(d.ok());
