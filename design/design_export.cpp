@@ -9,10 +9,61 @@
 #include "io/model/cad.h"
 #include "io/model/gltf_writer.h"
 #include "io/model/parts_file.h"
+#include "io/model/step_export.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 
 namespace gonio::design {
+namespace {
+
+// A lens as one glTF mesh (its three surfaces, exact normals, glTF's Y-up)
+// with its material's keys as extras.gonio.
+Status add_lens_gltf(io::GltfWriter& w, const Lens& lens, const io::PartsFile& sidecar, const std::string& path,
+                     const io::CadTessellation& tessellation, std::map<std::string, int>& materials) {
+  const io::PartsMaterial* m = sidecar.material(lens.material);
+  if (!m) return make_error(path, "material " + lens.material + " is not defined");
+  if (!materials.count(lens.material))
+    materials[lens.material] =
+        w.material({{"name", lens.material},
+                    {"pbrMetallicRoughness",
+                     {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.0}}},
+                    {"extras", {{"gonio", m->extras}}}});
+  Result<io::CadPart> part = lens_part(lens, tessellation, std::size_t{16'000'000});
+  if (!part.ok()) return make_error(path, lens.name + ": " + part.error().message);
+  sim::Mesh mesh;
+  for (const io::CadSurface& s : part->surfaces) {
+    const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+    for (const sim::Vec3f& p : s.positions) mesh.positions.push_back({p.x, p.z, -p.y});
+    for (const sim::Vec3f& n : s.normals) mesh.normals.push_back({n.x, n.z, -n.y});
+    for (std::uint32_t i : s.indices) mesh.indices.push_back(base + i);
+  }
+  const int index = w.mesh(mesh, materials[lens.material], lens.name);
+  w.node({{"name", lens.name}, {"mesh", index}});
+  return Ok{};
+}
+
+// A lens for STEP: its closed meridian, inner (axis to rim), side, outer
+// (rim to axis), each curve sampled at kStepProfileSamples points.
+io::StepRevolvedPart lens_step_part(const Lens& lens) {
+  const LensCurves c = lens_curves_mm(lens, kStepProfileSamples);
+  io::StepRevolvedPart part;
+  part.name = lens.name;
+  for (std::size_t k = 0; k < c.rho.size(); ++k) {
+    const bool reversed = k + 1 == c.rho.size();  // the outer surface, back to the axis
+    const std::size_t m = c.rho[k].size();
+    if (k > 0) part.curves.push_back(part.rho.size() - 1);
+    else part.curves.push_back(0);
+    for (std::size_t i = k > 0 ? 1 : 0; i < m; ++i) {
+      const std::size_t j = reversed ? m - 1 - i : i;
+      part.rho.push_back(c.rho[k][j]);
+      part.z.push_back(c.z[k][j]);
+    }
+  }
+  part.rho.back() = 0.0;  // on the axis, as the first point
+  return part;
+}
+
+}  // namespace
 
 Status write_design_gltf(const Design& design, const std::string& gltf_path, const io::CadTessellation& tessellation) {
   const io::TomlNode resolved = resolved_document(design);
@@ -46,6 +97,8 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
     const int index = w.mesh(mesh, materials[r.material], r.name);
     w.node({{"name", r.name}, {"mesh", index}});
   }
+  for (const Lens& lens : parts->lenses)
+    if (Status s = add_lens_gltf(w, lens, *sidecar, design.path, tessellation, materials); !s.ok()) return s;
   // Emitters with a profile in the design's frame: EXT_lights_ies lights,
   // their γ = 0 (the node's −Z) turned to glTF's −Y as the samples do.
   for (const io::PartsEmitter& e : sidecar->emitters) {
@@ -75,7 +128,8 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   if (!sidecar.ok()) return sidecar.error();
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
-  if (parts->reflectors.empty()) return make_error(design.path, "the design has no parts to write as STEP");
+  if (parts->reflectors.empty() && parts->lenses.empty())
+    return make_error(design.path, "the design has no parts to write as STEP");
 
   io::StepExport request;
   request.tolerance_mm = tolerance_mm;
@@ -99,6 +153,13 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
     toml_set(rule, "material", toml_string(r.material));
     rules.array.push_back(std::move(rule));
   }
+  for (const Lens& lens : parts->lenses) {
+    request.parts.push_back(lens_step_part(lens));
+    io::TomlNode rule = toml_table();
+    toml_set(rule, "match", toml_string(lens.name));
+    toml_set(rule, "material", toml_string(lens.material));
+    rules.array.push_back(std::move(rule));
+  }
   if (const fs::path folder = fs::path(step_path).parent_path(); !folder.empty())
     if (Status s = io::make_directories(folder.string()); !s.ok()) return s.error();
   io::CadLoadOptions options;
@@ -112,7 +173,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   const fs::path design_dir = fs::absolute(design.path).parent_path();
   const fs::path step_dir = fs::absolute(step_path).parent_path();
   for (const auto& [key, value] : resolved.table) {
-    if (key == "reflectors") continue;
+    if (key == "reflectors" || key == "lenses") continue;
     io::TomlNode copy = value;
     // The emitters' files: copied beside the STEP where they are elsewhere
     // (a sidecar's paths stay in its folder, as glTF's uris do), by name.

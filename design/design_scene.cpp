@@ -155,10 +155,61 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t) const {
   return r;
 }
 
+// [[lenses]] (design/lens.h), their names unique among all parts.
+Status read_lenses(const TomlNode& resolved, const std::string& path, DesignParts& out) {
+  const TomlNode* l = resolved.get("lenses");
+  if (!l) return Ok{};
+  if (!l->is_array_of_tables()) return fail(path, l->line, "'lenses' must be an array of tables ([[lenses]])");
+  for (const TomlNode& t : l->array) {
+    Result<Lens> one = read_lens(t, path, out.unit_m);
+    if (!one.ok()) return one.error();
+    auto taken = [&](const std::string& name, int line) {
+      return fail(path, t.line, "[[lenses]] at line " + std::to_string(t.line) + ": the name " + io::shown(name) +
+                                    " is taken by the part at line " + std::to_string(line));
+    };
+    for (const Reflector& other : out.reflectors)
+      if (other.name == one->name) return taken(one->name, other.line);
+    for (const Lens& other : out.lenses)
+      if (other.name == one->name) return taken(one->name, other.line);
+    out.lenses.push_back(std::move(*one));
+  }
+  return Ok{};
+}
+
+// A lens as a placed part with its material's rule; an emitter on its
+// surfaces or inside its glass is an error.
+Status add_lens(const Lens& lens, const std::string& path, const io::CadLoadOptions& options, double unit_m,
+                io::PartsFile& sidecar, io::CadModel& model) {
+  const std::string what = "[[lenses]] at line " + std::to_string(lens.line) + " (" + lens.name + ")";
+  if (!sidecar.material(lens.material))
+    return fail(path, lens.line, what + ": material " + io::shown(lens.material) + " is not defined ([materials." +
+                                     lens.material + "])");
+  Result<io::CadPart> part = lens_part(lens, options.tessellation, kMaxPartTriangles);
+  if (!part.ok()) return fail(path, lens.line, what + ": " + part.error().message);
+  for (const io::PartsEmitter& e : sidecar.emitters) {
+    if (!e.at.empty() || !e.position) continue;
+    const std::string problem = lens_emitter_problem(lens, *e.position * unit_m, part->chordal_m);
+    if (!problem.empty())
+      return fail(path, lens.line, what + ": emitter " + io::shown(e.name) + " (line " + std::to_string(e.line) +
+                                       "): " + problem);
+  }
+  io::CadPlacement placement;
+  placement.part = static_cast<std::uint32_t>(model.parts.size());
+  placement.path = lens.name;
+  model.parts.push_back(std::move(*part));
+  model.placements.push_back(std::move(placement));
+  io::PartsRule rule;
+  rule.match = lens.name;
+  rule.material = lens.material;
+  rule.line = lens.line;
+  sidecar.rules.push_back(std::move(rule));
+  return Ok{};
+}
+
 }  // namespace
 
 const std::vector<std::string>& design_root_keys() {
-  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit"};
+  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit", "lenses"};
   return keys;
 }
 
@@ -183,7 +234,9 @@ Result<DesignParts> read_design_parts(const TomlNode& resolved, const std::strin
       out.reflectors.push_back(std::move(*one));
     }
   }
-  if (out.reflectors.empty()) return fail(path, 0, "the design has no parts: add [[reflectors]]");
+  if (Status s = read_lenses(resolved, path, out); !s.ok()) return s.error();
+  if (out.reflectors.empty() && out.lenses.empty())
+    return fail(path, 0, "the design has no parts: add [[reflectors]] or [[lenses]]");
   return out;
 }
 
@@ -238,6 +291,8 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
     rule.line = r.line;
     sidecar->rules.push_back(std::move(rule));
   }
+  for (const Lens& lens : parts->lenses)
+    if (Status s = add_lens(lens, design.path, options, parts->unit_m, *sidecar, model); !s.ok()) return s.error();
   const double tessellate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Result<sim::SceneDesc> scene = io::cad_scene(model, *sidecar, design.path, options, findings, info);
   if (scene.ok() && info) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "design/design_file.h"
+#include "design/lens.h"
 #include "design/revolved.h"
 #include "io/model/cad.h"
 #include "photometry/diagnostics.h"
@@ -30,6 +31,7 @@ struct Reflector {
 struct DesignParts {
   double unit_m = 1e-3;  // metres per unit of the file's lengths
   std::vector<Reflector> reflectors;
+  std::vector<Lens> lenses;  // design/lens.h
 };
 Result<DesignParts> read_design_parts(const io::TomlNode& resolved, const std::string& path);
 

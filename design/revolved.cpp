@@ -129,6 +129,8 @@ void bspline_eval(const BSplineProfile& b, double t, double& rho, double& z, dou
   dz = p > 1 ? de_boor(inner, qz, p - 1, t) : qz[std::min<std::size_t>(static_cast<std::size_t>(t * static_cast<double>(n - 1)), n - 2)];
 }
 
+}  // namespace
+
 // Whether segments ab and cd cross (touching ends of neighbours excepted by the caller).
 bool segments_cross(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
   auto orient = [](double px, double py, double qx, double qy, double rx, double ry) {
@@ -139,8 +141,6 @@ bool segments_cross(double ax, double ay, double bx, double by, double cx, doubl
   const int o3 = orient(cx, cy, dx, dy, ax, ay), o4 = orient(cx, cy, dx, dy, bx, by);
   return o1 * o2 < 0 && o3 * o4 < 0;
 }
-
-}  // namespace
 
 double polar_r(const PolarProfile& p, double theta, double* dlnr) {
   // Slopes are recomputed here for a one-off evaluation; ProfileCurve keeps them.
@@ -290,7 +290,7 @@ void ProfileCurve::eval(double t, double& rho, double& z, double& drho, double& 
 }
 
 Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellation& tess, std::size_t max_triangles,
-                               double* size_out, double* chordal_out) {
+                               double* size_out, double* chordal_out, const RevolveOptions& extra) {
   struct Sample {
     double t, rho, z, drho, dz, angle;
   };
@@ -339,6 +339,7 @@ Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellat
     segments = std::max(segments, static_cast<std::size_t>(std::ceil(by_chord)));
   }
   segments = std::max<std::size_t>(segments, 8);
+  if (extra.segments > 0) segments = extra.segments;
   if (2.0 * static_cast<double>(rows.size()) * static_cast<double>(segments) > static_cast<double>(max_triangles))
     return make_error("meshed to an angular deflection of " + format_number(tess.angular_deflection_deg) + "° it would take " +
                       format_number(2.0 * static_cast<double>(rows.size()) * static_cast<double>(segments), 3) +
@@ -347,7 +348,8 @@ Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellat
   // The normal's side: toward the origin (where the source sits) over the profile as a whole.
   double facing = 0.0;
   for (const Sample& s : fine) facing += (s.dz * -s.rho - s.drho * -s.z) / std::max(std::hypot(s.drho, s.dz), 1e-300);
-  const double side = facing >= 0.0 ? 1.0 : -1.0;  // normal = side · (dz, −dρ)/|·|
+  const double side = extra.normal_side != 0 ? (extra.normal_side > 0 ? 1.0 : -1.0)
+                                            : facing >= 0.0 ? 1.0 : -1.0;  // normal = side · (dz, −dρ)/|·|
 
   io::CadSurface out;
   const double pole = 1e-9 * size;

@@ -84,8 +84,18 @@ double polar_r(const PolarProfile& p, double theta, double* dlnr = nullptr);
 // Z axis's side of the profile where `normals_toward_origin`, and the
 // triangles wound counter-clockwise seen from the side the normals face.
 // Errors: more than `max_triangles` (a deflection too fine for the part).
+// `extra`: a lens's surfaces (design/lens.h) share one azimuth count, so that
+// their rims meet vertex for vertex, and each faces out of the solid.
+struct RevolveOptions {
+  int normal_side = 0;       // 0: toward the origin; ±1: normal = ±(dz, −dρ)/|·| along t
+  std::size_t segments = 0;  // 0: from the deflections; else exactly this many around the axis
+};
 Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellation& t, std::size_t max_triangles,
-                               double* size_m = nullptr, double* chordal_m = nullptr);
+                               double* size_m = nullptr, double* chordal_m = nullptr,
+                               const RevolveOptions& extra = {});
+
+// Whether the segments ab and cd cross (properly: touching ends do not).
+bool segments_cross(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy);
 
 // The smallest distance from the point (ρ, z) to the profile [m].
 double distance_to_profile(const ProfileCurve& curve, double rho, double z);

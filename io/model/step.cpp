@@ -3,6 +3,9 @@
 
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <GeomAPI_PointsToBSpline.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
@@ -49,6 +52,7 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <TopoDS_Vertex.hxx>
 #include <Transfer_TransientProcess.hxx>
 #include <XCAFApp_Application.hxx>
 #include <XCAFDoc_ColorTool.hxx>
@@ -706,6 +710,56 @@ Result<CadModel> read_cad_file(const std::string& path, const CadTessellation& t
   }
 }
 
+namespace {
+
+// A closed meridian (curves end to end from the axis back to it, the axis
+// closing it) turned into a solid: each curve a B-spline within `tolerance`
+// of its points (a straight edge where it has two), the curves joined at
+// shared vertices, the planar face revolved about Z.
+Result<TopoDS_Shape> revolved_solid(const StepRevolvedPart& part, double tolerance, double& deviation) {
+  const std::size_t n = std::min(part.rho.size(), part.z.size());
+  auto point = [&](std::size_t i) { return gp_Pnt(part.rho[i], 0.0, part.z[i]); };
+  std::vector<std::size_t> ends = part.curves;
+  ends.push_back(n - 1);
+  BRepBuilderAPI_MakeWire wire;
+  const TopoDS_Vertex first = BRepBuilderAPI_MakeVertex(point(0));
+  TopoDS_Vertex start = first;
+  for (std::size_t c = 0; c + 1 < ends.size(); ++c) {
+    const std::size_t a = ends[c], b = ends[c + 1];
+    const TopoDS_Vertex end = BRepBuilderAPI_MakeVertex(point(b));
+    if (b - a < 3) {
+      wire.Add(BRepBuilderAPI_MakeEdge(start, end).Edge());
+    } else {
+      TColgp_Array1OfPnt points(1, static_cast<int>(b - a + 1));
+      for (std::size_t i = a; i <= b; ++i) points.SetValue(static_cast<int>(i - a) + 1, point(i));
+      GeomAPI_PointsToBSpline fit(points, 3, 8, GeomAbs_C2, tolerance);
+      if (!fit.IsDone() || fit.Curve().IsNull())
+        return make_error("OpenCASCADE found no B-spline within " + format_number(tolerance) + " mm of curve " +
+                          std::to_string(c + 1));
+      const Handle(Geom_BSplineCurve) curve = fit.Curve();
+      for (int i = points.Lower(); i <= points.Upper(); ++i) {
+        GeomAPI_ProjectPointOnCurve projection(points.Value(i), curve);
+        if (projection.NbPoints() > 0) deviation = std::max(deviation, projection.LowerDistance());
+      }
+      BRepBuilderAPI_MakeEdge edge(curve, start, end);
+      if (!edge.IsDone()) return make_error("OpenCASCADE could not make the edge of curve " + std::to_string(c + 1));
+      wire.Add(edge.Edge());
+    }
+    if (!wire.IsDone()) return make_error("OpenCASCADE could not join curve " + std::to_string(c + 1) + " to the others");
+    start = end;
+  }
+  // Along the axis, back to the first point.
+  wire.Add(BRepBuilderAPI_MakeEdge(start, first).Edge());
+  if (!wire.IsDone()) return make_error("OpenCASCADE could not close the meridian along the axis");
+  BRepBuilderAPI_MakeFace face(wire.Wire(), true);
+  if (!face.IsDone()) return make_error("OpenCASCADE could not make the meridian's face");
+  BRepPrimAPI_MakeRevol revol(face.Face(), gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)));
+  if (!revol.IsDone()) return make_error("OpenCASCADE could not turn the meridian about the axis");
+  return revol.Shape();
+}
+
+}  // namespace
+
 Status write_step_file(const StepExport& request, const std::string& path, double* max_deviation_mm) {
   if (request.parts.empty()) return make_error(path, "nothing to write: no parts");
   if (!(request.tolerance_mm > 0.0)) return make_error(path, "the tolerance must be > 0");
@@ -720,6 +774,15 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
     for (const StepRevolvedPart& part : request.parts) {
       const std::size_t n = std::min(part.rho.size(), part.z.size());
       if (n < 2) return make_error(path, part.name + ": a profile needs at least 2 points");
+      if (!part.curves.empty()) {
+        Result<TopoDS_Shape> solid = revolved_solid(part, request.tolerance_mm, deviation);
+        if (!solid.ok()) return make_error(path, part.name + ": " + solid.error().message);
+        const TDF_Label label = shapes->AddShape(*solid, false);
+        TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
+        const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());
+        TDataStd_Name::Set(component, TCollection_ExtendedString(part.name.c_str(), true));
+        continue;
+      }
       TColgp_Array1OfPnt points(1, static_cast<int>(n));
       for (std::size_t i = 0; i < n; ++i) points.SetValue(static_cast<int>(i) + 1, gp_Pnt(part.rho[i], 0.0, part.z[i]));
       GeomAPI_PointsToBSpline fit(points, 3, 8, GeomAbs_C2, request.tolerance_mm);

@@ -25,6 +25,11 @@ std::string serialize_step_export(const StepExport& request) {
   out += "parts " + std::to_string(request.parts.size()) + "\n";
   for (const StepRevolvedPart& p : request.parts) {
     out += "part " + one_line(p.name) + "\n";
+    if (!p.curves.empty()) {
+      out += "curves " + std::to_string(p.curves.size());
+      for (std::size_t c : p.curves) out += " " + std::to_string(c);
+      out += "\n";
+    }
     out += "points " + std::to_string(p.rho.size()) + "\n";
     for (std::size_t i = 0; i < p.rho.size() && i < p.z.size(); ++i)
       out += format_number(p.rho[i], 17) + " " + format_number(p.z[i], 17) + "\n";
@@ -61,9 +66,28 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
   for (long k = 0; k < parts; ++k) {
     StepRevolvedPart p;
     if (!keyed("part", p.name)) return bad("expected 'part NAME'");
-    if (!keyed("points", value)) return bad("expected 'points N'");
+    if (!next(line)) return bad("expected 'points N'");
+    if (line.rfind("curves ", 0) == 0) {
+      std::istringstream cs(line.substr(7));
+      long count = 0;
+      if (!(cs >> count) || count < 1 || count > 1000) return bad("bad curve count");
+      for (long c = 0; c < count; ++c) {
+        long start = -1;
+        if (!(cs >> start) || start < 0 || (c == 0 && start != 0) ||
+            (c > 0 && start <= static_cast<long>(p.curves.back())))
+          return bad("curve starts must be 0 and then increase");
+        p.curves.push_back(static_cast<std::size_t>(start));
+      }
+      std::string rest;
+      if (cs >> rest) return bad("text after the curve starts");
+      if (!next(line)) return bad("expected 'points N'");
+    }
+    if (line.rfind("points ", 0) != 0) return bad("expected 'points N'");
+    value = line.substr(7);
     const long n = std::strtol(value.c_str(), &end, 10);
     if (*end != '\0' || n < 2 || n > 10'000'000) return bad("bad point count (at least 2)");
+    if (!p.curves.empty() && static_cast<long>(p.curves.back()) + 1 >= n)
+      return bad("a curve starts at or after the last point");
     for (long i = 0; i < n; ++i) {
       if (!next(line)) return bad("the points end early");
       std::istringstream pt(line);

@@ -18,6 +18,12 @@ namespace gonio::io {
 struct StepRevolvedPart {
   std::string name;              // the part's product name (XCAF name)
   std::vector<double> rho, z;    // the profile's points in order [mm], ρ ≥ 0
+  // Empty: one open profile, a face of revolution (a reflector). Else a
+  // solid (a lens, design/lens.h): the points are several curves end to
+  // end, each starting at these indices (the first 0; a curve's last point
+  // is the next one's first), from the axis back to the axis; the segment
+  // along the axis closes the meridian, which is turned into a solid.
+  std::vector<std::size_t> curves;
 };
 
 struct StepExport {

@@ -93,6 +93,19 @@ std::vector<MaterialPreset> build() {
                       "assumed: no maker's figure was found (clear PMMA transmits 92 %: ACRYLITE, visible light "
                       "transmission)",
                       1.49, 494.969, 10.1633, 0.95, 0.85, 0.70, 0.0, 0.003));
+  // Clear optical plastics for lenses (design/lens.h): a smooth dielectric of
+  // the measured index at 587.6 nm, no absorption and no dispersion.
+  for (const auto& [name, ior] : {std::pair{"clear PMMA", 1.491}, std::pair{"clear PC", 1.585}}) {
+    Material m;
+    m.dielectric = 1.0;
+    m.ior = ior;
+    out.push_back(surface(name,
+                          "refractive index " + std::string(ior == 1.491 ? "1.491" : "1.585") +
+                              " at 587.6 nm; clear (no absorption or scattering, assumed); no dispersion",
+                          "Sultanova, Kasarova and Nikolov, Dispersion properties of optical polymers, Acta Physica "
+                          "Polonica A 116, 585 (2009): measured indices of PMMA and PC at 587.6 nm",
+                          m));
+  }
   {
     Material m;
     m.diffuse_reflect = 0.05;

@@ -235,7 +235,7 @@ TEST(DesignFile, MistakesAreErrorsNamingTheLine) {
   };
   const std::vector<Case> cases = {
       {"conic = -1", "conic = -1\nshiny = true", 17, "unknown key 'shiny'"},
-      {"length_unit = \"mm\"", "length_unit = \"mm\"\nlenses = 1", 2, "the design file: unknown key 'lenses'"},
+      {"length_unit = \"mm\"", "length_unit = \"mm\"\nprisms = 1", 2, "the design file: unknown key 'prisms'"},
       {"radius = { value = 20, min = 10, max = 40 }", "radius = { value = 50, min = 10, max = 40 }", 15,
        "outside its bounds [10, 40]"},
       {"min = 10, max = 40", "min = 40, max = 10", 15, "is above max"},

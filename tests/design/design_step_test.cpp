@@ -23,6 +23,7 @@
 #include "design/design_export.h"
 #include "design/design_file.h"
 #include "design/design_scene.h"
+#include "design/lens.h"
 #include "design/revolved.h"
 #include "io/model/cad.h"
 #include "io/model/parts_file.h"
@@ -173,14 +174,17 @@ TEST(DesignStep, TheHelpersRequestRoundTripsAndRefusesMalformedText) {
   io::StepExport r;
   r.product = "lamp";
   r.tolerance_mm = 2.5e-4;
-  r.parts.push_back({"a dish", {0.0, 1.0 / 3.0, 30.0}, {10.0, 9.5, -12.5}});
-  r.parts.push_back({"b", {4.0, 5.0}, {1.0, 2.0}});
+  r.parts.push_back({"a dish", {0.0, 1.0 / 3.0, 30.0}, {10.0, 9.5, -12.5}, {}});
+  r.parts.push_back({"b", {4.0, 5.0}, {1.0, 2.0}, {}});
+  r.parts.push_back({"lens", {0.0, 5.0, 5.0, 0.0}, {-1.0, -1.0, -3.0, -3.0}, {0, 1, 2}});  // a disc
   Result<io::StepExport> back = io::parse_step_export(io::serialize_step_export(r), "request");
   ASSERT_TRUE(back.ok()) << to_string(back.error());
   EXPECT_EQ(back->product, "lamp");
   EXPECT_EQ(back->tolerance_mm, 2.5e-4);
-  ASSERT_EQ(back->parts.size(), 2u);
+  ASSERT_EQ(back->parts.size(), 3u);
   EXPECT_EQ(back->parts[0].name, "a dish");
+  EXPECT_TRUE(back->parts[0].curves.empty());
+  EXPECT_EQ(back->parts[2].curves, (std::vector<std::size_t>{0, 1, 2}));
   EXPECT_EQ(back->parts[0].rho, r.parts[0].rho);  // 17 digits: exact
   EXPECT_EQ(back->parts[0].z, r.parts[0].z);
   const std::string good = io::serialize_step_export(r);
@@ -190,7 +194,10 @@ TEST(DesignStep, TheHelpersRequestRoundTripsAndRefusesMalformedText) {
         std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\npoints 2\n-1 2\n2 3\n"),
         std::string("gonio-step-export 1\nproduct p\ntolerance 0\nparts 1\n"),
         std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\npoints 2\n1 nan\n2 3\n"),
-        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\npoints 1\n1 2\n")}) {
+        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\npoints 1\n1 2\n"),
+        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\ncurves 2 0 0\npoints 2\n1 2\n2 3\n"),
+        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\ncurves 2 0 1\npoints 2\n1 2\n2 3\n"),
+        std::string("gonio-step-export 1\nproduct p\ntolerance 1\nparts 1\npart a\ncurves 1 1\npoints 2\n1 2\n2 3\n")}) {
     Result<io::StepExport> parsed = io::parse_step_export(bad, "request");
     EXPECT_FALSE(parsed.ok()) << bad;
   }
@@ -255,6 +262,129 @@ TEST(DesignStep, FreeCadFindsThePartsByName) {
   }
   // The paraboloid's area as FreeCAD integrates it on the B-spline surface.
   EXPECT_NEAR(found["Outer dish"].area_mm2 / dish_area_mm2(), 1.0, 1e-5);  // measured 1.1e-6
+}
+
+// Lenses as solids: the meniscus of tests/design/lens_test.cpp (spheres of
+// R −40 and 30 mm, 6 mm thick, ρ to 12 mm) and a TIR collimator whose side
+// is a quadratic B-spline.
+const char* kLenses = R"(length_unit = "mm"
+
+[materials.pmma]
+dielectric = 1.0
+ior = 1.491
+
+[[emitters]]
+name = "LED"
+position = [0, 0, 0]
+profile = "led.ies"
+
+[[lenses]]
+name = "lens"
+material = "pmma"
+vertex = -5
+thickness = 6
+aperture = 12
+inner = { profile = "conic", radius = -40 }
+outer = { profile = "conic", radius = 30 }
+
+[[lenses]]
+name = "tir"
+material = "pmma"
+vertex = -30
+thickness = 18
+aperture = 3
+inner = { profile = "conic" }
+outer = { profile = "bspline", degree = 1, points = [[0, 0], [15, 0]] }
+side = { profile = "bspline", degree = 2, points = [[10, -32]] }
+)";
+
+// The meniscus's area: two spherical caps and the cylinder between the rims [mm²].
+double meniscus_area_mm2() {
+  const double hi = 40.0 - std::sqrt(40.0 * 40.0 - 144.0), ho = 30.0 - std::sqrt(30.0 * 30.0 - 144.0);
+  const double zi_rim = -5.0 + hi, zo_rim = -11.0 - ho;
+  return 2 * kPi * 40.0 * hi + 2 * kPi * 30.0 * ho + 2 * kPi * 12.0 * (zi_rim - zo_rim);
+}
+
+double distance_to_polygon(const std::vector<std::pair<double, double>>& poly, double rho, double z) {
+  double best = INFINITY;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const auto& a = poly[i];
+    const auto& b = poly[(i + 1) % poly.size()];
+    const double ex = b.first - a.first, ez = b.second - a.second, len2 = ex * ex + ez * ez;
+    const double u = len2 > 0 ? std::clamp(((rho - a.first) * ex + (z - a.second) * ez) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, std::hypot(rho - a.first - u * ex, z - a.second - u * ez));
+  }
+  return best;
+}
+
+TEST(DesignStep, LensesAreSolidsOnTheirExactSurfaces) {
+  test::TempDir dir;
+  test::write_file(dir / "lenses.design.toml", kLenses);
+  test::write_file(dir / "led.ies", "not read by the export\n");
+  Result<Design> d = read_design_file((dir / "lenses.design.toml").string());
+  ASSERT_TRUE(d.ok()) << to_string(d.error());
+  Result<DesignParts> parts = read_design_parts(resolved_document(*d), d->path);
+  ASSERT_TRUE(parts.ok()) << to_string(parts.error());
+  Result<StepExportInfo> info = write_design_step(*d, (dir / "cad" / "lenses.step").string());
+  ASSERT_TRUE(info.ok()) << to_string(info.error());
+  EXPECT_EQ(info->parts, 2u);
+  EXPECT_LE(info->max_deviation_mm, kStepToleranceMm);
+  io::CadLoadOptions o;
+  o.tessellation.angular_deflection_deg = 2.0;
+  Result<io::CadModel> model = io::tessellate_cad((dir / "cad" / "lenses.step").string(), o);
+  ASSERT_TRUE(model.ok()) << to_string(model.error());
+  for (const Lens& lens : parts->lenses) {
+    const auto part = std::find_if(model->parts.begin(), model->parts.end(),
+                                   [&](const io::CadPart& p) { return p.name == lens.name; });
+    ASSERT_NE(part, model->parts.end()) << lens.name;
+    EXPECT_EQ(part->solids, 1u) << lens.name;
+    EXPECT_EQ(part->faces, 3u) << lens.name;
+    const std::vector<std::pair<double, double>> poly = lens_meridian(lens, 4096);
+    double worst = 0.0;
+    std::size_t vertices = 0;
+    for (const io::CadSurface& s : part->surfaces)
+      for (std::size_t i = 0; i < s.positions.size(); i += 5, ++vertices) {
+        const sim::Vec3f& p = s.positions[i];
+        worst = std::max(worst, distance_to_polygon(poly, std::hypot(double(p.x), double(p.y)), p.z));
+      }
+    EXPECT_GT(vertices, 100u) << lens.name;
+    EXPECT_LT(worst, 2e-6) << lens.name;  // within the B-spline's 1 µm and the floats'
+  }
+  // The sidecar gives each lens its material.
+  const std::string sidecar = test::read_file(dir / "cad" / "lenses.gonio.toml");
+  EXPECT_NE(sidecar.find("match = \"tir\""), std::string::npos) << sidecar;
+  EXPECT_EQ(sidecar.find("[[lenses]]"), std::string::npos) << sidecar;
+
+  // FreeCAD finds the solids by name; the meniscus's area is the closed form's.
+  const fs::path py = test::source_dir() / "tests" / "design" / "read_step.py";
+  const fs::path listing = dir / "parts.txt";
+  const fs::path lock_dir = fs::path(GONIO_TEST_DATA_DIR) / "cad";
+  fs::create_directories(lock_dir);
+  const int lock = ::open((lock_dir / ".lock").c_str(), O_CREAT | O_RDWR, 0644);
+  if (lock >= 0) ::flock(lock, LOCK_EX);
+  test::ScopedEnv in("GONIO_STEP_IN", (dir / "cad" / "lenses.step").c_str());
+  test::ScopedEnv out("GONIO_STEP_OUT", listing.c_str());
+  Result<io::ProcessOutput> fc = io::run_program({"freecadcmd", py.string()}, std::chrono::seconds(300),
+                                                 std::size_t{1} << 20, "install Debian's freecad (scripts/setup.sh)");
+  if (lock >= 0) ::close(lock);
+  if (!fc.ok()) GONIO_MISSING("FreeCAD's freecadcmd on PATH: " + fc.error().message);
+  ASSERT_TRUE(fs::exists(listing)) << fc->out << fc->err;
+  std::map<std::string, std::pair<std::string, double>> found;
+  std::istringstream lines(test::read_file(listing));
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    std::string label, type, area;
+    ASSERT_TRUE(std::getline(fields, label, '\t') && std::getline(fields, type, '\t') &&
+                std::getline(fields, area, '\t'))
+        << line;
+    found[label] = {type, std::stod(area)};
+  }
+  for (const char* name : {"lens", "tir"}) {
+    ASSERT_TRUE(found.count(name)) << name << "\n" << test::read_file(listing);
+    EXPECT_EQ(found[name].first, "Part::Feature") << name;
+  }
+  std::printf("meniscus area: FreeCAD %.9g mm², closed form %.9g mm²\n", found["lens"].second, meniscus_area_mm2());
+  EXPECT_NEAR(found["lens"].second / meniscus_area_mm2(), 1.0, 1e-5);
 }
 
 }  // namespace

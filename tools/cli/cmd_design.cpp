@@ -31,6 +31,7 @@
 
 #include "design/design_export.h"
 #include "design/design_file.h"
+#include "design/lens_design.h"
 #include "design/reflector_design.h"
 #include "io/model/cad.h"
 #include "io/photometric/photometric_file.h"
@@ -123,18 +124,176 @@ int export_design(const std::string& path, const std::string& out_dir, double to
   return kExitOk;
 }
 
+// gonio design lens: the inputs as run_design parsed them.
+struct LensRun {
+  std::string emitter_path, target_text, out_dir, cone, map, name;
+  double distance_mm = 10.0, inner_mm = 0.0, ior = 1.491, gamma_step = 1.0, tolerance_mm = design::kStepToleranceMm;
+  long long photons = 2'000'000, seed = 1, threads = 0;
+  bool absolute = false;
+};
+
+// A lens of revolution for a point source at the origin (design/lens_design.h):
+// the files as the reflector's, the design traced against the target.
+int design_lens(const LensRun& in, const ArgParser& p, std::chrono::steady_clock::time_point start) {
+  design::LensDesignOptions o;
+  double from = 0.0;
+  if (!two_numbers(in.cone, from, o.to_deg) || from != 0.0 || !(o.to_deg > 0.0 && o.to_deg < 90.0)) {
+    print_usage_error("design", p,
+                      "--cone " + io::shown(in.cone) + ": a lens caps the source: give 0,TO in degrees, 0 < TO < 90");
+    return kExitUsage;
+  }
+  if (in.map != "uncrossed" && in.map != "crossed") {
+    print_usage_error("design", p, "--map must be uncrossed or crossed");
+    return kExitUsage;
+  }
+  if (in.name.find_first_of("/\\*?[]") != std::string::npos) {
+    print_usage_error("design", p, "--name must be a plain name (no / \\ * ? [ ])");
+    return kExitUsage;
+  }
+  if (!(in.ior > 1.0 && in.ior < 5.0)) {
+    print_usage_error("design", p, "--ior must lie in (1, 5)");
+    return kExitUsage;
+  }
+  o.map = in.map == "crossed" ? design::ReflectorMap::Crossed : design::ReflectorMap::Uncrossed;
+  o.ior = in.ior;
+  o.distance_m = in.distance_mm * 1e-3;
+  o.inner_radius_m = (in.inner_mm > 0.0 ? in.inner_mm : 0.5 * in.distance_mm) * 1e-3;
+  o.absolute = in.absolute;
+  Result<io::PhotometricFile> emitter = app::read_input(in.emitter_path, app::InputOptions{}, false);
+  if (!emitter.ok()) return kExitFailure;
+  photometry::Distribution target;
+  if (in.target_text.rfind("linear:", 0) == 0) {
+    double k = 0.0, c = 0.0;
+    if (!two_numbers(in.target_text.substr(7), k, c) || k == 0.0 || c != 0.0) {
+      print_usage_error("design", p, "--target linear:K,0 (a lens's exact case φ = Kθ): K ≠ 0, C = 0");
+      return kExitUsage;
+    }
+    target = design::linear_lens_target(emitter->distribution, k, o.to_deg, 0.01);
+  } else if (std::optional<Result<photometry::Distribution>> formula =
+                 target_formula(in.target_text, emitter->distribution, design::ReflectorDesignOptions{})) {
+    if (!formula->ok()) {
+      print_usage_error("design", p, formula->error().message);
+      return kExitUsage;
+    }
+    target = std::move(formula->value());
+  } else {
+    Result<io::PhotometricFile> file = app::read_input(in.target_text, app::InputOptions{}, false);
+    if (!file.ok()) return kExitFailure;
+    target = std::move(file->distribution);
+  }
+  Result<design::LensDesign> d = design::design_lens(emitter->distribution, target, o);
+  if (!d.ok()) return fail("no lens gives this target: " + d.error().message);
+
+  const fs::path dir(in.out_dir);
+  if (Status s = io::make_directories(in.out_dir); !s.ok()) return fail(to_string(s.error()));
+  const std::string emitter_copy = "emitter" + fs::path(in.emitter_path).extension().string();
+  Result<std::string> emitter_bytes = io::read_file(in.emitter_path, std::size_t{256} << 20);
+  if (!emitter_bytes.ok()) return fail(to_string(emitter_bytes.error()));
+  if (Status s = io::write_file_atomic((dir / emitter_copy).string(), *emitter_bytes); !s.ok())
+    return fail(to_string(s.error()));
+  const std::string design_path = (dir / (in.name + ".design.toml")).string();
+  const std::string text = design::write_design(
+      design::lens_design_document(*d, emitter_copy, o.ior, in.name),
+      {"A lens designed by gonio design lens (docs/design.md).",
+       "Emitter " + fs::path(in.emitter_path).filename().string() + ", target " + in.target_text + ", cone " + in.cone +
+           "°, map " + in.map + ", n = " + format_number(o.ior) + "."});
+  if (Status s = io::write_file_atomic(design_path, text); !s.ok()) return fail(to_string(s.error()));
+  const std::string target_path = (dir / "target.ies").string();
+  if (Status s = io::write_photometric_file(target_path, target, {}, nullptr); !s.ok()) return fail(to_string(s.error()));
+  Result<design::Design> written = design::read_design_file(design_path);
+  if (!written.ok()) return fail(to_string(written.error()));
+  const std::string gltf_path = (dir / (in.name + ".gltf")).string();
+  if (Status s = design::write_design_gltf(*written, gltf_path, io::tessellation_for_grid(in.gamma_step)); !s.ok())
+    return fail(to_string(s.error()));
+  const std::string step_path = (dir / (in.name + ".step")).string();
+  std::string step_note;
+  if (io::cad_supported()) {
+    Result<design::StepExportInfo> step = design::write_design_step(*written, step_path, in.tolerance_mm);
+    if (!step.ok()) return fail(to_string(step.error()));
+    step_note = ", " + step_path;
+  } else {
+    step_note = " (no STEP: this gonio was built without OpenCASCADE)";
+  }
+
+  app::SimulateOptions options;
+  options.out_dir = in.out_dir;
+  options.stem = in.name;
+  options.format_list = "ies,ldt";
+  options.photons = in.photons;
+  options.iterations = 1;
+  options.seed = in.seed;
+  options.threads = in.threads;
+  options.gamma_step = in.gamma_step;
+  options.no_cache = true;
+  std::optional<app::SimulatePlan> plan = plan_or_usage("design", design_path, options, p);
+  if (!plan) return kExitUsage;
+  std::optional<app::SimulateResult> result = app::simulate(*plan, {}, start);
+  if (!result || !result->files) return kExitFailure;
+  const int code = print_run_files(*plan, result->run, *result->files);
+
+  const std::string traced_path = (dir / (in.name + ".ies")).string();
+  Result<io::PhotometricFile> traced = app::read_input(traced_path, app::InputOptions{}, false);
+  if (!traced.ok()) return kExitFailure;
+  photometry::CompareOptions compare;
+  compare.gamma_step_deg = 90.0 / std::round(90.0 / in.gamma_step);
+  compare.normalize_flux = true;  // Fresnel reflections at both faces are real: compare the shapes
+  Result<photometry::Comparison> cmp = photometry::compare(target, traced->distribution, compare);
+  if (!cmp.ok()) return fail(cmp.error().message);
+  const double beam_target = photometry::beam_angle(target, 0.0).angle_deg;
+  const double beam_traced = photometry::beam_angle(traced->distribution, 0.0).angle_deg;
+  io::PhotometricFile target_file;
+  target_file.distribution = target;
+  nlohmann::json against = app::compare_json(target_path, target_file, traced_path, *traced, *cmp, compare);
+  against["beam_angle_target_deg"] = app::json_number(beam_target);
+  against["beam_angle_traced_deg"] = app::json_number(beam_traced);
+  nlohmann::json profile = {{"theta_deg", nlohmann::json::array()}, {"r_mm", nlohmann::json::array()}};
+  for (std::size_t i = 0; i < d->outer.theta.size(); ++i) {
+    profile["theta_deg"].push_back(d->outer.theta[i] * 180.0 / std::numbers::pi);
+    profile["r_mm"].push_back(d->outer.r[i] * 1e3);
+  }
+  nlohmann::json report = result->files->report;
+  report["design"] = {{"kind", "lens"},
+                      {"emitter", in.emitter_path},
+                      {"target", in.target_text},
+                      {"map", in.map},
+                      {"cone_deg", {0.0, o.to_deg}},
+                      {"ior", o.ior},
+                      {"distance_mm", in.distance_mm},
+                      {"inner_radius_mm", o.inner_radius_m * 1e3},
+                      {"absolute", in.absolute},
+                      {"emitter_flux_lm", d->emitter_flux_lm},
+                      {"cone_flux_lm", d->cone_flux_lm},
+                      {"direct_flux_lm", d->direct_flux_lm},
+                      {"target_scale", d->target_scale},
+                      {"refracted_gamma_deg", {d->target_from_deg, d->target_to_deg}},
+                      {"largest_deviation_deg", d->largest_deviation_deg},
+                      {"thinnest_mm", d->thinnest_m * 1e3},
+                      {"files", {design_path, emitter_copy, gltf_path, step_path, target_path}},
+                      {"outer_profile", profile},
+                      {"against_target", against}};
+  if (Status s = io::write_file_atomic(result->files->report_path, report.dump(2) + "\n"); !s.ok())
+    return fail(to_string(s.error()));
+  std::printf("design: %s (%zu points, map %s, cone %s°, n %s), %s%s, target.ies\n", design_path.c_str(),
+              d->outer.theta.size(), in.map.c_str(), in.cone.c_str(), format_number(o.ior).c_str(), gltf_path.c_str(),
+              step_note.c_str());
+  std::printf("against the target (flux-normalised): RMS %s %% of its peak, largest %s %%, beam angle %s° (target %s°)\n",
+              format_number(100.0 * cmp->rms_relative, 3).c_str(), format_number(100.0 * cmp->max_relative, 3).c_str(),
+              format_number(beam_traced, 4).c_str(), format_number(beam_target, 4).c_str());
+  return code;
+}
+
 }  // namespace
 
 int run_design(const Args& args) {
   const auto start = std::chrono::steady_clock::now();
-  std::string kind, emitter_path, target_text, out_dir, cone = "45,180", map = "uncrossed", name = "reflector";
-  double distance_mm = 20.0, reflectance = 1.0, gamma_step = 1.0;
+  std::string kind, emitter_path, target_text, out_dir, cone, map = "uncrossed", name;
+  double distance_mm = 0.0, reflectance = 1.0, gamma_step = 1.0, ior = 1.491, inner_mm = 0.0;
   long long nodes = 61, photons = 2'000'000, seed = 1, threads = 0;
   bool absolute = false;
   double tolerance_mm = design::kStepToleranceMm;
   std::vector<std::string> files;
   ArgParser p("design",
-              "reflector --emitter FILE --target FILE|FORMULA --out DIR [options]\n"
+              "reflector|lens --emitter FILE --target FILE|FORMULA --out DIR [options]\n"
               "       gonio design export FILE.design.toml --out DIR [--tolerance MM] [--gamma-step DEG]",
               "Designs a reflector of revolution that turns a point source's light into a\n"
               "rotationally symmetric target (both averaged over C): the energy-conserving map\n"
@@ -148,20 +307,27 @@ int run_design(const Args& args) {
               "φ = Kθ + C° of the emitter over the cone, with its direct light); it also writes\n"
               "DIR/NAME.step (B-spline surfaces of revolution, named parts) and its sidecar\n"
               "DIR/NAME.gonio.toml. `gonio design export FILE.design.toml --out DIR` writes\n"
-              "any design file's parts as DIR/STEM.step (with STEM.gonio.toml) and DIR/STEM.gltf.");
-  p.positional("KIND", &kind, "what to do: reflector (design one) or export (write a design file as STEP and glTF)");
+              "any design file's parts as DIR/STEM.step (with STEM.gonio.toml) and DIR/STEM.gltf.\n"
+              "`gonio design lens` designs a lens of revolution instead: an inner sphere about\n"
+              "the source and an outer surface from Snell's law, d(ln r)/dθ = sin(φ − θ)/(n −\n"
+              "cos(φ − θ)), over the cone 0…TO; linear:K,0 is its exact case φ = Kθ.");
+  p.positional("KIND", &kind,
+               "what to do: reflector or lens (design one) or export (write a design file as STEP and glTF)");
   p.positional_list("FILE", &files, 0, "export: the design file");
   p.option("emitter", &emitter_path, "FILE", "the point source's photometric file (IES, LDT, TM-33), nadir −Z");
   p.option("target", &target_text, "FILE|FORMULA", "the target distribution: a photometric file or a formula");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
-  p.option("cone", &cone, "FROM,TO", "the emitter's γ range the reflector catches [deg] (default 45,180)");
+  p.option("cone", &cone, "FROM,TO", "the emitter's γ range the part catches [deg] (default 45,180; lens 0,60)");
   p.option("map", &map, "uncrossed|crossed",
            "uncrossed: reflected rays stay on their side of the axis (default); crossed: they cross it");
-  p.option("distance", &distance_mm, 0.001, 1e6, "MM", "the reflector's distance from the source at TO (default 20)");
+  p.option("distance", &distance_mm, 0.001, 1e6, "MM",
+           "the reflector's distance from the source at TO (default 20); the lens's outer vertex's at 0 (default 10)");
+  p.option("ior", &ior, 1.000001, 5.0, "N", "lens: the glass's refractive index (default 1.491, PMMA at 587.6 nm)");
+  p.option("inner", &inner_mm, 0.001, 1e6, "MM", "lens: the radius of the inner sphere about the source (default --distance / 2)");
   p.option("nodes", &nodes, 4, 10000, "N", "points of the profile's polar table (default 61)");
   p.option("reflectance", &reflectance, 1e-6, 1.0, "R", "the mirror's specular reflectance (default 1)");
   p.flag("absolute", &absolute, "take the target's candela as they are, not scaled to the flux that leaves");
-  p.option("name", &name, "NAME", "the reflector's and the files' name (default reflector)");
+  p.option("name", &name, "NAME", "the part's and the files' name (default reflector, or lens)");
   p.option("photons", &photons, 1, 4'294'967'295LL, "N", "photons of the trace (default 2000000)");
   p.option("seed", &seed, 0, 9'223'372'036'854'775'807LL, "S", "seed of the trace (default 1)");
   p.option("threads", &threads, 0, 4096, "T", "threads of the trace (default 0: all cores)");
@@ -180,17 +346,24 @@ int run_design(const Args& args) {
     print_usage_error("design", p, "unexpected argument " + io::shown(files[0]));
     return kExitUsage;
   }
-  if (kind != "reflector") {
-    print_usage_error("design", p,
-                      kind == "lens" ? "lenses are not designed yet; only 'reflector'" : "KIND must be 'reflector' or 'export'");
+  if (kind != "reflector" && kind != "lens") {
+    print_usage_error("design", p, "KIND must be 'reflector', 'lens' or 'export'");
     return kExitUsage;
   }
+  if (name.empty()) name = kind;
+  if (cone.empty()) cone = kind == "lens" ? "0,60" : "45,180";
+  if (distance_mm == 0.0) distance_mm = kind == "lens" ? 10.0 : 20.0;
   for (auto [value, option] : {std::pair{&emitter_path, "--emitter FILE"}, std::pair{&target_text, "--target"},
                                std::pair{&out_dir, "--out DIR"}})
     if (value->empty()) {
       print_usage_error("design", p, std::string(option) + " is required");
       return kExitUsage;
     }
+  if (kind == "lens") {
+    LensRun lens{emitter_path, target_text, out_dir, cone, map, name, distance_mm, inner_mm, ior, gamma_step,
+                 tolerance_mm, photons, seed, threads, absolute};
+    return design_lens(lens, p, start);
+  }
   design::ReflectorDesignOptions o;
   if (!two_numbers(cone, o.from_deg, o.to_deg) || !(o.from_deg >= 0 && o.from_deg < o.to_deg && o.to_deg <= 180)) {
     print_usage_error("design", p, "--cone " + io::shown(cone) + ": give FROM,TO in degrees, 0 ≤ FROM < TO ≤ 180");

@@ -27,7 +27,7 @@ TEST(Library, PresetsAreValidNamedAndSourced) {
     EXPECT_EQ(find_preset(p.name), &p);
   }
   for (const char* n : {"white powder coat", "anodised aluminium", "specular aluminium", "opal PC 3 mm",
-                        "satin PC 3 mm", "opal PMMA 3 mm", "satin PMMA 3 mm", "black"})
+                        "satin PC 3 mm", "opal PMMA 3 mm", "satin PMMA 3 mm", "clear PMMA", "clear PC", "black"})
     EXPECT_NE(find_preset(n), nullptr) << n;
   EXPECT_EQ(find_preset("Opal PC 3 mm"), nullptr);
   // Surfaces reflect their stated totals.
@@ -35,6 +35,11 @@ TEST(Library, PresetsAreValidNamedAndSourced) {
   EXPECT_NEAR(find_preset("anodised aluminium")->material.total(), 0.85, 1e-12);
   EXPECT_NEAR(find_preset("specular aluminium")->material.total(), 0.95, 1e-12);
   EXPECT_NEAR(find_preset("black")->material.total(), 0.05, 1e-12);
+  // Clear plastics: a lossless dielectric of the measured index.
+  EXPECT_EQ(find_preset("clear PMMA")->material.dielectric, 1.0);
+  EXPECT_EQ(find_preset("clear PMMA")->material.ior, 1.491);
+  EXPECT_EQ(find_preset("clear PC")->material.ior, 1.585);
+  EXPECT_EQ(find_preset("clear PC")->material.attenuation_per_m, 0.0);
 }
 
 TEST(Library, VolumePresetsGiveBackTheirDatasheetValues) {

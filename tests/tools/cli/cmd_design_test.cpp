@@ -173,7 +173,7 @@ TEST(DesignCli, TargetsNoReflectorCanGiveAndBadOptions) {
              "--map", "crossed", "--out", (dir / "b").string(), "--photons", "100000"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   for (const std::vector<std::string>& bad :
-       {std::vector<std::string>{"design", "lens", "--emitter", emitter.string(), "--target", "uniform:0,60", "--out", "x"},
+       {std::vector<std::string>{"design", "prism", "--emitter", emitter.string(), "--target", "uniform:0,60", "--out", "x"},
         std::vector<std::string>{"design", "reflector", "--target", "uniform:0,60", "--out", "x"},
         std::vector<std::string>{"design", "reflector", "--emitter", emitter.string(), "--target", "uniform:0,60",
                                  "--out", "x", "--map", "sideways"},

@@ -1,0 +1,418 @@
+#include "design/lens.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+#include "io/support/text.h"
+#include "photometry/format.h"
+
+namespace gonio::design {
+namespace {
+
+using io::TomlNode;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+Error fail(const std::string& file, int line, std::string message) {
+  return Error{{file, line, 0}, std::move(message)};
+}
+
+std::string mm(double m) { return format_number(m * 1e3, 4); }
+
+// Reads the numbers of one [[lenses]] table and its surface tables.
+class LensReader {
+ public:
+  LensReader(const std::string& path, double unit_m, std::string what) : path_(path), unit_(unit_m), what_(std::move(what)) {}
+
+  Result<std::optional<double>> number(const TomlNode& t, const char* key, const std::string& what) const {
+    const TomlNode* n = t.get(key);
+    if (!n) return std::optional<double>();
+    const std::optional<double> v = n->number();
+    if (!v || !std::isfinite(*v)) return fail(path_, n->line, what + ": '" + key + "' must be a finite number");
+    return v;
+  }
+  Result<std::vector<double>> numbers(const TomlNode& t, const char* key, const std::string& what, bool required) const {
+    const TomlNode* n = t.get(key);
+    if (!n) {
+      if (required) return fail(path_, t.line, what + ": '" + key + "' is missing");
+      return std::vector<double>();
+    }
+    std::vector<double> out;
+    bool ok = n->is_array();
+    for (std::size_t i = 0; ok && i < n->array.size(); ++i) {
+      const std::optional<double> v = n->array[i].number();
+      ok = v && std::isfinite(*v);
+      if (ok) out.push_back(*v);
+    }
+    if (!ok) return fail(path_, n->line, what + ": '" + key + "' must be an array of finite numbers");
+    return out;
+  }
+  // B-spline control points [[ρ, z], …] in metres.
+  Status points(const TomlNode& t, const std::string& what, BSplineProfile& b) const {
+    const TomlNode* points = t.get("points");
+    if (!points) return fail(path_, t.line, what + ": 'points' is missing");
+    bool ok = points->is_array();
+    for (std::size_t i = 0; ok && i < points->array.size(); ++i) {
+      const TomlNode& pt = points->array[i];
+      ok = pt.is_array() && pt.array.size() == 2;
+      const double pr = ok ? pt.array[0].number().value_or(kNaN) : kNaN;
+      const double pz = ok ? pt.array[1].number().value_or(kNaN) : kNaN;
+      ok = std::isfinite(pr) && std::isfinite(pz);
+      if (ok) {
+        b.rho.push_back(pr * unit_);
+        b.z.push_back(pz * unit_);
+      }
+    }
+    if (!ok) return fail(path_, points->line, what + ": 'points' must be an array of [ρ, z] pairs of finite numbers");
+    if (b.rho.size() > 10000) return fail(path_, points->line, what + ": more than 10000 points");
+    return Ok{};
+  }
+  Result<int> degree(const TomlNode& t, const std::string& what, int fallback) const {
+    Result<std::optional<double>> d = number(t, "degree", what);
+    if (!d.ok()) return d.error();
+    const double wanted = d->value_or(fallback);
+    if (!(wanted >= 1.0 && wanted <= 5.0) || wanted != std::trunc(wanted))
+      return fail(path_, t.get("degree")->line, what + ": 'degree' must be a whole number, 1 … 5");
+    return static_cast<int>(wanted);
+  }
+
+  // A surface: `vertex_z` its vertex's height (conic and B-spline), `aperture` the conic's rim.
+  Result<Profile> surface(const TomlNode& t, const std::string& what, std::optional<double> vertex_z,
+                          std::optional<double> aperture, const char* vertex_needs) const {
+    if (!t.is_table()) return fail(path_, t.line, what + " must be a table, e.g. { profile = \"conic\", radius = 20 }");
+    const TomlNode* kind = t.get("profile");
+    if (!kind || !kind->is_string()) return fail(path_, t.line, what + ": 'profile' (conic, bspline, polar) is missing");
+    auto need_vertex = [&]() -> Status {
+      if (!vertex_z) return fail(path_, t.line, what + ": a " + kind->string + " surface needs the lens's " + vertex_needs);
+      return Ok{};
+    };
+    if (kind->string == "conic") {
+      if (Status s = io::check_keys(t, {"profile", "radius", "conic", "aspheric"}, what, path_); !s.ok()) return s.error();
+      if (Status s = need_vertex(); !s.ok()) return s.error();
+      if (!aperture) return fail(path_, t.line, what + ": a conic surface needs the lens's 'aperture' (its rim's ρ)");
+      ConicProfile c;
+      Result<std::optional<double>> radius = number(t, "radius", what);
+      if (!radius.ok()) return radius.error();
+      Result<std::optional<double>> conic = number(t, "conic", what);
+      if (!conic.ok()) return conic.error();
+      Result<std::vector<double>> aspheric = numbers(t, "aspheric", what, false);
+      if (!aspheric.ok()) return aspheric.error();
+      c.radius = radius->value_or(0.0) * unit_;
+      c.conic = conic->value_or(0.0);
+      c.vertex = *vertex_z;
+      c.inner = 0.0;
+      c.outer = *aperture;
+      for (std::size_t i = 0; i < aspheric->size(); ++i)
+        c.aspheric.push_back((*aspheric)[i] * std::pow(unit_, 1.0 - 2.0 * static_cast<double>(i + 2)));
+      return Profile(c);
+    }
+    if (kind->string == "bspline") {
+      if (Status s = io::check_keys(t, {"profile", "degree", "points"}, what, path_); !s.ok()) return s.error();
+      if (Status s = need_vertex(); !s.ok()) return s.error();
+      BSplineProfile b;
+      Result<int> deg = degree(t, what, 3);
+      if (!deg.ok()) return deg.error();
+      b.degree = *deg;
+      if (Status s = points(t, what, b); !s.ok()) return s.error();
+      if (b.rho.empty() || b.rho[0] != 0.0 || b.z[0] != 0.0)
+        return fail(path_, t.get("points")->line,
+                    what + ": the first point must be the vertex, [0, 0] (points are relative to the surface's vertex)");
+      for (double& z : b.z) z += *vertex_z;
+      return Profile(b);
+    }
+    if (kind->string == "polar") {
+      if (Status s = io::check_keys(t, {"profile", "theta_deg", "r"}, what, path_); !s.ok()) return s.error();
+      PolarProfile p;
+      Result<std::vector<double>> theta = numbers(t, "theta_deg", what, true);
+      if (!theta.ok()) return theta.error();
+      Result<std::vector<double>> radii = numbers(t, "r", what, true);
+      if (!radii.ok()) return radii.error();
+      for (double v : *theta) p.theta.push_back(v * std::numbers::pi / 180.0);
+      for (double v : *radii) p.r.push_back(v * unit_);
+      if (p.theta.empty() || p.theta[0] != 0.0)
+        return fail(path_, t.get("theta_deg")->line,
+                    what + ": a lens's polar surface starts on the axis below the source: theta_deg[0] must be 0");
+      return Profile(p);
+    }
+    return fail(path_, kind->line,
+                what + ": profile " + io::shown(kind->string) + " is not one a lens surface takes (conic, bspline, polar)");
+  }
+
+ private:
+  const std::string& path_;
+  double unit_;
+  std::string what_;
+};
+
+void point_at(const ProfileCurve& c, double t, double& rho, double& z) {
+  double dr = 0, dz = 0;
+  c.eval(t, rho, z, dr, dz);
+}
+
+double signed_area(const std::vector<std::pair<double, double>>& poly) {
+  double a = 0.0;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const auto& p = poly[i];
+    const auto& q = poly[(i + 1) % poly.size()];
+    a += p.first * q.second - q.first * p.second;
+  }
+  return 0.5 * a;
+}
+
+bool inside_polygon(const std::vector<std::pair<double, double>>& poly, double x, double y) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const auto& a = poly[i];
+    const auto& b = poly[j];
+    if ((a.second > y) != (b.second > y) && x < (b.first - a.first) * (y - a.second) / (b.second - a.second) + a.first)
+      in = !in;
+  }
+  return in;
+}
+
+// The curves of a checked lens (read_lens made them once already).
+struct Curves {
+  ProfileCurve inner, outer;
+  std::optional<ProfileCurve> side;
+};
+Curves curves_of(const Lens& lens) {
+  Curves c{*ProfileCurve::make(lens.inner), *ProfileCurve::make(lens.outer), std::nullopt};
+  if (lens.has_side) c.side = *ProfileCurve::make(lens.side);
+  return c;
+}
+
+}  // namespace
+
+Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) {
+  const std::string what = "[[lenses]] at line " + std::to_string(t.line);
+  if (Status s = io::check_keys(t, {"name", "material", "vertex", "thickness", "aperture", "inner", "outer", "side"}, what,
+                                path);
+      !s.ok())
+    return s.error();
+  Lens lens;
+  lens.line = t.line;
+  for (auto [key, out] : {std::pair{"name", &lens.name}, std::pair{"material", &lens.material}}) {
+    const TomlNode* n = t.get(key);
+    if (!n) return fail(path, t.line, what + ": '" + key + "' is missing");
+    if (!n->is_string()) return fail(path, n->line, what + ": '" + key + "' must be a string");
+    *out = n->string;
+  }
+  if (lens.name.empty() || lens.name.find_first_of("*?[]/\\") != std::string::npos)
+    return fail(path, t.get("name")->line, what + ": 'name' must be non-empty, without * ? [ ] / \\");
+  const std::string named = what + " (" + lens.name + ")";
+  LensReader r(path, unit, named);
+  Result<std::optional<double>> vertex = r.number(t, "vertex", named);
+  if (!vertex.ok()) return vertex.error();
+  Result<std::optional<double>> thickness = r.number(t, "thickness", named);
+  if (!thickness.ok()) return thickness.error();
+  Result<std::optional<double>> aperture = r.number(t, "aperture", named);
+  if (!aperture.ok()) return aperture.error();
+  if (*aperture && !(**aperture > 0.0))
+    return fail(path, t.get("aperture")->line, named + ": 'aperture' (the rims' ρ) must be > 0");
+  std::optional<double> v, a, v_out;
+  if (vertex->has_value()) v = vertex->value() * unit;
+  if (aperture->has_value()) a = aperture->value() * unit;
+  if (vertex->has_value() && thickness->has_value()) v_out = (vertex->value() - thickness->value()) * unit;
+  for (const char* key : {"inner", "outer"})
+    if (!t.get(key)) return fail(path, t.line, named + ": '" + key + "' (a surface table) is missing");
+  Result<Profile> inner = r.surface(*t.get("inner"), named + ": inner", v, a, "'vertex'");
+  if (!inner.ok()) return inner.error();
+  Result<Profile> outer = r.surface(*t.get("outer"), named + ": outer", v_out, a, "'vertex' and 'thickness'");
+  if (!outer.ok()) return outer.error();
+  lens.inner = *inner;
+  lens.outer = *outer;
+  Result<ProfileCurve> ci = ProfileCurve::make(lens.inner);
+  if (!ci.ok()) return fail(path, t.get("inner")->line, named + ": inner: " + ci.error().message);
+  Result<ProfileCurve> co = ProfileCurve::make(lens.outer);
+  if (!co.ok()) return fail(path, t.get("outer")->line, named + ": outer: " + co.error().message);
+  double ri = 0, zi = 0, ro = 0, zo = 0;
+  for (auto [curve, key] : {std::pair{&*ci, "inner"}, std::pair{&*co, "outer"}}) {
+    double rho = 0, z = 0;
+    point_at(*curve, curve->t0(), rho, z);
+    if (std::abs(rho) > 1e-12)
+      return fail(path, t.get(key)->line, named + ": " + key + ": the surface must start on the axis (ρ = 0), not at ρ = " +
+                                              mm(rho) + " mm");
+  }
+  point_at(*ci, ci->t1(), ri, zi);
+  point_at(*co, co->t1(), ro, zo);
+  if (!(ri > 0.0) || !(ro > 0.0)) return fail(path, t.line, named + ": a surface's rim lies on the axis");
+
+  // The side: from the inner rim to the outer rim.
+  BSplineProfile side;
+  side.degree = 1;
+  if (const TomlNode* s = t.get("side")) {
+    const std::string sw = named + ": side";
+    if (!s->is_table()) return fail(path, s->line, sw + " must be a table { profile = \"bspline\", points = [...] }");
+    if (Status st = io::check_keys(*s, {"profile", "degree", "points"}, sw, path); !st.ok()) return st.error();
+    const TomlNode* kind = s->get("profile");
+    if (!kind || !kind->is_string() || kind->string != "bspline")
+      return fail(path, kind ? kind->line : s->line, sw + ": 'profile' must be \"bspline\" (the rims are its end points)");
+    BSplineProfile between;
+    if (Status st = r.points(*s, sw, between); !st.ok()) return st.error();
+    side.rho.push_back(ri);
+    side.z.push_back(zi);
+    side.rho.insert(side.rho.end(), between.rho.begin(), between.rho.end());
+    side.z.insert(side.z.end(), between.z.begin(), between.z.end());
+    side.rho.push_back(ro);
+    side.z.push_back(zo);
+    Result<int> deg = r.degree(*s, sw, std::min<int>(3, static_cast<int>(side.rho.size()) - 1));
+    if (!deg.ok()) return deg.error();
+    side.degree = *deg;
+    Result<ProfileCurve> cs = ProfileCurve::make(side);
+    if (!cs.ok()) return fail(path, s->line, sw + ": " + cs.error().message);
+  } else {
+    side.rho = {ri, ro};
+    side.z = {zi, zo};
+    lens.has_side = std::hypot(ri - ro, zi - zo) > 1e-9;
+  }
+  lens.side = side;
+
+  // Thinner than zero: the meridian crosses itself, or winds the wrong way.
+  const std::vector<std::pair<double, double>> poly = lens_meridian(lens, 1024);
+  const std::size_t n = poly.size();
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;  // neighbours across the closing segment
+      const auto& p0 = poly[i];
+      const auto& p1 = poly[i + 1];
+      const auto& q0 = poly[j];
+      const auto& q1 = poly[(j + 1) % n];
+      if (segments_cross(p0.first, p0.second, p1.first, p1.second, q0.first, q0.second, q1.first, q1.second))
+        return fail(path, t.line, named + ": the lens is thinner than zero near (ρ, z) = (" + mm(q0.first) + ", " +
+                                      mm(q0.second) + ") mm: its surfaces cross");
+    }
+  double zi0 = 0, zo0 = 0, dummy = 0;
+  point_at(*ci, ci->t0(), dummy, zi0);
+  point_at(*co, co->t0(), dummy, zo0);
+  if (!(zi0 > zo0) || !(signed_area(poly) < 0.0))
+    return fail(path, t.line, named + ": the lens is thinner than zero on the axis (inner vertex at z = " + mm(zi0) +
+                                  " mm, outer at " + mm(zo0) +
+                                  " mm): the inner surface, facing the source, lies above the outer one");
+  return lens;
+}
+
+std::vector<std::pair<double, double>> lens_meridian(const Lens& lens, std::size_t samples) {
+  const Curves c = curves_of(lens);
+  std::vector<std::pair<double, double>> out;
+  auto add = [&](const ProfileCurve& curve, bool reversed, bool skip_first) {
+    for (std::size_t k = skip_first ? 1 : 0; k < samples; ++k) {
+      const double u = static_cast<double>(reversed ? samples - 1 - k : k) / static_cast<double>(samples - 1);
+      double rho = 0, z = 0;
+      point_at(curve, curve.t0() + (curve.t1() - curve.t0()) * u, rho, z);
+      out.emplace_back(rho, z);
+    }
+  };
+  add(c.inner, false, false);
+  if (c.side) add(*c.side, false, true);
+  add(c.outer, true, true);
+  return out;
+}
+
+Result<io::CadPart> lens_part(const Lens& lens, const io::CadTessellation& t, std::size_t max_triangles) {
+  const Curves c = curves_of(lens);
+  // One size and chordal deflection for the solid, and one azimuth count.
+  double rho_max = 0.0, z_min = INFINITY, z_max = -INFINITY;
+  for (const auto& [rho, z] : lens_meridian(lens, 1024)) {
+    rho_max = std::max(rho_max, rho);
+    z_min = std::min(z_min, z);
+    z_max = std::max(z_max, z);
+  }
+  const double size = std::sqrt(8.0 * rho_max * rho_max + (z_max - z_min) * (z_max - z_min));
+  io::CadTessellation fixed = t;
+  fixed.chordal_m = t.chordal_m > 0.0 ? t.chordal_m : std::max(t.chordal_relative * size, t.chordal_min_m);
+  const double delta = t.angular_deflection_deg * std::numbers::pi / 180.0;
+  std::size_t segments = static_cast<std::size_t>(std::ceil(2.0 * std::numbers::pi / delta));
+  if (rho_max > fixed.chordal_m)
+    segments = std::max(segments, static_cast<std::size_t>(std::ceil(std::numbers::pi / std::acos(1.0 - fixed.chordal_m / rho_max))));
+  segments = std::max<std::size_t>(segments, 8);
+
+  io::CadPart part;
+  part.name = lens.name;
+  part.size_m = size;
+  part.chordal_m = fixed.chordal_m;
+  part.solids = 1;
+  // The meridian runs clockwise in (ρ, z) (inner, side, outer reversed):
+  // outward is −(dz, −dρ) along inner and side, +(dz, −dρ) along outer.
+  struct One {
+    const ProfileCurve* curve;
+    int side;
+  };
+  std::vector<One> surfaces = {{&c.inner, -1}};
+  if (c.side) surfaces.push_back({&*c.side, -1});
+  surfaces.push_back({&c.outer, +1});
+  std::size_t budget = max_triangles;
+  for (const One& s : surfaces) {
+    RevolveOptions extra;
+    extra.normal_side = s.side;
+    extra.segments = segments;
+    Result<io::CadSurface> m = revolve(*s.curve, fixed, budget, nullptr, nullptr, extra);
+    if (!m.ok()) return m.error();
+    budget -= std::min(budget, m->indices.size() / 3);
+    part.surfaces.push_back(std::move(*m));
+  }
+  // The rims share their positions (a closed solid to the bit): the inner
+  // surface's last ring is the side's first, the side's last the outer's last.
+  auto ring = [&](io::CadSurface& s, bool last) {
+    return last ? s.positions.begin() + static_cast<std::ptrdiff_t>(s.positions.size() - segments) : s.positions.begin();
+  };
+  io::CadSurface& inner = part.surfaces.front();
+  io::CadSurface& outer = part.surfaces.back();
+  if (c.side) {
+    io::CadSurface& side = part.surfaces[1];
+    std::copy_n(ring(inner, true), segments, ring(side, false));
+    std::copy_n(ring(side, true), segments, ring(outer, true));
+  } else {
+    std::copy_n(ring(inner, true), segments, ring(outer, true));
+  }
+  part.faces = static_cast<std::uint32_t>(part.surfaces.size());
+  // One surface, so that the solid is one mesh (the model checks ask each
+  // refractive mesh to be closed on its own); vertices stay per surface,
+  // each with its surface's normal, the rims' positions shared.
+  io::CadSurface solid;
+  for (const io::CadSurface& s : part.surfaces) {
+    const auto base = static_cast<std::uint32_t>(solid.positions.size());
+    solid.positions.insert(solid.positions.end(), s.positions.begin(), s.positions.end());
+    solid.normals.insert(solid.normals.end(), s.normals.begin(), s.normals.end());
+    for (std::uint32_t i : s.indices) solid.indices.push_back(base + i);
+  }
+  part.surfaces.assign(1, std::move(solid));
+  return part;
+}
+
+std::string lens_emitter_problem(const Lens& lens, const Vec3& p, double chordal_m) {
+  const Curves c = curves_of(lens);
+  const double rho = std::hypot(p.x, p.y);
+  double d = std::min(distance_to_profile(c.inner, rho, p.z), distance_to_profile(c.outer, rho, p.z));
+  if (c.side) d = std::min(d, distance_to_profile(*c.side, rho, p.z));
+  if (d <= chordal_m)
+    return "a surface passes through the emitter (" + mm(d) + " mm from it, within the chordal deflection " +
+           mm(chordal_m) + " mm)";
+  if (inside_polygon(lens_meridian(lens, 1024), rho, p.z))
+    return "the emitter lies inside the glass (photons start in air: give the source a cavity, e.g. an inner "
+           "surface that is a sphere about it)";
+  return {};
+}
+
+LensCurves lens_curves_mm(const Lens& lens, int samples) {
+  const Curves c = curves_of(lens);
+  LensCurves out;
+  std::vector<const ProfileCurve*> list = {&c.inner};
+  if (c.side) list.push_back(&*c.side);
+  list.push_back(&c.outer);
+  for (const ProfileCurve* curve : list) {
+    std::vector<double> rho, z;
+    for (int i = 0; i < samples; ++i) {
+      double r = 0, zz = 0;
+      point_at(*curve, curve->t0() + (curve->t1() - curve->t0()) * i / (samples - 1), r, zz);
+      rho.push_back(std::max(0.0, r) * 1e3);
+      z.push_back(zz * 1e3);
+    }
+    out.rho.push_back(std::move(rho));
+    out.z.push_back(std::move(z));
+  }
+  return out;
+}
+
+}  // namespace gonio::design
