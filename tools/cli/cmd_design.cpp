@@ -175,7 +175,7 @@ int run_design(const Args& args) {
               "any design file's parts as DIR/STEM.step (with STEM.gonio.toml) and DIR/STEM.gltf.");
   p.positional("KIND", &kind, "what to do: reflector (design one) or export (write a design file as STEP and glTF)");
   p.positional_list("FILE", &files, 0, "export: the design file");
-  p.option("emitter", &emitter_path, "FILE", "the point source's photometric file (IES, LDT, TM-33), nadir −Z");
+  p.option("emitter", &emitter_path, "FILE", "the source: a photometric file (IES, LDT, TM-33; nadir −Z) or a TM-25 ray file");
   p.option("target", &target_text, "FILE|FORMULA", "the target distribution: a photometric file or a formula");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
   p.option("cone", &cone, "FROM,TO", "the emitter's γ range the reflector catches [deg] (default 45,180)");
