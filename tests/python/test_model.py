@@ -15,7 +15,8 @@ RUN = dict(photons=20000, iterations=1, seed=3, threads=1, gamma_step=2.5)
 def paraboloid(focal=0.02, rho_max=0.03, rings=12, sectors=24):
     """A paraboloid dish in glTF's axes (Y up), its focus at the origin,
     opening downward (−Y): vertices [m], triangles counter-clockwise seen
-    from the focus (inside), and its exact unit normals toward the focus's side."""
+    from the focus (inside), and its exact unit normals toward the focus's
+    side (a coarse mesh: with them the beam is collimated, without them not)."""
     verts, normals = [], []
     for i in range(rings + 1):
         rho = 0.004 + (rho_max - 0.004) * i / rings
@@ -23,14 +24,14 @@ def paraboloid(focal=0.02, rho_max=0.03, rings=12, sectors=24):
         for j in range(sectors):
             a = 2 * np.pi * j / sectors
             verts.append((rho * np.cos(a), y, rho * np.sin(a)))
-            n = np.array([rho * np.cos(a) / (2 * focal), -1.0, rho * np.sin(a) / (2 * focal)])
+            n = np.array([-rho * np.cos(a) / (2 * focal), -1.0, -rho * np.sin(a) / (2 * focal)])
             normals.append(n / np.linalg.norm(n))
     tris = []
     for i in range(rings):
         for j in range(sectors):
             a, b = i * sectors + j, i * sectors + (j + 1) % sectors
             c, d = a + sectors, b + sectors
-            tris += [(a, b, d), (a, d, c)]
+            tris += [(a, d, b), (a, c, d)]
     return np.array(verts), np.array(tris, dtype=np.int64), np.array(normals)
 
 
@@ -93,6 +94,12 @@ def test_model_from_arrays_traces_as_the_same_gltf(tmp_path):
     assert in_memory.ledger["absorbed"]["flux_lm"] > 1.0
     # Nothing was written where the script runs.
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dish.gltf"]
+    # The normals are used: without them (the faces' own) the beam is another.
+    flat = gonio.Model(length_unit="m", frame={"up": [0, 1, 0], "c0": [1, 0, 0]}, name="dish")
+    flat.material("mirror", {"mirror": 0.9})
+    flat.add_mesh("dish", verts, tris, material="mirror")
+    flat.add_emitter({"name": "LED", "position": [0, 0, 0], "nadir": [0, 0, -1], "c0": [1, 0, 0], "flux_lm": 1000.0})
+    assert gonio.simulate(flat, **RUN).photometry.candela.tobytes() != in_memory.photometry.candela.tobytes()
     # Another mirror reflectance in memory gives other candela (the material is read).
     other = dish_model(verts, tris, normals, 1000.0)
     other.material("mirror", {"mirror": 0.5})
