@@ -114,7 +114,7 @@ std::vector<float> die_rays(const photometry::Distribution& emitter, double widt
 // grid's nodes γ_j (T̄ the target averaged over node j's γ band as the trace
 // bins it, P the traced intensity averaged over C, s = the target's flux over
 // the traced one's) and interpolated linearly between them, clamped to
-// [1/4, 4], 1 where either is zero; then scaled to T_n's flux. `design_target`
+// [1/2, 2], 1 where either is zero; then scaled to T_n's flux. `design_target`
 // is T_n (what the last design was made for), `target` the user's T, `traced`
 // the last design traced. A rotationally symmetric distribution on the
 // γ grid of `step_deg`.
