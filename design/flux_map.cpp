@@ -12,19 +12,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
-constexpr std::size_t kFine = 36001;  // γ samples over 0…180° (0.005°) for the cumulative fluxes
-
-// Cumulative of 2π·f(γ)·sin γ over the fine grid (trapezoids) [lm for f in cd].
-std::vector<double> cumulative(const std::vector<double>& f) {
-  std::vector<double> out(f.size(), 0.0);
-  const double h = kPi / static_cast<double>(f.size() - 1);
-  for (std::size_t i = 1; i < f.size(); ++i) {
-    const double a = f[i - 1] * std::sin(h * static_cast<double>(i - 1));
-    const double b = f[i] * std::sin(h * static_cast<double>(i));
-    out[i] = out[i - 1] + 2.0 * kPi * 0.5 * (a + b) * h;
-  }
-  return out;
-}
+constexpr std::size_t kFine = kFluxMapSamples;
 
 // Linear interpolation of a table on the fine grid at γ [rad].
 double at(const std::vector<double>& table, double gamma) {
@@ -35,8 +23,22 @@ double at(const std::vector<double>& table, double gamma) {
   return table[i] + t * (table[i + 1] - table[i]);
 }
 
-// γ [rad] where the increasing table reaches `value` (the first such γ).
-double inverse(const std::vector<double>& table, double value) {
+std::string deg(double rad) { return format_number(rad / kDeg, 4) + "°"; }
+
+}  // namespace
+
+std::vector<double> cumulative_flux(const std::vector<double>& f) {
+  std::vector<double> out(f.size(), 0.0);
+  const double h = kPi / static_cast<double>(f.size() - 1);
+  for (std::size_t i = 1; i < f.size(); ++i) {
+    const double a = f[i - 1] * std::sin(h * static_cast<double>(i - 1));
+    const double b = f[i] * std::sin(h * static_cast<double>(i));
+    out[i] = out[i - 1] + 2.0 * kPi * 0.5 * (a + b) * h;
+  }
+  return out;
+}
+
+double gamma_at_cumulative(const std::vector<double>& table, double value) {
   const double h = kPi / static_cast<double>(table.size() - 1);
   if (value <= table.front()) return 0.0;
   if (value >= table.back()) {
@@ -50,13 +52,9 @@ double inverse(const std::vector<double>& table, double value) {
   return h * (static_cast<double>(i - 1) + t);
 }
 
-std::string deg(double rad) { return format_number(rad / kDeg, 4) + "°"; }
-
-}  // namespace
-
 double FluxMap::phi(double theta, bool reversed) const {
   const double u = std::clamp((at(emitted, theta) - at(emitted, from)) / cone_flux_lm, 0.0, 1.0);
-  return inverse(added, (reversed ? 1.0 - u : u) * added.back());
+  return gamma_at_cumulative(added, (reversed ? 1.0 - u : u) * added.back());
 }
 
 Result<FluxMap> flux_map(const photometry::Distribution& emitter_in, const photometry::Distribution& target_in,
@@ -74,7 +72,7 @@ Result<FluxMap> flux_map(const photometry::Distribution& emitter_in, const photo
   }
   // The emitter's light inside the cone and below it, on the fine grid (a
   // cone edge between samples splits that sample's interval).
-  const std::vector<double> emitted = cumulative(is);
+  const std::vector<double> emitted = cumulative_flux(is);
   FluxMap out;
   out.emitter_flux_lm = emitted.back();
   out.cone_flux_lm = at(emitted, to) - at(emitted, from);
@@ -87,7 +85,7 @@ Result<FluxMap> flux_map(const photometry::Distribution& emitter_in, const photo
     direct[i] = g < from || (o.direct_above_to && g > to) ? is[i] : 0.0;
   }
   if (o.direct_above_to) out.direct_flux_lm += out.emitter_flux_lm - at(emitted, to);
-  const double target_flux = cumulative(it).back();
+  const double target_flux = cumulative_flux(it).back();
   if (!(target_flux > 0.0)) return make_error("the target emits no light");
   if (!(o.efficiency > 0.0 && o.efficiency <= 1.0))
     return make_error(std::string(o.part == "reflector" ? "the reflectance" : "the transmittance") + " must lie in (0, 1]");
@@ -106,15 +104,15 @@ Result<FluxMap> flux_map(const photometry::Distribution& emitter_in, const photo
   }
   std::vector<double> deficit(kFine);
   for (std::size_t i = 0; i < kFine; ++i) deficit[i] = std::max(-reflected[i], 0.0);
-  const double deficit_lm = cumulative(deficit).back();
-  if (deficit_lm > 0.01 * reflected_lm)
+  const double deficit_lm = cumulative_flux(deficit).back();
+  if (deficit_lm > 0.01 * reflected_lm && !o.allow_deficit)
     return make_error("the target asks for less light than the emitter sends there directly (at γ = " + deg(worst_at) +
                       ": " + format_number(out.target_scale * at(it, worst_at)) + " cd against " +
                       format_number(at(direct, worst_at)) + " cd direct; " + format_number(deficit_lm) +
                       " lm in all): a " + o.part + " can only add light. Widen the cone the " + o.part + " catches (" +
                       o.widen + ") or give a target with more light there");
   for (double& v : reflected) v = std::max(v, 0.0);
-  const std::vector<double> g = cumulative(reflected);
+  const std::vector<double> g = cumulative_flux(reflected);
   if (!(g.back() > 0.0)) return make_error("the target leaves nothing for the " + o.part + " to add to the direct light");
   if (o.absolute) {
     const double asked = g.back();
@@ -126,8 +124,8 @@ Result<FluxMap> flux_map(const photometry::Distribution& emitter_in, const photo
                                                                             : ": the rest would have nowhere to go") +
                         " (change the cone, or drop --absolute to design the target's shape)");
   }
-  out.target_from_deg = inverse(g, 0.0) / kDeg;
-  out.target_to_deg = inverse(g, g.back()) / kDeg;
+  out.target_from_deg = gamma_at_cumulative(g, 0.0) / kDeg;
+  out.target_to_deg = gamma_at_cumulative(g, g.back()) / kDeg;
 
   out.emitted = emitted;
   out.added = g;

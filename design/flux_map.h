@@ -26,6 +26,7 @@ struct FluxMapOptions {
   bool direct_above_to = false;            // light above `to` leaves directly too (else only below `from`)
   std::string part = "reflector";          // in messages: "a reflector can only add light"
   std::string widen = "a smaller FROM in --cone";  // in messages: how to catch more of the direct light
+  bool allow_deficit = false;              // a target below the direct light: design the rest, no error
 };
 
 struct FluxMap {
@@ -37,6 +38,17 @@ struct FluxMap {
   // |φ| [rad] of the ray leaving the source at θ [rad].
   double phi(double theta, bool reversed) const;
 };
+
+// γ samples over 0…180° (0.005°) of the cumulative fluxes.
+inline constexpr std::size_t kFluxMapSamples = 36001;
+
+// Cumulative of 2π·f(γ)·sin γ over f's samples, evenly spaced over 0…180°
+// (trapezoids) [lm for f in cd].
+std::vector<double> cumulative_flux(const std::vector<double>& f);
+
+// γ [rad] where the increasing cumulative table (evenly spaced over 0…π)
+// reaches `value` (the first such γ).
+double gamma_at_cumulative(const std::vector<double>& table, double value);
 
 // Errors say why no part of this kind can give the target (without a file
 // or line): no light in the cone, a target below the direct light (by more

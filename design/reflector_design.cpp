@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <random>
 
 #include "design/design_file.h"
 #include "design/flux_map.h"
@@ -54,6 +56,7 @@ Result<ReflectorDesign> design_reflector(const photometry::Distribution& emitter
   fo.to_deg = o.to_deg;
   fo.absolute = o.absolute;
   fo.efficiency = o.reflectance;
+  fo.allow_deficit = o.allow_deficit;
   Result<FluxMap> fm = flux_map(emitter, target, fo);
   if (!fm.ok()) return fm.error();
   ReflectorDesign out;
@@ -136,7 +139,7 @@ photometry::Distribution linear_map_target(const photometry::Distribution& emitt
 }
 
 io::TomlNode reflector_design_document(const ReflectorDesign& design, const std::string& emitter_file,
-                                       double reflectance, const std::string& name) {
+                                       double reflectance, const std::string& name, const std::string& emitter_key) {
   io::TomlNode doc = toml_table();
   toml_set(doc, "length_unit", toml_string("mm"));
   io::TomlNode mirror = toml_table();
@@ -147,7 +150,7 @@ io::TomlNode reflector_design_document(const ReflectorDesign& design, const std:
   io::TomlNode emitter = toml_table();
   toml_set(emitter, "name", toml_string("emitter"));
   toml_set(emitter, "position", toml_array({toml_number(0.0), toml_number(0.0), toml_number(0.0)}));
-  toml_set(emitter, "profile", toml_string(emitter_file));
+  toml_set(emitter, emitter_key, toml_string(emitter_file));
   toml_set(doc, "emitters", toml_array({std::move(emitter)}));
   io::TomlNode reflector = toml_table();
   toml_set(reflector, "name", toml_string(name));
@@ -169,6 +172,103 @@ io::TomlNode reflector_design_document(const ReflectorDesign& design, const std:
 double linear_map_r(double k, double c, double theta, double to, double distance_m) {
   auto f = [&](double t) { return std::pow(std::abs(std::sin(((k - 1.0) * t + c) / 2.0)), 2.0 / (k - 1.0)); };
   return distance_m * f(theta) / f(to);
+}
+
+std::vector<float> die_rays(const photometry::Distribution& emitter_in, double width_m, double height_m,
+                            std::size_t count) {
+  const photometry::Distribution emitter = photometry::expand_symmetry(emitter_in);
+  std::vector<double> is(kFluxMapSamples);
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i)
+    is[i] = rotational_intensity(emitter, 180.0 * static_cast<double>(i) / static_cast<double>(kFluxMapSamples - 1));
+  const std::vector<double> cum = cumulative_flux(is);
+  std::vector<float> rays;
+  if (count == 0 || !(cum.back() > 0.0)) return rays;
+  rays.reserve(7 * count);
+  const double flux = cum.back() / static_cast<double>(count);
+  const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
+  std::mt19937_64 random(1);
+  std::uniform_real_distribution<double> unit(-0.5, 0.5);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double gamma = gamma_at_cumulative(cum, (static_cast<double>(i) + 0.5) / static_cast<double>(count) * cum.back());
+    const double c = 2.0 * kPi * std::fmod(golden * static_cast<double>(i), 1.0);
+    const double x = unit(random) * width_m, y = unit(random) * height_m;
+    // The photometric frame: nadir −Z, C0 +X, C90 +Y.
+    const double kx = std::sin(gamma) * std::cos(c), ky = std::sin(gamma) * std::sin(c), kz = -std::cos(gamma);
+    for (double v : {x * 1e3, y * 1e3, 0.0, kx, ky, kz, flux}) rays.push_back(static_cast<float>(v));
+  }
+  return rays;
+}
+
+photometry::Distribution feedback_target(const photometry::Distribution& design_target_in,
+                                         const photometry::Distribution& target_in,
+                                         const photometry::Distribution& traced_in, double step_deg) {
+  const photometry::Distribution design_target = photometry::expand_symmetry(design_target_in);
+  const photometry::Distribution target = photometry::expand_symmetry(target_in);
+  const photometry::Distribution traced = photometry::expand_symmetry(traced_in);
+  // The fluxes of the target and the trace, on the fine grid.
+  std::vector<double> t_fine(kFluxMapSamples), p_fine(kFluxMapSamples);
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i) {
+    const double g = 180.0 * static_cast<double>(i) / static_cast<double>(kFluxMapSamples - 1);
+    t_fine[i] = rotational_intensity(target, g);
+    p_fine[i] = rotational_intensity(traced, g);
+  }
+  const double t_flux = cumulative_flux(t_fine).back(), p_flux = cumulative_flux(p_fine).back();
+  const double s = p_flux > 0.0 ? t_flux / p_flux : 1.0;
+  // The ratio on the traced grid's nodes: the target averaged over each
+  // node's band (midpoints to the neighbours, weighted by sin γ) against the
+  // trace's node value, which is that band's flux over its solid angle.
+  const std::vector<double>& nodes = traced.vertical_deg;
+  std::vector<double> ratio(nodes.size(), 1.0);
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    const double lo = j == 0 ? nodes[0] : 0.5 * (nodes[j - 1] + nodes[j]);
+    const double hi = j + 1 == nodes.size() ? nodes[j] : 0.5 * (nodes[j] + nodes[j + 1]);
+    double sum = 0.0, weight = 0.0;
+    const int n = 64;
+    for (int m = 0; m < n; ++m) {
+      const double g = lo + (hi - lo) * (m + 0.5) / n;
+      const double w = std::max(std::sin(g * kDeg), 1e-6);
+      sum += w * rotational_intensity(target, g);
+      weight += w;
+    }
+    const double t_bar = hi > lo ? sum / weight : rotational_intensity(target, nodes[j]);
+    const double p = s * rotational_intensity(traced, nodes[j]);
+    if (t_bar > 0.0 && p > 0.0) ratio[j] = std::clamp(t_bar / p, 0.5, 2.0);
+  }
+  auto ratio_at = [&](double g) {
+    if (nodes.size() < 2) return 1.0;
+    const auto it = std::upper_bound(nodes.begin(), nodes.end(), g);
+    if (it == nodes.begin()) return ratio.front();
+    if (it == nodes.end()) return ratio.back();
+    const std::size_t j = static_cast<std::size_t>(it - nodes.begin());
+    const double t = (g - nodes[j - 1]) / (nodes[j] - nodes[j - 1]);
+    return ratio[j - 1] + t * (ratio[j] - ratio[j - 1]);
+  };
+  std::vector<double> gamma, candela;
+  const int n = static_cast<int>(std::lround(180.0 / step_deg));
+  for (int i = 0; i <= n; ++i) {
+    const double g = 180.0 * i / n;
+    gamma.push_back(g);
+    candela.push_back(rotational_intensity(design_target, g) * ratio_at(g));
+  }
+  // Renormalised to T_n's flux.
+  std::vector<double> before(kFluxMapSamples), after(kFluxMapSamples);
+  const photometry::Distribution corrected = photometry::expand_symmetry(rotational_distribution(gamma, candela));
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i) {
+    const double g = 180.0 * static_cast<double>(i) / static_cast<double>(kFluxMapSamples - 1);
+    before[i] = rotational_intensity(design_target, g);
+    after[i] = rotational_intensity(corrected, g);
+  }
+  const double b = cumulative_flux(before).back(), a = cumulative_flux(after).back();
+  if (a > 0.0 && b > 0.0)
+    for (double& v : candela) v *= b / a;
+  return rotational_distribution(gamma, candela);
+}
+
+double profile_change(const PolarProfile& a, const PolarProfile& b) {
+  if (a.r.size() != b.r.size() || a.r.empty()) return std::numeric_limits<double>::infinity();
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.r.size(); ++i) worst = std::max(worst, std::abs(b.r[i] / a.r[i] - 1.0));
+  return worst;
 }
 
 }  // namespace gonio::design

@@ -46,6 +46,11 @@ struct ReflectorDesignOptions {
   int steps = 20000;         // RK4 steps over the cone
   bool absolute = false;     // the target's candela as they are, not scaled to the flux that leaves
   double reflectance = 1.0;  // of the mirror: the reflected flux is reflectance × the cone's
+  // Where the target asks less than the direct light, the reflector adds
+  // nothing there instead of an error: the feedback's corrected targets
+  // (feedback_target), where an extended emitter's direct light spreads
+  // beyond the point source's.
+  bool allow_deficit = false;
 };
 
 struct ReflectorDesign {
@@ -69,8 +74,10 @@ Result<ReflectorDesign> design_reflector(const photometry::Distribution& emitter
 // emitter at the origin with the profile `emitter_file` (a path relative to
 // the design file), and [[reflectors]] `name` with the polar table, each r a
 // variable bounded to [0.8 r, 1.25 r] for an optimiser to refine.
+// `emitter_key`: "profile" (a photometric file) or "ray_file" (a TM-25 ray file).
 io::TomlNode reflector_design_document(const ReflectorDesign& design, const std::string& emitter_file,
-                                       double reflectance, const std::string& name);
+                                       double reflectance, const std::string& name,
+                                       const std::string& emitter_key = "profile");
 
 // The mean over C of a distribution's intensity at γ [cd].
 double rotational_intensity(const photometry::Distribution& expanded, double gamma_deg);
@@ -88,5 +95,34 @@ photometry::Distribution rotational_distribution(const std::vector<double>& gamm
 photometry::Distribution linear_map_target(const photometry::Distribution& emitter, double k, double c_rad,
                                            double from_deg, double to_deg, double step_deg = 0.05);
 double linear_map_r(double k, double c_rad, double theta, double to_rad, double distance_m);
+
+// Extended emitters (docs/design.md "Extended emitters: feedback").
+//
+// A die of width × height [m] centred on the origin in the XY plane (facing
+// along the emitter's axis), every point of it emitting the emitter's
+// intensity distribution averaged over C (a uniform die of that
+// distribution): `count` rays of equal flux, 7 floats each as
+// io::make_luminous_ray_set takes them (x y z [mm], kx ky kz, flux [lm]).
+// γ stratified over the C-averaged distribution's cumulative flux (ray i at
+// the quantile (i + ½)/count), C by the golden ratio, positions from a
+// fixed-seed generator: the same rays every time.
+std::vector<float> die_rays(const photometry::Distribution& emitter, double width_m, double height_m,
+                            std::size_t count);
+
+// The next design target of the feedback: the multiplicative correction
+// T_{n+1}(γ) = T_n(γ) · T̄(γ_j)/(s·P(γ_j)), the ratio taken on the traced
+// grid's nodes γ_j (T̄ the target averaged over node j's γ band as the trace
+// bins it, P the traced intensity averaged over C, s = the target's flux over
+// the traced one's) and interpolated linearly between them, clamped to
+// [1/2, 2], 1 where either is zero; then scaled to T_n's flux. `design_target`
+// is T_n (what the last design was made for), `target` the user's T, `traced`
+// the last design traced. A rotationally symmetric distribution on the
+// γ grid of `step_deg`.
+photometry::Distribution feedback_target(const photometry::Distribution& design_target,
+                                         const photometry::Distribution& target,
+                                         const photometry::Distribution& traced, double step_deg = 0.01);
+
+// Largest |r_b/r_a − 1| between two profiles of the same θ nodes (∞ when they differ in size).
+double profile_change(const PolarProfile& a, const PolarProfile& b);
 
 }  // namespace gonio::design

@@ -142,5 +142,79 @@ TEST(ReflectorDesign, TargetsNoReflectorCanGiveSayWhy) {
   EXPECT_NE(d.error().message.find("more flux than the emitter has there"), std::string::npos) << d.error().message;
 }
 
+// Extended emitters (docs/design.md "Extended emitters: feedback").
+
+// A smooth rotationally symmetric distribution on a 1° grid: 100 + 50·cos γ cd.
+photometry::Distribution smooth(double a, double b) {
+  std::vector<double> g, c;
+  for (int i = 0; i <= 180; ++i) {
+    g.push_back(i);
+    c.push_back(a + b * std::cos(i * kDeg));
+  }
+  return rotational_distribution(g, c);
+}
+
+TEST(ReflectorFeedback, DieRaysCarryTheEmittersFluxAndDistributionOverTheDie) {
+  const std::size_t n = 100000;
+  const std::vector<float> rays = die_rays(lambertian(100.0), 0.004, 0.002, n);
+  ASSERT_EQ(rays.size(), 7 * n);
+  double flux = 0.0, below60 = 0.0, kx = 0.0, ky = 0.0, x_max = 0.0, y_max = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* r = &rays[7 * i];
+    x_max = std::max(x_max, std::abs(static_cast<double>(r[0])));
+    y_max = std::max(y_max, std::abs(static_cast<double>(r[1])));
+    EXPECT_EQ(r[2], 0.0f);
+    EXPECT_NEAR(std::hypot(static_cast<double>(r[3]), static_cast<double>(r[4]), static_cast<double>(r[5])), 1.0, 1e-6);
+    const double gamma = std::acos(-static_cast<double>(r[5]));  // the nadir is −Z
+    flux += static_cast<double>(r[6]);
+    if (gamma < 60.0 * kDeg) below60 += static_cast<double>(r[6]);
+    kx += static_cast<double>(r[3]);
+    ky += static_cast<double>(r[4]);
+  }
+  // A Lambertian 100 cd: 100π lm, sin²γ of it within γ (stratified: exact to a ray).
+  EXPECT_NEAR(flux, 100.0 * kPi, 1e-3 * 100.0 * kPi);
+  EXPECT_NEAR(below60 / flux, 0.75, 2e-4);
+  // C spread evenly (golden ratio), the die filled to its edges, not beyond.
+  EXPECT_LT(std::abs(kx) / static_cast<double>(n), 1e-3);
+  EXPECT_LT(std::abs(ky) / static_cast<double>(n), 1e-3);
+  EXPECT_LE(x_max, 2.0 + 1e-6);
+  EXPECT_GT(x_max, 1.99);
+  EXPECT_LE(y_max, 1.0 + 1e-6);
+  EXPECT_GT(y_max, 0.99);
+}
+
+TEST(ReflectorFeedback, TargetCorrectionIsTheRatioOfTargetToTrace) {
+  const photometry::Distribution target = smooth(100.0, 50.0);
+  const photometry::Distribution design_target = smooth(80.0, 20.0);
+  // A trace equal to the target leaves the design's target as it was.
+  const photometry::Distribution same = photometry::expand_symmetry(feedback_target(design_target, target, target));
+  const photometry::Distribution before = photometry::expand_symmetry(design_target);
+  for (double g = 0.0; g <= 180.0; g += 2.5)
+    EXPECT_NEAR(rotational_intensity(same, g) / rotational_intensity(before, g), 1.0, 2e-4) << g;
+  // A trace 1 + 0.2·cos γ times the target (any flux): the design's target
+  // divided by it, at the design's target's flux.
+  std::vector<double> g, c;
+  for (int i = 0; i <= 180; ++i) {
+    g.push_back(i);
+    c.push_back(3.0 * (100.0 + 50.0 * std::cos(i * kDeg)) * (1.0 + 0.2 * std::cos(i * kDeg)));
+  }
+  const photometry::Distribution corrected =
+      photometry::expand_symmetry(feedback_target(design_target, target, rotational_distribution(g, c)));
+  EXPECT_NEAR(photometry::total_flux_lm(corrected), photometry::total_flux_lm(before), 1e-4 * photometry::total_flux_lm(before));
+  double lo = 1e9, hi = 0.0;
+  for (double gd = 0.0; gd <= 180.0; gd += 2.5) {
+    const double q = rotational_intensity(corrected, gd) / rotational_intensity(before, gd) * (1.0 + 0.2 * std::cos(gd * kDeg));
+    lo = std::min(lo, q);
+    hi = std::max(hi, q);
+  }
+  EXPECT_LT(hi / lo - 1.0, 1e-3) << lo << " " << hi;  // one constant: the renormalisation
+}
+
+TEST(ReflectorFeedback, ProfileChange) {
+  PolarProfile a{{0.1, 0.2}, {1.0, 2.0}}, b{{0.1, 0.2}, {1.01, 1.98}};
+  EXPECT_NEAR(profile_change(a, b), 0.01, 1e-12);
+  EXPECT_TRUE(std::isinf(profile_change(a, PolarProfile{{0.1}, {1.0}})));
+}
+
 }  // namespace
 }  // namespace gonio::design

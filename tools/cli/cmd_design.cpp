@@ -23,6 +23,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
+#include <optional>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -35,6 +37,7 @@
 #include "design/reflector_design.h"
 #include "io/model/cad.h"
 #include "io/photometric/photometric_file.h"
+#include "io/photometric/tm25.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/beam.h"
@@ -96,6 +99,24 @@ std::optional<Result<photometry::Distribution>> target_formula(const std::string
     candela.push_back(!in ? 0.0 : kind == "uniform" ? 1000.0 : 1000.0 * std::pow(std::max(std::cos(g * std::numbers::pi / 180.0), 0.0), a));
   }
   return Result<photometry::Distribution>(design::rotational_distribution(gamma, candela));
+}
+
+// The first bytes of a file (empty where it cannot be read): what it is.
+std::string read_prefix(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return {};
+  char buffer[8] = {};
+  const std::size_t n = std::fread(buffer, 1, sizeof buffer, f);
+  std::fclose(f);
+  return std::string(buffer, n);
+}
+
+// A distribution averaged over C, on its own γ nodes.
+photometry::Distribution c_mean(const photometry::Distribution& d) {
+  const photometry::Distribution e = photometry::expand_symmetry(d);
+  std::vector<double> candela;
+  for (double g : e.vertical_deg) candela.push_back(design::rotational_intensity(e, g));
+  return design::rotational_distribution(e.vertical_deg, candela);
 }
 
 int fail(const std::string& message) {
@@ -291,6 +312,9 @@ int run_design(const Args& args) {
   long long nodes = 61, photons = 2'000'000, seed = 1, threads = 0;
   bool absolute = false;
   double tolerance_mm = design::kStepToleranceMm;
+  std::string die;
+  double die_w = 0.0, die_h = 0.0;
+  long long feedback = -1, die_rays = 200'000;
   std::vector<std::string> files;
   ArgParser p("design",
               "reflector|lens --emitter FILE --target FILE|FORMULA --out DIR [options]\n"
@@ -314,7 +338,7 @@ int run_design(const Args& args) {
   p.positional("KIND", &kind,
                "what to do: reflector or lens (design one) or export (write a design file as STEP and glTF)");
   p.positional_list("FILE", &files, 0, "export: the design file");
-  p.option("emitter", &emitter_path, "FILE", "the point source's photometric file (IES, LDT, TM-33), nadir −Z");
+  p.option("emitter", &emitter_path, "FILE", "the source: a photometric file (IES, LDT, TM-33; nadir −Z) or a TM-25 ray file");
   p.option("target", &target_text, "FILE|FORMULA", "the target distribution: a photometric file or a formula");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
   p.option("cone", &cone, "FROM,TO", "the emitter's γ range the part catches [deg] (default 45,180; lens 0,60)");
@@ -334,6 +358,13 @@ int run_design(const Args& args) {
   p.option("gamma-step", &gamma_step, 0.1, 90.0, "DEG", "γ step of the traced files and the comparison (default 1)");
   p.option("tolerance", &tolerance_mm, 1e-6, 1.0, "MM",
            "STEP: the B-spline profiles' largest distance from the exact profile's samples (default 0.001)");
+  p.option("die", &die, "WxH",
+           "an extended emitter: a die of W × H mm in the XY plane, every point emitting the emitter's distribution "
+           "(written as a ray file, emitter.tm25ray)");
+  p.option("die-rays", &die_rays, 1000, 100'000'000, "N", "rays of the die's ray file (default 200000)");
+  p.option("feedback", &feedback, 0, 20, "N",
+           "design again N times, each for the target corrected by the trace (default 3 for an extended emitter: a ray "
+           "file or --die; 0 for a point source)");
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
   if (kind == "export") {
     if (files.size() != 1 || out_dir.empty()) {
@@ -377,6 +408,17 @@ int run_design(const Args& args) {
     print_usage_error("design", p, "--name must be a plain name (no / \\ * ? [ ])");
     return kExitUsage;
   }
+  if (!die.empty()) {
+    const std::size_t x = die.find_first_of("xX");
+    const std::optional<double> w = x == std::string::npos ? std::nullopt : io::parse_number(die.substr(0, x));
+    const std::optional<double> h = x == std::string::npos ? std::nullopt : io::parse_number(die.substr(x + 1));
+    if (!w || !h || !(*w > 0.0 && *h > 0.0 && *w <= 1e4 && *h <= 1e4)) {
+      print_usage_error("design", p, "--die " + io::shown(die) + ": give WxH in millimetres, both > 0 (e.g. 1x1)");
+      return kExitUsage;
+    }
+    die_w = *w;
+    die_h = *h;
+  }
   o.map = map == "crossed" ? design::ReflectorMap::Crossed : design::ReflectorMap::Uncrossed;
   o.distance_m = distance_mm * 1e-3;
   o.nodes = static_cast<int>(nodes);
@@ -400,22 +442,143 @@ int run_design(const Args& args) {
   Result<design::ReflectorDesign> d = design::design_reflector(emitter->distribution, target, o);
   if (!d.ok()) return fail("no reflector gives this target: " + d.error().message);
 
-  // The design's files.
+  // The emitter as the design file names it: the photometric file as a point
+  // source, a ray file as its rays, or a die of the stated size made of rays.
+  const bool ray_file = io::looks_like_tm25(read_prefix(emitter_path));
+  const bool extended = ray_file || die_w > 0.0;
+  const long long iterations = feedback >= 0 ? feedback : (extended ? 3 : 0);
   if (Status s = io::make_directories(out_dir); !s.ok()) return fail(to_string(s.error()));
-  const std::string emitter_copy = "emitter" + fs::path(emitter_path).extension().string();
-  Result<std::string> emitter_bytes = io::read_file(emitter_path, std::size_t{256} << 20);
-  if (!emitter_bytes.ok()) return fail(to_string(emitter_bytes.error()));
-  if (Status s = io::write_file_atomic((fs::path(out_dir) / emitter_copy).string(), *emitter_bytes); !s.ok())
-    return fail(to_string(s.error()));
+  std::string emitter_copy = "emitter" + fs::path(emitter_path).extension().string();
+  std::string emitter_key = "profile";
+  if (die_w > 0.0) {
+    if (ray_file) {
+      print_usage_error("design", p, "--die applies to a photometric file, not to a ray file (its rays are the die)");
+      return kExitUsage;
+    }
+    emitter_copy = "emitter.tm25ray";
+    emitter_key = "ray_file";
+    io::Tm25RaySet rays = io::make_luminous_ray_set(
+        design::die_rays(emitter->distribution, die_w * 1e-3, die_h * 1e-3, static_cast<std::size_t>(die_rays)));
+    rays.header.light_source = "a die of " + die + " mm emitting " + fs::path(emitter_path).filename().string();
+    rays.header.ray_file_creator = "gonio design reflector --die";
+    if (Status s = io::write_tm25_file((fs::path(out_dir) / emitter_copy).string(), rays); !s.ok())
+      return fail(to_string(s.error()));
+  } else if (ray_file) {
+    // The ray file's far field (what the design used) takes its +z as the
+    // nadir, +x as C0 and −y as C90 (tools/run/ray_file_far_field.h); a
+    // design file places a ray set's coordinates as they are (nadir −Z): the
+    // copy is turned by 180° about X, (x, y, z) → (x, −y, −z), positions and
+    // directions, so that the design traces the light it was designed for.
+    emitter_copy = "emitter.tm25ray";
+    emitter_key = "ray_file";
+    Result<io::Tm25RaySet> rays = io::read_tm25_file(emitter_path);
+    if (!rays.ok()) return fail(to_string(rays.error()));
+    const std::size_t n = rays->ray_count(), stride = static_cast<std::size_t>(rays->columns.count);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t item : {1, 2, 4, 5}) rays->items[i * stride + item] = -rays->items[i * stride + item];
+    rays->header.additional_info = "turned by 180 deg about X by gonio design reflector (the design's frame, nadir -Z)";
+    if (Status s = io::write_tm25_file((fs::path(out_dir) / emitter_copy).string(), *rays); !s.ok())
+      return fail(to_string(s.error()));
+  } else {
+    Result<std::string> emitter_bytes = io::read_file(emitter_path, std::size_t{256} << 20);
+    if (!emitter_bytes.ok()) return fail(to_string(emitter_bytes.error()));
+    if (Status s = io::write_file_atomic((fs::path(out_dir) / emitter_copy).string(), *emitter_bytes); !s.ok())
+      return fail(to_string(s.error()));
+  }
   const std::string design_path = (fs::path(out_dir) / (name + ".design.toml")).string();
-  const io::TomlNode document = design::reflector_design_document(*d, emitter_copy, reflectance, name);
-  const std::string text = design::write_design(
-      document, {"A reflector designed by gonio design reflector (docs/design.md).",
-                 "Emitter " + fs::path(emitter_path).filename().string() + ", target " + target_text + ", cone " + cone +
-                     "°, map " + map + "."});
-  if (Status s = io::write_file_atomic(design_path, text); !s.ok()) return fail(to_string(s.error()));
   const std::string target_path = (fs::path(out_dir) / "target.ies").string();
   if (Status s = io::write_photometric_file(target_path, target, {}, nullptr); !s.ok()) return fail(to_string(s.error()));
+  const std::string traced_path = (fs::path(out_dir) / (name + ".ies")).string();
+  photometry::CompareOptions compare;
+  compare.gamma_step_deg = 90.0 / std::round(90.0 / gamma_step);
+  compare.normalize_flux = true;
+
+  // Design, trace, compare; with feedback, correct the target and again.
+  photometry::Distribution design_target = target;
+  std::optional<app::SimulatePlan> plan;
+  std::optional<app::SimulateResult> result;
+  std::optional<io::PhotometricFile> traced;
+  std::optional<photometry::Comparison> cmp, cmp_mean;
+  nlohmann::json history = nlohmann::json::array();
+  std::string stopped;
+  // Writes the design file of `design` and traces it with seed + iteration
+  // (each iteration its own seed: the correction follows the design, not one
+  // seed's photon noise); 0 or the exit code.
+  auto design_and_trace = [&](const design::ReflectorDesign& design, long long iteration) -> int {
+    const io::TomlNode document = design::reflector_design_document(design, emitter_copy, reflectance, name, emitter_key);
+    const std::string text = design::write_design(
+        document, {"A reflector designed by gonio design reflector (docs/design.md).",
+                   "Emitter " + fs::path(emitter_path).filename().string() + (die_w > 0.0 ? " as a die of " + die + " mm" : "") +
+                       ", target " + target_text + ", cone " + cone + "°, map " + map +
+                       (iteration > 0 ? ", feedback iteration " + std::to_string(iteration) : "") + "."});
+    if (Status s = io::write_file_atomic(design_path, text); !s.ok()) return fail(to_string(s.error()));
+    app::SimulateOptions options;
+    options.out_dir = out_dir;
+    options.stem = name;
+    options.format_list = "ies,ldt";
+    options.photons = photons;
+    options.iterations = 1;
+    options.seed = seed + iteration;
+    options.threads = threads;
+    options.gamma_step = gamma_step;
+    options.no_cache = true;
+    plan = plan_or_usage("design", design_path, options, p);
+    if (!plan) return kExitUsage;
+    result = app::simulate(*plan, {}, start);
+    if (!result || !result->files) return kExitFailure;
+    Result<io::PhotometricFile> read = app::read_input(traced_path, app::InputOptions{}, false);
+    if (!read.ok()) return kExitFailure;
+    traced = std::move(*read);
+    Result<photometry::Comparison> c = photometry::compare(target, traced->distribution, compare);
+    if (!c.ok()) return fail(c.error().message);
+    cmp = *c;
+    // The design is rotationally symmetric: its error is the C-averaged trace's.
+    Result<photometry::Comparison> mean = photometry::compare(target, c_mean(traced->distribution), compare);
+    if (!mean.ok()) return fail(mean.error().message);
+    cmp_mean = *mean;
+    return 0;
+  };
+  // The design kept: the iteration whose C-averaged trace is nearest the target.
+  std::optional<design::ReflectorDesign> best;
+  long long best_iteration = 0, last_iteration = 0;
+  double best_rms = std::numeric_limits<double>::infinity();
+  for (long long iteration = 0;; ++iteration) {
+    if (const int failed = design_and_trace(*d, iteration); failed != 0) return failed;
+    last_iteration = iteration;
+    history.push_back({{"iteration", iteration},
+                       {"seed", seed + iteration},
+                       {"rms_relative_c_mean", cmp_mean->rms_relative},
+                       {"max_relative_c_mean", cmp_mean->max_relative},
+                       {"rms_relative", cmp->rms_relative},
+                       {"max_relative", cmp->max_relative},
+                       {"beam_angle_traced_deg", app::json_number(photometry::beam_angle(traced->distribution, 0.0).angle_deg)}});
+    if (cmp_mean->rms_relative < best_rms) {
+      best_rms = cmp_mean->rms_relative;
+      best_iteration = iteration;
+      best = *d;
+    }
+    if (iteration >= iterations) break;
+    // T_{n+1} = T_n · T/traced, renormalised (design::feedback_target).
+    photometry::Distribution next = design::feedback_target(design_target, target, traced->distribution);
+    design::ReflectorDesignOptions again_options = o;
+    again_options.allow_deficit = true;
+    Result<design::ReflectorDesign> again = design::design_reflector(emitter->distribution, next, again_options);
+    if (!again.ok()) {
+      stopped = "iteration " + std::to_string(iteration + 1) + ": " + again.error().message;
+      break;
+    }
+    history.back()["profile_change_next"] = design::profile_change(d->profile, again->profile);
+    design_target = std::move(next);
+    d = std::move(again);
+  }
+  if (best_iteration != last_iteration) {
+    // The files are the best iteration's: its design traced again with its seed (the same bytes).
+    d = std::move(*best);
+    if (const int failed = design_and_trace(*d, best_iteration); failed != 0) return failed;
+  }
+  const int code = print_run_files(*plan, result->run, *result->files);
+
+  // The final design's files for CAD.
   Result<design::Design> written = design::read_design_file(design_path);
   if (!written.ok()) return fail(to_string(written.error()));
   const std::string gltf_path = (fs::path(out_dir) / (name + ".gltf")).string();
@@ -431,32 +594,7 @@ int run_design(const Args& args) {
     step_note = " (no STEP: this gonio was built without OpenCASCADE)";
   }
 
-  // The trace.
-  app::SimulateOptions options;
-  options.out_dir = out_dir;
-  options.stem = name;
-  options.format_list = "ies,ldt";
-  options.photons = photons;
-  options.iterations = 1;
-  options.seed = seed;
-  options.threads = threads;
-  options.gamma_step = gamma_step;
-  options.no_cache = true;
-  std::optional<app::SimulatePlan> plan = plan_or_usage("design", design_path, options, p);
-  if (!plan) return kExitUsage;
-  std::optional<app::SimulateResult> result = app::simulate(*plan, {}, start);
-  if (!result || !result->files) return kExitFailure;
-  const int code = print_run_files(*plan, result->run, *result->files);
-
   // Against the target.
-  const std::string traced_path = (fs::path(out_dir) / (name + ".ies")).string();
-  Result<io::PhotometricFile> traced = app::read_input(traced_path, app::InputOptions{}, false);
-  if (!traced.ok()) return kExitFailure;
-  photometry::CompareOptions compare;
-  compare.gamma_step_deg = 90.0 / std::round(90.0 / gamma_step);
-  compare.normalize_flux = true;
-  Result<photometry::Comparison> cmp = photometry::compare(target, traced->distribution, compare);
-  if (!cmp.ok()) return fail(cmp.error().message);
   const double beam_target = photometry::beam_angle(target, 0.0).angle_deg;
   const double beam_traced = photometry::beam_angle(traced->distribution, 0.0).angle_deg;
   io::PhotometricFile target_file;
@@ -464,6 +602,8 @@ int run_design(const Args& args) {
   nlohmann::json against = app::compare_json(target_path, target_file, traced_path, *traced, *cmp, compare);
   against["beam_angle_target_deg"] = app::json_number(beam_target);
   against["beam_angle_traced_deg"] = app::json_number(beam_traced);
+  against["rms_relative_c_mean"] = cmp_mean->rms_relative;
+  against["max_relative_c_mean"] = cmp_mean->max_relative;
   nlohmann::json profile = {{"theta_deg", nlohmann::json::array()}, {"r_mm", nlohmann::json::array()}};
   for (std::size_t i = 0; i < d->profile.theta.size(); ++i) {
     profile["theta_deg"].push_back(d->profile.theta[i] * 180.0 / std::numbers::pi);
@@ -472,6 +612,8 @@ int run_design(const Args& args) {
   nlohmann::json report = result->files->report;
   report["design"] = {{"kind", "reflector"},
                       {"emitter", emitter_path},
+                      {"die_mm", die_w > 0.0 ? nlohmann::json::array({die_w, die_h}) : nlohmann::json()},
+                      {"extended", extended},
                       {"target", target_text},
                       {"map", map},
                       {"cone_deg", {o.from_deg, o.to_deg}},
@@ -485,13 +627,27 @@ int run_design(const Args& args) {
                       {"reflected_gamma_deg", {d->target_from_deg, d->target_to_deg}},
                       {"files", {design_path, emitter_copy, gltf_path, step_path, target_path}},
                       {"profile", profile},
+                      {"feedback",
+                       {{"iterations", iterations},
+                        {"kept", best_iteration},
+                        {"correction", "multiplicative: T_{n+1} = T_n * T/traced, renormalised"},
+                        {"stopped", stopped.empty() ? nlohmann::json() : nlohmann::json(stopped)},
+                        {"per_iteration", history}}},
                       {"against_target", against}};
   if (Status s = io::write_file_atomic(result->files->report_path, report.dump(2) + "\n"); !s.ok())
     return fail(to_string(s.error()));
   std::printf("design: %s (%zu points, map %s, cone %s°), %s%s, target.ies\n", design_path.c_str(),
               d->profile.theta.size(), map.c_str(), cone.c_str(), gltf_path.c_str(), step_note.c_str());
-  std::printf("against the target: RMS %s %% of its peak, largest %s %%, beam angle %s° (target %s°)\n",
-              format_number(100.0 * cmp->rms_relative, 3).c_str(), format_number(100.0 * cmp->max_relative, 3).c_str(),
+  if (history.size() > 1 || !stopped.empty()) {
+    std::string line = "feedback: RMS of the C-averaged trace against the target, per iteration:";
+    for (const nlohmann::json& h : history)
+      line += " " + format_number(100.0 * h.at("rms_relative_c_mean").get<double>(), 3) + " %";
+    std::printf("%s; kept iteration %lld%s\n", line.c_str(), best_iteration,
+                stopped.empty() ? "" : (" (stopped at " + stopped + ")").c_str());
+  }
+  std::printf("against the target: RMS %s %% of its peak (averaged over C: %s %%), largest %s %%, beam angle %s° (target %s°)\n",
+              format_number(100.0 * cmp->rms_relative, 3).c_str(), format_number(100.0 * cmp_mean->rms_relative, 3).c_str(),
+              format_number(100.0 * cmp->max_relative, 3).c_str(),
               format_number(beam_traced, 4).c_str(), format_number(beam_target, 4).c_str());
   return code;
 }

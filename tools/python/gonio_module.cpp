@@ -35,6 +35,10 @@
 #include "design/design_file.h"
 #include "io/model/toml_tree.h"
 #include "gonio/version.h"
+#include "io/model/cad.h"
+#include "io/model/cad_model.h"
+#include "io/model/parts_file.h"
+#include "io/model/toml_tree.h"
 #include "io/photometric/photometric_file.h"
 #include "io/support/file_io.h"
 #include "io/support/process.h"
@@ -686,6 +690,226 @@ app::SimulatePlan plan_run(const std::string& model, std::uint64_t photons, int 
   return std::move(plan.value());
 }
 
+// gonio.Model: a luminaire built in memory (meshes from numpy arrays, the
+// CAD sidecar's materials and emitters as dicts), traced by gonio.simulate
+// without a file: each mesh becomes a part of an io::CadModel placed once
+// (lengths in `length_unit`, as the sidecar's), the dicts a sidecar tree
+// read by the sidecar's own reader (io::parse_parts_tree), and the CAD
+// loader's scene builder (io::cad_scene) makes the scene, as for a design
+// file (app::ModelInputOptions::build_scene).
+struct PyModel {
+  std::string name = "model";
+  std::string length_unit = "mm";
+  io::CadModel cad;
+  std::vector<std::string> part_materials;   // one per part
+  std::vector<std::pair<std::string, py::object>> materials;  // name, dict
+  std::vector<py::object> emitters;          // dicts
+  py::object frame = py::none();             // {"up": …, "c0": …} or None
+};
+
+// Plain Python data (dict, list, tuple, str, bool, int, float, numpy
+// arrays and scalars) as a TOML node; `what` names it in errors.
+io::TomlNode toml_from_python(const py::handle& v, const std::string& what) {
+  io::TomlNode n;
+  if (py::isinstance<py::bool_>(v)) {
+    n.type = io::TomlNode::Type::Boolean;
+    n.boolean = v.cast<bool>();
+  } else if (py::isinstance<py::int_>(v)) {
+    n.type = io::TomlNode::Type::Integer;
+    n.integer = v.cast<std::int64_t>();
+  } else if (py::isinstance<py::float_>(v) || py::hasattr(v, "dtype")) {
+    if (py::hasattr(v, "tolist") && !py::isinstance<py::float_>(v)) return toml_from_python(v.attr("tolist")(), what);
+    n.type = io::TomlNode::Type::Float;
+    n.floating = v.cast<double>();
+  } else if (py::isinstance<py::str>(v)) {
+    n.type = io::TomlNode::Type::String;
+    n.string = v.cast<std::string>();
+  } else if (py::isinstance<py::dict>(v)) {
+    n.type = io::TomlNode::Type::Table;
+    for (const auto& [key, value] : v.cast<py::dict>()) {
+      if (!py::isinstance<py::str>(key)) throw py::type_error(what + ": keys must be strings");
+      const std::string k = key.cast<std::string>();
+      n.table.push_back({k, toml_from_python(value, what + "['" + k + "']")});
+    }
+  } else if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
+    n.type = io::TomlNode::Type::Array;
+    std::size_t i = 0;
+    for (const auto& item : v) n.array.push_back(toml_from_python(item, what + "[" + std::to_string(i++) + "]"));
+  } else {
+    throw py::type_error(what + ": " + py::str(py::type::of(v).attr("__name__")).cast<std::string>() +
+                         " is not a value the sidecar takes (dict, list, str, bool, int, float)");
+  }
+  return n;
+}
+
+io::TomlNode toml_key(const std::string& text) {
+  io::TomlNode n;
+  n.type = io::TomlNode::Type::String;
+  n.string = text;
+  return n;
+}
+
+// A float64 array of shape (rows, columns), finite; errors name `what`.
+py::array_t<double> float_rows(const py::object& a, std::size_t columns, const std::string& what) {
+  py::array_t<double, py::array::c_style | py::array::forcecast> out;
+  try {
+    out = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
+  } catch (const py::error_already_set&) {
+  }
+  if (!out || out.ndim() != 2 || static_cast<std::size_t>(out.shape(1)) != columns || out.shape(0) == 0)
+    throw py::value_error(what + ": an array of shape (N, " + std::to_string(columns) + ") of numbers is needed" +
+                          (out ? ", not " + py::str(py::tuple(py::cast(std::vector<py::ssize_t>(out.shape(), out.shape() + out.ndim())))).cast<std::string>() : std::string()));
+  const double* d = out.data();
+  for (py::ssize_t i = 0; i < out.size(); ++i)
+    if (!std::isfinite(d[i]))
+      throw py::value_error(what + ": row " + std::to_string(i / static_cast<py::ssize_t>(columns)) +
+                            " holds a value that is not finite (" + format_number(d[i]) + ")");
+  return out;
+}
+
+void model_add_mesh(PyModel& self, const std::string& name, const py::object& vertices, const py::object& triangles,
+                    const py::object& normals, const std::string& material) {
+  if (name.empty()) throw py::value_error("name: a mesh needs a name");
+  for (const io::CadPart& p : self.cad.parts)
+    if (p.name == name) throw py::value_error("name: a mesh named '" + name + "' is there already");
+  if (material.empty()) throw py::value_error("material: name the mesh's material (Model.material)");
+  const py::array_t<double> v = float_rows(vertices, 3, "vertices");
+  const std::size_t n = static_cast<std::size_t>(v.shape(0));
+  // Triangles: integers, indices into the vertices.
+  py::array t_any = py::array::ensure(triangles);
+  if (!t_any || t_any.ndim() != 2 || t_any.shape(1) != 3 || t_any.shape(0) == 0)
+    throw py::value_error("triangles: an array of shape (M, 3) of vertex indices is needed");
+  if (!py::dtype::of<std::int64_t>().attr("kind").equal(t_any.dtype().attr("kind")) &&
+      !py::str(t_any.dtype().attr("kind")).equal(py::str("u")))
+    throw py::value_error("triangles: vertex indices must be integers, not " +
+                          py::str(t_any.dtype()).cast<std::string>());
+  const auto t = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(t_any);
+  io::CadSurface surface;
+  const double unit = io::length_unit_m(self.length_unit).value_or(1e-3);
+  surface.positions.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+    surface.positions.push_back({static_cast<float>(v.at(i, 0) * unit), static_cast<float>(v.at(i, 1) * unit),
+                                 static_cast<float>(v.at(i, 2) * unit)});
+  for (py::ssize_t i = 0; i < t.shape(0); ++i)
+    for (py::ssize_t k = 0; k < 3; ++k) {
+      const std::int64_t index = t.at(i, k);
+      if (index < 0 || static_cast<std::size_t>(index) >= n)
+        throw py::value_error("triangles: row " + std::to_string(i) + " names vertex " + std::to_string(index) +
+                              ", outside 0 … " + std::to_string(n - 1));
+      surface.indices.push_back(static_cast<std::uint32_t>(index));
+    }
+  if (!normals.is_none()) {
+    const py::array_t<double> nn = float_rows(normals, 3, "normals");
+    if (static_cast<std::size_t>(nn.shape(0)) != n)
+      throw py::value_error("normals: one per vertex is needed (" + std::to_string(n) + "), not " +
+                            std::to_string(nn.shape(0)));
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 d{nn.at(i, 0), nn.at(i, 1), nn.at(i, 2)};
+      if (!(length(d) > 0.0)) throw py::value_error("normals: row " + std::to_string(i) + " is zero");
+      const Vec3 u = normalize(d);
+      surface.normals.push_back({static_cast<float>(u.x), static_cast<float>(u.y), static_cast<float>(u.z)});
+    }
+  }
+  io::CadPart part;
+  part.name = name;
+  part.surfaces.push_back(std::move(surface));
+  io::CadPlacement placement;
+  placement.part = static_cast<std::uint32_t>(self.cad.parts.size());
+  placement.path = name;
+  self.cad.parts.push_back(std::move(part));
+  self.cad.placements.push_back(std::move(placement));
+  self.part_materials.push_back(material);
+}
+
+// The scene of a model as it stands (a copy of its data: later changes to
+// the Python object do not reach a run under way).
+std::function<Result<sim::SceneDesc>(std::vector<Finding>*)> model_builder(const PyModel& self) {
+  if (self.cad.parts.empty()) throw py::value_error("model: add a mesh first (Model.add_mesh)");
+  if (self.emitters.empty()) throw py::value_error("model: add an emitter first (Model.add_emitter)");
+  io::TomlNode root;
+  root.type = io::TomlNode::Type::Table;
+  root.table.push_back({"length_unit", toml_key(self.length_unit)});
+  if (!self.frame.is_none()) root.table.push_back({"frame", toml_from_python(self.frame, "frame")});
+  io::TomlNode materials;
+  for (const auto& [name, keys] : self.materials)
+    materials.table.push_back({name, toml_from_python(keys, "material '" + name + "'")});
+  root.table.push_back({"materials", std::move(materials)});
+  io::TomlNode emitters;
+  emitters.type = io::TomlNode::Type::Array;
+  for (std::size_t i = 0; i < self.emitters.size(); ++i)
+    emitters.array.push_back(toml_from_python(self.emitters[i], "emitter " + std::to_string(i)));
+  root.table.push_back({"emitters", std::move(emitters)});
+  Result<io::PartsFile> parts =
+      io::parse_parts_tree(root, self.name, {"length_unit", "frame", "materials", "emitters"}, "the model");
+  if (!parts.ok()) raise_error(parts.error());
+  for (std::size_t i = 0; i < self.cad.parts.size(); ++i) {
+    if (!parts->material(self.part_materials[i]))
+      throw py::value_error("material: mesh '" + self.cad.parts[i].name + "' names material '" +
+                            self.part_materials[i] + "', which the model does not define (Model.material)");
+    io::PartsRule rule;
+    rule.match = self.cad.parts[i].name;
+    rule.material = self.part_materials[i];
+    parts->rules.push_back(std::move(rule));
+  }
+  auto cad = std::make_shared<const io::CadModel>(self.cad);
+  auto sidecar = std::make_shared<const io::PartsFile>(std::move(*parts));
+  const std::string name = self.name;
+  return [cad, sidecar, name](std::vector<Finding>* findings) -> Result<sim::SceneDesc> {
+    io::CadLoadOptions options;
+    options.allow_outside_paths = true;  // the profiles a script names, wherever they are
+    return io::cad_scene(*cad, *sidecar, name, options, findings);
+  };
+}
+
+void bind_model(py::module_& m) {
+  py::class_<PyModel>(m, "Model",
+                      "A luminaire built in memory: meshes from numpy arrays, materials and emitters as dicts\n"
+                      "with the CAD sidecar's keys (docs/cad.md), traced by gonio.simulate(model) without\n"
+                      "writing a file. Frame: the sidecar's (zenith +Z, C0 +X unless `frame` says otherwise).")
+      .def(py::init([](const std::string& length_unit, const py::object& frame, const std::string& name) {
+             if (!io::length_unit_m(length_unit))
+               throw py::value_error("length_unit: '" + length_unit + "' is not a length unit (mm, cm, m, inch, …)");
+             if (name.empty()) throw py::value_error("name: the model needs a name (it names the outputs)");
+             PyModel model;
+             model.length_unit = length_unit;
+             model.frame = frame;
+             model.name = name;
+             model.cad.format = "Gonio model (in memory)";
+             model.cad.file_unit = "m";
+             model.cad.file_unit_m = 1.0;
+             return model;
+           }),
+           py::kw_only(), py::arg("length_unit") = "mm", py::arg("frame") = py::none(), py::arg("name") = "model",
+           "length_unit: of the vertices and the emitters' positions (the sidecar's units); frame: {'up': "
+           "[x, y, z], 'c0': [x, y, z]} as the sidecar's [frame]; name: the model's, which names the outputs.")
+      .def("material", [](PyModel& self, const std::string& name, const py::dict& keys) {
+             for (auto& [n, k] : self.materials)
+               if (n == name) {
+                 k = keys;
+                 return;
+               }
+             self.materials.emplace_back(name, keys);
+           },
+           py::arg("name"), py::arg("keys"),
+           "Defines (or replaces) a material: `keys` as a sidecar's [materials.NAME] table, e.g.\n"
+           "{'mirror': 0.95} or {'preset': 'aluminium-anodised'}; read when the model is simulated.")
+      .def("add_mesh", &model_add_mesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"), py::kw_only(),
+           py::arg("normals") = py::none(), py::arg("material"),
+           "Adds a mesh: vertices (N, 3) in length_unit, triangles (M, 3) vertex indices counter-clockwise\n"
+           "from the front, normals (N, 3) optional (shading normals; else the faces'). A wrong shape, a value\n"
+           "that is not finite or an index out of range raises ValueError naming the argument.")
+      .def("add_emitter", [](PyModel& self, const py::dict& emitter) { self.emitters.push_back(emitter); },
+           py::arg("emitter"),
+           "Adds an emitter: a dict as a sidecar's [[emitters]] table (name, position, nadir, c0, profile,\n"
+           "ray_file, flux_lm, spectrum); paths relative to the working folder.")
+      .def_property_readonly("name", [](const PyModel& self) { return self.name; })
+      .def_property_readonly("meshes", [](const PyModel& self) {
+        py::list out;
+        for (const io::CadPart& p : self.cad.parts) out.append(p.name);
+        return out;
+      }, "the meshes' names, in the order they were added");
+}
+
 SimulationResult simulate(const py::object& model_object, std::uint64_t photons, int iterations, std::uint64_t seed,
                           const std::string& sampler, int threads, const py::object& out_object,
                           const py::object& on_iteration, double target_error, double c_step, double gamma_step,
@@ -697,11 +921,18 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
   std::shared_ptr<const design::Design> in_memory;
   if (py::isinstance<PyDesign>(model_object))
     in_memory = std::make_shared<const design::Design>(*model_object.cast<const PyDesign&>().d);
-  const std::string model = in_memory ? in_memory->path : fspath(model_object);
+  std::function<Result<sim::SceneDesc>(std::vector<Finding>*)> builder;
+  std::string built_name;
+  if (py::isinstance<PyModel>(model_object)) {
+    builder = model_builder(model_object.cast<const PyModel&>());
+    built_name = model_object.cast<const PyModel&>().name;
+  }
+  const std::string model = in_memory ? in_memory->path : builder ? built_name : fspath(model_object);
   const std::string out = out_object.is_none() ? std::string() : fspath(out_object);
   app::SimulatePlan plan = plan_run(model, photons, iterations, seed, sampler, threads, out, target_error, c_step,
                                     gamma_step, symmetry, formats, ies_version, name, max_bounces, cache);
   plan.model_input.design = in_memory;
+  plan.model_input.build_scene = builder;
   sim::Ranks ranks;  // this process alone
   plan.progressive.simulation.ranks = &ranks;
 
@@ -1102,6 +1333,7 @@ void bind_design(py::module_& m) {
       });
 }
 
+
 void bind_simulation(py::module_& m) {
   py::class_<FarField>(m, "FarField",
                        "The simulated far field: a direction cube map, faces +X -X +Y -Y +Z -Z of the model's\n"
@@ -1296,7 +1528,7 @@ void bind_simulation(py::module_& m) {
         py::arg("c_step") = 5.0, py::arg("gamma_step") = 2.5, py::arg("symmetry") = "auto",
         py::arg("formats") = "all", py::arg("ies_version") = "2019", py::arg("name") = py::none(),
         py::arg("max_bounces") = 100, py::arg("cache") = true,
-        "Traces a luminaire model (glTF 2.0, STEP, a design file, or a gonio.Design in memory) as\n"
+        "Traces a luminaire model (glTF 2.0, STEP, a design file, or a gonio.Design or gonio.Model in memory) as\n"
         "gonio simulate does: `photons` per iteration,\n"
         "`iterations` at most, stopping early at `target_error` percent (estimated RMS candela\n"
         "error) where given. With `out`, writes gonio simulate's files there (the same bytes as\n"
@@ -1324,5 +1556,6 @@ PYBIND11_MODULE(_gonio, m) {
   m.attr("UndefinedFigureWarning") = py::reinterpret_borrow<py::object>(g_warning_type);
   bind_photometry(m);
   bind_design(m);
+  bind_model(m);
   bind_simulation(m);
 }

@@ -78,7 +78,9 @@ ModelLoad load_model(const std::string& model, const ModelInputOptions& options,
   ModelInputTimes t;
   auto start = std::chrono::steady_clock::now();
   Result<sim::SceneDesc> scene = Error{};
-  if (options.design || design::is_design_path(model)) {
+  if (options.build_scene) {
+    scene = options.build_scene(&out.findings);
+  } else if (options.design || design::is_design_path(model)) {
     // A design file (or one in memory): its parts tessellated as CAD parts
     // are, to the same rule.
     io::CadLoadOptions load;

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -39,6 +40,11 @@ struct ModelInputOptions {
   // built from it, at its variables' current values, and the model's name
   // only names it in messages and outputs; no file is read for it.
   std::shared_ptr<const design::Design> design;
+  // A model built in memory (the Python module's gonio.Model: meshes from
+  // arrays, the sidecar's materials and emitters): called in place of
+  // reading a file, its findings appended to the load's; the model's name
+  // only names it.
+  std::function<Result<sim::SceneDesc>(std::vector<Finding>*)> build_scene;
 };
 
 // Whether the options suit these models: --tessellation parses (a CAD model

@@ -153,6 +153,20 @@ class Design:
     def write(self, path: PathLike) -> None: ...
     def export_step(self, path: PathLike, *, tolerance_mm: float = 0.001) -> dict[str, Any]: ...
 
+class Model:
+    """A luminaire built in memory: meshes from numpy arrays, the CAD sidecar's materials and emitters as dicts."""
+
+    def __init__(self, *, length_unit: str = "mm", frame: dict[str, Any] | None = None, name: str = "model") -> None: ...
+    def material(self, name: str, keys: dict[str, Any]) -> None: ...
+    def add_mesh(
+        self, name: str, vertices: Any, triangles: Any, *, normals: Any | None = None, material: str
+    ) -> None: ...
+    def add_emitter(self, emitter: dict[str, Any]) -> None: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def meshes(self) -> list[str]: ...
+
 class Merit:
     """The merit gonio optimize minimises, as a function of a design's variables (common random numbers)."""
 
@@ -223,7 +237,7 @@ def tolerance(
     ...
 
 def simulate(
-    model: PathLike | Design,
+    model: PathLike | Design | Model,
     *,
     photons: int = 1_000_000,
     iterations: int = 10,
