@@ -17,7 +17,9 @@
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
+#include "sim/detectors/colour_over_angle.h"
 #include "tools/run/json_figures.h"
+#include "tools/run/resampler_cache.h"
 #include "tools/run/simulation_outputs.h"
 
 namespace gonio::app {
@@ -86,6 +88,16 @@ class Tracer {
       return std::nullopt;
     }
     t.figures = *f;
+    // Spectral runs: the luminaire's CCT and its Δu′v′ max over angle, the
+    // colour code of gonio simulate's report.json (sim/detectors/colour_over_angle.h).
+    if (simulation.tracer().spectral()) {
+      const sim::ColourFarField colour = simulation.colour_far_field();
+      const sim::Resampler resampler = cached_resampler(plan.progressive.simulation.face_size, simulation.scene().frame,
+                                                        plan.grid, plan.model_input.cache_dir);
+      const sim::ColourOverAngle c = sim::colour_over_angle(resampler, simulation.far_field(), colour);
+      t.figures[design::kCct] = c.cct.cct_k;
+      t.figures[design::kDuvMax] = c.delta_uv_max;
+    }
     t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return t;
   }
@@ -249,6 +261,12 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   std::vector<std::string> plot_failures;
   for (std::size_t f = 0; f < kFigureCount; ++f) {
     const design::FigureInfo& info = design::figure_info()[f];
+    if (!std::isfinite(nominal->figures[f])) {
+      // CCT and Δu′v′ in a grey run, UGR without a luminous area, …: no table.
+      table += "\n" + std::string(info.text) + " [" + info.unit + "]: not defined for this model\n";
+      sensitivity[info.key] = {{"unit", info.unit}, {"nominal", nullptr}, {"noise", nullptr}, {"rows", json::array()}};
+      continue;
+    }
     std::vector<design::SensitivityRow> ranked, below;
     for (std::size_t i = 0; i < dims; ++i) {
       const design::Tolerance& t = spec->tolerances[i];

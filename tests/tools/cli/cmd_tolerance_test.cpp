@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -42,8 +43,8 @@ test::ProcessResult gonio(std::vector<std::string> args) {
 // down after one bounce, the rest directly.
 // Flat facets (`smooth` false: no shading normals) spread the beam over a
 // few degrees, so that the table's flux integrates it well.
-fs::path write_paraboloid(const fs::path& dir, bool smooth = true) {
-  sim::Mesh mirror = smooth ? sim::paraboloid(kF, kAperture, 0.0, 48, 192) : sim::paraboloid(kF, kAperture, 0.0, 8, 32);
+fs::path write_paraboloid(const fs::path& dir, bool smooth = true, double aperture = kAperture) {
+  sim::Mesh mirror = smooth ? sim::paraboloid(kF, aperture, 0.0, 48, 192) : sim::paraboloid(kF, aperture, 0.0, 8, 32);
   if (!smooth) mirror.normals.clear();
   io::GltfWriter w("gonio tolerance test");
   const int material = w.material({{"name", "mirror"}, {"pbrMetallicRoughness",
@@ -143,6 +144,128 @@ TEST(ToleranceCli, MonteCarloBeamDirectionsFollowArctanDeltaOverF) {
   std::sort(drawn.begin(), drawn.end());
   EXPECT_LT(drawn.front(), -1.0);
   EXPECT_GT(drawn.back(), 1.0);
+}
+
+// The regularised lower incomplete gamma function P(a, x) by its series
+// (x up to a few hundred: the terms fall once n > x), for χ² probabilities.
+double lower_gamma_p(double a, double x) {
+  if (x <= 0.0) return 0.0;
+  double term = 1.0 / a, sum = term;
+  for (int n = 1; n < 2000; ++n) {
+    term *= x / (a + n);
+    sum += term;
+    if (term < 1e-17 * sum) break;
+  }
+  return std::exp(a * std::log(x) - x - std::lgamma(a)) * sum;
+}
+
+// Kolmogorov's distribution: P(√N·D > λ) for the one-sample statistic D,
+// with Stephens' finite-N factor (√N + 0.12 + 0.11/√N).
+double ks_p_value(double d, std::size_t n) {
+  const double rn = std::sqrt(static_cast<double>(n));
+  const double lambda = (rn + 0.12 + 0.11 / rn) * d;
+  if (lambda < 0.2) return 1.0;
+  double p = 0.0;
+  for (int k = 1; k <= 100; ++k) p += 2.0 * ((k % 2) ? 1.0 : -1.0) * std::exp(-2.0 * k * k * lambda * lambda);
+  return std::clamp(p, 0.0, 1.0);
+}
+
+// The distribution function of N(0, σ) truncated at ±kσ.
+double truncated_normal_cdf(double x, double sigma, double k) {
+  const auto phi = [](double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); };
+  const double z = std::clamp(x / sigma, -k, k);
+  return (phi(z) - phi(-k)) / (phi(k) - phi(-k));
+}
+
+// A statistical test of the Monte Carlo against the closed form. The source
+// is displaced by Δ ~ N(0, σ = 1 mm) truncated at ±3σ (the default) along
+// C0; the beam then leaves tilted by arctan(Δ/f) towards C180. 40 trials on
+// a 0.5° γ, 5° C grid. Each trial's peak (C, γ) gives the tilt projected on
+// the C0-C180 plane, t = atan(tan γ · cos C), and the displacement it
+// implies, Δ' = −f·tan t; the grid's quantisation makes that an interval
+// [Δ'_lo, Δ'_hi] (the peak anywhere in its bin: γ ± 0.25°, C ± 2.5°).
+//  - Kolmogorov–Smirnov at α = 0.01: the smallest KS distance between the
+//    law of Δ and any placement of the Δ' within their intervals (the
+//    empirical distribution lies between the counts of upper and of lower
+//    ends); the test fails where its p-value is below α.
+//  - χ² on the variance at α = 0.01 (two-sided): (N − 1)s²/σ_t² against
+//    χ²(N − 1), σ_t² the truncated law's variance; the quantisation moves
+//    √(N − 1)·s by at most √N·w (w the largest half interval), and the test
+//    fails only where no s in that range is accepted.
+// Both tests assume independent draws; the Latin hypercube's stratified
+// draws are closer to the law than independent ones, which makes both
+// conservative (they reject less often than α), never anti-conservative.
+TEST(ToleranceCli, MonteCarloBeamDirectionsPassKolmogorovSmirnovAndChiSquaredAgainstArctanDeltaOverF) {
+  test::TempDir dir;
+  // A paraxial cap: the rim at 20° from the axis seen from the focus
+  // (aperture 2f·tan 10°), where every ray's turn, Δ·cos θ·(1 + cos θ)/2f,
+  // is within 9 % of the vertex ray's Δ/f (on the whole dish, out to 90°,
+  // the rays far from the vertex turn less and pull the peak bin below
+  // arctan(Δ/f)).
+  write_paraboloid(dir.path(), true, 2.0 * kF * std::tan(10.0 * std::numbers::pi / 180.0));
+  constexpr std::size_t kTrials = 40;
+  constexpr double kSigma = 2.0, kTruncate = 2.0, kAlpha = 0.05, kGammaHalf = 0.25, kCHalf = 2.5;
+  const json report = run_tolerance(dir.path(), "[emitter.lamp]\nx = { normal = 2.0, truncate = 2 }\n",
+                                    {"--photons", "100000", "--gamma-step", "0.5", "--c-step", "5", "--trials",
+                                     std::to_string(kTrials), "--noise-seeds", "0"});
+  ASSERT_FALSE(report.is_null());
+  ASSERT_EQ(report["monte_carlo"]["trials"].size(), kTrials);
+  const double f_mm = kF * 1000.0, deg = std::numbers::pi / 180.0;
+  std::vector<double> lo, hi, mid;
+  int inside = 0;
+  for (const json& trial : report["monte_carlo"]["trials"]) {
+    const double gamma = trial["figures"]["peak_gamma"].get<double>(), c = trial["figures"]["peak_c"].get<double>();
+    double a = std::numeric_limits<double>::infinity(), b = -a;
+    for (int i = 0; i <= 10; ++i)
+      for (int j = 0; j <= 10; ++j) {
+        const double g = std::max(0.0, gamma - kGammaHalf + 2.0 * kGammaHalf * i / 10.0);
+        const double cc = c - kCHalf + 2.0 * kCHalf * j / 10.0;
+        const double implied = -f_mm * std::tan(g * deg) * std::cos(cc * deg);  // −f·tan t, tan t = tan γ·cos C
+        a = std::min(a, implied);
+        b = std::max(b, implied);
+      }
+    lo.push_back(a);
+    hi.push_back(b);
+    mid.push_back(0.5 * (a + b));
+    inside += trial["values"]["lamp.x"].get<double>() >= a && trial["values"]["lamp.x"].get<double>() <= b;
+    std::printf("drawn %+.4f implied [%+.4f, %+.4f] (peak C %g, γ %g)\n", trial["values"]["lamp.x"].get<double>(), a,
+                b, c, gamma);
+  }
+  std::printf("%d of %zu drawn Δ within their trial's interval\n", inside, kTrials);
+  const std::size_t n = kTrials;
+  // KS: D ≥ max over x of (F(x) − #{lo ≤ x}/N, #{hi ≤ x}/N − F(x)).
+  std::vector<double> slo = lo, shi = hi;
+  std::sort(slo.begin(), slo.end());
+  std::sort(shi.begin(), shi.end());
+  double d = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    d = std::max(d, truncated_normal_cdf(slo[i], kSigma, kTruncate) - static_cast<double>(i) / n);
+    d = std::max(d, static_cast<double>(i + 1) / n - truncated_normal_cdf(shi[i], kSigma, kTruncate));
+  }
+  const double p_ks = ks_p_value(d, n);
+  std::printf("KS: smallest D over the bins %.4f, p = %.3g (α = %g)\n", d, p_ks, kAlpha);
+  EXPECT_GT(p_ks, kAlpha) << "D = " << d;
+  // χ² on the variance.
+  const double k = kTruncate, pdf_k = std::exp(-0.5 * k * k) / std::sqrt(2.0 * std::numbers::pi);
+  const double var_t = kSigma * kSigma * (1.0 - 2.0 * k * pdf_k / std::erf(k / std::sqrt(2.0)));
+  double mean = 0.0, w = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    mean += mid[i] / n;
+    w = std::max(w, 0.5 * (hi[i] - lo[i]));
+  }
+  double ss = 0.0;
+  for (double m : mid) ss += (m - mean) * (m - mean);
+  const double root = std::sqrt(ss), slack = std::sqrt(static_cast<double>(n)) * w;
+  const double nu = static_cast<double>(n - 1);
+  const double chi_lo = std::pow(std::max(0.0, root - slack), 2) / var_t, chi_hi = std::pow(root + slack, 2) / var_t;
+  // Accepted where some χ² in [chi_lo, chi_hi] has a two-sided p-value above α.
+  const double p_lo_end = lower_gamma_p(nu / 2.0, chi_hi / 2.0);  // P(χ² ≤ chi_hi)
+  const double p_hi_end = 1.0 - lower_gamma_p(nu / 2.0, chi_lo / 2.0);  // P(χ² ≥ chi_lo)
+  std::printf("variance: s² = %.4f mm² (σ_t² = %.4f), χ² in [%.2f, %.2f] on %g degrees of freedom, "
+              "P(χ² ≤ hi) = %.3g, P(χ² ≥ lo) = %.3g\n",
+              ss / nu, var_t, chi_lo, chi_hi, nu, p_lo_end, p_hi_end);
+  EXPECT_GT(p_lo_end, kAlpha / 2.0) << "the spread of the beam directions is too small for the law";
+  EXPECT_GT(p_hi_end, kAlpha / 2.0) << "the spread of the beam directions is too large for the law";
 }
 
 // Reflectance ±10 % of a mirror that every reflected photon meets once:
