@@ -18,6 +18,9 @@
 #include <nlohmann/json.hpp>
 
 #include "io/model/gltf_writer.h"
+#include "io/photometric/photometric_file.h"
+#include "photometry/compare.h"
+#include "photometry/intensity_sampler.h"
 #include "sim/shapes.h"
 #include "tests/support/test_support.h"
 
@@ -266,6 +269,79 @@ TEST(ToleranceCli, MonteCarloBeamDirectionsPassKolmogorovSmirnovAndChiSquaredAga
               ss / nu, var_t, chi_lo, chi_hi, nu, p_lo_end, p_hi_end);
   EXPECT_GT(p_lo_end, kAlpha / 2.0) << "the spread of the beam directions is too small for the law";
   EXPECT_GT(p_hi_end, kAlpha / 2.0) << "the spread of the beam directions is too large for the law";
+}
+
+// A spot light (KHR_lights_punctual: a rotational Type C profile, outer
+// cone 30°, smooth falloff) pointing at the nadir, "lamp", beside the
+// paraboloid above it (the spot never reaches the mirror).
+fs::path write_spot(const fs::path& dir) {
+  io::GltfWriter w("gonio tolerance test");
+  const int material = w.material({{"name", "mirror"}, {"pbrMetallicRoughness",
+                                 {{"baseColorFactor", {kMirror, kMirror, kMirror, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}});
+  w.node({{"name", "reflector"}, {"mesh", w.mesh(sim::paraboloid(kF, kAperture, 0.0, 8, 32), material, "reflector")}});
+  const int light = w.khr_light({{"name", "lamp"}, {"type", "spot"}, {"intensity", 100.0},
+                                 {"spot", {{"innerConeAngle", 0.0}, {"outerConeAngle", std::numbers::pi / 6.0}}}});
+  // The spot shines along the node's −Z: turned −90° about X it shines along −Y, the nadir.
+  w.node({{"name", "lamp"}, {"rotation", {-std::sqrt(0.5), 0.0, 0.0, std::sqrt(0.5)}},
+          {"extensions", {{"KHR_lights_punctual", {{"light", light}}}}}});
+  std::string bin;
+  const std::string text = w.finish("paraboloid.bin", bin);
+  test::write_file(dir / "paraboloid.bin", bin);
+  test::write_file(dir / "paraboloid.gltf", text);
+  return dir / "paraboloid.gltf";
+}
+
+// A tilt of a rotationally symmetric emitter turns its distribution by the
+// tilt. The spot tilted by 10° about the C0 axis (tilt_x, one value):
+//  - its beam axis (the mean direction of the light at ≥ half the peak)
+//    moves by 10° towards C90 and not towards C0, to a tenth of the 2.5° γ
+//    step (the axis is a quadrature over the grid's points);
+//  - the whole tilted table (the one Monte Carlo trial, best.ies) equals the
+//    nominal table turned by 10°, looked up at each direction turned back:
+//    its RMS difference from that is below the noise floor (the mean RMS
+//    difference of an independent seed from the nominal), where its RMS
+//    difference from the nominal itself is many times the floor. On common
+//    random numbers every photon leaves turned by exactly the tilt, so what
+//    remains is the grid's binning and interpolation.
+TEST(ToleranceCli, TiltOfASymmetricEmitterTurnsTheDistributionByTheTilt) {
+  test::TempDir dir;
+  write_spot(dir.path());
+  constexpr double kTilt = 10.0;
+  const json report = run_tolerance(dir.path(), "[emitter.lamp]\ntilt_x = { values = [10] }\n",
+                                    {"--photons", "300000", "--trials", "1", "--noise-seeds", "2"});
+  ASSERT_FALSE(report.is_null());
+  EXPECT_NEAR(report["nominal"]["axis_c0"].get<double>(), 0.0, 0.25);
+  EXPECT_NEAR(report["nominal"]["axis_c90"].get<double>(), 0.0, 0.25);
+  const json& turned = row(report, "axis_c90", "lamp.tilt_x");
+  const json& across = row(report, "axis_c0", "lamp.tilt_x");
+  std::printf("axis change towards C90 %.4f, towards C0 %.4f\n", turned["change_high"].get<double>(),
+              across["change_high"].get<double>());
+  EXPECT_NEAR(turned["change_high"].get<double>(), kTilt, 0.25);
+  EXPECT_NEAR(across["change_high"].get<double>(), 0.0, 0.25);
+
+  Result<io::PhotometricFile> nominal = io::read_photometric_file((dir.path() / "out" / "nominal.ies").string());
+  Result<io::PhotometricFile> tilted = io::read_photometric_file((dir.path() / "out" / "best.ies").string());
+  ASSERT_TRUE(nominal.ok() && tilted.ok());
+  const photometry::IntensitySampler sampler(nominal->distribution);
+  photometry::Distribution expected = tilted->distribution;
+  const double deg = std::numbers::pi / 180.0, a = -kTilt * deg;  // turned back about the C0 axis (x)
+  for (std::size_t h = 0; h < expected.horizontal_count(); ++h)
+    for (std::size_t v = 0; v < expected.vertical_count(); ++v) {
+      const double c = expected.horizontal_deg[h] * deg, g = expected.vertical_deg[v] * deg;
+      const double x = std::sin(g) * std::cos(c), y = std::sin(g) * std::sin(c), z = -std::cos(g);
+      const double y2 = y * std::cos(a) - z * std::sin(a), z2 = y * std::sin(a) + z * std::cos(a);
+      double c2 = std::atan2(y2, x) / deg;
+      if (c2 < 0.0) c2 += 360.0;
+      expected.at(h, v) = sampler.cd(c2, std::acos(std::clamp(-z2, -1.0, 1.0)) / deg);
+    }
+  Result<photometry::Comparison> to_turned = photometry::compare(expected, tilted->distribution);
+  Result<photometry::Comparison> to_nominal = photometry::compare(nominal->distribution, tilted->distribution);
+  ASSERT_TRUE(to_turned.ok() && to_nominal.ok());
+  const double floor = report["noise"]["floor"]["rms"].get<double>();
+  std::printf("RMS difference [%% of peak]: from the nominal turned by the tilt %.4f, from the nominal %.4f, "
+              "noise floor %.4f\n", 100.0 * to_turned->rms_relative, 100.0 * to_nominal->rms_relative, floor);
+  EXPECT_LT(100.0 * to_turned->rms_relative, floor);
+  EXPECT_GT(100.0 * to_nominal->rms_relative, 10.0 * floor);
 }
 
 // Reflectance ±10 % of a mirror that every reflected photon meets once:
