@@ -22,6 +22,7 @@
 // lacks.
 #pragma once
 
+#include <array>
 #include <span>
 #include <string>
 #include <string_view>
@@ -79,6 +80,22 @@ Result<ToleranceSpec> read_tolerances(const std::string& path);
 // one with a glossy lobe; and whether the limits keep a material's lobes
 // within 1. Errors name the file's line and the model's names.
 Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene);
+
+// Form errors: `[part.NAME] form = { modes = K, rms_um = S }` gives K
+// tolerances NAME.form1 … NAME.formK [µm], each the RMS amplitude of one
+// mode of the part's sag along the luminaire's up axis: mode k displaces a
+// vertex at distance ρ from the axis through the part's bounding-box centre
+// by a·√(2k + 1)·P_k(t), t = 2(ρ − ρ_min)/(ρ_max − ρ_min) − 1 (P_k the
+// Legendre polynomial, orthonormal over t: RMS a over uniform ρ), and turns
+// its shading normal with the slope, n ∝ n − n_z·δ′(ρ)·ρ̂. Each mode's law
+// is N(0, S/√K) truncated at ±3σ (expected mean square of the sum S²).
+inline constexpr int kMaxFormModes = 8;
+// P_k(t) and P′_k(t).
+std::array<double, 2> legendre(int k, double t);
+// Adds mode `mode` with RMS amplitude `amplitude_um` to the sag of every
+// (not instanced) mesh of `part` about the axis through `centre`.
+void apply_form_mode(sim::SceneDesc& scene, const std::string& part, int mode, double amplitude_um,
+                     const Vec3& centre);
 
 // Applies one value per tolerance (spec order) to the scene; a value of 0
 // leaves its part of the scene as it was, bit for bit. The scene must have
