@@ -158,7 +158,7 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t) const {
 }  // namespace
 
 const std::vector<std::string>& design_root_keys() {
-  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit"};
+  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit", "tolerances"};
   return keys;
 }
 

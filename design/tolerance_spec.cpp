@@ -267,18 +267,44 @@ const char* Tolerance::unit() const {
   if (quantity == "x" || quantity == "y" || quantity == "z") return "mm";
   if (quantity == "tilt_x" || quantity == "tilt_y") return "deg";
   if (quantity.rfind("form", 0) == 0) return "µm";
+  if (target == Target::Variable) return "(design units)";
   return "%";
 }
 
 Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string& path) {
   Result<io::TomlNode> root = io::parse_toml(text, path);
   if (!root.ok()) return root.error();
+  return parse_tolerance_tree(*root, path);
+}
+
+Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::string& path, bool design) {
   ToleranceSpec spec;
   spec.path = path;
-  for (const auto& [section, node] : root->table) {
+  const auto variable = [&](const std::string& name, const io::TomlNode& law_node) -> Status {
+    Result<ToleranceLaw> law = parse_law(law_node, name, path);
+    if (!law.ok()) return law.error();
+    Tolerance t;
+    t.target = Tolerance::Target::Variable;
+    t.name = name;
+    t.law = std::move(law.value());
+    t.line = law_node.line;
+    spec.tolerances.push_back(std::move(t));
+    return Ok{};
+  };
+  for (const auto& [section, node] : root.table) {
     const bool emitter = section == "emitter", part = section == "part";
+    if (section == "variable") {
+      if (!node.is_table()) return at(path, node.line, "variable must be a table: NAME = { law }");
+      for (const auto& [name, law_node] : node.table)
+        if (Status st = variable(name, law_node); !st.ok()) return st.error();
+      continue;
+    }
+    if (design && !emitter && !part && section != "material") {
+      if (Status st = variable(section, node); !st.ok()) return st.error();
+      continue;
+    }
     if (!emitter && !part && section != "material")
-      return at(path, node.line, "unknown section " + io::shown(section) + " (emitter, part, material)");
+      return at(path, node.line, "unknown section " + io::shown(section) + " (emitter, part, material, variable)");
     if (!node.is_table())
       return at(path, node.line, section + " must be tables by name: [" + section + ".NAME]");
     for (const auto& [name, quantities] : node.table) {
@@ -319,7 +345,9 @@ Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string&
     }
   }
   if (spec.tolerances.empty())
-    return make_error(path, "no tolerances: give [emitter.NAME], [part.NAME] or [material.NAME] tables");
+    return design ? at(path, root.line, "no tolerances in [tolerances]: give variables or [tolerances.emitter.NAME], "
+                                        "[tolerances.part.NAME], [tolerances.material.NAME] tables")
+                  : make_error(path, "no tolerances: give [emitter.NAME], [part.NAME] or [material.NAME] tables");
   return spec;
 }
 
@@ -331,6 +359,7 @@ Result<ToleranceSpec> read_tolerances(const std::string& path) {
 
 Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) {
   for (const Tolerance& t : spec.tolerances) {
+    if (t.target == Tolerance::Target::Variable) continue;  // check_variables; the design is built with them
     if (t.target == Tolerance::Target::Emitter) {
       const sim::Emitter* e = find_emitter(scene, t.name);
       if (!e) {
@@ -395,6 +424,7 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
     const double v = values[i];
     if (v == 0.0) continue;  // bit for bit the nominal
     const double scale = 1.0 + v / 100.0;
+    if (t.target == Tolerance::Target::Variable) continue;  // design_with
     if (t.target == Tolerance::Target::Emitter) {
       for (sim::Emitter& e : scene.emitters) {
         if (e.name != t.name) continue;
@@ -460,6 +490,44 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
       m.tables = nullptr;  // sim::prepare derives them again
     }
   }
+}
+
+Status check_variables(const ToleranceSpec& spec, const Design* design) {
+  for (const Tolerance& t : spec.tolerances) {
+    if (t.target != Tolerance::Target::Variable) continue;
+    if (!design)
+      return at(spec.path, t.line, io::shown(t.name) + ": a tolerance on a variable needs a design file as the model");
+    if (design->variable(t.name)) continue;
+    std::string names;
+    for (const Variable& v : design->variables) names += (names.empty() ? "" : ", ") + io::shown(v.name);
+    return at(spec.path, t.line, "the design " + design->path + " has no variable " + io::shown(t.name) + " (it has " +
+                                     (names.empty() ? "none: write a number as { value = … } to make it one" : names) +
+                                     ")");
+  }
+  return Ok{};
+}
+
+bool changes_variables(const ToleranceSpec& spec, std::span<const double> values) {
+  for (std::size_t i = 0; i < values.size() && i < spec.tolerances.size(); ++i)
+    if (spec.tolerances[i].target == Tolerance::Target::Variable && values[i] != 0.0) return true;
+  return false;
+}
+
+Design design_with(const Design& base, const ToleranceSpec& spec, std::span<const double> values) {
+  GONIO_CHECK(values.size() == spec.tolerances.size());
+  Design d = base;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const Tolerance& t = spec.tolerances[i];
+    if (t.target != Tolerance::Target::Variable || values[i] == 0.0) continue;
+    for (Variable& v : d.variables)
+      if (v.name == t.name) {
+        v.min.reset();  // an optimiser's bounds, not the part's
+        v.max.reset();
+        const Status s = set_variable(d, t.name, v.value + values[i]);
+        GONIO_CHECK_MSG(s.ok(), "design_with: a variable checked by check_variables");
+      }
+  }
+  return d;
 }
 
 }  // namespace gonio::design

@@ -28,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "design/design_file.h"
 #include "io/model/toml_tree.h"
 #include "photometry/diagnostics.h"
 #include "sim/scene.h"
@@ -55,13 +56,14 @@ struct ToleranceLaw {
 };
 
 struct Tolerance {
-  enum class Target { Emitter, Part, Material };
+  enum class Target { Emitter, Part, Material, Variable };
   Target target = Target::Emitter;
   std::string name;      // the emitter's, part's (meshes') or material's name in the model
   std::string quantity;  // x, y, z, tilt_x, tilt_y, flux | x, y, z, tilt_x, tilt_y | reflectance, transmittance, roughness
   ToleranceLaw law;
   int line = 0;  // the value's line in the file
-  std::string label() const { return name + "." + quantity; }  // "LED.x"
+  // "LED.x"; a variable's name alone ("reflectors[0].radius").
+  std::string label() const { return quantity.empty() ? name : name + "." + quantity; }
   const char* unit() const;                                     // "mm", "deg", "%"
 };
 
@@ -72,6 +74,13 @@ struct ToleranceSpec {
 
 // Parses a tolerance file's text; errors name `path` and the line.
 Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string& path);
+// The same from a parsed TOML table: the file's root, or a design file's
+// `[tolerances]` table (`design`: true), where a key other than emitter,
+// part, material and variable names a variable of the design with its law
+// (`"reflectors[0].radius" = { normal = 0.05 }`). `[variable]` holds such
+// keys in either. A variable's value is an absolute change in the design's
+// own units of that number.
+Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::string& path, bool design = false);
 Result<ToleranceSpec> read_tolerances(const std::string& path);
 
 // Whether `scene` has what each tolerance names: the emitter or material by
@@ -96,6 +105,17 @@ std::array<double, 2> legendre(int k, double t);
 // (not instanced) mesh of `part` about the axis through `centre`.
 void apply_form_mode(sim::SceneDesc& scene, const std::string& part, int mode, double amplitude_um,
                      const Vec3& centre);
+
+// Whether every variable tolerance names a variable of `design` (the error
+// names the tolerance's line and lists the design's variables); none may be
+// given for a model that is not a design (`design` null).
+Status check_variables(const ToleranceSpec& spec, const Design* design);
+// `base` with each variable tolerance's variable set to its value in `base`
+// plus its value in `values` (spec order; bounds are an optimiser's, not a
+// part's, and are not applied).
+Design design_with(const Design& base, const ToleranceSpec& spec, std::span<const double> values);
+// Whether any variable tolerance has a value other than 0.
+bool changes_variables(const ToleranceSpec& spec, std::span<const double> values);
 
 // Applies one value per tolerance (spec order) to the scene; a value of 0
 // leaves its part of the scene as it was, bit for bit. The scene must have

@@ -61,12 +61,15 @@ int run_tolerance(const Args& args) {
               "inverse sensitivity: per limit, how far each tolerance may grow, linear\n"
               "from its changes at its limits.");
   p.positional("MODEL", &model, "the luminaire model (glTF, STEP/IGES with its sidecar, design file)");
-  p.option("tolerances", &tolerances_path, "FILE", "the tolerance specification (TOML, docs/tolerance.md)");
+  p.option("tolerances", &tolerances_path, "FILE",
+           "the tolerance specification (TOML, docs/tolerance.md); a design file's own [tolerances] are used as well, "
+           "and alone without this option");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
   p.option("trials", &trials, 0, 100000, "N", "Monte Carlo trials (default 20; 0: none)");
   p.option("spec", &spec_text, "LIMITS",
-           "limits for the yield: FIGURE=LO..HI[,…], e.g. beam_c0=24..28 (figures: peak_cd, peak_c, peak_gamma, "
-           "beam_c0, beam_c90, field_c0, field_c90, flux, lor, rms)");
+           "limits for the yield: FIGURE=LO..HI, FIGURE<=HI or FIGURE>=LO[,…], e.g. beam_c0=24..28,ugr<=19 (figures: "
+           "peak_cd, peak_c, peak_gamma, beam_c0, beam_c90, field_c0, field_c90, flux, lor, rms, ugr, bug_b, bug_u, "
+           "bug_g, cct, duv_max, axis_c0, axis_c90)");
   p.option("noise-seeds", &noise_seeds, 0, 1000, "K", "the nominal traced again with K independent seeds (default 3)");
   p.option("sampling-seed", &sampling_seed, 0, 9'223'372'036'854'775'807LL, "S",
            "seed of the Latin hypercube (default 1)");
@@ -81,8 +84,7 @@ int run_tolerance(const Args& args) {
   p.option("gamma-step", &options.gamma_step, app::kGammaStepBounds.min, app::kGammaStepBounds.max, "DEG",
            "γ step of the traced distributions (default 2.5)");
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
-  for (auto [value, option] : {std::pair{&model, "MODEL"}, std::pair{&tolerances_path, "--tolerances FILE"},
-                               std::pair{&out_dir, "--out DIR"}})
+  for (auto [value, option] : {std::pair{&model, "MODEL"}, std::pair{&out_dir, "--out DIR"}})
     if (value->empty()) {
       print_usage_error("tolerance", p, std::string(option) + " is required");
       return kExitUsage;
@@ -111,7 +113,9 @@ int run_tolerance(const Args& args) {
       print_usage_error("tolerance", p, outcome.error().message);
       return kExitUsage;
     }
-    return fail(to_string(outcome.error()));
+    // An error that names no file carries its own context (the file and line inside).
+    const Error& e = outcome.error();
+    return fail(e.where.file.empty() && e.where.line == 0 ? e.message : to_string(e));
   }
   const nlohmann::json& report = outcome->report;
   const nlohmann::json& yield = report["monte_carlo"]["yield"];

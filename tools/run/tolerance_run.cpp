@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "design/design_file.h"
 #include "design/tolerance.h"
 #include "design/tolerance_spec.h"
 #include "io/outputs/plot.h"
@@ -39,8 +41,9 @@ struct Trace {
 
 class Tracer {
  public:
-  Tracer(const SimulatePlan& plan, const design::ToleranceSpec& spec, const MessageSink& on_message)
-      : plan_(plan), spec_(spec), on_message_(on_message) {}
+  Tracer(const SimulatePlan& plan, const design::ToleranceSpec& spec, const MessageSink& on_message,
+         std::shared_ptr<const design::Design> design)
+      : plan_(plan), spec_(spec), on_message_(on_message), design_(std::move(design)) {}
   // Why the last trace failed.
   const std::string& error() const { return error_; }
 
@@ -52,6 +55,10 @@ class Tracer {
     const auto start = std::chrono::steady_clock::now();
     SimulatePlan plan = plan_;
     plan.progressive.simulation.seed = seed;
+    // Tolerances on a design's variables: the design built again with them
+    // (held in memory; none changed: the model as the nominal reads it).
+    if (design_ && design::changes_variables(spec_, values))
+      plan.model_input.design = std::make_shared<const design::Design>(design::design_with(*design_, spec_, values));
     SimulateHooks hooks;
     const bool first = !told_;
     hooks.on_message = [this, first](Severity severity, const std::string& text) {
@@ -106,6 +113,7 @@ class Tracer {
   const SimulatePlan& plan_;
   const design::ToleranceSpec& spec_;
   const MessageSink& on_message_;
+  std::shared_ptr<const design::Design> design_;
   mutable bool told_ = false;
   mutable std::string error_;
 };
@@ -158,8 +166,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     if (hooks.on_output) hooks.on_output(text);
   };
   const auto failed = [](const std::string& message) { return make_error(message); };
-  for (auto [value, option] : {std::pair{&model, "MODEL"}, std::pair{&tolerances_path, "--tolerances FILE"},
-                               std::pair{&out_dir, "--out DIR"}})
+  for (auto [value, option] : {std::pair{&model, "MODEL"}, std::pair{&out_dir, "--out DIR"}})
     if (value->empty()) {
       if (usage) *usage = true;
       return make_error(std::string(option) + " is required");
@@ -173,16 +180,39 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     }
     limits = std::move(l.value());
   }
-  Result<design::ToleranceSpec> spec = design::read_tolerances(tolerances_path);
+  // The model's own [tolerances] where it is a design file, and --tolerances FILE.
+  std::shared_ptr<const design::Design> base_design = plan.model_input.design;
+  if (!base_design && design::is_design_path(model)) {
+    Result<design::Design> d = design::read_design_file(model);
+    if (!d.ok()) return failed(to_string(d.error()));
+    base_design = std::make_shared<const design::Design>(std::move(d.value()));
+  }
+  const io::TomlNode* own = base_design ? base_design->document.get("tolerances") : nullptr;
+  if (tolerances_path.empty() && !own) {
+    if (usage) *usage = true;
+    return make_error(base_design ? "--tolerances FILE is required: the design has no [tolerances] table"
+                                  : "--tolerances FILE is required");
+  }
+  Result<design::ToleranceSpec> spec = design::ToleranceSpec{};
+  if (!tolerances_path.empty()) spec = design::read_tolerances(tolerances_path);
   if (!spec.ok()) return failed(to_string(spec.error()));
+  if (own) {
+    if (!own->is_table()) return failed(model + ":" + std::to_string(own->line) + ": tolerances must be a table");
+    Result<design::ToleranceSpec> from_design = design::parse_tolerance_tree(*own, base_design->path, true);
+    if (!from_design.ok()) return failed(to_string(from_design.error()));
+    if (spec->tolerances.empty()) spec->path = from_design->path;
+    for (design::Tolerance& t : from_design->tolerances) spec->tolerances.push_back(std::move(t));
+  }
+  if (Status s = design::check_variables(*spec, base_design.get()); !s.ok()) return failed(to_string(s.error()));
   if (Status s = io::make_directories(out_dir); !s.ok()) return failed(to_string(s.error()));
 
-  const Tracer tracer(plan, *spec, hooks.on_message);
+  const Tracer tracer(plan, *spec, hooks.on_message, base_design);
   const std::size_t dims = spec->tolerances.size();
   const std::uint64_t seed = static_cast<std::uint64_t>(opt.seed);
   const std::vector<double> zeros(dims, 0.0);
   json report = {{"model", model},
-                 {"tolerances_file", tolerances_path},
+                 {"tolerances_file", tolerances_path.empty() ? json(nullptr) : json(tolerances_path)},
+                 {"tolerances_from_design", own != nullptr},
                  {"settings",
                   {{"photons", opt.photons},
                    {"seed", opt.seed},
@@ -253,7 +283,11 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     }
   }
   json sensitivity = json::object();
-  std::string table = "Sensitivity of " + model + " (" + tolerances_path + "), " +
+  std::string table = "Sensitivity of " + model + " (" +
+                      (tolerances_path.empty() ? std::string("its [tolerances]")
+                       : own                   ? tolerances_path + " and its [tolerances]"
+                                               : tolerances_path) +
+                      "), " +
                       format_number(static_cast<double>(opt.photons)) + " photons per trace, seed " +
                       std::to_string(opt.seed) + ".\nChange of each figure with each tolerance alone at its low and high limit;\n" +
                       "below noise: |change| < " + format_number(design::kNoiseFactor) +
