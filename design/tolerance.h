@@ -94,6 +94,9 @@ Result<std::vector<SpecLimit>> parse_spec(const std::string& text);
 // limit, 0 where the nominal is outside the limit already.
 double allowed_scale(double nominal, double change_low, double change_high, const SpecLimit& limit);
 
+// The traced inverse sensitivity scales a tolerance by at most this factor.
+inline constexpr double kMaxInverseScale = 16.0;
+
 // The photon noise of each figure: the sample standard deviation over the
 // nominal and its re-traces with independent seeds; for the RMS difference
 // the mean RMS difference of the re-traces from the nominal (the floor an

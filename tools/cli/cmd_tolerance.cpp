@@ -43,7 +43,7 @@ int fail(const std::string& message) {
 
 int run_tolerance(const Args& args) {
   std::string model, tolerances_path, out_dir, spec_text;
-  long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10;
+  long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10, inverse_steps = 4;
   app::SimulateOptions options;
   options.iterations = 1;
   options.symmetry_name = "none";
@@ -73,6 +73,9 @@ int run_tolerance(const Args& args) {
   p.option("noise-seeds", &noise_seeds, 0, 1000, "K", "the nominal traced again with K independent seeds (default 3)");
   p.option("sampling-seed", &sampling_seed, 0, 9'223'372'036'854'775'807LL, "S",
            "seed of the Latin hypercube (default 1)");
+  p.option("inverse-steps", &inverse_steps, 0, 50, "N",
+           "with --spec: bisection steps of the traced inverse sensitivity per limit and tolerance (default 4; 0: "
+           "the linear estimate alone)");
   p.option("bins", &bins, 1, 1000, "B", "bins of each figure's histogram (default 10)");
   p.option("photons", &options.photons, 1, 4'294'967'295LL, "N", "photons per trace (default 1000000)");
   p.option("seed", &options.seed, 0, 9'223'372'036'854'775'807LL, "S",
@@ -99,6 +102,7 @@ int run_tolerance(const Args& args) {
   o.noise_seeds = noise_seeds;
   o.sampling_seed = sampling_seed;
   o.bins = bins;
+  o.inverse_steps = inverse_steps;
   o.simulate = options;
   app::ToleranceRunHooks hooks;
   hooks.on_output = [](const std::string& text) {

@@ -221,7 +221,8 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
                    {"noise_seeds", noise_seeds},
                    {"trials", trials},
                    {"sampling", "latin hypercube"},
-                   {"sampling_seed", sampling_seed}}}};
+                   {"sampling_seed", sampling_seed},
+                   {"inverse_steps", options.inverse_steps}}}};
   json tolerances = json::array();
   for (const design::Tolerance& t : spec->tolerances)
     tolerances.push_back({{"name", t.label()},
@@ -343,29 +344,83 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
       plot_failures.push_back(to_string(s.error()));
   }
   report["sensitivity"] = sensitivity;
-  // The inverse: per --spec limit, how far each tolerance may be scaled,
-  // linear from its changes at its limits (not traced again).
+  // The inverse: per --spec limit, how far each tolerance may be scaled:
+  // linear from its changes at its limits, then traced — the tolerance alone
+  // at k·(low, high), both sides within the limit, k doubled from 1 until a
+  // side leaves it (up to kMaxInverseScale), then --inverse-steps bisection
+  // steps, each trace on the same photons (common random numbers).
   json inverse = json::array();
+  const long long inverse_steps = options.inverse_steps;
   if (!limits.empty())
-    table += "\nLargest tolerances that keep a figure within its limit (each alone; linear from the\n"
-             "changes at the limits, not traced; a factor of the tolerance as given):\n";
+    table += "\nLargest tolerances that keep a figure within its limit (each alone; a factor of the\n"
+             "tolerance as given): linear from the changes at the limits, and traced by bisection on\n"
+             "the factor (" + std::to_string(inverse_steps) + " steps; the largest factor that held … the smallest that failed):\n";
   for (const design::SpecLimit& limit : limits) {
-    table += "\n" + limit.text() + " (nominal " + format_number(nominal->figures[limit.figure]) + ")\n";
+    const std::size_t f = limit.figure;
+    table += "\n" + limit.text() + " (nominal " + format_number(nominal->figures[f]) + ")\n";
     for (std::size_t i = 0; i < dims; ++i) {
       const design::Tolerance& t = spec->tolerances[i];
-      const double base = limit.figure == design::kRms ? 0.0 : nominal->figures[limit.figure];
-      const double low = at_limits[i][0][limit.figure] - base, high = at_limits[i][1][limit.figure] - base;
-      const bool quiet = design::below_noise(std::max(std::abs(low), std::abs(high)), noise[limit.figure]);
-      const double k = design::allowed_scale(nominal->figures[limit.figure], low, high, limit);
-      std::string says = quiet ? "below noise: not estimated"
+      const double base = f == design::kRms ? 0.0 : nominal->figures[f];
+      const double low = at_limits[i][0][f] - base, high = at_limits[i][1][f] - base;
+      const bool undefined = !std::isfinite(nominal->figures[f]);
+      const bool quiet = !undefined && design::below_noise(std::max(std::abs(low), std::abs(high)), noise[f]);
+      const double k = undefined ? photometry::kNaN : design::allowed_scale(nominal->figures[f], low, high, limit);
+      std::string says = undefined     ? "not defined for this model"
+                         : quiet       ? "below noise: not estimated"
                          : std::isinf(k) ? "any (no change towards the limit)"
                                          : "× " + format_number(k, 3) + ": " + format_number(k * t.law.low(), 3) +
                                                " … " + format_number(k * t.law.high(), 3) + " " + t.unit();
+      json entry = {{"limit", limit.text()},
+                    {"tolerance", t.label()},
+                    {"scale", undefined || quiet || std::isinf(k) ? json(nullptr) : json(k)},
+                    {"why", undefined ? "not defined" : quiet ? "below noise" : std::isinf(k) ? "no change towards the limit" : ""}};
+      // Traced, where the linear estimate is finite and positive.
+      if (inverse_steps > 0 && !undefined && !quiet && std::isfinite(k) && k > 0.0) {
+        // A relative tolerance stays above −100 %.
+        double cap = design::kMaxInverseScale;
+        if (std::string(t.unit()) == "%" && t.law.low() < 0.0) cap = std::min(cap, 0.999 * 100.0 / -t.law.low());
+        std::size_t traces = 0;
+        std::string trace_error;
+        const auto holds_at = [&](double scale) -> std::optional<bool> {
+          for (double limit_value : {t.law.low(), t.law.high()}) {
+            const double v = scale * limit_value;
+            if (v == 0.0) continue;
+            std::vector<double> values = zeros;
+            values[i] = v;
+            std::optional<Trace> tr = tracer.trace(values, seed, &nominal_d);
+            if (!tr) return std::nullopt;
+            ++traces;
+            seconds.push_back(tr->seconds);
+            if (!limit.holds(tr->figures[f])) return false;
+          }
+          return true;
+        };
+        double ok = 0.0, bad = std::numeric_limits<double>::infinity();
+        (limit.holds(at_limits[i][0][f]) && limit.holds(at_limits[i][1][f]) ? ok : bad) = 1.0;
+        if (ok == 1.0 && cap < 1.0) ok = 0.0;  // cannot happen for a law the file accepted; kept safe
+        for (double next = 2.0; std::isinf(bad) && ok > 0.0 && ok < cap; next = std::min(2.0 * next, cap)) {
+          const std::optional<bool> h = holds_at(next);
+          if (!h) return failed("an inverse-sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
+          (*h ? ok : bad) = next;
+          if (next >= cap) break;
+        }
+        for (long long step = 0; step < inverse_steps && std::isfinite(bad); ++step) {
+          const double mid = 0.5 * (ok + bad);
+          const std::optional<bool> h = holds_at(mid);
+          if (!h) return failed("an inverse-sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
+          (*h ? ok : bad) = mid;
+        }
+        entry["traced_scale"] = ok;
+        entry["traced_fails_at"] = std::isinf(bad) ? json(nullptr) : json(bad);
+        entry["traced_low"] = ok * t.law.low();
+        entry["traced_high"] = ok * t.law.high();
+        entry["traces"] = traces;
+        says += "; traced × " + format_number(ok, 3) + " … " +
+                (std::isinf(bad) ? "(held up to " + format_number(cap, 3) + ")" : format_number(bad, 3)) + ": " +
+                format_number(ok * t.law.low(), 3) + " … " + format_number(ok * t.law.high(), 3) + " " + t.unit();
+      }
       table += "  " + padded(t.label() + " " + t.law.text() + " " + t.unit(), 44) + "  " + says + "\n";
-      inverse.push_back({{"limit", limit.text()},
-                         {"tolerance", t.label()},
-                         {"scale", quiet || std::isinf(k) ? json(nullptr) : json(k)},
-                         {"why", quiet ? "below noise" : std::isinf(k) ? "no change towards the limit" : ""}});
+      inverse.push_back(entry);
     }
   }
   report["inverse_sensitivity"] = inverse;

@@ -26,6 +26,7 @@ struct ToleranceRunOptions {
   std::string model, tolerances_path, out_dir;
   std::string spec_text;  // FIGURE=LO..HI,… (empty: none)
   long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10;
+  long long inverse_steps = 4;  // bisection steps of the traced inverse sensitivity (0: the linear estimate alone)
   SimulateOptions simulate;  // photons, seed, c_step, gamma_step for report.json (the plan's own)
 };
 

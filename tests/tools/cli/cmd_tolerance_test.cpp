@@ -369,6 +369,48 @@ TEST(ToleranceCli, SingleBounceFluxScalesWithReflectance) {
   EXPECT_NEAR(report["nominal"]["flux"].get<double>(), kFlux * (1.0 - caught + kMirror * caught), 0.01 * kFlux);
 }
 
+// The traced inverse sensitivity against the closed form: the mirror's
+// reflectance ±10 % changes the flux linearly (±0.1·R·Φ/2 at the limits),
+// so the largest factor k of the tolerance that keeps flux ≥ nominal − 20 lm
+// is 20 lm over the change at the low limit (k ≈ 0.5). The bisection (4
+// steps from [0, 1]) must bracket it: [held, failed] contains k_lin to 5
+// standard deviations of the staircase (on common random numbers the change
+// at k counts the photons whose roulette number falls between R(1 − 0.1k)
+// and R: binomial, so k is known to √(k/(n·p)) with n = N/2, p = 0.08, and
+// k_lin through the low limit's own count to k·√(1/(n·p))).
+TEST(ToleranceCli, TracedInverseSensitivityBracketsTheLinearClosedForm) {
+  test::TempDir dir;
+  write_paraboloid(dir.path(), false);
+  const long long photons = 400000;
+  const std::string tol = "[material.mirror]\nreflectance = { uniform = 10 }\n";
+  const json first = run_tolerance(dir.path(), tol,
+                                   {"--photons", std::to_string(photons), "--trials", "0", "--noise-seeds", "0"});
+  ASSERT_FALSE(first.is_null());
+  const double nominal = first["nominal"]["flux"].get<double>();
+  const double limit = nominal - 20.0;
+  const json report = run_tolerance(dir.path(), tol,
+                                    {"--photons", std::to_string(photons), "--trials", "0", "--noise-seeds", "2",
+                                     "--spec", "flux>=" + std::to_string(limit), "--inverse-steps", "4"});
+  ASSERT_FALSE(report.is_null());
+  ASSERT_EQ(report["inverse_sensitivity"].size(), 1u);
+  const json& e = report["inverse_sensitivity"][0];
+  const double change_low = row(report, "flux", "mirror.reflectance")["change_low"].get<double>();
+  const double k_lin = (nominal - limit) / -change_low;
+  EXPECT_NEAR(e["scale"].get<double>(), k_lin, 1e-9);  // the linear estimate, as before
+  const double held = e["traced_scale"].get<double>(), failed = e["traced_fails_at"].get<double>();
+  const double np = 0.5 * static_cast<double>(photons) * 0.1 * kMirror;
+  const double sd = std::sqrt(k_lin / np + k_lin * k_lin / np);
+  std::printf("k_lin %.4f, traced [%.4f, %.4f], 5 sd %.4f, %d traces\n", k_lin, held, failed, 5 * sd,
+              e["traces"].get<int>());
+  EXPECT_EQ(failed - held, 1.0 / 16.0);  // 4 halvings of [0, 1]
+  EXPECT_LE(held, k_lin + 5.0 * sd);
+  EXPECT_GE(failed, k_lin - 5.0 * sd);
+  EXPECT_DOUBLE_EQ(e["traced_low"].get<double>(), -10.0 * held);
+  // 4 steps, each tracing the low limit and, where that held, the high one.
+  EXPECT_GE(e["traces"].get<int>(), 4);
+  EXPECT_LE(e["traces"].get<int>(), 8);
+}
+
 // Zero tolerances: every Monte Carlo trial is the nominal, bit for bit — the
 // same photons, nothing changed — and best.ies is nominal.ies byte for
 // byte. A tiny tolerance is reported below the noise floor.
