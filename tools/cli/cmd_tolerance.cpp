@@ -43,7 +43,8 @@ int fail(const std::string& message) {
 
 int run_tolerance(const Args& args) {
   std::string model, tolerances_path, out_dir, spec_text;
-  long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10, inverse_steps = 4;
+  long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10, inverse_steps = 4, parallel_trials = 1;
+  bool resume = false;
   app::SimulateOptions options;
   options.iterations = 1;
   options.symmetry_name = "none";
@@ -76,6 +77,11 @@ int run_tolerance(const Args& args) {
   p.option("inverse-steps", &inverse_steps, 0, 50, "N",
            "with --spec: bisection steps of the traced inverse sensitivity per limit and tolerance (default 4; 0: "
            "the linear estimate alone)");
+  p.option("parallel-trials", &parallel_trials, 1, 256, "P",
+           "Monte Carlo trials traced at once, each with --threads threads (default 1); the report is the same bytes "
+           "for any P");
+  p.flag("resume", &resume,
+         "read DIR/journal.jsonl of an interrupted run back and trace only what it lacks (the same report)");
   p.option("bins", &bins, 1, 1000, "B", "bins of each figure's histogram (default 10)");
   p.option("photons", &options.photons, 1, 4'294'967'295LL, "N", "photons per trace (default 1000000)");
   p.option("seed", &options.seed, 0, 9'223'372'036'854'775'807LL, "S",
@@ -103,6 +109,8 @@ int run_tolerance(const Args& args) {
   o.sampling_seed = sampling_seed;
   o.bins = bins;
   o.inverse_steps = inverse_steps;
+  o.parallel_trials = parallel_trials;
+  o.resume = resume;
   o.simulate = options;
   app::ToleranceRunHooks hooks;
   hooks.on_output = [](const std::string& text) {
@@ -127,8 +135,8 @@ int run_tolerance(const Args& args) {
   if (yield.contains("all"))
     std::printf("yield: %s %% of %zu trials within %s\n", format_number(100.0 * yield["all"].get<double>(), 4).c_str(),
                 trial_count, spec_text.c_str());
-  std::printf("%zu traces, %.2f s each on average; report: %s\n", report["timing"]["traces"].get<std::size_t>(),
-              report["timing"]["seconds_per_trace"].get<double>(), outcome->report_path.c_str());
+  std::printf("%zu traces, %.2f s each on average; report: %s\n", outcome->timing["traces"].get<std::size_t>(),
+              outcome->timing["seconds_per_trace"].get<double>(), outcome->report_path.c_str());
   return kExitOk;
 }
 

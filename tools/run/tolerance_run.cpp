@@ -7,7 +7,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <atomic>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -37,21 +41,139 @@ struct Trace {
   photometry::Distribution distribution;
   FigureValues figures{};
   double seconds = 0.0;
+  bool from_journal = false;  // read back from the journal (no distribution)
 };
+
+// The journal, DIR/journal.jsonl: its first line the run's settings and
+// tolerances, then one line per finished trace, {key, figures, seconds}, the
+// key the seed and each tolerance's value as C99 hex floats. A rerun with
+// --resume reads every complete line back and traces only what is missing;
+// a line cut short by an interruption is dropped. The traces are
+// deterministic (common random numbers), so a figure read back is the one a
+// trace would give, bit for bit.
+class Journal {
+ public:
+  ~Journal() {
+    if (file_) std::fclose(file_);
+  }
+  // Opens `path` for a run described by `header`; with `resume` the lines of
+  // a journal with the same header are kept (how many: `reused`), a journal
+  // of another run is an error.
+  Status open(const std::string& path, const json& header, bool resume, std::size_t* reused) {
+    std::string kept = header.dump() + "\n";
+    *reused = 0;
+    if (resume && fs::exists(path)) {
+      Result<std::string> text = io::read_file(path, std::size_t{1} << 30);
+      if (!text.ok()) return text.error();
+      std::size_t start = 0, line = 0;
+      while (start < text->size()) {
+        const std::size_t end = text->find('\n', start);
+        if (end == std::string::npos) break;  // cut short: dropped
+        const std::string l = text->substr(start, end - start);
+        start = end + 1;
+        ++line;
+        const json j = json::parse(l, nullptr, false);
+        if (line == 1) {
+          if (j.is_discarded() || j != header)
+            return make_error(path, "written by another run (other settings, model or tolerances): run without "
+                                    "--resume to start again");
+          continue;
+        }
+        if (j.is_discarded() || !j.is_object() || !j.contains("key") || !j.contains("figures")) continue;
+        FigureValues f{};
+        for (std::size_t i = 0; i < kFigureCount; ++i) {
+          const json& v = j["figures"].value(design::figure_info()[i].key, json());
+          f[i] = v.is_number() ? v.get<double>() : photometry::kNaN;
+        }
+        done_[j["key"].get<std::string>()] = {f, j.value("seconds", 0.0)};
+        kept += l + "\n";
+        ++*reused;
+      }
+    }
+    if (Status s = io::write_file_atomic(path, kept); !s.ok()) return s;
+    file_ = std::fopen(path.c_str(), "ab");
+    if (!file_) return make_error(path, "cannot be opened to append to it");
+    return Ok{};
+  }
+  std::optional<std::pair<FigureValues, double>> find(const std::string& key) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = done_.find(key);
+    if (it == done_.end()) return std::nullopt;
+    return it->second;
+  }
+  void add(const std::string& key, const FigureValues& f, double seconds) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!file_ || done_.count(key)) return;
+    done_[key] = {f, seconds};
+    json figures = json::object();
+    for (std::size_t i = 0; i < kFigureCount; ++i) figures[design::figure_info()[i].key] = json_number(f[i]);
+    const std::string line = json{{"key", key}, {"figures", figures}, {"seconds", seconds}}.dump() + "\n";
+    std::fputs(line.c_str(), file_);
+    std::fflush(file_);
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::string, std::pair<FigureValues, double>> done_;
+  std::FILE* file_ = nullptr;
+};
+
+std::string trace_key(const std::vector<double>& values, std::uint64_t seed) {
+  std::string key = std::to_string(seed);
+  char buf[64];
+  for (double v : values) {
+    std::snprintf(buf, sizeof buf, ",%a", v);
+    key += buf;
+  }
+  return key;
+}
 
 class Tracer {
  public:
   Tracer(const SimulatePlan& plan, const design::ToleranceSpec& spec, const MessageSink& on_message,
          std::shared_ptr<const design::Design> design)
       : plan_(plan), spec_(spec), on_message_(on_message), design_(std::move(design)) {}
-  // Why the last trace failed.
-  const std::string& error() const { return error_; }
+  // Why the last trace failed (the sequential traces; the parallel ones say
+  // it through `why`).
+  std::string error() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return error_;
+  }
+  void set_journal(Journal* journal) { journal_ = journal; }
 
   // The distribution traced with `values` and `seed`; nothing after the
   // error was printed. The model's warnings are told at the first trace
-  // only (every trace loads the model again).
+  // only (every trace loads the model again). With a journal, a trace it
+  // holds is not traced again unless `need_distribution`: its figures and
+  // seconds come back without a distribution. Safe to call from several
+  // threads at once.
   std::optional<Trace> trace(const std::vector<double>& values, std::uint64_t seed,
-                             const photometry::Distribution* nominal) const {
+                             const photometry::Distribution* nominal, bool need_distribution = false,
+                             std::string* why = nullptr) const {
+    const std::string key = trace_key(values, seed);
+    if (journal_ && !need_distribution)
+      if (std::optional<std::pair<FigureValues, double>> done = journal_->find(key)) {
+        Trace t;
+        t.figures = done->first;
+        t.seconds = done->second;
+        t.from_journal = true;
+        return t;
+      }
+    std::string error;
+    std::optional<Trace> t = trace_now(values, seed, nominal, error);
+    if (!t) {
+      if (why) *why = error;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      error_ = error;
+      return std::nullopt;
+    }
+    if (journal_) journal_->add(key, t->figures, t->seconds);
+    return t;
+  }
+
+ private:
+  std::optional<Trace> trace_now(const std::vector<double>& values, std::uint64_t seed,
+                                 const photometry::Distribution* nominal, std::string& err) const {
     const auto start = std::chrono::steady_clock::now();
     SimulatePlan plan = plan_;
     plan.progressive.simulation.seed = seed;
@@ -60,13 +182,14 @@ class Tracer {
     if (design_ && design::changes_variables(spec_, values))
       plan.model_input.design = std::make_shared<const design::Design>(design::design_with(*design_, spec_, values));
     SimulateHooks hooks;
-    const bool first = !told_;
+    const bool first = !told_.exchange(true);
     hooks.on_message = [this, first](Severity severity, const std::string& text) {
-      if (first || severity >= Severity::Error) tell(on_message_, severity, text);
+      if (!(first || severity >= Severity::Error)) return;
+      const std::lock_guard<std::mutex> lock(tell_mutex_);
+      tell(on_message_, severity, text);
     };
-    told_ = true;
-    error_.clear();
-    hooks.on_failed = [this](const Error& e) { error_ = to_string(e); };
+    err.clear();
+    hooks.on_failed = [&err](const Error& e) { err = to_string(e); };
     hooks.adjust_scene = [&](sim::SceneDesc& scene) -> Status {
       if (Status s = design::check_tolerances(spec_, scene); !s.ok()) return s;
       design::apply_tolerances(spec_, values, scene);
@@ -74,7 +197,7 @@ class Tracer {
     };
     std::optional<SimulateResult> run = simulate(plan, hooks);
     if (!run) {
-      if (error_.empty()) error_ = "the trace failed";
+      if (err.empty()) err = "the trace failed";
       return std::nullopt;
     }
     const sim::Simulation& simulation = run->run.simulation;
@@ -83,7 +206,7 @@ class Tracer {
     Result<SimulatedTable> table =
         simulated_table(simulation.far_field(), simulation.scene(), simulation.ledger(), request);
     if (!table.ok()) {
-      error_ = to_string(table.error());
+      err = to_string(table.error());
       return std::nullopt;
     }
     Trace t;
@@ -91,7 +214,7 @@ class Tracer {
     Result<FigureValues> f = design::figures_of(t.distribution, nominal ? *nominal : t.distribution,
                                                 plan.grid.c_step_deg, plan.grid.gamma_step_deg);
     if (!f.ok()) {
-      error_ = to_string(f.error());
+      err = to_string(f.error());
       return std::nullopt;
     }
     t.figures = *f;
@@ -114,7 +237,9 @@ class Tracer {
   const design::ToleranceSpec& spec_;
   const MessageSink& on_message_;
   std::shared_ptr<const design::Design> design_;
-  mutable bool told_ = false;
+  Journal* journal_ = nullptr;
+  mutable std::atomic<bool> told_{false};
+  mutable std::mutex mutex_, tell_mutex_;
   mutable std::string error_;
 };
 
@@ -206,7 +331,28 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   if (Status s = design::check_variables(*spec, base_design.get()); !s.ok()) return failed(to_string(s.error()));
   if (Status s = io::make_directories(out_dir); !s.ok()) return failed(to_string(s.error()));
 
-  const Tracer tracer(plan, *spec, hooks.on_message, base_design);
+  Tracer tracer(plan, *spec, hooks.on_message, base_design);
+  // The journal: what a rerun with --resume reads back. Its header is what
+  // makes two runs' traces the same: the model, the settings of a trace and
+  // the tolerances.
+  json journal_header = {{"gonio_tolerance_journal", 1},
+                         {"model", model},
+                         {"photons", opt.photons},
+                         {"seed", opt.seed},
+                         {"c_step_deg", opt.c_step},
+                         {"gamma_step_deg", opt.gamma_step},
+                         {"max_bounces", sim.max_bounces}};
+  json journal_tolerances = json::array();
+  for (const design::Tolerance& t : spec->tolerances)
+    journal_tolerances.push_back(t.label() + " " + t.law.text() + " " + t.unit());
+  journal_header["tolerances"] = journal_tolerances;
+  Journal journal;
+  std::size_t reused = 0;
+  if (Status s = journal.open((fs::path(out_dir) / "journal.jsonl").string(), journal_header, options.resume, &reused);
+      !s.ok())
+    return s.error();
+  tracer.set_journal(&journal);
+  if (options.resume) say("resume: " + std::to_string(reused) + " traces read back from the journal\n");
   const std::size_t dims = spec->tolerances.size();
   const std::uint64_t seed = static_cast<std::uint64_t>(opt.seed);
   const std::vector<double> zeros(dims, 0.0);
@@ -237,7 +383,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   // The nominal, and its noise.
   say("nominal: tracing " + format_number(static_cast<double>(opt.photons)) + " photons (seed " +
       std::to_string(opt.seed) + ")\n");
-  std::optional<Trace> nominal = tracer.trace(zeros, seed, nullptr);
+  std::optional<Trace> nominal = tracer.trace(zeros, seed, nullptr, true);
   if (!nominal) return failed(model + ": the nominal model could not be traced (" + tracer.error() + "); nothing was analysed");
   seconds.push_back(nominal->seconds);
   const photometry::Distribution& nominal_d = nominal->distribution;
@@ -441,14 +587,57 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   double best_rms = 0.0, worst_rms = 0.0;
   const std::vector<std::vector<double>> u =
       design::latin_hypercube(static_cast<std::size_t>(trials), dims, static_cast<std::uint64_t>(sampling_seed));
+  // The trials: --parallel-trials at once, each from its own values and the
+  // common seed, so their figures do not depend on the order they finish in.
+  std::vector<std::vector<double>> trial_values(u.size(), std::vector<double>(dims));
+  for (std::size_t n = 0; n < u.size(); ++n)
+    for (std::size_t i = 0; i < dims; ++i) trial_values[n][i] = spec->tolerances[i].law.quantile(u[n][i]);
+  std::vector<std::optional<Trace>> results(u.size());
+  {
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> stop{false};
+    std::mutex mutex;
+    std::string first_error;
+    std::size_t finished = 0;
+    const auto worker = [&] {
+      for (;;) {
+        const std::size_t n = next++;
+        if (n >= u.size() || stop) return;
+        std::string why;
+        std::optional<Trace> t = tracer.trace(trial_values[n], seed, &nominal_d, false, &why);
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!t) {
+          if (!stop.exchange(true))
+            first_error = "Monte Carlo trial " + std::to_string(n + 1) + " failed (" + why + "); nothing more was analysed";
+          return;
+        }
+        t->distribution = {};  // best and worst are traced again below
+        ++finished;
+        char seconds_text[32];
+        std::snprintf(seconds_text, sizeof seconds_text, "%.2f", t->seconds);
+        say("trial " + std::to_string(n + 1) + "/" + std::to_string(u.size()) + " (" + std::to_string(finished) +
+            " done): " + (t->from_journal ? std::string("from the journal") : std::string(seconds_text) + " s") +
+            ", beam " + format_number(t->figures[design::kBeamC0], 4) + "/" +
+            format_number(t->figures[design::kBeamC90], 4) + " deg, peak " +
+            format_number(t->figures[design::kPeakCd], 5) + " cd, flux " + format_number(t->figures[design::kFlux], 5) +
+            " lm, rms " + format_number(t->figures[design::kRms], 3) + " %\n");
+        results[n] = std::move(t);
+      }
+    };
+    const std::size_t workers =
+        std::max<std::size_t>(1, std::min<std::size_t>(static_cast<std::size_t>(options.parallel_trials), u.size()));
+    std::vector<std::thread> pool;
+    for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(worker);
+    worker();
+    for (std::thread& th : pool) th.join();
+    if (stop) return failed(first_error);
+  }
+  std::vector<double> trial_seconds;
   for (std::size_t n = 0; n < u.size(); ++n) {
-    std::vector<double> values(dims);
-    for (std::size_t i = 0; i < dims; ++i) values[i] = spec->tolerances[i].law.quantile(u[n][i]);
-    std::optional<Trace> t = tracer.trace(values, seed, &nominal_d);
-    if (!t)
-      return failed("Monte Carlo trial " + std::to_string(n + 1) + " failed (" + tracer.error() +
-                    "); nothing more was analysed");
+    const std::vector<double>& values = trial_values[n];
+    std::optional<Trace>& t = results[n];
     seconds.push_back(t->seconds);
+    trial_seconds.push_back(t->seconds);
     bool in_spec = true;
     json verdicts = json::object();
     for (std::size_t l = 0; l < limits.size(); ++l) {
@@ -463,27 +652,26 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     if (!best || rms < best_rms) {
       best = n;
       best_rms = rms;
-      kept[0] = t->distribution;
     }
     if (!worst || rms > worst_rms) {
       worst = n;
       worst_rms = rms;
-      kept[1] = t->distribution;
     }
-    char seconds_text[32];
-    std::snprintf(seconds_text, sizeof seconds_text, "%.2f", t->seconds);
-    say("trial " + std::to_string(n + 1) + "/" + std::to_string(u.size()) + ": " + seconds_text + " s, beam " +
-        format_number(t->figures[design::kBeamC0], 4) + "/" + format_number(t->figures[design::kBeamC90], 4) +
-        " deg, peak " + format_number(t->figures[design::kPeakCd], 5) + " cd, flux " +
-        format_number(t->figures[design::kFlux], 5) + " lm, rms " + format_number(rms, 3) + " %" +
-        (limits.empty() ? "" : in_spec ? ", in spec" : ", OUT of spec") + "\n");
     mc_trials.push_back({{"trial", n + 1},
                          {"values", values_json(*spec, values)},
                          {"figures", figures_json(t->figures)},
                          {"in_spec", limits.empty() ? json(nullptr) : json(in_spec)},
-                         {"limits", verdicts},
-                         {"seconds", t->seconds}});
+                         {"limits", verdicts}});
   }
+  // The best and worst trials traced again for their tables (the same
+  // photons: the same distribution as in the Monte Carlo run).
+  if (best)
+    for (int k = 0; k < 2; ++k) {
+      const std::size_t n = k == 0 ? *best : *worst;
+      std::optional<Trace> t = tracer.trace(trial_values[n], seed, &nominal_d, true);
+      if (!t) return failed("the trial " + std::to_string(n + 1) + " traced again failed (" + tracer.error() + ")");
+      kept[static_cast<std::size_t>(k)] = std::move(t->distribution);
+    }
   json histograms = json::object();
   for (std::size_t f = 0; f < kFigureCount && !u.empty(); ++f) {
     const design::Histogram h = design::histogram(figure_values[f], static_cast<std::size_t>(bins));
@@ -507,13 +695,22 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
                            {"best_and_worst_by", "RMS difference from the nominal"}};
   double total = 0.0;
   for (double s : seconds) total += s;
-  report["timing"] = {{"traces", seconds.size()},
-                      {"seconds_per_trace", seconds.empty() ? 0.0 : total / static_cast<double>(seconds.size())},
-                      {"seconds", seconds}};
+  // Wall times in timing.json, not in report.json: the report is the same
+  // bytes for any --parallel-trials and for a run resumed from its journal.
+  json timing = {{"traces", seconds.size()},
+                 {"seconds_per_trace", seconds.empty() ? 0.0 : total / static_cast<double>(seconds.size())},
+                 {"seconds", seconds},
+                 {"trial_seconds", trial_seconds},
+                 {"read_from_journal", reused}};
+  files.push_back("timing.json");
+  files.push_back("journal.jsonl");
   report["files"] = files;
+  if (Status s = io::write_file_atomic((fs::path(out_dir) / "timing.json").string(), timing.dump(2) + "\n"); !s.ok())
+    return failed(to_string(s.error()));
   if (Status s = io::write_file_atomic((fs::path(out_dir) / "report.json").string(), report.dump(2) + "\n"); !s.ok())
     return failed(to_string(s.error()));
   ToleranceRunOutcome out;
+  out.timing = std::move(timing);
   out.report = std::move(report);
   out.report_path = (fs::path(out_dir) / "report.json").string();
   out.table = std::move(table);

@@ -517,6 +517,64 @@ TEST(ToleranceCli, DesignVariablesCarryTolerancesInTheDesignFile) {
       << r.err;
 }
 
+// Trials in parallel and a resumed run give the same report.json, byte for
+// byte: every trace is deterministic in its values and the common seed, and
+// report.json holds no wall times (timing.json does). The resumed run gets
+// the journal of a finished run cut after its third Monte Carlo trial, with
+// half of the next line (as an interrupted write leaves it): it reads the
+// complete lines back and traces only the three trials they lack.
+TEST(ToleranceCli, ParallelTrialsAndResumeGiveTheSameReportBytes) {
+  test::TempDir dir;
+  write_paraboloid(dir.path());
+  test::write_file(dir / "t.toml", "[emitter.lamp]\nx = { normal = 0.5 }\ntilt_y = { uniform = 1 }\n"
+                                   "[material.mirror]\nreflectance = { uniform = 3 }\n");
+  const auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"tolerance", (dir / "paraboloid.gltf").string(), "--tolerances",
+                                     (dir / "t.toml").string(), "--out", (dir / out).string(), "--threads", "1",
+                                     "--photons", "20000", "--trials", "6", "--noise-seeds", "1", "--spec",
+                                     "flux>=880", "--inverse-steps", "2"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return gonio(args);
+  };
+  test::ProcessResult r = run("one", {});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run("two", {"--parallel-trials", "3"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string one = test::read_file(dir / "one" / "report.json");
+  EXPECT_EQ(one, test::read_file(dir / "two" / "report.json"));
+  EXPECT_EQ(test::read_file(dir / "one" / "worst.ies"), test::read_file(dir / "two" / "worst.ies"));
+  const json report = json::parse(one);
+  ASSERT_EQ(report["monte_carlo"]["trials"].size(), 6u);
+  EXPECT_NE(report["monte_carlo"]["trials"][0]["figures"], report["monte_carlo"]["trials"][1]["figures"]);
+
+  // The journal cut after the third trial: the last 6 lines are the trials
+  // (then the best and worst traced again add none: they are there).
+  const std::string journal = test::read_file(dir / "one" / "journal.jsonl");
+  std::vector<std::size_t> ends;
+  for (std::size_t i = 0; i < journal.size(); ++i)
+    if (journal[i] == '\n') ends.push_back(i + 1);
+  ASSERT_GE(ends.size(), 8u);
+  const std::size_t keep = ends[ends.size() - 4];
+  fs::create_directories(dir / "resumed");
+  test::write_file(dir / "resumed" / "journal.jsonl",
+                   journal.substr(0, keep) + journal.substr(keep, (ends[ends.size() - 3] - keep) / 2));
+  r = run("resumed", {"--resume"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(one, test::read_file(dir / "resumed" / "report.json"));
+  EXPECT_NE(r.out.find("resume: " + std::to_string(ends.size() - 4) + " traces read back from the journal"),
+            std::string::npos)
+      << r.out;
+  std::size_t from_journal = 0, pos = 0;
+  while ((pos = r.out.find("from the journal,", pos)) != std::string::npos) ++from_journal, ++pos;
+  EXPECT_EQ(from_journal, 3u) << r.out;
+  EXPECT_EQ(json::parse(test::read_file(dir / "resumed" / "timing.json"))["read_from_journal"].get<std::size_t>(),
+            ends.size() - 4);
+  // Another run's journal is not read back.
+  r = run("resumed", {"--resume", "--seed", "2"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("journal.jsonl: written by another run"), std::string::npos) << r.err;
+}
+
 TEST(ToleranceCli, BadInputIsAnErrorNamingTheLine) {
   test::TempDir dir;
   write_paraboloid(dir.path());
