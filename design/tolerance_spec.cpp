@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "io/support/file_io.h"
@@ -490,6 +491,17 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
       m.tables = nullptr;  // sim::prepare derives them again
     }
   }
+}
+
+double largest_scale(const Tolerance& t, const sim::SceneDesc& scene) {
+  double k = std::numeric_limits<double>::infinity();
+  if (std::string(t.unit()) == "%" && t.law.low() < 0.0) k = 0.999 * 100.0 / -t.law.low();
+  if (t.target == Tolerance::Target::Material && t.law.high() > 0.0)
+    if (const sim::Material* m = find_material(scene, t.name)) {
+      const double part = t.quantity == "reflectance" ? reflection(*m) : t.quantity == "transmittance" ? transmission(*m) : 0.0;
+      if (part > 0.0) k = std::min(k, (1.0 - m->total()) / (part * t.law.high() / 100.0));
+    }
+  return k;
 }
 
 Status check_variables(const ToleranceSpec& spec, const Design* design) {

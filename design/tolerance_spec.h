@@ -106,6 +106,12 @@ std::array<double, 2> legendre(int k, double t);
 void apply_form_mode(sim::SceneDesc& scene, const std::string& part, int mode, double amplitude_um,
                      const Vec3& centre);
 
+// The largest factor by which tolerance `t`'s limits may be scaled on
+// `scene` (which passed check_tolerances): a relative tolerance stays above
+// −100 % (0.999 of the way), a reflectance or transmittance keeps the
+// material's lobes within 1; +inf for the others.
+double largest_scale(const Tolerance& t, const sim::SceneDesc& scene);
+
 // Whether every variable tolerance names a variable of `design` (the error
 // names the tolerance's line and lists the design's variables); none may be
 // given for a model that is not a design (`design` null).

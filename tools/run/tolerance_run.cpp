@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <atomic>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -140,6 +141,11 @@ class Tracer {
     return error_;
   }
   void set_journal(Journal* journal) { journal_ = journal; }
+  // design::largest_scale of tolerance i on the model as loaded (after a trace).
+  double largest_scale(std::size_t i) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return i < scales_.size() ? scales_[i] : std::numeric_limits<double>::infinity();
+  }
 
   // The distribution traced with `values` and `seed`; nothing after the
   // error was printed. The model's warnings are told at the first trace
@@ -192,6 +198,11 @@ class Tracer {
     hooks.on_failed = [&err](const Error& e) { err = to_string(e); };
     hooks.adjust_scene = [&](sim::SceneDesc& scene) -> Status {
       if (Status s = design::check_tolerances(spec_, scene); !s.ok()) return s;
+      {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (scales_.empty())
+          for (const design::Tolerance& t : spec_.tolerances) scales_.push_back(design::largest_scale(t, scene));
+      }
       design::apply_tolerances(spec_, values, scene);
       return Ok{};
     };
@@ -241,6 +252,7 @@ class Tracer {
   mutable std::atomic<bool> told_{false};
   mutable std::mutex mutex_, tell_mutex_;
   mutable std::string error_;
+  mutable std::vector<double> scales_;
 };
 
 json figures_json(const FigureValues& f) {
@@ -522,9 +534,8 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
                     {"why", undefined ? "not defined" : quiet ? "below noise" : std::isinf(k) ? "no change towards the limit" : ""}};
       // Traced, where the linear estimate is finite and positive.
       if (inverse_steps > 0 && !undefined && !quiet && std::isfinite(k) && k > 0.0) {
-        // A relative tolerance stays above −100 %.
-        double cap = design::kMaxInverseScale;
-        if (std::string(t.unit()) == "%" && t.law.low() < 0.0) cap = std::min(cap, 0.999 * 100.0 / -t.law.low());
+        // A relative tolerance stays above −100 %, a reflectance keeps the lobes within 1.
+        const double cap = std::min(design::kMaxInverseScale, tracer.largest_scale(i));
         std::size_t traces = 0;
         std::string trace_error;
         const auto holds_at = [&](double scale) -> std::optional<bool> {
@@ -533,6 +544,8 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
             if (v == 0.0) continue;
             std::vector<double> values = zeros;
             values[i] = v;
+            say("inverse sensitivity, " + limit.text() + ": " + t.label() + " = " + format_number(v) + " " + t.unit() +
+                " (× " + format_number(scale, 4) + ")\n");
             std::optional<Trace> tr = tracer.trace(values, seed, &nominal_d);
             if (!tr) return std::nullopt;
             ++traces;
@@ -544,7 +557,8 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
         double ok = 0.0, bad = std::numeric_limits<double>::infinity();
         (limit.holds(at_limits[i][0][f]) && limit.holds(at_limits[i][1][f]) ? ok : bad) = 1.0;
         if (ok == 1.0 && cap < 1.0) ok = 0.0;  // cannot happen for a law the file accepted; kept safe
-        for (double next = 2.0; std::isinf(bad) && ok > 0.0 && ok < cap; next = std::min(2.0 * next, cap)) {
+        for (double next = std::min(2.0, cap); std::isinf(bad) && ok > 0.0 && ok < cap;
+             next = std::min(2.0 * next, cap)) {
           const std::optional<bool> h = holds_at(next);
           if (!h) return failed("an inverse-sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
           (*h ? ok : bad) = next;

@@ -411,6 +411,23 @@ TEST(ToleranceCli, TracedInverseSensitivityBracketsTheLinearClosedForm) {
   EXPECT_LE(e["traces"].get<int>(), 8);
 }
 
+// The traced inverse sensitivity stops where the model ends: a reflectance
+// of 0.8 ± 10 % may grow by at most (1 − 0.8)/(0.8 · 0.1) = 2.5 before the
+// mirror would reflect more than it receives; a limit far away (flux ≥ 0)
+// holds there, and the factor is reported as held up to 2.5 (no failure),
+// not traced beyond (where the model would be refused).
+TEST(ToleranceCli, TracedInverseSensitivityStopsWhereTheMaterialEnds) {
+  test::TempDir dir;
+  write_paraboloid(dir.path(), false);
+  const json report = run_tolerance(dir.path(), "[material.mirror]\nreflectance = { uniform = 10 }\n",
+                                    {"--photons", "50000", "--trials", "0", "--noise-seeds", "1", "--spec", "flux>=0"});
+  ASSERT_FALSE(report.is_null());
+  const json& e = report["inverse_sensitivity"][0];
+  EXPECT_GT(e["scale"].get<double>(), 2.5);  // the linear estimate knows no material
+  EXPECT_DOUBLE_EQ(e["traced_scale"].get<double>(), 2.5);
+  EXPECT_TRUE(e["traced_fails_at"].is_null());
+}
+
 // Zero tolerances: every Monte Carlo trial is the nominal, bit for bit — the
 // same photons, nothing changed — and best.ies is nominal.ies byte for
 // byte. A tiny tolerance is reported below the noise floor.
