@@ -209,7 +209,8 @@ Status add_lens(const Lens& lens, const std::string& path, const io::CadLoadOpti
 }  // namespace
 
 const std::vector<std::string>& design_root_keys() {
-  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit", "lenses"};
+  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors",
+                                                "lenses",      "merit",     "tolerances"};
   return keys;
 }
 

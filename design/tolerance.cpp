@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 
 #include "io/support/text.h"
 #include "photometry/compare.h"
 #include "photometry/format.h"
+#include "photometry/bug_rating.h"
 #include "photometry/summary.h"
+#include "photometry/ugr.h"
 
 namespace gonio::design {
 namespace {
@@ -39,6 +42,14 @@ const std::array<FigureInfo, kFigureCount>& figure_info() {
       {"flux", "lm", "flux"},
       {"lor", "1", "LOR"},
       {"rms", "% of peak", "RMS difference from the nominal"},
+      {"ugr", "1", "UGR 4H×8H 70/50/20 crosswise"},
+      {"bug_b", "1", "BUG backlight B"},
+      {"bug_u", "1", "BUG uplight U"},
+      {"bug_g", "1", "BUG glare G"},
+      {"cct", "K", "CCT"},
+      {"duv_max", "1", "Δu′v′ max over angle"},
+      {"axis_c0", "deg", "beam axis tilt towards C0"},
+      {"axis_c90", "deg", "beam axis tilt towards C90"},
   }};
   return info;
 }
@@ -68,7 +79,55 @@ Result<FigureValues> figures_of(const photometry::Distribution& d, const photome
   Result<photometry::Comparison> c = photometry::compare(nominal, d, o);
   if (!c.ok()) return c.error();
   f[kRms] = 100.0 * c->rms_relative;
+  // The project's UGR table and BUG rating (photometry/ugr.h, bug_rating.h).
+  f[kUgr] = f[kBugB] = f[kBugU] = f[kBugG] = std::numeric_limits<double>::quiet_NaN();
+  if (photometry::validate(d).ok()) {
+    const photometry::UgrTable ugr = photometry::ugr_table(d);
+    if (ugr.defined)
+      for (const photometry::UgrRoom& room : ugr.rooms)
+        if (room.x_h == 4.0 && room.y_h == 8.0) f[kUgr] = room.crosswise[0];
+    const photometry::BugRating bug = photometry::bug_rating(d);
+    f[kBugB] = bug.b;
+    f[kBugU] = bug.u;
+    f[kBugG] = bug.g;
+  }
+  f[kCct] = f[kDuvMax] = std::numeric_limits<double>::quiet_NaN();  // the caller's, from a spectral run
+  const std::array<double, 2> axis = beam_axis_deg(d);
+  f[kAxisC0] = axis[0];
+  f[kAxisC90] = axis[1];
   return f;
+}
+
+std::array<double, 2> beam_axis_deg(const photometry::Distribution& d) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const std::size_t nh = d.horizontal_count(), nv = d.vertical_count();
+  if (d.type != photometry::PhotometricType::C || d.symmetry != photometry::Symmetry::None || nh == 0 || nv < 2 ||
+      d.candela.size() != nh * nv)
+    return {kNaN, kNaN};
+  double peak = 0.0;
+  for (double v : d.candela) peak = std::max(peak, v);
+  if (!(peak > 0.0)) return {kNaN, kNaN};
+  constexpr double kRad = std::numbers::pi / 180.0;
+  double mx = 0.0, my = 0.0, mz = 0.0;
+  for (std::size_t h = 0; h < nh; ++h) {
+    // The C range around plane h: halfway to its neighbours (cyclic).
+    const double c = d.horizontal_deg[h];
+    const double prev = h == 0 ? d.horizontal_deg[nh - 1] - 360.0 : d.horizontal_deg[h - 1];
+    const double next = h + 1 == nh ? d.horizontal_deg[0] + 360.0 : d.horizontal_deg[h + 1];
+    const double dc = 0.5 * (next - prev) * kRad;
+    for (std::size_t v = 0; v < nv; ++v) {
+      const double i = d.at(h, v);
+      if (!(i >= 0.5 * peak)) continue;
+      const double g = d.vertical_deg[v];
+      const double lo = v == 0 ? g : 0.5 * (g + d.vertical_deg[v - 1]);
+      const double hi = v + 1 == nv ? g : 0.5 * (g + d.vertical_deg[v + 1]);
+      const double w = i * dc * (std::cos(lo * kRad) - std::cos(hi * kRad));
+      mx += w * std::sin(g * kRad) * std::cos(c * kRad);
+      my += w * std::sin(g * kRad) * std::sin(c * kRad);
+      mz -= w * std::cos(g * kRad);
+    }
+  }
+  return {std::atan2(mx, -mz) / kRad, std::atan2(my, -mz) / kRad};
 }
 
 std::vector<std::vector<double>> latin_hypercube(std::size_t trials, std::size_t dims, std::uint64_t seed) {
@@ -99,9 +158,23 @@ Result<std::vector<SpecLimit>> parse_spec(const std::string& text) {
     const std::size_t comma = std::min(text.find(',', start), text.size());
     const std::string item = text.substr(start, comma - start);
     start = comma + 1;
-    const std::size_t eq = item.find('='), dots = item.find("..");
     std::string keys;
     for (const FigureInfo& i : figure_info()) keys += (keys.empty() ? "" : ", ") + std::string(i.key);
+    // FIGURE<=HI and FIGURE>=LO: one-sided limits.
+    if (const std::size_t rel = std::min(item.find("<="), item.find(">=")); rel != std::string::npos) {
+      const std::optional<std::size_t> figure = figure_by_key(item.substr(0, rel));
+      if (!figure) return make_error("--spec " + io::shown(item) + ": unknown figure (" + keys + ")");
+      const std::string number = item.substr(rel + 2);
+      const std::optional<double> v = io::parse_number(number);
+      if (!v || !std::isfinite(*v)) return make_error("--spec " + io::shown(item) + ": " + io::shown(number) + " is not a number");
+      SpecLimit l;
+      l.figure = *figure;
+      (item[rel] == '<' ? l.hi : l.lo) = *v;
+      limits.push_back(l);
+      if (comma == text.size()) break;
+      continue;
+    }
+    const std::size_t eq = item.find('='), dots = item.find("..");
     if (eq == std::string::npos || dots == std::string::npos || dots < eq)
       return make_error("--spec " + io::shown(item) + ": write FIGURE=LO..HI (either end may be left out)");
     const std::optional<std::size_t> figure = figure_by_key(item.substr(0, eq));

@@ -32,6 +32,14 @@ enum FigureIndex : std::size_t {
   kFlux,
   kLor,
   kRms,
+  kUgr,      // UGR of the 4H × 8H room, 70/50/20, crosswise (photometry::ugr_table); NaN without a luminous area
+  kBugB,     // BUG rating's B, U and G (photometry::bug_rating), 0…5
+  kBugU,
+  kBugG,
+  kCct,      // the whole luminaire's CCT [K] (spectral runs; NaN in grey ones)
+  kDuvMax,   // Δu′v′ max over angle (sim::colour_over_angle; spectral runs)
+  kAxisC0,   // the beam's axis: the tilt of the mean direction of the bins at ≥ half the peak
+  kAxisC90,  // towards C0 and towards C90 [deg] (see beam_axis_deg)
   kFigureCount
 };
 struct FigureInfo {
@@ -52,13 +60,23 @@ using FigureValues = std::array<double, kFigureCount>;
 Result<FigureValues> figures_of(const photometry::Distribution& d, const photometry::Distribution& nominal,
                                 double c_step_deg, double gamma_step_deg);
 
+// The beam's axis as two tilts from the nadir [deg]: the mean direction of
+// the grid points whose intensity is at least half the peak, weighted by
+// intensity × the solid angle around each point, turned towards C0 (first)
+// and C90 (second): atan2(m·x, −m·z) and atan2(m·y, −m·z) in the photometric
+// frame (x along C0, y along C90, z up). Sub-grid: a distribution turned by
+// α about the C90 axis has its axis_c0 moved by α (to the accuracy of the
+// grid's quadrature). Type C, symmetry none; NaN otherwise or when dark.
+std::array<double, 2> beam_axis_deg(const photometry::Distribution& d);
+
 // A Latin hypercube of `trials` points in [0, 1)^dims: each dimension's
 // [0, 1) cut into `trials` equal strata, one point in each, the strata
 // shuffled independently per dimension; deterministic in `seed`.
 // [trial][dimension].
 std::vector<std::vector<double>> latin_hypercube(std::size_t trials, std::size_t dims, std::uint64_t seed);
 
-// One --spec limit: FIGURE=LO..HI (either end may be left out).
+// One --spec limit: FIGURE=LO..HI (either end may be left out), FIGURE<=HI
+// or FIGURE>=LO.
 struct SpecLimit {
   std::size_t figure = 0;
   double lo = -std::numeric_limits<double>::infinity();
@@ -66,7 +84,7 @@ struct SpecLimit {
   bool holds(double v) const { return v >= lo && v <= hi; }
   std::string text() const;
 };
-// "beam_c0=24..28,flux=900.." as limits; errors name the item.
+// "beam_c0=24..28,flux=900..,ugr<=19" as limits; errors name the item.
 Result<std::vector<SpecLimit>> parse_spec(const std::string& text);
 
 // The inverse sensitivity of one tolerance, linear: the largest factor k
@@ -75,6 +93,9 @@ Result<std::vector<SpecLimit>> parse_spec(const std::string& text);
 // in the tolerance); +inf where neither change moves towards a finite
 // limit, 0 where the nominal is outside the limit already.
 double allowed_scale(double nominal, double change_low, double change_high, const SpecLimit& limit);
+
+// The traced inverse sensitivity scales a tolerance by at most this factor.
+inline constexpr double kMaxInverseScale = 16.0;
 
 // The photon noise of each figure: the sample standard deviation over the
 // nominal and its re-traces with independent seeds; for the RMS difference

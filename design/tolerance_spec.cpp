@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "io/support/file_io.h"
@@ -116,10 +117,97 @@ bool in_part(const sim::Mesh& mesh, const std::string& name) {
                                mesh.name[name.size()] == '/');
 }
 
+// A part's form error, `form = { modes = K, rms_um = S }`: K tolerances
+// form1 … formK, each the amplitude [µm RMS] of one orthonormal Legendre
+// mode of the sag, N(0, S/√K) truncated at ±3σ, so that the sum's expected
+// mean square is S².
+Result<std::vector<Tolerance>> parse_form(const io::TomlNode& node, const std::string& name, const std::string& what,
+                                          const std::string& path) {
+  if (!node.is_table()) return at(path, node.line, what + ": write { modes = K, rms_um = S }");
+  std::optional<double> modes, rms;
+  for (const auto& [key, value] : node.table) {
+    Result<double> v = number_of(value, what + "." + key, path);
+    if (key != "modes" && key != "rms_um")
+      return at(path, value.line, what + ": unknown key " + io::shown(key) + " (modes, rms_um)");
+    if (!v.ok()) return v.error();
+    if (key == "modes") {
+      if (!(*v >= 1.0 && *v <= kMaxFormModes && *v == std::floor(*v)))
+        return at(path, value.line, what + ".modes must be a whole number from 1 to " + std::to_string(kMaxFormModes));
+      modes = *v;
+    } else {
+      if (!(*v >= 0.0)) return at(path, value.line, what + ".rms_um must be ≥ 0");
+      rms = *v;
+    }
+  }
+  if (!modes || !rms) return at(path, node.line, what + ": give both modes and rms_um");
+  std::vector<Tolerance> out;
+  for (int k = 1; k <= static_cast<int>(*modes); ++k) {
+    Tolerance t;
+    t.target = Tolerance::Target::Part;
+    t.name = name;
+    t.quantity = "form" + std::to_string(k);
+    t.law.kind = ToleranceLaw::Kind::Normal;
+    t.law.sigma = *rms / std::sqrt(*modes);
+    t.line = node.line;
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
 double reflection(const sim::Material& m) { return m.diffuse_reflect + m.mirror + m.glossy + m.abg_reflect.tis; }
 double transmission(const sim::Material& m) { return m.diffuse_transmit + m.dielectric + m.abg_transmit.tis; }
 
 }  // namespace
+
+std::array<double, 2> legendre(int k, double t) {
+  double p0 = 1.0, p1 = t, d0 = 0.0, d1 = 1.0;
+  if (k == 0) return {1.0, 0.0};
+  for (int n = 1; n < k; ++n) {
+    const double p2 = ((2.0 * n + 1.0) * t * p1 - n * p0) / (n + 1.0);
+    const double d2 = d0 + (2.0 * n + 1.0) * p1;  // P'_{n+1} = P'_{n−1} + (2n + 1) P_n
+    p0 = p1;
+    p1 = p2;
+    d0 = d1;
+    d1 = d2;
+  }
+  return {p1, d1};
+}
+
+void apply_form_mode(sim::SceneDesc& scene, const std::string& part, int mode, double amplitude_um,
+                     const Vec3& centre) {
+  const Vec3 up = scene.frame.up;
+  const auto radial = [&](const Vec3& q) {
+    const Vec3 r = q - centre;
+    return r - dot(r, up) * up;
+  };
+  double rho_lo = 1e300, rho_hi = 0.0;
+  for (const sim::Mesh& mesh : scene.meshes)
+    if (in_part(mesh, part) && !mesh.instanced)
+      for (const sim::Vec3f& p : mesh.positions) {
+        const double rho = length(radial(sim::to_double(p)));
+        rho_lo = std::min(rho_lo, rho);
+        rho_hi = std::max(rho_hi, rho);
+      }
+  if (!(rho_hi > rho_lo)) return;  // no extent across the axis: no sag to shape
+  const double a = amplitude_um * 1e-6 * std::sqrt(2.0 * mode + 1.0);  // [m]
+  const double dt = 2.0 / (rho_hi - rho_lo);
+  for (sim::Mesh& mesh : scene.meshes) {
+    if (!in_part(mesh, part) || mesh.instanced) continue;
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+      const Vec3 q = sim::to_double(mesh.positions[i]);
+      const Vec3 r = radial(q);
+      const double rho = length(r);
+      const std::array<double, 2> p = legendre(mode, std::clamp((rho - rho_lo) * dt - 1.0, -1.0, 1.0));
+      mesh.positions[i] = sim::to_float(q + (a * p[0]) * up);
+      if (i < mesh.normals.size() && rho > 0.0) {
+        // z = s(ρ) + δ(ρ): the normal ∝ n − n_z·δ′(ρ)·ρ̂, its side kept.
+        const Vec3 n = sim::to_double(mesh.normals[i]);
+        const Vec3 m = n - (dot(n, up) * a * p[1] * dt / rho) * r;
+        mesh.normals[i] = sim::to_float((1.0 / length(m)) * m);
+      }
+    }
+  }
+}
 
 double ToleranceLaw::low() const {
   switch (kind) {
@@ -179,18 +267,45 @@ std::string ToleranceLaw::text() const {
 const char* Tolerance::unit() const {
   if (quantity == "x" || quantity == "y" || quantity == "z") return "mm";
   if (quantity == "tilt_x" || quantity == "tilt_y") return "deg";
+  if (quantity.rfind("form", 0) == 0) return "µm";
+  if (target == Target::Variable) return "(design units)";
   return "%";
 }
 
 Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string& path) {
   Result<io::TomlNode> root = io::parse_toml(text, path);
   if (!root.ok()) return root.error();
+  return parse_tolerance_tree(*root, path);
+}
+
+Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::string& path, bool design) {
   ToleranceSpec spec;
   spec.path = path;
-  for (const auto& [section, node] : root->table) {
+  const auto variable = [&](const std::string& name, const io::TomlNode& law_node) -> Status {
+    Result<ToleranceLaw> law = parse_law(law_node, name, path);
+    if (!law.ok()) return law.error();
+    Tolerance t;
+    t.target = Tolerance::Target::Variable;
+    t.name = name;
+    t.law = std::move(law.value());
+    t.line = law_node.line;
+    spec.tolerances.push_back(std::move(t));
+    return Ok{};
+  };
+  for (const auto& [section, node] : root.table) {
     const bool emitter = section == "emitter", part = section == "part";
+    if (section == "variable") {
+      if (!node.is_table()) return at(path, node.line, "variable must be a table: NAME = { law }");
+      for (const auto& [name, law_node] : node.table)
+        if (Status st = variable(name, law_node); !st.ok()) return st.error();
+      continue;
+    }
+    if (design && !emitter && !part && section != "material") {
+      if (Status st = variable(section, node); !st.ok()) return st.error();
+      continue;
+    }
     if (!emitter && !part && section != "material")
-      return at(path, node.line, "unknown section " + io::shown(section) + " (emitter, part, material)");
+      return at(path, node.line, "unknown section " + io::shown(section) + " (emitter, part, material, variable)");
     if (!node.is_table())
       return at(path, node.line, section + " must be tables by name: [" + section + ".NAME]");
     for (const auto& [name, quantities] : node.table) {
@@ -198,6 +313,12 @@ Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string&
         return at(path, quantities.line, "[" + section + "." + name + "] must be a table of values");
       for (const auto& [quantity, law_node] : quantities.table) {
         const std::string what = section + "." + name + "." + quantity;
+        if (part && quantity == "form") {
+          Result<std::vector<Tolerance>> modes = parse_form(law_node, name, what, path);
+          if (!modes.ok()) return modes.error();
+          for (Tolerance& t : *modes) spec.tolerances.push_back(std::move(t));
+          continue;
+        }
         const bool known = emitter ? one_of(quantity, kEmitterQuantities)
                            : part  ? one_of(quantity, kPartQuantities)
                                    : one_of(quantity, kMaterialQuantities);
@@ -205,7 +326,7 @@ Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string&
           return at(path, law_node.line,
                     "unknown " + section + " value " + io::shown(quantity) + " (" +
                         (emitter ? listed(kEmitterQuantities)
-                         : part  ? listed(kPartQuantities)
+                         : part  ? listed(kPartQuantities) + ", form"
                                  : listed(kMaterialQuantities)) +
                         ")");
         Result<ToleranceLaw> law = parse_law(law_node, what, path);
@@ -225,7 +346,9 @@ Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string&
     }
   }
   if (spec.tolerances.empty())
-    return make_error(path, "no tolerances: give [emitter.NAME], [part.NAME] or [material.NAME] tables");
+    return design ? at(path, root.line, "no tolerances in [tolerances]: give variables or [tolerances.emitter.NAME], "
+                                        "[tolerances.part.NAME], [tolerances.material.NAME] tables")
+                  : make_error(path, "no tolerances: give [emitter.NAME], [part.NAME] or [material.NAME] tables");
   return spec;
 }
 
@@ -237,6 +360,7 @@ Result<ToleranceSpec> read_tolerances(const std::string& path) {
 
 Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) {
   for (const Tolerance& t : spec.tolerances) {
+    if (t.target == Tolerance::Target::Variable) continue;  // check_variables; the design is built with them
     if (t.target == Tolerance::Target::Emitter) {
       const sim::Emitter* e = find_emitter(scene, t.name);
       if (!e) {
@@ -301,6 +425,7 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
     const double v = values[i];
     if (v == 0.0) continue;  // bit for bit the nominal
     const double scale = 1.0 + v / 100.0;
+    if (t.target == Tolerance::Target::Variable) continue;  // design_with
     if (t.target == Tolerance::Target::Emitter) {
       for (sim::Emitter& e : scene.emitters) {
         if (e.name != t.name) continue;
@@ -332,6 +457,10 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
             hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
           }
       const Vec3 centre = 0.5 * (lo + hi);
+      if (t.quantity.rfind("form", 0) == 0) {
+        apply_form_mode(scene, t.name, std::stoi(t.quantity.substr(4)), v, centre);
+        continue;
+      }
       sim::Affine map;
       if (t.quantity == "x") map = sim::translation((v * 1e-3) * f.c0);
       else if (t.quantity == "y") map = sim::translation((v * 1e-3) * f.c90);
@@ -362,6 +491,55 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
       m.tables = nullptr;  // sim::prepare derives them again
     }
   }
+}
+
+double largest_scale(const Tolerance& t, const sim::SceneDesc& scene) {
+  double k = std::numeric_limits<double>::infinity();
+  if (std::string(t.unit()) == "%" && t.law.low() < 0.0) k = 0.999 * 100.0 / -t.law.low();
+  if (t.target == Tolerance::Target::Material && t.law.high() > 0.0)
+    if (const sim::Material* m = find_material(scene, t.name)) {
+      const double part = t.quantity == "reflectance" ? reflection(*m) : t.quantity == "transmittance" ? transmission(*m) : 0.0;
+      if (part > 0.0) k = std::min(k, (1.0 - m->total()) / (part * t.law.high() / 100.0));
+    }
+  return k;
+}
+
+Status check_variables(const ToleranceSpec& spec, const Design* design) {
+  for (const Tolerance& t : spec.tolerances) {
+    if (t.target != Tolerance::Target::Variable) continue;
+    if (!design)
+      return at(spec.path, t.line, io::shown(t.name) + ": a tolerance on a variable needs a design file as the model");
+    if (design->variable(t.name)) continue;
+    std::string names;
+    for (const Variable& v : design->variables) names += (names.empty() ? "" : ", ") + io::shown(v.name);
+    return at(spec.path, t.line, "the design " + design->path + " has no variable " + io::shown(t.name) + " (it has " +
+                                     (names.empty() ? "none: write a number as { value = … } to make it one" : names) +
+                                     ")");
+  }
+  return Ok{};
+}
+
+bool changes_variables(const ToleranceSpec& spec, std::span<const double> values) {
+  for (std::size_t i = 0; i < values.size() && i < spec.tolerances.size(); ++i)
+    if (spec.tolerances[i].target == Tolerance::Target::Variable && values[i] != 0.0) return true;
+  return false;
+}
+
+Design design_with(const Design& base, const ToleranceSpec& spec, std::span<const double> values) {
+  GONIO_CHECK(values.size() == spec.tolerances.size());
+  Design d = base;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const Tolerance& t = spec.tolerances[i];
+    if (t.target != Tolerance::Target::Variable || values[i] == 0.0) continue;
+    for (Variable& v : d.variables)
+      if (v.name == t.name) {
+        v.min.reset();  // an optimiser's bounds, not the part's
+        v.max.reset();
+        const Status s = set_variable(d, t.name, v.value + values[i]);
+        GONIO_CHECK_MSG(s.ok(), "design_with: a variable checked by check_variables");
+      }
+  }
+  return d;
 }
 
 }  // namespace gonio::design

@@ -22,11 +22,13 @@
 // lacks.
 #pragma once
 
+#include <array>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "design/design_file.h"
 #include "io/model/toml_tree.h"
 #include "photometry/diagnostics.h"
 #include "sim/scene.h"
@@ -54,13 +56,14 @@ struct ToleranceLaw {
 };
 
 struct Tolerance {
-  enum class Target { Emitter, Part, Material };
+  enum class Target { Emitter, Part, Material, Variable };
   Target target = Target::Emitter;
   std::string name;      // the emitter's, part's (meshes') or material's name in the model
   std::string quantity;  // x, y, z, tilt_x, tilt_y, flux | x, y, z, tilt_x, tilt_y | reflectance, transmittance, roughness
   ToleranceLaw law;
   int line = 0;  // the value's line in the file
-  std::string label() const { return name + "." + quantity; }  // "LED.x"
+  // "LED.x"; a variable's name alone ("reflectors[0].radius").
+  std::string label() const { return quantity.empty() ? name : name + "." + quantity; }
   const char* unit() const;                                     // "mm", "deg", "%"
 };
 
@@ -71,6 +74,13 @@ struct ToleranceSpec {
 
 // Parses a tolerance file's text; errors name `path` and the line.
 Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string& path);
+// The same from a parsed TOML table: the file's root, or a design file's
+// `[tolerances]` table (`design`: true), where a key other than emitter,
+// part, material and variable names a variable of the design with its law
+// (`"reflectors[0].radius" = { normal = 0.05 }`). `[variable]` holds such
+// keys in either. A variable's value is an absolute change in the design's
+// own units of that number.
+Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::string& path, bool design = false);
 Result<ToleranceSpec> read_tolerances(const std::string& path);
 
 // Whether `scene` has what each tolerance names: the emitter or material by
@@ -79,6 +89,39 @@ Result<ToleranceSpec> read_tolerances(const std::string& path);
 // one with a glossy lobe; and whether the limits keep a material's lobes
 // within 1. Errors name the file's line and the model's names.
 Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene);
+
+// Form errors: `[part.NAME] form = { modes = K, rms_um = S }` gives K
+// tolerances NAME.form1 … NAME.formK [µm], each the RMS amplitude of one
+// mode of the part's sag along the luminaire's up axis: mode k displaces a
+// vertex at distance ρ from the axis through the part's bounding-box centre
+// by a·√(2k + 1)·P_k(t), t = 2(ρ − ρ_min)/(ρ_max − ρ_min) − 1 (P_k the
+// Legendre polynomial, orthonormal over t: RMS a over uniform ρ), and turns
+// its shading normal with the slope, n ∝ n − n_z·δ′(ρ)·ρ̂. Each mode's law
+// is N(0, S/√K) truncated at ±3σ (expected mean square of the sum S²).
+inline constexpr int kMaxFormModes = 8;
+// P_k(t) and P′_k(t).
+std::array<double, 2> legendre(int k, double t);
+// Adds mode `mode` with RMS amplitude `amplitude_um` to the sag of every
+// (not instanced) mesh of `part` about the axis through `centre`.
+void apply_form_mode(sim::SceneDesc& scene, const std::string& part, int mode, double amplitude_um,
+                     const Vec3& centre);
+
+// The largest factor by which tolerance `t`'s limits may be scaled on
+// `scene` (which passed check_tolerances): a relative tolerance stays above
+// −100 % (0.999 of the way), a reflectance or transmittance keeps the
+// material's lobes within 1; +inf for the others.
+double largest_scale(const Tolerance& t, const sim::SceneDesc& scene);
+
+// Whether every variable tolerance names a variable of `design` (the error
+// names the tolerance's line and lists the design's variables); none may be
+// given for a model that is not a design (`design` null).
+Status check_variables(const ToleranceSpec& spec, const Design* design);
+// `base` with each variable tolerance's variable set to its value in `base`
+// plus its value in `values` (spec order; bounds are an optimiser's, not a
+// part's, and are not applied).
+Design design_with(const Design& base, const ToleranceSpec& spec, std::span<const double> values);
+// Whether any variable tolerance has a value other than 0.
+bool changes_variables(const ToleranceSpec& spec, std::span<const double> values);
 
 // Applies one value per tolerance (spec order) to the scene; a value of 0
 // leaves its part of the scene as it was, bit for bit. The scene must have

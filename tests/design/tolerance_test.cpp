@@ -206,6 +206,76 @@ TEST(ToleranceSpec, PartsMoveAndTurnAboutTheirCentre) {
   EXPECT_EQ(to_string(check_tolerances(none, scene).error()), "t.toml:2: the model has no part 'len' (it has 'lens', 'screw')");
 }
 
+// A profile's form error: `form = { modes = K, rms_um = S }` is K Legendre
+// modes of the sag, each N(0, S/√K). On a flat annulus (normal up, ρ from
+// 10 to 30 mm on 201 equally spaced rings) mode 2 at 5 µm displaces every
+// vertex along the up axis by 5 µm·√5·P₂(t) exactly, its RMS over the
+// rings is 5 µm (orthonormal modes: to the rings' quadrature), and each
+// normal turns by the slope, atan(δ′(ρ)), away from the axis where the sag
+// rises outwards.
+TEST(ToleranceSpec, FormErrorsAreLegendreModesOfTheSag) {
+  for (double t : {-1.0, -0.3, 0.0, 0.45, 1.0}) {
+    EXPECT_NEAR(legendre(3, t)[0], 0.5 * (5 * t * t * t - 3 * t), 1e-14);
+    EXPECT_NEAR(legendre(3, t)[1], 0.5 * (15 * t * t - 3), 1e-13);
+    EXPECT_NEAR(legendre(2, t)[1], 3 * t, 1e-14);
+  }
+  const ToleranceSpec s = parse_ok("[part.dish]\nform = { modes = 3, rms_um = 6 }\nz = { uniform = 1 }\n");
+  ASSERT_EQ(s.tolerances.size(), 4u);
+  EXPECT_EQ(s.tolerances[0].label(), "dish.form1");
+  EXPECT_EQ(s.tolerances[2].label(), "dish.form3");
+  EXPECT_EQ(std::string(s.tolerances[1].unit()), "µm");
+  EXPECT_DOUBLE_EQ(s.tolerances[1].law.sigma, 6.0 / std::sqrt(3.0));
+  EXPECT_EQ(s.tolerances[1].line, 2);
+  EXPECT_EQ(error_of("[part.dish]\n\nform = { modes = 0, rms_um = 5 }\n"),
+            "t.toml:3: part.dish.form.modes must be a whole number from 1 to 8");
+  EXPECT_EQ(error_of("[part.dish]\nform = { modes = 2 }\n"), "t.toml:2: part.dish.form: give both modes and rms_um");
+  EXPECT_EQ(error_of("[part.dish]\nform = { modes = 2, rms = 3 }\n"),
+            "t.toml:2: part.dish.form: unknown key 'rms' (modes, rms_um)");
+
+  sim::SceneDesc scene = small_scene();
+  sim::Mesh dish;
+  dish.name = "dish";
+  constexpr int kRings = 201;
+  for (int i = 0; i < kRings; ++i) {
+    const double rho = 0.01 + 0.02 * i / (kRings - 1.0);
+    for (int j = 0; j < 4; ++j) {
+      const double phi = 0.3 + j * std::numbers::pi / 2.0;
+      dish.positions.push_back(sim::to_float(Vec3{rho * std::cos(phi), 0.0, rho * std::sin(phi)}));
+      dish.normals.push_back({0.0f, 1.0f, 0.0f});
+    }
+  }
+  for (std::uint32_t k = 0; k + 2 < dish.positions.size(); k += 3) dish.indices.insert(dish.indices.end(), {k, k + 1, k + 2});
+  const sim::Mesh before = dish;
+  scene.meshes.push_back(dish);
+  const ToleranceSpec mode2 = parse_ok("[part.dish]\nform = { modes = 2, rms_um = 5 }\n");
+  ASSERT_TRUE(check_tolerances(mode2, scene).ok());
+  apply_tolerances(mode2, std::vector<double>{0.0, 5.0}, scene);  // form1 0, form2 5 µm
+  // The up axis of the default frame is +Y; the box's centre is on the axis.
+  const Vec3 up = scene.frame.up;
+  double ss = 0.0;
+  const double a = 5e-6 * std::sqrt(5.0);
+  for (std::size_t i = 0; i < before.positions.size(); ++i) {
+    const Vec3 p0 = sim::to_double(before.positions[i]), p1 = sim::to_double(scene.meshes.back().positions[i]);
+    const Vec3 r = p0 - dot(p0, up) * up;
+    const double rho = length(r), t = (rho - 0.01) / 0.01 - 1.0;
+    const double want = a * 0.5 * (3.0 * t * t - 1.0);
+    EXPECT_NEAR(dot(p1 - p0, up), want, 2e-9) << "ρ = " << rho;
+    ss += dot(p1 - p0, up) * dot(p1 - p0, up);
+    // Slope δ′ = a·3t·dt/dρ; the normal leans away from the axis by atan(δ′).
+    const double slope = a * 3.0 * t / 0.01;
+    const Vec3 n = sim::to_double(scene.meshes.back().normals[i]);
+    EXPECT_NEAR(dot(n, (1.0 / rho) * r), -slope / std::sqrt(1.0 + slope * slope), 1e-6) << "ρ = " << rho;
+    EXPECT_NEAR(length(n), 1.0, 1e-6);
+  }
+  EXPECT_NEAR(std::sqrt(ss / static_cast<double>(before.positions.size())), 5e-6, 0.02 * 5e-6);
+  // A zero amplitude leaves the mesh as it was, bit for bit.
+  sim::SceneDesc again = small_scene();
+  again.meshes.push_back(before);
+  apply_tolerances(mode2, std::vector<double>{0.0, 0.0}, again);
+  EXPECT_EQ(0, std::memcmp(again.meshes.back().positions.data(), before.positions.data(),
+                           before.positions.size() * sizeof(sim::Vec3f)));
+}
+
 TEST(ToleranceLaw, QuantilesFollowTheLaws) {
   ToleranceLaw n;
   n.kind = ToleranceLaw::Kind::Normal;

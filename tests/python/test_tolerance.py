@@ -65,7 +65,9 @@ def test_equals_the_command(setup, gonio_exe):
     assert set(result["trials"]) == set(report["nominal"])
     for key, values in result["trials"].items():
         assert isinstance(values, np.ndarray) and values.shape == (4,)
-        np.testing.assert_array_equal(values, [t["figures"][key] for t in trials], err_msg=key)
+        # null in report.json (a figure the model does not define: CCT in a grey run) is NaN here.
+        expected = [np.nan if t["figures"][key] is None else t["figures"][key] for t in trials]
+        np.testing.assert_array_equal(values, expected, err_msg=key)
     for name, values in result["values"].items():
         np.testing.assert_array_equal(values, [t["values"][name] for t in trials], err_msg=name)
     # The trials differ: the tolerances were applied.
@@ -75,7 +77,15 @@ def test_equals_the_command(setup, gonio_exe):
     assert result["yield"] == report["monte_carlo"]["yield"]
     rows = [dict(r, figure=key, unit=f["unit"]) for key, f in report["sensitivity"].items() for r in f["rows"]]
     assert result["sensitivity"] == rows
-    assert len(result["sensitivity"]) == 3 * len(report["nominal"])
+    defined = [k for k, v in report["nominal"].items() if v is not None]
+    assert len(result["sensitivity"]) == 3 * len(defined)
+    # The figures beside the photometric ones: UGR 4H×8H, BUG, the beam axis; CCT and Δu′v′ only in
+    # spectral runs (NaN here).
+    for key in ("ugr", "bug_b", "bug_u", "bug_g", "axis_c0", "axis_c90"):
+        assert key in defined, key
+    assert np.all(np.isnan(result["trials"]["cct"])) and np.all(np.isnan(result["trials"]["duv_max"]))
+    assert set(result["trials"]["bug_g"]) <= {0.0, 1.0, 2.0, 3.0, 4.0, 5.0}
+    assert result["timing"]["traces"] == len(result["timing"]["seconds"])
     assert result["table"] == (d / "cli" / "sensitivity.txt").read_text()
 
 
@@ -90,3 +100,19 @@ def test_errors_name_the_file(setup, tmp_path):
         gonio.tolerance(d / "dish.design.toml", bad, **RUN)
     with pytest.raises(ValueError, match="unknown figure"):
         gonio.tolerance(d / "dish.design.toml", d / "t.toml", spec="beam=1..2")
+
+
+def test_design_tolerances_and_traced_inverse(setup, tmp_path):
+    """A design's own [tolerances] (tolerances None), and the traced inverse sensitivity's new values."""
+    design = DESIGN.replace("radius = 10", "radius = { value = 10 }") + (
+        '\n[tolerances]\n"reflectors[0].radius" = { uniform = 0.5 }\n[tolerances.material.mirror]\n'
+        "reflectance = { uniform = 5 }\n")
+    (tmp_path / "own.design.toml").write_text(design)
+    result = gonio.tolerance(tmp_path / "own.design.toml", None, trials=2, spec="flux>=880", seed=3, noise_seeds=1,
+                             photons=5000, threads=1, inverse_steps=2, parallel_trials=2)
+    names = [t["name"] for t in result["report"]["tolerances"]]
+    assert sorted(names) == ["mirror.reflectance", "reflectors[0].radius"]
+    assert result["values"]["reflectors[0].radius"].shape == (2,)
+    flux = [e for e in result["inverse_sensitivity"] if e["tolerance"] == "mirror.reflectance"][0]
+    assert flux["scale"] is not None and "traced_scale" in flux
+    assert flux["traced_fails_at"] is None or flux["traced_scale"] <= flux["traced_fails_at"]

@@ -43,7 +43,8 @@ int fail(const std::string& message) {
 
 int run_tolerance(const Args& args) {
   std::string model, tolerances_path, out_dir, spec_text;
-  long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10;
+  long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10, inverse_steps = 4, parallel_trials = 1;
+  bool resume = false;
   app::SimulateOptions options;
   options.iterations = 1;
   options.symmetry_name = "none";
@@ -61,15 +62,26 @@ int run_tolerance(const Args& args) {
               "inverse sensitivity: per limit, how far each tolerance may grow, linear\n"
               "from its changes at its limits.");
   p.positional("MODEL", &model, "the luminaire model (glTF, STEP/IGES with its sidecar, design file)");
-  p.option("tolerances", &tolerances_path, "FILE", "the tolerance specification (TOML, docs/tolerance.md)");
+  p.option("tolerances", &tolerances_path, "FILE",
+           "the tolerance specification (TOML, docs/tolerance.md); a design file's own [tolerances] are used as well, "
+           "and alone without this option");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");
   p.option("trials", &trials, 0, 100000, "N", "Monte Carlo trials (default 20; 0: none)");
   p.option("spec", &spec_text, "LIMITS",
-           "limits for the yield: FIGURE=LO..HI[,…], e.g. beam_c0=24..28 (figures: peak_cd, peak_c, peak_gamma, "
-           "beam_c0, beam_c90, field_c0, field_c90, flux, lor, rms)");
+           "limits for the yield: FIGURE=LO..HI, FIGURE<=HI or FIGURE>=LO[,…], e.g. beam_c0=24..28,ugr<=19 (figures: "
+           "peak_cd, peak_c, peak_gamma, beam_c0, beam_c90, field_c0, field_c90, flux, lor, rms, ugr, bug_b, bug_u, "
+           "bug_g, cct, duv_max, axis_c0, axis_c90)");
   p.option("noise-seeds", &noise_seeds, 0, 1000, "K", "the nominal traced again with K independent seeds (default 3)");
   p.option("sampling-seed", &sampling_seed, 0, 9'223'372'036'854'775'807LL, "S",
            "seed of the Latin hypercube (default 1)");
+  p.option("inverse-steps", &inverse_steps, 0, 50, "N",
+           "with --spec: bisection steps of the traced inverse sensitivity per limit and tolerance (default 4; 0: "
+           "the linear estimate alone)");
+  p.option("parallel-trials", &parallel_trials, 1, 256, "P",
+           "Monte Carlo trials traced at once, each with --threads threads (default 1); the report is the same bytes "
+           "for any P");
+  p.flag("resume", &resume,
+         "read DIR/journal.jsonl of an interrupted run back and trace only what it lacks (the same report)");
   p.option("bins", &bins, 1, 1000, "B", "bins of each figure's histogram (default 10)");
   p.option("photons", &options.photons, 1, 4'294'967'295LL, "N", "photons per trace (default 1000000)");
   p.option("seed", &options.seed, 0, 9'223'372'036'854'775'807LL, "S",
@@ -81,8 +93,7 @@ int run_tolerance(const Args& args) {
   p.option("gamma-step", &options.gamma_step, app::kGammaStepBounds.min, app::kGammaStepBounds.max, "DEG",
            "γ step of the traced distributions (default 2.5)");
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
-  for (auto [value, option] : {std::pair{&model, "MODEL"}, std::pair{&tolerances_path, "--tolerances FILE"},
-                               std::pair{&out_dir, "--out DIR"}})
+  for (auto [value, option] : {std::pair{&model, "MODEL"}, std::pair{&out_dir, "--out DIR"}})
     if (value->empty()) {
       print_usage_error("tolerance", p, std::string(option) + " is required");
       return kExitUsage;
@@ -97,6 +108,9 @@ int run_tolerance(const Args& args) {
   o.noise_seeds = noise_seeds;
   o.sampling_seed = sampling_seed;
   o.bins = bins;
+  o.inverse_steps = inverse_steps;
+  o.parallel_trials = parallel_trials;
+  o.resume = resume;
   o.simulate = options;
   app::ToleranceRunHooks hooks;
   hooks.on_output = [](const std::string& text) {
@@ -111,7 +125,9 @@ int run_tolerance(const Args& args) {
       print_usage_error("tolerance", p, outcome.error().message);
       return kExitUsage;
     }
-    return fail(to_string(outcome.error()));
+    // An error that names no file carries its own context (the file and line inside).
+    const Error& e = outcome.error();
+    return fail(e.where.file.empty() && e.where.line == 0 ? e.message : to_string(e));
   }
   const nlohmann::json& report = outcome->report;
   const nlohmann::json& yield = report["monte_carlo"]["yield"];
@@ -119,8 +135,8 @@ int run_tolerance(const Args& args) {
   if (yield.contains("all"))
     std::printf("yield: %s %% of %zu trials within %s\n", format_number(100.0 * yield["all"].get<double>(), 4).c_str(),
                 trial_count, spec_text.c_str());
-  std::printf("%zu traces, %.2f s each on average; report: %s\n", report["timing"]["traces"].get<std::size_t>(),
-              report["timing"]["seconds_per_trace"].get<double>(), outcome->report_path.c_str());
+  std::printf("%zu traces, %.2f s each on average; report: %s\n", outcome->timing["traces"].get<std::size_t>(),
+              outcome->timing["seconds_per_trace"].get<double>(), outcome->report_path.c_str());
   return kExitOk;
 }
 

@@ -1158,16 +1158,22 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
 py::dict tolerance(const py::object& model_object, const py::object& tolerances_object, long long trials,
                    const std::optional<std::string>& spec, long long seed, long long noise_seeds,
                    long long sampling_seed, long long bins, long long photons, int threads, int max_bounces,
-                   double c_step, double gamma_step, const py::object& out_object) {
+                   double c_step, double gamma_step, const py::object& out_object, long long inverse_steps,
+                   long long parallel_trials) {
   namespace fs = std::filesystem;
   if (trials < 0 || trials > 100000) throw py::value_error("trials must be between 0 and 100000");
+  if (inverse_steps < 0 || inverse_steps > 50) throw py::value_error("inverse_steps must be between 0 and 50");
+  if (parallel_trials < 1 || parallel_trials > 256) throw py::value_error("parallel_trials must be between 1 and 256");
   if (noise_seeds < 0 || noise_seeds > 1000) throw py::value_error("noise_seeds must be between 0 and 1000");
   if (bins < 1 || bins > 1000) throw py::value_error("bins must be between 1 and 1000");
   if (seed < 0 || sampling_seed < 0) throw py::value_error("seed and sampling_seed must be at least 0");
   app::ToleranceRunOptions o;
   o.model = py::isinstance<PyDesign>(model_object) ? model_object.cast<const PyDesign&>().d->path
                                                    : fspath(model_object);
-  o.tolerances_path = fspath(tolerances_object);
+  // None: the design file's own [tolerances].
+  o.tolerances_path = tolerances_object.is_none() ? std::string() : fspath(tolerances_object);
+  o.inverse_steps = inverse_steps;
+  o.parallel_trials = parallel_trials;
   o.spec_text = spec.value_or(std::string());
   o.trials = trials;
   o.noise_seeds = noise_seeds;
@@ -1230,6 +1236,7 @@ py::dict tolerance(const py::object& model_object, const py::object& tolerances_
   result["inverse_sensitivity"] = to_python(report["inverse_sensitivity"]);
   result["table"] = outcome->table;
   result["report"] = to_python(report);
+  result["timing"] = to_python(outcome->timing);
   return result;
 }
 
@@ -1434,11 +1441,15 @@ void bind_simulation(py::module_& m) {
         py::arg("spec") = py::none(), py::arg("seed") = 1, py::arg("noise_seeds") = 3, py::arg("sampling_seed") = 1,
         py::arg("bins") = 10, py::arg("photons") = 1'000'000, py::arg("threads") = 0, py::arg("max_bounces") = 100,
         py::arg("c_step") = 5.0, py::arg("gamma_step") = 2.5, py::arg("out") = py::none(),
+        py::arg("inverse_steps") = 4, py::arg("parallel_trials") = 1,
         "How robust a luminaire is, as gonio tolerance does (the same run; docs/tolerance.md): returns\n"
         "{trials: {figure: numpy array over the Monte Carlo trials}, values: {tolerance: array of its\n"
         "drawn values}, sensitivity: [{figure, unit, tolerance, low, high, change_low, change_high,\n"
-        "below_noise}], noise_floor: {figure: value}, nominal, yield, inverse_sensitivity, table, report}.\n"
-        "spec: 'beam_c0=24..28,flux=900..'. Without out it works in a temporary folder.\n"
+        "below_noise}], noise_floor: {figure: value}, nominal, yield, inverse_sensitivity, table, report,\n"
+        "timing}. Figures include ugr, bug_b/u/g, cct, duv_max (NaN where undefined), axis_c0/c90.\n"
+        "tolerances None: a design file's own [tolerances]. spec: 'beam_c0=24..28,ugr<=19'.\n"
+        "inverse_steps: bisection steps of the traced inverse sensitivity; parallel_trials: trials at once.\n"
+        "Without out it works in a temporary folder.\n"
         "Raises GonioError naming the file; bad arguments raise ValueError.");
   py::class_<PyMerit>(m, "Merit",
                       "The merit gonio optimize minimises (docs/design.md \"Optimisation\") as a function of a\n"

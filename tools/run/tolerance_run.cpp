@@ -7,9 +7,16 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <atomic>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
 #include <string>
 #include <vector>
 
+#include "design/design_file.h"
 #include "design/tolerance.h"
 #include "design/tolerance_spec.h"
 #include "io/outputs/plot.h"
@@ -17,7 +24,9 @@
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
+#include "sim/detectors/colour_over_angle.h"
 #include "tools/run/json_figures.h"
+#include "tools/run/resampler_cache.h"
 #include "tools/run/simulation_outputs.h"
 
 namespace gonio::app {
@@ -33,39 +42,173 @@ struct Trace {
   photometry::Distribution distribution;
   FigureValues figures{};
   double seconds = 0.0;
+  bool from_journal = false;  // read back from the journal (no distribution)
 };
+
+// The journal, DIR/journal.jsonl: its first line the run's settings and
+// tolerances, then one line per finished trace, {key, figures, seconds}, the
+// key the seed and each tolerance's value as C99 hex floats. A rerun with
+// --resume reads every complete line back and traces only what is missing;
+// a line cut short by an interruption is dropped. The traces are
+// deterministic (common random numbers), so a figure read back is the one a
+// trace would give, bit for bit.
+class Journal {
+ public:
+  ~Journal() {
+    if (file_) std::fclose(file_);
+  }
+  // Opens `path` for a run described by `header`; with `resume` the lines of
+  // a journal with the same header are kept (how many: `reused`), a journal
+  // of another run is an error.
+  Status open(const std::string& path, const json& header, bool resume, std::size_t* reused) {
+    std::string kept = header.dump() + "\n";
+    *reused = 0;
+    if (resume && fs::exists(path)) {
+      Result<std::string> text = io::read_file(path, std::size_t{1} << 30);
+      if (!text.ok()) return text.error();
+      std::size_t start = 0, line = 0;
+      while (start < text->size()) {
+        const std::size_t end = text->find('\n', start);
+        if (end == std::string::npos) break;  // cut short: dropped
+        const std::string l = text->substr(start, end - start);
+        start = end + 1;
+        ++line;
+        const json j = json::parse(l, nullptr, false);
+        if (line == 1) {
+          if (j.is_discarded() || j != header)
+            return make_error(path, "written by another run (other settings, model or tolerances): run without "
+                                    "--resume to start again");
+          continue;
+        }
+        if (j.is_discarded() || !j.is_object() || !j.contains("key") || !j.contains("figures")) continue;
+        FigureValues f{};
+        for (std::size_t i = 0; i < kFigureCount; ++i) {
+          const json& v = j["figures"].value(design::figure_info()[i].key, json());
+          f[i] = v.is_number() ? v.get<double>() : photometry::kNaN;
+        }
+        done_[j["key"].get<std::string>()] = {f, j.value("seconds", 0.0)};
+        kept += l + "\n";
+        ++*reused;
+      }
+    }
+    if (Status s = io::write_file_atomic(path, kept); !s.ok()) return s;
+    file_ = std::fopen(path.c_str(), "ab");
+    if (!file_) return make_error(path, "cannot be opened to append to it");
+    return Ok{};
+  }
+  std::optional<std::pair<FigureValues, double>> find(const std::string& key) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = done_.find(key);
+    if (it == done_.end()) return std::nullopt;
+    return it->second;
+  }
+  void add(const std::string& key, const FigureValues& f, double seconds) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!file_ || done_.count(key)) return;
+    done_[key] = {f, seconds};
+    json figures = json::object();
+    for (std::size_t i = 0; i < kFigureCount; ++i) figures[design::figure_info()[i].key] = json_number(f[i]);
+    const std::string line = json{{"key", key}, {"figures", figures}, {"seconds", seconds}}.dump() + "\n";
+    std::fputs(line.c_str(), file_);
+    std::fflush(file_);
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::string, std::pair<FigureValues, double>> done_;
+  std::FILE* file_ = nullptr;
+};
+
+std::string trace_key(const std::vector<double>& values, std::uint64_t seed) {
+  std::string key = std::to_string(seed);
+  char buf[64];
+  for (double v : values) {
+    std::snprintf(buf, sizeof buf, ",%a", v);
+    key += buf;
+  }
+  return key;
+}
 
 class Tracer {
  public:
-  Tracer(const SimulatePlan& plan, const design::ToleranceSpec& spec, const MessageSink& on_message)
-      : plan_(plan), spec_(spec), on_message_(on_message) {}
-  // Why the last trace failed.
-  const std::string& error() const { return error_; }
+  Tracer(const SimulatePlan& plan, const design::ToleranceSpec& spec, const MessageSink& on_message,
+         std::shared_ptr<const design::Design> design)
+      : plan_(plan), spec_(spec), on_message_(on_message), design_(std::move(design)) {}
+  // Why the last trace failed (the sequential traces; the parallel ones say
+  // it through `why`).
+  std::string error() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return error_;
+  }
+  void set_journal(Journal* journal) { journal_ = journal; }
+  // design::largest_scale of tolerance i on the model as loaded (after a trace).
+  double largest_scale(std::size_t i) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return i < scales_.size() ? scales_[i] : std::numeric_limits<double>::infinity();
+  }
 
   // The distribution traced with `values` and `seed`; nothing after the
   // error was printed. The model's warnings are told at the first trace
-  // only (every trace loads the model again).
+  // only (every trace loads the model again). With a journal, a trace it
+  // holds is not traced again unless `need_distribution`: its figures and
+  // seconds come back without a distribution. Safe to call from several
+  // threads at once.
   std::optional<Trace> trace(const std::vector<double>& values, std::uint64_t seed,
-                             const photometry::Distribution* nominal) const {
+                             const photometry::Distribution* nominal, bool need_distribution = false,
+                             std::string* why = nullptr) const {
+    const std::string key = trace_key(values, seed);
+    if (journal_ && !need_distribution)
+      if (std::optional<std::pair<FigureValues, double>> done = journal_->find(key)) {
+        Trace t;
+        t.figures = done->first;
+        t.seconds = done->second;
+        t.from_journal = true;
+        return t;
+      }
+    std::string error;
+    std::optional<Trace> t = trace_now(values, seed, nominal, error);
+    if (!t) {
+      if (why) *why = error;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      error_ = error;
+      return std::nullopt;
+    }
+    if (journal_) journal_->add(key, t->figures, t->seconds);
+    return t;
+  }
+
+ private:
+  std::optional<Trace> trace_now(const std::vector<double>& values, std::uint64_t seed,
+                                 const photometry::Distribution* nominal, std::string& err) const {
     const auto start = std::chrono::steady_clock::now();
     SimulatePlan plan = plan_;
     plan.progressive.simulation.seed = seed;
+    // Tolerances on a design's variables: the design built again with them
+    // (held in memory; none changed: the model as the nominal reads it).
+    if (design_ && design::changes_variables(spec_, values))
+      plan.model_input.design = std::make_shared<const design::Design>(design::design_with(*design_, spec_, values));
     SimulateHooks hooks;
-    const bool first = !told_;
+    const bool first = !told_.exchange(true);
     hooks.on_message = [this, first](Severity severity, const std::string& text) {
-      if (first || severity >= Severity::Error) tell(on_message_, severity, text);
+      if (!(first || severity >= Severity::Error)) return;
+      const std::lock_guard<std::mutex> lock(tell_mutex_);
+      tell(on_message_, severity, text);
     };
-    told_ = true;
-    error_.clear();
-    hooks.on_failed = [this](const Error& e) { error_ = to_string(e); };
+    err.clear();
+    hooks.on_failed = [&err](const Error& e) { err = to_string(e); };
     hooks.adjust_scene = [&](sim::SceneDesc& scene) -> Status {
       if (Status s = design::check_tolerances(spec_, scene); !s.ok()) return s;
+      {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (scales_.empty())
+          for (const design::Tolerance& t : spec_.tolerances) scales_.push_back(design::largest_scale(t, scene));
+      }
       design::apply_tolerances(spec_, values, scene);
       return Ok{};
     };
     std::optional<SimulateResult> run = simulate(plan, hooks);
     if (!run) {
-      if (error_.empty()) error_ = "the trace failed";
+      if (err.empty()) err = "the trace failed";
       return std::nullopt;
     }
     const sim::Simulation& simulation = run->run.simulation;
@@ -74,7 +217,7 @@ class Tracer {
     Result<SimulatedTable> table =
         simulated_table(simulation.far_field(), simulation.scene(), simulation.ledger(), request);
     if (!table.ok()) {
-      error_ = to_string(table.error());
+      err = to_string(table.error());
       return std::nullopt;
     }
     Trace t;
@@ -82,10 +225,20 @@ class Tracer {
     Result<FigureValues> f = design::figures_of(t.distribution, nominal ? *nominal : t.distribution,
                                                 plan.grid.c_step_deg, plan.grid.gamma_step_deg);
     if (!f.ok()) {
-      error_ = to_string(f.error());
+      err = to_string(f.error());
       return std::nullopt;
     }
     t.figures = *f;
+    // Spectral runs: the luminaire's CCT and its Δu′v′ max over angle, the
+    // colour code of gonio simulate's report.json (sim/detectors/colour_over_angle.h).
+    if (simulation.tracer().spectral()) {
+      const sim::ColourFarField colour = simulation.colour_far_field();
+      const sim::Resampler resampler = cached_resampler(plan.progressive.simulation.face_size, simulation.scene().frame,
+                                                        plan.grid, plan.model_input.cache_dir);
+      const sim::ColourOverAngle c = sim::colour_over_angle(resampler, simulation.far_field(), colour);
+      t.figures[design::kCct] = c.cct.cct_k;
+      t.figures[design::kDuvMax] = c.delta_uv_max;
+    }
     t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return t;
   }
@@ -94,8 +247,12 @@ class Tracer {
   const SimulatePlan& plan_;
   const design::ToleranceSpec& spec_;
   const MessageSink& on_message_;
-  mutable bool told_ = false;
+  std::shared_ptr<const design::Design> design_;
+  Journal* journal_ = nullptr;
+  mutable std::atomic<bool> told_{false};
+  mutable std::mutex mutex_, tell_mutex_;
   mutable std::string error_;
+  mutable std::vector<double> scales_;
 };
 
 json figures_json(const FigureValues& f) {
@@ -146,8 +303,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     if (hooks.on_output) hooks.on_output(text);
   };
   const auto failed = [](const std::string& message) { return make_error(message); };
-  for (auto [value, option] : {std::pair{&model, "MODEL"}, std::pair{&tolerances_path, "--tolerances FILE"},
-                               std::pair{&out_dir, "--out DIR"}})
+  for (auto [value, option] : {std::pair{&model, "MODEL"}, std::pair{&out_dir, "--out DIR"}})
     if (value->empty()) {
       if (usage) *usage = true;
       return make_error(std::string(option) + " is required");
@@ -161,16 +317,60 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     }
     limits = std::move(l.value());
   }
-  Result<design::ToleranceSpec> spec = design::read_tolerances(tolerances_path);
+  // The model's own [tolerances] where it is a design file, and --tolerances FILE.
+  std::shared_ptr<const design::Design> base_design = plan.model_input.design;
+  if (!base_design && design::is_design_path(model)) {
+    Result<design::Design> d = design::read_design_file(model);
+    if (!d.ok()) return failed(to_string(d.error()));
+    base_design = std::make_shared<const design::Design>(std::move(d.value()));
+  }
+  const io::TomlNode* own = base_design ? base_design->document.get("tolerances") : nullptr;
+  if (tolerances_path.empty() && !own) {
+    if (usage) *usage = true;
+    return make_error(base_design ? "--tolerances FILE is required: the design has no [tolerances] table"
+                                  : "--tolerances FILE is required");
+  }
+  Result<design::ToleranceSpec> spec = design::ToleranceSpec{};
+  if (!tolerances_path.empty()) spec = design::read_tolerances(tolerances_path);
   if (!spec.ok()) return failed(to_string(spec.error()));
+  if (own) {
+    if (!own->is_table()) return failed(model + ":" + std::to_string(own->line) + ": tolerances must be a table");
+    Result<design::ToleranceSpec> from_design = design::parse_tolerance_tree(*own, base_design->path, true);
+    if (!from_design.ok()) return failed(to_string(from_design.error()));
+    if (spec->tolerances.empty()) spec->path = from_design->path;
+    for (design::Tolerance& t : from_design->tolerances) spec->tolerances.push_back(std::move(t));
+  }
+  if (Status s = design::check_variables(*spec, base_design.get()); !s.ok()) return failed(to_string(s.error()));
   if (Status s = io::make_directories(out_dir); !s.ok()) return failed(to_string(s.error()));
 
-  const Tracer tracer(plan, *spec, hooks.on_message);
+  Tracer tracer(plan, *spec, hooks.on_message, base_design);
+  // The journal: what a rerun with --resume reads back. Its header is what
+  // makes two runs' traces the same: the model, the settings of a trace and
+  // the tolerances.
+  json journal_header = {{"gonio_tolerance_journal", 1},
+                         {"model", model},
+                         {"photons", opt.photons},
+                         {"seed", opt.seed},
+                         {"c_step_deg", opt.c_step},
+                         {"gamma_step_deg", opt.gamma_step},
+                         {"max_bounces", sim.max_bounces}};
+  json journal_tolerances = json::array();
+  for (const design::Tolerance& t : spec->tolerances)
+    journal_tolerances.push_back(t.label() + " " + t.law.text() + " " + t.unit());
+  journal_header["tolerances"] = journal_tolerances;
+  Journal journal;
+  std::size_t reused = 0;
+  if (Status s = journal.open((fs::path(out_dir) / "journal.jsonl").string(), journal_header, options.resume, &reused);
+      !s.ok())
+    return s.error();
+  tracer.set_journal(&journal);
+  if (options.resume) say("resume: " + std::to_string(reused) + " traces read back from the journal\n");
   const std::size_t dims = spec->tolerances.size();
   const std::uint64_t seed = static_cast<std::uint64_t>(opt.seed);
   const std::vector<double> zeros(dims, 0.0);
   json report = {{"model", model},
-                 {"tolerances_file", tolerances_path},
+                 {"tolerances_file", tolerances_path.empty() ? json(nullptr) : json(tolerances_path)},
+                 {"tolerances_from_design", own != nullptr},
                  {"settings",
                   {{"photons", opt.photons},
                    {"seed", opt.seed},
@@ -179,7 +379,8 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
                    {"noise_seeds", noise_seeds},
                    {"trials", trials},
                    {"sampling", "latin hypercube"},
-                   {"sampling_seed", sampling_seed}}}};
+                   {"sampling_seed", sampling_seed},
+                   {"inverse_steps", options.inverse_steps}}}};
   json tolerances = json::array();
   for (const design::Tolerance& t : spec->tolerances)
     tolerances.push_back({{"name", t.label()},
@@ -194,7 +395,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   // The nominal, and its noise.
   say("nominal: tracing " + format_number(static_cast<double>(opt.photons)) + " photons (seed " +
       std::to_string(opt.seed) + ")\n");
-  std::optional<Trace> nominal = tracer.trace(zeros, seed, nullptr);
+  std::optional<Trace> nominal = tracer.trace(zeros, seed, nullptr, true);
   if (!nominal) return failed(model + ": the nominal model could not be traced (" + tracer.error() + "); nothing was analysed");
   seconds.push_back(nominal->seconds);
   const photometry::Distribution& nominal_d = nominal->distribution;
@@ -241,7 +442,11 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     }
   }
   json sensitivity = json::object();
-  std::string table = "Sensitivity of " + model + " (" + tolerances_path + "), " +
+  std::string table = "Sensitivity of " + model + " (" +
+                      (tolerances_path.empty() ? std::string("its [tolerances]")
+                       : own                   ? tolerances_path + " and its [tolerances]"
+                                               : tolerances_path) +
+                      "), " +
                       format_number(static_cast<double>(opt.photons)) + " photons per trace, seed " +
                       std::to_string(opt.seed) + ".\nChange of each figure with each tolerance alone at its low and high limit;\n" +
                       "below noise: |change| < " + format_number(design::kNoiseFactor) +
@@ -249,6 +454,12 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   std::vector<std::string> plot_failures;
   for (std::size_t f = 0; f < kFigureCount; ++f) {
     const design::FigureInfo& info = design::figure_info()[f];
+    if (!std::isfinite(nominal->figures[f])) {
+      // CCT and Δu′v′ in a grey run, UGR without a luminous area, …: no table.
+      table += "\n" + std::string(info.text) + " [" + info.unit + "]: not defined for this model\n";
+      sensitivity[info.key] = {{"unit", info.unit}, {"nominal", nullptr}, {"noise", nullptr}, {"rows", json::array()}};
+      continue;
+    }
     std::vector<design::SensitivityRow> ranked, below;
     for (std::size_t i = 0; i < dims; ++i) {
       const design::Tolerance& t = spec->tolerances[i];
@@ -291,29 +502,85 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
       plot_failures.push_back(to_string(s.error()));
   }
   report["sensitivity"] = sensitivity;
-  // The inverse: per --spec limit, how far each tolerance may be scaled,
-  // linear from its changes at its limits (not traced again).
+  // The inverse: per --spec limit, how far each tolerance may be scaled:
+  // linear from its changes at its limits, then traced — the tolerance alone
+  // at k·(low, high), both sides within the limit, k doubled from 1 until a
+  // side leaves it (up to kMaxInverseScale), then --inverse-steps bisection
+  // steps, each trace on the same photons (common random numbers).
   json inverse = json::array();
+  const long long inverse_steps = options.inverse_steps;
   if (!limits.empty())
-    table += "\nLargest tolerances that keep a figure within its limit (each alone; linear from the\n"
-             "changes at the limits, not traced; a factor of the tolerance as given):\n";
+    table += "\nLargest tolerances that keep a figure within its limit (each alone; a factor of the\n"
+             "tolerance as given): linear from the changes at the limits, and traced by bisection on\n"
+             "the factor (" + std::to_string(inverse_steps) + " steps; the largest factor that held … the smallest that failed):\n";
   for (const design::SpecLimit& limit : limits) {
-    table += "\n" + limit.text() + " (nominal " + format_number(nominal->figures[limit.figure]) + ")\n";
+    const std::size_t f = limit.figure;
+    table += "\n" + limit.text() + " (nominal " + format_number(nominal->figures[f]) + ")\n";
     for (std::size_t i = 0; i < dims; ++i) {
       const design::Tolerance& t = spec->tolerances[i];
-      const double base = limit.figure == design::kRms ? 0.0 : nominal->figures[limit.figure];
-      const double low = at_limits[i][0][limit.figure] - base, high = at_limits[i][1][limit.figure] - base;
-      const bool quiet = design::below_noise(std::max(std::abs(low), std::abs(high)), noise[limit.figure]);
-      const double k = design::allowed_scale(nominal->figures[limit.figure], low, high, limit);
-      std::string says = quiet ? "below noise: not estimated"
+      const double base = f == design::kRms ? 0.0 : nominal->figures[f];
+      const double low = at_limits[i][0][f] - base, high = at_limits[i][1][f] - base;
+      const bool undefined = !std::isfinite(nominal->figures[f]);
+      const bool quiet = !undefined && design::below_noise(std::max(std::abs(low), std::abs(high)), noise[f]);
+      const double k = undefined ? photometry::kNaN : design::allowed_scale(nominal->figures[f], low, high, limit);
+      std::string says = undefined     ? "not defined for this model"
+                         : quiet       ? "below noise: not estimated"
                          : std::isinf(k) ? "any (no change towards the limit)"
                                          : "× " + format_number(k, 3) + ": " + format_number(k * t.law.low(), 3) +
                                                " … " + format_number(k * t.law.high(), 3) + " " + t.unit();
+      json entry = {{"limit", limit.text()},
+                    {"tolerance", t.label()},
+                    {"scale", undefined || quiet || std::isinf(k) ? json(nullptr) : json(k)},
+                    {"why", undefined ? "not defined" : quiet ? "below noise" : std::isinf(k) ? "no change towards the limit" : ""}};
+      // Traced, where the linear estimate is finite and positive.
+      if (inverse_steps > 0 && !undefined && !quiet && std::isfinite(k) && k > 0.0) {
+        // A relative tolerance stays above −100 %, a reflectance keeps the lobes within 1.
+        const double cap = std::min(design::kMaxInverseScale, tracer.largest_scale(i));
+        std::size_t traces = 0;
+        std::string trace_error;
+        const auto holds_at = [&](double scale) -> std::optional<bool> {
+          for (double limit_value : {t.law.low(), t.law.high()}) {
+            const double v = scale * limit_value;
+            if (v == 0.0) continue;
+            std::vector<double> values = zeros;
+            values[i] = v;
+            say("inverse sensitivity, " + limit.text() + ": " + t.label() + " = " + format_number(v) + " " + t.unit() +
+                " (× " + format_number(scale, 4) + ")\n");
+            std::optional<Trace> tr = tracer.trace(values, seed, &nominal_d);
+            if (!tr) return std::nullopt;
+            ++traces;
+            seconds.push_back(tr->seconds);
+            if (!limit.holds(tr->figures[f])) return false;
+          }
+          return true;
+        };
+        double ok = 0.0, bad = std::numeric_limits<double>::infinity();
+        (limit.holds(at_limits[i][0][f]) && limit.holds(at_limits[i][1][f]) ? ok : bad) = 1.0;
+        if (ok == 1.0 && cap < 1.0) ok = 0.0;  // cannot happen for a law the file accepted; kept safe
+        for (double next = std::min(2.0, cap); std::isinf(bad) && ok > 0.0 && ok < cap;
+             next = std::min(2.0 * next, cap)) {
+          const std::optional<bool> h = holds_at(next);
+          if (!h) return failed("an inverse-sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
+          (*h ? ok : bad) = next;
+          if (next >= cap) break;
+        }
+        for (long long step = 0; step < inverse_steps && std::isfinite(bad); ++step) {
+          const double mid = 0.5 * (ok + bad);
+          const std::optional<bool> h = holds_at(mid);
+          if (!h) return failed("an inverse-sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
+          (*h ? ok : bad) = mid;
+        }
+        entry["traced_scale"] = ok;
+        entry["traced_fails_at"] = std::isinf(bad) ? json(nullptr) : json(bad);
+        entry["traced_low"] = ok * t.law.low();
+        entry["traced_high"] = ok * t.law.high();
+        entry["traces"] = traces;
+        says += "; traced × " + format_number(ok, 3) + " … " +
+                (std::isinf(bad) ? "(held up to " + format_number(cap, 3) + ")" : format_number(bad, 3)) + ": " +
+                format_number(ok * t.law.low(), 3) + " … " + format_number(ok * t.law.high(), 3) + " " + t.unit();
+      }
       table += "  " + padded(t.label() + " " + t.law.text() + " " + t.unit(), 44) + "  " + says + "\n";
-      inverse.push_back({{"limit", limit.text()},
-                         {"tolerance", t.label()},
-                         {"scale", quiet || std::isinf(k) ? json(nullptr) : json(k)},
-                         {"why", quiet ? "below noise" : std::isinf(k) ? "no change towards the limit" : ""}});
+      inverse.push_back(entry);
     }
   }
   report["inverse_sensitivity"] = inverse;
@@ -334,14 +601,57 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   double best_rms = 0.0, worst_rms = 0.0;
   const std::vector<std::vector<double>> u =
       design::latin_hypercube(static_cast<std::size_t>(trials), dims, static_cast<std::uint64_t>(sampling_seed));
+  // The trials: --parallel-trials at once, each from its own values and the
+  // common seed, so their figures do not depend on the order they finish in.
+  std::vector<std::vector<double>> trial_values(u.size(), std::vector<double>(dims));
+  for (std::size_t n = 0; n < u.size(); ++n)
+    for (std::size_t i = 0; i < dims; ++i) trial_values[n][i] = spec->tolerances[i].law.quantile(u[n][i]);
+  std::vector<std::optional<Trace>> results(u.size());
+  {
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> stop{false};
+    std::mutex mutex;
+    std::string first_error;
+    std::size_t finished = 0;
+    const auto worker = [&] {
+      for (;;) {
+        const std::size_t n = next++;
+        if (n >= u.size() || stop) return;
+        std::string why;
+        std::optional<Trace> t = tracer.trace(trial_values[n], seed, &nominal_d, false, &why);
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!t) {
+          if (!stop.exchange(true))
+            first_error = "Monte Carlo trial " + std::to_string(n + 1) + " failed (" + why + "); nothing more was analysed";
+          return;
+        }
+        t->distribution = {};  // best and worst are traced again below
+        ++finished;
+        char seconds_text[32];
+        std::snprintf(seconds_text, sizeof seconds_text, "%.2f", t->seconds);
+        say("trial " + std::to_string(n + 1) + "/" + std::to_string(u.size()) + " (" + std::to_string(finished) +
+            " done): " + (t->from_journal ? std::string("from the journal") : std::string(seconds_text) + " s") +
+            ", beam " + format_number(t->figures[design::kBeamC0], 4) + "/" +
+            format_number(t->figures[design::kBeamC90], 4) + " deg, peak " +
+            format_number(t->figures[design::kPeakCd], 5) + " cd, flux " + format_number(t->figures[design::kFlux], 5) +
+            " lm, rms " + format_number(t->figures[design::kRms], 3) + " %\n");
+        results[n] = std::move(t);
+      }
+    };
+    const std::size_t workers =
+        std::max<std::size_t>(1, std::min<std::size_t>(static_cast<std::size_t>(options.parallel_trials), u.size()));
+    std::vector<std::thread> pool;
+    for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(worker);
+    worker();
+    for (std::thread& th : pool) th.join();
+    if (stop) return failed(first_error);
+  }
+  std::vector<double> trial_seconds;
   for (std::size_t n = 0; n < u.size(); ++n) {
-    std::vector<double> values(dims);
-    for (std::size_t i = 0; i < dims; ++i) values[i] = spec->tolerances[i].law.quantile(u[n][i]);
-    std::optional<Trace> t = tracer.trace(values, seed, &nominal_d);
-    if (!t)
-      return failed("Monte Carlo trial " + std::to_string(n + 1) + " failed (" + tracer.error() +
-                    "); nothing more was analysed");
+    const std::vector<double>& values = trial_values[n];
+    std::optional<Trace>& t = results[n];
     seconds.push_back(t->seconds);
+    trial_seconds.push_back(t->seconds);
     bool in_spec = true;
     json verdicts = json::object();
     for (std::size_t l = 0; l < limits.size(); ++l) {
@@ -356,27 +666,26 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     if (!best || rms < best_rms) {
       best = n;
       best_rms = rms;
-      kept[0] = t->distribution;
     }
     if (!worst || rms > worst_rms) {
       worst = n;
       worst_rms = rms;
-      kept[1] = t->distribution;
     }
-    char seconds_text[32];
-    std::snprintf(seconds_text, sizeof seconds_text, "%.2f", t->seconds);
-    say("trial " + std::to_string(n + 1) + "/" + std::to_string(u.size()) + ": " + seconds_text + " s, beam " +
-        format_number(t->figures[design::kBeamC0], 4) + "/" + format_number(t->figures[design::kBeamC90], 4) +
-        " deg, peak " + format_number(t->figures[design::kPeakCd], 5) + " cd, flux " +
-        format_number(t->figures[design::kFlux], 5) + " lm, rms " + format_number(rms, 3) + " %" +
-        (limits.empty() ? "" : in_spec ? ", in spec" : ", OUT of spec") + "\n");
     mc_trials.push_back({{"trial", n + 1},
                          {"values", values_json(*spec, values)},
                          {"figures", figures_json(t->figures)},
                          {"in_spec", limits.empty() ? json(nullptr) : json(in_spec)},
-                         {"limits", verdicts},
-                         {"seconds", t->seconds}});
+                         {"limits", verdicts}});
   }
+  // The best and worst trials traced again for their tables (the same
+  // photons: the same distribution as in the Monte Carlo run).
+  if (best)
+    for (int k = 0; k < 2; ++k) {
+      const std::size_t n = k == 0 ? *best : *worst;
+      std::optional<Trace> t = tracer.trace(trial_values[n], seed, &nominal_d, true);
+      if (!t) return failed("the trial " + std::to_string(n + 1) + " traced again failed (" + tracer.error() + ")");
+      kept[static_cast<std::size_t>(k)] = std::move(t->distribution);
+    }
   json histograms = json::object();
   for (std::size_t f = 0; f < kFigureCount && !u.empty(); ++f) {
     const design::Histogram h = design::histogram(figure_values[f], static_cast<std::size_t>(bins));
@@ -400,13 +709,22 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
                            {"best_and_worst_by", "RMS difference from the nominal"}};
   double total = 0.0;
   for (double s : seconds) total += s;
-  report["timing"] = {{"traces", seconds.size()},
-                      {"seconds_per_trace", seconds.empty() ? 0.0 : total / static_cast<double>(seconds.size())},
-                      {"seconds", seconds}};
+  // Wall times in timing.json, not in report.json: the report is the same
+  // bytes for any --parallel-trials and for a run resumed from its journal.
+  json timing = {{"traces", seconds.size()},
+                 {"seconds_per_trace", seconds.empty() ? 0.0 : total / static_cast<double>(seconds.size())},
+                 {"seconds", seconds},
+                 {"trial_seconds", trial_seconds},
+                 {"read_from_journal", reused}};
+  files.push_back("timing.json");
+  files.push_back("journal.jsonl");
   report["files"] = files;
+  if (Status s = io::write_file_atomic((fs::path(out_dir) / "timing.json").string(), timing.dump(2) + "\n"); !s.ok())
+    return failed(to_string(s.error()));
   if (Status s = io::write_file_atomic((fs::path(out_dir) / "report.json").string(), report.dump(2) + "\n"); !s.ok())
     return failed(to_string(s.error()));
   ToleranceRunOutcome out;
+  out.timing = std::move(timing);
   out.report = std::move(report);
   out.report_path = (fs::path(out_dir) / "report.json").string();
   out.table = std::move(table);

@@ -26,6 +26,9 @@ struct ToleranceRunOptions {
   std::string model, tolerances_path, out_dir;
   std::string spec_text;  // FIGURE=LO..HI,… (empty: none)
   long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10;
+  long long inverse_steps = 4;
+  long long parallel_trials = 1;  // Monte Carlo trials traced at once (threads; each with simulate.threads)
+  bool resume = false;            // read DIR/journal.jsonl back and trace only what it lacks  // bisection steps of the traced inverse sensitivity (0: the linear estimate alone)
   SimulateOptions simulate;  // photons, seed, c_step, gamma_step for report.json (the plan's own)
 };
 
@@ -37,6 +40,7 @@ struct ToleranceRunHooks {
 
 struct ToleranceRunOutcome {
   nlohmann::json report;  // report.json as written
+  nlohmann::json timing;  // timing.json: seconds per trace
   std::string report_path;
   std::string table;      // sensitivity.txt
 };

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -17,6 +18,9 @@
 #include <nlohmann/json.hpp>
 
 #include "io/model/gltf_writer.h"
+#include "io/photometric/photometric_file.h"
+#include "photometry/compare.h"
+#include "photometry/intensity_sampler.h"
 #include "sim/shapes.h"
 #include "tests/support/test_support.h"
 
@@ -42,8 +46,8 @@ test::ProcessResult gonio(std::vector<std::string> args) {
 // down after one bounce, the rest directly.
 // Flat facets (`smooth` false: no shading normals) spread the beam over a
 // few degrees, so that the table's flux integrates it well.
-fs::path write_paraboloid(const fs::path& dir, bool smooth = true) {
-  sim::Mesh mirror = smooth ? sim::paraboloid(kF, kAperture, 0.0, 48, 192) : sim::paraboloid(kF, kAperture, 0.0, 8, 32);
+fs::path write_paraboloid(const fs::path& dir, bool smooth = true, double aperture = kAperture) {
+  sim::Mesh mirror = smooth ? sim::paraboloid(kF, aperture, 0.0, 48, 192) : sim::paraboloid(kF, aperture, 0.0, 8, 32);
   if (!smooth) mirror.normals.clear();
   io::GltfWriter w("gonio tolerance test");
   const int material = w.material({{"name", "mirror"}, {"pbrMetallicRoughness",
@@ -145,6 +149,201 @@ TEST(ToleranceCli, MonteCarloBeamDirectionsFollowArctanDeltaOverF) {
   EXPECT_GT(drawn.back(), 1.0);
 }
 
+// The regularised lower incomplete gamma function P(a, x) by its series
+// (x up to a few hundred: the terms fall once n > x), for χ² probabilities.
+double lower_gamma_p(double a, double x) {
+  if (x <= 0.0) return 0.0;
+  double term = 1.0 / a, sum = term;
+  for (int n = 1; n < 2000; ++n) {
+    term *= x / (a + n);
+    sum += term;
+    if (term < 1e-17 * sum) break;
+  }
+  return std::exp(a * std::log(x) - x - std::lgamma(a)) * sum;
+}
+
+// Kolmogorov's distribution: P(√N·D > λ) for the one-sample statistic D,
+// with Stephens' finite-N factor (√N + 0.12 + 0.11/√N).
+double ks_p_value(double d, std::size_t n) {
+  const double rn = std::sqrt(static_cast<double>(n));
+  const double lambda = (rn + 0.12 + 0.11 / rn) * d;
+  if (lambda < 0.2) return 1.0;
+  double p = 0.0;
+  for (int k = 1; k <= 100; ++k) p += 2.0 * ((k % 2) ? 1.0 : -1.0) * std::exp(-2.0 * k * k * lambda * lambda);
+  return std::clamp(p, 0.0, 1.0);
+}
+
+// The distribution function of N(0, σ) truncated at ±kσ.
+double truncated_normal_cdf(double x, double sigma, double k) {
+  const auto phi = [](double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); };
+  const double z = std::clamp(x / sigma, -k, k);
+  return (phi(z) - phi(-k)) / (phi(k) - phi(-k));
+}
+
+// A statistical test of the Monte Carlo against the closed form. The source
+// is displaced by Δ ~ N(0, σ = 1 mm) truncated at ±3σ (the default) along
+// C0; the beam then leaves tilted by arctan(Δ/f) towards C180. 40 trials on
+// a 0.5° γ, 5° C grid. Each trial's peak (C, γ) gives the tilt projected on
+// the C0-C180 plane, t = atan(tan γ · cos C), and the displacement it
+// implies, Δ' = −f·tan t; the grid's quantisation makes that an interval
+// [Δ'_lo, Δ'_hi] (the peak anywhere in its bin: γ ± 0.25°, C ± 2.5°).
+//  - Kolmogorov–Smirnov at α = 0.01: the smallest KS distance between the
+//    law of Δ and any placement of the Δ' within their intervals (the
+//    empirical distribution lies between the counts of upper and of lower
+//    ends); the test fails where its p-value is below α.
+//  - χ² on the variance at α = 0.01 (two-sided): (N − 1)s²/σ_t² against
+//    χ²(N − 1), σ_t² the truncated law's variance; the quantisation moves
+//    √(N − 1)·s by at most √N·w (w the largest half interval), and the test
+//    fails only where no s in that range is accepted.
+// Both tests assume independent draws; the Latin hypercube's stratified
+// draws are closer to the law than independent ones, which makes both
+// conservative (they reject less often than α), never anti-conservative.
+TEST(ToleranceCli, MonteCarloBeamDirectionsPassKolmogorovSmirnovAndChiSquaredAgainstArctanDeltaOverF) {
+  test::TempDir dir;
+  // A paraxial cap: the rim at 20° from the axis seen from the focus
+  // (aperture 2f·tan 10°), where every ray's turn, Δ·cos θ·(1 + cos θ)/2f,
+  // is within 9 % of the vertex ray's Δ/f (on the whole dish, out to 90°,
+  // the rays far from the vertex turn less and pull the peak bin below
+  // arctan(Δ/f)).
+  write_paraboloid(dir.path(), true, 2.0 * kF * std::tan(10.0 * std::numbers::pi / 180.0));
+  constexpr std::size_t kTrials = 40;
+  constexpr double kSigma = 2.0, kTruncate = 2.0, kAlpha = 0.05, kGammaHalf = 0.25, kCHalf = 2.5;
+  const json report = run_tolerance(dir.path(), "[emitter.lamp]\nx = { normal = 2.0, truncate = 2 }\n",
+                                    {"--photons", "100000", "--gamma-step", "0.5", "--c-step", "5", "--trials",
+                                     std::to_string(kTrials), "--noise-seeds", "0"});
+  ASSERT_FALSE(report.is_null());
+  ASSERT_EQ(report["monte_carlo"]["trials"].size(), kTrials);
+  const double f_mm = kF * 1000.0, deg = std::numbers::pi / 180.0;
+  std::vector<double> lo, hi, mid;
+  int inside = 0;
+  for (const json& trial : report["monte_carlo"]["trials"]) {
+    const double gamma = trial["figures"]["peak_gamma"].get<double>(), c = trial["figures"]["peak_c"].get<double>();
+    double a = std::numeric_limits<double>::infinity(), b = -a;
+    for (int i = 0; i <= 10; ++i)
+      for (int j = 0; j <= 10; ++j) {
+        const double g = std::max(0.0, gamma - kGammaHalf + 2.0 * kGammaHalf * i / 10.0);
+        const double cc = c - kCHalf + 2.0 * kCHalf * j / 10.0;
+        const double implied = -f_mm * std::tan(g * deg) * std::cos(cc * deg);  // −f·tan t, tan t = tan γ·cos C
+        a = std::min(a, implied);
+        b = std::max(b, implied);
+      }
+    lo.push_back(a);
+    hi.push_back(b);
+    mid.push_back(0.5 * (a + b));
+    inside += trial["values"]["lamp.x"].get<double>() >= a && trial["values"]["lamp.x"].get<double>() <= b;
+    std::printf("drawn %+.4f implied [%+.4f, %+.4f] (peak C %g, γ %g)\n", trial["values"]["lamp.x"].get<double>(), a,
+                b, c, gamma);
+  }
+  std::printf("%d of %zu drawn Δ within their trial's interval\n", inside, kTrials);
+  const std::size_t n = kTrials;
+  // KS: D ≥ max over x of (F(x) − #{lo ≤ x}/N, #{hi ≤ x}/N − F(x)).
+  std::vector<double> slo = lo, shi = hi;
+  std::sort(slo.begin(), slo.end());
+  std::sort(shi.begin(), shi.end());
+  double d = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    d = std::max(d, truncated_normal_cdf(slo[i], kSigma, kTruncate) - static_cast<double>(i) / n);
+    d = std::max(d, static_cast<double>(i + 1) / n - truncated_normal_cdf(shi[i], kSigma, kTruncate));
+  }
+  const double p_ks = ks_p_value(d, n);
+  std::printf("KS: smallest D over the bins %.4f, p = %.3g (α = %g)\n", d, p_ks, kAlpha);
+  EXPECT_GT(p_ks, kAlpha) << "D = " << d;
+  // χ² on the variance.
+  const double k = kTruncate, pdf_k = std::exp(-0.5 * k * k) / std::sqrt(2.0 * std::numbers::pi);
+  const double var_t = kSigma * kSigma * (1.0 - 2.0 * k * pdf_k / std::erf(k / std::sqrt(2.0)));
+  double mean = 0.0, w = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    mean += mid[i] / n;
+    w = std::max(w, 0.5 * (hi[i] - lo[i]));
+  }
+  double ss = 0.0;
+  for (double m : mid) ss += (m - mean) * (m - mean);
+  const double root = std::sqrt(ss), slack = std::sqrt(static_cast<double>(n)) * w;
+  const double nu = static_cast<double>(n - 1);
+  const double chi_lo = std::pow(std::max(0.0, root - slack), 2) / var_t, chi_hi = std::pow(root + slack, 2) / var_t;
+  // Accepted where some χ² in [chi_lo, chi_hi] has a two-sided p-value above α.
+  const double p_lo_end = lower_gamma_p(nu / 2.0, chi_hi / 2.0);  // P(χ² ≤ chi_hi)
+  const double p_hi_end = 1.0 - lower_gamma_p(nu / 2.0, chi_lo / 2.0);  // P(χ² ≥ chi_lo)
+  std::printf("variance: s² = %.4f mm² (σ_t² = %.4f), χ² in [%.2f, %.2f] on %g degrees of freedom, "
+              "P(χ² ≤ hi) = %.3g, P(χ² ≥ lo) = %.3g\n",
+              ss / nu, var_t, chi_lo, chi_hi, nu, p_lo_end, p_hi_end);
+  EXPECT_GT(p_lo_end, kAlpha / 2.0) << "the spread of the beam directions is too small for the law";
+  EXPECT_GT(p_hi_end, kAlpha / 2.0) << "the spread of the beam directions is too large for the law";
+}
+
+// A spot light (KHR_lights_punctual: a rotational Type C profile, outer
+// cone 30°, smooth falloff) pointing at the nadir, "lamp", beside the
+// paraboloid above it (the spot never reaches the mirror).
+fs::path write_spot(const fs::path& dir) {
+  io::GltfWriter w("gonio tolerance test");
+  const int material = w.material({{"name", "mirror"}, {"pbrMetallicRoughness",
+                                 {{"baseColorFactor", {kMirror, kMirror, kMirror, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}});
+  w.node({{"name", "reflector"}, {"mesh", w.mesh(sim::paraboloid(kF, kAperture, 0.0, 8, 32), material, "reflector")}});
+  const int light = w.khr_light({{"name", "lamp"}, {"type", "spot"}, {"intensity", 100.0},
+                                 {"spot", {{"innerConeAngle", 0.0}, {"outerConeAngle", std::numbers::pi / 6.0}}}});
+  // The spot shines along the node's −Z: turned −90° about X it shines along −Y, the nadir.
+  w.node({{"name", "lamp"}, {"rotation", {-std::sqrt(0.5), 0.0, 0.0, std::sqrt(0.5)}},
+          {"extensions", {{"KHR_lights_punctual", {{"light", light}}}}}});
+  std::string bin;
+  const std::string text = w.finish("paraboloid.bin", bin);
+  test::write_file(dir / "paraboloid.bin", bin);
+  test::write_file(dir / "paraboloid.gltf", text);
+  return dir / "paraboloid.gltf";
+}
+
+// A tilt of a rotationally symmetric emitter turns its distribution by the
+// tilt. The spot tilted by 10° about the C0 axis (tilt_x, one value):
+//  - its beam axis (the mean direction of the light at ≥ half the peak)
+//    moves by 10° towards C90 and not towards C0, to a tenth of the 2.5° γ
+//    step (the axis is a quadrature over the grid's points);
+//  - the whole tilted table (the one Monte Carlo trial, best.ies) equals the
+//    nominal table turned by 10°, looked up at each direction turned back:
+//    its RMS difference from that is below the noise floor (the mean RMS
+//    difference of an independent seed from the nominal), where its RMS
+//    difference from the nominal itself is many times the floor. On common
+//    random numbers every photon leaves turned by exactly the tilt, so what
+//    remains is the grid's binning and interpolation.
+TEST(ToleranceCli, TiltOfASymmetricEmitterTurnsTheDistributionByTheTilt) {
+  test::TempDir dir;
+  write_spot(dir.path());
+  constexpr double kTilt = 10.0;
+  const json report = run_tolerance(dir.path(), "[emitter.lamp]\ntilt_x = { values = [10] }\n",
+                                    {"--photons", "300000", "--trials", "1", "--noise-seeds", "2"});
+  ASSERT_FALSE(report.is_null());
+  EXPECT_NEAR(report["nominal"]["axis_c0"].get<double>(), 0.0, 0.25);
+  EXPECT_NEAR(report["nominal"]["axis_c90"].get<double>(), 0.0, 0.25);
+  const json& turned = row(report, "axis_c90", "lamp.tilt_x");
+  const json& across = row(report, "axis_c0", "lamp.tilt_x");
+  std::printf("axis change towards C90 %.4f, towards C0 %.4f\n", turned["change_high"].get<double>(),
+              across["change_high"].get<double>());
+  EXPECT_NEAR(turned["change_high"].get<double>(), kTilt, 0.25);
+  EXPECT_NEAR(across["change_high"].get<double>(), 0.0, 0.25);
+
+  Result<io::PhotometricFile> nominal = io::read_photometric_file((dir.path() / "out" / "nominal.ies").string());
+  Result<io::PhotometricFile> tilted = io::read_photometric_file((dir.path() / "out" / "best.ies").string());
+  ASSERT_TRUE(nominal.ok() && tilted.ok());
+  const photometry::IntensitySampler sampler(nominal->distribution);
+  photometry::Distribution expected = tilted->distribution;
+  const double deg = std::numbers::pi / 180.0, a = -kTilt * deg;  // turned back about the C0 axis (x)
+  for (std::size_t h = 0; h < expected.horizontal_count(); ++h)
+    for (std::size_t v = 0; v < expected.vertical_count(); ++v) {
+      const double c = expected.horizontal_deg[h] * deg, g = expected.vertical_deg[v] * deg;
+      const double x = std::sin(g) * std::cos(c), y = std::sin(g) * std::sin(c), z = -std::cos(g);
+      const double y2 = y * std::cos(a) - z * std::sin(a), z2 = y * std::sin(a) + z * std::cos(a);
+      double c2 = std::atan2(y2, x) / deg;
+      if (c2 < 0.0) c2 += 360.0;
+      expected.at(h, v) = sampler.cd(c2, std::acos(std::clamp(-z2, -1.0, 1.0)) / deg);
+    }
+  Result<photometry::Comparison> to_turned = photometry::compare(expected, tilted->distribution);
+  Result<photometry::Comparison> to_nominal = photometry::compare(nominal->distribution, tilted->distribution);
+  ASSERT_TRUE(to_turned.ok() && to_nominal.ok());
+  const double floor = report["noise"]["floor"]["rms"].get<double>();
+  std::printf("RMS difference [%% of peak]: from the nominal turned by the tilt %.4f, from the nominal %.4f, "
+              "noise floor %.4f\n", 100.0 * to_turned->rms_relative, 100.0 * to_nominal->rms_relative, floor);
+  EXPECT_LT(100.0 * to_turned->rms_relative, floor);
+  EXPECT_GT(100.0 * to_nominal->rms_relative, 10.0 * floor);
+}
+
 // Reflectance ±10 % of a mirror that every reflected photon meets once:
 // the flux changes by ±0.1·R·Φ·(1 − cos θ_rim)/2, the share of an isotropic
 // source the mirror catches (θ_rim = 90°: a half). With common random
@@ -168,6 +367,65 @@ TEST(ToleranceCli, SingleBounceFluxScalesWithReflectance) {
   EXPECT_NEAR(flux["change_low"].get<double>(), -expected, bound);
   // The nominal's flux: Φ·(1 − caught) + R·Φ·caught, within the grid's integration.
   EXPECT_NEAR(report["nominal"]["flux"].get<double>(), kFlux * (1.0 - caught + kMirror * caught), 0.01 * kFlux);
+}
+
+// The traced inverse sensitivity against the closed form: the mirror's
+// reflectance ±10 % changes the flux linearly (±0.1·R·Φ/2 at the limits),
+// so the largest factor k of the tolerance that keeps flux ≥ nominal − 20 lm
+// is 20 lm over the change at the low limit (k ≈ 0.5). The bisection (4
+// steps from [0, 1]) must bracket it: [held, failed] contains k_lin to 5
+// standard deviations of the staircase (on common random numbers the change
+// at k counts the photons whose roulette number falls between R(1 − 0.1k)
+// and R: binomial, so k is known to √(k/(n·p)) with n = N/2, p = 0.08, and
+// k_lin through the low limit's own count to k·√(1/(n·p))).
+TEST(ToleranceCli, TracedInverseSensitivityBracketsTheLinearClosedForm) {
+  test::TempDir dir;
+  write_paraboloid(dir.path(), false);
+  const long long photons = 400000;
+  const std::string tol = "[material.mirror]\nreflectance = { uniform = 10 }\n";
+  const json first = run_tolerance(dir.path(), tol,
+                                   {"--photons", std::to_string(photons), "--trials", "0", "--noise-seeds", "0"});
+  ASSERT_FALSE(first.is_null());
+  const double nominal = first["nominal"]["flux"].get<double>();
+  const double limit = nominal - 20.0;
+  const json report = run_tolerance(dir.path(), tol,
+                                    {"--photons", std::to_string(photons), "--trials", "0", "--noise-seeds", "2",
+                                     "--spec", "flux>=" + std::to_string(limit), "--inverse-steps", "4"});
+  ASSERT_FALSE(report.is_null());
+  ASSERT_EQ(report["inverse_sensitivity"].size(), 1u);
+  const json& e = report["inverse_sensitivity"][0];
+  const double change_low = row(report, "flux", "mirror.reflectance")["change_low"].get<double>();
+  const double k_lin = (nominal - limit) / -change_low;
+  EXPECT_NEAR(e["scale"].get<double>(), k_lin, 1e-9);  // the linear estimate, as before
+  const double held = e["traced_scale"].get<double>(), failed = e["traced_fails_at"].get<double>();
+  const double np = 0.5 * static_cast<double>(photons) * 0.1 * kMirror;
+  const double sd = std::sqrt(k_lin / np + k_lin * k_lin / np);
+  std::printf("k_lin %.4f, traced [%.4f, %.4f], 5 sd %.4f, %d traces\n", k_lin, held, failed, 5 * sd,
+              e["traces"].get<int>());
+  EXPECT_EQ(failed - held, 1.0 / 16.0);  // 4 halvings of [0, 1]
+  EXPECT_LE(held, k_lin + 5.0 * sd);
+  EXPECT_GE(failed, k_lin - 5.0 * sd);
+  EXPECT_DOUBLE_EQ(e["traced_low"].get<double>(), -10.0 * held);
+  // 4 steps, each tracing the low limit and, where that held, the high one.
+  EXPECT_GE(e["traces"].get<int>(), 4);
+  EXPECT_LE(e["traces"].get<int>(), 8);
+}
+
+// The traced inverse sensitivity stops where the model ends: a reflectance
+// of 0.8 ± 10 % may grow by at most (1 − 0.8)/(0.8 · 0.1) = 2.5 before the
+// mirror would reflect more than it receives; a limit far away (flux ≥ 0)
+// holds there, and the factor is reported as held up to 2.5 (no failure),
+// not traced beyond (where the model would be refused).
+TEST(ToleranceCli, TracedInverseSensitivityStopsWhereTheMaterialEnds) {
+  test::TempDir dir;
+  write_paraboloid(dir.path(), false);
+  const json report = run_tolerance(dir.path(), "[material.mirror]\nreflectance = { uniform = 10 }\n",
+                                    {"--photons", "50000", "--trials", "0", "--noise-seeds", "1", "--spec", "flux>=0"});
+  ASSERT_FALSE(report.is_null());
+  const json& e = report["inverse_sensitivity"][0];
+  EXPECT_GT(e["scale"].get<double>(), 2.5);  // the linear estimate knows no material
+  EXPECT_DOUBLE_EQ(e["traced_scale"].get<double>(), 2.5);
+  EXPECT_TRUE(e["traced_fails_at"].is_null());
 }
 
 // Zero tolerances: every Monte Carlo trial is the nominal, bit for bit — the
@@ -214,6 +472,124 @@ TEST(ToleranceCli, ZeroTolerancesGiveTheNominalBytes) {
   EXPECT_EQ(test::read_file(dir.path() / "out" / "best.ldt"), test::read_file(dir.path() / "out" / "nominal.ldt"));
   // The independent seed is not the nominal: the noise floor is real.
   EXPECT_GT(report["noise"]["floor"]["rms"].get<double>(), 0.0);
+}
+
+// A conic dish over an isotropic LED as a design file, its radius a variable.
+std::string dish_design(double radius, const std::string& tolerances) {
+  return "length_unit = \"mm\"\n[materials.mirror]\nreflectance = 0.9\n[[emitters]]\nname = \"LED\"\n"
+         "position = [0, 0, 0]\nflux_lm = 1000\n[[reflectors]]\nname = \"dish\"\nmaterial = \"mirror\"\n"
+         "profile = \"conic\"\nradius = { value = " + std::to_string(radius) + ", min = " + std::to_string(radius - 0.5) +
+         ", max = " + std::to_string(radius + 0.5) + " }\n"
+         "conic = -1.5\nvertex = 5\naperture = [2, 30]\n\n" + tolerances;
+}
+
+// [tolerances] in a design file, on its variables: the trial with radius
+// +1 (outside the optimiser's bounds, which a tolerance ignores) is, figure
+// for figure, the design written with radius 11 (common random numbers: the
+// same photons). A name the design lacks is an error naming the line and
+// the design's variables; a variable for a model that is not a design, and
+// a design without [tolerances] and without --tolerances, are errors too.
+TEST(ToleranceCli, DesignVariablesCarryTolerancesInTheDesignFile) {
+  test::TempDir dir;
+  const std::vector<std::string> settings = {"--photons", "20000", "--trials", "1", "--noise-seeds", "0", "--threads",
+                                             "2", "--c-step", "10", "--gamma-step", "5"};
+  const auto run = [&](const std::string& name, const std::string& text) {
+    test::write_file(dir / name, text);
+    std::vector<std::string> args = {"tolerance", (dir / name).string(), "--out", (dir / (name + ".out")).string()};
+    args.insert(args.end(), settings.begin(), settings.end());
+    return gonio(args);
+  };
+  test::ProcessResult r = run("a.design.toml", dish_design(10, "[tolerances]\n\"reflectors[0].radius\" = { values = [1] }\n"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run("b.design.toml", dish_design(11, "[tolerances]\n\"reflectors[0].radius\" = { values = [0] }\n"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json a = json::parse(test::read_file(dir / "a.design.toml.out" / "report.json"));
+  const json b = json::parse(test::read_file(dir / "b.design.toml.out" / "report.json"));
+  EXPECT_TRUE(a["settings"].is_object() && a["tolerances_from_design"].get<bool>());
+  EXPECT_EQ(a["tolerances"][0]["name"], "reflectors[0].radius");
+  EXPECT_EQ(a["tolerances"][0]["line"], 18);
+  json trial = a["monte_carlo"]["trials"][0]["figures"], nominal = b["nominal"];
+  EXPECT_GT(trial["rms"].get<double>(), 0.0);  // the radius changed the distribution
+  trial.erase("rms");
+  nominal.erase("rms");
+  EXPECT_EQ(trial, nominal);
+  EXPECT_NE(a["nominal"]["peak_cd"], b["nominal"]["peak_cd"]);
+
+  r = run("c.design.toml", dish_design(10, "[tolerances]\n\n\"reflectors[0].conic\" = { uniform = 0.1 }\n"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("gonio: tolerance: " + (dir / "c.design.toml").string() + ":19: the design " + (dir / "c.design.toml").string() +
+                       " has no variable 'reflectors[0].conic' (it has 'reflectors[0].radius')"),
+            std::string::npos)
+      << r.err;
+  r = run("d.design.toml", dish_design(10, ""));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--tolerances FILE is required: the design has no [tolerances] table"), std::string::npos) << r.err;
+  write_paraboloid(dir.path());
+  test::write_file(dir / "t.toml", "[variable]\n\"reflectors[0].radius\" = { uniform = 1 }\n");
+  r = gonio({"tolerance", (dir / "paraboloid.gltf").string(), "--tolerances", (dir / "t.toml").string(), "--out",
+             (dir / "out").string(), "--photons", "1000"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("t.toml:2: 'reflectors[0].radius': a tolerance on a variable needs a design file as the model"),
+            std::string::npos)
+      << r.err;
+}
+
+// Trials in parallel and a resumed run give the same report.json, byte for
+// byte: every trace is deterministic in its values and the common seed, and
+// report.json holds no wall times (timing.json does). The resumed run gets
+// the journal of a finished run cut after its third Monte Carlo trial, with
+// half of the next line (as an interrupted write leaves it): it reads the
+// complete lines back and traces only the three trials they lack.
+TEST(ToleranceCli, ParallelTrialsAndResumeGiveTheSameReportBytes) {
+  test::TempDir dir;
+  write_paraboloid(dir.path());
+  test::write_file(dir / "t.toml", "[emitter.lamp]\nx = { normal = 0.5 }\ntilt_y = { uniform = 1 }\n"
+                                   "[material.mirror]\nreflectance = { uniform = 3 }\n");
+  const auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"tolerance", (dir / "paraboloid.gltf").string(), "--tolerances",
+                                     (dir / "t.toml").string(), "--out", (dir / out).string(), "--threads", "1",
+                                     "--photons", "20000", "--trials", "6", "--noise-seeds", "1", "--spec",
+                                     "flux>=880", "--inverse-steps", "2"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return gonio(args);
+  };
+  test::ProcessResult r = run("one", {});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run("two", {"--parallel-trials", "3"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string one = test::read_file(dir / "one" / "report.json");
+  EXPECT_EQ(one, test::read_file(dir / "two" / "report.json"));
+  EXPECT_EQ(test::read_file(dir / "one" / "worst.ies"), test::read_file(dir / "two" / "worst.ies"));
+  const json report = json::parse(one);
+  ASSERT_EQ(report["monte_carlo"]["trials"].size(), 6u);
+  EXPECT_NE(report["monte_carlo"]["trials"][0]["figures"], report["monte_carlo"]["trials"][1]["figures"]);
+
+  // The journal cut after the third trial: the last 6 lines are the trials
+  // (then the best and worst traced again add none: they are there).
+  const std::string journal = test::read_file(dir / "one" / "journal.jsonl");
+  std::vector<std::size_t> ends;
+  for (std::size_t i = 0; i < journal.size(); ++i)
+    if (journal[i] == '\n') ends.push_back(i + 1);
+  ASSERT_GE(ends.size(), 8u);
+  const std::size_t keep = ends[ends.size() - 4];
+  fs::create_directories(dir / "resumed");
+  test::write_file(dir / "resumed" / "journal.jsonl",
+                   journal.substr(0, keep) + journal.substr(keep, (ends[ends.size() - 3] - keep) / 2));
+  r = run("resumed", {"--resume"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(one, test::read_file(dir / "resumed" / "report.json"));
+  EXPECT_NE(r.out.find("resume: " + std::to_string(ends.size() - 4) + " traces read back from the journal"),
+            std::string::npos)
+      << r.out;
+  std::size_t from_journal = 0, pos = 0;
+  while ((pos = r.out.find("from the journal,", pos)) != std::string::npos) ++from_journal, ++pos;
+  EXPECT_EQ(from_journal, 3u) << r.out;
+  EXPECT_EQ(json::parse(test::read_file(dir / "resumed" / "timing.json"))["read_from_journal"].get<std::size_t>(),
+            ends.size() - 4);
+  // Another run's journal is not read back.
+  r = run("resumed", {"--resume", "--seed", "2"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("journal.jsonl: written by another run"), std::string::npos) << r.err;
 }
 
 TEST(ToleranceCli, BadInputIsAnErrorNamingTheLine) {

@@ -218,7 +218,7 @@ def optimize(
 
 def tolerance(
     model: PathLike | Design,
-    tolerances: PathLike,
+    tolerances: PathLike | None,
     *,
     trials: int = 20,
     spec: str | None = None,
@@ -232,6 +232,8 @@ def tolerance(
     c_step: float = 5.0,
     gamma_step: float = 2.5,
     out: PathLike | None = None,
+    inverse_steps: int = 4,
+    parallel_trials: int = 1,
 ) -> dict[str, Any]:
     """gonio tolerance's run: {trials, values, sensitivity, noise_floor, nominal, yield, inverse_sensitivity, table, report}."""
     ...
