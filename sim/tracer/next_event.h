@@ -85,7 +85,15 @@ struct NextEventSettings {
   // (sim/bsdfs/bsdf_eval.h's bits, 1 << Lobe); empty: every lobe everywhere.
   std::vector<std::uint16_t> lobes;
   unsigned lobes_at(std::uint32_t mesh, bool back) const {
-    return lobes.empty() ? kNonDeltaLobes : lobes[static_cast<std::size_t>(mesh) * 2 + (back ? 1 : 0)];
+    const std::size_t side = static_cast<std::size_t>(mesh) * 2 + (back ? 1 : 0);
+    if (!counts.empty() && counts[side] == 0) return 0u;
+    return lobes.empty() ? kNonDeltaLobes : lobes[side];
+  }
+  // Per mesh and side: M there (auto's choice, choose_connections); empty:
+  // `connections` everywhere. 0 leaves the side unconnected.
+  std::vector<std::uint16_t> counts;
+  int connections_at(std::uint32_t mesh, bool back) const {
+    return counts.empty() ? connections : counts[static_cast<std::size_t>(mesh) * 2 + (back ? 1 : 0)];
   }
 };
 
@@ -98,6 +106,7 @@ struct NextEventTally {
   std::uint64_t escaped = 0;                   // of them, left the luminaire
   std::uint64_t booked_units = 0;              // Σ booked
   std::uint64_t covered_units = 0;             // escapes not binned (their last event connected)
+  std::uint64_t direct_units = 0;              // escapes without a surface event (straight from an emitter)
   // Per slot (the pilot's choice): connections, those escaped, the power of
   // escapes whose last event was there, and of those after ≥ 2 events.
   std::vector<std::uint64_t> slot_connections, slot_escaped, slot_covered_units, slot_multi_units;
@@ -116,5 +125,36 @@ struct NextEventChoice {
   bool worthwhile = false;
 };
 NextEventChoice choose_next_event(const NextEventTally& pilot, std::uint64_t escaped_units);
+
+// Connections that pay (issue 43): M per mesh and side chosen by what they
+// buy, from the pilot. The photon's own escape is one more sample of the
+// same direct escape, weighted against the connections by the balance
+// heuristic (sim/tracer/tracer.cpp: each books power · f / (M·p + f)), so a
+// side with M connections estimates its direct escape from M + 1 samples
+// for the price of M rays. The model, per side s (its kept slots):
+//   a_s  its share of the far field's variance: the power escaping after a
+//        connected event there, over the escaped power less what leaves
+//        straight from the emitters (a point or small emitter's own light
+//        is stratified by the sampler's first dimensions and nearly
+//        noiseless; the scattered light is what is noisy);
+//   n_s  its vertices per photon; c the cost of a connection over a
+//        photon's (kConnectionRayCost over the pilot's rays per photon);
+//   relative time to a given error  T(M) = (1 − Σ a_s + Σ a_s/(M_s + 1)) ·
+//        (1 + c · Σ n_s M_s)   (T = 1: no connections),
+// minimised over M_s ∈ {0, 1, 2, 3, 4, 6, 8, 12, 16, …} ≤ max_connections,
+// one side at a time until nothing changes. Auto turns connections on where
+// the predicted T ≤ kAutoPredictedTime.
+inline constexpr double kConnectionRayCost = 1.0;  // a connection in photon rays' cost
+inline constexpr double kAutoPredictedTime = 0.85;
+struct ConnectionChoice {
+  NextEventChoice base;               // the kept slots (choose_next_event)
+  std::vector<std::uint16_t> counts;   // NextEventSettings::counts
+  double predicted_time = 1.0;        // T at the counts chosen
+  double variance_share = 0.0;        // Σ a_s over the kept sides
+  bool worthwhile = false;            // predicted_time ≤ kAutoPredictedTime
+};
+ConnectionChoice choose_connections(const NextEventTally& pilot, std::uint64_t escaped_units,
+                                    std::uint64_t pilot_photons, int pilot_connections, double rays_per_photon,
+                                    int max_connections);
 
 }  // namespace gonio::sim
