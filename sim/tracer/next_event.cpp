@@ -77,8 +77,10 @@ ConnectionChoice choose_connections(const NextEventTally& pilot, std::uint64_t e
   const std::size_t sides = out.base.lobes.size();
   out.counts.assign(sides, 0);
   constexpr auto kLobes = static_cast<std::size_t>(kLobeCount);
-  // What scatters: the escaped power less what left straight from an emitter.
-  const double noisy = static_cast<double>(escaped_units) - static_cast<double>(std::min(pilot.direct_units, escaped_units));
+  // The escaped power, what left straight from an emitter weighted by
+  // kDirectVarianceWeight.
+  const double direct = static_cast<double>(std::min(pilot.direct_units, escaped_units));
+  const double noisy = static_cast<double>(escaped_units) - (1.0 - kDirectVarianceWeight) * direct;
   if (!(noisy > 0.0) || pilot_photons == 0 || pilot_connections < 1 || max_connections < 1) return out;
   std::vector<double> a(sides, 0.0), n(sides, 0.0);
   for (std::size_t s = 0; s < sides; ++s) {

@@ -13,6 +13,7 @@
 #include "sim/bsdfs/tabulated_bsdf.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
+#include "sim/tracer/tracer.h"
 #include "tests/sim/bsdfs/lobe_checks.h"
 #include "tests/sim/scenes.h"
 
@@ -473,18 +474,20 @@ TEST(NextEvent, ConnectionsPerSideAreChosenByWhatTheyBuy) {
   EXPECT_NEAR(all.variance_share, 1.0, 1e-12);
   EXPECT_NEAR(all.predicted_time, (1.0 + 0.5 * 16.0) / 17.0, 1e-12);
   EXPECT_TRUE(all.worthwhile);
-  // The bell's pilot: a = 0.924 of the scattered power, c·n = 0.52: M = 2,
-  // T = (0.076 + 0.924/3)·(1 + 2·0.52) = 0.78.
-  ConnectionChoice bell = choose_connections(pilot_tally(2080, 1800, 924, 200), 1200, photons, 2, 2.0, 16);
-  EXPECT_EQ(bell.counts[0], 2);
-  EXPECT_NEAR(bell.predicted_time, (0.076 + 0.924 / 3.0) * (1.0 + 2.0 * 0.52), 1e-9);
-  EXPECT_TRUE(bell.worthwhile);
-  // Straight from the emitter counts as noiseless: the same covered power
-  // over all escapes that scattered (none direct) is a smaller share and
-  // buys less (T above auto's threshold).
-  ConnectionChoice spread = choose_connections(pilot_tally(2080, 1800, 300, 0), 1200, photons, 2, 2.0, 16);
-  EXPECT_NEAR(spread.variance_share, 0.25, 1e-12);
-  EXPECT_FALSE(spread.worthwhile);
+  // The bell's pilot: a = 0.743 of the escaped power (a fifth straight from
+  // the lamp, counted as noisy as the rest), c·n = 0.52: at best M = 1,
+  // T = (0.257 + 0.743/2)·1.52 = 0.955 — not worth it (auto off).
+  ConnectionChoice bell = choose_connections(pilot_tally(2080, 1800, 743, 200), 1000, photons, 2, 2.0, 16);
+  EXPECT_EQ(bell.counts[0], 1);
+  EXPECT_NEAR(bell.variance_share, 0.743, 1e-12);
+  EXPECT_NEAR(bell.predicted_time, (0.257 + 0.743 / 2.0) * 1.52, 1e-9);
+  EXPECT_FALSE(bell.worthwhile);
+  // a = 0.95 at the same cost: T(M) = (0.05 + 0.95/(M + 1))·(1 + 0.52 M) is
+  // least at M = 3 (0.736; 0.748 at 2, 0.739 at 4): on, with 3.
+  ConnectionChoice most = choose_connections(pilot_tally(2080, 1800, 950, 0), 1000, photons, 2, 2.0, 16);
+  EXPECT_EQ(most.counts[0], 3);
+  EXPECT_NEAR(most.predicted_time, (0.05 + 0.95 / 4.0) * (1.0 + 3.0 * 0.52), 1e-9);
+  EXPECT_TRUE(most.worthwhile);
   // Slots whose connections do not escape (under 5 %) get none; nothing
   // covered, nothing scattered, or a bare lamp: off.
   EXPECT_EQ(choose_connections(pilot_tally(2000, 50, 800, 0), 800, photons, 2, 2.0, 16).counts[0], 0);
@@ -492,6 +495,45 @@ TEST(NextEvent, ConnectionsPerSideAreChosenByWhatTheyBuy) {
   EXPECT_FALSE(choose_connections(pilot_tally(0, 0, 0, 800), 800, photons, 2, 1.0, 16).worthwhile);
   // Capped by --connections.
   EXPECT_EQ(choose_connections(pilot_tally(2000, 1500, 800, 0), 800, photons, 2, 2.0, 5).counts[0], 5);
+}
+
+// A side's own M (NextEventSettings::counts) weighs both its connections
+// and the photon's share: the tracer with M = 1 on the disc's sides and 64
+// elsewhere (--connections): the far field's power (binned + booked) has
+// plain tracing's mean, booked and covered agree. Connections weighted with
+// the 64 instead book 64·f/(64p + f) each against the photon's f/(p + f):
+// 1.4× the covered power.
+TEST(NextEvent, ASidesOwnConnectionCountWeighsItsConnectionsAndThePhotonsShare) {
+  Material sheet;
+  sheet.diffuse_reflect = 0.8;
+  const SceneDesc scene = lamp_over_disc(sheet);
+  TracerSettings ts;
+  ts.sobol_replicates = 1;
+  auto tracer = Tracer::create(scene, 8, ts);
+  ASSERT_TRUE(tracer.ok()) << tracer.error().message;
+  constexpr std::uint64_t kPhotons = 200000;
+  const auto total_units = [&](const TracerTally& t) {
+    double units = static_cast<double>(t.next_event.booked_units);
+    for (std::size_t i = 0; i < t.texel_photons.size(); ++i)
+      units += static_cast<double>(t.photons(i)) * static_cast<double>(kPowerUnits);
+    return units;
+  };
+  TracerTally off = tracer->make_tally();
+  tracer->trace_photons(3, 0, kPhotons, off);
+  NextEventSettings ne;
+  ne.enabled = true;
+  ne.connections = 64;
+  ne.counts = {1, 1};
+  tracer->set_next_event(ne);
+  TracerTally on = tracer->make_tally();
+  tracer->trace_photons(4, 0, kPhotons, on);
+  ASSERT_GT(on.next_event.connections, 0u);
+  EXPECT_LE(on.next_event.connections, on.next_event.vertices);  // one a vertex
+  const double p = total_units(off) / (static_cast<double>(kPhotons) * static_cast<double>(kPowerUnits));
+  const double sigma = std::sqrt(2.0 * static_cast<double>(kPhotons) * p * (1.0 - p)) * static_cast<double>(kPowerUnits);
+  EXPECT_NEAR(total_units(on), total_units(off), 4.5 * sigma);
+  EXPECT_NEAR(static_cast<double>(on.next_event.booked_units) / static_cast<double>(on.next_event.covered_units), 1.0,
+              0.02);
 }
 
 // Auto with M chosen per side: the lamp in the opal sphere (every escape
