@@ -7,8 +7,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <initializer_list>
 #include <string>
 #include <utility>
@@ -270,10 +268,6 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
       kept.counts = paid.counts;
       next_event.connections_per_vertex = *std::max_element(paid.counts.begin(), paid.counts.end());
     }
-    if (std::getenv("GONIO_NEE_DEBUG"))
-      std::fprintf(stderr, "nee pilot: covered %.3f variance share %.3f rays/photon %.3f predicted %.3f max M %d\n",
-                   choice.covered_share, paid.variance_share, rays_per_photon, paid.predicted_time,
-                   next_event.connections_per_vertex);
     if (next_event.enabled) next_event.lobes = choice.lobes;
     t.set_next_event(kept);
   }

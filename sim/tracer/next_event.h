@@ -15,11 +15,18 @@
 // correlates with the path's coordinates and biased the bell by 1.5 %).
 // The photon then goes on as it would (its later draws shift by those
 // two). Its own escape after such a vertex, when its last scattering was
-// by a connected non-delta lobe, is not binned into the far field — the
-// connections stand for it — while escapes after a mirror or dielectric
-// event, or straight from an emitter, are binned as always. Nothing is
-// counted twice, and the estimate is unbiased: E[booked] = E[escapes not
-// binned] per direction.
+// by a connected non-delta lobe, is not binned into the far field — it is
+// one more sample of the same direct escape, and books its share by
+// multiple importance sampling (issue 43; before, the connections stood for
+// it alone): with the balance heuristic over the M connections (density p)
+// and the photon (whose density towards ω, per unit of its power, is
+// f·|cos| itself), the connections book power · f/(M·p + f) each instead of
+// power · f/(p·M), and the photon's escape books power · f/(M·p + f) at its
+// direction. The weights M·p/(M·p + f) and f/(M·p + f) sum to one wherever
+// either strategy reaches. Escapes after a mirror or dielectric event, or
+// straight from an emitter, are binned as always. Nothing is counted twice,
+// and the estimate is unbiased: E[booked] = E[escapes not binned] per
+// direction.
 //
 // The books: every photon's fate is booked as always (emitted = escaped +
 // absorbed + cut off, exact in photons). The far field's total is the
@@ -60,7 +67,8 @@ std::optional<NextEventMode> parse_next_event_mode(std::string_view text);
 inline constexpr int kDefaultConnections = 16;              // M per vertex
 inline constexpr std::uint64_t kNextEventPilotPhotons = 1024;
 inline constexpr double kMinConnectionEscape = 0.05;        // a slot's connections that must escape
-// Auto: on when at least this share of the pilot's escaped power left
+// The rule auto used before issue 43 (NextEventChoice::worthwhile; auto now
+// follows choose_connections): on when at least this share of the pilot's escaped power left
 // after a non-delta event at a kept slot, i.e. when nearly all the far
 // field would come from connections. Measured on the four samples
 // (docs/luminance-and-glare.md): the LED array (1.00) wins, the bell (0.74:
