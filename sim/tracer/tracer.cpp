@@ -14,6 +14,7 @@
 #include <tbb/parallel_for.h>
 
 #include "sim/bsdfs/bsdf_eval.h"
+#include "sim/bsdfs/bsdf_eval_pair.h"
 #include "sim/bsdfs/lobes.h"
 #include "sim/bsdfs/volume.h"
 #include "sim/bsdfs/material.h"
@@ -41,10 +42,9 @@ struct CoveredVertex {
 
   double book(const Vec3& wo, std::uint64_t power) const {
     if (!material) return 0.0;
-    const double f = non_delta_f_cos(*material, frame, wi, wo, lobes);
-    if (!(f > 0.0)) return 0.0;
-    const double p = connection_pdf(*material, frame, wi, wo, lobes);
-    return static_cast<double>(power) * f / (static_cast<double>(connections) * p + f);
+    const FCosAndPdf at = non_delta_f_cos_and_pdf(*material, frame, wi, wo, lobes);
+    if (!(at.f_cos > 0.0)) return 0.0;
+    return static_cast<double>(power) * at.f_cos / (static_cast<double>(connections) * at.pdf + at.f_cos);
   }
 };
 
