@@ -552,12 +552,14 @@ TEST(NextEvent, AutoWithConnectionsPerSideKeepsTheMean) {
   EXPECT_NEAR(sim->far_field().total_flux_lm() / want, 1.0, 0.005);
 
   const SceneDesc scene = test_scenes::mixed_scene();
-  auto off = simulate(scene, run(NextEventMode::Off, 2, 150000, 2, 5));
-  SimulationSettings a = run(NextEventMode::Auto, 2, 150000, 2, 6);
+  auto off = simulate(scene, run(NextEventMode::Off, 2, 80000, 2, 5));
+  SimulationSettings a = run(NextEventMode::Auto, 2, 80000, 2, 6);
   a.next_event_connections = 40;
   auto on = simulate(scene, a);
   ASSERT_TRUE(off.ok());
   ASSERT_TRUE(on.ok());
+  ASSERT_TRUE(on->next_event().enabled);
+  EXPECT_LT(on->next_event().connections_per_vertex, 40);  // M chosen per side, not --connections
   std::printf("  mixed scene, auto: on %d, largest M %d, covered share %.3f\n", on->next_event().enabled ? 1 : 0,
               on->next_event().connections_per_vertex, on->next_event().pilot_covered_share);
   const std::vector<double> ra = regions(off->far_field()), rb = regions(on->far_field());
