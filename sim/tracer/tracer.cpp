@@ -707,7 +707,8 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     if (r.fate == Fate::Escaped && r.hits == 0 && settings_.next_event.enabled)
       tally.next_event.direct_units += r.power_units;
     if (r.fate == Fate::Escaped && r.covered) {
-      // The connections stand for it in the far field (sim/tracer/next_event.h).
+      // Not binned: it books its share beside the connections (the balance
+      // heuristic, sim/tracer/next_event.h).
       tally.next_event.covered_units += r.power_units;
       book_covered_escape(r, colour, connect->replicate);
       const std::size_t slot = static_cast<std::size_t>(r.mesh) * kSlotsPerMesh + r.covered_slot;
