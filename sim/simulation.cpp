@@ -248,15 +248,26 @@ Result<Simulation> Simulation::create(SceneDesc scene, const SimulationSettings&
     t.trace_photons(settings.seed, 0, kNextEventPilotPhotons, pilot);
     std::uint64_t escaped_units = 0;
     for (const auto& e : pilot.ledger.emitters) escaped_units += e.escaped.power_units;
-    const NextEventChoice choice = choose_next_event(pilot.next_event, escaped_units);
+    // Auto: M per mesh and side by what it buys (choose_connections); on:
+    // --connections everywhere connections escape.
+    const double rays_per_photon =
+        static_cast<double>(pilot.ledger.rays) / static_cast<double>(kNextEventPilotPhotons);
+    const ConnectionChoice paid = choose_connections(pilot.next_event, escaped_units, kNextEventPilotPhotons,
+                                                     all.connections, rays_per_photon,
+                                                     settings.next_event_connections);
+    const NextEventChoice& choice = paid.base;
     next_event.pilot_covered_share = choice.covered_share;
     next_event.pilot_multi_share = choice.multi_share;
-    next_event.enabled = next_event.mode == NextEventMode::On || choice.worthwhile;
+    next_event.enabled = next_event.mode == NextEventMode::On || paid.worthwhile;
     next_event.connections_per_vertex = next_event.enabled ? settings.next_event_connections : 0;
     NextEventSettings kept;
     kept.enabled = next_event.enabled;
     kept.connections = settings.next_event_connections;
     kept.lobes = choice.lobes;
+    if (next_event.mode == NextEventMode::Auto && next_event.enabled) {
+      kept.counts = paid.counts;
+      next_event.connections_per_vertex = *std::max_element(paid.counts.begin(), paid.counts.end());
+    }
     if (next_event.enabled) next_event.lobes = choice.lobes;
     t.set_next_event(kept);
   }

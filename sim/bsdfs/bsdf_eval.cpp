@@ -1,4 +1,5 @@
 #include "sim/bsdfs/bsdf_eval.h"
+#include "sim/bsdfs/bsdf_eval_pair.h"
 
 #include <algorithm>
 #include <array>
@@ -185,6 +186,13 @@ ConnectionDirection draw(const Material& m, const Vertex& v, const Weights& w, d
 }
 
 }  // namespace
+
+FCosAndPdf non_delta_f_cos_and_pdf(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo,
+                                   unsigned lobes) {
+  const Vertex v(frame, wi);
+  const Weights w = weights(m, v, lobes);
+  return {f_cos(m, v, w, wo), mixture_pdf(m, v, w, wo)};
+}
 
 double connection_pdf(const Material& m, const SurfaceFrame& frame, const Vec3& wi, const Vec3& wo, unsigned lobes) {
   const Vertex v(frame, wi);

@@ -14,6 +14,7 @@
 #include <tbb/parallel_for.h>
 
 #include "sim/bsdfs/bsdf_eval.h"
+#include "sim/bsdfs/bsdf_eval_pair.h"
 #include "sim/bsdfs/lobes.h"
 #include "sim/bsdfs/volume.h"
 #include "sim/bsdfs/material.h"
@@ -23,6 +24,29 @@ namespace {
 
 // Scattering events inside volumes a photon may have before it is cut off.
 constexpr int kMaxVolumeEvents = 100000;
+
+// The last vertex that made next-event connections, as the photon left it:
+// its own escape from there is a sample of the same direct escape as the
+// connections, weighted by the balance heuristic (Veach): with the
+// connections' density p (M of them) and the photon's, which for the
+// connected lobes is f·|cos| itself (its power does not change; lobe choice,
+// absorption and survival make up its density), the photon's weight is
+// f / (M·p + f) and each connection's M·p / (M·p + f) — they sum to one
+// wherever either reaches — so both book power · f / (M·p + f).
+struct CoveredVertex {
+  const Material* material = nullptr;
+  SurfaceFrame frame;
+  Vec3 wi;
+  unsigned lobes = 0;
+  int connections = 0;
+
+  double book(const Vec3& wo, std::uint64_t power) const {
+    if (!material) return 0.0;
+    const FCosAndPdf at = non_delta_f_cos_and_pdf(*material, frame, wi, wo, lobes);
+    if (!(at.f_cos > 0.0)) return 0.0;
+    return static_cast<double>(power) * at.f_cos / (static_cast<double>(connections) * at.pdf + at.f_cos);
+  }
+};
 
 bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -261,6 +285,9 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   Polarization polarization;
   bool covered = false;  // the last event was a connected non-delta one
   std::uint8_t covered_slot = 0;
+  // The last connected vertex, for the balance heuristic's weight of the
+  // photon's own escape from it (sim/tracer/next_event.h).
+  CoveredVertex covered_at;
   bool image_covered = connect && connect->image_covered_at_start;
   int volume_events = 0;
   for (;;) {
@@ -274,6 +301,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       r.power_units = power;
       r.covered = covered;
       r.covered_slot = covered_slot;
+      if (covered) r.covered_book = covered_at.book(direction, power);
       r.image_covered = image_covered;
       return r;
     }
@@ -386,6 +414,8 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       rng.uniform_pair(&xi1, &xi2);
       connect_from(origin + t * direction, t, direction, material, connect_frame, power, colour, hit.mesh,
                    from_back, lobes_here, xi1, xi2, *connect);
+      covered_at = {&material, connect_frame, -1.0 * direction, lobes_here,
+                    settings_.next_event.connections_at(hit.mesh, from_back)};
     }
     if (image_here)
       connect_images(origin + t * direction, t, direction, material, connect_frame, power, colour, *connect);
@@ -441,7 +471,7 @@ void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const 
                           std::uint32_t mesh, bool back, unsigned lobes, double xi1, double xi2,
                           Connections& c) const {
   NextEventTally& tally = c.tally->next_event;
-  const int count = settings_.next_event.connections;
+  const int count = settings_.next_event.connections_at(mesh, back);
   // A rank-1 lattice (k/M, k·φ mod 1) shifted by (ξ1, ξ2): M stratified
   // pairs (one in each 1/M band of the first).
   constexpr double kGolden = 0.61803398874989484820;
@@ -495,7 +525,9 @@ void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const 
       const ConnectionDirection& cd = drawn[which[i]];
       ++tally.escaped;
       ++tally.slot_escaped[slots[i]];
-      const double w = cd.f_cos / cd.pdf / static_cast<double>(count);
+      // The balance heuristic over the M connections and the photon's own
+      // escape (which books the same at its direction: CoveredVertex).
+      const double w = cd.f_cos / (static_cast<double>(count) * cd.pdf + cd.f_cos);
       const double units_d = static_cast<double>(power) * w;
       const auto units = static_cast<std::uint64_t>(std::llround(units_d));
       const std::size_t texel = grid_.texel_of(cd.wo);
@@ -632,6 +664,24 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
       tally.texel_xz[2 * static_cast<std::size_t>(texel) + 1] += pending_z;
     }
   };
+  // A covered escape's own share of its vertex's direct escape (the
+  // balance heuristic's weight, TraceResult::covered_book), booked as the
+  // connections are (connect_from): units, replicate, colour.
+  auto book_covered_escape = [&](const TraceResult& r, const PhotonColour& colour, std::uint32_t replicate) {
+    NextEventTally& ne = tally.next_event;
+    const auto units = static_cast<std::uint64_t>(std::llround(r.covered_book));
+    if (units == 0) return;
+    const std::size_t texel = grid_.texel_of(r.direction);
+    ne.texel_units[texel] += units;
+    ne.booked_units += units;
+    if (replicates > 1) ne.replicate_units[texel * replicates + replicate] += units;
+    if (spectral) {
+      const auto [x, z] = colour_units(colour);
+      const double per = r.covered_book / static_cast<double>(kPowerUnits);
+      tally.texel_xz[2 * texel] += static_cast<std::uint64_t>(std::llround(static_cast<double>(x) * per));
+      tally.texel_xz[2 * texel + 1] += static_cast<std::uint64_t>(std::llround(static_cast<double>(z) * per));
+    }
+  };
   std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
   if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed, settings_.sobol_replicates);
   for (std::uint64_t i = first; i < first + count; ++i) {
@@ -654,9 +704,13 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
       if (spectral) std::tie(x, z) = colour_units(colour);
       tally.images.add_escape(*tally.camera, r.origin, r.direction, r.power_units, x, z);
     }
+    if (r.fate == Fate::Escaped && r.hits == 0 && settings_.next_event.enabled)
+      tally.next_event.direct_units += r.power_units;
     if (r.fate == Fate::Escaped && r.covered) {
-      // The connections stand for it in the far field (sim/tracer/next_event.h).
+      // Not binned: it books its share beside the connections (the balance
+      // heuristic, sim/tracer/next_event.h).
       tally.next_event.covered_units += r.power_units;
+      book_covered_escape(r, colour, connect->replicate);
       const std::size_t slot = static_cast<std::size_t>(r.mesh) * kSlotsPerMesh + r.covered_slot;
       tally.next_event.slot_covered_units[slot] += r.power_units;
       if (r.hits >= 2) tally.next_event.slot_multi_units[slot] += r.power_units;

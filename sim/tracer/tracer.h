@@ -81,6 +81,10 @@ struct TraceResult {
   // side and lobe (next_event_slot's last two).
   bool covered = false;
   std::uint8_t covered_slot = 0;
+  // Covered: what its own escape books as one more sample of that vertex's
+  // direct escape (the balance heuristic against the M connections:
+  // power · f / (M·p + f) at its direction, sim/tracer/next_event.h) [units].
+  double covered_book = 0.0;
   // The same for the luminance images' connections (sim/detectors/
   // luminance_image.h): its last event, or its emission from an area
   // emitter, sent a connection to every view.

@@ -133,9 +133,9 @@ void add_simulate_options(ArgParser& p, app::SimulateOptions* o) {
   p.choice("next-event", &o->next_event, {"auto", "on", "off"},
            "next-event estimation for the far field: at every diffuse or glossy surface a photon meets,\n"
            "M connection rays book what it sends out of the luminaire directly (docs/luminance-and-\n"
-           "glare.md); auto (default): on where a pilot of the first photons finds >= 90 % of the\n"
-           "escaping light leaving that way (the LED array sample: 0.3x the time to 1 % error; the bell:\n"
-           "off); not with guided emission");
+           "glare.md); auto (default): M per surface and side chosen from a pilot of the first photons\n"
+           "by what the connections buy, on where they pay (the LED array sample: 0.3x the time to 1 %\n"
+           "error; the bell: off); not with guided emission");
   p.option("connections", &o->connections, app::kConnectionsBounds.min, app::kConnectionsBounds.max, "M",
            "next-event connections per surface vertex (default 16)");
   p.option("luminance-image", &o->luminance_images, "C:G,...|ugr",

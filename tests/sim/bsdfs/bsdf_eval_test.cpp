@@ -1,4 +1,5 @@
 #include "sim/bsdfs/bsdf_eval.h"
+#include "sim/bsdfs/bsdf_eval_pair.h"
 
 #include <gtest/gtest.h>
 
@@ -196,6 +197,34 @@ TEST(BsdfEval, ConnectionDirectionsOfOneVertexAreThoseDrawnOneByOne) {
           EXPECT_GT(booked, 20) << lobes;  // not a comparison of empty draws
         }
       }
+}
+
+}  // namespace
+}  // namespace gonio::sim
+
+namespace gonio::sim {
+namespace {
+
+// The pair the balance heuristic reads at a photon's escape
+// (sim/bsdfs/bsdf_eval_pair.h) is the two single queries bit for bit, for
+// every lobe subset and both sides (the far field's bytes rest on it).
+TEST(BsdfEval, ValueAndDensityTogetherAreTheSingleQueriesBitForBit) {
+  const Material m = every_lobe();
+  const SurfaceFrame f = tilted_frame();
+  const unsigned subsets[] = {kNonDeltaLobes, lobe_bit(Lobe::DiffuseReflect) | lobe_bit(Lobe::Glossy),
+                              lobe_bit(Lobe::DiffuseTransmit) | lobe_bit(Lobe::AbgTransmit) | lobe_bit(Lobe::Tabulated)};
+  int nonzero = 0;
+  for (const Vec3& wi : {normalize(Vec3{-0.4, 0.8, 0.3}), normalize(Vec3{0.3, -0.7, 0.2})})
+    for (const unsigned lobes : subsets)
+      for (std::uint64_t i = 0; i < 64; ++i) {
+        PhotonRandom rng(13, i);
+        const Vec3 wo = sample_uniform_sphere(rng);
+        const FCosAndPdf both = non_delta_f_cos_and_pdf(m, f, wi, wo, lobes);
+        EXPECT_EQ(both.f_cos, non_delta_f_cos(m, f, wi, wo, lobes)) << i;
+        EXPECT_EQ(both.pdf, connection_pdf(m, f, wi, wo, lobes)) << i;
+        if (both.f_cos > 0.0 && both.pdf > 0.0) ++nonzero;
+      }
+  EXPECT_GT(nonzero, 100);
 }
 
 }  // namespace
