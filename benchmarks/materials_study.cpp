@@ -41,9 +41,8 @@ double cpu_s() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 struct Outcome {
   double photons_per_s = 0.0, cpu_per_mphoton = 0.0, escaped_lm = 0.0;
   // The walk, per photon: Embree ray queries, surface events (every mesh's
-  // hits), the scattering events inside volumes (the tracer's count), and
-  // the face-free regions searched (Embree point queries, issue 43).
-  double rays = 0.0, surface_events = 0.0, volume_events = 0.0, region_queries = 0.0;
+  // hits) and the scattering events inside volumes (the tracer's count).
+  double rays = 0.0, surface_events = 0.0, volume_events = 0.0;
   photometry::Distribution d;
 };
 
@@ -72,7 +71,6 @@ Outcome run(const sim::SceneDesc& scene, std::uint64_t photons) {
   o.rays = static_cast<double>(sim->stats().rays) / n;
   o.surface_events = static_cast<double>(hits) / n;
   o.volume_events = static_cast<double>(sim->stats().volume_events) / n;
-  o.region_queries = static_cast<double>(sim->stats().region_queries) / n;
   sim::CGammaGrid grid;
   const sim::Resampler rs(s.face_size, scene.frame, grid);
   o.d = sim::to_distribution(rs.bin(sim->far_field()), photometry::Symmetry::None);
@@ -170,12 +168,11 @@ int main(int argc, char** argv) {
     std::printf("%-22s %12.0f %14.2f %10.1f %10.2f %10.1f %10.1f\n", names[i], rate[i], cpu[i], out[i].escaped_lm,
                 max_cd, beam.angle_deg, field.angle_deg);
   }
-  std::printf("%-22s %12s %14s %14s %14s %14s\n", "per photon", "ray queries", "point queries", "surface events",
-              "volume events", "queries/event");
+  std::printf("%-22s %12s %14s %14s %14s\n", "per photon", "ray queries", "surface events", "volume events",
+              "queries/event");
   for (int i = 0; i < scenes_run; ++i)
-    std::printf("%-22s %12.2f %14.2f %14.2f %14.2f %14.3f\n", names[i], out[i].rays, out[i].region_queries,
-                out[i].surface_events, out[i].volume_events,
-                (out[i].rays + out[i].region_queries) / std::max(1e-9, out[i].surface_events + out[i].volume_events));
+    std::printf("%-22s %12.2f %14.2f %14.2f %14.3f\n", names[i], out[i].rays, out[i].surface_events,
+                out[i].volume_events, out[i].rays / std::max(1e-9, out[i].surface_events + out[i].volume_events));
   // Candela against (a): at a few γ in C0, and the RMS relative difference
   // over the grid (bins above 1 % of the peak).
   std::printf("candela in C0 at gamma:   ");

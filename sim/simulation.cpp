@@ -35,7 +35,6 @@ void each_count(LedgerTally& t, F&& f) {
   }
   f(t.rays);
   f(t.volume_events);
-  f(t.region_queries);
   for (auto* values : {&t.bins.emitted, &t.bins.escaped, &t.bins.absorbed, &t.bins.cutoff})
     for (std::uint64_t& v : *values) f(v);
 }
@@ -309,7 +308,6 @@ void Simulation::run_iteration(std::uint64_t n) {
   s.stats.photons_traced += n - dropped;
   s.stats.rays = s.books.rays;
   s.stats.volume_events = s.books.volume_events;
-  s.stats.region_queries = s.books.region_queries;
   ++s.stats.iterations_done;
   // The guide learns from this iteration for the next: part of the cost of
   // guided emission, so inside the timed span.

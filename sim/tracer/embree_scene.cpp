@@ -55,10 +55,6 @@ struct EmbreeScene::Impl {
   std::vector<std::uint32_t> instance_mesh;
   std::vector<std::array<float, 9>> instance_normal;  // sign(det)·cofactor, row-major
   int packet_width = 1;  // lanes of occluded(rays, n, ·): 16, 8, 4 or 1
-  // Per world mesh (geometry id): Embree's vertex and index buffers, for
-  // face_free_region's callback (null for instanced or empty meshes).
-  std::vector<const float*> vertex_data;
-  std::vector<const unsigned*> index_data;
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -264,14 +260,6 @@ Result<EmbreeScene> EmbreeScene::build(const std::vector<Mesh>& meshes,
   rtcCommitScene(impl->scene);
   if (!impl->errors.first.empty())
     return make_error("building the Embree scene: " + impl->errors.first);
-  impl->vertex_data.assign(meshes.size(), nullptr);
-  impl->index_data.assign(meshes.size(), nullptr);
-  for (std::size_t m = 0; m < meshes.size(); ++m) {
-    if (meshes[m].instanced || meshes[m].triangle_count() == 0) continue;
-    RTCGeometry geom = rtcGetGeometry(impl->scene, static_cast<unsigned>(m));
-    impl->vertex_data[m] = static_cast<const float*>(rtcGetGeometryBufferData(geom, RTC_BUFFER_TYPE_VERTEX, 0));
-    impl->index_data[m] = static_cast<const unsigned*>(rtcGetGeometryBufferData(geom, RTC_BUFFER_TYPE_INDEX, 0));
-  }
   impl->bounds = world.empty() ? Bounds{} : Bounds{world.lo, world.hi};
   return EmbreeScene(std::move(impl));
 }
@@ -408,129 +396,6 @@ bool EmbreeScene::intersect(const RayQuery& ray, RayHit* hit) const {
   hit->ng[1] = n[3] * rh.hit.Ng_x + n[4] * rh.hit.Ng_y + n[5] * rh.hit.Ng_z;
   hit->ng[2] = n[6] * rh.hit.Ng_x + n[7] * rh.hit.Ng_y + n[8] * rh.hit.Ng_z;
   return true;
-}
-
-namespace {
-
-// The point of triangle (a, b, c) nearest to p (Ericson, Real-Time Collision
-// Detection, 5.1.5: by the Voronoi regions of its corners and edges).
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + (d1 / (d1 - d3)) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + (vb * denom) * ab + (vc * denom) * ac;
-}
-
-struct RegionSearch {
-  const std::vector<const float*>* vertices;
-  const std::vector<const unsigned*>* indices;
-  FaceFreeRegion* region;
-  bool failed = false;
-};
-
-// Embree's query radius for a region's ball: never below it in floats, and
-// wider by the margin (which covers the centre's rounding to floats), so no
-// triangle within the ball is culled.
-float query_radius(const FaceFreeRegion& r) {
-  return std::nextafter(static_cast<float>(r.radius + r.margin), std::numeric_limits<float>::infinity());
-}
-
-bool collect_plane(RTCPointQueryFunctionArguments* args) {
-  auto* search = static_cast<RegionSearch*>(args->userPtr);
-  FaceFreeRegion& region = *search->region;
-  if (search->failed || args->geomID >= search->vertices->size()) return false;
-  const float* v = (*search->vertices)[args->geomID];
-  const unsigned* idx = (*search->indices)[args->geomID];
-  if (!v || !idx) {
-    search->failed = true;
-    return false;
-  }
-  const auto corner = [&](int k) {
-    const std::size_t i = 3 * static_cast<std::size_t>(idx[3 * static_cast<std::size_t>(args->primID) + static_cast<std::size_t>(k)]);
-    return Vec3{v[i], v[i + 1], v[i + 2]};
-  };
-  const Vec3 a = corner(0), b = corner(1), c = corner(2);
-  const Vec3 cr = cross(b - a, c - a);
-  const double area2 = length(cr);
-  const double old_radius = region.radius;
-  if (area2 > 0.0) {
-    Vec3 n = cr / area2;
-    double d = dot(n, a);
-    const double side = dot(n, region.centre) - d;
-    // A plane beyond the ball cannot hold a triangle that meets it.
-    if (std::abs(side) >= region.radius) return false;
-    if (std::abs(side) <= 2.0 * region.margin) {
-      search->failed = true;  // the centre lies on the plane of a face within reach
-      return false;
-    }
-    if (side < 0.0) {
-      n = -1.0 * n;
-      d = -d;
-    }
-    // The same plane as one kept (a flat face of several triangles): the
-    // triangle is outside the region already.
-    for (int k = 0; k < region.planes; ++k) {
-      const std::array<double, 4>& q = region.plane[static_cast<std::size_t>(k)];
-      if (q[0] * n.x + q[1] * n.y + q[2] * n.z > 1.0 - 1e-12 && std::abs(q[3] - d) <= 0.25 * region.margin)
-        return false;
-    }
-    const double dist = length(closest_on_triangle(region.centre, a, b, c) - region.centre);
-    if (!(dist < region.radius)) return false;
-    if (region.planes < FaceFreeRegion::kMaxPlanes) {
-      region.plane[static_cast<std::size_t>(region.planes)] = {n.x, n.y, n.z, d};
-      ++region.planes;
-      return false;
-    }
-    // Full: the ball shrinks to leave this triangle out. (Planes kept of
-    // triangles now outside the ball only make the region smaller.)
-    region.radius = dist;
-  } else {
-    // A degenerate triangle has no plane: it is kept out of the ball.
-    const double dist = length(closest_on_triangle(region.centre, a, b, c) - region.centre);
-    if (dist < region.radius) region.radius = dist;
-  }
-  if (region.radius < old_radius) {
-    args->query->radius = query_radius(region);
-    return true;
-  }
-  return false;
-}
-
-}  // namespace
-
-bool EmbreeScene::face_free_region(const Vec3& centre, double radius, FaceFreeRegion* region) const {
-  // Instances are not searched (their triangles are in other scenes and
-  // frames): no region, the walk queries every free path.
-  if (!impl_->instance_mesh.empty() || !(radius > 0.0)) return false;
-  region->centre = centre;
-  region->radius = radius;
-  region->planes = 0;
-  region->margin = 1e-6 * (std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)}) + radius);
-  RegionSearch search{&impl_->vertex_data, &impl_->index_data, region, false};
-  RTCPointQuery query;
-  query.x = static_cast<float>(centre.x);
-  query.y = static_cast<float>(centre.y);
-  query.z = static_cast<float>(centre.z);
-  query.time = 0.0f;
-  query.radius = query_radius(*region);
-  RTCPointQueryContext context;
-  rtcInitPointQueryContext(&context);
-  rtcPointQuery(impl_->scene, &query, &context, collect_plane, &search);
-  return !search.failed && region->radius > 4.0 * region->margin;
 }
 
 const Bounds& EmbreeScene::bounds() const { return impl_->bounds; }

@@ -10,7 +10,6 @@
 // flush-to-zero and denormals-are-zero on their threads (FloatModeGuard).
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -75,34 +74,6 @@ struct RayHit {
                            // winding; for an instance, after its transform)
 };
 
-// A convex region that no triangle of the scene meets (volume walks, issue
-// 43): the open ball of `radius` around `centre`, cut by the plane of every
-// triangle that meets the ball (each plane keeps the centre's side). A
-// straight segment between two points of the region crosses no face, so a
-// free path inside a scattering part that ends in it needs no ray query.
-// `contains` keeps `margin` from the sphere and every plane, far more than
-// the rounding of a float ray query, so a ray query along such a segment
-// would have found no face before its end either.
-struct FaceFreeRegion {
-  static constexpr int kMaxPlanes = 32;
-  Vec3 centre;
-  double radius = 0.0;
-  double margin = 0.0;
-  int planes = 0;
-  // Plane k: n·x − d, positive on the centre's side.
-  std::array<std::array<double, 4>, kMaxPlanes> plane;
-  bool contains(const Vec3& p) const {
-    const Vec3 r = p - centre;
-    const double reach = radius - margin;
-    if (!(dot(r, r) < reach * reach)) return false;
-    for (int k = 0; k < planes; ++k) {
-      const std::array<double, 4>& q = plane[static_cast<std::size_t>(k)];
-      if (!(q[0] * p.x + q[1] * p.y + q[2] * p.z - q[3] > margin)) return false;
-    }
-    return true;
-  }
-};
-
 // Axis-aligned box [m].
 struct Bounds {
   Vec3 lower, upper;
@@ -134,13 +105,6 @@ class EmbreeScene {
   // packets' lanes. Shadow rays of one vertex (next-event estimation's
   // connections) share their origin and go as one packet.
   void occluded(const RayQuery* rays, std::size_t n, std::uint8_t* occluded) const;
-  // The face-free region around `centre` within `radius` (one Embree point
-  // query with a callback that collects the planes of the triangles within
-  // reach; where more than FaceFreeRegion::kMaxPlanes distinct planes meet
-  // the ball, the ball shrinks to keep the nearest). False where no region
-  // can be given: a scene with instances (not searched), a centre within
-  // the margin of a face or of a plane that meets the ball.
-  bool face_free_region(const Vec3& centre, double radius, FaceFreeRegion* region) const;
   // Lanes per packet occluded(rays, n, ·) uses (1: single rays).
   int packet_width() const;
 

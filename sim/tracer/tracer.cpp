@@ -231,10 +231,12 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   times.shading_s = seconds_since(t);
   tracer.setup_times_ = times;
   tracer.offset_floor_m_ = 0x1.0p-24 * tracer.embree_->bounds().diagonal();
-  tracer.volume_region_mfp_ = settings.volume_region_mfp;
-  // For measurement only (docs/validation.md, issue 43): the region's radius
-  // in mean free paths, 0 for a ray query per free path.
-  if (const char* mfp = std::getenv("GONIO_VOLUME_REGION_MFP"); mfp && *mfp) tracer.volume_region_mfp_ = std::atof(mfp);
+  double grid_mfp = settings.volume_grid_mfp;
+  // For measurement only (docs/validation.md, issue 43): the grid's cells in
+  // mean free paths, 0 for a ray query per free path.
+  if (const char* mfp = std::getenv("GONIO_VOLUME_GRID_MFP"); mfp && *mfp) grid_mfp = std::atof(mfp);
+  if (std::optional<VolumeGrid> grid = VolumeGrid::build(scene, grid_mfp))
+    tracer.volume_grid_ = std::make_shared<const VolumeGrid>(std::move(*grid));
   return tracer;
 }
 
@@ -268,21 +270,19 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   std::uint8_t covered_slot = 0;
   bool image_covered = connect && connect->image_covered_at_start;
   int volume_events = 0;
-  // The volume walk's face-free region (TracerSettings::volume_region_mfp):
-  // after a scattering event inside a part (`medium`, booked at
-  // `medium_mesh`), a free path that ends inside `region` crossed no face,
-  // so it is drawn and decided without a ray query. Its draw is the one
-  // the query's branch below would make next (`drawn_s`).
-  FaceFreeRegion region;
-  bool have_region = false;
-  const Material* medium = nullptr;  // set only right after a volume event
+  // The volume walk's grid (TracerSettings::volume_grid_mfp): right after a
+  // scattering event inside a part (`medium`), a free path whose ends lie
+  // in one cell on one side of every face plane there crossed no face, so
+  // it is drawn and decided without a ray query. Its draw is the one the
+  // query's branch below would make next (`drawn_s`).
+  const Material* medium = nullptr;
   double drawn_s = -1.0;
   for (;;) {
     if (medium) {
       const double mu_t = medium->scattering_per_m + medium->attenuation_per_m;
       drawn_s = -std::log(rng.uniform_open0()) / mu_t;
       const Vec3 end = origin + drawn_s * direction;
-      if (region.contains(end)) {
+      if (volume_grid_->segment_free(origin, end)) {
         drawn_s = -1.0;
         if (rng.uniform() * mu_t < medium->attenuation_per_m) {
           r.fate = Fate::Absorbed;
@@ -302,7 +302,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       medium = nullptr;
     }
     ray = ray_query(origin, direction);
-    // A free path drawn for the region and not ended in it: the volume
+    // A free path drawn for the grid and not proven free there: the volume
     // branch below takes it (any other hit leaves it unused).
     const double pre_drawn_s = drawn_s;
     drawn_s = -1.0;
@@ -342,7 +342,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // function, or reaches the surface. Otherwise Beer–Lambert.
     if (from_back && material.scattering_per_m > 0.0) {
       const double mu_t = material.scattering_per_m + material.attenuation_per_m;
-      // Drawn before the query where the walk tried its region first.
+      // Drawn before the query where the walk tried the grid first.
       const double s = pre_drawn_s >= 0.0 ? pre_drawn_s : -std::log(rng.uniform_open0()) / mu_t;
       if (s < t) {
         if (rng.uniform() * mu_t < material.attenuation_per_m) {
@@ -360,15 +360,8 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
         covered = image_covered = false;
         origin = origin + s * direction;
         direction = sample_henyey_greenstein(direction, material.scattering_g, rng);
-        // The next free path starts inside this medium: from a region
-        // around this event where the last one does not hold it.
-        if (volume_region_mfp_ > 0.0) {
-          if (!(have_region && region.contains(origin))) {
-            have_region = embree_->face_free_region(origin, volume_region_mfp_ / mu_t, &region);
-            if (books) ++books->region_queries;
-          }
-          if (have_region) medium = &material;
-        }
+        // The next free path starts inside this medium.
+        if (volume_grid_) medium = &material;
         continue;
       }
     } else if (from_back && material.attenuation_per_m > 0.0 &&
