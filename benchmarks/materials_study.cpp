@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,6 +34,7 @@
 #include "sim/detectors/resample.h"
 #include "sim/shapes.h"
 #include "sim/simulation.h"
+#include "sim/tracer/volume_grid.h"
 
 using namespace gonio;
 
@@ -142,6 +144,16 @@ int main(int argc, char** argv) {
     shell.material = static_cast<std::uint32_t>(b.materials.size());
     b.materials.push_back(opal.material);
     b.meshes[shade] = std::move(shell);
+  }
+  {
+    // The volume walk's grid (sim/tracer/volume_grid.h), built in the
+    // tracer's setup: its size and time.
+    const auto g0 = std::chrono::steady_clock::now();
+    const std::optional<sim::VolumeGrid> grid = sim::VolumeGrid::build(b, 16.0);
+    const double g_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - g0).count();
+    if (grid)
+      std::printf("(b)'s volume grid: %zu cells of %.2f mm, %zu plane entries, built in %.3f s\n", grid->cell_count(),
+                  1e3 * grid->cell_m(), grid->plane_entries(), g_s);
   }
   // (c): the single sheet with the medium's tabulated BSDF.
   sim::SceneDesc c = a;

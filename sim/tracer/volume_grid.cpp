@@ -33,6 +33,8 @@ struct Triangle {
   Vec3 a, b, c;
 };
 
+constexpr std::uint32_t kMaxPlaneEntries = std::uint32_t{1} << 22;  // 32 bytes each
+
 }  // namespace
 
 std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_free_paths, std::size_t max_cells) {
@@ -128,8 +130,13 @@ std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_
         }
   };
   for (const Triangle& t : tris) each_cell(t, [&](std::size_t c) { ++count[c + 1]; });
+  std::uint64_t total = 0;
+  for (std::size_t c = 0; c < cells; ++c) total += count[c + 1];
+  if (total > kMaxPlaneEntries) return std::nullopt;
   for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
-  if (count[cells] > 0xFFFFFFF0u) return std::nullopt;
+  // No grid (a ray query per free path, as without one) where its lists
+  // would take more than 128 MiB: a part of millions of triangles.
+  if (count[cells] > kMaxPlaneEntries) return std::nullopt;
   g.start_ = count;
   g.planes_.assign(count[cells], {0.0, 0.0, 0.0, 0.0});
   std::vector<std::uint32_t> fill(count.begin(), count.end() - 1);
