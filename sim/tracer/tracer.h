@@ -62,7 +62,7 @@ struct TracerSettings {
   // query per free path (the same bytes) in closed parts with nothing
   // inside them. 0: a ray query for every free path. For measurement,
   // $GONIO_VOLUME_GRID_MFP overrides it (0: off).
-  double volume_grid_mfp = 16.0;
+  double volume_grid_mfp = 10.0;
 };
 
 // Wall time of each part of Tracer::create [s].

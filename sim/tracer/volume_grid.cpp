@@ -37,6 +37,13 @@ constexpr std::uint32_t kMaxPlaneEntries = std::uint32_t{1} << 22;  // 32 bytes 
 
 }  // namespace
 
+bool VolumeGrid::across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const {
+  const std::int64_t nx = dims_[0], nxy = dims_[0] * dims_[1];
+  const std::int64_t steps =
+      std::abs(c % nx - d % nx) + std::abs((c / nx) % dims_[1] - (d / nx) % dims_[1]) + std::abs(c / nxy - d / nxy);
+  return steps == 1 && planes_free(p, q, static_cast<std::size_t>(c)) && planes_free(p, q, static_cast<std::size_t>(d));
+}
+
 std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_free_paths, std::size_t max_cells) {
   if (!(mean_free_paths > 0.0)) return std::nullopt;
   double mu_t = 0.0;

@@ -8,7 +8,8 @@
 // a free path drawn inside a part that ends there needs no ray query (the
 // query would have found its face beyond the end: the margin is far wider
 // than the rounding of a float ray query). Cells are a few mean free paths
-// wide, so most of a walk's free paths start and end in one cell.
+// wide, so most of a walk's free paths start and end in one cell; a free
+// path into a face neighbour is tested against both cells' planes.
 #pragma once
 
 #include <array>
@@ -34,8 +35,19 @@ class VolumeGrid {
   // a plane).
   bool segment_free(const Vec3& p, const Vec3& q) const {
     const std::int64_t c = cell_of(p);
-    if (c < 0 || c != cell_of(q)) return false;
-    const auto cell = static_cast<std::size_t>(c);
+    if (c < 0) return false;
+    const std::int64_t d = cell_of(q);
+    if (d < 0) return false;
+    return c == d ? planes_free(p, q, static_cast<std::size_t>(c)) : across(p, q, c, d);
+  }
+
+  double cell_m() const { return cell_m_; }
+  std::size_t cell_count() const { return start_.empty() ? 0 : start_.size() - 1; }
+  std::size_t plane_entries() const { return planes_.size(); }
+
+ private:
+  // p and q on one side of every plane listed in `cell`, beyond the margin.
+  bool planes_free(const Vec3& p, const Vec3& q, std::size_t cell) const {
     for (std::uint32_t k = start_[cell]; k < start_[cell + 1]; ++k) {
       const std::array<double, 4>& n = planes_[k];
       const double sp = n[0] * p.x + n[1] * p.y + n[2] * p.z - n[3];
@@ -44,12 +56,9 @@ class VolumeGrid {
     }
     return true;
   }
-
-  double cell_m() const { return cell_m_; }
-  std::size_t cell_count() const { return start_.empty() ? 0 : start_.size() - 1; }
-  std::size_t plane_entries() const { return planes_.size(); }
-
- private:
+  // Ends in cells c ≠ d: free where the cells share a face (together one
+  // box, which holds the segment) and the planes of both allow it.
+  bool across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const;
   // The cell holding p at least the margin inside it, or −1.
   std::int64_t cell_of(const Vec3& p) const {
     const double f[3] = {(p.x - lower_.x) * inv_cell_, (p.y - lower_.y) * inv_cell_, (p.z - lower_.z) * inv_cell_};
