@@ -528,5 +528,30 @@ TEST(MaterialsValidation, VolumeGridSegmentsCrossNoTriangle) {
   EXPECT_GT(free, 5000);
 }
 
+TEST(MaterialsValidation, VolumeGridDiagonalNeighboursAreNotFree) {
+  // A 100 mm scattering box (mean free path 1 mm: cells of 10 mm, their
+  // walls at ±5 mm, ±15 mm, …) and a small triangle at x = 5.7 mm, y 4–4.9
+  // mm: inside the cell right of the centre's only. A segment from the
+  // centre to (9, 7, 0) mm ends in the diagonal cell, passing through that
+  // cell and the triangle: the two end cells list no plane, yet the
+  // segment is not free. A segment within the centre's cell is.
+  Material m;
+  m.scattering_per_m = 1000.0;
+  SceneDesc scene;
+  scene.materials = {m, Material{}};
+  scene.meshes = {box(0.1, 0.1, 0.1)};
+  Mesh tri;
+  tri.positions = {{0.0057f, 0.0040f, -0.001f}, {0.0057f, 0.0049f, -0.001f}, {0.0057f, 0.00445f, 0.001f}};
+  tri.indices = {0, 1, 2};
+  tri.material = 1;
+  scene.meshes.push_back(tri);
+  const std::optional<VolumeGrid> grid = VolumeGrid::build(scene, 10.0);
+  ASSERT_TRUE(grid.has_value());
+  ASSERT_NEAR(grid->cell_m(), 0.01, 1e-12);
+  EXPECT_TRUE(grid->segment_free({0.0, 0.0, 0.0}, {0.004, 0.004, 0.0}));
+  EXPECT_TRUE(grid->segment_free({0.0, 0.0, 0.0}, {-0.009, 0.0, 0.0}));  // into a face neighbour
+  EXPECT_FALSE(grid->segment_free({0.0, 0.0, 0.0}, {0.009, 0.007, 0.0}));
+}
+
 }  // namespace
 }  // namespace gonio::sim
