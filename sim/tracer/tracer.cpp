@@ -272,7 +272,8 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   int volume_events = 0;
   // The volume walk's grid (TracerSettings::volume_grid_mfp): right after a
   // scattering event inside a part (`medium`), a free path whose ends lie
-  // in one cell on one side of every face plane there crossed no face, so
+  // in one cell (or two sharing a face) on one side of every face plane
+  // listed there crossed no face, so
   // it is drawn and decided without a ray query. Its draw is the one the
   // query's branch below would make next (`drawn_s`).
   const Material* medium = nullptr;
