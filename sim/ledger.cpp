@@ -20,6 +20,7 @@ void LedgerTally::add(const LedgerTally& o) {
     meshes[i].cutoff += o.meshes[i].cutoff;
   }
   rays += o.rays;
+  volume_events += o.volume_events;
   GONIO_CHECK(o.bins.emitted.size() == bins.emitted.size());
   for (std::size_t b = 0; b < bins.emitted.size(); ++b) {
     bins.emitted[b] += o.bins.emitted[b];
@@ -32,7 +33,7 @@ void LedgerTally::add(const LedgerTally& o) {
 void LedgerTally::clear() {
   for (auto& e : emitters) e = {};
   for (auto& m : meshes) m = {};
-  rays = 0;
+  rays = volume_events = 0;
   for (auto* v : {&bins.emitted, &bins.escaped, &bins.absorbed, &bins.cutoff})
     std::fill(v->begin(), v->end(), std::uint64_t{0});
 }

@@ -63,6 +63,7 @@ struct LedgerTally {
   std::vector<PerEmitter> emitters;
   std::vector<PerMesh> meshes;
   std::uint64_t rays = 0;                // ray queries traced
+  std::uint64_t volume_events = 0;       // free paths that ended inside a volume
   // Spectral runs only (empty otherwise): power units per radiant bin
   // (WavelengthSampler::bin_count). A table bin's `emitted` holds every
   // photon's share, its fates those of photons never drawn; a wavelength

@@ -34,6 +34,7 @@ void each_count(LedgerTally& t, F&& f) {
     }
   }
   f(t.rays);
+  f(t.volume_events);
   for (auto* values : {&t.bins.emitted, &t.bins.escaped, &t.bins.absorbed, &t.bins.cutoff})
     for (std::uint64_t& v : *values) f(v);
 }
@@ -317,6 +318,7 @@ void Simulation::run_iteration(std::uint64_t n) {
   s.stats.photons += n;
   s.stats.photons_traced += n - dropped;
   s.stats.rays = s.books.rays;
+  s.stats.volume_events = s.books.volume_events;
   ++s.stats.iterations_done;
   // The guide learns from this iteration for the next: part of the cost of
   // guided emission, so inside the timed span.

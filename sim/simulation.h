@@ -98,6 +98,7 @@ struct SimulationStats {
   std::uint64_t photons = 0;   // drawn from the emitters so far
   std::uint64_t photons_traced = 0;  // traced so far: = photons unless guided emission dropped some
   std::uint64_t rays = 0;      // ray queries so far
+  std::uint64_t volume_events = 0;   // free paths ended inside volumes so far
   double trace_s = 0.0;        // wall time spent tracing [s]
   double setup_s = 0.0;        // wall time of Simulation::create: the tracer's setup and
                                // the tallies [s]

@@ -3,10 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <numbers>
+#include <string>
 
 #include "photometry/format.h"
 #include "sim/bsdfs/library.h"
+#include "sim/bsdfs/slab.h"
+#include "sim/bsdfs/tabulated_bsdf.h"
 
 namespace gonio::io {
 namespace {
@@ -47,6 +53,39 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
 double luminance(const Rgb& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+
+namespace {
+
+// A volume preset's sheet form (extras.gonio.volume_form "sheet"): the
+// tabulated BSDF of its sheet at its thickness (sim::sheet_bsdf, 50,000
+// photons per incidence, seed 3: ~1 s of CPU once per preset and process).
+sim::Material sheet_form(const sim::MaterialPreset& p) {
+  static std::mutex mutex;
+  static std::map<std::string, std::shared_ptr<const sim::TabulatedBsdf>> tables;
+  std::shared_ptr<const sim::TabulatedBsdf> table;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = tables.find(p.name); it != tables.end()) table = it->second;
+  }
+  if (!table) {
+    sim::SlabMedium medium;
+    medium.scattering_per_m = p.material.scattering_per_m;
+    medium.absorption_per_m = p.material.attenuation_per_m;
+    medium.g = p.material.scattering_g;
+    medium.ior = p.material.ior;
+    medium.thickness_m = p.thickness_m;
+    auto built = std::make_shared<sim::TabulatedBsdf>(sim::sheet_bsdf(medium, 50000, 3));
+    built->name = p.name + " (sheet form)";
+    std::lock_guard<std::mutex> lock(mutex);
+    table = tables.emplace(p.name, std::move(built)).first->second;
+  }
+  sim::Material m;
+  m.tabulated = 1.0;
+  m.table = std::move(table);
+  return m;
+}
+
+}  // namespace
 
 Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras& x,
                                    const SourceLoc& where, const std::string& what,
@@ -192,6 +231,10 @@ Result<sim::Material> map_material(const GltfMaterial& in, const MaterialExtras&
     const std::string name = out.name;
     out = sim::find_preset(*x.preset)->material;
     out.name = name;
+    if (x.volume_form && *x.volume_form == "sheet") {
+      out = sheet_form(*sim::find_preset(*x.preset));
+      out.name = name;
+    }
   }
   if (x.abg_reflect) out.abg_reflect = *x.abg_reflect;
   if (x.abg_transmit) out.abg_transmit = *x.abg_transmit;

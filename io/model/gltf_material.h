@@ -121,6 +121,11 @@ struct MaterialExtras {
   //   "preset": a name of the material library (sim/bsdfs/library.h); it
   //     stands alone (no lobe weights or datasheet values beside it).
   std::optional<std::string> preset;
+  //   "volume_form": "walk" (the default: a closed part of a volume preset,
+  //     traced by the volume walk) or "sheet" (with a volume preset only:
+  //     the part is one sheet of triangles that scatters by the tabulated
+  //     BSDF of the preset's sheet, sim::sheet_bsdf at its thickness).
+  std::optional<std::string> volume_form;
   //   "abg" / "abg_transmit": {"B": b, "g": g} with "tis" (Gonio's weight:
   //     total integrated scatter at normal incidence) or "A" (TracePro's
   //     BSDF scale [1/sr], TIS = A · I0(B, g)): ABg scatter in reflection /

@@ -169,7 +169,7 @@ Result<MaterialExtras> read_material_extras(const json& gj, const SourceLoc& whe
       "reflectance", "diffuse_reflectance", "transmittance", "diffusion", "luminance_cd_m2", "spectrum",
       "spectral_reflectance", "spectral_transmittance", "ior_nm", "abbe_number", "preset", "abg", "abg_transmit",
       "scattering_per_m", "scattering_g", "bsdf_file", "tabulated", "reflectance_over_angle",
-      "transmittance_over_angle", "lobe_over_angle", "glossy_compensation"};
+      "transmittance_over_angle", "lobe_over_angle", "glossy_compensation", "volume_form"};
   for (const auto& item : gj.items()) {
     const std::string& key = item.key();  // not a structured binding: clang 14 (fuzz build) cannot capture one
     if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; }))
@@ -236,6 +236,14 @@ Result<MaterialExtras> read_material_extras(const json& gj, const SourceLoc& whe
       return fail(w + ".preset '" + name + "' is not in the library (" + names + ")");
     }
     x.preset = name;
+  }
+  if (auto it = gj.find("volume_form"); it != gj.end()) {
+    if (!it->is_string() || (it->get<std::string>() != "walk" && it->get<std::string>() != "sheet"))
+      return fail(w + ": 'volume_form' must be \"walk\" or \"sheet\"");
+    x.volume_form = it->get<std::string>();
+    if (*x.volume_form == "sheet" && !(x.preset && sim::find_preset(*x.preset)->thickness_m > 0.0))
+      return fail(w + ": volume_form \"sheet\" needs a volume preset (its medium and thickness), e.g. "
+                      "\"opal PMMA 3 mm\"");
   }
   for (auto [key, target] : {std::pair{"abg", &x.abg_reflect}, std::pair{"abg_transmit", &x.abg_transmit}}) {
     auto it = gj.find(key);

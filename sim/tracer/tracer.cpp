@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <new>
 #include <optional>
 #include <string>
@@ -254,6 +255,12 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   times.shading_s = seconds_since(t);
   tracer.setup_times_ = times;
   tracer.offset_floor_m_ = 0x1.0p-24 * tracer.embree_->bounds().diagonal();
+  double grid_mfp = settings.volume_grid_mfp;
+  // For measurement only (docs/validation.md, issue 43): the grid's cells in
+  // mean free paths, 0 for a ray query per free path.
+  if (const char* mfp = std::getenv("GONIO_VOLUME_GRID_MFP"); mfp && *mfp) grid_mfp = std::atof(mfp);
+  if (std::optional<VolumeGrid> grid = VolumeGrid::build(scene, grid_mfp))
+    tracer.volume_grid_ = std::make_shared<const VolumeGrid>(std::move(*grid));
   return tracer;
 }
 
@@ -290,8 +297,43 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   CoveredVertex covered_at;
   bool image_covered = connect && connect->image_covered_at_start;
   int volume_events = 0;
+  // The volume walk's grid (TracerSettings::volume_grid_mfp): right after a
+  // scattering event inside a part (`medium`), a free path whose ends lie
+  // in one cell (or two sharing a face) on one side of every face plane
+  // listed there crossed no face, so
+  // it is drawn and decided without a ray query. Its draw is the one the
+  // query's branch below would make next (`drawn_s`).
+  const Material* medium = nullptr;
+  double drawn_s = -1.0;
   for (;;) {
+    if (medium) {
+      const double mu_t = medium->scattering_per_m + medium->attenuation_per_m;
+      drawn_s = -std::log(rng.uniform_open0()) / mu_t;
+      const Vec3 end = origin + drawn_s * direction;
+      if (volume_grid_->segment_free(origin, end)) {
+        drawn_s = -1.0;
+        if (rng.uniform() * mu_t < medium->attenuation_per_m) {
+          r.fate = Fate::Absorbed;
+          return r;
+        }
+        if (books) ++books->volume_events;
+        if (++volume_events > kMaxVolumeEvents) {
+          r.fate = Fate::CutOff;
+          return r;
+        }
+        polarization.polarized = false;
+        covered = image_covered = false;
+        origin = end;
+        direction = sample_henyey_greenstein(direction, medium->scattering_g, rng);
+        continue;
+      }
+      medium = nullptr;
+    }
     ray = ray_query(origin, direction);
+    // A free path drawn for the grid and not proven free there: the volume
+    // branch below takes it (any other hit leaves it unused).
+    const double pre_drawn_s = drawn_s;
+    drawn_s = -1.0;
     if (books) ++books->rays;
     if (record) record->push_back(ray);
     if (!embree_->intersect(ray, &hit)) {
@@ -329,12 +371,14 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // function, or reaches the surface. Otherwise Beer–Lambert.
     if (from_back && material.scattering_per_m > 0.0) {
       const double mu_t = material.scattering_per_m + material.attenuation_per_m;
-      const double s = -std::log(rng.uniform_open0()) / mu_t;
+      // Drawn before the query where the walk tried the grid first.
+      const double s = pre_drawn_s >= 0.0 ? pre_drawn_s : -std::log(rng.uniform_open0()) / mu_t;
       if (s < t) {
         if (rng.uniform() * mu_t < material.attenuation_per_m) {
           r.fate = Fate::Absorbed;
           return r;
         }
+        if (books) ++books->volume_events;
         if (++volume_events > kMaxVolumeEvents) {
           r.fate = Fate::CutOff;
           return r;
@@ -345,6 +389,8 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
         covered = image_covered = false;
         origin = origin + s * direction;
         direction = sample_henyey_greenstein(direction, material.scattering_g, rng);
+        // The next free path starts inside this medium.
+        if (volume_grid_) medium = &material;
         continue;
       }
     } else if (from_back && material.attenuation_per_m > 0.0 &&

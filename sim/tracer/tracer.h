@@ -25,6 +25,7 @@
 #include "sim/detectors/cube_map.h"
 #include "sim/detectors/luminance_image.h"
 #include "sim/tracer/embree_scene.h"
+#include "sim/tracer/volume_grid.h"
 #include "sim/emitters/emission.h"
 #include "sim/emitters/emission_guide.h"
 #include "sim/ledger.h"
@@ -54,6 +55,14 @@ struct TracerSettings {
   // Next-event estimation for the far field (sim/tracer/next_event.h); with it,
   // plain tracing counts replicates under either sampler (K > 1).
   NextEventSettings next_event;
+  // Volume walks (issue 43): free paths inside scattering parts that stay
+  // in one cell of a grid of this many mean free paths (1/(μs + μa)) and
+  // cross none of the planes of the triangles that meet it need no ray
+  // query (sim/tracer/volume_grid.h). The same draws and decisions as a ray
+  // query per free path (the same bytes) in closed parts with nothing
+  // inside them. 0: a ray query for every free path. For measurement,
+  // $GONIO_VOLUME_GRID_MFP overrides it (0: off).
+  double volume_grid_mfp = 10.0;
 };
 
 // Wall time of each part of Tracer::create [s].
@@ -248,6 +257,8 @@ class Tracer {
   // The offset's length for scale = max |coordinate| + t: 2⁻¹⁸·scale plus
   // the floor [m].
   double offset_m(double scale) const { return 0x1.0p-18 * scale + offset_floor_m_; }
+  // TracerSettings::volume_grid_mfp's grid (null: none).
+  std::shared_ptr<const VolumeGrid> volume_grid_;
 
   CubeMapGrid grid_;
   std::shared_ptr<const EmbreeScene> embree_;

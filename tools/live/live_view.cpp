@@ -99,6 +99,8 @@ void LiveView::loading(const std::string& model, std::chrono::steady_clock::time
   publish(false);
 }
 
+void LiveView::model_read() { read_at_ = std::chrono::steady_clock::now(); }
+
 void LiveView::begin_run(const std::string& model, const sim::SceneDesc& scene, std::vector<Finding> findings) {
   if (since_ == std::chrono::steady_clock::time_point{}) since_ = std::chrono::steady_clock::now();
   resampler_for(scene);
@@ -182,7 +184,11 @@ void LiveView::iteration(const IterationReport& r, const sim::Simulation& simula
   const double white_cd = max_cd > 0.0 ? io::flux_quantile_cd(raw.grid(), cd, io::kPreviewQuantile) : 0.0;
   s["field"] = {{"face_size", raw.face_size()}, {"max_cd", max_cd}, {"white_cd", white_cd}, {"version", version_ + 1}};
   if (first_preview_) {
-    s["load_to_preview_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - since_).count();
+    const auto now = std::chrono::steady_clock::now();
+    s["load_to_preview_s"] = std::chrono::duration<double>(now - since_).count();
+    s["read_to_preview_s"] = read_at_ == std::chrono::steady_clock::time_point{}
+                                 ? nlohmann::json(nullptr)
+                                 : nlohmann::json(std::chrono::duration<double>(now - read_at_).count());
     first_preview_ = false;
   }
   publish(true);

@@ -19,7 +19,8 @@
 //   io/outputs/cube_cross.h's 99 % flux quantile), version} (GET /field.f32), findings
 //   [{severity, code, message, where}] (the model's check findings),
 //   last_error (null, or {message, time}), load_to_preview_s (from the
-//   change being noticed to this run's first preview), colour (a spectral
+//   change being noticed to this run's first preview), read_to_preview_s
+//   (from the model having been read to this run's first preview), colour (a spectral
 //   run: {cie_x, cie_y, u_prime, v_prime, cct_k, duv, delta_uv_max}, as
 //   report.json's colour and colour_over_angle; null otherwise).
 // A run that fails leaves the last good field, curves and numbers up, with
@@ -57,6 +58,8 @@ class LiveView {
 
   // The model is being (re)loaded; `since` is when its change was noticed.
   void loading(const std::string& model, std::chrono::steady_clock::time_point since);
+  // The model has been read (read_to_preview_s counts from here).
+  void model_read();
   // A run of `model` begins, with the model's check findings.
   void begin_run(const std::string& model, const sim::SceneDesc& scene, std::vector<Finding> findings);
   void iteration(const IterationReport& report, const sim::Simulation& simulation);
@@ -83,6 +86,7 @@ class LiveView {
   int run_ = 0;
   std::uint64_t version_ = 0;
   std::chrono::steady_clock::time_point since_{};
+  std::chrono::steady_clock::time_point read_at_{};
   bool first_preview_ = true;
 };
 

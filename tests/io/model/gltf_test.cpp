@@ -1701,6 +1701,39 @@ TEST(GltfMaterials, PresetAbgBsdfFileAndIncidenceTablesAreRead) {
   EXPECT_TRUE(p.over_incidence[1].empty());
 }
 
+// A volume preset's sheet form (issue 43): the part as one sheet of
+// triangles scattering by the tabulated BSDF of the preset's sheet, which
+// gives back the preset's datasheet transmittance at normal incidence;
+// "walk" is the preset as it is.
+TEST(GltfMaterials, VolumeFormSheetIsThePresetsTabulatedSheet) {
+  test::TempDir dir;
+  Doc d;
+  d.point_light(1.0);
+  const int sheet = d.material(
+      {{"name", "shade"}, {"extras", {{"gonio", {{"preset", "opal PMMA 3 mm"}, {"volume_form", "sheet"}}}}}});
+  const int walk = d.material(
+      {{"name", "shell"}, {"extras", {{"gonio", {{"preset", "opal PMMA 3 mm"}, {"volume_form", "walk"}}}}}});
+  for (int m : {sheet, walk}) d.node({{"mesh", d.mesh(kQuad, kQuadIdx, m)}});
+  const sim::SceneDesc s = load_ok(d.write(dir, "sheetform"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  const sim::MaterialPreset& opal = *sim::find_preset("opal PMMA 3 mm");
+  const sim::Material& a = s.materials[0];
+  EXPECT_EQ(a.name, "shade");
+  ASSERT_TRUE(a.table);
+  EXPECT_EQ(a.tabulated, 1.0);
+  EXPECT_EQ(a.scattering_per_m, 0.0);
+  EXPECT_EQ(a.dielectric, 0.0);
+  const double albedo = a.table->albedo(true, Vec3{0.0, 0.0, 1.0});
+  const double reflect = a.table->front.rows[0].reflect_albedo;
+  EXPECT_NEAR(albedo - reflect, opal.transmittance, 0.01);  // T 0.60 at 3 mm
+  EXPECT_GT(reflect, 0.2);
+  EXPECT_LT(albedo, 1.0);  // it absorbs a little (μa 2.89 /m)
+  const sim::Material& b = s.materials[1];
+  EXPECT_EQ(b.name, "shell");
+  EXPECT_FALSE(b.table);
+  EXPECT_EQ(b.scattering_per_m, opal.material.scattering_per_m);
+}
+
 TEST(GltfMaterials, BadMeasuredMaterialsAreErrorsNamingTheKey) {
   test::TempDir dir;
   test::write_file(dir / "broken.csv", "theta_in,theta_out,phi_out,bsdf\n0,10,0,-1\n");
@@ -1713,6 +1746,12 @@ TEST(GltfMaterials, BadMeasuredMaterialsAreErrorsNamingTheKey) {
   };
   EXPECT_CONTAINS(material_error({{"preset", "opal glass"}}, "nopreset"), "preset 'opal glass' is not in the library");
   EXPECT_CONTAINS(material_error({{"preset", "black"}, {"kd", 0.5}}, "mixed"), "preset stands alone");
+  EXPECT_CONTAINS(material_error({{"preset", "black"}, {"volume_form", "sheet"}}, "sheetblack"),
+                  "volume_form \"sheet\" needs a volume preset");
+  EXPECT_CONTAINS(material_error({{"kd", 0.5}, {"volume_form", "sheet"}}, "sheetnone"),
+                  "volume_form \"sheet\" needs a volume preset");
+  EXPECT_CONTAINS(material_error({{"preset", "opal PC 3 mm"}, {"volume_form", "thin"}}, "sheetthin"),
+                  "'volume_form' must be \"walk\" or \"sheet\"");
   EXPECT_CONTAINS(material_error({{"abg", {{"B", 0.01}, {"g", 2.0}}}}, "notis"), "give either tis or A");
   EXPECT_CONTAINS(material_error({{"abg", {{"tis", 0.5}, {"B", 0.0}, {"g", 2.0}}}}, "b0"), "extras.gonio.abg.B = 0");
   EXPECT_CONTAINS(material_error({{"abg", {{"A", 50.0}, {"B", 0.01}, {"g", 2.0}}}}, "bigA"), "(A · I0) must lie in 0..1");

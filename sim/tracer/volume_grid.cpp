@@ -1,0 +1,164 @@
+#include "sim/tracer/volume_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gonio::sim {
+namespace {
+
+// Whether triangle (a, b, c) meets the box centred at `centre` with half
+// sides `half` (Akenine-Möller's separating axes: the box's three, the
+// triangle's normal, the nine edge-by-axis cross products).
+bool triangle_meets_box(const Vec3& centre, double half, Vec3 a, Vec3 b, Vec3 c) {
+  a = a - centre;
+  b = b - centre;
+  c = c - centre;
+  const Vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const auto separated = [&](const Vec3& axis) {
+    const double pa = dot(a, axis), pb = dot(b, axis), pc = dot(c, axis);
+    const double r = half * (std::abs(axis.x) + std::abs(axis.y) + std::abs(axis.z));
+    return std::min({pa, pb, pc}) > r || std::max({pa, pb, pc}) < -r;
+  };
+  for (const Vec3& axis : axes)
+    if (separated(axis)) return false;
+  const Vec3 edges[3] = {b - a, c - b, a - c};
+  if (separated(cross(edges[0], edges[1]))) return false;
+  for (const Vec3& e : edges)
+    for (const Vec3& axis : axes)
+      if (separated(cross(e, axis))) return false;
+  return true;
+}
+
+struct Triangle {
+  Vec3 a, b, c;
+};
+
+constexpr std::uint32_t kMaxPlaneEntries = std::uint32_t{1} << 22;  // 32 bytes each
+
+}  // namespace
+
+bool VolumeGrid::across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const {
+  const std::int64_t nx = dims_[0], nxy = dims_[0] * dims_[1];
+  const std::int64_t steps =
+      std::abs(c % nx - d % nx) + std::abs((c / nx) % dims_[1] - (d / nx) % dims_[1]) + std::abs(c / nxy - d / nxy);
+  return steps == 1 && planes_free(p, q, static_cast<std::size_t>(c)) && planes_free(p, q, static_cast<std::size_t>(d));
+}
+
+std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_free_paths, std::size_t max_cells) {
+  if (!(mean_free_paths > 0.0)) return std::nullopt;
+  double mu_t = 0.0;
+  for (const Material& m : scene.materials)
+    if (m.scattering_per_m > 0.0) mu_t = std::max(mu_t, m.scattering_per_m + m.attenuation_per_m);
+  if (!(mu_t > 0.0)) return std::nullopt;
+  // The box of the scattering parts (as placed).
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  const auto take = [&](const Vec3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  };
+  const auto scatters = [&](const Mesh& m) {
+    return m.material < scene.materials.size() && scene.materials[m.material].scattering_per_m > 0.0;
+  };
+  for (const Mesh& m : scene.meshes)
+    if (!m.instanced && scatters(m))
+      for (const Vec3f& p : m.positions) take(to_double(p));
+  for (const Instance& i : scene.instances)
+    if (i.mesh < scene.meshes.size() && scatters(scene.meshes[i.mesh]))
+      for (const Vec3f& p : scene.meshes[i.mesh].positions) take(i.to_world.point(to_double(p)));
+  if (!(lo.x <= hi.x)) return std::nullopt;
+  VolumeGrid g;
+  const Vec3 extent = hi - lo;
+  const double scale = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y),
+                                 std::abs(hi.z)});
+  g.margin_ = 1e-6 * scale + 1e-9;
+  g.cell_m_ = mean_free_paths / mu_t;
+  const auto cells_for = [&](double h) {
+    double n = 1.0;
+    for (double e : {extent.x, extent.y, extent.z}) n *= std::floor(e / h) + 1.0;
+    return n;
+  };
+  while (cells_for(g.cell_m_) > static_cast<double>(max_cells)) g.cell_m_ *= 1.25;
+  g.inv_cell_ = 1.0 / g.cell_m_;
+  g.lower_ = lo - Vec3{0.5 * g.cell_m_, 0.5 * g.cell_m_, 0.5 * g.cell_m_};
+  g.dims_[0] = static_cast<std::int64_t>(std::floor(extent.x / g.cell_m_)) + 2;
+  g.dims_[1] = static_cast<std::int64_t>(std::floor(extent.y / g.cell_m_)) + 2;
+  g.dims_[2] = static_cast<std::int64_t>(std::floor(extent.z / g.cell_m_)) + 2;
+  const auto cells = static_cast<std::size_t>(g.dims_[0] * g.dims_[1] * g.dims_[2]);
+
+  // Every triangle of the scene as placed, with its plane.
+  // (Only those whose box meets the grid's.)
+  const Vec3 upper = g.lower_ + Vec3{static_cast<double>(g.dims_[0]) * g.cell_m_, static_cast<double>(g.dims_[1]) * g.cell_m_,
+                                     static_cast<double>(g.dims_[2]) * g.cell_m_};
+  std::vector<Triangle> tris;
+  const auto add_mesh = [&](const Mesh& m, const Affine* place) {
+    for (std::size_t t = 0; 3 * t + 2 < m.indices.size(); ++t) {
+      Vec3 v[3];
+      for (int k = 0; k < 3; ++k) {
+        v[k] = to_double(m.positions[m.indices[3 * t + static_cast<std::size_t>(k)]]);
+        if (place) v[k] = place->point(v[k]);
+      }
+      const double w = g.margin_;
+      if (std::max({v[0].x, v[1].x, v[2].x}) < g.lower_.x - w || std::min({v[0].x, v[1].x, v[2].x}) > upper.x + w ||
+          std::max({v[0].y, v[1].y, v[2].y}) < g.lower_.y - w || std::min({v[0].y, v[1].y, v[2].y}) > upper.y + w ||
+          std::max({v[0].z, v[1].z, v[2].z}) < g.lower_.z - w || std::min({v[0].z, v[1].z, v[2].z}) > upper.z + w)
+        continue;
+      tris.push_back({v[0], v[1], v[2]});
+    }
+  };
+  for (const Mesh& m : scene.meshes)
+    if (!m.instanced) add_mesh(m, nullptr);
+  for (const Instance& i : scene.instances)
+    if (i.mesh < scene.meshes.size()) add_mesh(scene.meshes[i.mesh], &i.to_world);
+
+  // Two passes (count, then fill) over the cells each triangle's box covers.
+  const double half = 0.5 * g.cell_m_ + g.margin_;
+  std::vector<std::uint32_t> count(cells + 1, 0);
+  const auto each_cell = [&](const Triangle& t, auto&& f) {
+    std::int64_t a[3], b[3];
+    const double tl[3] = {std::min({t.a.x, t.b.x, t.c.x}), std::min({t.a.y, t.b.y, t.c.y}),
+                          std::min({t.a.z, t.b.z, t.c.z})};
+    const double th[3] = {std::max({t.a.x, t.b.x, t.c.x}), std::max({t.a.y, t.b.y, t.c.y}),
+                          std::max({t.a.z, t.b.z, t.c.z})};
+    const double gl[3] = {g.lower_.x, g.lower_.y, g.lower_.z};
+    for (int k = 0; k < 3; ++k) {
+      a[k] = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((tl[k] - g.margin_ - gl[k]) * g.inv_cell_)));
+      b[k] = std::min<std::int64_t>(g.dims_[k] - 1,
+                                    static_cast<std::int64_t>(std::floor((th[k] + g.margin_ - gl[k]) * g.inv_cell_)));
+      if (a[k] > b[k]) return;
+    }
+    for (std::int64_t z = a[2]; z <= b[2]; ++z)
+      for (std::int64_t y = a[1]; y <= b[1]; ++y)
+        for (std::int64_t x = a[0]; x <= b[0]; ++x) {
+          const Vec3 centre = g.lower_ + Vec3{(static_cast<double>(x) + 0.5) * g.cell_m_,
+                                              (static_cast<double>(y) + 0.5) * g.cell_m_,
+                                              (static_cast<double>(z) + 0.5) * g.cell_m_};
+          if (triangle_meets_box(centre, half, t.a, t.b, t.c))
+            f(static_cast<std::size_t>((z * g.dims_[1] + y) * g.dims_[0] + x));
+        }
+  };
+  for (const Triangle& t : tris) each_cell(t, [&](std::size_t c) { ++count[c + 1]; });
+  std::uint64_t total = 0;
+  for (std::size_t c = 0; c < cells; ++c) total += count[c + 1];
+  if (total > kMaxPlaneEntries) return std::nullopt;
+  for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
+  // No grid (a ray query per free path, as without one) where its lists
+  // would take more than 128 MiB: a part of millions of triangles.
+  if (count[cells] > kMaxPlaneEntries) return std::nullopt;
+  g.start_ = count;
+  g.planes_.assign(count[cells], {0.0, 0.0, 0.0, 0.0});
+  std::vector<std::uint32_t> fill(count.begin(), count.end() - 1);
+  for (const Triangle& t : tris) {
+    const Vec3 n = cross(t.b - t.a, t.c - t.a);
+    const double len = length(n);
+    // A degenerate triangle has no plane: its cells are never free (a
+    // plane through the cell's far corner with sides the walk cannot
+    // pass: both sides' tests fail for every point).
+    const std::array<double, 4> plane =
+        len > 0.0 ? std::array<double, 4>{n.x / len, n.y / len, n.z / len, dot(n, t.a) / len}
+                  : std::array<double, 4>{0.0, 0.0, 0.0, 0.0};
+    each_cell(t, [&](std::size_t c) { g.planes_[fill[c]++] = plane; });
+  }
+  return g;
+}
+
+}  // namespace gonio::sim

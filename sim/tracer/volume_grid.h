@@ -1,0 +1,82 @@
+// Free paths inside scattering parts without a ray query (issue 43).
+//
+// A uniform grid over the scattering parts' boxes; each cell lists the
+// planes of every triangle of the scene that meets it (a separating-axis
+// test, widened by the margin). A straight segment whose two ends lie in
+// the same cell, at least the margin inside it, and on the same side of
+// every plane listed there, at least the margin away, crosses no triangle:
+// a free path drawn inside a part that ends there needs no ray query (the
+// query would have found its face beyond the end: the margin is far wider
+// than the rounding of a float ray query). Cells are a few mean free paths
+// wide, so most of a walk's free paths start and end in one cell; a free
+// path into a face neighbour is tested against both cells' planes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "sim/scene.h"
+
+namespace gonio::sim {
+
+class VolumeGrid {
+ public:
+  // The grid for `scene`'s scattering parts with cells `mean_free_paths`
+  // of the smallest mean free path (1/(μs + μa)) wide (wider where the
+  // cells would exceed `max_cells`); none where no material scatters or
+  // mean_free_paths <= 0.
+  static std::optional<VolumeGrid> build(const SceneDesc& scene, double mean_free_paths,
+                                         std::size_t max_cells = std::size_t{1} << 21);
+
+  // Whether the segment from p to q provably crosses no triangle (false
+  // also where it is not proven: different cells, outside the grid, near
+  // a plane).
+  bool segment_free(const Vec3& p, const Vec3& q) const {
+    const std::int64_t c = cell_of(p);
+    if (c < 0) return false;
+    const std::int64_t d = cell_of(q);
+    if (d < 0) return false;
+    return c == d ? planes_free(p, q, static_cast<std::size_t>(c)) : across(p, q, c, d);
+  }
+
+  double cell_m() const { return cell_m_; }
+  std::size_t cell_count() const { return start_.empty() ? 0 : start_.size() - 1; }
+  std::size_t plane_entries() const { return planes_.size(); }
+
+ private:
+  // p and q on one side of every plane listed in `cell`, beyond the margin.
+  bool planes_free(const Vec3& p, const Vec3& q, std::size_t cell) const {
+    for (std::uint32_t k = start_[cell]; k < start_[cell + 1]; ++k) {
+      const std::array<double, 4>& n = planes_[k];
+      const double sp = n[0] * p.x + n[1] * p.y + n[2] * p.z - n[3];
+      const double sq = n[0] * q.x + n[1] * q.y + n[2] * q.z - n[3];
+      if (!((sp > margin_ && sq > margin_) || (sp < -margin_ && sq < -margin_))) return false;
+    }
+    return true;
+  }
+  // Ends in cells c ≠ d: free where the cells share a face (together one
+  // box, which holds the segment) and the planes of both allow it.
+  bool across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const;
+  // The cell holding p at least the margin inside it, or −1.
+  std::int64_t cell_of(const Vec3& p) const {
+    const double f[3] = {(p.x - lower_.x) * inv_cell_, (p.y - lower_.y) * inv_cell_, (p.z - lower_.z) * inv_cell_};
+    std::int64_t i[3];
+    for (int a = 0; a < 3; ++a) {
+      if (!(f[a] >= 0.0) || !(f[a] < static_cast<double>(dims_[a]))) return -1;
+      i[a] = static_cast<std::int64_t>(f[a]);
+      const double inside = (f[a] - static_cast<double>(i[a])) * cell_m_;
+      if (!(inside > margin_) || !(inside < cell_m_ - margin_)) return -1;
+    }
+    return (i[2] * dims_[1] + i[1]) * dims_[0] + i[0];
+  }
+
+  Vec3 lower_;
+  double cell_m_ = 0.0, inv_cell_ = 0.0, margin_ = 0.0;
+  std::int64_t dims_[3] = {0, 0, 0};
+  std::vector<std::uint32_t> start_;            // per cell, into planes_ (CSR)
+  std::vector<std::array<double, 4>> planes_;   // n, d: n·x − d, n unit
+};
+
+}  // namespace gonio::sim
