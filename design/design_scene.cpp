@@ -28,7 +28,8 @@ class PartsReader {
  public:
   PartsReader(const std::string& path, double unit_m) : path_(path), unit_(unit_m) {}
 
-  Result<Reflector> reflector(const TomlNode& t) const;
+  // `table`: the array of tables it sits in, as messages name it.
+  Result<Reflector> reflector(const TomlNode& t, const std::string& table = "reflectors") const;
 
  private:
   Status keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const {
@@ -69,8 +70,8 @@ class PartsReader {
   double unit_;
 };
 
-Result<Reflector> PartsReader::reflector(const TomlNode& t) const {
-  const std::string what = "[[reflectors]] at line " + std::to_string(t.line);
+Result<Reflector> PartsReader::reflector(const TomlNode& t, const std::string& table) const {
+  const std::string what = "[[" + table + "]] at line " + std::to_string(t.line);
   Reflector r;
   r.line = t.line;
   Result<std::string> name = string(t, "name", what);
@@ -155,10 +156,87 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t) const {
   return r;
 }
 
+// The line of the part already named `name` (reflectors, troughs), or 0.
+int line_of_name(const DesignParts& parts, const std::string& name) {
+  for (const Reflector& r : parts.reflectors)
+    if (r.name == name) return r.line;
+  for (const Trough& t : parts.troughs)
+    if (t.name == name || (!t.caps.empty() && t.name + " caps" == name)) return t.line;
+  return 0;
+}
+
+// The part kinds beside the reflectors: [[troughs]] (design/trough.h).
+Status read_other_parts(const TomlNode& resolved, const std::string& path, DesignParts& out) {
+  if (const TomlNode* r = resolved.get("troughs")) {
+    if (!r->is_array_of_tables()) return fail(path, r->line, "'troughs' must be an array of tables ([[troughs]])");
+    for (const TomlNode& t : r->array) {
+      Result<Trough> one = read_trough(t, path, out.unit_m);
+      if (!one.ok()) return one.error();
+      for (const std::string& name : {one->name, one->name + " caps"})
+        if (const int other = line_of_name(out, name))
+          return fail(path, t.line, "[[troughs]] at line " + std::to_string(t.line) + ": the name " + io::shown(name) +
+                                        " is taken by the part at line " + std::to_string(other));
+      out.troughs.push_back(std::move(*one));
+    }
+  }
+  return Ok{};
+}
+
+// One part of the design placed once where the file puts it, named `name`,
+// given `material` by a rule.
+void add_design_part(io::CadModel& model, io::PartsFile& sidecar, const std::string& name, const std::string& material,
+                     int line, io::CadSurface surface, double size_m, double chordal_m) {
+  io::CadPart part;
+  part.name = name;
+  part.size_m = size_m;
+  part.chordal_m = chordal_m;
+  part.surfaces.push_back(std::move(surface));
+  io::CadPlacement placement;
+  placement.part = static_cast<std::uint32_t>(model.parts.size());
+  placement.path = name;
+  model.parts.push_back(std::move(part));
+  model.placements.push_back(std::move(placement));
+  io::PartsRule rule;
+  rule.match = name;
+  rule.material = material;
+  rule.line = line;
+  sidecar.rules.push_back(std::move(rule));
+}
+
+// The troughs tessellated into `model`, each an emitter's distance from its surface checked.
+Status add_troughs(const DesignParts& parts, const std::string& path, const io::CadTessellation& tess,
+                   io::PartsFile& sidecar, io::CadModel& model) {
+  for (const Trough& t : parts.troughs) {
+    const std::string what = "[[troughs]] at line " + std::to_string(t.line) + " (" + t.name + ")";
+    for (const auto& [material, line] : {std::pair{t.material, t.line}, std::pair{t.caps, t.caps_line}})
+      if (!material.empty() && !sidecar.material(material))
+        return fail(path, line, what + ": material " + io::shown(material) + " is not defined ([materials." + material + "])");
+    Result<TroughMesh> mesh = tessellate_trough(t, tess, kMaxPartTriangles);
+    if (!mesh.ok()) return fail(path, t.line, what + ": " + mesh.error().message);
+    for (const io::PartsEmitter& e : sidecar.emitters) {
+      if (!e.at.empty() || !e.position) continue;
+      const double d = distance_to_trough(t, *e.position * parts.unit_m);
+      if (d <= mesh->chordal_m)
+        return fail(path, t.line, what + ": the profile passes through the emitter " + io::shown(e.name) + " (line " +
+                                      std::to_string(e.line) + "; " + format_number(d * 1e3) +
+                                      " mm from it, within the chordal deflection " + format_number(mesh->chordal_m * 1e3) + " mm)");
+    }
+    add_design_part(model, sidecar, t.name, t.material, t.line, std::move(mesh->reflector), mesh->size_m, mesh->chordal_m);
+    if (mesh->caps)
+      add_design_part(model, sidecar, t.name + " caps", t.caps, t.caps_line, std::move(*mesh->caps), mesh->size_m,
+                      mesh->chordal_m);
+  }
+  return Ok{};
+}
+
 }  // namespace
 
+Result<Reflector> read_profile_part(const TomlNode& t, const std::string& path, double unit_m, const std::string& table) {
+  return PartsReader(path, unit_m).reflector(t, table);
+}
+
 const std::vector<std::string>& design_root_keys() {
-  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit"};
+  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit", "troughs"};
   return keys;
 }
 
@@ -183,7 +261,9 @@ Result<DesignParts> read_design_parts(const TomlNode& resolved, const std::strin
       out.reflectors.push_back(std::move(*one));
     }
   }
-  if (out.reflectors.empty()) return fail(path, 0, "the design has no parts: add [[reflectors]]");
+  if (Status s = read_other_parts(resolved, path, out); !s.ok()) return s.error();
+  if (out.reflectors.empty() && out.troughs.empty())
+    return fail(path, 0, "the design has no parts: add [[reflectors]] or [[troughs]]");
   return out;
 }
 
@@ -238,6 +318,7 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
     rule.line = r.line;
     sidecar->rules.push_back(std::move(rule));
   }
+  if (Status s = add_troughs(*parts, design.path, options.tessellation, *sidecar, model); !s.ok()) return s.error();
   const double tessellate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Result<sim::SceneDesc> scene = io::cad_scene(model, *sidecar, design.path, options, findings, info);
   if (scene.ok() && info) {

@@ -11,6 +11,7 @@
 
 #include "design/design_file.h"
 #include "design/revolved.h"
+#include "design/trough.h"
 #include "io/model/cad.h"
 #include "photometry/diagnostics.h"
 #include "sim/scene.h"
@@ -30,8 +31,16 @@ struct Reflector {
 struct DesignParts {
   double unit_m = 1e-3;  // metres per unit of the file's lengths
   std::vector<Reflector> reflectors;
+  std::vector<Trough> troughs;              // design/trough.h
 };
 Result<DesignParts> read_design_parts(const io::TomlNode& resolved, const std::string& path);
+
+// A table with a reflector's keys (name, material, profile and the
+// profile's keys) read as a reflector, `table` naming its array in messages
+// ("[[troughs]] at line 12: …"); the other kinds of profile part
+// (design/trough.h) read their profile with it.
+Result<Reflector> read_profile_part(const io::TomlNode& t, const std::string& path, double unit_m,
+                                    const std::string& table);
 
 // The root keys a design file may hold.
 const std::vector<std::string>& design_root_keys();
