@@ -162,6 +162,8 @@ int line_of_name(const DesignParts& parts, const std::string& name) {
     if (r.name == name) return r.line;
   for (const Trough& t : parts.troughs)
     if (t.name == name || (!t.caps.empty() && t.name + " caps" == name)) return t.line;
+  for (const Cover& c : parts.covers)
+    if (c.name == name) return c.line;
   return 0;
 }
 
@@ -177,6 +179,17 @@ Status read_other_parts(const TomlNode& resolved, const std::string& path, Desig
           return fail(path, t.line, "[[troughs]] at line " + std::to_string(t.line) + ": the name " + io::shown(name) +
                                         " is taken by the part at line " + std::to_string(other));
       out.troughs.push_back(std::move(*one));
+    }
+  }
+  if (const TomlNode* r = resolved.get("covers")) {
+    if (!r->is_array_of_tables()) return fail(path, r->line, "'covers' must be an array of tables ([[covers]])");
+    for (const TomlNode& t : r->array) {
+      Result<Cover> one = read_cover(t, path, out.unit_m);
+      if (!one.ok()) return one.error();
+      if (const int other = line_of_name(out, one->name))
+        return fail(path, t.line, "[[covers]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
+                                      " is taken by the part at line " + std::to_string(other));
+      out.covers.push_back(std::move(*one));
     }
   }
   return Ok{};
@@ -229,6 +242,35 @@ Status add_troughs(const DesignParts& parts, const std::string& path, const io::
   return Ok{};
 }
 
+// The covers meshed into `model`: solids of their thickness where their
+// material is a volume's, sheets otherwise (design/cover.h).
+Status add_covers(const DesignParts& parts, const std::string& path, const io::CadTessellation& tess,
+                  io::PartsFile& sidecar, io::CadModel& model) {
+  for (const Cover& c : parts.covers) {
+    const std::string what = "[[covers]] at line " + std::to_string(c.line) + " (" + c.name + ")";
+    const io::PartsMaterial* material = sidecar.material(c.material);
+    if (!material)
+      return fail(path, c.line, what + ": material " + io::shown(c.material) + " is not defined ([materials." + c.material + "])");
+    double preset_thickness = 0.0;
+    Result<bool> volume = is_volume_material(*material, path, &preset_thickness);
+    if (!volume.ok()) return volume.error();
+    double thickness = 0.0;
+    if (*volume) {
+      thickness = c.thickness.value_or(preset_thickness);
+      if (!(thickness > 0.0))
+        return fail(path, c.line, what + ": material " + io::shown(c.material) +
+                                      " is a volume (a dielectric or a medium): give the cover a 'thickness'");
+    } else if (c.thickness) {
+      return fail(path, c.thickness_line, what + ": material " + io::shown(c.material) +
+                                              " is a thin sheet's (one surface): a 'thickness' would mean nothing");
+    }
+    Result<CoverMesh> mesh = tessellate_cover(c, thickness, tess, kMaxPartTriangles);
+    if (!mesh.ok()) return fail(path, c.line, what + ": " + mesh.error().message);
+    add_design_part(model, sidecar, c.name, c.material, c.line, std::move(mesh->surface), mesh->size_m, mesh->chordal_m);
+  }
+  return Ok{};
+}
+
 }  // namespace
 
 Result<Reflector> read_profile_part(const TomlNode& t, const std::string& path, double unit_m, const std::string& table) {
@@ -236,7 +278,7 @@ Result<Reflector> read_profile_part(const TomlNode& t, const std::string& path, 
 }
 
 const std::vector<std::string>& design_root_keys() {
-  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit", "troughs"};
+  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit", "troughs", "covers"};
   return keys;
 }
 
@@ -262,8 +304,8 @@ Result<DesignParts> read_design_parts(const TomlNode& resolved, const std::strin
     }
   }
   if (Status s = read_other_parts(resolved, path, out); !s.ok()) return s.error();
-  if (out.reflectors.empty() && out.troughs.empty())
-    return fail(path, 0, "the design has no parts: add [[reflectors]] or [[troughs]]");
+  if (out.reflectors.empty() && out.troughs.empty() && out.covers.empty())
+    return fail(path, 0, "the design has no parts: add [[reflectors]], [[troughs]] or [[covers]]");
   return out;
 }
 
@@ -319,6 +361,7 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
     sidecar->rules.push_back(std::move(rule));
   }
   if (Status s = add_troughs(*parts, design.path, options.tessellation, *sidecar, model); !s.ok()) return s.error();
+  if (Status s = add_covers(*parts, design.path, options.tessellation, *sidecar, model); !s.ok()) return s.error();
   const double tessellate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Result<sim::SceneDesc> scene = io::cad_scene(model, *sidecar, design.path, options, findings, info);
   if (scene.ok() && info) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "design/design_file.h"
+#include "design/cover.h"
 #include "design/revolved.h"
 #include "design/trough.h"
 #include "io/model/cad.h"
@@ -32,6 +33,7 @@ struct DesignParts {
   double unit_m = 1e-3;  // metres per unit of the file's lengths
   std::vector<Reflector> reflectors;
   std::vector<Trough> troughs;              // design/trough.h
+  std::vector<Cover> covers;                // design/cover.h
 };
 Result<DesignParts> read_design_parts(const io::TomlNode& resolved, const std::string& path);
 

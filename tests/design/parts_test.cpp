@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cstdio>
 #include <cmath>
 #include <numbers>
@@ -213,6 +215,230 @@ TEST(DesignTrough, MistakesAreErrorsNamingTheLine) {
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().where.line, 11) << to_string(s.error());
   EXPECT_NE(s.error().message.find("is taken by the part at line 21"), std::string::npos) << to_string(s.error());
+}
+
+// Covers ---------------------------------------------------------------------
+
+// The lamp of the cover tests: an isotropic point source at the origin and
+// `cover` (a [[covers]] table's lines).
+std::string cover_design(const std::string& cover) {
+  return R"(length_unit = "mm"
+
+[materials.clear]
+dielectric = 1.0
+ior = 1.5
+
+[materials.opal]
+preset = "opal PC 3 mm"
+
+[materials.sheet]
+diffuse_transmit = 0.6
+kd = 0.3
+
+[[emitters]]
+name = "LED"
+position = [0, 0, 0]
+flux_lm = 1000
+
+[[covers]]
+name = "cover"
+)" + cover;
+}
+
+// Signed volume of a closed mesh (divergence theorem): positive where its
+// triangles wind counter-clockwise from outside.
+double volume(const sim::Mesh& m) {
+  double v = 0.0;
+  for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+    const Vec3 a = sim::to_double(m.positions[m.indices[t]]), b = sim::to_double(m.positions[m.indices[t + 1]]),
+               c = sim::to_double(m.positions[m.indices[t + 2]]);
+    v += dot(a, cross(b, c)) / 6.0;
+  }
+  return v;
+}
+
+// Every edge (by its end points' positions) is shared by exactly two
+// triangles that run along it in opposite directions: closed and
+// consistently wound.
+bool watertight(const sim::Mesh& m) {
+  std::map<std::array<float, 6>, int> edges;  // directed edge → count
+  for (std::size_t t = 0; t < m.indices.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const sim::Vec3f a = m.positions[m.indices[t + k]], b = m.positions[m.indices[t + (k + 1) % 3]];
+      ++edges[{a.x, a.y, a.z, b.x, b.y, b.z}];
+    }
+  for (const auto& [e, n] : edges) {
+    const auto back = edges.find({e[3], e[4], e[5], e[0], e[1], e[2]});
+    if (n != 1 || back == edges.end() || back->second != 1) return false;
+  }
+  return true;
+}
+
+double cap_volume(double r, double h) { return kPi * h * h * (3 * r - h) / 3; }
+
+TEST(DesignCover, ClearSolidsAreClosedWithTheirVolumes) {
+  struct Case {
+    std::string keys;
+    double volume_mm3;
+  };
+  // The dome: base diameter 80 mm, sag 20 mm: R = 50 mm; 2 mm thick.
+  const std::vector<Case> cases = {
+      {"material = \"clear\"\nshape = \"plate\"\nsize = [100, 40]\nheight = -20\nthickness = 3\n", 100 * 40 * 3},
+      {"material = \"clear\"\nshape = \"plate\"\ndiameter = 80\nheight = -20\nthickness = 3\n", kPi * 40 * 40 * 3},
+      {"material = \"clear\"\nshape = \"dome\"\ndiameter = 80\nsag = 20\nheight = -30\nthickness = 2\n",
+       cap_volume(50, 20) - cap_volume(48, 18)},
+      {"material = \"clear\"\nshape = \"dome\"\ndiameter = 80\nsag = -20\nheight = -30\nthickness = 2\n",
+       cap_volume(50, 20) - cap_volume(48, 18)},
+      // The library's opal is a volume: 3 mm, the preset's thickness, without one given.
+      {"material = \"opal\"\nshape = \"plate\"\nsize = [100, 40]\nheight = -20\n", 100 * 40 * 3},
+  };
+  for (const Case& c : cases) {
+    Result<sim::SceneDesc> s = scene_of(cover_design(c.keys), 2.0);
+    ASSERT_TRUE(s.ok()) << c.keys << to_string(s.error());
+    ASSERT_EQ(s->meshes.size(), 1u);
+    const sim::Mesh& m = s->meshes[0];
+    EXPECT_TRUE(watertight(m)) << c.keys;
+    // Chords inside the curved faces: the volume within 0.1 %.
+    EXPECT_NEAR(volume(m) / (c.volume_mm3 * 1e-9), 1.0, 1e-3) << c.keys;
+  }
+  // The dome's two spheres about (0, 0, 0) (centre 30 mm above its base at −30 mm): |p| = 50 or 48 mm.
+  Result<sim::SceneDesc> dome = scene_of(cover_design(cases[2].keys), 2.0);
+  ASSERT_TRUE(dome.ok());
+  for (std::size_t i = 0; i < dome->meshes[0].positions.size(); ++i) {
+    const Vec3 p = sim::to_double(dome->meshes[0].positions[i]);
+    const double r = length(p);
+    if (std::abs(p.z + 0.030) < 1e-7) continue;  // the ring
+    const bool outer = std::abs(r - 0.050) < 1e-7;
+    ASSERT_TRUE(outer || std::abs(r - 0.048) < 1e-7) << r;
+    // Out of the solid: away from the centre on the outer sphere, toward it on the inner.
+    EXPECT_LT(angle(sim::to_double(dome->meshes[0].normals[i]), (outer ? 1.0 : -1.0) * normalize(p)), 1e-6);
+  }
+}
+
+// A thin-sheet material makes one surface facing the luminaire.
+TEST(DesignCover, ThinSheetIsOneSurfaceFacingTheLuminaire) {
+  Result<sim::SceneDesc> s =
+      scene_of(cover_design("material = \"sheet\"\nshape = \"plate\"\nsize = [100, 40]\nheight = -20\n"));
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  const sim::Mesh& m = s->meshes[0];
+  EXPECT_NEAR(area(m), 0.1 * 0.04, 1e-9);
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    EXPECT_NEAR(m.positions[i].z, -0.020, 1e-8);
+    EXPECT_EQ(m.normals[i].z, 1.0f);
+  }
+  s = scene_of(cover_design("material = \"sheet\"\nshape = \"dome\"\ndiameter = 80\nsag = 20\nheight = -30\n"));
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  for (std::size_t i = 0; i < s->meshes[0].positions.size(); ++i)  // toward the centre, the source
+    EXPECT_LT(angle(sim::to_double(s->meshes[0].normals[i]), -normalize(sim::to_double(s->meshes[0].positions[i]))), 1e-6);
+}
+
+// The slab's transmittance: per polarisation (1 − R)/(1 + R) with R Fresnel's
+// at one face (multiple reflections inside, no absorption), the mean of s and p.
+double slab_transmittance(double theta, double n) {
+  const double ci = std::cos(theta), st = std::sin(theta) / n, ct = std::sqrt(1 - st * st);
+  const double rs = std::pow((ci - n * ct) / (ci + n * ct), 2), rp = std::pow((n * ci - ct) / (n * ci + ct), 2);
+  return 0.5 * ((1 - rs) / (1 + rs) + (1 - rp) / (1 + rp));
+}
+
+// A clear plate (n = 1.5, 3 mm) 5 mm below an isotropic source, 2 m across:
+// the flux leaving its lower face is ∫ ½ sin θ T(θ) dθ over the cone the
+// disc subtends, T the slab's Fresnel transmittance.
+TEST(DesignCover, ClearPlateTransmitsFresnelsFlux) {
+  Result<sim::SceneDesc> s =
+      scene_of(cover_design("material = \"clear\"\nshape = \"plate\"\ndiameter = 2000\nheight = -5\nthickness = 3\n"));
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  constexpr std::uint64_t kPhotons = 200'000;
+  sim::Ledger ledger;
+  const std::vector<sim::EscapedRay> rays = escapes(std::move(*s), kPhotons, &ledger);
+  std::uint64_t through = 0;
+  for (const sim::EscapedRay& r : rays)
+    if (std::abs(r.origin.z + 0.008) < 1e-6 && r.direction.z < 0) ++through;
+  const double theta_max = std::atan(1000.0 / 5.0);
+  double expected = 0.0;
+  constexpr int kSteps = 20000;
+  for (int i = 0; i < kSteps; ++i) {
+    const double th = (i + 0.5) * theta_max / kSteps;
+    expected += 0.5 * std::sin(th) * slab_transmittance(th, 1.5) * theta_max / kSteps;
+  }
+  const double got = static_cast<double>(through) / kPhotons;
+  const double sigma = std::sqrt(expected * (1 - expected) / kPhotons);
+  std::printf("plate: traced %.5f, closed form %.5f (σ %.5f)\n", got, expected, sigma);
+  EXPECT_NEAR(got, expected, 4 * sigma);
+  // Nothing absorbed, nothing lost: every photon escapes.
+  EXPECT_EQ(ledger.escaped.photons, kPhotons);
+  EXPECT_NEAR(ledger.escaped.flux_lm, 1000.0, 1e-6);
+}
+
+// A clear dome (n = 1.5, 2 mm) about the source at its spheres' centre:
+// every ray meets both faces at normal incidence, so what leaves the outer
+// sphere radially is (1 − R₀)/(1 + R₀) = 0.923077 of what enters (R₀ = 0.04),
+// and the books close with nothing absorbed or cut off.
+TEST(DesignCover, ClearDomeAboutItsCentreConservesFluxAndTransmitsFresnels) {
+  Result<sim::SceneDesc> s =
+      scene_of(cover_design("material = \"clear\"\nshape = \"dome\"\ndiameter = 80\nsag = 20\nheight = -30\nthickness = 2\n"), 1.0);
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  constexpr std::uint64_t kPhotons = 200'000;
+  sim::Ledger ledger;
+  const std::vector<sim::EscapedRay> rays = escapes(std::move(*s), kPhotons, &ledger);
+  EXPECT_TRUE(ledger.photons_close());
+  EXPECT_EQ(ledger.escaped.photons, kPhotons);
+  EXPECT_EQ(ledger.cutoff.photons, 0u);
+  EXPECT_NEAR(ledger.escaped.flux_lm, 1000.0, 1e-6);
+  // The cone that meets the inner sphere: α from the nadir below atan(ρ_in/30 mm), ρ_in = √(48² − 30²) mm.
+  const double alpha_in = std::atan(std::sqrt(48.0 * 48 - 30 * 30) / 30);
+  const double cone = 0.999 * alpha_in;  // off the ring's edge
+  // Of the light that meets the inner sphere, the share that leaves the outer
+  // one radially (through) against what comes back out of the inner one
+  // toward the centre (back): light through the ring at the base leaves
+  // bent and counts in neither.
+  std::uint64_t through = 0, back = 0;
+  for (const sim::EscapedRay& r : rays) {
+    if (std::abs(length(r.origin) - 0.050) < 5e-4 && angle(r.direction, r.origin) < 1e-2 &&
+        angle(r.direction, Vec3{0, 0, -1}) < cone)
+      ++through;
+    if (std::abs(length(r.origin) - 0.048) < 5e-4 && angle(r.direction, -1.0 * r.origin) < 1e-2 &&
+        angle(r.direction, Vec3{0, 0, 1}) < cone)
+      ++back;
+  }
+  const double expected = 0.96 / 1.04, n = static_cast<double>(through + back);
+  EXPECT_NEAR(n / (kPhotons * (1 - std::cos(cone)) / 2), 1.0, 0.02);  // every photon of the cone, one way or the other
+  const double got = static_cast<double>(through) / n;
+  const double sigma = std::sqrt(expected * (1 - expected) / n);
+  std::printf("dome: traced %.5f, closed form %.5f (σ %.5f)\n", got, expected, sigma);
+  EXPECT_NEAR(got, expected, 4 * sigma);
+}
+
+TEST(DesignCover, MistakesAreErrorsNamingTheLine) {
+  const std::string plate = "material = \"clear\"\nshape = \"plate\"\nsize = [100, 40]\nheight = -20\nthickness = 3\n";
+  // [[covers]] is at line 19, its keys from 20 on (name 20, material 21, shape 22, size 23, height 24, thickness 25).
+  struct Case {
+    std::string from, to;
+    int line;
+    std::string says;
+  };
+  const std::vector<Case> cases = {
+      {"shape = \"plate\"", "shape = \"lens\"", 22, "shape 'lens' is not one Gonio knows (plate, dome)"},
+      {"size = [100, 40]", "size = [100, -40]", 23, "'size' must be [x, y], two numbers > 0"},
+      {"size = [100, 40]", "size = [100, 40]\ndiameter = 20", 23, "not both"},
+      {"size = [100, 40]", "", 19, "give 'size' (a rectangle) or 'diameter' (a disc)"},
+      {"thickness = 3", "thickness = 0", 25, "'thickness' must be a number > 0"},
+      {"thickness = 3", "", 19, "is a volume (a dielectric or a medium): give the cover a 'thickness'"},
+      {"material = \"clear\"", "material = \"sheet\"", 25, "is a thin sheet's (one surface)"},
+      {"material = \"clear\"", "material = \"glass\"", 19, "material 'glass' is not defined"},
+      {"height = -20", "heigth = -20", 24, "unknown key 'heigth'"},
+      {"size = [100, 40]", "diameter = 80\nsag = 3", 24, "a plate has no 'sag'"},
+      {"shape = \"plate\"\nsize = [100, 40]", "shape = \"dome\"\ndiameter = 80\nsag = 40", 24,
+       "'sag' must be non-zero and smaller in size than the base's radius (40)"},
+      {"shape = \"plate\"\nsize = [100, 40]", "shape = \"dome\"\ndiameter = 80\nsag = 2", 19,
+       "thickness 3 mm is not less than its sag 2 mm"},
+  };
+  for (const Case& c : cases) {
+    Result<sim::SceneDesc> s = scene_of(edited(cover_design(plate), c.from, c.to));
+    ASSERT_FALSE(s.ok()) << c.to;
+    EXPECT_EQ(s.error().where.file, "lamp.design.toml") << c.to;
+    EXPECT_EQ(s.error().where.line, c.line) << c.to << ": " << to_string(s.error());
+    EXPECT_NE(s.error().message.find(c.says), std::string::npos) << c.to << ": " << to_string(s.error());
+  }
 }
 
 }  // namespace
