@@ -16,7 +16,7 @@ namespace gonio::design {
 
 Status write_design_gltf(const Design& design, const std::string& gltf_path, const io::CadTessellation& tessellation) {
   const io::TomlNode resolved = resolved_document(design);
-  Result<io::PartsFile> sidecar = io::parse_parts_tree(resolved, design.path, design_root_keys(), "the design file");
+  Result<io::PartsFile> sidecar = io::parse_parts_tree(sidecar_tree(resolved), design.path, design_root_keys(), "the design file");
   if (!sidecar.ok()) return sidecar.error();
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
@@ -71,7 +71,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
                                          const std::string& helper) {
   namespace fs = std::filesystem;
   const io::TomlNode resolved = resolved_document(design);
-  Result<io::PartsFile> sidecar = io::parse_parts_tree(resolved, design.path, design_root_keys(), "the design file");
+  Result<io::PartsFile> sidecar = io::parse_parts_tree(sidecar_tree(resolved), design.path, design_root_keys(), "the design file");
   if (!sidecar.ok()) return sidecar.error();
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();

@@ -164,6 +164,8 @@ int line_of_name(const DesignParts& parts, const std::string& name) {
     if (t.name == name || (!t.caps.empty() && t.name + " caps" == name)) return t.line;
   for (const Cover& c : parts.covers)
     if (c.name == name) return c.line;
+  for (const FixedPart& f : parts.fixed_parts)
+    if (f.name == name) return f.line;
   return 0;
 }
 
@@ -192,6 +194,16 @@ Status read_other_parts(const TomlNode& resolved, const std::string& path, Desig
       out.covers.push_back(std::move(*one));
     }
   }
+  if (const TomlNode* r = resolved.get("parts"); r && r->is_array())
+    for (const TomlNode& t : r->array) {
+      if (!is_fixed_part(t)) continue;  // a rule of the sidecar's
+      Result<FixedPart> one = read_fixed_part(t, path, out.unit_m);
+      if (!one.ok()) return one.error();
+      if (const int other = line_of_name(out, one->name))
+        return fail(path, t.line, "[[parts]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
+                                      " is taken by the part at line " + std::to_string(other));
+      out.fixed_parts.push_back(std::move(*one));
+    }
   return Ok{};
 }
 
@@ -278,7 +290,7 @@ Result<Reflector> read_profile_part(const TomlNode& t, const std::string& path, 
 }
 
 const std::vector<std::string>& design_root_keys() {
-  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit", "troughs", "covers"};
+  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "merit", "troughs", "covers", "parts"};
   return keys;
 }
 
@@ -304,8 +316,8 @@ Result<DesignParts> read_design_parts(const TomlNode& resolved, const std::strin
     }
   }
   if (Status s = read_other_parts(resolved, path, out); !s.ok()) return s.error();
-  if (out.reflectors.empty() && out.troughs.empty() && out.covers.empty())
-    return fail(path, 0, "the design has no parts: add [[reflectors]], [[troughs]] or [[covers]]");
+  if (out.reflectors.empty() && out.troughs.empty() && out.covers.empty() && out.fixed_parts.empty())
+    return fail(path, 0, "the design has no parts: add [[reflectors]], [[troughs]], [[covers]] or [[parts]]");
   return out;
 }
 
@@ -313,7 +325,8 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
                                     std::vector<Finding>* findings, io::CadLoadInfo* info) {
   const auto start = std::chrono::steady_clock::now();
   const TomlNode resolved = resolved_document(design);
-  Result<io::PartsFile> sidecar = io::parse_parts_tree(resolved, design.path, design_root_keys(), "the design file");
+  Result<io::PartsFile> sidecar =
+      io::parse_parts_tree(sidecar_tree(resolved), design.path, design_root_keys(), "the design file");
   if (!sidecar.ok()) return sidecar.error();
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
@@ -362,6 +375,8 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
   }
   if (Status s = add_troughs(*parts, design.path, options.tessellation, *sidecar, model); !s.ok()) return s.error();
   if (Status s = add_covers(*parts, design.path, options.tessellation, *sidecar, model); !s.ok()) return s.error();
+  for (const FixedPart& f : parts->fixed_parts)
+    if (Status s = add_fixed_part(f, design.path, options, *sidecar, model, findings); !s.ok()) return s.error();
   const double tessellate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Result<sim::SceneDesc> scene = io::cad_scene(model, *sidecar, design.path, options, findings, info);
   if (scene.ok() && info) {
@@ -389,10 +404,15 @@ std::vector<std::string> design_files(const std::string& path) {
   std::vector<std::string> files = {path};
   Result<Design> design = read_design_file(path);
   if (!design.ok()) return files;
-  Result<io::PartsFile> sidecar =
-      io::parse_parts_tree(resolved_document(*design), path, design_root_keys(), "the design file");
+  const TomlNode resolved = resolved_document(*design);
+  Result<io::PartsFile> sidecar = io::parse_parts_tree(sidecar_tree(resolved), path, design_root_keys(), "the design file");
   if (!sidecar.ok()) return files;
   const fs::path dir = fs::path(path).parent_path();
+  if (Result<DesignParts> parts = read_design_parts(resolved, path); parts.ok())
+    for (const FixedPart& f : parts->fixed_parts) {
+      const std::string file = (dir / f.file).lexically_normal().string();
+      if (std::find(files.begin(), files.end(), file) == files.end()) files.push_back(file);
+    }
   for (const io::PartsEmitter& e : sidecar->emitters)
     for (const std::string* reference : {&e.profile, &e.ray_file}) {
       if (reference->empty()) continue;

@@ -11,6 +11,7 @@
 
 #include "design/design_file.h"
 #include "design/cover.h"
+#include "design/fixed_part.h"
 #include "design/revolved.h"
 #include "design/trough.h"
 #include "io/model/cad.h"
@@ -34,6 +35,7 @@ struct DesignParts {
   std::vector<Reflector> reflectors;
   std::vector<Trough> troughs;              // design/trough.h
   std::vector<Cover> covers;                // design/cover.h
+  std::vector<FixedPart> fixed_parts;       // design/fixed_part.h ([[parts]] with a file)
 };
 Result<DesignParts> read_design_parts(const io::TomlNode& resolved, const std::string& path);
 
