@@ -156,6 +156,20 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t, const std::string& t
   return r;
 }
 
+// A reflector with its facets, where it has them (design/facets.h).
+Result<Reflector> read_faceted_reflector(const PartsReader& reader, const TomlNode& t, const std::string& path) {
+  const TomlNode* facets = t.get("facets");
+  if (!facets) return reader.reflector(t);
+  TomlNode smooth = t;
+  std::erase_if(smooth.table, [](const io::TomlMember& m) { return m.first == "facets"; });
+  Result<Reflector> r = reader.reflector(smooth);
+  if (!r.ok()) return r;
+  Result<Facets> f = read_facets(*facets, path, "[[reflectors]] at line " + std::to_string(t.line));
+  if (!f.ok()) return f.error();
+  r->facets = *f;
+  return r;
+}
+
 // The line of the part already named `name` (reflectors, troughs), or 0.
 int line_of_name(const DesignParts& parts, const std::string& name) {
   for (const Reflector& r : parts.reflectors)
@@ -305,7 +319,7 @@ Result<DesignParts> read_design_parts(const TomlNode& resolved, const std::strin
   if (const TomlNode* r = resolved.get("reflectors")) {
     if (!r->is_array_of_tables()) return fail(path, r->line, "'reflectors' must be an array of tables ([[reflectors]])");
     for (const TomlNode& t : r->array) {
-      Result<Reflector> one = reader.reflector(t);
+      Result<Reflector> one = read_faceted_reflector(reader, t, path);
       if (!one.ok()) return one.error();
       for (const Reflector& other : out.reflectors)
         if (other.name == one->name)
@@ -345,7 +359,9 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
     if (!curve.ok()) return fail(design.path, r.line, curve.error().message);
     io::CadPart part;
     part.name = r.name;
-    Result<io::CadSurface> meshed = revolve(*curve, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m);
+    Result<io::CadSurface> meshed =
+        r.facets ? revolve_faceted(*curve, *r.facets, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m)
+                 : revolve(*curve, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m);
     if (!meshed.ok())
       return fail(design.path, r.line, "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " +
                                            meshed.error().message);

@@ -6,11 +6,13 @@
 // ray files and spectra are read exactly as a CAD sidecar's.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "design/design_file.h"
 #include "design/cover.h"
+#include "design/facets.h"
 #include "design/fixed_part.h"
 #include "design/revolved.h"
 #include "design/trough.h"
@@ -25,6 +27,7 @@ struct Reflector {
   std::string name;
   std::string material;
   Profile profile;
+  std::optional<Facets> facets;  // design/facets.h; none: smooth
   int line = 0;
 };
 

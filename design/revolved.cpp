@@ -324,6 +324,15 @@ std::vector<std::size_t> profile_rows(const std::vector<ProfileSample>& fine, do
   return rows;
 }
 
+std::size_t azimuth_segments(double rho_max, double delta, double chordal) {
+  std::size_t segments = static_cast<std::size_t>(std::ceil(2.0 * std::numbers::pi / delta));
+  if (rho_max > chordal) {
+    const double by_chord = std::numbers::pi / std::acos(1.0 - chordal / rho_max);
+    segments = std::max(segments, static_cast<std::size_t>(std::ceil(by_chord)));
+  }
+  return std::max<std::size_t>(segments, 8);
+}
+
 double normal_side(const std::vector<ProfileSample>& fine) {
   double facing = 0.0;
   for (const ProfileSample& s : fine) facing += (s.dz * -s.rho - s.drho * -s.z) / std::max(std::hypot(s.drho, s.dz), 1e-300);
@@ -350,12 +359,7 @@ Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellat
   const std::vector<std::size_t> rows = profile_rows(fine, delta, chordal);
 
   // Around the axis.
-  std::size_t segments = static_cast<std::size_t>(std::ceil(2.0 * std::numbers::pi / delta));
-  if (rho_max > chordal) {
-    const double by_chord = std::numbers::pi / std::acos(1.0 - chordal / rho_max);
-    segments = std::max(segments, static_cast<std::size_t>(std::ceil(by_chord)));
-  }
-  segments = std::max<std::size_t>(segments, 8);
+  const std::size_t segments = azimuth_segments(rho_max, delta, chordal);
   if (2.0 * static_cast<double>(rows.size()) * static_cast<double>(segments) > static_cast<double>(max_triangles))
     return make_error("meshed to an angular deflection of " + format_number(tess.angular_deflection_deg) + "° it would take " +
                       format_number(2.0 * static_cast<double>(rows.size()) * static_cast<double>(segments), 3) +

@@ -91,6 +91,9 @@ struct ProfileSample {
 std::vector<ProfileSample> sample_profile(const ProfileCurve& curve);
 std::vector<std::size_t> profile_rows(const std::vector<ProfileSample>& fine, double delta_rad, double chordal_m);
 double normal_side(const std::vector<ProfileSample>& fine);
+// Steps around the axis: at most δ, and the chord of the widest circle
+// (radius rho_max) within the chordal deflection; at least 8.
+std::size_t azimuth_segments(double rho_max, double delta_rad, double chordal_m);
 
 // The surface of revolution of `curve`, tessellated to `t` (CadTessellation's
 // angular and chordal deflections; its size for the relative chordal

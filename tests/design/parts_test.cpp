@@ -7,6 +7,7 @@
 #include <array>
 #include <map>
 #include <cstdio>
+#include <limits>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -442,6 +443,104 @@ TEST(DesignCover, MistakesAreErrorsNamingTheLine) {
     EXPECT_EQ(s.error().where.line, c.line) << c.to << ": " << to_string(s.error());
     EXPECT_NE(s.error().message.find(c.says), std::string::npos) << c.to << ": " << to_string(s.error());
   }
+}
+
+// Facets ----------------------------------------------------------------------
+
+// The paraboloid z = f − ρ²/4f (f = 10 mm) about the source at its focus, ρ 4 … 30 mm.
+std::string faceted_dish(const std::string& facets) {
+  return std::string(R"(length_unit = "mm"
+[materials.mirror]
+mirror = 1.0
+[[emitters]]
+name = "LED"
+position = [0, 0, 0]
+flux_lm = 1000
+[[reflectors]]
+name = "dish"
+material = "mirror"
+profile = "conic"
+radius = 20
+conic = -1
+vertex = 10
+aperture = [4, 30]
+)") + (facets.empty() ? "" : "facets = " + facets + "\n");
+}
+
+TEST(DesignFacets, FlatFacetsHaveTheirCornersOnTheExactSurface) {
+  Result<sim::SceneDesc> s = scene_of(faceted_dish("{ theta = 8, azimuth = 12, kind = \"flat\" }"));
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  const sim::Mesh& m = s->meshes[0];
+  EXPECT_EQ(m.indices.size() / 3, 8u * 12u * 2u);
+  for (const sim::Vec3f& v : m.positions) {
+    const Vec3 p = sim::to_double(v);
+    const double rho = std::hypot(p.x, p.y);
+    EXPECT_NEAR(p.z, 0.010 - rho * rho / 0.040, 1e-8);
+  }
+  // Flat: each triangle's plane is its vertices' normal, facing the focus.
+  for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+    const Vec3 a = sim::to_double(m.positions[m.indices[t]]), b = sim::to_double(m.positions[m.indices[t + 1]]),
+               c = sim::to_double(m.positions[m.indices[t + 2]]);
+    const Vec3 n = normalize(cross(b - a, c - a));
+    for (int k = 0; k < 3; ++k) ASSERT_LT(angle(n, sim::to_double(m.normals[m.indices[t + k]])), 1e-5);
+    EXPECT_LT(dot(n, a), 0.0);
+  }
+}
+
+TEST(DesignFacets, MistakesAreErrorsNamingTheLine) {
+  // The facets' line is 16 (after the reflector's keys, from [[reflectors]] at line 8).
+  for (const auto& [facets, says] : std::vector<std::pair<std::string, std::string>>{
+           {"{ theta = -1 }", "'theta' must be 0 (smooth) or a whole number 1"},
+           {"{ azimuth = 2 }", "'azimuth' must be 0 (smooth) or a whole number 3"},
+           {"{ theta = 2.5 }", "'theta' must be 0"},
+           {"{ theta = 8, kind = \"curved\" }", "kind 'curved' is not one Gonio makes yet (flat)"},
+           {"{ theta = 8, tilt = 1 }", "unknown key 'tilt'"},
+           {"{ kind = \"flat\" }", "give 'theta' or 'azimuth'"},
+           {"8", "facets must be a table"}}) {
+    Result<sim::SceneDesc> s = scene_of(faceted_dish(facets));
+    ASSERT_FALSE(s.ok()) << facets;
+    EXPECT_EQ(s.error().where.line, 16) << facets << ": " << to_string(s.error());
+    EXPECT_NE(s.error().message.find("[[reflectors]] at line 8: facets"), std::string::npos) << to_string(s.error());
+    EXPECT_NE(s.error().message.find(says), std::string::npos) << facets << ": " << to_string(s.error());
+  }
+}
+
+// How far the reflected light of the dish strays from the axis: the 99th
+// percentile of the reflected rays' angle from the nadir [deg].
+double stray_p99(const std::string& facets) {
+  Result<sim::SceneDesc> s = scene_of(faceted_dish(facets));
+  EXPECT_TRUE(s.ok()) << to_string(s.error());
+  if (!s.ok()) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> a;
+  for (const sim::EscapedRay& r : escapes(std::move(*s), 40'000))
+    if (length(r.origin) > 1e-9) a.push_back(angle(r.direction, Vec3{0, 0, -1}) * 180 / kPi);
+  std::sort(a.begin(), a.end());
+  return a.empty() ? std::numeric_limits<double>::quiet_NaN() : a[a.size() * 99 / 100];
+}
+
+// A smooth paraboloid collimates the focus's light; faceted along the
+// profile, each flat facet turns it by up to its tangent's turn (at most
+// 1.25 rad/N here, at ρ = 4 mm: d atan(ρ/2f) = 2f dρ/(4f² + ρ²), dρ = 26 mm/N);
+// faceted around, the facets' tilt. Both converge to the smooth design.
+TEST(DesignFacets, FacetedDishConvergesToTheSmoothOne) {
+  const double smooth = stray_p99("");
+  std::printf("smooth: %g deg\n", smooth);
+  double last = INFINITY;
+  for (int n : {8, 32, 128}) {
+    const double p99 = stray_p99("{ theta = " + std::to_string(n) + " }");
+    std::printf("theta %d: %g deg\n", n, p99);
+    EXPECT_LT(p99, 1.25 / n * 180 / kPi) << n;
+    EXPECT_LT(p99, last / 3) << n;  // ∝ 1/N: a quarter at each step
+    last = p99;
+  }
+  last = INFINITY;
+  for (int m : {16, 64, 256}) {
+    const double p99 = stray_p99("{ azimuth = " + std::to_string(m) + " }");
+    std::printf("azimuth %d: %g deg\n", m, p99);
+    EXPECT_LT(p99, last / 3) << m;
+    last = p99;
+  }
+  EXPECT_GT(last, smooth);
 }
 
 // Fixed parts -----------------------------------------------------------------
