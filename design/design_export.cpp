@@ -5,6 +5,7 @@
 #include <map>
 
 #include "design/design_scene.h"
+#include "design/parts_export.h"
 #include "design/revolved.h"
 #include "io/model/cad.h"
 #include "io/model/gltf_writer.h"
@@ -35,7 +36,8 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
                       {"extras", {{"gonio", m->extras}}}});
     Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
     if (!curve.ok()) return make_error(design.path, curve.error().message);
-    Result<io::CadSurface> meshed = revolve(*curve, tessellation, std::size_t{16'000'000});
+    Result<io::CadSurface> meshed = r.facets ? revolve_faceted(*curve, *r.facets, tessellation, std::size_t{16'000'000})
+                                             : revolve(*curve, tessellation, std::size_t{16'000'000});
     if (!meshed.ok()) return make_error(design.path, r.name + ": " + meshed.error().message);
     const io::CadSurface& s = *meshed;
     sim::Mesh mesh;
@@ -46,6 +48,19 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
     const int index = w.mesh(mesh, materials[r.material], r.name);
     w.node({{"name", r.name}, {"mesh", index}});
   }
+  // The other part kinds (troughs, covers, fixed parts): design/parts_export.h.
+  auto material_index = [&](const std::string& name) -> Result<int> {
+    const io::PartsMaterial* m = sidecar->material(name);
+    if (!m) return make_error(design.path, "material " + name + " is not defined");
+    if (!materials.count(name))
+      materials[name] = w.material({{"name", name},
+                                    {"pbrMetallicRoughness",
+                                     {{"baseColorFactor", {0.9, 0.9, 0.9, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.05}}},
+                                    {"doubleSided", true},
+                                    {"extras", {{"gonio", m->extras}}}});
+    return materials[name];
+  };
+  if (Status s = write_other_parts_gltf(design, *parts, tessellation, w, material_index); !s.ok()) return s;
   // Emitters with a profile in the design's frame: EXT_lights_ies lights,
   // their γ = 0 (the node's −Z) turned to glTF's −Y as the samples do.
   for (const io::PartsEmitter& e : sidecar->emitters) {
@@ -75,6 +90,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   if (!sidecar.ok()) return sidecar.error();
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
+  if (Status s = step_export_supported(design, *parts); !s.ok()) return s.error();
   if (parts->reflectors.empty()) return make_error(design.path, "the design has no parts to write as STEP");
 
   io::StepExport request;
