@@ -1,6 +1,7 @@
 #include "design/parts_export.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "sim/scene.h"
 
@@ -37,11 +38,59 @@ Status step_export_supported(const Design& design, const DesignParts& parts) {
     return Error{{design.path, line, 0}, std::string(kind) + " at line " + std::to_string(line) +
                                              ": STEP export of this kind is not built yet (the glTF export writes it)"};
   };
-  if (!parts.troughs.empty()) return refuse("[[troughs]]", parts.troughs.front().line);
+  for (const Trough& t : parts.troughs)
+    if (!t.caps.empty()) return refuse("[[troughs]] (its caps)", t.line);
   if (!parts.covers.empty()) return refuse("[[covers]]", parts.covers.front().line);
   if (!parts.fixed_parts.empty()) return refuse("[[parts]]", parts.fixed_parts.front().line);
   for (const Reflector& r : parts.reflectors)
     if (r.facets) return refuse("[[reflectors]]", r.line);
+  return Ok{};
+}
+
+Status add_troughs_to_step(const Design& design, const DesignParts& parts, int samples, io::StepExport& request,
+                           io::TomlNode& rules) {
+  for (const Trough& t : parts.troughs) {
+    Result<ProfileCurve> curve = ProfileCurve::make(t.profile);
+    if (!curve.ok()) return make_error(design.path, t.name + ": " + curve.error().message);
+    io::StepRevolvedPart half;
+    half.name = t.name;
+    half.extrude_mm = t.length * 1e3;
+    for (int i = 0; i < samples; ++i) {
+      const double u = curve->t0() + (curve->t1() - curve->t0()) * i / (samples - 1);
+      double rho = 0.0, z = 0.0, drho = 0.0, dz = 0.0;
+      curve->eval(u, rho, z, drho, dz);
+      half.rho.push_back(rho * 1e3);
+      half.z.push_back(z * 1e3);
+    }
+    std::vector<io::StepRevolvedPart> out;
+    if (t.symmetric && std::abs(half.rho.front()) <= 1e-9) {
+      io::StepRevolvedPart whole = half;  // −x … 0 … +x, one curve
+      whole.rho.clear();
+      whole.z.clear();
+      for (std::size_t i = half.rho.size(); i-- > 1;) {
+        whole.rho.push_back(-half.rho[i]);
+        whole.z.push_back(half.z[i]);
+      }
+      whole.rho.insert(whole.rho.end(), half.rho.begin(), half.rho.end());
+      whole.z.insert(whole.z.end(), half.z.begin(), half.z.end());
+      out.push_back(std::move(whole));
+    } else {
+      out.push_back(half);
+      if (t.symmetric) {
+        io::StepRevolvedPart mirrored = half;
+        mirrored.name = t.name + " mirrored";
+        for (double& x : mirrored.rho) x = -x;
+        out.push_back(std::move(mirrored));
+      }
+    }
+    for (io::StepRevolvedPart& p : out) {
+      io::TomlNode rule = toml_table();
+      toml_set(rule, "match", toml_string(p.name));
+      toml_set(rule, "material", toml_string(t.material));
+      rules.array.push_back(std::move(rule));
+      request.parts.push_back(std::move(p));
+    }
+  }
   return Ok{};
 }
 

@@ -13,6 +13,7 @@
 #include "io/model/cad_model.h"
 #include "io/model/gltf_writer.h"
 #include "io/model/parts_file.h"
+#include "io/model/step_export.h"
 #include "photometry/diagnostics.h"
 
 namespace gonio::design {
@@ -23,8 +24,16 @@ Status write_other_parts_gltf(const Design& design, const DesignParts& parts, co
                               io::GltfWriter& w, const std::function<Result<int>(const std::string&)>& material);
 
 // Ok where the design has nothing the STEP export does not write yet;
-// else the error naming the first such part's line (troughs, covers and
-// fixed parts go to glTF only so far).
+// else the error naming the first such part's line (troughs' caps, covers,
+// fixed parts and facets go to glTF only so far).
 Status step_export_supported(const Design& design, const DesignParts& parts);
+
+// The troughs as extruded parts of the STEP request (io/model/step_export.h):
+// the profile sampled at `samples` equal steps of its parameter [mm], a
+// symmetric trough's mirror image joined to it where the profile starts on
+// the axis (one face), else its own part "NAME mirrored"; with a sidecar
+// rule (match, material) per part added to `rules`.
+Status add_troughs_to_step(const Design& design, const DesignParts& parts, int samples, io::StepExport& request,
+                           io::TomlNode& rules);
 
 }  // namespace gonio::design

@@ -3,6 +3,7 @@
 
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <GeomAPI_PointsToBSpline.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
@@ -721,7 +722,9 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
       const std::size_t n = std::min(part.rho.size(), part.z.size());
       if (n < 2) return make_error(path, part.name + ": a profile needs at least 2 points");
       TColgp_Array1OfPnt points(1, static_cast<int>(n));
-      for (std::size_t i = 0; i < n; ++i) points.SetValue(static_cast<int>(i) + 1, gp_Pnt(part.rho[i], 0.0, part.z[i]));
+      const bool extruded = part.extrude_mm > 0.0;  // a trough: the profile in the XZ plane at y = −L/2
+      const double y0 = extruded ? -0.5 * part.extrude_mm : 0.0;
+      for (std::size_t i = 0; i < n; ++i) points.SetValue(static_cast<int>(i) + 1, gp_Pnt(part.rho[i], y0, part.z[i]));
       GeomAPI_PointsToBSpline fit(points, 3, 8, GeomAbs_C2, request.tolerance_mm);
       if (!fit.IsDone() || fit.Curve().IsNull())
         return make_error(path, part.name + ": OpenCASCADE found no B-spline within " +
@@ -734,9 +737,17 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
       BRepBuilderAPI_MakeEdge edge(curve);
       if (!edge.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not make the profile's edge");
       const TopoDS_Shape profile = edge.Edge();
-      BRepPrimAPI_MakeRevol revol(profile, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)));
-      if (!revol.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not turn the profile about the axis");
-      const TDF_Label label = shapes->AddShape(revol.Shape(), false);
+      TopoDS_Shape surface;
+      if (extruded) {
+        BRepPrimAPI_MakePrism prism(profile, gp_Vec(0.0, part.extrude_mm, 0.0));
+        if (!prism.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not extrude the profile");
+        surface = prism.Shape();
+      } else {
+        BRepPrimAPI_MakeRevol revol(profile, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)));
+        if (!revol.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not turn the profile about the axis");
+        surface = revol.Shape();
+      }
+      const TDF_Label label = shapes->AddShape(surface, false);
       TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
       const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());
       TDataStd_Name::Set(component, TCollection_ExtendedString(part.name.c_str(), true));

@@ -25,6 +25,7 @@ std::string serialize_step_export(const StepExport& request) {
   out += "parts " + std::to_string(request.parts.size()) + "\n";
   for (const StepRevolvedPart& p : request.parts) {
     out += "part " + one_line(p.name) + "\n";
+    if (p.extrude_mm > 0.0) out += "extrude " + format_number(p.extrude_mm, 17) + "\n";
     out += "points " + std::to_string(p.rho.size()) + "\n";
     for (std::size_t i = 0; i < p.rho.size() && i < p.z.size(); ++i)
       out += format_number(p.rho[i], 17) + " " + format_number(p.z[i], 17) + "\n";
@@ -61,7 +62,14 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
   for (long k = 0; k < parts; ++k) {
     StepRevolvedPart p;
     if (!keyed("part", p.name)) return bad("expected 'part NAME'");
-    if (!keyed("points", value)) return bad("expected 'points N'");
+    if (!next(line)) return bad("expected 'points N'");
+    if (line.rfind("extrude ", 0) == 0) {
+      p.extrude_mm = std::strtod(line.c_str() + 8, &end);
+      if (*end != '\0' || !(p.extrude_mm > 0.0) || !std::isfinite(p.extrude_mm)) return bad("bad extrusion length");
+      if (!next(line)) return bad("expected 'points N'");
+    }
+    if (line.rfind("points ", 0) != 0) return bad("expected 'points N'");
+    value = line.substr(7);
     const long n = std::strtol(value.c_str(), &end, 10);
     if (*end != '\0' || n < 2 || n > 10'000'000) return bad("bad point count (at least 2)");
     for (long i = 0; i < n; ++i) {
@@ -69,8 +77,9 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
       std::istringstream pt(line);
       double rho = 0.0, z = 0.0;
       std::string rest;
-      if (!(pt >> rho >> z) || (pt >> rest) || !std::isfinite(rho) || !std::isfinite(z) || rho < 0.0)
-        return bad("expected two finite numbers ρ ≥ 0, z");
+      if (!(pt >> rho >> z) || (pt >> rest) || !std::isfinite(rho) || !std::isfinite(z) ||
+          (rho < 0.0 && p.extrude_mm == 0.0))
+        return bad(p.extrude_mm > 0.0 ? "expected two finite numbers x, z" : "expected two finite numbers ρ ≥ 0, z");
       p.rho.push_back(rho);
       p.z.push_back(z);
     }

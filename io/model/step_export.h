@@ -18,6 +18,10 @@ namespace gonio::io {
 struct StepRevolvedPart {
   std::string name;              // the part's product name (XCAF name)
   std::vector<double> rho, z;    // the profile's points in order [mm], ρ ≥ 0
+  // > 0: an extruded part (a trough) instead: the points are (x, z) of the
+  // XZ plane (x of either sign), extruded along +Y by this length [mm] from
+  // y = −extrude_mm/2; 0: turned about the Z axis.
+  double extrude_mm = 0.0;
 };
 
 struct StepExport {
@@ -26,8 +30,9 @@ struct StepExport {
   std::vector<StepRevolvedPart> parts;
 };
 
-// The request as text: a header line, then per part its name on one line
-// and its points one per line (names lose their line breaks).
+// The request as text: a header line, then per part its name on one line,
+// for an extruded part a line "extrude L", and its points one per line
+// (names lose their line breaks).
 std::string serialize_step_export(const StepExport& request);
 
 // Reads the text back; `name` names it in messages. Errors: a malformed or

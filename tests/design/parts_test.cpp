@@ -19,6 +19,7 @@
 #include "design/trough.h"
 #include "io/model/gltf.h"
 #include "io/model/gltf_writer.h"
+#include "io/model/step_export.h"
 #include "io/support/file_io.h"
 #include "sim/simulation.h"
 #include "tests/support/test_support.h"
@@ -738,13 +739,77 @@ TEST(DesignPartsExport, GltfHoldsTroughsAndCoversAsMeshed) {
       EXPECT_NEAR(top, -0.040f, 1e-7f);
     }
   }
-  // STEP does not write these kinds yet: an error naming the part's line, nothing written.
+  // STEP does not write caps yet: an error naming the part's line, nothing written.
   Result<StepExportInfo> step = write_design_step(*d, (dir / "lamp.step").string());
   ASSERT_FALSE(step.ok());
   EXPECT_EQ(step.error().where.line, 11) << to_string(step.error());
-  EXPECT_NE(step.error().message.find("[[troughs]] at line 11: STEP export of this kind is not built yet"),
-            std::string::npos);
+  EXPECT_NE(step.error().message.find("[[troughs]] (its caps) at line 11: STEP export of this kind is not built yet"),
+            std::string::npos)
+      << to_string(step.error());
   EXPECT_FALSE(std::filesystem::exists(dir / "lamp.step"));
+}
+
+// A trough as STEP (the helper's B-spline profile extruded along Y): read
+// back by gonio's CAD reader, one part named as the design names it, every
+// vertex within 1.5 µm of the exact parabolic cylinder and spanning its
+// x and y; the sidecar beside it gives it its material.
+// The helper's request carries an extruded part: its length, and x of either sign.
+TEST(DesignPartsExport, ExtrudedPartsInTheStepRequest) {
+  io::StepExport r;
+  r.product = "lamp";
+  io::StepRevolvedPart p;
+  p.name = "trough";
+  p.rho = {-1.5, 0.0, 1.5};
+  p.z = {0.0, 1.0, 0.0};
+  p.extrude_mm = 400;
+  r.parts.push_back(p);
+  Result<io::StepExport> back = io::parse_step_export(io::serialize_step_export(r), "request");
+  ASSERT_TRUE(back.ok()) << to_string(back.error());
+  EXPECT_EQ(back->parts[0].extrude_mm, 400.0);
+  EXPECT_EQ(back->parts[0].rho, p.rho);
+  r.parts[0].extrude_mm = 0.0;  // turned about Z, x < 0 is a profile across the axis
+  EXPECT_FALSE(io::parse_step_export(io::serialize_step_export(r), "request").ok());
+  std::string bad = io::serialize_step_export(back.value());
+  bad.replace(bad.find("extrude 400"), 11, "extrude -4");
+  EXPECT_FALSE(io::parse_step_export(bad, "request").ok());
+}
+
+TEST(DesignPartsExport, TroughStepReadsBackOnTheExactCylinder) {
+  if (!io::cad_supported()) GONIO_MISSING("a build with OpenCASCADE (GONIO_OCCT) for STEP export");
+  test::TempDir dir;
+  Result<Design> d = parse_design(kTrough, (dir / "lamp.design.toml").string());
+  ASSERT_TRUE(d.ok());
+  Result<StepExportInfo> info = write_design_step(*d, (dir / "trough.step").string());
+  ASSERT_TRUE(info.ok()) << to_string(info.error());
+  EXPECT_EQ(info->parts, 1u);
+  EXPECT_LT(info->max_deviation_mm, 1e-3);
+  io::CadLoadOptions o;
+  o.tessellation.angular_deflection_deg = 1.0;
+  Result<io::CadModel> model = io::tessellate_cad((dir / "trough.step").string(), o);
+  ASSERT_TRUE(model.ok()) << to_string(model.error());
+  ASSERT_EQ(model->placements.size(), 1u);
+  const io::CadPlacement& pl = model->placements[0];
+  EXPECT_NE(pl.path.find("trough"), std::string::npos) << pl.path;
+  double worst = 0.0, x_min = 1, x_max = -1, y_min = 1, y_max = -1;
+  for (const io::CadSurface& surface : model->parts[pl.part].surfaces)
+    for (const sim::Vec3f& v : surface.positions) {
+      const Vec3 p = pl.to_world.point(sim::to_double(v));
+      // Distance from z = f − x²/4f along its normal (first order).
+      worst = std::max(worst, std::abs(p.z - (0.010 - p.x * p.x / 0.040)) / std::sqrt(1 + std::pow(p.x / 0.020, 2)));
+      x_min = std::min(x_min, p.x);
+      x_max = std::max(x_max, p.x);
+      y_min = std::min(y_min, p.y);
+      y_max = std::max(y_max, p.y);
+    }
+  EXPECT_LT(worst, 1.5e-6);
+  EXPECT_NEAR(x_min, -0.040, 2e-6);
+  EXPECT_NEAR(x_max, 0.040, 2e-6);
+  EXPECT_NEAR(y_min, -0.200, 2e-6);
+  EXPECT_NEAR(y_max, 0.200, 2e-6);
+  Result<std::string> sidecar = io::read_file(info->sidecar, 1 << 20);
+  ASSERT_TRUE(sidecar.ok());
+  EXPECT_NE(sidecar->find("match = \"trough\""), std::string::npos) << *sidecar;
+  EXPECT_EQ(sidecar->find("troughs"), std::string::npos) << *sidecar;
 }
 
 }  // namespace
