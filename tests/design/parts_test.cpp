@@ -810,6 +810,43 @@ TEST(DesignPartsExport, TroughStepReadsBackOnTheExactCylinder) {
   ASSERT_TRUE(sidecar.ok());
   EXPECT_NE(sidecar->find("match = \"trough\""), std::string::npos) << *sidecar;
   EXPECT_EQ(sidecar->find("troughs"), std::string::npos) << *sidecar;
+
+  // With a slot along the vertex (x from 5 mm), the two halves are two parts.
+  Result<Design> slot = parse_design(edited(kTrough, "aperture = [0, 40]", "aperture = [5, 40]"),
+                                     (dir / "slot.design.toml").string());
+  ASSERT_TRUE(slot.ok());
+  info = write_design_step(*slot, (dir / "slot.step").string());
+  ASSERT_TRUE(info.ok()) << to_string(info.error());
+  EXPECT_EQ(info->parts, 2u);
+  model = io::tessellate_cad((dir / "slot.step").string(), o);
+  ASSERT_TRUE(model.ok()) << to_string(model.error());
+  ASSERT_EQ(model->placements.size(), 2u);
+  for (const io::CadPlacement& half : model->placements) {
+    const bool mirrored = half.path.find("trough mirrored") != std::string::npos;
+    EXPECT_TRUE(mirrored || half.path.find("trough") != std::string::npos) << half.path;
+    for (const io::CadSurface& surface : model->parts[half.part].surfaces)
+      for (const sim::Vec3f& v : surface.positions) {
+        const Vec3 p = half.to_world.point(sim::to_double(v));
+        EXPECT_GE((mirrored ? -1 : 1) * p.x, 0.005 - 2e-6);
+        EXPECT_LT(std::abs(p.z - (0.010 - p.x * p.x / 0.040)), 3e-6);
+      }
+  }
+}
+
+// A polar table of one radius is a circular cylinder about the Y axis: every
+// vertex at that distance from the axis, its normal toward it.
+TEST(DesignTrough, PolarProfileIsAboutTheYAxis) {
+  const std::string text = edited(kTrough, "profile = \"conic\"\nradius = 20\nconic = -1\nvertex = 10\naperture = [0, 40]",
+                                  "profile = \"polar\"\ntheta_deg = [0, 45, 90]\nr = [25, 25, 25]");
+  Result<sim::SceneDesc> s = scene_of(text);
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  const sim::Mesh& m = s->meshes[0];
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    const Vec3 p = sim::to_double(m.positions[i]);
+    EXPECT_NEAR(std::hypot(p.x, p.z), 0.025, 1e-8);
+    EXPECT_LE(p.z, 1e-8);
+    EXPECT_LT(angle(sim::to_double(m.normals[i]), normalize(Vec3{-p.x, 0.0, -p.z})), 1e-6);
+  }
 }
 
 }  // namespace
