@@ -652,6 +652,9 @@ TEST(DesignFixedPart, MistakesAreErrorsNamingTheLine) {
     EXPECT_EQ(s.error().where.line, c.line) << c.to << ": " << to_string(s.error());
     EXPECT_NE(s.error().message.find(c.says), std::string::npos) << c.to << ": " << to_string(s.error());
   }
+  // gonio watch watches the part's file.
+  const std::vector<std::string> files = design_files((dir / "lamp.design.toml").string());
+  EXPECT_NE(std::find(files.begin(), files.end(), (dir / "housing.gltf").string()), files.end());
   // Surfaces no rule covers: the sidecar's error.
   Result<sim::SceneDesc> s = load_in(dir, edited(kHousing, "material = \"black\"\n", ""));
   ASSERT_FALSE(s.ok());
@@ -831,6 +834,33 @@ TEST(DesignPartsExport, TroughStepReadsBackOnTheExactCylinder) {
         EXPECT_LT(std::abs(p.z - (0.010 - p.x * p.x / 0.040)), 3e-6);
       }
   }
+}
+
+// The kinds' numbers are variables as a reflector's are: set, the scene follows.
+TEST(DesignTrough, LengthAndCoverHeightAreVariables) {
+  const std::string text = edited(edited(cover_design("material = \"clear\"\nshape = \"plate\"\nsize = [100, 40]\n"
+                                                      "height = { value = -20, min = -50, max = -10 }\nthickness = 3\n"),
+                                         "[[covers]]", std::string(kTrough).substr(std::string(kTrough).find("[[troughs]]")) +
+                                                           "\n[materials.mirror]\nmirror = 1.0\n\n[[covers]]"),
+                                  "length = 400", "length = { value = 400, min = 100, max = 800, name = \"L\" }");
+  Result<Design> d = parse_design(text, "lamp.design.toml");
+  ASSERT_TRUE(d.ok()) << to_string(d.error());
+  ASSERT_NE(d->variable("L"), nullptr);
+  ASSERT_NE(d->variable("covers[0].height"), nullptr);
+  ASSERT_TRUE(set_variable(*d, "L", 600).ok());
+  ASSERT_TRUE(set_variable(*d, "covers[0].height", -30).ok());
+  EXPECT_FALSE(set_variable(*d, "L", 900).ok());  // outside its bounds
+  std::vector<Finding> findings;
+  Result<sim::SceneDesc> s = design_scene(*d, options(2.0), &findings);
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  float y_max = -1.0f, z_top = -1.0f;
+  for (const sim::Mesh& m : s->meshes)
+    for (const sim::Vec3f& p : m.positions) {
+      if (m.name == "trough") y_max = std::max(y_max, p.y);
+      if (m.name == "cover") z_top = std::max(z_top, p.z);
+    }
+  EXPECT_NEAR(y_max, 0.3f, 1e-7f);
+  EXPECT_NEAR(z_top, -0.030f, 1e-7f);
 }
 
 // A polar table of one radius is a circular cylinder about the Y axis: every
