@@ -279,4 +279,19 @@ Result<CoverMesh> tessellate_cover(const Cover& cover, double thickness, const i
   return out;
 }
 
+bool cover_holds(const Cover& cover, double thickness, double chordal, const Vec3& p) {
+  const double h = cover.height, t = std::max(thickness, 0.0), e = thickness > 0.0 ? 0.0 : chordal;
+  if (cover.shape == Cover::Shape::Plate) {
+    const bool across = cover.width ? std::abs(p.x) <= 0.5 * *cover.width + e && std::abs(p.y) <= 0.5 * *cover.depth + e
+                                    : std::hypot(p.x, p.y) <= 0.5 * *cover.diameter + e;
+    return across && p.z >= h - t - e && p.z <= h + e;
+  }
+  // The dome, bulging down: between its spheres, below its base (mirrored where it bulges up).
+  const double a = 0.5 * *cover.diameter, sg = std::abs(cover.sag);
+  const double radius = (a * a + sg * sg) / (2.0 * sg);
+  const double z = cover.sag < 0.0 ? 2.0 * h - p.z : p.z;
+  const double r = length(Vec3{p.x, p.y, z - (h - sg + radius)});
+  return z <= h + e && r <= radius + e && r >= radius - t - e;
+}
+
 }  // namespace gonio::design

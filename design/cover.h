@@ -76,4 +76,8 @@ struct CoverMesh {
 Result<CoverMesh> tessellate_cover(const Cover& cover, double thickness_m, const io::CadTessellation& tess,
                                    std::size_t max_triangles);
 
+// Whether the point p [m] lies in the cover's solid of `thickness_m`, or on
+// its sheet within `chordal_m` (thickness 0): where no emitter may sit.
+bool cover_holds(const Cover& cover, double thickness_m, double chordal_m, const Vec3& p);
+
 }  // namespace gonio::design

@@ -292,6 +292,10 @@ Status add_covers(const DesignParts& parts, const std::string& path, const io::C
     }
     Result<CoverMesh> mesh = tessellate_cover(c, thickness, tess, kMaxPartTriangles);
     if (!mesh.ok()) return fail(path, c.line, what + ": " + mesh.error().message);
+    for (const io::PartsEmitter& e : sidecar.emitters)
+      if (e.at.empty() && e.position && cover_holds(c, thickness, mesh->chordal_m, *e.position * parts.unit_m))
+        return fail(path, c.line, what + ": the emitter " + io::shown(e.name) + " (line " + std::to_string(e.line) +
+                                      ") lies " + (thickness > 0.0 ? "inside the cover's solid" : "on the cover"));
     add_design_part(model, sidecar, c.name, c.material, c.line, std::move(mesh->surface), mesh->size_m, mesh->chordal_m);
   }
   return Ok{};

@@ -422,7 +422,7 @@ TEST(DesignCover, MistakesAreErrorsNamingTheLine) {
     int line;
     std::string says;
   };
-  const std::vector<Case> cases = {
+  std::vector<Case> cases = {
       {"shape = \"plate\"", "shape = \"lens\"", 22, "shape 'lens' is not one Gonio knows (plate, dome)"},
       {"size = [100, 40]", "size = [100, -40]", 23, "'size' must be [x, y], two numbers > 0"},
       {"size = [100, 40]", "size = [100, 40]\ndiameter = 20", 23, "not both"},
@@ -438,6 +438,14 @@ TEST(DesignCover, MistakesAreErrorsNamingTheLine) {
       {"shape = \"plate\"\nsize = [100, 40]", "shape = \"dome\"\ndiameter = 80\nsag = 2", 19,
        "thickness 3 mm is not less than its sag 2 mm"},
   };
+  // The emitter at the origin inside the solid, or on the sheet.
+  cases.push_back({"height = -20", "height = 1", 19, "the emitter 'LED' (line 14) lies inside the cover's solid"});
+  cases.push_back({"material = \"clear\"\nshape = \"plate\"\nsize = [100, 40]\nheight = -20\nthickness = 3",
+                   "material = \"sheet\"\nshape = \"plate\"\nsize = [100, 40]\nheight = 0", 19,
+                   "the emitter 'LED' (line 14) lies on the cover"});
+  cases.push_back({"shape = \"plate\"\nsize = [100, 40]\nheight = -20\nthickness = 3",
+                   "shape = \"dome\"\ndiameter = 80\nsag = -20\nheight = -18.5\nthickness = 3", 19,
+                   "lies inside the cover's solid"});
   for (const Case& c : cases) {
     Result<sim::SceneDesc> s = scene_of(edited(cover_design(plate), c.from, c.to));
     ASSERT_FALSE(s.ok()) << c.to;
