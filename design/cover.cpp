@@ -50,8 +50,8 @@ void add_band(io::CadSurface& s, const std::vector<Vec3>& top, const std::vector
   const std::size_t k = top.size();
   for (std::size_t i = 0; i < k; ++i) {
     const std::size_t j = (i + 1) % k;
-    // Smooth (a cylinder): the exact normal at each vertex; flat (a box): the face's.
-    const Vec3 ni = smooth ? normal(i) : normal(i), nj = smooth ? normal(j) : normal(i);
+    // Smooth (a cylinder): the exact normal at each vertex; flat (a box): the face's, normal(i).
+    const Vec3 ni = normal(i), nj = smooth ? normal(j) : ni;
     const std::uint32_t a = add_vertex(s, top[i], ni), b = add_vertex(s, top[j], nj), c = add_vertex(s, bottom[j], nj),
                         d = add_vertex(s, bottom[i], ni);
     add_triangle(s, a, b, c);
