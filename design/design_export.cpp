@@ -91,7 +91,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
   if (Status s = step_export_supported(design, *parts); !s.ok()) return s.error();
-  if (parts->reflectors.empty() && parts->troughs.empty())
+  if (parts->reflectors.empty() && parts->troughs.empty() && parts->covers.empty())
     return make_error(design.path, "the design has no parts to write as STEP");
 
   io::StepExport request;
@@ -117,6 +117,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
     rules.array.push_back(std::move(rule));
   }
   if (Status s = add_troughs_to_step(design, *parts, kStepProfileSamples, request, rules); !s.ok()) return s.error();
+  if (Status s = add_covers_to_step(design, *parts, *sidecar, request, rules); !s.ok()) return s.error();
   if (const fs::path folder = fs::path(step_path).parent_path(); !folder.empty())
     if (Status s = io::make_directories(folder.string()); !s.ok()) return s.error();
   io::CadLoadOptions options;
@@ -130,7 +131,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   const fs::path design_dir = fs::absolute(design.path).parent_path();
   const fs::path step_dir = fs::absolute(step_path).parent_path();
   for (const auto& [key, value] : resolved.table) {
-    if (key == "reflectors" || key == "troughs") continue;
+    if (key == "reflectors" || key == "troughs" || key == "covers") continue;
     io::TomlNode copy = value;
     // The emitters' files: copied beside the STEP where they are elsewhere
     // (a sidecar's paths stay in its folder, as glTF's uris do), by name.

@@ -40,7 +40,6 @@ Status step_export_supported(const Design& design, const DesignParts& parts) {
   };
   for (const Trough& t : parts.troughs)
     if (!t.caps.empty()) return refuse("[[troughs]] (its caps)", t.line);
-  if (!parts.covers.empty()) return refuse("[[covers]]", parts.covers.front().line);
   if (!parts.fixed_parts.empty()) return refuse("[[parts]]", parts.fixed_parts.front().line);
   for (const Reflector& r : parts.reflectors)
     if (r.facets) return refuse("[[reflectors]]", r.line);
@@ -90,6 +89,30 @@ Status add_troughs_to_step(const Design& design, const DesignParts& parts, int s
       rules.array.push_back(std::move(rule));
       request.parts.push_back(std::move(p));
     }
+  }
+  return Ok{};
+}
+
+Status add_covers_to_step(const Design& design, const DesignParts& parts, const io::PartsFile& sidecar,
+                          io::StepExport& request, io::TomlNode& rules) {
+  for (const Cover& c : parts.covers) {
+    const io::PartsMaterial* material = sidecar.material(c.material);
+    if (!material) return make_error(design.path, "material " + c.material + " is not defined");
+    double preset = 0.0;
+    Result<bool> volume = is_volume_material(*material, design.path, &preset);
+    if (!volume.ok()) return volume.error();
+    io::StepRevolvedPart p;
+    p.name = c.name;
+    p.cover = c.shape == Cover::Shape::Dome ? "dome" : c.width ? "box" : "disc";
+    p.cover_a = (c.width ? *c.width : *c.diameter) * 1e3;
+    p.cover_b = (c.shape == Cover::Shape::Dome ? c.sag : c.depth.value_or(0.0)) * 1e3;
+    p.cover_t = *volume ? c.thickness.value_or(preset) * 1e3 : 0.0;
+    p.cover_z = c.height * 1e3;
+    io::TomlNode rule = toml_table();
+    toml_set(rule, "match", toml_string(p.name));
+    toml_set(rule, "material", toml_string(c.material));
+    rules.array.push_back(std::move(rule));
+    request.parts.push_back(std::move(p));
   }
   return Ok{};
 }

@@ -24,8 +24,8 @@ Status write_other_parts_gltf(const Design& design, const DesignParts& parts, co
                               io::GltfWriter& w, const std::function<Result<int>(const std::string&)>& material);
 
 // Ok where the design has nothing the STEP export does not write yet;
-// else the error naming the first such part's line (troughs' caps, covers,
-// fixed parts and facets go to glTF only so far).
+// else the error naming the first such part's line (troughs' caps, fixed
+// parts and facets go to glTF only so far).
 Status step_export_supported(const Design& design, const DesignParts& parts);
 
 // The troughs as extruded parts of the STEP request (io/model/step_export.h):
@@ -35,5 +35,12 @@ Status step_export_supported(const Design& design, const DesignParts& parts);
 // rule (match, material) per part added to `rules`.
 Status add_troughs_to_step(const Design& design, const DesignParts& parts, int samples, io::StepExport& request,
                            io::TomlNode& rules);
+
+// The covers as parts of the STEP request: OpenCASCADE's primitives (a box,
+// a cylinder, a dome turned from its meridian), solids of their thickness
+// where their material is a volume's, one face otherwise (design/cover.h),
+// named by their names, with a sidecar rule each.
+Status add_covers_to_step(const Design& design, const DesignParts& parts, const io::PartsFile& sidecar,
+                          io::StepExport& request, io::TomlNode& rules);
 
 }  // namespace gonio::design

@@ -22,6 +22,13 @@ struct StepRevolvedPart {
   // XZ plane (x of either sign), extruded along +Y by this length [mm] from
   // y = −extrude_mm/2; 0: turned about the Z axis.
   double extrude_mm = 0.0;
+  // Not empty: a cover (design/cover.h) made of OpenCASCADE's primitives
+  // instead, no points: "box" (a = x, b = y), "disc" (a = diameter) or
+  // "dome" (a = the base's diameter, b = the signed sag), its face toward
+  // the luminaire at z [mm], a solid of thickness t below it (a dome: inward
+  // of its outer sphere) or, t = 0, one face.
+  std::string cover{};
+  double cover_a = 0.0, cover_b = 0.0, cover_t = 0.0, cover_z = 0.0;  // [mm]
 };
 
 struct StepExport {

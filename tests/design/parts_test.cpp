@@ -7,6 +7,7 @@
 #include <array>
 #include <map>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <cmath>
 #include <numbers>
@@ -869,6 +870,62 @@ TEST(DesignTrough, LengthAndCoverHeightAreVariables) {
     }
   EXPECT_NEAR(y_max, 0.3f, 1e-7f);
   EXPECT_NEAR(z_top, -0.030f, 1e-7f);
+}
+
+// Covers as STEP (OpenCASCADE's primitives): read back by gonio's CAD
+// reader, named as the design names them, every vertex on its exact surfaces.
+TEST(DesignPartsExport, CoverStepReadsBackOnItsExactSurfaces) {
+  if (!io::cad_supported()) GONIO_MISSING("a build with OpenCASCADE (GONIO_OCCT) for STEP export");
+  test::TempDir dir;
+  const std::string text = cover_design("material = \"clear\"\nshape = \"plate\"\nsize = [100, 40]\nheight = -20\nthickness = 3\n") +
+                           "\n[[covers]]\nname = \"dome\"\nmaterial = \"clear\"\nshape = \"dome\"\ndiameter = 80\nsag = 20\n"
+                           "height = -30\nthickness = 2\n"
+                           "\n[[covers]]\nname = \"up\"\nmaterial = \"sheet\"\nshape = \"dome\"\ndiameter = 80\nsag = -20\n"
+                           "height = 30\n"
+                           "\n[[covers]]\nname = \"disc\"\nmaterial = \"sheet\"\nshape = \"plate\"\ndiameter = 80\nheight = -60\n";
+  Result<Design> d = parse_design(text, (dir / "covers.design.toml").string());
+  ASSERT_TRUE(d.ok()) << to_string(d.error());
+  Result<StepExportInfo> info = write_design_step(*d, (dir / "covers.step").string());
+  ASSERT_TRUE(info.ok()) << to_string(info.error());
+  EXPECT_EQ(info->parts, 4u);
+  io::CadLoadOptions o;
+  o.tessellation.angular_deflection_deg = 2.0;
+  Result<io::CadModel> model = io::tessellate_cad((dir / "covers.step").string(), o);
+  ASSERT_TRUE(model.ok()) << to_string(model.error());
+  ASSERT_EQ(model->placements.size(), 4u);
+  std::map<std::string, std::size_t> vertices;
+  for (const io::CadPlacement& pl : model->placements) {
+    std::string name;
+    for (const char* n : {"cover", "dome", "up", "disc"})
+      if (pl.path.size() >= std::strlen(n) && pl.path.compare(pl.path.size() - std::strlen(n), std::strlen(n), n) == 0)
+        name = n;
+    ASSERT_FALSE(name.empty()) << pl.path;
+    // The clear ones closed solids, the sheets none.
+    EXPECT_EQ(model->parts[pl.part].solids, name == "cover" || name == "dome" ? 1u : 0u) << name;
+    for (const io::CadSurface& surface : model->parts[pl.part].surfaces)
+      for (const sim::Vec3f& v : surface.positions) {
+        const Vec3 p = pl.to_world.point(sim::to_double(v));
+        ++vertices[name];
+        const double r = length(p);
+        if (name == "cover") {
+          EXPECT_LE(std::abs(p.x), 0.050 + 1e-8);
+          EXPECT_LE(std::abs(p.y), 0.020 + 1e-8);
+          EXPECT_TRUE(std::abs(p.z + 0.020) < 1e-8 || std::abs(p.z + 0.023) < 1e-8 ||
+                      (std::abs(std::abs(p.x) - 0.050) < 1e-8 || std::abs(std::abs(p.y) - 0.020) < 1e-8))
+              << p.x << " " << p.y << " " << p.z;
+        } else if (name == "dome") {  // spheres of 50 and 48 mm about the origin, the ring at z = −30 mm
+          EXPECT_TRUE(std::abs(r - 0.050) < 2e-6 || std::abs(r - 0.048) < 2e-6 || std::abs(p.z + 0.030) < 1e-8) << r;
+          EXPECT_LE(p.z, -0.030 + 1e-8);
+        } else if (name == "up") {  // bulging up: the sphere of 50 mm about (0, 0, 0), z from 30 to 50 mm
+          EXPECT_NEAR(r, 0.050, 2e-6);
+          EXPECT_GE(p.z, 0.030 - 1e-8);
+        } else {
+          EXPECT_NEAR(p.z, -0.060, 1e-8);
+          EXPECT_LE(std::hypot(p.x, p.y), 0.040 + 1e-8);
+        }
+      }
+  }
+  EXPECT_EQ(vertices.size(), 4u);
 }
 
 // A polar table of one radius is a circular cylinder about the Y axis: every
