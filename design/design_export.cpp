@@ -5,6 +5,7 @@
 #include <map>
 
 #include "design/design_scene.h"
+#include "design/parts_export.h"
 #include "design/revolved.h"
 #include "io/model/cad.h"
 #include "io/model/gltf_writer.h"
@@ -67,7 +68,7 @@ io::StepRevolvedPart lens_step_part(const Lens& lens) {
 
 Status write_design_gltf(const Design& design, const std::string& gltf_path, const io::CadTessellation& tessellation) {
   const io::TomlNode resolved = resolved_document(design);
-  Result<io::PartsFile> sidecar = io::parse_parts_tree(resolved, design.path, design_root_keys(), "the design file");
+  Result<io::PartsFile> sidecar = io::parse_parts_tree(sidecar_tree(resolved), design.path, design_root_keys(), "the design file");
   if (!sidecar.ok()) return sidecar.error();
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
@@ -86,7 +87,8 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
                       {"extras", {{"gonio", m->extras}}}});
     Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
     if (!curve.ok()) return make_error(design.path, curve.error().message);
-    Result<io::CadSurface> meshed = revolve(*curve, tessellation, std::size_t{16'000'000});
+    Result<io::CadSurface> meshed = r.facets ? revolve_faceted(*curve, *r.facets, tessellation, std::size_t{16'000'000})
+                                             : revolve(*curve, tessellation, std::size_t{16'000'000});
     if (!meshed.ok()) return make_error(design.path, r.name + ": " + meshed.error().message);
     const io::CadSurface& s = *meshed;
     sim::Mesh mesh;
@@ -99,6 +101,19 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
   }
   for (const Lens& lens : parts->lenses)
     if (Status s = add_lens_gltf(w, lens, *sidecar, design.path, tessellation, materials); !s.ok()) return s;
+  // The other part kinds (troughs, covers, fixed parts): design/parts_export.h.
+  auto material_index = [&](const std::string& name) -> Result<int> {
+    const io::PartsMaterial* m = sidecar->material(name);
+    if (!m) return make_error(design.path, "material " + name + " is not defined");
+    if (!materials.count(name))
+      materials[name] = w.material({{"name", name},
+                                    {"pbrMetallicRoughness",
+                                     {{"baseColorFactor", {0.9, 0.9, 0.9, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.05}}},
+                                    {"doubleSided", true},
+                                    {"extras", {{"gonio", m->extras}}}});
+    return materials[name];
+  };
+  if (Status s = write_other_parts_gltf(design, *parts, tessellation, w, material_index); !s.ok()) return s;
   // Emitters with a profile in the design's frame: EXT_lights_ies lights,
   // their γ = 0 (the node's −Z) turned to glTF's −Y as the samples do.
   for (const io::PartsEmitter& e : sidecar->emitters) {
@@ -124,11 +139,12 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
                                          const std::string& helper) {
   namespace fs = std::filesystem;
   const io::TomlNode resolved = resolved_document(design);
-  Result<io::PartsFile> sidecar = io::parse_parts_tree(resolved, design.path, design_root_keys(), "the design file");
+  Result<io::PartsFile> sidecar = io::parse_parts_tree(sidecar_tree(resolved), design.path, design_root_keys(), "the design file");
   if (!sidecar.ok()) return sidecar.error();
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
-  if (parts->reflectors.empty() && parts->lenses.empty())
+  if (Status s = step_export_supported(design, *parts); !s.ok()) return s.error();
+  if (parts->reflectors.empty() && parts->lenses.empty() && parts->troughs.empty() && parts->covers.empty())
     return make_error(design.path, "the design has no parts to write as STEP");
 
   io::StepExport request;
@@ -160,6 +176,8 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
     toml_set(rule, "material", toml_string(lens.material));
     rules.array.push_back(std::move(rule));
   }
+  if (Status s = add_troughs_to_step(design, *parts, kStepProfileSamples, request, rules); !s.ok()) return s.error();
+  if (Status s = add_covers_to_step(design, *parts, *sidecar, request, rules); !s.ok()) return s.error();
   if (const fs::path folder = fs::path(step_path).parent_path(); !folder.empty())
     if (Status s = io::make_directories(folder.string()); !s.ok()) return s.error();
   io::CadLoadOptions options;
@@ -173,7 +191,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   const fs::path design_dir = fs::absolute(design.path).parent_path();
   const fs::path step_dir = fs::absolute(step_path).parent_path();
   for (const auto& [key, value] : resolved.table) {
-    if (key == "reflectors" || key == "lenses") continue;
+    if (key == "reflectors" || key == "lenses" || key == "troughs" || key == "covers") continue;
     io::TomlNode copy = value;
     // The emitters' files: copied beside the STEP where they are elsewhere
     // (a sidecar's paths stay in its folder, as glTF's uris do), by name.

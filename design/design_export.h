@@ -33,6 +33,9 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
 // copied beside the STEP where they are elsewhere (a sidecar's files stay in
 // its folder), and named by their file names. All by atomic writes; the
 // STEP's folder is made where missing.
+// Troughs and covers go into the same STEP and sidecar (design/parts_export.h);
+// a design with fixed parts, facets or troughs' caps is refused, naming the
+// part's line.
 inline constexpr int kStepProfileSamples = 2001;
 inline constexpr double kStepToleranceMm = 1e-3;
 struct StepExportInfo {

@@ -37,6 +37,10 @@
 //   degree = 3                         # 1 … 5 (default 3)
 //   points = [[4, 10], [15, 8], [25, 2], [30, -5]]   # (ρ, z), ρ ≥ 0
 //
+// Other kinds of part, each in its own header: [[troughs]] (design/trough.h),
+// [[covers]] (design/cover.h), [[parts]] with a file (design/fixed_part.h),
+// and a reflector's `facets` (design/facets.h).
+//
 // The frame is the luminaire's photometric frame: zenith +Z, C0 +X, so the
 // nadir (γ = 0) is −Z; every reflector turns about the Z axis.
 //

@@ -28,7 +28,8 @@ class PartsReader {
  public:
   PartsReader(const std::string& path, double unit_m) : path_(path), unit_(unit_m) {}
 
-  Result<Reflector> reflector(const TomlNode& t) const;
+  // `table`: the array of tables it sits in, as messages name it.
+  Result<Reflector> reflector(const TomlNode& t, const std::string& table = "reflectors") const;
 
  private:
   Status keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const {
@@ -69,8 +70,8 @@ class PartsReader {
   double unit_;
 };
 
-Result<Reflector> PartsReader::reflector(const TomlNode& t) const {
-  const std::string what = "[[reflectors]] at line " + std::to_string(t.line);
+Result<Reflector> PartsReader::reflector(const TomlNode& t, const std::string& table) const {
+  const std::string what = "[[" + table + "]] at line " + std::to_string(t.line);
   Reflector r;
   r.line = t.line;
   Result<std::string> name = string(t, "name", what);
@@ -155,6 +156,153 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t) const {
   return r;
 }
 
+// A reflector with its facets, where it has them (design/facets.h).
+Result<Reflector> read_faceted_reflector(const PartsReader& reader, const TomlNode& t, const std::string& path) {
+  const TomlNode* facets = t.get("facets");
+  if (!facets) return reader.reflector(t);
+  TomlNode smooth = t;
+  std::erase_if(smooth.table, [](const io::TomlMember& m) { return m.first == "facets"; });
+  Result<Reflector> r = reader.reflector(smooth);
+  if (!r.ok()) return r;
+  Result<Facets> f = read_facets(*facets, path, "[[reflectors]] at line " + std::to_string(t.line));
+  if (!f.ok()) return f.error();
+  r->facets = *f;
+  return r;
+}
+
+// The line of the part already named `name` (reflectors, troughs), or 0.
+int line_of_name(const DesignParts& parts, const std::string& name) {
+  for (const Reflector& r : parts.reflectors)
+    if (r.name == name) return r.line;
+  for (const Trough& t : parts.troughs)
+    if (t.name == name || (!t.caps.empty() && t.name + " caps" == name)) return t.line;
+  for (const Cover& c : parts.covers)
+    if (c.name == name) return c.line;
+  for (const FixedPart& f : parts.fixed_parts)
+    if (f.name == name) return f.line;
+  for (const Lens& l : parts.lenses)
+    if (l.name == name) return l.line;
+  return 0;
+}
+
+// The part kinds beside the reflectors: [[troughs]] (design/trough.h).
+Status read_other_parts(const TomlNode& resolved, const std::string& path, DesignParts& out) {
+  if (const TomlNode* r = resolved.get("troughs")) {
+    if (!r->is_array_of_tables()) return fail(path, r->line, "'troughs' must be an array of tables ([[troughs]])");
+    for (const TomlNode& t : r->array) {
+      Result<Trough> one = read_trough(t, path, out.unit_m);
+      if (!one.ok()) return one.error();
+      for (const std::string& name : {one->name, one->name + " caps"})
+        if (const int other = line_of_name(out, name))
+          return fail(path, t.line, "[[troughs]] at line " + std::to_string(t.line) + ": the name " + io::shown(name) +
+                                        " is taken by the part at line " + std::to_string(other));
+      out.troughs.push_back(std::move(*one));
+    }
+  }
+  if (const TomlNode* r = resolved.get("covers")) {
+    if (!r->is_array_of_tables()) return fail(path, r->line, "'covers' must be an array of tables ([[covers]])");
+    for (const TomlNode& t : r->array) {
+      Result<Cover> one = read_cover(t, path, out.unit_m);
+      if (!one.ok()) return one.error();
+      if (const int other = line_of_name(out, one->name))
+        return fail(path, t.line, "[[covers]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
+                                      " is taken by the part at line " + std::to_string(other));
+      out.covers.push_back(std::move(*one));
+    }
+  }
+  if (const TomlNode* r = resolved.get("parts"); r && r->is_array())
+    for (const TomlNode& t : r->array) {
+      if (!is_fixed_part(t)) continue;  // a rule of the sidecar's
+      Result<FixedPart> one = read_fixed_part(t, path, out.unit_m);
+      if (!one.ok()) return one.error();
+      if (const int other = line_of_name(out, one->name))
+        return fail(path, t.line, "[[parts]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
+                                      " is taken by the part at line " + std::to_string(other));
+      out.fixed_parts.push_back(std::move(*one));
+    }
+  return Ok{};
+}
+
+// One part of the design placed once where the file puts it, named `name`,
+// given `material` by a rule.
+void add_design_part(io::CadModel& model, io::PartsFile& sidecar, const std::string& name, const std::string& material,
+                     int line, io::CadSurface surface, double size_m, double chordal_m) {
+  io::CadPart part;
+  part.name = name;
+  part.size_m = size_m;
+  part.chordal_m = chordal_m;
+  part.surfaces.push_back(std::move(surface));
+  io::CadPlacement placement;
+  placement.part = static_cast<std::uint32_t>(model.parts.size());
+  placement.path = name;
+  model.parts.push_back(std::move(part));
+  model.placements.push_back(std::move(placement));
+  io::PartsRule rule;
+  rule.match = name;
+  rule.material = material;
+  rule.line = line;
+  sidecar.rules.push_back(std::move(rule));
+}
+
+// The troughs tessellated into `model`, each an emitter's distance from its surface checked.
+Status add_troughs(const DesignParts& parts, const std::string& path, const io::CadTessellation& tess,
+                   io::PartsFile& sidecar, io::CadModel& model) {
+  for (const Trough& t : parts.troughs) {
+    const std::string what = "[[troughs]] at line " + std::to_string(t.line) + " (" + t.name + ")";
+    for (const auto& [material, line] : {std::pair{t.material, t.line}, std::pair{t.caps, t.caps_line}})
+      if (!material.empty() && !sidecar.material(material))
+        return fail(path, line, what + ": material " + io::shown(material) + " is not defined ([materials." + material + "])");
+    Result<TroughMesh> mesh = tessellate_trough(t, tess, kMaxPartTriangles);
+    if (!mesh.ok()) return fail(path, t.line, what + ": " + mesh.error().message);
+    for (const io::PartsEmitter& e : sidecar.emitters) {
+      if (!e.at.empty() || !e.position) continue;
+      const double d = distance_to_trough(t, *e.position * parts.unit_m);
+      if (d <= mesh->chordal_m)
+        return fail(path, t.line, what + ": the profile passes through the emitter " + io::shown(e.name) + " (line " +
+                                      std::to_string(e.line) + "; " + format_number(d * 1e3) +
+                                      " mm from it, within the chordal deflection " + format_number(mesh->chordal_m * 1e3) + " mm)");
+    }
+    add_design_part(model, sidecar, t.name, t.material, t.line, std::move(mesh->reflector), mesh->size_m, mesh->chordal_m);
+    if (mesh->caps)
+      add_design_part(model, sidecar, t.name + " caps", t.caps, t.caps_line, std::move(*mesh->caps), mesh->size_m,
+                      mesh->chordal_m);
+  }
+  return Ok{};
+}
+
+// The covers meshed into `model`: solids of their thickness where their
+// material is a volume's, sheets otherwise (design/cover.h).
+Status add_covers(const DesignParts& parts, const std::string& path, const io::CadTessellation& tess,
+                  io::PartsFile& sidecar, io::CadModel& model) {
+  for (const Cover& c : parts.covers) {
+    const std::string what = "[[covers]] at line " + std::to_string(c.line) + " (" + c.name + ")";
+    const io::PartsMaterial* material = sidecar.material(c.material);
+    if (!material)
+      return fail(path, c.line, what + ": material " + io::shown(c.material) + " is not defined ([materials." + c.material + "])");
+    double preset_thickness = 0.0;
+    Result<bool> volume = is_volume_material(*material, path, &preset_thickness);
+    if (!volume.ok()) return volume.error();
+    double thickness = 0.0;
+    if (*volume) {
+      thickness = c.thickness.value_or(preset_thickness);
+      if (!(thickness > 0.0))
+        return fail(path, c.line, what + ": material " + io::shown(c.material) +
+                                      " is a volume (a dielectric or a medium): give the cover a 'thickness'");
+    } else if (c.thickness) {
+      return fail(path, c.thickness_line, what + ": material " + io::shown(c.material) +
+                                              " is a thin sheet's (one surface): a 'thickness' would mean nothing");
+    }
+    Result<CoverMesh> mesh = tessellate_cover(c, thickness, tess, kMaxPartTriangles);
+    if (!mesh.ok()) return fail(path, c.line, what + ": " + mesh.error().message);
+    for (const io::PartsEmitter& e : sidecar.emitters)
+      if (e.at.empty() && e.position && cover_holds(c, thickness, mesh->chordal_m, *e.position * parts.unit_m))
+        return fail(path, c.line, what + ": the emitter " + io::shown(e.name) + " (line " + std::to_string(e.line) +
+                                      ") lies " + (thickness > 0.0 ? "inside the cover's solid" : "on the cover"));
+    add_design_part(model, sidecar, c.name, c.material, c.line, std::move(mesh->surface), mesh->size_m, mesh->chordal_m);
+  }
+  return Ok{};
+}
+
 // [[lenses]] (design/lens.h), their names unique among all parts.
 Status read_lenses(const TomlNode& resolved, const std::string& path, DesignParts& out) {
   const TomlNode* l = resolved.get("lenses");
@@ -163,14 +311,9 @@ Status read_lenses(const TomlNode& resolved, const std::string& path, DesignPart
   for (const TomlNode& t : l->array) {
     Result<Lens> one = read_lens(t, path, out.unit_m);
     if (!one.ok()) return one.error();
-    auto taken = [&](const std::string& name, int line) {
-      return fail(path, t.line, "[[lenses]] at line " + std::to_string(t.line) + ": the name " + io::shown(name) +
-                                    " is taken by the part at line " + std::to_string(line));
-    };
-    for (const Reflector& other : out.reflectors)
-      if (other.name == one->name) return taken(one->name, other.line);
-    for (const Lens& other : out.lenses)
-      if (other.name == one->name) return taken(one->name, other.line);
+    if (const int other = line_of_name(out, one->name))
+      return fail(path, t.line, "[[lenses]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
+                                    " is taken by the part at line " + std::to_string(other));
     out.lenses.push_back(std::move(*one));
   }
   return Ok{};
@@ -208,9 +351,13 @@ Status add_lens(const Lens& lens, const std::string& path, const io::CadLoadOpti
 
 }  // namespace
 
+Result<Reflector> read_profile_part(const TomlNode& t, const std::string& path, double unit_m, const std::string& table) {
+  return PartsReader(path, unit_m).reflector(t, table);
+}
+
 const std::vector<std::string>& design_root_keys() {
-  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors",
-                                                "lenses",      "merit",     "tolerances"};
+  static const std::vector<std::string> keys = {"length_unit", "materials", "emitters", "reflectors", "lenses",
+                                                "troughs",     "covers",    "parts",    "merit",      "tolerances"};
   return keys;
 }
 
@@ -225,7 +372,7 @@ Result<DesignParts> read_design_parts(const TomlNode& resolved, const std::strin
   if (const TomlNode* r = resolved.get("reflectors")) {
     if (!r->is_array_of_tables()) return fail(path, r->line, "'reflectors' must be an array of tables ([[reflectors]])");
     for (const TomlNode& t : r->array) {
-      Result<Reflector> one = reader.reflector(t);
+      Result<Reflector> one = read_faceted_reflector(reader, t, path);
       if (!one.ok()) return one.error();
       for (const Reflector& other : out.reflectors)
         if (other.name == one->name)
@@ -236,8 +383,9 @@ Result<DesignParts> read_design_parts(const TomlNode& resolved, const std::strin
     }
   }
   if (Status s = read_lenses(resolved, path, out); !s.ok()) return s.error();
-  if (out.reflectors.empty() && out.lenses.empty())
-    return fail(path, 0, "the design has no parts: add [[reflectors]] or [[lenses]]");
+  if (Status s = read_other_parts(resolved, path, out); !s.ok()) return s.error();
+  if (out.reflectors.empty() && out.lenses.empty() && out.troughs.empty() && out.covers.empty() && out.fixed_parts.empty())
+    return fail(path, 0, "the design has no parts: add [[reflectors]], [[lenses]], [[troughs]], [[covers]] or [[parts]]");
   return out;
 }
 
@@ -245,7 +393,8 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
                                     std::vector<Finding>* findings, io::CadLoadInfo* info) {
   const auto start = std::chrono::steady_clock::now();
   const TomlNode resolved = resolved_document(design);
-  Result<io::PartsFile> sidecar = io::parse_parts_tree(resolved, design.path, design_root_keys(), "the design file");
+  Result<io::PartsFile> sidecar =
+      io::parse_parts_tree(sidecar_tree(resolved), design.path, design_root_keys(), "the design file");
   if (!sidecar.ok()) return sidecar.error();
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
@@ -264,7 +413,9 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
     if (!curve.ok()) return fail(design.path, r.line, curve.error().message);
     io::CadPart part;
     part.name = r.name;
-    Result<io::CadSurface> meshed = revolve(*curve, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m);
+    Result<io::CadSurface> meshed =
+        r.facets ? revolve_faceted(*curve, *r.facets, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m)
+                 : revolve(*curve, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m);
     if (!meshed.ok())
       return fail(design.path, r.line, "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " +
                                            meshed.error().message);
@@ -294,6 +445,10 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
   }
   for (const Lens& lens : parts->lenses)
     if (Status s = add_lens(lens, design.path, options, parts->unit_m, *sidecar, model); !s.ok()) return s.error();
+  if (Status s = add_troughs(*parts, design.path, options.tessellation, *sidecar, model); !s.ok()) return s.error();
+  if (Status s = add_covers(*parts, design.path, options.tessellation, *sidecar, model); !s.ok()) return s.error();
+  for (const FixedPart& f : parts->fixed_parts)
+    if (Status s = add_fixed_part(f, design.path, options, *sidecar, model, findings); !s.ok()) return s.error();
   const double tessellate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Result<sim::SceneDesc> scene = io::cad_scene(model, *sidecar, design.path, options, findings, info);
   if (scene.ok() && info) {
@@ -321,10 +476,15 @@ std::vector<std::string> design_files(const std::string& path) {
   std::vector<std::string> files = {path};
   Result<Design> design = read_design_file(path);
   if (!design.ok()) return files;
-  Result<io::PartsFile> sidecar =
-      io::parse_parts_tree(resolved_document(*design), path, design_root_keys(), "the design file");
+  const TomlNode resolved = resolved_document(*design);
+  Result<io::PartsFile> sidecar = io::parse_parts_tree(sidecar_tree(resolved), path, design_root_keys(), "the design file");
   if (!sidecar.ok()) return files;
   const fs::path dir = fs::path(path).parent_path();
+  if (Result<DesignParts> parts = read_design_parts(resolved, path); parts.ok())
+    for (const FixedPart& f : parts->fixed_parts) {
+      const std::string file = (dir / f.file).lexically_normal().string();
+      if (std::find(files.begin(), files.end(), file) == files.end()) files.push_back(file);
+    }
   for (const io::PartsEmitter& e : sidecar->emitters)
     for (const std::string* reference : {&e.profile, &e.ray_file}) {
       if (reference->empty()) continue;

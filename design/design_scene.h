@@ -6,12 +6,17 @@
 // ray files and spectra are read exactly as a CAD sidecar's.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "design/design_file.h"
 #include "design/lens.h"
+#include "design/cover.h"
+#include "design/facets.h"
+#include "design/fixed_part.h"
 #include "design/revolved.h"
+#include "design/trough.h"
 #include "io/model/cad.h"
 #include "photometry/diagnostics.h"
 #include "sim/scene.h"
@@ -23,6 +28,7 @@ struct Reflector {
   std::string name;
   std::string material;
   Profile profile;
+  std::optional<Facets> facets;  // design/facets.h; none: smooth
   int line = 0;
 };
 
@@ -32,8 +38,18 @@ struct DesignParts {
   double unit_m = 1e-3;  // metres per unit of the file's lengths
   std::vector<Reflector> reflectors;
   std::vector<Lens> lenses;  // design/lens.h
+  std::vector<Trough> troughs;              // design/trough.h
+  std::vector<Cover> covers;                // design/cover.h
+  std::vector<FixedPart> fixed_parts;       // design/fixed_part.h ([[parts]] with a file)
 };
 Result<DesignParts> read_design_parts(const io::TomlNode& resolved, const std::string& path);
+
+// A table with a reflector's keys (name, material, profile and the
+// profile's keys) read as a reflector, `table` naming its array in messages
+// ("[[troughs]] at line 12: …"); the other kinds of profile part
+// (design/trough.h) read their profile with it.
+Result<Reflector> read_profile_part(const io::TomlNode& t, const std::string& path, double unit_m,
+                                    const std::string& table);
 
 // The root keys a design file may hold.
 const std::vector<std::string>& design_root_keys();

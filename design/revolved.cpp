@@ -289,15 +289,10 @@ void ProfileCurve::eval(double t, double& rho, double& z, double& drho, double& 
   dz = -dr * std::cos(t) + r * std::sin(t);
 }
 
-Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellation& tess, std::size_t max_triangles,
-                               double* size_out, double* chordal_out, const RevolveOptions& extra) {
-  struct Sample {
-    double t, rho, z, drho, dz, angle;
-  };
-  std::vector<Sample> fine(kFineSamples);
-  double rho_max = 0.0, z_min = INFINITY, z_max = -INFINITY;
+std::vector<ProfileSample> sample_profile(const ProfileCurve& curve) {
+  std::vector<ProfileSample> fine(kFineSamples);
   for (std::size_t k = 0; k < kFineSamples; ++k) {
-    Sample& s = fine[k];
+    ProfileSample& s = fine[k];
     s.t = curve.t0() + (curve.t1() - curve.t0()) * static_cast<double>(k) / static_cast<double>(kFineSamples - 1);
     curve.eval(s.t, s.rho, s.z, s.drho, s.dz);
     s.angle = std::atan2(s.dz, s.drho);
@@ -305,17 +300,11 @@ Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellat
       while (s.angle - fine[k - 1].angle > std::numbers::pi) s.angle -= 2 * std::numbers::pi;
       while (s.angle - fine[k - 1].angle < -std::numbers::pi) s.angle += 2 * std::numbers::pi;
     }
-    rho_max = std::max(rho_max, s.rho);
-    z_min = std::min(z_min, s.z);
-    z_max = std::max(z_max, s.z);
   }
-  const double size = std::sqrt(8.0 * rho_max * rho_max + (z_max - z_min) * (z_max - z_min));
-  const double chordal = tess.chordal_m > 0.0 ? tess.chordal_m : std::max(tess.chordal_relative * size, tess.chordal_min_m);
-  const double delta = tess.angular_deflection_deg * std::numbers::pi / 180.0;
-  if (size_out) *size_out = size;
-  if (chordal_out) *chordal_out = chordal;
+  return fine;
+}
 
-  // Rows along the profile.
+std::vector<std::size_t> profile_rows(const std::vector<ProfileSample>& fine, double delta, double chordal) {
   std::vector<std::size_t> rows = {0};
   auto fits = [&](std::size_t a, std::size_t b) {
     if (std::abs(fine[b].angle - fine[a].angle) > delta * kRowsPerDeflection) return false;
@@ -328,28 +317,57 @@ Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellat
     }
     return true;
   };
-  for (std::size_t k = 1; k < kFineSamples; ++k)
+  const std::size_t n = fine.size();
+  for (std::size_t k = 1; k < n; ++k)
     if (!fits(rows.back(), k)) rows.push_back(k - 1 > rows.back() ? k - 1 : k);
-  if (rows.back() != kFineSamples - 1) rows.push_back(kFineSamples - 1);
+  if (rows.back() != n - 1) rows.push_back(n - 1);
+  return rows;
+}
 
-  // Around the axis.
+std::size_t azimuth_segments(double rho_max, double delta, double chordal) {
   std::size_t segments = static_cast<std::size_t>(std::ceil(2.0 * std::numbers::pi / delta));
   if (rho_max > chordal) {
     const double by_chord = std::numbers::pi / std::acos(1.0 - chordal / rho_max);
     segments = std::max(segments, static_cast<std::size_t>(std::ceil(by_chord)));
   }
-  segments = std::max<std::size_t>(segments, 8);
-  if (extra.segments > 0) segments = extra.segments;
+  return std::max<std::size_t>(segments, 8);
+}
+
+double normal_side(const std::vector<ProfileSample>& fine) {
+  double facing = 0.0;
+  for (const ProfileSample& s : fine) facing += (s.dz * -s.rho - s.drho * -s.z) / std::max(std::hypot(s.drho, s.dz), 1e-300);
+  return facing >= 0.0 ? 1.0 : -1.0;
+}
+
+Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellation& tess, std::size_t max_triangles,
+                               double* size_out, double* chordal_out, const RevolveOptions& extra) {
+  using Sample = ProfileSample;
+  const std::vector<Sample> fine = sample_profile(curve);
+  double rho_max = 0.0, z_min = INFINITY, z_max = -INFINITY;
+  for (const Sample& s : fine) {
+    rho_max = std::max(rho_max, s.rho);
+    z_min = std::min(z_min, s.z);
+    z_max = std::max(z_max, s.z);
+  }
+  const double size = std::sqrt(8.0 * rho_max * rho_max + (z_max - z_min) * (z_max - z_min));
+  const double chordal = tess.chordal_m > 0.0 ? tess.chordal_m : std::max(tess.chordal_relative * size, tess.chordal_min_m);
+  const double delta = tess.angular_deflection_deg * std::numbers::pi / 180.0;
+  if (size_out) *size_out = size;
+  if (chordal_out) *chordal_out = chordal;
+
+  // Rows along the profile.
+  const std::vector<std::size_t> rows = profile_rows(fine, delta, chordal);
+
+  // Around the axis.
+  const std::size_t segments = extra.segments > 0 ? extra.segments : azimuth_segments(rho_max, delta, chordal);
   if (2.0 * static_cast<double>(rows.size()) * static_cast<double>(segments) > static_cast<double>(max_triangles))
     return make_error("meshed to an angular deflection of " + format_number(tess.angular_deflection_deg) + "° it would take " +
                       format_number(2.0 * static_cast<double>(rows.size()) * static_cast<double>(segments), 3) +
                       " triangles, more than " + std::to_string(max_triangles) + ": coarsen the tessellation");
 
   // The normal's side: toward the origin (where the source sits) over the profile as a whole.
-  double facing = 0.0;
-  for (const Sample& s : fine) facing += (s.dz * -s.rho - s.drho * -s.z) / std::max(std::hypot(s.drho, s.dz), 1e-300);
   const double side = extra.normal_side != 0 ? (extra.normal_side > 0 ? 1.0 : -1.0)
-                                            : facing >= 0.0 ? 1.0 : -1.0;  // normal = side · (dz, −dρ)/|·|
+                                            : normal_side(fine);  // normal = side · (dz, −dρ)/|·|
 
   io::CadSurface out;
   const double pole = 1e-9 * size;

@@ -78,6 +78,23 @@ class ProfileCurve {
 // r(θ) of a polar table between its nodes (the spline above) and d ln r/dθ.
 double polar_r(const PolarProfile& p, double theta, double* dlnr = nullptr);
 
+// The profile sampled at 4096 equal steps of t, with the tangent's angle
+// atan2(dz, dρ) unwrapped along it; the rows the tessellation keeps (indices
+// into the samples: a new row wherever the tangent has turned by δ/4 or the
+// chord leaves the curve by more than `chordal_m`; first and last always);
+// and the side (+1 or −1) for which side · (dz, −dρ)/|·| faces the origin
+// over the profile as a whole. revolve() and the troughs (design/trough.h)
+// share them.
+struct ProfileSample {
+  double t = 0.0, rho = 0.0, z = 0.0, drho = 0.0, dz = 0.0, angle = 0.0;
+};
+std::vector<ProfileSample> sample_profile(const ProfileCurve& curve);
+std::vector<std::size_t> profile_rows(const std::vector<ProfileSample>& fine, double delta_rad, double chordal_m);
+double normal_side(const std::vector<ProfileSample>& fine);
+// Steps around the axis: at most δ, and the chord of the widest circle
+// (radius rho_max) within the chordal deflection; at least 8.
+std::size_t azimuth_segments(double rho_max, double delta_rad, double chordal_m);
+
 // The surface of revolution of `curve`, tessellated to `t` (CadTessellation's
 // angular and chordal deflections; its size for the relative chordal
 // deflection is the surface's bounding-box diagonal), normals facing the

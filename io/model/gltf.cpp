@@ -1889,7 +1889,7 @@ Result<sim::SceneDesc> Loader::load() {
     }
   }
   scene_.emitters = std::move(kept);
-  if (scene_.emitters.empty())
+  if (scene_.emitters.empty() && options_.require_emitters)
     return fail("no emitter: the scene has no EXT_lights_ies light, no KHR_lights_punctual point "
                 "or spot light and no emissive material with flux; nothing would shine");
   if (scene_.meshes.empty())

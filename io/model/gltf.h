@@ -110,6 +110,10 @@ struct GltfLoadOptions {
   // (sim::Instance); false flattens every copy into world geometry
   // (sim::flattened), as Gonio did before instancing.
   bool instancing = true;
+  // Whether a model without an emitter is an error ("nothing would shine");
+  // false for a part placed in a design file (design/fixed_part.h), whose
+  // light comes from the design.
+  bool require_emitters = true;
 };
 
 // Loads a .gltf or .glb luminaire model. Findings (warnings, notes about what

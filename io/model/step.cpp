@@ -6,6 +6,11 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
+#include <GC_MakeArcOfCircle.hxx>
+#include <gp_Pln.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <GeomAPI_PointsToBSpline.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
@@ -758,6 +763,43 @@ Result<TopoDS_Shape> revolved_solid(const StepRevolvedPart& part, double toleran
   return revol.Shape();
 }
 
+// A cover (step_export.h) of OpenCASCADE's primitives, in millimetres.
+TopoDS_Shape cover_shape(const StepRevolvedPart& c) {
+  const double z = c.cover_z, t = c.cover_t;
+  const gp_Ax1 axis(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1));
+  if (c.cover == "box") {
+    if (t > 0.0) return BRepPrimAPI_MakeBox(gp_Pnt(-c.cover_a / 2, -c.cover_b / 2, z - t), c.cover_a, c.cover_b, t).Shape();
+    return BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), -c.cover_a / 2, c.cover_a / 2,
+                                   -c.cover_b / 2, c.cover_b / 2)
+        .Face();
+  }
+  if (c.cover == "disc") {
+    if (t > 0.0) return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, z - t), gp_Dir(0, 0, 1)), c.cover_a / 2, t).Shape();
+    return BRepPrimAPI_MakeRevol(BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, z), gp_Pnt(c.cover_a / 2, 0, z)).Edge(), axis).Shape();
+  }
+  // The dome, built bulging down and mirrored about z where it bulges up: its
+  // meridian in the XZ plane, turned about Z.
+  const double a = c.cover_a / 2, s = std::abs(c.cover_b), r = (a * a + s * s) / (2 * s);
+  const double zc = z - s + r;  // the spheres' centre
+  const double flip = c.cover_b < 0.0 ? -1.0 : 1.0;
+  auto at = [&](double rho, double height) { return gp_Pnt(rho, 0, z + flip * (height - z)); };
+  auto arc = [&](double radius, double rho_end) {  // from the apex to the base plane, through its middle
+    const double end = std::asin(rho_end / radius), mid = end / 2;
+    return BRepBuilderAPI_MakeEdge(GC_MakeArcOfCircle(at(0, zc - radius), at(radius * std::sin(mid), zc - radius * std::cos(mid)),
+                                                      at(rho_end, zc - radius * std::cos(end)))
+                                       .Value())
+        .Edge();
+  };
+  if (t <= 0.0) return BRepPrimAPI_MakeRevol(arc(r, a), axis).Shape();
+  const double ri = r - t, rho_in = std::sqrt(ri * ri - (r - s) * (r - s));
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(arc(r, a));
+  wire.Add(BRepBuilderAPI_MakeEdge(at(a, z), at(rho_in, zc - ri * std::cos(std::asin(rho_in / ri)))).Edge());
+  wire.Add(arc(ri, rho_in));
+  wire.Add(BRepBuilderAPI_MakeEdge(at(0, zc - ri), at(0, zc - r)).Edge());
+  return BRepPrimAPI_MakeRevol(BRepBuilderAPI_MakeFace(wire.Wire(), true).Face(), axis).Shape();
+}
+
 }  // namespace
 
 Status write_step_file(const StepExport& request, const std::string& path, double* max_deviation_mm) {
@@ -772,6 +814,15 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
     TDataStd_Name::Set(assembly, TCollection_ExtendedString(request.product.empty() ? "design" : request.product.c_str(), true));
     double deviation = 0.0;
     for (const StepRevolvedPart& part : request.parts) {
+      if (!part.cover.empty()) {
+        const TopoDS_Shape cover = cover_shape(part);
+        if (cover.IsNull()) return make_error(path, part.name + ": OpenCASCADE could not make the cover");
+        const TDF_Label label = shapes->AddShape(cover, false);
+        TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
+        const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());
+        TDataStd_Name::Set(component, TCollection_ExtendedString(part.name.c_str(), true));
+        continue;
+      }
       const std::size_t n = std::min(part.rho.size(), part.z.size());
       if (n < 2) return make_error(path, part.name + ": a profile needs at least 2 points");
       if (!part.curves.empty()) {
@@ -784,7 +835,9 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
         continue;
       }
       TColgp_Array1OfPnt points(1, static_cast<int>(n));
-      for (std::size_t i = 0; i < n; ++i) points.SetValue(static_cast<int>(i) + 1, gp_Pnt(part.rho[i], 0.0, part.z[i]));
+      const bool extruded = part.extrude_mm > 0.0;  // a trough: the profile in the XZ plane at y = −L/2
+      const double y0 = extruded ? -0.5 * part.extrude_mm : 0.0;
+      for (std::size_t i = 0; i < n; ++i) points.SetValue(static_cast<int>(i) + 1, gp_Pnt(part.rho[i], y0, part.z[i]));
       GeomAPI_PointsToBSpline fit(points, 3, 8, GeomAbs_C2, request.tolerance_mm);
       if (!fit.IsDone() || fit.Curve().IsNull())
         return make_error(path, part.name + ": OpenCASCADE found no B-spline within " +
@@ -797,9 +850,17 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
       BRepBuilderAPI_MakeEdge edge(curve);
       if (!edge.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not make the profile's edge");
       const TopoDS_Shape profile = edge.Edge();
-      BRepPrimAPI_MakeRevol revol(profile, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)));
-      if (!revol.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not turn the profile about the axis");
-      const TDF_Label label = shapes->AddShape(revol.Shape(), false);
+      TopoDS_Shape surface;
+      if (extruded) {
+        BRepPrimAPI_MakePrism prism(profile, gp_Vec(0.0, part.extrude_mm, 0.0));
+        if (!prism.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not extrude the profile");
+        surface = prism.Shape();
+      } else {
+        BRepPrimAPI_MakeRevol revol(profile, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)));
+        if (!revol.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not turn the profile about the axis");
+        surface = revol.Shape();
+      }
+      const TDF_Label label = shapes->AddShape(surface, false);
       TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
       const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());
       TDataStd_Name::Set(component, TCollection_ExtendedString(part.name.c_str(), true));

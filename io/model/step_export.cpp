@@ -30,6 +30,10 @@ std::string serialize_step_export(const StepExport& request) {
       for (std::size_t c : p.curves) out += " " + std::to_string(c);
       out += "\n";
     }
+    if (p.extrude_mm > 0.0) out += "extrude " + format_number(p.extrude_mm, 17) + "\n";
+    if (!p.cover.empty())
+      out += "cover " + one_line(p.cover) + " " + format_number(p.cover_a, 17) + " " + format_number(p.cover_b, 17) + " " +
+             format_number(p.cover_t, 17) + " " + format_number(p.cover_z, 17) + "\n";
     out += "points " + std::to_string(p.rho.size()) + "\n";
     for (std::size_t i = 0; i < p.rho.size() && i < p.z.size(); ++i)
       out += format_number(p.rho[i], 17) + " " + format_number(p.z[i], 17) + "\n";
@@ -82,10 +86,25 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
       if (cs >> rest) return bad("text after the curve starts");
       if (!next(line)) return bad("expected 'points N'");
     }
+    if (line.rfind("extrude ", 0) == 0) {
+      p.extrude_mm = std::strtod(line.c_str() + 8, &end);
+      if (*end != '\0' || !(p.extrude_mm > 0.0) || !std::isfinite(p.extrude_mm)) return bad("bad extrusion length");
+      if (!next(line)) return bad("expected 'points N'");
+    }
+    if (line.rfind("cover ", 0) == 0) {
+      std::istringstream c(line.substr(6));
+      std::string rest;
+      if (!(c >> p.cover >> p.cover_a >> p.cover_b >> p.cover_t >> p.cover_z) || (c >> rest) ||
+          (p.cover != "box" && p.cover != "disc" && p.cover != "dome") || !(p.cover_a > 0.0) || !(p.cover_t >= 0.0) ||
+          !std::isfinite(p.cover_a) || !std::isfinite(p.cover_b) || !std::isfinite(p.cover_t) || !std::isfinite(p.cover_z))
+        return bad("bad cover (box, disc or dome; then four finite numbers)");
+      if (!next(line)) return bad("expected 'points N'");
+    }
     if (line.rfind("points ", 0) != 0) return bad("expected 'points N'");
     value = line.substr(7);
     const long n = std::strtol(value.c_str(), &end, 10);
-    if (*end != '\0' || n < 2 || n > 10'000'000) return bad("bad point count (at least 2)");
+    if (*end != '\0' || (p.cover.empty() ? n < 2 : n != 0) || n > 10'000'000)
+      return bad(p.cover.empty() ? "bad point count (at least 2)" : "a cover has no points");
     if (!p.curves.empty() && static_cast<long>(p.curves.back()) + 1 >= n)
       return bad("a curve starts at or after the last point");
     for (long i = 0; i < n; ++i) {
@@ -93,8 +112,9 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
       std::istringstream pt(line);
       double rho = 0.0, z = 0.0;
       std::string rest;
-      if (!(pt >> rho >> z) || (pt >> rest) || !std::isfinite(rho) || !std::isfinite(z) || rho < 0.0)
-        return bad("expected two finite numbers ρ ≥ 0, z");
+      if (!(pt >> rho >> z) || (pt >> rest) || !std::isfinite(rho) || !std::isfinite(z) ||
+          (rho < 0.0 && p.extrude_mm == 0.0))
+        return bad(p.extrude_mm > 0.0 ? "expected two finite numbers x, z" : "expected two finite numbers ρ ≥ 0, z");
       p.rho.push_back(rho);
       p.z.push_back(z);
     }

@@ -24,6 +24,17 @@ struct StepRevolvedPart {
   // is the next one's first), from the axis back to the axis; the segment
   // along the axis closes the meridian, which is turned into a solid.
   std::vector<std::size_t> curves;
+  // > 0: an extruded part (a trough) instead: the points are (x, z) of the
+  // XZ plane (x of either sign), extruded along +Y by this length [mm] from
+  // y = −extrude_mm/2; 0: turned about the Z axis.
+  double extrude_mm = 0.0;
+  // Not empty: a cover (design/cover.h) made of OpenCASCADE's primitives
+  // instead, no points: "box" (a = x, b = y), "disc" (a = diameter) or
+  // "dome" (a = the base's diameter, b = the signed sag), its face toward
+  // the luminaire at z [mm], a solid of thickness t below it (a dome: inward
+  // of its outer sphere) or, t = 0, one face.
+  std::string cover{};
+  double cover_a = 0.0, cover_b = 0.0, cover_t = 0.0, cover_z = 0.0;  // [mm]
 };
 
 struct StepExport {
@@ -32,8 +43,9 @@ struct StepExport {
   std::vector<StepRevolvedPart> parts;
 };
 
-// The request as text: a header line, then per part its name on one line
-// and its points one per line (names lose their line breaks).
+// The request as text: a header line, then per part its name on one line,
+// for an extruded part a line "extrude L", and its points one per line
+// (names lose their line breaks).
 std::string serialize_step_export(const StepExport& request);
 
 // Reads the text back; `name` names it in messages. Errors: a malformed or

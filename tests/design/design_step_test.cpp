@@ -218,9 +218,20 @@ TEST(DesignStep, ADesignWithoutPartsOrWithABadToleranceIsAnError) {
   EXPECT_FALSE(fs::exists(dir / "lamp.step"));
 }
 
-TEST(DesignStep, FreeCadFindsThePartsByName) {
-  test::TempDir dir;
-  const Written w = write_step(dir.path());
+// What FreeCAD made of a STEP file (tests/design/read_step.py): per object
+// with a shape its type, area and faces, by label.
+struct FreeCadObject {
+  std::string type;
+  double area_mm2 = 0.0;
+  int faces = 0;
+};
+struct FreeCadListing {
+  bool missing = false;  // no freecadcmd: `text` says why
+  std::string text;      // the listing, or FreeCAD's output where it wrote none
+  std::map<std::string, FreeCadObject> found;
+};
+FreeCadListing freecad_listing(const fs::path& step, const fs::path& dir) {
+  FreeCadListing out;
   const fs::path py = test::source_dir() / "tests" / "design" / "read_step.py";
   const fs::path listing = dir / "parts.txt";
   // FreeCAD runs one at a time (its user folder is shared): the CAD tests' lock.
@@ -228,35 +239,46 @@ TEST(DesignStep, FreeCadFindsThePartsByName) {
   fs::create_directories(lock_dir);
   const int lock = ::open((lock_dir / ".lock").c_str(), O_CREAT | O_RDWR, 0644);
   if (lock >= 0) ::flock(lock, LOCK_EX);
-  test::ScopedEnv in("GONIO_STEP_IN", (dir / "cad" / "lamp.step").c_str());
-  test::ScopedEnv out("GONIO_STEP_OUT", listing.c_str());
+  test::ScopedEnv in("GONIO_STEP_IN", step.c_str());
+  test::ScopedEnv env_out("GONIO_STEP_OUT", listing.c_str());
   Result<io::ProcessOutput> fc = io::run_program({"freecadcmd", py.string()}, std::chrono::seconds(300),
                                                  std::size_t{1} << 20, "install Debian's freecad (scripts/setup.sh)");
   if (lock >= 0) ::close(lock);
-  if (!fc.ok()) GONIO_MISSING("FreeCAD's freecadcmd on PATH: " + fc.error().message);
-  ASSERT_TRUE(fs::exists(listing)) << fc->out << fc->err;
-  struct Object {
-    std::string type;
-    double area_mm2 = 0.0;
-    int faces = 0;
-  };
-  std::map<std::string, Object> found;
-  std::istringstream lines(test::read_file(listing));
+  if (!fc.ok()) {
+    out.missing = true;
+    out.text = fc.error().message;
+    return out;
+  }
+  if (!fs::exists(listing)) {
+    out.text = fc->out + fc->err;
+    return out;
+  }
+  out.text = test::read_file(listing);
+  std::istringstream lines(out.text);
   for (std::string line; std::getline(lines, line);) {
     std::istringstream fields(line);
     std::string label, type, area, faces;
-    ASSERT_TRUE(std::getline(fields, label, '\t') && std::getline(fields, type, '\t') &&
-                std::getline(fields, area, '\t') && std::getline(fields, faces, '\t'))
-        << line;
-    found[label] = {type, std::stod(area), std::stoi(faces)};
+    if (!(std::getline(fields, label, '\t') && std::getline(fields, type, '\t') && std::getline(fields, area, '\t') &&
+          std::getline(fields, faces, '\t')))
+      continue;
+    out.found[label] = {type, std::stod(area), std::stoi(faces)};
   }
-  ASSERT_EQ(found.size(), 4u) << test::read_file(listing);
+  return out;
+}
+
+TEST(DesignStep, FreeCadFindsThePartsByName) {
+  test::TempDir dir;
+  const Written w = write_step(dir.path());
+  FreeCadListing fc = freecad_listing(dir / "cad" / "lamp.step", dir.path());
+  if (fc.missing) GONIO_MISSING("FreeCAD's freecadcmd on PATH: " + fc.text);
+  std::map<std::string, FreeCadObject>& found = fc.found;
+  ASSERT_EQ(found.size(), 4u) << fc.text;
   // The assembly, named by the file, holds the three parts.
-  ASSERT_TRUE(found.count("lamp")) << test::read_file(listing);
+  ASSERT_TRUE(found.count("lamp")) << fc.text;
   EXPECT_EQ(found["lamp"].type, "App::Part");
   EXPECT_EQ(found["lamp"].faces, 3);
   for (const char* name : {"Outer dish", "polar", "spline"}) {
-    ASSERT_TRUE(found.count(name)) << name << "\n" << test::read_file(listing);
+    ASSERT_TRUE(found.count(name)) << name << "\n" << fc.text;
     EXPECT_EQ(found[name].type, "Part::Feature") << name;
     EXPECT_EQ(found[name].faces, 1) << name;
   }
@@ -356,35 +378,50 @@ TEST(DesignStep, LensesAreSolidsOnTheirExactSurfaces) {
   EXPECT_EQ(sidecar.find("[[lenses]]"), std::string::npos) << sidecar;
 
   // FreeCAD finds the solids by name; the meniscus's area is the closed form's.
-  const fs::path py = test::source_dir() / "tests" / "design" / "read_step.py";
-  const fs::path listing = dir / "parts.txt";
-  const fs::path lock_dir = fs::path(GONIO_TEST_DATA_DIR) / "cad";
-  fs::create_directories(lock_dir);
-  const int lock = ::open((lock_dir / ".lock").c_str(), O_CREAT | O_RDWR, 0644);
-  if (lock >= 0) ::flock(lock, LOCK_EX);
-  test::ScopedEnv in("GONIO_STEP_IN", (dir / "cad" / "lenses.step").c_str());
-  test::ScopedEnv out("GONIO_STEP_OUT", listing.c_str());
-  Result<io::ProcessOutput> fc = io::run_program({"freecadcmd", py.string()}, std::chrono::seconds(300),
-                                                 std::size_t{1} << 20, "install Debian's freecad (scripts/setup.sh)");
-  if (lock >= 0) ::close(lock);
-  if (!fc.ok()) GONIO_MISSING("FreeCAD's freecadcmd on PATH: " + fc.error().message);
-  ASSERT_TRUE(fs::exists(listing)) << fc->out << fc->err;
-  std::map<std::string, std::pair<std::string, double>> found;
-  std::istringstream lines(test::read_file(listing));
-  for (std::string line; std::getline(lines, line);) {
-    std::istringstream fields(line);
-    std::string label, type, area;
-    ASSERT_TRUE(std::getline(fields, label, '\t') && std::getline(fields, type, '\t') &&
-                std::getline(fields, area, '\t'))
-        << line;
-    found[label] = {type, std::stod(area)};
-  }
+  FreeCadListing fc = freecad_listing(dir / "cad" / "lenses.step", dir.path());
+  if (fc.missing) GONIO_MISSING("FreeCAD's freecadcmd on PATH: " + fc.text);
+  std::map<std::string, FreeCadObject>& found = fc.found;
   for (const char* name : {"lens", "tir"}) {
-    ASSERT_TRUE(found.count(name)) << name << "\n" << test::read_file(listing);
-    EXPECT_EQ(found[name].first, "Part::Feature") << name;
+    ASSERT_TRUE(found.count(name)) << name << "\n" << fc.text;
+    EXPECT_EQ(found[name].type, "Part::Feature") << name;
   }
-  std::printf("meniscus area: FreeCAD %.9g mm², closed form %.9g mm²\n", found["lens"].second, meniscus_area_mm2());
-  EXPECT_NEAR(found["lens"].second / meniscus_area_mm2(), 1.0, 1e-5);
+  std::printf("meniscus area: FreeCAD %.9g mm², closed form %.9g mm²\n", found["lens"].area_mm2, meniscus_area_mm2());
+  EXPECT_NEAR(found["lens"].area_mm2 / meniscus_area_mm2(), 1.0, 1e-5);
+}
+
+// A trough (design/trough.h) as STEP: FreeCAD finds the part by its name, one
+// face, of the parabolic cylinder's area 400 mm × 20 mm × (2√5 + asinh 2)
+// (f = 10 mm, x over ±40 mm); measured 4·10⁻⁵ above it (docs/design.md).
+TEST(DesignStep, FreeCadFindsTheTroughByName) {
+  test::TempDir dir;
+  Result<Design> d = parse_design(R"(length_unit = "mm"
+[materials.mirror]
+mirror = 1.0
+[[emitters]]
+name = "LED"
+position = [0, 0, 0]
+flux_lm = 1000
+[[troughs]]
+name = "Linear trough"
+material = "mirror"
+profile = "conic"
+radius = 20
+conic = -1
+vertex = 10
+aperture = [0, 40]
+length = 400
+)",
+                                  (dir / "trough.design.toml").string());
+  ASSERT_TRUE(d.ok());
+  Result<StepExportInfo> info = write_design_step(*d, (dir / "trough.step").string());
+  ASSERT_TRUE(info.ok()) << to_string(info.error());
+  FreeCadListing fc = freecad_listing(dir / "trough.step", dir.path());
+  if (fc.missing) GONIO_MISSING("FreeCAD's freecadcmd on PATH: " + fc.text);
+  ASSERT_TRUE(fc.found.count("Linear trough")) << fc.text;
+  const FreeCadObject& t = fc.found["Linear trough"];
+  EXPECT_EQ(t.type, "Part::Feature");
+  EXPECT_EQ(t.faces, 1);
+  EXPECT_NEAR(t.area_mm2 / (400.0 * 20.0 * (2 * std::sqrt(5.0) + std::asinh(2.0))), 1.0, 1e-4);
 }
 
 }  // namespace

@@ -1,0 +1,46 @@
+// Export of the design's part kinds beside the reflectors of revolution
+// (design/trough.h, design/cover.h, design/fixed_part.h; design_export.h
+// calls it): into the design's glTF, each as the simulation meshes it —
+// the same tessellation, positions and exact normals, the fixed parts as
+// placed — turned into glTF's Y-up frame as the reflectors are.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "design/design_file.h"
+#include "design/design_scene.h"
+#include "io/model/cad_model.h"
+#include "io/model/gltf_writer.h"
+#include "io/model/parts_file.h"
+#include "io/model/step_export.h"
+#include "photometry/diagnostics.h"
+
+namespace gonio::design {
+
+// Adds a mesh and node per part other than the reflectors of `parts` to
+// `w`; `material` gives the glTF material index of a design material's name.
+Status write_other_parts_gltf(const Design& design, const DesignParts& parts, const io::CadTessellation& tessellation,
+                              io::GltfWriter& w, const std::function<Result<int>(const std::string&)>& material);
+
+// Ok where the design has nothing the STEP export does not write yet;
+// else the error naming the first such part's line (troughs' caps, fixed
+// parts and facets go to glTF only so far).
+Status step_export_supported(const Design& design, const DesignParts& parts);
+
+// The troughs as extruded parts of the STEP request (io/model/step_export.h):
+// the profile sampled at `samples` equal steps of its parameter [mm], a
+// symmetric trough's mirror image joined to it where the profile starts on
+// the axis (one face), else its own part "NAME mirrored"; with a sidecar
+// rule (match, material) per part added to `rules`.
+Status add_troughs_to_step(const Design& design, const DesignParts& parts, int samples, io::StepExport& request,
+                           io::TomlNode& rules);
+
+// The covers as parts of the STEP request: OpenCASCADE's primitives (a box,
+// a cylinder, a dome turned from its meridian), solids of their thickness
+// where their material is a volume's, one face otherwise (design/cover.h),
+// named by their names, with a sidecar rule each.
+Status add_covers_to_step(const Design& design, const DesignParts& parts, const io::PartsFile& sidecar,
+                          io::StepExport& request, io::TomlNode& rules);
+
+}  // namespace gonio::design
