@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 
+#include "design/table_reader.h"
 #include "io/model/parts_file.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
@@ -17,57 +18,18 @@ namespace {
 using io::TomlNode;
 namespace fs = std::filesystem;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::size_t kMaxPartTriangles = 16'000'000;  // as a glTF scene's (io::kMaxTriangles)
 
 Error fail(const std::string& file, int line, std::string message) {
   return Error{{file, line, 0}, std::move(message)};
 }
 
-class PartsReader {
+class PartsReader : public TableReader {
  public:
-  PartsReader(const std::string& path, double unit_m) : path_(path), unit_(unit_m) {}
+  using TableReader::TableReader;
 
   // `table`: the array of tables it sits in, as messages name it.
   Result<Reflector> reflector(const TomlNode& t, const std::string& table = "reflectors") const;
-
- private:
-  Status keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const {
-    return io::check_keys(t, known, what, path_);
-  }
-  Result<std::string> string(const TomlNode& t, const char* key, const std::string& what) const {
-    const TomlNode* n = t.get(key);
-    if (!n) return fail(path_, t.line, what + ": '" + key + "' is missing");
-    if (!n->is_string()) return fail(path_, n->line, what + ": '" + key + "' must be a string");
-    return n->string;
-  }
-  Result<std::optional<double>> number(const TomlNode& t, const char* key, const std::string& what) const {
-    const TomlNode* n = t.get(key);
-    if (!n) return std::optional<double>();
-    const std::optional<double> v = n->number();
-    if (!v || !std::isfinite(*v)) return fail(path_, n->line, what + ": '" + key + "' must be a finite number");
-    return v;
-  }
-  Result<std::vector<double>> numbers(const TomlNode& t, const char* key, const std::string& what,
-                                      bool required) const {
-    const TomlNode* n = t.get(key);
-    if (!n) {
-      if (required) return fail(path_, t.line, what + ": '" + key + "' is missing");
-      return std::vector<double>();
-    }
-    std::vector<double> out;
-    bool ok = n->is_array();
-    for (std::size_t i = 0; ok && i < n->array.size(); ++i) {
-      const std::optional<double> v = n->array[i].number();
-      ok = v && std::isfinite(*v);
-      if (ok) out.push_back(*v);
-    }
-    if (!ok) return fail(path_, n->line, what + ": '" + key + "' must be an array of finite numbers");
-    return out;
-  }
-
-  const std::string& path_;
-  double unit_;
 };
 
 Result<Reflector> PartsReader::reflector(const TomlNode& t, const std::string& table) const {
@@ -124,28 +86,10 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t, const std::string& t
   } else if (*kind == "bspline") {
     if (Status s = keys(t, {"name", "material", "profile", "degree", "points"}, what); !s.ok()) return s.error();
     BSplineProfile b;
-    Result<std::optional<double>> degree = number(t, "degree", what);
+    Result<int> degree = this->degree(t, what, 3);
     if (!degree.ok()) return degree.error();
-    const double wanted = degree->value_or(3.0);
-    if (!(wanted >= 1.0 && wanted <= 5.0) || wanted != std::trunc(wanted))
-      return fail(path_, t.get("degree")->line, what + ": 'degree' must be a whole number, 1 … 5");
-    b.degree = static_cast<int>(wanted);
-    const TomlNode* points = t.get("points");
-    if (!points) return fail(path_, t.line, what + ": 'points' is missing");
-    bool ok = points->is_array();
-    for (std::size_t i = 0; ok && i < points->array.size(); ++i) {
-      const TomlNode& pt = points->array[i];
-      ok = pt.is_array() && pt.array.size() == 2;
-      const double pr = ok ? pt.array[0].number().value_or(kNaN) : kNaN;
-      const double pz = ok ? pt.array[1].number().value_or(kNaN) : kNaN;
-      ok = std::isfinite(pr) && std::isfinite(pz);
-      if (ok) {
-        b.rho.push_back(pr * unit_);
-        b.z.push_back(pz * unit_);
-      }
-    }
-    if (!ok) return fail(path_, points->line, what + ": 'points' must be an array of [ρ, z] pairs of finite numbers");
-    if (b.rho.size() > 10000) return fail(path_, points->line, what + ": more than 10000 points");
+    b.degree = *degree;
+    if (Status st = points(t, what, b); !st.ok()) return st.error();
     r.profile = b;
   } else {
     return fail(path_, profile_line,

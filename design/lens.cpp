@@ -5,6 +5,7 @@
 #include <numbers>
 #include <optional>
 
+#include "design/table_reader.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
 
@@ -13,7 +14,6 @@ namespace {
 
 using io::TomlNode;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 Error fail(const std::string& file, int line, std::string message) {
   return Error{{file, line, 0}, std::move(message)};
@@ -22,62 +22,9 @@ Error fail(const std::string& file, int line, std::string message) {
 std::string mm(double m) { return format_number(m * 1e3, 4); }
 
 // Reads the numbers of one [[lenses]] table and its surface tables.
-class LensReader {
+class LensReader : public TableReader {
  public:
-  LensReader(const std::string& path, double unit_m, std::string what) : path_(path), unit_(unit_m), what_(std::move(what)) {}
-
-  Result<std::optional<double>> number(const TomlNode& t, const char* key, const std::string& what) const {
-    const TomlNode* n = t.get(key);
-    if (!n) return std::optional<double>();
-    const std::optional<double> v = n->number();
-    if (!v || !std::isfinite(*v)) return fail(path_, n->line, what + ": '" + key + "' must be a finite number");
-    return v;
-  }
-  Result<std::vector<double>> numbers(const TomlNode& t, const char* key, const std::string& what, bool required) const {
-    const TomlNode* n = t.get(key);
-    if (!n) {
-      if (required) return fail(path_, t.line, what + ": '" + key + "' is missing");
-      return std::vector<double>();
-    }
-    std::vector<double> out;
-    bool ok = n->is_array();
-    for (std::size_t i = 0; ok && i < n->array.size(); ++i) {
-      const std::optional<double> v = n->array[i].number();
-      ok = v && std::isfinite(*v);
-      if (ok) out.push_back(*v);
-    }
-    if (!ok) return fail(path_, n->line, what + ": '" + key + "' must be an array of finite numbers");
-    return out;
-  }
-  // B-spline control points [[ρ, z], …] in metres.
-  Status points(const TomlNode& t, const std::string& what, BSplineProfile& b) const {
-    const TomlNode* points = t.get("points");
-    if (!points) return fail(path_, t.line, what + ": 'points' is missing");
-    bool ok = points->is_array();
-    for (std::size_t i = 0; ok && i < points->array.size(); ++i) {
-      const TomlNode& pt = points->array[i];
-      ok = pt.is_array() && pt.array.size() == 2;
-      const double pr = ok ? pt.array[0].number().value_or(kNaN) : kNaN;
-      const double pz = ok ? pt.array[1].number().value_or(kNaN) : kNaN;
-      ok = std::isfinite(pr) && std::isfinite(pz);
-      if (ok) {
-        b.rho.push_back(pr * unit_);
-        b.z.push_back(pz * unit_);
-      }
-    }
-    if (!ok) return fail(path_, points->line, what + ": 'points' must be an array of [ρ, z] pairs of finite numbers");
-    if (b.rho.size() > 10000) return fail(path_, points->line, what + ": more than 10000 points");
-    return Ok{};
-  }
-  Result<int> degree(const TomlNode& t, const std::string& what, int fallback) const {
-    Result<std::optional<double>> d = number(t, "degree", what);
-    if (!d.ok()) return d.error();
-    const double wanted = d->value_or(fallback);
-    if (!(wanted >= 1.0 && wanted <= 5.0) || wanted != std::trunc(wanted))
-      return fail(path_, t.get("degree")->line, what + ": 'degree' must be a whole number, 1 … 5");
-    return static_cast<int>(wanted);
-  }
-
+  LensReader(const std::string& path, double unit_m) : TableReader(path, unit_m) {}
   // A surface: `vertex_z` its vertex's height (conic and B-spline), `aperture` the conic's rim.
   Result<Profile> surface(const TomlNode& t, const std::string& what, std::optional<double> vertex_z,
                           std::optional<double> aperture, const char* vertex_needs) const {
@@ -139,11 +86,6 @@ class LensReader {
     return fail(path_, kind->line,
                 what + ": profile " + io::shown(kind->string) + " is not one a lens surface takes (conic, bspline, polar)");
   }
-
- private:
-  const std::string& path_;
-  double unit_;
-  std::string what_;
 };
 
 void point_at(const ProfileCurve& c, double t, double& rho, double& z) {
@@ -202,7 +144,7 @@ Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) 
   if (lens.name.empty() || lens.name.find_first_of("*?[]/\\") != std::string::npos)
     return fail(path, t.get("name")->line, what + ": 'name' must be non-empty, without * ? [ ] / \\");
   const std::string named = what + " (" + lens.name + ")";
-  LensReader r(path, unit, named);
+  LensReader r(path, unit);
   Result<std::optional<double>> vertex = r.number(t, "vertex", named);
   if (!vertex.ok()) return vertex.error();
   Result<std::optional<double>> thickness = r.number(t, "thickness", named);
