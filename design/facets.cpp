@@ -53,8 +53,7 @@ Result<io::CadSurface> revolve_faceted(const ProfileCurve& curve, const Facets& 
     z_min = std::min(z_min, s.z);
     z_max = std::max(z_max, s.z);
   }
-  const double size = std::sqrt(8.0 * rho_max * rho_max + (z_max - z_min) * (z_max - z_min));
-  const double chordal = tess.chordal_m > 0.0 ? tess.chordal_m : std::max(tess.chordal_relative * size, tess.chordal_min_m);
+  const auto [size, chordal] = revolved_extent(rho_max, z_min, z_max, tess);
   const double delta = tess.angular_deflection_deg * kPi / 180.0;
   const double side = normal_side(fine);
   if (size_out) *size_out = size;

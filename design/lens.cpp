@@ -261,14 +261,11 @@ Result<io::CadPart> lens_part(const Lens& lens, const io::CadTessellation& t, st
     z_min = std::min(z_min, z);
     z_max = std::max(z_max, z);
   }
-  const double size = std::sqrt(8.0 * rho_max * rho_max + (z_max - z_min) * (z_max - z_min));
+  const auto [size, chordal] = revolved_extent(rho_max, z_min, z_max, t);
   io::CadTessellation fixed = t;
-  fixed.chordal_m = t.chordal_m > 0.0 ? t.chordal_m : std::max(t.chordal_relative * size, t.chordal_min_m);
+  fixed.chordal_m = chordal;
   const double delta = t.angular_deflection_deg * std::numbers::pi / 180.0;
-  std::size_t segments = static_cast<std::size_t>(std::ceil(2.0 * std::numbers::pi / delta));
-  if (rho_max > fixed.chordal_m)
-    segments = std::max(segments, static_cast<std::size_t>(std::ceil(std::numbers::pi / std::acos(1.0 - fixed.chordal_m / rho_max))));
-  segments = std::max<std::size_t>(segments, 8);
+  const std::size_t segments = azimuth_segments(rho_max, delta, fixed.chordal_m);
 
   io::CadPart part;
   part.name = lens.name;

@@ -324,6 +324,13 @@ std::vector<std::size_t> profile_rows(const std::vector<ProfileSample>& fine, do
   return rows;
 }
 
+RevolvedExtent revolved_extent(double rho_max, double z_min, double z_max, const io::CadTessellation& tess) {
+  RevolvedExtent e;
+  e.size = std::sqrt(8.0 * rho_max * rho_max + (z_max - z_min) * (z_max - z_min));
+  e.chordal = tess.chordal_m > 0.0 ? tess.chordal_m : std::max(tess.chordal_relative * e.size, tess.chordal_min_m);
+  return e;
+}
+
 std::size_t azimuth_segments(double rho_max, double delta, double chordal) {
   std::size_t segments = static_cast<std::size_t>(std::ceil(2.0 * std::numbers::pi / delta));
   if (rho_max > chordal) {
@@ -349,8 +356,7 @@ Result<io::CadSurface> revolve(const ProfileCurve& curve, const io::CadTessellat
     z_min = std::min(z_min, s.z);
     z_max = std::max(z_max, s.z);
   }
-  const double size = std::sqrt(8.0 * rho_max * rho_max + (z_max - z_min) * (z_max - z_min));
-  const double chordal = tess.chordal_m > 0.0 ? tess.chordal_m : std::max(tess.chordal_relative * size, tess.chordal_min_m);
+  const auto [size, chordal] = revolved_extent(rho_max, z_min, z_max, tess);
   const double delta = tess.angular_deflection_deg * std::numbers::pi / 180.0;
   if (size_out) *size_out = size;
   if (chordal_out) *chordal_out = chordal;

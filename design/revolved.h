@@ -91,6 +91,14 @@ struct ProfileSample {
 std::vector<ProfileSample> sample_profile(const ProfileCurve& curve);
 std::vector<std::size_t> profile_rows(const std::vector<ProfileSample>& fine, double delta_rad, double chordal_m);
 double normal_side(const std::vector<ProfileSample>& fine);
+// The size of a surface of revolution whose profile reaches ρ_max and spans
+// z_min … z_max (its bounding box's diagonal, √(8ρ_max² + Δz²), as a CAD
+// part's) and the chordal deflection `tess` gives it [m]: tess.chordal_m,
+// or its relative deflection of the size, at least chordal_min_m.
+struct RevolvedExtent {
+  double size = 0.0, chordal = 0.0;
+};
+RevolvedExtent revolved_extent(double rho_max, double z_min, double z_max, const io::CadTessellation& tess);
 // Steps around the axis: at most δ, and the chord of the widest circle
 // (radius rho_max) within the chordal deflection; at least 8.
 std::size_t azimuth_segments(double rho_max, double delta_rad, double chordal_m);
