@@ -125,6 +125,34 @@ int fail(const std::string& message) {
 }
 
 // gonio design export: a design file's parts as STEP (with its sidecar) and glTF.
+// What report.json says of a design against its target: gonio compare's
+// figures and the C0 beam angles of both, and the designed profile r(θ).
+nlohmann::json against_target(const std::string& target_path, const photometry::Distribution& target,
+                              const std::string& traced_path, const io::PhotometricFile& traced,
+                              const photometry::Comparison& cmp, const photometry::CompareOptions& compare) {
+  io::PhotometricFile target_file;
+  target_file.distribution = target;
+  nlohmann::json against = app::compare_json(target_path, target_file, traced_path, traced, cmp, compare);
+  against["beam_angle_target_deg"] = app::json_number(photometry::beam_angle(target, 0.0).angle_deg);
+  against["beam_angle_traced_deg"] = app::json_number(photometry::beam_angle(traced.distribution, 0.0).angle_deg);
+  return against;
+}
+
+// A beam angle of against_target's, as printed (null where it is undefined).
+std::string beam_text(const nlohmann::json& against, const char* key) {
+  const nlohmann::json& v = against.at(key);
+  return v.is_number() ? format_number(v.get<double>(), 4) : std::string("undefined");
+}
+
+nlohmann::json profile_json(const design::PolarProfile& p) {
+  nlohmann::json profile = {{"theta_deg", nlohmann::json::array()}, {"r_mm", nlohmann::json::array()}};
+  for (std::size_t i = 0; i < p.theta.size(); ++i) {
+    profile["theta_deg"].push_back(p.theta[i] * 180.0 / std::numbers::pi);
+    profile["r_mm"].push_back(p.r[i] * 1e3);
+  }
+  return profile;
+}
+
 int export_design(const std::string& path, const std::string& out_dir, double tolerance_mm, double gamma_step) {
   std::string stem = fs::path(path).filename().string();
   stem = stem.substr(0, stem.size() - std::min(stem.size(), std::string(".design.toml").size()));
@@ -260,18 +288,8 @@ int design_lens(const LensRun& in, const ArgParser& p, std::chrono::steady_clock
   compare.normalize_flux = true;  // Fresnel reflections at both faces are real: compare the shapes
   Result<photometry::Comparison> cmp = photometry::compare(target, traced->distribution, compare);
   if (!cmp.ok()) return fail(cmp.error().message);
-  const double beam_target = photometry::beam_angle(target, 0.0).angle_deg;
-  const double beam_traced = photometry::beam_angle(traced->distribution, 0.0).angle_deg;
-  io::PhotometricFile target_file;
-  target_file.distribution = target;
-  nlohmann::json against = app::compare_json(target_path, target_file, traced_path, *traced, *cmp, compare);
-  against["beam_angle_target_deg"] = app::json_number(beam_target);
-  against["beam_angle_traced_deg"] = app::json_number(beam_traced);
-  nlohmann::json profile = {{"theta_deg", nlohmann::json::array()}, {"r_mm", nlohmann::json::array()}};
-  for (std::size_t i = 0; i < d->outer.theta.size(); ++i) {
-    profile["theta_deg"].push_back(d->outer.theta[i] * 180.0 / std::numbers::pi);
-    profile["r_mm"].push_back(d->outer.r[i] * 1e3);
-  }
+  nlohmann::json against = against_target(target_path, target, traced_path, *traced, *cmp, compare);
+  const nlohmann::json profile = profile_json(d->outer);
   nlohmann::json report = result->files->report;
   report["design"] = {{"kind", "lens"},
                       {"emitter", in.emitter_path},
@@ -299,7 +317,7 @@ int design_lens(const LensRun& in, const ArgParser& p, std::chrono::steady_clock
               step_note.c_str());
   std::printf("against the target (flux-normalised): RMS %s %% of its peak, largest %s %%, beam angle %s° (target %s°)\n",
               format_number(100.0 * cmp->rms_relative, 3).c_str(), format_number(100.0 * cmp->max_relative, 3).c_str(),
-              format_number(beam_traced, 4).c_str(), format_number(beam_target, 4).c_str());
+              beam_text(against, "beam_angle_traced_deg").c_str(), beam_text(against, "beam_angle_target_deg").c_str());
   return code;
 }
 
@@ -595,20 +613,10 @@ int run_design(const Args& args) {
   }
 
   // Against the target.
-  const double beam_target = photometry::beam_angle(target, 0.0).angle_deg;
-  const double beam_traced = photometry::beam_angle(traced->distribution, 0.0).angle_deg;
-  io::PhotometricFile target_file;
-  target_file.distribution = target;
-  nlohmann::json against = app::compare_json(target_path, target_file, traced_path, *traced, *cmp, compare);
-  against["beam_angle_target_deg"] = app::json_number(beam_target);
-  against["beam_angle_traced_deg"] = app::json_number(beam_traced);
+  nlohmann::json against = against_target(target_path, target, traced_path, *traced, *cmp, compare);
   against["rms_relative_c_mean"] = cmp_mean->rms_relative;
   against["max_relative_c_mean"] = cmp_mean->max_relative;
-  nlohmann::json profile = {{"theta_deg", nlohmann::json::array()}, {"r_mm", nlohmann::json::array()}};
-  for (std::size_t i = 0; i < d->profile.theta.size(); ++i) {
-    profile["theta_deg"].push_back(d->profile.theta[i] * 180.0 / std::numbers::pi);
-    profile["r_mm"].push_back(d->profile.r[i] * 1e3);
-  }
+  const nlohmann::json profile = profile_json(d->profile);
   nlohmann::json report = result->files->report;
   report["design"] = {{"kind", "reflector"},
                       {"emitter", emitter_path},
@@ -648,7 +656,7 @@ int run_design(const Args& args) {
   std::printf("against the target: RMS %s %% of its peak (averaged over C: %s %%), largest %s %%, beam angle %s° (target %s°)\n",
               format_number(100.0 * cmp->rms_relative, 3).c_str(), format_number(100.0 * cmp_mean->rms_relative, 3).c_str(),
               format_number(100.0 * cmp->max_relative, 3).c_str(),
-              format_number(beam_traced, 4).c_str(), format_number(beam_target, 4).c_str());
+              beam_text(against, "beam_angle_traced_deg").c_str(), beam_text(against, "beam_angle_target_deg").c_str());
   return code;
 }
 
