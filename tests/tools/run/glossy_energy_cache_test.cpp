@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "sim/bsdfs/lobes.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::app {
@@ -100,6 +101,25 @@ TEST(GlossyEnergyCache, ADamagedFileIsRebuiltNotTrusted) {
   const GlossyEnergySource again = load_glossy_energy_tables(glossy_scene(kMx, kMy), cache);
   EXPECT_EQ(again.from_cache, 1);
   EXPECT_EQ(again.built, 0);
+}
+
+// A table read from the cache is the one the tracer's materials get
+// (sim::glossy_energy, through sim::prepare): none is built again.
+TEST(GlossyEnergyCache, TheTableReadIsTheOneTheProcessShares) {
+  test::TempDir dir;
+  const std::string cache = dir.path().string();
+  constexpr double kMx = 0.3125, kMy = 0.5625;  // asked for by no other test
+  ASSERT_TRUE(store_glossy_energy(*sim::build_glossy_energy(kMx, kMy), cache));
+  const GlossyEnergySource s = load_glossy_energy_tables(glossy_scene(kMx, kMy), cache);
+  EXPECT_EQ(s.from_cache, 1);
+  EXPECT_EQ(s.built, 0);
+  const auto shared = sim::glossy_energy(kMx, kMy);
+  sim::Material m = glossy_scene(kMx, kMy).materials[0];
+  sim::prepare(m);
+  ASSERT_NE(m.tables, nullptr);
+  EXPECT_EQ(m.tables->glossy, shared);
+  // The same object as a second read offers: the first offered is kept.
+  EXPECT_EQ(sim::offer_glossy_energy(read_cached_glossy_energy(kMx, kMy, cache)), shared);
 }
 
 // A folder that cannot be written only costs the build.
