@@ -20,7 +20,8 @@ namespace {
 struct EntryKind {
   std::string_view prefix, suffix;
 };
-constexpr EntryKind kEntryKinds[] = {{"mesh-check-", ".json"}, {"resampler-", ".bin"}, {"cad-", ".bin"}};  // by CacheEntry
+constexpr EntryKind kEntryKinds[] = {{"mesh-check-", ".json"}, {"resampler-", ".bin"}, {"cad-", ".bin"},
+                                   {"glossy-energy-", ".bin"}};  // by CacheEntry
 
 bool is_hex16(std::string_view s) {
   return s.size() == 16 && std::all_of(s.begin(), s.end(), [](char c) {

@@ -2,8 +2,9 @@
 // each written atomically by its owner (io/support/file_io.h) under a name that says
 // what it holds — the model checks' results (mesh-check-<hash>.json,
 // io/model/model_check_cache.h), the overlaps that resample the far field onto
-// the files' grids (resampler-<hash>.bin, tools/run/resampler_cache.h) and the
-// tessellations of CAD models (cad-<hash>.bin, io/model/cad.h).
+// the files' grids (resampler-<hash>.bin, tools/run/resampler_cache.h), the
+// tessellations of CAD models (cad-<hash>.bin, io/model/cad.h) and the glossy
+// lobes' energy tables (glossy-energy-<hash>.bin, tools/run/glossy_energy_cache.h).
 //
 // The folder is kept to a size limit, least recently used entries first: a
 // read that uses an entry marks it used (its modification time set to now),
@@ -30,8 +31,8 @@ inline constexpr std::uint64_t kDefaultCacheLimitBytes = std::uint64_t{1} << 30;
 
 // The kinds of entry, and the file name of one under its key (16
 // lower-case hex digits): mesh-check-<key>.json, resampler-<key>.bin,
-// cad-<key>.bin.
-enum class CacheEntry { MeshCheck, Resampler, CadModel };
+// cad-<key>.bin, glossy-energy-<key>.bin.
+enum class CacheEntry { MeshCheck, Resampler, CadModel, GlossyEnergy };
 std::string cache_entry_name(CacheEntry kind, std::uint64_t key);
 
 // Whether `name` (a file name, no folder) is one of Gonio's entries: a name

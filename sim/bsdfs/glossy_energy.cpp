@@ -64,7 +64,24 @@ double bin_moment(const GlossyEnergy& t, int k) {
   return e0 * (b * b - a * a) / 2.0 + s * ((b * b * b - a * a * a) / 3.0 - a * (b * b - a * a) / 2.0);
 }
 
-std::shared_ptr<const GlossyEnergy> build_table(double mx, double my) {
+// e_avg and cdf from the nodes e.
+void finish_table(GlossyEnergy* t) {
+  double e_avg = 0.0, c = 0.0;
+  for (int k = 0; k < kEnergyBins; ++k) {
+    const double lo = static_cast<double>(k) / kEnergyBins, hi = static_cast<double>(k + 1) / kEnergyBins;
+    const double m = bin_moment(*t, k);
+    e_avg += 2.0 * m;
+    c += (hi * hi - lo * lo) / 2.0 - m;
+    t->cdf[static_cast<std::size_t>(k)] = c;
+  }
+  t->e_avg = std::min(1.0, e_avg);
+  if (c > 0.0)
+    for (double& v : t->cdf) v /= c;
+}
+
+}  // namespace
+
+std::shared_ptr<const GlossyEnergy> build_glossy_energy(double mx, double my) {
   auto t = std::make_shared<GlossyEnergy>();
   t->mx = mx;
   t->my = my;
@@ -84,24 +101,30 @@ std::shared_ptr<const GlossyEnergy> build_table(double mx, double my) {
     }
     t->e[static_cast<std::size_t>(k)] = std::clamp(e / azimuths, 0.0, 1.0);
   });
-  double e_avg = 0.0, c = 0.0;
-  for (int k = 0; k < kEnergyBins; ++k) {
-    const double lo = static_cast<double>(k) / kEnergyBins, hi = static_cast<double>(k + 1) / kEnergyBins;
-    const double m = bin_moment(*t, k);
-    e_avg += 2.0 * m;
-    c += (hi * hi - lo * lo) / 2.0 - m;
-    t->cdf[static_cast<std::size_t>(k)] = c;
-  }
-  t->e_avg = std::min(1.0, e_avg);
-  if (c > 0.0)
-    for (double& v : t->cdf) v /= c;
+  finish_table(t.get());
   return t;
 }
 
-}  // namespace
+std::shared_ptr<const GlossyEnergy> glossy_energy_from_nodes(double mx, double my,
+                                                            const std::array<double, kEnergyBins + 1>& e) {
+  if (!(std::isfinite(mx) && mx > 0.0 && std::isfinite(my) && my > 0.0)) return nullptr;
+  for (double v : e)
+    if (!(v >= 0.0 && v <= 1.0)) return nullptr;
+  auto t = std::make_shared<GlossyEnergy>();
+  t->mx = mx;
+  t->my = my;
+  t->e = e;
+  finish_table(t.get());
+  return t;
+}
+
+std::shared_ptr<const GlossyEnergy> offer_glossy_energy(std::shared_ptr<const GlossyEnergy> table) {
+  const std::pair<double, double> key{table->mx, table->my};
+  return cached_table<GlossyEnergy>(key, [&](double, double) { return std::move(table); });
+}
 
 std::shared_ptr<const GlossyEnergy> glossy_energy(double mx, double my) {
-  return cached_table<GlossyEnergy>({mx, my}, build_table);
+  return cached_table<GlossyEnergy>({mx, my}, build_glossy_energy);
 }
 
 double multiple_scattering_factor(double f0, double e_avg) {

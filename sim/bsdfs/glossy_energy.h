@@ -33,6 +33,13 @@
 namespace gonio::sim {
 
 inline constexpr int kEnergyBins = 64;
+// The quadrature of glossy_single_albedo per table node (n × n points).
+inline constexpr int kEnergyQuadrature = 128;
+// The table code's revision: raise it whenever what a table holds for a
+// roughness changes (quadrature, azimuths, nodes, the clamps), so that
+// tables kept on disk by an older Gonio (tools/run/glossy_energy_cache.h)
+// are built again rather than used.
+inline constexpr int kGlossyEnergyRevision = 1;
 
 struct GlossyEnergy {
   double mx = 0.0, my = 0.0;
@@ -51,11 +58,27 @@ struct GlossyEnergy {
 // by midpoint quadrature over Walter's Gaussian slopes (n × n points;
 // relative error below 10⁻³ for n = 128 and roughness 0.05–2). 0 for
 // wi.z <= 0.
-double glossy_single_albedo(double mx, double my, double f0, const Vec3& wi_local, int n = 128);
+double glossy_single_albedo(double mx, double my, double f0, const Vec3& wi_local, int n = kEnergyQuadrature);
 
 // The table of a roughness, built once per process and shared (thread-safe;
 // about 30 ms for an isotropic lobe, 8× that for an anisotropic one).
 std::shared_ptr<const GlossyEnergy> glossy_energy(double mx, double my);
+
+// The table of a roughness built now, not shared (what glossy_energy builds
+// the first time).
+std::shared_ptr<const GlossyEnergy> build_glossy_energy(double mx, double my);
+
+// The table of a roughness from its nodes e (kept from an earlier build):
+// e_avg and cdf computed from them as build_glossy_energy does, so that the
+// nodes of a built table give back the same table, bit for bit. Null where
+// a node is not in [0, 1] or the roughness is not positive and finite.
+std::shared_ptr<const GlossyEnergy> glossy_energy_from_nodes(double mx, double my,
+                                                            const std::array<double, kEnergyBins + 1>& e);
+
+// Makes `table` the one glossy_energy(table->mx, table->my) shares from now
+// on, unless the process already holds one for that roughness; returns the
+// one shared.
+std::shared_ptr<const GlossyEnergy> offer_glossy_energy(std::shared_ptr<const GlossyEnergy> table);
 
 // κ above.
 double multiple_scattering_factor(double f0, double e_avg);

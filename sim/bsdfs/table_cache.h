@@ -11,20 +11,27 @@
 
 namespace gonio::sim {
 
+// One cache per table type T (not per builder: a table offered by one
+// caller is found by every other, whatever it would build with).
+template <class T>
+struct TableCache {
+  static inline std::mutex mutex;
+  static inline std::map<std::pair<double, double>, std::shared_ptr<const T>> tables;
+};
+
 // The table for `key`, built by `build(key.first, key.second)` the first
 // time and kept. Thread-safe; one cache per table type T. Two threads asking
 // for a new key at once may both build it; the first stored wins.
 template <class T, class Build>
 std::shared_ptr<const T> cached_table(std::pair<double, double> key, Build build) {
-  static std::mutex mutex;
-  static std::map<std::pair<double, double>, std::shared_ptr<const T>> cache;
+  using Cache = TableCache<T>;
   {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (auto it = cache.find(key); it != cache.end()) return it->second;
+    std::lock_guard<std::mutex> lock(Cache::mutex);
+    if (auto it = Cache::tables.find(key); it != Cache::tables.end()) return it->second;
   }
   std::shared_ptr<const T> t = build(key.first, key.second);
-  std::lock_guard<std::mutex> lock(mutex);
-  return cache.emplace(key, std::move(t)).first->second;
+  std::lock_guard<std::mutex> lock(Cache::mutex);
+  return Cache::tables.emplace(key, std::move(t)).first->second;
 }
 
 }  // namespace gonio::sim

@@ -11,6 +11,7 @@
 #include "io/support/file_io.h"
 #include "tools/live/live_view.h"
 #include "tools/live/watch_files.h"
+#include "tools/run/glossy_energy_cache.h"
 #include "tools/run/model_input.h"
 
 namespace gonio::app {
@@ -104,6 +105,9 @@ class Watcher {
       if (debouncer_.observe(snapshot_of(files_), WatchClock::now())) changed = true;
       return changed;
     };
+    // The glossy lobes' energy tables from the cache folder where it has
+    // them (~0.3 s of the bell's first preview when built, issue 43).
+    (void)load_glossy_energy_tables(scene, plan_.model_input.cache_dir);
     Result<ProgressiveOutcome> run = run_progressive(scene, plan_.progressive, &resampler, on_iteration, cancel,
                                                      last_ ? &last_->simulation : nullptr);
     if (!run.ok()) {

@@ -13,6 +13,7 @@
 #include "sim/simulation.h"  // sim::parse_luminance_views (sim/detectors)
 #include "sim/detectors/symmetry.h"
 #include "tools/run/distributed_run.h"
+#include "tools/run/glossy_energy_cache.h"
 #include "tools/run/resampler_cache.h"
 
 namespace gonio::app {
@@ -247,6 +248,8 @@ std::optional<SimulateResult> simulate(const SimulatePlan& plan, const SimulateH
     if (preview && preview_status.ok()) preview_status = preview->write(simulation.far_field());
     return !lead || !hooks.on_iteration || hooks.on_iteration(r, simulation);
   };
+  // The glossy lobes' energy tables from the cache folder where it has them.
+  (void)load_glossy_energy_tables(*scene, plan.model_input.cache_dir);
   Result<ProgressiveOutcome> run =
       run_progressive(std::move(scene.value()), plan.progressive, resampler, on_iteration, hooks.cancel);
   if (!run.ok()) {

@@ -468,8 +468,9 @@ TEST(Simulate, ReportsTheSetupPhasesAndCachesTheChecks) {
   EXPECT_LE(setup["max_rss_after_load_bytes"].get<std::uint64_t>(), setup["max_rss_after_checks_bytes"].get<std::uint64_t>());
   EXPECT_LE(setup["max_rss_after_checks_bytes"].get<std::uint64_t>(), peak);
   EXPECT_GT(setup["max_rss_after_load_bytes"].get<std::uint64_t>(), 0u);
-  // One entry of checks, and the resamplers of the files' grid and of the
-  // latitude-longitude map (tools/run/resampler_cache.h).
+  // One entry of checks, the resamplers of the files' grid and of the
+  // latitude-longitude map (tools/run/resampler_cache.h), and the energy
+  // table of the default material's glossy lobe (tools/run/glossy_energy_cache.h).
   ASSERT_TRUE(std::filesystem::is_directory(cache));
   const auto entries = [&] {
     std::vector<std::string> names;
@@ -478,10 +479,11 @@ TEST(Simulate, ReportsTheSetupPhasesAndCachesTheChecks) {
     return names;
   };
   const std::vector<std::string> stored = entries();
-  ASSERT_EQ(stored.size(), 3u);
-  EXPECT_EQ(stored[0].rfind("mesh-check-", 0), 0u);
-  EXPECT_EQ(stored[1].rfind("resampler-", 0), 0u);
+  ASSERT_EQ(stored.size(), 4u);
+  EXPECT_EQ(stored[0].rfind("glossy-energy-", 0), 0u);
+  EXPECT_EQ(stored[1].rfind("mesh-check-", 0), 0u);
   EXPECT_EQ(stored[2].rfind("resampler-", 0), 0u);
+  EXPECT_EQ(stored[3].rfind("resampler-", 0), 0u);
 
   const auto warm = run("warm", {"--cache", cache.string()});
   EXPECT_EQ(warm["setup"]["meshes_from_cache"], 1);
@@ -526,20 +528,22 @@ TEST(Simulate, KeepsTheCacheToItsLimitLeastRecentlyUsedFirst) {
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(cache)) {
       const std::string n = e.path().filename().string();
-      if (n.rfind("mesh-check-", 0) == 0 || (n.rfind("resampler-", 0) == 0 && n.find("00000000000000") == n.npos))
+      if (n.rfind("mesh-check-", 0) == 0 || n.rfind("glossy-energy-", 0) == 0 ||
+          (n.rfind("resampler-", 0) == 0 && n.find("00000000000000") == n.npos))
         names.push_back(n);
     }
     return names;
   };
 
-  // 4 MiB of old entries and this run's three small ones against 3 MiB: the
-  // two oldest go (down to 2.7 MiB).
+  // 4 MiB of old entries and this run's four small ones (checks, two
+  // resamplers, a glossy energy table) against 3 MiB: the two oldest go
+  // (down to 2.7 MiB).
   const auto first = run("first", "3");
   EXPECT_EQ(first["cache"]["dir"], cache.string());
   EXPECT_EQ(first["cache"]["limit_bytes"], 3 * kMiB);
   EXPECT_EQ(first["cache"]["removed_entries"], 2);
   EXPECT_EQ(first["cache"]["removed_bytes"], 2 * kMiB);
-  EXPECT_EQ(first["cache"]["entries"], 5);
+  EXPECT_EQ(first["cache"]["entries"], 6);
   EXPECT_LE(first["cache"]["bytes"].get<std::uint64_t>(), 3 * kMiB - 3 * kMiB / 10);
   EXPECT_FALSE(fs::exists(cache / "resampler-0000000000000001.bin"));
   EXPECT_FALSE(fs::exists(cache / "resampler-0000000000000002.bin"));
@@ -548,7 +552,7 @@ TEST(Simulate, KeepsTheCacheToItsLimitLeastRecentlyUsedFirst) {
   EXPECT_TRUE(fs::exists(cache / "notes.txt"));  // not Gonio's
   EXPECT_FALSE(fs::exists(cache / ".mesh-check-0123456789abcdef.json.tmp42"));
   const std::vector<std::string> stored = ours();
-  ASSERT_EQ(stored.size(), 3u);
+  ASSERT_EQ(stored.size(), 4u);
 
   // This run's entries made older than the rest: a run that reads them marks
   // them used, so the older of the others goes instead.
@@ -564,7 +568,7 @@ TEST(Simulate, KeepsTheCacheToItsLimitLeastRecentlyUsedFirst) {
   // No limit: nothing goes; without a cache, the report says so.
   const auto third = run("third", "0");
   EXPECT_EQ(third["cache"]["removed_entries"], 0);
-  EXPECT_EQ(third["cache"]["entries"], 4);
+  EXPECT_EQ(third["cache"]["entries"], 5);
   auto r = gonio({"simulate", model.string(), "--out", (dir / "none").string(), "--photons", "20000",
                   "--iterations", "1", "--face-size", "16", "--no-cache"});
   EXPECT_EQ(r.exit_code, 0) << r.err;

@@ -4,9 +4,11 @@
 // Slow (about 10 s): ctest label `validation`.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -82,6 +84,49 @@ TEST(SampleOutputs, BellIsRotationalAndItsFilesCarryTheEscapedFlux) {
   expect_opening(dir, "bell", "circular", 0.400, 0.400, 0.002);  // the shade's rim, Ø 400 mm
   EXPECT_EQ(s.report["outputs"]["symmetry"]["chosen"], "rotational");
   EXPECT_NE(s.err.find("symmetry auto: rotational"), std::string::npos) << s.err;
+}
+
+// The bell's glossy lobes (white plastic, black cable) take their energy
+// tables from the cache folder once a run has stored them
+// (tools/run/glossy_energy_cache.h): the same IES bytes with a cold cache, a
+// warm one, none, and one whose tables were damaged (rebuilt and rewritten,
+// not trusted).
+TEST(SampleOutputs, BellIsTheSameBytesWithAColdOrWarmGlossyEnergyCache) {
+  namespace fs = std::filesystem;
+  test::TempDir dir;
+  const std::string model = std::string(GONIO_SAMPLES_DIR) + "/bell/bell.gltf";
+  const fs::path cache = dir / "cache";
+  const auto run = [&](const std::string& out, const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"simulate", model, "--out", (dir / out).string(), "--photons", "20000",
+                                     "--iterations", "1", "--face-size", "16"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto r = gonio(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return test::read_file(dir / out / "bell.ies");
+  };
+  const auto tables = [&] {
+    std::vector<fs::path> found;
+    for (const auto& e : fs::directory_iterator(cache))
+      if (e.path().filename().string().rfind("glossy-energy-", 0) == 0) found.push_back(e.path());
+    std::sort(found.begin(), found.end());
+    return found;
+  };
+  const std::string cold = run("cold", {"--cache", cache.string()});
+  const std::vector<fs::path> stored = tables();
+  ASSERT_EQ(stored.size(), 2u);  // two roughnesses
+  std::vector<std::string> good;
+  for (const fs::path& p : stored) good.push_back(test::read_file(p));
+  EXPECT_EQ(run("warm", {"--cache", cache.string()}), cold);
+  EXPECT_EQ(run("none", {"--no-cache"}), cold);
+  // A node's bit flipped in each table: rebuilt, the same bytes again.
+  for (const fs::path& p : stored) {
+    std::string bad = test::read_file(p);
+    bad[16 + 8 + 16 + 8 * 20] ^= 0x01;
+    test::write_file(p, bad);
+  }
+  EXPECT_EQ(run("damaged", {"--cache", cache.string()}), cold);
+  ASSERT_EQ(tables(), stored);
+  for (std::size_t i = 0; i < stored.size(); ++i) EXPECT_EQ(test::read_file(stored[i]), good[i]) << stored[i];
 }
 
 TEST(SampleOutputs, DownlightSpotlightAndLedArrayFilesCarryTheEscapedFlux) {
