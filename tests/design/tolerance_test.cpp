@@ -168,6 +168,31 @@ TEST(ToleranceSpec, PerturbationsAgainstClosedForms) {
   EXPECT_EQ(scene.emitters[1].flux_lm, 50.0);
 }
 
+// A spectral reflectance replaces the lobes' total at each wavelength
+// (sim/tracer/spectral.h): a reflectance tolerance scales it with the lobes
+// (scaling the lobes alone would change nothing), and its largest value
+// bounds the tolerance: 0.8 · 1.3 > 1 is an error, 0.8 · 1.25 = 1 is not;
+// largest_scale lets ±10 % be scaled by (1 − 0.8 − 0.1)/(0.8 · 0.1) = 1.25
+// with a 0.1 transmission beside it.
+TEST(ToleranceSpec, SpectralReflectanceScalesWithTheLobesAndBoundsThem) {
+  sim::SceneDesc scene = small_scene();
+  sim::Material& red = scene.materials[1];  // opal: diffuse 0.3 reflect, 0.6 transmit
+  red.diffuse_transmit = 0.1;
+  red.spectral_reflectance = {{400.0, 600.0, 700.0}, {0.1, 0.8, 0.4}};
+  const Status over = check_tolerances(parse_ok("[material.opal]\nreflectance = { uniform = 30 }\n"), scene);
+  ASSERT_FALSE(over.ok());
+  EXPECT_EQ(to_string(over.error()).rfind("t.toml:2: opal.reflectance at +30 % would make the material's lobes sum to 1.14 > 1", 0), 0u)
+      << to_string(over.error());
+  const ToleranceSpec s = parse_ok("[material.opal]\nreflectance = { uniform = 10 }\n");
+  ASSERT_TRUE(check_tolerances(s, scene).ok());
+  EXPECT_NEAR(largest_scale(s.tolerances[0], scene), (1.0 - 0.8 - 0.1) / (0.8 * 0.1), 1e-12);
+  apply_tolerances(s, std::vector<double>{-10.0}, scene);
+  EXPECT_DOUBLE_EQ(scene.materials[1].diffuse_reflect, 0.3 * 0.9);
+  EXPECT_DOUBLE_EQ(scene.materials[1].spectral_reflectance.values[1], 0.8 * 0.9);
+  EXPECT_DOUBLE_EQ(scene.materials[1].spectral_reflectance.values[2], 0.4 * 0.9);
+  EXPECT_EQ(scene.materials[1].diffuse_transmit, 0.1);
+}
+
 // A part: every mesh of that name moved along, or turned about, the
 // luminaire's axes through the centre of their bounding box.
 TEST(ToleranceSpec, PartsMoveAndTurnAboutTheirCentre) {

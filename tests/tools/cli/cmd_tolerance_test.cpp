@@ -13,14 +13,17 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "io/model/gltf_writer.h"
 #include "io/photometric/photometric_file.h"
+#include "photometry/colour.h"
 #include "photometry/compare.h"
 #include "photometry/intensity_sampler.h"
+#include "photometry/spectrum.h"
 #include "sim/shapes.h"
 #include "tests/support/test_support.h"
 
@@ -613,6 +616,133 @@ TEST(ToleranceCli, BadInputIsAnErrorNamingTheLine) {
   r = gonio({"tolerance", (dir / "paraboloid.gltf").string(), "--out", (dir / "out").string()});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--tolerances FILE is required"), std::string::npos) << r.err;
+}
+
+
+// Two point lamps at one point, "warm" (a 2700 K blackbody) and "cool"
+// (6500 K), 500 lm each, above a mirror disc: the mirror catches the same
+// share of both, so its reflectance cannot change the luminaire's colour
+// (a grey mirror: the CCT change is below the noise floor), while the warm
+// lamp's flux ±50 % moves the CCT of the mix as the closed form says: the
+// mix's X, Y, Z is the sum of each lamp's flux × (x/y, 1, z/y) of its
+// Planckian chromaticity, its CCT by photometry::cct_duv. With a spectral
+// reflectance (red) on the mirror, its reflectance +20 % adds red light and
+// lowers the CCT, −20 % raises it.
+fs::path write_two_lamps(const fs::path& dir, bool red_mirror) {
+  sim::Mesh disc = sim::disc(0.05, 32);
+  io::GltfWriter w("gonio tolerance colour test");
+  json mirror = {{"name", "mirror"},
+                 {"pbrMetallicRoughness",
+                  {{"baseColorFactor", {0.5, 0.5, 0.5, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}};
+  if (red_mirror)
+    mirror["extras"]["gonio"]["spectral_reflectance"] = {{"wavelengths_nm", {360.0, 560.0, 600.0, 830.0}},
+                                                         {"values", {0.1, 0.1, 0.8, 0.8}}};
+  const int material = w.material(mirror);
+  w.node({{"name", "mirror"}, {"mesh", w.mesh(disc, material, "mirror")}, {"translation", {0.0, -0.02, 0.0}}});
+  for (const auto& [name, kelvin] : {std::pair{"warm", 2700.0}, std::pair{"cool", 6500.0}}) {
+    const int light = w.khr_light({{"name", name},
+                                   {"type", "point"},
+                                   {"intensity", 500.0 / (4.0 * std::numbers::pi)},
+                                   {"extras", {{"gonio", {{"spectrum", {{"blackbody_k", kelvin}}}}}}}});
+    w.node({{"name", name}, {"extensions", {{"KHR_lights_punctual", {{"light", light}}}}}});
+  }
+  std::string bin;
+  const std::string text = w.finish("paraboloid.bin", bin);
+  test::write_file(dir / "paraboloid.bin", bin);
+  test::write_file(dir / "paraboloid.gltf", text);
+  return dir / "paraboloid.gltf";
+}
+
+// The CCT of warm_lm of a 2700 K and cool_lm of a 6500 K blackbody mixed.
+double mixed_cct(double warm_lm, double cool_lm) {
+  photometry::Tristimulus sum;
+  for (const auto& [lm, kelvin] : {std::pair{warm_lm, 2700.0}, std::pair{cool_lm, 6500.0}}) {
+    const photometry::Chromaticity c = photometry::chromaticity(photometry::planckian_uv_prime(kelvin));
+    sum.X += lm * c.x / c.y;
+    sum.Y += lm;
+    sum.Z += lm * (1.0 - c.x - c.y) / c.y;
+  }
+  return photometry::cct_duv(sum).cct_k;
+}
+
+// The red mirror's reflectance: 0.1 up to 560 nm, rising linearly to 0.8
+// at 600 nm and above.
+double red_reflectance(double nm) { return nm <= 560.0 ? 0.1 : nm >= 600.0 ? 0.8 : 0.1 + 0.7 * (nm - 560.0) / 40.0; }
+
+// The CCT of both lamps (500 lm each) with the red mirror's reflectance
+// scaled by `scale`: the mirror disc (radius a = 50 mm, h = 20 mm below the
+// lamps) catches f = (1 − h/√(h² + a²))/2 of each lamp's light and sends
+// back its spectrum × scale·ρ(λ); the rest leaves directly.
+double red_mirror_cct(double scale) {
+  const double a = 0.05, h = 0.02, f = 0.5 * (1.0 - h / std::hypot(h, a));
+  photometry::Tristimulus sum;
+  for (double kelvin : {2700.0, 6500.0}) {
+    const photometry::SampledSpectrum lamp = photometry::blackbody_spectrum(kelvin, 360.0, 830.0, 1.0);
+    photometry::SampledSpectrum reflected = lamp;
+    for (std::size_t i = 0; i < reflected.values.size(); ++i)
+      reflected.values[i] *= scale * red_reflectance(reflected.wavelengths_nm[i]);
+    const photometry::Tristimulus direct = photometry::tristimulus(lamp), back = photometry::tristimulus(reflected);
+    const double lm = 500.0 / direct.Y;  // the lamp's spectrum to 500 lm
+    sum.X += lm * ((1.0 - f) * direct.X + f * back.X);
+    sum.Y += lm * ((1.0 - f) * direct.Y + f * back.Y);
+    sum.Z += lm * ((1.0 - f) * direct.Z + f * back.Z);
+  }
+  return photometry::cct_duv(sum).cct_k;
+}
+
+TEST(ToleranceCli, CctMovesWithTheMixOfTwoSpectraNotWithAGreyMirror) {
+  test::TempDir dir;
+  write_two_lamps(dir.path(), false);
+  const json report = run_tolerance(dir.path(),
+                                    "[emitter.warm]\nflux = { uniform = 50 }\n[material.mirror]\nreflectance = { uniform = 20 }\n",
+                                    {"--photons", "200000", "--trials", "0", "--noise-seeds", "3", "--c-step", "15",
+                                     "--gamma-step", "5"});
+  ASSERT_FALSE(report.is_null());
+  const double nominal = report["nominal"]["cct"].get<double>();
+  const double noise = report["noise"]["floor"]["cct"].get<double>();
+  const double expected = mixed_cct(500.0, 500.0);
+  const json& grey = row(report, "cct", "mirror.reflectance");
+  const json& flux = row(report, "cct", "warm.flux");
+  const double want_high = mixed_cct(750.0, 500.0) - expected, want_low = mixed_cct(250.0, 500.0) - expected;
+  std::printf("CCT nominal %.1f K (closed form %.1f), noise %.2f K; warm.flux change %.1f %.1f (closed form %.1f %.1f); "
+              "grey mirror change %.2f %.2f\n",
+              nominal, expected, noise, flux["change_low"].get<double>(), flux["change_high"].get<double>(), want_low,
+              want_high, grey["change_low"].get<double>(), grey["change_high"].get<double>());
+  EXPECT_NEAR(nominal, expected, std::max(4.0 * noise, 0.01 * expected));
+  EXPECT_TRUE(grey["below_noise"].get<bool>());
+  EXPECT_LT(std::abs(grey["change_low"].get<double>()), 2.0 * noise);
+  EXPECT_LT(std::abs(grey["change_high"].get<double>()), 2.0 * noise);
+  EXPECT_FALSE(flux["below_noise"].get<bool>());
+  // More warm light: lower CCT; the size within 5 % of the closed form's change and 4 σ.
+  EXPECT_LT(flux["change_high"].get<double>(), 0.0);
+  EXPECT_GT(flux["change_low"].get<double>(), 0.0);
+  EXPECT_NEAR(flux["change_high"].get<double>(), want_high, 0.05 * std::abs(want_high) + 4.0 * noise);
+  EXPECT_NEAR(flux["change_low"].get<double>(), want_low, 0.05 * std::abs(want_low) + 4.0 * noise);
+  // Δu′v′ over angle: one colour in every direction, nothing above noise.
+  EXPECT_TRUE(row(report, "duv_max", "mirror.reflectance")["below_noise"].get<bool>());
+
+  // A red mirror: its reflectance moves the CCT, down for more reflectance.
+  test::TempDir red;
+  write_two_lamps(red.path(), true);
+  const json coloured = run_tolerance(red.path(), "[material.mirror]\nreflectance = { uniform = 20 }\n",
+                                      {"--photons", "200000", "--trials", "0", "--noise-seeds", "3", "--c-step", "15",
+                                       "--gamma-step", "5"});
+  ASSERT_FALSE(coloured.is_null());
+  const json& r = row(coloured, "cct", "mirror.reflectance");
+  std::printf("red mirror: CCT nominal %.1f K, change %.2f %.2f, noise %.2f\n", coloured["nominal"]["cct"].get<double>(),
+              r["change_low"].get<double>(), r["change_high"].get<double>(),
+              coloured["noise"]["floor"]["cct"].get<double>());
+  const double red_nominal = red_mirror_cct(1.0);
+  const double red_high = red_mirror_cct(1.2) - red_nominal, red_low = red_mirror_cct(0.8) - red_nominal;
+  std::printf("red mirror closed form: nominal %.1f K, change %.2f %.2f\n", red_nominal, red_low, red_high);
+  EXPECT_FALSE(r["below_noise"].get<bool>());
+  EXPECT_LT(r["change_high"].get<double>(), 0.0);
+  EXPECT_GT(r["change_low"].get<double>(), 0.0);
+  // The disc is a 32-gon (0.6 % less area than the circle): 1 % on the CCT, 5 % on its changes.
+  EXPECT_NEAR(coloured["nominal"]["cct"].get<double>(), red_nominal, 0.01 * red_nominal);
+  const double red_noise = coloured["noise"]["floor"]["cct"].get<double>();
+  EXPECT_NEAR(r["change_high"].get<double>(), red_high, 0.05 * std::abs(red_high) + 4.0 * red_noise);
+  EXPECT_NEAR(r["change_low"].get<double>(), red_low, 0.05 * std::abs(red_low) + 4.0 * red_noise);
 }
 
 }  // namespace
