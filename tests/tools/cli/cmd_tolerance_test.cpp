@@ -13,11 +13,13 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "design/tolerance.h"
 #include "io/model/gltf_writer.h"
 #include "io/photometric/photometric_file.h"
 #include "photometry/colour.h"
@@ -743,6 +745,71 @@ TEST(ToleranceCli, CctMovesWithTheMixOfTwoSpectraNotWithAGreyMirror) {
   const double red_noise = coloured["noise"]["floor"]["cct"].get<double>();
   EXPECT_NEAR(r["change_high"].get<double>(), red_high, 0.05 * std::abs(red_high) + 4.0 * red_noise);
   EXPECT_NEAR(r["change_low"].get<double>(), red_low, 0.05 * std::abs(red_low) + 4.0 * red_noise);
+}
+
+
+// --percentile: with N = 10 trials of the displaced lamp, the RMS
+// difference's 50th percentile is the trial at rank ⌈0.5·10⌉ = 5 of the
+// trials sorted by it, its 100th the worst trial (the same bytes as
+// worst.ies), its 0th the best; peak_gamma:90 the trial at rank 9 by peak γ
+// (ties by trial number). Each written table, read back, has its trial's
+// figures: its RMS difference from nominal.ies and its peak γ.
+TEST(ToleranceCli, PercentileTrialsAreTheNearestRankOfTheirFigure) {
+  test::TempDir dir;
+  write_paraboloid(dir.path(), false);
+  const json report = run_tolerance(dir.path(), "[emitter.lamp]\nx = { normal = 1.0 }\n",
+                                    {"--photons", "50000", "--trials", "10", "--noise-seeds", "0", "--percentile",
+                                     "50,100,0,peak_gamma:90"});
+  ASSERT_FALSE(report.is_null());
+  const json& mc = report["monte_carlo"];
+  ASSERT_EQ(mc["trials"].size(), 10u);
+  ASSERT_EQ(mc["percentile_trials"].size(), 4u);
+  // The nearest rank from the trials' figures in report.json, done here by hand.
+  const auto at_rank = [&](const std::string& figure, std::size_t rank) {
+    std::vector<std::pair<double, std::size_t>> sorted;
+    for (const json& t : mc["trials"]) sorted.emplace_back(t["figures"][figure].get<double>(), t["trial"].get<std::size_t>());
+    std::stable_sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    return sorted[rank - 1].second;
+  };
+  const std::vector<std::tuple<std::string, double, std::size_t, std::string>> want = {
+      {"rms", 50.0, 5, "p50_rms"}, {"rms", 100.0, 10, "p100_rms"}, {"rms", 0.0, 1, "p0_rms"},
+      {"peak_gamma", 90.0, 9, "p90_peak_gamma"}};
+  Result<io::PhotometricFile> nominal = io::read_photometric_file((dir.path() / "out" / "nominal.ies").string());
+  ASSERT_TRUE(nominal.ok());
+  for (std::size_t k = 0; k < want.size(); ++k) {
+    const auto& [figure, percent, rank, stem] = want[k];
+    const json& p = mc["percentile_trials"][k];
+    EXPECT_EQ(p["figure"], figure);
+    EXPECT_EQ(p["percentile"].get<double>(), percent);
+    EXPECT_EQ(p["rank"].get<std::size_t>(), rank);
+    EXPECT_EQ(p["of"].get<std::size_t>(), 10u);
+    const std::size_t trial = at_rank(figure, rank);
+    EXPECT_EQ(p["trial"].get<std::size_t>(), trial) << stem;
+    const json& figures = mc["trials"][trial - 1]["figures"];
+    EXPECT_EQ(p["value"], figures[figure]);
+    EXPECT_EQ(p["files"], json::array({stem + ".ies", stem + ".ldt"}));
+    Result<io::PhotometricFile> written = io::read_photometric_file((dir.path() / "out" / (stem + ".ies")).string());
+    ASSERT_TRUE(written.ok()) << stem;
+    ASSERT_TRUE(fs::exists(dir.path() / "out" / (stem + ".ldt")));
+    Result<design::FigureValues> f = design::figures_of(written->distribution, nominal->distribution, 5.0, 2.5);
+    ASSERT_TRUE(f.ok());
+    EXPECT_NEAR((*f)[design::kRms], figures["rms"].get<double>(), 1e-3 * figures["rms"].get<double>() + 1e-6) << stem;
+    EXPECT_EQ((*f)[design::kPeakGamma], figures["peak_gamma"].get<double>()) << stem;
+  }
+  EXPECT_EQ(mc["percentile_trials"][1]["trial"], mc["worst_trial"]);
+  EXPECT_EQ(mc["percentile_trials"][2]["trial"], mc["best_trial"]);
+  EXPECT_EQ(test::read_file(dir.path() / "out" / "p100_rms.ies"), test::read_file(dir.path() / "out" / "worst.ies"));
+  EXPECT_EQ(test::read_file(dir.path() / "out" / "p0_rms.ldt"), test::read_file(dir.path() / "out" / "best.ldt"));
+  const std::vector<std::string> files = report["files"].get<std::vector<std::string>>();
+  EXPECT_NE(std::find(files.begin(), files.end(), "p90_peak_gamma.ldt"), files.end());
+
+  // A bad item is a usage error naming it.
+  test::write_file(dir.path() / "t.toml", "[emitter.lamp]\nx = { uniform = 1 }\n");
+  const test::ProcessResult r = gonio({"tolerance", (dir.path() / "paraboloid.gltf").string(), "--tolerances",
+                                       (dir.path() / "t.toml").string(), "--out", (dir.path() / "bad").string(),
+                                       "--percentile", "5,beam:95"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--percentile 'beam:95': unknown figure"), std::string::npos) << r.err;
 }
 
 }  // namespace
