@@ -812,5 +812,76 @@ TEST(ToleranceCli, PercentileTrialsAreTheNearestRankOfTheirFigure) {
   EXPECT_NE(r.err.find("--percentile 'beam:95': unknown figure"), std::string::npos) << r.err;
 }
 
+
+// gonio report --tolerance DIR/report.json: the datasheet's yield table
+// holds, per --spec limit, the trials within it counted from report.json's
+// verdicts, the yield report.json gives (%.1f %), the nominal and the
+// trials' range of the figure (%.5g), and the same for all limits.
+TEST(ToleranceCli, DatasheetYieldTableEqualsTheReport) {
+  test::TempDir dir;
+  write_paraboloid(dir.path(), false);
+  const json report = run_tolerance(dir.path(), "[emitter.lamp]\nx = { normal = 1.0 }\n",
+                                    {"--photons", "50000", "--trials", "10", "--noise-seeds", "0", "--spec",
+                                     "peak_gamma<=2,flux=0..,rms=..8", "--inverse-steps", "0"});
+  ASSERT_FALSE(report.is_null());
+  const fs::path sheet = dir.path() / "sheet.html";
+  test::ProcessResult r = gonio({"report", (dir.path() / "out" / "nominal.ies").string(), "--tolerance",
+                                 (dir.path() / "out" / "report.json").string(), "--out", sheet.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string html = test::read_file(sheet);
+  ASSERT_NE(html.find("<h2>Tolerance yield</h2>"), std::string::npos);
+  const json& mc = report["monte_carlo"];
+  const auto g5 = [](double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.5g", v);
+    return std::string(b);
+  };
+  const auto f1 = [](double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.1f", v);
+    return std::string(b);
+  };
+  std::size_t limits = 0;
+  bool some_pass = false, some_fail = false;
+  for (const auto& [text, yield] : mc["yield"].items()) {
+    if (text == "all") continue;
+    ++limits;
+    const std::string figure = text.substr(0, text.find_first_of("=<>"));
+    std::size_t within = 0;
+    double lo = 1e300, hi = -1e300;
+    for (const json& t : mc["trials"]) {
+      within += t["limits"][text].get<bool>() ? 1 : 0;
+      lo = std::min(lo, t["figures"][figure].get<double>());
+      hi = std::max(hi, t["figures"][figure].get<double>());
+    }
+    some_pass = some_pass || within > 0;
+    some_fail = some_fail || within < 10;
+    EXPECT_DOUBLE_EQ(yield.get<double>(), static_cast<double>(within) / 10.0) << text;
+    const std::string row = "<tr><th class=l>" + text + "</th><td>" + g5(report["nominal"][figure].get<double>()) +
+                            "</td><td>" + g5(lo) + "</td><td>" + g5(hi) + "</td><td>" + std::to_string(within) +
+                            " of 10</td><td>" + f1(100.0 * yield.get<double>()) + " %</td></tr>";
+    EXPECT_NE(html.find(row), std::string::npos) << row;
+  }
+  EXPECT_EQ(limits, 3u);
+  EXPECT_TRUE(some_pass && some_fail) << "the limits should split the trials";
+  std::size_t all = 0;
+  for (const json& t : mc["trials"]) all += t["in_spec"].get<bool>() ? 1 : 0;
+  const std::string all_row = "<tr><th class=l>all limits</th><td></td><td></td><td></td><td>" + std::to_string(all) +
+                              " of 10</td><td>" + f1(100.0 * mc["yield"]["all"].get<double>()) + " %</td></tr>";
+  EXPECT_NE(html.find(all_row), std::string::npos) << all_row;
+
+  // Not a tolerance report: an error naming the file, nothing written.
+  const fs::path none = dir.path() / "none.html";
+  r = gonio({"report", (dir.path() / "out" / "nominal.ies").string(), "--tolerance",
+             (dir.path() / "out" / "timing.json").string(), "--out", none.string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("timing.json: not a gonio tolerance report.json"), std::string::npos) << r.err;
+  r = gonio({"report", (dir.path() / "out" / "nominal.ies").string(), "--tolerance",
+             (dir.path() / "out" / "nominal.ies").string(), "--out", none.string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("nominal.ies"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(none));
+}
+
 }  // namespace
 }  // namespace gonio
