@@ -151,6 +151,54 @@ std::string SpecLimit::text() const {
   return s;
 }
 
+std::string PercentileChoice::text() const {
+  return std::string(figure_info()[figure].key) + " " + format_number(percent);
+}
+
+std::string PercentileChoice::stem() const {
+  return "p" + format_number(percent) + "_" + figure_info()[figure].key;
+}
+
+Result<std::vector<PercentileChoice>> parse_percentiles(const std::string& text) {
+  std::vector<PercentileChoice> choices;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    start = comma + 1;
+    PercentileChoice c;
+    std::string number = item;
+    if (const std::size_t colon = item.find(':'); colon != std::string::npos) {
+      const std::optional<std::size_t> figure = figure_by_key(item.substr(0, colon));
+      if (!figure) {
+        std::string keys;
+        for (const FigureInfo& i : figure_info()) keys += (keys.empty() ? "" : ", ") + std::string(i.key);
+        return make_error("--percentile " + io::shown(item) + ": unknown figure (" + keys + ")");
+      }
+      c.figure = *figure;
+      number = item.substr(colon + 1);
+    }
+    const std::optional<double> v = io::parse_number(number);
+    if (!v || !(*v >= 0.0 && *v <= 100.0))
+      return make_error("--percentile " + io::shown(item) + ": write P or FIGURE:P with P from 0 to 100");
+    c.percent = *v;
+    choices.push_back(c);
+    if (comma == text.size()) break;
+  }
+  return choices;
+}
+
+std::optional<std::size_t> nearest_rank(const std::vector<double>& values, double percent) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (std::isfinite(values[i])) order.push_back(i);
+  if (order.empty()) return std::nullopt;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+  const double n = static_cast<double>(order.size());
+  const auto rank = static_cast<std::size_t>(std::max(1.0, std::ceil(percent * n / 100.0)));
+  return order[std::min(rank, order.size()) - 1];
+}
+
 Result<std::vector<SpecLimit>> parse_spec(const std::string& text) {
   std::vector<SpecLimit> limits;
   std::size_t start = 0;

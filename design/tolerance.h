@@ -87,6 +87,25 @@ struct SpecLimit {
 // "beam_c0=24..28,flux=900..,ugr<=19" as limits; errors name the item.
 Result<std::vector<SpecLimit>> parse_spec(const std::string& text);
 
+// One --percentile item: P (the RMS difference from the nominal, the
+// figure best and worst are chosen by) or FIGURE:P, 0 ≤ P ≤ 100.
+struct PercentileChoice {
+  std::size_t figure = kRms;
+  double percent = 50.0;
+  // "rms 95", "beam_c0 5": for messages; file stem "p95_rms", "p5_beam_c0".
+  std::string text() const;
+  std::string stem() const;
+};
+// "5,95,beam_c0:50" as choices, in order; errors name the item.
+Result<std::vector<PercentileChoice>> parse_percentiles(const std::string& text);
+
+// The trial at the P-th percentile of `values` by the nearest rank: the
+// finite values sorted ascending (ties by their index), the one at rank
+// max(1, ⌈P · n / 100⌉) of the n finite ones (P · n computed first, so
+// that 95 · 20 / 100 is 19 exactly). Its index in `values`; nothing
+// where no value is finite. P = 0 gives the smallest, 100 the largest.
+std::optional<std::size_t> nearest_rank(const std::vector<double>& values, double percent);
+
 // The inverse sensitivity of one tolerance, linear: the largest factor k
 // by which its limits may be scaled so that nominal + k·change stays within
 // the limit for the changes at both of its limits (a figure taken as linear

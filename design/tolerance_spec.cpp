@@ -156,6 +156,22 @@ Result<std::vector<Tolerance>> parse_form(const io::TomlNode& node, const std::s
 
 double reflection(const sim::Material& m) { return m.diffuse_reflect + m.mirror + m.glossy + m.abg_reflect.tis; }
 double transmission(const sim::Material& m) { return m.diffuse_transmit + m.dielectric + m.abg_transmit.tis; }
+// The largest reflection (transmission) over wavelength: a spectral
+// reflectance (transmittance) replaces the lobes' total at each wavelength
+// (sim/tracer/spectral.h), so its largest value is what a tolerance scales.
+double reflection_peak(const sim::Material& m) {
+  if (m.spectral_reflectance.empty()) return reflection(m);
+  return *std::max_element(m.spectral_reflectance.values.begin(), m.spectral_reflectance.values.end());
+}
+double transmission_peak(const sim::Material& m) {
+  if (m.spectral_transmittance.empty()) return transmission(m);
+  return *std::max_element(m.spectral_transmittance.values.begin(), m.spectral_transmittance.values.end());
+}
+// The largest sum of the lobes over wavelength (an upper bound: the largest
+// reflection and transmission as if at one wavelength).
+double total_peak(const sim::Material& m) {
+  return m.total() - reflection(m) - transmission(m) + reflection_peak(m) + transmission_peak(m);
+}
 
 }  // namespace
 
@@ -399,7 +415,7 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
       return at(spec.path, t.line, "the model has no material " + io::shown(t.name) + " (it has " +
                                        (names.empty() ? "none" : names) + ")");
     }
-    const double r = reflection(*m), tr = transmission(*m);
+    const double r = reflection_peak(*m), tr = transmission_peak(*m);
     if (t.quantity == "reflectance" && !(r > 0.0))
       return at(spec.path, t.line, t.label() + ": the material reflects nothing (no reflection lobe)");
     if (t.quantity == "transmittance" && !(tr > 0.0))
@@ -407,8 +423,8 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
     if (t.quantity == "roughness" && !(m->glossy > 0.0))
       return at(spec.path, t.line, t.label() + ": the material has no glossy lobe to roughen");
     const double grow = 1.0 + t.law.high() / 100.0;
-    const double total = t.quantity == "reflectance"     ? m->total() + r * (grow - 1.0)
-                         : t.quantity == "transmittance" ? m->total() + tr * (grow - 1.0)
+    const double total = t.quantity == "reflectance"     ? total_peak(*m) + r * (grow - 1.0)
+                         : t.quantity == "transmittance" ? total_peak(*m) + tr * (grow - 1.0)
                                                          : m->total();
     if (total > 1.0 + 1e-12)
       return at(spec.path, t.line,
@@ -480,10 +496,12 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
         m.mirror *= scale;
         m.glossy *= scale;
         m.abg_reflect.tis *= scale;
+        for (double& x : m.spectral_reflectance.values) x *= scale;  // it replaces the lobes' total per wavelength
       } else if (t.quantity == "transmittance") {
         m.diffuse_transmit *= scale;
         m.dielectric *= scale;
         m.abg_transmit.tis *= scale;
+        for (double& x : m.spectral_transmittance.values) x *= scale;
       } else {
         m.glossy_mx *= scale;
         m.glossy_my *= scale;
@@ -498,8 +516,9 @@ double largest_scale(const Tolerance& t, const sim::SceneDesc& scene) {
   if (std::string(t.unit()) == "%" && t.law.low() < 0.0) k = 0.999 * 100.0 / -t.law.low();
   if (t.target == Tolerance::Target::Material && t.law.high() > 0.0)
     if (const sim::Material* m = find_material(scene, t.name)) {
-      const double part = t.quantity == "reflectance" ? reflection(*m) : t.quantity == "transmittance" ? transmission(*m) : 0.0;
-      if (part > 0.0) k = std::min(k, (1.0 - m->total()) / (part * t.law.high() / 100.0));
+      const double part =
+          t.quantity == "reflectance" ? reflection_peak(*m) : t.quantity == "transmittance" ? transmission_peak(*m) : 0.0;
+      if (part > 0.0) k = std::min(k, (1.0 - total_peak(*m)) / (part * t.law.high() / 100.0));
     }
   return k;
 }

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -593,6 +594,59 @@ std::string lower_ext(const std::string& path) {
 
 }  // namespace
 
+Result<std::string> tolerance_yield_html(const nlohmann::json& report, const std::string& source) {
+  using nlohmann::json;
+  const auto lacks = [&](const std::string& what) {
+    return make_error(source, "not a gonio tolerance report.json (" + what + ")");
+  };
+  if (!report.is_object()) return lacks("not a JSON object");
+  const json* mc = report.contains("monte_carlo") ? &report["monte_carlo"] : nullptr;
+  if (!mc || !mc->is_object() || !mc->contains("trials") || !(*mc)["trials"].is_array() || !mc->contains("yield") ||
+      !(*mc)["yield"].is_object())
+    return lacks("no monte_carlo.trials and monte_carlo.yield");
+  if (!report.contains("nominal") || !report["nominal"].is_object()) return lacks("no nominal figures");
+  const json& trials = (*mc)["trials"];
+  const json& yield = (*mc)["yield"];
+  const json settings = report.value("settings", json::object());
+  const auto number = [](const json& v) {
+    return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
+  };
+  std::string h = "<section class=tolerance>\n<h2>Tolerance yield</h2>\n<p>" +
+                  esc(report.value("model", std::string("the model"))) + ": " + std::to_string(trials.size()) +
+                  " Monte Carlo trials (Latin hypercube, every tolerance drawn at once), " +
+                  format_number(number(settings.value("photons", json()))) + " photons per trace on common random numbers"
+                  " (seed " + format_number(number(settings.value("seed", json()))) + "); from " + esc(source) +
+                  " (gonio tolerance, docs/tolerance.md).</p>\n";
+  if (yield.empty()) return h + "<p>No limits were given (--spec): no yield.</p>\n</section>\n";
+  h += "<table><tr><th>limit</th><th>nominal</th><th>trials min</th><th>trials max</th><th>within</th>"
+       "<th>yield</th></tr>\n";
+  for (const auto& [text, value] : yield.items()) {
+    if (text == "all") continue;
+    const std::string figure = text.substr(0, text.find_first_of("=<>"));
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    std::size_t within = 0;
+    for (const json& t : trials) {
+      const double v = t.contains("figures") ? number(t["figures"].value(figure, json())) : number(json());
+      if (std::isfinite(v)) {
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+      if (t.contains("limits") && t["limits"].value(text, false)) ++within;
+    }
+    h += "<tr><th class=l>" + esc(text) + "</th><td>" + esc(format_number(number(report["nominal"].value(figure, json())), 5)) +
+         "</td><td>" + (std::isfinite(lo) ? esc(format_number(lo, 5)) : "–") + "</td><td>" +
+         (std::isfinite(hi) ? esc(format_number(hi, 5)) : "–") + "</td><td>" + std::to_string(within) + " of " +
+         std::to_string(trials.size()) + "</td><td>" + fmt(100.0 * number(value), 1) + " %</td></tr>\n";
+  }
+  if (yield.contains("all")) {
+    std::size_t within = 0;
+    for (const json& t : trials) within += t.value("in_spec", false) ? 1 : 0;
+    h += "<tr><th class=l>all limits</th><td></td><td></td><td></td><td>" + std::to_string(within) + " of " +
+         std::to_string(trials.size()) + "</td><td>" + fmt(100.0 * number(yield["all"]), 1) + " %</td></tr>\n";
+  }
+  return h + "</table>\n</section>\n";
+}
+
 Result<std::string> datasheet_html(const std::vector<DatasheetEntry>& entries, const DatasheetOptions& options) {
   if (entries.empty()) return error("a datasheet needs at least one luminaire");
   std::string html = "<!DOCTYPE html>\n<html lang=en><head><meta charset=\"utf-8\"><title>";
@@ -603,6 +657,11 @@ Result<std::string> datasheet_html(const std::vector<DatasheetEntry>& entries, c
     Result<std::string> part = entry_html(e, options);
     if (!part.ok()) return part.error();
     html += part.value();
+  }
+  if (options.tolerance_report) {
+    Result<std::string> yield = tolerance_yield_html(*options.tolerance_report, options.tolerance_source);
+    if (!yield.ok()) return yield.error();
+    html += yield.value();
   }
   html += "<p class=note>Written by Gonio. Methods: docs/methods.md, \"Light-planning figures\".</p>\n</body></html>\n";
   return html;

@@ -36,7 +36,18 @@ struct DatasheetOptions {
   double mounting_height_m = 3.0;   // isolux and cone diagram [m]
   double floor_reflectance = 0.2;   // CU table's floor cavity [1]
   photometry::UgrOptions ugr;       // UGR table's background and spacing
+  // `gonio tolerance`'s report.json (docs/tolerance.md): the sheet gains the
+  // Monte Carlo yield table (tolerance_yield_html); empty: none.
+  std::optional<nlohmann::json> tolerance_report;
+  std::string tolerance_source;     // its file name, shown on the sheet
 };
+
+// The yield table of a `gonio tolerance` report.json: per --spec limit the
+// nominal, the trials' range of that figure, how many trials are within it
+// of how many and the yield, then all limits together; the model, trials,
+// photons and seed above it. Errors name `source` where the report lacks
+// what the table needs (monte_carlo.trials, monte_carlo.yield, nominal).
+Result<std::string> tolerance_yield_html(const nlohmann::json& report, const std::string& source);
 
 // The whole page. Errors: a distribution that fails photometry::validate
 // (named by its source), gnuplot failing.

@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "design/tolerance.h"
@@ -166,6 +168,31 @@ TEST(ToleranceSpec, PerturbationsAgainstClosedForms) {
   EXPECT_DOUBLE_EQ(scene.materials[1].diffuse_reflect, 0.3);  // reflectance untouched
   // The area emitter kept its flux.
   EXPECT_EQ(scene.emitters[1].flux_lm, 50.0);
+}
+
+// A spectral reflectance replaces the lobes' total at each wavelength
+// (sim/tracer/spectral.h): a reflectance tolerance scales it with the lobes
+// (scaling the lobes alone would change nothing), and its largest value
+// bounds the tolerance: 0.8 · 1.3 > 1 is an error, 0.8 · 1.25 = 1 is not;
+// largest_scale lets ±10 % be scaled by (1 − 0.8 − 0.1)/(0.8 · 0.1) = 1.25
+// with a 0.1 transmission beside it.
+TEST(ToleranceSpec, SpectralReflectanceScalesWithTheLobesAndBoundsThem) {
+  sim::SceneDesc scene = small_scene();
+  sim::Material& red = scene.materials[1];  // opal: diffuse 0.3 reflect, 0.6 transmit
+  red.diffuse_transmit = 0.1;
+  red.spectral_reflectance = {{400.0, 600.0, 700.0}, {0.1, 0.8, 0.4}};
+  const Status over = check_tolerances(parse_ok("[material.opal]\nreflectance = { uniform = 30 }\n"), scene);
+  ASSERT_FALSE(over.ok());
+  EXPECT_EQ(to_string(over.error()).rfind("t.toml:2: opal.reflectance at +30 % would make the material's lobes sum to 1.14 > 1", 0), 0u)
+      << to_string(over.error());
+  const ToleranceSpec s = parse_ok("[material.opal]\nreflectance = { uniform = 10 }\n");
+  ASSERT_TRUE(check_tolerances(s, scene).ok());
+  EXPECT_NEAR(largest_scale(s.tolerances[0], scene), (1.0 - 0.8 - 0.1) / (0.8 * 0.1), 1e-12);
+  apply_tolerances(s, std::vector<double>{-10.0}, scene);
+  EXPECT_DOUBLE_EQ(scene.materials[1].diffuse_reflect, 0.3 * 0.9);
+  EXPECT_DOUBLE_EQ(scene.materials[1].spectral_reflectance.values[1], 0.8 * 0.9);
+  EXPECT_DOUBLE_EQ(scene.materials[1].spectral_reflectance.values[2], 0.4 * 0.9);
+  EXPECT_EQ(scene.materials[1].diffuse_transmit, 0.1);
 }
 
 // A part: every mesh of that name moved along, or turned about, the
@@ -385,6 +412,51 @@ TEST(SpecLimits, InverseSensitivityIsLinear) {
   open.lo = 900.0;
   EXPECT_TRUE(std::isinf(allowed_scale(950.0, 10.0, 20.0, open)));  // no upper limit to reach
   EXPECT_DOUBLE_EQ(allowed_scale(950.0, -10.0, 20.0, open), 5.0);
+}
+
+// The nearest rank: of n finite values sorted ascending, the one at rank
+// max(1, ⌈P·n/100⌉); NaN left out, ties by index.
+TEST(Percentiles, NearestRank) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> v = {5.0, 1.0, nan, 4.0, 2.0, 3.0};  // 5 finite
+  EXPECT_EQ(nearest_rank(v, 0.0), 1u);     // rank 1: 1.0
+  EXPECT_EQ(nearest_rank(v, 20.0), 1u);    // ⌈1⌉ = 1
+  EXPECT_EQ(nearest_rank(v, 20.5), 4u);    // ⌈1.025⌉ = 2: 2.0
+  EXPECT_EQ(nearest_rank(v, 50.0), 5u);    // ⌈2.5⌉ = 3: 3.0
+  EXPECT_EQ(nearest_rank(v, 100.0), 0u);   // 5.0
+  EXPECT_FALSE(nearest_rank({nan, nan}, 50.0).has_value());
+  EXPECT_FALSE(nearest_rank({}, 50.0).has_value());
+  // Ties: the earlier index first.
+  EXPECT_EQ(nearest_rank({2.0, 1.0, 1.0, 3.0}, 25.0), 1u);
+  EXPECT_EQ(nearest_rank({2.0, 1.0, 1.0, 3.0}, 50.0), 2u);
+  // 95 % of 20: rank 19 exactly (not 20 from 0.95 · 20 rounding up).
+  std::vector<double> twenty(20);
+  for (std::size_t i = 0; i < twenty.size(); ++i) twenty[i] = static_cast<double>(i);
+  EXPECT_EQ(nearest_rank(twenty, 95.0), 18u);
+  EXPECT_EQ(nearest_rank(twenty, 5.0), 0u);
+  EXPECT_EQ(nearest_rank(twenty, 5.01), 1u);
+}
+
+TEST(Percentiles, ParseNamesTheItem) {
+  Result<std::vector<PercentileChoice>> c = parse_percentiles("5,95,beam_c0:50,cct:2.5");
+  ASSERT_TRUE(c.ok()) << to_string(c.error());
+  ASSERT_EQ(c->size(), 4u);
+  EXPECT_EQ((*c)[0].figure, kRms);
+  EXPECT_EQ((*c)[1].percent, 95.0);
+  EXPECT_EQ((*c)[2].figure, kBeamC0);
+  EXPECT_EQ((*c)[2].stem(), "p50_beam_c0");
+  EXPECT_EQ((*c)[3].stem(), "p2.5_cct");
+  EXPECT_EQ((*c)[0].stem(), "p5_rms");
+  for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+           {"101", "--percentile '101': write P or FIGURE:P with P from 0 to 100"},
+           {"5,-1", "--percentile '-1': write P or FIGURE:P"},
+           {"5,", "--percentile '': write P"},
+           {"beam:50", "--percentile 'beam:50': unknown figure (peak_cd, "},
+           {"beam_c0:x", "--percentile 'beam_c0:x': write P"}}) {
+    Result<std::vector<PercentileChoice>> bad = parse_percentiles(text);
+    ASSERT_FALSE(bad.ok()) << text;
+    EXPECT_EQ(bad.error().message.rfind(says, 0), 0u) << bad.error().message;
+  }
 }
 
 TEST(NoiseFloor, StandardDeviationAndRmsMean) {

@@ -116,3 +116,24 @@ def test_design_tolerances_and_traced_inverse(setup, tmp_path):
     flux = [e for e in result["inverse_sensitivity"] if e["tolerance"] == "mirror.reflectance"][0]
     assert flux["scale"] is not None and "traced_scale" in flux
     assert flux["traced_fails_at"] is None or flux["traced_scale"] <= flux["traced_fails_at"]
+
+
+def test_percentile_trials_equal_the_command(setup, gonio_exe, tmp_path):
+    """percentile: the same trials as the command's --percentile, nearest rank of their figure, with their files."""
+    d = setup
+    code, _, err = run_gonio(gonio_exe, "tolerance", d / "dish.design.toml", "--tolerances", d / "t.toml", "--out",
+                             tmp_path / "cli", *CLI, "--percentile", "50,flux:25")
+    assert code == 0, err
+    report = json.loads((tmp_path / "cli" / "report.json").read_text())
+    result = gonio.tolerance(d / "dish.design.toml", d / "t.toml", **RUN, percentile="50,flux:25",
+                             out=tmp_path / "py")
+    assert result["percentile_trials"] == report["monte_carlo"]["percentile_trials"]
+    # Nearest rank of 4 trials: 50 % is rank 2 by the RMS difference, 25 % rank 1 by flux.
+    for entry, figure, rank in zip(result["percentile_trials"], ["rms", "flux"], [2, 1]):
+        order = np.argsort(result["trials"][figure], kind="stable")
+        assert entry["figure"] == figure and entry["rank"] == rank
+        assert entry["trial"] == order[rank - 1] + 1
+        for name in entry["files"]:
+            assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+    with pytest.raises(ValueError, match="--percentile '101'"):
+        gonio.tolerance(d / "dish.design.toml", d / "t.toml", **RUN, percentile="101")

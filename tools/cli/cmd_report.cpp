@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "io/outputs/datasheet.h"
+#include "io/support/file_io.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/input_options.h"
 #include "tools/cli/commands.h"
@@ -19,8 +20,9 @@ int run_report(const Args& args) {
   double height = 3.0, floor_reflectance = 0.2;
   std::string ugr_background = photometry::to_string(photometry::UgrBackground::Cie190);
   bool timing = false;
+  std::string tolerance;
   app::InputOptions input;
-  ArgParser p("report", "FILE... --out X.html|X.pdf [--height M] [--cu-floor RHO] [--ugr-background cie190|flux-transfer]",
+  ArgParser p("report", "FILE... --out X.html|X.pdf [--height M] [--cu-floor RHO] [--ugr-background cie190|flux-transfer] [--tolerance REPORT.json]",
               "Writes the datasheet of one or more photometric files (IES, LDT, TM-33, GLDF, or\n"
               "a TM-25 ray file's far field): identification, polar and cartesian intensity\n"
               "diagrams, cone diagram and isolux plot on the floor at the mounting height,\n"
@@ -44,6 +46,8 @@ int run_report(const Args& args) {
   p.option("cu-floor", &floor_reflectance, 0.0, 0.95, "RHO",
            "effective floor cavity reflectance of the CU table, 0..1 (default 0.2)");
   add_ugr_background_option(p, &ugr_background);
+  p.option("tolerance", &tolerance, "REPORT.json",
+           "gonio tolerance's DIR/report.json: the sheet gains its Monte Carlo yield table against the --spec limits");
   p.flag("timing", &timing, "print the time taken to stderr");
   add_input_options(p, &input);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run) return ArgParser::exit_code(outcome);
@@ -68,6 +72,20 @@ int run_report(const Args& args) {
   options.mounting_height_m = height;
   options.floor_reflectance = floor_reflectance;
   options.ugr = app::ugr_options(ugr_background);
+  if (!tolerance.empty()) {
+    Result<std::string> text = io::read_file(tolerance, std::size_t{1} << 30);
+    if (!text.ok()) {
+      print_error(text.error());
+      return kExitFailure;
+    }
+    nlohmann::json report = nlohmann::json::parse(*text, nullptr, false);
+    if (report.is_discarded()) {
+      print_error(make_error(tolerance, "not JSON: write gonio tolerance's report.json"));
+      return kExitFailure;
+    }
+    options.tolerance_report = std::move(report);
+    options.tolerance_source = tolerance;
+  }
   if (Status s = io::write_datasheet(out, entries, options); !s.ok()) {
     print_error(s.error());
     return kExitFailure;

@@ -42,7 +42,7 @@ int fail(const std::string& message) {
 }  // namespace
 
 int run_tolerance(const Args& args) {
-  std::string model, tolerances_path, out_dir, spec_text;
+  std::string model, tolerances_path, out_dir, spec_text, percentile_text;
   long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10, inverse_steps = 4, parallel_trials = 1;
   bool resume = false;
   app::SimulateOptions options;
@@ -71,6 +71,9 @@ int run_tolerance(const Args& args) {
            "limits for the yield: FIGURE=LO..HI, FIGURE<=HI or FIGURE>=LO[,…], e.g. beam_c0=24..28,ugr<=19 (figures: "
            "peak_cd, peak_c, peak_gamma, beam_c0, beam_c90, field_c0, field_c90, flux, lor, rms, ugr, bug_b, bug_u, "
            "bug_g, cct, duv_max, axis_c0, axis_c90)");
+  p.option("percentile", &percentile_text, "LIST",
+           "trials written as DIR/pP_FIGURE.{ies,ldt} beside best and worst: P (the RMS difference from the nominal) "
+           "or FIGURE:P, comma-separated, 0 <= P <= 100, e.g. 5,95,beam_c0:50 (nearest rank over the trials)");
   p.option("noise-seeds", &noise_seeds, 0, 1000, "K", "the nominal traced again with K independent seeds (default 3)");
   p.option("sampling-seed", &sampling_seed, 0, 9'223'372'036'854'775'807LL, "S",
            "seed of the Latin hypercube (default 1)");
@@ -104,6 +107,7 @@ int run_tolerance(const Args& args) {
   o.tolerances_path = tolerances_path;
   o.out_dir = out_dir;
   o.spec_text = spec_text;
+  o.percentile_text = percentile_text;
   o.trials = trials;
   o.noise_seeds = noise_seeds;
   o.sampling_seed = sampling_seed;

@@ -1159,7 +1159,7 @@ py::dict tolerance(const py::object& model_object, const py::object& tolerances_
                    const std::optional<std::string>& spec, long long seed, long long noise_seeds,
                    long long sampling_seed, long long bins, long long photons, int threads, int max_bounces,
                    double c_step, double gamma_step, const py::object& out_object, long long inverse_steps,
-                   long long parallel_trials) {
+                   long long parallel_trials, const std::optional<std::string>& percentile) {
   namespace fs = std::filesystem;
   if (trials < 0 || trials > 100000) throw py::value_error("trials must be between 0 and 100000");
   if (inverse_steps < 0 || inverse_steps > 50) throw py::value_error("inverse_steps must be between 0 and 50");
@@ -1175,6 +1175,7 @@ py::dict tolerance(const py::object& model_object, const py::object& tolerances_
   o.inverse_steps = inverse_steps;
   o.parallel_trials = parallel_trials;
   o.spec_text = spec.value_or(std::string());
+  o.percentile_text = percentile.value_or(std::string());
   o.trials = trials;
   o.noise_seeds = noise_seeds;
   o.sampling_seed = sampling_seed;
@@ -1234,6 +1235,7 @@ py::dict tolerance(const py::object& model_object, const py::object& tolerances_
   result["nominal"] = to_python(report["nominal"]);
   result["yield"] = to_python(report["monte_carlo"]["yield"]);
   result["inverse_sensitivity"] = to_python(report["inverse_sensitivity"]);
+  result["percentile_trials"] = to_python(report["monte_carlo"]["percentile_trials"]);
   result["table"] = outcome->table;
   result["report"] = to_python(report);
   result["timing"] = to_python(outcome->timing);
@@ -1441,7 +1443,7 @@ void bind_simulation(py::module_& m) {
         py::arg("spec") = py::none(), py::arg("seed") = 1, py::arg("noise_seeds") = 3, py::arg("sampling_seed") = 1,
         py::arg("bins") = 10, py::arg("photons") = 1'000'000, py::arg("threads") = 0, py::arg("max_bounces") = 100,
         py::arg("c_step") = 5.0, py::arg("gamma_step") = 2.5, py::arg("out") = py::none(),
-        py::arg("inverse_steps") = 4, py::arg("parallel_trials") = 1,
+        py::arg("inverse_steps") = 4, py::arg("parallel_trials") = 1, py::arg("percentile") = py::none(),
         "How robust a luminaire is, as gonio tolerance does (the same run; docs/tolerance.md): returns\n"
         "{trials: {figure: numpy array over the Monte Carlo trials}, values: {tolerance: array of its\n"
         "drawn values}, sensitivity: [{figure, unit, tolerance, low, high, change_low, change_high,\n"
@@ -1449,6 +1451,8 @@ void bind_simulation(py::module_& m) {
         "timing}. Figures include ugr, bug_b/u/g, cct, duv_max (NaN where undefined), axis_c0/c90.\n"
         "tolerances None: a design file's own [tolerances]. spec: 'beam_c0=24..28,ugr<=19'.\n"
         "inverse_steps: bisection steps of the traced inverse sensitivity; parallel_trials: trials at once.\n"
+        "percentile: '5,95,beam_c0:50', the trials at those percentiles (nearest rank), written to out as\n"
+        "pP_FIGURE.ies/.ldt and listed in percentile_trials.\n"
         "Without out it works in a temporary folder.\n"
         "Raises GonioError naming the file; bad arguments raise ValueError.");
   py::class_<PyMerit>(m, "Merit",

@@ -317,6 +317,15 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     }
     limits = std::move(l.value());
   }
+  std::vector<design::PercentileChoice> percentiles;
+  if (!options.percentile_text.empty()) {
+    Result<std::vector<design::PercentileChoice>> c = design::parse_percentiles(options.percentile_text);
+    if (!c.ok()) {
+      if (usage) *usage = true;
+      return c.error();
+    }
+    percentiles = std::move(c.value());
+  }
   // The model's own [tolerances] where it is a design file, and --tolerances FILE.
   std::shared_ptr<const design::Design> base_design = plan.model_input.design;
   if (!base_design && design::is_design_path(model)) {
@@ -701,12 +710,47 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     for (int k = 0; k < 2; ++k)
       if (Status s = write_tables(out_dir, k == 0 ? "best" : "worst", kept[static_cast<std::size_t>(k)], files); !s.ok())
         return failed(to_string(s.error()));
+  // The trials at the --percentile choices of their figure (nearest rank
+  // over the trials where the figure is defined), traced again for their
+  // tables like best and worst.
+  json percentile_trials = json::array();
+  for (const design::PercentileChoice& c : percentiles) {
+    const std::vector<double>& v = figure_values[c.figure];
+    const std::optional<std::size_t> n = design::nearest_rank(v, c.percent);
+    std::size_t defined = 0;
+    for (double x : v) defined += std::isfinite(x) ? 1 : 0;
+    json entry = {{"figure", design::figure_info()[c.figure].key}, {"percentile", c.percent}, {"of", defined}};
+    if (!n) {
+      entry["trial"] = nullptr;
+      entry["why"] = u.empty() ? "no trials" : "the figure is not defined for this model";
+      percentile_trials.push_back(entry);
+      continue;
+    }
+    say("percentile " + c.text() + ": trial " + std::to_string(*n + 1) + " (" +
+        format_number(v[*n]) + " " + design::figure_info()[c.figure].unit + "), traced again\n");
+    std::optional<Trace> t = tracer.trace(trial_values[*n], seed, &nominal_d, true);
+    if (!t) return failed("the trial " + std::to_string(*n + 1) + " traced again failed (" + tracer.error() + ")");
+    json written = json::array();
+    if (Status s = write_tables(out_dir, c.stem(), t->distribution, written); !s.ok())
+      return failed(to_string(s.error()));
+    for (const json& name : written) files.push_back(name);
+    entry["trial"] = *n + 1;
+    entry["value"] = json_number(v[*n]);
+    entry["rank"] = static_cast<std::size_t>(
+        std::max(1.0, std::ceil(c.percent * static_cast<double>(defined) / 100.0)));
+    entry["files"] = written;
+    percentile_trials.push_back(entry);
+  }
   report["monte_carlo"] = {{"trials", mc_trials},
                            {"histograms", histograms},
                            {"yield", yield},
                            {"best_trial", best ? json(*best + 1) : json(nullptr)},
                            {"worst_trial", worst ? json(*worst + 1) : json(nullptr)},
-                           {"best_and_worst_by", "RMS difference from the nominal"}};
+                           {"best_and_worst_by", "RMS difference from the nominal"},
+                           {"percentile_trials", percentile_trials},
+                           {"percentile_rule",
+                            "nearest rank: the trials where the figure is defined sorted ascending (ties by trial "
+                            "number), the one at rank max(1, ceil(P/100 * n)) of n"}};
   double total = 0.0;
   for (double s : seconds) total += s;
   // Wall times in timing.json, not in report.json: the report is the same

@@ -7,7 +7,8 @@
 // its limits (sensitivity), and N Monte Carlo trials with all of them drawn
 // at once from a Latin hypercube. DIR gets report.json (every trace's
 // parameters and figures), sensitivity.txt, tornado_FIGURE.svg,
-// nominal.ies/.ldt, and the best and worst trials' IES and LDT.
+// nominal.ies/.ldt, the best and worst trials' IES and LDT, and those of the
+// trials at the --percentile choices (pP_FIGURE.ies/.ldt).
 #pragma once
 
 #include <functional>
@@ -25,6 +26,7 @@ namespace gonio::app {
 struct ToleranceRunOptions {
   std::string model, tolerances_path, out_dir;
   std::string spec_text;  // FIGURE=LO..HI,… (empty: none)
+  std::string percentile_text;  // P or FIGURE:P,…: the trials at those percentiles written as IES/LDT (empty: none)
   long long trials = 20, noise_seeds = 3, sampling_seed = 1, bins = 10;
   long long inverse_steps = 4;
   long long parallel_trials = 1;  // Monte Carlo trials traced at once (threads; each with simulate.threads)

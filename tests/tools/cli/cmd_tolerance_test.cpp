@@ -13,14 +13,19 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "design/tolerance.h"
 #include "io/model/gltf_writer.h"
 #include "io/photometric/photometric_file.h"
+#include "photometry/colour.h"
 #include "photometry/compare.h"
 #include "photometry/intensity_sampler.h"
+#include "photometry/spectrum.h"
 #include "sim/shapes.h"
 #include "tests/support/test_support.h"
 
@@ -613,6 +618,269 @@ TEST(ToleranceCli, BadInputIsAnErrorNamingTheLine) {
   r = gonio({"tolerance", (dir / "paraboloid.gltf").string(), "--out", (dir / "out").string()});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--tolerances FILE is required"), std::string::npos) << r.err;
+}
+
+
+// Two point lamps at one point, "warm" (a 2700 K blackbody) and "cool"
+// (6500 K), 500 lm each, above a mirror disc: the mirror catches the same
+// share of both, so its reflectance cannot change the luminaire's colour
+// (a grey mirror: the CCT change is below the noise floor), while the warm
+// lamp's flux ±50 % moves the CCT of the mix as the closed form says: the
+// mix's X, Y, Z is the sum of each lamp's flux × (x/y, 1, z/y) of its
+// Planckian chromaticity, its CCT by photometry::cct_duv. With a spectral
+// reflectance (red) on the mirror, its reflectance +20 % adds red light and
+// lowers the CCT, −20 % raises it.
+fs::path write_two_lamps(const fs::path& dir, bool red_mirror) {
+  sim::Mesh disc = sim::disc(0.05, 32);
+  io::GltfWriter w("gonio tolerance colour test");
+  json mirror = {{"name", "mirror"},
+                 {"pbrMetallicRoughness",
+                  {{"baseColorFactor", {0.5, 0.5, 0.5, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}};
+  if (red_mirror)
+    mirror["extras"]["gonio"]["spectral_reflectance"] = {{"wavelengths_nm", {360.0, 560.0, 600.0, 830.0}},
+                                                         {"values", {0.1, 0.1, 0.8, 0.8}}};
+  const int material = w.material(mirror);
+  w.node({{"name", "mirror"}, {"mesh", w.mesh(disc, material, "mirror")}, {"translation", {0.0, -0.02, 0.0}}});
+  for (const auto& [name, kelvin] : {std::pair{"warm", 2700.0}, std::pair{"cool", 6500.0}}) {
+    const int light = w.khr_light({{"name", name},
+                                   {"type", "point"},
+                                   {"intensity", 500.0 / (4.0 * std::numbers::pi)},
+                                   {"extras", {{"gonio", {{"spectrum", {{"blackbody_k", kelvin}}}}}}}});
+    w.node({{"name", name}, {"extensions", {{"KHR_lights_punctual", {{"light", light}}}}}});
+  }
+  std::string bin;
+  const std::string text = w.finish("paraboloid.bin", bin);
+  test::write_file(dir / "paraboloid.bin", bin);
+  test::write_file(dir / "paraboloid.gltf", text);
+  return dir / "paraboloid.gltf";
+}
+
+// The CCT of warm_lm of a 2700 K and cool_lm of a 6500 K blackbody mixed.
+double mixed_cct(double warm_lm, double cool_lm) {
+  photometry::Tristimulus sum;
+  for (const auto& [lm, kelvin] : {std::pair{warm_lm, 2700.0}, std::pair{cool_lm, 6500.0}}) {
+    const photometry::Chromaticity c = photometry::chromaticity(photometry::planckian_uv_prime(kelvin));
+    sum.X += lm * c.x / c.y;
+    sum.Y += lm;
+    sum.Z += lm * (1.0 - c.x - c.y) / c.y;
+  }
+  return photometry::cct_duv(sum).cct_k;
+}
+
+// The red mirror's reflectance: 0.1 up to 560 nm, rising linearly to 0.8
+// at 600 nm and above.
+double red_reflectance(double nm) { return nm <= 560.0 ? 0.1 : nm >= 600.0 ? 0.8 : 0.1 + 0.7 * (nm - 560.0) / 40.0; }
+
+// The CCT of both lamps (500 lm each) with the red mirror's reflectance
+// scaled by `scale`: the mirror disc (radius a = 50 mm, h = 20 mm below the
+// lamps) catches f = (1 − h/√(h² + a²))/2 of each lamp's light and sends
+// back its spectrum × scale·ρ(λ); the rest leaves directly.
+double red_mirror_cct(double scale) {
+  const double a = 0.05, h = 0.02, f = 0.5 * (1.0 - h / std::hypot(h, a));
+  photometry::Tristimulus sum;
+  for (double kelvin : {2700.0, 6500.0}) {
+    const photometry::SampledSpectrum lamp = photometry::blackbody_spectrum(kelvin, 360.0, 830.0, 1.0);
+    photometry::SampledSpectrum reflected = lamp;
+    for (std::size_t i = 0; i < reflected.values.size(); ++i)
+      reflected.values[i] *= scale * red_reflectance(reflected.wavelengths_nm[i]);
+    const photometry::Tristimulus direct = photometry::tristimulus(lamp), back = photometry::tristimulus(reflected);
+    const double lm = 500.0 / direct.Y;  // the lamp's spectrum to 500 lm
+    sum.X += lm * ((1.0 - f) * direct.X + f * back.X);
+    sum.Y += lm * ((1.0 - f) * direct.Y + f * back.Y);
+    sum.Z += lm * ((1.0 - f) * direct.Z + f * back.Z);
+  }
+  return photometry::cct_duv(sum).cct_k;
+}
+
+TEST(ToleranceCli, CctMovesWithTheMixOfTwoSpectraNotWithAGreyMirror) {
+  test::TempDir dir;
+  write_two_lamps(dir.path(), false);
+  const json report = run_tolerance(dir.path(),
+                                    "[emitter.warm]\nflux = { uniform = 50 }\n[material.mirror]\nreflectance = { uniform = 20 }\n",
+                                    {"--photons", "200000", "--trials", "0", "--noise-seeds", "3", "--c-step", "15",
+                                     "--gamma-step", "5"});
+  ASSERT_FALSE(report.is_null());
+  const double nominal = report["nominal"]["cct"].get<double>();
+  const double noise = report["noise"]["floor"]["cct"].get<double>();
+  const double expected = mixed_cct(500.0, 500.0);
+  const json& grey = row(report, "cct", "mirror.reflectance");
+  const json& flux = row(report, "cct", "warm.flux");
+  const double want_high = mixed_cct(750.0, 500.0) - expected, want_low = mixed_cct(250.0, 500.0) - expected;
+  std::printf("CCT nominal %.1f K (closed form %.1f), noise %.2f K; warm.flux change %.1f %.1f (closed form %.1f %.1f); "
+              "grey mirror change %.2f %.2f\n",
+              nominal, expected, noise, flux["change_low"].get<double>(), flux["change_high"].get<double>(), want_low,
+              want_high, grey["change_low"].get<double>(), grey["change_high"].get<double>());
+  EXPECT_NEAR(nominal, expected, std::max(4.0 * noise, 0.01 * expected));
+  EXPECT_TRUE(grey["below_noise"].get<bool>());
+  EXPECT_LT(std::abs(grey["change_low"].get<double>()), 2.0 * noise);
+  EXPECT_LT(std::abs(grey["change_high"].get<double>()), 2.0 * noise);
+  EXPECT_FALSE(flux["below_noise"].get<bool>());
+  // More warm light: lower CCT; the size within 5 % of the closed form's change and 4 σ.
+  EXPECT_LT(flux["change_high"].get<double>(), 0.0);
+  EXPECT_GT(flux["change_low"].get<double>(), 0.0);
+  EXPECT_NEAR(flux["change_high"].get<double>(), want_high, 0.05 * std::abs(want_high) + 4.0 * noise);
+  EXPECT_NEAR(flux["change_low"].get<double>(), want_low, 0.05 * std::abs(want_low) + 4.0 * noise);
+  // Δu′v′ over angle: one colour in every direction, nothing above noise.
+  EXPECT_TRUE(row(report, "duv_max", "mirror.reflectance")["below_noise"].get<bool>());
+
+  // A red mirror: its reflectance moves the CCT, down for more reflectance.
+  test::TempDir red;
+  write_two_lamps(red.path(), true);
+  const json coloured = run_tolerance(red.path(), "[material.mirror]\nreflectance = { uniform = 20 }\n",
+                                      {"--photons", "200000", "--trials", "0", "--noise-seeds", "3", "--c-step", "15",
+                                       "--gamma-step", "5"});
+  ASSERT_FALSE(coloured.is_null());
+  const json& r = row(coloured, "cct", "mirror.reflectance");
+  std::printf("red mirror: CCT nominal %.1f K, change %.2f %.2f, noise %.2f\n", coloured["nominal"]["cct"].get<double>(),
+              r["change_low"].get<double>(), r["change_high"].get<double>(),
+              coloured["noise"]["floor"]["cct"].get<double>());
+  const double red_nominal = red_mirror_cct(1.0);
+  const double red_high = red_mirror_cct(1.2) - red_nominal, red_low = red_mirror_cct(0.8) - red_nominal;
+  std::printf("red mirror closed form: nominal %.1f K, change %.2f %.2f\n", red_nominal, red_low, red_high);
+  EXPECT_FALSE(r["below_noise"].get<bool>());
+  EXPECT_LT(r["change_high"].get<double>(), 0.0);
+  EXPECT_GT(r["change_low"].get<double>(), 0.0);
+  // The disc is a 32-gon (0.6 % less area than the circle): 1 % on the CCT, 5 % on its changes.
+  EXPECT_NEAR(coloured["nominal"]["cct"].get<double>(), red_nominal, 0.01 * red_nominal);
+  const double red_noise = coloured["noise"]["floor"]["cct"].get<double>();
+  EXPECT_NEAR(r["change_high"].get<double>(), red_high, 0.05 * std::abs(red_high) + 4.0 * red_noise);
+  EXPECT_NEAR(r["change_low"].get<double>(), red_low, 0.05 * std::abs(red_low) + 4.0 * red_noise);
+}
+
+
+// --percentile: with N = 10 trials of the displaced lamp, the RMS
+// difference's 50th percentile is the trial at rank ⌈0.5·10⌉ = 5 of the
+// trials sorted by it, its 100th the worst trial (the same bytes as
+// worst.ies), its 0th the best; peak_gamma:90 the trial at rank 9 by peak γ
+// (ties by trial number). Each written table, read back, has its trial's
+// figures: its RMS difference from nominal.ies and its peak γ.
+TEST(ToleranceCli, PercentileTrialsAreTheNearestRankOfTheirFigure) {
+  test::TempDir dir;
+  write_paraboloid(dir.path(), false);
+  const json report = run_tolerance(dir.path(), "[emitter.lamp]\nx = { normal = 1.0 }\n",
+                                    {"--photons", "50000", "--trials", "10", "--noise-seeds", "0", "--percentile",
+                                     "50,100,0,peak_gamma:90"});
+  ASSERT_FALSE(report.is_null());
+  const json& mc = report["monte_carlo"];
+  ASSERT_EQ(mc["trials"].size(), 10u);
+  ASSERT_EQ(mc["percentile_trials"].size(), 4u);
+  // The nearest rank from the trials' figures in report.json, done here by hand.
+  const auto at_rank = [&](const std::string& figure, std::size_t rank) {
+    std::vector<std::pair<double, std::size_t>> sorted;
+    for (const json& t : mc["trials"]) sorted.emplace_back(t["figures"][figure].get<double>(), t["trial"].get<std::size_t>());
+    std::stable_sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    return sorted[rank - 1].second;
+  };
+  const std::vector<std::tuple<std::string, double, std::size_t, std::string>> want = {
+      {"rms", 50.0, 5, "p50_rms"}, {"rms", 100.0, 10, "p100_rms"}, {"rms", 0.0, 1, "p0_rms"},
+      {"peak_gamma", 90.0, 9, "p90_peak_gamma"}};
+  Result<io::PhotometricFile> nominal = io::read_photometric_file((dir.path() / "out" / "nominal.ies").string());
+  ASSERT_TRUE(nominal.ok());
+  for (std::size_t k = 0; k < want.size(); ++k) {
+    const auto& [figure, percent, rank, stem] = want[k];
+    const json& p = mc["percentile_trials"][k];
+    EXPECT_EQ(p["figure"], figure);
+    EXPECT_EQ(p["percentile"].get<double>(), percent);
+    EXPECT_EQ(p["rank"].get<std::size_t>(), rank);
+    EXPECT_EQ(p["of"].get<std::size_t>(), 10u);
+    const std::size_t trial = at_rank(figure, rank);
+    EXPECT_EQ(p["trial"].get<std::size_t>(), trial) << stem;
+    const json& figures = mc["trials"][trial - 1]["figures"];
+    EXPECT_EQ(p["value"], figures[figure]);
+    EXPECT_EQ(p["files"], json::array({stem + ".ies", stem + ".ldt"}));
+    Result<io::PhotometricFile> written = io::read_photometric_file((dir.path() / "out" / (stem + ".ies")).string());
+    ASSERT_TRUE(written.ok()) << stem;
+    ASSERT_TRUE(fs::exists(dir.path() / "out" / (stem + ".ldt")));
+    Result<design::FigureValues> f = design::figures_of(written->distribution, nominal->distribution, 5.0, 2.5);
+    ASSERT_TRUE(f.ok());
+    EXPECT_NEAR((*f)[design::kRms], figures["rms"].get<double>(), 1e-3 * figures["rms"].get<double>() + 1e-6) << stem;
+    EXPECT_EQ((*f)[design::kPeakGamma], figures["peak_gamma"].get<double>()) << stem;
+  }
+  EXPECT_EQ(mc["percentile_trials"][1]["trial"], mc["worst_trial"]);
+  EXPECT_EQ(mc["percentile_trials"][2]["trial"], mc["best_trial"]);
+  EXPECT_EQ(test::read_file(dir.path() / "out" / "p100_rms.ies"), test::read_file(dir.path() / "out" / "worst.ies"));
+  EXPECT_EQ(test::read_file(dir.path() / "out" / "p0_rms.ldt"), test::read_file(dir.path() / "out" / "best.ldt"));
+  const std::vector<std::string> files = report["files"].get<std::vector<std::string>>();
+  EXPECT_NE(std::find(files.begin(), files.end(), "p90_peak_gamma.ldt"), files.end());
+
+  // A bad item is a usage error naming it.
+  test::write_file(dir.path() / "t.toml", "[emitter.lamp]\nx = { uniform = 1 }\n");
+  const test::ProcessResult r = gonio({"tolerance", (dir.path() / "paraboloid.gltf").string(), "--tolerances",
+                                       (dir.path() / "t.toml").string(), "--out", (dir.path() / "bad").string(),
+                                       "--percentile", "5,beam:95"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--percentile 'beam:95': unknown figure"), std::string::npos) << r.err;
+}
+
+
+// gonio report --tolerance DIR/report.json: the datasheet's yield table
+// holds, per --spec limit, the trials within it counted from report.json's
+// verdicts, the yield report.json gives (%.1f %), the nominal and the
+// trials' range of the figure (%.5g), and the same for all limits.
+TEST(ToleranceCli, DatasheetYieldTableEqualsTheReport) {
+  test::TempDir dir;
+  write_paraboloid(dir.path(), false);
+  const json report = run_tolerance(dir.path(), "[emitter.lamp]\nx = { normal = 1.0 }\n",
+                                    {"--photons", "50000", "--trials", "10", "--noise-seeds", "0", "--spec",
+                                     "peak_gamma<=2,flux=0..,rms=..8", "--inverse-steps", "0"});
+  ASSERT_FALSE(report.is_null());
+  const fs::path sheet = dir.path() / "sheet.html";
+  test::ProcessResult r = gonio({"report", (dir.path() / "out" / "nominal.ies").string(), "--tolerance",
+                                 (dir.path() / "out" / "report.json").string(), "--out", sheet.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string html = test::read_file(sheet);
+  ASSERT_NE(html.find("<h2>Tolerance yield</h2>"), std::string::npos);
+  const json& mc = report["monte_carlo"];
+  const auto g5 = [](double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.5g", v);
+    return std::string(b);
+  };
+  const auto f1 = [](double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.1f", v);
+    return std::string(b);
+  };
+  std::size_t limits = 0;
+  bool some_pass = false, some_fail = false;
+  for (const auto& [text, yield] : mc["yield"].items()) {
+    if (text == "all") continue;
+    ++limits;
+    const std::string figure = text.substr(0, text.find_first_of("=<>"));
+    std::size_t within = 0;
+    double lo = 1e300, hi = -1e300;
+    for (const json& t : mc["trials"]) {
+      within += t["limits"][text].get<bool>() ? 1 : 0;
+      lo = std::min(lo, t["figures"][figure].get<double>());
+      hi = std::max(hi, t["figures"][figure].get<double>());
+    }
+    some_pass = some_pass || within > 0;
+    some_fail = some_fail || within < 10;
+    EXPECT_DOUBLE_EQ(yield.get<double>(), static_cast<double>(within) / 10.0) << text;
+    const std::string row = "<tr><th class=l>" + text + "</th><td>" + g5(report["nominal"][figure].get<double>()) +
+                            "</td><td>" + g5(lo) + "</td><td>" + g5(hi) + "</td><td>" + std::to_string(within) +
+                            " of 10</td><td>" + f1(100.0 * yield.get<double>()) + " %</td></tr>";
+    EXPECT_NE(html.find(row), std::string::npos) << row;
+  }
+  EXPECT_EQ(limits, 3u);
+  EXPECT_TRUE(some_pass && some_fail) << "the limits should split the trials";
+  std::size_t all = 0;
+  for (const json& t : mc["trials"]) all += t["in_spec"].get<bool>() ? 1 : 0;
+  const std::string all_row = "<tr><th class=l>all limits</th><td></td><td></td><td></td><td>" + std::to_string(all) +
+                              " of 10</td><td>" + f1(100.0 * mc["yield"]["all"].get<double>()) + " %</td></tr>";
+  EXPECT_NE(html.find(all_row), std::string::npos) << all_row;
+
+  // Not a tolerance report: an error naming the file, nothing written.
+  const fs::path none = dir.path() / "none.html";
+  r = gonio({"report", (dir.path() / "out" / "nominal.ies").string(), "--tolerance",
+             (dir.path() / "out" / "timing.json").string(), "--out", none.string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("timing.json: not a gonio tolerance report.json"), std::string::npos) << r.err;
+  r = gonio({"report", (dir.path() / "out" / "nominal.ies").string(), "--tolerance",
+             (dir.path() / "out" / "nominal.ies").string(), "--out", none.string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("nominal.ies"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(none));
 }
 
 }  // namespace
