@@ -156,7 +156,8 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
     if (!curve.ok()) return make_error(design.path, r.name + ": " + curve.error().message);
     io::StepRevolvedPart part;
     part.name = r.name;
-    for (int i = 0; i < kStepProfileSamples; ++i) {
+    if (r.facets) part = faceted_step_part(r, *curve);
+    for (int i = 0; i < kStepProfileSamples && part.faces.empty(); ++i) {
       const double t = curve->t0() + (curve->t1() - curve->t0()) * i / (kStepProfileSamples - 1);
       double rho = 0.0, z = 0.0, drho = 0.0, dz = 0.0;
       curve->eval(t, rho, z, drho, dz);

@@ -111,7 +111,16 @@ Result<FluxMap> flux_map(const photometry::Distribution& emitter_in, const photo
                       format_number(at(direct, worst_at)) + " cd direct; " + format_number(deficit_lm) +
                       " lm in all): a " + o.part + " can only add light. Widen the cone the " + o.part + " catches (" +
                       o.widen + ") or give a target with more light there");
-  for (double& v : reflected) v = std::max(v, 0.0);
+  // Where the direct light already gives all but kNegligibleAdded of the
+  // target, the part adds nothing: the residue there is rounding between two
+  // tabulations of the same direct light (and of s), not light to place. Left
+  // in, it grows G up to 180°, and G⁻¹ at u = 1 (the cone's rim) found the
+  // last γ where G still grew (90° for a lens whose refracted light overlaps
+  // the direct light): a map no part can make. Where there is no direct light
+  // R = s·T, so a reflector's map above FROM is untouched.
+  constexpr double kNegligibleAdded = 1e-3;
+  for (std::size_t i = 0; i < kFine; ++i)
+    reflected[i] = reflected[i] < kNegligibleAdded * out.target_scale * it[i] ? 0.0 : reflected[i];
   const std::vector<double> g = cumulative_flux(reflected);
   if (!(g.back() > 0.0)) return make_error("the target leaves nothing for the " + o.part + " to add to the direct light");
   if (o.absolute) {

@@ -24,17 +24,23 @@ Status write_other_parts_gltf(const Design& design, const DesignParts& parts, co
                               io::GltfWriter& w, const std::function<Result<int>(const std::string&)>& material);
 
 // Ok where the design has nothing the STEP export does not write yet;
-// else the error naming the first such part's line (troughs' caps, fixed
-// parts and facets go to glTF only so far).
+// else the error naming the first such part's line (fixed parts, and
+// facets one way only — cone bands or ruled sectors — go to glTF only so far).
 Status step_export_supported(const Design& design, const DesignParts& parts);
 
 // The troughs as extruded parts of the STEP request (io/model/step_export.h):
 // the profile sampled at `samples` equal steps of its parameter [mm], a
 // symmetric trough's mirror image joined to it where the profile starts on
 // the axis (one face), else its own part "NAME mirrored"; with a sidecar
-// rule (match, material) per part added to `rules`.
+// rule (match, material) per part added to `rules`. Caps: the part "NAME
+// caps", two plane faces at y = ±length/2 through the same samples.
 Status add_troughs_to_step(const Design& design, const DesignParts& parts, int samples, io::StepExport& request,
                            io::TomlNode& rules);
+
+// A reflector faceted both ways (facets.theta, facets.azimuth > 0): its flat
+// facets as plane faces through their corners on the exact surface [mm],
+// the rows and sectors of design/facets.h, sewn into one part.
+io::StepRevolvedPart faceted_step_part(const Reflector& r, const ProfileCurve& curve);
 
 // The covers as parts of the STEP request: OpenCASCADE's primitives (a box,
 // a cylinder, a dome turned from its meridian), solids of their thickness

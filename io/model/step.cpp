@@ -4,6 +4,8 @@
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -802,6 +804,37 @@ TopoDS_Shape cover_shape(const StepRevolvedPart& c) {
 
 }  // namespace
 
+namespace {
+
+// A part of planar faces (StepRevolvedPart::faces): each polygon a plane face
+// through its corners (repeated corners dropped), sewn within `tolerance`.
+Result<TopoDS_Shape> planar_faces(const StepRevolvedPart& part, double tolerance) {
+  BRepBuilderAPI_Sewing sewing(tolerance);
+  std::size_t k = 0;
+  for (std::size_t f = 0; f < part.faces.size(); ++f) {
+    std::vector<gp_Pnt> corners;
+    for (std::size_t c = 0; c < part.faces[f] && k + 2 < part.corners.size(); ++c, k += 3) {
+      const gp_Pnt p(part.corners[k], part.corners[k + 1], part.corners[k + 2]);
+      if (corners.empty() || p.Distance(corners.back()) > 1e-9) corners.push_back(p);
+    }
+    while (corners.size() > 1 && corners.back().Distance(corners.front()) <= 1e-9) corners.pop_back();
+    if (corners.size() < 3) continue;  // a facet shrunk to a line (on the axis)
+    BRepBuilderAPI_MakePolygon polygon;
+    for (const gp_Pnt& p : corners) polygon.Add(p);
+    polygon.Close();
+    if (!polygon.IsDone()) return make_error("face " + std::to_string(f + 1) + ": OpenCASCADE could not join its corners");
+    BRepBuilderAPI_MakeFace face(polygon.Wire(), true);
+    if (!face.IsDone()) return make_error("face " + std::to_string(f + 1) + ": its corners do not lie on one plane");
+    sewing.Add(face.Face());
+  }
+  sewing.Perform();
+  TopoDS_Shape out = sewing.SewedShape();
+  if (out.IsNull()) return make_error("OpenCASCADE could not sew the faces");
+  return out;
+}
+
+}  // namespace
+
 Status write_step_file(const StepExport& request, const std::string& path, double* max_deviation_mm) {
   if (request.parts.empty()) return make_error(path, "nothing to write: no parts");
   if (!(request.tolerance_mm > 0.0)) return make_error(path, "the tolerance must be > 0");
@@ -818,6 +851,15 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
         const TopoDS_Shape cover = cover_shape(part);
         if (cover.IsNull()) return make_error(path, part.name + ": OpenCASCADE could not make the cover");
         const TDF_Label label = shapes->AddShape(cover, false);
+        TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
+        const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());
+        TDataStd_Name::Set(component, TCollection_ExtendedString(part.name.c_str(), true));
+        continue;
+      }
+      if (!part.faces.empty()) {
+        Result<TopoDS_Shape> faces = planar_faces(part, request.tolerance_mm);
+        if (!faces.ok()) return make_error(path, part.name + ": " + faces.error().message);
+        const TDF_Label label = shapes->AddShape(*faces, false);
         TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
         const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());
         TDataStd_Name::Set(component, TCollection_ExtendedString(part.name.c_str(), true));

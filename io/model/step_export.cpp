@@ -34,6 +34,15 @@ std::string serialize_step_export(const StepExport& request) {
     if (!p.cover.empty())
       out += "cover " + one_line(p.cover) + " " + format_number(p.cover_a, 17) + " " + format_number(p.cover_b, 17) + " " +
              format_number(p.cover_t, 17) + " " + format_number(p.cover_z, 17) + "\n";
+    if (!p.faces.empty()) {
+      out += "faces " + std::to_string(p.faces.size()) + "\n";
+      std::size_t k = 0;
+      for (std::size_t n : p.faces) {
+        out += std::to_string(n);
+        for (std::size_t c = 0; c < 3 * n && k < p.corners.size(); ++c, ++k) out += " " + format_number(p.corners[k], 17);
+        out += "\n";
+      }
+    }
     out += "points " + std::to_string(p.rho.size()) + "\n";
     for (std::size_t i = 0; i < p.rho.size() && i < p.z.size(); ++i)
       out += format_number(p.rho[i], 17) + " " + format_number(p.z[i], 17) + "\n";
@@ -100,11 +109,32 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
         return bad("bad cover (box, disc or dome; then four finite numbers)");
       if (!next(line)) return bad("expected 'points N'");
     }
+    if (line.rfind("faces ", 0) == 0) {
+      const long count = std::strtol(line.c_str() + 6, &end, 10);
+      if (*end != '\0' || count < 1 || count > 1'000'000) return bad("bad face count");
+      for (long f = 0; f < count; ++f) {
+        if (!next(line)) return bad("the faces end early");
+        std::istringstream fs(line);
+        long corners = 0;
+        if (!(fs >> corners) || corners < 3 || corners > 100'000) return bad("a face needs 3 to 100000 corners");
+        for (long c = 0; c < 3 * corners; ++c) {
+          double v = 0.0;
+          if (!(fs >> v) || !std::isfinite(v)) return bad("expected " + std::to_string(3 * corners) + " finite numbers x y z");
+          p.corners.push_back(v);
+        }
+        std::string rest;
+        if (fs >> rest) return bad("text after the face's corners");
+        p.faces.push_back(static_cast<std::size_t>(corners));
+      }
+      if (!p.cover.empty() || p.extrude_mm > 0.0 || !p.curves.empty()) return bad("planar faces are a part of their own");
+      if (!next(line)) return bad("expected 'points N'");
+    }
     if (line.rfind("points ", 0) != 0) return bad("expected 'points N'");
     value = line.substr(7);
     const long n = std::strtol(value.c_str(), &end, 10);
-    if (*end != '\0' || (p.cover.empty() ? n < 2 : n != 0) || n > 10'000'000)
-      return bad(p.cover.empty() ? "bad point count (at least 2)" : "a cover has no points");
+    const bool pointless = !p.cover.empty() || !p.faces.empty();
+    if (*end != '\0' || (pointless ? n != 0 : n < 2) || n > 10'000'000)
+      return bad(!pointless ? "bad point count (at least 2)" : p.cover.empty() ? "planar faces have no points" : "a cover has no points");
     if (!p.curves.empty() && static_cast<long>(p.curves.back()) + 1 >= n)
       return bad("a curve starts at or after the last point");
     for (long i = 0; i < n; ++i) {

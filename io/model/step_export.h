@@ -35,6 +35,12 @@ struct StepRevolvedPart {
   // of its outer sphere) or, t = 0, one face.
   std::string cover{};
   double cover_a = 0.0, cover_b = 0.0, cover_t = 0.0, cover_z = 0.0;  // [mm]
+  // Not empty: planar faces instead, no points (a trough's end caps, a
+  // reflector's flat facets): polygons of these corner counts (≥ 3), their
+  // corners (x, y, z) [mm] one after another in `corners`, each polygon a
+  // plane face, all sewn into one shell.
+  std::vector<std::size_t> faces{};
+  std::vector<double> corners{};  // x, y, z per corner
 };
 
 struct StepExport {
@@ -44,8 +50,9 @@ struct StepExport {
 };
 
 // The request as text: a header line, then per part its name on one line,
-// for an extruded part a line "extrude L", and its points one per line
-// (names lose their line breaks).
+// for an extruded part a line "extrude L", for planar faces a line "faces N"
+// and a line per face (its corner count, then x y z per corner), and its
+// points one per line (names lose their line breaks).
 std::string serialize_step_export(const StepExport& request);
 
 // Reads the text back; `name` names it in messages. Errors: a malformed or

@@ -85,6 +85,35 @@ TEST(LensDesign, LinearMapsGiveTheClosedFormProfile) {
   }
 }
 
+// φ = 1.5θ over 0…30°: the refracted light (0…45°) overlaps the direct light
+// above 30°. The added light is the target less the direct light; above 45°
+// only rounding is left of it, which must not stretch the map's end (it took
+// the cone's rim to 90°, and the TIR check refused the design).
+TEST(LensDesign, RefractedLightOverlappingTheDirectLightGivesTheClosedForm) {
+  const photometry::Distribution emitter = lambertian(100.0);
+  LensDesignOptions o;
+  o.to_deg = 30.0;
+  o.distance_m = 0.010;
+  o.inner_radius_m = 0.003;
+  Result<LensDesign> d = design_lens(emitter, linear_lens_target(emitter, 1.5, 30.0, 0.01), o);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_NEAR(d->target_to_deg, 45.0, 0.02);  // the 0.01° target grid's ramp at its edge
+  EXPECT_NEAR(d->phi.back() / kDeg, 45.0, 0.02);
+  EXPECT_NEAR(d->largest_deviation_deg, 15.0, 0.02);
+  double fine = 0.0, table = 0.0;
+  for (std::size_t i = 0; i < d->theta.size(); ++i)
+    fine = std::max(fine, std::abs(d->r[i] / linear_lens_r(1.5, o.ior, d->theta[i], o.distance_m) - 1.0));
+  const PolarProfile& p = d->outer;
+  for (std::size_t i = 0; i + 1 < p.theta.size(); ++i) {
+    const double mid = 0.5 * (p.theta[i] + p.theta[i + 1]);
+    table = std::max(table, std::abs(polar_r(p, mid) / linear_lens_r(1.5, o.ior, mid, o.distance_m) - 1.0));
+  }
+  std::printf("lens k = 1.5, cone 0…30° (overlapping the direct light): profile error %.3g (fine), %.3g (table)\n",
+              fine, table);
+  EXPECT_LT(fine, 1e-4);
+  EXPECT_LT(table, 1e-4);
+}
+
 TEST(LensDesign, TheDesignFileIsTheDesignedLens) {
   const photometry::Distribution emitter = lambertian(100.0);
   LensDesignOptions o;

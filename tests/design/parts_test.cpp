@@ -751,14 +751,114 @@ TEST(DesignPartsExport, GltfHoldsTroughsAndCoversAsMeshed) {
       EXPECT_NEAR(top, -0.040f, 1e-7f);
     }
   }
-  // STEP does not write caps yet: an error naming the part's line, nothing written.
-  Result<StepExportInfo> step = write_design_step(*d, (dir / "lamp.step").string());
-  ASSERT_FALSE(step.ok());
-  EXPECT_EQ(step.error().where.line, 11) << to_string(step.error());
-  EXPECT_NE(step.error().message.find("[[troughs]] (its caps) at line 11: STEP export of this kind is not built yet"),
-            std::string::npos)
-      << to_string(step.error());
-  EXPECT_FALSE(std::filesystem::exists(dir / "lamp.step"));
+}
+
+// A trough's caps as STEP: the part "NAME caps", a plane face at each end
+// (y = ±200 mm), closing the cross-section between the two halves
+// (z ≤ f − x²/4f, z ≥ the rim's −30 mm), with the caps' material in the sidecar.
+TEST(DesignPartsExport, TroughCapsStepReadBackAsPlaneFacesAtTheEnds) {
+  if (!io::cad_supported()) GONIO_MISSING("a build with OpenCASCADE (GONIO_OCCT) for STEP export");
+  test::TempDir dir;
+  for (const bool slot : {false, true}) {
+    std::string text = edited(kTrough, "length = 400", "length = 400\ncaps = \"white\"\n[materials.white]\nreflectance = 0.8\n");
+    if (slot) text = edited(text, "aperture = [0, 40]", "aperture = [5, 40]");
+    Result<Design> d = parse_design(text, (dir / "lamp.design.toml").string());
+    ASSERT_TRUE(d.ok());
+    Result<StepExportInfo> info = write_design_step(*d, (dir / "caps.step").string());
+    ASSERT_TRUE(info.ok()) << to_string(info.error());
+    EXPECT_EQ(info->parts, slot ? 3u : 2u);
+    Result<io::CadModel> model = io::tessellate_cad((dir / "caps.step").string(), options(1.0));
+    ASSERT_TRUE(model.ok()) << to_string(model.error());
+    ASSERT_EQ(model->placements.size(), slot ? 3u : 2u);
+    const auto caps = std::find_if(model->placements.begin(), model->placements.end(),
+                                   [](const io::CadPlacement& p) { return p.path.find("trough caps") != std::string::npos; });
+    ASSERT_NE(caps, model->placements.end());
+    EXPECT_EQ(model->parts[caps->part].faces, 2u);
+    double off_plane = 0.0, x_max = -1.0, z_min = 1.0, z_max = -1.0, outside = 0.0;
+    std::size_t low = 0, high = 0;
+    for (const io::CadSurface& surface : model->parts[caps->part].surfaces)
+      for (const sim::Vec3f& v : surface.positions) {
+        const Vec3 p = caps->to_world.point(sim::to_double(v));
+        off_plane = std::max(off_plane, std::abs(std::abs(p.y) - 0.200));
+        (p.y < 0 ? low : high) += 1;
+        x_max = std::max(x_max, std::abs(p.x));
+        z_min = std::min(z_min, p.z);
+        z_max = std::max(z_max, p.z);
+        outside = std::max({outside, p.z - (0.010 - p.x * p.x / 0.040), -0.030 - p.z});
+      }
+    EXPECT_LT(off_plane, 2e-6) << slot;
+    EXPECT_GT(low, 3u);
+    EXPECT_GT(high, 3u);
+    EXPECT_NEAR(x_max, 0.040, 2e-6);
+    EXPECT_NEAR(z_min, -0.030, 2e-6);
+    EXPECT_NEAR(z_max, slot ? 0.010 - 0.005 * 0.005 / 0.040 : 0.010, 2e-6) << slot;
+    EXPECT_LT(outside, 2e-6) << slot;
+    Result<std::string> sidecar = io::read_file(info->sidecar, 1 << 20);
+    ASSERT_TRUE(sidecar.ok());
+    EXPECT_NE(sidecar->find("match = \"trough caps\"\nmaterial = \"white\""), std::string::npos) << *sidecar;
+  }
+}
+
+// A dish faceted both ways as STEP: one part named "dish" of 6 × 12 plane
+// faces, every vertex within 2 µm of its facet's plane through four corners
+// on the exact paraboloid z = 10 − ρ²/40 mm (rows at ρ = 4 + 26·i/6 mm,
+// sectors of 30°); faceted one way only is still refused, naming its line.
+TEST(DesignPartsExport, FlatFacetsStepReadBackOnTheirPlanes) {
+  if (!io::cad_supported()) GONIO_MISSING("a build with OpenCASCADE (GONIO_OCCT) for STEP export");
+  test::TempDir dir;
+  Result<Design> d = parse_design(faceted_dish("{ theta = 6, azimuth = 12, kind = \"flat\" }"),
+                                  (dir / "lamp.design.toml").string());
+  ASSERT_TRUE(d.ok());
+  Result<StepExportInfo> info = write_design_step(*d, (dir / "facets.step").string());
+  ASSERT_TRUE(info.ok()) << to_string(info.error());
+  EXPECT_EQ(info->parts, 1u);
+  Result<io::CadModel> model = io::tessellate_cad((dir / "facets.step").string(), options(1.0));
+  ASSERT_TRUE(model.ok()) << to_string(model.error());
+  ASSERT_EQ(model->placements.size(), 1u);
+  const io::CadPlacement& pl = model->placements[0];
+  EXPECT_NE(pl.path.find("dish"), std::string::npos) << pl.path;
+  EXPECT_EQ(model->parts[pl.part].faces, 72u);
+  const double step = 2.0 * kPi / 12.0;
+  auto corner = [&](int i, double psi) {
+    const double rho = 0.004 + 0.026 * i / 6.0;
+    return Vec3{rho * std::cos(psi), rho * std::sin(psi), 0.010 - rho * rho / 0.040};
+  };
+  double worst = 0.0, rho_min = 1.0, rho_max = -1.0;
+  std::size_t vertices = 0;
+  for (const io::CadSurface& surface : model->parts[pl.part].surfaces)
+    for (const sim::Vec3f& v : surface.positions) {
+      const Vec3 p = pl.to_world.point(sim::to_double(v));
+      double psi = std::atan2(p.y, p.x);
+      if (psi < 0) psi += 2.0 * kPi;
+      const int sector = static_cast<int>(psi / step);
+      const double rho = std::hypot(p.x, p.y);
+      rho_min = std::min(rho_min, rho);
+      rho_max = std::max(rho_max, rho);
+      double best = 1.0;
+      for (int j = sector - 1; j <= sector + 1; ++j)
+        for (int i = 0; i < 6; ++i) {
+          const Vec3 a = corner(i, step * j), b = corner(i, step * (j + 1)), c = corner(i + 1, step * j);
+          if (p.z > a.z + 2e-6 || p.z < c.z - 2e-6) continue;  // not this band
+          best = std::min(best, std::abs(dot(p - a, normalize(cross(b - a, c - a)))));
+        }
+      worst = std::max(worst, best);
+      ++vertices;
+    }
+  EXPECT_GE(vertices, 4u * 72u / 4u);
+  EXPECT_LT(worst, 2e-6);
+  EXPECT_NEAR(rho_max, 0.030, 2e-6);
+  EXPECT_NEAR(rho_min, 0.004, 2e-6);  // the inner row
+  Result<std::string> sidecar = io::read_file(info->sidecar, 1 << 20);
+  ASSERT_TRUE(sidecar.ok());
+  EXPECT_NE(sidecar->find("match = \"dish\""), std::string::npos) << *sidecar;
+
+  d = parse_design(faceted_dish("{ theta = 6, kind = \"flat\" }"), (dir / "cone.design.toml").string());
+  ASSERT_TRUE(d.ok());
+  info = write_design_step(*d, (dir / "cone.step").string());
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.error().message.find("[[reflectors]] (facets one way only: curved facets) at line 8"), std::string::npos)
+      << to_string(info.error());
+  EXPECT_FALSE(std::filesystem::exists(dir / "cone.step"));
 }
 
 // A trough as STEP (the helper's B-spline profile extruded along Y): read
