@@ -29,10 +29,16 @@ struct FluxMapOptions {
   bool allow_deficit = false;              // a target below the direct light: design the rest, no error
 };
 
-struct FluxMap {
-  double emitter_flux_lm = 0.0, cone_flux_lm = 0.0, direct_flux_lm = 0.0;
-  double target_scale = 1.0;
-  double target_from_deg = 0.0, target_to_deg = 0.0;  // where R > 0
+// The map's fluxes, as a design reports them (ReflectorDesign, LensDesign).
+struct FluxMapFigures {
+  double emitter_flux_lm = 0.0;  // the emitter's, all directions
+  double cone_flux_lm = 0.0;     // into the cone, which the part catches
+  double direct_flux_lm = 0.0;   // leaving directly (outside the cone)
+  double target_scale = 1.0;     // s
+  double target_from_deg = 0.0, target_to_deg = 0.0;  // where R > 0: the part's light's |φ| range
+};
+
+struct FluxMap : FluxMapFigures {
   std::vector<double> emitted, added;  // cumulative F (all γ) and G [lm] on the fine grid
   double from = 0.0, to = 0.0;         // [rad]
   // |φ| [rad] of the ray leaving the source at θ [rad].

@@ -93,12 +93,7 @@ Result<LensDesign> design_lens(const photometry::Distribution& emitter, const ph
   Result<FluxMap> fm = flux_map(emitter, target, fo);
   if (!fm.ok()) return fm.error();
   LensDesign out;
-  out.emitter_flux_lm = fm->emitter_flux_lm;
-  out.cone_flux_lm = fm->cone_flux_lm;
-  out.direct_flux_lm = fm->direct_flux_lm;
-  out.target_scale = fm->target_scale;
-  out.target_from_deg = fm->target_from_deg;
-  out.target_to_deg = fm->target_to_deg;
+  static_cast<FluxMapFigures&>(out) = *fm;
   const double sign = o.map == ReflectorMap::Uncrossed ? 1.0 : -1.0;
   if (Status s = integrate_lens_profile([&](double theta) { return sign * fm->phi(theta, false); }, o, out); !s.ok())
     return s.error();

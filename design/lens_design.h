@@ -52,13 +52,10 @@ struct LensDesignOptions {
   double transmittance = 1.0;    // the share of the cone's flux the target is scaled to
 };
 
-struct LensDesign {
+struct LensDesign : FluxMapFigures {  // direct light: θ > TO
   PolarProfile outer;                  // `nodes` points over [0, TO] [rad, m]
   double inner_radius_m = 0.0;
   std::vector<double> theta, phi, r;   // the fine solution [rad, rad, m]
-  double emitter_flux_lm = 0.0, cone_flux_lm = 0.0, direct_flux_lm = 0.0;
-  double target_scale = 1.0;
-  double target_from_deg = 0.0, target_to_deg = 0.0;
   double largest_deviation_deg = 0.0;  // max |φ − θ|
   double thinnest_m = 0.0;             // min r(θ) − r_i
 };

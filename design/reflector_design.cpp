@@ -60,12 +60,7 @@ Result<ReflectorDesign> design_reflector(const photometry::Distribution& emitter
   Result<FluxMap> fm = flux_map(emitter, target, fo);
   if (!fm.ok()) return fm.error();
   ReflectorDesign out;
-  out.emitter_flux_lm = fm->emitter_flux_lm;
-  out.cone_flux_lm = fm->cone_flux_lm;
-  out.direct_flux_lm = fm->direct_flux_lm;
-  out.target_scale = fm->target_scale;
-  out.target_from_deg = fm->target_from_deg;
-  out.target_to_deg = fm->target_to_deg;
+  static_cast<FluxMapFigures&>(out) = *fm;
 
   // The map θ → φ.
   const double sign = o.map == ReflectorMap::Uncrossed ? 1.0 : -1.0;

@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "design/flux_map.h"
 #include "design/revolved.h"
 #include "io/model/toml_tree.h"
 #include "photometry/diagnostics.h"
@@ -53,14 +54,9 @@ struct ReflectorDesignOptions {
   bool allow_deficit = false;
 };
 
-struct ReflectorDesign {
+struct ReflectorDesign : FluxMapFigures {  // direct light: θ < θ_from
   PolarProfile profile;                // the table: `nodes` points over the cone [rad, m]
   std::vector<double> theta, phi, r;   // the fine solution: steps + 1 points [rad, rad, m]
-  double emitter_flux_lm = 0.0;        // the emitter's, all directions
-  double cone_flux_lm = 0.0;           // into the cone, which the reflector catches
-  double direct_flux_lm = 0.0;         // θ < θ_from
-  double target_scale = 1.0;           // s
-  double target_from_deg = 0.0, target_to_deg = 0.0;  // where R > 0: the reflected light's |φ| range
 };
 
 // Designs the profile; errors say why no reflector of this kind can give
