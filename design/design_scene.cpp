@@ -75,14 +75,9 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t, const std::string& t
     r.profile = c;
   } else if (*kind == "polar") {
     if (Status s = keys(t, {"name", "material", "profile", "theta_deg", "r"}, what); !s.ok()) return s.error();
-    PolarProfile p;
-    Result<std::vector<double>> theta = numbers(t, "theta_deg", what, true);
-    if (!theta.ok()) return theta.error();
-    Result<std::vector<double>> radii = numbers(t, "r", what, true);
-    if (!radii.ok()) return radii.error();
-    for (double v : *theta) p.theta.push_back(v * std::numbers::pi / 180.0);
-    for (double v : *radii) p.r.push_back(v * unit_);
-    r.profile = p;
+    Result<PolarProfile> p = polar(t, what);
+    if (!p.ok()) return p.error();
+    r.profile = *p;
   } else if (*kind == "bspline") {
     if (Status s = keys(t, {"name", "material", "profile", "degree", "points"}, what); !s.ok()) return s.error();
     BSplineProfile b;

@@ -71,13 +71,9 @@ class LensReader : public TableReader {
     }
     if (kind->string == "polar") {
       if (Status s = io::check_keys(t, {"profile", "theta_deg", "r"}, what, path_); !s.ok()) return s.error();
-      PolarProfile p;
-      Result<std::vector<double>> theta = numbers(t, "theta_deg", what, true);
-      if (!theta.ok()) return theta.error();
-      Result<std::vector<double>> radii = numbers(t, "r", what, true);
-      if (!radii.ok()) return radii.error();
-      for (double v : *theta) p.theta.push_back(v * std::numbers::pi / 180.0);
-      for (double v : *radii) p.r.push_back(v * unit_);
+      Result<PolarProfile> polar_table = polar(t, what);
+      if (!polar_table.ok()) return polar_table.error();
+      const PolarProfile& p = *polar_table;
       if (p.theta.empty() || p.theta[0] != 0.0)
         return fail(path_, t.get("theta_deg")->line,
                     what + ": a lens's polar surface starts on the axis below the source: theta_deg[0] must be 0");

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -78,6 +79,17 @@ class TableReader {
     if (!ok) return fail_at(path_, points->line, what + ": 'points' must be an array of [ρ, z] pairs of finite numbers");
     if (b.rho.size() > 10000) return fail_at(path_, points->line, what + ": more than 10000 points");
     return Ok{};
+  }
+  // A polar table's `theta_deg` (to radians) and `r` (to metres).
+  Result<PolarProfile> polar(const io::TomlNode& t, const std::string& what) const {
+    PolarProfile p;
+    Result<std::vector<double>> theta = numbers(t, "theta_deg", what, true);
+    if (!theta.ok()) return theta.error();
+    Result<std::vector<double>> radii = numbers(t, "r", what, true);
+    if (!radii.ok()) return radii.error();
+    for (double v : *theta) p.theta.push_back(v * std::numbers::pi / 180.0);
+    for (double v : *radii) p.r.push_back(v * unit_);
+    return p;
   }
   // A B-spline's `degree`, 1 … 5 (`fallback` where the key is absent).
   Result<int> degree(const io::TomlNode& t, const std::string& what, int fallback) const {
