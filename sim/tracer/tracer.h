@@ -55,9 +55,10 @@ struct TracerSettings {
   // Next-event estimation for the far field (sim/tracer/next_event.h); with it,
   // plain tracing counts replicates under either sampler (K > 1).
   NextEventSettings next_event;
-  // Volume walks (issue 43): free paths inside scattering parts that stay
-  // in one cell of a grid of this many mean free paths (1/(μs + μa)) and
-  // cross none of the planes of the triangles that meet it need no ray
+  // Volume walks (issue 43): free paths inside scattering parts that end in
+  // the cell they start in, or in a cell sharing a face with it, of a grid of
+  // this many mean free paths (1/(μs + μa)), and lie on one side of every
+  // plane of the triangles that meet those cells, need no ray
   // query (sim/tracer/volume_grid.h). The same draws and decisions as a ray
   // query per free path (the same bytes) in closed parts with nothing
   // inside them. 0: a ray query for every free path. For measurement,
