@@ -305,26 +305,37 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   // query's branch below would make next (`drawn_s`).
   const Material* medium = nullptr;
   double drawn_s = -1.0;
+  // A volume event `s` along the path inside `m` (sim/bsdfs/volume.h):
+  // absorbed (chance μa/μt, booked at the part), cut off past
+  // kMaxVolumeEvents, or scattered by the phase function. False: the photon
+  // ended there (r.fate says how).
+  const auto volume_event = [&](const Material& m, double s) {
+    const double mu_t = m.scattering_per_m + m.attenuation_per_m;
+    if (rng.uniform() * mu_t < m.attenuation_per_m) {
+      r.fate = Fate::Absorbed;
+      return false;
+    }
+    if (books) ++books->volume_events;
+    if (++volume_events > kMaxVolumeEvents) {
+      r.fate = Fate::CutOff;
+      return false;
+    }
+    polarization.polarized = false;
+    // Light scattered in a volume is not the direct escape a connection
+    // stood for: its escape is binned.
+    covered = image_covered = false;
+    origin = origin + s * direction;
+    direction = sample_henyey_greenstein(direction, m.scattering_g, rng);
+    return true;
+  };
   for (;;) {
     if (medium) {
       const double mu_t = medium->scattering_per_m + medium->attenuation_per_m;
       drawn_s = -std::log(rng.uniform_open0()) / mu_t;
-      const Vec3 end = origin + drawn_s * direction;
-      if (volume_grid_->segment_free(origin, end)) {
+      if (volume_grid_->segment_free(origin, origin + drawn_s * direction)) {
+        const double s = drawn_s;
         drawn_s = -1.0;
-        if (rng.uniform() * mu_t < medium->attenuation_per_m) {
-          r.fate = Fate::Absorbed;
-          return r;
-        }
-        if (books) ++books->volume_events;
-        if (++volume_events > kMaxVolumeEvents) {
-          r.fate = Fate::CutOff;
-          return r;
-        }
-        polarization.polarized = false;
-        covered = image_covered = false;
-        origin = end;
-        direction = sample_henyey_greenstein(direction, medium->scattering_g, rng);
+        if (!volume_event(*medium, s)) return r;
         continue;
       }
       medium = nullptr;
@@ -374,21 +385,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       // Drawn before the query where the walk tried the grid first.
       const double s = pre_drawn_s >= 0.0 ? pre_drawn_s : -std::log(rng.uniform_open0()) / mu_t;
       if (s < t) {
-        if (rng.uniform() * mu_t < material.attenuation_per_m) {
-          r.fate = Fate::Absorbed;
-          return r;
-        }
-        if (books) ++books->volume_events;
-        if (++volume_events > kMaxVolumeEvents) {
-          r.fate = Fate::CutOff;
-          return r;
-        }
-        polarization.polarized = false;
-        // Light scattered in a volume is not the direct escape a
-        // connection stood for: its escape is binned.
-        covered = image_covered = false;
-        origin = origin + s * direction;
-        direction = sample_henyey_greenstein(direction, material.scattering_g, rng);
+        if (!volume_event(material, s)) return r;
         // The next free path starts inside this medium.
         if (volume_grid_) medium = &material;
         continue;
