@@ -50,6 +50,8 @@ const std::array<FigureInfo, kFigureCount>& figure_info() {
       {"duv_max", "1", "Δu′v′ max over angle"},
       {"axis_c0", "deg", "beam axis tilt towards C0"},
       {"axis_c90", "deg", "beam axis tilt towards C90"},
+      {"dugr", "1", "CIE 232 ΔUGR (largest over the views)"},
+      {"ugr_cie232", "1", "UGR 4H×8H with CIE 232's ΔUGR"},
   }};
   return info;
 }
@@ -92,6 +94,7 @@ Result<FigureValues> figures_of(const photometry::Distribution& d, const photome
     f[kBugG] = bug.g;
   }
   f[kCct] = f[kDuvMax] = std::numeric_limits<double>::quiet_NaN();  // the caller's, from a spectral run
+  f[kDugr] = f[kUgrCie232] = std::numeric_limits<double>::quiet_NaN();  // the caller's, from luminance images
   const std::array<double, 2> axis = beam_axis_deg(d);
   f[kAxisC0] = axis[0];
   f[kAxisC90] = axis[1];

@@ -40,6 +40,9 @@ enum FigureIndex : std::size_t {
   kDuvMax,   // Δu′v′ max over angle (sim::colour_over_angle; spectral runs)
   kAxisC0,   // the beam's axis: the tilt of the mean direction of the bins at ≥ half the peak
   kAxisC90,  // towards C0 and towards C90 [deg] (see beam_axis_deg)
+  kDugr,     // CIE 232:2019's ΔUGR, the largest over the luminance images' views (runs that ask for
+             // luminance images, --luminance-image; NaN otherwise): io::largest_delta_ugr
+  kUgrCie232,  // kUgr + kDugr: the 4H × 8H UGR with CIE 232's correction (the datasheet's figure)
   kFigureCount
 };
 struct FigureInfo {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 
@@ -173,6 +175,117 @@ double total_peak(const sim::Material& m) {
   return m.total() - reflection(m) - transmission(m) + reflection_peak(m) + transmission_peak(m);
 }
 
+// An emitter's bins, `flux_bin = { factors = [...], probabilities = [...] }`
+// or `colour_bin = { spectra = [FILE or { blackbody_k = K }, ...] | cct = [K, ...],
+// probabilities = [...] }`: one tolerance whose value is the bin's number.
+Result<Tolerance> parse_bins(const io::TomlNode& node, const std::string& name, const std::string& quantity,
+                             const std::string& what, const std::string& path) {
+  const bool flux = quantity == "flux_bin";
+  const char* form = flux ? "{ factors = [F1, F2, …], probabilities = [P1, P2, …] }"
+                          : "{ spectra = [\"FILE\", { blackbody_k = K }, …] or cct = [K1, K2, …], probabilities = "
+                            "[P1, P2, …] }";
+  if (!node.is_table()) return at(path, node.line, what + ": write " + std::string(form));
+  Tolerance t;
+  t.target = Tolerance::Target::Emitter;
+  t.name = name;
+  t.quantity = quantity;
+  t.line = node.line;
+  t.law.kind = ToleranceLaw::Kind::Bins;
+  const io::TomlNode* probabilities = nullptr;
+  int lists = 0;
+  const auto numbers = [&](const io::TomlNode& list, const std::string& key) -> Result<std::vector<double>> {
+    if (!list.is_array() || list.array.empty())
+      return at(path, list.line, what + "." + key + " must be a non-empty array of numbers");
+    std::vector<double> out;
+    for (const io::TomlNode& v : list.array) {
+      Result<double> x = number_of(v, what + "." + key, path);
+      if (!x.ok()) return x.error();
+      out.push_back(*x);
+    }
+    return out;
+  };
+  for (const auto& [key, value] : node.table) {
+    if (key == "probabilities") {
+      probabilities = &value;
+    } else if (flux && key == "factors") {
+      Result<std::vector<double>> f = numbers(value, key);
+      if (!f.ok()) return f.error();
+      for (double x : *f) {
+        if (!(x > 0.0)) return at(path, value.line, what + ".factors: a factor must be > 0 (" + format_number(x) + ")");
+        t.bin_factors.push_back(x);
+        t.bin_names.push_back("×" + format_number(x));
+      }
+      ++lists;
+    } else if (!flux && key == "cct") {
+      Result<std::vector<double>> k = numbers(value, key);
+      if (!k.ok()) return k.error();
+      for (double x : *k) {
+        if (!(x >= 1000.0 && x <= 25000.0))
+          return at(path, value.line, what + ".cct: " + format_number(x) + " K is outside 1000 … 25000 K");
+        t.bin_spectra.push_back(photometry::blackbody_spectrum(x));
+        t.bin_names.push_back(format_number(x) + " K");
+      }
+      ++lists;
+    } else if (!flux && key == "spectra") {
+      if (!value.is_array() || value.array.empty())
+        return at(path, value.line, what + ".spectra must be a non-empty array of file names or { blackbody_k = K }");
+      for (const io::TomlNode& v : value.array) {
+        if (v.is_string()) {
+          // Relative to the tolerance file's folder.
+          const std::filesystem::path file = std::filesystem::path(path).parent_path() / v.string;
+          if (!std::filesystem::is_regular_file(file))
+            return at(path, v.line, what + ".spectra: no spectrum file " + io::shown(file.string()));
+          Result<photometry::SampledSpectrum> sp = read_spectrum_table(file.string());
+          if (!sp.ok()) return sp.error();
+          t.bin_spectra.push_back(std::move(sp.value()));
+          t.bin_names.push_back(v.string);
+          continue;
+        }
+        const io::TomlNode* k = v.is_table() && v.table.size() == 1 ? v.get("blackbody_k") : nullptr;
+        const std::optional<double> kelvin = k ? k->number() : std::nullopt;
+        if (!kelvin || !(*kelvin >= 1000.0 && *kelvin <= 25000.0))
+          return at(path, v.line, what + ".spectra: each is a file name or { blackbody_k = K }, 1000 ≤ K ≤ 25000");
+        t.bin_spectra.push_back(photometry::blackbody_spectrum(*kelvin));
+        t.bin_names.push_back(format_number(*kelvin) + " K");
+      }
+      ++lists;
+    } else {
+      return at(path, value.line,
+                what + ": unknown key " + io::shown(key) + (flux ? " (factors, probabilities)" : " (spectra, cct, probabilities)"));
+    }
+  }
+  if (lists != 1) return at(path, node.line, what + ": give exactly one list of bins: " + form);
+  const std::size_t count = flux ? t.bin_factors.size() : t.bin_spectra.size();
+  if (probabilities) {
+    Result<std::vector<double>> p = numbers(*probabilities, "probabilities");
+    if (!p.ok()) return p.error();
+    if (p->size() != count)
+      return at(path, probabilities->line, what + ".probabilities: " + std::to_string(p->size()) + " for " +
+                                               std::to_string(count) + " bins");
+    double sum = 0.0;
+    for (double x : *p) {
+      if (!(x >= 0.0)) return at(path, probabilities->line, what + ".probabilities must be ≥ 0");
+      sum += x;
+    }
+    if (!(std::abs(sum - 1.0) <= 1e-6))
+      return at(path, probabilities->line,
+                what + ".probabilities sum to " + format_number(sum) + ", not 1");
+    t.law.probabilities = std::move(p.value());
+  } else {
+    t.law.probabilities.assign(count, 1.0 / static_cast<double>(count));  // equally likely
+  }
+  for (std::size_t k = 1; k <= count; ++k) t.law.values.push_back(static_cast<double>(k));
+  return t;
+}
+
+// Bin round(v) (clamped to 1 … K) of an emitter's bins applied to it.
+void apply_bin(const Tolerance& t, double v, sim::Emitter& e) {
+  const std::size_t count = t.law.probabilities.size();
+  const auto k = static_cast<std::size_t>(std::clamp(std::llround(v), 1LL, static_cast<long long>(count)));
+  if (t.quantity == "flux_bin") e.flux_lm *= t.bin_factors[k - 1];
+  else e.spectrum.over_gamma = {{0.0, t.bin_spectra[k - 1]}};
+}
+
 }  // namespace
 
 std::array<double, 2> legendre(int k, double t) {
@@ -230,6 +343,7 @@ double ToleranceLaw::low() const {
     case Kind::Normal: return -truncate * sigma;
     case Kind::Uniform: return -half_width;
     case Kind::Values: return *std::min_element(values.begin(), values.end());
+    case Kind::Bins: return 1.0;
   }
   return 0.0;
 }
@@ -239,6 +353,7 @@ double ToleranceLaw::high() const {
     case Kind::Normal: return truncate * sigma;
     case Kind::Uniform: return half_width;
     case Kind::Values: return *std::max_element(values.begin(), values.end());
+    case Kind::Bins: return static_cast<double>(probabilities.size());
   }
   return 0.0;
 }
@@ -250,6 +365,16 @@ double ToleranceLaw::quantile(double u) const {
     case Kind::Values: {
       const std::size_t i = std::min(values.size() - 1, static_cast<std::size_t>(u * static_cast<double>(values.size())));
       return values[i];
+    }
+    case Kind::Bins: {
+      // The bin whose cumulative interval holds u (the last where rounding
+      // leaves u at or above the sum).
+      double cumulative = 0.0;
+      for (std::size_t k = 0; k + 1 < probabilities.size(); ++k) {
+        cumulative += probabilities[k];
+        if (u < cumulative) return static_cast<double>(k + 1);
+      }
+      return static_cast<double>(probabilities.size());
     }
     case Kind::Normal: {
       if (sigma == 0.0) return 0.0;
@@ -276,11 +401,17 @@ std::string ToleranceLaw::text() const {
       for (std::size_t i = 0; i < values.size(); ++i) s += (i ? ", " : "") + format_number(values[i]);
       return s + "}";
     }
+    case Kind::Bins: {
+      std::string s = "bins {";
+      for (std::size_t i = 0; i < probabilities.size(); ++i) s += (i ? ", " : "") + format_number(probabilities[i]);
+      return s + "}";
+    }
   }
   return {};
 }
 
 const char* Tolerance::unit() const {
+  if (law.kind == ToleranceLaw::Kind::Bins) return "bin";
   if (quantity == "x" || quantity == "y" || quantity == "z") return "mm";
   if (quantity == "tilt_x" || quantity == "tilt_y") return "deg";
   if (quantity.rfind("form", 0) == 0) return "µm";
@@ -335,13 +466,19 @@ Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::
           for (Tolerance& t : *modes) spec.tolerances.push_back(std::move(t));
           continue;
         }
+        if (emitter && (quantity == "flux_bin" || quantity == "colour_bin")) {
+          Result<Tolerance> bins = parse_bins(law_node, name, quantity, what, path);
+          if (!bins.ok()) return bins.error();
+          spec.tolerances.push_back(std::move(bins.value()));
+          continue;
+        }
         const bool known = emitter ? one_of(quantity, kEmitterQuantities)
                            : part  ? one_of(quantity, kPartQuantities)
                                    : one_of(quantity, kMaterialQuantities);
         if (!known)
           return at(path, law_node.line,
                     "unknown " + section + " value " + io::shown(quantity) + " (" +
-                        (emitter ? listed(kEmitterQuantities)
+                        (emitter ? listed(kEmitterQuantities) + ", flux_bin, colour_bin"
                          : part  ? listed(kPartQuantities) + ", form"
                                  : listed(kMaterialQuantities)) +
                         ")");
@@ -374,6 +511,48 @@ Result<ToleranceSpec> read_tolerances(const std::string& path) {
   return parse_tolerances(*text, path);
 }
 
+Result<photometry::SampledSpectrum> read_spectrum_table(const std::string& path) {
+  Result<std::string> text = io::read_file(path, std::size_t{16} << 20);
+  if (!text.ok()) return text.error();
+  photometry::SampledSpectrum s;
+  std::size_t start = 0;
+  int line = 0;
+  bool header_allowed = true;
+  while (start <= text->size()) {
+    std::size_t end = text->find('\n', start);
+    if (end == std::string::npos) end = text->size();
+    std::string l = text->substr(start, end - start);
+    start = end + 1;
+    ++line;
+    if (const std::size_t hash = l.find('#'); hash != std::string::npos) l.erase(hash);
+    for (char& c : l)
+      if (c == ',' || c == ';' || c == '\t' || c == '\r') c = ' ';
+    if (l.find_first_not_of(' ') == std::string::npos) {
+      if (end == text->size()) break;
+      continue;
+    }
+    double nm = 0.0, value = 0.0;
+    char rest = 0;
+    const int read = std::sscanf(l.c_str(), "%lf %lf %c", &nm, &value, &rest);
+    if (read != 2 || !std::isfinite(nm) || !std::isfinite(value)) {
+      if (header_allowed && s.empty() && read == 0) {  // one header line of text
+        header_allowed = false;
+        continue;
+      }
+      return at(path, line, "write two numbers per line: wavelength [nm] and value");
+    }
+    header_allowed = false;
+    if (!s.wavelengths_nm.empty() && !(nm > s.wavelengths_nm.back()))
+      return at(path, line, "wavelengths must increase (" + format_number(nm) + " nm after " +
+                                format_number(s.wavelengths_nm.back()) + " nm)");
+    s.wavelengths_nm.push_back(nm);
+    s.values.push_back(value);
+    if (end == text->size()) break;
+  }
+  if (Status st = photometry::validate_spectrum(s); !st.ok()) return make_error(path, st.error().message);
+  return s;
+}
+
 Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) {
   for (const Tolerance& t : spec.tolerances) {
     if (t.target == Tolerance::Target::Variable) continue;  // check_variables; the design is built with them
@@ -385,7 +564,11 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
         return at(spec.path, t.line, "the model has no emitter " + io::shown(t.name) + " (it has " +
                                          (names.empty() ? "none" : names) + ")");
       }
-      if (t.quantity != "flux" && e->kind != sim::Emitter::Kind::Point)
+      if (t.quantity == "colour_bin" && e->spectrum.empty())
+        return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
+                                         " has no spectrum in the model: give it one (extras.gonio.spectrum, the "
+                                         "sidecar's spectrum) so that the nominal is a spectral run to compare with");
+      if (t.quantity != "flux" && t.law.kind != ToleranceLaw::Kind::Bins && e->kind != sim::Emitter::Kind::Point)
         return at(spec.path, t.line, t.label() + ": position and tilt apply to point emitters; " + io::shown(t.name) +
                                          " is an " + (e->kind == sim::Emitter::Kind::Area ? "area" : "ray-set") +
                                          " emitter");
@@ -449,6 +632,7 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
         if (t.quantity == "x") e.position = e.position + (v * 1e-3) * f.c0;
         else if (t.quantity == "y") e.position = e.position + (v * 1e-3) * f.c90;
         else if (t.quantity == "z") e.position = e.position + (v * 1e-3) * f.up;
+        else if (t.law.kind == ToleranceLaw::Kind::Bins) apply_bin(t, v, e);
         else if (t.quantity == "flux") e.flux_lm *= scale;
         else {
           const Vec3 axis = t.quantity == "tilt_x" ? f.c0 : f.c90;

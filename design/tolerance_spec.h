@@ -6,6 +6,9 @@
 //   x = { normal = 0.05, truncate = 2 }        # [mm] along the luminaire's C0 axis; σ, ±2σ
 //   tilt_x = { uniform = 1.0 }                 # [deg] about the C0 axis, ±1°
 //   flux = { values = [-5, 0, 5] }             # [%] of the emitter's flux
+//   flux_bin = { factors = [0.93, 1, 1.07], probabilities = [0.25, 0.5, 0.25] }
+//   colour_bin = { spectra = ["bin_a.txt", { blackbody_k = 3000 }], probabilities = [0.4, 0.6] }
+//   colour_bin = { cct = [2700, 3000] }        # blackbodies, equally likely
 //   [material."semi-specular aluminium"]       # a material by its name
 //   reflectance = { uniform = 2 }              # [%] of the reflection lobes' weights
 //   roughness = { uniform = 20 }               # [%] of the glossy lobe's RMS slopes
@@ -31,18 +34,23 @@
 #include "design/design_file.h"
 #include "io/model/toml_tree.h"
 #include "photometry/diagnostics.h"
+#include "photometry/spectrum.h"
 #include "sim/scene.h"
 
 namespace gonio::design {
 
 // How one value is distributed about its nominal (0: no change).
 struct ToleranceLaw {
-  enum class Kind { Normal, Uniform, Values };
+  // Bins: an emitter's flux or colour bins (flux_bin, colour_bin): the
+  // value is the bin's number 1 … K (0: the model's own emitter, the
+  // nominal), bin k drawn with probability probabilities[k − 1].
+  enum class Kind { Normal, Uniform, Values, Bins };
   Kind kind = Kind::Uniform;
   double sigma = 0.0;       // Normal
   double truncate = 3.0;    // Normal: limits at ±truncate·σ
   double half_width = 0.0;  // Uniform: ±half_width
   std::vector<double> values;  // Values
+  std::vector<double> probabilities;  // Bins: one per bin, summing to 1 (values: 1 … K)
   // The limits the sensitivity analysis sets it to: ±truncate·σ, ±half
   // width, the smallest and largest value.
   double low() const;
@@ -51,7 +59,11 @@ struct ToleranceLaw {
   // function; a truncated normal's by bisection on erfc; Values: equally
   // likely).
   double quantile(double u) const;
-  // Its text: "N(0, σ) ±kσ", "U(±a)", "{v1, v2, …}".
+  // Bins: the first and last bin. quantile: the bin k with
+  // P(1) + … + P(k − 1) ≤ u < P(1) + … + P(k) (the discrete inverse
+  // distribution function), so a Latin hypercube's N strata put N·P(k) ± 2
+  // draws into bin k.
+  // Its text: "N(0, σ) ±kσ", "U(±a)", "{v1, v2, …}", "bins {p1, p2, …}".
   std::string text() const;
 };
 
@@ -65,6 +77,11 @@ struct Tolerance {
   // "LED.x"; a variable's name alone ("reflectors[0].radius").
   std::string label() const { return quantity.empty() ? name : name + "." + quantity; }
   const char* unit() const;                                     // "mm", "deg", "%"
+  // flux_bin: each bin's factor on the emitter's flux; colour_bin: each
+  // bin's spectrum (it replaces the emitter's); names for reports.
+  std::vector<double> bin_factors;
+  std::vector<photometry::SampledSpectrum> bin_spectra;
+  std::vector<std::string> bin_names;
 };
 
 struct ToleranceSpec {
@@ -82,6 +99,13 @@ Result<ToleranceSpec> parse_tolerances(std::string_view text, const std::string&
 // own units of that number.
 Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::string& path, bool design = false);
 Result<ToleranceSpec> read_tolerances(const std::string& path);
+
+// A relative spectrum from a text file of two columns, wavelength [nm] and
+// value, separated by spaces, tabs, a comma or a semicolon (CRLF, blank
+// lines, `#` comments and one header line of text allowed), as measured
+// spectra come (/work/shared/corpus/spectra). Errors name the file and line;
+// the spectrum is checked by photometry::validate_spectrum.
+Result<photometry::SampledSpectrum> read_spectrum_table(const std::string& path);
 
 // Whether `scene` has what each tolerance names: the emitter or material by
 // that name; position and tilt only on point emitters; reflectance on a

@@ -125,6 +125,32 @@ std::string luminance_image_name(const std::string& stem, const sim::LuminanceVi
   return stem + ".luminance-C" + format_number(view.c_deg) + "-G" + format_number(view.gamma_deg) + ".exr";
 }
 
+photometry::NonUniformGlare cie232_of(const sim::LuminanceImage& image, const photometry::LuminousOpening& opening,
+                                      const photometry::NonUniformGlareParameters& parameters) {
+  photometry::LuminanceMap map;
+  map.width = map.height = image.plane.pixels;
+  map.pixel_m = image.plane.pixel_m;
+  map.cd_m2 = image.cd_m2;
+  const double ap = photometry::projected_area_m2(opening, image.plane.view.c_deg, image.plane.view.gamma_deg);
+  return photometry::analyse_non_uniform_glare(map, image.intensity_cd, ap, parameters);
+}
+
+LargestDeltaUgr largest_delta_ugr(const std::vector<sim::LuminanceImage>& images,
+                                  const photometry::LuminousOpening& opening,
+                                  const photometry::NonUniformGlareParameters& parameters) {
+  LargestDeltaUgr out;
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    photometry::NonUniformGlare g = cie232_of(images[i], opening, parameters);
+    // As write_luminance_images chooses: the first of equal largest values.
+    if (g.defined && !(g.delta_ugr <= out.delta_ugr)) {
+      out.delta_ugr = g.delta_ugr;
+      out.image = i;
+      out.glare = std::move(g);
+    }
+  }
+  return out;
+}
+
 LuminanceOutputs write_luminance_images(const std::string& out_dir, const std::string& stem,
                                         const std::vector<sim::LuminanceImage>& images,
                                         const photometry::LuminousOpening& opening, double cone_deg,
@@ -161,12 +187,7 @@ LuminanceOutputs write_luminance_images(const std::string& out_dir, const std::s
     if (Status s = write_png(png_path, picture(img, crop)); !s.ok()) out.failures.push_back(s.error());
     else out.written.push_back(png_path);
 
-    photometry::LuminanceMap map;
-    map.width = map.height = img.plane.pixels;
-    map.pixel_m = img.plane.pixel_m;
-    map.cd_m2 = img.cd_m2;
-    const double ap = photometry::projected_area_m2(opening, view.c_deg, view.gamma_deg);
-    const photometry::NonUniformGlare g = photometry::analyse_non_uniform_glare(map, img.intensity_cd, ap, parameters);
+    const photometry::NonUniformGlare g = cie232_of(img, opening, parameters);
     nlohmann::json cie = {{"defined", g.defined},
                           {"intensity_cd", number_or_null(g.intensity_cd)},
                           {"projected_area_m2", number_or_null(g.projected_area_m2)},

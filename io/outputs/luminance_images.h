@@ -10,6 +10,7 @@
 // others are still written.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,23 @@ nlohmann::json luminance_thumbnails(const std::vector<sim::LuminanceImage>& imag
 
 // The file name of a view's image: STEM.luminance-C<c>-G<γ>.exr.
 std::string luminance_image_name(const std::string& stem, const sim::LuminanceView& view);
+
+// CIE 232:2019's analysis of one image (photometry/non_uniform_glare.h): its
+// luminance, the intensity it carries, and the opening's projected area
+// towards its view as A_p — what write_luminance_images reports per image.
+photometry::NonUniformGlare cie232_of(const sim::LuminanceImage& image, const photometry::LuminousOpening& opening,
+                                      const photometry::NonUniformGlareParameters& parameters = {});
+
+// The largest ΔUGR over the images where it is defined (report.json's
+// cie232.delta_ugr) and the index of its image; NaN and npos where none is.
+struct LargestDeltaUgr {
+  double delta_ugr = photometry::kNaN;
+  std::size_t image = static_cast<std::size_t>(-1);
+  photometry::NonUniformGlare glare;  // that image's analysis
+};
+LargestDeltaUgr largest_delta_ugr(const std::vector<sim::LuminanceImage>& images,
+                                  const photometry::LuminousOpening& opening,
+                                  const photometry::NonUniformGlareParameters& parameters = {});
 
 // Writes the images into `out_dir`; `opening`: the luminous opening the
 // run's photometric files carry (its projected area is A_p).

@@ -70,7 +70,7 @@ int run_tolerance(const Args& args) {
   p.option("spec", &spec_text, "LIMITS",
            "limits for the yield: FIGURE=LO..HI, FIGURE<=HI or FIGURE>=LO[,…], e.g. beam_c0=24..28,ugr<=19 (figures: "
            "peak_cd, peak_c, peak_gamma, beam_c0, beam_c90, field_c0, field_c90, flux, lor, rms, ugr, bug_b, bug_u, "
-           "bug_g, cct, duv_max, axis_c0, axis_c90)");
+           "bug_g, cct, duv_max, axis_c0, axis_c90, dugr, ugr_cie232)");
   p.option("percentile", &percentile_text, "LIST",
            "trials written as DIR/pP_FIGURE.{ies,ldt} beside best and worst: P (the RMS difference from the nominal) "
            "or FIGURE:P, comma-separated, 0 <= P <= 100, e.g. 5,95,beam_c0:50 (nearest rank over the trials)");
@@ -86,6 +86,10 @@ int run_tolerance(const Args& args) {
   p.flag("resume", &resume,
          "read DIR/journal.jsonl of an interrupted run back and trace only what it lacks (the same report)");
   p.option("bins", &bins, 1, 1000, "B", "bins of each figure's histogram (default 10)");
+  p.option("luminance-image", &options.luminance_images, "C:G,...|ugr",
+           "luminance images of every trace from these directions, as gonio simulate --luminance-image\n"
+           "takes them (ugr: CIE 232's views), not written: each trace's CIE 232:2019 figures dugr (the\n"
+           "largest delta UGR over the views) and ugr_cie232 (ugr + dugr) in the tables and report.json");
   p.option("photons", &options.photons, 1, 4'294'967'295LL, "N", "photons per trace (default 1000000)");
   p.option("seed", &options.seed, 0, 9'223'372'036'854'775'807LL, "S",
            "seed of every trace: the common random numbers (default 1)");

@@ -19,6 +19,7 @@
 #include "design/design_file.h"
 #include "design/tolerance.h"
 #include "design/tolerance_spec.h"
+#include "io/outputs/luminance_images.h"
 #include "io/outputs/plot.h"
 #include "io/photometric/photometric_file.h"
 #include "io/support/file_io.h"
@@ -127,6 +128,16 @@ std::string trace_key(const std::vector<double>& values, std::uint64_t seed) {
     key += buf;
   }
   return key;
+}
+
+// Runs that ask for luminance images (--luminance-image, as gonio simulate):
+// CIE 232:2019's largest ΔUGR over the views, with the opening the trace's
+// IES and LDT carry as A_p — the figure gonio simulate's report.json gives
+// as cie232.delta_ugr — and the 4H × 8H UGR corrected by it.
+void cie232_figures(const sim::Simulation& simulation, const OutputRequest& request, FigureValues& f) {
+  if (simulation.settings().luminance.views.empty() || !request.opening) return;
+  f[design::kDugr] = io::largest_delta_ugr(simulation.luminance_images(), request.opening->opening).delta_ugr;
+  f[design::kUgrCie232] = f[design::kUgr] + f[design::kDugr];
 }
 
 class Tracer {
@@ -239,6 +250,7 @@ class Tracer {
       t.figures[design::kCct] = c.cct.cct_k;
       t.figures[design::kDuvMax] = c.delta_uv_max;
     }
+    cie232_figures(simulation, request, t.figures);
     t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return t;
   }
@@ -367,6 +379,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   for (const design::Tolerance& t : spec->tolerances)
     journal_tolerances.push_back(t.label() + " " + t.law.text() + " " + t.unit());
   journal_header["tolerances"] = journal_tolerances;
+  if (sim.luminance_images) journal_header["luminance_images"] = *sim.luminance_images;
   Journal journal;
   std::size_t reused = 0;
   if (Status s = journal.open((fs::path(out_dir) / "journal.jsonl").string(), journal_header, options.resume, &reused);
@@ -531,16 +544,18 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
       const double low = at_limits[i][0][f] - base, high = at_limits[i][1][f] - base;
       const bool undefined = !std::isfinite(nominal->figures[f]);
       const bool quiet = !undefined && design::below_noise(std::max(std::abs(low), std::abs(high)), noise[f]);
-      const double k = undefined ? photometry::kNaN : design::allowed_scale(nominal->figures[f], low, high, limit);
-      std::string says = undefined     ? "not defined for this model"
+      const bool discrete = t.law.kind == design::ToleranceLaw::Kind::Bins;  // a bin number cannot be scaled
+      const double k = undefined || discrete ? photometry::kNaN : design::allowed_scale(nominal->figures[f], low, high, limit);
+      std::string says = discrete      ? "bins: a discrete law, not scaled"
+                         : undefined   ? "not defined for this model"
                          : quiet       ? "below noise: not estimated"
                          : std::isinf(k) ? "any (no change towards the limit)"
                                          : "× " + format_number(k, 3) + ": " + format_number(k * t.law.low(), 3) +
                                                " … " + format_number(k * t.law.high(), 3) + " " + t.unit();
       json entry = {{"limit", limit.text()},
                     {"tolerance", t.label()},
-                    {"scale", undefined || quiet || std::isinf(k) ? json(nullptr) : json(k)},
-                    {"why", undefined ? "not defined" : quiet ? "below noise" : std::isinf(k) ? "no change towards the limit" : ""}};
+                    {"scale", undefined || quiet || !std::isfinite(k) ? json(nullptr) : json(k)},
+                    {"why", discrete ? "bins" : undefined ? "not defined" : quiet ? "below noise" : std::isinf(k) ? "no change towards the limit" : ""}};
       // Traced, where the linear estimate is finite and positive.
       if (inverse_steps > 0 && !undefined && !quiet && std::isfinite(k) && k > 0.0) {
         // A relative tolerance stays above −100 %, a reflectance keeps the lobes within 1.
