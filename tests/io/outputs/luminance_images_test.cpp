@@ -69,6 +69,13 @@ TEST(LuminanceImages, WritesTheExrAndReportsCie232PerView) {
   EXPECT_DOUBLE_EQ(out.cie232["delta_ugr"].get<double>(), a["delta_ugr"].get<double>());
   EXPECT_EQ(out.cie232["c_deg"].get<double>(), 0.0);
   EXPECT_EQ(out.cie232["threshold_cd_m2"].get<double>(), 500.0);
+  // io::largest_delta_ugr (gonio tolerance's dugr): the same largest, in
+  // either order of the views, and its image.
+  const LargestDeltaUgr largest = largest_delta_ugr({second, bright}, opening);
+  EXPECT_EQ(largest.delta_ugr, out.cie232["delta_ugr"].get<double>());
+  EXPECT_EQ(largest.image, 1u);
+  EXPECT_EQ(largest.glare.k2, a["k2"].get<double>());
+  EXPECT_TRUE(std::isnan(largest_delta_ugr({bright}, {}).delta_ugr));  // a point opening: none defined
   // The thumbnail covers the lit part (the panel plus a margin), ≤ 48 a side.
   const nlohmann::json& t = out.images[0]["thumbnail"];
   EXPECT_EQ(t["size"].get<int>(), 48);
