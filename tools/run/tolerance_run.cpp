@@ -267,6 +267,19 @@ class Tracer {
   mutable std::vector<double> scales_;
 };
 
+// An emitter's bins for report.json: [{bin, name, probability, factor}]
+// (factor for flux bins); null for other laws (their entries get no "bins").
+json bins_json(const design::Tolerance& t) {
+  if (t.law.kind != design::ToleranceLaw::Kind::Bins) return nullptr;
+  json bins = json::array();
+  for (std::size_t k = 0; k < t.law.probabilities.size(); ++k) {
+    json b = {{"bin", k + 1}, {"name", t.bin_names[k]}, {"probability", t.law.probabilities[k]}};
+    if (k < t.bin_factors.size()) b["factor"] = t.bin_factors[k];
+    bins.push_back(b);
+  }
+  return bins;
+}
+
 json figures_json(const FigureValues& f) {
   json j = json::object();
   for (std::size_t i = 0; i < kFigureCount; ++i) j[design::figure_info()[i].key] = json_number(f[i]);
@@ -411,6 +424,8 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
                           {"low", t.law.low()},
                           {"high", t.law.high()},
                           {"line", t.line}});
+  for (std::size_t i = 0; i < dims; ++i)
+    if (const json listed = bins_json(spec->tolerances[i]); !listed.is_null()) tolerances[i]["bins"] = listed;
   report["tolerances"] = tolerances;
   std::vector<double> seconds;
 

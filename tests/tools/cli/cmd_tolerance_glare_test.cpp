@@ -286,6 +286,17 @@ TEST(ToleranceGlareCli, ColourBinsGiveTheirSpectrumsCctAndFluxBinsScaleTheFlux) 
     EXPECT_NEAR(t["figures"]["flux"].get<double>(), factor * nominal_flux, 1e-9 * nominal_flux);
   }
   EXPECT_EQ(bin1, 2);  // 8 strata, P = 0.25: exactly 2
+  // report.json names each bin.
+  for (const json& t : report["tolerances"]) {
+    ASSERT_TRUE(t.contains("bins")) << t.dump();
+    if (t["name"] == "led.colour_bin") {
+      EXPECT_EQ(t["bins"][0]["name"], "2700 K");
+      EXPECT_EQ(t["bins"][1]["name"], "yellow.txt");
+      EXPECT_EQ(t["bins"][1]["probability"].get<double>(), 0.75);
+    } else {
+      EXPECT_EQ(t["bins"][1]["factor"].get<double>(), 1.1);
+    }
+  }
 }
 
 // Mistakes name the file and line: an unknown spectrum file, probabilities
