@@ -137,3 +137,22 @@ def test_percentile_trials_equal_the_command(setup, gonio_exe, tmp_path):
             assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
     with pytest.raises(ValueError, match="--percentile '101'"):
         gonio.tolerance(d / "dish.design.toml", d / "t.toml", **RUN, percentile="101")
+
+
+def test_luminance_image_gives_the_commands_cie232_figures(setup, gonio_exe, tmp_path):
+    """luminance_image: every trace's CIE 232 dugr and ugr_cie232, the same as the command's --luminance-image;
+    without it they are not defined (NaN)."""
+    d = setup
+    code, _, err = run_gonio(gonio_exe, "tolerance", d / "dish.design.toml", "--tolerances", d / "t.toml", "--out",
+                             tmp_path / "cli", *CLI, "--luminance-image", "ugr")
+    assert code == 0, err
+    report = json.loads((tmp_path / "cli" / "report.json").read_text())
+    result = gonio.tolerance(d / "dish.design.toml", d / "t.toml", **RUN, luminance_image="ugr")
+    for figure in ("dugr", "ugr_cie232"):
+        expected = np.array([t["figures"][figure] for t in report["monte_carlo"]["trials"]], dtype=float)
+        assert np.isfinite(expected).all()
+        np.testing.assert_array_equal(result["trials"][figure], expected)
+    plain = gonio.tolerance(d / "dish.design.toml", d / "t.toml", **RUN)
+    assert np.isnan(plain["trials"]["dugr"]).all()
+    with pytest.raises(ValueError, match="--luminance-image"):
+        gonio.tolerance(d / "dish.design.toml", d / "t.toml", **RUN, luminance_image="C0")

@@ -1159,7 +1159,8 @@ py::dict tolerance(const py::object& model_object, const py::object& tolerances_
                    const std::optional<std::string>& spec, long long seed, long long noise_seeds,
                    long long sampling_seed, long long bins, long long photons, int threads, int max_bounces,
                    double c_step, double gamma_step, const py::object& out_object, long long inverse_steps,
-                   long long parallel_trials, const std::optional<std::string>& percentile) {
+                   long long parallel_trials, const std::optional<std::string>& percentile,
+                   const std::optional<std::string>& luminance_image) {
   namespace fs = std::filesystem;
   if (trials < 0 || trials > 100000) throw py::value_error("trials must be between 0 and 100000");
   if (inverse_steps < 0 || inverse_steps > 50) throw py::value_error("inverse_steps must be between 0 and 50");
@@ -1189,6 +1190,7 @@ py::dict tolerance(const py::object& model_object, const py::object& tolerances_
   so.max_bounces = max_bounces;
   so.c_step = c_step;
   so.gamma_step = gamma_step;
+  so.luminance_images = luminance_image;  // --luminance-image: CIE 232's dugr and ugr_cie232 per trace
   std::optional<io::ScratchDir> scratch;
   o.out_dir = working_folder(out_object, "gonio-tolerance", scratch);
   Result<app::SimulatePlan> plan = app::plan_simulation(o.model, so);
@@ -1444,6 +1446,7 @@ void bind_simulation(py::module_& m) {
         py::arg("bins") = 10, py::arg("photons") = 1'000'000, py::arg("threads") = 0, py::arg("max_bounces") = 100,
         py::arg("c_step") = 5.0, py::arg("gamma_step") = 2.5, py::arg("out") = py::none(),
         py::arg("inverse_steps") = 4, py::arg("parallel_trials") = 1, py::arg("percentile") = py::none(),
+        py::arg("luminance_image") = py::none(),
         "How robust a luminaire is, as gonio tolerance does (the same run; docs/tolerance.md): returns\n"
         "{trials: {figure: numpy array over the Monte Carlo trials}, values: {tolerance: array of its\n"
         "drawn values}, sensitivity: [{figure, unit, tolerance, low, high, change_low, change_high,\n"
@@ -1453,6 +1456,8 @@ void bind_simulation(py::module_& m) {
         "inverse_steps: bisection steps of the traced inverse sensitivity; parallel_trials: trials at once.\n"
         "percentile: '5,95,beam_c0:50', the trials at those percentiles (nearest rank), written to out as\n"
         "pP_FIGURE.ies/.ldt and listed in percentile_trials.\n"
+        "luminance_image: 'ugr' or 'C:G,...' as gonio tolerance --luminance-image: every trace's CIE 232\n"
+        "figures dugr (largest delta UGR over the views) and ugr_cie232; NaN without it.\n"
         "Without out it works in a temporary folder.\n"
         "Raises GonioError naming the file; bad arguments raise ValueError.");
   py::class_<PyMerit>(m, "Merit",

@@ -237,6 +237,8 @@ def tolerance(
     out: PathLike | None = None,
     inverse_steps: int = 4,
     parallel_trials: int = 1,
+    percentile: str | None = None,
+    luminance_image: str | None = None,
 ) -> dict[str, Any]:
     """gonio tolerance's run: {trials, values, sensitivity, noise_floor, nominal, yield, inverse_sensitivity, table, report}."""
     ...
