@@ -158,6 +158,14 @@ TEST(ToleranceGlareCli, NominalDeltaUgrEqualsGonioSimulateAndAUnitBinChangesNoth
   ASSERT_FALSE(grey.is_null());
   EXPECT_TRUE(grey["nominal"]["dugr"].is_null());
   EXPECT_TRUE(grey["sensitivity"]["dugr"]["rows"].empty());
+  // The journal's header names the views: resuming with other views (here
+  // none, after a run with 0:0) is refused rather than mixing their figures.
+  const test::ProcessResult again =
+      gonio({"tolerance", model.string(), "--tolerances", (dir / "t.toml").string(), "--out", (dir / "out").string(),
+             "--photons", "20000", "--trials", "0", "--noise-seeds", "0", "--c-step", "15", "--luminance-image", "0:0",
+             "--resume"});
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.err.find("written by another run"), std::string::npos) << again.err;
 }
 
 // Two equal LEDs (L = 20 000 cd/m², 30 mm squares, 50 mm apart). CIE 232:
