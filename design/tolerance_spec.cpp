@@ -117,6 +117,59 @@ bool in_part(const sim::Mesh& mesh, const std::string& name) {
                                mesh.name[name.size()] == '/');
 }
 
+// The instances a part names (docs/tolerance.md, "Instanced parts"): the
+// name of an instanced mesh ("lens" or "lens/0", glTF's mesh/primitive; a
+// CAD part's name) names each of its copies (`copies`: each moves about the
+// centre of its own bounding box, all by the one value drawn); otherwise an
+// instance is in the part where its placed name, "NODE/MESH" (its node's name
+// or CAD path, then its mesh's: the name sim::flattened gives its copy),
+// is in the part, or starts with "NAME[" (the copies of one
+// EXT_mesh_gpu_instancing node, "array[3]"): one body with the part's world
+// meshes, about the centre of their common bounding box.
+struct PartInstances {
+  std::vector<std::size_t> instances;
+  bool copies = false;
+};
+
+PartInstances part_instances(const sim::SceneDesc& scene, const std::string& name) {
+  PartInstances p;
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const sim::Instance& inst = scene.instances[i];
+    if (inst.mesh < scene.meshes.size() && in_part(scene.meshes[inst.mesh], name)) p.instances.push_back(i);
+  }
+  p.copies = !p.instances.empty();
+  if (p.copies) return p;
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const sim::Instance& inst = scene.instances[i];
+    if (inst.mesh >= scene.meshes.size()) continue;
+    sim::Mesh placed;
+    placed.name = inst.name + "/" + scene.meshes[inst.mesh].name;
+    if (in_part(placed, name) || placed.name.rfind(name + "[", 0) == 0) p.instances.push_back(i);
+  }
+  return p;
+}
+
+// Widens [lo, hi] by the placed vertices of instance `i`.
+void add_instance_bounds(const sim::SceneDesc& scene, std::size_t i, Vec3& lo, Vec3& hi) {
+  const sim::Instance& inst = scene.instances[i];
+  for (const sim::Vec3f& p : scene.meshes[inst.mesh].positions) {
+    const Vec3 q = inst.to_world.point(sim::to_double(p));
+    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+  }
+}
+
+// A part's move: along the luminaire's axes, or turned about its C0 (C90)
+// axis through `centre`.
+sim::Affine part_move(const photometry::PhotometricFrame& f, const std::string& quantity, double v,
+                      const Vec3& centre) {
+  if (quantity == "x") return sim::translation((v * 1e-3) * f.c0);
+  if (quantity == "y") return sim::translation((v * 1e-3) * f.c90);
+  if (quantity == "z") return sim::translation((v * 1e-3) * f.up);
+  return sim::translation(centre) * sim::rotation(quantity == "tilt_x" ? f.c0 : f.c90, v * std::numbers::pi / 180.0) *
+         sim::translation(-1.0 * centre);
+}
+
 // A part's form error, `form = { modes = K, rms_um = S }`: K tolerances
 // form1 … formK, each the amplitude [µm RMS] of one orthonormal Legendre
 // mode of the sag, N(0, S/√K) truncated at ±3σ, so that the sum's expected
@@ -392,14 +445,20 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
       continue;
     }
     if (t.target == Tolerance::Target::Part) {
-      bool world = false, instanced = false;
+      bool world = false;
       for (const sim::Mesh& mesh : scene.meshes)
-        if (in_part(mesh, t.name)) (mesh.instanced ? instanced : world) = true;
-      if (instanced)
+        if (in_part(mesh, t.name) && !mesh.instanced) world = true;
+      const bool instanced = !part_instances(scene, t.name).instances.empty();
+      if (!world && !instanced)
+        for (const sim::Mesh& mesh : scene.meshes)
+          if (in_part(mesh, t.name) && mesh.instanced)
+            return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
+                                             " is an instanced mesh placed nowhere (it has no instances)");
+      if (instanced && t.quantity.rfind("form", 0) == 0)
         return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
-                                         " is an instanced mesh (placed by its instances); part tolerances move world "
-                                         "meshes only so far");
-      if (!world) {
+                                         " is instanced (placed by its instances); form errors shape world meshes "
+                                         "only (load it with its copies un-instanced)");
+      if (!world && !instanced) {
         std::string names;
         for (const sim::Mesh& x : scene.meshes)
           if (names.find(io::shown(x.name)) == std::string::npos) names += (names.empty() ? "" : ", ") + io::shown(x.name);
@@ -472,6 +531,9 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
             lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
             hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
           }
+      const PartInstances moved = part_instances(scene, t.name);
+      if (!moved.copies)
+        for (std::size_t k : moved.instances) add_instance_bounds(scene, k, lo, hi);
       const Vec3 centre = 0.5 * (lo + hi);
       if (t.quantity.rfind("form", 0) == 0) {
         apply_form_mode(scene, t.name, std::stoi(t.quantity.substr(4)), v, centre);
@@ -487,6 +549,12 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
               sim::translation(-1.0 * centre);
       for (sim::Mesh& mesh : scene.meshes)
         if (in_part(mesh, t.name) && !mesh.instanced) sim::transform(mesh, map);
+      for (std::size_t k : moved.instances) {
+        Vec3 own_lo{1e300, 1e300, 1e300}, own_hi{-1e300, -1e300, -1e300};
+        if (moved.copies) add_instance_bounds(scene, k, own_lo, own_hi);
+        sim::Instance& inst = scene.instances[k];
+        inst.to_world = (moved.copies ? part_move(f, t.quantity, v, 0.5 * (own_lo + own_hi)) : map) * inst.to_world;
+      }
       continue;
     }
     for (sim::Material& m : scene.materials) {
