@@ -380,7 +380,12 @@ Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::
     for (const auto& [name, quantities] : node.table) {
       if (!quantities.is_table())
         return at(path, quantities.line, "[" + section + "." + name + "] must be a table of values");
+      // [part.NAME] independent = true: each copy of an instanced mesh draws its own values.
+      const io::TomlNode* independent = part ? quantities.get("independent") : nullptr;
+      if (independent && independent->type != io::TomlNode::Type::Boolean)
+        return at(path, independent->line, section + "." + name + ".independent must be true or false");
       for (const auto& [quantity, law_node] : quantities.table) {
+        if (independent && quantity == "independent") continue;
         const std::string what = section + "." + name + "." + quantity;
         if (part && quantity == "form") {
           Result<std::vector<Tolerance>> modes = parse_form(law_node, name, what, path);
@@ -408,6 +413,7 @@ Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::
         t.quantity = quantity;
         t.law = std::move(law.value());
         t.line = law_node.line;
+        t.independent = independent && independent->boolean;
         if (t.unit() == std::string("%") && t.law.low() <= -100.0)
           return at(path, t.line, what + ": a change of −100 % or less leaves nothing (" + t.law.text() + ")");
         spec.tolerances.push_back(std::move(t));
@@ -490,6 +496,28 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
                 t.label() + " at +" + format_number(t.law.high()) + " % would make the material's lobes sum to " +
                     format_number(total) + " > 1");
   }
+  return Ok{};
+}
+
+Status expand_independent_copies(ToleranceSpec& spec, const sim::SceneDesc& scene) {
+  std::vector<Tolerance> out;
+  for (Tolerance& t : spec.tolerances) {
+    if (!t.independent) {
+      out.push_back(std::move(t));
+      continue;
+    }
+    const PartInstances copies = part_instances(scene, t.name);
+    if (!copies.copies)
+      return at(spec.path, t.line, t.label() + ": independent = true needs the name of an instanced mesh (its copies "
+                                               "draw their own values); " + io::shown(t.name) + " is not one");
+    for (std::size_t k : copies.instances) {
+      Tolerance each = t;
+      each.independent = false;
+      each.name = scene.instances[k].name + "/" + scene.meshes[scene.instances[k].mesh].name;
+      out.push_back(std::move(each));
+    }
+  }
+  spec.tolerances = std::move(out);
   return Ok{};
 }
 

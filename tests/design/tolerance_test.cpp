@@ -333,6 +333,40 @@ TEST(ToleranceSpec, InstancedPartsMoveLikeTheirUninstancedCopies) {
             std::string::npos);
 }
 
+// independent = true: each copy of the instanced mesh draws its own value —
+// one tolerance per copy, named by its placed name, which moves that copy
+// alone: the scene equals the un-instanced one with each copy's node given
+// its own value.
+TEST(ToleranceSpec, IndependentCopiesDrawTheirOwnValues) {
+  sim::SceneDesc instanced = two_copies("lensA", "lensB");
+  sim::SceneDesc flat = sim::flattened(instanced);
+  ToleranceSpec si = parse_ok("[part.lens]\nindependent = true\ntilt_x = { uniform = 7 }\ny = { normal = 1 }\n");
+  ASSERT_EQ(si.tolerances.size(), 2u);
+  EXPECT_TRUE(si.tolerances[0].independent);
+  ASSERT_TRUE(expand_independent_copies(si, instanced).ok());
+  ASSERT_EQ(si.tolerances.size(), 4u);
+  EXPECT_EQ(si.tolerances[0].label(), "lensA/lens/0.tilt_x");
+  EXPECT_EQ(si.tolerances[1].label(), "lensB/lens/0.tilt_x");
+  EXPECT_EQ(si.tolerances[3].label(), "lensB/lens/0.y");
+  EXPECT_EQ(si.tolerances[3].line, 4);
+  EXPECT_EQ(si.tolerances[3].law.sigma, 1.0);
+  ASSERT_TRUE(check_tolerances(si, instanced).ok());
+  const ToleranceSpec sf = parse_ok("[part.lensA]\ntilt_x = { uniform = 7 }\ny = { normal = 1 }\n"
+                                    "[part.lensB]\ntilt_x = { uniform = 7 }\ny = { normal = 1 }\n");
+  ASSERT_TRUE(check_tolerances(sf, flat).ok());
+  // Spec order: A.tilt_x, B.tilt_x, A.y, B.y; the flat file's: A.tilt_x, A.y, B.tilt_x, B.y.
+  apply_tolerances(si, std::vector<double>{4.0, -6.0, 0.7, -1.9}, instanced);
+  apply_tolerances(sf, std::vector<double>{4.0, 0.7, -6.0, -1.9}, flat);
+  expect_same_vertices(sim::flattened(instanced), flat, "independent copies");
+  // Not a mesh's copies, or not a boolean: errors naming the line.
+  ToleranceSpec node = parse_ok("[part.lensA]\nindependent = true\nx = { uniform = 1 }\n");
+  EXPECT_EQ(to_string(expand_independent_copies(node, instanced).error()),
+            "t.toml:3: lensA.x: independent = true needs the name of an instanced mesh (its copies draw their own "
+            "values); 'lensA' is not one");
+  EXPECT_EQ(error_of("[part.lens]\nindependent = 1\nx = { uniform = 1 }\n"),
+            "t.toml:2: part.lens.independent must be true or false");
+}
+
 // A profile's form error: `form = { modes = K, rms_um = S }` is K Legendre
 // modes of the sag, each N(0, S/√K). On a flat annulus (normal up, ρ from
 // 10 to 30 mm on 201 equally spaced rings) mode 2 at 5 µm displaces every

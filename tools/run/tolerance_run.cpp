@@ -334,6 +334,19 @@ Status ranks_agree_on_nominal(const sim::Ranks& ranks, const std::optional<Trace
   return Ok{};
 }
 
+// `independent = true` parts: one tolerance per copy of the instanced mesh,
+// which takes the model loaded once (every rank the same; the checks from
+// the cache). Nothing to do, and no load, without them.
+Status expand_copies(design::ToleranceSpec& spec, const std::string& model, const SimulatePlan& plan) {
+  if (std::none_of(spec.tolerances.begin(), spec.tolerances.end(),
+                   [](const design::Tolerance& t) { return t.independent; }))
+    return Ok{};
+  ModelLoad load = load_model(model, plan.model_input);
+  if (load.error) return *load.error;
+  if (!load.scene) return make_error(model, "could not be loaded to find the copies of its instanced parts");
+  return design::expand_independent_copies(spec, *load.scene);
+}
+
 // One trace to make: its tolerance values and seed.
 struct TraceJob {
   std::vector<double> values;
@@ -499,6 +512,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     for (design::Tolerance& t : from_design->tolerances) spec->tolerances.push_back(std::move(t));
   }
   if (Status s = design::check_variables(*spec, base_design.get()); !s.ok()) return failed(to_string(s.error()));
+  if (Status s = expand_copies(*spec, model, plan); !s.ok()) return failed(to_string(s.error()));
   if (Status s = io::make_directories(out_dir); !s.ok()) return failed(to_string(s.error()));
 
   const MessageSink rank_messages = lead ? hooks.on_message : MessageSink([&hooks](Severity severity, const std::string& text) {

@@ -1013,6 +1013,26 @@ TEST(ToleranceCli, InstancedPartsGiveTheFiguresOfTheirUninstancedCopies) {
     EXPECT_LT(nominal, 1e-3) << c.out;
     EXPECT_GT(off, 0.01) << c.out;  // the moves are seen
   }
+  // independent = true: a tolerance per copy, as the flat model's per node;
+  // the same Latin hypercube, so the same values trial by trial.
+  const std::string law = "tilt_x = { uniform = 3 }\n";
+  const json a = tolerance_of(instanced, dir.path(), "independent", "[part.mirror]\nindependent = true\n" + law,
+                              {"--trials", "4"});
+  const json b = tolerance_of(flat, dir.path(), "per-node", "[part.mirrorA]\n" + law + "[part.mirrorB]\n" + law,
+                              {"--trials", "4"});
+  ASSERT_FALSE(a.is_null() || b.is_null());
+  ASSERT_EQ(a["tolerances"].size(), 2u);
+  EXPECT_EQ(a["tolerances"][0]["name"], "mirrorA/mirror/0.tilt_x");
+  EXPECT_EQ(a["tolerances"][1]["name"], "mirrorB/mirror/0.tilt_x");
+  for (std::size_t n = 0; n < 4; ++n) {
+    const json& ta = a["monte_carlo"]["trials"][n];
+    const json& tb = b["monte_carlo"]["trials"][n];
+    EXPECT_EQ(ta["values"]["mirrorA/mirror/0.tilt_x"], tb["values"]["mirrorA.tilt_x"]);
+    EXPECT_EQ(ta["values"]["mirrorB/mirror/0.tilt_x"], tb["values"]["mirrorB.tilt_x"]);
+    EXPECT_NE(ta["values"]["mirrorA/mirror/0.tilt_x"], ta["values"]["mirrorB/mirror/0.tilt_x"]);
+    for (const char* f : {"axis_c0", "axis_c90"})
+      EXPECT_NEAR(ta["figures"][f].get<double>(), tb["figures"][f].get<double>(), 0.01) << n << " " << f;
+  }
 }
 
 }  // namespace
