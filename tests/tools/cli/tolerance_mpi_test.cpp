@@ -114,5 +114,23 @@ TEST_F(MpiTolerance, AnyRankCountGivesTheReportBytesOfOneProcessAndResumes) {
   EXPECT_EQ(count(r.out, "0 of 13 traces to make"), 1u) << r.out;
 }
 
+// Ranks that trace another nominal (here rank 1 with other --photons, as a
+// rank with another model or file would) stop every rank before the split,
+// rank 0 naming the rank, and DIR gets no report.
+TEST_F(MpiTolerance, ARankWithAnotherNominalStopsEveryRank) {
+  test::TempDir dir;
+  test::write_file(dir / "t.toml", "[emitter.LED]\nx = { uniform = 0.5 }\n");
+  const test::ProcessResult r = test::run_process(
+      {GONIO_MPIRUN, "--oversubscribe", "--bind-to", "none", "-n", "2", "sh", "-c",
+       "exec \"$0\" tolerance \"$1\" --tolerances \"$2\" --out \"$3\" --threads 1 --trials 2 --noise-seeds 1 "
+       "--photons $((20000 + OMPI_COMM_WORLD_RANK))",
+       GONIO_EXECUTABLE, std::string(GONIO_SAMPLES_DIR) + "/downlight/downlight.gltf", (dir / "t.toml").string(),
+       (dir / "out").string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(count(r.err, "tolerance: rank 1 of 2 traced another nominal than rank 0"), 1u) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out" / "report.json"));
+  EXPECT_EQ(count(r.out, "traces to make"), 0u) << r.out;
+}
+
 }  // namespace
 }  // namespace gonio
