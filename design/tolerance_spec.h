@@ -13,7 +13,9 @@
 // Emitters: x, y, z [mm] (the luminaire's photometric frame: x along C0,
 // y along C90, z up), tilt_x, tilt_y [deg] (about the C0 and C90 axes),
 // flux [%]. Parts ([part.NAME]: every mesh of that name or under that node,
-// "NAME/…", not instanced):
+// "NAME/…"; an instanced mesh's name moves each of its copies about its own
+// centre, by one value or, with `independent = true`, each by its own; a
+// node's name or path moves its instances as one body):
 // x, y, z [mm] and tilt_x, tilt_y [deg] about the luminaire's C0 and C90
 // axes through the centre of their bounding box. Materials: reflectance, transmittance, roughness [%], relative
 // changes. Each value has one law: normal (σ, truncated at ±truncate·σ,
