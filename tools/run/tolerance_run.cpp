@@ -334,6 +334,103 @@ Status ranks_agree_on_nominal(const sim::Ranks& ranks, const std::optional<Trace
   return Ok{};
 }
 
+// Under MPI, with --spec and --inverse-steps: the traced inverse
+// sensitivity's bisections (sensitivity.txt, "traced"), one per limit and
+// tolerance that rank 0 will bisect, split over the ranks by rank_share of
+// these pairs (a bisection's steps depend on each other: a pair stays on one
+// rank). Each rank makes the decisions rank 0's loop makes, from the same
+// figures, and sends its traces (the value, the figures and seconds, at most
+// kMaxInverseTraces per pair) to rank 0's journal, summed as bits like
+// trace_over_ranks'. Rank 0's loop then reads them back. A cache only: a
+// trace it lacks (a failure, a pair cut short), rank 0 makes itself, so the
+// report does not depend on it. Collective.
+constexpr std::size_t kMaxInverseTraces = 2 * (8 + 50);
+void inverse_over_ranks(const Tracer& tracer, const sim::Ranks& ranks, Journal* journal,
+                        const design::ToleranceSpec& spec, const std::vector<design::SpecLimit>& limits,
+                        const FigureValues& nominal, const FigureValues& noise,
+                        const std::vector<std::array<FigureValues, 2>>& at_limits, long long steps, std::uint64_t seed,
+                        const photometry::Distribution& nominal_d, const std::function<void(const std::string&)>& say) {
+  const std::size_t dims = spec.tolerances.size();
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (limit, tolerance)
+  for (std::size_t l = 0; l < limits.size(); ++l)
+    for (std::size_t i = 0; i < dims; ++i) {
+      const std::size_t f = limits[l].figure;
+      const double base = f == design::kRms ? 0.0 : nominal[f];
+      const double low = at_limits[i][0][f] - base, high = at_limits[i][1][f] - base;
+      if (!std::isfinite(nominal[f]) || design::below_noise(std::max(std::abs(low), std::abs(high)), noise[f]))
+        continue;
+      const double k = design::allowed_scale(nominal[f], low, high, limits[l]);
+      if (std::isfinite(k) && k > 0.0) pairs.push_back({l, i});
+    }
+  constexpr std::size_t kSlot = kFigureCount + 3;  // the value, the figures, the seconds, present
+  std::vector<std::uint64_t> slots(pairs.size() * kMaxInverseTraces * kSlot, 0);
+  const sim::IndexRange mine = sim::rank_share(pairs.size(), ranks.rank(), ranks.size());
+  for (std::size_t p = mine.begin; p < mine.end; ++p) {
+    const auto [l, i] = pairs[p];
+    const design::SpecLimit& limit = limits[l];
+    const design::Tolerance& t = spec.tolerances[i];
+    const std::size_t f = limit.figure;
+    const double cap = std::min(design::kMaxInverseScale, tracer.largest_scale(i));
+    std::size_t traced = 0;
+    const auto holds_at = [&](double scale) -> std::optional<bool> {
+      for (double limit_value : {t.law.low(), t.law.high()}) {
+        const double v = scale * limit_value;
+        if (v == 0.0) continue;
+        std::vector<double> values(dims, 0.0);
+        values[i] = v;
+        const std::optional<Trace> tr = tracer.trace(values, seed, &nominal_d);
+        if (!tr) return std::nullopt;
+        if (traced < kMaxInverseTraces) {
+          std::uint64_t* slot = &slots[(p * kMaxInverseTraces + traced++) * kSlot];
+          slot[0] = std::bit_cast<std::uint64_t>(v);
+          for (std::size_t k = 0; k < kFigureCount; ++k) slot[1 + k] = std::bit_cast<std::uint64_t>(tr->figures[k]);
+          slot[kSlot - 2] = std::bit_cast<std::uint64_t>(tr->seconds);
+          slot[kSlot - 1] = 1;
+        }
+        if (!limit.holds(tr->figures[f])) return false;
+      }
+      return true;
+    };
+    // As rank 0's loop: doubling from 1 while it holds, then bisection.
+    double ok = 0.0, bad = std::numeric_limits<double>::infinity();
+    (limit.holds(at_limits[i][0][f]) && limit.holds(at_limits[i][1][f]) ? ok : bad) = 1.0;
+    if (ok == 1.0 && cap < 1.0) ok = 0.0;
+    bool failed = false;
+    for (double next = std::min(2.0, cap); std::isinf(bad) && ok > 0.0 && ok < cap; next = std::min(2.0 * next, cap)) {
+      const std::optional<bool> h = holds_at(next);
+      if (!h) {
+        failed = true;
+        break;
+      }
+      (*h ? ok : bad) = next;
+      if (next >= cap) break;
+    }
+    for (long long step = 0; step < steps && std::isfinite(bad) && !failed; ++step) {
+      const double mid = 0.5 * (ok + bad);
+      const std::optional<bool> h = holds_at(mid);
+      if (!h) break;
+      (*h ? ok : bad) = mid;
+    }
+  }
+  ranks.sum(slots);
+  std::size_t traces = 0;
+  for (std::size_t p = 0; p < pairs.size(); ++p)
+    for (std::size_t n = 0; n < kMaxInverseTraces; ++n) {
+      const std::uint64_t* slot = &slots[(p * kMaxInverseTraces + n) * kSlot];
+      if (slot[kSlot - 1] == 0) break;
+      ++traces;
+      if (!journal || (p >= mine.begin && p < mine.end)) continue;  // rank 0's own: journalled as they finished
+      std::vector<double> values(dims, 0.0);
+      values[pairs[p].second] = std::bit_cast<double>(slot[0]);
+      FigureValues figures{};
+      for (std::size_t k = 0; k < kFigureCount; ++k) figures[k] = std::bit_cast<double>(slot[1 + k]);
+      journal->add(trace_key(values, seed), figures, std::bit_cast<double>(slot[kSlot - 2]));
+    }
+  if (ranks.rank() == 0)
+    say("over " + std::to_string(ranks.size()) + " MPI ranks: the inverse sensitivity's " +
+        std::to_string(pairs.size()) + " bisections, " + std::to_string(traces) + " traces\n");
+}
+
 // `independent = true` parts: one tolerance per copy of the instanced mesh,
 // which takes the model loaded once (every rank the same; the checks from
 // the cache). Nothing to do, and no load, without them.
@@ -366,23 +463,33 @@ struct TraceJob {
 // same bits as a trace in one process, and an interrupted job loses at most
 // the round under way. A failed trace ends every rank after its round: the
 // rank that failed returns its own error, rank 0 one naming that rank, the
-// others an empty error message (nothing to add).
+// others an empty error message (nothing to add). `figures`: every job's
+// figures, on every rank (the journal's too: rank 0 sends them with the flags).
 Status trace_over_ranks(const Tracer& tracer, const sim::Ranks& ranks, Journal* journal,
                         const std::vector<TraceJob>& jobs, const photometry::Distribution& nominal, std::size_t parallel,
-                        const std::function<void(const std::string&)>& say) {
+                        const std::function<void(const std::string&)>& say, std::vector<FigureValues>& figures) {
   const bool lead = ranks.rank() == 0;
+  constexpr std::size_t kSlot = kFigureCount + 2;  // the figures, the seconds, failed (held: the flag)
   std::vector<std::string> keys;
-  std::vector<std::uint64_t> held(jobs.size(), 0);
+  std::vector<std::uint64_t> held(jobs.size() * kSlot, 0);
   for (std::size_t j = 0; j < jobs.size(); ++j) {
     keys.push_back(trace_key(jobs[j].values, jobs[j].seed));
-    if (lead && journal && journal->find(keys.back())) held[j] = 1;
+    if (!lead || !journal) continue;
+    if (const std::optional<std::pair<FigureValues, double>> done = journal->find(keys.back())) {
+      for (std::size_t f = 0; f < kFigureCount; ++f) held[j * kSlot + f] = std::bit_cast<std::uint64_t>(done->first[f]);
+      held[j * kSlot + kSlot - 1] = 1;
+    }
   }
   ranks.sum(held);
+  figures.assign(jobs.size(), FigureValues{});
   std::vector<std::size_t> pending;
-  std::set<std::string> seen;
-  for (std::size_t j = 0; j < jobs.size(); ++j)
-    if (held[j] == 0 && seen.insert(keys[j]).second) pending.push_back(j);
-  constexpr std::size_t kSlot = kFigureCount + 2;  // the figures, the seconds, failed
+  std::map<std::string, std::size_t> first;  // a key's first job
+  for (std::size_t j = 0; j < jobs.size(); ++j) {
+    if (held[j * kSlot + kSlot - 1] != 0)
+      for (std::size_t f = 0; f < kFigureCount; ++f) figures[j][f] = std::bit_cast<double>(held[j * kSlot + f]);
+    else if (first.emplace(keys[j], j).second)
+      pending.push_back(j);
+  }
   const std::size_t round = static_cast<std::size_t>(ranks.size()) * std::max<std::size_t>(1, parallel);
   if (lead)
     say("over " + std::to_string(ranks.size()) + " MPI ranks: " + std::to_string(pending.size()) + " of " +
@@ -427,17 +534,18 @@ Status trace_over_ranks(const Tracer& tracer, const sim::Ranks& ranks, Journal* 
       return make_error(lead ? "a trace on " + ranks.name_of(owner) + " failed (its error above); nothing more was analysed"
                              : std::string());
     }
-    if (lead && journal)
-      for (std::size_t k = 0; k < count; ++k) {
-        if (k >= mine.begin && k < mine.end) continue;  // journalled as it finished
-        FigureValues f{};
-        for (std::size_t i = 0; i < kFigureCount; ++i) f[i] = std::bit_cast<double>(slots[k * kSlot + i]);
+    for (std::size_t k = 0; k < count; ++k) {
+      FigureValues& f = figures[pending[start + k]];
+      for (std::size_t i = 0; i < kFigureCount; ++i) f[i] = std::bit_cast<double>(slots[k * kSlot + i]);
+      if (lead && journal && !(k >= mine.begin && k < mine.end))  // rank 0's own: journalled as they finished
         journal->add(keys[pending[start + k]], f, std::bit_cast<double>(slots[k * kSlot + kFigureCount]));
-      }
+    }
     if (lead)
       say("over " + std::to_string(ranks.size()) + " MPI ranks: " + std::to_string(start + count) + "/" +
           std::to_string(pending.size()) + " traces done\n");
   }
+  for (std::size_t j = 0; j < jobs.size(); ++j)  // a key traced once, for each of its jobs
+    if (held[j * kSlot + kSlot - 1] == 0) figures[j] = figures[first.at(keys[j])];
   return Ok{};
 }
 
@@ -577,18 +685,32 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     if (Status s = ranks_agree_on_nominal(ranks, nominal, journal_opened, model, tracer.error()); !s.ok()) return s.error();
     std::vector<TraceJob> jobs;
     for (long long k = 1; k <= noise_seeds; ++k) jobs.push_back({zeros, seed + static_cast<std::uint64_t>(k)});
+    std::vector<std::array<std::size_t, 2>> limit_jobs(dims, {jobs.size(), jobs.size()});  // none: the nominal
     for (std::size_t i = 0; i < dims; ++i)
-      for (double v : {spec->tolerances[i].law.low(), spec->tolerances[i].law.high()})
-        if (v != 0.0) {
+      for (int side = 0; side < 2; ++side)
+        if (const double v = side == 0 ? spec->tolerances[i].law.low() : spec->tolerances[i].law.high(); v != 0.0) {
+          limit_jobs[i][static_cast<std::size_t>(side)] = jobs.size();
           jobs.push_back({zeros, seed});
           jobs.back().values[i] = v;
         }
     for (std::vector<double>& values : monte_carlo_values(*spec, trials, sampling_seed))
       jobs.push_back({std::move(values), seed});
+    std::vector<FigureValues> done;
     if (Status s = trace_over_ranks(tracer, ranks, lead ? &journal : nullptr, jobs, nominal->distribution,
-                                    static_cast<std::size_t>(options.parallel_trials), say);
+                                    static_cast<std::size_t>(options.parallel_trials), say, done);
         !s.ok())
       return s.error();
+    // The traced inverse sensitivity's bisections, split by limit and tolerance.
+    if (!limits.empty() && options.inverse_steps > 0) {
+      const std::vector<FigureValues> noise_traces(done.begin(), done.begin() + noise_seeds);
+      std::vector<std::array<FigureValues, 2>> at(dims);
+      for (std::size_t i = 0; i < dims; ++i)
+        for (std::size_t side = 0; side < 2; ++side)
+          at[i][side] = limit_jobs[i][side] < done.size() ? done[limit_jobs[i][side]] : nominal->figures;
+      inverse_over_ranks(tracer, ranks, lead ? &journal : nullptr, *spec, limits, nominal->figures,
+                         design::noise_floor(nominal->figures, noise_traces), at, options.inverse_steps, seed,
+                         nominal->distribution, say);
+    }
     if (!lead) {  // rank 0 writes the report from the journal
       ToleranceRunOutcome out;
       out.lead = false;

@@ -7,6 +7,8 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -32,7 +34,8 @@ class MpiTolerance : public ::testing::Test {
 
   // `gonio tolerance` of the sample downlight as `ranks` ranks (0: one plain
   // process): the LED's x, the reflector's reflectance, 2 noise seeds, 7
-  // trials, a limit with 1 traced inverse step.
+  // trials, three limits that the reflectance crosses (three bisections of
+  // the traced inverse, 1 step each; the LED's x is below the noise).
   static test::ProcessResult tolerance(int ranks, const fs::path& dir, const std::string& out,
                                        const std::vector<std::string>& extra = {}) {
     std::vector<std::string> argv;
@@ -44,12 +47,24 @@ class MpiTolerance : public ::testing::Test {
           (dir / "t.toml").string(), std::string("--out"), (dir / out).string(), std::string("--threads"),
           std::string("1"), std::string("--photons"), std::string("20000"), std::string("--trials"),
           std::string("7"), std::string("--noise-seeds"), std::string("2"), std::string("--spec"),
-          std::string("flux>=975"), std::string("--inverse-steps"), std::string("1")})
+          std::string("flux>=975,lor>=0.975,flux<=981"), std::string("--inverse-steps"), std::string("1")})
       argv.push_back(a);
     argv.insert(argv.end(), extra.begin(), extra.end());
     return test::run_process(argv);
   }
 };
+
+// DIR/journal.jsonl as key → figures (the order of its lines, and the
+// seconds, depend on the split; which trace gave which figures must not).
+std::map<std::string, std::string> journal_figures(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  std::istringstream lines(test::read_file(dir / "journal.jsonl"));
+  for (std::string line; std::getline(lines, line);) {
+    const nlohmann::json j = nlohmann::json::parse(line);
+    if (j.contains("key")) out[j["key"].get<std::string>()] = j["figures"].dump();
+  }
+  return out;
+}
 
 std::size_t count(const std::string& text, const std::string& part) {
   std::size_t n = 0;
@@ -83,12 +98,15 @@ TEST_F(MpiTolerance, AnyRankCountGivesTheReportBytesOfOneProcessAndResumes) {
     r = tolerance(s.ranks, dir.path(), out, {"--parallel-trials", s.parallel});
     ASSERT_EQ(r.exit_code, 0) << out << ": " << r.err;
     EXPECT_EQ(one, test::read_file(dir / out / "report.json")) << out;
+    // Every trace, the inverse sensitivity's too, under its own key.
+    EXPECT_EQ(journal_figures(dir / "one"), journal_figures(dir / out)) << out;
     for (const char* f : {"nominal.ies", "best.ies", "worst.ldt", "sensitivity.txt"})
       EXPECT_EQ(test::read_file(dir / "one" / f), test::read_file(dir / out / f)) << out << ": " << f;
     // Rank 0 alone reports.
     EXPECT_EQ(count(r.out, "traces, "), 1u) << r.out;
     if (s.ranks > 1) {
       EXPECT_EQ(count(r.out, "over " + std::to_string(s.ranks) + " MPI ranks: 13 of 13 traces"), 1u) << r.out;
+      EXPECT_EQ(count(r.out, "MPI ranks: the inverse sensitivity's 3 bisections"), 1u) << r.out;
     }
   }
 
@@ -104,6 +122,7 @@ TEST_F(MpiTolerance, AnyRankCountGivesTheReportBytesOfOneProcessAndResumes) {
   r = tolerance(2, dir.path(), "resumed", {"--resume"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(one, test::read_file(dir / "resumed" / "report.json"));
+  EXPECT_EQ(journal_figures(dir / "one"), journal_figures(dir / "resumed"));
   // The header and the nominal are lines 1 and 2: 5 of the 13 split traces read back.
   EXPECT_EQ(count(r.out, "resume: 6 traces read back from the journal"), 1u) << r.out;
   EXPECT_EQ(count(r.out, "over 2 MPI ranks: 8 of 13 traces to make (5 from the journal)"), 1u) << r.out;
