@@ -119,6 +119,59 @@ bool in_part(const sim::Mesh& mesh, const std::string& name) {
                                mesh.name[name.size()] == '/');
 }
 
+// The instances a part names (docs/tolerance.md, "Instanced parts"): the
+// name of an instanced mesh ("lens" or "lens/0", glTF's mesh/primitive; a
+// CAD part's name) names each of its copies (`copies`: each moves about the
+// centre of its own bounding box, all by the one value drawn); otherwise an
+// instance is in the part where its placed name, "NODE/MESH" (its node's name
+// or CAD path, then its mesh's: the name sim::flattened gives its copy),
+// is in the part, or starts with "NAME[" (the copies of one
+// EXT_mesh_gpu_instancing node, "array[3]"): one body with the part's world
+// meshes, about the centre of their common bounding box.
+struct PartInstances {
+  std::vector<std::size_t> instances;
+  bool copies = false;
+};
+
+PartInstances part_instances(const sim::SceneDesc& scene, const std::string& name) {
+  PartInstances p;
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const sim::Instance& inst = scene.instances[i];
+    if (inst.mesh < scene.meshes.size() && in_part(scene.meshes[inst.mesh], name)) p.instances.push_back(i);
+  }
+  p.copies = !p.instances.empty();
+  if (p.copies) return p;
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const sim::Instance& inst = scene.instances[i];
+    if (inst.mesh >= scene.meshes.size()) continue;
+    sim::Mesh placed;
+    placed.name = inst.name + "/" + scene.meshes[inst.mesh].name;
+    if (in_part(placed, name) || placed.name.rfind(name + "[", 0) == 0) p.instances.push_back(i);
+  }
+  return p;
+}
+
+// Widens [lo, hi] by the placed vertices of instance `i`.
+void add_instance_bounds(const sim::SceneDesc& scene, std::size_t i, Vec3& lo, Vec3& hi) {
+  const sim::Instance& inst = scene.instances[i];
+  for (const sim::Vec3f& p : scene.meshes[inst.mesh].positions) {
+    const Vec3 q = inst.to_world.point(sim::to_double(p));
+    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+  }
+}
+
+// A part's move: along the luminaire's axes, or turned about its C0 (C90)
+// axis through `centre`.
+sim::Affine part_move(const photometry::PhotometricFrame& f, const std::string& quantity, double v,
+                      const Vec3& centre) {
+  if (quantity == "x") return sim::translation((v * 1e-3) * f.c0);
+  if (quantity == "y") return sim::translation((v * 1e-3) * f.c90);
+  if (quantity == "z") return sim::translation((v * 1e-3) * f.up);
+  return sim::translation(centre) * sim::rotation(quantity == "tilt_x" ? f.c0 : f.c90, v * std::numbers::pi / 180.0) *
+         sim::translation(-1.0 * centre);
+}
+
 // A part's form error, `form = { modes = K, rms_um = S }`: K tolerances
 // form1 … formK, each the amplitude [µm RMS] of one orthonormal Legendre
 // mode of the sag, N(0, S/√K) truncated at ±3σ, so that the sum's expected
@@ -458,7 +511,12 @@ Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::
     for (const auto& [name, quantities] : node.table) {
       if (!quantities.is_table())
         return at(path, quantities.line, "[" + section + "." + name + "] must be a table of values");
+      // [part.NAME] independent = true: each copy of an instanced mesh draws its own values.
+      const io::TomlNode* independent = part ? quantities.get("independent") : nullptr;
+      if (independent && independent->type != io::TomlNode::Type::Boolean)
+        return at(path, independent->line, section + "." + name + ".independent must be true or false");
       for (const auto& [quantity, law_node] : quantities.table) {
+        if (independent && quantity == "independent") continue;
         const std::string what = section + "." + name + "." + quantity;
         if (part && quantity == "form") {
           Result<std::vector<Tolerance>> modes = parse_form(law_node, name, what, path);
@@ -492,6 +550,7 @@ Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::
         t.quantity = quantity;
         t.law = std::move(law.value());
         t.line = law_node.line;
+        t.independent = independent && independent->boolean;
         if (t.unit() == std::string("%") && t.law.low() <= -100.0)
           return at(path, t.line, what + ": a change of −100 % or less leaves nothing (" + t.law.text() + ")");
         spec.tolerances.push_back(std::move(t));
@@ -575,14 +634,20 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
       continue;
     }
     if (t.target == Tolerance::Target::Part) {
-      bool world = false, instanced = false;
+      bool world = false;
       for (const sim::Mesh& mesh : scene.meshes)
-        if (in_part(mesh, t.name)) (mesh.instanced ? instanced : world) = true;
-      if (instanced)
+        if (in_part(mesh, t.name) && !mesh.instanced) world = true;
+      const bool instanced = !part_instances(scene, t.name).instances.empty();
+      if (!world && !instanced)
+        for (const sim::Mesh& mesh : scene.meshes)
+          if (in_part(mesh, t.name) && mesh.instanced)
+            return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
+                                             " is an instanced mesh placed nowhere (it has no instances)");
+      if (instanced && t.quantity.rfind("form", 0) == 0)
         return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
-                                         " is an instanced mesh (placed by its instances); part tolerances move world "
-                                         "meshes only so far");
-      if (!world) {
+                                         " is instanced (placed by its instances); form errors shape world meshes "
+                                         "only (load it with its copies un-instanced)");
+      if (!world && !instanced) {
         std::string names;
         for (const sim::Mesh& x : scene.meshes)
           if (names.find(io::shown(x.name)) == std::string::npos) names += (names.empty() ? "" : ", ") + io::shown(x.name);
@@ -614,6 +679,28 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
                 t.label() + " at +" + format_number(t.law.high()) + " % would make the material's lobes sum to " +
                     format_number(total) + " > 1");
   }
+  return Ok{};
+}
+
+Status expand_independent_copies(ToleranceSpec& spec, const sim::SceneDesc& scene) {
+  std::vector<Tolerance> out;
+  for (Tolerance& t : spec.tolerances) {
+    if (!t.independent) {
+      out.push_back(std::move(t));
+      continue;
+    }
+    const PartInstances copies = part_instances(scene, t.name);
+    if (!copies.copies)
+      return at(spec.path, t.line, t.label() + ": independent = true needs the name of an instanced mesh (its copies "
+                                               "draw their own values); " + io::shown(t.name) + " is not one");
+    for (std::size_t k : copies.instances) {
+      Tolerance each = t;
+      each.independent = false;
+      each.name = scene.instances[k].name + "/" + scene.meshes[scene.instances[k].mesh].name;
+      out.push_back(std::move(each));
+    }
+  }
+  spec.tolerances = std::move(out);
   return Ok{};
 }
 
@@ -656,6 +743,9 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
             lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
             hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
           }
+      const PartInstances moved = part_instances(scene, t.name);
+      if (!moved.copies)
+        for (std::size_t k : moved.instances) add_instance_bounds(scene, k, lo, hi);
       const Vec3 centre = 0.5 * (lo + hi);
       if (t.quantity.rfind("form", 0) == 0) {
         apply_form_mode(scene, t.name, std::stoi(t.quantity.substr(4)), v, centre);
@@ -671,6 +761,12 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
               sim::translation(-1.0 * centre);
       for (sim::Mesh& mesh : scene.meshes)
         if (in_part(mesh, t.name) && !mesh.instanced) sim::transform(mesh, map);
+      for (std::size_t k : moved.instances) {
+        Vec3 own_lo{1e300, 1e300, 1e300}, own_hi{-1e300, -1e300, -1e300};
+        if (moved.copies) add_instance_bounds(scene, k, own_lo, own_hi);
+        sim::Instance& inst = scene.instances[k];
+        inst.to_world = (moved.copies ? part_move(f, t.quantity, v, 0.5 * (own_lo + own_hi)) : map) * inst.to_world;
+      }
       continue;
     }
     for (sim::Material& m : scene.materials) {

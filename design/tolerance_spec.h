@@ -16,7 +16,9 @@
 // Emitters: x, y, z [mm] (the luminaire's photometric frame: x along C0,
 // y along C90, z up), tilt_x, tilt_y [deg] (about the C0 and C90 axes),
 // flux [%]. Parts ([part.NAME]: every mesh of that name or under that node,
-// "NAME/…", not instanced):
+// "NAME/…"; an instanced mesh's name moves each of its copies about its own
+// centre, by one value or, with `independent = true`, each by its own; a
+// node's name or path moves its instances as one body):
 // x, y, z [mm] and tilt_x, tilt_y [deg] about the luminaire's C0 and C90
 // axes through the centre of their bounding box. Materials: reflectance, transmittance, roughness [%], relative
 // changes. Each value has one law: normal (σ, truncated at ±truncate·σ,
@@ -74,6 +76,10 @@ struct Tolerance {
   std::string quantity;  // x, y, z, tilt_x, tilt_y, flux | x, y, z, tilt_x, tilt_y | reflectance, transmittance, roughness
   ToleranceLaw law;
   int line = 0;  // the value's line in the file
+  // [part.NAME] independent = true: each copy of the instanced mesh NAME
+  // draws its own value (expand_independent_copies makes one tolerance per
+  // copy); false: one value moves every copy (a systematic error).
+  bool independent = false;
   // "LED.x"; a variable's name alone ("reflectors[0].radius").
   std::string label() const { return quantity.empty() ? name : name + "." + quantity; }
   const char* unit() const;                                     // "mm", "deg", "%"
@@ -146,6 +152,13 @@ Status check_variables(const ToleranceSpec& spec, const Design* design);
 Design design_with(const Design& base, const ToleranceSpec& spec, std::span<const double> values);
 // Whether any variable tolerance has a value other than 0.
 bool changes_variables(const ToleranceSpec& spec, std::span<const double> values);
+
+// Replaces each `independent` part tolerance by one per copy of its
+// instanced mesh on `scene`, in instance order, each named by the copy's
+// placed name "NODE/MESH" (its node's name or CAD path, then the mesh's:
+// the name sim::flattened gives it), which names that copy alone. An error
+// naming the line where the part is not an instanced mesh.
+Status expand_independent_copies(ToleranceSpec& spec, const sim::SceneDesc& scene);
 
 // Applies one value per tolerance (spec order) to the scene; a value of 0
 // leaves its part of the scene as it was, bit for bit. The scene must have

@@ -233,6 +233,140 @@ TEST(ToleranceSpec, PartsMoveAndTurnAboutTheirCentre) {
   EXPECT_EQ(to_string(check_tolerances(none, scene).error()), "t.toml:2: the model has no part 'len' (it has 'lens', 'screw')");
 }
 
+// Instanced parts (docs/tolerance.md, "Instanced parts"): an instanced mesh
+// with two copies moved by a tolerance must place its vertices where the
+// same scene with its copies un-instanced (sim::flattened, world meshes
+// "NODE/lens/0") puts them under the same moves. The mesh's name moves each
+// copy about its own centre by the one value drawn; a node's name moves
+// that copy; a path above several copies moves them as one body.
+sim::SceneDesc two_copies(const std::string& a, const std::string& b) {
+  sim::SceneDesc scene = small_scene();
+  sim::Mesh lens;
+  lens.name = "lens/0";
+  lens.instanced = true;
+  lens.positions = {{0.0f, 0.0f, 0.0f}, {0.02f, 0.0f, 0.0f}, {0.0f, 0.01f, 0.02f}};
+  lens.normals = {{0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.894427f, -0.447214f}};
+  lens.indices = {0, 1, 2};
+  scene.meshes.push_back(lens);
+  sim::Mesh holder;
+  holder.name = "holder/holder/0";
+  holder.positions = {{-0.1f, -0.01f, -0.1f}, {0.1f, -0.01f, -0.1f}, {0.0f, -0.01f, 0.1f}};
+  holder.indices = {0, 1, 2};
+  scene.meshes.push_back(holder);
+  scene.instances.push_back({0, sim::translation({0.05, 0.0, 0.0}), a});
+  scene.instances.push_back({0, sim::translation({-0.05, 0.002, 0.01}) * sim::rotation({0.0, 1.0, 0.0}, 0.5), b});
+  return scene;
+}
+
+void expect_same_vertices(const sim::SceneDesc& a, const sim::SceneDesc& b, const std::string& what) {
+  ASSERT_EQ(a.meshes.size(), b.meshes.size()) << what;
+  for (std::size_t m = 0; m < a.meshes.size(); ++m) {
+    EXPECT_EQ(a.meshes[m].name, b.meshes[m].name) << what;
+    for (std::size_t i = 0; i < a.meshes[m].positions.size(); ++i) {
+      EXPECT_NEAR(a.meshes[m].positions[i].x, b.meshes[m].positions[i].x, 2e-8) << what << " " << a.meshes[m].name;
+      EXPECT_NEAR(a.meshes[m].positions[i].y, b.meshes[m].positions[i].y, 2e-8) << what << " " << a.meshes[m].name;
+      EXPECT_NEAR(a.meshes[m].positions[i].z, b.meshes[m].positions[i].z, 2e-8) << what << " " << a.meshes[m].name;
+    }
+    for (std::size_t i = 0; i < a.meshes[m].normals.size(); ++i) {
+      EXPECT_NEAR(a.meshes[m].normals[i].x, b.meshes[m].normals[i].x, 1e-6) << what << " " << a.meshes[m].name;
+      EXPECT_NEAR(a.meshes[m].normals[i].z, b.meshes[m].normals[i].z, 1e-6) << what << " " << a.meshes[m].name;
+    }
+  }
+}
+
+TEST(ToleranceSpec, InstancedPartsMoveLikeTheirUninstancedCopies) {
+  struct Case {
+    std::string a, b, instanced, flat, what;
+  };
+  const std::string moves = "tilt_x = { uniform = 7 }\ntilt_y = { uniform = 5 }\ny = { uniform = 2 }\n";
+  const std::vector<Case> cases = {
+      // The mesh's name: both copies, each about its own centre, one value.
+      {"lensA", "lensB", "[part.lens]\n" + moves, "[part.lensA]\n" + moves + "[part.lensB]\n" + moves, "mesh"},
+      // One copy's node.
+      {"lensA", "lensB", "[part.lensB]\n" + moves, "[part.lensB]\n" + moves, "node"},
+      // A CAD path above both copies: one body about their common centre.
+      {"array/lensA", "array/lensB", "[part.array]\n" + moves, "[part.array]\n" + moves, "path"},
+      // The copies of one EXT_mesh_gpu_instancing node, "row[0]" and "row[1]": one body.
+      {"row[0]", "row[1]", "[part.row]\n" + moves, "[part.\"row[0]\"]\n" + moves + "[part.\"row[1]\"]\n" + moves,
+       "gpu copies, each by its own name"}};
+  for (const Case& c : cases) {
+    if (c.what.rfind("gpu", 0) == 0) continue;  // below: one body, not two
+    sim::SceneDesc instanced = two_copies(c.a, c.b);
+    sim::SceneDesc flat = sim::flattened(instanced);
+    const ToleranceSpec si = parse_ok(c.instanced), sf = parse_ok(c.flat);
+    ASSERT_TRUE(check_tolerances(si, instanced).ok()) << c.what;
+    ASSERT_TRUE(check_tolerances(sf, flat).ok()) << c.what;
+    std::vector<double> vi, vf;
+    for (std::size_t i = 0; i < si.tolerances.size(); ++i) vi.push_back(1.5 + static_cast<double>(i));
+    for (std::size_t i = 0; i < sf.tolerances.size(); ++i) vf.push_back(1.5 + static_cast<double>(i % si.tolerances.size()));
+    apply_tolerances(si, vi, instanced);
+    apply_tolerances(sf, vf, flat);
+    expect_same_vertices(sim::flattened(instanced), flat, c.what);
+  }
+  // The copies of a gpu-instanced node named by the node: one body.
+  sim::SceneDesc row = two_copies("row[0]", "row[1]");
+  sim::SceneDesc row_flat = sim::flattened(two_copies("row/0", "row/1"));
+  const ToleranceSpec sr = parse_ok("[part.row]\n" + moves);
+  ASSERT_TRUE(check_tolerances(sr, row).ok());
+  apply_tolerances(sr, std::vector<double>{1.5, 2.5, 3.5}, row);
+  apply_tolerances(sr, std::vector<double>{1.5, 2.5, 3.5}, row_flat);
+  sim::SceneDesc row_moved = sim::flattened(row);
+  for (sim::Mesh& m : row_moved.meshes) m.name = m.name == "row[0]/lens/0" ? "row/0/lens/0" : m.name == "row[1]/lens/0" ? "row/1/lens/0" : m.name;
+  expect_same_vertices(row_moved, row_flat, "gpu copies by the node");
+  // Untouched: the other copy and the holder (the node case).
+  sim::SceneDesc one = two_copies("lensA", "lensB");
+  const sim::SceneDesc before = sim::flattened(one);
+  apply_tolerances(parse_ok("[part.lensB]\n" + moves), std::vector<double>{1.5, 2.5, 3.5}, one);
+  const sim::SceneDesc after = sim::flattened(one);
+  const auto same = [](const sim::Mesh& x, const sim::Mesh& y) {
+    for (std::size_t i = 0; i < x.positions.size(); ++i)
+      if (std::memcmp(&x.positions[i], &y.positions[i], sizeof x.positions[i]) != 0) return false;
+    return x.positions.size() == y.positions.size();
+  };
+  // Flattened: lensA, lensB (the instanced mesh's place, in instance order), the holder.
+  EXPECT_TRUE(same(after.meshes[0], before.meshes[0]));   // lensA
+  EXPECT_FALSE(same(after.meshes[1], before.meshes[1]));  // lensB
+  EXPECT_TRUE(same(after.meshes[2], before.meshes[2]));   // the holder
+  // A form error on an instanced part is refused, naming it.
+  EXPECT_NE(to_string(check_tolerances(parse_ok("[part.lens]\nform = { modes = 1, rms_um = 3 }\n"), one).error())
+                .find("form errors shape world meshes only"),
+            std::string::npos);
+}
+
+// independent = true: each copy of the instanced mesh draws its own value —
+// one tolerance per copy, named by its placed name, which moves that copy
+// alone: the scene equals the un-instanced one with each copy's node given
+// its own value.
+TEST(ToleranceSpec, IndependentCopiesDrawTheirOwnValues) {
+  sim::SceneDesc instanced = two_copies("lensA", "lensB");
+  sim::SceneDesc flat = sim::flattened(instanced);
+  ToleranceSpec si = parse_ok("[part.lens]\nindependent = true\ntilt_x = { uniform = 7 }\ny = { normal = 1 }\n");
+  ASSERT_EQ(si.tolerances.size(), 2u);
+  EXPECT_TRUE(si.tolerances[0].independent);
+  ASSERT_TRUE(expand_independent_copies(si, instanced).ok());
+  ASSERT_EQ(si.tolerances.size(), 4u);
+  EXPECT_EQ(si.tolerances[0].label(), "lensA/lens/0.tilt_x");
+  EXPECT_EQ(si.tolerances[1].label(), "lensB/lens/0.tilt_x");
+  EXPECT_EQ(si.tolerances[3].label(), "lensB/lens/0.y");
+  EXPECT_EQ(si.tolerances[3].line, 4);
+  EXPECT_EQ(si.tolerances[3].law.sigma, 1.0);
+  ASSERT_TRUE(check_tolerances(si, instanced).ok());
+  const ToleranceSpec sf = parse_ok("[part.lensA]\ntilt_x = { uniform = 7 }\ny = { normal = 1 }\n"
+                                    "[part.lensB]\ntilt_x = { uniform = 7 }\ny = { normal = 1 }\n");
+  ASSERT_TRUE(check_tolerances(sf, flat).ok());
+  // Spec order: A.tilt_x, B.tilt_x, A.y, B.y; the flat file's: A.tilt_x, A.y, B.tilt_x, B.y.
+  apply_tolerances(si, std::vector<double>{4.0, -6.0, 0.7, -1.9}, instanced);
+  apply_tolerances(sf, std::vector<double>{4.0, 0.7, -6.0, -1.9}, flat);
+  expect_same_vertices(sim::flattened(instanced), flat, "independent copies");
+  // Not a mesh's copies, or not a boolean: errors naming the line.
+  ToleranceSpec node = parse_ok("[part.lensA]\nindependent = true\nx = { uniform = 1 }\n");
+  EXPECT_EQ(to_string(expand_independent_copies(node, instanced).error()),
+            "t.toml:3: lensA.x: independent = true needs the name of an instanced mesh (its copies draw their own "
+            "values); 'lensA' is not one");
+  EXPECT_EQ(error_of("[part.lens]\nindependent = 1\nx = { uniform = 1 }\n"),
+            "t.toml:2: part.lens.independent must be true or false");
+}
+
 // A profile's form error: `form = { modes = K, rms_um = S }` is K Legendre
 // modes of the sag, each N(0, S/√K). On a flat annulus (normal up, ρ from
 // 10 to 30 mm on 201 equally spaced rings) mode 2 at 5 µm displaces every

@@ -26,6 +26,7 @@
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/simulate_command.h"
+#include "tools/run/distributed_run.h"
 #include "tools/run/simulate.h"
 #include "tools/run/tolerance_run.h"
 
@@ -106,7 +107,11 @@ int run_tolerance(const Args& args) {
       return kExitUsage;
     }  std::optional<app::SimulatePlan> plan = plan_or_usage("tolerance", model, options, p);
   if (!plan) return kExitUsage;
+  // Under mpirun/srun the traces are split over the ranks; rank 0 writes DIR.
+  std::optional<sim::Ranks> ranks = app::join_job("tolerance");
+  if (!ranks) return kExitFailure;
   app::ToleranceRunOptions o;
+  o.ranks = &ranks.value();
   o.model = model;
   o.tolerances_path = tolerances_path;
   o.out_dir = out_dir;
@@ -121,7 +126,7 @@ int run_tolerance(const Args& args) {
   o.resume = resume;
   o.simulate = options;
   app::ToleranceRunHooks hooks;
-  hooks.on_output = [](const std::string& text) {
+  hooks.on_output = [](const std::string& text) {  // rank 0's only
     std::fputs(text.c_str(), stdout);
     std::fflush(stdout);
   };
@@ -135,8 +140,10 @@ int run_tolerance(const Args& args) {
     }
     // An error that names no file carries its own context (the file and line inside).
     const Error& e = outcome.error();
+    if (e.message.empty()) return kExitFailure;  // an MPI rank whose error another rank told
     return fail(e.where.file.empty() && e.where.line == 0 ? e.message : to_string(e));
   }
+  if (!outcome->lead) return kExitOk;
   const nlohmann::json& report = outcome->report;
   const nlohmann::json& yield = report["monte_carlo"]["yield"];
   const std::size_t trial_count = report["monte_carlo"]["trials"].size();

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <atomic>
+#include <bit>
+#include <set>
 #include <limits>
 #include <map>
 #include <memory>
@@ -26,6 +28,7 @@
 #include "io/support/text.h"
 #include "photometry/format.h"
 #include "sim/detectors/colour_over_angle.h"
+#include "sim/distributed.h"
 #include "tools/run/json_figures.h"
 #include "tools/run/resampler_cache.h"
 #include "tools/run/simulation_outputs.h"
@@ -103,10 +106,16 @@ class Journal {
     if (it == done_.end()) return std::nullopt;
     return it->second;
   }
+  // Whether `key` was traced by this run (under MPI: by any rank), not read back.
+  bool fresh(const std::string& key) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return fresh_.count(key) > 0;
+  }
   void add(const std::string& key, const FigureValues& f, double seconds) {
     const std::lock_guard<std::mutex> lock(mutex_);
     if (!file_ || done_.count(key)) return;
     done_[key] = {f, seconds};
+    fresh_.insert(key);
     json figures = json::object();
     for (std::size_t i = 0; i < kFigureCount; ++i) figures[design::figure_info()[i].key] = json_number(f[i]);
     const std::string line = json{{"key", key}, {"figures", figures}, {"seconds", seconds}}.dump() + "\n";
@@ -117,6 +126,7 @@ class Journal {
  private:
   mutable std::mutex mutex_;
   std::map<std::string, std::pair<FigureValues, double>> done_;
+  std::set<std::string> fresh_;
   std::FILE* file_ = nullptr;
 };
 
@@ -173,7 +183,7 @@ class Tracer {
         Trace t;
         t.figures = done->first;
         t.seconds = done->second;
-        t.from_journal = true;
+        t.from_journal = !journal_->fresh(key);
         return t;
       }
     std::string error;
@@ -308,6 +318,262 @@ Status write_tables(const std::string& dir, const std::string& stem, const photo
   return Ok{};
 }
 
+// The Monte Carlo trials' values: a Latin hypercube over the tolerance
+// space (seeded by `sampling_seed`), each law's quantile of its stratum.
+std::vector<std::vector<double>> monte_carlo_values(const design::ToleranceSpec& spec, long long trials,
+                                                    long long sampling_seed) {
+  const std::size_t dims = spec.tolerances.size();
+  const std::vector<std::vector<double>> u =
+      design::latin_hypercube(static_cast<std::size_t>(trials), dims, static_cast<std::uint64_t>(sampling_seed));
+  std::vector<std::vector<double>> values(u.size(), std::vector<double>(dims));
+  for (std::size_t n = 0; n < u.size(); ++n)
+    for (std::size_t i = 0; i < dims; ++i) values[n][i] = spec.tolerances[i].law.quantile(u[n][i]);
+  return values;
+}
+
+// Under MPI, once every rank has traced the nominal (collective): whether
+// every rank opened what it needs (rank 0: the journal) and traced it, and
+// traced the same (its figures' bits: the same model, settings and
+// tolerances). An error on every rank where not; rank 0's names the rank,
+// a rank's own failure is its own error, the others' message is empty.
+Status ranks_agree_on_nominal(const sim::Ranks& ranks, const std::optional<Trace>& nominal, const Status& opened,
+                              const std::string& model, const std::string& why) {
+  std::uint64_t hash = 1469598103934665603ULL;  // FNV-1a over the figures' bits
+  if (nominal)
+    for (double f : nominal->figures) {
+      const std::uint64_t bits = std::bit_cast<std::uint64_t>(f);
+      for (int b = 0; b < 64; b += 8) hash = (hash ^ ((bits >> b) & 0xffu)) * 1099511628211ULL;
+    }
+  const std::vector<std::uint64_t> ready = ranks.gather(std::uint64_t{opened.ok() && nominal.has_value()});
+  const std::vector<std::uint64_t> hashes = ranks.gather(hash);
+  if (!opened.ok()) return opened.error();
+  if (!nominal) return make_error(model + ": the nominal model could not be traced (" + why + "); nothing was analysed");
+  for (int r = 0; r < ranks.size(); ++r) {
+    if (ready[static_cast<std::size_t>(r)] != 0 && hashes[static_cast<std::size_t>(r)] == hashes[0]) continue;
+    if (ranks.rank() != 0) return make_error(std::string());
+    return make_error(ranks.name_of(r) + (ready[static_cast<std::size_t>(r)] == 0
+                                              ? " could not get ready (its error above); nothing was analysed"
+                                              : " traced another nominal than rank 0 (another model, settings or "
+                                                "tolerances); nothing was analysed"));
+  }
+  return Ok{};
+}
+
+// Under MPI, with --spec and --inverse-steps: the traced inverse
+// sensitivity's bisections (sensitivity.txt, "traced"), one per limit and
+// tolerance that rank 0 will bisect, split over the ranks by rank_share of
+// these pairs (a bisection's steps depend on each other: a pair stays on one
+// rank). Each rank makes the decisions rank 0's loop makes, from the same
+// figures, and sends its traces (the value, the figures and seconds, at most
+// kMaxInverseTraces per pair) to rank 0's journal, summed as bits like
+// trace_over_ranks'. Rank 0's loop then reads them back. A cache only: a
+// trace it lacks (a failure, a pair cut short), rank 0 makes itself, so the
+// report does not depend on it. Collective.
+constexpr std::size_t kMaxInverseTraces = 2 * (8 + 50);
+void inverse_over_ranks(const Tracer& tracer, const sim::Ranks& ranks, Journal* journal,
+                        const design::ToleranceSpec& spec, const std::vector<design::SpecLimit>& limits,
+                        const FigureValues& nominal, const FigureValues& noise,
+                        const std::vector<std::array<FigureValues, 2>>& at_limits, long long steps, std::uint64_t seed,
+                        const photometry::Distribution& nominal_d, const std::function<void(const std::string&)>& say) {
+  const std::size_t dims = spec.tolerances.size();
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (limit, tolerance)
+  for (std::size_t l = 0; l < limits.size(); ++l)
+    for (std::size_t i = 0; i < dims; ++i) {
+      const std::size_t f = limits[l].figure;
+      const double base = f == design::kRms ? 0.0 : nominal[f];
+      const double low = at_limits[i][0][f] - base, high = at_limits[i][1][f] - base;
+      if (!std::isfinite(nominal[f]) || design::below_noise(std::max(std::abs(low), std::abs(high)), noise[f]))
+        continue;
+      const double k = design::allowed_scale(nominal[f], low, high, limits[l]);
+      if (std::isfinite(k) && k > 0.0) pairs.push_back({l, i});
+    }
+  constexpr std::size_t kSlot = kFigureCount + 3;  // the value, the figures, the seconds, present
+  std::vector<std::uint64_t> slots(pairs.size() * kMaxInverseTraces * kSlot, 0);
+  const sim::IndexRange mine = sim::rank_share(pairs.size(), ranks.rank(), ranks.size());
+  for (std::size_t p = mine.begin; p < mine.end; ++p) {
+    const auto [l, i] = pairs[p];
+    const design::SpecLimit& limit = limits[l];
+    const design::Tolerance& t = spec.tolerances[i];
+    const std::size_t f = limit.figure;
+    const double cap = std::min(design::kMaxInverseScale, tracer.largest_scale(i));
+    std::size_t traced = 0;
+    const auto holds_at = [&](double scale) -> std::optional<bool> {
+      for (double limit_value : {t.law.low(), t.law.high()}) {
+        const double v = scale * limit_value;
+        if (v == 0.0) continue;
+        std::vector<double> values(dims, 0.0);
+        values[i] = v;
+        const std::optional<Trace> tr = tracer.trace(values, seed, &nominal_d);
+        if (!tr) return std::nullopt;
+        if (traced < kMaxInverseTraces) {
+          std::uint64_t* slot = &slots[(p * kMaxInverseTraces + traced++) * kSlot];
+          slot[0] = std::bit_cast<std::uint64_t>(v);
+          for (std::size_t k = 0; k < kFigureCount; ++k) slot[1 + k] = std::bit_cast<std::uint64_t>(tr->figures[k]);
+          slot[kSlot - 2] = std::bit_cast<std::uint64_t>(tr->seconds);
+          slot[kSlot - 1] = 1;
+        }
+        if (!limit.holds(tr->figures[f])) return false;
+      }
+      return true;
+    };
+    // As rank 0's loop: doubling from 1 while it holds, then bisection.
+    double ok = 0.0, bad = std::numeric_limits<double>::infinity();
+    (limit.holds(at_limits[i][0][f]) && limit.holds(at_limits[i][1][f]) ? ok : bad) = 1.0;
+    if (ok == 1.0 && cap < 1.0) ok = 0.0;
+    bool failed = false;
+    for (double next = std::min(2.0, cap); std::isinf(bad) && ok > 0.0 && ok < cap; next = std::min(2.0 * next, cap)) {
+      const std::optional<bool> h = holds_at(next);
+      if (!h) {
+        failed = true;
+        break;
+      }
+      (*h ? ok : bad) = next;
+      if (next >= cap) break;
+    }
+    for (long long step = 0; step < steps && std::isfinite(bad) && !failed; ++step) {
+      const double mid = 0.5 * (ok + bad);
+      const std::optional<bool> h = holds_at(mid);
+      if (!h) break;
+      (*h ? ok : bad) = mid;
+    }
+  }
+  ranks.sum(slots);
+  std::size_t traces = 0;
+  for (std::size_t p = 0; p < pairs.size(); ++p)
+    for (std::size_t n = 0; n < kMaxInverseTraces; ++n) {
+      const std::uint64_t* slot = &slots[(p * kMaxInverseTraces + n) * kSlot];
+      if (slot[kSlot - 1] == 0) break;
+      ++traces;
+      if (!journal || (p >= mine.begin && p < mine.end)) continue;  // rank 0's own: journalled as they finished
+      std::vector<double> values(dims, 0.0);
+      values[pairs[p].second] = std::bit_cast<double>(slot[0]);
+      FigureValues figures{};
+      for (std::size_t k = 0; k < kFigureCount; ++k) figures[k] = std::bit_cast<double>(slot[1 + k]);
+      journal->add(trace_key(values, seed), figures, std::bit_cast<double>(slot[kSlot - 2]));
+    }
+  if (ranks.rank() == 0)
+    say("over " + std::to_string(ranks.size()) + " MPI ranks: the inverse sensitivity's " +
+        std::to_string(pairs.size()) + " bisections, " + std::to_string(traces) + " traces\n");
+}
+
+// `independent = true` parts: one tolerance per copy of the instanced mesh,
+// which takes the model loaded once (every rank the same; the checks from
+// the cache). Nothing to do, and no load, without them.
+Status expand_copies(design::ToleranceSpec& spec, const std::string& model, const SimulatePlan& plan) {
+  if (std::none_of(spec.tolerances.begin(), spec.tolerances.end(),
+                   [](const design::Tolerance& t) { return t.independent; }))
+    return Ok{};
+  ModelLoad load = load_model(model, plan.model_input);
+  if (load.error) return *load.error;
+  if (!load.scene) return make_error(model, "could not be loaded to find the copies of its instanced parts");
+  return design::expand_independent_copies(spec, *load.scene);
+}
+
+// One trace to make: its tolerance values and seed.
+struct TraceJob {
+  std::vector<double> values;
+  std::uint64_t seed = 0;
+};
+
+// Under MPI (ToleranceRunOptions::ranks): the traces whose values are known
+// once the nominal is traced — the noise seeds, each tolerance at its limits
+// and the Monte Carlo trials — made once over the ranks. Collective. The
+// jobs rank 0's journal holds (--resume) are told to every rank and skipped;
+// the others, each key once, go in rounds of ranks × `parallel` jobs, each
+// rank tracing its rank_share of a round on `parallel` threads. Every job's
+// figures and seconds are summed across the ranks as their bits (one rank
+// writes each slot, the others leave it 0: integer sums, exact), and rank 0
+// adds the other ranks' traces to its journal, in job order, after each
+// round: so rank 0's report reads every one of them from the journal, the
+// same bits as a trace in one process, and an interrupted job loses at most
+// the round under way. A failed trace ends every rank after its round: the
+// rank that failed returns its own error, rank 0 one naming that rank, the
+// others an empty error message (nothing to add). `figures`: every job's
+// figures, on every rank (the journal's too: rank 0 sends them with the flags).
+Status trace_over_ranks(const Tracer& tracer, const sim::Ranks& ranks, Journal* journal,
+                        const std::vector<TraceJob>& jobs, const photometry::Distribution& nominal, std::size_t parallel,
+                        const std::function<void(const std::string&)>& say, std::vector<FigureValues>& figures) {
+  const bool lead = ranks.rank() == 0;
+  constexpr std::size_t kSlot = kFigureCount + 2;  // the figures, the seconds, failed (held: the flag)
+  std::vector<std::string> keys;
+  std::vector<std::uint64_t> held(jobs.size() * kSlot, 0);
+  for (std::size_t j = 0; j < jobs.size(); ++j) {
+    keys.push_back(trace_key(jobs[j].values, jobs[j].seed));
+    if (!lead || !journal) continue;
+    if (const std::optional<std::pair<FigureValues, double>> done = journal->find(keys.back())) {
+      for (std::size_t f = 0; f < kFigureCount; ++f) held[j * kSlot + f] = std::bit_cast<std::uint64_t>(done->first[f]);
+      held[j * kSlot + kSlot - 1] = 1;
+    }
+  }
+  ranks.sum(held);
+  figures.assign(jobs.size(), FigureValues{});
+  std::vector<std::size_t> pending;
+  std::map<std::string, std::size_t> first;  // a key's first job
+  for (std::size_t j = 0; j < jobs.size(); ++j) {
+    if (held[j * kSlot + kSlot - 1] != 0)
+      for (std::size_t f = 0; f < kFigureCount; ++f) figures[j][f] = std::bit_cast<double>(held[j * kSlot + f]);
+    else if (first.emplace(keys[j], j).second)
+      pending.push_back(j);
+  }
+  const std::size_t round = static_cast<std::size_t>(ranks.size()) * std::max<std::size_t>(1, parallel);
+  if (lead)
+    say("over " + std::to_string(ranks.size()) + " MPI ranks: " + std::to_string(pending.size()) + " of " +
+        std::to_string(jobs.size()) + " traces to make (" + std::to_string(jobs.size() - pending.size()) +
+        " from the journal)\n");
+  for (std::size_t start = 0; start < pending.size(); start += round) {
+    const std::size_t count = std::min(round, pending.size() - start);
+    const sim::IndexRange mine = sim::rank_share(count, ranks.rank(), ranks.size());
+    std::vector<std::uint64_t> slots(count * kSlot, 0);
+    std::atomic<std::size_t> next{static_cast<std::size_t>(mine.begin)};
+    std::mutex mutex;
+    std::string own_error;
+    const auto worker = [&] {
+      for (;;) {
+        const std::size_t k = next++;
+        if (k >= mine.end) return;
+        const TraceJob& job = jobs[pending[start + k]];
+        std::string why;
+        const std::optional<Trace> t = tracer.trace(job.values, job.seed, &nominal, false, &why);
+        std::uint64_t* slot = &slots[k * kSlot];
+        if (!t) {
+          slot[kSlot - 1] = 1;
+          const std::lock_guard<std::mutex> lock(mutex);
+          if (own_error.empty()) own_error = why.empty() ? std::string("a trace failed") : why;
+          continue;
+        }
+        for (std::size_t f = 0; f < kFigureCount; ++f) slot[f] = std::bit_cast<std::uint64_t>(t->figures[f]);
+        slot[kFigureCount] = std::bit_cast<std::uint64_t>(t->seconds);
+      }
+    };
+    std::vector<std::thread> pool;
+    for (std::size_t w = 1; w < std::min<std::size_t>(std::max<std::size_t>(1, parallel), mine.size()); ++w)
+      pool.emplace_back(worker);
+    worker();
+    for (std::thread& th : pool) th.join();
+    ranks.sum(slots);
+    for (std::size_t k = 0; k < count; ++k) {
+      if (slots[k * kSlot + kSlot - 1] == 0) continue;
+      if (!own_error.empty()) return make_error(own_error);
+      int owner = 0;
+      while (owner + 1 < ranks.size() && k >= sim::rank_share(count, owner + 1, ranks.size()).begin) ++owner;
+      return make_error(lead ? "a trace on " + ranks.name_of(owner) + " failed (its error above); nothing more was analysed"
+                             : std::string());
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      FigureValues& f = figures[pending[start + k]];
+      for (std::size_t i = 0; i < kFigureCount; ++i) f[i] = std::bit_cast<double>(slots[k * kSlot + i]);
+      if (lead && journal && !(k >= mine.begin && k < mine.end))  // rank 0's own: journalled as they finished
+        journal->add(keys[pending[start + k]], f, std::bit_cast<double>(slots[k * kSlot + kFigureCount]));
+    }
+    if (lead)
+      say("over " + std::to_string(ranks.size()) + " MPI ranks: " + std::to_string(start + count) + "/" +
+          std::to_string(pending.size()) + " traces done\n");
+  }
+  for (std::size_t j = 0; j < jobs.size(); ++j)  // a key traced once, for each of its jobs
+    if (held[j * kSlot + kSlot - 1] == 0) figures[j] = figures[first.at(keys[j])];
+  return Ok{};
+}
+
 }  // namespace
 
 Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& options, const SimulatePlan& plan,
@@ -324,8 +590,12 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     double c_step, gamma_step;
   } const settings{sim.photons, sim.seed, sim.c_step, sim.gamma_step};
   const Settings& opt = settings;
+  // Under MPI rank 0 alone writes and shows progress (trace_over_ranks).
+  const sim::Ranks one_process;
+  const sim::Ranks& ranks = options.ranks ? *options.ranks : one_process;
+  const bool lead = ranks.rank() == 0;
   const auto say = [&](const std::string& text) {
-    if (hooks.on_output) hooks.on_output(text);
+    if (hooks.on_output && lead) hooks.on_output(text);
   };
   const auto failed = [](const std::string& message) { return make_error(message); };
   for (auto [value, option] : {std::pair{&model, "MODEL"}, std::pair{&out_dir, "--out DIR"}})
@@ -375,9 +645,13 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     for (design::Tolerance& t : from_design->tolerances) spec->tolerances.push_back(std::move(t));
   }
   if (Status s = design::check_variables(*spec, base_design.get()); !s.ok()) return failed(to_string(s.error()));
+  if (Status s = expand_copies(*spec, model, plan); !s.ok()) return failed(to_string(s.error()));
   if (Status s = io::make_directories(out_dir); !s.ok()) return failed(to_string(s.error()));
 
-  Tracer tracer(plan, *spec, hooks.on_message, base_design);
+  const MessageSink rank_messages = lead ? hooks.on_message : MessageSink([&hooks](Severity severity, const std::string& text) {
+    if (severity >= Severity::Error) tell(hooks.on_message, severity, text);
+  });
+  Tracer tracer(plan, *spec, rank_messages, base_design);
   // The journal: what a rerun with --resume reads back. Its header is what
   // makes two runs' traces the same: the model, the settings of a trace and
   // the tolerances.
@@ -395,10 +669,11 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   if (sim.luminance_images) journal_header["luminance_images"] = *sim.luminance_images;
   Journal journal;
   std::size_t reused = 0;
-  if (Status s = journal.open((fs::path(out_dir) / "journal.jsonl").string(), journal_header, options.resume, &reused);
-      !s.ok())
-    return s.error();
-  tracer.set_journal(&journal);
+  Status journal_opened = Ok{};  // rank 0 owns the journal
+  if (lead)
+    journal_opened = journal.open((fs::path(out_dir) / "journal.jsonl").string(), journal_header, options.resume, &reused);
+  if (!journal_opened.ok() && !ranks.distributed()) return journal_opened.error();
+  if (lead) tracer.set_journal(&journal);
   if (options.resume) say("resume: " + std::to_string(reused) + " traces read back from the journal\n");
   const std::size_t dims = spec->tolerances.size();
   const std::uint64_t seed = static_cast<std::uint64_t>(opt.seed);
@@ -432,7 +707,44 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   // The nominal, and its noise.
   say("nominal: tracing " + format_number(static_cast<double>(opt.photons)) + " photons (seed " +
       std::to_string(opt.seed) + ")\n");
-  std::optional<Trace> nominal = tracer.trace(zeros, seed, nullptr, true);
+  std::optional<Trace> nominal =
+      journal_opened.ok() ? tracer.trace(zeros, seed, nullptr, true) : std::optional<Trace>();
+  if (ranks.distributed()) {
+    if (Status s = ranks_agree_on_nominal(ranks, nominal, journal_opened, model, tracer.error()); !s.ok()) return s.error();
+    std::vector<TraceJob> jobs;
+    for (long long k = 1; k <= noise_seeds; ++k) jobs.push_back({zeros, seed + static_cast<std::uint64_t>(k)});
+    std::vector<std::array<std::size_t, 2>> limit_jobs(dims, {jobs.size(), jobs.size()});  // none: the nominal
+    for (std::size_t i = 0; i < dims; ++i)
+      for (int side = 0; side < 2; ++side)
+        if (const double v = side == 0 ? spec->tolerances[i].law.low() : spec->tolerances[i].law.high(); v != 0.0) {
+          limit_jobs[i][static_cast<std::size_t>(side)] = jobs.size();
+          jobs.push_back({zeros, seed});
+          jobs.back().values[i] = v;
+        }
+    for (std::vector<double>& values : monte_carlo_values(*spec, trials, sampling_seed))
+      jobs.push_back({std::move(values), seed});
+    std::vector<FigureValues> done;
+    if (Status s = trace_over_ranks(tracer, ranks, lead ? &journal : nullptr, jobs, nominal->distribution,
+                                    static_cast<std::size_t>(options.parallel_trials), say, done);
+        !s.ok())
+      return s.error();
+    // The traced inverse sensitivity's bisections, split by limit and tolerance.
+    if (!limits.empty() && options.inverse_steps > 0) {
+      const std::vector<FigureValues> noise_traces(done.begin(), done.begin() + noise_seeds);
+      std::vector<std::array<FigureValues, 2>> at(dims);
+      for (std::size_t i = 0; i < dims; ++i)
+        for (std::size_t side = 0; side < 2; ++side)
+          at[i][side] = limit_jobs[i][side] < done.size() ? done[limit_jobs[i][side]] : nominal->figures;
+      inverse_over_ranks(tracer, ranks, lead ? &journal : nullptr, *spec, limits, nominal->figures,
+                         design::noise_floor(nominal->figures, noise_traces), at, options.inverse_steps, seed,
+                         nominal->distribution, say);
+    }
+    if (!lead) {  // rank 0 writes the report from the journal
+      ToleranceRunOutcome out;
+      out.lead = false;
+      return out;
+    }
+  }
   if (!nominal) return failed(model + ": the nominal model could not be traced (" + tracer.error() + "); nothing was analysed");
   seconds.push_back(nominal->seconds);
   const photometry::Distribution& nominal_d = nominal->distribution;
@@ -638,13 +950,10 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   std::optional<std::size_t> best, worst;
   std::vector<photometry::Distribution> kept(2);  // best, worst
   double best_rms = 0.0, worst_rms = 0.0;
-  const std::vector<std::vector<double>> u =
-      design::latin_hypercube(static_cast<std::size_t>(trials), dims, static_cast<std::uint64_t>(sampling_seed));
   // The trials: --parallel-trials at once, each from its own values and the
   // common seed, so their figures do not depend on the order they finish in.
-  std::vector<std::vector<double>> trial_values(u.size(), std::vector<double>(dims));
-  for (std::size_t n = 0; n < u.size(); ++n)
-    for (std::size_t i = 0; i < dims; ++i) trial_values[n][i] = spec->tolerances[i].law.quantile(u[n][i]);
+  const std::vector<std::vector<double>> trial_values = monte_carlo_values(*spec, trials, sampling_seed);
+  const std::vector<std::vector<double>>& u = trial_values;
   std::vector<std::optional<Trace>> results(u.size());
   {
     std::atomic<std::size_t> next{0};

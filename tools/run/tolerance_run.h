@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "photometry/diagnostics.h"
+#include "sim/distributed.h"
 #include "tools/run/console.h"
 #include "tools/run/simulate.h"
 
@@ -32,6 +33,11 @@ struct ToleranceRunOptions {
   long long parallel_trials = 1;  // Monte Carlo trials traced at once (threads; each with simulate.threads)
   bool resume = false;            // read DIR/journal.jsonl back and trace only what it lacks  // bisection steps of the traced inverse sensitivity (0: the linear estimate alone)
   SimulateOptions simulate;  // photons, seed, c_step, gamma_step for report.json (the plan's own)
+  // The MPI job this process is a rank of (null: one process). Each trace
+  // runs in one rank; the traces are split over the ranks and rank 0 writes
+  // DIR (docs/tolerance.md, "Trials over MPI ranks"). Every rank calls
+  // tolerance_analysis with the same options.
+  const sim::Ranks* ranks = nullptr;
 };
 
 struct ToleranceRunHooks {
@@ -45,6 +51,7 @@ struct ToleranceRunOutcome {
   nlohmann::json timing;  // timing.json: seconds per trace
   std::string report_path;
   std::string table;      // sensitivity.txt
+  bool lead = true;       // false on MPI ranks other than 0: they traced their share and wrote nothing
 };
 
 // Runs gonio tolerance with `plan` (app::plan_simulation of options.model

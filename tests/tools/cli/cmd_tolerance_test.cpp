@@ -885,3 +885,155 @@ TEST(ToleranceCli, DatasheetYieldTableEqualsTheReport) {
 
 }  // namespace
 }  // namespace gonio
+
+namespace gonio {
+namespace {
+
+// Two spots (outer cone 5°) shining up at two flat 20 mm mirrors 50 mm
+// above them, facing down, so that each beam comes back to the nadir after
+// one bounce. `instanced`: both mirror nodes, "mirrorA" and "mirrorB", place
+// one glTF mesh "mirror" (loaded as one instanced mesh with two instances);
+// otherwise each node has its own copy of it (world meshes
+// "mirrorA/mirror/0", "mirrorB/mirror/0"), the same model un-instanced.
+fs::path write_mirror_pair(const fs::path& dir, bool instanced) {
+  sim::Mesh square;
+  constexpr float a = 0.01f;
+  square.positions = {{-a, 0.0f, -a}, {a, 0.0f, -a}, {a, 0.0f, a}, {-a, 0.0f, a}};
+  square.normals.assign(4, {0.0f, -1.0f, 0.0f});
+  square.indices = {0, 1, 2, 0, 2, 3};  // wound to face −Y
+  io::GltfWriter w("gonio tolerance test");
+  const int material = w.material({{"name", "mirror"}, {"pbrMetallicRoughness",
+                                 {{"baseColorFactor", {kMirror, kMirror, kMirror, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}});
+  const int shared = w.mesh(square, material, "mirror");
+  for (const auto& [name, x] : {std::pair{"A", 0.03}, std::pair{"B", -0.03}}) {
+    w.node({{"name", std::string("mirror") + name},
+            {"mesh", instanced ? shared : w.mesh(square, material, "mirror")},
+            {"translation", {x, 0.05, 0.0}}});
+    const int light = w.khr_light({{"name", std::string("spot") + name}, {"type", "spot"}, {"intensity", 100.0},
+                                   {"spot", {{"innerConeAngle", 0.0}, {"outerConeAngle", 5.0 * std::numbers::pi / 180.0}}}});
+    // The spot shines along the node's −Z: turned +90° about X it shines up (+Y).
+    w.node({{"name", std::string("spot") + name}, {"translation", {x, 0.0, 0.0}},
+            {"rotation", {std::sqrt(0.5), 0.0, 0.0, std::sqrt(0.5)}},
+            {"extensions", {{"KHR_lights_punctual", {{"light", light}}}}}});
+  }
+  std::string bin;
+  const std::string name = instanced ? "instanced" : "flat";
+  const std::string text = w.finish(name + ".bin", bin);
+  test::write_file(dir / (name + ".bin"), bin);
+  test::write_file(dir / (name + ".gltf"), text);
+  return dir / (name + ".gltf");
+}
+
+json tolerance_of(const fs::path& model, const fs::path& dir, const std::string& out, const std::string& tolerances,
+                  std::vector<std::string> extra = {}) {
+  test::write_file(dir / (out + ".toml"), tolerances);
+  std::vector<std::string> args = {"tolerance", model.string(), "--tolerances", (dir / (out + ".toml")).string(),
+                                   "--out", (dir / out).string(), "--threads", "2", "--photons", "100000",
+                                   "--noise-seeds", "1"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  const test::ProcessResult r = gonio(args);
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
+  if (r.exit_code != 0) return {};
+  return json::parse(test::read_file(dir / out / "report.json"));
+}
+
+double rms_between(const fs::path& a, const fs::path& b) {
+  Result<io::PhotometricFile> x = io::read_photometric_file(a.string()), y = io::read_photometric_file(b.string());
+  EXPECT_TRUE(x.ok() && y.ok());
+  if (!x.ok() || !y.ok()) return 1.0;
+  Result<photometry::Comparison> c = photometry::compare(x->distribution, y->distribution);
+  EXPECT_TRUE(c.ok());
+  return c.ok() ? c->rms_relative : 1.0;
+}
+
+// A mirror tilted by θ turns its reflected beam by 2θ. Both copies of the
+// instanced mirror named by their mesh ("mirror": each turned about its own
+// centre, one draw) at ±3° about the C0 axis: the beam axis moves by ±6°
+// towards C90 (a normal −Y turned by θ about +X reflects the upward ray to
+// (0, −cos 2θ, −sin 2θ): C90 is world −Z), not towards C0, to a tenth of
+// the 2.5° γ step. One copy alone (its node, "mirrorA") turns half the
+// light by 2θ: the axis, a mean over the light at ≥ half the peak, moves
+// by about θ.
+TEST(ToleranceCli, TiltedInstancedMirrorTurnsItsBeamByTwiceTheTilt) {
+  test::TempDir dir;
+  const fs::path model = write_mirror_pair(dir.path(), true);
+  const json report = tolerance_of(model, dir.path(), "both", "[part.mirror]\ntilt_x = { uniform = 3 }\n",
+                                   {"--trials", "0"});
+  ASSERT_FALSE(report.is_null());
+  EXPECT_NEAR(report["nominal"]["axis_c90"].get<double>(), 0.0, 0.25);
+  const json& turned = row(report, "axis_c90", "mirror.tilt_x");
+  const json& across = row(report, "axis_c0", "mirror.tilt_x");
+  std::printf("both copies ±3°: axis towards C90 %.4f / %.4f, towards C0 %.4f / %.4f\n",
+              turned["change_low"].get<double>(), turned["change_high"].get<double>(),
+              across["change_low"].get<double>(), across["change_high"].get<double>());
+  EXPECT_NEAR(turned["change_high"].get<double>(), 6.0, 0.25);
+  EXPECT_NEAR(turned["change_low"].get<double>(), -6.0, 0.25);
+  EXPECT_NEAR(across["change_high"].get<double>(), 0.0, 0.25);
+  const json one = tolerance_of(model, dir.path(), "one", "[part.mirrorA]\ntilt_x = { uniform = 3 }\n",
+                                {"--trials", "0"});
+  ASSERT_FALSE(one.is_null());
+  const double half = row(one, "axis_c90", "mirrorA.tilt_x")["change_high"].get<double>();
+  std::printf("one copy +3°: axis towards C90 %.4f\n", half);
+  EXPECT_GT(half, 1.5);
+  EXPECT_LT(half, 4.5);
+}
+
+// The round trip: the instanced model with its copies moved by a tolerance
+// gives the figures and tables of the same model written with the copies
+// un-instanced and the same moves — the mesh's name (both copies, one
+// value) against each copy's node with that value, and one copy's node on
+// both. Each with one Monte Carlo trial at the value (a law of one value).
+// The two models place their vertices through different float roundings
+// (a world mesh transformed and stored as float, an instance's transform
+// applied by the tracer), so the photons are not bit for bit the same: the
+// tables must agree to 0.1 % of the peak (RMS) and the beam axis to 0.01°.
+TEST(ToleranceCli, InstancedPartsGiveTheFiguresOfTheirUninstancedCopies) {
+  test::TempDir dir;
+  const fs::path instanced = write_mirror_pair(dir.path(), true), flat = write_mirror_pair(dir.path(), false);
+  const std::string moves = "tilt_x = { values = [2.5] }\ntilt_y = { values = [-1.5] }\nz = { values = [1] }\n";
+  struct Case {
+    std::string instanced, flat, out;
+  };
+  for (const Case& c : {Case{"[part.mirror]\n" + moves, "[part.mirrorA]\n" + moves + "[part.mirrorB]\n" + moves, "mesh"},
+                        Case{"[part.mirrorB]\n" + moves, "[part.mirrorB]\n" + moves, "node"}}) {
+    const json a = tolerance_of(instanced, dir.path(), c.out + "-instanced", c.instanced, {"--trials", "1"});
+    const json b = tolerance_of(flat, dir.path(), c.out + "-flat", c.flat, {"--trials", "1"});
+    ASSERT_FALSE(a.is_null() || b.is_null());
+    const json& fa = a["monte_carlo"]["trials"][0]["figures"];
+    const json& fb = b["monte_carlo"]["trials"][0]["figures"];
+    for (const char* f : {"axis_c0", "axis_c90"}) EXPECT_NEAR(fa[f].get<double>(), fb[f].get<double>(), 0.01) << c.out << " " << f;
+    EXPECT_NEAR(fa["flux"].get<double>(), fb["flux"].get<double>(), 1e-3 * fb["flux"].get<double>()) << c.out;
+    const double moved = rms_between(dir.path() / (c.out + "-instanced") / "best.ies", dir.path() / (c.out + "-flat") / "best.ies");
+    const double nominal = rms_between(dir.path() / (c.out + "-instanced") / "nominal.ies", dir.path() / (c.out + "-flat") / "nominal.ies");
+    const double off = rms_between(dir.path() / (c.out + "-instanced") / "best.ies", dir.path() / (c.out + "-flat") / "nominal.ies");
+    std::printf("%s: RMS difference [%% of peak] instanced/flat trial %.5f, nominal %.5f; trial from the nominal %.3f; "
+                "axis_c90 %.5f / %.5f\n", c.out.c_str(), 100.0 * moved, 100.0 * nominal, 100.0 * off,
+                fa["axis_c90"].get<double>(), fb["axis_c90"].get<double>());
+    EXPECT_LT(moved, 1e-3) << c.out;
+    EXPECT_LT(nominal, 1e-3) << c.out;
+    EXPECT_GT(off, 0.01) << c.out;  // the moves are seen
+  }
+  // independent = true: a tolerance per copy, as the flat model's per node;
+  // the same Latin hypercube, so the same values trial by trial.
+  const std::string law = "tilt_x = { uniform = 3 }\n";
+  const json a = tolerance_of(instanced, dir.path(), "independent", "[part.mirror]\nindependent = true\n" + law,
+                              {"--trials", "4"});
+  const json b = tolerance_of(flat, dir.path(), "per-node", "[part.mirrorA]\n" + law + "[part.mirrorB]\n" + law,
+                              {"--trials", "4"});
+  ASSERT_FALSE(a.is_null() || b.is_null());
+  ASSERT_EQ(a["tolerances"].size(), 2u);
+  EXPECT_EQ(a["tolerances"][0]["name"], "mirrorA/mirror/0.tilt_x");
+  EXPECT_EQ(a["tolerances"][1]["name"], "mirrorB/mirror/0.tilt_x");
+  for (std::size_t n = 0; n < 4; ++n) {
+    const json& ta = a["monte_carlo"]["trials"][n];
+    const json& tb = b["monte_carlo"]["trials"][n];
+    EXPECT_EQ(ta["values"]["mirrorA/mirror/0.tilt_x"], tb["values"]["mirrorA.tilt_x"]);
+    EXPECT_EQ(ta["values"]["mirrorB/mirror/0.tilt_x"], tb["values"]["mirrorB.tilt_x"]);
+    EXPECT_NE(ta["values"]["mirrorA/mirror/0.tilt_x"], ta["values"]["mirrorB/mirror/0.tilt_x"]);
+    for (const char* f : {"axis_c0", "axis_c90"})
+      EXPECT_NEAR(ta["figures"][f].get<double>(), tb["figures"][f].get<double>(), 0.01) << n << " " << f;
+  }
+}
+
+}  // namespace
+}  // namespace gonio
