@@ -504,7 +504,13 @@ TEST(DesignFacets, MistakesAreErrorsNamingTheLine) {
            {"{ theta = -1 }", "'theta' must be 0 (smooth) or a whole number 1"},
            {"{ azimuth = 2 }", "'azimuth' must be 0 (smooth) or a whole number 3"},
            {"{ theta = 2.5 }", "'theta' must be 0"},
-           {"{ theta = 8, kind = \"curved\" }", "kind 'curved' is not one Gonio makes yet (flat)"},
+           {"{ theta = 8, kind = \"round\" }", "kind 'round' is not one Gonio makes (flat, curved)"},
+           {"{ theta = 8, kind = \"curved\" }", "curved facets need 'radius_theta' or 'radius_azimuth'"},
+           {"{ theta = 8, radius_theta = 50 }", "'radius_theta' bends curved facets: add kind = \"curved\""},
+           {"{ azimuth = 8, kind = \"curved\", radius_theta = 50 }", "'radius_theta' without 'theta' facets"},
+           {"{ theta = 8, kind = \"curved\", radius_theta = 0 }", "'radius_theta' must be a signed radius"},
+           {"{ theta = 8, kind = \"curved\", radius_azimuth = 30 }", "'radius_azimuth' without 'azimuth' facets"},
+           {"{ azimuth = 8, kind = \"curved\", radius_azimuth = \"x\" }", "'radius_azimuth' must be a signed radius"},
            {"{ theta = 8, tilt = 1 }", "unknown key 'tilt'"},
            {"{ kind = \"flat\" }", "give 'theta' or 'azimuth'"},
            {"8", "facets must be a table"}}) {
@@ -552,6 +558,182 @@ TEST(DesignFacets, FacetedDishConvergesToTheSmoothOne) {
     last = p99;
   }
   EXPECT_GT(last, smooth);
+}
+
+// Curved facets ---------------------------------------------------------------
+
+// The dish's facet i of 6 along the profile (rows at ρ = 4 + 26·i/6 mm on
+// z = 10 − ρ²/40 mm) bent into the arc of radius |R| through its ends, the
+// centre on the focus's side for R > 0 (concave), away from it for R < 0:
+// the centre (ρ, z) [m], from the closed form alone.
+std::pair<double, double> dish_arc_centre(int i, double R) {
+  auto row = [](int k) {
+    const double r = 0.004 + 0.026 * k / 6.0;
+    return std::pair{r, 0.010 - r * r / 0.040};
+  };
+  const auto [ar, az] = row(i);
+  const auto [br, bz] = row(i + 1);
+  const double c = std::hypot(br - ar, bz - az), mr = 0.5 * (ar + br), mz = 0.5 * (az + bz);
+  double nr = (bz - az) / c, nz = -(br - ar) / c;
+  if (nr * -mr + nz * -mz < 0) nr = -nr, nz = -nz;  // toward the focus
+  const double w = std::sqrt(R * R - 0.25 * c * c), s = R > 0 ? 1.0 : -1.0;
+  return {mr + s * w * nr, mz + s * w * nz};
+}
+
+// Curved along the profile: every vertex on its facet's arc (turned about
+// the axis) and its normal the arc's, ±(centre − point)/|R|: across a facet
+// the normal turns by 2·asin(c/2|R|), the facet's spread of the light.
+TEST(DesignFacets, CurvedFacetsLieOnTheirArcsWithTheArcsNormals) {
+  for (const double R : {0.040, -0.040}) {
+    Result<sim::SceneDesc> s = scene_of(faceted_dish("{ theta = 6, kind = \"curved\", radius_theta = " +
+                                                     std::to_string(R * 1e3) + " }"));
+    ASSERT_TRUE(s.ok()) << to_string(s.error());
+    const sim::Mesh& m = s->meshes[0];
+    EXPECT_GT(m.indices.size() / 3, 6u * 2u * 8u);  // sub-rows along each arc
+    double worst = 0.0, worst_normal = 0.0;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+      // The triangle's facet: the arc nearest its centroid (a row's vertex is on two).
+      Vec3 centroid{0, 0, 0};
+      for (int k = 0; k < 3; ++k) centroid += sim::to_double(m.positions[m.indices[t + k]]) * (1.0 / 3);
+      const double crho = std::hypot(centroid.x, centroid.y);
+      int band = 0;
+      double nearest = 1.0;
+      for (int i = 0; i < 6; ++i) {
+        const auto [cr, cz] = dish_arc_centre(i, R);
+        const double d = std::abs(std::hypot(crho - cr, centroid.z - cz) - std::abs(R));
+        if (d < nearest && crho > 0.004 + 0.026 * i / 6.0 && crho < 0.004 + 0.026 * (i + 1) / 6.0) nearest = d, band = i;
+      }
+      const auto [cr, cz] = dish_arc_centre(band, R);
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 p = sim::to_double(m.positions[m.indices[t + k]]), n = sim::to_double(m.normals[m.indices[t + k]]);
+        const double rho = std::hypot(p.x, p.y), psi = std::atan2(p.y, p.x);
+        worst = std::max(worst, std::abs(std::hypot(rho - cr, p.z - cz) - std::abs(R)));
+        const double sgn = R > 0 ? 1.0 : -1.0, nr = sgn * (cr - rho) / std::abs(R), nz = sgn * (cz - p.z) / std::abs(R);
+        worst_normal = std::max(worst_normal, angle(n, Vec3{nr * std::cos(psi), nr * std::sin(psi), nz}));
+      }
+    }
+    std::printf("R %g mm: vertices within %g m of their arcs, normals within %g rad\n", R * 1e3, worst, worst_normal);
+    EXPECT_LT(worst, 1e-8) << R;
+    EXPECT_LT(worst_normal, 2e-6) << R;
+  }
+  // A radius below half a facet's chord: the reflector's line.
+  Result<sim::SceneDesc> s = scene_of(faceted_dish("{ theta = 2, kind = \"curved\", radius_theta = 5 }"));
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().where.line, 8) << to_string(s.error());
+  EXPECT_NE(s.error().message.find("smaller than half of facet 1's chord"), std::string::npos) << to_string(s.error());
+}
+
+// A radius → ∞ is the flat facet: the same vertices and normals, one way or both.
+TEST(DesignFacets, CurvedFacetsOfHugeRadiusAreTheFlatOnes) {
+  for (const std::string counts : {"theta = 6", "azimuth = 12", "theta = 6, azimuth = 12"}) {
+    std::string radii;
+    if (counts.find("theta") != std::string::npos) radii += ", radius_theta = 1e9";
+    if (counts.find("azimuth") != std::string::npos) radii += ", radius_azimuth = -1e9";
+    Result<sim::SceneDesc> flat = scene_of(faceted_dish("{ " + counts + " }"));
+    Result<sim::SceneDesc> curved = scene_of(faceted_dish("{ " + counts + ", kind = \"curved\"" + radii + " }"));
+    ASSERT_TRUE(flat.ok() && curved.ok()) << counts;
+    const sim::Mesh &a = flat->meshes[0], &b = curved->meshes[0];
+    ASSERT_EQ(a.positions.size(), b.positions.size()) << counts;
+    ASSERT_EQ(a.indices, b.indices) << counts;
+    double worst = 0.0, worst_normal = 0.0;
+    for (std::size_t v = 0; v < a.positions.size(); ++v) {
+      worst = std::max(worst, length(sim::to_double(a.positions[v]) - sim::to_double(b.positions[v])));
+      worst_normal = std::max(worst_normal, angle(sim::to_double(a.normals[v]), sim::to_double(b.normals[v])));
+    }
+    EXPECT_LT(worst, 1e-9) << counts;
+    EXPECT_LT(worst_normal, 1e-5) << counts;
+  }
+}
+
+// A flat mirror disc 20 mm below the source (ρ 2 … 40 mm), faceted along ρ
+// into 4 rings curved with radius R: each ring's arc has its centre above
+// its middle (R > 0), so at ρ the normal leans toward the ring's middle by
+// asin((ρ − ρ_mid)/R), and each reflected ray leaves as the mirror image
+// about that normal: the ring spreads a beam by ±2·asin(c/2R) (c = 9.5 mm).
+// Traced, the normal each reflected ray implies, (out − in)/|out − in|, is
+// the closed form's.
+std::string curved_disc(const std::string& facets) {
+  return std::string(R"(length_unit = "mm"
+[materials.mirror]
+mirror = 1.0
+[[emitters]]
+name = "LED"
+position = [0, 0, 0]
+flux_lm = 1000
+[[reflectors]]
+name = "disc"
+material = "mirror"
+profile = "conic"
+radius = 0
+vertex = -20
+aperture = [2, 40]
+)") + "facets = " + facets + "\n";
+}
+
+TEST(DesignFacets, CurvedRingsSpreadTheBeamAsTheirCurvatureSays) {
+  for (const double R : {0.100, -0.100}) {
+    Result<sim::SceneDesc> s = scene_of(curved_disc("{ theta = 4, kind = \"curved\", radius_theta = " +
+                                                    std::to_string(R * 1e3) + " }"), 1.0);
+    ASSERT_TRUE(s.ok()) << to_string(s.error());
+    std::vector<double> off;
+    double tilt_max = 0.0;
+    for (const sim::EscapedRay& r : escapes(std::move(*s), 40'000)) {
+      if (length(r.origin) < 1e-9) continue;
+      const Vec3 p = r.origin, in = normalize(p), implied = normalize(r.direction - in);
+      const double rho = std::hypot(p.x, p.y), psi = std::atan2(p.y, p.x);
+      const int i = std::clamp(static_cast<int>((rho - 0.002) / 0.0095), 0, 3);
+      const double mid = 0.002 + 0.0095 * (i + 0.5), half = 0.00475;
+      const double zc = -0.020 + (R > 0 ? 1.0 : -1.0) * std::sqrt(R * R - half * half);
+      const double sgn = R > 0 ? 1.0 : -1.0, nr = sgn * (mid - rho) / std::abs(R), nz = sgn * (zc - p.z) / std::abs(R);
+      off.push_back(angle(implied, Vec3{nr * std::cos(psi), nr * std::sin(psi), nz}) * 180 / kPi);
+      tilt_max = std::max(tilt_max, angle(implied, Vec3{0, 0, 1}) * 180 / kPi);
+    }
+    ASSERT_GT(off.size(), 10'000u);
+    std::sort(off.begin(), off.end());
+    const double closed = std::asin(0.00475 / std::abs(R)) * 180 / kPi;
+    std::printf("R %g mm: implied normals off the closed form's by %g deg (median), %g deg (99 %%); largest tilt %g deg, closed form %g\n",
+                R * 1e3, off[off.size() / 2], off[off.size() * 99 / 100], tilt_max, closed);
+    EXPECT_LT(off[off.size() * 99 / 100], 0.01) << R;
+    EXPECT_NEAR(tilt_max, closed, 0.02 * closed) << R;
+  }
+}
+
+// Curved around (8 sectors, R = 100 mm) on the same disc: at (X, x) in a
+// sector's frame (X along its mid-plane, x across, a = X·tan(π/8) the half
+// chord) the surface is z = −20 mm − √(R² − x²) + √(R² − a²) and its normal
+// ∝ (X·tan²(π/8)/√(R² − a²), −x/√(R² − x²), 1).
+TEST(DesignFacets, CurvedSectorsLieOnTheirClosedForm) {
+  const double R = 0.100, h = kPi / 8;
+  Result<sim::SceneDesc> s = scene_of(curved_disc("{ azimuth = 8, kind = \"curved\", radius_azimuth = 100 }"));
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  const sim::Mesh& m = s->meshes[0];
+  double worst = 0.0, worst_normal = 0.0, sag_max = 0.0;
+  for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+    Vec3 centroid{0, 0, 0};
+    for (int k = 0; k < 3; ++k) centroid += sim::to_double(m.positions[m.indices[t + k]]) * (1.0 / 3);
+    double psi = std::atan2(centroid.y, centroid.x);
+    if (psi < 0) psi += 2 * kPi;
+    const double mid = (std::floor(psi / (2 * h)) + 0.5) * 2 * h;
+    const Vec3 out{std::cos(mid), std::sin(mid), 0}, across{-std::sin(mid), std::cos(mid), 0};
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = sim::to_double(m.positions[m.indices[t + k]]), n = sim::to_double(m.normals[m.indices[t + k]]);
+      const double X = dot(p, out), x = dot(p, across), a = X * std::tan(h);
+      const double z = -0.020 - std::sqrt(R * R - x * x) + std::sqrt(R * R - a * a);
+      worst = std::max(worst, std::abs(p.z - z));
+      sag_max = std::max(sag_max, -0.020 - p.z);
+      const Vec3 exact = normalize(
+          out * (X * std::tan(h) * std::tan(h) / std::sqrt(R * R - a * a)) - across * (x / std::sqrt(R * R - x * x)) +
+          Vec3{0, 0, 1});
+      worst_normal = std::max(worst_normal, angle(n, exact));
+    }
+  }
+  std::printf("sectors: within %g m, normals within %g rad, deepest %g mm\n", worst, worst_normal, sag_max * 1e3);
+  EXPECT_LT(worst, 1e-8);
+  EXPECT_LT(worst_normal, 2e-6);
+  // The deepest vertex: near the widest chord's sagitta, R − √(R² − (40 mm·sin(π/8))²).
+  const double a = 0.040 * std::sin(h);
+  EXPECT_LE(sag_max, R - std::sqrt(R * R - a * a) + 1e-8);  // the sub-columns' vertices, at most there
+  EXPECT_GT(sag_max, 0.95 * (R - std::sqrt(R * R - a * a)));
 }
 
 // Fixed parts -----------------------------------------------------------------
