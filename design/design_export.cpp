@@ -156,8 +156,17 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
     if (!curve.ok()) return make_error(design.path, r.name + ": " + curve.error().message);
     io::StepRevolvedPart part;
     part.name = r.name;
-    if (r.facets) part = faceted_step_part(r, *curve);
-    for (int i = 0; i < kStepProfileSamples && part.faces.empty(); ++i) {
+    if (r.facets) {
+      Result<io::StepRevolvedPart> faceted = faceted_step_part(r, *curve);
+      if (!faceted.ok()) {
+        Error e = faceted.error();
+        e.where = SourceLoc{design.path, r.line, 0};
+        e.message = "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " + e.message;
+        return e;
+      }
+      part = std::move(*faceted);
+    }
+    for (int i = 0; i < kStepProfileSamples && part.faces.empty() && part.patches.empty(); ++i) {
       const double t = curve->t0() + (curve->t1() - curve->t0()) * i / (kStepProfileSamples - 1);
       double rho = 0.0, z = 0.0, drho = 0.0, dz = 0.0;
       curve->eval(t, rho, z, drho, dz);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "design/facets.h"
 #include "sim/scene.h"
 
 namespace gonio::design {
@@ -40,9 +41,6 @@ Status step_export_supported(const Design& design, const DesignParts& parts) {
                                              ": STEP export of this kind is not built yet (the glTF export writes it)"};
   };
   if (!parts.fixed_parts.empty()) return refuse("[[parts]]", parts.fixed_parts.front().line);
-  for (const Reflector& r : parts.reflectors)
-    if (r.facets && (r.facets->theta == 0 || r.facets->azimuth == 0))
-      return refuse("[[reflectors]] (facets one way only: curved facets)", r.line);
   return Ok{};
 }
 
@@ -129,10 +127,30 @@ Status add_troughs_to_step(const Design& design, const DesignParts& parts, int s
   return Ok{};
 }
 
-io::StepRevolvedPart faceted_step_part(const Reflector& r, const ProfileCurve& curve) {
+Result<io::StepRevolvedPart> faceted_step_part(const Reflector& r, const ProfileCurve& curve) {
   io::StepRevolvedPart part;
   part.name = r.name;
   const int n = r.facets->theta, m = r.facets->azimuth;
+  if (r.facets->curved || n == 0 || m == 0) {
+    Result<FacetSurface> surface = FacetSurface::make(curve, *r.facets);
+    if (!surface.ok()) return surface.error();
+    // Points along: the whole profile (smooth that way), an arc, or a chord;
+    // around: a quarter turn (smooth), an arc across the sector, or its chord.
+    const std::size_t nu = n == 0 ? 201 : std::isfinite(r.facets->radius_theta) ? 9 : 5;
+    const std::size_t nv = m == 0 ? 17 : std::isfinite(r.facets->radius_azimuth) ? 9 : 5;
+    for (int i = 0; i < surface->bands(); ++i)
+      for (int j = 0; j < surface->sectors(); ++j) {
+        part.patches.insert(part.patches.end(), {nu, nv});
+        for (std::size_t a = 0; a < nu; ++a)
+          for (std::size_t b = 0; b < nv; ++b) {
+            Vec3 p, normal;
+            surface->eval(i, j, static_cast<double>(a) / static_cast<double>(nu - 1),
+                          static_cast<double>(b) / static_cast<double>(nv - 1), p, normal);
+            part.patch_points.insert(part.patch_points.end(), {p.x * 1e3, p.y * 1e3, p.z * 1e3});
+          }
+      }
+    return part;
+  }
   std::vector<double> rho, z;
   for (int i = 0; i <= n; ++i) {  // the rows of design/facets.cpp: equal steps of t
     double rr = 0.0, zz = 0.0, dr = 0.0, dz = 0.0;

@@ -15,6 +15,11 @@
 #include <gp_Pln.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <GeomAPI_PointsToBSpline.hxx>
+#include <GeomAPI_PointsToBSplineSurface.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <Precision.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <Geom_BSplineCurve.hxx>
 #include <STEPCAFControl_Writer.hxx>
@@ -807,8 +812,11 @@ TopoDS_Shape cover_shape(const StepRevolvedPart& c) {
 namespace {
 
 // A part of planar faces (StepRevolvedPart::faces): each polygon a plane face
-// through its corners (repeated corners dropped), sewn within `tolerance`.
-Result<TopoDS_Shape> planar_faces(const StepRevolvedPart& part, double tolerance) {
+// through its corners (repeated corners dropped), and of B-spline patches
+// (StepRevolvedPart::patches): each grid a B-spline surface within
+// `tolerance` of its points (the largest distance found into `deviation`),
+// all sewn within `tolerance`.
+Result<TopoDS_Shape> planar_faces(const StepRevolvedPart& part, double tolerance, double& deviation) {
   BRepBuilderAPI_Sewing sewing(tolerance);
   std::size_t k = 0;
   for (std::size_t f = 0; f < part.faces.size(); ++f) {
@@ -825,6 +833,27 @@ Result<TopoDS_Shape> planar_faces(const StepRevolvedPart& part, double tolerance
     if (!polygon.IsDone()) return make_error("face " + std::to_string(f + 1) + ": OpenCASCADE could not join its corners");
     BRepBuilderAPI_MakeFace face(polygon.Wire(), true);
     if (!face.IsDone()) return make_error("face " + std::to_string(f + 1) + ": its corners do not lie on one plane");
+    sewing.Add(face.Face());
+  }
+  std::size_t k2 = 0;
+  for (std::size_t q = 0; q + 1 < part.patches.size(); q += 2) {
+    const int nu = static_cast<int>(part.patches[q]), nv = static_cast<int>(part.patches[q + 1]);
+    TColgp_Array2OfPnt grid(1, nu, 1, nv);
+    for (int i = 1; i <= nu; ++i)
+      for (int j = 1; j <= nv && k2 + 2 < part.patch_points.size(); ++j, k2 += 3)
+        grid.SetValue(i, j, gp_Pnt(part.patch_points[k2], part.patch_points[k2 + 1], part.patch_points[k2 + 2]));
+    GeomAPI_PointsToBSplineSurface fit(grid, 3, 8, GeomAbs_C2, tolerance);
+    if (!fit.IsDone() || fit.Surface().IsNull())
+      return make_error("patch " + std::to_string(q / 2 + 1) + ": OpenCASCADE found no B-spline surface within " +
+                        format_number(tolerance) + " mm of its points");
+    const Handle(Geom_BSplineSurface) surface = fit.Surface();
+    for (int i = 1; i <= nu; ++i)
+      for (int j = 1; j <= nv; ++j) {
+        GeomAPI_ProjectPointOnSurf projection(grid.Value(i, j), surface);
+        if (projection.NbPoints() > 0) deviation = std::max(deviation, projection.LowerDistance());
+      }
+    BRepBuilderAPI_MakeFace face(surface, Precision::Confusion());
+    if (!face.IsDone()) return make_error("patch " + std::to_string(q / 2 + 1) + ": OpenCASCADE could not make its face");
     sewing.Add(face.Face());
   }
   sewing.Perform();
@@ -856,8 +885,8 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
         TDataStd_Name::Set(component, TCollection_ExtendedString(part.name.c_str(), true));
         continue;
       }
-      if (!part.faces.empty()) {
-        Result<TopoDS_Shape> faces = planar_faces(part, request.tolerance_mm);
+      if (!part.faces.empty() || !part.patches.empty()) {
+        Result<TopoDS_Shape> faces = planar_faces(part, request.tolerance_mm, deviation);
         if (!faces.ok()) return make_error(path, part.name + ": " + faces.error().message);
         const TDF_Label label = shapes->AddShape(*faces, false);
         TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
