@@ -144,7 +144,8 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
   if (Status s = step_export_supported(design, *parts); !s.ok()) return s.error();
-  if (parts->reflectors.empty() && parts->lenses.empty() && parts->troughs.empty() && parts->covers.empty())
+  if (parts->reflectors.empty() && parts->lenses.empty() && parts->troughs.empty() && parts->covers.empty() &&
+      parts->fixed_parts.empty())
     return make_error(design.path, "the design has no parts to write as STEP");
 
   io::StepExport request;
@@ -188,6 +189,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   }
   if (Status s = add_troughs_to_step(design, *parts, kStepProfileSamples, request, rules); !s.ok()) return s.error();
   if (Status s = add_covers_to_step(design, *parts, *sidecar, request, rules); !s.ok()) return s.error();
+  if (Status s = add_fixed_parts_to_step(design, *parts, resolved, *sidecar, request, rules); !s.ok()) return s.error();
   if (const fs::path folder = fs::path(step_path).parent_path(); !folder.empty())
     if (Status s = io::make_directories(folder.string()); !s.ok()) return s.error();
   io::CadLoadOptions options;

@@ -24,8 +24,8 @@ Status write_other_parts_gltf(const Design& design, const DesignParts& parts, co
                               io::GltfWriter& w, const std::function<Result<int>(const std::string&)>& material);
 
 // Ok where the design has nothing the STEP export does not write yet;
-// else the error naming the first such part's line (fixed parts go to glTF
-// only so far).
+// else the error naming the first such part's line (every kind is written
+// now: kept for the kinds to come).
 Status step_export_supported(const Design& design, const DesignParts& parts);
 
 // The troughs as extruded parts of the STEP request (io/model/step_export.h):
@@ -52,5 +52,19 @@ Result<io::StepRevolvedPart> faceted_step_part(const Reflector& r, const Profile
 // named by their names, with a sidecar rule each.
 Status add_covers_to_step(const Design& design, const DesignParts& parts, const io::PartsFile& sidecar,
                           io::StepExport& request, io::TomlNode& rules);
+
+// The fixed parts (design/fixed_part.h) as parts of the STEP request: a STEP
+// or IGES file's shapes placed by the helper as position, rotate_deg and
+// scale place them (OpenCASCADE's own shapes, each "NAME/<its name>"); a
+// glTF file's triangles, placed as the simulation places them, as plane
+// faces sewn into one part per mesh, named as the design names its
+// placements ("NAME/<mesh>"). `rules` gets the design's own sidecar rules
+// ([[parts]] tables without `file`, from `resolved`) and the rule "NAME/*"
+// of a part's material, in the simulation's order. Errors name the part's
+// line: a file outside the design's folder, a glTF part of more than
+// kMaxFixedPartStepTriangles triangles (OpenCASCADE sews each as a face).
+constexpr std::size_t kMaxFixedPartStepTriangles = 20000;
+Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, const io::TomlNode& resolved,
+                               const io::PartsFile& sidecar, io::StepExport& request, io::TomlNode& rules);
 
 }  // namespace gonio::design

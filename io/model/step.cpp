@@ -6,6 +6,8 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <gp_Trsf.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -172,6 +174,10 @@ class CadReader {
       : path_(std::move(path)), tess_(t), parallel_(parallel), printer_(std::move(printer)) {}
 
   Result<CadModel> read();
+  // The file's free shapes (its top-level products) with their names, as
+  // read() names them, untessellated [mm]: what the STEP export places
+  // (StepRevolvedPart::file).
+  Result<std::vector<std::pair<std::string, TopoDS_Shape>>> free_shapes();
 
  private:
   Error fail(std::string message) const { return make_error(path_, std::move(message)); }
@@ -706,6 +712,29 @@ Result<CadModel> CadReader::read() {
 
 }  // namespace
 
+Result<std::vector<std::pair<std::string, TopoDS_Shape>>> CadReader::free_shapes() {
+  Handle(XCAFApp_Application) app = XCAFApp_Application::GetApplication();
+  app->NewDocument("MDTV-XCAF", doc_);
+  if (Status s = is_iges_path(path_) ? read_iges() : read_step(); !s.ok()) return s.error();
+  shapes_ = XCAFDoc_DocumentTool::ShapeTool(doc_->Main());
+  TDF_LabelSequence roots;
+  shapes_->GetFreeShapes(roots);
+  if (roots.Length() == 0) return fail("the file holds no shapes (no product with a shape representation)");
+  std::vector<std::pair<std::string, TopoDS_Shape>> out;
+  std::map<std::string, int> seen;
+  for (int i = 1; i <= roots.Length(); ++i) {
+    const TDF_Label& root = roots.Value(i);
+    std::string name = name_of(root);
+    if (name.empty()) {
+      const std::string entity = entity_of(shapes_->GetShape(root));
+      name = entity.empty() ? "part" + std::to_string(i) : entity;
+    }
+    if (const int n = ++seen[name]; n > 1) name += "[" + std::to_string(n) + "]";
+    out.emplace_back(name, shapes_->GetShape(root));
+  }
+  return out;
+}
+
 Result<CadModel> read_cad_file(const std::string& path, const CadTessellation& tessellation, bool parallel) {
   if (!(tessellation.angular_deflection_deg > 0.0 && tessellation.angular_deflection_deg <= 90.0))
     return make_error(path, "the angular deflection must lie in (0, 90] degrees");
@@ -883,6 +912,26 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
         TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
         const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());
         TDataStd_Name::Set(component, TCollection_ExtendedString(part.name.c_str(), true));
+        continue;
+      }
+      if (!part.file.empty()) {
+        // A CAD file's shapes, placed: each free shape transformed (a copy
+        // of its geometry, so that a scale is exact) and named "NAME/<its name>".
+        CadReader reader(part.file, CadTessellation{}, false, printer);
+        Result<std::vector<std::pair<std::string, TopoDS_Shape>>> shapes_in = reader.free_shapes();
+        if (!shapes_in.ok()) return make_error(path, part.name + ": " + to_string(shapes_in.error()));
+        const std::vector<double>& m = part.place;
+        gp_Trsf trsf;
+        trsf.SetValues(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11]);
+        for (const auto& [name, shape] : *shapes_in) {
+          BRepBuilderAPI_Transform placed(shape, trsf, true);
+          if (!placed.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not place " + name);
+          const std::string full = part.name + "/" + name;
+          const TDF_Label label = shapes->AddShape(placed.Shape(), false);
+          TDataStd_Name::Set(label, TCollection_ExtendedString(full.c_str(), true));
+          const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());
+          TDataStd_Name::Set(component, TCollection_ExtendedString(full.c_str(), true));
+        }
         continue;
       }
       if (!part.faces.empty() || !part.patches.empty()) {

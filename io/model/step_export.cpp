@@ -53,6 +53,11 @@ std::string serialize_step_export(const StepExport& request) {
         out += "\n";
       }
     }
+    if (!p.file.empty()) {
+      out += "file " + one_line(p.file) + "\nplace";
+      for (double v : p.place) out += " " + format_number(v, 17);
+      out += "\n";
+    }
     out += "points " + std::to_string(p.rho.size()) + "\n";
     for (std::size_t i = 0; i < p.rho.size() && i < p.z.size(); ++i)
       out += format_number(p.rho[i], 17) + " " + format_number(p.z[i], 17) + "\n";
@@ -161,10 +166,25 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
       if (!p.cover.empty() || p.extrude_mm > 0.0 || !p.curves.empty()) return bad("patches are a part of their own");
       if (!next(line)) return bad("expected 'points N'");
     }
+    if (line.rfind("file ", 0) == 0) {
+      p.file = line.substr(5);
+      if (p.file.empty()) return bad("an empty file name");
+      if (!next(line) || line.rfind("place ", 0) != 0) return bad("expected 'place' and 12 numbers");
+      std::istringstream ps(line.substr(6));
+      double v = 0.0;
+      while (ps >> v) {
+        if (!std::isfinite(v)) return bad("the placement's numbers must be finite");
+        p.place.push_back(v);
+      }
+      if (p.place.size() != 12 || !ps.eof()) return bad("expected 'place' and 12 numbers");
+      if (!p.cover.empty() || p.extrude_mm > 0.0 || !p.curves.empty() || !p.faces.empty() || !p.patches.empty())
+        return bad("a placed file is a part of its own");
+      if (!next(line)) return bad("expected 'points N'");
+    }
     if (line.rfind("points ", 0) != 0) return bad("expected 'points N'");
     value = line.substr(7);
     const long n = std::strtol(value.c_str(), &end, 10);
-    const bool pointless = !p.cover.empty() || !p.faces.empty() || !p.patches.empty();
+    const bool pointless = !p.cover.empty() || !p.faces.empty() || !p.patches.empty() || !p.file.empty();
     if (*end != '\0' || (pointless ? n != 0 : n < 2) || n > 10'000'000)
       return bad(!pointless ? "bad point count (at least 2)"
                  : p.cover.empty() ? "planar faces and patches have no points"

@@ -48,6 +48,12 @@ struct StepRevolvedPart {
   // rows; each patch a B-spline surface within the tolerance of its points.
   std::vector<std::size_t> patches{};  // nu, nv per patch
   std::vector<double> patch_points{};  // x, y, z per point
+  // Not empty: a CAD file (STEP or IGES, an absolute path) whose free shapes
+  // the helper reads and places by `place` (a 3 × 4 matrix, rows, [mm]:
+  // rotation times a uniform scale, then the translation), each a part
+  // "NAME/<its name>"; no points (a design's fixed part, design/fixed_part.h).
+  std::string file{};
+  std::vector<double> place{};  // 12 numbers
 };
 
 struct StepExport {
@@ -60,7 +66,8 @@ struct StepExport {
 // for an extruded part a line "extrude L", for planar faces a line "faces N"
 // and a line per face (its corner count, then x y z per corner), for
 // patches a line "patches N" and a line per patch (nu nv, then x y z per
-// point), and its
+// point), for a placed file a line "file PATH" and a line "place" with 12
+// numbers, and its
 // points one per line (names lose their line breaks).
 std::string serialize_step_export(const StepExport& request);
 

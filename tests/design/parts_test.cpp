@@ -898,6 +898,68 @@ aperture = [4, 30]
   EXPECT_LT(worst, 3e-6);
 }
 
+// Fixed parts as STEP: a STEP part's own shapes placed by the helper (the
+// paraboloid of the test above, turned 180° about X, scaled by 2, 50 mm
+// up): read back, a part "housing/…" whose every vertex, taken back to the
+// file's axes (q = R⁻¹(p − t)/2), lies on the paraboloid within 3 µm; a
+// glTF part's triangle, placed as the simulation places it (the test of
+// GltfPartLandsWherePositionAndRotationSay), a part "housing/board" with
+// its corners there to 1 µm; the sidecar gives both the part's material.
+TEST(DesignPartsExport, FixedPartsStepReadBackWherePlaced) {
+  if (!io::cad_supported()) GONIO_MISSING("a build with OpenCASCADE (GONIO_OCCT) for STEP export");
+  test::TempDir dir;
+  Result<Design> d = parse_design(faceted_dish("").append(""), (dir / "dish.design.toml").string());
+  ASSERT_TRUE(d.ok());
+  ASSERT_TRUE(write_design_step(*d, (dir / "dish.step").string()).ok());
+  const std::string step_part = edited(
+      edited(edited(kHousing, "housing.gltf", "dish.step"), "rotate_deg = [0, 0, 90]", "rotate_deg = [180, 0, 0]\nscale = 2"),
+      "position = [5, 6, 7]", "position = [0, 0, 50]");
+  write_board_gltf(dir / "housing.gltf");
+  for (const bool gltf : {false, true}) {
+    const std::string stem = gltf ? "board" : "placed";
+    d = parse_design(gltf ? std::string(kHousing) : step_part, (dir / (stem + ".design.toml")).string());
+    ASSERT_TRUE(d.ok()) << to_string(d.error());
+    Result<StepExportInfo> info = write_design_step(*d, (dir / (stem + ".step")).string());
+    ASSERT_TRUE(info.ok()) << to_string(info.error());
+    Result<io::CadModel> model = io::tessellate_cad((dir / (stem + ".step")).string(), options(1.0));
+    ASSERT_TRUE(model.ok()) << to_string(model.error());
+    ASSERT_EQ(model->placements.size(), 1u) << stem;
+    const io::CadPlacement& pl = model->placements[0];
+    EXPECT_NE(pl.path.find(gltf ? "housing/board" : "housing/dish"), std::string::npos) << pl.path;
+    std::vector<Vec3> points;
+    for (const io::CadSurface& surface : model->parts[pl.part].surfaces)
+      for (const sim::Vec3f& v : surface.positions) points.push_back(pl.to_world.point(sim::to_double(v)));
+    ASSERT_GE(points.size(), 3u);
+    if (gltf) {
+      const std::vector<Vec3> expected = {{0.035, 0.016, 0.027}, {0.035, 0.026, 0.027}, {0.045, 0.016, 0.027}};
+      for (const Vec3& p : points) {
+        double nearest = 1.0;
+        for (const Vec3& e : expected) nearest = std::min(nearest, length(p - e));
+        EXPECT_LT(nearest, 1e-6);
+      }
+      for (const Vec3& e : expected) {
+        double nearest = 1.0;
+        for (const Vec3& p : points) nearest = std::min(nearest, length(p - e));
+        EXPECT_LT(nearest, 1e-6);
+      }
+    } else {
+      double worst = 0.0, rho_max = 0.0;
+      for (const Vec3& p : points) {
+        const Vec3 q{p.x / 2, -p.y / 2, -(p.z - 0.050) / 2};
+        const double rho = std::hypot(q.x, q.y);
+        rho_max = std::max(rho_max, rho);
+        worst = std::max(worst, std::abs(q.z - (0.010 - rho * rho / 0.040)) / std::sqrt(1 + std::pow(rho / 0.020, 2)));
+      }
+      std::printf("the placed STEP part: %zu vertices within %g m of the paraboloid (file's axes)\n", points.size(), worst);
+      EXPECT_LT(worst, 3e-6);
+      EXPECT_NEAR(rho_max, 0.030, 2e-6);  // scaled back: the rim where it was
+    }
+    Result<std::string> sidecar = io::read_file(info->sidecar, 1 << 20);
+    ASSERT_TRUE(sidecar.ok());
+    EXPECT_NE(sidecar->find("match = \"housing/*\""), std::string::npos) << *sidecar;
+  }
+}
+
 // Export ----------------------------------------------------------------------
 
 // The design's glTF holds its troughs, caps and covers as the simulation
