@@ -61,6 +61,13 @@ io::StepRevolvedPart lens_step_part(const Lens& lens) {
     }
   }
   part.rho.back() = 0.0;  // on the axis, as the first point
+  if (lens.position != Vec3{0.0, 0.0, 0.0} || lens.rotate_deg != Vec3{0.0, 0.0, 0.0}) {
+    const sim::Affine place = lens_transform(lens);  // the helper turns and moves the solid [mm]
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) part.place.push_back(place.m[i][j]);
+      part.place.push_back(place.offset[i] * 1e3);
+    }
+  }
   return part;
 }
 

@@ -948,6 +948,14 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
       if (!part.curves.empty()) {
         Result<TopoDS_Shape> solid = revolved_solid(part, request.tolerance_mm, deviation);
         if (!solid.ok()) return make_error(path, part.name + ": " + solid.error().message);
+        if (part.place.size() == 12) {  // placed (a lens off the axis or tilted)
+          const std::vector<double>& m = part.place;
+          gp_Trsf trsf;
+          trsf.SetValues(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11]);
+          BRepBuilderAPI_Transform placed(*solid, trsf, true);
+          if (!placed.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not place the solid");
+          *solid = placed.Shape();
+        }
         const TDF_Label label = shapes->AddShape(*solid, false);
         TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
         const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());

@@ -53,8 +53,9 @@ std::string serialize_step_export(const StepExport& request) {
         out += "\n";
       }
     }
-    if (!p.file.empty()) {
-      out += "file " + one_line(p.file) + "\nplace";
+    if (!p.file.empty()) out += "file " + one_line(p.file) + "\n";
+    if (!p.place.empty()) {
+      out += "place";
       for (double v : p.place) out += " " + format_number(v, 17);
       out += "\n";
     }
@@ -170,6 +171,8 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
       p.file = line.substr(5);
       if (p.file.empty()) return bad("an empty file name");
       if (!next(line) || line.rfind("place ", 0) != 0) return bad("expected 'place' and 12 numbers");
+    }
+    if (line.rfind("place ", 0) == 0) {
       std::istringstream ps(line.substr(6));
       double v = 0.0;
       while (ps >> v) {
@@ -177,8 +180,10 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
         p.place.push_back(v);
       }
       if (p.place.size() != 12 || !ps.eof()) return bad("expected 'place' and 12 numbers");
-      if (!p.cover.empty() || p.extrude_mm > 0.0 || !p.curves.empty() || !p.faces.empty() || !p.patches.empty())
+      if (!p.file.empty() &&
+          (!p.cover.empty() || p.extrude_mm > 0.0 || !p.curves.empty() || !p.faces.empty() || !p.patches.empty()))
         return bad("a placed file is a part of its own");
+      if (p.file.empty() && p.curves.empty()) return bad("only a file or a solid (curves) is placed");
       if (!next(line)) return bad("expected 'points N'");
     }
     if (line.rfind("points ", 0) != 0) return bad("expected 'points N'");

@@ -52,6 +52,8 @@ struct StepRevolvedPart {
   // the helper reads and places by `place` (a 3 × 4 matrix, rows, [mm]:
   // rotation times a uniform scale, then the translation), each a part
   // "NAME/<its name>"; no points (a design's fixed part, design/fixed_part.h).
+  // `place` without `file`: the part made from its points (a lens's solid)
+  // placed so.
   std::string file{};
   std::vector<double> place{};  // 12 numbers
 };
