@@ -1150,7 +1150,7 @@ TEST(DesignPartsExport, TroughCapsStepReadBackAsPlaneFacesAtTheEnds) {
 // A dish faceted both ways as STEP: one part named "dish" of 6 × 12 plane
 // faces, every vertex within 2 µm of its facet's plane through four corners
 // on the exact paraboloid z = 10 − ρ²/40 mm (rows at ρ = 4 + 26·i/6 mm,
-// sectors of 30°); faceted one way only is still refused, naming its line.
+// sectors of 30°).
 TEST(DesignPartsExport, FlatFacetsStepReadBackOnTheirPlanes) {
   if (!io::cad_supported()) GONIO_MISSING("a build with OpenCASCADE (GONIO_OCCT) for STEP export");
   test::TempDir dir;
