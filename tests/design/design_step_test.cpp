@@ -458,9 +458,11 @@ TEST(DesignStep, PatchesAndPlacedFilesRoundTripInTheRequest) {
   }
 }
 
-// FreeCAD opens a design's STEP with curved facets and a placed STEP part
-// and finds them by name: "dish", 6 × 12 curved facets (one B-spline face
-// each), and "lid/first", the placed file's product.
+// FreeCAD opens a design's STEP with curved facets, a placed STEP part and a
+// placed glTF part and finds them by name: "dish", 6 × 12 curved facets (one
+// B-spline face each), "lid/first", the placed file's product, and
+// "shell/dish/…", the glTF's mesh as plane faces (1596 triangles: its area
+// 0.27 % below the paraboloid's, the polyhedron inscribed in it).
 TEST(DesignStep, FreeCadFindsCurvedFacetsAndFixedPartsByName) {
   test::TempDir dir;
   const std::string dish = R"(length_unit = "mm"
@@ -484,9 +486,14 @@ aperture = [4, 30]
   Result<StepExportInfo> info = write_design_step(*first, (dir / "first.step").string());
   if (!info.ok() && !io::cad_supported()) GONIO_MISSING("a build with OpenCASCADE (GONIO_OCCT) for STEP export");
   ASSERT_TRUE(info.ok()) << to_string(info.error());
+  // The same dish as glTF (coarse: 10°), a fixed glTF part "shell".
+  io::CadTessellation coarse;
+  coarse.angular_deflection_deg = 10.0;
+  ASSERT_TRUE(write_design_gltf(*first, (dir / "first.gltf").string(), coarse).ok());
   Result<Design> d = parse_design(dish + "facets = { theta = 6, azimuth = 12, kind = \"curved\", radius_theta = 40, "
                                          "radius_azimuth = 100 }\n[[parts]]\nname = \"lid\"\nfile = \"first.step\"\n"
-                                         "position = [0, 0, 40]\nrotate_deg = [180, 0, 0]\nmaterial = \"mirror\"\n",
+                                         "position = [0, 0, 40]\nrotate_deg = [180, 0, 0]\nmaterial = \"mirror\"\n"
+                                         "[[parts]]\nname = \"shell\"\nfile = \"first.gltf\"\nposition = [0, 0, -40]\n",
                                   (dir / "lamp.design.toml").string());
   ASSERT_TRUE(d.ok()) << to_string(d.error());
   info = write_design_step(*d, (dir / "lamp.step").string());
@@ -500,6 +507,15 @@ aperture = [4, 30]
   // The placed paraboloid keeps its area (a rigid placement): (2π·R²/3)·[(1 + ρ²/R²)^(3/2)] over ρ 4 … 30 mm, R = 20 mm.
   const double area = 2 * std::acos(-1.0) * 400.0 / 3.0 * (std::pow(1 + 900.0 / 400, 1.5) - std::pow(1 + 16.0 / 400, 1.5));
   EXPECT_NEAR(fc.found["lid/first"].area_mm2 / area, 1.0, 1e-5) << fc.text;
+  // The glTF part: its triangles as plane faces, one part named as placed; a
+  // polyhedron inscribed in the paraboloid, its area a little below the surface's.
+  // (The simulation names the glTF loader's mesh "dish/dish/0": "shell/" and that.)
+  const auto shell = std::find_if(fc.found.begin(), fc.found.end(),
+                                  [](const auto& f) { return f.first.rfind("shell/dish", 0) == 0; });
+  ASSERT_NE(shell, fc.found.end()) << fc.text;
+  EXPECT_GT(shell->second.faces, 100) << fc.text;
+  EXPECT_NEAR(shell->second.area_mm2 / area, 1.0, 0.02) << fc.text;
+  EXPECT_LT(shell->second.area_mm2, area) << fc.text;
 }
 
 }  // namespace
