@@ -61,6 +61,13 @@ io::StepRevolvedPart lens_step_part(const Lens& lens) {
     }
   }
   part.rho.back() = 0.0;  // on the axis, as the first point
+  if (lens.position != Vec3{0.0, 0.0, 0.0} || lens.rotate_deg != Vec3{0.0, 0.0, 0.0}) {
+    const sim::Affine place = lens_transform(lens);  // the helper turns and moves the solid [mm]
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) part.place.push_back(place.m[i][j]);
+      part.place.push_back(place.offset[i] * 1e3);
+    }
+  }
   return part;
 }
 
@@ -144,7 +151,8 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   Result<DesignParts> parts = read_design_parts(resolved, design.path);
   if (!parts.ok()) return parts.error();
   if (Status s = step_export_supported(design, *parts); !s.ok()) return s.error();
-  if (parts->reflectors.empty() && parts->lenses.empty() && parts->troughs.empty() && parts->covers.empty())
+  if (parts->reflectors.empty() && parts->lenses.empty() && parts->troughs.empty() && parts->covers.empty() &&
+      parts->fixed_parts.empty())
     return make_error(design.path, "the design has no parts to write as STEP");
 
   io::StepExport request;
@@ -156,8 +164,17 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
     if (!curve.ok()) return make_error(design.path, r.name + ": " + curve.error().message);
     io::StepRevolvedPart part;
     part.name = r.name;
-    if (r.facets) part = faceted_step_part(r, *curve);
-    for (int i = 0; i < kStepProfileSamples && part.faces.empty(); ++i) {
+    if (r.facets) {
+      Result<io::StepRevolvedPart> faceted = faceted_step_part(r, *curve);
+      if (!faceted.ok()) {
+        Error e = faceted.error();
+        e.where = SourceLoc{design.path, r.line, 0};
+        e.message = "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " + e.message;
+        return e;
+      }
+      part = std::move(*faceted);
+    }
+    for (int i = 0; i < kStepProfileSamples && part.faces.empty() && part.patches.empty(); ++i) {
       const double t = curve->t0() + (curve->t1() - curve->t0()) * i / (kStepProfileSamples - 1);
       double rho = 0.0, z = 0.0, drho = 0.0, dz = 0.0;
       curve->eval(t, rho, z, drho, dz);
@@ -179,6 +196,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   }
   if (Status s = add_troughs_to_step(design, *parts, kStepProfileSamples, request, rules); !s.ok()) return s.error();
   if (Status s = add_covers_to_step(design, *parts, *sidecar, request, rules); !s.ok()) return s.error();
+  if (Status s = add_fixed_parts_to_step(design, *parts, resolved, *sidecar, request, rules); !s.ok()) return s.error();
   if (const fs::path folder = fs::path(step_path).parent_path(); !folder.empty())
     if (Status s = io::make_directories(folder.string()); !s.ok()) return s.error();
   io::CadLoadOptions options;

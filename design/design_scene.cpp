@@ -96,14 +96,15 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t, const std::string& t
 }
 
 // A reflector with its facets, where it has them (design/facets.h).
-Result<Reflector> read_faceted_reflector(const PartsReader& reader, const TomlNode& t, const std::string& path) {
+Result<Reflector> read_faceted_reflector(const PartsReader& reader, const TomlNode& t, const std::string& path,
+                                         double unit_m) {
   const TomlNode* facets = t.get("facets");
   if (!facets) return reader.reflector(t);
   TomlNode smooth = t;
   std::erase_if(smooth.table, [](const io::TomlMember& m) { return m.first == "facets"; });
   Result<Reflector> r = reader.reflector(smooth);
   if (!r.ok()) return r;
-  Result<Facets> f = read_facets(*facets, path, "[[reflectors]] at line " + std::to_string(t.line));
+  Result<Facets> f = read_facets(*facets, path, "[[reflectors]] at line " + std::to_string(t.line), unit_m);
   if (!f.ok()) return f.error();
   r->facets = *f;
   return r;
@@ -311,7 +312,7 @@ Result<DesignParts> read_design_parts(const TomlNode& resolved, const std::strin
   if (const TomlNode* r = resolved.get("reflectors")) {
     if (!r->is_array_of_tables()) return fail(path, r->line, "'reflectors' must be an array of tables ([[reflectors]])");
     for (const TomlNode& t : r->array) {
-      Result<Reflector> one = read_faceted_reflector(reader, t, path);
+      Result<Reflector> one = read_faceted_reflector(reader, t, path, out.unit_m);
       if (!one.ok()) return one.error();
       for (const Reflector& other : out.reflectors)
         if (other.name == one->name)

@@ -4,8 +4,10 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <tuple>
 
 #include "design/table_reader.h"
+#include "sim/scene.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
 
@@ -125,8 +127,9 @@ Curves curves_of(const Lens& lens) {
 
 Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) {
   const std::string what = "[[lenses]] at line " + std::to_string(t.line);
-  if (Status s = io::check_keys(t, {"name", "material", "vertex", "thickness", "aperture", "inner", "outer", "side"}, what,
-                                path);
+  if (Status s = io::check_keys(t, {"name", "material", "vertex", "thickness", "aperture", "inner", "outer", "side",
+                                    "position", "rotate_deg"},
+                                what, path);
       !s.ok())
     return s.error();
   Lens lens;
@@ -153,6 +156,19 @@ Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) 
   if (vertex->has_value()) v = vertex->value() * unit;
   if (aperture->has_value()) a = aperture->value() * unit;
   if (vertex->has_value() && thickness->has_value()) v_out = (vertex->value() - thickness->value()) * unit;
+  for (auto [key, out, scale] : {std::tuple{"position", &lens.position, unit}, std::tuple{"rotate_deg", &lens.rotate_deg, 1.0}}) {
+    const TomlNode* n = t.get(key);
+    if (!n) continue;
+    double xyz[3] = {};
+    bool ok = n->is_array() && n->array.size() == 3;
+    for (std::size_t i = 0; ok && i < 3; ++i) {
+      const std::optional<double> x = n->array[i].number();
+      ok = x && std::isfinite(*x);
+      if (ok) xyz[i] = *x;
+    }
+    if (!ok) return fail(path, n->line, named + ": '" + key + "' must be an array of three finite numbers");
+    *out = Vec3{xyz[0], xyz[1], xyz[2]} * scale;
+  }
   for (const char* key : {"inner", "outer"})
     if (!t.get(key)) return fail(path, t.line, named + ": '" + key + "' (a surface table) is missing");
   Result<Profile> inner = r.surface(*t.get("inner"), named + ": inner", v, a, "'vertex'");
@@ -313,10 +329,31 @@ Result<io::CadPart> lens_part(const Lens& lens, const io::CadTessellation& t, st
     for (std::uint32_t i : s.indices) solid.indices.push_back(base + i);
   }
   part.surfaces.assign(1, std::move(solid));
+  // Placed: positions and normals turned (a rotation: normals as positions' directions) and moved.
+  const sim::Affine place = lens_transform(lens);
+  if (lens.position != Vec3{0.0, 0.0, 0.0} || lens.rotate_deg != Vec3{0.0, 0.0, 0.0})
+    for (io::CadSurface& s : part.surfaces) {
+      for (sim::Vec3f& v : s.positions) v = sim::to_float(place.point(sim::to_double(v)));
+      for (sim::Vec3f& n : s.normals) n = sim::to_float(normalize(place.linear(sim::to_double(n))));
+    }
   return part;
 }
 
-std::string lens_emitter_problem(const Lens& lens, const Vec3& p, double chordal_m) {
+sim::Affine lens_transform(const Lens& lens) {
+  constexpr double kDeg = std::numbers::pi / 180.0;
+  const sim::Affine turn = sim::rotation(Vec3{0, 0, 1}, lens.rotate_deg.z * kDeg) *
+                           sim::rotation(Vec3{0, 1, 0}, lens.rotate_deg.y * kDeg) *
+                           sim::rotation(Vec3{1, 0, 0}, lens.rotate_deg.x * kDeg);
+  return sim::translation(lens.position) * turn;
+}
+
+std::string lens_emitter_problem(const Lens& lens, const Vec3& world, double chordal_m) {
+  // Into the lens's own frame: p = Rᵀ·(world − position).
+  const sim::Affine place = lens_transform(lens);
+  const Vec3 w = world - place.offset;
+  const Vec3 p{place.m[0][0] * w.x + place.m[1][0] * w.y + place.m[2][0] * w.z,
+               place.m[0][1] * w.x + place.m[1][1] * w.y + place.m[2][1] * w.z,
+               place.m[0][2] * w.x + place.m[1][2] * w.y + place.m[2][2] * w.z};
   const Curves c = curves_of(lens);
   const double rho = std::hypot(p.x, p.y);
   double d = std::min(distance_to_profile(c.inner, rho, p.z), distance_to_profile(c.outer, rho, p.z));

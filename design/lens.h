@@ -44,6 +44,7 @@
 #include "io/model/parts_file.h"
 #include "io/model/toml_tree.h"
 #include "photometry/diagnostics.h"
+#include "sim/affine.h"
 
 namespace gonio::design {
 
@@ -57,7 +58,15 @@ struct Lens {
   Profile inner, outer, side;
   bool has_side = true;  // false: the rims meet (a knife edge)
   int line = 0;
+  // Placed (keys `position`, `rotate_deg`, as a fixed part's): the lens as
+  // defined about the Z axis, turned about the origin (about X, then Y, then
+  // Z, the design's axes), then moved by `position` [m]; none: on the axis.
+  Vec3 position{0.0, 0.0, 0.0};
+  Vec3 rotate_deg{0.0, 0.0, 0.0};
 };
+
+// The placement of `lens` (identity where it has none).
+sim::Affine lens_transform(const Lens& lens);
 
 // Reads one [[lenses]] table of a resolved document; `unit_m` metres per
 // the file's length unit. Errors name `path` and the line.

@@ -3,7 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <cctype>
+#include <filesystem>
+#include <optional>
 
+#include "design/facets.h"
+#include "design/fixed_part.h"
+#include "io/model/gltf_files.h"
+#include "io/support/text.h"
 #include "sim/scene.h"
 
 namespace gonio::design {
@@ -34,15 +41,10 @@ Status write_other_parts_gltf(const Design& design, const DesignParts& parts, co
   return Ok{};
 }
 
-Status step_export_supported(const Design& design, const DesignParts& parts) {
-  auto refuse = [&](const char* kind, int line) {
-    return Error{{design.path, line, 0}, std::string(kind) + " at line " + std::to_string(line) +
-                                             ": STEP export of this kind is not built yet (the glTF export writes it)"};
-  };
-  if (!parts.fixed_parts.empty()) return refuse("[[parts]]", parts.fixed_parts.front().line);
-  for (const Reflector& r : parts.reflectors)
-    if (r.facets && (r.facets->theta == 0 || r.facets->azimuth == 0))
-      return refuse("[[reflectors]] (facets one way only: curved facets)", r.line);
+Status step_export_supported(const Design&, const DesignParts&) {
+  // Every kind is written now (fixed parts, facets one way only and curved
+  // facets since issue 40's second round); a kind to come that the STEP
+  // export cannot write refuses here, naming its line.
   return Ok{};
 }
 
@@ -129,10 +131,30 @@ Status add_troughs_to_step(const Design& design, const DesignParts& parts, int s
   return Ok{};
 }
 
-io::StepRevolvedPart faceted_step_part(const Reflector& r, const ProfileCurve& curve) {
+Result<io::StepRevolvedPart> faceted_step_part(const Reflector& r, const ProfileCurve& curve) {
   io::StepRevolvedPart part;
   part.name = r.name;
   const int n = r.facets->theta, m = r.facets->azimuth;
+  if (r.facets->curved || n == 0 || m == 0) {
+    Result<FacetSurface> surface = FacetSurface::make(curve, *r.facets);
+    if (!surface.ok()) return surface.error();
+    // Points along: the whole profile (smooth that way), an arc, or a chord;
+    // around: a quarter turn (smooth), an arc across the sector, or its chord.
+    const std::size_t nu = n == 0 ? 201 : std::isfinite(r.facets->radius_theta) ? 9 : 5;
+    const std::size_t nv = m == 0 ? 17 : std::isfinite(r.facets->radius_azimuth) ? 9 : 5;
+    for (int i = 0; i < surface->bands(); ++i)
+      for (int j = 0; j < surface->sectors(); ++j) {
+        part.patches.insert(part.patches.end(), {nu, nv});
+        for (std::size_t a = 0; a < nu; ++a)
+          for (std::size_t b = 0; b < nv; ++b) {
+            Vec3 p, normal;
+            surface->eval(i, j, static_cast<double>(a) / static_cast<double>(nu - 1),
+                          static_cast<double>(b) / static_cast<double>(nv - 1), p, normal);
+            part.patch_points.insert(part.patch_points.end(), {p.x * 1e3, p.y * 1e3, p.z * 1e3});
+          }
+      }
+    return part;
+  }
   std::vector<double> rho, z;
   for (int i = 0; i <= n; ++i) {  // the rows of design/facets.cpp: equal steps of t
     double rr = 0.0, zz = 0.0, dr = 0.0, dz = 0.0;
@@ -172,6 +194,70 @@ Status add_covers_to_step(const Design& design, const DesignParts& parts, const 
     toml_set(rule, "material", toml_string(c.material));
     rules.array.push_back(std::move(rule));
     request.parts.push_back(std::move(p));
+  }
+  return Ok{};
+}
+
+Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, const io::TomlNode& resolved,
+                               const io::PartsFile& sidecar, io::StepExport& request, io::TomlNode& rules) {
+  if (parts.fixed_parts.empty()) return Ok{};
+  namespace fs = std::filesystem;
+  if (const io::TomlNode* table = resolved.get("parts"); table && table->is_array())
+    for (const io::TomlNode& t : table->array)
+      if (!is_fixed_part(t)) rules.array.push_back(t);
+  const std::string dir = fs::absolute(fs::path(design.path)).parent_path().lexically_normal().string();
+  for (const FixedPart& f : parts.fixed_parts) {
+    const std::string what = "[[parts]] at line " + std::to_string(f.line) + " (" + f.name + ")";
+    auto fail = [&](int line, const std::string& message) { return Error{{design.path, line, 0}, what + ": " + message}; };
+    if (std::optional<std::string> why = io::outside_the_folder(dir, f.file))
+      return fail(f.file_line, io::outside_message("file " + io::shown(f.file), *why));
+    const std::string ext = fs::path(f.file).extension().string();
+    std::string lower;
+    for (char c : ext) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (lower != ".gltf" && lower != ".glb") {
+      io::StepRevolvedPart p;
+      p.name = f.name;
+      p.file = (fs::path(dir) / f.file).lexically_normal().string();
+      const sim::Affine place = fixed_part_transform(f);
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) p.place.push_back(place.m[i][j]);
+        p.place.push_back(place.offset[i] * 1e3);
+      }
+      request.parts.push_back(std::move(p));
+    } else {
+      // The simulation's own placement of the glTF's meshes.
+      io::CadModel model;
+      io::PartsFile scratch = sidecar;
+      if (Status s = add_fixed_part(f, design.path, io::CadLoadOptions{}, scratch, model, nullptr); !s.ok())
+        return s.error();
+      std::size_t triangles = 0;
+      for (const io::CadPlacement& pl : model.placements)
+        for (const io::CadSurface& surface : model.parts[pl.part].surfaces) triangles += surface.indices.size() / 3;
+      if (triangles > kMaxFixedPartStepTriangles)
+        return fail(f.file_line, "the glTF holds " + std::to_string(triangles) + " triangles, more than the " +
+                                     std::to_string(kMaxFixedPartStepTriangles) +
+                                     " the STEP export writes as faces (export the part from its CAD source instead)");
+      for (const io::CadPlacement& pl : model.placements) {
+        io::StepRevolvedPart p;
+        p.name = pl.path;
+        for (const io::CadSurface& surface : model.parts[pl.part].surfaces)
+          for (std::size_t t = 0; t + 2 < surface.indices.size(); t += 3) {
+            p.faces.push_back(3);
+            for (int k = 0; k < 3; ++k) {
+              const Vec3 v = pl.to_world.point(sim::to_double(surface.positions[surface.indices[t + static_cast<std::size_t>(k)]]));
+              p.corners.insert(p.corners.end(), {v.x * 1e3, v.y * 1e3, v.z * 1e3});
+            }
+          }
+        if (!p.faces.empty()) request.parts.push_back(std::move(p));
+      }
+    }
+  }
+  for (const FixedPart& f : parts.fixed_parts) {
+    if (f.material.empty()) continue;
+    io::TomlNode rule = toml_table();
+    toml_set(rule, "match", toml_string(f.name + "/*"));
+    toml_set(rule, "material", toml_string(f.material));
+    rules.array.push_back(std::move(rule));
   }
   return Ok{};
 }

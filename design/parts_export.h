@@ -24,8 +24,8 @@ Status write_other_parts_gltf(const Design& design, const DesignParts& parts, co
                               io::GltfWriter& w, const std::function<Result<int>(const std::string&)>& material);
 
 // Ok where the design has nothing the STEP export does not write yet;
-// else the error naming the first such part's line (fixed parts, and
-// facets one way only — cone bands or ruled sectors — go to glTF only so far).
+// else the error naming the first such part's line (every kind is written
+// now: kept for the kinds to come).
 Status step_export_supported(const Design& design, const DesignParts& parts);
 
 // The troughs as extruded parts of the STEP request (io/model/step_export.h):
@@ -37,10 +37,14 @@ Status step_export_supported(const Design& design, const DesignParts& parts);
 Status add_troughs_to_step(const Design& design, const DesignParts& parts, int samples, io::StepExport& request,
                            io::TomlNode& rules);
 
-// A reflector faceted both ways (facets.theta, facets.azimuth > 0): its flat
-// facets as plane faces through their corners on the exact surface [mm],
-// the rows and sectors of design/facets.h, sewn into one part.
-io::StepRevolvedPart faceted_step_part(const Reflector& r, const ProfileCurve& curve);
+// A faceted reflector as one part. Flat both ways (facets.theta,
+// facets.azimuth > 0): plane faces through the facets' corners on the exact
+// surface [mm], the rows and sectors of design/facets.h. Else (facets one
+// way only, or curved): a B-spline patch per facet (design/facets.h's
+// FacetSurface, smooth around: four quarter turns per band), fitted by the
+// helper within the export's tolerance of a grid of points on the exact
+// facet. Errors (no place): a radius too small for a facet.
+Result<io::StepRevolvedPart> faceted_step_part(const Reflector& r, const ProfileCurve& curve);
 
 // The covers as parts of the STEP request: OpenCASCADE's primitives (a box,
 // a cylinder, a dome turned from its meridian), solids of their thickness
@@ -48,5 +52,19 @@ io::StepRevolvedPart faceted_step_part(const Reflector& r, const ProfileCurve& c
 // named by their names, with a sidecar rule each.
 Status add_covers_to_step(const Design& design, const DesignParts& parts, const io::PartsFile& sidecar,
                           io::StepExport& request, io::TomlNode& rules);
+
+// The fixed parts (design/fixed_part.h) as parts of the STEP request: a STEP
+// or IGES file's shapes placed by the helper as position, rotate_deg and
+// scale place them (OpenCASCADE's own shapes, each "NAME/<its name>"); a
+// glTF file's triangles, placed as the simulation places them, as plane
+// faces sewn into one part per mesh, named as the design names its
+// placements ("NAME/<mesh>"). `rules` gets the design's own sidecar rules
+// ([[parts]] tables without `file`, from `resolved`) and the rule "NAME/*"
+// of a part's material, in the simulation's order. Errors name the part's
+// line: a file outside the design's folder, a glTF part of more than
+// kMaxFixedPartStepTriangles triangles (OpenCASCADE sews each as a face).
+constexpr std::size_t kMaxFixedPartStepTriangles = 20000;
+Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, const io::TomlNode& resolved,
+                               const io::PartsFile& sidecar, io::StepExport& request, io::TomlNode& rules);
 
 }  // namespace gonio::design

@@ -6,6 +6,8 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <gp_Trsf.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -15,6 +17,11 @@
 #include <gp_Pln.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <GeomAPI_PointsToBSpline.hxx>
+#include <GeomAPI_PointsToBSplineSurface.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <Precision.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <Geom_BSplineCurve.hxx>
 #include <STEPCAFControl_Writer.hxx>
@@ -167,6 +174,10 @@ class CadReader {
       : path_(std::move(path)), tess_(t), parallel_(parallel), printer_(std::move(printer)) {}
 
   Result<CadModel> read();
+  // The file's free shapes (its top-level products) with their names, as
+  // read() names them, untessellated [mm]: what the STEP export places
+  // (StepRevolvedPart::file).
+  Result<std::vector<std::pair<std::string, TopoDS_Shape>>> free_shapes();
 
  private:
   Error fail(std::string message) const { return make_error(path_, std::move(message)); }
@@ -701,6 +712,29 @@ Result<CadModel> CadReader::read() {
 
 }  // namespace
 
+Result<std::vector<std::pair<std::string, TopoDS_Shape>>> CadReader::free_shapes() {
+  Handle(XCAFApp_Application) app = XCAFApp_Application::GetApplication();
+  app->NewDocument("MDTV-XCAF", doc_);
+  if (Status s = is_iges_path(path_) ? read_iges() : read_step(); !s.ok()) return s.error();
+  shapes_ = XCAFDoc_DocumentTool::ShapeTool(doc_->Main());
+  TDF_LabelSequence roots;
+  shapes_->GetFreeShapes(roots);
+  if (roots.Length() == 0) return fail("the file holds no shapes (no product with a shape representation)");
+  std::vector<std::pair<std::string, TopoDS_Shape>> out;
+  std::map<std::string, int> seen;
+  for (int i = 1; i <= roots.Length(); ++i) {
+    const TDF_Label& root = roots.Value(i);
+    std::string name = name_of(root);
+    if (name.empty()) {
+      const std::string entity = entity_of(shapes_->GetShape(root));
+      name = entity.empty() ? "part" + std::to_string(i) : entity;
+    }
+    if (const int n = ++seen[name]; n > 1) name += "[" + std::to_string(n) + "]";
+    out.emplace_back(name, shapes_->GetShape(root));
+  }
+  return out;
+}
+
 Result<CadModel> read_cad_file(const std::string& path, const CadTessellation& tessellation, bool parallel) {
   if (!(tessellation.angular_deflection_deg > 0.0 && tessellation.angular_deflection_deg <= 90.0))
     return make_error(path, "the angular deflection must lie in (0, 90] degrees");
@@ -807,8 +841,11 @@ TopoDS_Shape cover_shape(const StepRevolvedPart& c) {
 namespace {
 
 // A part of planar faces (StepRevolvedPart::faces): each polygon a plane face
-// through its corners (repeated corners dropped), sewn within `tolerance`.
-Result<TopoDS_Shape> planar_faces(const StepRevolvedPart& part, double tolerance) {
+// through its corners (repeated corners dropped), and of B-spline patches
+// (StepRevolvedPart::patches): each grid a B-spline surface within
+// `tolerance` of its points (the largest distance found into `deviation`),
+// all sewn within `tolerance`.
+Result<TopoDS_Shape> planar_faces(const StepRevolvedPart& part, double tolerance, double& deviation) {
   BRepBuilderAPI_Sewing sewing(tolerance);
   std::size_t k = 0;
   for (std::size_t f = 0; f < part.faces.size(); ++f) {
@@ -825,6 +862,27 @@ Result<TopoDS_Shape> planar_faces(const StepRevolvedPart& part, double tolerance
     if (!polygon.IsDone()) return make_error("face " + std::to_string(f + 1) + ": OpenCASCADE could not join its corners");
     BRepBuilderAPI_MakeFace face(polygon.Wire(), true);
     if (!face.IsDone()) return make_error("face " + std::to_string(f + 1) + ": its corners do not lie on one plane");
+    sewing.Add(face.Face());
+  }
+  std::size_t k2 = 0;
+  for (std::size_t q = 0; q + 1 < part.patches.size(); q += 2) {
+    const int nu = static_cast<int>(part.patches[q]), nv = static_cast<int>(part.patches[q + 1]);
+    TColgp_Array2OfPnt grid(1, nu, 1, nv);
+    for (int i = 1; i <= nu; ++i)
+      for (int j = 1; j <= nv && k2 + 2 < part.patch_points.size(); ++j, k2 += 3)
+        grid.SetValue(i, j, gp_Pnt(part.patch_points[k2], part.patch_points[k2 + 1], part.patch_points[k2 + 2]));
+    GeomAPI_PointsToBSplineSurface fit(grid, 3, 8, GeomAbs_C2, tolerance);
+    if (!fit.IsDone() || fit.Surface().IsNull())
+      return make_error("patch " + std::to_string(q / 2 + 1) + ": OpenCASCADE found no B-spline surface within " +
+                        format_number(tolerance) + " mm of its points");
+    const Handle(Geom_BSplineSurface) surface = fit.Surface();
+    for (int i = 1; i <= nu; ++i)
+      for (int j = 1; j <= nv; ++j) {
+        GeomAPI_ProjectPointOnSurf projection(grid.Value(i, j), surface);
+        if (projection.NbPoints() > 0) deviation = std::max(deviation, projection.LowerDistance());
+      }
+    BRepBuilderAPI_MakeFace face(surface, Precision::Confusion());
+    if (!face.IsDone()) return make_error("patch " + std::to_string(q / 2 + 1) + ": OpenCASCADE could not make its face");
     sewing.Add(face.Face());
   }
   sewing.Perform();
@@ -856,8 +914,28 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
         TDataStd_Name::Set(component, TCollection_ExtendedString(part.name.c_str(), true));
         continue;
       }
-      if (!part.faces.empty()) {
-        Result<TopoDS_Shape> faces = planar_faces(part, request.tolerance_mm);
+      if (!part.file.empty()) {
+        // A CAD file's shapes, placed: each free shape transformed (a copy
+        // of its geometry, so that a scale is exact) and named "NAME/<its name>".
+        CadReader reader(part.file, CadTessellation{}, false, printer);
+        Result<std::vector<std::pair<std::string, TopoDS_Shape>>> shapes_in = reader.free_shapes();
+        if (!shapes_in.ok()) return make_error(path, part.name + ": " + to_string(shapes_in.error()));
+        const std::vector<double>& m = part.place;
+        gp_Trsf trsf;
+        trsf.SetValues(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11]);
+        for (const auto& [name, shape] : *shapes_in) {
+          BRepBuilderAPI_Transform placed(shape, trsf, true);
+          if (!placed.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not place " + name);
+          const std::string full = part.name + "/" + name;
+          const TDF_Label label = shapes->AddShape(placed.Shape(), false);
+          TDataStd_Name::Set(label, TCollection_ExtendedString(full.c_str(), true));
+          const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());
+          TDataStd_Name::Set(component, TCollection_ExtendedString(full.c_str(), true));
+        }
+        continue;
+      }
+      if (!part.faces.empty() || !part.patches.empty()) {
+        Result<TopoDS_Shape> faces = planar_faces(part, request.tolerance_mm, deviation);
         if (!faces.ok()) return make_error(path, part.name + ": " + faces.error().message);
         const TDF_Label label = shapes->AddShape(*faces, false);
         TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
@@ -870,6 +948,14 @@ Status write_step_file(const StepExport& request, const std::string& path, doubl
       if (!part.curves.empty()) {
         Result<TopoDS_Shape> solid = revolved_solid(part, request.tolerance_mm, deviation);
         if (!solid.ok()) return make_error(path, part.name + ": " + solid.error().message);
+        if (part.place.size() == 12) {  // placed (a lens off the axis or tilted)
+          const std::vector<double>& m = part.place;
+          gp_Trsf trsf;
+          trsf.SetValues(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11]);
+          BRepBuilderAPI_Transform placed(*solid, trsf, true);
+          if (!placed.IsDone()) return make_error(path, part.name + ": OpenCASCADE could not place the solid");
+          *solid = placed.Shape();
+        }
         const TDF_Label label = shapes->AddShape(*solid, false);
         TDataStd_Name::Set(label, TCollection_ExtendedString(part.name.c_str(), true));
         const TDF_Label component = shapes->AddComponent(assembly, label, TopLoc_Location());

@@ -43,6 +43,22 @@ std::string serialize_step_export(const StepExport& request) {
         out += "\n";
       }
     }
+    if (!p.patches.empty()) {
+      out += "patches " + std::to_string(p.patches.size() / 2) + "\n";
+      std::size_t k = 0;
+      for (std::size_t q = 0; q + 1 < p.patches.size(); q += 2) {
+        out += std::to_string(p.patches[q]) + " " + std::to_string(p.patches[q + 1]);
+        for (std::size_t c = 0; c < 3 * p.patches[q] * p.patches[q + 1] && k < p.patch_points.size(); ++c, ++k)
+          out += " " + format_number(p.patch_points[k], 17);
+        out += "\n";
+      }
+    }
+    if (!p.file.empty()) out += "file " + one_line(p.file) + "\n";
+    if (!p.place.empty()) {
+      out += "place";
+      for (double v : p.place) out += " " + format_number(v, 17);
+      out += "\n";
+    }
     out += "points " + std::to_string(p.rho.size()) + "\n";
     for (std::size_t i = 0; i < p.rho.size() && i < p.z.size(); ++i)
       out += format_number(p.rho[i], 17) + " " + format_number(p.z[i], 17) + "\n";
@@ -129,12 +145,55 @@ Result<StepExport> parse_step_export(std::string_view text, const std::string& n
       if (!p.cover.empty() || p.extrude_mm > 0.0 || !p.curves.empty()) return bad("planar faces are a part of their own");
       if (!next(line)) return bad("expected 'points N'");
     }
+    if (line.rfind("patches ", 0) == 0) {
+      const long count = std::strtol(line.c_str() + 8, &end, 10);
+      if (*end != '\0' || count < 1 || count > 1'000'000) return bad("bad patch count");
+      for (long f = 0; f < count; ++f) {
+        if (!next(line)) return bad("the patches end early");
+        std::istringstream ps(line);
+        long nu = 0, nv = 0;
+        if (!(ps >> nu >> nv) || nu < 2 || nv < 2 || nu > 10'000 || nv > 10'000 || nu * nv > 1'000'000)
+          return bad("a patch needs 2 … 10000 points each way (at most 10⁶)");
+        for (long c = 0; c < 3 * nu * nv; ++c) {
+          double v = 0.0;
+          if (!(ps >> v) || !std::isfinite(v)) return bad("expected " + std::to_string(3 * nu * nv) + " finite numbers x y z");
+          p.patch_points.push_back(v);
+        }
+        std::string rest;
+        if (ps >> rest) return bad("text after the patch's points");
+        p.patches.push_back(static_cast<std::size_t>(nu));
+        p.patches.push_back(static_cast<std::size_t>(nv));
+      }
+      if (!p.cover.empty() || p.extrude_mm > 0.0 || !p.curves.empty()) return bad("patches are a part of their own");
+      if (!next(line)) return bad("expected 'points N'");
+    }
+    if (line.rfind("file ", 0) == 0) {
+      p.file = line.substr(5);
+      if (p.file.empty()) return bad("an empty file name");
+      if (!next(line) || line.rfind("place ", 0) != 0) return bad("expected 'place' and 12 numbers");
+    }
+    if (line.rfind("place ", 0) == 0) {
+      std::istringstream ps(line.substr(6));
+      double v = 0.0;
+      while (ps >> v) {
+        if (!std::isfinite(v)) return bad("the placement's numbers must be finite");
+        p.place.push_back(v);
+      }
+      if (p.place.size() != 12 || !ps.eof()) return bad("expected 'place' and 12 numbers");
+      if (!p.file.empty() &&
+          (!p.cover.empty() || p.extrude_mm > 0.0 || !p.curves.empty() || !p.faces.empty() || !p.patches.empty()))
+        return bad("a placed file is a part of its own");
+      if (p.file.empty() && p.curves.empty()) return bad("only a file or a solid (curves) is placed");
+      if (!next(line)) return bad("expected 'points N'");
+    }
     if (line.rfind("points ", 0) != 0) return bad("expected 'points N'");
     value = line.substr(7);
     const long n = std::strtol(value.c_str(), &end, 10);
-    const bool pointless = !p.cover.empty() || !p.faces.empty();
+    const bool pointless = !p.cover.empty() || !p.faces.empty() || !p.patches.empty() || !p.file.empty();
     if (*end != '\0' || (pointless ? n != 0 : n < 2) || n > 10'000'000)
-      return bad(!pointless ? "bad point count (at least 2)" : p.cover.empty() ? "planar faces have no points" : "a cover has no points");
+      return bad(!pointless ? "bad point count (at least 2)"
+                 : p.cover.empty() ? "planar faces and patches have no points"
+                                   : "a cover has no points");
     if (!p.curves.empty() && static_cast<long>(p.curves.back()) + 1 >= n)
       return bad("a curve starts at or after the last point");
     for (long i = 0; i < n; ++i) {

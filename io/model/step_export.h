@@ -41,6 +41,21 @@ struct StepRevolvedPart {
   // plane face, all sewn into one shell.
   std::vector<std::size_t> faces{};
   std::vector<double> corners{};  // x, y, z per corner
+  // Not empty: B-spline patches (a reflector's curved facets, or facets one
+  // way only), sewn with the planar faces above into the same shell, no
+  // points: grids of nu × nv points on the exact surface, (nu, nv) ≥ 2 per
+  // patch here, the points (x, y, z) [mm] in `patch_points`, nv per row, nu
+  // rows; each patch a B-spline surface within the tolerance of its points.
+  std::vector<std::size_t> patches{};  // nu, nv per patch
+  std::vector<double> patch_points{};  // x, y, z per point
+  // Not empty: a CAD file (STEP or IGES, an absolute path) whose free shapes
+  // the helper reads and places by `place` (a 3 × 4 matrix, rows, [mm]:
+  // rotation times a uniform scale, then the translation), each a part
+  // "NAME/<its name>"; no points (a design's fixed part, design/fixed_part.h).
+  // `place` without `file`: the part made from its points (a lens's solid)
+  // placed so.
+  std::string file{};
+  std::vector<double> place{};  // 12 numbers
 };
 
 struct StepExport {
@@ -51,7 +66,10 @@ struct StepExport {
 
 // The request as text: a header line, then per part its name on one line,
 // for an extruded part a line "extrude L", for planar faces a line "faces N"
-// and a line per face (its corner count, then x y z per corner), and its
+// and a line per face (its corner count, then x y z per corner), for
+// patches a line "patches N" and a line per patch (nu nv, then x y z per
+// point), for a placed file a line "file PATH" and a line "place" with 12
+// numbers, and its
 // points one per line (names lose their line breaks).
 std::string serialize_step_export(const StepExport& request);
 

@@ -299,5 +299,82 @@ TEST(Lens, GltfHoldsTheLensAsTheDesignFileDoes) {
   EXPECT_GT(triangles, 1000u);
 }
 
+// A placed lens (position, rotate_deg: about X, then Y, then Z about the
+// origin, then moved) is the lens on the axis turned and moved: every vertex
+// p' = R·p + t and normal n' = R·n, R = Rz·Ry·Rx, in the same order. Fails
+// with the rotations composed the other way or the move before the turn.
+TEST(Lens, APlacedLensIsTheAxialOneTurnedThenMoved) {
+  Result<sim::SceneDesc> axial = scene_of(kLens);
+  Result<sim::SceneDesc> placed = scene_of(std::string(kLens) + "position = [7, -3, 12]\nrotate_deg = [20, 30, 0]\n");
+  ASSERT_TRUE(axial.ok() && placed.ok()) << (placed.ok() ? std::string() : to_string(placed.error()));
+  const sim::Mesh a = part_mesh(*axial, "lens"), b = part_mesh(*placed, "lens");
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  ASSERT_EQ(a.indices, b.indices);
+  const double cx = std::cos(20 * kPi / 180), sx = std::sin(20 * kPi / 180), cy = std::cos(30 * kPi / 180),
+               sy = std::sin(30 * kPi / 180);
+  auto turn = [&](const Vec3& v) {
+    const Vec3 r1{v.x, cx * v.y - sx * v.z, sx * v.y + cx * v.z};  // about X
+    return Vec3{cy * r1.x + sy * r1.z, r1.y, -sy * r1.x + cy * r1.z};  // then about Y
+  };
+  double worst = 0.0, worst_normal = 0.0;
+  for (std::size_t i = 0; i < a.positions.size(); ++i) {
+    const Vec3 expected = turn(sim::to_double(a.positions[i])) + Vec3{0.007, -0.003, 0.012};
+    worst = std::max(worst, length(sim::to_double(b.positions[i]) - expected));
+    worst_normal = std::max(worst_normal, angle(sim::to_double(b.normals[i]), turn(sim::to_double(a.normals[i]))));
+  }
+  EXPECT_LT(worst, 1e-8);
+  EXPECT_LT(worst_normal, 1e-6);
+  const Closure c = closure(b);
+  EXPECT_EQ(c.unmatched, 0u);
+  EXPECT_GT(c.volume, 0.0);
+  // The emitter inside the moved glass (8 mm below the moved origin, in the
+  // lens's own frame inside it) is found there; where the unmoved glass was, not.
+  std::string inside = std::string(kLens) + "position = [0, 0, 30]\n";
+  inside.replace(inside.find("position = [0, 0, 0]"), 20, "position = [0, 0, 22]");
+  Result<sim::SceneDesc> bad = scene_of(inside);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("inside the glass"), std::string::npos) << to_string(bad.error());
+  std::string outside = std::string(kLens) + "position = [0, 0, 30]\n";
+  outside.replace(outside.find("position = [0, 0, 0]"), 20, "position = [0, 0, -8]");
+  EXPECT_TRUE(scene_of(outside).ok());
+  // Bad placements name their line (the appended key is line 20).
+  for (const char* key : {"position = [1, 2]\n", "rotate_deg = [0, \"x\", 0]\n"}) {
+    Result<sim::SceneDesc> s = scene_of(std::string(kLens) + key);
+    ASSERT_FALSE(s.ok()) << key;
+    EXPECT_EQ(s.error().where.line, 20) << to_string(s.error());
+    EXPECT_NE(s.error().message.find("must be an array of three finite numbers"), std::string::npos) << to_string(s.error());
+  }
+}
+
+// The same lens written to glTF on the axis and read back as a fixed glTF
+// part placed as a placed lens is: the same vertices, to float rounding.
+TEST(Lens, APlacedLensIsTheFixedGltfPartPlacedTheSame) {
+  test::TempDir dir;
+  Result<Design> d = parse_design(kLens, (dir.path() / "axial.design.toml").string());
+  ASSERT_TRUE(d.ok());
+  ASSERT_TRUE(write_design_gltf(*d, (dir.path() / "lens.gltf").string(), options(2.0).tessellation).ok());
+  const std::string place = "position = [7, -3, 12]\nrotate_deg = [20, 30, 45]\n";
+  const std::string head = std::string(kLens).substr(0, std::string(kLens).find("[[lenses]]"));
+  Result<Design> fixed = parse_design(head + "[[parts]]\nname = \"glass\"\nfile = \"lens.gltf\"\nmaterial = \"pmma\"\n" + place,
+                                      (dir.path() / "fixed.design.toml").string());
+  ASSERT_TRUE(fixed.ok()) << to_string(fixed.error());
+  std::vector<Finding> findings;
+  Result<sim::SceneDesc> a = design_scene(*fixed, options(2.0), &findings);
+  Result<sim::SceneDesc> b = scene_of(std::string(kLens) + place);
+  ASSERT_TRUE(a.ok() && b.ok()) << (a.ok() ? std::string() : to_string(a.error()));
+  const sim::Mesh ma = part_mesh(*a, "glass/"), mb = part_mesh(*b, "lens");
+  ASSERT_EQ(ma.positions.size(), mb.positions.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < ma.positions.size(); ++i) {
+    double nearest = 1.0;  // in any order
+    const Vec3 p = sim::to_double(mb.positions[i]);
+    if (i < ma.positions.size()) nearest = length(sim::to_double(ma.positions[i]) - p);
+    if (nearest > 1e-7)
+      for (const sim::Vec3f& q : ma.positions) nearest = std::min(nearest, length(sim::to_double(q) - p));
+    worst = std::max(worst, nearest);
+  }
+  EXPECT_LT(worst, 1e-7);
+}
+
 }  // namespace
 }  // namespace gonio::design
