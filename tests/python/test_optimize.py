@@ -198,3 +198,68 @@ def test_merit_argument_mistakes(setup):
     assert np.isfinite(terms["ugr"]) and np.isfinite(terms["target_ugr"])
     assert terms["merit"] == pytest.approx(terms["candela_rms_pct"] + abs(terms["ugr"] - terms["target_ugr"]),
                                            rel=1e-12)
+
+
+# The command's options that gonio.optimize takes too: each reaches the run.
+CMAES = dict(method="cmaes", stages=1, final_photons=20000, gamma_step=5, seed=2, threads=1)
+
+
+def untimed_rows(rows):
+    return [{k: v for k, v in e.items() if k != "time_s"} for e in rows]
+
+
+def test_population_sets_cmaes_points_per_generation(setup):
+    """A stop inside the first generation ends with its λ points (1 start + λ):
+    population=8 gives 9 evaluations, 10 gives 11, the default for one
+    variable (pagmo's least, 5) gives 6."""
+    d, target = setup
+    for population, evaluations in ((8, 9), (10, 11), (0, 6)):
+        result = gonio.optimize(d / "start.design.toml", target, jobs=1, population=population, max_evals=100,
+                                callback=lambda e: e["index"] < 3, **CMAES)
+        assert result["optimize"]["evaluations"] == evaluations, population
+        assert result["optimize"]["stopped_by"] == "cancelled"
+
+
+def test_jobs_give_the_same_run(setup):
+    """jobs reaches the run (report.json's optimize.jobs) and leaves it as it is."""
+    d, target = setup
+    runs = [gonio.optimize(d / "start.design.toml", target, jobs=jobs, max_evals=14, **CMAES) for jobs in (1, 2)]
+    assert [r["optimize"]["jobs"] for r in runs] == [1, 2]
+    assert untimed_rows(runs[0]["history"]) == untimed_rows(runs[1]["history"])
+    assert runs[0]["variables"] == runs[1]["variables"]
+    assert runs[0]["final"] == runs[1]["final"]
+
+
+def test_common_random_off_gives_each_evaluation_its_seed(setup):
+    d, target = setup
+    on = gonio.optimize(d / "start.design.toml", target, **RUN)
+    off = gonio.optimize(d / "start.design.toml", target, common_random=False, **RUN)
+    assert on["optimize"]["merit"]["common_random_numbers"] is True
+    assert off["optimize"]["merit"]["common_random_numbers"] is False
+    searched_on = [e for e in on["history"] if e["stage"] != "noise"]
+    searched_off = [e for e in off["history"] if e["stage"] != "noise"]
+    # With common random numbers a stage traces its seed's photons every time.
+    assert len({(e["stage"], e["seed"]) for e in searched_on}) == len({e["stage"] for e in searched_on})
+    assert len({e["seed"] for e in searched_off}) == len(searched_off)
+    # The seed argument is the stage's seed.
+    other = gonio.optimize(d / "start.design.toml", target, **{**RUN, "seed": 5})
+    assert {e["seed"] for e in other["history"] if e["stage"] == 1} != {e["seed"] for e in searched_on if e["stage"] == 1}
+
+
+def test_max_time_stops_the_search(setup):
+    d, target = setup
+    result = gonio.optimize(d / "start.design.toml", target, **{**RUN, "max_evals": 1000, "max_time": 1e-6})
+    assert result["optimize"]["stopped_by"] == "time"
+    assert result["optimize"]["evaluations"] < 10
+
+
+def test_step_and_bad_arguments(setup, tmp_path):
+    d, target = setup
+    gonio.optimize(d / "start.design.toml", target, out=tmp_path / "nostep", step=False, **RUN)
+    assert (tmp_path / "nostep" / "start.design.toml").exists()
+    assert not (tmp_path / "nostep" / "start.step").exists()
+    with pytest.raises(ValueError, match="step"):
+        gonio.optimize(d / "start.design.toml", target, step=True, **RUN)
+    for bad in (dict(jobs=-1), dict(population=-1), dict(max_time=-1.0), dict(jobs=5000)):
+        with pytest.raises(ValueError):
+            gonio.optimize(d / "start.design.toml", target, **{**RUN, **bad})

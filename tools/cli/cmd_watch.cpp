@@ -18,6 +18,7 @@
 // (all iterations, or --target-error reached) writes what `gonio simulate`
 // writes. Ends on Ctrl-C (exit 0).
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -25,6 +26,7 @@
 #include "tools/cli/commands.h"
 #include "tools/cli/simulate_command.h"
 #include "tools/live/watch.h"
+#include "tools/live/watch_optimize.h"
 
 namespace gonio::cli {
 
@@ -44,7 +46,9 @@ int run_watch(const Args& args) {
               "result stays up while the model cannot be read). With --out DIR, each run that\n"
               "finishes writes the files and report.json of `gonio simulate`. Ctrl-C ends it.\n"
               "Unlike simulate, --photons defaults to 262144 and --iterations to 1000 here.");
-  p.positional("MODEL", &model, "the luminaire model (.gltf, .glb, .step, .stp, .iges or .igs)");
+  p.positional("MODEL", &model,
+               "the luminaire model (.gltf, .glb, .step, .stp, .iges or .igs), or the --out DIR of a running\n"
+               "gonio optimize: its best design against the target and its merit history, followed live");
   p.option("port", &port, 0, 65535, "P", "port of the page (default 8765; 0: any free port, printed)");
   p.option("host", &host, "ADDR", "address to listen on (default 127.0.0.1: this machine only)");
   p.option("out", &options.out_dir, "DIR", "write each finished run's files here (default: none)");
@@ -53,6 +57,27 @@ int run_watch(const Args& args) {
   add_simulate_options(p, &options);
   if (const auto outcome = p.parse(args); outcome != ArgParser::Outcome::Run)
     return ArgParser::exit_code(outcome);
+  // A folder: follow the optimisation writing into it (gonio optimize --out DIR).
+  std::error_code ec;
+  if (std::filesystem::is_directory(model, ec)) {
+    app::WatchOptimizeHooks follow;
+    follow.on_started = [&model](const std::string& url) {
+      std::printf("live page: %s\n", url.c_str());
+      std::printf("following the optimisation in %s (%s; Ctrl-C to stop)\n", model.c_str(),
+                  app::optimize_state_path(model).c_str());
+      std::fflush(stdout);
+    };
+    follow.on_finished = [](const std::string& status) {
+      std::printf("watch: the optimisation has %s\n", status == "finished" ? "finished" : "failed");
+      std::fflush(stdout);
+    };
+    if (Status s = app::watch_optimization(model, host, static_cast<int>(port), follow); !s.ok()) {
+      print_error(s.error());
+      return kExitFailure;
+    }
+    std::printf("watch: stopped\n");
+    return kExitOk;
+  }
   std::optional<app::SimulatePlan> plan = plan_or_usage("watch", model, options, p);
   if (!plan) return kExitUsage;
   app::WatchHooks hooks;

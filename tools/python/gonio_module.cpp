@@ -1069,7 +1069,8 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
                   const std::string& method, long long max_evals, long long stages, long long seed, int threads,
                   const std::optional<double>& photons_per_bin, bool smooth, double gamma_step,
                   long long final_photons, double max_time, const std::optional<std::string>& name,
-                  const py::object& callback, const py::object& merit) {
+                  const py::object& callback, const py::object& merit, long long jobs, long long population,
+                  bool common_random, const std::optional<bool>& step) {
   const auto start = std::chrono::steady_clock::now();
   namespace fs = std::filesystem;
   app::OptimizeRunOptions o;
@@ -1086,6 +1087,16 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
   if (!(gamma_step >= 0.1 && gamma_step <= 90.0)) throw py::value_error("gamma_step must be between 0.1 and 90");
   if (final_photons < 1) throw py::value_error("final_photons must be at least 1");
   if (seed < 0) throw py::value_error("seed must be at least 0");
+  // The command's bounds (tools/cli/cmd_optimize.cpp).
+  if (jobs < 0 || jobs > 4096) throw py::value_error("jobs must be between 0 and 4096");
+  if (population < 0 || population > 100000) throw py::value_error("population must be between 0 and 100000");
+  if (!(max_time >= 0.0 && max_time <= 1e7)) throw py::value_error("max_time must be between 0 and 1e7 seconds");
+  if (threads < 0 || threads > 4096) throw py::value_error("threads must be between 0 and 4096");
+  if (step.value_or(false) && out_object.is_none())
+    throw py::value_error("step=True writes NAME.step into out: give out");
+  o.jobs = jobs;
+  o.population = population;
+  o.no_common_random = !common_random;
   o.max_evals = max_evals;
   o.stages = stages;
   o.seed = seed;
@@ -1097,7 +1108,9 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
   o.max_time = max_time;
   o.name = name.value_or(std::string());
   o.merit = merit_table(merit);
-  o.no_step = out_object.is_none();  // no STEP export into a folder removed on return
+  // No STEP export into a folder removed on return; with out, as step says
+  // (default: written, as the command does).
+  o.no_step = out_object.is_none() || !step.value_or(true);
   // The working folder: `out`, or a fresh temporary one, removed after.
   std::optional<io::ScratchDir> scratch;
   o.out_dir = working_folder(out_object, "gonio-optimize", scratch);
@@ -1433,13 +1446,16 @@ void bind_simulation(py::module_& m) {
         py::arg("stages") = 3, py::arg("seed") = 1, py::arg("threads") = 0, py::arg("photons_per_bin") = py::none(),
         py::arg("smooth") = true, py::arg("gamma_step") = 1.0, py::arg("final_photons") = 1'000'000,
         py::arg("max_time") = 0.0, py::arg("name") = py::none(), py::arg("callback") = py::none(),
-        py::arg("merit") = py::none(),
+        py::arg("merit") = py::none(), py::arg("jobs") = 0, py::arg("population") = 0,
+        py::arg("common_random") = true, py::arg("step") = py::none(),
         "Optimises a design file's variables toward a target as gonio optimize does (the same run;\n"
         "docs/commands/optimize.md): returns {variables: the best {name: value}, merit_history:\n"
         "the stages' merits (numpy), history: every evaluation as history.json, optimize: report.json's\n"
         "optimize section, final: its final trace's figures, report, files}. Without out it works in a\n"
         "temporary folder. callback(evaluation) after each evaluation; False stops, keeping the best.\n"
         "merit: a dict of the [merit] table's keys (docs/design.md), replacing the design's table.\n"
+        "jobs, population (cmaes), common_random=False (--no-common-random), step=False (--no-step;\n"
+        "default: NAME.step with out) and max_time as the command's options.\n"
         "Raises GonioError naming the file; bad arguments raise ValueError.");
   m.def("tolerance", &tolerance, py::arg("model"), py::arg("tolerances"), py::kw_only(), py::arg("trials") = 20,
         py::arg("spec") = py::none(), py::arg("seed") = 1, py::arg("noise_seeds") = 3, py::arg("sampling_seed") = 1,

@@ -24,6 +24,7 @@
 #include "photometry/format.h"
 #include "sim/ledger.h"
 #include "tools/run/json_figures.h"
+#include "tools/run/optimize_state.h"
 #include "tools/run/photometric_input.h"
 #include "tools/run/photometric_report.h"
 #include "tools/run/resampler_cache.h"
@@ -296,6 +297,8 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       method == design::OptimizeMethod::Cmaes ? (options.jobs > 0 ? options.jobs : cores) : 1;
   const long long trace_threads = threads > 0 ? threads : std::max(1LL, cores / jobs);
   std::atomic<unsigned long long> evaluations_made{0};
+  // DIR/state.json for `gonio watch DIR` (set up once the search begins).
+  std::optional<OptimizeProgress> progress;
 
   // One trace of the design at `values`: the merit of its escaped photons.
   const auto trace = [&](const std::vector<double>& values, std::uint64_t photons, std::uint64_t trace_seed,
@@ -343,8 +346,10 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     sim_hooks.on_traced = [&](const ProgressiveOutcome& run) {
       double lor = 0.0;
       const std::vector<design::MeritPhoton> escaped = escaped_photons(run.simulation, &lor);
-      t.merit = design::evaluate_merit(spec, grid, *target, design::bin_photons(grid, escaped), lor,
-                                       merit_geometry(spec, run.simulation));
+      const std::vector<double> binned = design::bin_photons(grid, escaped);
+      t.merit = design::evaluate_merit(spec, grid, *target, binned, lor, merit_geometry(spec, run.simulation));
+      if (progress && !files_out && t.merit->error.empty())
+        progress->traced(values, photons, trace_seed, binned, *t.merit);
       if (!t.merit->error.empty()) {
         t.error = t.merit->error;
         t.merit.reset();
@@ -466,13 +471,19 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       return m.ok() ? limit_values(*m) : std::vector<double>(limit_count, 1.0);
     };
   }
+  progress.emplace((fs::path(out_dir) / "state.json").string(), design_path, target_path,
+                   design::to_string(method), max_evals, max_time, variables, spec, grid, *target);
   const auto on_evaluation = [&](const design::EvaluationRecord& r) {
+    progress->evaluation(r);
     return hooks.on_evaluation ? hooks.on_evaluation(r) : true;
   };
   Result<design::OptimizeResult> run = design::optimize(variables, merit, oo, on_evaluation);
   std::error_code ignored;
   fs::remove(evaluation_path, ignored);
-  if (!run.ok()) return make_error(design.path + ": " + run.error().message);
+  if (!run.ok()) {
+    progress->failed(design.path + ": " + run.error().message);
+    return make_error(design.path + ": " + run.error().message);
+  }
   // An optimisation that cannot improve: every evaluation of the first stage
   // (one seed, one photon count) within the merit's noise floor of the others.
   std::string cannot_improve;
@@ -502,8 +513,10 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   const std::string best_path = (fs::path(out_dir) / (name + ".design.toml")).string();
   const std::uint64_t final_seed = static_cast<std::uint64_t>(seed) + 7'000'003ULL;
   Traced final = trace(run->best_values, static_cast<std::uint64_t>(final_photons), final_seed, best_path, true);
-  if (!final.result || !final.result->files || !final.merit)
+  if (!final.result || !final.result->files || !final.merit) {
+    progress->failed("the best design's final trace failed: " + final.error);
     return make_error("the best design's final trace failed: " + final.error);
+  }
   // The design file again, with a header (trace wrote it bare).
   const std::string text = design::write_design(
       design.document, {"Optimised by gonio optimize (docs/design.md) from " + fs::path(design_path).filename().string() +
@@ -641,6 +654,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   if (!out.notes.empty()) report["optimize"]["notes"] = out.notes;
   if (Status s = io::write_file_atomic(final.result->files->report_path, report.dump(2) + "\n"); !s.ok())
     return make_error(to_string(s.error()));
+  progress->finished(report["optimize"]);
   out.variables = variables;
   out.run = std::move(run.value());
   out.final_merit = fm;

@@ -18,7 +18,11 @@
 //     the IES profile its model references: GET /state.json shows a new run.
 //   - watches a spectral bell (a 2856 K blackbody lamp): the page shows its
 //     colour as state.json and report.json give it, CCT 2856 K.
-// Screenshots: build/test-artifacts/watch-page.png (and -run1, -error, -colour).
+//   - and (watch_optimize_page.mjs) follows a running gonio optimize through
+//     gonio watch DIR: the optimisation panel, the merit history, the best
+//     against the target, as report.json and history.json give them.
+// Screenshots: build/test-artifacts/watch-page.png (and -run1, -error, -colour),
+// watch-optimize.png (and -running).
 // Needs node, npm (the registry once) and chromium: skips without them,
 // fails under CI=true. ctest label `browser`.
 #include <gtest/gtest.h>
@@ -91,6 +95,25 @@ TEST(WatchBrowser, ThePageFollowsTheModelShowsErrorsAndMatchesTheReport) {
   const auto m = nlohmann::json::parse(r.out.substr(r.out.rfind('{')));
   EXPECT_GT(m["page_updates"].get<int>(), 1);
   EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(GONIO_ARTIFACTS_DIR) / "watch-page.png"));
+}
+
+// gonio watch DIR on a running gonio optimize --out DIR (watch_optimize_page.mjs):
+// the optimisation panel while it runs, then the page's best merit, final
+// RMS, best variable, history and curves as report.json, history.json and
+// state.json give them.
+TEST(WatchBrowser, ThePageFollowsARunningOptimisation) {
+  if (const std::string why = ensure_browser_tools(); !why.empty()) GONIO_MISSING("the browser test's tools: " + why);
+  test::TempDir work;
+  std::filesystem::create_directories(GONIO_ARTIFACTS_DIR);
+  const auto r = test::run_process({GONIO_NODE,
+                                    std::string(GONIO_SOURCE_DIR) + "/tests/tools/live/watch_optimize_page.mjs",
+                                    puppeteer_dir().string(), GONIO_CHROMIUM, GONIO_EXECUTABLE,
+                                    work.path().string(), GONIO_ARTIFACTS_DIR});
+  ASSERT_EQ(r.exit_code, 0) << r.out << "\n" << r.err;
+  std::printf("%s", r.out.c_str());
+  const auto m = nlohmann::json::parse(r.out.substr(r.out.rfind('{')));
+  EXPECT_GE(m["drawn_while_running"].get<int>(), 3);
+  EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(GONIO_ARTIFACTS_DIR) / "watch-optimize.png"));
 }
 
 }  // namespace

@@ -434,6 +434,83 @@ function drawLuminance(images) {
   });
 }
 
+// ---------- an optimisation (gonio watch DIR: state.json of gonio optimize) ----------
+// state.kind "optimize": the best so far (curves) against the target
+// (previous_curves, dashed), and the merit of every evaluation
+// (optimize.history: history.json's rows) with the best so far, log scale.
+function drawMeritHistory(history) {
+  const canvas = $('merit-history'), ctx = canvas.getContext('2d');
+  const W = canvas.width, H = canvas.height;
+  ctx.clearRect(0, 0, W, H);
+  const rows = (history || []).filter((r) => Number.isFinite(r.merit) && r.merit > 0);
+  page.drawnHistory = rows.length;
+  if (!rows.length) return;
+  let lo = Infinity, hi = 0, last = 1;
+  for (const r of rows) {
+    lo = Math.min(lo, r.merit, Number.isFinite(r.best) && r.best > 0 ? r.best : r.merit);
+    hi = Math.max(hi, r.merit);
+    last = Math.max(last, r.index);
+  }
+  const l0 = Math.floor(Math.log10(lo)), l1 = Math.max(l0 + 1, Math.ceil(Math.log10(hi)));
+  const L = 56, R = W - 12, T = 10, B = H - 28;
+  const x = (i) => L + ((R - L) * (i - 1)) / Math.max(1, last - 1);
+  const y = (v) => B - ((B - T) * (Math.log10(v) - l0)) / (l1 - l0);
+  ctx.strokeStyle = '#2b3240'; ctx.fillStyle = '#7d879a'; ctx.font = '12px DejaVu Sans, sans-serif';
+  for (let k = l0; k <= l1; ++k) {
+    ctx.beginPath(); ctx.moveTo(L, y(10 ** k)); ctx.lineTo(R, y(10 ** k)); ctx.stroke();
+    ctx.fillText(fmt(10 ** k, 2), 4, y(10 ** k) + 4);
+  }
+  ctx.fillText('evaluation', R - 60, H - 8);
+  ctx.fillText('1', L - 3, H - 12);
+  ctx.fillText(String(last), R - 20, H - 12);
+  for (const r of rows) {
+    ctx.fillStyle = r.stage === 'noise' ? '#ffb347' : 'rgba(170,179,197,0.8)';
+    ctx.beginPath(); ctx.arc(x(r.index), y(r.merit), r.stage === 'noise' ? 3.5 : 2.2, 0, 2 * Math.PI); ctx.fill();
+  }
+  ctx.strokeStyle = '#43c59e'; ctx.lineWidth = 2; ctx.beginPath();
+  let first = true;
+  for (const r of rows) {
+    if (r.stage === 'noise' || !(r.best > 0)) continue;
+    if (first) { ctx.moveTo(x(r.index), y(r.best)); first = false; } else ctx.lineTo(x(r.index), y(r.best));
+  }
+  ctx.stroke(); ctx.lineWidth = 1;
+}
+function showOptimize(s) {
+  const opt = s.kind === 'optimize';
+  document.querySelector('main').classList.toggle('optimize', opt);
+  $('optimize-panel').hidden = !opt;
+  $('cube-panel').hidden = opt;
+  $('sphere-panel').hidden = opt;
+  for (const el of document.querySelectorAll('.cur-label')) el.textContent = opt ? 'best so far' : 'this run';
+  $('prev-label').textContent = opt ? 'target' : 'previous run';
+  $('curves-title').textContent = opt ? 'Polar curves (cd) — the best so far against the target, at the merit\'s nodes'
+                                      : 'Polar curves (cd) — filtered';
+  if (!opt) return;
+  const o = s.optimize || {};
+  $('opt-method').textContent = o.method || '—';
+  setNumber('opt-best', o.best_merit, fmt(o.best_merit, 5));
+  setNumber('opt-start', o.start_merit, fmt(o.start_merit, 5));
+  setNumber('opt-rms', o.candela_rms_pct, Number.isFinite(o.candela_rms_pct) ? o.candela_rms_pct.toFixed(3) + ' %' : '—');
+  const deg = (v) => (Number.isFinite(v) ? v.toFixed(1) + '°' : '—');
+  setNumber('opt-beam', o.beam_angle_deg, `${deg(o.beam_angle_deg)} / ${deg(o.target_beam_angle_deg)}`);
+  setNumber('opt-evaluation', o.evaluation, o.evaluation ? `${o.evaluation} / ${o.max_evals ?? '—'}` : '—');
+  setNumber('opt-stage', o.stage, o.stage ?? '—');
+  setNumber('opt-best-index', o.best_index, o.best_index ?? '—');
+  setNumber('opt-noise', o.noise_floor, fmt(o.noise_floor, 3));
+  const fin = o.final || {};
+  setNumber('opt-final', fin.candela_rms_pct, Number.isFinite(fin.candela_rms_pct) ? fin.candela_rms_pct.toFixed(3) + ' %' : '—');
+  const vars = $('opt-variables');
+  vars.innerHTML = '';
+  for (const [name, v] of Object.entries(o.best_values || {})) {
+    const dt = document.createElement('dt'), dd = document.createElement('dd');
+    dt.textContent = name;
+    dd.textContent = fmt(v, 6);
+    dd.dataset.value = String(v);
+    vars.append(dt, dd);
+  }
+  drawMeritHistory(o.history);
+}
+
 function onState(s) {
   const newIteration = !page.state || s.iteration !== page.state.iteration || s.run !== page.state.run;
   if (page.state && s.run !== page.state.run) page.updates = [];  // the rate of this run alone
@@ -441,6 +518,7 @@ function onState(s) {
   if (newIteration && s.iteration) page.updates.push(performance.now());
   if (page.updates.length > 200) page.updates.splice(0, 100);
   showNumbers(s);
+  showOptimize(s);
   showMessages(s);
   drawCurves();
   drawLuminance(s.luminance_images);

@@ -215,6 +215,10 @@ def optimize(
     name: str | None = None,
     callback: Callable[[dict[str, Any]], bool | None] | None = None,
     merit: dict[str, Any] | None = None,
+    jobs: int = 0,
+    population: int = 0,
+    common_random: bool = True,
+    step: bool | None = None,
 ) -> dict[str, Any]:
     """gonio optimize's run: {variables, merit_history, history, optimize, final, report, files}."""
     ...
