@@ -470,7 +470,8 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       rng.uniform_pair(&xi1, &xi2);
       // The vertex once, for its connections and the photon's own share.
       covered_at.material = &material;
-      covered_at.vertex.emplace(material, connect_frame, -1.0 * direction, lobes_here);
+      // (Lobes the material lacks would weigh 0 there: not asked.)
+      covered_at.vertex.emplace(material, connect_frame, -1.0 * direction, lobes_here & has_lobes);
       covered_at.connections = settings_.next_event.connections_at(hit.mesh, from_back);
       connect_from(origin + t * direction, t, direction, material, connect_frame, *covered_at.vertex, power, colour,
                    hit.mesh, from_back, xi1, xi2, *connect);
