@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <new>
 #include <optional>
 #include <string>
@@ -38,7 +39,7 @@ constexpr int kMaxVolumeEvents = 100000;
 // with (sim/bsdfs/bsdf_eval_pair.h's ConnectionVertex), built once.
 struct CoveredVertex {
   const Material* material = nullptr;
-  std::optional<ConnectionVertex> vertex;  // built in place at a connected vertex
+  const ConnectionVertex* vertex = nullptr;  // Connections::vertex, built at a connected vertex
   int connections = 0;
 
   double book(const Vec3& wo, std::uint64_t power) const {
@@ -471,7 +472,8 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       // The vertex once, for its connections and the photon's own share.
       covered_at.material = &material;
       // (Lobes the material lacks would weigh 0 there: not asked.)
-      covered_at.vertex.emplace(material, connect_frame, -1.0 * direction, lobes_here & has_lobes);
+      covered_at.vertex =
+          std::construct_at(connect->vertex, material, connect_frame, -1.0 * direction, lobes_here & has_lobes);
       covered_at.connections = settings_.next_event.connections_at(hit.mesh, from_back);
       connect_from(origin + t * direction, t, direction, material, connect_frame, *covered_at.vertex, power, colour,
                    hit.mesh, from_back, xi1, xi2, *connect);
@@ -739,6 +741,9 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
       tally.texel_xz[2 * texel + 1] += static_cast<std::uint64_t>(std::llround(static_cast<double>(z) * per));
     }
   };
+  // The photons' last connected vertex (follow builds it there).
+  ConnectionVertex covered_vertex;
+  static_assert(std::is_trivially_destructible_v<ConnectionVertex>);
   std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
   if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed, settings_.sobol_replicates);
   for (std::uint64_t i = first; i < first + count; ++i) {
@@ -749,6 +754,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
     PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
     std::optional<Connections> connect = connections_for(i, tally);
+    if (connect) connect->vertex = &covered_vertex;
     if (connect && connect->images && e.on_surface) {
       connect_emission_images(e, *connect);
       connect->image_covered_at_start = true;

@@ -234,6 +234,9 @@ class Tracer {
     bool far_field;            // next-event estimation for the far field
     bool images;               // connections to the luminance images (tally->camera)
     bool image_covered_at_start = false;  // its emission connected to the images
+    // Where the photon's last connected vertex is built (the thread's, kept
+    // outside the photon's own frame).
+    ConnectionVertex* vertex = nullptr;
   };
   TraceResult follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
                      std::vector<RayQuery>* record = nullptr,
