@@ -58,6 +58,14 @@ std::uint16_t connectable_lobe_bits(const Material& m) {
   return static_cast<std::uint16_t>(bits);
 }
 
+// std::llround of a booked share, bit for bit, without the library call:
+// x = power · w with 0 ≤ w ≤ 1 and power < 2⁵³ units, so the truncation is
+// exact, x − trunc(x) is exact, and halves round up as llround's do.
+std::uint64_t round_units(double x) {
+  const auto whole = static_cast<std::uint64_t>(x);
+  return x - static_cast<double>(whole) >= 0.5 ? whole + 1 : whole;
+}
+
 bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 double max_abs(const Vec3& p) { return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}); }
@@ -588,7 +596,7 @@ void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const 
       // escape (which books the same at its direction: CoveredVertex).
       const double w = cd.f_cos / (static_cast<double>(count) * cd.pdf + cd.f_cos);
       const double units_d = static_cast<double>(power) * w;
-      const auto units = static_cast<std::uint64_t>(std::llround(units_d));
+      const std::uint64_t units = round_units(units_d);
       const std::size_t texel = grid_.texel_of(cd.wo);
       tally.texel_units[texel] += units;
       tally.booked_units += units;
@@ -728,7 +736,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
   // connections are (connect_from): units, replicate, colour.
   auto book_covered_escape = [&](const TraceResult& r, const PhotonColour& colour, std::uint32_t replicate) {
     NextEventTally& ne = tally.next_event;
-    const auto units = static_cast<std::uint64_t>(std::llround(r.covered_book));
+    const std::uint64_t units = round_units(r.covered_book);
     if (units == 0) return;
     const std::size_t texel = grid_.texel_of(r.direction);
     ne.texel_units[texel] += units;
