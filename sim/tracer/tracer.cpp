@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <new>
 #include <optional>
 #include <string>
@@ -34,20 +35,36 @@ constexpr int kMaxVolumeEvents = 100000;
 // absorption and survival make up its density), the photon's weight is
 // f / (M·p + f) and each connection's M·p / (M·p + f) — they sum to one
 // wherever either reaches — so both book power · f / (M·p + f).
+// The vertex's bases and lobe weights are those its connections were drawn
+// with (sim/bsdfs/bsdf_eval_pair.h's ConnectionVertex), built once.
 struct CoveredVertex {
   const Material* material = nullptr;
-  SurfaceFrame frame;
-  Vec3 wi;
-  unsigned lobes = 0;
+  const ConnectionVertex* vertex = nullptr;  // Connections::vertex, built at a connected vertex
   int connections = 0;
 
   double book(const Vec3& wo, std::uint64_t power) const {
     if (!material) return 0.0;
-    const FCosAndPdf at = non_delta_f_cos_and_pdf(*material, frame, wi, wo, lobes);
+    const FCosAndPdf at = non_delta_f_cos_and_pdf(*material, *vertex, wo);
     if (!(at.f_cos > 0.0)) return 0.0;
     return static_cast<double>(power) * at.f_cos / (static_cast<double>(connections) * at.pdf + at.f_cos);
   }
 };
+
+// The material's non-delta lobes as bits (has_connectable_lobes of each).
+std::uint16_t connectable_lobe_bits(const Material& m) {
+  unsigned bits = 0;
+  for (unsigned k = 0; k < static_cast<unsigned>(kLobeCount); ++k)
+    if ((kNonDeltaLobes & (1u << k)) && has_connectable_lobes(m, 1u << k)) bits |= 1u << k;
+  return static_cast<std::uint16_t>(bits);
+}
+
+// std::llround of a booked share, bit for bit, without the library call:
+// x = power · w with 0 ≤ w ≤ 1 and power < 2⁵³ units, so the truncation is
+// exact, x − trunc(x) is exact, and halves round up as llround's do.
+std::uint64_t round_units(double x) {
+  const auto whole = static_cast<std::uint64_t>(x);
+  return x - static_cast<double>(whole) >= 0.5 ? whole + 1 : whole;
+}
 
 bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -208,6 +225,7 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   for (Material& m : tracer.materials_) {
     prepare(m);
     tracer.material_angular_.push_back(m.angular() ? 1 : 0);
+    tracer.connectable_lobes_.push_back(connectable_lobe_bits(m));
   }
   for (const Material& m : scene.materials) tracer.lobe_cdfs_.push_back(lobe_cdf(m));
   tracer.meshes_.reserve(scene.meshes.size());
@@ -245,6 +263,7 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
         tracer.spectral_materials_.push_back(at_wavelength(m, wavelength_nm(k)));
         prepare(tracer.spectral_materials_.back());
         tracer.spectral_lobe_cdfs_.push_back(lobe_cdf(tracer.spectral_materials_.back()));
+        tracer.spectral_connectable_lobes_.push_back(connectable_lobe_bits(tracer.spectral_materials_.back()));
       }
     for (const Emitter& e : scene.emitters) tracer.emitter_axes_.push_back(-1.0 * e.frame.up);
     for (const Material& m : scene.materials) tracer.material_spectral_.push_back(m.spectral() ? 1 : 0);
@@ -411,14 +430,17 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
                           rng.uniform());
     // Next-event connections here (sim/tracer/next_event.h): a material with
     // non-delta lobes at a mesh that keeps them, grey in a spectral run.
-    const bool non_delta = connect && has_connectable_lobes(material) && !(colour && material_spectral_[mesh.material]);
+    // (The material's lobes as bits, has_connectable_lobes's answer.)
+    const unsigned has_lobes =
+        connect ? (wavelength < 0 ? connectable_lobes_[mesh.material] : spectral_connectable_lobes_[spectral_index]) : 0u;
+    const bool non_delta = has_lobes != 0 && !(colour && material_spectral_[mesh.material]);
     const unsigned lobes_here = non_delta && connect->far_field ? settings_.next_event.lobes_at(hit.mesh, from_back) : 0u;
-    const bool connect_here = lobes_here != 0 && has_connectable_lobes(material, lobes_here);
+    const bool connect_here = (lobes_here & has_lobes) != 0;
     const bool image_here = non_delta && connect->images;
     // Connections read the shading normal for every lobe but the diffuse
     // ones, and the tangent for the glossy lobe; scatter() gets the tangent
     // only for a lobe that reads it (as without connections).
-    const bool connect_shading = (connect_here || image_here) && has_connectable_lobes(material, kShadingFrameLobes);
+    const bool connect_shading = (connect_here || image_here) && (has_lobes & kShadingFrameLobes) != 0;
     const bool connect_tangent = (connect_here || image_here) && material.glossy > 0.0;
     Vec3 tangent{};
     if (uses_shading_frame(lobe) || connect_shading) {
@@ -455,10 +477,14 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       // the same points would correlate with the path).
       double xi1, xi2;
       rng.uniform_pair(&xi1, &xi2);
-      connect_from(origin + t * direction, t, direction, material, connect_frame, power, colour, hit.mesh,
-                   from_back, lobes_here, xi1, xi2, *connect);
-      covered_at = {&material, connect_frame, -1.0 * direction, lobes_here,
-                    settings_.next_event.connections_at(hit.mesh, from_back)};
+      // The vertex once, for its connections and the photon's own share.
+      covered_at.material = &material;
+      // (Lobes the material lacks would weigh 0 there: not asked.)
+      covered_at.vertex =
+          std::construct_at(connect->vertex, material, connect_frame, -1.0 * direction, lobes_here & has_lobes);
+      covered_at.connections = settings_.next_event.connections_at(hit.mesh, from_back);
+      connect_from(origin + t * direction, t, direction, material, connect_frame, *covered_at.vertex, power, colour,
+                   hit.mesh, from_back, xi1, xi2, *connect);
     }
     if (image_here)
       connect_images(origin + t * direction, t, direction, material, connect_frame, power, colour, *connect);
@@ -510,15 +536,14 @@ class BlockScratch {
 }  // namespace
 
 void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const Material& m,
-                          const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
-                          std::uint32_t mesh, bool back, unsigned lobes, double xi1, double xi2,
+                          const SurfaceFrame& frame, const ConnectionVertex& vertex, std::uint64_t power,
+                          const PhotonColour* colour, std::uint32_t mesh, bool back, double xi1, double xi2,
                           Connections& c) const {
   NextEventTally& tally = c.tally->next_event;
   const int count = settings_.next_event.connections_at(mesh, back);
   // A rank-1 lattice (k/M, k·φ mod 1) shifted by (ξ1, ξ2): M stratified
   // pairs (one in each 1/M band of the first).
   constexpr double kGolden = 0.61803398874989484820;
-  const Vec3 wi = -1.0 * direction;
   const double scale = max_abs(p) + t;
   const double off = offset_m(scale);
   const Vec3 start = p - direction * (0x1.0p-20 * scale);
@@ -547,8 +572,7 @@ void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const 
       u2 -= std::floor(u2);
       u2s[static_cast<std::size_t>(k - k0)] = u2;
     }
-    connection_directions(m, frame, wi, u1s.data(), u2s.data(), static_cast<std::size_t>(k1 - k0), drawn.data(),
-                          lobes);
+    connection_directions(m, vertex, u1s.data(), u2s.data(), static_cast<std::size_t>(k1 - k0), drawn.data());
     std::size_t n = 0;
     for (int k = k0; k < k1; ++k) {
       const ConnectionDirection& cd = drawn[static_cast<std::size_t>(k - k0)];
@@ -572,7 +596,7 @@ void Tracer::connect_from(const Vec3& p, double t, const Vec3& direction, const 
       // escape (which books the same at its direction: CoveredVertex).
       const double w = cd.f_cos / (static_cast<double>(count) * cd.pdf + cd.f_cos);
       const double units_d = static_cast<double>(power) * w;
-      const auto units = static_cast<std::uint64_t>(std::llround(units_d));
+      const std::uint64_t units = round_units(units_d);
       const std::size_t texel = grid_.texel_of(cd.wo);
       tally.texel_units[texel] += units;
       tally.booked_units += units;
@@ -712,7 +736,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
   // connections are (connect_from): units, replicate, colour.
   auto book_covered_escape = [&](const TraceResult& r, const PhotonColour& colour, std::uint32_t replicate) {
     NextEventTally& ne = tally.next_event;
-    const auto units = static_cast<std::uint64_t>(std::llround(r.covered_book));
+    const std::uint64_t units = round_units(r.covered_book);
     if (units == 0) return;
     const std::size_t texel = grid_.texel_of(r.direction);
     ne.texel_units[texel] += units;
@@ -725,6 +749,9 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
       tally.texel_xz[2 * texel + 1] += static_cast<std::uint64_t>(std::llround(static_cast<double>(z) * per));
     }
   };
+  // The photons' last connected vertex (follow builds it there).
+  ConnectionVertex covered_vertex;
+  static_assert(std::is_trivially_destructible_v<ConnectionVertex>);
   std::optional<SobolCursor> cursor;  // Sobol': the thread's photons in order
   if (settings_.sampler == SamplerKind::Sobol) cursor.emplace(seed, settings_.sobol_replicates);
   for (std::uint64_t i = first; i < first + count; ++i) {
@@ -735,6 +762,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
     PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
     std::optional<Connections> connect = connections_for(i, tally);
+    if (connect) connect->vertex = &covered_vertex;
     if (connect && connect->images && e.on_surface) {
       connect_emission_images(e, *connect);
       connect->image_covered_at_start = true;

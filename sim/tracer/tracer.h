@@ -40,6 +40,8 @@
 
 namespace gonio::sim {
 
+struct ConnectionVertex;  // sim/bsdfs/bsdf_eval_pair.h
+
 struct TracerSettings {
   // Surface interactions a photon may scatter at; on reaching a surface
   // once more it is cut off (booked as `cutoff`, not absorbed). 0: every
@@ -232,6 +234,9 @@ class Tracer {
     bool far_field;            // next-event estimation for the far field
     bool images;               // connections to the luminance images (tally->camera)
     bool image_covered_at_start = false;  // its emission connected to the images
+    // Where the photon's last connected vertex is built (the thread's, kept
+    // outside the photon's own frame).
+    ConnectionVertex* vertex = nullptr;
   };
   TraceResult follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
                      std::vector<RayQuery>* record = nullptr,
@@ -240,8 +245,8 @@ class Tracer {
   // The connections from a vertex at p (reached along `t` of `direction`)
   // with the material and frame there (sim/tracer/next_event.h).
   void connect_from(const Vec3& p, double t, const Vec3& direction, const Material& material,
-                    const SurfaceFrame& frame, std::uint64_t power, const PhotonColour* colour,
-                    std::uint32_t mesh, bool back, unsigned lobes, double xi1, double xi2,
+                    const SurfaceFrame& frame, const ConnectionVertex& vertex, std::uint64_t power,
+                    const PhotonColour* colour, std::uint32_t mesh, bool back, double xi1, double xi2,
                     Connections& c) const;
   // The luminance images' connections from a vertex (as connect_from) and
   // from an area emitter's emission.
@@ -270,6 +275,10 @@ class Tracer {
   std::vector<Material> materials_;
   std::vector<LobeCdf> lobe_cdfs_;  // per material
   std::vector<char> material_angular_;  // per material: weights vary with incidence (Material::angular)
+  // Per material (and per spectral material): the non-delta lobes it has
+  // (sim/bsdfs/bsdf_eval.h's bits, has_connectable_lobes), asked at every
+  // hit where connections are made.
+  std::vector<std::uint16_t> connectable_lobes_, spectral_connectable_lobes_;
   // Spectral scenes: each material at each wavelength (material ·
   // kWavelengthCount + k) with its lobe table, and the wavelength sampler.
   std::vector<Material> spectral_materials_;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -225,6 +226,66 @@ TEST(BsdfEval, ValueAndDensityTogetherAreTheSingleQueriesBitForBit) {
         if (both.f_cos > 0.0 && both.pdf > 0.0) ++nonzero;
       }
   EXPECT_GT(nonzero, 100);
+}
+
+// A vertex prepared once for its connections and the photon's own share
+// (ConnectionVertex, issue 43's cheaper connections) answers as the single
+// queries do, bit for bit: its draws (value and density at the drawn
+// direction) and its value and density towards any direction — on the
+// diffuse lobes alone (where the value and density are read in one pass,
+// and the shading bases are never built) as on the other lobes.
+TEST(BsdfEval, APreparedVertexAnswersAsTheSingleQueriesBitForBit) {
+  const Material every = every_lobe();
+  Material opal;  // the bell's opal: diffuse transmission and reflection
+  opal.diffuse_reflect = 0.3;
+  opal.diffuse_transmit = 0.6;
+  opal.over_incidence[1] = {{0.0, 90.0}, {1.0, 0.5}};
+  prepare(opal);
+  const SurfaceFrame f = tilted_frame();
+  const unsigned diffuse = lobe_bit(Lobe::DiffuseReflect) | lobe_bit(Lobe::DiffuseTransmit);
+  struct Case {
+    const Material* m;
+    unsigned lobes;
+  };
+  const Case cases[] = {{&opal, kNonDeltaLobes},     {&opal, lobe_bit(Lobe::DiffuseTransmit)},
+                        {&every, diffuse},           {&every, lobe_bit(Lobe::DiffuseReflect)},
+                        {&every, kNonDeltaLobes},    {&every, lobe_bit(Lobe::DiffuseTransmit) | lobe_bit(Lobe::Glossy)}};
+  int drawn = 0, towards = 0;
+  for (const Case& c : cases)
+    for (const Vec3& wi : {normalize(Vec3{-0.4, 0.8, 0.3}), normalize(Vec3{0.3, -0.7, 0.2})}) {
+      const ConnectionVertex v(*c.m, f, wi, c.lobes);
+      EXPECT_EQ(v.diffuse_only, (c.lobes & kShadingFrameLobes & (c.m == &opal ? 0u : ~0u)) == 0) << c.lobes;
+      std::array<double, 16> u1{}, u2{};
+      for (std::size_t k = 0; k < u1.size(); ++k) {
+        u1[k] = (static_cast<double>(k) + 0.37) / 16.0;
+        u2[k] = std::fmod(0.81 + 0.618 * static_cast<double>(k), 1.0);
+      }
+      std::array<ConnectionDirection, 16> got;
+      connection_directions(*c.m, v, u1.data(), u2.data(), u1.size(), got.data());
+      for (std::size_t k = 0; k < got.size(); ++k) {
+        const ConnectionDirection one = connection_direction(*c.m, f, wi, u1[k], u2[k], c.lobes);
+        EXPECT_EQ(got[k].wo.x, one.wo.x);
+        EXPECT_EQ(got[k].wo.y, one.wo.y);
+        EXPECT_EQ(got[k].wo.z, one.wo.z);
+        EXPECT_EQ(got[k].pdf, one.pdf);
+        EXPECT_EQ(got[k].f_cos, one.f_cos);
+        if (!(got[k].pdf > 0.0)) continue;
+        // The drawn direction's value and density are the single queries'.
+        EXPECT_EQ(got[k].f_cos, non_delta_f_cos(*c.m, f, wi, got[k].wo, c.lobes)) << c.lobes << " " << k;
+        EXPECT_EQ(got[k].pdf, connection_pdf(*c.m, f, wi, got[k].wo, c.lobes)) << c.lobes << " " << k;
+        ++drawn;
+      }
+      for (std::uint64_t i = 0; i < 64; ++i) {
+        PhotonRandom rng(29, i);
+        const Vec3 wo = sample_uniform_sphere(rng);
+        const FCosAndPdf at = non_delta_f_cos_and_pdf(*c.m, v, wo);
+        EXPECT_EQ(at.f_cos, non_delta_f_cos(*c.m, f, wi, wo, c.lobes)) << c.lobes << " " << i;
+        EXPECT_EQ(at.pdf, connection_pdf(*c.m, f, wi, wo, c.lobes)) << c.lobes << " " << i;
+        if (at.f_cos > 0.0 && at.pdf > 0.0) ++towards;
+      }
+    }
+  EXPECT_GT(drawn, 150);
+  EXPECT_GT(towards, 300);
 }
 
 }  // namespace
