@@ -238,12 +238,15 @@ std::vector<Result<double>> job_batch(const sim::Ranks& ranks, std::size_t point
 // Why a run that found no flat merit still cannot improve the design: every
 // variable of the best at one of its bounds ("pinned": the merit falls on
 // beyond them), or the best is the start itself ("no_improvement": no
-// evaluation of any stage bettered it). Empty where neither.
+// evaluation of any stage bettered it). Empty where neither, and for a run
+// that Ctrl-C or --max-time cut short (its stopped_by says so).
 struct CannotImprove {
   std::string reason, kind;
 };
 CannotImprove why_no_improvement(const design::OptimizeResult& run, const std::vector<design::OptimizeVariable>& variables) {
-  if (run.best_values.size() != variables.size() || variables.empty() || run.stopped_by == "cancelled") return {};
+  if (run.best_values.size() != variables.size() || variables.empty() || run.stopped_by == "cancelled" ||
+      run.stopped_by == "time")
+    return {};
   bool pinned = true, at_start = true;
   std::string bounds;
   for (std::size_t i = 0; i < variables.size(); ++i) {

@@ -149,7 +149,11 @@ TEST(OptimizeCli, TheMeritTableNamesItsTargetAndTerms) {
   const fs::path out = dir / "o";
   test::ProcessResult r = gonio({"optimize", (dir / "m.design.toml").string(), "--out", out.string(), "--stages", "1",
                                  "--max-evals", "6", "--gamma-step", "5", "--final-photons", "20000"});
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  // Six evaluations at 760 photons: their merits (13.7 … 17.5) lie within
+  // the merit's noise floor at those photons (7.5), so the run says it
+  // cannot improve (exit 3, kind flat); its files are written all the same.
+  ASSERT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_NE(r.out.find("optimize: cannot improve (flat): exit 3"), std::string::npos) << r.out;
   // 19 nodes (γ every 10°, one C column) × 40 photons.
   EXPECT_NE(r.out.find("merit grid 19 nodes (smooth), 760 photons in stage 1"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(out / "t" / "truth.design.ies"));
