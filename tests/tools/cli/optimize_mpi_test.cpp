@@ -74,11 +74,12 @@ class OptimizeMpi : public ::testing::Test {
   }
 
   // gonio optimize with `ranks` ranks of mpirun (0: without mpirun).
-  test::ProcessResult optimize(int ranks, const fs::path& out, const std::vector<std::string>& more) const {
+  test::ProcessResult optimize(int ranks, const fs::path& out, const std::vector<std::string>& more,
+                               const std::string& design = "start") const {
     std::vector<std::string> argv;
     if (ranks > 0) argv = {GONIO_MPIRUN, "--oversubscribe", "--bind-to", "none", "-n", std::to_string(ranks)};
     for (const std::string& a :
-         {std::string(GONIO_EXECUTABLE), std::string("optimize"), (dir / "start.design.toml").string(),
+         {std::string(GONIO_EXECUTABLE), std::string("optimize"), (dir / (design + ".design.toml")).string(),
           std::string("--target"), target, std::string("--out"), out.string(), std::string("--gamma-step"),
           std::string("5"), std::string("--no-step"), std::string("--stages"), std::string("2"),
           std::string("--final-photons"), std::string("20000"), std::string("--threads"), std::string("1")})
@@ -90,32 +91,34 @@ class OptimizeMpi : public ::testing::Test {
   // Runs the method without mpirun and with 1, 2 and 3 ranks (and 2 ranks
   // of 2 jobs where `jobs`): the same history (times aside), best design
   // and IES bytes; the other ranks' files are gone.
-  void same_for_any_split(const std::string& method, const std::vector<std::string>& more, bool jobs) {
+  void same_for_any_split(const std::string& method, const std::vector<std::string>& more, bool jobs,
+                          const std::string& design = "start", std::vector<int> rank_counts = {1, 2, 3}) {
     std::vector<std::string> args = {"--method", method};
     args.insert(args.end(), more.begin(), more.end());
-    const fs::path plain = dir / (method + "-plain");
-    const test::ProcessResult p = optimize(0, plain, args);
+    const fs::path plain = dir / (method + "-" + design + "-plain");
+    const test::ProcessResult p = optimize(0, plain, args, design);
     ASSERT_EQ(p.exit_code, 0) << p.out << p.err;
     const nlohmann::json history = without_times(nlohmann::json::parse(test::read_file(plain / "history.json")));
     ASSERT_GE(history.size(), 8u);
-    const std::string best = test::read_file(plain / "start.design.toml");
-    const std::string ies = test::read_file(plain / "start.ies");
+    const std::string best = test::read_file(plain / (design + ".design.toml"));
+    const std::string ies = test::read_file(plain / (design + ".ies"));
     struct Split {
       int ranks;
       std::string jobs;
     };
-    std::vector<Split> splits = {{1, "1"}, {2, "1"}, {3, "1"}};
+    std::vector<Split> splits;
+    for (int k : rank_counts) splits.push_back({k, "1"});
     if (jobs) splits.push_back({2, "2"});
     for (const Split& s : splits) {
-      const fs::path out = dir / (method + "-" + std::to_string(s.ranks) + "x" + s.jobs);
+      const fs::path out = dir / (method + "-" + design + "-" + std::to_string(s.ranks) + "x" + s.jobs);
       std::vector<std::string> a = args;
       if (jobs) a.insert(a.end(), {"--jobs", s.jobs});
-      const test::ProcessResult r = optimize(s.ranks, out, a);
+      const test::ProcessResult r = optimize(s.ranks, out, a, design);
       ASSERT_EQ(r.exit_code, 0) << s.ranks << " ranks\n" << r.out << r.err;
       EXPECT_EQ(without_times(nlohmann::json::parse(test::read_file(out / "history.json"))), history)
           << method << ", " << s.ranks << " ranks × " << s.jobs << " jobs";
-      EXPECT_EQ(test::read_file(out / "start.design.toml"), best) << s.ranks << " ranks";
-      EXPECT_EQ(test::read_file(out / "start.ies"), ies) << s.ranks << " ranks";
+      EXPECT_EQ(test::read_file(out / (design + ".design.toml")), best) << s.ranks << " ranks";
+      EXPECT_EQ(test::read_file(out / (design + ".ies")), ies) << s.ranks << " ranks";
       const nlohmann::json report = nlohmann::json::parse(test::read_file(out / "report.json")).at("optimize");
       EXPECT_EQ(report.at("ranks").get<int>(), s.ranks);
       // Rank 0 alone wrote; every rank's own evaluation files are gone.
@@ -128,6 +131,14 @@ class OptimizeMpi : public ::testing::Test {
 
 TEST_F(OptimizeMpi, BobyqaSharesEachEvaluationsPhotonsWithTheSameResultForAnySplit) {
   same_for_any_split("bobyqa", {"--max-evals", "12"}, false);
+}
+
+// A UGR limit: the merit needs where the photons leave (the opening of the
+// downward exits), which travel with the directions; 2 ranks.
+TEST_F(OptimizeMpi, AUgrLimitsOpeningIsTheSameOverRanks) {
+  write(dir / "ugr.design.toml",
+        design_text("{ value = -2.6, min = -3, max = -1 }") + "[merit]\nugr = { limit = 18, room = [8, 6] }\n");
+  same_for_any_split("bobyqa", {"--max-evals", "8"}, false, "ugr", {2});
 }
 
 TEST_F(OptimizeMpi, CmaesDealsAGenerationsPointsWithTheSameResultForAnySplit) {
