@@ -667,7 +667,21 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   }
   const auto on_evaluation = [&](const design::EvaluationRecord& r) {
     const bool go = hooks.on_evaluation ? hooks.on_evaluation(r) : true;
-    return ranks ? ranks->gather(static_cast<std::uint64_t>(go ? 1 : 0)).front() != 0 : go;
+    if (!ranks) return go;
+    // Every rank must have the same merit, to the bit: a rank with another
+    // would drive its copy of the method to other points and the job would
+    // hang in its next collective. Stop the job instead, saying so.
+    const std::vector<double> merits = ranks->gather(r.merit);
+    for (int k = 1; k < ranks->size(); ++k)
+      if (std::memcmp(&merits[static_cast<std::size_t>(k)], &merits[0], sizeof(double)) != 0) {
+        if (hooks.on_message)
+          hooks.on_message(Severity::Error, "optimize: evaluation " + std::to_string(r.index) + ": " +
+                                                ranks->name_of(k) + " has the merit " +
+                                                format_number(merits[static_cast<std::size_t>(k)], 17) + ", rank 0 " +
+                                                format_number(merits[0], 17) + ": the ranks diverged; stopping the job");
+        ranks->abort(1);
+      }
+    return ranks->gather(static_cast<std::uint64_t>(go ? 1 : 0)).front() != 0;
   };
   Result<design::OptimizeResult> run = design::optimize(variables, merit, oo, on_evaluation);
   std::error_code ignored;
