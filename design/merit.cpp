@@ -56,6 +56,68 @@ double gamma_integral(double node, double h, bool smooth, F&& f, int n = 64) {
 
 
 // A number of a limit's table: absent stays as it is; else within [lo, hi].
+// The [merit] ugr table's cell: `room = [X, Y]` [H], one of CIE 190's 19
+// rooms; `reflectances = [ceiling, walls, floor]` [%], one of its five
+// sets; `view = "crosswise" | "endwise"`. Errors name the key's line and
+// list what the table has.
+Status read_ugr_cell(const TomlNode& n, const std::string& path, MeritSpec::Ugr* x) {
+  const auto numbers = [](const TomlNode& a, std::size_t count) {
+    std::vector<double> out;
+    if (!a.is_array() || a.array.size() != count) return out;
+    for (const TomlNode& e : a.array) {
+      const std::optional<double> v = e.number();
+      if (!v || !std::isfinite(*v)) return std::vector<double>{};
+      out.push_back(*v);
+    }
+    return out;
+  };
+  if (const TomlNode* room = n.get("room")) {
+    const std::vector<double> v = numbers(*room, 2);
+    const std::vector<std::array<double, 2>> rooms = photometry::ugr_room_sizes();
+    bool found = false;
+    std::string list;
+    for (const std::array<double, 2>& r : rooms) {
+      list += (list.empty() ? "" : ", ") + std::string("[") + format_number(r[0]) + ", " + format_number(r[1]) + "]";
+      if (v.size() == 2 && r[0] == v[0] && r[1] == v[1]) found = true;
+    }
+    if (!found)
+      return fail(path, room->line ? room->line : n.line,
+                  "[merit]: 'ugr.room' must be one of CIE 190's rooms [X, Y] in H (X across the line of sight, Y "
+                  "along it): " + list);
+    x->x_h = v[0];
+    x->y_h = v[1];
+  }
+  if (const TomlNode* refl = n.get("reflectances")) {
+    const std::vector<double> v = numbers(*refl, 3);
+    bool found = false;
+    std::string list;
+    for (std::size_t k = 0; k < photometry::kUgrReflectances.size(); ++k) {
+      const std::array<double, 3>& r = photometry::kUgrReflectances[k];
+      list += (list.empty() ? "" : ", ") + std::string("[") + format_number(100.0 * r[0]) + ", " +
+              format_number(100.0 * r[1]) + ", " + format_number(100.0 * r[2]) + "]";
+      if (v.size() == 3 && std::abs(v[0] - 100.0 * r[0]) < 1e-9 && std::abs(v[1] - 100.0 * r[1]) < 1e-9 &&
+          std::abs(v[2] - 100.0 * r[2]) < 1e-9) {
+        found = true;
+        x->reflectance_set = k;
+      }
+    }
+    if (!found)
+      return fail(path, refl->line ? refl->line : n.line,
+                  "[merit]: 'ugr.reflectances' must be one of CIE 190's sets [ceiling, walls, floor] in %: " + list);
+  }
+  if (const TomlNode* view = n.get("view")) {
+    if (view->is_string() && view->string == "crosswise") {
+      x->view = 1;
+    } else if (view->is_string() && view->string == "endwise") {
+      x->view = 2;
+    } else {
+      return fail(path, view->line ? view->line : n.line,
+                  "[merit]: 'ugr.view' must be \"crosswise\" or \"endwise\" (without it: the larger of the two)");
+    }
+  }
+  return Ok{};
+}
+
 Status table_number(const TomlNode& t, const char* table, const char* key, double lo, double hi,
                     const std::string& path, std::optional<double>* out) {
   const TomlNode* n = t.get(key);
@@ -106,9 +168,12 @@ Status read_merit_limits(const TomlNode& m, const std::string& path, MeritSpec& 
     if (!t.ok()) return t.error();
     if (*t) {
       const TomlNode& n = **t;
-      if (Status s = io::check_keys(n, {"limit", "weight"}, "[merit] ugr", path); !s.ok()) return s;
+      if (Status s = io::check_keys(n, {"limit", "weight", "room", "reflectances", "view"}, "[merit] ugr", path);
+          !s.ok())
+        return s;
       MeritSpec::Ugr x;
       x.line = n.line;
+      if (Status s = read_ugr_cell(n, path, &x); !s.ok()) return s;
       if (Status s = table_number(n, "ugr", "limit", 0.0, 60.0, path, &x.limit); !s.ok()) return s;
       if (Status s = table_number(n, "ugr", "weight", 0.0, 1e6, path, &(v = std::nullopt)); !s.ok()) return s;
       if (v) x.weight = *v;
@@ -384,6 +449,45 @@ double merit_ugr(const photometry::Distribution& d, std::string* why) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
+double merit_ugr(const photometry::Distribution& d, const MeritSpec::Ugr& cell, std::string* why) {
+  const photometry::UgrTable table = photometry::ugr_table(d);
+  if (!table.defined) {
+    if (why) *why = table.why_undefined;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  const std::vector<std::array<double, 2>> rooms = photometry::ugr_room_sizes();
+  for (std::size_t r = 0; r < rooms.size() && r < table.rooms.size(); ++r)
+    if (rooms[r][0] == cell.x_h && rooms[r][1] == cell.y_h) {
+      const std::size_t k = std::min(cell.reflectance_set, photometry::kUgrReflectances.size() - 1);
+      const double a = table.rooms[r].crosswise[k], b = table.rooms[r].endwise[k];
+      const double v = cell.view == 1   ? a
+                       : cell.view == 2 ? b
+                       : std::isfinite(a) && std::isfinite(b) ? std::max(a, b)
+                       : std::isfinite(a)                     ? a
+                                                              : b;
+      if (why && !std::isfinite(v)) *why = "no light reaches the eye in the " + ugr_cell_name(cell) + " room";
+      return v;
+    }
+  if (why) *why = "no " + ugr_cell_name(cell) + " room in the UGR table";
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string ugr_cell_name(const MeritSpec::Ugr& cell) {
+  const std::array<double, 3>& r =
+      photometry::kUgrReflectances[std::min(cell.reflectance_set, photometry::kUgrReflectances.size() - 1)];
+  return format_number(cell.x_h) + "H × " + format_number(cell.y_h) + "H, " + format_number(100.0 * r[0]) + "/" +
+         format_number(100.0 * r[1]) + "/" + format_number(100.0 * r[2]) + ", " +
+         (cell.view == 1 ? "crosswise" : cell.view == 2 ? "endwise" : "the larger of crosswise and endwise");
+}
+
+void set_target_ugr(const MeritSpec& spec, const MeritGrid& grid, MeritTarget* target) {
+  if (!spec.ugr) return;
+  photometry::Distribution at_nodes = merit_distribution(grid, target->candela);
+  at_nodes.opening = target->opening;
+  target->ugr_undefined.clear();
+  target->ugr = merit_ugr(at_nodes, *spec.ugr, &target->ugr_undefined);
+}
+
 Status check_merit_terms(const MeritSpec& spec, const MeritTarget& target, const std::string& design_path,
                          const std::string& target_path) {
   if (spec.ugr && !spec.ugr->limit && !std::isfinite(target.ugr))
@@ -489,7 +593,7 @@ MeritValue evaluate_merit(const MeritSpec& spec, const MeritGrid& grid, const Me
   m.target_ugr = target.ugr;
   if (spec.ugr) {
     std::string why;
-    m.ugr = flux > 0.0 ? merit_ugr(at_nodes, &why) : kNaN;
+    m.ugr = flux > 0.0 ? merit_ugr(at_nodes, *spec.ugr, &why) : kNaN;
     const bool no_area = geometry.opening.shape == photometry::OpeningShape::Point || !why.empty();
     if (spec.ugr->limit) {
       if (!std::isfinite(m.ugr) && no_area && flux > 0.0) {

@@ -20,6 +20,10 @@
 //                                  #   or (no limit) a term [% of the target's peak]
 //   ugr = { limit = 19, weight = 1 }   # UGR 4H × 8H (70/50/20, the larger of crosswise and
 //                                  #   endwise): a limit, or (no limit) |UGR − the target's|
+//   ugr = { limit = 19, room = [8, 6], reflectances = [50, 30, 20], view = "endwise" }
+//                                  #   another cell of CIE 190's table: room X, Y [H] (its
+//                                  #   rows), ceiling/walls/floor [%] (its columns), the
+//                                  #   viewing direction (crosswise, endwise; default the larger)
 //   bug = { b = 1, u = 0, g = 1, table = "asymmetric", weight = 1 }  # BUG class limits
 //   size = { radius = 40, height = 30, weight = 1 }  # the luminaire's size limits [mm]
 //
@@ -83,6 +87,10 @@ struct MeritSpec {
     std::optional<double> limit;  // a limit; none: |UGR − the target's| is a term
     double weight = 1.0;
     int line = 0;
+    // The table's cell (room, reflectances, view): default 4H × 8H, 70/50/20, the larger.
+    double x_h = 4.0, y_h = 8.0;  // the room across and along the line of sight [H]
+    std::size_t reflectance_set = 0;  // index into photometry::kUgrReflectances
+    int view = 0;  // 0: the larger of crosswise and endwise; 1: crosswise; 2: endwise
   };
   std::optional<Ugr> ugr;
   // bug: the largest B, U and G classes allowed (−1: no limit), each zone's
@@ -182,6 +190,15 @@ struct MeritGeometry {
 // and endwise, of `d` (its opening the luminous area); NaN where the table
 // is undefined (`why` says why) or no light reaches the eye in that room.
 double merit_ugr(const photometry::Distribution& d, std::string* why = nullptr);
+// The same for the cell the [merit] ugr table names (room, reflectances,
+// view; its defaults: the above).
+double merit_ugr(const photometry::Distribution& d, const MeritSpec::Ugr& cell, std::string* why = nullptr);
+// "4H × 8H, 70/50/20, the larger of crosswise and endwise": the cell in words.
+std::string ugr_cell_name(const MeritSpec::Ugr& cell);
+// The target's UGR for the spec's cell (merit_target computes 4H × 8H,
+// 70/50/20): where the [merit] ugr table names another, call this after
+// merit_target.
+void set_target_ugr(const MeritSpec& spec, const MeritGrid& grid, MeritTarget* target);
 
 // Whether the spec's terms can be computed against this target; the error
 // names the design file and the term's line: a UGR term without a limit

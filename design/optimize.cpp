@@ -76,6 +76,7 @@ EvaluationRecord make_record(Stage& s, const std::vector<double>& values, std::u
     r.error = m.ok() ? "the merit is not finite" : m.error().message;
   }
   r.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start).count();
+  if (s.options != nullptr && s.options->elapsed) r.time_s = s.options->elapsed(r.time_s);
   return r;
 }
 
@@ -149,7 +150,12 @@ bool evaluate_batch(Stage& s, const std::vector<std::vector<double>>& points, st
   std::vector<std::optional<Result<double>>> results(points.size());
   std::vector<std::uint64_t> seeds;
   for (std::size_t i = 0; i < points.size(); ++i) seeds.push_back(s.seed_of(static_cast<int>(i)));
-  std::atomic<std::size_t> next{0};
+  if (s.options != nullptr && s.options->batch) {  // evaluated elsewhere (MPI ranks)
+    std::vector<Result<double>> made = s.options->batch(values, s.photons, seeds);
+    for (std::size_t i = 0; i < values.size(); ++i)
+      results[i].emplace(i < made.size() ? made[i] : Result<double>(make_error("the evaluation was not made")));
+  }
+  std::atomic<std::size_t> next{s.options != nullptr && s.options->batch ? values.size() : 0};
   const auto work = [&] {
     for (std::size_t i = next++; i < values.size(); i = next++) results[i].emplace(call_merit(s, values[i], seeds[i]));
   };

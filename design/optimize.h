@@ -67,6 +67,18 @@ struct OptimizeOptions {
   int population = 0;         // CMA-ES's λ; 0: 4 + ⌊3 ln n⌋, at least 5
   bool common_random = true;  // false: evaluation k traces the photons of its own seed
                               // (fresh_seed), not the run's: for comparison only
+  // CMA-ES: a generation's evaluations made elsewhere (over the ranks of an
+  // MPI job, tools/run/optimize_run.cpp): the merits of `values`, each traced
+  // with `photons` and its seed, in the points' order. None: `jobs` threads
+  // call `merit`.
+  std::function<std::vector<Result<double>>(const std::vector<std::vector<double>>& values, std::uint64_t photons,
+                                            const std::vector<std::uint64_t>& seeds)>
+      batch;
+  // The time since the optimisation began as the whole run agrees on it,
+  // given this process's [s] (over MPI ranks: rank 0's, so that --max-time
+  // stops every rank at the same evaluation). Called once per evaluation by
+  // every process in the same order. None: this process's.
+  std::function<double(double)> elapsed;
 };
 
 // The seed of the k-th evaluation (1-based) where common random numbers are

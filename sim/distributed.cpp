@@ -1,4 +1,5 @@
 #include "sim/distributed.h"
+#include "sim/distributed_gather.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -114,6 +115,30 @@ std::vector<double> Ranks::gather(double value) const {
   std::vector<double> all(static_cast<std::size_t>(size_), value);
 #ifdef GONIO_WITH_MPI
   if (size_ > 1) MPI_Allgather(&value, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, MPI_COMM_WORLD);
+#endif
+  return all;
+}
+
+std::vector<std::string> gather_bytes(const Ranks& ranks, const std::string& bytes) {
+  std::vector<std::string> all(static_cast<std::size_t>(ranks.size()));
+  all[static_cast<std::size_t>(ranks.rank())] = bytes;
+  if (ranks.size() == 1) return all;
+#ifdef GONIO_WITH_MPI
+  GONIO_CHECK(bytes.size() <= static_cast<std::size_t>(std::numeric_limits<int>::max()));
+  const std::vector<std::uint64_t> sizes = ranks.gather(static_cast<std::uint64_t>(bytes.size()));
+  std::vector<int> counts, offsets;
+  std::uint64_t total = 0;
+  for (std::uint64_t n : sizes) {
+    GONIO_CHECK(total + n <= static_cast<std::uint64_t>(std::numeric_limits<int>::max()));
+    counts.push_back(static_cast<int>(n));
+    offsets.push_back(static_cast<int>(total));
+    total += n;
+  }
+  std::string joined(static_cast<std::size_t>(total), '\0');
+  MPI_Allgatherv(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, joined.data(), counts.data(),
+                 offsets.data(), MPI_BYTE, MPI_COMM_WORLD);
+  for (std::size_t r = 0; r < all.size(); ++r)
+    all[r] = joined.substr(static_cast<std::size_t>(offsets[r]), static_cast<std::size_t>(counts[r]));
 #endif
   return all;
 }

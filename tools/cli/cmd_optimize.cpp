@@ -35,6 +35,7 @@
 #include "tools/cli/commands.h"
 #include "tools/cli/simulate_command.h"
 #include "tools/run/console.h"
+#include "tools/run/distributed_run.h"
 #include "tools/run/optimize_run.h"
 
 namespace gonio::cli {
@@ -49,6 +50,10 @@ extern "C" void on_interrupt(int) {
   g_interrupted.store(true);
   std::signal(SIGINT, SIG_DFL);
 }
+
+// The exit code of a run that wrote every file but could not improve the
+// design (docs/commands/optimize.md "Exit codes").
+constexpr int kExitCannotImprove = 3;
 
 int fail(const std::string& message) {
   print_error("optimize: " + message);
@@ -130,6 +135,12 @@ int run_optimize(const Args& args) {
   o.no_step = no_step;
   o.no_common_random = no_common_random;
   o.scan = scan;
+  // Under mpirun/srun: one rank of the job (tools/run/distributed_run.h); the
+  // ranks share each evaluation (CMA-ES: a generation's points), rank 0
+  // alone prints and writes.
+  std::optional<sim::Ranks> ranks = app::join_job("optimize");
+  if (!ranks) return kExitFailure;
+  o.ranks = &ranks.value();
   app::OptimizeRunHooks hooks;
   hooks.on_start = [&](const std::vector<design::OptimizeVariable>& variables, const design::MeritSpec& spec,
                        std::size_t nodes, std::uint64_t start_photons) {
@@ -181,6 +192,7 @@ int run_optimize(const Args& args) {
     return fail(to_string(outcome.error()));
   }
   if (outcome->scanned) return kExitOk;
+  if (!outcome->lead) return outcome->cannot_improve.empty() ? kExitOk : kExitCannotImprove;
   const design::OptimizeResult& run = outcome->run;
   const design::MeritValue& fm = outcome->final_merit;
   const int code = print_run_files(*outcome->plan, outcome->result->run, *outcome->result->files);
@@ -198,6 +210,11 @@ int run_optimize(const Args& args) {
     std::printf("optimize: limit %s: %s against %s (%s)\n", l.name.c_str(), format_number(l.value, 5).c_str(),
                 format_number(l.limit, 5).c_str(),
                 l.c <= 0.0 ? "within" : ("over by " + format_number(100.0 * l.c, 3) + " %").c_str());
+  if (code == kExitOk && !outcome->cannot_improve.empty()) {
+    std::printf("optimize: cannot improve (%s): exit %d\n", outcome->cannot_improve_kind.c_str(), kExitCannotImprove);
+    std::fflush(stdout);
+    return kExitCannotImprove;
+  }
   return code;
 }
 

@@ -5,8 +5,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <functional>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -22,6 +25,8 @@
 #include "io/support/text.h"
 #include "photometry/compare.h"
 #include "photometry/format.h"
+#include "photometry/ugr.h"
+#include "sim/distributed_gather.h"
 #include "sim/ledger.h"
 #include "tools/run/json_figures.h"
 #include "tools/run/optimize_state.h"
@@ -37,8 +42,8 @@ namespace fs = std::filesystem;
 
 // The escaped photons of a finished simulation, in the photometric frame,
 // each with its flux, and the light output ratio.
-std::vector<design::MeritPhoton> escaped_photons(const sim::Simulation& simulation, double* lor) {
-  const std::vector<sim::EscapedRay>& rays = simulation.escaped_rays();
+std::vector<design::MeritPhoton> escaped_photons(const sim::Simulation& simulation,
+                                                 const std::vector<sim::EscapedRay>& rays, double* lor) {
   const double total = simulation.total_flux_lm();
   const double photons = static_cast<double>(simulation.stats().photons);
   const double per_unit = photons > 0.0 ? total / photons / static_cast<double>(sim::kPowerUnits) : 0.0;
@@ -59,12 +64,13 @@ std::vector<design::MeritPhoton> escaped_photons(const sim::Simulation& simulati
 // luminous opening (for UGR: as gonio simulate finds it, from the points the
 // evaluation's own downward escapes leave from, so the same photons in every
 // evaluation) and the size [mm] of every surface (for the size limits).
-design::MeritGeometry merit_geometry(const design::MeritSpec& spec, const sim::Simulation& simulation) {
+design::MeritGeometry merit_geometry(const design::MeritSpec& spec, const sim::Simulation& simulation,
+                                     const std::vector<sim::EscapedRay>& rays) {
   design::MeritGeometry g;
   if (spec.ugr) {
     const photometry::PhotometricFrame& frame = simulation.scene().frame;
     std::vector<Vec3> exits;
-    for (const sim::EscapedRay& r : simulation.escaped_rays())
+    for (const sim::EscapedRay& r : rays)
       if (frame.to_local(r.direction).z < 0.0) exits.push_back(frame.to_local(r.origin));
     g.opening = opening_of_exits(exits).opening;
   }
@@ -108,7 +114,15 @@ nlohmann::json limit_tables_json(const design::MeritSpec& spec) {
                          {"to", spec.max_cd_above->to_deg},
                          {"limit", optional(spec.max_cd_above->limit_cd)},
                          {"weight", spec.max_cd_above->weight}};
-  if (spec.ugr) t["ugr"] = {{"limit", optional(spec.ugr->limit)}, {"weight", spec.ugr->weight}};
+  if (spec.ugr)
+    t["ugr"] = {{"limit", optional(spec.ugr->limit)},
+                {"weight", spec.ugr->weight},
+                {"room", {spec.ugr->x_h, spec.ugr->y_h}},
+                {"reflectances",
+                 {100.0 * photometry::kUgrReflectances[spec.ugr->reflectance_set][0],
+                  100.0 * photometry::kUgrReflectances[spec.ugr->reflectance_set][1],
+                  100.0 * photometry::kUgrReflectances[spec.ugr->reflectance_set][2]}},
+                {"view", spec.ugr->view == 1 ? "crosswise" : spec.ugr->view == 2 ? "endwise" : "larger"}};
   if (spec.bug) {
     const auto cls = [](int c) { return c >= 0 ? nlohmann::json(c) : nlohmann::json(nullptr); };
     t["bug"] = {{"b", cls(spec.bug->b)},
@@ -132,6 +146,146 @@ struct Traced {
   std::optional<SimulateResult> result;
   double estimated_error_pct = std::nan("");
 };
+
+// Over MPI ranks (gonio optimize under mpirun): a shared trace's escapes,
+// each rank's photons, as bytes; every rank's put together in the photons'
+// order (the ranks' shares are contiguous ranges of chunks, in rank order),
+// which is the order one process keeps them in.
+template <class T>
+void put(std::string& bytes, const T& value) {
+  bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+template <class T>
+T take(const std::string& bytes, std::size_t& at) {
+  T value{};
+  if (at + sizeof(T) <= bytes.size()) std::memcpy(&value, bytes.data() + at, sizeof(T));
+  at += sizeof(T);
+  return value;
+}
+
+// `origins`: whether the merit needs where the photons leave (UGR's
+// opening); without, they are not sent (48 bytes a photon instead of 72).
+std::vector<sim::EscapedRay> job_escaped_rays(const sim::Ranks& ranks, const std::vector<sim::EscapedRay>& mine,
+                                              bool origins) {
+  const std::size_t each = sizeof(std::uint64_t) * 2 + sizeof(double) * (origins ? 6 : 3);
+  std::string bytes;
+  bytes.reserve(mine.size() * each);
+  for (const sim::EscapedRay& r : mine) {
+    put(bytes, r.photon);
+    if (origins)
+      for (double v : {r.origin.x, r.origin.y, r.origin.z}) put(bytes, v);
+    for (double v : {r.direction.x, r.direction.y, r.direction.z}) put(bytes, v);
+    put(bytes, r.power_units);
+  }
+  const std::vector<std::string> gathered = sim::gather_bytes(ranks, bytes);
+  std::size_t count = 0;
+  for (const std::string& theirs : gathered) count += theirs.size() / each;
+  std::vector<sim::EscapedRay> all;
+  all.reserve(count);
+  for (const std::string& theirs : gathered) {
+    std::size_t at = 0;
+    while (at + each <= theirs.size()) {
+      sim::EscapedRay r;
+      r.photon = take<std::uint64_t>(theirs, at);
+      if (origins) {
+        r.origin.x = take<double>(theirs, at);
+        r.origin.y = take<double>(theirs, at);
+        r.origin.z = take<double>(theirs, at);
+      }
+      r.direction.x = take<double>(theirs, at);
+      r.direction.y = take<double>(theirs, at);
+      r.direction.z = take<double>(theirs, at);
+      r.power_units = take<std::uint64_t>(theirs, at);
+      all.push_back(r);
+    }
+  }
+  // The ranks' shares are contiguous in rank order, so the rays are already
+  // in the photons' order; sorted only where they are not.
+  const auto by_photon = [](const sim::EscapedRay& a, const sim::EscapedRay& b) { return a.photon < b.photon; };
+  if (!std::is_sorted(all.begin(), all.end(), by_photon)) std::stable_sort(all.begin(), all.end(), by_photon);
+  return all;
+}
+
+// A CMA-ES generation over MPI ranks: point i is traced by rank i mod K
+// (`evaluate`, each rank's points `jobs` at a time), and every rank gets
+// every merit back in the points' order, whatever rank made it.
+std::vector<Result<double>> job_batch(const sim::Ranks& ranks, std::size_t points, int jobs,
+                                      const std::function<Result<double>(std::size_t)>& evaluate) {
+  const std::size_t k = static_cast<std::size_t>(ranks.size()), me = static_cast<std::size_t>(ranks.rank());
+  std::vector<std::size_t> mine;
+  for (std::size_t i = me; i < points; i += k) mine.push_back(i);
+  std::vector<std::optional<Result<double>>> made(mine.size());
+  std::atomic<std::size_t> next{0};
+  const auto work = [&] {
+    for (std::size_t j = next++; j < mine.size(); j = next++) made[j].emplace(evaluate(mine[j]));
+  };
+  std::vector<std::thread> helpers;
+  for (int t = 1; t < std::min<int>(std::max(jobs, 1), static_cast<int>(mine.size())); ++t) helpers.emplace_back(work);
+  work();
+  for (std::thread& t : helpers) t.join();
+  std::string bytes;
+  for (std::size_t j = 0; j < mine.size(); ++j) {
+    const Result<double>& m = *made[j];
+    const std::string error = m.ok() ? std::string() : m.error().message;
+    put(bytes, static_cast<std::uint64_t>(mine[j]));
+    put(bytes, static_cast<std::uint8_t>(m.ok() ? 1 : 0));
+    put(bytes, m.ok() ? *m : 0.0);
+    put(bytes, static_cast<std::uint64_t>(error.size()));
+    bytes += error;
+  }
+  std::vector<Result<double>> out(points, Result<double>(make_error("no rank made this evaluation")));
+  for (const std::string& theirs : sim::gather_bytes(ranks, bytes)) {
+    std::size_t at = 0;
+    while (at < theirs.size()) {
+      const std::uint64_t index = take<std::uint64_t>(theirs, at);
+      const bool ok = take<std::uint8_t>(theirs, at) != 0;
+      const double merit = take<double>(theirs, at);
+      const std::uint64_t length = take<std::uint64_t>(theirs, at);
+      const std::string error = theirs.substr(std::min(at, theirs.size()), length);
+      at += length;
+      if (index < points) out[index] = ok ? Result<double>(merit) : Result<double>(make_error(error));
+    }
+  }
+  return out;
+}
+
+// Why a run that found no flat merit still cannot improve the design: every
+// variable of the best at one of its bounds ("pinned": the merit falls on
+// beyond them), or the best is the start itself ("no_improvement": no
+// evaluation of any stage bettered it). Empty where neither, and for a run
+// that Ctrl-C or --max-time cut short (its stopped_by says so).
+struct CannotImprove {
+  std::string reason, kind;
+};
+CannotImprove why_no_improvement(const design::OptimizeResult& run, const std::vector<design::OptimizeVariable>& variables) {
+  if (run.best_values.size() != variables.size() || variables.empty() || run.stopped_by == "cancelled" ||
+      run.stopped_by == "time")
+    return {};
+  bool pinned = true, at_start = true;
+  std::string bounds;
+  for (std::size_t i = 0; i < variables.size(); ++i) {
+    const design::OptimizeVariable& v = variables[i];
+    const double x = run.best_values[i], tol = 1e-9 * (v.max - v.min);
+    const bool at_min = std::abs(x - v.min) <= tol, at_max = std::abs(x - v.max) <= tol;
+    if (!at_min && !at_max) pinned = false;
+    if (std::abs(x - v.value) > tol) at_start = false;
+    bounds += (bounds.empty() ? "" : ", ") + v.name + " = " + format_number(x, 8) +
+              (at_min ? " (its min)" : at_max ? " (its max)" : "");
+  }
+  if (pinned)
+    return {"every variable of the best design lies at a bound (" + bounds + ")" +
+                (at_start ? ", where it started, and no evaluation bettered the start" : "") +
+                ": the merit falls on beyond the bounds, so the optimiser cannot improve the design within them; "
+                "widen the bounds",
+            "pinned"};
+  if (at_start)
+    return {"no evaluation bettered the start (" + bounds + ", merit " + format_number(run.start_merit, 6) + " in " +
+                std::to_string(run.evaluations) +
+                " evaluations): the start is a local minimum at these steps and photons, or the evaluations "
+                "were too few to leave it",
+            "no_improvement"};
+  return {};
+}
 
 }  // namespace
 
@@ -178,8 +332,14 @@ Status write_history_chart(const std::string& path, const std::vector<design::Ev
   return io::write_figure(path, figure);
 }
 
-Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, const OptimizeRunHooks& hooks,
+Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, const OptimizeRunHooks& given_hooks,
                                            std::chrono::steady_clock::time_point start, bool* usage) {
+  // Under MPI every rank runs what follows in step; rank 0 alone tells and writes.
+  const sim::Ranks* ranks = options.ranks && options.ranks->distributed() ? options.ranks : nullptr;
+  const bool lead = !ranks || ranks->rank() == 0;
+  const std::string rank_tag = ranks ? "r" + std::to_string(ranks->rank()) + "-" : std::string();
+  const OptimizeRunHooks no_hooks;
+  const OptimizeRunHooks& hooks = lead ? given_hooks : no_hooks;
   const std::string& design_path = options.design_path;
   std::string target_path = options.target_path;
   const std::string& out_dir = options.out_dir;
@@ -257,6 +417,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   const design::MeritGrid grid = design::merit_grid(spec);
   Result<design::MeritTarget> target = design::merit_target(grid, target_file->distribution);
   if (!target.ok()) return make_error(target_path + ": " + target.error().message);
+  design::set_target_ugr(spec, grid, &target.value());  // the [merit] ugr table's room, reflectances, view
   if (Status s = design::check_merit_terms(spec, *target, design.path, target_path); !s.ok())
     return make_error(to_string(s.error()));
   const std::size_t limit_count = design::merit_limit_names(spec).size();
@@ -290,7 +451,9 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       if (Status s = io::write_file_atomic(to.string(), *bytes); !s.ok()) return make_error(to_string(s.error()));
     }
   }
-  const std::string evaluation_path = (fs::path(out_dir) / ".evaluation.design.toml").string();
+  const std::string evaluation_path =
+      (fs::path(out_dir) / (lead ? std::string(".evaluation.design.toml") : ".evaluation-" + rank_tag + "main.design.toml"))
+          .string();
   // Evaluations run `jobs` at a time (CMA-ES): each writes its own design file.
   const long long cores = std::max(1u, std::thread::hardware_concurrency());
   const long long jobs =
@@ -302,7 +465,10 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
 
   // One trace of the design at `values`: the merit of its escaped photons.
   const auto trace = [&](const std::vector<double>& values, std::uint64_t photons, std::uint64_t trace_seed,
-                         const std::string& path, bool files_out) {
+                         const std::string& path, bool files_out, bool shared = true) {
+    // shared: under MPI the ranks share the trace's photons (every rank calls
+    // it at once); not: this rank traces it alone (its share of a generation).
+    const bool share = shared && ranks != nullptr;
     Traced t;
     design::Design d = design;
     for (std::size_t i = 0; i < variables.size(); ++i)
@@ -332,6 +498,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     }
     SimulatePlan* plan = &t.plan.emplace(std::move(planned.value()));
     plan->progressive.simulation.capture_escaped_photons = photons;
+    if (share) plan->progressive.simulation.ranks = ranks;
     SimulateHooks sim_hooks;
     sim_hooks.on_message = [&](Severity severity, const std::string& text) {
       if (severity == Severity::Error && t.error.empty()) t.error = text;
@@ -344,10 +511,13 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
             cached_resampler(plan->progressive.simulation.face_size, scene.frame, plan->grid, std::string()));
       };
     sim_hooks.on_traced = [&](const ProgressiveOutcome& run) {
+      if (share) return;  // the merit of every rank's photons, below
       double lor = 0.0;
-      const std::vector<design::MeritPhoton> escaped = escaped_photons(run.simulation, &lor);
+      const std::vector<design::MeritPhoton> escaped =
+          escaped_photons(run.simulation, run.simulation.escaped_rays(), &lor);
       const std::vector<double> binned = design::bin_photons(grid, escaped);
-      t.merit = design::evaluate_merit(spec, grid, *target, binned, lor, merit_geometry(spec, run.simulation));
+      t.merit = design::evaluate_merit(spec, grid, *target, binned, lor,
+                                       merit_geometry(spec, run.simulation, run.simulation.escaped_rays()));
       if (progress && !files_out && t.merit->error.empty())
         progress->traced(values, photons, trace_seed, binned, *t.merit);
       if (!t.merit->error.empty()) {
@@ -357,7 +527,20 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       t.estimated_error_pct = run.estimated_rms_error_pct;
     };
     t.result = simulate(*plan, sim_hooks, start);
-    if (!t.result && t.error.empty()) t.error = "the trace failed";
+    if (share && t.result) {  // every rank: the merit of the whole job's escapes
+      const sim::Simulation& simulation = t.result->run.simulation;
+      const std::vector<sim::EscapedRay> rays = job_escaped_rays(*ranks, simulation.escaped_rays(), spec.ugr.has_value());
+      double lor = 0.0;
+      const std::vector<double> binned = design::bin_photons(grid, escaped_photons(simulation, rays, &lor));
+      t.merit = design::evaluate_merit(spec, grid, *target, binned, lor, merit_geometry(spec, simulation, rays));
+      if (progress && !files_out && t.merit->error.empty())
+        progress->traced(values, photons, trace_seed, binned, *t.merit);
+      if (!t.merit->error.empty()) {
+        t.error = t.merit->error;
+        t.merit.reset();
+      }
+      t.estimated_error_pct = t.result->run.estimated_rms_error_pct;
+    }
     if (!t.result) t.merit.reset();
     if (!t.result && t.error.empty()) t.error = "the trace failed";
     return t;
@@ -449,7 +632,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     std::optional<design::MeritValue> m;
     if (jobs > 1) {
       const std::string path =
-          (fs::path(out_dir) / (".evaluation-" + std::to_string(evaluations_made++) + ".design.toml")).string();
+          (fs::path(out_dir) / (".evaluation-" + rank_tag + std::to_string(evaluations_made++) + ".design.toml")).string();
       Traced t = trace(values, photons, trace_seed, path, false);
       std::error_code ignored_own;
       fs::remove(path, ignored_own);
@@ -471,17 +654,51 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       return m.ok() ? limit_values(*m) : std::vector<double>(limit_count, 1.0);
     };
   }
-  progress.emplace((fs::path(out_dir) / "state.json").string(), design_path, target_path,
-                   design::to_string(method), max_evals, max_time, variables, spec, grid, *target);
+  if (lead)
+    progress.emplace((fs::path(out_dir) / "state.json").string(), design_path, target_path,
+                     design::to_string(method), max_evals, max_time, variables, spec, grid, *target);
+  if (ranks) {
+    // The job's clock and its stop (rank 0's: --max-time, Ctrl-C) for every rank.
+    oo.elapsed = [ranks](double local_s) { return ranks->gather(local_s).front(); };
+    if (method == design::OptimizeMethod::Cmaes)
+      oo.batch = [&](const std::vector<std::vector<double>>& points, std::uint64_t photons,
+                     const std::vector<std::uint64_t>& seeds) {
+        return job_batch(*ranks, points.size(), static_cast<int>(jobs), [&](std::size_t i) -> Result<double> {
+          const std::string path =
+              (fs::path(out_dir) / (".evaluation-" + rank_tag + std::to_string(evaluations_made++) + ".design.toml"))
+                  .string();
+          Traced t = trace(points[i], photons, seeds[i], path, false, false);
+          std::error_code ignored_own;
+          fs::remove(path, ignored_own);
+          if (!t.merit) return make_error(t.error);
+          return t.merit->merit;
+        });
+      };
+  }
   const auto on_evaluation = [&](const design::EvaluationRecord& r) {
-    progress->evaluation(r);
-    return hooks.on_evaluation ? hooks.on_evaluation(r) : true;
+    if (progress) progress->evaluation(r);
+    const bool go = hooks.on_evaluation ? hooks.on_evaluation(r) : true;
+    if (!ranks) return go;
+    // Every rank must have the same merit, to the bit: a rank with another
+    // would drive its copy of the method to other points and the job would
+    // hang in its next collective. Stop the job instead, saying so.
+    const std::vector<double> merits = ranks->gather(r.merit);
+    for (int k = 1; k < ranks->size(); ++k)
+      if (std::memcmp(&merits[static_cast<std::size_t>(k)], &merits[0], sizeof(double)) != 0) {
+        if (hooks.on_message)
+          hooks.on_message(Severity::Error, "optimize: evaluation " + std::to_string(r.index) + ": " +
+                                                ranks->name_of(k) + " has the merit " +
+                                                format_number(merits[static_cast<std::size_t>(k)], 17) + ", rank 0 " +
+                                                format_number(merits[0], 17) + ": the ranks diverged; stopping the job");
+        ranks->abort(1);
+      }
+    return ranks->gather(static_cast<std::uint64_t>(go ? 1 : 0)).front() != 0;
   };
   Result<design::OptimizeResult> run = design::optimize(variables, merit, oo, on_evaluation);
   std::error_code ignored;
   fs::remove(evaluation_path, ignored);
   if (!run.ok()) {
-    progress->failed(design.path + ": " + run.error().message);
+    if (progress) progress->failed(design.path + ": " + run.error().message);
     return make_error(design.path + ": " + run.error().message);
   }
   // An optimisation that cannot improve: every evaluation of the first stage
@@ -502,9 +719,16 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
                        format_number(lo, 6) + (hi > lo ? " … " + format_number(hi, 6) : std::string()) +
                        ", within the merit's noise floor (" + format_number(floor, 3) +
                        "): the variables do not move the merit, so the optimiser cannot improve the design";
-      if (hooks.on_message) hooks.on_message(Severity::Warning, design.path + ": " + cannot_improve);
     }
   }
+  std::string cannot_improve_kind = cannot_improve.empty() ? std::string() : "flat";
+  if (cannot_improve.empty()) {
+    const CannotImprove why = why_no_improvement(*run, variables);
+    cannot_improve = why.reason;
+    cannot_improve_kind = why.kind;
+  }
+  if (!cannot_improve.empty() && hooks.on_message)
+    hooks.on_message(Severity::Warning, design.path + ": " + cannot_improve);
 
   // The best design, traced with an independent seed into DIR.
   for (std::size_t i = 0; i < variables.size(); ++i)
@@ -512,7 +736,21 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       return make_error(to_string(s.error()));
   const std::string best_path = (fs::path(out_dir) / (name + ".design.toml")).string();
   const std::uint64_t final_seed = static_cast<std::uint64_t>(seed) + 7'000'003ULL;
-  Traced final = trace(run->best_values, static_cast<std::uint64_t>(final_photons), final_seed, best_path, true);
+  const std::string own_best_path =
+      lead ? best_path : (fs::path(out_dir) / (".best-" + rank_tag + "main.design.toml")).string();
+  Traced final = trace(run->best_values, static_cast<std::uint64_t>(final_photons), final_seed, own_best_path, true);
+  if (!lead) {  // the other ranks of an MPI job: their share of the final trace traced, nothing to write
+    std::error_code ignored_best;
+    fs::remove(own_best_path, ignored_best);
+    if (!final.result || !final.merit) return make_error("the best design's final trace failed: " + final.error);
+    OptimizeRunOutcome others;
+    others.lead = false;
+    others.variables = variables;
+    others.run = std::move(run.value());
+    others.cannot_improve = cannot_improve;
+    others.cannot_improve_kind = cannot_improve_kind;
+    return others;
+  }
   if (!final.result || !final.result->files || !final.merit) {
     progress->failed("the best design's final trace failed: " + final.error);
     return make_error("the best design's final trace failed: " + final.error);
@@ -591,6 +829,9 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
         {"estimated_rms_error_pct", json_number(final.estimated_error_pct)}}},
       {"files", {best_path, history_path}},
       {"cannot_improve", cannot_improve.empty() ? nlohmann::json(nullptr) : nlohmann::json(cannot_improve)},
+      {"cannot_improve_kind",
+       cannot_improve_kind.empty() ? nlohmann::json(nullptr) : nlohmann::json(cannot_improve_kind)},
+      {"ranks", ranks ? ranks->size() : 1},
       {"wall_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
   OptimizeRunOutcome out;
   // The best design's geometry (glTF; STEP through gonio-cad where built),
@@ -656,6 +897,8 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     return make_error(to_string(s.error()));
   progress->finished(report["optimize"]);
   out.variables = variables;
+  out.cannot_improve = cannot_improve;
+  out.cannot_improve_kind = cannot_improve_kind;
   out.run = std::move(run.value());
   out.final_merit = fm;
   out.final_estimated_error_pct = final.estimated_error_pct;

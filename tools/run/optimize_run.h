@@ -50,6 +50,13 @@ struct OptimizeRunOptions {
   bool evaluate_only = false;
   std::vector<std::vector<double>> evaluate;
   std::uint64_t evaluate_photons = 0;
+  // The MPI job to run on (gonio optimize under mpirun; null: this process
+  // alone). Every rank calls optimize_design with the same options: a
+  // one-point evaluation's photons are shared by the ranks as gonio simulate
+  // shares them, a CMA-ES generation's points are dealt to the ranks (point i
+  // to rank i mod K, then put back in the points' order), and rank 0 alone
+  // writes the files; the same history and best design for any rank count.
+  const sim::Ranks* ranks = nullptr;
 };
 
 struct OptimizeRunHooks {
@@ -82,6 +89,15 @@ struct OptimizeRunOutcome {
   bool scanned = false;                  // --scan or evaluate: no optimisation
   std::vector<design::MeritValue> merits;  // evaluate: the merit at each
   std::uint64_t evaluate_photons = 0;      // evaluate: the photons of each trace
+  // Under MPI: false on the ranks other than 0, which write nothing and
+  // hold only `variables`, `run` and `cannot_improve`.
+  bool lead = true;
+  // Why the run cannot improve the design (empty: it can): the reason, and
+  // its kind, "no_improvement" (no evaluation bettered the start),
+  // "pinned" (every variable of the best at a bound) or "flat" (the merit
+  // within its noise floor everywhere stage 1 looked); report.json's
+  // optimize.cannot_improve and cannot_improve_kind.
+  std::string cannot_improve, cannot_improve_kind;
 };
 
 // One evaluation as history.json holds it: index, stage (1-based, or

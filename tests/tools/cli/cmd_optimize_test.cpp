@@ -149,7 +149,11 @@ TEST(OptimizeCli, TheMeritTableNamesItsTargetAndTerms) {
   const fs::path out = dir / "o";
   test::ProcessResult r = gonio({"optimize", (dir / "m.design.toml").string(), "--out", out.string(), "--stages", "1",
                                  "--max-evals", "6", "--gamma-step", "5", "--final-photons", "20000"});
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  // Six evaluations at 760 photons: their merits (13.7 … 17.5) lie within
+  // the merit's noise floor at those photons (7.5), so the run says it
+  // cannot improve (exit 3, kind flat); its files are written all the same.
+  ASSERT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_NE(r.out.find("optimize: cannot improve (flat): exit 3"), std::string::npos) << r.out;
   // 19 nodes (γ every 10°, one C column) × 40 photons.
   EXPECT_NE(r.out.find("merit grid 19 nodes (smooth), 760 photons in stage 1"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(out / "t" / "truth.design.ies"));
@@ -292,14 +296,67 @@ TEST(OptimizeCli, TermsItCannotComputeAndRunsThatCannotImprove) {
   write(dir / "flat.design.toml", design_text("-1.5") + "[materials.spare]\nreflectance = { value = 0.5, min = 0.1, max = 0.9 }\n");
   r = gonio({"optimize", (dir / "flat.design.toml").string(), "--target", target, "--out", (dir / "flat").string(),
              "--stages", "1", "--max-evals", "6", "--gamma-step", "5", "--final-photons", "20000"});
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.exit_code, 3) << r.err;  // wrote every file, could not improve (docs/commands/optimize.md)
   EXPECT_NE(r.err.find("the variables do not move the merit, so the optimiser cannot improve the design"),
             std::string::npos)
       << r.err;
   const nlohmann::json flat = nlohmann::json::parse(test::read_file(dir / "flat" / "report.json")).at("optimize");
   EXPECT_FALSE(flat.at("improvable").get<bool>());
   EXPECT_TRUE(flat.at("cannot_improve").is_string());
+  EXPECT_EQ(flat.at("cannot_improve_kind").get<std::string>(), "flat");
   EXPECT_TRUE(all.at("improvable").get<bool>());
+  EXPECT_TRUE(all.at("cannot_improve_kind").is_null());
+}
+
+// The other runs that cannot improve, each with its reason, every file
+// written and exit 3: a start already at the target's conic constant, from
+// which the first steps (half the range each way) only worsen the merit; and
+// a start at a bound beyond which the target lies (the best stays pinned
+// there). An improving run of the same design exits 0.
+TEST(OptimizeCli, RunsThatCannotImproveSayWhyAndExitThree) {
+  test::TempDir dir;
+  write_emitter(dir / "up.ies");
+  write(dir / "truth.design.toml", design_text("-1.5"));
+  ASSERT_EQ(gonio({"simulate", (dir / "truth.design.toml").string(), "--out", (dir / "t").string(), "--photons",
+                   "300000", "--iterations", "1", "--gamma-step", "2.5", "--format", "ies", "--no-cache"})
+                .exit_code,
+            0);
+  const std::string target = (dir / "t" / "truth.design.ies").string();
+  struct Case {
+    const char* name;
+    const char* conic;
+    const char* kind;
+    const char* says;
+    int exit_code;
+  };
+  for (const Case& c : {Case{"at", "{ value = -1.5, min = -2.5, max = -0.5 }", "no_improvement",
+                             "no evaluation bettered the start (", 3},
+                        Case{"pinned", "{ value = -2, min = -3, max = -2 }", "pinned",
+                             "conic = -2 (its max)", 3},
+                        Case{"moves", "{ value = -2.5, min = -3, max = -1 }", "", "", 0}}) {
+    std::string text = design_text(c.conic);
+    write(dir / (std::string(c.name) + ".design.toml"), text);
+    const fs::path out = dir / c.name;
+    const test::ProcessResult r =
+        gonio({"optimize", (dir / (std::string(c.name) + ".design.toml")).string(), "--target", target, "--out",
+               out.string(), "--stages", "1", "--max-evals", "3", "--gamma-step", "5", "--final-photons", "20000",
+               "--no-step", "--photons-per-bin", "200"});
+    EXPECT_EQ(r.exit_code, c.exit_code) << c.name << "\n" << r.out << r.err;
+    for (const std::string& f : {std::string(c.name) + ".design.toml", std::string(c.name) + ".ies", std::string("report.json"),
+                                std::string("history.json"), std::string("compare.json")})
+      EXPECT_TRUE(fs::exists(out / f)) << c.name << ": " << f;
+    const nlohmann::json report = nlohmann::json::parse(test::read_file(out / "report.json")).at("optimize");
+    if (c.exit_code == 0) {
+      EXPECT_TRUE(report.at("improvable").get<bool>()) << report.at("cannot_improve");
+      continue;
+    }
+    EXPECT_FALSE(report.at("improvable").get<bool>()) << c.name;
+    EXPECT_EQ(report.at("cannot_improve_kind").get<std::string>(), c.kind) << c.name;
+    EXPECT_NE(report.at("cannot_improve").get<std::string>().find(c.says), std::string::npos)
+        << report.at("cannot_improve");
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find(std::string("optimize: cannot improve (") + c.kind + "): exit 3"), std::string::npos) << r.out;
+  }
 }
 
 }  // namespace
