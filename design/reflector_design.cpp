@@ -196,7 +196,8 @@ std::vector<float> die_rays(const photometry::Distribution& emitter_in, double w
 
 photometry::Distribution feedback_target(const photometry::Distribution& design_target_in,
                                          const photometry::Distribution& target_in,
-                                         const photometry::Distribution& traced_in, double step_deg) {
+                                         const photometry::Distribution& traced_in, double step_deg,
+                                         const std::function<double(double)>& share) {
   const photometry::Distribution design_target = photometry::expand_symmetry(design_target_in);
   const photometry::Distribution target = photometry::expand_symmetry(target_in);
   const photometry::Distribution traced = photometry::expand_symmetry(traced_in);
@@ -228,6 +229,7 @@ photometry::Distribution feedback_target(const photometry::Distribution& design_
     const double t_bar = hi > lo ? sum / weight : rotational_intensity(target, nodes[j]);
     const double p = s * rotational_intensity(traced, nodes[j]);
     if (t_bar > 0.0 && p > 0.0) ratio[j] = std::clamp(t_bar / p, 0.5, 2.0);
+    if (share) ratio[j] = std::pow(ratio[j], std::clamp(share(nodes[j]), 0.0, 1.0));
   }
   auto ratio_at = [&](double g) {
     if (nodes.size() < 2) return 1.0;
@@ -257,6 +259,32 @@ photometry::Distribution feedback_target(const photometry::Distribution& design_
   if (a > 0.0 && b > 0.0)
     for (double& v : candela) v *= b / a;
   return rotational_distribution(gamma, candela);
+}
+
+double design_share(const photometry::Distribution& emitter, const photometry::Distribution& target, double gamma_deg,
+                    double from_deg, double to_deg, bool direct_above_to, double target_scale) {
+  const double t = target_scale * rotational_intensity(target, gamma_deg);
+  if (!(t > 0.0)) return 0.0;
+  const bool direct = gamma_deg < from_deg || (direct_above_to && gamma_deg > to_deg);
+  const double d = direct ? rotational_intensity(emitter, gamma_deg) : 0.0;
+  return std::clamp(1.0 - d / t, 0.0, 1.0);
+}
+
+double in_target_scale(const photometry::Distribution& target_in, const photometry::Distribution& traced_in) {
+  const photometry::Distribution target = photometry::expand_symmetry(target_in);
+  const photometry::Distribution traced = photometry::expand_symmetry(traced_in);
+  std::vector<double> t(kFluxMapSamples), p(kFluxMapSamples);
+  double peak = 0.0;
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i) {
+    const double g = 180.0 * static_cast<double>(i) / static_cast<double>(kFluxMapSamples - 1);
+    t[i] = rotational_intensity(target, g);
+    p[i] = rotational_intensity(traced, g);
+    peak = std::max(peak, t[i]);
+  }
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i)
+    if (!(t[i] > 1e-6 * peak)) t[i] = p[i] = 0.0;
+  const double tf = cumulative_flux(t).back(), pf = cumulative_flux(p).back();
+  return tf > 0.0 && pf > 0.0 ? tf / pf : 1.0;
 }
 
 double profile_change(const PolarProfile& a, const PolarProfile& b) {
