@@ -270,6 +270,16 @@ double design_share(const photometry::Distribution& emitter, const photometry::D
   return std::clamp(1.0 - d / t, 0.0, 1.0);
 }
 
+double away_from_steps(const photometry::Distribution& target, double peak_cd, double gamma_deg, double band_deg,
+                       double jump) {
+  const int n = static_cast<int>(std::ceil(4.0 * band_deg));  // pairs starting every 0.5° over [γ − band − ½, γ + band − ½]
+  for (int i = 0; i <= n; ++i) {
+    const double a = std::clamp(gamma_deg - band_deg + 0.5 * i - 0.5, 0.0, 179.0);
+    if (std::abs(rotational_intensity(target, a + 1.0) - rotational_intensity(target, a)) > jump * peak_cd) return 0.0;
+  }
+  return 1.0;
+}
+
 double in_target_scale(const photometry::Distribution& target_in, const photometry::Distribution& traced_in) {
   const photometry::Distribution target = photometry::expand_symmetry(target_in);
   const photometry::Distribution traced = photometry::expand_symmetry(traced_in);

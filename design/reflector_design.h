@@ -133,6 +133,14 @@ photometry::Distribution feedback_target(const photometry::Distribution& design_
 double design_share(const photometry::Distribution& emitter_expanded, const photometry::Distribution& target_expanded,
                     double gamma_deg, double from_deg, double to_deg, bool direct_above_to, double target_scale);
 
+// 1 where the target (averaged over C) has no step within `band_deg` of γ,
+// 0 where it has one: a change of more than `jump` times `peak_cd` between
+// two γ 1° apart. An extended source blurs a step over a few degrees, and a
+// correction there asks the map for light on the step's wrong side, where
+// the profile is most sensitive to it (docs/design.md, "Targets with steps").
+double away_from_steps(const photometry::Distribution& target_expanded, double peak_cd, double gamma_deg,
+                       double band_deg = 3.0, double jump = 0.1);
+
 // The factor that brings `traced`'s flux where `target` has light (the γ
 // where the target averaged over C is above 10⁻⁶ of its peak) to the
 // target's flux there: a trace scaled by it is compared for the shape of its

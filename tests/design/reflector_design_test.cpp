@@ -279,6 +279,42 @@ TEST(ReflectorFeedback, InTargetScaleIgnoresStrayLight) {
   EXPECT_EQ(in_target_scale(rotational_distribution(g, t), rotational_distribution(g, std::vector<double>(181, 0.0))), 1.0);
 }
 
+// Steps of the target: found within the band (3°) of a jump of more than
+// 10 % of the peak over 1°, not elsewhere; the exact cases of the feedback
+// table (docs/design.md: an emitter 100 cd·sin² from the cone's edge) have
+// none, so that the correction there is the plain ratio's.
+TEST(ReflectorFeedback, StepsAreFoundWhereTheTargetJumpsAndNowhereElse) {
+  std::vector<double> g, c;
+  for (int i = 0; i <= 3600; ++i) {
+    const double gd = 0.05 * i;
+    g.push_back(gd);
+    c.push_back(gd < 35.0 ? 50.0 + 0.1 * gd : gd < 40.0 ? 15.0 : 0.0);  // the corpus LED's target's shape
+  }
+  const photometry::Distribution stepped = photometry::expand_symmetry(rotational_distribution(g, c));
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 30.0), 1.0);
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 32.0), 0.0);
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 37.5), 0.0);
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 43.0), 0.0);
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 44.0), 1.0);
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 10.0), 1.0);
+  struct Case {
+    double k, c_deg, from;
+  };
+  for (const Case& k : {Case{-1, 180, 100}, Case{-0.5, 90, 70}, Case{0.5, -90, 60}, Case{2, -360, 140}}) {
+    std::vector<double> eg, ec;
+    for (int i = 0; i <= 360; ++i) {
+      const double gd = 0.5 * i;
+      eg.push_back(gd);
+      ec.push_back(gd < k.from ? 0.0 : 100.0 * std::pow(std::sin(kPi / 2 * (gd - k.from) / (180.0 - k.from)), 2));
+    }
+    const photometry::Distribution target =
+        photometry::expand_symmetry(linear_map_target(rotational_distribution(eg, ec), k.k, k.c_deg * kDeg, k.from, 180.0));
+    double peak = 0.0;
+    for (double v : target.candela) peak = std::max(peak, v);
+    for (int gd = 0; gd <= 180; ++gd) EXPECT_EQ(away_from_steps(target, peak, gd), 1.0) << "k " << k.k << " at " << gd;
+  }
+}
+
 TEST(ReflectorFeedback, ProfileChange) {
   PolarProfile a{{0.1, 0.2}, {1.0, 2.0}}, b{{0.1, 0.2}, {1.01, 1.98}};
   EXPECT_NEAR(profile_change(a, b), 0.01, 1e-12);

@@ -528,8 +528,11 @@ int design_lens(const DesignRun& in, const ArgParser& p, std::chrono::steady_clo
   const photometry::Distribution emitter_x = photometry::expand_symmetry(emitter->distribution);
   const photometry::Distribution target_x = photometry::expand_symmetry(*target);
   const double scale = d->target_scale;  // the first design's: the user's target's
+  double target_peak = 0.0;
+  for (double v : target->candela) target_peak = std::max(target_peak, v);
   const std::function<double(double)> share = [&](double g) {
-    return design::design_share(emitter_x, target_x, g, 0.0, o.to_deg, true, scale);
+    return design::design_share(emitter_x, target_x, g, 0.0, o.to_deg, true, scale) *
+           design::away_from_steps(target_x, target_peak, g);
   };
   if (const int failed =
           feedback_loop<design::LensDesign>(*d, setup, iterations, true, share, write, redesign, profile_of, t, f);
@@ -634,8 +637,11 @@ int design_reflector(const DesignRun& in, const ArgParser& p, std::chrono::stead
   const photometry::Distribution emitter_x = photometry::expand_symmetry(emitter->distribution);
   const photometry::Distribution target_x = photometry::expand_symmetry(*target);
   const double scale = d->target_scale;  // the first design's: the user's target's
+  double target_peak = 0.0;
+  for (double v : target->candela) target_peak = std::max(target_peak, v);
   const std::function<double(double)> share = [&](double g) {
-    return design::design_share(emitter_x, target_x, g, o.from_deg, o.to_deg, false, scale);
+    return design::design_share(emitter_x, target_x, g, o.from_deg, o.to_deg, false, scale) *
+           design::away_from_steps(target_x, target_peak, g);
   };
   if (const int failed =
           feedback_loop<design::ReflectorDesign>(*d, setup, iterations, false, share, write, redesign, profile_of, t, f);
