@@ -187,7 +187,7 @@ struct DesignRun {
   long long nodes = 61, photons = 2'000'000, seed = 1, threads = 0, feedback = -1, die_rays = 200'000;
   bool absolute = false;
   bool ray_file = false;  // --emitter is a TM-25 ray file
-  std::string correction = "part";  // --correction: part or all
+  std::string correction = "part";  // --correction: part, part-steps or all
 };
 
 // The emitter as the design file names it (copy_emitter).
@@ -319,8 +319,9 @@ struct FeedbackOutcome {
 // flux-normalised, or with `keep_by_beam` scaled on the target's light
 // (Traced::cmp_beam). `write` writes a design's file for an iteration.
 //
-// `share`: the part's share of the target at γ (design::design_share), with
-// --correction part the power the ratio is taken to; all: the ratio as it is.
+// `share`: the power the ratio is taken to at γ (--correction part: the
+// part's share of the target, design::design_share; part-steps: that, and 0
+// near the target's steps, design::away_from_steps); all: the ratio as it is.
 template <class D>
 int feedback_loop(D& d, const TraceSetup& setup, long long iterations, bool keep_by_beam,
                   const std::function<double(double)>& share,
@@ -358,7 +359,7 @@ int feedback_loop(D& d, const TraceSetup& setup, long long iterations, bool keep
     // T_{n+1} = T_n · T/traced, renormalised (design::feedback_target).
     photometry::Distribution next =
         design::feedback_target(design_target, setup.target, t.file->distribution, 0.01,
-                                setup.in.correction == "part" ? share : std::function<double(double)>{});
+                                setup.in.correction != "all" ? share : std::function<double(double)>{});
     Result<D> again = redesign(next);
     if (!again.ok()) {
       out.stopped = "iteration " + std::to_string(iteration + 1) + ": " + again.error().message;
@@ -380,8 +381,10 @@ nlohmann::json feedback_json(const DesignRun& in, long long iterations, const Fe
   return {{"iterations", iterations},
           {"kept", f.kept},
           {"kept_by", keep_by_beam ? "rms_relative_beam" : "rms_relative_c_mean"},
-          {"correction", in.correction == "part"
-                             ? "multiplicative on the part's own light: T_{n+1} = T_n * (T/traced)^share, renormalised"
+          {"correction", in.correction == "part" ? "multiplicative on the part's own light: T_{n+1} = T_n * (T/traced)^share, renormalised"
+                         : in.correction == "part-steps"
+                             ? "multiplicative on the part's own light away from the target's steps: T_{n+1} = T_n * "
+                               "(T/traced)^share, share 0 within 3 deg of a step, renormalised"
                              : "multiplicative: T_{n+1} = T_n * T/traced, renormalised"},
           {"stopped", f.stopped.empty() ? nlohmann::json() : nlohmann::json(f.stopped)},
           {"per_iteration", f.history}};
@@ -532,7 +535,7 @@ int design_lens(const DesignRun& in, const ArgParser& p, std::chrono::steady_clo
   for (double v : target->candela) target_peak = std::max(target_peak, v);
   const std::function<double(double)> share = [&](double g) {
     return design::design_share(emitter_x, target_x, g, 0.0, o.to_deg, true, scale) *
-           design::away_from_steps(target_x, target_peak, g);
+           (in.correction == "part-steps" ? design::away_from_steps(target_x, target_peak, g) : 1.0);
   };
   if (const int failed =
           feedback_loop<design::LensDesign>(*d, setup, iterations, true, share, write, redesign, profile_of, t, f);
@@ -641,7 +644,7 @@ int design_reflector(const DesignRun& in, const ArgParser& p, std::chrono::stead
   for (double v : target->candela) target_peak = std::max(target_peak, v);
   const std::function<double(double)> share = [&](double g) {
     return design::design_share(emitter_x, target_x, g, o.from_deg, o.to_deg, false, scale) *
-           design::away_from_steps(target_x, target_peak, g);
+           (in.correction == "part-steps" ? design::away_from_steps(target_x, target_peak, g) : 1.0);
   };
   if (const int failed =
           feedback_loop<design::ReflectorDesign>(*d, setup, iterations, false, share, write, redesign, profile_of, t, f);
@@ -740,9 +743,9 @@ int run_design(const Args& args) {
   p.option("die", &in.die, "WxH",
            "an extended emitter: a die of W × H mm in the XY plane, every point emitting the emitter's distribution "
            "(written as a ray file, emitter.tm25ray)");
-  p.option("correction", &in.correction, "part|all",
-           "feedback: part corrects the target only where it is the part's own light, by that share (default); all "
-           "corrects it everywhere (before 2026-12-07)");
+  p.option("correction", &in.correction, "part|part-steps|all",
+           "feedback: part corrects the target only where it is the part's own light, by that share (default); "
+           "part-steps also not within 3° of a step of the target; all corrects it everywhere (before 2026-12-07)");
   p.option("die-rays", &in.die_rays, 1000, 100'000'000, "N", "rays of the die's ray file (default 200000)");
   p.option("feedback", &in.feedback, 0, 20, "N",
            "design again N times, each for the target corrected by the trace (default 3 for an extended emitter: a ray "
@@ -780,8 +783,8 @@ int run_design(const Args& args) {
     print_usage_error("design", p, "--name must be a plain name (no / \\ * ? [ ])");
     return kExitUsage;
   }
-  if (in.correction != "part" && in.correction != "all") {
-    print_usage_error("design", p, "--correction must be part or all");
+  if (in.correction != "part" && in.correction != "part-steps" && in.correction != "all") {
+    print_usage_error("design", p, "--correction must be part, part-steps or all");
     return kExitUsage;
   }
   in.ray_file = io::looks_like_tm25(read_prefix(in.emitter_path));

@@ -151,7 +151,7 @@ TEST(DesignLensCli, TargetsNoLensCanGiveAndBadOptions) {
   EXPECT_FALSE(fs::exists(dir / "a" / "lens.design.toml"));
   for (const std::vector<std::string>& bad :
        {std::vector<std::string>{"--cone", "10,60"}, {"--cone", "0,95"}, {"--map", "sideways"},
-        {"--target", "linear:0.5,10"}, {"--ior", "0.9"}}) {
+        {"--target", "linear:0.5,10"}, {"--ior", "0.9"}, {"--correction", "sideways"}, {"--die", "2x"}}) {
     std::vector<std::string> args = {"design", "lens", "--emitter", emitter.string(), "--target", "uniform:0,30",
                                      "--out", (dir / "b").string()};
     for (std::size_t i = 0; i < bad.size(); i += 2) {
