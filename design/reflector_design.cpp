@@ -261,6 +261,57 @@ photometry::Distribution feedback_target(const photometry::Distribution& design_
   return rotational_distribution(gamma, candela);
 }
 
+photometry::Distribution feedback_target_cumulative(const photometry::Distribution& design_target_in,
+                                                    const photometry::Distribution& target_in,
+                                                    const photometry::Distribution& traced_in, double step_deg) {
+  const photometry::Distribution dn = photometry::expand_symmetry(design_target_in);
+  const photometry::Distribution t = photometry::expand_symmetry(target_in);
+  const photometry::Distribution p = photometry::expand_symmetry(traced_in);
+  std::vector<double> fd(kFluxMapSamples), ft(kFluxMapSamples), fp(kFluxMapSamples);
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i) {
+    const double g = 180.0 * static_cast<double>(i) / static_cast<double>(kFluxMapSamples - 1);
+    fd[i] = rotational_intensity(dn, g);
+    ft[i] = rotational_intensity(t, g);
+    fp[i] = rotational_intensity(p, g);
+  }
+  const std::vector<double> cd = cumulative_flux(fd), ct = cumulative_flux(ft), cp = cumulative_flux(fp);
+  std::vector<double> gamma, candela;
+  const int n = static_cast<int>(std::lround(180.0 / step_deg));
+  for (int i = 0; i <= n; ++i) gamma.push_back(180.0 * i / n);
+  if (!(cd.back() > 0.0 && ct.back() > 0.0 && cp.back() > 0.0)) {
+    for (double g : gamma) candela.push_back(rotational_intensity(dn, g));
+    return rotational_distribution(gamma, candela);
+  }
+  // The moved quantiles γ_N(u) on a fine grid of u, increasing.
+  const int m = 20000;
+  std::vector<double> u(m + 1), moved(m + 1);
+  for (int k = 0; k <= m; ++k) {
+    const double q = static_cast<double>(k) / m;
+    u[static_cast<std::size_t>(k)] = q;
+    const double g = gamma_at_cumulative(cd, q * cd.back()) + gamma_at_cumulative(ct, q * ct.back()) -
+                     gamma_at_cumulative(cp, q * cp.back());
+    moved[static_cast<std::size_t>(k)] =
+        std::clamp(k == 0 ? g : std::max(g, moved[static_cast<std::size_t>(k - 1)]), 0.0, kPi);
+  }
+  // The cumulative share at γ: the largest u whose moved quantile is ≤ γ (interpolated).
+  auto share_below = [&](double g) {
+    const auto it = std::upper_bound(moved.begin(), moved.end(), g);
+    if (it == moved.begin()) return 0.0;
+    if (it == moved.end()) return 1.0;
+    const std::size_t k = static_cast<std::size_t>(it - moved.begin());
+    const double a = moved[k - 1], b = moved[k];
+    return u[k - 1] + (b > a ? (g - a) / (b - a) : 0.0) * (u[k] - u[k - 1]);
+  };
+  // Intensity of each γ node: the flux between its band's edges over the band's solid angle.
+  for (std::size_t i = 0; i < gamma.size(); ++i) {
+    const double lo = (i == 0 ? gamma[0] : 0.5 * (gamma[i - 1] + gamma[i])) * kDeg;
+    const double hi = (i + 1 == gamma.size() ? gamma[i] : 0.5 * (gamma[i] + gamma[i + 1])) * kDeg;
+    const double omega = 2.0 * kPi * (std::cos(lo) - std::cos(hi));
+    candela.push_back(omega > 0.0 ? cd.back() * (share_below(hi) - share_below(lo)) / omega : 0.0);
+  }
+  return rotational_distribution(gamma, candela);
+}
+
 double design_share(const photometry::Distribution& emitter, const photometry::Distribution& target, double gamma_deg,
                     double from_deg, double to_deg, bool direct_above_to, double target_scale) {
   const double t = target_scale * rotational_intensity(target, gamma_deg);

@@ -126,6 +126,18 @@ photometry::Distribution feedback_target(const photometry::Distribution& design_
                                          const photometry::Distribution& traced, double step_deg = 0.01,
                                          const std::function<double(double)>& share = {});
 
+// The feedback's correction in cumulative-flux space (--correction
+// cumulative): each share u of the flux, which the target puts at γ_T(u)
+// and the trace at γ_P(u) (the quantiles of their C-averaged cumulative
+// fluxes, the trace's scaled to the target's), is moved in the design's
+// target from γ_n(u) to γ_n(u) + γ_T(u) − γ_P(u) (kept increasing in u); the
+// corrected target is that cumulative's intensity on the γ grid of
+// `step_deg`, at T_n's flux. A trace equal to the target leaves T_n as it is;
+// a trace whose light lies δ further out moves T_n's light δ inward.
+photometry::Distribution feedback_target_cumulative(const photometry::Distribution& design_target,
+                                                    const photometry::Distribution& target,
+                                                    const photometry::Distribution& traced, double step_deg = 0.01);
+
 // The share of the part's own light in the target at γ [deg]: 1 − D/(s·T)
 // clamped to [0, 1], D the emitter's intensity averaged over C where it
 // leaves directly (outside [from, to]: γ < from, and γ > to where

@@ -315,6 +315,48 @@ TEST(ReflectorFeedback, StepsAreFoundWhereTheTargetJumpsAndNowhereElse) {
   }
 }
 
+// The cumulative correction: a trace equal to the target leaves the
+// design's target as it is; a trace whose light lies 3° further out than
+// the target's (the same bump moved) moves the design's target's light 3°
+// inward, every quantile of its flux, at its flux.
+TEST(ReflectorFeedback, CumulativeCorrectionMovesEachQuantileByTheTracesShift) {
+  auto bump = [](double centre) {
+    std::vector<double> g, c;
+    for (int i = 0; i <= 1800; ++i) {
+      const double gd = 0.1 * i;
+      g.push_back(gd);
+      const double x = (gd - centre) / 10.0;
+      c.push_back(std::abs(x) < 1.0 ? 100.0 * std::pow(std::cos(kPi / 2 * x), 2) : 0.0);
+    }
+    return rotational_distribution(g, c);
+  };
+  const photometry::Distribution target = bump(40.0);
+  const photometry::Distribution same = photometry::expand_symmetry(feedback_target_cumulative(target, target, target));
+  const photometry::Distribution before = photometry::expand_symmetry(target);
+  for (double gd = 32.0; gd <= 48.0; gd += 2.0)
+    EXPECT_NEAR(rotational_intensity(same, gd), rotational_intensity(before, gd), 0.2) << gd;
+  const photometry::Distribution moved = photometry::expand_symmetry(feedback_target_cumulative(target, target, bump(43.0)));
+  EXPECT_NEAR(photometry::total_flux_lm(moved), photometry::total_flux_lm(before), 1e-3 * photometry::total_flux_lm(before));
+  // Each quantile 3° inward: the moved target's cumulative at γ is the original's at γ + 3°.
+  // (In flux, sin γ weighs the bump: the trace's quantiles lie 2.96–2.99°
+  // beyond the target's, and the moved target's exactly so far inside.)
+  const photometry::Distribution traced = photometry::expand_symmetry(bump(43.0));
+  std::vector<double> a(kFluxMapSamples), b(kFluxMapSamples), c(kFluxMapSamples);
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i) {
+    const double gd = 180.0 * static_cast<double>(i) / static_cast<double>(kFluxMapSamples - 1);
+    a[i] = rotational_intensity(before, gd);
+    b[i] = rotational_intensity(moved, gd);
+    c[i] = rotational_intensity(traced, gd);
+  }
+  const std::vector<double> ca = cumulative_flux(a), cb = cumulative_flux(b), cc = cumulative_flux(c);
+  for (double q : {0.1, 0.25, 0.5, 0.75, 0.9}) {
+    const double shift = (gamma_at_cumulative(cc, q * cc.back()) - gamma_at_cumulative(ca, q * ca.back())) / kDeg;
+    EXPECT_NEAR(shift, 3.0, 0.05) << q;
+    EXPECT_NEAR((gamma_at_cumulative(ca, q * ca.back()) - gamma_at_cumulative(cb, q * cb.back())) / kDeg, shift, 0.005)
+        << q;
+  }
+}
+
 TEST(ReflectorFeedback, ProfileChange) {
   PolarProfile a{{0.1, 0.2}, {1.0, 2.0}}, b{{0.1, 0.2}, {1.01, 1.98}};
   EXPECT_NEAR(profile_change(a, b), 0.01, 1e-12);

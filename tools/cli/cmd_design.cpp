@@ -358,8 +358,10 @@ int feedback_loop(D& d, const TraceSetup& setup, long long iterations, bool keep
     if (iteration >= iterations) break;
     // T_{n+1} = T_n · T/traced, renormalised (design::feedback_target).
     photometry::Distribution next =
-        design::feedback_target(design_target, setup.target, t.file->distribution, 0.01,
-                                setup.in.correction != "all" ? share : std::function<double(double)>{});
+        setup.in.correction == "cumulative"
+            ? design::feedback_target_cumulative(design_target, setup.target, t.file->distribution)
+            : design::feedback_target(design_target, setup.target, t.file->distribution, 0.01,
+                                      setup.in.correction != "all" ? share : std::function<double(double)>{});
     Result<D> again = redesign(next);
     if (!again.ok()) {
       out.stopped = "iteration " + std::to_string(iteration + 1) + ": " + again.error().message;
@@ -385,6 +387,8 @@ nlohmann::json feedback_json(const DesignRun& in, long long iterations, const Fe
                          : in.correction == "part-steps"
                              ? "multiplicative on the part's own light away from the target's steps: T_{n+1} = T_n * "
                                "(T/traced)^share, share 0 within 3 deg of a step, renormalised"
+                         : in.correction == "cumulative"
+                             ? "cumulative: each flux quantile of T_n moved by gamma_T(u) - gamma_traced(u)"
                              : "multiplicative: T_{n+1} = T_n * T/traced, renormalised"},
           {"stopped", f.stopped.empty() ? nlohmann::json() : nlohmann::json(f.stopped)},
           {"per_iteration", f.history}};
@@ -743,9 +747,10 @@ int run_design(const Args& args) {
   p.option("die", &in.die, "WxH",
            "an extended emitter: a die of W × H mm in the XY plane, every point emitting the emitter's distribution "
            "(written as a ray file, emitter.tm25ray)");
-  p.option("correction", &in.correction, "part|part-steps|all",
+  p.option("correction", &in.correction, "part|part-steps|all|cumulative",
            "feedback: part corrects the target only where it is the part's own light, by that share (default); "
-           "part-steps also not within 3° of a step of the target; all corrects it everywhere (before 2026-12-07)");
+           "part-steps also not within 3° of a step of the target; all corrects it everywhere (before 2026-12-07); "
+           "cumulative moves the target's light by the traced quantiles' shift");
   p.option("die-rays", &in.die_rays, 1000, 100'000'000, "N", "rays of the die's ray file (default 200000)");
   p.option("feedback", &in.feedback, 0, 20, "N",
            "design again N times, each for the target corrected by the trace (default 3 for an extended emitter: a ray "
@@ -783,8 +788,9 @@ int run_design(const Args& args) {
     print_usage_error("design", p, "--name must be a plain name (no / \\ * ? [ ])");
     return kExitUsage;
   }
-  if (in.correction != "part" && in.correction != "part-steps" && in.correction != "all") {
-    print_usage_error("design", p, "--correction must be part, part-steps or all");
+  if (in.correction != "part" && in.correction != "part-steps" && in.correction != "all" &&
+      in.correction != "cumulative") {
+    print_usage_error("design", p, "--correction must be part, part-steps, all or cumulative");
     return kExitUsage;
   }
   in.ray_file = io::looks_like_tm25(read_prefix(in.emitter_path));
