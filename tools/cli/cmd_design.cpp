@@ -187,7 +187,7 @@ struct DesignRun {
   long long nodes = 61, photons = 2'000'000, seed = 1, threads = 0, feedback = -1, die_rays = 200'000;
   bool absolute = false;
   bool ray_file = false;  // --emitter is a TM-25 ray file
-  std::string correction = "part";  // --correction: part, part-steps or all
+  std::string correction = "auto";  // --correction: auto, part, part-steps, all or cumulative
 };
 
 // The emitter as the design file names it (copy_emitter).
@@ -383,6 +383,7 @@ nlohmann::json feedback_json(const DesignRun& in, long long iterations, const Fe
   return {{"iterations", iterations},
           {"kept", f.kept},
           {"kept_by", keep_by_beam ? "rms_relative_beam" : "rms_relative_c_mean"},
+          {"method", in.correction},
           {"correction", in.correction == "part" ? "multiplicative on the part's own light: T_{n+1} = T_n * (T/traced)^share, renormalised"
                          : in.correction == "part-steps"
                              ? "multiplicative on the part's own light away from the target's steps: T_{n+1} = T_n * "
@@ -464,7 +465,12 @@ std::string inputs_note(const DesignRun& in, long long iteration) {
 
 // A lens of revolution (design/lens_design.h): the files as the reflector's,
 // the design traced against the target, with feedback as the reflector's.
-int design_lens(const DesignRun& in, const ArgParser& p, std::chrono::steady_clock::time_point start) {
+int design_lens(const DesignRun& in_args, const ArgParser& p, std::chrono::steady_clock::time_point start) {
+  // auto: part. The cumulative correction takes the trace's light where the
+  // lens sends it; the Fresnel reflections' stray light (7 % above 90°)
+  // would shift every quantile of the beam (docs/design.md).
+  DesignRun in = in_args;
+  if (in.correction == "auto") in.correction = "part";
   design::LensDesignOptions o;
   double from = 0.0;
   if (!two_numbers(in.cone, from, o.to_deg) || from != 0.0 || !(o.to_deg > 0.0 && o.to_deg < 90.0)) {
@@ -593,7 +599,8 @@ int design_lens(const DesignRun& in, const ArgParser& p, std::chrono::steady_clo
 }
 
 // A reflector of revolution (design/reflector_design.h).
-int design_reflector(const DesignRun& in, const ArgParser& p, std::chrono::steady_clock::time_point start) {
+int design_reflector(const DesignRun& in_args, const ArgParser& p, std::chrono::steady_clock::time_point start) {
+  DesignRun in = in_args;
   design::ReflectorDesignOptions o;
   if (!two_numbers(in.cone, o.from_deg, o.to_deg) || !(o.from_deg >= 0 && o.from_deg < o.to_deg && o.to_deg <= 180)) {
     print_usage_error("design", p, "--cone " + io::shown(in.cone) + ": give FROM,TO in degrees, 0 ≤ FROM < TO ≤ 180");
@@ -612,6 +619,17 @@ int design_reflector(const DesignRun& in, const ArgParser& p, std::chrono::stead
   if (!target) return code;
   Result<design::ReflectorDesign> d = design::design_reflector(emitter->distribution, *target, o);
   if (!d.ok()) return fail("no reflector gives this target: " + d.error().message);
+  if (in.correction == "auto") {
+    // auto: cumulative for a target without steps (it wins on the exact
+    // cases' table), part for one with (it wins on the corpus LED's):
+    // docs/design.md, "Targets with steps".
+    const photometry::Distribution expanded = photometry::expand_symmetry(*target);
+    double peak = 0.0;
+    for (double v : target->candela) peak = std::max(peak, v);
+    bool steps = false;
+    for (int g = 0; g <= 180 && !steps; ++g) steps = design::away_from_steps(expanded, peak, g) == 0.0;
+    in.correction = steps ? "part" : "cumulative";
+  }
 
   const bool extended = in.ray_file || in.die_w > 0.0;
   const long long iterations = in.feedback >= 0 ? in.feedback : (extended ? 3 : 0);
@@ -747,10 +765,11 @@ int run_design(const Args& args) {
   p.option("die", &in.die, "WxH",
            "an extended emitter: a die of W × H mm in the XY plane, every point emitting the emitter's distribution "
            "(written as a ray file, emitter.tm25ray)");
-  p.option("correction", &in.correction, "part|part-steps|all|cumulative",
-           "feedback: part corrects the target only where it is the part's own light, by that share (default); "
-           "part-steps also not within 3° of a step of the target; all corrects it everywhere (before 2026-12-07); "
-           "cumulative moves the target's light by the traced quantiles' shift");
+  p.option("correction", &in.correction, "auto|part|part-steps|all|cumulative",
+           "feedback: part corrects the target only where it is the part's own light, by that share; part-steps also "
+           "not within 3° of a step of the target; all corrects it everywhere (before 2026-12-07); cumulative moves "
+           "the target's light by the traced quantiles' shift; auto (default): cumulative for a reflector and a target "
+           "without steps, else part");
   p.option("die-rays", &in.die_rays, 1000, 100'000'000, "N", "rays of the die's ray file (default 200000)");
   p.option("feedback", &in.feedback, 0, 20, "N",
            "design again N times, each for the target corrected by the trace (default 3 for an extended emitter: a ray "
@@ -788,9 +807,9 @@ int run_design(const Args& args) {
     print_usage_error("design", p, "--name must be a plain name (no / \\ * ? [ ])");
     return kExitUsage;
   }
-  if (in.correction != "part" && in.correction != "part-steps" && in.correction != "all" &&
+  if (in.correction != "auto" && in.correction != "part" && in.correction != "part-steps" && in.correction != "all" &&
       in.correction != "cumulative") {
-    print_usage_error("design", p, "--correction must be part, part-steps, all or cumulative");
+    print_usage_error("design", p, "--correction must be auto, part, part-steps, all or cumulative");
     return kExitUsage;
   }
   in.ray_file = io::looks_like_tm25(read_prefix(in.emitter_path));
@@ -809,7 +828,7 @@ int run_design(const Args& args) {
     in.die_w = *w;
     in.die_h = *h;
   }
-  return in.kind == "lens" ? design_lens(in, p, start) : design_reflector(in, p, start);
+  return in.kind == "lens" ? design_lens(in, p, start) : design_reflector(in, p, start);  // auto resolved there
 }
 
 }  // namespace gonio::cli

@@ -217,6 +217,7 @@ TEST(DesignCli, FeedbackBringsAnExtendedDiesTraceNearerTheTarget) {
   EXPECT_EQ(f.at("kept").get<int>(), 2);
   // Each iteration traced with its own seed.
   EXPECT_EQ(it[1].at("seed").get<int>(), 2);
+  EXPECT_EQ(f.at("method"), "cumulative");  // --correction auto: a target without steps
 }
 
 // A point source needs no feedback: one iteration changes the profile by no
@@ -290,6 +291,7 @@ TEST(DesignCli, FeedbackOnThePartsOwnLightImprovesATargetWithSteps) {
   std::printf("corpus LED, --correction part: C-averaged RMS %.3f %% -> %.3f %% -> %.3f %%, kept %d\n", 100 * first,
               100 * it[1].at("rms_relative_c_mean").get<double>(), 100 * it[2].at("rms_relative_c_mean").get<double>(),
               f.at("kept").get<int>());
+  EXPECT_EQ(f.at("method"), "part");  // --correction auto: the target has steps
   EXPECT_NE(f.at("correction").get<std::string>().find("part's own light"), std::string::npos);
   EXPECT_LT(kept, 0.8 * first) << f.dump();
 }
