@@ -267,11 +267,38 @@ photometry::Distribution feedback_target_cumulative(const photometry::Distributi
   const photometry::Distribution dn = photometry::expand_symmetry(design_target_in);
   const photometry::Distribution t = photometry::expand_symmetry(target_in);
   const photometry::Distribution p = photometry::expand_symmetry(traced_in);
+  // The target as the trace bins it: averaged over each traced node's γ
+  // band (weighted by sin γ) and interpolated linearly between the nodes as
+  // the trace is, so that a trace equal to the target shifts nothing (a
+  // target's edge, sharp, against the trace's 1° bins would).
+  const std::vector<double>& nodes = p.vertical_deg;
+  std::vector<double> t_bar(nodes.size(), 0.0);
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    const double lo = j == 0 ? nodes[0] : 0.5 * (nodes[j - 1] + nodes[j]);
+    const double hi = j + 1 == nodes.size() ? nodes[j] : 0.5 * (nodes[j] + nodes[j + 1]);
+    double sum = 0.0, weight = 0.0;
+    for (int m = 0; m < 64; ++m) {
+      const double g = lo + (hi - lo) * (m + 0.5) / 64;
+      const double w = std::max(std::sin(g * kDeg), 1e-6);
+      sum += w * rotational_intensity(t, g);
+      weight += w;
+    }
+    t_bar[j] = hi > lo ? sum / weight : rotational_intensity(t, nodes[j]);
+  }
+  auto t_binned = [&](double g) {
+    if (nodes.size() < 2) return rotational_intensity(t, g);
+    const auto it = std::upper_bound(nodes.begin(), nodes.end(), g);
+    if (it == nodes.begin()) return t_bar.front();
+    if (it == nodes.end()) return t_bar.back();
+    const std::size_t j = static_cast<std::size_t>(it - nodes.begin());
+    const double f = (g - nodes[j - 1]) / (nodes[j] - nodes[j - 1]);
+    return t_bar[j - 1] + f * (t_bar[j] - t_bar[j - 1]);
+  };
   std::vector<double> fd(kFluxMapSamples), ft(kFluxMapSamples), fp(kFluxMapSamples);
   for (std::size_t i = 0; i < kFluxMapSamples; ++i) {
     const double g = 180.0 * static_cast<double>(i) / static_cast<double>(kFluxMapSamples - 1);
     fd[i] = rotational_intensity(dn, g);
-    ft[i] = rotational_intensity(t, g);
+    ft[i] = t_binned(g);
     fp[i] = rotational_intensity(p, g);
   }
   const std::vector<double> cd = cumulative_flux(fd), ct = cumulative_flux(ft), cp = cumulative_flux(fp);
