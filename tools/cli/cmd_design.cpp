@@ -504,15 +504,26 @@ int design_lens(const DesignRun& in_args, const ArgParser& p, std::chrono::stead
   Result<design::LensDesign> d = design::design_lens(emitter->distribution, *target, o);
   if (!d.ok()) return fail("no lens gives this target: " + d.error().message);
 
+  if (in.ray_file) {
+    // The rays start in the cavity, or the design would trace them from inside the glass.
+    Result<io::Tm25RaySet> rays = io::read_tm25_file(in.emitter_path);
+    if (!rays.ok()) return fail(to_string(rays.error()));
+    double reach_mm = 0.0;
+    for (std::size_t i = 0; i < rays->ray_count(); ++i) {
+      const float* ray = rays->ray(i);
+      const double x = ray[0], y = ray[1], z = ray[2];
+      reach_mm = std::max(reach_mm, std::sqrt(x * x + y * y + z * z));
+    }
+    if (!(reach_mm < o.inner_radius_m * 1e3))
+      return fail(in.emitter_path + ": the ray file's rays start up to " + format_number(reach_mm, 4) +
+                  " mm from the source, not inside the lens's inner sphere (--inner, " +
+                  format_number(o.inner_radius_m * 1e3, 4) + " mm): give a larger --inner");
+  }
   const fs::path dir(in.out_dir);
   if (Status s = io::make_directories(in.out_dir); !s.ok()) return fail(to_string(s.error()));
   double reach_mm = 0.0;
   Result<EmitterCopy> emitter_copy = copy_emitter(in, emitter->distribution, reach_mm);
   if (!emitter_copy.ok()) return fail(to_string(emitter_copy.error()));
-  if (in.ray_file && !(reach_mm < o.inner_radius_m * 1e3))
-    return fail(in.emitter_path + ": the ray file's rays start up to " + format_number(reach_mm, 4) +
-                " mm from the source, not inside the lens's inner sphere (--inner, " +
-                format_number(o.inner_radius_m * 1e3, 4) + " mm): give a larger --inner");
   const std::string design_path = (dir / (in.name + ".design.toml")).string();
   const std::string target_path = (dir / "target.ies").string();
   if (Status s = io::write_photometric_file(target_path, *target, {}, nullptr); !s.ok()) return fail(to_string(s.error()));

@@ -139,6 +139,21 @@ TEST(DesignLensCli, ADiesBeamComesNearerTheTargetWithFeedback) {
   EXPECT_FALSE(fs::exists(dir / "big"));
 }
 
+// A measured LED's ray file (5.9 × 6.4 mm of rays) in a cavity of 3 mm:
+// its rays would start inside the glass. An error naming the file and the
+// reason, nothing written.
+TEST(DesignLensCli, ARayFileMustFitInsideTheCavity) {
+  GONIO_REQUIRE_CORPUS();
+  const fs::path rays = test::corpus_dir() / "rayfiles" / "rayfile_LERTDUW_S2WP_blue_100k_20161013_IES_TM25.TM25RAY";
+  test::TempDir dir;
+  test::ProcessResult r = gonio({"design", "lens", "--emitter", rays.string(), "--target", "linear:0.5,0", "--cone",
+                                 "0,80", "--inner", "3", "--distance", "12", "--out", (dir / "d").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(rays.filename().string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not inside the lens's inner sphere (--inner, 3 mm)"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "d"));
+}
+
 TEST(DesignLensCli, TargetsNoLensCanGiveAndBadOptions) {
   test::TempDir dir;
   const fs::path emitter = dir / "e.ies";
