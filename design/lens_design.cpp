@@ -90,6 +90,7 @@ Result<LensDesign> design_lens(const photometry::Distribution& emitter, const ph
   fo.direct_above_to = true;
   fo.part = "lens";
   fo.widen = "a larger TO in --cone";
+  fo.allow_deficit = o.allow_deficit;
   Result<FluxMap> fm = flux_map(emitter, target, fo);
   if (!fm.ok()) return fm.error();
   LensDesign out;
@@ -124,7 +125,7 @@ photometry::Distribution linear_lens_target(const photometry::Distribution& emit
 }
 
 io::TomlNode lens_design_document(const LensDesign& design, const std::string& emitter_file, double ior,
-                                  const std::string& name) {
+                                  const std::string& name, const std::string& emitter_key) {
   io::TomlNode doc = toml_table();
   toml_set(doc, "length_unit", toml_string("mm"));
   io::TomlNode glass = toml_table();
@@ -136,7 +137,7 @@ io::TomlNode lens_design_document(const LensDesign& design, const std::string& e
   io::TomlNode emitter = toml_table();
   toml_set(emitter, "name", toml_string("emitter"));
   toml_set(emitter, "position", toml_array({toml_number(0.0), toml_number(0.0), toml_number(0.0)}));
-  toml_set(emitter, "profile", toml_string(emitter_file));
+  toml_set(emitter, emitter_key, toml_string(emitter_file));
   toml_set(doc, "emitters", toml_array({std::move(emitter)}));
   io::TomlNode lens = toml_table();
   toml_set(lens, "name", toml_string(name));

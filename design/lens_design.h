@@ -50,6 +50,10 @@ struct LensDesignOptions {
   int steps = 20000;             // RK4 steps over the cone
   bool absolute = false;         // the target's candela as they are
   double transmittance = 1.0;    // the share of the cone's flux the target is scaled to
+  // Where the target asks less than the direct light (above TO), the lens
+  // adds nothing there instead of an error: the feedback's corrected targets
+  // (design::feedback_target), as ReflectorDesignOptions::allow_deficit.
+  bool allow_deficit = false;
 };
 
 struct LensDesign : FluxMapFigures {  // direct light: θ > TO
@@ -80,8 +84,9 @@ photometry::Distribution linear_lens_target(const photometry::Distribution& emit
 // The design file of a designed lens (lengths in mm): [materials.lens] a
 // dielectric of index n, the emitter at the origin with `emitter_file`, and
 // [[lenses]] `name`: inner a polar sphere, outer the polar table with each r
-// a variable bounded to [0.8 r, 1.25 r].
+// a variable bounded to [0.8 r, 1.25 r]. `emitter_key`: "profile" (a
+// photometric file) or "ray_file" (a TM-25 ray file: an extended emitter).
 io::TomlNode lens_design_document(const LensDesign& design, const std::string& emitter_file, double ior,
-                                  const std::string& name);
+                                  const std::string& name, const std::string& emitter_key = "profile");
 
 }  // namespace gonio::design

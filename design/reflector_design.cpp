@@ -196,7 +196,8 @@ std::vector<float> die_rays(const photometry::Distribution& emitter_in, double w
 
 photometry::Distribution feedback_target(const photometry::Distribution& design_target_in,
                                          const photometry::Distribution& target_in,
-                                         const photometry::Distribution& traced_in, double step_deg) {
+                                         const photometry::Distribution& traced_in, double step_deg,
+                                         const std::function<double(double)>& share) {
   const photometry::Distribution design_target = photometry::expand_symmetry(design_target_in);
   const photometry::Distribution target = photometry::expand_symmetry(target_in);
   const photometry::Distribution traced = photometry::expand_symmetry(traced_in);
@@ -228,6 +229,7 @@ photometry::Distribution feedback_target(const photometry::Distribution& design_
     const double t_bar = hi > lo ? sum / weight : rotational_intensity(target, nodes[j]);
     const double p = s * rotational_intensity(traced, nodes[j]);
     if (t_bar > 0.0 && p > 0.0) ratio[j] = std::clamp(t_bar / p, 0.5, 2.0);
+    if (share) ratio[j] = std::pow(ratio[j], std::clamp(share(nodes[j]), 0.0, 1.0));
   }
   auto ratio_at = [&](double g) {
     if (nodes.size() < 2) return 1.0;
@@ -257,6 +259,120 @@ photometry::Distribution feedback_target(const photometry::Distribution& design_
   if (a > 0.0 && b > 0.0)
     for (double& v : candela) v *= b / a;
   return rotational_distribution(gamma, candela);
+}
+
+photometry::Distribution feedback_target_cumulative(const photometry::Distribution& design_target_in,
+                                                    const photometry::Distribution& target_in,
+                                                    const photometry::Distribution& traced_in, double step_deg) {
+  const photometry::Distribution dn = photometry::expand_symmetry(design_target_in);
+  const photometry::Distribution t = photometry::expand_symmetry(target_in);
+  const photometry::Distribution p = photometry::expand_symmetry(traced_in);
+  // The target as the trace bins it: averaged over each traced node's γ
+  // band (weighted by sin γ) and interpolated linearly between the nodes as
+  // the trace is, so that a trace equal to the target shifts nothing (a
+  // target's edge, sharp, against the trace's 1° bins would).
+  const std::vector<double>& nodes = p.vertical_deg;
+  std::vector<double> t_bar(nodes.size(), 0.0);
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    const double lo = j == 0 ? nodes[0] : 0.5 * (nodes[j - 1] + nodes[j]);
+    const double hi = j + 1 == nodes.size() ? nodes[j] : 0.5 * (nodes[j] + nodes[j + 1]);
+    double sum = 0.0, weight = 0.0;
+    for (int m = 0; m < 64; ++m) {
+      const double g = lo + (hi - lo) * (m + 0.5) / 64;
+      const double w = std::max(std::sin(g * kDeg), 1e-6);
+      sum += w * rotational_intensity(t, g);
+      weight += w;
+    }
+    t_bar[j] = hi > lo ? sum / weight : rotational_intensity(t, nodes[j]);
+  }
+  auto t_binned = [&](double g) {
+    if (nodes.size() < 2) return rotational_intensity(t, g);
+    const auto it = std::upper_bound(nodes.begin(), nodes.end(), g);
+    if (it == nodes.begin()) return t_bar.front();
+    if (it == nodes.end()) return t_bar.back();
+    const std::size_t j = static_cast<std::size_t>(it - nodes.begin());
+    const double f = (g - nodes[j - 1]) / (nodes[j] - nodes[j - 1]);
+    return t_bar[j - 1] + f * (t_bar[j] - t_bar[j - 1]);
+  };
+  std::vector<double> fd(kFluxMapSamples), ft(kFluxMapSamples), fp(kFluxMapSamples);
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i) {
+    const double g = 180.0 * static_cast<double>(i) / static_cast<double>(kFluxMapSamples - 1);
+    fd[i] = rotational_intensity(dn, g);
+    ft[i] = t_binned(g);
+    fp[i] = rotational_intensity(p, g);
+  }
+  const std::vector<double> cd = cumulative_flux(fd), ct = cumulative_flux(ft), cp = cumulative_flux(fp);
+  std::vector<double> gamma, candela;
+  const int n = static_cast<int>(std::lround(180.0 / step_deg));
+  for (int i = 0; i <= n; ++i) gamma.push_back(180.0 * i / n);
+  if (!(cd.back() > 0.0 && ct.back() > 0.0 && cp.back() > 0.0)) {
+    for (double g : gamma) candela.push_back(rotational_intensity(dn, g));
+    return rotational_distribution(gamma, candela);
+  }
+  // The moved quantiles γ_N(u) on a fine grid of u, increasing.
+  const int m = 20000;
+  std::vector<double> u(m + 1), moved(m + 1);
+  for (int k = 0; k <= m; ++k) {
+    const double q = static_cast<double>(k) / m;
+    u[static_cast<std::size_t>(k)] = q;
+    const double g = gamma_at_cumulative(cd, q * cd.back()) + gamma_at_cumulative(ct, q * ct.back()) -
+                     gamma_at_cumulative(cp, q * cp.back());
+    moved[static_cast<std::size_t>(k)] =
+        std::clamp(k == 0 ? g : std::max(g, moved[static_cast<std::size_t>(k - 1)]), 0.0, kPi);
+  }
+  // The cumulative share at γ: the largest u whose moved quantile is ≤ γ (interpolated).
+  auto share_below = [&](double g) {
+    const auto it = std::upper_bound(moved.begin(), moved.end(), g);
+    if (it == moved.begin()) return 0.0;
+    if (it == moved.end()) return 1.0;
+    const std::size_t k = static_cast<std::size_t>(it - moved.begin());
+    const double a = moved[k - 1], b = moved[k];
+    return u[k - 1] + (b > a ? (g - a) / (b - a) : 0.0) * (u[k] - u[k - 1]);
+  };
+  // Intensity of each γ node: the flux between its band's edges over the band's solid angle.
+  for (std::size_t i = 0; i < gamma.size(); ++i) {
+    const double lo = (i == 0 ? gamma[0] : 0.5 * (gamma[i - 1] + gamma[i])) * kDeg;
+    const double hi = (i + 1 == gamma.size() ? gamma[i] : 0.5 * (gamma[i] + gamma[i + 1])) * kDeg;
+    const double omega = 2.0 * kPi * (std::cos(lo) - std::cos(hi));
+    candela.push_back(omega > 0.0 ? cd.back() * (share_below(hi) - share_below(lo)) / omega : 0.0);
+  }
+  return rotational_distribution(gamma, candela);
+}
+
+double design_share(const photometry::Distribution& emitter, const photometry::Distribution& target, double gamma_deg,
+                    double from_deg, double to_deg, bool direct_above_to, double target_scale) {
+  const double t = target_scale * rotational_intensity(target, gamma_deg);
+  if (!(t > 0.0)) return 0.0;
+  const bool direct = gamma_deg < from_deg || (direct_above_to && gamma_deg > to_deg);
+  const double d = direct ? rotational_intensity(emitter, gamma_deg) : 0.0;
+  return std::clamp(1.0 - d / t, 0.0, 1.0);
+}
+
+double away_from_steps(const photometry::Distribution& target, double peak_cd, double gamma_deg, double band_deg,
+                       double jump) {
+  const int n = static_cast<int>(std::ceil(4.0 * band_deg));  // pairs starting every 0.5° over [γ − band − ½, γ + band − ½]
+  for (int i = 0; i <= n; ++i) {
+    const double a = std::clamp(gamma_deg - band_deg + 0.5 * i - 0.5, 0.0, 179.0);
+    if (std::abs(rotational_intensity(target, a + 1.0) - rotational_intensity(target, a)) > jump * peak_cd) return 0.0;
+  }
+  return 1.0;
+}
+
+double in_target_scale(const photometry::Distribution& target_in, const photometry::Distribution& traced_in) {
+  const photometry::Distribution target = photometry::expand_symmetry(target_in);
+  const photometry::Distribution traced = photometry::expand_symmetry(traced_in);
+  std::vector<double> t(kFluxMapSamples), p(kFluxMapSamples);
+  double peak = 0.0;
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i) {
+    const double g = 180.0 * static_cast<double>(i) / static_cast<double>(kFluxMapSamples - 1);
+    t[i] = rotational_intensity(target, g);
+    p[i] = rotational_intensity(traced, g);
+    peak = std::max(peak, t[i]);
+  }
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i)
+    if (!(t[i] > 1e-6 * peak)) t[i] = p[i] = 0.0;
+  const double tf = cumulative_flux(t).back(), pf = cumulative_flux(p).back();
+  return tf > 0.0 && pf > 0.0 ? tf / pf : 1.0;
 }
 
 double profile_change(const PolarProfile& a, const PolarProfile& b) {

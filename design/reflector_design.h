@@ -25,6 +25,7 @@
 //    (uncrossed maps only; a crossed map has φ − θ < 0 throughout).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -114,9 +115,51 @@ std::vector<float> die_rays(const photometry::Distribution& emitter, double widt
 // is T_n (what the last design was made for), `target` the user's T, `traced`
 // the last design traced. A rotationally symmetric distribution on the
 // γ grid of `step_deg`.
+//
+// `share` (optional, γ [deg] → [0, 1]): how much of the target at γ is the
+// part's own light; the ratio there is taken to that power, T̄/(sP) →
+// (T̄/(sP))^share, so that where the target is the direct light the part
+// cannot move (a step where the part's rim cuts it, blurred by an extended
+// source) the design target is left as it is (design_share). Without it, 1.
 photometry::Distribution feedback_target(const photometry::Distribution& design_target,
                                          const photometry::Distribution& target,
-                                         const photometry::Distribution& traced, double step_deg = 0.01);
+                                         const photometry::Distribution& traced, double step_deg = 0.01,
+                                         const std::function<double(double)>& share = {});
+
+// The feedback's correction in cumulative-flux space (--correction
+// cumulative): each share u of the flux, which the target puts at γ_T(u)
+// and the trace at γ_P(u) (the quantiles of their C-averaged cumulative
+// fluxes, the trace's scaled to the target's), is moved in the design's
+// target from γ_n(u) to γ_n(u) + γ_T(u) − γ_P(u) (kept increasing in u); the
+// corrected target is that cumulative's intensity on the γ grid of
+// `step_deg`, at T_n's flux. A trace equal to the target leaves T_n as it is;
+// a trace whose light lies δ further out moves T_n's light δ inward.
+photometry::Distribution feedback_target_cumulative(const photometry::Distribution& design_target,
+                                                    const photometry::Distribution& target,
+                                                    const photometry::Distribution& traced, double step_deg = 0.01);
+
+// The share of the part's own light in the target at γ [deg]: 1 − D/(s·T)
+// clamped to [0, 1], D the emitter's intensity averaged over C where it
+// leaves directly (outside [from, to]: γ < from, and γ > to where
+// `direct_above_to`), s the design's target scale; 0 where the target is dark.
+double design_share(const photometry::Distribution& emitter_expanded, const photometry::Distribution& target_expanded,
+                    double gamma_deg, double from_deg, double to_deg, bool direct_above_to, double target_scale);
+
+// 1 where the target (averaged over C) has no step within `band_deg` of γ,
+// 0 where it has one: a change of more than `jump` times `peak_cd` between
+// two γ 1° apart. An extended source blurs a step over a few degrees, and a
+// correction there asks the map for light on the step's wrong side, where
+// the profile is most sensitive to it (docs/design.md, "Targets with steps").
+double away_from_steps(const photometry::Distribution& target_expanded, double peak_cd, double gamma_deg,
+                       double band_deg = 3.0, double jump = 0.1);
+
+// The factor that brings `traced`'s flux where `target` has light (the γ
+// where the target averaged over C is above 10⁻⁶ of its peak) to the
+// target's flux there: a trace scaled by it is compared for the shape of its
+// beam, its stray light (a lens's Fresnel reflections, which no design can
+// send into the beam) not taken off the beam as flux normalisation does.
+// 1 where either has no light there.
+double in_target_scale(const photometry::Distribution& target, const photometry::Distribution& traced);
 
 // Largest |r_b/r_a − 1| between two profiles of the same θ nodes (∞ when they differ in size).
 double profile_change(const PolarProfile& a, const PolarProfile& b);

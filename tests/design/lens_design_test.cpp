@@ -168,5 +168,34 @@ TEST(LensDesign, TargetsNoLensCanGiveSayWhy) {
   EXPECT_NE(d.error().message.find("thinner than zero"), std::string::npos) << d.error().message;
 }
 
+// The feedback's corrected targets may ask less than the direct light above
+// the cone: with allow_deficit the lens adds nothing there (the same lens as
+// for the target without the deficit), without it the error says why.
+TEST(LensDesign, AllowDeficitDesignsATargetBelowTheDirectLight) {
+  const photometry::Distribution emitter = lambertian(100.0);
+  const photometry::Distribution exact = photometry::expand_symmetry(linear_lens_target(emitter, 0.5, 40.0, 0.05));
+  std::vector<double> g, c;
+  for (int i = 0; i <= 3600; ++i) {
+    const double gd = 0.05 * i;
+    g.push_back(gd);
+    c.push_back(rotational_intensity(exact, gd) * (gd > 60.0 && gd < 80.0 ? 0.5 : 1.0));
+  }
+  const photometry::Distribution short_target = rotational_distribution(g, c);
+  LensDesignOptions o;
+  o.to_deg = 40.0;
+  o.absolute = true;  // the target's candela as they are: the deficit takes no flux from the beam
+  Result<LensDesign> refused = design_lens(emitter, short_target, o);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("a lens can only add light"), std::string::npos) << refused.error().message;
+  o.allow_deficit = true;
+  Result<LensDesign> d = design_lens(emitter, short_target, o);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  // The refracted light's map is the exact case's (k = 0.5): the profile its closed form.
+  double worst = 0.0;
+  for (std::size_t i = 0; i < d->outer.theta.size(); ++i)
+    worst = std::max(worst, std::abs(d->outer.r[i] / linear_lens_r(0.5, o.ior, d->outer.theta[i], o.distance_m) - 1.0));
+  EXPECT_LT(worst, 2e-3);
+}
+
 }  // namespace
 }  // namespace gonio::design

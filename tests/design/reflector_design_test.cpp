@@ -210,6 +210,153 @@ TEST(ReflectorFeedback, TargetCorrectionIsTheRatioOfTargetToTrace) {
   EXPECT_LT(hi / lo - 1.0, 1e-3) << lo << " " << hi;  // one constant: the renormalisation
 }
 
+// The correction restricted to the part's own light: where the share is 0
+// (the direct light, which the part cannot move) the design's target keeps
+// its shape; where it is 1 it is divided by the trace's excess s·P/T as
+// before; where it is ½ by the square root of it. One constant (the
+// renormalisation) over all.
+TEST(ReflectorFeedback, CorrectionOnThePartsShareLeavesTheDirectLightAlone) {
+  const photometry::Distribution target = smooth(100.0, 50.0);
+  const photometry::Distribution design_target = smooth(80.0, 20.0);
+  std::vector<double> g, c;
+  for (int i = 0; i <= 180; ++i) {
+    g.push_back(i);
+    c.push_back((100.0 + 50.0 * std::cos(i * kDeg)) * (1.0 + 0.2 * std::cos(i * kDeg)));
+  }
+  auto share = [](double gd) { return gd < 40.0 ? 0.0 : gd < 60.0 ? 0.5 : 1.0; };
+  const photometry::Distribution before = photometry::expand_symmetry(design_target);
+  const photometry::Distribution traced = rotational_distribution(g, c);
+  const photometry::Distribution corrected =
+      photometry::expand_symmetry(feedback_target(design_target, target, traced, 0.01, share));
+  // The ratio is T/(s·P), s the target's flux over the trace's.
+  const double s = photometry::total_flux_lm(photometry::expand_symmetry(target)) /
+                   photometry::total_flux_lm(photometry::expand_symmetry(traced));
+  double lo = 1e9, hi = 0.0;
+  for (double gd = 0.0; gd <= 180.0; gd += 2.5) {
+    if (gd > 37.5 && gd < 42.5) continue;  // between the nodes the ratio is interpolated across the share's step
+    if (gd > 57.5 && gd < 62.5) continue;
+    const double excess = s * (1.0 + 0.2 * std::cos(gd * kDeg));
+    const double undo = gd < 40.0 ? 1.0 : gd < 60.0 ? std::sqrt(excess) : excess;
+    const double q = rotational_intensity(corrected, gd) / rotational_intensity(before, gd) * undo;
+    lo = std::min(lo, q);
+    hi = std::max(hi, q);
+  }
+  EXPECT_LT(hi / lo - 1.0, 1e-3) << lo << " " << hi;
+  EXPECT_NEAR(photometry::total_flux_lm(corrected), photometry::total_flux_lm(before), 1e-4 * photometry::total_flux_lm(before));
+}
+
+// The share of the part's light in the target: 1 − D/(s·T) where the
+// emitter leaves directly, 1 where it does not, 0 where the target is dark.
+TEST(ReflectorFeedback, DesignShareIsThePartsLightOverTheTarget) {
+  const photometry::Distribution emitter = photometry::expand_symmetry(smooth(100.0, 0.0));
+  std::vector<double> g, c;
+  for (int i = 0; i <= 180; ++i) {
+    g.push_back(i);
+    c.push_back(i <= 120 ? 400.0 : 0.0);
+  }
+  const photometry::Distribution target = photometry::expand_symmetry(rotational_distribution(g, c));
+  // Reflector over 40…180°: direct below 40°; s = ½ → s·T = 200 cd, D = 100 cd.
+  EXPECT_NEAR(design_share(emitter, target, 20.0, 40.0, 180.0, false, 0.5), 0.5, 1e-12);
+  EXPECT_NEAR(design_share(emitter, target, 60.0, 40.0, 180.0, false, 0.5), 1.0, 1e-12);
+  EXPECT_EQ(design_share(emitter, target, 150.0, 40.0, 180.0, false, 0.5), 0.0);
+  // Lens over 0…60°: direct above 60°; s = ¼: the target no more than the direct light.
+  EXPECT_NEAR(design_share(emitter, target, 90.0, 0.0, 60.0, true, 0.25), 0.0, 1e-12);
+  EXPECT_NEAR(design_share(emitter, target, 30.0, 0.0, 60.0, true, 0.25), 1.0, 1e-12);
+}
+
+// The beam's scale: a trace 0.9 times the target where the target has
+// light, with stray light beyond, is scaled by 1/0.9 whatever the stray
+// light (flux normalisation would scale it by less).
+TEST(ReflectorFeedback, InTargetScaleIgnoresStrayLight) {
+  std::vector<double> g, t, p;
+  for (int i = 0; i <= 180; ++i) {
+    g.push_back(i);
+    const double beam = i <= 30 ? 100.0 * std::cos(3.0 * i * kDeg) : 0.0;
+    t.push_back(beam);
+    p.push_back(0.9 * beam + (i >= 90 ? 5.0 : 0.0));
+  }
+  EXPECT_NEAR(in_target_scale(rotational_distribution(g, t), rotational_distribution(g, p)), 1.0 / 0.9, 1e-6);
+  EXPECT_EQ(in_target_scale(rotational_distribution(g, t), rotational_distribution(g, std::vector<double>(181, 0.0))), 1.0);
+}
+
+// Steps of the target: found within the band (3°) of a jump of more than
+// 10 % of the peak over 1°, not elsewhere; the exact cases of the feedback
+// table (docs/design.md: an emitter 100 cd·sin² from the cone's edge) have
+// none, so that the correction there is the plain ratio's.
+TEST(ReflectorFeedback, StepsAreFoundWhereTheTargetJumpsAndNowhereElse) {
+  std::vector<double> g, c;
+  for (int i = 0; i <= 3600; ++i) {
+    const double gd = 0.05 * i;
+    g.push_back(gd);
+    c.push_back(gd < 35.0 ? 50.0 + 0.1 * gd : gd < 40.0 ? 15.0 : 0.0);  // the corpus LED's target's shape
+  }
+  const photometry::Distribution stepped = photometry::expand_symmetry(rotational_distribution(g, c));
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 30.0), 1.0);
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 32.0), 0.0);
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 37.5), 0.0);
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 43.0), 0.0);
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 44.0), 1.0);
+  EXPECT_EQ(away_from_steps(stepped, 53.5, 10.0), 1.0);
+  struct Case {
+    double k, c_deg, from;
+  };
+  for (const Case& k : {Case{-1, 180, 100}, Case{-0.5, 90, 70}, Case{0.5, -90, 60}, Case{2, -360, 140}}) {
+    std::vector<double> eg, ec;
+    for (int i = 0; i <= 360; ++i) {
+      const double gd = 0.5 * i;
+      eg.push_back(gd);
+      ec.push_back(gd < k.from ? 0.0 : 100.0 * std::pow(std::sin(kPi / 2 * (gd - k.from) / (180.0 - k.from)), 2));
+    }
+    const photometry::Distribution target =
+        photometry::expand_symmetry(linear_map_target(rotational_distribution(eg, ec), k.k, k.c_deg * kDeg, k.from, 180.0));
+    double peak = 0.0;
+    for (double v : target.candela) peak = std::max(peak, v);
+    for (int gd = 0; gd <= 180; ++gd) EXPECT_EQ(away_from_steps(target, peak, gd), 1.0) << "k " << k.k << " at " << gd;
+  }
+}
+
+// The cumulative correction: a trace equal to the target leaves the
+// design's target as it is; a trace whose light lies 3° further out than
+// the target's (the same bump moved) moves the design's target's light 3°
+// inward, every quantile of its flux, at its flux.
+TEST(ReflectorFeedback, CumulativeCorrectionMovesEachQuantileByTheTracesShift) {
+  auto bump = [](double centre) {
+    std::vector<double> g, c;
+    for (int i = 0; i <= 1800; ++i) {
+      const double gd = 0.1 * i;
+      g.push_back(gd);
+      const double x = (gd - centre) / 10.0;
+      c.push_back(std::abs(x) < 1.0 ? 100.0 * std::pow(std::cos(kPi / 2 * x), 2) : 0.0);
+    }
+    return rotational_distribution(g, c);
+  };
+  const photometry::Distribution target = bump(40.0);
+  const photometry::Distribution same = photometry::expand_symmetry(feedback_target_cumulative(target, target, target));
+  const photometry::Distribution before = photometry::expand_symmetry(target);
+  for (double gd = 32.0; gd <= 48.0; gd += 2.0)
+    EXPECT_NEAR(rotational_intensity(same, gd), rotational_intensity(before, gd), 0.2) << gd;
+  const photometry::Distribution moved = photometry::expand_symmetry(feedback_target_cumulative(target, target, bump(43.0)));
+  EXPECT_NEAR(photometry::total_flux_lm(moved), photometry::total_flux_lm(before), 1e-3 * photometry::total_flux_lm(before));
+  // Each quantile 3° inward: the moved target's cumulative at γ is the original's at γ + 3°.
+  // (In flux, sin γ weighs the bump: the trace's quantiles lie 2.96–2.99°
+  // beyond the target's, and the moved target's exactly so far inside.)
+  const photometry::Distribution traced = photometry::expand_symmetry(bump(43.0));
+  std::vector<double> a(kFluxMapSamples), b(kFluxMapSamples), c(kFluxMapSamples);
+  for (std::size_t i = 0; i < kFluxMapSamples; ++i) {
+    const double gd = 180.0 * static_cast<double>(i) / static_cast<double>(kFluxMapSamples - 1);
+    a[i] = rotational_intensity(before, gd);
+    b[i] = rotational_intensity(moved, gd);
+    c[i] = rotational_intensity(traced, gd);
+  }
+  const std::vector<double> ca = cumulative_flux(a), cb = cumulative_flux(b), cc = cumulative_flux(c);
+  for (double q : {0.1, 0.25, 0.5, 0.75, 0.9}) {
+    const double shift = (gamma_at_cumulative(cc, q * cc.back()) - gamma_at_cumulative(ca, q * ca.back())) / kDeg;
+    EXPECT_NEAR(shift, 3.0, 0.05) << q;
+    EXPECT_NEAR((gamma_at_cumulative(ca, q * ca.back()) - gamma_at_cumulative(cb, q * cb.back())) / kDeg, shift, 0.005)
+        << q;
+  }
+}
+
 TEST(ReflectorFeedback, ProfileChange) {
   PolarProfile a{{0.1, 0.2}, {1.0, 2.0}}, b{{0.1, 0.2}, {1.01, 1.98}};
   EXPECT_NEAR(profile_change(a, b), 0.01, 1e-12);
