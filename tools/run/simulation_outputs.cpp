@@ -633,8 +633,9 @@ Result<SimulatedTable> simulated_table(const sim::FarField& far_field, const sim
   if (request.symmetry) {
     if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
   }
-  const sim::Resampler resampler = cached_resampler(far_field.face_size(), scene.frame, request.grid, request.cache_dir);
-  const sim::BinnedField binned = resampler.bin(far_field);
+  const std::shared_ptr<const sim::Resampler> resampler =
+      shared_resampler(far_field.face_size(), scene.frame, request.grid, request.cache_dir);
+  const sim::BinnedField binned = resampler->bin(far_field);
   SimulatedTable table;
   if (request.symmetry) {
     table.symmetry = *request.symmetry;
