@@ -339,33 +339,55 @@ std::uint64_t Simulation::Impl::add_iteration_here() {
   if (near_planes) near_iteration.reset(*near_planes);
   const std::size_t escapes_before = escaped_rays.size();
   const std::uint64_t wrap = 65536u;
+  // The per-texel arrays, in blocks of texels over the run's threads (each
+  // block adds every tally's counts in turn: integer sums, any order).
+  const auto add_texels = [&](std::size_t lo, std::size_t hi) {
+    for (const TracerTally& t : tallies) {
+      for (std::size_t i = lo; i < hi; ++i) {
+        const std::uint64_t c = t.texel_photons[i];
+        texel_photons[i] += c;
+        texel_units[i] += c * kPowerUnits;
+      }
+      if (!texel_x.empty())
+        for (std::size_t i = lo; i < hi; ++i) {
+          texel_x[i] += t.texel_xz[2 * i];
+          texel_z[i] += t.texel_xz[2 * i + 1];
+        }
+      if (!replicate_photons.empty() && !t.replicate_photons.empty()) {
+        const std::size_t k = t.replicate_photons.size() / texels;
+        for (std::size_t i = lo * k; i < hi * k; ++i) replicate_photons[i] += t.replicate_photons[i];
+      }
+      if (!nee_units.empty()) {
+        const NextEventTally& n = t.next_event;
+        for (std::size_t i = lo; i < hi && i < n.texel_units.size(); ++i) {
+          nee_units[i] += n.texel_units[i];
+          texel_units[i] += n.texel_units[i];
+        }
+        const std::size_t k = n.replicate_units.size() / texels;
+        for (std::size_t i = lo * k; i < hi * k; ++i) nee_replicate_units[i] += n.replicate_units[i];
+      }
+    }
+  };
+  constexpr std::size_t kBlock = 8192;
+  if (texels <= kBlock) {
+    add_texels(0, texels);
+  } else {
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, texels, kBlock),
+                        [&](const tbb::blocked_range<std::size_t>& r) { add_texels(r.begin(), r.end()); },
+                        tbb::simple_partitioner());
+    });
+  }
   for (TracerTally& t : tallies) {
     if (near_planes) near_iteration.add(t.near_field);
-    for (std::size_t i = 0; i < texels; ++i) {
-      const std::uint64_t c = t.texel_photons[i];
-      texel_photons[i] += c;
-      texel_units[i] += c * kPowerUnits;
-    }
     for (std::uint32_t texel : t.texel_wraps) {
       texel_photons[texel] += wrap;
       texel_units[texel] += wrap * kPowerUnits;
     }
-    if (!texel_x.empty())
-      for (std::size_t i = 0; i < texels; ++i) {
-        texel_x[i] += t.texel_xz[2 * i];
-        texel_z[i] += t.texel_xz[2 * i + 1];
-      }
-    if (!replicate_photons.empty()) {
-      for (std::size_t i = 0; i < t.replicate_photons.size(); ++i) replicate_photons[i] += t.replicate_photons[i];
+    if (!replicate_photons.empty())
       for (std::uint32_t slot : t.replicate_wraps) replicate_photons[slot] += wrap;
-    }
     if (!nee_units.empty()) {
       const NextEventTally& n = t.next_event;
-      for (std::size_t i = 0; i < n.texel_units.size(); ++i) {
-        nee_units[i] += n.texel_units[i];
-        texel_units[i] += n.texel_units[i];
-      }
-      for (std::size_t i = 0; i < n.replicate_units.size(); ++i) nee_replicate_units[i] += n.replicate_units[i];
       next_event.vertices += n.vertices;
       next_event.connections += n.connections;
       next_event.escaped += n.escaped;
