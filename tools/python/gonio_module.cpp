@@ -994,6 +994,8 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
   result.photons = st.photons;
   result.trace_s = st.trace_s;
 
+  // The far field, made once for the table and the result.
+  auto far_field = std::make_shared<const sim::FarField>(simulation.far_field());
   // The candela table the IES and LDT files hold (tools/run/simulation_outputs.h):
   // the one written with `out` where the files held one (a grey run: the
   // files' table of a spectral run also carries its colour), else made here.
@@ -1010,14 +1012,14 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
     py::gil_scoped_release unlocked;
     const app::OutputRequest request =
         app::table_request(simulation, model, plan.grid, plan.symmetry, plan.model_input.cache_dir);
-    return app::simulated_table(simulation.far_field(), simulation.scene(), result.ledger, request);
+    return app::simulated_table(*far_field, simulation.scene(), result.ledger, request);
   }();
   app::SimulatedTable t = take(std::move(table));
   io::PhotometricFile file;
   file.distribution = std::move(t.distribution);
   result.symmetry_reason = t.symmetry_reason;
   result.photometry = {std::make_shared<io::PhotometricFile>(std::move(file)), model + " (simulated)", true};
-  result.far_field.field = std::make_shared<const sim::FarField>(simulation.far_field());
+  result.far_field.field = std::move(far_field);
   if (ran->files) result.exit_code = ran->files->passed() ? app::kExitOk : app::kExitFailure;
   if (!out.empty()) {
     const std::filesystem::path report = std::filesystem::path(out) / "report.json";
