@@ -107,7 +107,8 @@ SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDe
                                    std::uint64_t photons = std::uint64_t{1} << 16);
 // The same opening from the trace's own escapes of photons 0 … photons − 1
 // where it kept them (SimulationSettings::capture_escaped_photons, which
-// plan_simulation sets to kOpeningPhotons at least) and followed them as
+// plan_simulation sets to kOpeningPhotons unless TM-25 rays name their own
+// count) and followed them as
 // record_rays does (no next-event connections, guided emission or
 // luminance images; one process): the same points in the same order, so the
 // same opening, without tracing them again (issue 40). Otherwise traces
