@@ -178,6 +178,12 @@ struct Simulation::Impl {
   // to the far field and the books (guide_iteration: the guide's tally of
   // the iteration). Returns the photons guided emission dropped.
   std::uint64_t add_iteration();
+  // add_iteration in one process: each thread's tally added straight into
+  // the run's totals (no buffer of the iteration's counts to sum across
+  // ranks); integer sums, so the same totals.
+  std::uint64_t add_iteration_here();
+  // Puts the escapes this iteration kept (from `from` on) in photon order.
+  void order_escapes(std::size_t from);
 };
 
 Simulation::Simulation(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -326,7 +332,134 @@ void Simulation::run_iteration(std::uint64_t n) {
   s.stats.trace_s += seconds_since(start);
 }
 
+std::uint64_t Simulation::Impl::add_iteration_here() {
+  const std::size_t texels = texel_photons.size();
+  books_iteration.clear();
+  NearFieldTally near_iteration;
+  if (near_planes) near_iteration.reset(*near_planes);
+  const std::size_t escapes_before = escaped_rays.size();
+  const std::uint64_t wrap = 65536u;
+  // The per-texel arrays, in blocks of texels over the run's threads (each
+  // block adds every tally's counts in turn: integer sums, any order).
+  const auto add_texels = [&](std::size_t lo, std::size_t hi) {
+    for (const TracerTally& t : tallies) {
+      for (std::size_t i = lo; i < hi; ++i) {
+        const std::uint64_t c = t.texel_photons[i];
+        texel_photons[i] += c;
+        texel_units[i] += c * kPowerUnits;
+      }
+      if (!texel_x.empty())
+        for (std::size_t i = lo; i < hi; ++i) {
+          texel_x[i] += t.texel_xz[2 * i];
+          texel_z[i] += t.texel_xz[2 * i + 1];
+        }
+      if (!replicate_photons.empty() && !t.replicate_photons.empty()) {
+        const std::size_t k = t.replicate_photons.size() / texels;
+        for (std::size_t i = lo * k; i < hi * k; ++i) replicate_photons[i] += t.replicate_photons[i];
+      }
+      if (!nee_units.empty()) {
+        const NextEventTally& n = t.next_event;
+        for (std::size_t i = lo; i < hi && i < n.texel_units.size(); ++i) {
+          nee_units[i] += n.texel_units[i];
+          texel_units[i] += n.texel_units[i];
+        }
+        const std::size_t k = n.replicate_units.size() / texels;
+        for (std::size_t i = lo * k; i < hi * k; ++i) nee_replicate_units[i] += n.replicate_units[i];
+      }
+    }
+  };
+  constexpr std::size_t kBlock = 8192;
+  if (texels <= kBlock) {
+    add_texels(0, texels);
+  } else {
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, texels, kBlock),
+                        [&](const tbb::blocked_range<std::size_t>& r) { add_texels(r.begin(), r.end()); },
+                        tbb::simple_partitioner());
+    });
+  }
+  for (TracerTally& t : tallies) {
+    if (near_planes) near_iteration.add(t.near_field);
+    for (std::uint32_t texel : t.texel_wraps) {
+      texel_photons[texel] += wrap;
+      texel_units[texel] += wrap * kPowerUnits;
+    }
+    if (!replicate_photons.empty())
+      for (std::uint32_t slot : t.replicate_wraps) replicate_photons[slot] += wrap;
+    if (!nee_units.empty()) {
+      const NextEventTally& n = t.next_event;
+      next_event.vertices += n.vertices;
+      next_event.connections += n.connections;
+      next_event.escaped += n.escaped;
+      nee_booked_units += n.booked_units;
+      nee_covered_units += n.covered_units;
+    }
+    if (image_sum.active()) {
+      const auto add_sets = [](std::vector<std::vector<std::uint64_t>>& to,
+                               const std::vector<std::vector<std::uint64_t>>& from) {
+        for (std::size_t k = 0; k < to.size() && k < from.size(); ++k)
+          for (std::size_t i = 0; i < to[k].size() && i < from[k].size(); ++i) to[k][i] += from[k][i];
+      };
+      add_sets(image_sum.units, t.images.units);
+      add_sets(image_sum.x_units, t.images.x_units);
+      add_sets(image_sum.z_units, t.images.z_units);
+    }
+    books_iteration.add(t.ledger);
+    t.clear();
+    escaped_rays.insert(escaped_rays.end(), t.escaped.begin(), t.escaped.end());
+    t.escaped.clear();
+  }
+  order_escapes(escapes_before);
+  if (guide) {
+    guide_iteration.clear();
+    for (GuideTally& t : guide_tallies) {
+      guide_iteration.add(t);
+      t.clear();
+    }
+  }
+  if (near_planes) near_sum.add(near_iteration);
+  books.add(books_iteration);
+  if (!guide) return 0;
+  for (std::size_t i = 0; i < texels; ++i) texel_units[i] += guide_iteration.extra_units[i];
+  return guide_iteration.dropped;
+}
+
+void Simulation::Impl::order_escapes(std::size_t from) {
+  const auto by_photon = [](const EscapedRay& a, const EscapedRay& b) { return a.photon < b.photon; };
+  const auto begin = escaped_rays.begin() + static_cast<std::ptrdiff_t>(from);
+  if (std::is_sorted(begin, escaped_rays.end(), by_photon)) return;
+  // Each thread appended its chunks in the order it traced them, a chunk's
+  // photons ascending, and chunks hold disjoint ranges of photons: the
+  // runs that ascend within one chunk (kChunkPhotons from the iteration's
+  // first photon), sorted by their first photon and put one after another,
+  // are in photon order, without sorting every escape (issue 40).
+  const std::uint64_t first = stats.photons;
+  const auto chunk_of = [&](const EscapedRay& r) { return (r.photon - first) / kChunkPhotons; };
+  struct Run {
+    std::uint64_t photon;
+    std::size_t begin, end;
+  };
+  std::vector<Run> runs;
+  for (std::size_t i = from; i < escaped_rays.size(); ++i) {
+    const EscapedRay& r = escaped_rays[i];
+    if (runs.empty() || r.photon <= escaped_rays[i - 1].photon || chunk_of(r) != chunk_of(escaped_rays[i - 1]))
+      runs.push_back({r.photon, i, i + 1});
+    else
+      runs.back().end = i + 1;
+  }
+  std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.photon < b.photon; });
+  std::vector<EscapedRay> ordered;
+  ordered.reserve(escaped_rays.size() - from);
+  for (const Run& run : runs)
+    ordered.insert(ordered.end(), escaped_rays.begin() + static_cast<std::ptrdiff_t>(run.begin),
+                   escaped_rays.begin() + static_cast<std::ptrdiff_t>(run.end));
+  std::copy(ordered.begin(), ordered.end(), begin);
+  // Runs that overlap (not expected): every escape sorted, as before.
+  if (!std::is_sorted(begin, escaped_rays.end(), by_photon)) std::sort(begin, escaped_rays.end(), by_photon);
+}
+
 std::uint64_t Simulation::Impl::add_iteration() {
+  if (!(ranks && ranks->distributed())) return add_iteration_here();
   // This iteration's counts, one word each: per texel the escaped photons,
   // then the books, then the guide's tally. Integer sums: the order of
   // threads and of ranks does not matter.

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <numbers>
 
 #include "photometry/diagnostics.h"
@@ -15,19 +18,46 @@ double corner_integral(double a, double b) {
   return std::atan2(a * b, std::sqrt(a * a + b * b + 1.0));
 }
 
-}  // namespace
-
-CubeMapGrid::CubeMapGrid(int face_size) : n_(face_size) {
-  GONIO_CHECK_MSG(face_size >= 1 && face_size <= 16384, "cube-map face size out of range");
-  face_solid_angle_.resize(static_cast<std::size_t>(n_) * n_);
-  const double step = 2.0 / n_;
-  for (int y = 0; y < n_; ++y) {
-    for (int x = 0; x < n_; ++x) {
+// One face's texel solid angles for face size n (4 atan2 a texel).
+std::vector<double> face_solid_angles(int n) {
+  std::vector<double> out(static_cast<std::size_t>(n) * n);
+  const double step = 2.0 / n;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
       const double a0 = -1.0 + x * step, b0 = -1.0 + y * step;
-      face_solid_angle_[static_cast<std::size_t>(y) * n_ + x] =
-          solid_angle(a0, b0, a0 + step, b0 + step);
+      out[static_cast<std::size_t>(y) * n + x] = CubeMapGrid::solid_angle(a0, b0, a0 + step, b0 + step);
     }
   }
+  return out;
+}
+
+}  // namespace
+
+// The face's solid angles are computed once per face size in the process
+// (up to kCachedFaceSize, 8 MB) and copied: a far field, each Sobol'
+// replicate's and each resampling builds a grid, and one evaluation of a
+// design built seven at face size 128 (6 % of its time, issue 40;
+// docs/design.md "Speed of one evaluation"). The copy holds the same values.
+CubeMapGrid::CubeMapGrid(int face_size) : n_(face_size) {
+  GONIO_CHECK_MSG(face_size >= 1 && face_size <= 16384, "cube-map face size out of range");
+  constexpr int kCachedFaceSize = 1024;
+  if (n_ > kCachedFaceSize) {
+    face_solid_angle_ = face_solid_angles(n_);
+    return;
+  }
+  static std::mutex mutex;
+  static std::map<int, std::shared_ptr<const std::vector<double>>> cache;
+  std::shared_ptr<const std::vector<double>> angles;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = cache.find(n_); it != cache.end()) angles = it->second;
+  }
+  if (!angles) {
+    angles = std::make_shared<const std::vector<double>>(face_solid_angles(n_));
+    const std::lock_guard<std::mutex> lock(mutex);
+    angles = cache.emplace(n_, angles).first->second;
+  }
+  face_solid_angle_ = *angles;
 }
 
 CubePoint CubeMapGrid::locate(const Vec3& d) {

@@ -676,6 +676,19 @@ BinnedField Resampler::bin(const FarField& field) const {
   return out;
 }
 
+std::vector<double> Resampler::bin_flux(std::span<const double> flux) const {
+  GONIO_CHECK_MSG(flux.size() == 6 * static_cast<std::size_t>(face_size_) * static_cast<std::size_t>(face_size_),
+                  "far field and resampler differ in face size");
+  const std::size_t bins = grid_.bin_count();
+  std::vector<double> out(bins, 0.0);
+  for (std::size_t b = 0; b < bins; ++b) {
+    double f = 0.0;
+    for (std::size_t k = row_start_[b]; k < row_start_[b + 1]; ++k) f += fraction_[k] * flux[texel_[k]];
+    out[b] = f;
+  }
+  return out;
+}
+
 photometry::Distribution to_distribution(const BinnedField& field, photometry::Symmetry symmetry) {
   using photometry::Symmetry;
   const CGammaGrid& g = field.grid;

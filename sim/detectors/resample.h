@@ -38,6 +38,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <span>
 #include <vector>
 
 #include "photometry/diagnostics.h"
@@ -173,6 +174,10 @@ class Resampler {
   // number, so Var(texel) = flux² / photons; a bin's variance is
   // Σ fraction² · Var(texel) (0 for a map without photon counts).
   BinnedField bin(const FarField& field) const;
+  // Only the flux per bin of a far field's texel fluxes (face size N: 6N²
+  // values), summed as bin() sums it (the same values): for estimates that
+  // read no variance or photon counts (issue 40).
+  std::vector<double> bin_flux(std::span<const double> texel_flux_lm) const;
 
   // The matrix as stored (tools/run/resampler_cache.h): compressed rows, one per
   // bin (row_start has bin_count() + 1 entries), each the texels the bin

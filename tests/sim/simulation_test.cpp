@@ -222,5 +222,36 @@ TEST(Simulation, AnEarlierSimulationsBvhServesTheSameGeometry) {
   EXPECT_FALSE(other->stats().tracer_setup.bvh_reused);
 }
 
+// The escapes kept (capture_escaped_photons) come out in photon order and
+// the same whatever the threads and the split into iterations (iterations
+// that do not start at a multiple of kChunkPhotons included): the merge puts
+// the threads' chunks in order instead of sorting every escape (issue 40).
+TEST(Simulation, KeptEscapesAreInPhotonOrderWhateverTheThreadsAndSplit) {
+  const SceneDesc scene = mixed_scene();
+  const auto run = [&](int threads, const std::vector<std::uint64_t>& split) {
+    SimulationSettings s = settings(threads, split.front(), 1);
+    s.capture_escaped_photons = 50'000;
+    Result<Simulation> sim = Simulation::create(scene, s);
+    EXPECT_TRUE(sim.ok());
+    for (std::uint64_t n : split) sim->run_iteration(n);
+    return sim->escaped_rays();
+  };
+  const std::vector<EscapedRay> one = run(1, {60'000});
+  ASSERT_GT(one.size(), 10'000u);
+  EXPECT_LT(one.back().photon, 50'000u);
+  for (std::size_t i = 1; i < one.size(); ++i) ASSERT_LT(one[i - 1].photon, one[i].photon) << i;
+  for (const auto& [threads, split] : {std::pair<int, std::vector<std::uint64_t>>{2, {60'000}},
+                                       {3, {7'000, 13'001, 39'999}}, {2, {5'000, 5'000, 50'000}}}) {
+    const std::vector<EscapedRay> other = run(threads, split);
+    ASSERT_EQ(other.size(), one.size()) << threads << " threads";
+    for (std::size_t i = 0; i < one.size(); ++i) {
+      ASSERT_EQ(other[i].photon, one[i].photon) << i;
+      ASSERT_EQ(std::memcmp(&other[i].origin, &one[i].origin, sizeof(Vec3)), 0) << i;
+      ASSERT_EQ(std::memcmp(&other[i].direction, &one[i].direction, sizeof(Vec3)), 0) << i;
+      ASSERT_EQ(other[i].power_units, one[i].power_units) << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gonio::sim

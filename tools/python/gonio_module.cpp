@@ -947,10 +947,11 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
   std::optional<Error> failure;
   hooks.on_failed = [&failure](const Error& e) { failure = e; };
   // The resampler of the output grid, for the estimate after each iteration.
-  std::optional<sim::Resampler> resampler;
+  std::shared_ptr<const sim::Resampler> resampler;
   hooks.on_loaded = [&](const sim::SceneDesc& scene, const std::vector<Finding>&) -> const sim::Resampler* {
-    return &resampler.emplace(app::cached_resampler(plan.progressive.simulation.face_size, scene.frame, plan.grid,
-                                                    plan.model_input.cache_dir));
+    resampler = app::shared_resampler(plan.progressive.simulation.face_size, scene.frame, plan.grid,
+                                      plan.model_input.cache_dir);
+    return resampler.get();
   };
   hooks.on_iteration = [&](const app::IterationReport& r, const sim::Simulation&) {
     py::gil_scoped_acquire locked;
@@ -993,19 +994,32 @@ SimulationResult simulate(const py::object& model_object, std::uint64_t photons,
   result.photons = st.photons;
   result.trace_s = st.trace_s;
 
-  // The candela table the IES and LDT files hold (tools/run/simulation_outputs.h).
-  Result<app::SimulatedTable> table = [&] {
+  // The far field, made once for the table and the result.
+  auto far_field = std::make_shared<const sim::FarField>(simulation.far_field());
+  // The candela table the IES and LDT files hold (tools/run/simulation_outputs.h):
+  // the one written with `out` where the files held one (a grey run: the
+  // files' table of a spectral run also carries its colour), else made here.
+  Result<app::SimulatedTable> table = [&]() -> Result<app::SimulatedTable> {
+    if (ran->files && !ran->files->outputs.symmetry_reason.empty() && !simulation.tracer().spectral() &&
+        plan.model == model) {
+      app::SimulatedTable written;
+      written.distribution = std::move(ran->files->outputs.distribution);
+      written.symmetry = ran->files->outputs.symmetry;
+      written.symmetry_reason = ran->files->outputs.symmetry_reason;
+      written.decision = ran->files->outputs.decision;
+      return written;
+    }
     py::gil_scoped_release unlocked;
     const app::OutputRequest request =
         app::table_request(simulation, model, plan.grid, plan.symmetry, plan.model_input.cache_dir);
-    return app::simulated_table(simulation.far_field(), simulation.scene(), result.ledger, request);
+    return app::simulated_table(*far_field, simulation.scene(), result.ledger, request);
   }();
   app::SimulatedTable t = take(std::move(table));
   io::PhotometricFile file;
   file.distribution = std::move(t.distribution);
   result.symmetry_reason = t.symmetry_reason;
   result.photometry = {std::make_shared<io::PhotometricFile>(std::move(file)), model + " (simulated)", true};
-  result.far_field.field = std::make_shared<const sim::FarField>(simulation.far_field());
+  result.far_field.field = std::move(far_field);
   if (ran->files) result.exit_code = ran->files->passed() ? app::kExitOk : app::kExitFailure;
   if (!out.empty()) {
     const std::filesystem::path report = std::filesystem::path(out) / "report.json";

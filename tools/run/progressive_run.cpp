@@ -53,11 +53,16 @@ double estimated_rms_error_pct(const sim::Simulation& simulation, const sim::Res
   const int k = simulation.sobol_replicates();
   if (k < 2 || simulation.stats().photons < static_cast<std::uint64_t>(k))
     return estimated_rms_error_pct(simulation.far_field(), resampler);
-  // One replicate's far field at a time: K tables, not K cube maps.
-  std::vector<sim::BinnedField> tables;
-  tables.reserve(static_cast<std::size_t>(k));
-  for (int r = 0; r < k; ++r) tables.push_back(resampler.bin(simulation.replicate_far_field(r)));
-  return replicate_table_error_pct(resampler.bin(simulation.far_field()), tables);
+  // One replicate's far field at a time: K tables, not K cube maps. The
+  // estimate reads only the tables' flux (and the bins' solid angles):
+  // bin_flux gives the values bin() would, without the variances (issue 40).
+  std::vector<sim::BinnedField> tables(static_cast<std::size_t>(k));
+  for (int r = 0; r < k; ++r)
+    tables[static_cast<std::size_t>(r)].flux_lm = resampler.bin_flux(simulation.replicate_far_field(r).flux_lm());
+  sim::BinnedField table;
+  table.flux_lm = resampler.bin_flux(simulation.far_field().flux_lm());
+  table.solid_angle_sr = resampler.bin_solid_angle_sr();
+  return replicate_table_error_pct(table, tables);
 }
 
 const char* to_string(StopReason reason) {

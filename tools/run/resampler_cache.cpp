@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -152,6 +153,33 @@ sim::Resampler cached_resampler(int face_size, const photometry::PhotometricFram
   }
   if (source) *source = s;
   return built;
+}
+
+std::shared_ptr<const sim::Resampler> shared_resampler(int face_size, const photometry::PhotometricFrame& frame,
+                                                       const sim::CGammaGrid& grid, const std::string& cache_dir) {
+  if (cache_dir.empty()) return std::make_shared<const sim::Resampler>(cached_resampler(face_size, frame, grid, cache_dir));
+  struct Kept {
+    std::string cache_dir, name;
+    std::shared_ptr<const sim::Resampler> resampler;
+  };
+  constexpr std::size_t kKept = 4;
+  static std::mutex mutex;
+  static std::vector<Kept> kept;  // the most recently used last
+  const std::string name = resampler_cache_name(face_size, frame, grid);
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      if (kept[i].cache_dir != cache_dir || kept[i].name != name) continue;
+      std::rotate(kept.begin() + static_cast<std::ptrdiff_t>(i), kept.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+                  kept.end());
+      return kept.back().resampler;
+    }
+  }
+  auto made = std::make_shared<const sim::Resampler>(cached_resampler(face_size, frame, grid, cache_dir));
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (kept.size() >= kKept) kept.erase(kept.begin());
+  kept.push_back({cache_dir, name, made});
+  return made;
 }
 
 }  // namespace gonio::app

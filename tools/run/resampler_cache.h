@@ -12,6 +12,7 @@
 // written is no error: the resampler is then built every time.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include "photometry/frame.h"
@@ -30,6 +31,14 @@ struct ResamplerSource {
 sim::Resampler cached_resampler(int face_size, const photometry::PhotometricFrame& frame,
                                 const sim::CGammaGrid& grid, const std::string& cache_dir,
                                 ResamplerSource* source = nullptr);
+
+// The same resampler, shared: the last few that came from (or went into) a
+// cache folder are kept in this process, keyed by the folder and the cache
+// file's name, so that repeated evaluations (gonio.simulate in a loop, the
+// candela table after the run's estimate) neither read nor hash the file
+// again (issue 40). An empty cache_dir keeps nothing: built every time.
+std::shared_ptr<const sim::Resampler> shared_resampler(int face_size, const photometry::PhotometricFrame& frame,
+                                                       const sim::CGammaGrid& grid, const std::string& cache_dir);
 
 // The cache file's name for these parameters (resampler-<16 hex>.bin).
 std::string resampler_cache_name(int face_size, const photometry::PhotometricFrame& frame,

@@ -15,6 +15,7 @@
 #include "tools/run/distributed_run.h"
 #include "tools/run/glossy_energy_cache.h"
 #include "tools/run/resampler_cache.h"
+#include "tools/run/simulation_outputs.h"
 
 namespace gonio::app {
 namespace {
@@ -175,7 +176,10 @@ Result<SimulatePlan> plan_simulation(const std::string& model, const SimulateOpt
   settings.seed = static_cast<std::uint64_t>(o.seed);
   settings.sampler = *sampler;
   settings.threads = static_cast<int>(o.threads);
-  settings.capture_escaped_photons = tm25 ? static_cast<std::uint64_t>(o.tm25_rays.value_or(1'000'000)) : 0;
+  // Without TM-25 rays the trace keeps the escapes of its first
+  // kOpeningPhotons photons, so that the luminous opening is found from them
+  // instead of tracing them again (simulated_opening, issue 40).
+  settings.capture_escaped_photons = tm25 ? static_cast<std::uint64_t>(o.tm25_rays.value_or(1'000'000)) : kOpeningPhotons;
   settings.near_field_distances_m = near_field_m;
   settings.next_event = *next_event;
   settings.next_event_connections = static_cast<int>(o.connections);

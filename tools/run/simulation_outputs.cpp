@@ -24,6 +24,7 @@
 #include "photometry/colour.h"
 #include "photometry/format.h"
 #include "photometry/validation.h"
+#include "sim/distributed.h"
 #include "tools/run/console.h"
 #include "tools/run/json_figures.h"
 #include "tools/run/resampler_cache.h"
@@ -466,6 +467,33 @@ SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDe
   return opening_of_exits(points);
 }
 
+bool opening_from_trace(const sim::Simulation& simulation, std::uint64_t photons) {
+  const sim::SimulationSettings& settings = simulation.settings();
+  // The trace followed photons 0 … photons − 1 as record_rays does (no
+  // connection drew from their random numbers, no guide chose them) and
+  // kept their escapes here, in this process.
+  return settings.capture_escaped_photons >= photons && simulation.stats().photons >= photons &&
+         !simulation.next_event().enabled && !simulation.emission_guide() && settings.luminance.views.empty() &&
+         !(settings.ranks && settings.ranks->distributed());
+}
+
+SimulatedOpening simulated_opening(const sim::Simulation& simulation, std::uint64_t photons) {
+  if (!opening_from_trace(simulation, photons))
+    return simulated_opening(simulation.tracer(), simulation.scene(), simulation.settings().seed, photons);
+  // The escapes by photon index: the last ray of each, as record_rays
+  // recorded it (a float RayQuery), in the order simulated_opening meets them.
+  const photometry::PhotometricFrame& frame = simulation.scene().frame;
+  std::vector<Vec3> points;
+  for (const sim::EscapedRay& r : simulation.escaped_rays()) {
+    if (r.photon >= photons) break;
+    const sim::RayQuery q = sim::ray_query(r.origin, r.direction);
+    const Vec3 dir = frame.to_local(Vec3{q.direction[0], q.direction[1], q.direction[2]});
+    if (!(dir.z < 0.0)) continue;
+    points.push_back(frame.to_local(Vec3{q.origin[0], q.origin[1], q.origin[2]}));
+  }
+  return opening_of_exits(points);
+}
+
 SimulatedOpening opening_of_exits(const std::vector<Vec3>& exits_local) {
   SimulatedOpening out;
   constexpr double inf = std::numeric_limits<double>::infinity();
@@ -590,7 +618,7 @@ OutputRequest table_request(const sim::Simulation& simulation, const std::string
   request.grid = grid;
   request.symmetry = symmetry;
   request.cache_dir = cache_dir;
-  request.opening = simulated_opening(simulation.tracer(), simulation.scene(), settings.seed);
+  request.opening = simulated_opening(simulation);
   request.run.program_version = kVersion;
   request.run.model = model;
   request.run.photons = simulation.stats().photons;
@@ -605,8 +633,9 @@ Result<SimulatedTable> simulated_table(const sim::FarField& far_field, const sim
   if (request.symmetry) {
     if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
   }
-  const sim::Resampler resampler = cached_resampler(far_field.face_size(), scene.frame, request.grid, request.cache_dir);
-  const sim::BinnedField binned = resampler.bin(far_field);
+  const std::shared_ptr<const sim::Resampler> resampler =
+      shared_resampler(far_field.face_size(), scene.frame, request.grid, request.cache_dir);
+  const sim::BinnedField binned = resampler->bin(far_field);
   SimulatedTable table;
   if (request.symmetry) {
     table.symmetry = *request.symmetry;

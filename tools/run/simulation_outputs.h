@@ -105,6 +105,17 @@ struct SimulatedOpening {
 };
 SimulatedOpening simulated_opening(const sim::Tracer& tracer, const sim::SceneDesc& scene, std::uint64_t seed,
                                    std::uint64_t photons = std::uint64_t{1} << 16);
+// The same opening from the trace's own escapes of photons 0 … photons − 1
+// where it kept them (SimulationSettings::capture_escaped_photons, which
+// plan_simulation sets to kOpeningPhotons unless TM-25 rays name their own
+// count) and followed them as
+// record_rays does (no next-event connections, guided emission or
+// luminance images; one process): the same points in the same order, so the
+// same opening, without tracing them again (issue 40). Otherwise traces
+// them again (above).
+inline constexpr std::uint64_t kOpeningPhotons = std::uint64_t{1} << 16;
+bool opening_from_trace(const sim::Simulation& simulation, std::uint64_t photons = kOpeningPhotons);
+SimulatedOpening simulated_opening(const sim::Simulation& simulation, std::uint64_t photons = kOpeningPhotons);
 // The same opening from points downward escapes leave from, given in the
 // photometric frame [m] (simulated_opening's second half; gonio optimize's
 // UGR takes them from an evaluation's own escaped photons).

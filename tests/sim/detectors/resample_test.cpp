@@ -528,5 +528,23 @@ TEST(ResampleNonUniform, SymmetryNeedsMirroredPlanes) {
   EXPECT_NEAR(photometry::total_flux_lm(none), photometry::total_flux_lm(d), 1e-4 * photometry::total_flux_lm(d));
 }
 
+// bin_flux (the estimate's tables, issue 40) sums each bin as bin() does:
+// the same doubles, not merely close ones.
+TEST(Resample, BinFluxGivesBinsFluxExactly) {
+  std::mt19937_64 rng(11);
+  std::exponential_distribution<double> e(1.0);
+  for (const PhotometricFrame& frame : {PhotometricFrame{}, tilted_frame()}) {
+    const CGammaGrid g{10.0, 5.0};
+    const int n = face_size_for(g);
+    const Resampler r(n, frame, g);
+    FarField field(n);
+    for (std::size_t t = 0; t < field.texel_count(); ++t) field.add(t, e(rng) * 3.0, 1 + rng() % 9);
+    const BinnedField b = r.bin(field);
+    const std::vector<double> flux = r.bin_flux(field.flux_lm());
+    ASSERT_EQ(flux.size(), b.flux_lm.size());
+    for (std::size_t k = 0; k < flux.size(); ++k) ASSERT_EQ(flux[k], b.flux_lm[k]) << "bin " << k;
+  }
+}
+
 }  // namespace
 }  // namespace gonio::sim

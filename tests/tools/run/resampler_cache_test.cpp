@@ -140,5 +140,23 @@ TEST(ResamplerCache, StoredRowsOfTheWrongShapeAreRefused) {
   refused("a face too small for its texels", [](sim::Resampler::Rows&) {}, kFace / 2);
 }
 
+// The resamplers kept in memory (issue 40): the same object again for the
+// same folder and parameters, its rows those built; other parameters or
+// another folder get their own; no folder keeps nothing.
+TEST(ResamplerCache, SharedResamplersAreKeptPerFolderAndParameters) {
+  test::TempDir dir;
+  const std::string cache = (dir / "cache").string();
+  const std::shared_ptr<const sim::Resampler> a = shared_resampler(kFace, tilted(), kGrid, cache);
+  const std::shared_ptr<const sim::Resampler> again = shared_resampler(kFace, tilted(), kGrid, cache);
+  EXPECT_EQ(a.get(), again.get());
+  expect_same(*a, sim::Resampler(kFace, tilted(), kGrid));
+  const std::shared_ptr<const sim::Resampler> other = shared_resampler(kFace, {}, kGrid, cache);
+  EXPECT_NE(other.get(), a.get());
+  expect_same(*other, sim::Resampler(kFace, {}, kGrid));
+  EXPECT_NE(shared_resampler(kFace, tilted(), kGrid, (dir / "elsewhere").string()).get(), a.get());
+  EXPECT_NE(shared_resampler(kFace, tilted(), kGrid, std::string()).get(),
+            shared_resampler(kFace, tilted(), kGrid, std::string()).get());
+}
+
 }  // namespace
 }  // namespace gonio::app

@@ -12,6 +12,7 @@
 #include "io/photometric/ies.h"
 #include "io/photometric/ldt.h"
 #include "photometry/flux.h"
+#include "tests/sim/scenes.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::app {
@@ -266,6 +267,79 @@ TEST(EnergyCheck, EveryFailedCheckIsListed) {
   EXPECT_EQ(c.json["failures"].size(), 4u);
   EXPECT_FALSE(c.json["files"][0]["flux_ok"].get<bool>());
   EXPECT_FALSE(c.json["files"][0]["clean"].get<bool>());
+}
+
+}  // namespace
+}  // namespace gonio::app
+
+namespace gonio::app {
+namespace {
+
+// The luminous opening from the trace's own escapes (issue 40) against the
+// same photons traced again by simulated_opening: the same points in the
+// same order, so every field equal (the centre's height is a sum in order).
+sim::Simulation traced_mixed_scene(sim::SamplerKind sampler, sim::NextEventMode next_event, std::uint64_t capture,
+                                   int threads) {
+  sim::SimulationSettings s = sim::test_scenes::small_run(threads, 40'000, 2, 7);
+  s.sampler = sampler;
+  s.next_event = next_event;
+  s.capture_escaped_photons = capture;
+  Result<sim::Simulation> created = sim::Simulation::create(sim::test_scenes::mixed_scene(), s);
+  EXPECT_TRUE(created.ok());
+  sim::Simulation simulation = std::move(created.value());
+  simulation.run_iteration();
+  simulation.run_iteration();
+  return simulation;
+}
+
+void expect_same_opening(const SimulatedOpening& a, const SimulatedOpening& b) {
+  EXPECT_EQ(a.exits, b.exits);
+  EXPECT_EQ(a.opening.shape, b.opening.shape);
+  EXPECT_EQ(a.opening.length_m, b.opening.length_m);
+  EXPECT_EQ(a.opening.width_m, b.opening.width_m);
+  EXPECT_EQ(a.centre_m.x, b.centre_m.x);
+  EXPECT_EQ(a.centre_m.y, b.centre_m.y);
+  EXPECT_EQ(a.centre_m.z, b.centre_m.z);
+}
+
+TEST(SimulatedOpening, FromTheTracesEscapesEqualsTracingThemAgain) {
+  // Both samplers, one and two threads; a capture beyond the opening's
+  // photons (TM-25 rays) is left out.
+  struct Case {
+    sim::SamplerKind sampler;
+    int threads;
+    std::uint64_t capture;
+  };
+  for (const Case& c : {Case{sim::SamplerKind::Random, 1, kOpeningPhotons},
+                        Case{sim::SamplerKind::Random, 2, kOpeningPhotons + 5000},
+                        Case{sim::SamplerKind::Sobol, 2, kOpeningPhotons},
+                        Case{sim::SamplerKind::Sobol, 1, kOpeningPhotons + 5000}}) {
+    const sim::Simulation simulation = traced_mixed_scene(c.sampler, sim::NextEventMode::Off, c.capture, c.threads);
+    ASSERT_TRUE(opening_from_trace(simulation));
+    const SimulatedOpening traced = simulated_opening(simulation);
+    const SimulatedOpening again =
+        simulated_opening(simulation.tracer(), simulation.scene(), simulation.settings().seed);
+    EXPECT_GT(traced.exits, 1000u);
+    expect_same_opening(traced, again);
+  }
+}
+
+TEST(SimulatedOpening, TracesAgainWhereTheTraceCannotTell) {
+  // Too few escapes kept, or next-event connections drew from the photons'
+  // random numbers (their paths differ from record_rays'): traced again.
+  const sim::Simulation few = traced_mixed_scene(sim::SamplerKind::Random, sim::NextEventMode::Off, 1000, 2);
+  EXPECT_FALSE(opening_from_trace(few));
+  const sim::Simulation nee = traced_mixed_scene(sim::SamplerKind::Random, sim::NextEventMode::On, kOpeningPhotons, 2);
+  ASSERT_TRUE(nee.next_event().enabled);
+  EXPECT_FALSE(opening_from_trace(nee));
+  expect_same_opening(simulated_opening(nee), simulated_opening(nee.tracer(), nee.scene(), nee.settings().seed));
+  // Fewer photons traced than the opening needs.
+  sim::SimulationSettings s = sim::test_scenes::small_run(2, 1000, 1, 7);
+  s.capture_escaped_photons = kOpeningPhotons;
+  Result<sim::Simulation> small = sim::Simulation::create(sim::test_scenes::mixed_scene(), s);
+  ASSERT_TRUE(small.ok());
+  small->run_iteration();
+  EXPECT_FALSE(opening_from_trace(*small));
 }
 
 }  // namespace
