@@ -318,6 +318,17 @@ Status write_tables(const std::string& dir, const std::string& stem, const photo
   return Ok{};
 }
 
+// A written trace's own report beside its tables (STEM.json): its entry of
+// report.json (a trial's number, values, figures and verdicts; the nominal's
+// figures) and the names of the tables it describes.
+Status write_trace_report(const std::string& dir, const std::string& stem, json entry, json& files) {
+  entry["tables"] = json::array({stem + ".ies", stem + ".ldt"});
+  const std::string name = stem + ".json";
+  if (Status s = io::write_file_atomic((fs::path(dir) / name).string(), entry.dump(2) + "\n"); !s.ok()) return s;
+  files.push_back(name);
+  return Ok{};
+}
+
 // The Monte Carlo trials' values: a Latin hypercube over the tolerance
 // space (seeded by `sampling_seed`), each law's quantile of its stratum.
 std::vector<std::vector<double>> monte_carlo_values(const design::ToleranceSpec& spec, long long trials,
@@ -751,6 +762,9 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   json files = json::array();
   if (Status s = write_tables(out_dir, "nominal", nominal_d, files); !s.ok()) return failed(to_string(s.error()));
   report["nominal"] = figures_json(nominal->figures);
+  if (Status s = write_trace_report(out_dir, "nominal", {{"trial", "nominal"}, {"figures", report["nominal"]}}, files);
+      !s.ok())
+    return failed(to_string(s.error()));
   std::vector<FigureValues> independent;
   json noise_runs = json::array();
   for (long long k = 1; k <= noise_seeds; ++k) {
@@ -1046,9 +1060,13 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     yield["all"] = static_cast<double>(passed) / static_cast<double>(u.size());
   }
   if (best)
-    for (int k = 0; k < 2; ++k)
-      if (Status s = write_tables(out_dir, k == 0 ? "best" : "worst", kept[static_cast<std::size_t>(k)], files); !s.ok())
+    for (int k = 0; k < 2; ++k) {
+      const char* stem = k == 0 ? "best" : "worst";
+      if (Status s = write_tables(out_dir, stem, kept[static_cast<std::size_t>(k)], files); !s.ok())
         return failed(to_string(s.error()));
+      if (Status s = write_trace_report(out_dir, stem, mc_trials[k == 0 ? *best : *worst], files); !s.ok())
+        return failed(to_string(s.error()));
+    }
   // The trials at the --percentile choices of their figure (nearest rank
   // over the trials where the figure is defined), traced again for their
   // tables like best and worst.
@@ -1073,6 +1091,11 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     if (Status s = write_tables(out_dir, c.stem(), t->distribution, written); !s.ok())
       return failed(to_string(s.error()));
     for (const json& name : written) files.push_back(name);
+    json trace_entry = mc_trials[*n];
+    trace_entry["percentile"] = {{"figure", design::figure_info()[c.figure].key}, {"percent", c.percent}};
+    if (Status s = write_trace_report(out_dir, c.stem(), trace_entry, written); !s.ok())
+      return failed(to_string(s.error()));
+    files.push_back(written.back());
     entry["trial"] = *n + 1;
     entry["value"] = json_number(v[*n]);
     entry["rank"] = static_cast<std::size_t>(

@@ -787,7 +787,14 @@ TEST(ToleranceCli, PercentileTrialsAreTheNearestRankOfTheirFigure) {
     EXPECT_EQ(p["trial"].get<std::size_t>(), trial) << stem;
     const json& figures = mc["trials"][trial - 1]["figures"];
     EXPECT_EQ(p["value"], figures[figure]);
-    EXPECT_EQ(p["files"], json::array({stem + ".ies", stem + ".ldt"}));
+    EXPECT_EQ(p["files"], json::array({stem + ".ies", stem + ".ldt", stem + ".json"}));
+    // The written trial's own report: its entry of report.json, the percentile and its tables.
+    json own = json::parse(test::read_file(dir.path() / "out" / (stem + ".json")));
+    EXPECT_EQ(own["percentile"], (json{{"figure", figure}, {"percent", percent}}));
+    EXPECT_EQ(own["tables"], json::array({stem + ".ies", stem + ".ldt"}));
+    own.erase("percentile");
+    own.erase("tables");
+    EXPECT_EQ(own, mc["trials"][trial - 1]) << stem;
     Result<io::PhotometricFile> written = io::read_photometric_file((dir.path() / "out" / (stem + ".ies")).string());
     ASSERT_TRUE(written.ok()) << stem;
     ASSERT_TRUE(fs::exists(dir.path() / "out" / (stem + ".ldt")));
@@ -798,6 +805,16 @@ TEST(ToleranceCli, PercentileTrialsAreTheNearestRankOfTheirFigure) {
   }
   EXPECT_EQ(mc["percentile_trials"][1]["trial"], mc["worst_trial"]);
   EXPECT_EQ(mc["percentile_trials"][2]["trial"], mc["best_trial"]);
+  // best, worst and the nominal: each table with its report (the trial's entry, the nominal's figures).
+  for (const std::string stem : {"best", "worst"}) {
+    json own = json::parse(test::read_file(dir.path() / "out" / (stem + ".json")));
+    EXPECT_EQ(own["tables"], json::array({stem + ".ies", stem + ".ldt"}));
+    own.erase("tables");
+    EXPECT_EQ(own, mc["trials"][mc[stem + "_trial"].get<std::size_t>() - 1]) << stem;
+  }
+  const json nominal_own = json::parse(test::read_file(dir.path() / "out" / "nominal.json"));
+  EXPECT_EQ(nominal_own["trial"], "nominal");
+  EXPECT_EQ(nominal_own["figures"], report["nominal"]);
   EXPECT_EQ(test::read_file(dir.path() / "out" / "p100_rms.ies"), test::read_file(dir.path() / "out" / "worst.ies"));
   EXPECT_EQ(test::read_file(dir.path() / "out" / "p0_rms.ldt"), test::read_file(dir.path() / "out" / "best.ldt"));
   const std::vector<std::string> files = report["files"].get<std::vector<std::string>>();
