@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -460,6 +461,37 @@ TEST(DesignFile, PolylineProfileIsFlatBetweenItsKnots) {
   // ~20.6 of each span (before: most facets crossed a knot).
   EXPECT_LT(across / area, 0.08) << worst;
   EXPECT_LT(worst, 1e-4) << across / area;  // float positions ~0.12 mm apart along a span
+}
+
+// The rule itself, which the troughs and the facets share with the
+// reflectors: on a polyline every knot where the tangent turns lies between
+// two neighbouring rows (samples k − 1 and k), however small the turn, and
+// a straight run (collinear points) needs no row.
+TEST(DesignFile, PolylineRowsStraddleEveryKnotWhereItTurns) {
+  BSplineProfile b;
+  b.degree = 1;
+  for (int i = 0; i < 50; ++i) {  // a parabola's polyline, 0.2–0.3° per knot (under δ/4 = 0.5°), then a straight run
+    const double x = 0.004 + 0.0001 * i;
+    b.rho.push_back(x);
+    b.z.push_back(0.01 - x * x / 0.04);
+  }
+  for (int i = 1; i <= 10; ++i) {
+    b.rho.push_back(b.rho[49] + 0.001 * i);
+    b.z.push_back(b.z[49] - 0.001 * i * (2 * b.rho[49] / 0.04));
+  }
+  Result<ProfileCurve> curve = ProfileCurve::make(b);
+  ASSERT_TRUE(curve.ok()) << curve.error().message;
+  const std::vector<ProfileSample> fine = sample_profile(*curve);
+  const std::vector<std::size_t> rows = profile_rows(fine, 2.0 * kPi / 180.0, 1e-3);
+  std::size_t corners = 0;
+  for (std::size_t k = 1; k < fine.size(); ++k) {
+    if (!fine[k].corner) continue;
+    ++corners;
+    const auto at = std::lower_bound(rows.begin(), rows.end(), k);
+    ASSERT_TRUE(at != rows.end() && *at == k && at != rows.begin() && *(at - 1) == k - 1) << "the knot before sample " << k;
+  }
+  EXPECT_EQ(corners, 49u);  // the 48 knots of the curved part and where the straight run starts
+  EXPECT_LE(rows.size(), 2 * corners + 2);  // no row within a span
 }
 
 TEST(DesignFile, BSplineThatCrossesItselfOrTheAxisIsAnError) {
