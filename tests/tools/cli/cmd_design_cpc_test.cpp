@@ -60,7 +60,7 @@ std::vector<std::pair<double, double>> cpc_profile(double a_small, double theta_
 // a fault of how a degree-1 profile was tessellated (rows between its knots
 // with one span's normal; design/revolved.h), fixed with this test as its
 // regression: 1.004–1.005 of it after the fix (docs/design.md, "A published design
-// reproduced"). About 4 s on the loaded 2-core machine; 10⁶ photons, as
+// reproduced"). 4–17 s on the loaded 2-core machine; 10⁶ photons, as
 // at 3·10⁵ the axis scattered ±2.3 % over four seeds (against the 9 % fault).
 TEST(PublishedDesign, ACompoundParabolicConcentratorsOnAxisIntensityIsWinstons) {
   test::TempDir dir;
