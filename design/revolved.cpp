@@ -289,7 +289,13 @@ void ProfileCurve::eval(double t, double& rho, double& z, double& drho, double& 
   dz = -dr * std::cos(t) + r * std::sin(t);
 }
 
+bool ProfileCurve::piecewise_linear() const {
+  const auto* b = std::get_if<BSplineProfile>(&profile_);
+  return b && b->degree == 1;
+}
+
 std::vector<ProfileSample> sample_profile(const ProfileCurve& curve) {
+  const bool linear = curve.piecewise_linear();
   std::vector<ProfileSample> fine(kFineSamples);
   for (std::size_t k = 0; k < kFineSamples; ++k) {
     ProfileSample& s = fine[k];
@@ -299,6 +305,8 @@ std::vector<ProfileSample> sample_profile(const ProfileCurve& curve) {
     if (k > 0) {  // unwrap
       while (s.angle - fine[k - 1].angle > std::numbers::pi) s.angle -= 2 * std::numbers::pi;
       while (s.angle - fine[k - 1].angle < -std::numbers::pi) s.angle += 2 * std::numbers::pi;
+      // Within a straight span the tangent is the same to rounding.
+      s.corner = linear && std::abs(s.angle - fine[k - 1].angle) > 1e-9;
     }
   }
   return fine;
@@ -308,6 +316,8 @@ std::vector<std::size_t> profile_rows(const std::vector<ProfileSample>& fine, do
   std::vector<std::size_t> rows = {0};
   auto fits = [&](std::size_t a, std::size_t b) {
     if (std::abs(fine[b].angle - fine[a].angle) > delta * kRowsPerDeflection) return false;
+    for (std::size_t k = a + 1; k <= b; ++k)
+      if (fine[k].corner) return false;
     const double ex = fine[b].rho - fine[a].rho, ez = fine[b].z - fine[a].z;
     const double len = std::hypot(ex, ez);
     for (std::size_t k = a + 1; k < b; ++k) {

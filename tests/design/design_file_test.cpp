@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -402,6 +403,95 @@ TEST(DesignFile, BSplineOfDegreeTwoIsTheParaboloid) {
     const double rho = std::hypot(p.x, p.y);
     ASSERT_NEAR(p.z, f - rho * rho / (4 * f), 1e-8);
   }
+}
+
+// A degree-1 B-spline is a polyline: each span revolves to a cone whose
+// normal is the same along the profile, and the exact normal jumps at the
+// knots. A polyline sampling a smooth curve (here the paraboloid at 200
+// points, 0.23° of turn per span, under the rows' δ/4 = 0.5° at δ = 2°) once
+// got rows between its knots, each carrying the normal of whichever span it
+// fell in, so a facet spanning several spans interpolated normals that were
+// up to a span's turn off the cone it lies on, biased one way (a 200-point
+// CPC traced 9 % over its closed form on the axis; docs/design.md, "A
+// published design reproduced"). Now rows straddle every knot: each facet
+// but the slivers across a knot carries its own span's normal at all three
+// corners, perpendicular to the span.
+TEST(DesignFile, PolylineProfileIsFlatBetweenItsKnots) {
+  const double f = 10.0;  // mm
+  std::string points;
+  for (int i = 0; i < 200; ++i) {
+    const double rho = 4.0 + 26.0 * i / 199.0;
+    points += (points.empty() ? "[" : ", [") + std::to_string(rho) + ", " + std::to_string(f - rho * rho / (4 * f)) + "]";
+  }
+  Result<sim::SceneDesc> s = scene_of("length_unit = \"mm\"\n" + bspline_design("[" + points + "]", 1));
+  ASSERT_TRUE(s.ok()) << to_string(s.error());
+  const sim::Mesh& m = s->meshes[0];
+  // A vertex's normal in its meridian plane: (n · ρ̂, n_z).
+  auto meridional = [&](std::uint32_t i) {
+    const Vec3 p = sim::to_double(m.positions[i]), n = sim::to_double(m.normals[i]);
+    const double rho = std::hypot(p.x, p.y);
+    return std::pair{(n.x * p.x + n.y * p.y) / rho, n.z};
+  };
+  double area = 0.0, across = 0.0, worst = 0.0;
+  for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+    const std::uint32_t i[3] = {m.indices[t], m.indices[t + 1], m.indices[t + 2]};
+    const Vec3 a = sim::to_double(m.positions[i[0]]), b = sim::to_double(m.positions[i[1]]),
+               c = sim::to_double(m.positions[i[2]]);
+    const double triangle = 0.5 * length(cross(b - a, c - a));
+    area += triangle;
+    const auto n0 = meridional(i[0]), n1 = meridional(i[1]), n2 = meridional(i[2]);
+    const double spread = std::max(std::atan2(std::abs(n0.first * n1.second - n0.second * n1.first),
+                                              n0.first * n1.first + n0.second * n1.second),
+                                   std::atan2(std::abs(n0.first * n2.second - n0.second * n2.first),
+                                              n0.first * n2.first + n0.second * n2.second));
+    if (spread > 1e-5) {
+      across += triangle;
+      continue;
+    }
+    // The facet's edge along the profile (two corners at one azimuth) is the span: the normal is perpendicular to it.
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = sim::to_double(m.positions[i[k]]), q = sim::to_double(m.positions[i[(k + 1) % 3]]);
+      if (std::abs(std::atan2(p.y, p.x) - std::atan2(q.y, q.x)) > 1e-6) continue;
+      const double dr = std::hypot(q.x, q.y) - std::hypot(p.x, p.y), dz = q.z - p.z;
+      const auto n = meridional(i[k]);
+      worst = std::max(worst, std::abs(n.first * dr + n.second * dz) / std::hypot(dr, dz));
+    }
+  }
+  // The slivers across the knots: one of the profile's 4096 samples in the
+  // ~20.6 of each span (before: most facets crossed a knot).
+  EXPECT_LT(across / area, 0.08) << worst;
+  EXPECT_LT(worst, 1e-4) << across / area;  // float positions ~0.12 mm apart along a span
+}
+
+// The rule itself, which the troughs and the facets share with the
+// reflectors: on a polyline every knot where the tangent turns lies between
+// two neighbouring rows (samples k − 1 and k), however small the turn, and
+// a straight run (collinear points) needs no row.
+TEST(DesignFile, PolylineRowsStraddleEveryKnotWhereItTurns) {
+  BSplineProfile b;
+  b.degree = 1;
+  for (int i = 0; i < 50; ++i) {  // a parabola's polyline, 0.2–0.3° per knot (under δ/4 = 0.5°), then a straight run
+    const double x = 0.004 + 0.0001 * i;
+    b.rho.push_back(x);
+    b.z.push_back(0.01 - x * x / 0.04);
+  }
+  for (int i = 1; i <= 10; ++i) {
+    b.rho.push_back(b.rho[49] + 0.001 * i);
+    b.z.push_back(b.z[49] - 0.001 * i * (2 * b.rho[49] / 0.04));
+  }
+  Result<ProfileCurve> curve = ProfileCurve::make(b);
+  ASSERT_TRUE(curve.ok()) << curve.error().message;
+  const std::vector<ProfileSample> fine = sample_profile(*curve);
+  const std::vector<std::size_t> rows = profile_rows(fine, 2.0 * kPi / 180.0, 1e-3);
+  std::size_t corners = 0;
+  for (std::size_t k = 1; k < fine.size(); ++k) {
+    if (!fine[k].corner) continue;
+    ++corners;
+    const auto at = std::lower_bound(rows.begin(), rows.end(), k);
+    ASSERT_TRUE(at != rows.end() && *at == k && at != rows.begin() && *(at - 1) == k - 1) << "the knot before sample " << k;
+  }
+  EXPECT_EQ(corners, 49u);  // the 48 knots of the curved part and where the straight run starts
+  EXPECT_LE(rows.size(), 2 * corners + 2);  // no row within a span
 }
 
 TEST(DesignFile, BSplineThatCrossesItselfOrTheAxisIsAnError) {
