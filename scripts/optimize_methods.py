@@ -4,7 +4,7 @@
 The conic-recovery case of docs/design.md ("A conic constant recovered"): a
 point source shining up (Lambertian toward the zenith, 1000 lm) under a conic
 dish (R = 10 mm at the vertex, 5 mm above the source, rho 2..30 mm,
-reflectance 0.9); the target is `gonio simulate` of the dish at kappa = -1.5
+reflectance 0.9, a white Lambertian dish); the target is `gonio simulate` of the dish at kappa = -1.5
 (10^6 photons, 2.5 deg gamma step); every run starts at kappa = -2.6 within
 [-3, -1] with --gamma-step 5. Each method (BOBYQA, COBYLA, Nelder-Mead,
 CMA-ES) runs with common random numbers and smooth binning, with neither,
