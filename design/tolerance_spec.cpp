@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <numbers>
 
 #include "io/support/file_io.h"
@@ -24,7 +25,7 @@ Error at(const std::string& path, int line, std::string message) {
 }
 
 constexpr const char* kEmitterQuantities[] = {"x", "y", "z", "tilt_x", "tilt_y", "flux"};
-constexpr const char* kMaterialQuantities[] = {"reflectance", "transmittance", "roughness"};
+constexpr const char* kMaterialQuantities[] = {"reflectance", "transmittance", "roughness", "scattering"};
 constexpr const char* kPartQuantities[] = {"x", "y", "z", "tilt_x", "tilt_y"};
 
 template <std::size_t N>
@@ -170,6 +171,43 @@ sim::Affine part_move(const photometry::PhotometricFrame& f, const std::string& 
   if (quantity == "z") return sim::translation((v * 1e-3) * f.up);
   return sim::translation(centre) * sim::rotation(quantity == "tilt_x" ? f.c0 : f.c90, v * std::numbers::pi / 180.0) *
          sim::translation(-1.0 * centre);
+}
+
+// An area or ray-set emitter's reference point: a ray set's origin as
+// placed (Emitter::position, the node's or sidecar's origin), an area
+// emitter's mesh's bounding-box centre as placed.
+Vec3 emitter_reference(const sim::SceneDesc& scene, const sim::Emitter& e) {
+  if (e.kind == sim::Emitter::Kind::RaySet) return e.position;
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  if (e.instance != sim::kNoInstance) {
+    add_instance_bounds(scene, e.instance, lo, hi);
+  } else {
+    for (const sim::Vec3f& p : scene.meshes[e.mesh].positions) {
+      const Vec3 q = sim::to_double(p);
+      lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+      hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
+// Moves an area emitter's mesh (or its instance) or a ray set's rays
+// (origins and directions, and its reference point) by `map`.
+void move_extended_emitter(sim::SceneDesc& scene, sim::Emitter& e, const sim::Affine& map) {
+  if (e.kind == sim::Emitter::Kind::Area) {
+    if (e.instance != sim::kNoInstance)
+      scene.instances[e.instance].to_world = map * scene.instances[e.instance].to_world;
+    else
+      sim::transform(scene.meshes[e.mesh], map);
+    return;
+  }
+  auto rays = std::make_shared<sim::RaySet>(*e.rays);
+  for (std::size_t i = 0; i < rays->size(); ++i) {
+    rays->position_m[i] = sim::to_float(map.point(sim::to_double(rays->position_m[i])));
+    rays->direction[i] = sim::to_float(normalize(map.linear(sim::to_double(rays->direction[i]))));
+  }
+  e.rays = std::move(rays);
+  e.position = map.point(e.position);
 }
 
 // A part's form error, `form = { modes = K, rms_um = S }`: K tolerances
@@ -627,10 +665,9 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
         return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
                                          " has no spectrum in the model: give it one (extras.gonio.spectrum, the "
                                          "sidecar's spectrum) so that the nominal is a spectral run to compare with");
-      if (t.quantity != "flux" && t.law.kind != ToleranceLaw::Kind::Bins && e->kind != sim::Emitter::Kind::Point)
-        return at(spec.path, t.line, t.label() + ": position and tilt apply to point emitters; " + io::shown(t.name) +
-                                         " is an " + (e->kind == sim::Emitter::Kind::Area ? "area" : "ray-set") +
-                                         " emitter");
+      if (t.quantity != "flux" && t.law.kind != ToleranceLaw::Kind::Bins && e->kind == sim::Emitter::Kind::RaySet &&
+          !e->rays)
+        return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) + " is a ray-set emitter without rays");
       continue;
     }
     if (t.target == Tolerance::Target::Part) {
@@ -670,6 +707,9 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
       return at(spec.path, t.line, t.label() + ": the material transmits nothing (no transmission lobe)");
     if (t.quantity == "roughness" && !(m->glossy > 0.0))
       return at(spec.path, t.line, t.label() + ": the material has no glossy lobe to roughen");
+    if (t.quantity == "scattering" && !(m->scattering_per_m > 0.0))
+      return at(spec.path, t.line, t.label() + ": the material does not scatter in volume (its scattering "
+                                               "coefficient is 0: a clear or surface-only material)");
     const double grow = 1.0 + t.law.high() / 100.0;
     const double total = t.quantity == "reflectance"     ? total_peak(*m) + r * (grow - 1.0)
                          : t.quantity == "transmittance" ? total_peak(*m) + tr * (grow - 1.0)
@@ -716,6 +756,10 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
       for (sim::Emitter& e : scene.emitters) {
         if (e.name != t.name) continue;
         const photometry::PhotometricFrame& f = scene.frame;
+        if (e.kind != sim::Emitter::Kind::Point && t.quantity != "flux" && t.law.kind != ToleranceLaw::Kind::Bins) {
+          move_extended_emitter(scene, e, part_move(f, t.quantity, v, emitter_reference(scene, e)));
+          continue;
+        }
         if (t.quantity == "x") e.position = e.position + (v * 1e-3) * f.c0;
         else if (t.quantity == "y") e.position = e.position + (v * 1e-3) * f.c90;
         else if (t.quantity == "z") e.position = e.position + (v * 1e-3) * f.up;
@@ -782,6 +826,8 @@ void apply_tolerances(const ToleranceSpec& spec, std::span<const double> values,
         m.dielectric *= scale;
         m.abg_transmit.tis *= scale;
         for (double& x : m.spectral_transmittance.values) x *= scale;
+      } else if (t.quantity == "scattering") {
+        m.scattering_per_m *= scale;  // μs alone: the absorption coefficient stays as it is
       } else {
         m.glossy_mx *= scale;
         m.glossy_my *= scale;

@@ -15,13 +15,16 @@
 //
 // Emitters: x, y, z [mm] (the luminaire's photometric frame: x along C0,
 // y along C90, z up), tilt_x, tilt_y [deg] (about the C0 and C90 axes),
-// flux [%]. Parts ([part.NAME]: every mesh of that name or under that node,
+// flux [%]; on an area or ray-set emitter x … tilt_y move its mesh or its
+// rays (origins and directions) about its reference point: a ray set's
+// origin as placed (Emitter::position), an area's bounding-box centre. Parts ([part.NAME]: every mesh of that name or under that node,
 // "NAME/…"; an instanced mesh's name moves each of its copies about its own
 // centre, by one value or, with `independent = true`, each by its own; a
 // node's name or path moves its instances as one body):
 // x, y, z [mm] and tilt_x, tilt_y [deg] about the luminaire's C0 and C90
 // axes through the centre of their bounding box. Materials: reflectance, transmittance, roughness [%], relative
-// changes. Each value has one law: normal (σ, truncated at ±truncate·σ,
+// changes; scattering [%]: a volume's scattering coefficient μs, relative
+// (the absorption coefficient stays as it is). Each value has one law: normal (σ, truncated at ±truncate·σ,
 // default 3), uniform (±half width), or a list of values. Mistakes are
 // errors naming the file's line; check_tolerances() names what the model
 // lacks.
@@ -73,7 +76,7 @@ struct Tolerance {
   enum class Target { Emitter, Part, Material, Variable };
   Target target = Target::Emitter;
   std::string name;      // the emitter's, part's (meshes') or material's name in the model
-  std::string quantity;  // x, y, z, tilt_x, tilt_y, flux | x, y, z, tilt_x, tilt_y | reflectance, transmittance, roughness
+  std::string quantity;  // x, y, z, tilt_x, tilt_y, flux | x, y, z, tilt_x, tilt_y | reflectance, transmittance, roughness, scattering
   ToleranceLaw law;
   int line = 0;  // the value's line in the file
   // [part.NAME] independent = true: each copy of the instanced mesh NAME
@@ -114,7 +117,7 @@ Result<ToleranceSpec> read_tolerances(const std::string& path);
 Result<photometry::SampledSpectrum> read_spectrum_table(const std::string& path);
 
 // Whether `scene` has what each tolerance names: the emitter or material by
-// that name; position and tilt only on point emitters; reflectance on a
+// that name; scattering on a material that scatters in volume; reflectance on a
 // material that reflects, transmittance on one that transmits, roughness on
 // one with a glossy lobe; and whether the limits keep a material's lobes
 // within 1. Errors name the file's line and the model's names.

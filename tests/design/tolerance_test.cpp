@@ -109,7 +109,7 @@ TEST(ToleranceSpec, WhatTheModelLacksIsNamed) {
   const sim::SceneDesc scene = small_scene();
   for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
            {"[emitter.LEDs]\nx = { uniform = 1 }\n", "t.toml:2: the model has no emitter 'LEDs' (it has 'LED', 'panel')"},
-           {"[emitter.panel]\ntilt_x = { uniform = 1 }\n", "t.toml:2: panel.tilt_x: position and tilt apply to point emitters"},
+           {"[material.alu]\nscattering = { uniform = 1 }\n", "t.toml:2: alu.scattering: the material does not scatter in volume"},
            {"[material.steel]\nroughness = { uniform = 1 }\n", "t.toml:2: the model has no material 'steel' (it has 'alu', 'opal')"},
            {"[material.alu]\ntransmittance = { uniform = 1 }\n", "t.toml:2: alu.transmittance: the material transmits nothing"},
            {"[material.opal]\nroughness = { uniform = 1 }\n", "t.toml:2: opal.roughness: the material has no glossy lobe"},

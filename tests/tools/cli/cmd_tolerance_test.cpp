@@ -22,6 +22,7 @@
 #include "design/tolerance.h"
 #include "io/model/gltf_writer.h"
 #include "io/photometric/photometric_file.h"
+#include "io/photometric/tm25.h"
 #include "photometry/colour.h"
 #include "photometry/compare.h"
 #include "photometry/intensity_sampler.h"
@@ -1050,6 +1051,50 @@ TEST(ToleranceCli, InstancedPartsGiveTheFiguresOfTheirUninstancedCopies) {
     for (const char* f : {"axis_c0", "axis_c90"})
       EXPECT_NEAR(ta["figures"][f].get<double>(), tb["figures"][f].get<double>(), 0.01) << n << " " << f;
   }
+}
+
+// The spot's test with a ray file in place of the point light: how a real
+// LED comes. A ray file (a 30° cone about the file's −Y from a 1 mm disc,
+// a Fibonacci lattice and its mirror images in x and z: symmetric) in a
+// glTF node at the paraboloid's focus, tilted by 10° about C0 (tilt_x):
+// its rays turn about the ray file's origin, and the beam's axis moves by
+// 10° towards C90 and not towards C0, to a tenth of the 2.5° γ step.
+TEST(ToleranceCli, TiltOfASymmetricRayFileTurnsItsBeamAxisByTheTilt) {
+  test::TempDir dir;
+  std::vector<float> rays;
+  const int n = 5000;
+  const double golden = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (int i = 0; i < n; ++i) {
+    const double u1 = (i + 0.5) / n, u2 = std::fmod(i * golden, 1.0);
+    const double r = 0.5 * std::sqrt(u1), phi = 2.0 * std::numbers::pi * u2;
+    const double pr = std::sqrt(u2), pphi = 2.0 * std::numbers::pi * u1;
+    for (double sx : {-1.0, 1.0})
+      for (double sz : {-1.0, 1.0})
+        for (double v : {sx * pr * std::cos(pphi), 0.0, sz * pr * std::sin(pphi), sx * r * std::cos(phi),
+                         -std::sqrt(1.0 - r * r), sz * r * std::sin(phi), 1.0})
+          rays.push_back(static_cast<float>(v));
+  }
+  ASSERT_TRUE(io::write_tm25_file((dir.path() / "cone.tm25ray").string(), io::make_luminous_ray_set(std::move(rays))).ok());
+  io::GltfWriter w("gonio tolerance test");
+  const int material = w.material({{"name", "mirror"}, {"pbrMetallicRoughness",
+                                 {{"baseColorFactor", {kMirror, kMirror, kMirror, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}});
+  w.node({{"name", "reflector"}, {"mesh", w.mesh(sim::paraboloid(kF, kAperture, 0.0, 8, 32), material, "reflector")}});
+  w.node({{"name", "led"}, {"extras", {{"gonio", {{"ray_file", "cone.tm25ray"}, {"flux_lm", kFlux}}}}}});
+  std::string bin;
+  const std::string text = w.finish("paraboloid.bin", bin);
+  test::write_file(dir.path() / "paraboloid.bin", bin);
+  test::write_file(dir.path() / "paraboloid.gltf", text);
+  const json report = run_tolerance(dir.path(), "[emitter.\"node 'led' (#1) (cone.tm25ray)\"]\ntilt_x = { values = [10] }\n",
+                                    {"--photons", "300000", "--trials", "1", "--noise-seeds", "2"});
+  ASSERT_FALSE(report.is_null());
+  EXPECT_NEAR(report["nominal"]["axis_c0"].get<double>(), 0.0, 0.25);
+  EXPECT_NEAR(report["nominal"]["axis_c90"].get<double>(), 0.0, 0.25);
+  const json& turned = row(report, "axis_c90", "node 'led' (#1) (cone.tm25ray).tilt_x");
+  const json& across = row(report, "axis_c0", "node 'led' (#1) (cone.tm25ray).tilt_x");
+  std::printf("ray file: axis change towards C90 %.4f, towards C0 %.4f\n", turned["change_high"].get<double>(),
+              across["change_high"].get<double>());
+  EXPECT_NEAR(turned["change_high"].get<double>(), 10.0, 0.25);
+  EXPECT_NEAR(across["change_high"].get<double>(), 0.0, 0.25);
 }
 
 }  // namespace
