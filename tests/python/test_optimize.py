@@ -299,3 +299,20 @@ def test_cannot_improve_returns_and_a_failure_raises(setup, gonio_exe):
     code, _, err = run_gonio(gonio_exe, "optimize", flat, "--target", target, "--out", d / "cli-flat", *CLI)
     assert code == 3, err
 
+
+def test_mistakes_name_the_design_file_not_input(setup):
+    """GonioError of a design's mistake: the design file and line, in str() and as .file and .line."""
+    d, target = setup
+    bad = d / "bad-merit.design.toml"
+    bad.write_text(DESIGN.replace("CONIC", "{ value = -2, min = -3, max = -1 }") + "[merit]\ngamma_step = 7\n")
+    with pytest.raises(gonio.GonioError) as e:
+        gonio.optimize(bad, target, **RUN)
+    assert str(e.value).startswith(str(bad) + ":17: [merit]: gamma_step must divide 180"), str(e.value)
+    assert "<input>" not in str(e.value)
+    assert (e.value.file, e.value.line) == (str(bad), 17)
+    free = d / "free.design.toml"
+    free.write_text(DESIGN.replace("CONIC", "{ value = -2, min = -3 }"))
+    with pytest.raises(gonio.GonioError) as e:
+        gonio.optimize(free, target, **RUN)
+    assert str(e.value).startswith(str(free) + ":13: variable 'reflectors[0].conic' has no max"), str(e.value)
+    assert (e.value.file, e.value.line) == (str(free), 13)

@@ -140,6 +140,23 @@ TEST(OptimizeMethodsCli, ExitThreeIsInTheHelp) {
   EXPECT_NE(r.out.find("3 cannot improve"), std::string::npos) << r.out;
 }
 
+// Issue 41: a mistake in the design names the design file and line, not
+// "<input>: FILE:LINE: …" (an error whose message held another's text).
+TEST(OptimizeMethodsCli, MistakesNameTheDesignFileNotInput) {
+  test::TempDir dir;
+  write(dir / "merit.design.toml", design_text("{ value = -2, min = -3, max = -1 }") + "[merit]\ngamma_step = 7\n");
+  write(dir / "free.design.toml", design_text("{ value = -2, min = -3 }"));
+  for (const auto& [name, says] :
+       {std::pair<std::string, std::string>{"merit", "merit.design.toml:17: [merit]: gamma_step must divide 180"},
+        std::pair<std::string, std::string>{"free", "free.design.toml:13: variable 'reflectors[0].conic' has no max"}}) {
+    const test::ProcessResult r = gonio({"optimize", (dir / (name + ".design.toml")).string(), "--target",
+                                         (dir / "absent.ies").string(), "--out", (dir / name).string()});
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find("optimize: " + (dir / says).string()), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("<input>"), std::string::npos) << r.err;
+  }
+}
+
 TEST(OptimizeMethodsCli, NelderMeadRecoversTheConicAndDirHoldsTheBestDesignsFiles) {
   Case c("1000000");
   const fs::path out = c.dir / "nm";
