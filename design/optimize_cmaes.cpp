@@ -56,6 +56,21 @@ struct UnitBoxProblem {
   std::string get_name() const { return "gonio merit"; }
 };
 
+// The root-mean-square distance of a generation's points from their mean
+// (λ − 1 in the denominator): an estimate of CMA-ES's step σ·√tr C from all
+// λ draws, not from one.
+double generation_spread(const std::vector<std::vector<double>>& points) {
+  if (points.size() < 2) return std::numeric_limits<double>::infinity();
+  const std::size_t n = points.front().size();
+  std::vector<double> mean(n, 0.0);
+  for (const std::vector<double>& p : points)
+    for (std::size_t j = 0; j < n; ++j) mean[j] += p[j] / static_cast<double>(points.size());
+  double sum = 0.0;
+  for (const std::vector<double>& p : points)
+    for (std::size_t j = 0; j < n; ++j) sum += (p[j] - mean[j]) * (p[j] - mean[j]);
+  return std::sqrt(sum / static_cast<double>(points.size() - 1));
+}
+
 }  // namespace
 
 }  // namespace gonio::design::detail
@@ -80,8 +95,12 @@ extern "C" bool gonio_cmaes_run(const CmaesStage* stage_in, const BatchEvaluate*
     // gen 1 per evolve with memory: one generation at a time, the adapted
     // mean, step and covariance kept between calls; ftol 0 (a population of
     // equal merits, as at the start, must not end the stage); the points
-    // kept inside the box.
-    pagmo::cmaes algorithm(1u, -1.0, -1.0, -1.0, -1.0, stage.sigma, 0.0, stage.xtol, true, true, stage.seed);
+    // kept inside the box. xtol 0 too: pagmo 2.18 tests its xtol on the step
+    // of the generation's last point alone (one normal draw: with one
+    // variable |N(0, 1)| < 1/16 in 5 % of generations), which ended whole
+    // stages at random (λ = 12 after the start, λ = 6 after one generation);
+    // the stage's xtol is tested below on the generation's spread.
+    pagmo::cmaes algorithm(1u, -1.0, -1.0, -1.0, -1.0, stage.sigma, 0.0, 0.0, true, true, stage.seed);
     pagmo::population population{pagmo::problem{UnitBoxProblem{&ledger, n}}, 0u, stage.seed};
     for (int i = 0; i < lambda; ++i) population.push_back(stage.start, {stage.start_merit});
     while (used < stage.budget) {
@@ -92,7 +111,8 @@ extern "C" bool gonio_cmaes_run(const CmaesStage* stage_in, const BatchEvaluate*
       ledger.asked.clear();
       dry = probe.evolve(dry);
       ledger.recording = false;
-      if (ledger.asked.empty()) break;  // pagmo's xtol: the steps are below the stage's
+      if (ledger.asked.empty()) break;
+      if (generation_spread(ledger.asked) < stage.xtol) break;  // the steps are below the stage's xtol
       std::vector<std::vector<double>> points = ledger.asked;
       const bool cut = static_cast<int>(points.size()) > stage.budget - used;
       if (cut) points.resize(static_cast<std::size_t>(stage.budget - used));

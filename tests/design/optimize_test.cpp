@@ -189,6 +189,34 @@ TEST(OptimizeMethods, CmaesKeepsTheBudgetAndStopsWhenAsked) {
   }
 }
 
+// Issue 41: with one variable, --population 12 ended the stage after the
+// start ("converged") and 6 after one generation: pagmo 2.18 tests its xtol
+// on the last point's step alone (one normal draw). Every population from
+// pagmo's least to 16, on several seeds, now runs three whole generations
+// (σ 0.25 of the box cannot shrink below the stage's xtol, 1/64, in three).
+TEST(OptimizeMethods, CmaesRunsSeveralGenerationsForEveryPopulation) {
+  const std::vector<OptimizeVariable> conic = {{"conic", -2.6, -3.0, -1.0}};
+  const MeritFunction merit = [](const std::vector<double>& v, std::uint64_t, std::uint64_t) -> Result<double> {
+    return (v[0] + 1.5) * (v[0] + 1.5);
+  };
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    for (int population = 5; population <= 16; ++population) {
+      OptimizeOptions o;
+      o.method = OptimizeMethod::Cmaes;
+      o.start_photons = 10;
+      o.stages = 1;
+      o.seed = seed;
+      o.population = population;
+      o.max_evaluations = 1 + 3 * population;
+      Result<OptimizeResult> r = optimize(conic, merit, o);
+      ASSERT_TRUE(r.ok()) << r.error().message;
+      EXPECT_EQ(r->evaluations, o.max_evaluations) << "population " << population << ", seed " << seed;
+      EXPECT_EQ(r->stopped_by, "evaluations") << "population " << population << ", seed " << seed;
+      EXPECT_LT(r->best_merit, (-2.6 + 1.5) * (-2.6 + 1.5)) << "population " << population << ", seed " << seed;
+    }
+  }
+}
+
 // Without common random numbers every evaluation traces its own photons:
 // seeds distinct from each other, from the run's and from the noise floor's,
 // the same for any number of jobs.

@@ -263,3 +263,56 @@ def test_step_and_bad_arguments(setup, tmp_path):
     for bad in (dict(jobs=-1), dict(population=-1), dict(max_time=-1.0), dict(jobs=5000)):
         with pytest.raises(ValueError):
             gonio.optimize(d / "start.design.toml", target, **{**RUN, **bad})
+
+
+def test_cannot_improve_returns_and_a_failure_raises(setup, gonio_exe):
+    """A user's loop over designs tells a run that cannot improve (the command's exit 3: it returns,
+    every file written, improvable False and the reason) from one that failed (GonioError)."""
+    d, target = setup
+    flat = d / "flat.design.toml"  # a variable that moves nothing: an unused material's reflectance
+    flat.write_text(DESIGN.replace("CONIC", "-1.5")
+                    + "[materials.spare]\nreflectance = { value = 0.5, min = 0.1, max = 0.9 }\n")
+    broken = d / "broken.design.toml"
+    broken.write_text(DESIGN.replace("CONIC", "{ value = -2, min = -3, max = -1 }") + "[merit]\ngamma_step = 7\n")
+    outcome = {}
+    for design in (d / "start.design.toml", flat, broken):
+        try:
+            result = gonio.optimize(design, target, out=d / ("loop-" + design.name), **RUN)
+        except gonio.GonioError as e:
+            outcome[design.name] = ("failed", str(e))
+            continue
+        outcome[design.name] = ("improved" if result["improvable"] else result["cannot_improve_kind"], result)
+    assert outcome["start.design.toml"][0] == "improved"
+    assert outcome["start.design.toml"][1]["cannot_improve"] is None
+    assert outcome["start.design.toml"][1]["cannot_improve_kind"] is None
+    assert outcome["broken.design.toml"][0] == "failed"
+    assert "gamma_step must divide 180" in outcome["broken.design.toml"][1]
+    kind, result = outcome["flat.design.toml"]
+    assert kind == "flat"
+    assert result["improvable"] is False
+    assert "the variables do not move the merit" in result["cannot_improve"]
+    report = json.loads((d / "loop-flat.design.toml" / "report.json").read_text())["optimize"]
+    assert result["cannot_improve"] == report["cannot_improve"]
+    assert result["cannot_improve_kind"] == report["cannot_improve_kind"]
+    assert str(d / "loop-flat.design.toml" / "report.json") in result["files"]
+    # The command exits 3 for the same run.
+    code, _, err = run_gonio(gonio_exe, "optimize", flat, "--target", target, "--out", d / "cli-flat", *CLI)
+    assert code == 3, err
+
+
+def test_mistakes_name_the_design_file_not_input(setup):
+    """GonioError of a design's mistake: the design file and line, in str() and as .file and .line."""
+    d, target = setup
+    bad = d / "bad-merit.design.toml"
+    bad.write_text(DESIGN.replace("CONIC", "{ value = -2, min = -3, max = -1 }") + "[merit]\ngamma_step = 7\n")
+    with pytest.raises(gonio.GonioError) as e:
+        gonio.optimize(bad, target, **RUN)
+    assert str(e.value).startswith(str(bad) + ":17: [merit]: gamma_step must divide 180"), str(e.value)
+    assert "<input>" not in str(e.value)
+    assert (e.value.file, e.value.line) == (str(bad), 17)
+    free = d / "free.design.toml"
+    free.write_text(DESIGN.replace("CONIC", "{ value = -2, min = -3 }"))
+    with pytest.raises(gonio.GonioError) as e:
+        gonio.optimize(free, target, **RUN)
+    assert str(e.value).startswith(str(free) + ":13: variable 'reflectors[0].conic' has no max"), str(e.value)
+    assert (e.value.file, e.value.line) == (str(free), 13)

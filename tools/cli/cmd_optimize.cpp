@@ -84,7 +84,10 @@ int run_optimize(const Args& args) {
               "the merit's terms, its noise floor), history.json and history.svg (every\n"
               "evaluation), NAME.gltf and NAME.step (the best design's parts), compare.json\n"
               "and compare.svg (gonio compare of the target and NAME.ies). Ctrl-C stops and\n"
-              "keeps the best so far, writing every file.");
+              "keeps the best so far, writing every file.\n"
+              "Exit codes: 0 optimised, every file written; 1 failed; 2 usage error;\n"
+              "3 cannot improve the design (flat, pinned or no_improvement): every file\n"
+              "written, the reason on stderr and in report.json (optimize.cannot_improve).");
   p.positional("DESIGN", &design_path, "the design file (NAME.design.toml)");
   p.option("target", &target_path, "FILE", "the target distribution (IES, LDT, TM-33); default: [merit] target");
   p.option("out", &out_dir, "DIR", "output directory (created if missing)");

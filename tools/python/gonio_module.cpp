@@ -1168,6 +1168,15 @@ py::dict optimize(const py::object& design_object, const py::object& target_obje
   result["optimize"] = to_python(outcome->report["optimize"]);
   result["final"] = to_python(outcome->report["optimize"]["final"]);
   result["report"] = to_python(outcome->report);
+  // A run that cannot improve (the command's exit 3) returns, as the command
+  // writes every file: its kind ("flat", "pinned", "no_improvement") and
+  // reason here; a run that failed raises GonioError instead.
+  result["improvable"] = outcome->cannot_improve.empty();
+  result["cannot_improve"] =
+      outcome->cannot_improve.empty() ? py::object(py::none()) : py::object(py::str(outcome->cannot_improve));
+  result["cannot_improve_kind"] = outcome->cannot_improve_kind.empty()
+                                      ? py::object(py::none())
+                                      : py::object(py::str(outcome->cannot_improve_kind));
   py::list files;
   if (!scratch) {  // files in a scratch folder are gone on return
     files.append(outcome->best_path);
@@ -1470,6 +1479,9 @@ void bind_simulation(py::module_& m) {
         "merit: a dict of the [merit] table's keys (docs/design.md), replacing the design's table.\n"
         "jobs, population (cmaes), common_random=False (--no-common-random), step=False (--no-step;\n"
         "default: NAME.step with out) and max_time as the command's options.\n"
+        "A run that cannot improve the design (the command's exit 3) returns, every file written:\n"
+        "improvable False, cannot_improve (the reason) and cannot_improve_kind ('flat', 'pinned',\n"
+        "'no_improvement'; None where it improved).\n"
         "Raises GonioError naming the file; bad arguments raise ValueError.");
   m.def("tolerance", &tolerance, py::arg("model"), py::arg("tolerances"), py::kw_only(), py::arg("trials") = 20,
         py::arg("spec") = py::none(), py::arg("seed") = 1, py::arg("noise_seeds") = 3, py::arg("sampling_seed") = 1,

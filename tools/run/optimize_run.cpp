@@ -38,6 +38,14 @@
 namespace gonio::app {
 namespace {
 
+// An error at a line of a file (its where, not a prefix of its message:
+// printed "FILE:LINE: message", and GonioError's file and line in Python).
+Error at_line(const std::string& file, int line, std::string message) {
+  Error e = make_error(file, std::move(message));
+  e.where.line = line;
+  return e;
+}
+
 namespace fs = std::filesystem;
 
 // The escaped photons of a finished simulation, in the photometric frame,
@@ -370,20 +378,19 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   }
   // The design, its variables and merit.
   Result<design::Design> read = design::read_design_file(design_path);
-  if (!read.ok()) return make_error(to_string(read.error()));
+  if (!read.ok()) return read.error();
   design::Design design = std::move(read.value());
   std::vector<design::OptimizeVariable> variables;
   for (const design::Variable& v : design.variables) {
     if (!v.min || !v.max)
-      return make_error(design.path + ":" + std::to_string(v.line) + ": variable '" + v.name +
-                  "' has no " + (!v.min ? "min" : "max") + ": the optimiser searches between a variable's bounds");
+      return at_line(design.path, v.line, "variable '" + v.name + "' has no " + (!v.min ? "min" : "max") +
+                                              ": the optimiser searches between a variable's bounds");
     if (!(*v.min < *v.max))
-      return make_error(design.path + ":" + std::to_string(v.line) + ": variable '" + v.name +
-                  "': min must be below max to search between them");
+      return at_line(design.path, v.line, "variable '" + v.name + "': min must be below max to search between them");
     variables.push_back({v.name, v.value, *v.min, *v.max});
   }
   if (variables.empty())
-    return make_error(design.path + ": the design has no variables ({ value = …, min = …, max = … }) to optimise");
+    return make_error(design.path, "the design has no variables ({ value = …, min = …, max = … }) to optimise");
   io::TomlNode resolved = design::resolved_document(design);
   std::string merit_path = design.path;
   if (options.merit) {  // merit=: the table given replaces the design's
@@ -401,7 +408,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     merit_path = design.path + " (merit=)";
   }
   Result<design::MeritSpec> spec_read = design::read_merit(resolved, merit_path);
-  if (!spec_read.ok()) return make_error(to_string(spec_read.error()));
+  if (!spec_read.ok()) return spec_read.error();
   design::MeritSpec spec = spec_read.value();
   if (no_smooth) spec.smooth = false;
   if (photons_per_bin) spec.photons_per_bin = *photons_per_bin;
@@ -416,16 +423,16 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     if (f.severity != Severity::Info && hooks.on_message) hooks.on_message(f.severity, format_finding(f));
   const design::MeritGrid grid = design::merit_grid(spec);
   Result<design::MeritTarget> target = design::merit_target(grid, target_file->distribution);
-  if (!target.ok()) return make_error(target_path + ": " + target.error().message);
+  if (!target.ok()) return make_error(target_path, target.error().message);
   design::set_target_ugr(spec, grid, &target.value());  // the [merit] ugr table's room, reflectances, view
   if (Status s = design::check_merit_terms(spec, *target, design.path, target_path); !s.ok())
-    return make_error(to_string(s.error()));
+    return s.error();
   const std::size_t limit_count = design::merit_limit_names(spec).size();
   // Hard limits: constraints for a method that takes them, else penalties.
   const bool as_constraints = limit_count > 0 && design::takes_constraints(method);
 
   // DIR with the files the design reads (its emitters' profiles and ray files).
-  if (Status s = io::make_directories(out_dir); !s.ok()) return make_error(to_string(s.error()));
+  if (Status s = io::make_directories(out_dir); !s.ok()) return s.error();
   const fs::path folder = fs::absolute(fs::path(design_path)).parent_path();
   const std::vector<std::string> files = design::design_files(design_path);
   for (std::size_t i = 1; i < files.size(); ++i) {
@@ -434,10 +441,10 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       return make_error(files[i] + ": the design's file lies outside its folder; gonio optimize copies the design's files into "
                   "DIR, so keep them in or under the design's folder");
     Result<std::string> bytes = io::read_file(files[i], std::size_t{1} << 30);
-    if (!bytes.ok()) return make_error(to_string(bytes.error()));
+    if (!bytes.ok()) return bytes.error();
     const fs::path to = fs::path(out_dir) / rel;
-    if (Status s = io::make_directories(to.parent_path().string()); !s.ok()) return make_error(to_string(s.error()));
-    if (Status s = io::write_file_atomic(to.string(), *bytes); !s.ok()) return make_error(to_string(s.error()));
+    if (Status s = io::make_directories(to.parent_path().string()); !s.ok()) return s.error();
+    if (Status s = io::write_file_atomic(to.string(), *bytes); !s.ok()) return s.error();
   }
   // The [merit] table's target, where it lies in or under the design's folder,
   // so that the best design's table names a file beside it.
@@ -445,10 +452,10 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     const fs::path rel = fs::absolute(fs::path(spec.target)).lexically_normal().lexically_relative(folder);
     if (!rel.empty() && !rel.is_absolute() && *rel.begin() != "..") {
       Result<std::string> bytes = io::read_file(spec.target, std::size_t{256} << 20);
-      if (!bytes.ok()) return make_error(to_string(bytes.error()));
+      if (!bytes.ok()) return bytes.error();
       const fs::path to = fs::path(out_dir) / rel;
-      if (Status s = io::make_directories(to.parent_path().string()); !s.ok()) return make_error(to_string(s.error()));
-      if (Status s = io::write_file_atomic(to.string(), *bytes); !s.ok()) return make_error(to_string(s.error()));
+      if (Status s = io::make_directories(to.parent_path().string()); !s.ok()) return s.error();
+      if (Status s = io::write_file_atomic(to.string(), *bytes); !s.ok()) return s.error();
     }
   }
   const std::string evaluation_path =
@@ -569,7 +576,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
                           std::to_string(values.size()));
       }
       Traced t = trace(values, evaluated.evaluate_photons, oo.seed, evaluation_path, false);
-      if (!t.merit) return make_error(design_path + ": " + t.error);
+      if (!t.merit) return make_error(design_path, t.error);
       evaluated.merits.push_back(*t.merit);
     }
     std::error_code ignored_evaluate;
@@ -605,7 +612,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     nlohmann::json out = {{"variable", v.name}, {"photons", oo.start_photons}, {"seed", oo.seed},
                           {"smooth", spec.smooth}, {"scan", rows}};
     if (Status s = io::write_file_atomic((fs::path(out_dir) / "scan.json").string(), out.dump(1) + "\n"); !s.ok())
-      return make_error(to_string(s.error()));
+      return s.error();
     OptimizeRunOutcome scanned;
     scanned.variables = variables;
     scanned.scanned = true;
@@ -699,7 +706,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   fs::remove(evaluation_path, ignored);
   if (!run.ok()) {
     if (progress) progress->failed(design.path + ": " + run.error().message);
-    return make_error(design.path + ": " + run.error().message);
+    return make_error(design.path, run.error().message);
   }
   // An optimisation that cannot improve: every evaluation of the first stage
   // (one seed, one photon count) within the merit's noise floor of the others.
@@ -733,7 +740,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   // The best design, traced with an independent seed into DIR.
   for (std::size_t i = 0; i < variables.size(); ++i)
     if (Status s = design::set_variable(design, variables[i].name, run->best_values[i]); !s.ok())
-      return make_error(to_string(s.error()));
+      return s.error();
   const std::string best_path = (fs::path(out_dir) / (name + ".design.toml")).string();
   const std::uint64_t final_seed = static_cast<std::uint64_t>(seed) + 7'000'003ULL;
   const std::string own_best_path =
@@ -761,13 +768,13 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
                             " against " + fs::path(target_path).filename().string() + ".",
                         std::string("Method ") + design::to_string(method) + ", " + std::to_string(run->evaluations) +
                             " evaluations, merit " + format_number(run->best_merit, 5) + "."});
-  if (Status s = io::write_file_atomic(best_path, text); !s.ok()) return make_error(to_string(s.error()));
+  if (Status s = io::write_file_atomic(best_path, text); !s.ok()) return s.error();
 
   // history.json and the report.
   nlohmann::json history = nlohmann::json::array();
   for (const design::EvaluationRecord& r : run->history) history.push_back(evaluation_json(r, variables));
   const std::string history_path = (fs::path(out_dir) / "history.json").string();
-  if (Status s = io::write_file_atomic(history_path, history.dump(1) + "\n"); !s.ok()) return make_error(to_string(s.error()));
+  if (Status s = io::write_file_atomic(history_path, history.dump(1) + "\n"); !s.ok()) return s.error();
   nlohmann::json vars = nlohmann::json::array();
   for (std::size_t i = 0; i < variables.size(); ++i)
     vars.push_back({{"name", variables[i].name},
@@ -894,7 +901,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   for (const std::string& f : out.extra_files) report["optimize"]["files"].push_back(f);
   if (!out.notes.empty()) report["optimize"]["notes"] = out.notes;
   if (Status s = io::write_file_atomic(final.result->files->report_path, report.dump(2) + "\n"); !s.ok())
-    return make_error(to_string(s.error()));
+    return s.error();
   progress->finished(report["optimize"]);
   out.variables = variables;
   out.cannot_improve = cannot_improve;

@@ -275,7 +275,7 @@ std::optional<SimulateResult> simulate(const SimulatePlan& plan, const SimulateH
     std::vector<Error> failures;
     if (!preview_status.ok()) failures.push_back(preview_status.error());
     files = write_run_files(plan, run.value(), input_times, preview ? &*preview : nullptr, start, ranks_report,
-                            std::move(failures));
+                            std::move(failures), resampler);
   }
   return SimulateResult{std::move(run.value()), input_times, std::move(findings), lead, std::move(files)};
 }

@@ -633,8 +633,12 @@ Result<SimulatedTable> simulated_table(const sim::FarField& far_field, const sim
   if (request.symmetry) {
     if (Status s = sim::check_grid_supports(request.grid, *request.symmetry); !s.ok()) return s.error();
   }
-  const std::shared_ptr<const sim::Resampler> resampler =
-      shared_resampler(far_field.face_size(), scene.frame, request.grid, request.cache_dir);
+  std::shared_ptr<const sim::Resampler> own;
+  const sim::Resampler* resampler = request.resampler;
+  if (!resampler || resampler->face_size() != far_field.face_size()) {
+    own = shared_resampler(far_field.face_size(), scene.frame, request.grid, request.cache_dir);
+    resampler = own.get();
+  }
   const sim::BinnedField binned = resampler->bin(far_field);
   SimulatedTable table;
   if (request.symmetry) {

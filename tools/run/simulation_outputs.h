@@ -130,6 +130,10 @@ struct OutputRequest {
   io::IesVersion ies_version = io::IesVersion::LM63_2019;  // 2019 or 2002
   RunInfo run;
   std::string cache_dir;  // where resamplers are kept (tools/run/resampler_cache.h); empty: none
+  // The output grid's resampler already built for this run (the error
+  // estimate's: `grid`, the scene's frame, the far field's face size); not
+  // owned. Null, or another face size: one from cache_dir, or made.
+  const sim::Resampler* resampler = nullptr;
   // The opening the IES and LDT carry and the GLDF's light-emitting object
   // takes; none: a point opening, and the L3D object where the emitters are.
   std::optional<SimulatedOpening> opening;

@@ -294,7 +294,8 @@ nlohmann::json trimmed_cache_json(const SimulatePlan& plan) {
 
 RunFiles write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
                          const PreviewOutput* preview, std::chrono::steady_clock::time_point start,
-                         const nlohmann::json& ranks_report, std::vector<Error> failures) {
+                         const nlohmann::json& ranks_report, std::vector<Error> failures,
+                         const sim::Resampler* resampler) {
   const sim::SimulationSettings& settings = plan.progressive.simulation;
   const sim::Simulation& sim = run.simulation;
   const sim::FarField far_field = sim.far_field();
@@ -304,6 +305,7 @@ RunFiles write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run
 
   const sim::ColourFarField colour = sim.colour_far_field();
   OutputRequest request = output_request(plan, sim, far_field, colour);
+  request.resampler = resampler;  // the estimate's, where the run built one (not twice)
   std::vector<std::string> near_field_files;
   nlohmann::json near_field_list, far_field_distance;
   request.near_field = nlohmann::json::object();  // report keys the datasheet reads too

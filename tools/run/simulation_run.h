@@ -76,9 +76,12 @@ struct RunFiles {
 // tools/run/distributed_run.h, left out where null), and trims the cache
 // folder to its limit. `failures`: what already failed (the preview); a
 // failure while writing does not stop the other files: report.json lists
-// what was written and what failed. Prints nothing.
+// what was written and what failed. `resampler`: the output grid's, where the
+// run built one for its estimate (OutputRequest::resampler); null: made or
+// read from the cache. Prints nothing.
 RunFiles write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run, const ModelInputTimes& input_times,
                          const PreviewOutput* preview, std::chrono::steady_clock::time_point start,
-                         const nlohmann::json& ranks_report = nullptr, std::vector<Error> failures = {});
+                         const nlohmann::json& ranks_report = nullptr, std::vector<Error> failures = {},
+                         const sim::Resampler* resampler = nullptr);
 
 }  // namespace gonio::app

@@ -12,6 +12,7 @@
 #include "io/photometric/ies.h"
 #include "io/photometric/ldt.h"
 #include "photometry/flux.h"
+#include "photometry/frame.h"
 #include "tests/sim/scenes.h"
 #include "tests/support/test_support.h"
 
@@ -145,6 +146,44 @@ TEST(SimulationOutputs, AnIsotropicFieldGivesIsotropicFilesWithExactEnergy) {
   ASSERT_EQ(ldt->distribution.direct_ratios.size(), 10u);
   EXPECT_GT(ldt->distribution.direct_ratios[9], ldt->distribution.direct_ratios[0]);
   EXPECT_LT(ldt->distribution.direct_ratios[9], 0.5);
+}
+
+// Issue 41: a run that built the output grid's resampler for its estimate
+// hands it to the files (OutputRequest::resampler) rather than building it
+// again: the same IES and LDT bytes as one built here; a resampler of
+// another frame changes them (so the one given is the one binned with); one
+// of another face size is not used.
+TEST(SimulationOutputs, AGivenResamplerGivesTheSameBytesAsOneMadeHere) {
+  const int n = 32;
+  sim::FarField field(n);
+  for (std::size_t t = 0; t < field.texel_count(); ++t) field.add(t, 1e-3, 10);
+  field.add(field.grid().texel_of(normalize(Vec3{0.6, -0.5, 0.3})), 50.0, 100000);
+  const sim::SceneDesc scene = bare_scene(1000.0);
+  const sim::Ledger ledger = ledger_for(field, 1000.0);
+  const sim::CGammaGrid grid{10.0, 5.0};
+  const sim::Resampler same(n, scene.frame, grid);
+  const sim::Resampler turned(n, photometry::make_frame({0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}), grid);
+  const sim::Resampler coarser(n / 2, scene.frame, grid);
+  test::TempDir dir;
+  const auto write = [&](const std::string& name, const sim::Resampler* resampler) {
+    OutputRequest req;
+    req.directory = (dir / name).string();
+    std::filesystem::create_directories(req.directory);
+    req.stem = "spot";
+    req.formats = {OutputFormat::Ies, OutputFormat::Ldt};
+    req.grid = grid;
+    req.symmetry = photometry::Symmetry::None;
+    req.run = {"test", "spot.gltf", 1000, 1, 10, "2024-01-01"};
+    req.resampler = resampler;
+    auto result = write_outputs(field, scene, ledger, req);
+    EXPECT_TRUE(result.ok()) << result.error().message;
+    return test::read_file(dir / name / "spot.ies") + test::read_file(dir / name / "spot.ldt");
+  };
+  const std::string made = write("made", nullptr);
+  ASSERT_FALSE(made.empty());
+  EXPECT_EQ(write("given", &same), made);
+  EXPECT_NE(write("turned", &turned), made);
+  EXPECT_EQ(write("coarser", &coarser), made);
 }
 
 // A file that cannot be written (the plot program missing, a path taken by

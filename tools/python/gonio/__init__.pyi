@@ -220,7 +220,9 @@ def optimize(
     common_random: bool = True,
     step: bool | None = None,
 ) -> dict[str, Any]:
-    """gonio optimize's run: {variables, merit_history, history, optimize, final, report, files}."""
+    """gonio optimize's run: {variables, merit_history, history, optimize, final, report, files,
+    improvable, cannot_improve, cannot_improve_kind}; a run that cannot improve returns (improvable
+    False), a failed one raises GonioError."""
     ...
 
 def tolerance(
