@@ -34,25 +34,8 @@ struct Triangle {
 };
 
 constexpr std::uint32_t kMaxPlaneEntries = std::uint32_t{1} << 22;  // 32 bytes each
-// Triangles whose edge planes are kept (96 bytes each): more, and a
-// segment across a triangle's plane is never proven free.
-constexpr std::size_t kMaxEdgeTriangles = std::size_t{1} << 20;
 
 }  // namespace
-
-bool VolumeGrid::misses_triangle(const Vec3& p, const Vec3& q, double sp, double sq, std::uint32_t k) const {
-  if (edges_.empty()) return false;
-  if (!((sp > margin_ && sq < -margin_) || (sp < -margin_ && sq > margin_))) return false;
-  // The crossing point; sp and sq differ in sign by more than twice the
-  // margin, so the division is safe, and its rounding (~10⁻¹⁶ of the
-  // segment) is far below the margin.
-  const double f = sp / (sp - sq);
-  const Vec3 x{p.x + f * (q.x - p.x), p.y + f * (q.y - p.y), p.z + f * (q.z - p.z)};
-  const std::array<double, 12>& e = edges_[triangle_[k]];
-  for (int i = 0; i < 12; i += 4)
-    if (e[i] * x.x + e[i + 1] * x.y + e[i + 2] * x.z - e[i + 3] < -margin_) return true;
-  return false;
-}
 
 bool VolumeGrid::across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const {
   const std::int64_t nx = dims_[0], nxy = dims_[0] * dims_[1];
@@ -164,11 +147,6 @@ std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_
   g.start_ = count;
   g.planes_.assign(count[cells], {0.0, 0.0, 0.0, 0.0});
   std::vector<std::uint32_t> fill(count.begin(), count.end() - 1);
-  const bool keep_edges = tris.size() <= kMaxEdgeTriangles;
-  if (keep_edges) {
-    g.triangle_.assign(count[cells], 0);
-    g.edges_.reserve(tris.size());
-  }
   for (const Triangle& t : tris) {
     const Vec3 n = cross(t.b - t.a, t.c - t.a);
     const double len = length(n);
@@ -178,33 +156,7 @@ std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_
     const std::array<double, 4> plane =
         len > 0.0 ? std::array<double, 4>{n.x / len, n.y / len, n.z / len, dot(n, t.a) / len}
                   : std::array<double, 4>{0.0, 0.0, 0.0, 0.0};
-    // The edge planes: m = n̂ × edge points into the triangle (n̂ = (b − a) ×
-    // (c − a) normalised, the edges a→b, b→c, c→a); a degenerate triangle
-    // gets m = 0, e = 0: a point is never outside it.
-    std::array<double, 12> edge{};
-    if (len > 0.0) {
-      const Vec3 nu = n / len;
-      const Vec3 from[3] = {t.a, t.b, t.c}, to[3] = {t.b, t.c, t.a};
-      for (int i = 0; i < 3; ++i) {
-        const Vec3 m = cross(nu, to[i] - from[i]);
-        const double ml = length(m);
-        if (!(ml > 0.0)) {
-          edge = {};
-          break;
-        }
-        const Vec3 mu = m / ml;
-        edge[4 * i] = mu.x;
-        edge[4 * i + 1] = mu.y;
-        edge[4 * i + 2] = mu.z;
-        edge[4 * i + 3] = dot(mu, from[i]);
-      }
-    }
-    const auto index = static_cast<std::uint32_t>(g.edges_.size());
-    if (keep_edges) g.edges_.push_back(edge);
-    each_cell(t, [&](std::size_t c) {
-      if (keep_edges) g.triangle_[fill[c]] = index;
-      g.planes_[fill[c]++] = plane;
-    });
+    each_cell(t, [&](std::size_t c) { g.planes_[fill[c]++] = plane; });
   }
   return g;
 }

@@ -46,26 +46,16 @@ class VolumeGrid {
   std::size_t plane_entries() const { return planes_.size(); }
 
  private:
-  // For every triangle listed in `cell`: p and q on one side of its plane,
-  // beyond the margin, or on opposite sides beyond the margin with the
-  // segment crossing the plane outside the triangle by more than the margin
-  // (misses_triangle: a neighbouring facet of a curved part, whose plane
-  // cuts through the wall the walk is in).
+  // p and q on one side of every plane listed in `cell`, beyond the margin.
   bool planes_free(const Vec3& p, const Vec3& q, std::size_t cell) const {
     for (std::uint32_t k = start_[cell]; k < start_[cell + 1]; ++k) {
       const std::array<double, 4>& n = planes_[k];
       const double sp = n[0] * p.x + n[1] * p.y + n[2] * p.z - n[3];
       const double sq = n[0] * q.x + n[1] * q.y + n[2] * q.z - n[3];
-      if (!((sp > margin_ && sq > margin_) || (sp < -margin_ && sq < -margin_)) && !misses_triangle(p, q, sp, sq, k))
-        return false;
+      if (!((sp > margin_ && sq > margin_) || (sp < -margin_ && sq < -margin_))) return false;
     }
     return true;
   }
-  // Entry k's triangle: p and q on opposite sides of its plane (signed
-  // distances sp and sq, both beyond the margin) and the point where the
-  // segment crosses the plane outside one of the triangle's edges by more
-  // than the margin (volume_grid.cpp).
-  bool misses_triangle(const Vec3& p, const Vec3& q, double sp, double sq, std::uint32_t k) const;
   // Ends in cells c ≠ d: free where the cells share a face (together one
   // box, which holds the segment) and the planes of both allow it.
   bool across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const;
@@ -87,11 +77,6 @@ class VolumeGrid {
   std::int64_t dims_[3] = {0, 0, 0};
   std::vector<std::uint32_t> start_;            // per cell, into planes_ (CSR)
   std::vector<std::array<double, 4>> planes_;   // n, d: n·x − d, n unit
-  // Per entry, its triangle's three edge planes (m, e: m·x − e ≥ 0 inside
-  // the triangle, m unit in the triangle's plane), or none (empty) where
-  // there would be more than kMaxEdgeTriangles of them.
-  std::vector<std::uint32_t> triangle_;         // per entry, into edges_
-  std::vector<std::array<double, 12>> edges_;   // per triangle
 };
 
 }  // namespace gonio::sim
