@@ -52,7 +52,7 @@ class VolumeGrid {
       const std::array<double, 4>& n = planes_[k];
       const double sp = n[0] * p.x + n[1] * p.y + n[2] * p.z - n[3];
       const double sq = n[0] * q.x + n[1] * q.y + n[2] * q.z - n[3];
-      if (!((sp > margin_ && sq > margin_) || (sp < -margin_ && sq < -margin_))) return false;
+      if (!((sp > plane_margin_ && sq > plane_margin_) || (sp < -plane_margin_ && sq < -plane_margin_))) return false;
     }
     return true;
   }
@@ -74,6 +74,11 @@ class VolumeGrid {
 
   Vec3 lower_;
   double cell_m_ = 0.0, inv_cell_ = 0.0, margin_ = 0.0;
+  // The plane test's margin: 1.25 × margin_. A cell lists one plane for
+  // facets whose planes differ by at most 0.25 × margin_ over the cell
+  // (a flat quad's two triangles), so each dropped plane is still passed
+  // beyond margin_ (volume_grid.cpp, merge_planes).
+  double plane_margin_ = 0.0;
   std::int64_t dims_[3] = {0, 0, 0};
   std::vector<std::uint32_t> start_;            // per cell, into planes_ (CSR)
   std::vector<std::array<double, 4>> planes_;   // n, d: n·x − d, n unit
