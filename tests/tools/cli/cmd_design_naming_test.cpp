@@ -68,6 +68,20 @@ TEST(DesignNaming, SimulateNamesTheOutputsAfterTheDesignWithoutItsSuffix) {
   EXPECT_TRUE(fs::exists(dir / "named" / "dish.ies"));
 }
 
+// gonio bench names each model's folder after the same stem: a design file
+// and a glTF model of one name are refused before anything is read (with
+// the design's old stem "lamp.design" they would not have been).
+TEST(DesignNaming, BenchTakesTheSameStem) {
+  test::TempDir dir;
+  fs::create_directories(dir / "b");
+  test::write_file(dir / "b" / "lamp.design.toml", kLamp);
+  test::write_file(dir / "lamp.gltf", "");
+  const test::ProcessResult r = gonio({"bench", (dir / "b" / "lamp.design.toml").string(),
+                                       (dir / "lamp.gltf").string(), "--out", (dir / "o").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("two models named 'lamp'"), std::string::npos) << r.err;
+}
+
 TEST(DesignNaming, ReportDescribesADesignFileInItsOwnSection) {
   test::TempDir dir;
   test::write_file(dir / "lamp.design.toml", kLamp);
