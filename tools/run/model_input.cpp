@@ -121,7 +121,8 @@ ModelLoad load_model(const std::string& model, const ModelInputOptions& options,
       io::CadLoadInfo info;
       Result<design::Design> read = options.design ? Result<design::Design>(*options.design)
                                                    : design::read_design_file(model);
-      scene = read.ok() ? design::design_scene(*read, load, &out.findings, &info) : Result<sim::SceneDesc>(read.error());
+      scene = read.ok() ? design::design_scene(*read, load, &out.findings, &info)
+                        : Result<sim::SceneDesc>(read.error());
       if (scene.ok()) t.design_file = design_file_report(*read, info);
     } else {
       scene = tessellation.error();
