@@ -246,6 +246,13 @@ bool is_design_path(const std::string& path) {
   return name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+std::string model_stem(const std::string& path) {
+  const std::filesystem::path p(path);
+  if (!is_design_path(path)) return p.stem().string();
+  const std::string name = p.filename().string();
+  return name.substr(0, name.size() - std::string(".design.toml").size());
+}
+
 const Variable* Design::variable(const std::string& name) const {
   for (const Variable& v : variables)
     if (v.name == name) return &v;

@@ -67,6 +67,11 @@ namespace gonio::design {
 // Whether `path` names a design file: it ends with ".design.toml" (any case).
 bool is_design_path(const std::string& path);
 
+// A model file's name without its extension, ".design.toml" counting as one
+// (any case): "lamp" for a/lamp.design.toml, "x" for x.gltf, "x.v2" for
+// x.v2.step; what the outputs are named after (STEM.ies, STEM.ldt, …).
+std::string model_stem(const std::string& path);
+
 // A named number of the design.
 struct Variable {
   std::string name;

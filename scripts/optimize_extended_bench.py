@@ -87,7 +87,7 @@ def main():
     before = os.path.join(a.out, "before")
     run([a.gonio, "simulate", extended, "--out", before, "--photons", "1000000", "--iterations", "1",
          "--gamma-step", "2.5", "--format", "ies", "--no-cache"])
-    rms_before = compare_rms(a.gonio, target, os.path.join(before, "extended.design.ies"))
+    rms_before = compare_rms(a.gonio, target, os.path.join(before, "extended.ies"))
     out = os.path.join(a.out, "optimized")
     cmd = [a.gonio, "optimize", extended, "--target", target, "--out", out, "--max-time", a.max_time,
            "--max-evals", a.max_evals, "--method", a.method, "--gamma-step", "2.5", "--final-photons", "1000000", "--no-step"]

@@ -136,7 +136,7 @@ def main():
         f.write(DESIGN.format(conic="-1.5"))
     with open(os.path.join(a.out, "start.design.toml"), "w") as f:
         f.write(DESIGN.format(conic="{ value = -2.6, min = -3, max = -1 }"))
-    target = os.path.join(a.out, "truth", "truth.design.ies")
+    target = os.path.join(a.out, "truth", "truth.ies")
     if not os.path.exists(target):
         run([a.gonio, "simulate", os.path.join(a.out, "truth.design.toml"), "--out", os.path.join(a.out, "truth"),
              "--photons", "1000000", "--iterations", "1", "--gamma-step", "2.5", "--format", "ies", "--no-cache"])

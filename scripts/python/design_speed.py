@@ -63,7 +63,7 @@ def main():
                             str(pathlib.Path(tmp) / "run"), "--format", "ies", "--no-cache"],
                            check=False, capture_output=True)
             report = json.loads((pathlib.Path(tmp) / "run" / "report.json").read_text())
-            print("design triangles:", report["cad"]["triangles_unique"])
+            print("design triangles:", report["design_file"]["triangles_unique"])
         design = gonio.Design(path)
         gonio.simulate(design, **RUN)  # warm: the module, the resampler
         gonio.simulate(downlight, **RUN)

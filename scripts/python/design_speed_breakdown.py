@@ -39,7 +39,7 @@ def main():
             r = gonio.simulate(design, out=pathlib.Path(tmp) / f"run{i}", **RUN)
             wall = time.perf_counter() - t
             setup = r.report["setup"]
-            row = {"call": wall, "trace": r.report["trace_s"], "tessellate": r.report["cad"]["tessellate_s"]}
+            row = {"call": wall, "trace": r.report["trace_s"], "tessellate": r.report["design_file"]["tessellate_s"]}
             for k in ("load_s", "check_s", "shading_s", "bvh_s", "emission_tables_s", "validate_s"):
                 row[k[:-2]] = setup.get(k, 0.0)
             row["load (beyond tessellation)"] = row["load"] - row["tessellate"]
@@ -63,7 +63,7 @@ def main():
         for k, v in parts.items():
             m = statistics.median(v)
             print(f"{k:28s} {m:.4f} s  {100 * m / call:5.1f} %")
-        print(f"({rounds} rounds, triangles {r.report['cad']['triangles_unique']})")
+        print(f"({rounds} rounds, triangles {r.report['design_file']['triangles_unique']})")
 
 
 if __name__ == "__main__":

@@ -298,6 +298,18 @@ TEST(DesignFile, DesignPathsAndFiles) {
   EXPECT_FALSE(is_design_path(".design.toml"));
 }
 
+// Outputs are named after model_stem: ".design.toml" is one extension, any
+// other model keeps path::stem's answer (x.gltf gives x, as before).
+TEST(DesignFile, ModelStemDropsTheWholeDesignSuffix) {
+  EXPECT_EQ(model_stem("a/lamp.design.toml"), "lamp");
+  EXPECT_EQ(model_stem("LAMP.Design.TOML"), "LAMP");
+  EXPECT_EQ(model_stem("a/b.c.design.toml"), "b.c");
+  EXPECT_EQ(model_stem("a/x.gltf"), "x");
+  EXPECT_EQ(model_stem("x.v2.step"), "x.v2");
+  EXPECT_EQ(model_stem("lamp.gonio.toml"), "lamp.gonio");
+  EXPECT_EQ(model_stem(".design.toml"), ".design");  // not a design file
+}
+
 }  // namespace
 }  // namespace gonio::design
 

@@ -346,6 +346,44 @@ TEST(Lens, APlacedLensIsTheAxialOneTurnedThenMoved) {
   }
 }
 
+// All three angles of rotate_deg non-zero: the placed lens is the axial one
+// turned by R = Rz·Ry·Rx (about X, then Y, then Z, as docs/design.md says),
+// the matrix built here from its entries, then moved. Fails with the turns
+// composed in any other order.
+TEST(Lens, APlacedLensTurnsAboutXThenYThenZ) {
+  Result<sim::SceneDesc> axial = scene_of(kLens);
+  Result<sim::SceneDesc> placed = scene_of(std::string(kLens) + "position = [7, -3, 12]\nrotate_deg = [20, 30, 45]\n");
+  ASSERT_TRUE(axial.ok() && placed.ok()) << (placed.ok() ? std::string() : to_string(placed.error()));
+  const sim::Mesh a = part_mesh(*axial, "lens"), b = part_mesh(*placed, "lens");
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  ASSERT_EQ(a.indices, b.indices);
+  using M = std::array<std::array<double, 3>, 3>;
+  const auto mul = [](const M& x, const M& y) {
+    M c{};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) c[i][j] += x[i][k] * y[k][j];
+    return c;
+  };
+  const double ax = 20 * kPi / 180, ay = 30 * kPi / 180, az = 45 * kPi / 180;
+  const M rx = {{{1, 0, 0}, {0, std::cos(ax), -std::sin(ax)}, {0, std::sin(ax), std::cos(ax)}}};
+  const M ry = {{{std::cos(ay), 0, std::sin(ay)}, {0, 1, 0}, {-std::sin(ay), 0, std::cos(ay)}}};
+  const M rz = {{{std::cos(az), -std::sin(az), 0}, {std::sin(az), std::cos(az), 0}, {0, 0, 1}}};
+  const M r = mul(rz, mul(ry, rx));
+  const auto turn = [&](const Vec3& v) {
+    return Vec3{r[0][0] * v.x + r[0][1] * v.y + r[0][2] * v.z, r[1][0] * v.x + r[1][1] * v.y + r[1][2] * v.z,
+                r[2][0] * v.x + r[2][1] * v.y + r[2][2] * v.z};
+  };
+  double worst = 0.0, worst_normal = 0.0;
+  for (std::size_t i = 0; i < a.positions.size(); ++i) {
+    const Vec3 expected = turn(sim::to_double(a.positions[i])) + Vec3{0.007, -0.003, 0.012};
+    worst = std::max(worst, length(sim::to_double(b.positions[i]) - expected));
+    worst_normal = std::max(worst_normal, angle(sim::to_double(b.normals[i]), turn(sim::to_double(a.normals[i]))));
+  }
+  EXPECT_LT(worst, 1e-8);
+  EXPECT_LT(worst_normal, 1e-6);
+}
+
 // The same lens written to glTF on the axis and read back as a fixed glTF
 // part placed as a placed lens is: the same vertices, to float rounding.
 TEST(Lens, APlacedLensIsTheFixedGltfPartPlacedTheSame) {

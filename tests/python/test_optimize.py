@@ -42,7 +42,7 @@ def setup(tmp_path_factory, gonio_exe):
     code, _, err = run_gonio(gonio_exe, "simulate", d / "truth.design.toml", "--out", d / "truth", "--photons",
                              "20000", "--iterations", "1", "--gamma-step", "5", "--format", "ies", "--no-cache")
     assert code == 0, err
-    return d, d / "truth" / "truth.design.ies"
+    return d, d / "truth" / "truth.ies"
 
 
 def test_equals_the_command(setup, gonio_exe):

@@ -11,6 +11,7 @@
 #include <thread>
 #include <utility>
 
+#include "design/design_file.h"
 #include "gonio/tracer_revision.h"
 #include "gonio/version.h"
 #include "io/support/content_hash.h"
@@ -122,7 +123,7 @@ bool ModelBench::run(const std::string& model, std::optional<BenchOutcome>* outc
   if (scene && !bytes.ok()) tell(hooks_.on_message, bytes.error());
   BenchOutcome o;
   o.model = model;
-  o.name = fs::path(model).stem().string();
+  o.name = design::model_stem(model);
   o.directory = plan_.models.size() == 1 ? plan_.out_dir : (fs::path(plan_.out_dir) / o.name).string();
   o.settings = plan_.settings;
   char grid_text[64];
@@ -240,8 +241,8 @@ Result<BenchPlan> plan_bench(const BenchOptions& o) {
     return make_error("--sampler must be one of random|sobol|both, got '" + o.sampler + "'");
   std::set<std::string> stems;
   for (const std::string& m : o.models)
-    if (!stems.insert(fs::path(m).stem().string()).second)
-      return make_error("two models named '" + fs::path(m).stem().string() + "': give them separate runs");
+    if (!stems.insert(design::model_stem(m)).second)
+      return make_error("two models named '" + design::model_stem(m) + "': give them separate runs");
 
   BenchPlan plan;
   plan.models = o.models;

@@ -155,8 +155,7 @@ nlohmann::json profile_json(const design::PolarProfile& p) {
 }
 
 int export_design(const std::string& path, const std::string& out_dir, double tolerance_mm, double gamma_step) {
-  std::string stem = fs::path(path).filename().string();
-  stem = stem.substr(0, stem.size() - std::min(stem.size(), std::string(".design.toml").size()));
+  const std::string stem = design::model_stem(path);
   if (!design::is_design_path(path) || stem.empty()) return fail(path + ": not a design file (NAME.design.toml)");
   Result<design::Design> d = design::read_design_file(path);
   if (!d.ok()) return fail(to_string(d.error()));

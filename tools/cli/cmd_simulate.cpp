@@ -45,6 +45,9 @@
 // chordal_relative, chordal_min_mm, chordal_mm, exact_normals}, parts,
 // placements, triangles_unique, triangles_placed, from_cache, tessellate_s,
 // per_part [{name, triangles, placements, size_mm, chordal_deflection_mm}]}.
+// A design file has "design_file" in its place: {file, length_unit, kinds,
+// variables, tessellation, parts, placements, triangles_unique,
+// triangles_placed, tessellate_s, per_part} (docs/design.md).
 //
 // report.json's "cache" {dir, limit_bytes, entries, bytes, removed_entries,
 // removed_bytes}: the cache folder after this run's trim to --cache-limit

@@ -183,7 +183,8 @@ void add_simulate_options(ArgParser& p, app::SimulateOptions* o) {
            "path, against the far field's prediction, as STEM.near-field-Dm.exr, with near_field and\n"
            "far_field_distance_m in report.json (up to 16 distances, each in (0, 1e4])");
   p.choice("ies-version", &o->ies_version, {"2002", "2019"}, "IES LM-63 version (default 2019)");
-  p.option("name", &o->stem, "STEM", "file names DIR/STEM.* (default: the model's file name without extension)");
+  p.option("name", &o->stem, "STEM",
+           "file names DIR/STEM.* (default: the model's file name without extension, NAME for NAME.design.toml)");
   p.option("min-lor", &o->min_lor, app::kFractionBounds.min, app::kFractionBounds.max, "X",
            "fail when the light output ratio escaped/emitted is under X (default 0: never)");
   p.option("flux-tolerance", &o->flux_tolerance, app::kFractionBounds.min, app::kFractionBounds.max, "X",

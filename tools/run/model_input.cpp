@@ -26,9 +26,15 @@ Result<io::CadTessellation> cad_tessellation(const ModelInputOptions& options) {
                                       : io::parse_tessellation(options.tessellation, base);
 }
 
-// report.json's "cad": what the model was read as and meshed to.
-nlohmann::json cad_report(const io::CadLoadInfo& info) {
-  const io::CadTessellation& t = info.tessellation;
+nlohmann::json tessellation_report(const io::CadTessellation& t) {
+  return {{"angular_deflection_deg", t.angular_deflection_deg},
+          {"chordal_relative", t.chordal_relative},
+          {"chordal_min_mm", t.chordal_min_m * 1e3},
+          {"chordal_mm", t.chordal_m > 0.0 ? nlohmann::json(t.chordal_m * 1e3) : nlohmann::json()},
+          {"exact_normals", t.exact_normals}};
+}
+
+nlohmann::json per_part_report(const io::CadLoadInfo& info) {
   nlohmann::json parts = nlohmann::json::array();
   for (const io::CadLoadInfo::Part& p : info.per_part)
     parts.push_back({{"name", p.name},
@@ -36,22 +42,46 @@ nlohmann::json cad_report(const io::CadLoadInfo& info) {
                      {"placements", p.placements},
                      {"size_mm", p.size_m * 1e3},
                      {"chordal_deflection_mm", p.chordal_m * 1e3}});
+  return parts;
+}
+
+// report.json's "cad": what the model was read as and meshed to.
+nlohmann::json cad_report(const io::CadLoadInfo& info) {
   return {{"format", info.format},
           {"file_unit", info.file_unit},
           {"parts_file", info.parts_file.empty() ? nlohmann::json() : nlohmann::json(info.parts_file)},
-          {"tessellation",
-           {{"angular_deflection_deg", t.angular_deflection_deg},
-            {"chordal_relative", t.chordal_relative},
-            {"chordal_min_mm", t.chordal_min_m * 1e3},
-            {"chordal_mm", t.chordal_m > 0.0 ? nlohmann::json(t.chordal_m * 1e3) : nlohmann::json()},
-            {"exact_normals", t.exact_normals}}},
+          {"tessellation", tessellation_report(info.tessellation)},
           {"parts", info.parts},
           {"placements", info.placements},
           {"triangles_unique", info.unique_triangles},
           {"triangles_placed", info.placed_triangles},
           {"from_cache", info.from_cache},
           {"tessellate_s", info.tessellate_s},
-          {"per_part", std::move(parts)}};
+          {"per_part", per_part_report(info)}};
+}
+
+// report.json's "design_file": a design file (or one in memory) as read:
+// its parts by kind, its variables' values, and the parts' meshes with the
+// cad section's keys.
+nlohmann::json design_file_report(const design::Design& d, const io::CadLoadInfo& info) {
+  nlohmann::json kinds = nlohmann::json::object();
+  for (const char* key : {"reflectors", "lenses", "troughs", "covers", "parts", "emitters"}) {
+    const io::TomlNode* a = d.document.get(key);
+    kinds[key] = a && a->is_array() ? a->array.size() : std::size_t{0};
+  }
+  nlohmann::json variables = nlohmann::json::object();
+  for (const design::Variable& v : d.variables) variables[v.name] = v.value;
+  return {{"file", d.path},
+          {"length_unit", info.file_unit},
+          {"kinds", std::move(kinds)},
+          {"variables", std::move(variables)},
+          {"tessellation", tessellation_report(info.tessellation)},
+          {"parts", info.parts},
+          {"placements", info.placements},
+          {"triangles_unique", info.unique_triangles},
+          {"triangles_placed", info.placed_triangles},
+          {"tessellate_s", info.tessellate_s},
+          {"per_part", per_part_report(info)}};
 }
 
 }  // namespace
@@ -89,9 +119,11 @@ ModelLoad load_model(const std::string& model, const ModelInputOptions& options,
     if (tessellation.ok()) {
       load.tessellation = *tessellation;
       io::CadLoadInfo info;
-      scene = options.design ? design::design_scene(*options.design, load, &out.findings, &info)
-                             : design::load_design(model, load, &out.findings, &info);
-      if (scene.ok()) t.cad = cad_report(info);
+      Result<design::Design> read = options.design ? Result<design::Design>(*options.design)
+                                                   : design::read_design_file(model);
+      scene = read.ok() ? design::design_scene(*read, load, &out.findings, &info)
+                        : Result<sim::SceneDesc>(read.error());
+      if (scene.ok()) t.design_file = design_file_report(*read, info);
     } else {
       scene = tessellation.error();
     }

@@ -72,6 +72,10 @@ struct ModelInputTimes {
   // format, unit, sidecar, the tessellation asked for and its triangles per
   // part, whether it came from the cache; null for glTF.
   nlohmann::json cad;
+  // A design file's report.json section "design_file" (design_file_report in
+  // model_input.cpp), in place of "cad": the file, its parts by kind, its
+  // variables' values, the tessellation and triangles per part; null otherwise.
+  nlohmann::json design_file;
 };
 
 // A model loaded and checked, nothing printed: the scene unless `error`;

@@ -359,11 +359,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   const bool no_smooth = options.no_smooth;
   const std::optional<std::string>& scan = options.scan;
   std::string name = options.name;
-  if (name.empty()) {
-    name = fs::path(design_path).filename().string();
-    const std::string suffix = ".design.toml";
-    if (name.size() >= suffix.size()) name = name.substr(0, name.size() - suffix.size());
-  }
+  if (name.empty()) name = design::model_stem(design_path);
   if (out_dir.empty()) {
     if (usage) *usage = true;
     return make_error("--out DIR is required");

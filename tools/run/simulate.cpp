@@ -5,6 +5,7 @@
 #include <memory>
 #include <utility>
 
+#include "design/design_file.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
@@ -132,7 +133,7 @@ Result<SimulatePlan> plan_simulation(const std::string& model, const SimulateOpt
   for (OutputFormat f : formats.value())
     if (f == OutputFormat::Ldt || f == OutputFormat::Gldf)
       if (Status s = check_grid_for_ldt(grid, c_source, gamma_source); !s.ok()) return s.error();
-  std::string stem = o.stem.empty() ? std::filesystem::path(model).stem().string() : o.stem;
+  std::string stem = o.stem.empty() ? design::model_stem(model) : o.stem;
   if (stem.empty() || stem.find_first_of("/\\") != std::string::npos || stem == "." || stem == "..")
     return make_error("--name: '" + stem + "' is not a plain file name");
   if (o.ies_version != "2002" && o.ies_version != "2019")

@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "design/design_file.h"
 #include "gonio/version.h"
 #include "io/support/cache_folder.h"
 #include "io/outputs/colour_chart.h"
@@ -78,7 +79,7 @@ Result<RayFileWritten> write_ray_file(const std::string& path, const sim::Simula
   io::Tm25RaySet set = io::make_luminous_ray_set(std::move(rays));
   io::Tm25Header& h = set.header;
   h.created = date;
-  h.light_source = std::filesystem::path(scene.name).stem().string();
+  h.light_source = design::model_stem(scene.name);
   h.ray_file_creator = std::string("Gonio ") + kVersion;
   h.model_creator = h.ray_file_creator;
   h.equipment = "Gonio photon tracer (simulation)";
@@ -353,6 +354,7 @@ RunFiles write_run_files(const SimulatePlan& plan, const ProgressiveOutcome& run
     colour_chart_path = write_colour_chart(plan, request.colour_report, json, failures);
   if (!ranks_report.is_null()) json["mpi"] = ranks_report;
   if (!input_times.cad.is_null()) json["cad"] = input_times.cad;  // a CAD model: how it was meshed
+  if (!input_times.design_file.is_null()) json["design_file"] = input_times.design_file;  // a design file
   if (!settings.near_field_distances_m.empty()) {
     json["near_field"] = near_field_list;
     json["far_field_distance_m"] = far_field_distance["distance_m"];

@@ -95,7 +95,7 @@ TEST(PublishedDesign, ACompoundParabolicConcentratorsOnAxisIntensityIsWinstons) 
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const nlohmann::json report = nlohmann::json::parse(test::read_file(dir / "out" / "report.json"));
   EXPECT_GT(report.at("escaped_lm").get<double>(), 0.999 * flux);  // perfect mirrors: nothing absorbed
-  Result<io::PhotometricFile> traced = io::read_photometric_file((dir / "out" / "cpc.design.ies").string(), {});
+  Result<io::PhotometricFile> traced = io::read_photometric_file((dir / "out" / "cpc.ies").string(), {});
   ASSERT_TRUE(traced.ok());
   const photometry::Distribution& d = traced->distribution;
   // I(γ)/cos γ averaged over the C-planes and γ ≤ 2° against Φ/(π sin²θa).

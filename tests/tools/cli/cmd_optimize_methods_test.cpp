@@ -68,7 +68,7 @@ struct Case {
         gonio({"simulate", (dir / "truth.design.toml").string(), "--out", (dir / "truth").string(), "--photons",
                photons, "--iterations", "1", "--gamma-step", "2.5", "--format", "ies", "--no-cache"});
     EXPECT_EQ(t.exit_code, 0) << t.out << t.err;
-    target = (dir / "truth" / "truth.design.ies").string();
+    target = (dir / "truth" / "truth.ies").string();
   }
   std::vector<std::string> optimize(const fs::path& out, const std::vector<std::string>& more) const {
     std::vector<std::string> args = {"optimize", (dir / "start.design.toml").string(), "--target", target, "--out",

@@ -73,7 +73,7 @@ TEST(OptimizeCli, RecoversTheConicConstantOfTheTarget) {
   write(dir / "start.design.toml", design_text("{ value = -2.6, min = -3, max = -1 }"));
   const fs::path out = dir / "out";
   test::ProcessResult r = gonio({"optimize", (dir / "start.design.toml").string(), "--target",
-                                 (dir / "truth" / "truth.design.ies").string(), "--out", out.string(), "--gamma-step",
+                                 (dir / "truth" / "truth.ies").string(), "--out", out.string(), "--gamma-step",
                                  "5", "--final-photons", "200000"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   for (const char* f : {"start.design.toml", "up.ies", "start.ies", "start.ldt", "report.json", "history.json"})
@@ -106,7 +106,7 @@ TEST(OptimizeCli, RefusesWhatItCannotOptimise) {
                    "20000", "--iterations", "1", "--format", "ies", "--no-cache"})
                 .exit_code,
             0);
-  const std::string target = (dir / "t" / "truth.design.ies").string();
+  const std::string target = (dir / "t" / "truth.ies").string();
   // No variables.
   test::ProcessResult r = gonio({"optimize", (dir / "truth.design.toml").string(), "--target", target, "--out",
                                  (dir / "o").string()});
@@ -144,7 +144,7 @@ TEST(OptimizeCli, TheMeritTableNamesItsTargetAndTerms) {
                 .exit_code,
             0);
   write(dir / "m.design.toml", design_text("{ value = -2, min = -3, max = -1 }") +
-                                   "[merit]\ntarget = \"t/truth.design.ies\"\ngamma_step = 10\nlor = 0.1\nbeam = 0.05\n"
+                                   "[merit]\ntarget = \"t/truth.ies\"\ngamma_step = 10\nlor = 0.1\nbeam = 0.05\n"
                                    "gamma_weights = [[0, 40, 1], [40, 90, 0.5]]\n");
   const fs::path out = dir / "o";
   test::ProcessResult r = gonio({"optimize", (dir / "m.design.toml").string(), "--out", out.string(), "--stages", "1",
@@ -156,7 +156,7 @@ TEST(OptimizeCli, TheMeritTableNamesItsTargetAndTerms) {
   EXPECT_NE(r.out.find("optimize: cannot improve (flat): exit 3"), std::string::npos) << r.out;
   // 19 nodes (γ every 10°, one C column) × 40 photons.
   EXPECT_NE(r.out.find("merit grid 19 nodes (smooth), 760 photons in stage 1"), std::string::npos) << r.out;
-  EXPECT_TRUE(fs::exists(out / "t" / "truth.design.ies"));
+  EXPECT_TRUE(fs::exists(out / "t" / "truth.ies"));
   const nlohmann::json o = nlohmann::json::parse(test::read_file(out / "report.json")).at("optimize");
   EXPECT_EQ(o.at("evaluations").get<int>(), 6);
   EXPECT_EQ(o.at("stopped_by").get<std::string>(), "evaluations");
@@ -194,7 +194,7 @@ TEST(OptimizeCli, CobylaKeepsACutOffThatTheUnconstrainedOptimumBreaks) {
                    "1000000", "--iterations", "1", "--gamma-step", "2.5", "--format", "ies", "--no-cache"})
                 .exit_code,
             0);
-  const std::string target = (dir / "t" / "truth.design.ies").string();
+  const std::string target = (dir / "t" / "truth.ies").string();
   const std::string start = design_text("{ value = -1.1, min = -3, max = -1 }");
   const auto run = [&](const std::string& name, const std::string& merit, const std::string& method) {
     write(dir / (name + ".design.toml"), start + "[merit]\n" + merit + "\n");
@@ -243,7 +243,7 @@ TEST(OptimizeCli, TermsItCannotComputeAndRunsThatCannotImprove) {
                    "100000", "--iterations", "1", "--format", "ies", "--no-cache"})
                 .exit_code,
             0);
-  const std::string target = (dir / "t" / "truth.design.ies").string();
+  const std::string target = (dir / "t" / "truth.ies").string();
   const std::string start = design_text("{ value = -2, min = -3, max = -1 }");
   // A UGR term against a target without a luminous opening (up.ies: a point).
   write(dir / "ugr.design.toml", start + "[merit]\nugr = { weight = 1 }\n");
@@ -321,7 +321,7 @@ TEST(OptimizeCli, RunsThatCannotImproveSayWhyAndExitThree) {
                    "300000", "--iterations", "1", "--gamma-step", "2.5", "--format", "ies", "--no-cache"})
                 .exit_code,
             0);
-  const std::string target = (dir / "t" / "truth.design.ies").string();
+  const std::string target = (dir / "t" / "truth.ies").string();
   struct Case {
     const char* name;
     const char* conic;

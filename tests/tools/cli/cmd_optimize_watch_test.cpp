@@ -181,7 +181,7 @@ TEST(OptimizeWatch, TheServedStateFollowsTheRunAndMatchesWhatItWrites) {
   EXPECT_NE(page.out.find("id=\"optimize-panel\""), std::string::npos);
 
   Background run({GONIO_EXECUTABLE, "optimize", (dir / "start.design.toml").string(), "--target",
-                  (dir / "truth" / "truth.design.ies").string(), "--out", out.string(), "--gamma-step", "5",
+                  (dir / "truth" / "truth.ies").string(), "--out", out.string(), "--gamma-step", "5",
                   "--no-step", "--max-evals", "40", "--final-photons", "100000", "--threads", "1"},
                  dir / "optimize.log");
   ASSERT_TRUE(run.started());

@@ -70,7 +70,7 @@ class OptimizeMpi : public ::testing::Test {
         {GONIO_EXECUTABLE, "simulate", (dir / "truth.design.toml").string(), "--out", (dir / "truth").string(),
          "--photons", "200000", "--iterations", "1", "--gamma-step", "2.5", "--format", "ies", "--no-cache"});
     ASSERT_EQ(t.exit_code, 0) << t.out << t.err;
-    target = (dir / "truth" / "truth.design.ies").string();
+    target = (dir / "truth" / "truth.ies").string();
   }
 
   // gonio optimize with `ranks` ranks of mpirun (0: without mpirun).

@@ -76,7 +76,7 @@ try {
     'the optimisation panel is hidden while waiting');
 
   const run = spawn(gonio, ['optimize', path.join(work, 'start.design.toml'), '--target',
-    path.join(work, 'truth', 'truth.design.ies'), '--out', out, '--gamma-step', '5', '--no-step', '--max-evals', '40',
+    path.join(work, 'truth', 'truth.ies'), '--out', out, '--gamma-step', '5', '--no-step', '--max-evals', '40',
     '--final-photons', '100000', '--threads', '1'], { stdio: ['ignore', 'ignore', 'pipe'] });
   let runErr = '', runExit = null;
   run.stderr.on('data', (d) => { runErr += d; });
