@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <numbers>
 #include <string>
@@ -257,6 +258,36 @@ struct TraceSetup {
   std::string design_path, traced_path;
   photometry::CompareOptions compare;
 };
+
+// The share of the target the feedback corrects at γ (degrees), for a part
+// that takes the emitter's light over FROM…TO (a lens: 0…TO, its light
+// added to the direct light): design::design_share, and with
+// --correction part-steps 0 near the target's steps.
+std::function<double(double)> correction_share(const DesignRun& in, const photometry::Distribution& emitter,
+                                               const photometry::Distribution& target, double from_deg, double to_deg,
+                                               bool lens, double target_scale) {
+  auto emitter_x = std::make_shared<const photometry::Distribution>(photometry::expand_symmetry(emitter));
+  auto target_x = std::make_shared<const photometry::Distribution>(photometry::expand_symmetry(target));
+  double target_peak = 0.0;
+  for (double v : target.candela) target_peak = std::max(target_peak, v);
+  const bool steps = in.correction == "part-steps";
+  return [=](double g) {
+    return design::design_share(*emitter_x, *target_x, g, from_deg, to_deg, lens, target_scale) *
+           (steps ? design::away_from_steps(*target_x, target_peak, g) : 1.0);
+  };
+}
+
+// report.json's comparison with the target: gonio compare's figures, and
+// the trace averaged over C and over the beam (Traced's cmp_mean, cmp_beam).
+nlohmann::json against_traced(const std::string& target_path, const photometry::Distribution& target,
+                              const TraceSetup& setup, const Traced& t) {
+  nlohmann::json against = against_target(target_path, target, setup.traced_path, *t.file, *t.cmp, setup.compare);
+  against["rms_relative_c_mean"] = t.cmp_mean->rms_relative;
+  against["max_relative_c_mean"] = t.cmp_mean->max_relative;
+  against["rms_relative_beam"] = t.cmp_beam->rms_relative;
+  against["max_relative_beam"] = t.cmp_beam->max_relative;
+  return against;
+}
 
 // Traces the design file at setup.design_path with seed + iteration (each
 // iteration its own seed: the correction follows the design, not one seed's
@@ -548,15 +579,9 @@ int design_lens(const DesignRun& in_args, const ArgParser& p, std::chrono::stead
       [&](const photometry::Distribution& next) { return design::design_lens(emitter->distribution, next, again); };
   const std::function<const design::PolarProfile&(const design::LensDesign&)> profile_of =
       [](const design::LensDesign& l) -> const design::PolarProfile& { return l.outer; };
-  const photometry::Distribution emitter_x = photometry::expand_symmetry(emitter->distribution);
-  const photometry::Distribution target_x = photometry::expand_symmetry(*target);
-  const double scale = d->target_scale;  // the first design's: the user's target's
-  double target_peak = 0.0;
-  for (double v : target->candela) target_peak = std::max(target_peak, v);
-  const std::function<double(double)> share = [&](double g) {
-    return design::design_share(emitter_x, target_x, g, 0.0, o.to_deg, true, scale) *
-           (in.correction == "part-steps" ? design::away_from_steps(target_x, target_peak, g) : 1.0);
-  };
+  // The first design's scale: the user's target's.
+  const std::function<double(double)> share =
+      correction_share(in, emitter->distribution, *target, 0.0, o.to_deg, true, d->target_scale);
   if (const int failed =
           feedback_loop<design::LensDesign>(*d, setup, iterations, true, share, write, redesign, profile_of, t, f);
       failed != 0)
@@ -565,11 +590,7 @@ int design_lens(const DesignRun& in_args, const ArgParser& p, std::chrono::stead
   std::string gltf_path, step_path, step_note;
   if (const int failed = write_cad_files(in, design_path, gltf_path, step_path, step_note); failed != 0) return failed;
 
-  nlohmann::json against = against_target(target_path, *target, setup.traced_path, *t.file, *t.cmp, compare);
-  against["rms_relative_c_mean"] = t.cmp_mean->rms_relative;
-  against["max_relative_c_mean"] = t.cmp_mean->max_relative;
-  against["rms_relative_beam"] = t.cmp_beam->rms_relative;
-  against["max_relative_beam"] = t.cmp_beam->max_relative;
+  nlohmann::json against = against_traced(target_path, *target, setup, t);
   const nlohmann::json profile = profile_json(d->outer);
   nlohmann::json report = t.result->files->report;
   report["design"] = {{"kind", "lens"},
@@ -671,15 +692,9 @@ int design_reflector(const DesignRun& in_args, const ArgParser& p, std::chrono::
       [&](const photometry::Distribution& next) { return design::design_reflector(emitter->distribution, next, again); };
   const std::function<const design::PolarProfile&(const design::ReflectorDesign&)> profile_of =
       [](const design::ReflectorDesign& r) -> const design::PolarProfile& { return r.profile; };
-  const photometry::Distribution emitter_x = photometry::expand_symmetry(emitter->distribution);
-  const photometry::Distribution target_x = photometry::expand_symmetry(*target);
-  const double scale = d->target_scale;  // the first design's: the user's target's
-  double target_peak = 0.0;
-  for (double v : target->candela) target_peak = std::max(target_peak, v);
-  const std::function<double(double)> share = [&](double g) {
-    return design::design_share(emitter_x, target_x, g, o.from_deg, o.to_deg, false, scale) *
-           (in.correction == "part-steps" ? design::away_from_steps(target_x, target_peak, g) : 1.0);
-  };
+  // The first design's scale: the user's target's.
+  const std::function<double(double)> share =
+      correction_share(in, emitter->distribution, *target, o.from_deg, o.to_deg, false, d->target_scale);
   if (const int failed =
           feedback_loop<design::ReflectorDesign>(*d, setup, iterations, false, share, write, redesign, profile_of, t, f);
       failed != 0)
@@ -689,10 +704,7 @@ int design_reflector(const DesignRun& in_args, const ArgParser& p, std::chrono::
   if (const int failed = write_cad_files(in, design_path, gltf_path, step_path, step_note); failed != 0) return failed;
 
   // Against the target.
-  nlohmann::json against = against_target(target_path, *target, setup.traced_path, *t.file, *t.cmp, compare);
-  against["rms_relative_c_mean"] = t.cmp_mean->rms_relative;
-  against["max_relative_c_mean"] = t.cmp_mean->max_relative;
-  against["rms_relative_beam"] = t.cmp_beam->rms_relative;
+  nlohmann::json against = against_traced(target_path, *target, setup, t);
   const nlohmann::json profile = profile_json(d->profile);
   nlohmann::json report = t.result->files->report;
   report["design"] = {{"kind", "reflector"},
