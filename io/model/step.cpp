@@ -193,6 +193,9 @@ class CadReader {
   std::string checks_text(const Interface_CheckIterator& checks, bool fails_only,
                           const std::function<bool(const std::string&)>& take = {}) const;
   std::string name_of(const TDF_Label& label) const;
+  // The free shapes' names: each label's name, else its STEP entity, else
+  // partN; a repeated name gets [2], [3], ….
+  std::vector<std::string> root_names(const TDF_LabelSequence& roots) const;
   std::optional<sim::Vec3f> colour_of(const TDF_Label& label) const;
   std::vector<std::string> layers_of(const TDF_Label& label) const;
 
@@ -691,16 +694,12 @@ Result<CadModel> CadReader::read() {
   TDF_LabelSequence roots;
   shapes_->GetFreeShapes(roots);
   if (roots.Length() == 0) return fail("the file holds no shapes (no product with a shape representation)");
-  std::map<std::string, int> seen;
+  const std::vector<std::string> names = root_names(roots);
   for (int i = 1; i <= roots.Length(); ++i) {
     const TDF_Label& root = roots.Value(i);
-    std::string name = name_of(root);
-    if (name.empty()) {
-      const std::string entity = entity_of(shapes_->GetShape(root));
-      name = entity.empty() ? "part" + std::to_string(i) : entity;
-    }
-    if (const int n = ++seen[name]; n > 1) name += "[" + std::to_string(n) + "]";
-    if (Status s = walk(root, TopLoc_Location(), name, colour_of(root), layers_of(root), 0); !s.ok())
+    if (Status s = walk(root, TopLoc_Location(), names[static_cast<std::size_t>(i - 1)], colour_of(root),
+                        layers_of(root), 0);
+        !s.ok())
       return s.error();
   }
   if (model_.placements.empty())
@@ -712,15 +711,8 @@ Result<CadModel> CadReader::read() {
 
 }  // namespace
 
-Result<std::vector<std::pair<std::string, TopoDS_Shape>>> CadReader::free_shapes() {
-  Handle(XCAFApp_Application) app = XCAFApp_Application::GetApplication();
-  app->NewDocument("MDTV-XCAF", doc_);
-  if (Status s = is_iges_path(path_) ? read_iges() : read_step(); !s.ok()) return s.error();
-  shapes_ = XCAFDoc_DocumentTool::ShapeTool(doc_->Main());
-  TDF_LabelSequence roots;
-  shapes_->GetFreeShapes(roots);
-  if (roots.Length() == 0) return fail("the file holds no shapes (no product with a shape representation)");
-  std::vector<std::pair<std::string, TopoDS_Shape>> out;
+std::vector<std::string> CadReader::root_names(const TDF_LabelSequence& roots) const {
+  std::vector<std::string> names;
   std::map<std::string, int> seen;
   for (int i = 1; i <= roots.Length(); ++i) {
     const TDF_Label& root = roots.Value(i);
@@ -730,8 +722,23 @@ Result<std::vector<std::pair<std::string, TopoDS_Shape>>> CadReader::free_shapes
       name = entity.empty() ? "part" + std::to_string(i) : entity;
     }
     if (const int n = ++seen[name]; n > 1) name += "[" + std::to_string(n) + "]";
-    out.emplace_back(name, shapes_->GetShape(root));
+    names.push_back(std::move(name));
   }
+  return names;
+}
+
+Result<std::vector<std::pair<std::string, TopoDS_Shape>>> CadReader::free_shapes() {
+  Handle(XCAFApp_Application) app = XCAFApp_Application::GetApplication();
+  app->NewDocument("MDTV-XCAF", doc_);
+  if (Status s = is_iges_path(path_) ? read_iges() : read_step(); !s.ok()) return s.error();
+  shapes_ = XCAFDoc_DocumentTool::ShapeTool(doc_->Main());
+  TDF_LabelSequence roots;
+  shapes_->GetFreeShapes(roots);
+  if (roots.Length() == 0) return fail("the file holds no shapes (no product with a shape representation)");
+  std::vector<std::pair<std::string, TopoDS_Shape>> out;
+  const std::vector<std::string> names = root_names(roots);
+  for (int i = 1; i <= roots.Length(); ++i)
+    out.emplace_back(names[static_cast<std::size_t>(i - 1)], shapes_->GetShape(roots.Value(i)));
   return out;
 }
 
