@@ -68,15 +68,9 @@ Result<FixedPart> read_fixed_part(const io::TomlNode& t, const std::string& path
   for (auto [key, out, scale] : {std::tuple{"position", &p.position, unit_m}, std::tuple{"rotate_deg", &p.rotate_deg, 1.0}}) {
     const io::TomlNode* n = t.get(key);
     if (!n) continue;
-    double v[3] = {};
-    bool ok = n->is_array() && n->array.size() == 3;
-    for (std::size_t i = 0; ok && i < 3; ++i) {
-      const std::optional<double> x = n->array[i].number();
-      ok = x && std::isfinite(*x);
-      if (ok) v[i] = *x;
-    }
-    if (!ok) return fail(path, n->line, what + ": '" + key + "' must be an array of three finite numbers");
-    *out = Vec3{v[0], v[1], v[2]} * scale;
+    const std::optional<std::array<double, 3>> v = n->three_numbers();
+    if (!v) return fail(path, n->line, what + ": '" + key + "' must be an array of three finite numbers");
+    *out = Vec3{(*v)[0], (*v)[1], (*v)[2]} * scale;
   }
   if (const io::TomlNode* n = t.get("scale")) {
     const std::optional<double> s = n->number();

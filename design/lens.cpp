@@ -159,15 +159,9 @@ Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) 
   for (auto [key, out, scale] : {std::tuple{"position", &lens.position, unit}, std::tuple{"rotate_deg", &lens.rotate_deg, 1.0}}) {
     const TomlNode* n = t.get(key);
     if (!n) continue;
-    double xyz[3] = {};
-    bool ok = n->is_array() && n->array.size() == 3;
-    for (std::size_t i = 0; ok && i < 3; ++i) {
-      const std::optional<double> x = n->array[i].number();
-      ok = x && std::isfinite(*x);
-      if (ok) xyz[i] = *x;
-    }
-    if (!ok) return fail(path, n->line, named + ": '" + key + "' must be an array of three finite numbers");
-    *out = Vec3{xyz[0], xyz[1], xyz[2]} * scale;
+    const std::optional<std::array<double, 3>> xyz = n->three_numbers();
+    if (!xyz) return fail(path, n->line, named + ": '" + key + "' must be an array of three finite numbers");
+    *out = Vec3{(*xyz)[0], (*xyz)[1], (*xyz)[2]} * scale;
   }
   for (const char* key : {"inner", "outer"})
     if (!t.get(key)) return fail(path, t.line, named + ": '" + key + "' (a surface table) is missing");

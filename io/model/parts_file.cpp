@@ -82,15 +82,9 @@ Result<std::optional<Vec3>> Parser::vec3(const TomlNode& t, const char* key, con
                                          bool direction) const {
   const TomlNode* n = t.get(key);
   if (!n) return std::optional<Vec3>();
-  double v[3] = {};
-  bool ok = n->is_array() && n->array.size() == 3;
-  for (std::size_t i = 0; ok && i < 3; ++i) {
-    const std::optional<double> x = n->array[i].number();
-    ok = x && std::isfinite(*x);
-    if (ok) v[i] = *x;
-  }
-  if (!ok) return fail(line_of(*n), what + ": '" + key + "' must be an array of three finite numbers");
-  const Vec3 out{v[0], v[1], v[2]};
+  const std::optional<std::array<double, 3>> v = n->three_numbers();
+  if (!v) return fail(line_of(*n), what + ": '" + key + "' must be an array of three finite numbers");
+  const Vec3 out{(*v)[0], (*v)[1], (*v)[2]};
   if (direction && !(length(out) > 0.0)) return fail(line_of(*n), what + ": '" + key + "' is a zero vector");
   return std::optional<Vec3>(out);
 }

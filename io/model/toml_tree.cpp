@@ -2,6 +2,7 @@
 #include "io/model/toml_tree.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <toml++/toml.h>
 
@@ -53,6 +54,17 @@ std::optional<double> TomlNode::number() const {
   if (type == Type::Integer) return static_cast<double>(integer);
   if (type == Type::Float) return floating;
   return std::nullopt;
+}
+
+std::optional<std::array<double, 3>> TomlNode::three_numbers() const {
+  if (!is_array() || array.size() != 3) return std::nullopt;
+  std::array<double, 3> out{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::optional<double> x = array[i].number();
+    if (!x || !std::isfinite(*x)) return std::nullopt;
+    out[i] = *x;
+  }
+  return out;
 }
 
 const TomlNode* TomlNode::get(std::string_view key) const {

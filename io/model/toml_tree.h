@@ -5,6 +5,7 @@
 // messages.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <initializer_list>
 #include <optional>
@@ -39,6 +40,9 @@ struct TomlNode {
   bool is_array_of_tables() const;
   // Integer or Float as a double; nothing for other types.
   std::optional<double> number() const;
+  // An array of exactly three finite numbers (a position, an axis, angles);
+  // nothing otherwise.
+  std::optional<std::array<double, 3>> three_numbers() const;
   // A table's member; null where absent (or not a table).
   const TomlNode* get(std::string_view key) const;
   TomlNode* get(std::string_view key);
