@@ -84,7 +84,11 @@ class Journal {
                                     "--resume to start again");
           continue;
         }
-        if (j.is_discarded() || !j.is_object() || !j.contains("key") || !j.contains("figures")) continue;
+        // A line of another shape (a key that is not a string, figures that
+        // are not an object, seconds that are not a number) is dropped too.
+        if (j.is_discarded() || !j.is_object() || !j.contains("key") || !j["key"].is_string() ||
+            !j.contains("figures") || !j["figures"].is_object() || (j.contains("seconds") && !j["seconds"].is_number()))
+          continue;
         FigureValues f{};
         for (std::size_t i = 0; i < kFigureCount; ++i) {
           const json& v = j["figures"].value(design::figure_info()[i].key, json());

@@ -598,6 +598,38 @@ TEST(ToleranceCli, ParallelTrialsAndResumeGiveTheSameReportBytes) {
   EXPECT_NE(r.err.find("journal.jsonl: written by another run"), std::string::npos) << r.err;
 }
 
+// A journal line that is JSON but not a trace's (a key that is not a
+// string, figures that are not an object, seconds that are not a number, an
+// array) is dropped on --resume like a line cut short, and its trace made
+// again: no crash (an uncaught type error aborted the process), the same
+// report bytes.
+TEST(ToleranceCli, ResumeDropsJournalLinesOfTheWrongShape) {
+  test::TempDir dir;
+  write_paraboloid(dir.path());
+  test::write_file(dir / "t.toml", "[emitter.lamp]\nx = { uniform = 0.5 }\n");
+  const auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"tolerance", (dir / "paraboloid.gltf").string(), "--tolerances",
+                                     (dir / "t.toml").string(), "--out", (dir / out).string(), "--threads", "1",
+                                     "--photons", "20000", "--trials", "2", "--noise-seeds", "1"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return gonio(args);
+  };
+  test::ProcessResult r = run("one", {});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string journal = test::read_file(dir / "one" / "journal.jsonl");
+  const std::size_t first = journal.find('\n') + 1, second = journal.find('\n', first) + 1;
+  const json nominal = json::parse(journal.substr(first, second - first));
+  fs::create_directories(dir / "resumed");
+  test::write_file(dir / "resumed" / "journal.jsonl",
+                   journal.substr(0, second) + "{\"key\": 5, \"figures\": {}}\n" +
+                       "{\"key\": \"x\", \"figures\": 3}\n" + "[1, 2]\n" +
+                       json{{"key", "1"}, {"figures", nominal["figures"]}, {"seconds", "slow"}}.dump() + "\n");
+  r = run("resumed", {"--resume"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(test::read_file(dir / "one" / "report.json"), test::read_file(dir / "resumed" / "report.json"));
+  EXPECT_NE(r.out.find("resume: 1 traces read back from the journal"), std::string::npos) << r.out;
+}
+
 TEST(ToleranceCli, BadInputIsAnErrorNamingTheLine) {
   test::TempDir dir;
   write_paraboloid(dir.path());
