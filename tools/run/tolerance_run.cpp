@@ -312,25 +312,32 @@ std::string padded(std::string s, std::size_t width) {
   return s;
 }
 
-// STEM.ies and STEM.ldt in `dir`, listed in `files`.
-Status write_tables(const std::string& dir, const std::string& stem, const photometry::Distribution& d, json& files) {
+// STEM.ies and STEM.ldt in `dir`, listed in `files` where written. A file
+// that cannot be written goes to `failures` and the run goes on (the files
+// after it and report.json are still written; report.json lists them).
+void write_tables(const std::string& dir, const std::string& stem, const photometry::Distribution& d, json& files,
+                  std::vector<std::string>& failures) {
   for (const char* ext : {".ies", ".ldt"}) {
     const std::string name = stem + ext;
-    if (Status s = io::write_photometric_file((fs::path(dir) / name).string(), d, {}, nullptr); !s.ok()) return s;
-    files.push_back(name);
+    if (Status s = io::write_photometric_file((fs::path(dir) / name).string(), d, {}, nullptr); !s.ok())
+      failures.push_back(to_string(s.error()));
+    else
+      files.push_back(name);
   }
-  return Ok{};
 }
 
 // A written trace's own report beside its tables (STEM.json): its entry of
 // report.json (a trial's number, values, figures and verdicts; the nominal's
-// figures) and the names of the tables it describes.
-Status write_trace_report(const std::string& dir, const std::string& stem, json entry, json& files) {
+// figures) and the names of the tables it describes. A failure goes to
+// `failures` (as write_tables').
+void write_trace_report(const std::string& dir, const std::string& stem, json entry, json& files,
+                        std::vector<std::string>& failures) {
   entry["tables"] = json::array({stem + ".ies", stem + ".ldt"});
   const std::string name = stem + ".json";
-  if (Status s = io::write_file_atomic((fs::path(dir) / name).string(), entry.dump(2) + "\n"); !s.ok()) return s;
-  files.push_back(name);
-  return Ok{};
+  if (Status s = io::write_file_atomic((fs::path(dir) / name).string(), entry.dump(2) + "\n"); !s.ok())
+    failures.push_back(to_string(s.error()));
+  else
+    files.push_back(name);
 }
 
 // The Monte Carlo trials' values: a Latin hypercube over the tolerance
@@ -764,11 +771,13 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   seconds.push_back(nominal->seconds);
   const photometry::Distribution& nominal_d = nominal->distribution;
   json files = json::array();
-  if (Status s = write_tables(out_dir, "nominal", nominal_d, files); !s.ok()) return failed(to_string(s.error()));
+  // The files that cannot be written: the analysis goes on, report.json
+  // lists them (output_failures), and the run then fails (exit 1).
+  std::vector<std::string> output_failures;
+  write_tables(out_dir, "nominal", nominal_d, files, output_failures);
   report["nominal"] = figures_json(nominal->figures);
-  if (Status s = write_trace_report(out_dir, "nominal", {{"trial", "nominal"}, {"figures", report["nominal"]}}, files);
-      !s.ok())
-    return failed(to_string(s.error()));
+  write_trace_report(out_dir, "nominal", {{"trial", "nominal"}, {"figures", report["nominal"]}}, files,
+                     output_failures);
   std::vector<FigureValues> independent;
   json noise_runs = json::array();
   for (long long k = 1; k <= noise_seeds; ++k) {
@@ -954,7 +963,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   }
   report["inverse_sensitivity"] = inverse;
   if (Status s = io::write_file_atomic((fs::path(out_dir) / "sensitivity.txt").string(), table); !s.ok())
-    return failed(to_string(s.error()));
+    output_failures.push_back(to_string(s.error()));
   say(table);
   if (hooks.on_warning)
     for (const std::string& f : plot_failures) hooks.on_warning("tornado chart not drawn: " + f);
@@ -1066,10 +1075,8 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   if (best)
     for (int k = 0; k < 2; ++k) {
       const char* stem = k == 0 ? "best" : "worst";
-      if (Status s = write_tables(out_dir, stem, kept[static_cast<std::size_t>(k)], files); !s.ok())
-        return failed(to_string(s.error()));
-      if (Status s = write_trace_report(out_dir, stem, mc_trials[k == 0 ? *best : *worst], files); !s.ok())
-        return failed(to_string(s.error()));
+      write_tables(out_dir, stem, kept[static_cast<std::size_t>(k)], files, output_failures);
+      write_trace_report(out_dir, stem, mc_trials[k == 0 ? *best : *worst], files, output_failures);
     }
   // The trials at the --percentile choices of their figure (nearest rank
   // over the trials where the figure is defined), traced again for their
@@ -1092,14 +1099,13 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     std::optional<Trace> t = tracer.trace(trial_values[*n], seed, &nominal_d, true);
     if (!t) return failed("the trial " + std::to_string(*n + 1) + " traced again failed (" + tracer.error() + ")");
     json written = json::array();
-    if (Status s = write_tables(out_dir, c.stem(), t->distribution, written); !s.ok())
-      return failed(to_string(s.error()));
+    write_tables(out_dir, c.stem(), t->distribution, written, output_failures);
     for (const json& name : written) files.push_back(name);
     json trace_entry = mc_trials[*n];
     trace_entry["percentile"] = {{"figure", design::figure_info()[c.figure].key}, {"percent", c.percent}};
-    if (Status s = write_trace_report(out_dir, c.stem(), trace_entry, written); !s.ok())
-      return failed(to_string(s.error()));
-    files.push_back(written.back());
+    const std::size_t tables_written = written.size();
+    write_trace_report(out_dir, c.stem(), trace_entry, written, output_failures);
+    if (written.size() > tables_written) files.push_back(written.back());
     entry["trial"] = *n + 1;
     entry["value"] = json_number(v[*n]);
     entry["rank"] = static_cast<std::size_t>(
@@ -1126,13 +1132,20 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
                  {"seconds", seconds},
                  {"trial_seconds", trial_seconds},
                  {"read_from_journal", reused}};
-  files.push_back("timing.json");
+  if (Status s = io::write_file_atomic((fs::path(out_dir) / "timing.json").string(), timing.dump(2) + "\n"); !s.ok())
+    output_failures.push_back(to_string(s.error()));
+  else
+    files.push_back("timing.json");
   files.push_back("journal.jsonl");
   report["files"] = files;
-  if (Status s = io::write_file_atomic((fs::path(out_dir) / "timing.json").string(), timing.dump(2) + "\n"); !s.ok())
-    return failed(to_string(s.error()));
+  report["output_failures"] = output_failures;
+  std::string not_written;
+  for (const std::string& f : output_failures) not_written += "\n  " + f;
   if (Status s = io::write_file_atomic((fs::path(out_dir) / "report.json").string(), report.dump(2) + "\n"); !s.ok())
-    return failed(to_string(s.error()));
+    return failed(to_string(s.error()) + (not_written.empty() ? "" : "; nor were:" + not_written));
+  if (!output_failures.empty())
+    return failed(std::to_string(output_failures.size()) + " file(s) could not be written after tracing (every other "
+                  "file and report.json were; report.json lists these under output_failures):" + not_written);
   ToleranceRunOutcome out;
   out.timing = std::move(timing);
   out.report = std::move(report);
