@@ -733,10 +733,16 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   if (!cannot_improve.empty() && hooks.on_message)
     hooks.on_message(Severity::Warning, design.path + ": " + cannot_improve);
 
+  // From here a failure of rank 0 says so in DIR/state.json too (gonio
+  // watch DIR would otherwise show the run "running" for ever).
+  const auto failed_after_search = [&](const Error& e) {
+    if (progress) progress->failed(to_string(e));
+    return e;
+  };
   // The best design, traced with an independent seed into DIR.
   for (std::size_t i = 0; i < variables.size(); ++i)
     if (Status s = design::set_variable(design, variables[i].name, run->best_values[i]); !s.ok())
-      return s.error();
+      return failed_after_search(s.error());
   const std::string best_path = (fs::path(out_dir) / (name + ".design.toml")).string();
   const std::uint64_t final_seed = static_cast<std::uint64_t>(seed) + 7'000'003ULL;
   const std::string own_best_path =
@@ -764,13 +770,24 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
                             " against " + fs::path(target_path).filename().string() + ".",
                         std::string("Method ") + design::to_string(method) + ", " + std::to_string(run->evaluations) +
                             " evaluations, merit " + format_number(run->best_merit, 5) + "."});
-  if (Status s = io::write_file_atomic(best_path, text); !s.ok()) return s.error();
+  // A file that cannot be written from here on (a full disk, a path taken
+  // by a folder) does not stop the others: report.json lists it
+  // (optimize.output_failures) and the run then fails.
+  std::vector<std::string> output_failures;
+  nlohmann::json files_written = nlohmann::json::array();
+  if (Status s = io::write_file_atomic(best_path, text); !s.ok())
+    output_failures.push_back(to_string(s.error()));
+  else
+    files_written.push_back(best_path);
 
   // history.json and the report.
   nlohmann::json history = nlohmann::json::array();
   for (const design::EvaluationRecord& r : run->history) history.push_back(evaluation_json(r, variables));
   const std::string history_path = (fs::path(out_dir) / "history.json").string();
-  if (Status s = io::write_file_atomic(history_path, history.dump(1) + "\n"); !s.ok()) return s.error();
+  if (Status s = io::write_file_atomic(history_path, history.dump(1) + "\n"); !s.ok())
+    output_failures.push_back(to_string(s.error()));
+  else
+    files_written.push_back(history_path);
   nlohmann::json vars = nlohmann::json::array();
   for (std::size_t i = 0; i < variables.size(); ++i)
     vars.push_back({{"name", variables[i].name},
@@ -830,7 +847,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
         {"penalty", json_number(fm.penalty)},
         {"limits", limits_json(fm)},
         {"estimated_rms_error_pct", json_number(final.estimated_error_pct)}}},
-      {"files", {best_path, history_path}},
+      {"files", files_written},
       {"cannot_improve", cannot_improve.empty() ? nlohmann::json(nullptr) : nlohmann::json(cannot_improve)},
       {"cannot_improve_kind",
        cannot_improve_kind.empty() ? nlohmann::json(nullptr) : nlohmann::json(cannot_improve_kind)},
@@ -896,8 +913,18 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   }
   for (const std::string& f : out.extra_files) report["optimize"]["files"].push_back(f);
   if (!out.notes.empty()) report["optimize"]["notes"] = out.notes;
-  if (Status s = io::write_file_atomic(final.result->files->report_path, report.dump(2) + "\n"); !s.ok())
-    return s.error();
+  report["optimize"]["output_failures"] = output_failures;
+  std::string not_written;
+  for (const std::string& f : output_failures) not_written += "\n  " + f;
+  if (Status s = io::write_file_atomic(final.result->files->report_path, report.dump(2) + "\n"); !s.ok()) {
+    Error e = s.error();
+    if (!not_written.empty()) e.message += "; nor were:" + not_written;
+    return failed_after_search(e);
+  }
+  if (!output_failures.empty())
+    return failed_after_search(make_error(
+        std::to_string(output_failures.size()) + " file(s) could not be written after the search (every other file "
+        "and report.json were; report.json lists these under optimize.output_failures):" + not_written));
   progress->finished(report["optimize"]);
   out.variables = variables;
   out.cannot_improve = cannot_improve;
