@@ -24,6 +24,7 @@
 #include "io/outputs/luminance_images.h"
 #include "io/outputs/plot.h"
 #include "io/photometric/photometric_file.h"
+#include "io/support/content_hash.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
@@ -360,12 +361,9 @@ std::vector<std::vector<double>> monte_carlo_values(const design::ToleranceSpec&
 // a rank's own failure is its own error, the others' message is empty.
 Status ranks_agree_on_nominal(const sim::Ranks& ranks, const std::optional<Trace>& nominal, const Status& opened,
                               const std::string& model, const std::string& why) {
-  std::uint64_t hash = 1469598103934665603ULL;  // FNV-1a over the figures' bits
-  if (nominal)
-    for (double f : nominal->figures) {
-      const std::uint64_t bits = std::bit_cast<std::uint64_t>(f);
-      for (int b = 0; b < 64; b += 8) hash = (hash ^ ((bits >> b) & 0xffu)) * 1099511628211ULL;
-    }
+  io::ContentHash figures;  // the figures' bits, with the one content hash
+  if (nominal) figures.value(nominal->figures);
+  const std::uint64_t hash = figures.digest();
   const std::vector<std::uint64_t> ready = ranks.gather(std::uint64_t{opened.ok() && nominal.has_value()});
   const std::vector<std::uint64_t> hashes = ranks.gather(hash);
   if (!opened.ok()) return opened.error();
