@@ -25,9 +25,12 @@ Status write_other_parts_gltf(const Design& design, const DesignParts& parts, co
   if (!scene.ok()) return scene.error();
   const sim::SceneDesc flat = sim::flattened(*scene);
   for (const sim::Mesh& m : flat.meshes) {
+    // Reflectors and lenses are written by write_design_gltf itself.
     const bool reflector = std::any_of(parts.reflectors.begin(), parts.reflectors.end(),
                                        [&](const Reflector& r) { return r.name == m.name; });
-    if (reflector || m.material >= flat.materials.size()) continue;
+    const bool lens =
+        std::any_of(parts.lenses.begin(), parts.lenses.end(), [&](const Lens& l) { return l.name == m.name; });
+    if (reflector || lens || m.material >= flat.materials.size()) continue;
     Result<int> index = material(flat.materials[m.material].name);
     if (!index.ok()) return index.error();
     sim::Mesh out;

@@ -1152,6 +1152,32 @@ TEST(DesignPartsExport, GltfHoldsTroughsAndCoversAsMeshed) {
   }
 }
 
+// A lens beside another kind of part (here a cover): the glTF holds the lens
+// once, as the simulation does (the other kinds' meshes come from the
+// design's scene, which holds the lens too: it was written a second time,
+// two overlapping lenses for whatever reads the glTF).
+TEST(DesignPartsExport, GltfHoldsALensOnceBesideOtherParts) {
+  test::TempDir dir;
+  const std::string text = placed_lens("position = [0, 0, 0]", "") +
+                           "[materials.white]\nreflectance = 0.8\n"
+                           "[[covers]]\nname = \"plate\"\nmaterial = \"white\"\nshape = \"plate\"\n"
+                           "diameter = 80\nheight = -30\n";
+  Result<Design> d = parse_design(text, (dir / "lamp.design.toml").string());
+  ASSERT_TRUE(d.ok()) << to_string(d.error());
+  Result<sim::SceneDesc> traced = design_scene(*d, options(2.0), nullptr);
+  ASSERT_TRUE(traced.ok()) << to_string(traced.error());
+  ASSERT_TRUE(write_design_gltf(*d, (dir / "lamp.gltf").string(), options(2.0).tessellation).ok());
+  io::GltfLoadOptions o;
+  o.require_emitters = false;
+  Result<sim::SceneDesc> back = io::load_gltf((dir / "lamp.gltf").string(), nullptr, o);
+  ASSERT_TRUE(back.ok()) << to_string(back.error());
+  const sim::SceneDesc flat = sim::flattened(*back);
+  std::size_t lenses = 0;
+  for (const sim::Mesh& m : flat.meshes) lenses += m.name.find("lens") != std::string::npos ? 1 : 0;
+  EXPECT_EQ(lenses, 1u);
+  EXPECT_EQ(flat.meshes.size(), sim::flattened(*traced).meshes.size());
+}
+
 // A trough's caps as STEP: the part "NAME caps", a plane face at each end
 // (y = ±200 mm), closing the cross-section between the two halves
 // (z ≤ f − x²/4f, z ≥ the rim's −30 mm), with the caps' material in the sidecar.
