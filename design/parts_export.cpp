@@ -201,13 +201,16 @@ Status add_covers_to_step(const Design& design, const DesignParts& parts, const 
   return Ok{};
 }
 
-Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, const io::TomlNode& resolved,
-                               const io::PartsFile& sidecar, io::StepExport& request, io::TomlNode& rules) {
-  if (parts.fixed_parts.empty()) return Ok{};
-  namespace fs = std::filesystem;
+void add_design_rules_to_step(const io::TomlNode& resolved, io::TomlNode& rules) {
   if (const io::TomlNode* table = resolved.get("parts"); table && table->is_array())
     for (const io::TomlNode& t : table->array)
       if (!is_fixed_part(t)) rules.array.push_back(t);
+}
+
+Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, const io::PartsFile& sidecar,
+                               io::StepExport& request, io::TomlNode& rules) {
+  if (parts.fixed_parts.empty()) return Ok{};
+  namespace fs = std::filesystem;
   const std::string dir = fs::absolute(fs::path(design.path)).parent_path().lexically_normal().string();
   for (const FixedPart& f : parts.fixed_parts) {
     const std::string what = "[[parts]] at line " + std::to_string(f.line) + " (" + f.name + ")";

@@ -1178,6 +1178,33 @@ TEST(DesignPartsExport, GltfHoldsALensOnceBesideOtherParts) {
   EXPECT_EQ(flat.meshes.size(), sim::flattened(*traced).meshes.size());
 }
 
+// The design's own sidecar rules ([[parts]] without `file`) come before its
+// parts' rules in the simulation (the first rule that matches wins), so a
+// rule may give a reflector another material. The STEP's sidecar keeps
+// them, in that order, with or without fixed parts: the STEP traces as the
+// design does (they were dropped without a fixed part, and put after the
+// parts' rules with one).
+TEST(DesignPartsExport, StepSidecarKeepsTheDesignsRulesFirst) {
+  if (!io::cad_supported()) GONIO_MISSING("a build with OpenCASCADE (GONIO_OCCT) for STEP export");
+  test::TempDir dir;
+  const std::string text = faceted_dish("") +
+                           "[materials.black]\nreflectance = 0.05\n[[parts]]\nmatch = \"dish*\"\nmaterial = \"black\"\n";
+  Result<sim::SceneDesc> traced = scene_of(text);
+  ASSERT_TRUE(traced.ok()) << to_string(traced.error());
+  ASSERT_EQ(traced->meshes.size(), 1u);
+  EXPECT_EQ(traced->materials[traced->meshes[0].material].name, "black");  // the design's rule wins
+  Result<Design> d = parse_design(text, (dir / "lamp.design.toml").string());
+  ASSERT_TRUE(d.ok()) << to_string(d.error());
+  Result<StepExportInfo> info = write_design_step(*d, (dir / "lamp.step").string());
+  ASSERT_TRUE(info.ok()) << to_string(info.error());
+  Result<io::PartsFile> sidecar = io::read_parts_file(info->sidecar);
+  ASSERT_TRUE(sidecar.ok()) << to_string(sidecar.error());
+  const auto first = std::find_if(sidecar->rules.begin(), sidecar->rules.end(),
+                                  [](const io::PartsRule& r) { return io::glob_match(r.match, "dish"); });
+  ASSERT_NE(first, sidecar->rules.end());
+  EXPECT_EQ(first->material, "black") << "the STEP's sidecar gives the dish another material than the design";
+}
+
 // A trough's caps as STEP: the part "NAME caps", a plane face at each end
 // (y = ±200 mm), closing the cross-section between the two halves
 // (z ≤ f − x²/4f, z ≥ the rim's −30 mm), with the caps' material in the sidecar.
