@@ -11,6 +11,7 @@
 #include "design/fixed_part.h"
 #include "io/model/gltf_files.h"
 #include "io/support/text.h"
+#include "photometry/format.h"
 #include "sim/scene.h"
 
 namespace gonio::design {
@@ -138,6 +139,13 @@ Result<io::StepRevolvedPart> faceted_step_part(const Reflector& r, const Profile
   io::StepRevolvedPart part;
   part.name = r.name;
   const int n = r.facets->theta, m = r.facets->azimuth;
+  // A face per facet (smooth around: four quarter turns a band), each sewn
+  // by OpenCASCADE: bounded as a fixed part's triangles are.
+  const double faces = static_cast<double>(n > 0 ? n : 1) * static_cast<double>(m > 0 ? m : 4);
+  if (faces > static_cast<double>(kMaxStepPartFaces))
+    return make_error("facets (line " + std::to_string(r.facets->line) + "): " + format_number(faces, 10) +
+                      " faces, more than the " + std::to_string(kMaxStepPartFaces) +
+                      " the STEP export writes for one part (OpenCASCADE sews each as a face)");
   if (r.facets->curved || n == 0 || m == 0) {
     Result<FacetSurface> surface = FacetSurface::make(curve, *r.facets);
     if (!surface.ok()) return surface.error();

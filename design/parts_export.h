@@ -68,7 +68,10 @@ void add_design_rules_to_step(const io::TomlNode& resolved, io::TomlNode& rules)
 // material (the design's own rules: add_design_rules_to_step). Errors name the part's
 // line: a file outside the design's folder, a glTF part of more than
 // kMaxFixedPartStepTriangles triangles (OpenCASCADE sews each as a face).
-constexpr std::size_t kMaxFixedPartStepTriangles = 20000;
+// kMaxStepPartFaces: the most faces the STEP export writes for one part
+// (a fixed part's triangles, a faceted reflector's facets).
+constexpr std::size_t kMaxStepPartFaces = 20000;
+constexpr std::size_t kMaxFixedPartStepTriangles = kMaxStepPartFaces;
 Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, const io::PartsFile& sidecar,
                                io::StepExport& request, io::TomlNode& rules);
 

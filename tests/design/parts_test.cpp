@@ -18,6 +18,7 @@
 #include "design/design_file.h"
 #include "design/design_export.h"
 #include "design/design_scene.h"
+#include "design/parts_export.h"
 #include "design/trough.h"
 #include "io/model/gltf.h"
 #include "io/model/gltf_writer.h"
@@ -1203,6 +1204,45 @@ TEST(DesignPartsExport, StepSidecarKeepsTheDesignsRulesFirst) {
                                   [](const io::PartsRule& r) { return io::glob_match(r.match, "dish"); });
   ASSERT_NE(first, sidecar->rules.end());
   EXPECT_EQ(first->material, "black") << "the STEP's sidecar gives the dish another material than the design";
+}
+
+// Facets the STEP export cannot write in reasonable time and memory (each a
+// face OpenCASCADE sews; --theta and --azimuth allow 100 000 each, 10¹⁰
+// faces): more than the faces a part may have (the fixed parts' bound) is an
+// error naming the reflector's line before anything is built or sent to the
+// helper, flat or curved. Within the bound, the part is made.
+TEST(DesignPartsExport, TooManyFacetsForTheStepAreAnErrorNamingTheLine) {
+  for (const std::string& facets : {std::string("{ theta = 150, azimuth = 150, kind = \"flat\" }"),
+                                   std::string("{ theta = 150, azimuth = 150, kind = \"curved\", radius_theta = 500 }"),
+                                   std::string("{ theta = 6000 }")}) {
+    Result<Design> d = parse_design(faceted_dish(facets), "lamp.design.toml");
+    ASSERT_TRUE(d.ok()) << to_string(d.error());
+    Result<DesignParts> parts = read_design_parts(resolved_document(*d), d->path);
+    ASSERT_TRUE(parts.ok()) << to_string(parts.error());
+    const Reflector& r = parts->reflectors.at(0);
+    Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
+    ASSERT_TRUE(curve.ok());
+    Result<io::StepRevolvedPart> part = faceted_step_part(r, *curve);
+    ASSERT_FALSE(part.ok()) << facets << ": " << part->faces.size() << " faces, " << part->patches.size() / 2
+                            << " patches";
+    EXPECT_NE(part.error().message.find("more than the " + std::to_string(kMaxStepPartFaces)), std::string::npos)
+        << part.error().message;
+    if (io::cad_supported()) {
+      const Result<StepExportInfo> info = write_design_step(*d, "never-written.step");
+      ASSERT_FALSE(info.ok());
+      EXPECT_NE(to_string(info.error()).find("lamp.design.toml:8: [[reflectors]] at line 8 (dish): "), std::string::npos)
+          << to_string(info.error());
+    }
+  }
+  Result<Design> d = parse_design(faceted_dish("{ theta = 100, azimuth = 200, kind = \"flat\" }"), "lamp.design.toml");
+  ASSERT_TRUE(d.ok());
+  Result<DesignParts> parts = read_design_parts(resolved_document(*d), d->path);
+  ASSERT_TRUE(parts.ok());
+  Result<ProfileCurve> curve = ProfileCurve::make(parts->reflectors.at(0).profile);
+  ASSERT_TRUE(curve.ok());
+  Result<io::StepRevolvedPart> part = faceted_step_part(parts->reflectors.at(0), *curve);
+  ASSERT_TRUE(part.ok()) << part.error().message;
+  EXPECT_EQ(part->faces.size(), 20000u);
 }
 
 // A trough's caps as STEP: the part "NAME caps", a plane face at each end
