@@ -159,6 +159,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   request.tolerance_mm = tolerance_mm;
   request.product = std::filesystem::path(step_path).stem().string();
   io::TomlNode rules = toml_array({});
+  add_design_rules_to_step(resolved, rules);  // first, as in the simulation
   for (const Reflector& r : parts->reflectors) {
     Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
     if (!curve.ok()) return make_error(design.path, r.name + ": " + curve.error().message);
@@ -196,7 +197,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
   }
   if (Status s = add_troughs_to_step(design, *parts, kStepProfileSamples, request, rules); !s.ok()) return s.error();
   if (Status s = add_covers_to_step(design, *parts, *sidecar, request, rules); !s.ok()) return s.error();
-  if (Status s = add_fixed_parts_to_step(design, *parts, resolved, *sidecar, request, rules); !s.ok()) return s.error();
+  if (Status s = add_fixed_parts_to_step(design, *parts, *sidecar, request, rules); !s.ok()) return s.error();
   if (const fs::path folder = fs::path(step_path).parent_path(); !folder.empty())
     if (Status s = io::make_directories(folder.string()); !s.ok()) return s.error();
   io::CadLoadOptions options;

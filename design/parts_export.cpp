@@ -11,6 +11,7 @@
 #include "design/fixed_part.h"
 #include "io/model/gltf_files.h"
 #include "io/support/text.h"
+#include "photometry/format.h"
 #include "sim/scene.h"
 
 namespace gonio::design {
@@ -25,9 +26,12 @@ Status write_other_parts_gltf(const Design& design, const DesignParts& parts, co
   if (!scene.ok()) return scene.error();
   const sim::SceneDesc flat = sim::flattened(*scene);
   for (const sim::Mesh& m : flat.meshes) {
+    // Reflectors and lenses are written by write_design_gltf itself.
     const bool reflector = std::any_of(parts.reflectors.begin(), parts.reflectors.end(),
                                        [&](const Reflector& r) { return r.name == m.name; });
-    if (reflector || m.material >= flat.materials.size()) continue;
+    const bool lens =
+        std::any_of(parts.lenses.begin(), parts.lenses.end(), [&](const Lens& l) { return l.name == m.name; });
+    if (reflector || lens || m.material >= flat.materials.size()) continue;
     Result<int> index = material(flat.materials[m.material].name);
     if (!index.ok()) return index.error();
     sim::Mesh out;
@@ -135,6 +139,13 @@ Result<io::StepRevolvedPart> faceted_step_part(const Reflector& r, const Profile
   io::StepRevolvedPart part;
   part.name = r.name;
   const int n = r.facets->theta, m = r.facets->azimuth;
+  // A face per facet (smooth around: four quarter turns a band), each sewn
+  // by OpenCASCADE: bounded as a fixed part's triangles are.
+  const double faces = static_cast<double>(n > 0 ? n : 1) * static_cast<double>(m > 0 ? m : 4);
+  if (faces > static_cast<double>(kMaxStepPartFaces))
+    return make_error("facets (line " + std::to_string(r.facets->line) + "): " + format_number(faces, 10) +
+                      " faces, more than the " + std::to_string(kMaxStepPartFaces) +
+                      " the STEP export writes for one part (OpenCASCADE sews each as a face)");
   if (r.facets->curved || n == 0 || m == 0) {
     Result<FacetSurface> surface = FacetSurface::make(curve, *r.facets);
     if (!surface.ok()) return surface.error();
@@ -198,13 +209,16 @@ Status add_covers_to_step(const Design& design, const DesignParts& parts, const 
   return Ok{};
 }
 
-Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, const io::TomlNode& resolved,
-                               const io::PartsFile& sidecar, io::StepExport& request, io::TomlNode& rules) {
-  if (parts.fixed_parts.empty()) return Ok{};
-  namespace fs = std::filesystem;
+void add_design_rules_to_step(const io::TomlNode& resolved, io::TomlNode& rules) {
   if (const io::TomlNode* table = resolved.get("parts"); table && table->is_array())
     for (const io::TomlNode& t : table->array)
       if (!is_fixed_part(t)) rules.array.push_back(t);
+}
+
+Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, const io::PartsFile& sidecar,
+                               io::StepExport& request, io::TomlNode& rules) {
+  if (parts.fixed_parts.empty()) return Ok{};
+  namespace fs = std::filesystem;
   const std::string dir = fs::absolute(fs::path(design.path)).parent_path().lexically_normal().string();
   for (const FixedPart& f : parts.fixed_parts) {
     const std::string what = "[[parts]] at line " + std::to_string(f.line) + " (" + f.name + ")";

@@ -53,18 +53,26 @@ Result<io::StepRevolvedPart> faceted_step_part(const Reflector& r, const Profile
 Status add_covers_to_step(const Design& design, const DesignParts& parts, const io::PartsFile& sidecar,
                           io::StepExport& request, io::TomlNode& rules);
 
+// The design's own sidecar rules ([[parts]] tables without `file`, from
+// `resolved`) into the STEP's sidecar `rules`, to be added before any part's
+// rule: in the simulation they come first (the first rule that matches a
+// surface wins, so one may give a reflector another material).
+void add_design_rules_to_step(const io::TomlNode& resolved, io::TomlNode& rules);
+
 // The fixed parts (design/fixed_part.h) as parts of the STEP request: a STEP
 // or IGES file's shapes placed by the helper as position, rotate_deg and
 // scale place them (OpenCASCADE's own shapes, each "NAME/<its name>"); a
 // glTF file's triangles, placed as the simulation places them, as plane
 // faces sewn into one part per mesh, named as the design names its
-// placements ("NAME/<mesh>"). `rules` gets the design's own sidecar rules
-// ([[parts]] tables without `file`, from `resolved`) and the rule "NAME/*"
-// of a part's material, in the simulation's order. Errors name the part's
+// placements ("NAME/<mesh>"). `rules` gets the rule "NAME/*" of a part's
+// material (the design's own rules: add_design_rules_to_step). Errors name the part's
 // line: a file outside the design's folder, a glTF part of more than
 // kMaxFixedPartStepTriangles triangles (OpenCASCADE sews each as a face).
-constexpr std::size_t kMaxFixedPartStepTriangles = 20000;
-Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, const io::TomlNode& resolved,
-                               const io::PartsFile& sidecar, io::StepExport& request, io::TomlNode& rules);
+// kMaxStepPartFaces: the most faces the STEP export writes for one part
+// (a fixed part's triangles, a faceted reflector's facets).
+constexpr std::size_t kMaxStepPartFaces = 20000;
+constexpr std::size_t kMaxFixedPartStepTriangles = kMaxStepPartFaces;
+Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, const io::PartsFile& sidecar,
+                               io::StepExport& request, io::TomlNode& rules);
 
 }  // namespace gonio::design

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <set>
 
 #include "io/support/file_io.h"
 #include "io/support/text.h"
@@ -733,10 +734,17 @@ Status expand_independent_copies(ToleranceSpec& spec, const sim::SceneDesc& scen
     if (!copies.copies)
       return at(spec.path, t.line, t.label() + ": independent = true needs the name of an instanced mesh (its copies "
                                                "draw their own values); " + io::shown(t.name) + " is not one");
+    std::set<std::string> placed;
     for (std::size_t k : copies.instances) {
       Tolerance each = t;
       each.independent = false;
       each.name = scene.instances[k].name + "/" + scene.meshes[scene.instances[k].mesh].name;
+      // A copy's tolerance names it by its placed name: two copies of one
+      // name could not be told apart (each tolerance would move both).
+      if (!placed.insert(each.name).second)
+        return at(spec.path, t.line, t.label() + ": independent = true: two copies of " + io::shown(t.name) +
+                                         " are placed as " + io::shown(each.name) +
+                                         " (the same node name): give their nodes distinct names");
       out.push_back(std::move(each));
     }
   }

@@ -18,6 +18,7 @@
 #include "design/design_file.h"
 #include "design/design_export.h"
 #include "design/design_scene.h"
+#include "design/parts_export.h"
 #include "design/trough.h"
 #include "io/model/gltf.h"
 #include "io/model/gltf_writer.h"
@@ -1150,6 +1151,98 @@ TEST(DesignPartsExport, GltfHoldsTroughsAndCoversAsMeshed) {
       EXPECT_NEAR(top, -0.040f, 1e-7f);
     }
   }
+}
+
+// A lens beside another kind of part (here a cover): the glTF holds the lens
+// once, as the simulation does (the other kinds' meshes come from the
+// design's scene, which holds the lens too: it was written a second time,
+// two overlapping lenses for whatever reads the glTF).
+TEST(DesignPartsExport, GltfHoldsALensOnceBesideOtherParts) {
+  test::TempDir dir;
+  const std::string text = placed_lens("position = [0, 0, 0]", "") +
+                           "[materials.white]\nreflectance = 0.8\n"
+                           "[[covers]]\nname = \"plate\"\nmaterial = \"white\"\nshape = \"plate\"\n"
+                           "diameter = 80\nheight = -30\n";
+  Result<Design> d = parse_design(text, (dir / "lamp.design.toml").string());
+  ASSERT_TRUE(d.ok()) << to_string(d.error());
+  Result<sim::SceneDesc> traced = design_scene(*d, options(2.0), nullptr);
+  ASSERT_TRUE(traced.ok()) << to_string(traced.error());
+  ASSERT_TRUE(write_design_gltf(*d, (dir / "lamp.gltf").string(), options(2.0).tessellation).ok());
+  io::GltfLoadOptions o;
+  o.require_emitters = false;
+  Result<sim::SceneDesc> back = io::load_gltf((dir / "lamp.gltf").string(), nullptr, o);
+  ASSERT_TRUE(back.ok()) << to_string(back.error());
+  const sim::SceneDesc flat = sim::flattened(*back);
+  std::size_t lenses = 0;
+  for (const sim::Mesh& m : flat.meshes) lenses += m.name.find("lens") != std::string::npos ? 1 : 0;
+  EXPECT_EQ(lenses, 1u);
+  EXPECT_EQ(flat.meshes.size(), sim::flattened(*traced).meshes.size());
+}
+
+// The design's own sidecar rules ([[parts]] without `file`) come before its
+// parts' rules in the simulation (the first rule that matches wins), so a
+// rule may give a reflector another material. The STEP's sidecar keeps
+// them, in that order, with or without fixed parts: the STEP traces as the
+// design does (they were dropped without a fixed part, and put after the
+// parts' rules with one).
+TEST(DesignPartsExport, StepSidecarKeepsTheDesignsRulesFirst) {
+  if (!io::cad_supported()) GONIO_MISSING("a build with OpenCASCADE (GONIO_OCCT) for STEP export");
+  test::TempDir dir;
+  const std::string text = faceted_dish("") +
+                           "[materials.black]\nreflectance = 0.05\n[[parts]]\nmatch = \"dish*\"\nmaterial = \"black\"\n";
+  Result<sim::SceneDesc> traced = scene_of(text);
+  ASSERT_TRUE(traced.ok()) << to_string(traced.error());
+  ASSERT_EQ(traced->meshes.size(), 1u);
+  EXPECT_EQ(traced->materials[traced->meshes[0].material].name, "black");  // the design's rule wins
+  Result<Design> d = parse_design(text, (dir / "lamp.design.toml").string());
+  ASSERT_TRUE(d.ok()) << to_string(d.error());
+  Result<StepExportInfo> info = write_design_step(*d, (dir / "lamp.step").string());
+  ASSERT_TRUE(info.ok()) << to_string(info.error());
+  Result<io::PartsFile> sidecar = io::read_parts_file(info->sidecar);
+  ASSERT_TRUE(sidecar.ok()) << to_string(sidecar.error());
+  const auto first = std::find_if(sidecar->rules.begin(), sidecar->rules.end(),
+                                  [](const io::PartsRule& r) { return io::glob_match(r.match, "dish"); });
+  ASSERT_NE(first, sidecar->rules.end());
+  EXPECT_EQ(first->material, "black") << "the STEP's sidecar gives the dish another material than the design";
+}
+
+// Facets the STEP export cannot write in reasonable time and memory (each a
+// face OpenCASCADE sews; --theta and --azimuth allow 100 000 each, 10¹⁰
+// faces): more than the faces a part may have (the fixed parts' bound) is an
+// error naming the reflector's line before anything is built or sent to the
+// helper, flat or curved. Within the bound, the part is made.
+TEST(DesignPartsExport, TooManyFacetsForTheStepAreAnErrorNamingTheLine) {
+  for (const std::string& facets : {std::string("{ theta = 150, azimuth = 150, kind = \"flat\" }"),
+                                   std::string("{ theta = 150, azimuth = 150, kind = \"curved\", radius_theta = 500 }"),
+                                   std::string("{ theta = 6000 }")}) {
+    Result<Design> d = parse_design(faceted_dish(facets), "lamp.design.toml");
+    ASSERT_TRUE(d.ok()) << to_string(d.error());
+    Result<DesignParts> parts = read_design_parts(resolved_document(*d), d->path);
+    ASSERT_TRUE(parts.ok()) << to_string(parts.error());
+    const Reflector& r = parts->reflectors.at(0);
+    Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
+    ASSERT_TRUE(curve.ok());
+    Result<io::StepRevolvedPart> part = faceted_step_part(r, *curve);
+    ASSERT_FALSE(part.ok()) << facets << ": " << part->faces.size() << " faces, " << part->patches.size() / 2
+                            << " patches";
+    EXPECT_NE(part.error().message.find("more than the " + std::to_string(kMaxStepPartFaces)), std::string::npos)
+        << part.error().message;
+    if (io::cad_supported()) {
+      const Result<StepExportInfo> info = write_design_step(*d, "never-written.step");
+      ASSERT_FALSE(info.ok());
+      EXPECT_NE(to_string(info.error()).find("lamp.design.toml:8: [[reflectors]] at line 8 (dish): "), std::string::npos)
+          << to_string(info.error());
+    }
+  }
+  Result<Design> d = parse_design(faceted_dish("{ theta = 100, azimuth = 200, kind = \"flat\" }"), "lamp.design.toml");
+  ASSERT_TRUE(d.ok());
+  Result<DesignParts> parts = read_design_parts(resolved_document(*d), d->path);
+  ASSERT_TRUE(parts.ok());
+  Result<ProfileCurve> curve = ProfileCurve::make(parts->reflectors.at(0).profile);
+  ASSERT_TRUE(curve.ok());
+  Result<io::StepRevolvedPart> part = faceted_step_part(parts->reflectors.at(0), *curve);
+  ASSERT_TRUE(part.ok()) << part.error().message;
+  EXPECT_EQ(part->faces.size(), 20000u);
 }
 
 // A trough's caps as STEP: the part "NAME caps", a plane face at each end

@@ -367,6 +367,20 @@ TEST(ToleranceSpec, IndependentCopiesDrawTheirOwnValues) {
             "t.toml:2: part.lens.independent must be true or false");
 }
 
+// independent = true where two copies share their placed name (glTF nodes
+// of the same name): one tolerance per copy could not tell them apart —
+// each would move both copies and report.json's values would keep one of
+// the two labels — so it is an error naming the line and the name.
+TEST(ToleranceSpec, IndependentCopiesOfTheSameNameAreAnError) {
+  const sim::SceneDesc instanced = two_copies("lensA", "lensA");
+  ToleranceSpec s = parse_ok("[part.lens]\nindependent = true\ntilt_x = { uniform = 7 }\n");
+  const Status expanded = expand_independent_copies(s, instanced);
+  ASSERT_FALSE(expanded.ok()) << s.tolerances.size() << " tolerances";
+  EXPECT_EQ(to_string(expanded.error()),
+            "t.toml:3: lens.tilt_x: independent = true: two copies of 'lens' are placed as 'lensA/lens/0' (the same "
+            "node name): give their nodes distinct names");
+}
+
 // A profile's form error: `form = { modes = K, rms_um = S }` is K Legendre
 // modes of the sag, each N(0, S/√K). On a flat annulus (normal up, ρ from
 // 10 to 30 mm on 201 equally spaced rings) mode 2 at 5 µm displaces every

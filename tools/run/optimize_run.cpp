@@ -149,6 +149,7 @@ nlohmann::json limit_tables_json(const design::MeritSpec& spec) {
 // What one traced design gives: its merit's terms, or the run's error.
 struct Traced {
   std::optional<design::MeritValue> merit;
+  std::vector<double> binned;  // the candela at the merit grid's nodes (design::bin_photons)
   std::string error;
   std::optional<SimulatePlan> plan;
   std::optional<SimulateResult> result;
@@ -214,15 +215,24 @@ std::vector<sim::EscapedRay> job_escaped_rays(const sim::Ranks& ranks, const std
   return all;
 }
 
+// What a rank made of one point of a CMA-ES generation: its merit, and
+// bytes for the other ranks (the point's candela for rank 0's state.json).
+struct BatchPoint {
+  Result<double> merit = make_error("not evaluated");
+  std::string payload;
+};
+
 // A CMA-ES generation over MPI ranks: point i is traced by rank i mod K
 // (`evaluate`, each rank's points `jobs` at a time), and every rank gets
-// every merit back in the points' order, whatever rank made it.
+// every merit back in the points' order, whatever rank made it, and
+// `on_other` the payload of each point another rank made.
 std::vector<Result<double>> job_batch(const sim::Ranks& ranks, std::size_t points, int jobs,
-                                      const std::function<Result<double>(std::size_t)>& evaluate) {
+                                      const std::function<BatchPoint(std::size_t)>& evaluate,
+                                      const std::function<void(std::size_t, const std::string&)>& on_other) {
   const std::size_t k = static_cast<std::size_t>(ranks.size()), me = static_cast<std::size_t>(ranks.rank());
   std::vector<std::size_t> mine;
   for (std::size_t i = me; i < points; i += k) mine.push_back(i);
-  std::vector<std::optional<Result<double>>> made(mine.size());
+  std::vector<std::optional<BatchPoint>> made(mine.size());
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
     for (std::size_t j = next++; j < mine.size(); j = next++) made[j].emplace(evaluate(mine[j]));
@@ -233,16 +243,20 @@ std::vector<Result<double>> job_batch(const sim::Ranks& ranks, std::size_t point
   for (std::thread& t : helpers) t.join();
   std::string bytes;
   for (std::size_t j = 0; j < mine.size(); ++j) {
-    const Result<double>& m = *made[j];
+    const Result<double>& m = made[j]->merit;
     const std::string error = m.ok() ? std::string() : m.error().message;
     put(bytes, static_cast<std::uint64_t>(mine[j]));
     put(bytes, static_cast<std::uint8_t>(m.ok() ? 1 : 0));
     put(bytes, m.ok() ? *m : 0.0);
     put(bytes, static_cast<std::uint64_t>(error.size()));
     bytes += error;
+    put(bytes, static_cast<std::uint64_t>(made[j]->payload.size()));
+    bytes += made[j]->payload;
   }
   std::vector<Result<double>> out(points, Result<double>(make_error("no rank made this evaluation")));
-  for (const std::string& theirs : sim::gather_bytes(ranks, bytes)) {
+  const std::vector<std::string> gathered = sim::gather_bytes(ranks, bytes);
+  for (std::size_t from = 0; from < gathered.size(); ++from) {
+    const std::string& theirs = gathered[from];
     std::size_t at = 0;
     while (at < theirs.size()) {
       const std::uint64_t index = take<std::uint64_t>(theirs, at);
@@ -251,7 +265,12 @@ std::vector<Result<double>> job_batch(const sim::Ranks& ranks, std::size_t point
       const std::uint64_t length = take<std::uint64_t>(theirs, at);
       const std::string error = theirs.substr(std::min(at, theirs.size()), length);
       at += length;
-      if (index < points) out[index] = ok ? Result<double>(merit) : Result<double>(make_error(error));
+      const std::uint64_t payload_length = take<std::uint64_t>(theirs, at);
+      const std::string payload = theirs.substr(std::min(at, theirs.size()), payload_length);
+      at += payload_length;
+      if (index >= points) continue;
+      out[index] = ok ? Result<double>(merit) : Result<double>(make_error(error));
+      if (ok && from != me && on_other) on_other(index, payload);
     }
   }
   return out;
@@ -518,11 +537,11 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
       double lor = 0.0;
       const std::vector<design::MeritPhoton> escaped =
           escaped_photons(run.simulation, run.simulation.escaped_rays(), &lor);
-      const std::vector<double> binned = design::bin_photons(grid, escaped);
-      t.merit = design::evaluate_merit(spec, grid, *target, binned, lor,
+      t.binned = design::bin_photons(grid, escaped);
+      t.merit = design::evaluate_merit(spec, grid, *target, t.binned, lor,
                                        merit_geometry(spec, run.simulation, run.simulation.escaped_rays()));
       if (progress && !files_out && t.merit->error.empty())
-        progress->traced(values, photons, trace_seed, binned, *t.merit);
+        progress->traced(values, photons, trace_seed, t.binned, *t.merit);
       if (!t.merit->error.empty()) {
         t.error = t.merit->error;
         t.merit.reset();
@@ -666,16 +685,34 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
     if (method == design::OptimizeMethod::Cmaes)
       oo.batch = [&](const std::vector<std::vector<double>>& points, std::uint64_t photons,
                      const std::vector<std::uint64_t>& seeds) {
-        return job_batch(*ranks, points.size(), static_cast<int>(jobs), [&](std::size_t i) -> Result<double> {
+        // With each merit its candela and the figures state.json shows, so
+        // that rank 0's state has the best's whichever rank traced it.
+        const auto evaluate = [&](std::size_t i) -> BatchPoint {
           const std::string path =
               (fs::path(out_dir) / (".evaluation-" + rank_tag + std::to_string(evaluations_made++) + ".design.toml"))
                   .string();
           Traced t = trace(points[i], photons, seeds[i], path, false, false);
           std::error_code ignored_own;
           fs::remove(path, ignored_own);
-          if (!t.merit) return make_error(t.error);
-          return t.merit->merit;
-        });
+          if (!t.merit) return {make_error(t.error), {}};
+          BatchPoint made{t.merit->merit, {}};
+          for (double v : {t.merit->lor, t.merit->candela_rms_pct, t.merit->beam_deg}) put(made.payload, v);
+          for (double v : t.binned) put(made.payload, v);
+          return made;
+        };
+        const auto on_other = [&](std::size_t i, const std::string& payload) {
+          if (!progress || payload.size() < 3 * sizeof(double)) return;
+          std::size_t at = 0;
+          design::MeritValue m;
+          m.merit = std::nan("");
+          m.lor = take<double>(payload, at);
+          m.candela_rms_pct = take<double>(payload, at);
+          m.beam_deg = take<double>(payload, at);
+          std::vector<double> binned;
+          while (at + sizeof(double) <= payload.size()) binned.push_back(take<double>(payload, at));
+          progress->traced(points[i], photons, seeds[i], binned, m);
+        };
+        return job_batch(*ranks, points.size(), static_cast<int>(jobs), evaluate, on_other);
       };
   }
   const auto on_evaluation = [&](const design::EvaluationRecord& r) {
@@ -733,10 +770,16 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   if (!cannot_improve.empty() && hooks.on_message)
     hooks.on_message(Severity::Warning, design.path + ": " + cannot_improve);
 
+  // From here a failure of rank 0 says so in DIR/state.json too (gonio
+  // watch DIR would otherwise show the run "running" for ever).
+  const auto failed_after_search = [&](const Error& e) {
+    if (progress) progress->failed(to_string(e));
+    return e;
+  };
   // The best design, traced with an independent seed into DIR.
   for (std::size_t i = 0; i < variables.size(); ++i)
     if (Status s = design::set_variable(design, variables[i].name, run->best_values[i]); !s.ok())
-      return s.error();
+      return failed_after_search(s.error());
   const std::string best_path = (fs::path(out_dir) / (name + ".design.toml")).string();
   const std::uint64_t final_seed = static_cast<std::uint64_t>(seed) + 7'000'003ULL;
   const std::string own_best_path =
@@ -764,13 +807,24 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
                             " against " + fs::path(target_path).filename().string() + ".",
                         std::string("Method ") + design::to_string(method) + ", " + std::to_string(run->evaluations) +
                             " evaluations, merit " + format_number(run->best_merit, 5) + "."});
-  if (Status s = io::write_file_atomic(best_path, text); !s.ok()) return s.error();
+  // A file that cannot be written from here on (a full disk, a path taken
+  // by a folder) does not stop the others: report.json lists it
+  // (optimize.output_failures) and the run then fails.
+  std::vector<std::string> output_failures;
+  nlohmann::json files_written = nlohmann::json::array();
+  if (Status s = io::write_file_atomic(best_path, text); !s.ok())
+    output_failures.push_back(to_string(s.error()));
+  else
+    files_written.push_back(best_path);
 
   // history.json and the report.
   nlohmann::json history = nlohmann::json::array();
   for (const design::EvaluationRecord& r : run->history) history.push_back(evaluation_json(r, variables));
   const std::string history_path = (fs::path(out_dir) / "history.json").string();
-  if (Status s = io::write_file_atomic(history_path, history.dump(1) + "\n"); !s.ok()) return s.error();
+  if (Status s = io::write_file_atomic(history_path, history.dump(1) + "\n"); !s.ok())
+    output_failures.push_back(to_string(s.error()));
+  else
+    files_written.push_back(history_path);
   nlohmann::json vars = nlohmann::json::array();
   for (std::size_t i = 0; i < variables.size(); ++i)
     vars.push_back({{"name", variables[i].name},
@@ -830,7 +884,7 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
         {"penalty", json_number(fm.penalty)},
         {"limits", limits_json(fm)},
         {"estimated_rms_error_pct", json_number(final.estimated_error_pct)}}},
-      {"files", {best_path, history_path}},
+      {"files", files_written},
       {"cannot_improve", cannot_improve.empty() ? nlohmann::json(nullptr) : nlohmann::json(cannot_improve)},
       {"cannot_improve_kind",
        cannot_improve_kind.empty() ? nlohmann::json(nullptr) : nlohmann::json(cannot_improve_kind)},
@@ -896,8 +950,18 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   }
   for (const std::string& f : out.extra_files) report["optimize"]["files"].push_back(f);
   if (!out.notes.empty()) report["optimize"]["notes"] = out.notes;
-  if (Status s = io::write_file_atomic(final.result->files->report_path, report.dump(2) + "\n"); !s.ok())
-    return s.error();
+  report["optimize"]["output_failures"] = output_failures;
+  std::string not_written;
+  for (const std::string& f : output_failures) not_written += "\n  " + f;
+  if (Status s = io::write_file_atomic(final.result->files->report_path, report.dump(2) + "\n"); !s.ok()) {
+    Error e = s.error();
+    if (!not_written.empty()) e.message += "; nor were:" + not_written;
+    return failed_after_search(e);
+  }
+  if (!output_failures.empty())
+    return failed_after_search(make_error(
+        std::to_string(output_failures.size()) + " file(s) could not be written after the search (every other file "
+        "and report.json were; report.json lists these under optimize.output_failures):" + not_written));
   progress->finished(report["optimize"]);
   out.variables = variables;
   out.cannot_improve = cannot_improve;

@@ -37,8 +37,8 @@ struct OptimizeRunOptions {
   std::optional<double> photons_per_bin;
   double gamma_step = 1.0, max_time = 0.0;
   bool no_smooth = false;
-  bool no_step = false;
-  bool no_common_random = false;  // each evaluation its own seed (for comparison)  // no NAME.step (and its sidecar) of the best design
+  bool no_step = false;           // no NAME.step (and its sidecar) of the best design
+  bool no_common_random = false;  // each evaluation its own seed (for comparison)
   std::optional<std::string> scan;  // VAR:N: the merit across VAR's bounds, no optimisation
   // A [merit] table that replaces the design's (Python's merit=): its errors
   // name "DESIGN (merit=)" and the key, not a line.

@@ -103,7 +103,14 @@ void OptimizeProgress::traced(const std::vector<double>& values, std::uint64_t p
   Traced t{candela, merit};
   for (double& v : t.candela) v *= scale;
   std::lock_guard lock(mutex_);
-  if (traced_.size() > 256) traced_.clear();  // rows never claimed (a constraint's own call)
+  // A row waits for its evaluation's record (a CMA-ES generation traces all
+  // its points first, up to --population). A row never claimed (a
+  // constraint's own call) belongs to a finished stage once the photons
+  // change: those are dropped then, not every waiting row past a count.
+  if (photons != photons_) {
+    std::erase_if(traced_, [&](const auto& row) { return row.first.second.first != photons; });
+    photons_ = photons;
+  }
   traced_[{values, {photons, seed}}] = std::move(t);
 }
 

@@ -76,6 +76,7 @@ class OptimizeProgress {
   double max_time_s_ = 0.0;
   std::mutex mutex_;
   std::map<std::pair<std::vector<double>, std::pair<std::uint64_t, std::uint64_t>>, Traced> traced_;
+  std::uint64_t photons_ = 0;  // the photons of the last traced row (its stage's)
   nlohmann::json state_;
   std::uint64_t version_ = 0;
 };

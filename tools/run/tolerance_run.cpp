@@ -24,6 +24,7 @@
 #include "io/outputs/luminance_images.h"
 #include "io/outputs/plot.h"
 #include "io/photometric/photometric_file.h"
+#include "io/support/content_hash.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
@@ -84,7 +85,11 @@ class Journal {
                                     "--resume to start again");
           continue;
         }
-        if (j.is_discarded() || !j.is_object() || !j.contains("key") || !j.contains("figures")) continue;
+        // A line of another shape (a key that is not a string, figures that
+        // are not an object, seconds that are not a number) is dropped too.
+        if (j.is_discarded() || !j.is_object() || !j.contains("key") || !j["key"].is_string() ||
+            !j.contains("figures") || !j["figures"].is_object() || (j.contains("seconds") && !j["seconds"].is_number()))
+          continue;
         FigureValues f{};
         for (std::size_t i = 0; i < kFigureCount; ++i) {
           const json& v = j["figures"].value(design::figure_info()[i].key, json());
@@ -308,25 +313,32 @@ std::string padded(std::string s, std::size_t width) {
   return s;
 }
 
-// STEM.ies and STEM.ldt in `dir`, listed in `files`.
-Status write_tables(const std::string& dir, const std::string& stem, const photometry::Distribution& d, json& files) {
+// STEM.ies and STEM.ldt in `dir`, listed in `files` where written. A file
+// that cannot be written goes to `failures` and the run goes on (the files
+// after it and report.json are still written; report.json lists them).
+void write_tables(const std::string& dir, const std::string& stem, const photometry::Distribution& d, json& files,
+                  std::vector<std::string>& failures) {
   for (const char* ext : {".ies", ".ldt"}) {
     const std::string name = stem + ext;
-    if (Status s = io::write_photometric_file((fs::path(dir) / name).string(), d, {}, nullptr); !s.ok()) return s;
-    files.push_back(name);
+    if (Status s = io::write_photometric_file((fs::path(dir) / name).string(), d, {}, nullptr); !s.ok())
+      failures.push_back(to_string(s.error()));
+    else
+      files.push_back(name);
   }
-  return Ok{};
 }
 
 // A written trace's own report beside its tables (STEM.json): its entry of
 // report.json (a trial's number, values, figures and verdicts; the nominal's
-// figures) and the names of the tables it describes.
-Status write_trace_report(const std::string& dir, const std::string& stem, json entry, json& files) {
+// figures) and the names of the tables it describes. A failure goes to
+// `failures` (as write_tables').
+void write_trace_report(const std::string& dir, const std::string& stem, json entry, json& files,
+                        std::vector<std::string>& failures) {
   entry["tables"] = json::array({stem + ".ies", stem + ".ldt"});
   const std::string name = stem + ".json";
-  if (Status s = io::write_file_atomic((fs::path(dir) / name).string(), entry.dump(2) + "\n"); !s.ok()) return s;
-  files.push_back(name);
-  return Ok{};
+  if (Status s = io::write_file_atomic((fs::path(dir) / name).string(), entry.dump(2) + "\n"); !s.ok())
+    failures.push_back(to_string(s.error()));
+  else
+    files.push_back(name);
 }
 
 // The Monte Carlo trials' values: a Latin hypercube over the tolerance
@@ -349,12 +361,9 @@ std::vector<std::vector<double>> monte_carlo_values(const design::ToleranceSpec&
 // a rank's own failure is its own error, the others' message is empty.
 Status ranks_agree_on_nominal(const sim::Ranks& ranks, const std::optional<Trace>& nominal, const Status& opened,
                               const std::string& model, const std::string& why) {
-  std::uint64_t hash = 1469598103934665603ULL;  // FNV-1a over the figures' bits
-  if (nominal)
-    for (double f : nominal->figures) {
-      const std::uint64_t bits = std::bit_cast<std::uint64_t>(f);
-      for (int b = 0; b < 64; b += 8) hash = (hash ^ ((bits >> b) & 0xffu)) * 1099511628211ULL;
-    }
+  io::ContentHash figures;  // the figures' bits, with the one content hash
+  if (nominal) figures.value(nominal->figures);
+  const std::uint64_t hash = figures.digest();
   const std::vector<std::uint64_t> ready = ranks.gather(std::uint64_t{opened.ok() && nominal.has_value()});
   const std::vector<std::uint64_t> hashes = ranks.gather(hash);
   if (!opened.ok()) return opened.error();
@@ -760,11 +769,13 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   seconds.push_back(nominal->seconds);
   const photometry::Distribution& nominal_d = nominal->distribution;
   json files = json::array();
-  if (Status s = write_tables(out_dir, "nominal", nominal_d, files); !s.ok()) return failed(to_string(s.error()));
+  // The files that cannot be written: the analysis goes on, report.json
+  // lists them (output_failures), and the run then fails (exit 1).
+  std::vector<std::string> output_failures;
+  write_tables(out_dir, "nominal", nominal_d, files, output_failures);
   report["nominal"] = figures_json(nominal->figures);
-  if (Status s = write_trace_report(out_dir, "nominal", {{"trial", "nominal"}, {"figures", report["nominal"]}}, files);
-      !s.ok())
-    return failed(to_string(s.error()));
+  write_trace_report(out_dir, "nominal", {{"trial", "nominal"}, {"figures", report["nominal"]}}, files,
+                     output_failures);
   std::vector<FigureValues> independent;
   json noise_runs = json::array();
   for (long long k = 1; k <= noise_seeds; ++k) {
@@ -950,7 +961,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   }
   report["inverse_sensitivity"] = inverse;
   if (Status s = io::write_file_atomic((fs::path(out_dir) / "sensitivity.txt").string(), table); !s.ok())
-    return failed(to_string(s.error()));
+    output_failures.push_back(to_string(s.error()));
   say(table);
   if (hooks.on_warning)
     for (const std::string& f : plot_failures) hooks.on_warning("tornado chart not drawn: " + f);
@@ -1062,10 +1073,8 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   if (best)
     for (int k = 0; k < 2; ++k) {
       const char* stem = k == 0 ? "best" : "worst";
-      if (Status s = write_tables(out_dir, stem, kept[static_cast<std::size_t>(k)], files); !s.ok())
-        return failed(to_string(s.error()));
-      if (Status s = write_trace_report(out_dir, stem, mc_trials[k == 0 ? *best : *worst], files); !s.ok())
-        return failed(to_string(s.error()));
+      write_tables(out_dir, stem, kept[static_cast<std::size_t>(k)], files, output_failures);
+      write_trace_report(out_dir, stem, mc_trials[k == 0 ? *best : *worst], files, output_failures);
     }
   // The trials at the --percentile choices of their figure (nearest rank
   // over the trials where the figure is defined), traced again for their
@@ -1088,14 +1097,13 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     std::optional<Trace> t = tracer.trace(trial_values[*n], seed, &nominal_d, true);
     if (!t) return failed("the trial " + std::to_string(*n + 1) + " traced again failed (" + tracer.error() + ")");
     json written = json::array();
-    if (Status s = write_tables(out_dir, c.stem(), t->distribution, written); !s.ok())
-      return failed(to_string(s.error()));
+    write_tables(out_dir, c.stem(), t->distribution, written, output_failures);
     for (const json& name : written) files.push_back(name);
     json trace_entry = mc_trials[*n];
     trace_entry["percentile"] = {{"figure", design::figure_info()[c.figure].key}, {"percent", c.percent}};
-    if (Status s = write_trace_report(out_dir, c.stem(), trace_entry, written); !s.ok())
-      return failed(to_string(s.error()));
-    files.push_back(written.back());
+    const std::size_t tables_written = written.size();
+    write_trace_report(out_dir, c.stem(), trace_entry, written, output_failures);
+    if (written.size() > tables_written) files.push_back(written.back());
     entry["trial"] = *n + 1;
     entry["value"] = json_number(v[*n]);
     entry["rank"] = static_cast<std::size_t>(
@@ -1122,13 +1130,20 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
                  {"seconds", seconds},
                  {"trial_seconds", trial_seconds},
                  {"read_from_journal", reused}};
-  files.push_back("timing.json");
+  if (Status s = io::write_file_atomic((fs::path(out_dir) / "timing.json").string(), timing.dump(2) + "\n"); !s.ok())
+    output_failures.push_back(to_string(s.error()));
+  else
+    files.push_back("timing.json");
   files.push_back("journal.jsonl");
   report["files"] = files;
-  if (Status s = io::write_file_atomic((fs::path(out_dir) / "timing.json").string(), timing.dump(2) + "\n"); !s.ok())
-    return failed(to_string(s.error()));
+  report["output_failures"] = output_failures;
+  std::string not_written;
+  for (const std::string& f : output_failures) not_written += "\n  " + f;
   if (Status s = io::write_file_atomic((fs::path(out_dir) / "report.json").string(), report.dump(2) + "\n"); !s.ok())
-    return failed(to_string(s.error()));
+    return failed(to_string(s.error()) + (not_written.empty() ? "" : "; nor were:" + not_written));
+  if (!output_failures.empty())
+    return failed(std::to_string(output_failures.size()) + " file(s) could not be written after tracing (every other "
+                  "file and report.json were; report.json lists these under output_failures):" + not_written);
   ToleranceRunOutcome out;
   out.timing = std::move(timing);
   out.report = std::move(report);

@@ -359,5 +359,43 @@ TEST(OptimizeCli, RunsThatCannotImproveSayWhyAndExitThree) {
   }
 }
 
+// A file that cannot be written after the search (history.json, a path
+// taken by a folder) loses nothing else: the best design, its trace and
+// report.json with its optimize section are written, report.json lists the
+// failure (optimize.output_failures), stderr names the file, the exit code
+// is 1, and DIR/state.json, which gonio watch DIR follows, says "error"
+// with the reason instead of staying "running".
+TEST(OptimizeCli, AFileThatCannotBeWrittenAfterTheSearchKeepsTheReport) {
+  test::TempDir dir;
+  write_emitter(dir / "up.ies");
+  write(dir / "truth.design.toml", design_text("-1.5"));
+  ASSERT_EQ(gonio({"simulate", (dir / "truth.design.toml").string(), "--out", (dir / "t").string(), "--photons",
+                   "100000", "--iterations", "1", "--gamma-step", "2.5", "--format", "ies", "--no-cache"})
+                .exit_code,
+            0);
+  write(dir / "start.design.toml", design_text("{ value = -2.5, min = -3, max = -1 }"));
+  const fs::path out = dir / "out";
+  fs::create_directories(out / "history.json");
+  const test::ProcessResult r =
+      gonio({"optimize", (dir / "start.design.toml").string(), "--target", (dir / "t" / "truth.ies").string(),
+             "--out", out.string(), "--stages", "1", "--max-evals", "3", "--gamma-step", "5", "--final-photons",
+             "20000", "--no-step", "--photons-per-bin", "200"});
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("history.json: cannot write"), std::string::npos) << r.err;
+  for (const char* f : {"start.design.toml", "start.ies", "report.json", "compare.json", "history.svg"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  const nlohmann::json report = nlohmann::json::parse(test::read_file(out / "report.json"));
+  ASSERT_TRUE(report.contains("optimize")) << "report.json without its optimize section";
+  const nlohmann::json& o = report.at("optimize");
+  ASSERT_EQ(o.at("output_failures").size(), 1u) << o.at("output_failures");
+  EXPECT_NE(o.at("output_failures")[0].get<std::string>().find("history.json: cannot write"), std::string::npos);
+  for (const nlohmann::json& f : o.at("files"))
+    EXPECT_EQ(f.get<std::string>().find("history.json"), std::string::npos) << o.at("files");
+  const nlohmann::json state = nlohmann::json::parse(test::read_file(out / "state.json"));
+  EXPECT_EQ(state.at("status").get<std::string>(), "error") << state.at("status_text");
+  EXPECT_NE(state.at("last_error").at("message").get<std::string>().find("history.json"), std::string::npos)
+      << state.at("last_error");
+}
+
 }  // namespace
 }  // namespace gonio

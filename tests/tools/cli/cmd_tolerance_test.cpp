@@ -598,6 +598,66 @@ TEST(ToleranceCli, ParallelTrialsAndResumeGiveTheSameReportBytes) {
   EXPECT_NE(r.err.find("journal.jsonl: written by another run"), std::string::npos) << r.err;
 }
 
+// A journal line that is JSON but not a trace's (a key that is not a
+// string, figures that are not an object, seconds that are not a number, an
+// array) is dropped on --resume like a line cut short, and its trace made
+// again: no crash (an uncaught type error aborted the process), the same
+// report bytes.
+TEST(ToleranceCli, ResumeDropsJournalLinesOfTheWrongShape) {
+  test::TempDir dir;
+  write_paraboloid(dir.path());
+  test::write_file(dir / "t.toml", "[emitter.lamp]\nx = { uniform = 0.5 }\n");
+  const auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"tolerance", (dir / "paraboloid.gltf").string(), "--tolerances",
+                                     (dir / "t.toml").string(), "--out", (dir / out).string(), "--threads", "1",
+                                     "--photons", "20000", "--trials", "2", "--noise-seeds", "1"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return gonio(args);
+  };
+  test::ProcessResult r = run("one", {});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string journal = test::read_file(dir / "one" / "journal.jsonl");
+  const std::size_t first = journal.find('\n') + 1, second = journal.find('\n', first) + 1;
+  const json nominal = json::parse(journal.substr(first, second - first));
+  fs::create_directories(dir / "resumed");
+  test::write_file(dir / "resumed" / "journal.jsonl",
+                   journal.substr(0, second) + "{\"key\": 5, \"figures\": {}}\n" +
+                       "{\"key\": \"x\", \"figures\": 3}\n" + "[1, 2]\n" +
+                       json{{"key", "1"}, {"figures", nominal["figures"]}, {"seconds", "slow"}}.dump() + "\n");
+  r = run("resumed", {"--resume"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(test::read_file(dir / "one" / "report.json"), test::read_file(dir / "resumed" / "report.json"));
+  EXPECT_NE(r.out.find("resume: 1 traces read back from the journal"), std::string::npos) << r.out;
+}
+
+// A table or a trace's report that cannot be written (here best.ies, a
+// path taken by a folder) after every trace is made loses nothing else: the
+// other files and report.json are written, report.json lists the failure
+// under output_failures, stderr names the file, and the exit code is 1.
+TEST(ToleranceCli, AFileThatCannotBeWrittenAfterTheTracesKeepsTheReport) {
+  test::TempDir dir;
+  write_paraboloid(dir.path());
+  test::write_file(dir / "t.toml", "[emitter.lamp]\nx = { uniform = 0.5 }\n");
+  fs::create_directories(dir / "out" / "best.ies");
+  const test::ProcessResult r =
+      gonio({"tolerance", (dir / "paraboloid.gltf").string(), "--tolerances", (dir / "t.toml").string(), "--out",
+             (dir / "out").string(), "--threads", "1", "--photons", "20000", "--trials", "2", "--noise-seeds", "1",
+             "--percentile", "50"});
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("best.ies: cannot write"), std::string::npos) << r.err;
+  ASSERT_TRUE(fs::exists(dir / "out" / "report.json")) << r.err;
+  const json report = json::parse(test::read_file(dir / "out" / "report.json"));
+  ASSERT_EQ(report["output_failures"].size(), 1u) << report["output_failures"];
+  EXPECT_NE(report["output_failures"][0].get<std::string>().find("best.ies: cannot write"), std::string::npos);
+  EXPECT_EQ(report["monte_carlo"]["trials"].size(), 2u);
+  for (const char* f : {"best.ldt", "best.json", "worst.ies", "worst.json", "p50_rms.ies", "p50_rms.json",
+                        "timing.json", "nominal.ies"})
+    EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
+  const json& files = report["files"];
+  EXPECT_EQ(std::find(files.begin(), files.end(), json("best.ies")), files.end()) << files;
+  EXPECT_NE(std::find(files.begin(), files.end(), json("best.ldt")), files.end()) << files;
+}
+
 TEST(ToleranceCli, BadInputIsAnErrorNamingTheLine) {
   test::TempDir dir;
   write_paraboloid(dir.path());

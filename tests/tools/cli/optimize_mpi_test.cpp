@@ -53,6 +53,22 @@ nlohmann::json without_times(nlohmann::json history) {
   return history;
 }
 
+// What DIR/state.json (gonio watch DIR) shows of the best evaluation: its
+// candela curves and figures, and which evaluation it is. Rank 0 writes it,
+// so the best's candela must reach rank 0 whichever rank traced it.
+nlohmann::json best_state(const fs::path& out) {
+  const nlohmann::json s = nlohmann::json::parse(test::read_file(out / "state.json"));
+  const nlohmann::json& o = s.at("optimize");
+  return {{"curves", s.at("curves")},
+          {"lor", s.at("lor")},
+          {"max_cd", s.at("max_cd")},
+          {"flux_lm", s.at("flux_lm")},
+          {"best_index", o.at("best_index")},
+          {"best_merit", o.at("best_merit")},
+          {"candela_rms_pct", o.at("candela_rms_pct")},
+          {"beam_angle_deg", o.at("beam_angle_deg")}};
+}
+
 class OptimizeMpi : public ::testing::Test {
  protected:
   test::TempDir dir;
@@ -102,6 +118,8 @@ class OptimizeMpi : public ::testing::Test {
     ASSERT_GE(history.size(), 8u);
     const std::string best = test::read_file(plain / (design + ".design.toml"));
     const std::string ies = test::read_file(plain / (design + ".ies"));
+    const nlohmann::json state = best_state(plain);
+    ASSERT_FALSE(state.at("curves").is_null());
     struct Split {
       int ranks;
       std::string jobs;
@@ -119,6 +137,7 @@ class OptimizeMpi : public ::testing::Test {
           << method << ", " << s.ranks << " ranks × " << s.jobs << " jobs";
       EXPECT_EQ(test::read_file(out / (design + ".design.toml")), best) << s.ranks << " ranks";
       EXPECT_EQ(test::read_file(out / (design + ".ies")), ies) << s.ranks << " ranks";
+      EXPECT_EQ(best_state(out), state) << method << ", " << s.ranks << " ranks × " << s.jobs << " jobs: state.json";
       const nlohmann::json report = nlohmann::json::parse(test::read_file(out / "report.json")).at("optimize");
       EXPECT_EQ(report.at("ranks").get<int>(), s.ranks);
       // Rank 0 alone wrote; every rank's own evaluation files are gone.
