@@ -19,7 +19,8 @@ rotationally symmetric, so the C-average is the reference with 72x the
 photons). Costs are whole-run CPU seconds (user + sys of the child process).
 
 Gonio's series: `gonio simulate MODEL --photons N --iterations 1 --threads T
---no-cache --format ies` with its defaults (mode "default": --symmetry auto,
+--format ies --cache DIR` (the cache warm from the reference run, as in any
+run after the first; --no-cache: cold every time) with its defaults (mode "default": --symmetry auto,
 --next-event auto, Sobol'), "none" (--symmetry none: the estimator the peer
 has, no averaging over C) and "on" (--symmetry none --next-event on). Gonio
 runs with several --gonio binaries (NAME=BIN, e.g. a base commit's) are
@@ -149,6 +150,8 @@ def main():
     ap.add_argument("--rounds", type=int, default=1)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--work", default=None)
+    ap.add_argument("--no-cache", action="store_true",
+                    help="every gonio run with --no-cache (checks the model and builds the overlaps each time)")
     ap.add_argument("--tables", help="write the C-averaged references' gamma profiles here (CSV)")
     a = ap.parse_args()
 
@@ -167,7 +170,10 @@ def main():
     def gonio_run(binary, photons, mode, seed="1", sampler="sobol", tag="run"):
         out = os.path.join(work, "%s-%s-%d" % (tag, mode, photons))
         cmd = [binary, "simulate", model, "--out", out, "--photons", str(int(photons)), "--iterations", "1",
-               "--threads", str(a.threads), "--no-cache", "--format", "ies", "--seed", seed, "--sampler", sampler]
+               "--threads", str(a.threads), "--format", "ies", "--seed", seed, "--sampler", sampler]
+        # Warm: the model check and the grid's overlaps come from the cache
+        # after the reference run (each binary its own), as in a user's second run.
+        cmd += ["--no-cache"] if a.no_cache else ["--cache", os.path.join(work, "cache-" + os.path.basename(binary))]
         if mode in ("none", "on", "reference"):
             cmd += ["--symmetry", "none"]
         if mode == "on":
