@@ -144,8 +144,11 @@ Vec3 ProfileSampler::sample_in_cell(const Cell& c, double u1, double u2) const {
   if (polar_is_gamma_ && c.i00 == c.i01 && c.i10 == c.i11) {
     const double m = c.mu0 + u1 * (c.mu1 - c.mu0);
     const double lo = c.i00, hi = c.i10;
-    const double denominator = std::sqrt((1.0 - u2) * lo * lo + u2 * hi * hi) + lo;
-    const double a = lo == hi ? u2 : (denominator > 0.0 ? std::clamp(u2 * (lo + hi) / denominator, 0.0, 1.0) : u2);
+    double a = u2;  // uniform along C where the two ends agree
+    if (lo != hi) {
+      const double denominator = std::sqrt((1.0 - u2) * lo * lo + u2 * hi * hi) + lo;
+      if (denominator > 0.0) a = std::clamp(u2 * (lo + hi) / denominator, 0.0, 1.0);
+    }
     double sd, cd;  // of the offset from the cell's middle C angle, |offset| ≤ 22.5°
     sincos_small((a - 0.5) * c.dh_rad, &sd, &cd);
     const double sin_g = std::sqrt(std::max(0.0, 1.0 - m * m));
