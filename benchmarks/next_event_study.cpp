@@ -22,7 +22,9 @@
 //
 // Usage: gonio_next_event_study [--reference-log2 R (24)] [--threads T (2)]
 //          [--connections M (16)] [--target PCT (1)] [--max-log2 L (25)]
-//          [--sample NAME]...   (NAME: a sample, opal-sphere or lambert-disc)
+//          [--sample NAME]...   (NAME: a sample, opal-sphere, lambert-disc or
+//          led-housing: the peer eulumdat-goniosim's LED in a white tube,
+//          samples/peer_scenes.h; not among the defaults)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -37,6 +39,7 @@
 
 #include "io/model/gltf.h"
 #include "samples/luminaires.h"
+#include "samples/peer_scenes.h"
 #include "sim/convergence.h"
 #include "sim/detectors/resample.h"
 #include "sim/shapes.h"
@@ -159,7 +162,9 @@ int main(int argc, char** argv) {
   }().c_str());
   const fs::path tmp = fs::temp_directory_path() / "gonio_next_event_study";
   fs::create_directories(tmp);
-  if (Status st = samples::write_samples(tmp.string()); !st.ok()) {
+  Status st = samples::write_samples(tmp.string());
+  if (st.ok()) st = samples::write_peer_samples(tmp.string());
+  if (!st.ok()) {
     std::fprintf(stderr, "%s\n", st.error().message.c_str());
     return 1;
   }

@@ -1,5 +1,7 @@
 // gonio_make_samples DIR — writes the sample luminaires to DIR/<name>/
 // (see samples/luminaires.h). The build runs it into build/samples.
+// gonio_make_samples --peer DIR — writes other tools' scenes rebuilt in Gonio
+// (samples/peer_scenes.h) to DIR/<name>/.
 // gonio_make_samples --large KIND TRIANGLES DIR — writes one large model
 // (samples/large_models.h; KIND faceted-reflector, lens-array or
 // glass-part) to DIR/<KIND>-<TRIANGLES>/.
@@ -11,6 +13,7 @@
 #include "io/support/file_io.h"
 #include "samples/large_models.h"
 #include "samples/luminaires.h"
+#include "samples/peer_scenes.h"
 
 namespace {
 
@@ -49,9 +52,18 @@ int write_large(const std::string& kind_name, const std::string& count, const st
 
 int main(int argc, char** argv) {
   if (argc == 5 && std::string(argv[1]) == "--large") return write_large(argv[2], argv[3], argv[4]);
+  if (argc == 3 && std::string(argv[1]) == "--peer") {
+    const gonio::Status written = gonio::samples::write_peer_samples(argv[2]);
+    if (!written.ok()) {
+      std::fprintf(stderr, "gonio_make_samples: %s\n", gonio::to_string(written.error()).c_str());
+      return 1;
+    }
+    return 0;
+  }
   // An option it does not know ("--help") is not a folder to write into.
   if (argc != 2 || argv[1][0] == '-') {
-    std::fprintf(stderr, "usage: gonio_make_samples DIR\n       gonio_make_samples --large KIND TRIANGLES DIR\n");
+    std::fprintf(stderr, "usage: gonio_make_samples DIR\n       gonio_make_samples --large KIND TRIANGLES DIR\n"
+                 "       gonio_make_samples --peer DIR\n");
     return argc == 2 && std::string(argv[1]) == "--help" ? 0 : 2;
   }
   const gonio::Status written = gonio::samples::write_samples(argv[1]);

@@ -136,6 +136,24 @@ Vec3 ProfileSampler::sample(PhotonRandom& rng) const {
 }
 
 Vec3 ProfileSampler::sample_in_cell(const Cell& c, double u1, double u2) const {
+  // Type C, the intensity constant along γ at both C ends (a hard-edged
+  // cone's one cell, flat parts of a profile): the marginal is uniform in
+  // μ = −cos γ and inverts exactly, without the Newton steps below (which
+  // reach the same μ to 10⁻¹² of the cell; a wide cell's take the library's
+  // sin and cos at every step).
+  if (polar_is_gamma_ && c.i00 == c.i01 && c.i10 == c.i11) {
+    const double m = c.mu0 + u1 * (c.mu1 - c.mu0);
+    const double lo = c.i00, hi = c.i10;
+    double a = u2;  // uniform along C where the two ends agree
+    if (lo != hi) {
+      const double denominator = std::sqrt((1.0 - u2) * lo * lo + u2 * hi * hi) + lo;
+      if (denominator > 0.0) a = std::clamp(u2 * (lo + hi) / denominator, 0.0, 1.0);
+    }
+    double sd, cd;  // of the offset from the cell's middle C angle, |offset| ≤ 22.5°
+    sincos_small((a - 0.5) * c.dh_rad, &sd, &cd);
+    const double sin_g = std::sqrt(std::max(0.0, 1.0 - m * m));
+    return {sin_g * (c.cos_mid * cd - c.sin_mid * sd), sin_g * (c.sin_mid * cd + c.cos_mid * sd), m};
+  }
   // The polar axis p (γ, H or V) and its fraction t = (p − p0)/Δp; the
   // azimuthal fraction a along the other axis. The bilinear intensity's
   // mean over a at the polar ends: i_p0, i_p1.

@@ -162,6 +162,29 @@ TEST(ProfileSampler, SampledDirectionsReproduceTheProfile) {
   }
 }
 
+// Cells whose intensity is constant along γ (a hard-edged cone's one wide
+// cell; a profile flat in γ that varies in C) take the exact inversion in μ
+// rather than Newton steps; the density is the interpolant's either way.
+TEST(ProfileSampler, CellsFlatInGammaKeepTheDensity) {
+  // The peer's LED: 1000/π cd out to γ = 60°, nothing beyond (the KHR spot's
+  // hard edge: a ramp a thousandth of a degree wide).
+  const photometry::Distribution cone = type_c({0.0}, {0.0, 59.999, 60.0, 180.0}, photometry::Symmetry::Rotational,
+                                               [](double, double g) { return g < 59.9995 ? 1000.0 / kPi : 0.0; });
+  // Flat in γ to 90°, varying in C: the azimuthal draw inside the fast path.
+  const photometry::Distribution in_c = type_c(range(0, 360, 30), {0.0, 90.0, 90.001, 180.0}, photometry::Symmetry::None,
+                                               [](double c, double g) {
+                                                 return g < 90.0005 ? 100.0 + 60.0 * std::cos(c * kDeg) : 0.0;
+                                               });
+  for (const photometry::Distribution* d : {&cone, &in_c}) {
+    for (SamplerKind kind : kSamplers) {
+      int dof = 0;
+      // 48 bins in C resolve the linear variation inside in_c's 30° cells.
+      const double chi2 = sampled_chi2(*d, d == &cone ? 12 : 48, 12, 400000, &dof, kind);
+      EXPECT_LT(chi2, dof + 5.0 * std::sqrt(2.0 * dof)) << "dof " << dof << ", " << to_string(kind);
+    }
+  }
+}
+
 TEST(ProfileSampler, CellsWiderThan45DegreesInCAreCutWithoutChangingTheDensity) {
   // Three C-planes 120° apart, the intensity linear in C between them, and a
   // rotational profile (one plane for the whole circle): the sampler cuts
