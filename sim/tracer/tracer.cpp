@@ -328,9 +328,10 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   // absorbed (chance μa/μt, booked at the part), cut off past
   // kMaxVolumeEvents, or scattered by the phase function. False: the photon
   // ended there (r.fate says how).
+  // One draw decides the event (scatter_or_absorb, issue 43).
   const auto volume_event = [&](const Material& m, double s) {
-    const double mu_t = m.scattering_per_m + m.attenuation_per_m;
-    if (rng.uniform() * mu_t < m.attenuation_per_m) {
+    Vec3 scattered;
+    if (!scatter_or_absorb(direction, m.scattering_per_m, m.attenuation_per_m, m.scattering_g, rng, &scattered)) {
       r.fate = Fate::Absorbed;
       return false;
     }
@@ -344,7 +345,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // stood for: its escape is binned.
     covered = image_covered = false;
     origin = origin + s * direction;
-    direction = sample_henyey_greenstein(direction, m.scattering_g, rng);
+    direction = scattered;
     return true;
   };
   for (;;) {
