@@ -351,7 +351,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   for (;;) {
     if (medium) {
       const double mu_t = medium->scattering_per_m + medium->attenuation_per_m;
-      drawn_s = -std::log(rng.uniform_open0()) / mu_t;
+      drawn_s = standard_exponential(rng) / mu_t;
       if (volume_grid_->segment_free(origin, origin + drawn_s * direction)) {
         const double s = drawn_s;
         drawn_s = -1.0;
@@ -403,7 +403,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     if (from_back && material.scattering_per_m > 0.0) {
       const double mu_t = material.scattering_per_m + material.attenuation_per_m;
       // Drawn before the query where the walk tried the grid first.
-      const double s = pre_drawn_s >= 0.0 ? pre_drawn_s : -std::log(rng.uniform_open0()) / mu_t;
+      const double s = pre_drawn_s >= 0.0 ? pre_drawn_s : standard_exponential(rng) / mu_t;
       if (s < t) {
         if (!volume_event(material, s)) return r;
         // The next free path starts inside this medium.

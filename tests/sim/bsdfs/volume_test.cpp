@@ -196,6 +196,73 @@ TEST(HenyeyGreenstein, OneDrawEventStaysUnitOverTheLongestWalk) {
   EXPECT_LT(worst, 1e-15);
 }
 
+TEST(FreePath, ZigguratIsTheExponentialDistribution) {
+  // 10⁶ draws of standard_exponential against F(x) = 1 − e^−x: 64 bins of
+  // equal probability (chi-square), Kolmogorov–Smirnov, the mean and the
+  // variance (1 and 1), and the tail beyond the ziggurat's base r = 7.697
+  // and beyond 12 (e^−7.697 = 4.54·10⁻⁴, e^−12 = 6.1·10⁻⁶ of the draws).
+  const int n = 1000000, nb = 64;
+  std::vector<double> x;
+  x.reserve(n);
+  for (int k = 0; k < n; ++k) {
+    PhotonRandom rng(11, static_cast<std::uint64_t>(k));
+    x.push_back(standard_exponential(rng));
+    ASSERT_GE(x.back(), 0.0);
+  }
+  std::vector<double> bins(nb, 0.0);
+  double sum = 0.0, sum2 = 0.0, beyond_r = 0.0, beyond_12 = 0.0;
+  for (double v : x) {
+    const double f = 1.0 - std::exp(-v);
+    bins[static_cast<std::size_t>(std::clamp(static_cast<int>(f * nb), 0, nb - 1))] += 1.0;
+    sum += v;
+    sum2 += v * v;
+    beyond_r += v > 7.69711747013104972 ? 1.0 : 0.0;
+    beyond_12 += v > 12.0 ? 1.0 : 0.0;
+  }
+  double chi = 0.0;
+  for (double o : bins) chi += (o - n / double(nb)) * (o - n / double(nb)) / (n / double(nb));
+  std::sort(x.begin(), x.end());
+  double ks = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double f = 1.0 - std::exp(-x[i]);
+    ks = std::max({ks, std::abs(f - double(i) / n), std::abs(f - double(i + 1) / n)});
+  }
+  const double mean = sum / n, variance = sum2 / n - mean * mean;
+  std::printf("  ziggurat: mean %.5f variance %.5f chi2 %.1f (63 dof) KS*sqrt(n) %.3f beyond r %.0f (%.0f) beyond 12 %.0f (%.1f)\n",
+              mean, variance, chi, ks * std::sqrt(double(n)), beyond_r, n * std::exp(-7.69711747013104972), beyond_12,
+              n * std::exp(-12.0));
+  EXPECT_GT(chi_square_upper_tail(chi, nb - 1), 1e-4) << chi;
+  EXPECT_LT(ks, 2.23 / std::sqrt(double(n)));
+  EXPECT_NEAR(mean, 1.0, 5.0 / std::sqrt(double(n)));
+  EXPECT_NEAR(variance, 1.0, 5.0 * std::sqrt(8.0 / n));  // Var of s² = (μ₄ − σ⁴)/n = 8/n
+  const double pr = std::exp(-7.69711747013104972);
+  EXPECT_NEAR(beyond_r, n * pr, 5.0 * std::sqrt(n * pr));
+  EXPECT_NEAR(beyond_12, n * std::exp(-12.0), 5.0 * std::sqrt(n * std::exp(-12.0)) + 1.0);
+  // The wedges in detail: the layers' edges lie where the density changes
+  // fastest relative to the bins above; 400 bins of width 0.02 on [0, 8)
+  // against their exact probabilities.
+  std::vector<double> fine(400, 0.0);
+  for (double v : x)
+    if (v < 8.0) fine[static_cast<std::size_t>(v / 0.02)] += 1.0;
+  double chi_fine = 0.0;
+  for (int b = 0; b < 400; ++b) {
+    const double e = n * (std::exp(-0.02 * b) - std::exp(-0.02 * (b + 1)));
+    chi_fine += (fine[static_cast<std::size_t>(b)] - e) * (fine[static_cast<std::size_t>(b)] - e) / e;
+  }
+  EXPECT_GT(chi_square_upper_tail(chi_fine, 399), 1e-4) << chi_fine;
+}
+
+TEST(FreePath, LowDiscrepancyDrawsInvertOneUniform) {
+  // Under the Sobol' sampler the free path is −ln u of one coordinate (a
+  // fixed count of draws keeps the sequence's dimensions aligned).
+  for (std::uint64_t photon = 0; photon < 64; ++photon) {
+    PhotonRandom a(5, photon, SamplerKind::Sobol), b(5, photon, SamplerKind::Sobol);
+    ASSERT_TRUE(a.low_discrepancy());
+    EXPECT_EQ(standard_exponential(a), -std::log(b.uniform_open0()));
+    EXPECT_EQ(a.dimensions(), 1);
+  }
+}
+
 TEST(Slab, UnscatteredBeamFollowsTheFresnelSlabFormula) {
   // T = (1 − R)² τ / (1 − R² τ²), τ = exp(−μt d) (VALIDATION.md's absorbing
   // slab, with μt = μs + μa), R the normal-incidence Fresnel reflectance.
