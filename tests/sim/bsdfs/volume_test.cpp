@@ -96,15 +96,17 @@ TEST(HenyeyGreenstein, OneDivisionInverseIsTheLibraryInverse) {
 // and of the scattered ones cos Θ in 40 bins of equal probability by the
 // closed-form CDF (chi-square), the largest distance of their empirical CDF
 // from it (Kolmogorov–Smirnov), their mean cos Θ and the azimuth about
-// `travel` in 24 bins (chi-square).
+// `travel` in 24 bins (chi-square), and the two together in 8 × 8 cells
+// (chi-square: independent).
 struct EventStats {
   double absorbed = 0.0, chi_cos = 0.0, ks = 0.0, mean_cos = 0.0, chi_azimuth = 0.0, worst_length = 0.0;
+  double chi_joint = 0.0;  // 8 × 8 cells of equal probability in (F(cos Θ), azimuth): independence
   int scattered = 0;
 };
 EventStats volume_events(const Vec3& travel, double mu_s, double mu_a, double g, int n, std::uint64_t seed) {
   const Basis b = basis_from_normal(travel);
   const int nb = 40, na = 24;
-  std::vector<double> bins(nb, 0.0), az(na, 0.0), cdf_values;
+  std::vector<double> bins(nb, 0.0), az(na, 0.0), joint(64, 0.0), cdf_values;
   EventStats e;
   double sum = 0.0;
   for (int k = 0; k < n; ++k) {
@@ -124,8 +126,11 @@ EventStats volume_events(const Vec3& travel, double mu_s, double mu_a, double g,
     double p = std::atan2(l.y, l.x);
     if (p < 0) p += 2 * kPi;
     az[static_cast<std::size_t>(std::clamp(static_cast<int>(p / (2 * kPi) * na), 0, na - 1))] += 1.0;
+    joint[static_cast<std::size_t>(std::clamp(static_cast<int>(f * 8), 0, 7) * 8 +
+                                   std::clamp(static_cast<int>(p / (2 * kPi) * 8), 0, 7))] += 1.0;
   }
   const double m = e.scattered;
+  for (double o : joint) e.chi_joint += (o - m / 64) * (o - m / 64) / (m / 64);
   for (double o : bins) e.chi_cos += (o - m / nb) * (o - m / nb) / (m / nb);
   for (double o : az) e.chi_azimuth += (o - m / na) * (o - m / na) / (m / na);
   std::sort(cdf_values.begin(), cdf_values.end());
@@ -149,13 +154,14 @@ TEST(HenyeyGreenstein, OneDrawEventHasTheDensityTheMeanCosineAndAUniformAzimuth)
       // Var cos Θ = (1 + 2g²)/3 − g² = (1 − g²)/3 (the second Legendre
       // moment of Henyey–Greenstein is g²).
       const double sigma = std::sqrt((1.0 - g * g) / 3.0 / n);
-      std::printf("  g %6.3f travel (%5.2f %5.2f %5.2f): mean cos %.5f (sigma %.1e), chi2 cos %.1f, KS %.5f, chi2 azimuth %.1f\n", g,
-                  travel.x, travel.y, travel.z, e.mean_cos, sigma, e.chi_cos, e.ks, e.chi_azimuth);
+      std::printf("  g %6.3f travel (%5.2f %5.2f %5.2f): mean cos %.5f (sigma %.1e), chi2 cos %.1f, KS %.5f, chi2 azimuth %.1f, joint %.1f\n",
+                  g, travel.x, travel.y, travel.z, e.mean_cos, sigma, e.chi_cos, e.ks, e.chi_azimuth, e.chi_joint);
       EXPECT_EQ(e.absorbed, 0.0);
       EXPECT_NEAR(e.mean_cos, g, 5.0 * sigma) << g;
       EXPECT_GT(chi_square_upper_tail(e.chi_cos, 39), 1e-4) << g << ": chi2 " << e.chi_cos;
       EXPECT_LT(e.ks, 2.23 / std::sqrt(n)) << g;  // p = 10⁻⁴, as the chi-squares
       EXPECT_GT(chi_square_upper_tail(e.chi_azimuth, 23), 1e-4) << g << ": azimuth chi2 " << e.chi_azimuth;
+      EXPECT_GT(chi_square_upper_tail(e.chi_joint, 63), 1e-4) << g << ": joint chi2 " << e.chi_joint;
       EXPECT_LT(e.worst_length, 1e-15) << g;
     }
   }
@@ -174,6 +180,7 @@ TEST(HenyeyGreenstein, OneDrawEventAbsorbsWithChanceMuAOverMuTIndependentlyOfThe
     EXPECT_GT(chi_square_upper_tail(e.chi_cos, 39), 1e-4) << g << ": chi2 " << e.chi_cos;
     EXPECT_LT(e.ks, 2.23 / std::sqrt(e.scattered)) << g;
     EXPECT_GT(chi_square_upper_tail(e.chi_azimuth, 23), 1e-4) << g << ": azimuth chi2 " << e.chi_azimuth;
+    EXPECT_GT(chi_square_upper_tail(e.chi_joint, 63), 1e-4) << g << ": joint chi2 " << e.chi_joint;
   }
   const double p = 2.9 / (1473.0 + 2.9);
   const EventStats opal = volume_events(travel, 1473.0, 2.9, 0.8, 1000000, 6);
