@@ -201,6 +201,12 @@ TEST(HenyeyGreenstein, OneDrawEventStaysUnitOverTheLongestWalk) {
     worst = std::max(worst, std::abs(length(d) - 1.0));
   }
   EXPECT_LT(worst, 1e-15);
+  // A direction off unit length by 10⁻⁸ (a float-rounded normal, say)
+  // comes back unit to rounding: the Newton step squares the error.
+  PhotonRandom r2(3, 5);
+  Vec3 next;
+  ASSERT_TRUE(scatter_or_absorb(normalize(Vec3{0.3, -0.5, 0.8}) * (1.0 + 1e-8), 1.0, 0.0, 0.9, r2, &next));
+  EXPECT_LT(std::abs(length(next) - 1.0), 1e-15);
 }
 
 TEST(FreePath, ZigguratIsTheExponentialDistribution) {
