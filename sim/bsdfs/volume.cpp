@@ -29,53 +29,43 @@ Vec3 sample_henyey_greenstein(const Vec3& direction, double g, PhotonRandom& rng
   return normalize(b.to_world(Vec3{s * x, s * y, c}));
 }
 
-namespace {
+namespace volume_detail {
 
-// The ziggurat's tables for 256 layers of equal area v under e^−x, the base
-// layer's right end r (Marsaglia and Tsang's constants): layer i (1 … 255)
-// spans [0, x_i) with x_255 = r > … > x_1; abscissa j·w[i] for a 53-bit j,
-// accepted at once where j < k[i] (within the layer above's width).
-struct ExponentialZiggurat {
-  static constexpr double kR = 7.69711747013104972;
-  static constexpr double kV = 3.949659822581572e-3;
-  std::uint64_t k[256];
-  double w[256], f[256];
-  ExponentialZiggurat() {
-    const double m = 0x1.0p53;
-    double de = kR, te = kR;
-    const double q = kV / std::exp(-de);
-    k[0] = static_cast<std::uint64_t>((de / q) * m);
-    k[1] = 0;
-    w[0] = q / m;
-    w[255] = de / m;
-    f[0] = 1.0;
-    f[255] = std::exp(-de);
-    for (int i = 254; i >= 1; --i) {
-      de = -std::log(kV / de + std::exp(-de));
-      k[i + 1] = static_cast<std::uint64_t>((de / te) * m);
-      te = de;
-      f[i] = std::exp(-de);
-      w[i] = de / m;
-    }
+ExponentialZiggurat::ExponentialZiggurat() {
+  const double m = 0x1.0p53;
+  double de = kR, te = kR;
+  const double q = kV / std::exp(-de);
+  k[0] = static_cast<std::uint64_t>((de / q) * m);
+  k[1] = 0;
+  w[0] = q / m;
+  w[255] = de / m;
+  f[0] = 1.0;
+  f[255] = std::exp(-de);
+  for (int i = 254; i >= 1; --i) {
+    de = -std::log(kV / de + std::exp(-de));
+    k[i + 1] = static_cast<std::uint64_t>((de / te) * m);
+    te = de;
+    f[i] = std::exp(-de);
+    w[i] = de / m;
   }
-};
-const ExponentialZiggurat kZiggurat;
+}
+const ExponentialZiggurat kExponentialZiggurat;
 
-}  // namespace
-
-double standard_exponential(PhotonRandom& rng) {
-  if (rng.low_discrepancy()) return -std::log(rng.uniform_open0());
+double standard_exponential_rest(PhotonRandom& rng, std::uint64_t bits) {
+  const ExponentialZiggurat& z = kExponentialZiggurat;
   for (;;) {
-    const std::uint64_t bits = rng.next_u64();
     const unsigned i = static_cast<unsigned>(bits & 0xffU);
     const std::uint64_t j = bits >> 11;
-    const double x = static_cast<double>(static_cast<std::int64_t>(j)) * kZiggurat.w[i];
-    if (j < kZiggurat.k[i]) return x;
+    const double x = static_cast<double>(static_cast<std::int64_t>(j)) * z.w[i];
+    if (j < z.k[i]) return x;
     if (i == 0) return ExponentialZiggurat::kR - std::log(rng.uniform_open0());
     // The wedge between layer i's rectangle and the curve: a uniform height
     // between f[i] and f[i − 1], accepted under e^−x.
-    if (kZiggurat.f[i] + rng.uniform() * (kZiggurat.f[i - 1] - kZiggurat.f[i]) < std::exp(-x)) return x;
+    if (z.f[i] + rng.uniform() * (z.f[i - 1] - z.f[i]) < std::exp(-x)) return x;
+    bits = rng.next_u64();
   }
 }
+
+}  // namespace volume_detail
 
 }  // namespace gonio::sim

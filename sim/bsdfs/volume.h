@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "photometry/vec3.h"
 #include "sim/samplers/random.h"
@@ -88,6 +89,32 @@ inline bool scatter_or_absorb(const Vec3& direction, double scattering_per_m, do
 // (the exponential forgets), with further draws. Exact in distribution up
 // to the 2⁻⁵³ steps of a layer's abscissa. Low-discrepancy draws
 // (sim/samplers/random.h): −ln u by inversion from one draw, as before.
-double standard_exponential(PhotonRandom& rng);
+namespace volume_detail {
+// The ziggurat's tables for 256 layers of equal area v under e^−x and the
+// base layer's right end r (Marsaglia and Tsang's constants): layer i
+// (1 … 255) spans [0, x_i) with x_255 = r > … > x_1, f[i] = e^(−x_i); the
+// abscissa is j·w[i] for a 53-bit j, accepted at once where j < k[i]
+// (within the next layer's width); layer 0 is the base strip with the tail.
+struct ExponentialZiggurat {
+  static constexpr double kR = 7.69711747013104972;
+  static constexpr double kV = 3.949659822581572e-3;
+  std::uint64_t k[256];
+  double w[256], f[256];
+  ExponentialZiggurat();
+};
+extern const ExponentialZiggurat kExponentialZiggurat;
+// The draws after a first one (`bits`) that was not accepted at once.
+double standard_exponential_rest(PhotonRandom& rng, std::uint64_t bits);
+}  // namespace volume_detail
+
+inline double standard_exponential(PhotonRandom& rng) {
+  if (rng.low_discrepancy()) return -std::log(rng.uniform_open0());
+  const std::uint64_t bits = rng.next_u64();
+  const unsigned i = static_cast<unsigned>(bits & 0xffU);
+  const std::uint64_t j = bits >> 11;
+  if (j < volume_detail::kExponentialZiggurat.k[i])
+    return static_cast<double>(static_cast<std::int64_t>(j)) * volume_detail::kExponentialZiggurat.w[i];
+  return volume_detail::standard_exponential_rest(rng, bits);
+}
 
 }  // namespace gonio::sim
