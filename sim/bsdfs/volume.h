@@ -79,16 +79,6 @@ inline bool scatter_or_absorb(const Vec3& direction, double scattering_per_m, do
   return true;
 }
 
-// A standard exponential variate (density e^−x, x ≥ 0; the free path in
-// units of the mean free path) without a logarithm on the common path:
-// Marsaglia and Tsang's ziggurat ("The ziggurat method for generating
-// random variables", 2000) of 256 layers, from one 64-bit draw — the layer
-// from its low 8 bits, the abscissa from its top 53, disjoint bits (Doornik
-// 2005) — accepted at once with chance 0.989; otherwise the wedge's test
-// (one exp) or, from the base layer, the tail beyond r = 7.6971 as r − ln u
-// (the exponential forgets), with further draws. Exact in distribution up
-// to the 2⁻⁵³ steps of a layer's abscissa. Low-discrepancy draws
-// (sim/samplers/random.h): −ln u by inversion from one draw, as before.
 namespace volume_detail {
 // The ziggurat's tables for 256 layers of equal area v under e^−x and the
 // base layer's right end r (Marsaglia and Tsang's constants): layer i
@@ -107,6 +97,17 @@ extern const ExponentialZiggurat kExponentialZiggurat;
 double standard_exponential_rest(PhotonRandom& rng, std::uint64_t bits);
 }  // namespace volume_detail
 
+// A standard exponential variate (density e^−x, x ≥ 0; the free path in
+// units of the mean free path) without a logarithm on the common path:
+// Marsaglia and Tsang's ziggurat ("The ziggurat method for generating
+// random variables", 2000) of 256 layers, from one 64-bit draw — the layer
+// from its low 8 bits, the abscissa from its top 53, disjoint bits (Doornik
+// 2005) — accepted at once with chance 0.978 (counted over 10⁷ draws);
+// otherwise the wedge's test (one exp) or, from the base layer, the tail
+// beyond r = 7.6971 as r − ln u (the exponential forgets), with further
+// draws. Exact in distribution up to the 2⁻⁵³ steps of a layer's
+// abscissa. Low-discrepancy draws (sim/samplers/random.h): −ln u by
+// inversion from one draw, as before.
 inline double standard_exponential(PhotonRandom& rng) {
   if (rng.low_discrepancy()) return -std::log(rng.uniform_open0());
   const std::uint64_t bits = rng.next_u64();
