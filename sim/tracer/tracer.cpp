@@ -328,9 +328,10 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   // absorbed (chance μa/μt, booked at the part), cut off past
   // kMaxVolumeEvents, or scattered by the phase function. False: the photon
   // ended there (r.fate says how).
+  // One draw decides the event (scatter_or_absorb, issue 43).
   const auto volume_event = [&](const Material& m, double s) {
-    const double mu_t = m.scattering_per_m + m.attenuation_per_m;
-    if (rng.uniform() * mu_t < m.attenuation_per_m) {
+    Vec3 scattered;
+    if (!scatter_or_absorb(direction, m.scattering_per_m, m.attenuation_per_m, m.scattering_g, rng, &scattered)) {
       r.fate = Fate::Absorbed;
       return false;
     }
@@ -344,13 +345,13 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // stood for: its escape is binned.
     covered = image_covered = false;
     origin = origin + s * direction;
-    direction = sample_henyey_greenstein(direction, m.scattering_g, rng);
+    direction = scattered;
     return true;
   };
   for (;;) {
     if (medium) {
       const double mu_t = medium->scattering_per_m + medium->attenuation_per_m;
-      drawn_s = -std::log(rng.uniform_open0()) / mu_t;
+      drawn_s = standard_exponential(rng) / mu_t;
       if (volume_grid_->segment_free(origin, origin + drawn_s * direction)) {
         const double s = drawn_s;
         drawn_s = -1.0;
@@ -402,7 +403,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     if (from_back && material.scattering_per_m > 0.0) {
       const double mu_t = material.scattering_per_m + material.attenuation_per_m;
       // Drawn before the query where the walk tried the grid first.
-      const double s = pre_drawn_s >= 0.0 ? pre_drawn_s : -std::log(rng.uniform_open0()) / mu_t;
+      const double s = pre_drawn_s >= 0.0 ? pre_drawn_s : standard_exponential(rng) / mu_t;
       if (s < t) {
         if (!volume_event(material, s)) return r;
         // The next free path starts inside this medium.

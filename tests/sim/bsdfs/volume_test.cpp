@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -60,6 +62,217 @@ TEST(HenyeyGreenstein, NormalisedWithMeanCosineGAndSampledByItsDensity) {
     for (double o : az) chi_az += (o - n / double(na)) * (o - n / double(na)) / (n / double(na));
     EXPECT_GT(chi_square_upper_tail(chi, nb - 1), 1e-4) << g << ": chi2 " << chi;
     EXPECT_GT(chi_square_upper_tail(chi_az, na - 1), 1e-4) << g << ": azimuth chi2 " << chi_az;
+  }
+}
+
+// The closed-form CDF of cos Θ under Henyey–Greenstein:
+// F(μ) = (1 − g²)/(2g) (1/√(1 + g² − 2gμ) − 1/(1 + g)).
+double henyey_greenstein_cdf(double g, double mu) {
+  if (std::abs(g) < 1e-6) return 0.5 * (mu + 1.0);
+  return (1.0 - g * g) / (2.0 * g) * (1.0 / std::sqrt(1.0 + g * g - 2.0 * g * mu) - 1.0 / (1.0 + g));
+}
+
+TEST(HenyeyGreenstein, OneDivisionInverseIsTheLibraryInverse) {
+  // The tracer's cos Θ (one division) and sample_henyey_greenstein_cos (two)
+  // are one inverse CDF written two ways: equal to rounding, and both
+  // invert the closed-form CDF.
+  for (double g : {-0.999, -0.8, -0.3, 0.0, 1e-7, 2e-6, 0.3, 0.8, 0.95, 0.999}) {
+    for (int k = 0; k <= 1000; ++k) {
+      const double u = k / 1000.0;
+      const double a = henyey_greenstein_cos_of_ratio(g, u, 1.0), b = sample_henyey_greenstein_cos(g, u);
+      // The same u as a ratio x/w (the tracer's rescaled uniform).
+      ASSERT_NEAR(henyey_greenstein_cos_of_ratio(g, 1473.0 * u, 1473.0), a, 1e-12 + 1e-15 / std::max(std::abs(g), 1e-6));
+      // (Both lose digits to cancellation as g → 0: ~10⁻¹⁶/g.)
+      ASSERT_NEAR(a, b, 1e-12 + 1e-15 / std::max(std::abs(g), 1e-6)) << g << " " << u;
+      ASSERT_GE(a, -1.0);
+      ASSERT_LE(a, 1.0);
+      // (|g| < 10⁻⁶ is drawn as uniform, cos Θ = 1 − 2u: F = 1 − u.)
+      ASSERT_NEAR(henyey_greenstein_cdf(g, a), std::abs(g) < 1e-6 ? 1.0 - u : u, 1e-9) << g << " " << u;
+    }
+  }
+}
+
+// n volume events of scatter_or_absorb along `travel`: the share absorbed,
+// and of the scattered ones cos Θ in 40 bins of equal probability by the
+// closed-form CDF (chi-square), the largest distance of their empirical CDF
+// from it (Kolmogorov–Smirnov), their mean cos Θ and the azimuth about
+// `travel` in 24 bins (chi-square), and the two together in 8 × 8 cells
+// (chi-square: independent).
+struct EventStats {
+  double absorbed = 0.0, chi_cos = 0.0, ks = 0.0, mean_cos = 0.0, chi_azimuth = 0.0, worst_length = 0.0;
+  double chi_joint = 0.0;  // 8 × 8 cells of equal probability in (F(cos Θ), azimuth): independence
+  int scattered = 0;
+};
+EventStats volume_events(const Vec3& travel, double mu_s, double mu_a, double g, int n, std::uint64_t seed) {
+  const Basis b = basis_from_normal(travel);
+  const int nb = 40, na = 24;
+  std::vector<double> bins(nb, 0.0), az(na, 0.0), joint(64, 0.0), cdf_values;
+  EventStats e;
+  double sum = 0.0;
+  for (int k = 0; k < n; ++k) {
+    PhotonRandom rng(seed, static_cast<std::uint64_t>(k));
+    Vec3 d;
+    if (!scatter_or_absorb(travel, mu_s, mu_a, g, rng, &d)) {
+      e.absorbed += 1.0;
+      continue;
+    }
+    ++e.scattered;
+    e.worst_length = std::max(e.worst_length, std::abs(length(d) - 1.0));
+    const Vec3 l = b.to_local(d);
+    const double f = henyey_greenstein_cdf(g, std::clamp(l.z, -1.0, 1.0));
+    cdf_values.push_back(f);
+    sum += l.z;
+    bins[static_cast<std::size_t>(std::clamp(static_cast<int>(f * nb), 0, nb - 1))] += 1.0;
+    double p = std::atan2(l.y, l.x);
+    if (p < 0) p += 2 * kPi;
+    az[static_cast<std::size_t>(std::clamp(static_cast<int>(p / (2 * kPi) * na), 0, na - 1))] += 1.0;
+    joint[static_cast<std::size_t>(std::clamp(static_cast<int>(f * 8), 0, 7) * 8 +
+                                   std::clamp(static_cast<int>(p / (2 * kPi) * 8), 0, 7))] += 1.0;
+  }
+  const double m = e.scattered;
+  for (double o : joint) e.chi_joint += (o - m / 64) * (o - m / 64) / (m / 64);
+  for (double o : bins) e.chi_cos += (o - m / nb) * (o - m / nb) / (m / nb);
+  for (double o : az) e.chi_azimuth += (o - m / na) * (o - m / na) / (m / na);
+  std::sort(cdf_values.begin(), cdf_values.end());
+  for (std::size_t i = 0; i < cdf_values.size(); ++i)
+    e.ks = std::max({e.ks, std::abs(cdf_values[i] - i / m), std::abs(cdf_values[i] - (i + 1) / m)});
+  e.mean_cos = sum / m;
+  e.absorbed /= n;
+  return e;
+}
+
+TEST(HenyeyGreenstein, OneDrawEventHasTheDensityTheMeanCosineAndAUniformAzimuth) {
+  // The tracer's volume event (one draw: absorption, cos Θ and azimuth)
+  // against the closed forms, for forward, backward, isotropic and very
+  // peaked phase functions and directions of travel along and against the
+  // poles of the basis (Duff et al.'s basis changes branch at z = 0).
+  const int n = 200000;
+  std::uint64_t seed = 90;
+  for (double g : {0.0, 0.8, -0.8, 0.95, 0.999}) {
+    for (const Vec3& travel : {normalize(Vec3{0.3, -0.5, 0.8}), Vec3{0, 0, -1}, Vec3{1, 0, 0}, normalize(Vec3{0.2, 0.1, -0.97})}) {
+      const EventStats e = volume_events(travel, 1000.0, 0.0, g, n, ++seed);
+      // Var cos Θ = (1 + 2g²)/3 − g² = (1 − g²)/3 (the second Legendre
+      // moment of Henyey–Greenstein is g²).
+      const double sigma = std::sqrt((1.0 - g * g) / 3.0 / n);
+      std::printf("  g %6.3f travel (%5.2f %5.2f %5.2f): mean cos %.5f (sigma %.1e), chi2 cos %.1f, KS %.5f, chi2 azimuth %.1f, joint %.1f\n",
+                  g, travel.x, travel.y, travel.z, e.mean_cos, sigma, e.chi_cos, e.ks, e.chi_azimuth, e.chi_joint);
+      EXPECT_EQ(e.absorbed, 0.0);
+      EXPECT_NEAR(e.mean_cos, g, 5.0 * sigma) << g;
+      EXPECT_GT(chi_square_upper_tail(e.chi_cos, 39), 1e-4) << g << ": chi2 " << e.chi_cos;
+      EXPECT_LT(e.ks, 2.23 / std::sqrt(n)) << g;  // p = 10⁻⁴, as the chi-squares
+      EXPECT_GT(chi_square_upper_tail(e.chi_azimuth, 23), 1e-4) << g << ": azimuth chi2 " << e.chi_azimuth;
+      EXPECT_GT(chi_square_upper_tail(e.chi_joint, 63), 1e-4) << g << ": joint chi2 " << e.chi_joint;
+      EXPECT_LT(e.worst_length, 1e-15) << g;
+    }
+  }
+}
+
+TEST(HenyeyGreenstein, OneDrawEventAbsorbsWithChanceMuAOverMuTIndependentlyOfTheDirection) {
+  // Half absorbed: the scattered half must still be Henyey–Greenstein (the
+  // uniform that decided is rescaled, not reused as it is); the opal PMMA
+  // preset's μs 1473/m, μa 2.9/m: absorbed with chance 0.001965.
+  const int n = 200000;
+  const Vec3 travel = normalize(Vec3{-0.4, 0.7, 0.2});
+  for (double g : {0.0, 0.8, 0.999}) {
+    const EventStats e = volume_events(travel, 1.0, 1.0, g, n, 5);
+    EXPECT_NEAR(e.absorbed, 0.5, 5.0 * std::sqrt(0.25 / n)) << g;
+    EXPECT_NEAR(e.mean_cos, g, 5.0 * std::sqrt((1.0 - g * g) / 3.0 / e.scattered)) << g;
+    EXPECT_GT(chi_square_upper_tail(e.chi_cos, 39), 1e-4) << g << ": chi2 " << e.chi_cos;
+    EXPECT_LT(e.ks, 2.23 / std::sqrt(e.scattered)) << g;
+    EXPECT_GT(chi_square_upper_tail(e.chi_azimuth, 23), 1e-4) << g << ": azimuth chi2 " << e.chi_azimuth;
+    EXPECT_GT(chi_square_upper_tail(e.chi_joint, 63), 1e-4) << g << ": joint chi2 " << e.chi_joint;
+  }
+  const double p = 2.9 / (1473.0 + 2.9);
+  const EventStats opal = volume_events(travel, 1473.0, 2.9, 0.8, 1000000, 6);
+  std::printf("  opal PMMA: absorbed %.6f of the events (mu_a/mu_t %.6f)\n", opal.absorbed, p);
+  EXPECT_NEAR(opal.absorbed, p, 5.0 * std::sqrt(p * (1 - p) / 1000000));
+}
+
+TEST(HenyeyGreenstein, OneDrawEventStaysUnitOverTheLongestWalk) {
+  // 100,000 events in a row (the tracer's kMaxVolumeEvents): one Newton step
+  // a event keeps the direction unit to rounding; no drift.
+  Vec3 d = normalize(Vec3{0.3, -0.5, 0.8});
+  PhotonRandom rng(3, 4);
+  double worst = 0.0;
+  for (int k = 0; k < 100000; ++k) {
+    Vec3 next;
+    ASSERT_TRUE(scatter_or_absorb(d, 1.0, 0.0, 0.9, rng, &next));
+    d = next;
+    worst = std::max(worst, std::abs(length(d) - 1.0));
+  }
+  EXPECT_LT(worst, 1e-15);
+  // A direction off unit length by 10⁻⁸ (a float-rounded normal, say)
+  // comes back unit to rounding: the Newton step squares the error.
+  PhotonRandom r2(3, 5);
+  Vec3 next;
+  ASSERT_TRUE(scatter_or_absorb(normalize(Vec3{0.3, -0.5, 0.8}) * (1.0 + 1e-8), 1.0, 0.0, 0.9, r2, &next));
+  EXPECT_LT(std::abs(length(next) - 1.0), 1e-15);
+}
+
+TEST(FreePath, ZigguratIsTheExponentialDistribution) {
+  // 10⁶ draws of standard_exponential against F(x) = 1 − e^−x: 64 bins of
+  // equal probability (chi-square), Kolmogorov–Smirnov, the mean and the
+  // variance (1 and 1), and the tail beyond the ziggurat's base r = 7.697
+  // and beyond 12 (e^−7.697 = 4.54·10⁻⁴, e^−12 = 6.1·10⁻⁶ of the draws).
+  const int n = 1000000, nb = 64;
+  std::vector<double> x;
+  x.reserve(n);
+  for (int k = 0; k < n; ++k) {
+    PhotonRandom rng(11, static_cast<std::uint64_t>(k));
+    x.push_back(standard_exponential(rng));
+    ASSERT_GE(x.back(), 0.0);
+  }
+  std::vector<double> bins(nb, 0.0);
+  double sum = 0.0, sum2 = 0.0, beyond_r = 0.0, beyond_12 = 0.0;
+  for (double v : x) {
+    const double f = 1.0 - std::exp(-v);
+    bins[static_cast<std::size_t>(std::clamp(static_cast<int>(f * nb), 0, nb - 1))] += 1.0;
+    sum += v;
+    sum2 += v * v;
+    beyond_r += v > 7.69711747013104972 ? 1.0 : 0.0;
+    beyond_12 += v > 12.0 ? 1.0 : 0.0;
+  }
+  double chi = 0.0;
+  for (double o : bins) chi += (o - n / double(nb)) * (o - n / double(nb)) / (n / double(nb));
+  std::sort(x.begin(), x.end());
+  double ks = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double f = 1.0 - std::exp(-x[i]);
+    ks = std::max({ks, std::abs(f - double(i) / n), std::abs(f - double(i + 1) / n)});
+  }
+  const double mean = sum / n, variance = sum2 / n - mean * mean;
+  std::printf("  ziggurat: mean %.5f variance %.5f chi2 %.1f (63 dof) KS*sqrt(n) %.3f beyond r %.0f (%.0f) beyond 12 %.0f (%.1f)\n",
+              mean, variance, chi, ks * std::sqrt(double(n)), beyond_r, n * std::exp(-7.69711747013104972), beyond_12,
+              n * std::exp(-12.0));
+  EXPECT_GT(chi_square_upper_tail(chi, nb - 1), 1e-4) << chi;
+  EXPECT_LT(ks, 2.23 / std::sqrt(double(n)));
+  EXPECT_NEAR(mean, 1.0, 5.0 / std::sqrt(double(n)));
+  EXPECT_NEAR(variance, 1.0, 5.0 * std::sqrt(8.0 / n));  // Var of s² = (μ₄ − σ⁴)/n = 8/n
+  const double pr = std::exp(-7.69711747013104972);
+  EXPECT_NEAR(beyond_r, n * pr, 5.0 * std::sqrt(n * pr));
+  EXPECT_NEAR(beyond_12, n * std::exp(-12.0), 5.0 * std::sqrt(n * std::exp(-12.0)) + 1.0);
+  // The wedges in detail: the layers' edges lie where the density changes
+  // fastest relative to the bins above; 400 bins of width 0.02 on [0, 8)
+  // against their exact probabilities.
+  std::vector<double> fine(400, 0.0);
+  for (double v : x)
+    if (v < 8.0) fine[static_cast<std::size_t>(v / 0.02)] += 1.0;
+  double chi_fine = 0.0;
+  for (int b = 0; b < 400; ++b) {
+    const double e = n * (std::exp(-0.02 * b) - std::exp(-0.02 * (b + 1)));
+    chi_fine += (fine[static_cast<std::size_t>(b)] - e) * (fine[static_cast<std::size_t>(b)] - e) / e;
+  }
+  EXPECT_GT(chi_square_upper_tail(chi_fine, 399), 1e-4) << chi_fine;
+}
+
+TEST(FreePath, LowDiscrepancyDrawsInvertOneUniform) {
+  // Under the Sobol' sampler the free path is −ln u of one coordinate (a
+  // fixed count of draws keeps the sequence's dimensions aligned).
+  for (std::uint64_t photon = 0; photon < 64; ++photon) {
+    PhotonRandom a(5, photon, SamplerKind::Sobol), b(5, photon, SamplerKind::Sobol);
+    ASSERT_TRUE(a.low_discrepancy());
+    EXPECT_EQ(standard_exponential(a), -std::log(b.uniform_open0()));
+    EXPECT_EQ(a.dimensions(), 1);
   }
 }
 
