@@ -447,9 +447,35 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   const bool as_constraints = limit_count > 0 && design::takes_constraints(method);
 
   // DIR with the files the design reads (its emitters' profiles and ray files).
-  if (Status s = io::make_directories(out_dir); !s.ok()) return s.error();
   const fs::path folder = fs::absolute(fs::path(design_path)).parent_path();
   const std::vector<std::string> files = design::design_files(design_path);
+  // Nothing is written over an input: the design, the target and the
+  // design's files, nor over the copies of the latter in DIR (which the best
+  // design reads), by any file the run writes into DIR.
+  {
+    std::vector<std::string> written;
+    for (const char* ext : {".design.toml", ".ies", ".ldt", ".gltf", ".bin", ".step", ".gonio.toml"})
+      written.push_back(name + ext);
+    for (const char* own : {"report.json", "history.json", "history.svg", "compare.json", "compare.svg",
+                            "state.json", "scan.json", ".evaluation.design.toml"})
+      written.push_back(own);
+    std::vector<std::string> inputs = files;  // the design, then its files
+    inputs.push_back(target_path);
+    if (!spec.target.empty()) inputs.push_back(spec.target);
+    for (const std::string& w : written) {
+      const fs::path path = (fs::path(out_dir) / w).lexically_normal();
+      for (std::size_t i = 0; i < inputs.size(); ++i) {
+        if (io::same_file(path.string(), inputs[i]))
+          return make_error(inputs[i], "gonio optimize would write " + path.string() +
+                                           " over this input (the same file); give another --out or --name");
+        const fs::path rel = fs::absolute(fs::path(inputs[i])).lexically_normal().lexically_relative(folder);
+        if (i > 0 && (fs::path(out_dir) / rel).lexically_normal() == path)
+          return make_error(inputs[i], "the design's file is copied to " + path.string() +
+                                           ", which gonio optimize writes as one of its outputs; give another --name");
+      }
+    }
+  }
+  if (Status s = io::make_directories(out_dir); !s.ok()) return s.error();
   for (std::size_t i = 1; i < files.size(); ++i) {
     const fs::path rel = fs::absolute(fs::path(files[i])).lexically_normal().lexically_relative(folder);
     if (rel.empty() || rel.is_absolute() || *rel.begin() == "..")
