@@ -84,6 +84,12 @@ Status write_file_atomic(const std::string& path, std::string_view bytes) {
   return Ok{};
 }
 
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  const bool same = std::filesystem::equivalent(a, b, ec);
+  return !ec && same;
+}
+
 Status make_directories(const std::string& path) {
   std::error_code ec;
   std::filesystem::create_directories(path, ec);

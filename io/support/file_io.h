@@ -28,4 +28,8 @@ Status write_file_atomic(const std::string& path, std::string_view bytes);
 // Creates a directory and its parents if missing.
 Status make_directories(const std::string& path);
 
+// Whether two paths name the same existing file (through links too): what a
+// command checks before it writes an output where it may have read an input.
+bool same_file(const std::string& a, const std::string& b);
+
 }  // namespace gonio::io

@@ -8,6 +8,7 @@
 
 #include "gonio/version.h"
 #include "io/photometric/photometric_file.h"
+#include "io/support/file_io.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/input_options.h"
 #include "tools/cli/commands.h"
@@ -55,13 +56,6 @@ constexpr const char* kDescription =
     "  gonio convert old.ies new.ies --ies-version 2002\n"
     "  gonio convert flood_typeB.ies flood.ldt --c-step 2.5 --gamma-step 0.5";
 
-// Whether two paths name the same existing file (through links too).
-bool same_file(const std::string& a, const std::string& b) {
-  std::error_code ec;
-  const bool same = fs::equivalent(a, b, ec);
-  return !ec && same;
-}
-
 }  // namespace
 
 int run_convert(const Args& args) {
@@ -107,7 +101,7 @@ int run_convert(const Args& args) {
     return usage_error("--ies-version applies to .ies output only");
   if (*out_format != io::PhotometricFormat::Ldt && parser.given("ldt-isym3-out"))
     return usage_error("--ldt-isym3-out applies to .ldt output only");
-  if (same_file(in_path, out_path)) {
+  if (io::same_file(in_path, out_path)) {
     print_error(out_path + ": is the input file " + in_path +
                 " (the same file, possibly through a link); refusing to overwrite the input");
     return kExitFailure;

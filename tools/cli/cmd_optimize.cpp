@@ -60,6 +60,19 @@ int fail(const std::string& message) {
   return kExitFailure;
 }
 
+// Under MPI, the job's exit code on every rank (each rank's own otherwise):
+// a rank's failure or usage error first (rank 0's files that could not be
+// written, say), else rank 0's (0, or 3 for a run that cannot improve).
+// Collective: every rank reaches it once, after optimize_design.
+int agreed(const sim::Ranks& ranks, int code) {
+  if (!ranks.distributed()) return code;
+  const std::vector<std::uint64_t> codes = ranks.gather(static_cast<std::uint64_t>(code));
+  for (const std::uint64_t c : codes)
+    if (c != static_cast<std::uint64_t>(kExitOk) && c != static_cast<std::uint64_t>(kExitCannotImprove))
+      return static_cast<int>(c);
+  return static_cast<int>(codes.front());
+}
+
 }  // namespace
 
 int run_optimize(const Args& args) {
@@ -190,12 +203,12 @@ int run_optimize(const Args& args) {
   if (!outcome.ok()) {
     if (usage) {
       print_usage_error("optimize", p, outcome.error().message);
-      return kExitUsage;
+      return agreed(*ranks, kExitUsage);
     }
-    return fail(to_string(outcome.error()));
+    return agreed(*ranks, fail(to_string(outcome.error())));
   }
-  if (outcome->scanned) return kExitOk;
-  if (!outcome->lead) return outcome->cannot_improve.empty() ? kExitOk : kExitCannotImprove;
+  if (outcome->scanned) return agreed(*ranks, kExitOk);
+  if (!outcome->lead) return agreed(*ranks, outcome->cannot_improve.empty() ? kExitOk : kExitCannotImprove);
   const design::OptimizeResult& run = outcome->run;
   const design::MeritValue& fm = outcome->final_merit;
   const int code = print_run_files(*outcome->plan, outcome->result->run, *outcome->result->files);
@@ -216,9 +229,9 @@ int run_optimize(const Args& args) {
   if (code == kExitOk && !outcome->cannot_improve.empty()) {
     std::printf("optimize: cannot improve (%s): exit %d\n", outcome->cannot_improve_kind.c_str(), kExitCannotImprove);
     std::fflush(stdout);
-    return kExitCannotImprove;
+    return agreed(*ranks, kExitCannotImprove);
   }
-  return code;
+  return agreed(*ranks, code);
 }
 
 }  // namespace gonio::cli

@@ -224,8 +224,10 @@ struct BatchPoint {
 
 // A CMA-ES generation over MPI ranks: point i is traced by rank i mod K
 // (`evaluate`, each rank's points `jobs` at a time), and every rank gets
-// every merit back in the points' order, whatever rank made it, and
-// `on_other` the payload of each point another rank made.
+// every merit back in the points' order, whatever rank made it. Then, in a
+// second gather, the payloads of the points that may become the best as
+// the generation is recorded in order (each merit at most every earlier
+// one's: ~ln λ of λ points), `on_other` each one another rank made.
 std::vector<Result<double>> job_batch(const sim::Ranks& ranks, std::size_t points, int jobs,
                                       const std::function<BatchPoint(std::size_t)>& evaluate,
                                       const std::function<void(std::size_t, const std::string&)>& on_other) {
@@ -250,8 +252,6 @@ std::vector<Result<double>> job_batch(const sim::Ranks& ranks, std::size_t point
     put(bytes, m.ok() ? *m : 0.0);
     put(bytes, static_cast<std::uint64_t>(error.size()));
     bytes += error;
-    put(bytes, static_cast<std::uint64_t>(made[j]->payload.size()));
-    bytes += made[j]->payload;
   }
   std::vector<Result<double>> out(points, Result<double>(make_error("no rank made this evaluation")));
   const std::vector<std::string> gathered = sim::gather_bytes(ranks, bytes);
@@ -265,12 +265,33 @@ std::vector<Result<double>> job_batch(const sim::Ranks& ranks, std::size_t point
       const std::uint64_t length = take<std::uint64_t>(theirs, at);
       const std::string error = theirs.substr(std::min(at, theirs.size()), length);
       at += length;
-      const std::uint64_t payload_length = take<std::uint64_t>(theirs, at);
-      const std::string payload = theirs.substr(std::min(at, theirs.size()), payload_length);
-      at += payload_length;
-      if (index >= points) continue;
-      out[index] = ok ? Result<double>(merit) : Result<double>(make_error(error));
-      if (ok && from != me && on_other) on_other(index, payload);
+      if (index < points) out[index] = ok ? Result<double>(merit) : Result<double>(make_error(error));
+    }
+  }
+  std::vector<bool> may_lead(points, false);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < points; ++i)
+    if (out[i].ok() && std::isfinite(*out[i]) && *out[i] <= lowest) {
+      lowest = *out[i];
+      may_lead[i] = true;
+    }
+  bytes.clear();
+  for (std::size_t j = 0; j < mine.size(); ++j)
+    if (may_lead[mine[j]]) {
+      put(bytes, static_cast<std::uint64_t>(mine[j]));
+      put(bytes, static_cast<std::uint64_t>(made[j]->payload.size()));
+      bytes += made[j]->payload;
+    }
+  const std::vector<std::string> payloads = sim::gather_bytes(ranks, bytes);
+  for (std::size_t from = 0; from < payloads.size(); ++from) {
+    const std::string& theirs = payloads[from];
+    std::size_t at = 0;
+    while (at < theirs.size()) {
+      const std::uint64_t index = take<std::uint64_t>(theirs, at);
+      const std::uint64_t length = take<std::uint64_t>(theirs, at);
+      const std::string payload = theirs.substr(std::min(at, theirs.size()), length);
+      at += length;
+      if (index < points && from != me && on_other) on_other(index, payload);
     }
   }
   return out;
@@ -447,9 +468,35 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   const bool as_constraints = limit_count > 0 && design::takes_constraints(method);
 
   // DIR with the files the design reads (its emitters' profiles and ray files).
-  if (Status s = io::make_directories(out_dir); !s.ok()) return s.error();
   const fs::path folder = fs::absolute(fs::path(design_path)).parent_path();
   const std::vector<std::string> files = design::design_files(design_path);
+  // Nothing is written over an input: the design, the target and the
+  // design's files, nor over the copies of the latter in DIR (which the best
+  // design reads), by any file the run writes into DIR.
+  {
+    std::vector<std::string> written;
+    for (const char* ext : {".design.toml", ".ies", ".ldt", ".gltf", ".bin", ".step", ".gonio.toml"})
+      written.push_back(name + ext);
+    for (const char* own : {"report.json", "history.json", "history.svg", "compare.json", "compare.svg",
+                            "state.json", "scan.json", ".evaluation.design.toml"})
+      written.push_back(own);
+    std::vector<std::string> inputs = files;  // the design, then its files
+    inputs.push_back(target_path);
+    if (!spec.target.empty()) inputs.push_back(spec.target);
+    for (const std::string& w : written) {
+      const fs::path path = (fs::path(out_dir) / w).lexically_normal();
+      for (std::size_t i = 0; i < inputs.size(); ++i) {
+        if (io::same_file(path.string(), inputs[i]))
+          return make_error(inputs[i], "gonio optimize would write " + path.string() +
+                                           " over this input (the same file); give another --out or --name");
+        const fs::path rel = fs::absolute(fs::path(inputs[i])).lexically_normal().lexically_relative(folder);
+        if (i > 0 && (fs::path(out_dir) / rel).lexically_normal() == path)
+          return make_error(inputs[i], "the design's file is copied to " + path.string() +
+                                           ", which gonio optimize writes as one of its outputs; give another --name");
+      }
+    }
+  }
+  if (Status s = io::make_directories(out_dir); !s.ok()) return s.error();
   for (std::size_t i = 1; i < files.size(); ++i) {
     const fs::path rel = fs::absolute(fs::path(files[i])).lexically_normal().lexically_relative(folder);
     if (rel.empty() || rel.is_absolute() || *rel.begin() == "..")

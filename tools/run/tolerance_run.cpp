@@ -666,6 +666,34 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   }
   if (Status s = design::check_variables(*spec, base_design.get()); !s.ok()) return failed(to_string(s.error()));
   if (Status s = expand_copies(*spec, model, plan); !s.ok()) return failed(to_string(s.error()));
+  // Nothing is written over an input (the model and the files it reads, the
+  // tolerance file) by any file the run writes into DIR: every later trace
+  // loads the model again. Under MPI the ranks agree (each may see other
+  // files): any rank's finding stops every rank.
+  const Status not_over_inputs = [&]() -> Status {
+    std::vector<std::string> written = {"report.json", "timing.json", "journal.jsonl", "sensitivity.txt"};
+    std::vector<std::string> stems = {"nominal", "best", "worst"};
+    for (const design::PercentileChoice& c : percentiles) stems.push_back(c.stem());
+    for (const std::string& stem : stems)
+      for (const char* ext : {".ies", ".ldt", ".json"}) written.push_back(stem + ext);
+    for (std::size_t f = 0; f < kFigureCount; ++f)
+      written.push_back("tornado_" + std::string(design::figure_info()[f].key) + ".svg");
+    std::vector<std::string> inputs = model_files(model, plan.model_input);
+    if (!tolerances_path.empty()) inputs.push_back(tolerances_path);
+    for (const std::string& w : written)
+      for (const std::string& input : inputs)
+        if (io::same_file((fs::path(out_dir) / w).string(), input))
+          return make_error(input, "gonio tolerance would write " + (fs::path(out_dir) / w).string() +
+                                       " over this input (the same file); give another --out");
+    return Ok{};
+  }();
+  if (ranks.distributed()) {
+    const std::vector<std::uint64_t> over = ranks.gather(std::uint64_t{not_over_inputs.ok() ? 0u : 1u});
+    if (std::any_of(over.begin(), over.end(), [](std::uint64_t v) { return v != 0; }))
+      return not_over_inputs.ok() ? make_error(std::string()) : not_over_inputs.error();
+  } else if (!not_over_inputs.ok()) {
+    return not_over_inputs.error();
+  }
   if (Status s = io::make_directories(out_dir); !s.ok()) return failed(to_string(s.error()));
 
   const MessageSink rank_messages = lead ? hooks.on_message : MessageSink([&hooks](Severity severity, const std::string& text) {

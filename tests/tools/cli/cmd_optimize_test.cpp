@@ -397,5 +397,47 @@ TEST(OptimizeCli, AFileThatCannotBeWrittenAfterTheSearchKeepsTheReport) {
       << state.at("last_error");
 }
 
+// gonio optimize never writes over its inputs: --out the design's own folder
+// (the best design NAME.design.toml is the design file), a target where the
+// final trace writes NAME.ies, and an emitter profile named NAME.ies (its
+// copy in DIR, which the best design reads, would become the traced
+// table) are errors naming the file, before anything is written; the
+// inputs keep their bytes.
+TEST(OptimizeCli, NeverWritesOverItsInputs) {
+  test::TempDir dir;
+  write_emitter(dir / "up.ies");
+  write(dir / "truth.design.toml", design_text("-1.5"));
+  ASSERT_EQ(gonio({"simulate", (dir / "truth.design.toml").string(), "--out", (dir / "t").string(), "--photons",
+                   "20000", "--iterations", "1", "--gamma-step", "2.5", "--format", "ies", "--no-cache"})
+                .exit_code,
+            0);
+  write(dir / "start.design.toml", design_text("{ value = -2.5, min = -3, max = -1 }"));
+  const std::string design = test::read_file(dir / "start.design.toml");
+  const std::string target = test::read_file(dir / "t" / "truth.ies");
+  const std::string profile = test::read_file(dir / "up.ies");
+  const std::vector<std::string> quick = {"--stages", "1", "--max-evals", "2", "--gamma-step", "5",
+                                          "--final-photons", "5000", "--no-step", "--photons-per-bin", "40"};
+  struct Case {
+    std::vector<std::string> args;
+    std::string says;
+  };
+  for (const Case& c :
+       {Case{{"--out", dir.path().string()}, "start.design.toml: gonio optimize would write"},
+        Case{{"--out", (dir / "t").string(), "--name", "truth"}, "truth.ies: gonio optimize would write"},
+        Case{{"--out", (dir / "o").string(), "--name", "up"}, "up.ies: the design's file is copied to"}}) {
+    std::vector<std::string> args = {"optimize", (dir / "start.design.toml").string(), "--target",
+                                     (dir / "t" / "truth.ies").string()};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    args.insert(args.end(), quick.begin(), quick.end());
+    const test::ProcessResult r = gonio(args);
+    EXPECT_EQ(r.exit_code, 1) << c.says << "\n" << r.out << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    EXPECT_EQ(test::read_file(dir / "start.design.toml"), design) << c.says;
+    EXPECT_EQ(test::read_file(dir / "t" / "truth.ies"), target) << c.says;
+    EXPECT_EQ(test::read_file(dir / "up.ies"), profile) << c.says;
+    EXPECT_FALSE(fs::exists(dir / "o" / "report.json")) << c.says;
+  }
+}
+
 }  // namespace
 }  // namespace gonio

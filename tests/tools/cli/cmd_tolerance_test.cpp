@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "design/reflector_design.h"
 #include "design/tolerance.h"
 #include "io/model/gltf_writer.h"
 #include "io/photometric/photometric_file.h"
@@ -656,6 +657,38 @@ TEST(ToleranceCli, AFileThatCannotBeWrittenAfterTheTracesKeepsTheReport) {
   const json& files = report["files"];
   EXPECT_EQ(std::find(files.begin(), files.end(), json("best.ies")), files.end()) << files;
   EXPECT_NE(std::find(files.begin(), files.end(), json("best.ldt")), files.end()) << files;
+}
+
+// gonio tolerance never writes over its inputs: a design whose emitter
+// profile is nominal.ies, analysed with --out its own folder, would have
+// the profile replaced by the nominal's table (and every later trace loads
+// the model again, so it would read that table); the run stops before
+// anything is written, the error naming the file.
+TEST(ToleranceCli, NeverWritesOverItsInputs) {
+  test::TempDir dir;
+  std::vector<double> g, cd;
+  for (int i = 0; i <= 36; ++i) {
+    g.push_back(5.0 * i);
+    cd.push_back(g.back() <= 90.0 ? 0.0 : -318.31 * std::cos(g.back() * std::numbers::pi / 180.0));
+  }
+  ASSERT_TRUE(io::write_photometric_file((dir / "nominal.ies").string(), design::rotational_distribution(g, cd), {},
+                                         nullptr)
+                  .ok());
+  test::write_file(dir / "lamp.design.toml",
+                   "length_unit = \"mm\"\n[materials.mirror]\nreflectance = 0.9\n[[emitters]]\nname = \"LED\"\n"
+                   "position = [0, 0, 0]\nprofile = \"nominal.ies\"\n[[reflectors]]\nname = \"dish\"\n"
+                   "material = \"mirror\"\nprofile = \"conic\"\nradius = 10\nconic = -1.5\nvertex = 5\n"
+                   "aperture = [2, 30]\n");
+  test::write_file(dir / "t.toml", "[emitter.LED]\nx = { uniform = 0.5 }\n");
+  const std::string profile = test::read_file(dir / "nominal.ies");
+  const test::ProcessResult r =
+      gonio({"tolerance", (dir / "lamp.design.toml").string(), "--tolerances", (dir / "t.toml").string(), "--out",
+             dir.path().string(), "--threads", "1", "--photons", "5000", "--trials", "1", "--noise-seeds", "0"});
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("nominal.ies: gonio tolerance would write"), std::string::npos) << r.err;
+  EXPECT_TRUE(test::read_file(dir / "nominal.ies") == profile) << "the emitter's profile nominal.ies was overwritten";
+  EXPECT_FALSE(fs::exists(dir / "report.json"));
+  EXPECT_FALSE(fs::exists(dir / "journal.jsonl"));
 }
 
 TEST(ToleranceCli, BadInputIsAnErrorNamingTheLine) {

@@ -164,5 +164,25 @@ TEST_F(OptimizeMpi, CmaesDealsAGenerationsPointsWithTheSameResultForAnySplit) {
   same_for_any_split("cmaes", {"--max-evals", "16", "--population", "5"}, true);
 }
 
+// Every rank exits with the job's code (docs/mpi.md): a run that cannot
+// improve exits 3 on both ranks; the same run where rank 0 cannot write
+// history.json (a folder there) exits 1 on both, not 3 on rank 1 while rank
+// 0 failed (mpirun may report either).
+TEST_F(OptimizeMpi, EveryRankExitsWithTheJobsCode) {
+  write(dir / "pinned.design.toml", design_text("{ value = -2, min = -3, max = -2 }"));
+  for (const bool blocked : {false, true}) {
+    const fs::path out = dir / (blocked ? "blocked" : "pinned");
+    if (blocked) fs::create_directories(out / "history.json");
+    const test::ProcessResult r = test::run_process(
+        {GONIO_MPIRUN, "--oversubscribe", "--bind-to", "none", "-n", "2", "sh", "-c",
+         "\"$0\" optimize \"$1\" --target \"$2\" --out \"$3\" --gamma-step 5 --no-step --stages 1 --max-evals 3 "
+         "--final-photons 20000 --threads 1 --photons-per-bin 200; echo \"rank $OMPI_COMM_WORLD_RANK exit $?\"",
+         GONIO_EXECUTABLE, (dir / "pinned.design.toml").string(), target, out.string()});
+    const std::string code = blocked ? "1" : "3";
+    EXPECT_NE(r.out.find("rank 0 exit " + code), std::string::npos) << blocked << "\n" << r.out << r.err;
+    EXPECT_NE(r.out.find("rank 1 exit " + code), std::string::npos) << blocked << "\n" << r.out << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace gonio
