@@ -347,26 +347,41 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     direction = sample_henyey_greenstein(direction, m.scattering_g, rng);
     return true;
   };
+  // The grid's memory along the walk (VolumeGrid::Walk): valid while the
+  // photon moves by proven free paths only.
+  VolumeGrid::Walk walk;
   for (;;) {
+    const Material* query_medium = nullptr;
     if (medium) {
       const double mu_t = medium->scattering_per_m + medium->attenuation_per_m;
       drawn_s = -std::log(rng.uniform_open0()) / mu_t;
-      if (volume_grid_->segment_free(origin, origin + drawn_s * direction)) {
+      if (volume_grid_->segment_free(origin, origin + drawn_s * direction, walk)) {
         const double s = drawn_s;
         drawn_s = -1.0;
         if (!volume_event(*medium, s)) return r;
         continue;
       }
+      query_medium = medium;
       medium = nullptr;
     }
+    walk.reset();
     ray = ray_query(origin, direction);
     // A free path drawn for the grid and not proven free there: the volume
-    // branch below takes it (any other hit leaves it unused).
+    // branch below takes it (any other hit leaves it unused). The query
+    // then only asks for a face within it: nothing there is the volume
+    // event at drawn_s (a face beyond it would have been passed by), found
+    // without traversing the rest of the part.
     const double pre_drawn_s = drawn_s;
     drawn_s = -1.0;
+    if (query_medium) ray.t_far = std::nextafter(static_cast<float>(pre_drawn_s), 3.0e38f);
     if (books) ++books->rays;
     if (record) record->push_back(ray);
     if (!embree_->intersect(ray, &hit)) {
+      if (query_medium) {
+        if (!volume_event(*query_medium, pre_drawn_s)) return r;
+        medium = query_medium;
+        continue;
+      }
       r.fate = Fate::Escaped;
       r.direction = direction;
       r.origin = origin;

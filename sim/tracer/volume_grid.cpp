@@ -37,6 +37,63 @@ constexpr std::uint32_t kMaxPlaneEntries = std::uint32_t{1} << 22;  // 32 bytes 
 
 }  // namespace
 
+namespace {
+
+constexpr std::uint32_t kMaxSides = 64;  // planes a cell may list for Walk::below
+
+}  // namespace
+
+// The distance from q (in cell c) to the cell's nearest wall.
+double VolumeGrid::wall_distance(const Vec3& q) const {
+  const double f[3] = {(q.x - lower_.x) * inv_cell_, (q.y - lower_.y) * inv_cell_, (q.z - lower_.z) * inv_cell_};
+  double r = cell_m_;
+  for (int a = 0; a < 3; ++a) {
+    const double inside = (f[a] - std::floor(f[a])) * cell_m_;
+    r = std::min(r, std::min(inside, cell_m_ - inside));
+  }
+  return r;
+}
+
+bool VolumeGrid::sides_free(const Vec3& q, Walk& w) const {
+  const auto cell = static_cast<std::size_t>(w.cell);
+  const std::uint32_t first = start_[cell];
+  const std::uint32_t n = start_[cell + 1] - first;
+  double near = 1e300;
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const std::array<double, 4>& pl = planes_[first + k];
+    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    const double away = ((w.below >> k) & 1u) ? -sq : sq;
+    if (!(away > plane_margin_)) {
+      w.reset();
+      return false;
+    }
+    near = std::min(near, away);
+  }
+  const double r = std::min(near - plane_margin_, wall_distance(q) - margin_);
+  w.centre = q;
+  w.radius2 = r > 0.0 ? r * r : 0.0;
+  return true;
+}
+
+void VolumeGrid::ball_at(const Vec3& q, std::int64_t c, Walk& w) const {
+  const auto cell = static_cast<std::size_t>(c);
+  const std::uint32_t first = start_[cell];
+  const std::uint32_t n = start_[cell + 1] - first;
+  double near = 1e300;
+  std::uint64_t below = 0;
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const std::array<double, 4>& pl = planes_[first + k];
+    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    if (sq < 0.0 && k < kMaxSides) below |= std::uint64_t{1} << k;
+    near = std::min(near, std::abs(sq));
+  }
+  const double r = std::min(near - plane_margin_, wall_distance(q) - margin_);
+  w.centre = q;
+  w.radius2 = r > 0.0 ? r * r : 0.0;
+  w.cell = n <= kMaxSides ? c : -1;
+  w.below = below;
+}
+
 bool VolumeGrid::across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const {
   const std::int64_t nx = dims_[0], nxy = dims_[0] * dims_[1];
   const std::int64_t steps =

@@ -41,6 +41,39 @@ class VolumeGrid {
     return c == d ? planes_free(p, q, static_cast<std::size_t>(c)) : across(p, q, c, d);
   }
 
+  // A walk's memory between free paths (issue 43, third round): a ball
+  // around the last proven end that meets no triangle (its radius the
+  // distance to the nearest plane listed in its cell and to the cell's
+  // walls, less the margins) and the side of each of that cell's planes
+  // there. The next free path starts inside the ball, so it is free where
+  // its end lies in the ball too (the ball is convex), with no scan; else
+  // one dot product a plane for its end (the start's sides are those of
+  // the ball's centre). Reset() wherever the photon moved otherwise.
+  struct Walk {
+    Vec3 centre;
+    double radius2 = 0.0;  // 0: no ball
+    std::int64_t cell = -1;  // the centre's cell, whose planes' sides `below` holds; −1: none
+    std::uint64_t below = 0;  // bit k: the centre lies below the cell's k-th plane
+    void reset() {
+      radius2 = 0.0;
+      cell = -1;
+    }
+  };
+  // segment_free(p, q) for a p inside w's ball (or w reset), and w moved
+  // to q where the segment is free (reset where it is not).
+  bool segment_free(const Vec3& p, const Vec3& q, Walk& w) const {
+    const Vec3 d = q - w.centre;
+    if (dot(d, d) < w.radius2) return true;
+    const std::int64_t c = cell_of(q);
+    if (c >= 0 && c == w.cell) return sides_free(q, w);
+    if (!segment_free(p, q)) {
+      w.reset();
+      return false;
+    }
+    ball_at(q, c, w);
+    return true;
+  }
+
   double cell_m() const { return cell_m_; }
   std::size_t cell_count() const { return start_.empty() ? 0 : start_.size() - 1; }
   std::size_t plane_entries() const { return planes_.size(); }
@@ -56,6 +89,12 @@ class VolumeGrid {
     }
     return true;
   }
+  // q against the planes of w.cell on the sides of w's centre, beyond the
+  // margin; w's ball moved to q where it is.
+  bool sides_free(const Vec3& q, Walk& w) const;
+  double wall_distance(const Vec3& q) const;
+  // w's ball and sides at q, in cell c (q's, at least the margin inside).
+  void ball_at(const Vec3& q, std::int64_t c, Walk& w) const;
   // Ends in cells c ≠ d: free where the cells share a face (together one
   // box, which holds the segment) and the planes of both allow it.
   bool across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const;
