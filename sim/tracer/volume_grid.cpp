@@ -43,22 +43,42 @@ constexpr std::uint32_t kMaxSides = 64;  // planes a cell may list for Walk::bel
 
 }  // namespace
 
-// The distance from q (in cell c) to the cell's nearest wall.
-double VolumeGrid::wall_distance(const Vec3& q) const {
-  const double f[3] = {(q.x - lower_.x) * inv_cell_, (q.y - lower_.y) * inv_cell_, (q.z - lower_.z) * inv_cell_};
-  double r = cell_m_;
-  for (int a = 0; a < 3; ++a) {
-    const double inside = (f[a] - std::floor(f[a])) * cell_m_;
-    r = std::min(r, std::min(inside, cell_m_ - inside));
+bool VolumeGrid::walk_free(const Vec3& p, const Vec3& q, Walk& w) const {
+  if (w.cell < 0) {
+    // No sides kept (a reset walk, or a crowded cell): the ball and sides
+    // at p first, which may hold q already.
+    double wall_p = 0.0;
+    const std::int64_t c = locate(p, &wall_p);
+    if (c < 0 || !ball_at(p, c, wall_p, w)) {
+      // Outside the grid, within a margin of a plane, or too many planes
+      // to keep their sides: the two ends' scan.
+      const bool free = segment_free(p, q);
+      w.reset();
+      return free;
+    }
+    const Vec3 d = q - w.centre;
+    if (dot(d, d) < w.radius2) return true;
   }
-  return r;
+  double wall_q = 0.0;
+  const std::int64_t c = locate(q, &wall_q);
+  if (c < 0) {
+    w.reset();
+    return false;
+  }
+  if (c == w.cell) return sides_free(q, wall_q, w);
+  // Ends in two cells: the two-cell test (planes of both), then q's ball.
+  const std::int64_t from = w.cell;
+  w.reset();
+  if (!across(p, q, from, c)) return false;
+  ball_at(q, c, wall_q, w);
+  return true;
 }
 
-bool VolumeGrid::sides_free(const Vec3& q, Walk& w) const {
+bool VolumeGrid::sides_free(const Vec3& q, double wall, Walk& w) const {
   const auto cell = static_cast<std::size_t>(w.cell);
   const std::uint32_t first = start_[cell];
   const std::uint32_t n = start_[cell + 1] - first;
-  double near = 1e300;
+  double near = wall - margin_ + plane_margin_;
   for (std::uint32_t k = 0; k < n; ++k) {
     const std::array<double, 4>& pl = planes_[first + k];
     const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
@@ -69,17 +89,17 @@ bool VolumeGrid::sides_free(const Vec3& q, Walk& w) const {
     }
     near = std::min(near, away);
   }
-  const double r = std::min(near - plane_margin_, wall_distance(q) - margin_);
+  const double r = near - plane_margin_;
   w.centre = q;
-  w.radius2 = r > 0.0 ? r * r : 0.0;
+  w.radius2 = r * r;
   return true;
 }
 
-void VolumeGrid::ball_at(const Vec3& q, std::int64_t c, Walk& w) const {
+bool VolumeGrid::ball_at(const Vec3& q, std::int64_t c, double wall, Walk& w) const {
   const auto cell = static_cast<std::size_t>(c);
   const std::uint32_t first = start_[cell];
   const std::uint32_t n = start_[cell + 1] - first;
-  double near = 1e300;
+  double near = wall - margin_ + plane_margin_;
   std::uint64_t below = 0;
   for (std::uint32_t k = 0; k < n; ++k) {
     const std::array<double, 4>& pl = planes_[first + k];
@@ -87,11 +107,16 @@ void VolumeGrid::ball_at(const Vec3& q, std::int64_t c, Walk& w) const {
     if (sq < 0.0 && k < kMaxSides) below |= std::uint64_t{1} << k;
     near = std::min(near, std::abs(sq));
   }
-  const double r = std::min(near - plane_margin_, wall_distance(q) - margin_);
+  const double r = near - plane_margin_;
+  if (!(r > 0.0)) {
+    w.reset();
+    return false;
+  }
   w.centre = q;
-  w.radius2 = r > 0.0 ? r * r : 0.0;
+  w.radius2 = r * r;
   w.cell = n <= kMaxSides ? c : -1;
   w.below = below;
+  return w.cell >= 0;
 }
 
 bool VolumeGrid::across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const {

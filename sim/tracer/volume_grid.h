@@ -12,6 +12,7 @@
 // path into a face neighbour is tested against both cells' planes.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -42,36 +43,31 @@ class VolumeGrid {
   }
 
   // A walk's memory between free paths (issue 43, third round): a ball
-  // around the last proven end that meets no triangle (its radius the
-  // distance to the nearest plane listed in its cell and to the cell's
-  // walls, less the margins) and the side of each of that cell's planes
-  // there. The next free path starts inside the ball, so it is free where
-  // its end lies in the ball too (the ball is convex), with no scan; else
-  // one dot product a plane for its end (the start's sides are those of
-  // the ball's centre). Reset() wherever the photon moved otherwise.
+  // around a point of the walk that meets no triangle (its radius the
+  // distance to the nearest plane listed in the point's cell and to the
+  // cell's walls, less the margins) and the side of each of that cell's
+  // planes there. A free path that starts in the ball is free where its
+  // end lies in the ball too (the ball is convex): no scan; else, with its
+  // end in the same cell, one dot product a plane for the end (the start's
+  // sides are the centre's: the ball crosses no listed plane). reset()
+  // wherever the photon moved by anything but a proven free path.
   struct Walk {
     Vec3 centre;
-    double radius2 = 0.0;  // 0: no ball
-    std::int64_t cell = -1;  // the centre's cell, whose planes' sides `below` holds; −1: none
+    double radius2 = 0.0;     // 0: no ball
+    std::int64_t cell = -1;   // the centre's cell, whose planes' sides `below` holds; −1: none
     std::uint64_t below = 0;  // bit k: the centre lies below the cell's k-th plane
     void reset() {
       radius2 = 0.0;
       cell = -1;
     }
   };
-  // segment_free(p, q) for a p inside w's ball (or w reset), and w moved
-  // to q where the segment is free (reset where it is not).
+  // segment_free(p, q) for a p inside w's ball (any p where w is reset);
+  // where the segment is free, w's ball and sides are then those of a point
+  // whose ball holds q; where it is not, w is reset.
   bool segment_free(const Vec3& p, const Vec3& q, Walk& w) const {
     const Vec3 d = q - w.centre;
     if (dot(d, d) < w.radius2) return true;
-    const std::int64_t c = cell_of(q);
-    if (c >= 0 && c == w.cell) return sides_free(q, w);
-    if (!segment_free(p, q)) {
-      w.reset();
-      return false;
-    }
-    ball_at(q, c, w);
-    return true;
+    return walk_free(p, q, w);
   }
 
   double cell_m() const { return cell_m_; }
@@ -89,12 +85,32 @@ class VolumeGrid {
     }
     return true;
   }
+  // segment_free(p, q, w) past its ball test.
+  bool walk_free(const Vec3& p, const Vec3& q, Walk& w) const;
   // q against the planes of w.cell on the sides of w's centre, beyond the
-  // margin; w's ball moved to q where it is.
-  bool sides_free(const Vec3& q, Walk& w) const;
-  double wall_distance(const Vec3& q) const;
-  // w's ball and sides at q, in cell c (q's, at least the margin inside).
-  void ball_at(const Vec3& q, std::int64_t c, Walk& w) const;
+  // margin; w's ball moved to q (`wall`: q's distance to the cell's walls)
+  // where it passes, w reset where not.
+  bool sides_free(const Vec3& q, double wall, Walk& w) const;
+  // w's ball and sides at q, in cell c at `wall` from its walls; false
+  // (w's sides unknown: cell −1) where q lies within the margin of a plane
+  // or the cell lists more planes than `below` holds.
+  bool ball_at(const Vec3& q, std::int64_t c, double wall, Walk& w) const;
+  // The cell holding p at least the margin inside it, or −1; `wall`: p's
+  // distance to that cell's nearest wall.
+  std::int64_t locate(const Vec3& p, double* wall) const {
+    const double f[3] = {(p.x - lower_.x) * inv_cell_, (p.y - lower_.y) * inv_cell_, (p.z - lower_.z) * inv_cell_};
+    std::int64_t i[3];
+    double near = cell_m_;
+    for (int a = 0; a < 3; ++a) {
+      if (!(f[a] >= 0.0) || !(f[a] < static_cast<double>(dims_[a]))) return -1;
+      i[a] = static_cast<std::int64_t>(f[a]);
+      const double inside = (f[a] - static_cast<double>(i[a])) * cell_m_;
+      near = std::min(near, std::min(inside, cell_m_ - inside));
+    }
+    if (!(near > margin_)) return -1;
+    *wall = near;
+    return (i[2] * dims_[1] + i[1]) * dims_[0] + i[0];
+  }
   // Ends in cells c ≠ d: free where the cells share a face (together one
   // box, which holds the segment) and the planes of both allow it.
   bool across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const;
