@@ -521,8 +521,14 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     const Vec3 p = origin + t * direction;
     const double scale = max_abs(p) + t;
     const double off = offset_m(scale);
-    origin = p - direction * (0x1.0p-20 * scale) + (dot(s.direction, ng) > 0.0 ? off : -off) * ng;
+    const bool to_front = dot(s.direction, ng) > 0.0;
+    origin = p - direction * (0x1.0p-20 * scale) + (to_front ? off : -off) * ng;
     direction = s.direction;
+    // Into a scattering part (or back into it, reflected at its face): the
+    // next free path starts inside it, so it is drawn now and tried on the
+    // grid as after a volume event (a closed part: the query would have met
+    // its back face and drawn this number there).
+    if (volume_grid_ && !to_front && material.scattering_per_m > 0.0) medium = &material;
   }
 }
 
