@@ -66,11 +66,47 @@ bool VolumeGrid::walk_free(const Vec3& p, const Vec3& q, Walk& w) const {
     return false;
   }
   if (c == w.cell) return sides_free(q, wall_q, w);
-  // Ends in two cells: the two-cell test (planes of both), then q's ball.
+  // Ends in two cells sharing a face (together one box, which holds the
+  // segment): q against w.cell's planes on the centre's sides (p's), then
+  // both ends against c's planes, whose sides at q become w's.
   const std::int64_t from = w.cell;
-  w.reset();
-  if (!across(p, q, from, c)) return false;
-  ball_at(q, c, wall_q, w);
+  const std::int64_t nx = dims_[0], nxy = dims_[0] * dims_[1];
+  const std::int64_t steps = std::abs(from % nx - c % nx) + std::abs((from / nx) % dims_[1] - (c / nx) % dims_[1]) +
+                             std::abs(from / nxy - c / nxy);
+  if (steps != 1) {
+    w.reset();
+    return false;
+  }
+  const auto f = static_cast<std::size_t>(from);
+  for (std::uint32_t k = 0; k < start_[f + 1] - start_[f]; ++k) {
+    const std::array<double, 4>& pl = planes_[start_[f] + k];
+    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    if (!((((w.below >> k) & 1u) ? -sq : sq) > plane_margin_)) {
+      w.reset();
+      return false;
+    }
+  }
+  const auto cell = static_cast<std::size_t>(c);
+  const std::uint32_t first = start_[cell];
+  const std::uint32_t n = start_[cell + 1] - first;
+  double near = wall_q - margin_ + plane_margin_;
+  std::uint64_t below = 0;
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const std::array<double, 4>& pl = planes_[first + k];
+    const double sp = pl[0] * p.x + pl[1] * p.y + pl[2] * p.z - pl[3];
+    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    if (!((sp > plane_margin_ && sq > plane_margin_) || (sp < -plane_margin_ && sq < -plane_margin_))) {
+      w.reset();
+      return false;
+    }
+    if (sq < 0.0 && k < kMaxSides) below |= std::uint64_t{1} << k;
+    near = std::min(near, std::abs(sq));
+  }
+  const double r = near - plane_margin_;
+  w.centre = q;
+  w.radius2 = r * r;
+  w.cell = n <= kMaxSides ? c : -1;
+  w.below = below;
   return true;
 }
 
