@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -373,7 +374,12 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // without traversing the rest of the part.
     const double pre_drawn_s = drawn_s;
     drawn_s = -1.0;
-    if (query_medium) ray.t_far = std::nextafter(static_cast<float>(pre_drawn_s), 3.0e38f);
+    // (The float above the drawn path's nearest, so that a face at
+    // t ≤ drawn_s is found: the next float up by its bits, of the path's
+    // absolute value, which is finite; −log(1) is −0.)
+    if (query_medium)
+      ray.t_far =
+          std::bit_cast<float>(std::bit_cast<std::uint32_t>(std::abs(static_cast<float>(pre_drawn_s))) + 1u);
     if (books) ++books->rays;
     if (record) record->push_back(ray);
     if (!embree_->intersect(ray, &hit)) {

@@ -201,6 +201,7 @@ std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_
   g.dims_[0] = static_cast<std::int64_t>(std::floor(extent.x / g.cell_m_)) + 2;
   g.dims_[1] = static_cast<std::int64_t>(std::floor(extent.y / g.cell_m_)) + 2;
   g.dims_[2] = static_cast<std::int64_t>(std::floor(extent.z / g.cell_m_)) + 2;
+  for (int a = 0; a < 3; ++a) g.dims_f_[a] = static_cast<double>(g.dims_[a]);
   const auto cells = static_cast<std::size_t>(g.dims_[0] * g.dims_[1] * g.dims_[2]);
 
   // Every triangle of the scene as placed, with its plane.

@@ -99,14 +99,15 @@ class VolumeGrid {
   // distance to that cell's nearest wall.
   std::int64_t locate(const Vec3& p, double* wall) const {
     const double f[3] = {(p.x - lower_.x) * inv_cell_, (p.y - lower_.y) * inv_cell_, (p.z - lower_.z) * inv_cell_};
-    std::int64_t i[3];
-    double near = cell_m_;
-    for (int a = 0; a < 3; ++a) {
-      if (!(f[a] >= 0.0) || !(f[a] < static_cast<double>(dims_[a]))) return -1;
-      i[a] = static_cast<std::int64_t>(f[a]);
-      const double inside = (f[a] - static_cast<double>(i[a])) * cell_m_;
-      near = std::min(near, std::min(inside, cell_m_ - inside));
-    }
+    if (!(f[0] >= 0.0 && f[1] >= 0.0 && f[2] >= 0.0 && f[0] < dims_f_[0] && f[1] < dims_f_[1] && f[2] < dims_f_[2]))
+      return -1;
+    const std::int64_t i[3] = {static_cast<std::int64_t>(f[0]), static_cast<std::int64_t>(f[1]),
+                               static_cast<std::int64_t>(f[2])};
+    // In cells: the distance to the nearest wall, at most half a cell.
+    const double g[3] = {f[0] - static_cast<double>(i[0]), f[1] - static_cast<double>(i[1]),
+                         f[2] - static_cast<double>(i[2])};
+    const double near =
+        std::min({std::min(g[0], 1.0 - g[0]), std::min(g[1], 1.0 - g[1]), std::min(g[2], 1.0 - g[2])}) * cell_m_;
     if (!(near > margin_)) return -1;
     *wall = near;
     return (i[2] * dims_[1] + i[1]) * dims_[0] + i[0];
@@ -135,6 +136,7 @@ class VolumeGrid {
   // beyond margin_ (volume_grid.cpp, merge_planes).
   double plane_margin_ = 0.0;
   std::int64_t dims_[3] = {0, 0, 0};
+  double dims_f_[3] = {0.0, 0.0, 0.0};  // dims_ as doubles
   std::vector<std::uint32_t> start_;            // per cell, into planes_ (CSR)
   std::vector<std::array<double, 4>> planes_;   // n, d: n·x − d, n unit
 };
