@@ -324,6 +324,10 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   // it is drawn and decided without a ray query. Its draw is the one the
   // query's branch below would make next (`drawn_s`).
   const Material* medium = nullptr;
+  // Whether `medium` is a closed part's (VolumeGrid::closed): a free path
+  // there that meets no face ends inside it, so an unproven path's query
+  // asks only as far as the drawn path.
+  bool medium_closed = false;
   double drawn_s = -1.0;
   // A volume event `s` along the path inside `m` (sim/bsdfs/volume.h):
   // absorbed (chance μa/μt, booked at the part), cut off past
@@ -352,7 +356,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   // photon moves by proven free paths only.
   VolumeGrid::Walk walk;
   for (;;) {
-    const Material* query_medium = nullptr;
+    const Material* query_medium = nullptr;  // a closed part's, for a bounded query
     if (medium) {
       const double mu_t = medium->scattering_per_m + medium->attenuation_per_m;
       drawn_s = -std::log(rng.uniform_open0()) / mu_t;
@@ -362,7 +366,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
         if (!volume_event(*medium, s)) return r;
         continue;
       }
-      query_medium = medium;
+      if (medium_closed) query_medium = medium;
       medium = nullptr;
     }
     walk.reset();
@@ -427,7 +431,10 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       if (s < t) {
         if (!volume_event(material, s)) return r;
         // The next free path starts inside this medium.
-        if (volume_grid_) medium = &material;
+        if (volume_grid_) {
+          medium = &material;
+          medium_closed = volume_grid_->closed(hit.mesh);
+        }
         continue;
       }
     } else if (from_back && material.attenuation_per_m > 0.0 &&
@@ -534,7 +541,10 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // next free path starts inside it, so it is drawn now and tried on the
     // grid as after a volume event (a closed part: the query would have met
     // its back face and drawn this number there).
-    if (volume_grid_ && !to_front && material.scattering_per_m > 0.0) medium = &material;
+    if (volume_grid_ && !to_front && material.scattering_per_m > 0.0 && volume_grid_->closed(hit.mesh)) {
+      medium = &material;
+      medium_closed = true;
+    }
   }
 }
 

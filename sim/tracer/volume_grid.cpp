@@ -1,7 +1,9 @@
 #include "sim/tracer/volume_grid.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <unordered_map>
 
 namespace gonio::sim {
 namespace {
@@ -32,6 +34,42 @@ bool triangle_meets_box(const Vec3& centre, double half, Vec3 a, Vec3 b, Vec3 c)
 struct Triangle {
   Vec3 a, b, c;
 };
+
+// Every edge of the mesh (by its corners' positions) bounds exactly two of
+// its triangles, in opposite senses: each directed edge once, and its
+// reverse once.
+bool mesh_closed(const Mesh& m) {
+  if (m.indices.size() < 3 || m.indices.size() % 3 != 0) return false;
+  using Key = std::array<std::uint32_t, 6>;
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+      for (std::uint32_t v : k) h = (h ^ v) * 0x100000001b3ULL;
+      return static_cast<std::size_t>(h ^ (h >> 29));
+    }
+  };
+  const auto key = [&](std::uint32_t a, std::uint32_t b) {
+    const Vec3f& p = m.positions[a];
+    const Vec3f& q = m.positions[b];
+    return Key{std::bit_cast<std::uint32_t>(p.x), std::bit_cast<std::uint32_t>(p.y), std::bit_cast<std::uint32_t>(p.z),
+               std::bit_cast<std::uint32_t>(q.x), std::bit_cast<std::uint32_t>(q.y), std::bit_cast<std::uint32_t>(q.z)};
+  };
+  std::unordered_map<Key, int, Hash> directed;
+  directed.reserve(m.indices.size());
+  for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3)
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = m.indices[t + static_cast<std::size_t>(e)];
+      const std::uint32_t b = m.indices[t + static_cast<std::size_t>((e + 1) % 3)];
+      if (a >= m.positions.size() || b >= m.positions.size()) return false;
+      if (++directed[key(a, b)] > 1) return false;
+    }
+  for (const auto& [k, count] : directed) {
+    const Key reverse{k[3], k[4], k[5], k[0], k[1], k[2]};
+    const auto it = directed.find(reverse);
+    if (it == directed.end() || it->second != 1) return false;
+  }
+  return true;
+}
 
 constexpr std::uint32_t kMaxPlaneEntries = std::uint32_t{1} << 22;  // 32 bytes each
 
@@ -318,6 +356,9 @@ std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_
   }
   g.planes_ = std::move(kept);
   g.start_ = std::move(start);
+  g.closed_.assign(scene.meshes.size(), 0);
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i)
+    if (scatters(scene.meshes[i])) g.closed_[i] = mesh_closed(scene.meshes[i]) ? 1 : 0;
   return g;
 }
 

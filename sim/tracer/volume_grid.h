@@ -70,6 +70,14 @@ class VolumeGrid {
     return walk_free(p, q, w);
   }
 
+  // Whether scene mesh `mesh` is a closed scattering part: every edge
+  // (its corners' positions) bounds exactly two of its triangles, in
+  // opposite senses. Only inside such a part does a free path that meets
+  // no face end in the part for certain (sim/tracer/tracer.cpp: the walk
+  // after entering it, and the query bounded at the drawn path, are for
+  // these parts; an open part's inside ends at its hole).
+  bool closed(std::uint32_t mesh) const { return mesh < closed_.size() && closed_[mesh] != 0; }
+
   double cell_m() const { return cell_m_; }
   std::size_t cell_count() const { return start_.empty() ? 0 : start_.size() - 1; }
   std::size_t plane_entries() const { return planes_.size(); }
@@ -139,6 +147,7 @@ class VolumeGrid {
   double dims_f_[3] = {0.0, 0.0, 0.0};  // dims_ as doubles
   std::vector<std::uint32_t> start_;            // per cell, into planes_ (CSR)
   std::vector<std::array<double, 4>> planes_;   // n, d: n·x − d, n unit
+  std::vector<char> closed_;                    // per scene mesh: closed() 
 };
 
 }  // namespace gonio::sim

@@ -606,6 +606,68 @@ TEST(MaterialsValidation, VolumeGridWalksCrossNoTriangle) {
   EXPECT_GT(free, paths / 2);
 }
 
+TEST(MaterialsValidation, VolumeGridKnowsClosedParts) {
+  // The walk's shortcuts that assume a free path ends inside the part (the
+  // query bounded at the drawn path, the walk after entering) hold for
+  // closed parts only: the slab and the shell (corners shared by position)
+  // are closed; the box without one face, or with one triangle turned, is
+  // not.
+  Material m;
+  m.scattering_per_m = 1500.0;
+  const auto closed_of = [&](const Mesh& mesh) {
+    SceneDesc scene;
+    scene.materials = {m};
+    scene.meshes = {mesh};
+    const std::optional<VolumeGrid> grid = VolumeGrid::build(scene, 10.0);
+    return grid.has_value() && grid->closed(0);
+  };
+  EXPECT_TRUE(closed_of(slab(0.2, 0.2, 0.003)));
+  EXPECT_TRUE(closed_of(shell_scene(m, 0.003).meshes[0]));
+  Mesh open = box(0.1, 0.1, 0.1);
+  open.indices.erase(open.indices.begin() + 18, open.indices.begin() + 24);  // the −Y face
+  EXPECT_FALSE(closed_of(open));
+  Mesh turned = box(0.1, 0.1, 0.1);
+  std::swap(turned.indices[1], turned.indices[2]);
+  EXPECT_FALSE(closed_of(turned));
+}
+
+TEST(MaterialsValidation, VolumeGridOpenPartLetsLightOut) {
+  // A scattering box open at the bottom (μs 200 /m, mean free path 5 mm in
+  // a 100 mm box; index-matched), lit from inside: light leaves through the
+  // hole as through the faces, and no photon keeps scattering in the open
+  // beyond the part (a query bounded at the drawn path would take "no face
+  // within it" for a volume event there, until the walk's cut-off).
+  Material m;
+  m.dielectric = 1.0;
+  m.ior = 1.0;
+  m.scattering_per_m = 200.0;
+  m.scattering_g = 0.5;
+  SceneDesc scene;
+  scene.materials = {m};
+  Mesh open = box(0.1, 0.1, 0.1);
+  open.indices.erase(open.indices.begin() + 18, open.indices.begin() + 24);  // the −Y face
+  scene.meshes = {open};
+  Emitter e;
+  e.flux_lm = 1000.0;
+  e.position = {0.0, 0.0, 0.0};
+  scene.emitters = {e};
+  SimulationSettings s;
+  s.photons_per_iteration = 4000;
+  s.iterations = 1;
+  s.face_size = 8;
+  s.seed = 9;
+  s.threads = 2;
+  s.max_bounces = 100000;
+  auto run = simulate(scene, s);
+  ASSERT_TRUE(run.ok()) << run.error().message;
+  const Ledger l = run->ledger();
+  EXPECT_TRUE(l.photons_close());
+  EXPECT_EQ(l.cutoff.photons, 0u);
+  EXPECT_EQ(l.absorbed.photons, 0u);
+  EXPECT_EQ(l.escaped.photons, 4000u);
+  EXPECT_LT(static_cast<double>(run->stats().volume_events) / 4000.0, 1000.0);
+}
+
 TEST(MaterialsValidation, VolumeGridDiagonalNeighboursAreNotFree) {
   // A 100 mm scattering box (mean free path 1 mm: cells of 10 mm, their
   // walls at ±5 mm, ±15 mm, …) and a small triangle at x = 5.7 mm, y 4–4.9
