@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -323,6 +324,10 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   // it is drawn and decided without a ray query. Its draw is the one the
   // query's branch below would make next (`drawn_s`).
   const Material* medium = nullptr;
+  // Whether `medium` is a closed part's (VolumeGrid::closed): a free path
+  // there that meets no face ends inside it, so an unproven path's query
+  // asks only as far as the drawn path.
+  bool medium_closed = false;
   double drawn_s = -1.0;
   // A volume event `s` along the path inside `m` (sim/bsdfs/volume.h):
   // absorbed (chance μa/μt, booked at the part), cut off past
@@ -348,26 +353,46 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     direction = scattered;
     return true;
   };
+  // The grid's memory along the walk (VolumeGrid::Walk): valid while the
+  // photon moves by proven free paths only.
+  VolumeGrid::Walk walk;
   for (;;) {
+    const Material* query_medium = nullptr;  // a closed part's, for a bounded query
     if (medium) {
       const double mu_t = medium->scattering_per_m + medium->attenuation_per_m;
       drawn_s = standard_exponential(rng) / mu_t;
-      if (volume_grid_->segment_free(origin, origin + drawn_s * direction)) {
+      if (volume_grid_->segment_free(origin, origin + drawn_s * direction, walk)) {
         const double s = drawn_s;
         drawn_s = -1.0;
         if (!volume_event(*medium, s)) return r;
         continue;
       }
+      if (medium_closed) query_medium = medium;
       medium = nullptr;
     }
+    walk.reset();
     ray = ray_query(origin, direction);
     // A free path drawn for the grid and not proven free there: the volume
-    // branch below takes it (any other hit leaves it unused).
+    // branch below takes it (any other hit leaves it unused). The query
+    // then only asks for a face within it: nothing there is the volume
+    // event at drawn_s (a face beyond it would have been passed by), found
+    // without traversing the rest of the part.
     const double pre_drawn_s = drawn_s;
     drawn_s = -1.0;
+    // (The float above the drawn path's nearest, so that a face at
+    // t ≤ drawn_s is found: the next float up by its bits, of the path's
+    // absolute value, which is finite and may be zero.)
+    if (query_medium)
+      ray.t_far =
+          std::bit_cast<float>(std::bit_cast<std::uint32_t>(std::abs(static_cast<float>(pre_drawn_s))) + 1u);
     if (books) ++books->rays;
     if (record) record->push_back(ray);
     if (!embree_->intersect(ray, &hit)) {
+      if (query_medium) {
+        if (!volume_event(*query_medium, pre_drawn_s)) return r;
+        medium = query_medium;
+        continue;
+      }
       r.fate = Fate::Escaped;
       r.direction = direction;
       r.origin = origin;
@@ -407,7 +432,10 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       if (s < t) {
         if (!volume_event(material, s)) return r;
         // The next free path starts inside this medium.
-        if (volume_grid_) medium = &material;
+        if (volume_grid_) {
+          medium = &material;
+          medium_closed = volume_grid_->closed(hit.mesh);
+        }
         continue;
       }
     } else if (from_back && material.attenuation_per_m > 0.0 &&
@@ -507,8 +535,17 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     const Vec3 p = origin + t * direction;
     const double scale = max_abs(p) + t;
     const double off = offset_m(scale);
-    origin = p - direction * (0x1.0p-20 * scale) + (dot(s.direction, ng) > 0.0 ? off : -off) * ng;
+    const bool to_front = dot(s.direction, ng) > 0.0;
+    origin = p - direction * (0x1.0p-20 * scale) + (to_front ? off : -off) * ng;
     direction = s.direction;
+    // Into a scattering part (or back into it, reflected at its face): the
+    // next free path starts inside it, so it is drawn now and tried on the
+    // grid as after a volume event (a closed part: the query would have met
+    // its back face and drawn this number there).
+    if (volume_grid_ && !to_front && material.scattering_per_m > 0.0 && volume_grid_->closed(hit.mesh)) {
+      medium = &material;
+      medium_closed = true;
+    }
   }
 }
 

@@ -1,7 +1,9 @@
 #include "sim/tracer/volume_grid.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <unordered_map>
 
 namespace gonio::sim {
 namespace {
@@ -33,9 +35,163 @@ struct Triangle {
   Vec3 a, b, c;
 };
 
+// Every edge of the mesh (by its corners' positions) bounds exactly two of
+// its triangles, in opposite senses: each directed edge once, and its
+// reverse once.
+bool mesh_closed(const Mesh& m) {
+  if (m.indices.size() < 3 || m.indices.size() % 3 != 0) return false;
+  using Key = std::array<std::uint32_t, 6>;
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+      for (std::uint32_t v : k) h = (h ^ v) * 0x100000001b3ULL;
+      return static_cast<std::size_t>(h ^ (h >> 29));
+    }
+  };
+  const auto key = [&](std::uint32_t a, std::uint32_t b) {
+    const Vec3f& p = m.positions[a];
+    const Vec3f& q = m.positions[b];
+    return Key{std::bit_cast<std::uint32_t>(p.x), std::bit_cast<std::uint32_t>(p.y), std::bit_cast<std::uint32_t>(p.z),
+               std::bit_cast<std::uint32_t>(q.x), std::bit_cast<std::uint32_t>(q.y), std::bit_cast<std::uint32_t>(q.z)};
+  };
+  std::unordered_map<Key, int, Hash> directed;
+  directed.reserve(m.indices.size());
+  for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3)
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = m.indices[t + static_cast<std::size_t>(e)];
+      const std::uint32_t b = m.indices[t + static_cast<std::size_t>((e + 1) % 3)];
+      if (a >= m.positions.size() || b >= m.positions.size()) return false;
+      if (++directed[key(a, b)] > 1) return false;
+    }
+  for (const auto& [k, count] : directed) {
+    const Key reverse{k[3], k[4], k[5], k[0], k[1], k[2]};
+    const auto it = directed.find(reverse);
+    if (it == directed.end() || it->second != 1) return false;
+  }
+  return true;
+}
+
 constexpr std::uint32_t kMaxPlaneEntries = std::uint32_t{1} << 22;  // 32 bytes each
 
 }  // namespace
+
+namespace {
+
+constexpr std::uint32_t kMaxSides = 64;  // planes a cell may list for Walk::below
+
+}  // namespace
+
+bool VolumeGrid::walk_free(const Vec3& p, const Vec3& q, Walk& w) const {
+  if (w.cell < 0) {
+    // No sides kept (a reset walk, or a crowded cell): the ball and sides
+    // at p first, which may hold q already.
+    double wall_p = 0.0;
+    const std::int64_t c = locate(p, &wall_p);
+    if (c < 0 || !ball_at(p, c, wall_p, w)) {
+      // Outside the grid, within a margin of a plane, or too many planes
+      // to keep their sides: the two ends' scan.
+      const bool free = segment_free(p, q);
+      w.reset();
+      return free;
+    }
+    const Vec3 d = q - w.centre;
+    if (dot(d, d) < w.radius2) return true;
+  }
+  double wall_q = 0.0;
+  const std::int64_t c = locate(q, &wall_q);
+  if (c < 0) {
+    w.reset();
+    return false;
+  }
+  if (c == w.cell) return sides_free(q, wall_q, w);
+  // Ends in two cells sharing a face (together one box, which holds the
+  // segment): q against w.cell's planes on the centre's sides (p's), then
+  // both ends against c's planes, whose sides at q become w's.
+  const std::int64_t from = w.cell;
+  const std::int64_t nx = dims_[0], nxy = dims_[0] * dims_[1];
+  const std::int64_t steps = std::abs(from % nx - c % nx) + std::abs((from / nx) % dims_[1] - (c / nx) % dims_[1]) +
+                             std::abs(from / nxy - c / nxy);
+  if (steps != 1) {
+    w.reset();
+    return false;
+  }
+  const auto f = static_cast<std::size_t>(from);
+  for (std::uint32_t k = 0; k < start_[f + 1] - start_[f]; ++k) {
+    const std::array<double, 4>& pl = planes_[start_[f] + k];
+    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    if (!((((w.below >> k) & 1u) ? -sq : sq) > plane_margin_)) {
+      w.reset();
+      return false;
+    }
+  }
+  const auto cell = static_cast<std::size_t>(c);
+  const std::uint32_t first = start_[cell];
+  const std::uint32_t n = start_[cell + 1] - first;
+  double near = wall_q - margin_ + plane_margin_;
+  std::uint64_t below = 0;
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const std::array<double, 4>& pl = planes_[first + k];
+    const double sp = pl[0] * p.x + pl[1] * p.y + pl[2] * p.z - pl[3];
+    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    if (!((sp > plane_margin_ && sq > plane_margin_) || (sp < -plane_margin_ && sq < -plane_margin_))) {
+      w.reset();
+      return false;
+    }
+    if (sq < 0.0 && k < kMaxSides) below |= std::uint64_t{1} << k;
+    near = std::min(near, std::abs(sq));
+  }
+  const double r = near - plane_margin_;
+  w.centre = q;
+  w.radius2 = r * r;
+  w.cell = n <= kMaxSides ? c : -1;
+  w.below = below;
+  return true;
+}
+
+bool VolumeGrid::sides_free(const Vec3& q, double wall, Walk& w) const {
+  const auto cell = static_cast<std::size_t>(w.cell);
+  const std::uint32_t first = start_[cell];
+  const std::uint32_t n = start_[cell + 1] - first;
+  double near = wall - margin_ + plane_margin_;
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const std::array<double, 4>& pl = planes_[first + k];
+    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    const double away = ((w.below >> k) & 1u) ? -sq : sq;
+    if (!(away > plane_margin_)) {
+      w.reset();
+      return false;
+    }
+    near = std::min(near, away);
+  }
+  const double r = near - plane_margin_;
+  w.centre = q;
+  w.radius2 = r * r;
+  return true;
+}
+
+bool VolumeGrid::ball_at(const Vec3& q, std::int64_t c, double wall, Walk& w) const {
+  const auto cell = static_cast<std::size_t>(c);
+  const std::uint32_t first = start_[cell];
+  const std::uint32_t n = start_[cell + 1] - first;
+  double near = wall - margin_ + plane_margin_;
+  std::uint64_t below = 0;
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const std::array<double, 4>& pl = planes_[first + k];
+    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    if (sq < 0.0 && k < kMaxSides) below |= std::uint64_t{1} << k;
+    near = std::min(near, std::abs(sq));
+  }
+  const double r = near - plane_margin_;
+  if (!(r > 0.0)) {
+    w.reset();
+    return false;
+  }
+  w.centre = q;
+  w.radius2 = r * r;
+  w.cell = n <= kMaxSides ? c : -1;
+  w.below = below;
+  return w.cell >= 0;
+}
 
 bool VolumeGrid::across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const {
   const std::int64_t nx = dims_[0], nxy = dims_[0] * dims_[1];
@@ -83,6 +239,7 @@ std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_
   g.dims_[0] = static_cast<std::int64_t>(std::floor(extent.x / g.cell_m_)) + 2;
   g.dims_[1] = static_cast<std::int64_t>(std::floor(extent.y / g.cell_m_)) + 2;
   g.dims_[2] = static_cast<std::int64_t>(std::floor(extent.z / g.cell_m_)) + 2;
+  for (int a = 0; a < 3; ++a) g.dims_f_[a] = static_cast<double>(g.dims_[a]);
   const auto cells = static_cast<std::size_t>(g.dims_[0] * g.dims_[1] * g.dims_[2]);
 
   // Every triangle of the scene as placed, with its plane.
@@ -199,6 +356,9 @@ std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_
   }
   g.planes_ = std::move(kept);
   g.start_ = std::move(start);
+  g.closed_.assign(scene.meshes.size(), 0);
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i)
+    if (scatters(scene.meshes[i])) g.closed_[i] = mesh_closed(scene.meshes[i]) ? 1 : 0;
   return g;
 }
 
