@@ -33,7 +33,6 @@
 #include "sim/bsdfs/library.h"
 #include "sim/bsdfs/slab.h"
 #include "sim/detectors/resample.h"
-#include "sim/shapes.h"
 #include "sim/simulation.h"
 #include "sim/tracer/volume_grid.h"
 
@@ -122,33 +121,14 @@ int main(int argc, char** argv) {
   std::size_t shade = a.meshes.size();
   for (std::size_t m = 0; m < a.meshes.size(); ++m)
     if (a.meshes[m].name.find("shade") != std::string::npos) shade = m;
-  if (shade == a.meshes.size()) {
+  // (b): the shade as a closed shell, the profile offset 3 mm inwards.
+  const std::optional<sim::SceneDesc> with_shell = samples::bell_with_volume_shade(a);
+  if (!with_shell) {
     std::fprintf(stderr, "no shade mesh in %s\n", path.c_str());
     return 1;
   }
+  const sim::SceneDesc& b = *with_shell;
   const sim::MaterialPreset& opal = *sim::find_preset("opal PMMA 3 mm");
-
-  // (b): the shade as a closed shell, the profile offset 3 mm inwards.
-  sim::SceneDesc b = a;
-  {
-    const std::vector<sim::ProfilePoint> outer = samples::bell_shade_profile();
-    std::vector<sim::ProfilePoint> loop = outer;
-    for (std::size_t k = outer.size(); k-- > 0;) {
-      const sim::ProfilePoint& p0 = outer[k == 0 ? 0 : k - 1];
-      const sim::ProfilePoint& p1 = outer[k + 1 < outer.size() ? k + 1 : k];
-      const double dr = p1.r_m - p0.r_m, dy = p1.y_m - p0.y_m, len = std::hypot(dr, dy);
-      // The outward normal is (dy, −dr)/len: step against it.
-      loop.push_back({outer[k].r_m - opal.thickness_m * dy / len, outer[k].y_m + opal.thickness_m * dr / len});
-    }
-    sim::LatheOptions o;
-    o.segments = 96;
-    o.closed_profile = true;
-    sim::Mesh shell = sim::lathe(loop, o);
-    shell.name = "shade (3 mm shell)";
-    shell.material = static_cast<std::uint32_t>(b.materials.size());
-    b.materials.push_back(opal.material);
-    b.meshes[shade] = std::move(shell);
-  }
   {
     // The volume walk's grid (sim/tracer/volume_grid.h), built in the
     // tracer's setup: its size and time.

@@ -24,7 +24,9 @@
 //          [--connections M (16)] [--target PCT (1)] [--max-log2 L (25)]
 //          [--sample NAME]...   (NAME: a sample, opal-sphere, lambert-disc or
 //          led-housing: the peer eulumdat-goniosim's LED in a white tube,
-//          samples/peer_scenes.h; not among the defaults)
+//          samples/peer_scenes.h; or bell-volume: the bell with its shade a
+//          closed 3 mm shell of "opal PMMA 3 mm", the materials study's (b);
+//          neither among the defaults)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -34,6 +36,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -179,7 +182,19 @@ int main(int argc, char** argv) {
     sim::SceneDesc closed;
     sim::FarField exact(face_size);
     const bool is_closed = closed_form(name, face_size, &closed, &exact);
-    auto scene = is_closed ? Result<sim::SceneDesc>(closed) : io::load_gltf((tmp / name / (name + ".gltf")).string(), nullptr);
+    // "bell-volume": the bell with its shade a closed 3 mm shell of "opal
+    // PMMA 3 mm" (the materials study's (b), samples::bell_with_volume_shade).
+    const bool volume_bell = name == "bell-volume";
+    const std::string file = volume_bell ? "bell" : name;
+    auto scene = is_closed ? Result<sim::SceneDesc>(closed) : io::load_gltf((tmp / file / (file + ".gltf")).string(), nullptr);
+    if (volume_bell && scene.ok()) {
+      std::optional<sim::SceneDesc> shell = samples::bell_with_volume_shade(*scene);
+      if (!shell) {
+        std::fprintf(stderr, "no shade mesh in the bell sample\n");
+        return 1;
+      }
+      scene = std::move(*shell);
+    }
     if (!scene.ok()) {
       std::fprintf(stderr, "%s\n", scene.error().message.c_str());
       return 1;

@@ -13,6 +13,7 @@
 #include "io/photometric/ies.h"
 #include "samples/gltf_writer.h"
 #include "sim/affine.h"
+#include "sim/bsdfs/library.h"
 #include "sim/shapes.h"
 
 namespace gonio::samples {
@@ -256,6 +257,33 @@ Status write_samples(const std::string& dir) {
       if (Status st = io::write_file_atomic(folder + "/" + f.name, f.bytes); !st.ok()) return st;
   }
   return Ok{};
+}
+
+std::optional<sim::SceneDesc> bell_with_volume_shade(const sim::SceneDesc& bell) {
+  std::size_t shade = bell.meshes.size();
+  for (std::size_t m = 0; m < bell.meshes.size(); ++m)
+    if (bell.meshes[m].name.find("shade") != std::string::npos) shade = m;
+  if (shade == bell.meshes.size()) return std::nullopt;
+  const sim::MaterialPreset& opal = *sim::find_preset("opal PMMA 3 mm");
+  const std::vector<sim::ProfilePoint> outer = bell_shade_profile();
+  std::vector<sim::ProfilePoint> loop = outer;
+  for (std::size_t k = outer.size(); k-- > 0;) {
+    const sim::ProfilePoint& p0 = outer[k == 0 ? 0 : k - 1];
+    const sim::ProfilePoint& p1 = outer[k + 1 < outer.size() ? k + 1 : k];
+    const double dr = p1.r_m - p0.r_m, dy = p1.y_m - p0.y_m, len = std::hypot(dr, dy);
+    // The outward normal is (dy, −dr)/len: step against it.
+    loop.push_back({outer[k].r_m - opal.thickness_m * dy / len, outer[k].y_m + opal.thickness_m * dr / len});
+  }
+  sim::LatheOptions o;
+  o.segments = 96;
+  o.closed_profile = true;
+  sim::SceneDesc b = bell;
+  sim::Mesh shell = sim::lathe(loop, o);
+  shell.name = "shade (3 mm shell)";
+  shell.material = static_cast<std::uint32_t>(b.materials.size());
+  b.materials.push_back(opal.material);
+  b.meshes[shade] = std::move(shell);
+  return b;
 }
 
 }  // namespace gonio::samples
