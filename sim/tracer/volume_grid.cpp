@@ -118,7 +118,7 @@ bool VolumeGrid::walk_free(const Vec3& p, const Vec3& q, Walk& w) const {
   const auto f = static_cast<std::size_t>(from);
   for (std::uint32_t k = 0; k < start_[f + 1] - start_[f]; ++k) {
     const std::array<double, 4>& pl = planes_[start_[f] + k];
-    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    const double sq = plane_offset(pl, q);
     if (!((((w.below >> k) & 1u) ? -sq : sq) > plane_margin_)) {
       w.reset();
       return false;
@@ -131,8 +131,7 @@ bool VolumeGrid::walk_free(const Vec3& p, const Vec3& q, Walk& w) const {
   std::uint64_t below = 0;
   for (std::uint32_t k = 0; k < n; ++k) {
     const std::array<double, 4>& pl = planes_[first + k];
-    const double sp = pl[0] * p.x + pl[1] * p.y + pl[2] * p.z - pl[3];
-    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    const double sp = plane_offset(pl, p), sq = plane_offset(pl, q);
     if (!((sp > plane_margin_ && sq > plane_margin_) || (sp < -plane_margin_ && sq < -plane_margin_))) {
       w.reset();
       return false;
@@ -155,7 +154,7 @@ bool VolumeGrid::sides_free(const Vec3& q, double wall, Walk& w) const {
   double near = wall - margin_ + plane_margin_;
   for (std::uint32_t k = 0; k < n; ++k) {
     const std::array<double, 4>& pl = planes_[first + k];
-    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    const double sq = plane_offset(pl, q);
     const double away = ((w.below >> k) & 1u) ? -sq : sq;
     if (!(away > plane_margin_)) {
       w.reset();
@@ -177,7 +176,7 @@ bool VolumeGrid::ball_at(const Vec3& q, std::int64_t c, double wall, Walk& w) co
   std::uint64_t below = 0;
   for (std::uint32_t k = 0; k < n; ++k) {
     const std::array<double, 4>& pl = planes_[first + k];
-    const double sq = pl[0] * q.x + pl[1] * q.y + pl[2] * q.z - pl[3];
+    const double sq = plane_offset(pl, q);
     if (sq < 0.0 && k < kMaxSides) below |= std::uint64_t{1} << k;
     near = std::min(near, std::abs(sq));
   }

@@ -83,12 +83,15 @@ class VolumeGrid {
   std::size_t plane_entries() const { return planes_.size(); }
 
  private:
+  // The signed distance of p from the plane n·x = d (n unit).
+  static double plane_offset(const std::array<double, 4>& n, const Vec3& p) {
+    return n[0] * p.x + n[1] * p.y + n[2] * p.z - n[3];
+  }
   // p and q on one side of every plane listed in `cell`, beyond the margin.
   bool planes_free(const Vec3& p, const Vec3& q, std::size_t cell) const {
     for (std::uint32_t k = start_[cell]; k < start_[cell + 1]; ++k) {
       const std::array<double, 4>& n = planes_[k];
-      const double sp = n[0] * p.x + n[1] * p.y + n[2] * p.z - n[3];
-      const double sq = n[0] * q.x + n[1] * q.y + n[2] * q.z - n[3];
+      const double sp = plane_offset(n, p), sq = plane_offset(n, q);
       if (!((sp > plane_margin_ && sq > plane_margin_) || (sp < -plane_margin_ && sq < -plane_margin_))) return false;
     }
     return true;

@@ -483,52 +483,6 @@ TEST(MaterialsValidation, VolumeGridWhiteFurnace) {
   EXPECT_LT(run->stats().rays, hits + l.escaped.photons + run->stats().volume_events / 2);
 }
 
-TEST(MaterialsValidation, VolumeGridSegmentsCrossNoTriangle) {
-  // Random short segments around the shell: wherever the grid says a
-  // segment is free, no triangle meets it (an exact segment–triangle test);
-  // and it says so for most segments inside the wall.
-  Material m;
-  m.scattering_per_m = 1500.0;
-  const SceneDesc scene = shell_scene(m, 0.003);
-  const std::optional<VolumeGrid> grid = VolumeGrid::build(scene, 16.0);
-  ASSERT_TRUE(grid.has_value());
-  const Mesh& mesh = scene.meshes[0];
-  PhotonRandom rng(3, 0);
-  int free = 0, checked = 0;
-  for (int k = 0; k < 20000; ++k) {
-    // Near a random point of a random triangle, steps of about a mean free path.
-    const std::size_t t = static_cast<std::size_t>(rng.uniform() * static_cast<double>(mesh.triangle_count()));
-    const Vec3 a = to_double(mesh.positions[mesh.indices[3 * t]]), b = to_double(mesh.positions[mesh.indices[3 * t + 1]]),
-               c = to_double(mesh.positions[mesh.indices[3 * t + 2]]);
-    double u = rng.uniform(), v = rng.uniform();
-    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
-    const Vec3 on = a + u * (b - a) + v * (c - a);
-    const Vec3 p = on + (0.003 * rng.uniform()) * sample_uniform_sphere(rng);
-    const Vec3 q = p + (-std::log(rng.uniform_open0()) / 1500.0) * sample_uniform_sphere(rng);
-    if (!grid->segment_free(p, q)) continue;
-    ++free;
-    for (std::size_t j = 0; j < mesh.triangle_count(); ++j) {
-      const Vec3 a2 = to_double(mesh.positions[mesh.indices[3 * j]]),
-                 b2 = to_double(mesh.positions[mesh.indices[3 * j + 1]]),
-                 c2 = to_double(mesh.positions[mesh.indices[3 * j + 2]]);
-      // Möller–Trumbore on the segment p → q (t in [0, 1]).
-      const Vec3 dir = q - p, e1 = b2 - a2, e2 = c2 - a2, h = cross(dir, e2);
-      const double det = dot(e1, h);
-      if (std::abs(det) < 1e-300) continue;
-      const Vec3 s = p - a2;
-      const double bu = dot(s, h) / det;
-      const Vec3 qv = cross(s, e1);
-      const double bv = dot(dir, qv) / det, tt = dot(e2, qv) / det;
-      ++checked;
-      ASSERT_FALSE(bu >= 0.0 && bv >= 0.0 && bu + bv <= 1.0 && tt >= 0.0 && tt <= 1.0)
-          << "segment " << k << " crosses triangle " << j;
-    }
-  }
-  std::printf("  %d of 20000 segments free by the grid (%.0f cells, %zu plane entries)\n", free,
-              static_cast<double>(grid->cell_count()), grid->plane_entries());
-  EXPECT_GT(free, 5000);
-}
-
 // Whether the segment p → q meets a triangle of `mesh` (Möller–Trumbore in
 // doubles, t in [0, 1], edges and ends included).
 bool segment_meets_mesh(const Mesh& mesh, const Vec3& p, const Vec3& q) {
@@ -545,6 +499,37 @@ bool segment_meets_mesh(const Mesh& mesh, const Vec3& p, const Vec3& q) {
     if (bu >= 0.0 && bv >= 0.0 && bu + bv <= 1.0 && tt >= 0.0 && tt <= 1.0) return true;
   }
   return false;
+}
+
+TEST(MaterialsValidation, VolumeGridSegmentsCrossNoTriangle) {
+  // Random short segments around the shell: wherever the grid says a
+  // segment is free, no triangle meets it (an exact segment–triangle test);
+  // and it says so for most segments inside the wall.
+  Material m;
+  m.scattering_per_m = 1500.0;
+  const SceneDesc scene = shell_scene(m, 0.003);
+  const std::optional<VolumeGrid> grid = VolumeGrid::build(scene, 16.0);
+  ASSERT_TRUE(grid.has_value());
+  const Mesh& mesh = scene.meshes[0];
+  PhotonRandom rng(3, 0);
+  int free = 0;
+  for (int k = 0; k < 20000; ++k) {
+    // Near a random point of a random triangle, steps of about a mean free path.
+    const std::size_t t = static_cast<std::size_t>(rng.uniform() * static_cast<double>(mesh.triangle_count()));
+    const Vec3 a = to_double(mesh.positions[mesh.indices[3 * t]]), b = to_double(mesh.positions[mesh.indices[3 * t + 1]]),
+               c = to_double(mesh.positions[mesh.indices[3 * t + 2]]);
+    double u = rng.uniform(), v = rng.uniform();
+    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+    const Vec3 on = a + u * (b - a) + v * (c - a);
+    const Vec3 p = on + (0.003 * rng.uniform()) * sample_uniform_sphere(rng);
+    const Vec3 q = p + (-std::log(rng.uniform_open0()) / 1500.0) * sample_uniform_sphere(rng);
+    if (!grid->segment_free(p, q)) continue;
+    ++free;
+    ASSERT_FALSE(segment_meets_mesh(mesh, p, q)) << "segment " << k << " crosses a triangle";
+  }
+  std::printf("  %d of 20000 segments free by the grid (%.0f cells, %zu plane entries)\n", free,
+              static_cast<double>(grid->cell_count()), grid->plane_entries());
+  EXPECT_GT(free, 5000);
 }
 
 TEST(MaterialsValidation, VolumeGridWalksCrossNoTriangle) {
