@@ -94,11 +94,21 @@ std::string Ranks::name_of(int rank) const {
 }
 
 void Ranks::sum(std::vector<std::uint64_t>& values) const {
-  if (size_ == 1 || values.empty()) return;
+  sum_in_pieces(*this, values, kMaxBytesPerMpiCall / sizeof(std::uint64_t));
+}
+
+void sum_in_pieces(const Ranks& ranks, std::vector<std::uint64_t>& values,
+                   std::size_t max_values_per_call) {
+  GONIO_CHECK(max_values_per_call >= 1);
+  if (ranks.size() == 1 || values.empty()) return;
 #ifdef GONIO_WITH_MPI
-  GONIO_CHECK(values.size() <= static_cast<std::size_t>(std::numeric_limits<int>::max()));
-  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_UINT64_T, MPI_SUM,
-                MPI_COMM_WORLD);
+  const std::size_t piece =
+      std::min(max_values_per_call, static_cast<std::size_t>(std::numeric_limits<int>::max()));
+  for (std::size_t begin = 0; begin < values.size(); begin += piece) {
+    const std::size_t n = std::min(piece, values.size() - begin);
+    MPI_Allreduce(MPI_IN_PLACE, values.data() + begin, static_cast<int>(n), MPI_UINT64_T, MPI_SUM,
+                  MPI_COMM_WORLD);
+  }
 #endif
 }
 
@@ -119,26 +129,48 @@ std::vector<double> Ranks::gather(double value) const {
   return all;
 }
 
-std::vector<std::string> gather_bytes(const Ranks& ranks, const std::string& bytes) {
+std::vector<std::string> gather_bytes(const Ranks& ranks, const std::string& bytes,
+                                      std::size_t max_bytes_per_call) {
+  GONIO_CHECK(max_bytes_per_call >= 1);
   std::vector<std::string> all(static_cast<std::size_t>(ranks.size()));
-  all[static_cast<std::size_t>(ranks.rank())] = bytes;
-  if (ranks.size() == 1) return all;
-#ifdef GONIO_WITH_MPI
-  GONIO_CHECK(bytes.size() <= static_cast<std::size_t>(std::numeric_limits<int>::max()));
-  const std::vector<std::uint64_t> sizes = ranks.gather(static_cast<std::uint64_t>(bytes.size()));
-  std::vector<int> counts, offsets;
-  std::uint64_t total = 0;
-  for (std::uint64_t n : sizes) {
-    GONIO_CHECK(total + n <= static_cast<std::uint64_t>(std::numeric_limits<int>::max()));
-    counts.push_back(static_cast<int>(n));
-    offsets.push_back(static_cast<int>(total));
-    total += n;
+  if (ranks.size() == 1) {
+    all[0] = bytes;
+    return all;
   }
-  std::string joined(static_cast<std::size_t>(total), '\0');
-  MPI_Allgatherv(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, joined.data(), counts.data(),
-                 offsets.data(), MPI_BYTE, MPI_COMM_WORLD);
-  for (std::size_t r = 0; r < all.size(); ++r)
-    all[r] = joined.substr(static_cast<std::size_t>(offsets[r]), static_cast<std::size_t>(counts[r]));
+#ifdef GONIO_WITH_MPI
+  const std::vector<std::uint64_t> sizes = ranks.gather(static_cast<std::uint64_t>(bytes.size()));
+  const auto n_ranks = static_cast<std::size_t>(ranks.size());
+  // Each round moves at most `share` bytes of each rank's payload, so at
+  // most max_bytes_per_call (and under 2³¹) bytes in all: its counts and
+  // displacements fit an int.
+  const std::size_t call =
+      std::min(max_bytes_per_call, static_cast<std::size_t>(std::numeric_limits<int>::max()));
+  const std::size_t share = std::max<std::size_t>(1, call / n_ranks);
+  std::uint64_t largest = 0;
+  for (std::size_t r = 0; r < n_ranks; ++r) {
+    all[r].reserve(static_cast<std::size_t>(sizes[r]));
+    largest = std::max(largest, sizes[r]);
+  }
+  std::vector<int> counts(n_ranks), offsets(n_ranks);
+  std::string round;
+  for (std::uint64_t begin = 0; begin < largest; begin += share) {
+    std::size_t total = 0;
+    for (std::size_t r = 0; r < n_ranks; ++r) {
+      const std::uint64_t n = sizes[r] > begin ? std::min<std::uint64_t>(share, sizes[r] - begin) : 0;
+      counts[r] = static_cast<int>(n);
+      offsets[r] = static_cast<int>(total);
+      total += static_cast<std::size_t>(n);
+    }
+    round.assign(total, '\0');
+    const std::size_t mine = static_cast<std::size_t>(ranks.rank());
+    MPI_Allgatherv(bytes.data() + std::min<std::size_t>(static_cast<std::size_t>(begin), bytes.size()),
+                   counts[mine], MPI_BYTE, round.data(), counts.data(), offsets.data(), MPI_BYTE,
+                   MPI_COMM_WORLD);
+    for (std::size_t r = 0; r < n_ranks; ++r)
+      all[r].append(round, static_cast<std::size_t>(offsets[r]), static_cast<std::size_t>(counts[r]));
+  }
+#else
+  all[static_cast<std::size_t>(ranks.rank())] = bytes;
 #endif
   return all;
 }

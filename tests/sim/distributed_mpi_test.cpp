@@ -12,9 +12,11 @@
 #include <cstdio>
 #include <algorithm>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "sim/distributed.h"
+#include "sim/distributed_gather.h"
 #include "sim/simulation.h"
 #include "tests/sim/scenes.h"
 
@@ -198,6 +200,53 @@ TEST(DistributedSimulation, SobolSamplerGivesTheBytesOfOneProcess) {
   SimulationSettings s = settings(2, 1, 1, false);
   s.sampler = SamplerKind::Sobol;
   expect_uneven_iterations_alike(scene, s);
+}
+
+// gather_bytes in rounds of a few bytes (as a payload beyond 2³¹ bytes
+// travels in rounds of kMaxBytesPerMpiCall): the bytes of one call, and of
+// the payloads themselves — uneven sizes, an empty rank, sizes that are and
+// are not a multiple of a rank's share of a round, zero bytes inside.
+std::string payload(int rank, int pattern) {
+  static const std::size_t sizes[3][5] = {{23, 0, 50, 21, 1}, {0, 21, 1, 6, 0}, {0, 0, 0, 0, 0}};
+  const std::size_t n = sizes[pattern][rank % 5];
+  std::string bytes(n, '\0');
+  for (std::size_t i = 0; i < n; ++i)
+    bytes[i] = static_cast<char>((i * 37 + static_cast<std::size_t>(rank) * 101 + 3) % 256);
+  return bytes;
+}
+
+TEST(DistributedGather, PiecesOfAnySizeGiveTheBytesOfOneCall) {
+  for (int pattern = 0; pattern < 3; ++pattern) {
+    const std::string mine = payload(g_ranks->rank(), pattern);
+    const std::vector<std::string> whole = gather_bytes(*g_ranks, mine);
+    EXPECT_EQ(whole.size(), static_cast<std::size_t>(g_ranks->size()));
+    for (int r = 0; r < std::min(g_ranks->size(), static_cast<int>(whole.size())); ++r)
+      EXPECT_EQ(whole[static_cast<std::size_t>(r)], payload(r, pattern)) << "pattern " << pattern << ", rank " << r;
+    for (std::size_t per_call : {1u, 2u, 3u, 7u, 8u, 21u, 64u, 1000u}) {
+      const std::vector<std::string> pieces = gather_bytes(*g_ranks, mine, per_call);
+      EXPECT_EQ(pieces, whole) << "pattern " << pattern << ", at most " << per_call << " bytes a call";
+    }
+  }
+}
+
+TEST(DistributedGather, SumsInPiecesOfAnySizeGiveTheSumsOfOneCall) {
+  const std::size_t n = 29;
+  std::vector<std::uint64_t> expected(n, 0);
+  for (int r = 0; r < g_ranks->size(); ++r)
+    for (std::size_t i = 0; i < n; ++i) expected[i] += (i + 1) * 1000003u + static_cast<std::uint64_t>(r) * 7919u;
+  const auto mine = [&] {
+    std::vector<std::uint64_t> v(n);
+    for (std::size_t i = 0; i < n; ++i) v[i] = (i + 1) * 1000003u + static_cast<std::uint64_t>(g_ranks->rank()) * 7919u;
+    return v;
+  };
+  std::vector<std::uint64_t> whole = mine();
+  g_ranks->sum(whole);
+  EXPECT_EQ(whole, expected);
+  for (std::size_t per_call : {1u, 4u, 7u, 28u, 29u, 100u}) {
+    std::vector<std::uint64_t> pieces = mine();
+    sum_in_pieces(*g_ranks, pieces, per_call);
+    EXPECT_EQ(pieces, expected) << "at most " << per_call << " values a call";
+  }
 }
 
 }  // namespace
