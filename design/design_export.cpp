@@ -96,7 +96,11 @@ Status write_design_gltf(const Design& design, const std::string& gltf_path, con
     if (!curve.ok()) return make_error(design.path, curve.error().message);
     Result<io::CadSurface> meshed = r.facets ? revolve_faceted(*curve, *r.facets, tessellation, std::size_t{16'000'000})
                                              : revolve(*curve, tessellation, std::size_t{16'000'000});
-    if (!meshed.ok()) return make_error(design.path, r.name + ": " + meshed.error().message);
+    if (!meshed.ok()) {
+      Error e = make_error(design.path, r.name + ": " + meshed.error().message);
+      e.where.line = meshed.error().where.line;  // the facet entry's (a radius too small), or none
+      return e;
+    }
     const io::CadSurface& s = *meshed;
     sim::Mesh mesh;
     // Z-up (the design) to glTF's Y-up: (x, y, z) → (x, z, −y).
@@ -169,7 +173,7 @@ Result<StepExportInfo> write_design_step(const Design& design, const std::string
       Result<io::StepRevolvedPart> faceted = faceted_step_part(r, *curve);
       if (!faceted.ok()) {
         Error e = faceted.error();
-        e.where = SourceLoc{design.path, r.line, 0};
+        e.where = SourceLoc{design.path, e.where.line > 0 ? e.where.line : r.line, 0};
         e.message = "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " + e.message;
         return e;
       }

@@ -356,9 +356,9 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
     Result<io::CadSurface> meshed =
         r.facets ? revolve_faceted(*curve, *r.facets, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m)
                  : revolve(*curve, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m);
-    if (!meshed.ok())
-      return fail(design.path, r.line, "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " +
-                                           meshed.error().message);
+    if (!meshed.ok())  // at the facet entry's line where it names one (a radius too small)
+      return fail(design.path, meshed.error().where.line > 0 ? meshed.error().where.line : r.line,
+                  "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " + meshed.error().message);
     io::CadSurface surface = std::move(*meshed);
     // An emitter on the profile (within the chordal deflection) would sit on the mesh's either side.
     for (const io::PartsEmitter& e : sidecar->emitters) {

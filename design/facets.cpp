@@ -124,10 +124,12 @@ Result<Facets> read_facets(const io::TomlNode& t, const std::string& path, const
     f.curved = k->string == "curved";
   }
   if (f.theta == 0 && f.azimuth == 0) return fail(path, t.line, where + ": give 'theta' or 'azimuth' (or both) facets");
-  for (auto [key, out, count] : {std::tuple{"radius_theta", &f.radius_theta, f.theta},
-                                 std::tuple{"radius_azimuth", &f.radius_azimuth, f.azimuth}}) {
+  for (auto [key, out, count, line] :
+       {std::tuple{"radius_theta", &f.radius_theta, f.theta, &f.radius_theta_line},
+        std::tuple{"radius_azimuth", &f.radius_azimuth, f.azimuth, &f.radius_azimuth_line}}) {
     const io::TomlNode* n = t.get(key);
     if (!n) continue;
+    *line = n->line;
     if (!f.curved) return fail(path, n->line, where + ": '" + key + "' bends curved facets: add kind = \"curved\"");
     if (count == 0)
       return fail(path, n->line, where + ": '" + key + "' without " + (std::string(key) == "radius_theta" ? "'theta'" : "'azimuth'") +
@@ -165,9 +167,10 @@ Result<FacetSurface> FacetSurface::make(const ProfileCurve& curve, const Facets&
         const double ar = s.row_rho_[i], az = s.row_z_[i], br = s.row_rho_[i + 1], bz = s.row_z_[i + 1];
         const double c = std::hypot(br - ar, bz - az);
         if (2.0 * r < c)
-          return make_error("facets (line " + std::to_string(facets.line) + "): radius_theta " + format_number(R * 1e3) +
-                            " mm is smaller than half of facet " + std::to_string(i + 1) + "'s chord (" +
-                            format_number(0.5 * c * 1e3) + " mm)");
+          return fail({}, facets.radius_theta_line,
+                      "facets (line " + std::to_string(facets.radius_theta_line) + "): radius_theta " +
+                          format_number(R * 1e3) + " mm is smaller than half of facet " + std::to_string(i + 1) +
+                          "'s chord (" + format_number(0.5 * c * 1e3) + " mm)");
         // The chord's normal toward the lit side, the centre on it (R > 0) or behind it.
         const double nr = s.side_ * (bz - az) / c, nz = -s.side_ * (br - ar) / c;
         s.mr_.push_back(0.5 * (ar + br));
@@ -186,9 +189,10 @@ Result<FacetSurface> FacetSurface::make(const ProfileCurve& curve, const Facets&
     for (double r : s.row_rho_) rho_max = std::max(rho_max, r);
     const double half_chord = rho_max * std::sin(kPi / facets.azimuth);
     if (std::abs(facets.radius_azimuth) < half_chord)
-      return make_error("facets (line " + std::to_string(facets.line) + "): radius_azimuth " +
-                        format_number(facets.radius_azimuth * 1e3) + " mm is smaller than half of the widest sector's chord (" +
-                        format_number(half_chord * 1e3) + " mm)");
+      return fail({}, facets.radius_azimuth_line,
+                  "facets (line " + std::to_string(facets.radius_azimuth_line) + "): radius_azimuth " +
+                      format_number(facets.radius_azimuth * 1e3) + " mm is smaller than half of the widest sector's chord (" +
+                      format_number(half_chord * 1e3) + " mm)");
   }
   return s;
 }

@@ -58,6 +58,8 @@ struct Facets {
   double radius_theta = INFINITY;      // [m], signed; ∞: flat along the profile
   double radius_azimuth = INFINITY;    // [m], signed; ∞: flat around
   int line = 0;                        // the facets table's line
+  int radius_theta_line = 0;           // radius_theta's line (0: not given)
+  int radius_azimuth_line = 0;         // radius_azimuth's line (0: not given)
 };
 
 // The exact surface of a faceted reflector as patches: one per facet
@@ -67,7 +69,8 @@ struct Facets {
 // the whole profile; where smooth around, `sectors` = 4 quarter turns.
 class FacetSurface {
  public:
-  // Errors (no place): a radius smaller than half a facet's chord.
+  // Errors: a radius smaller than half a facet's chord, at the radius's
+  // line (where.line, the entry that is wrong; no file: the caller's).
   static Result<FacetSurface> make(const ProfileCurve& curve, const Facets& facets);
   int bands() const { return bands_; }
   int sectors() const { return sectors_; }

@@ -43,7 +43,8 @@ Status add_troughs_to_step(const Design& design, const DesignParts& parts, int s
 // way only, or curved): a B-spline patch per facet (design/facets.h's
 // FacetSurface, smooth around: four quarter turns per band), fitted by the
 // helper within the export's tolerance of a grid of points on the exact
-// facet. Errors (no place): a radius too small for a facet.
+// facet. Errors (no file): a radius too small for a facet, at the radius's
+// line.
 Result<io::StepRevolvedPart> faceted_step_part(const Reflector& r, const ProfileCurve& curve);
 
 // The covers as parts of the STEP request: OpenCASCADE's primitives (a box,

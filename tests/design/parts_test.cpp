@@ -7,12 +7,15 @@
 #include <array>
 #include <map>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <cmath>
 #include <functional>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "design/design_file.h"
@@ -618,11 +621,52 @@ TEST(DesignFacets, CurvedFacetsLieOnTheirArcsWithTheArcsNormals) {
     EXPECT_LT(worst, 1e-8) << R;
     EXPECT_LT(worst_normal, 2e-6) << R;
   }
-  // A radius below half a facet's chord: the reflector's line.
+  // A radius below half a facet's chord: the radius's line (here the
+  // facets table's, line 16; DesignFacets.RadiusTooSmallNamesItsOwnLine).
   Result<sim::SceneDesc> s = scene_of(faceted_dish("{ theta = 2, kind = \"curved\", radius_theta = 5 }"));
   ASSERT_FALSE(s.ok());
-  EXPECT_EQ(s.error().where.line, 8) << to_string(s.error());
+  EXPECT_EQ(s.error().where.line, 16) << to_string(s.error());
   EXPECT_NE(s.error().message.find("smaller than half of facet 1's chord"), std::string::npos) << to_string(s.error());
+}
+
+// A radius too small for its facets is an error at the radius's own line,
+// as every other facet error names the entry that is wrong: not the
+// reflector's (line 8) nor the facets table's (line 16, a table of its own
+// here), whether the radius comes first or last in the table.
+TEST(DesignFacets, RadiusTooSmallNamesItsOwnLine) {
+  for (const auto& [table, line, says] : std::vector<std::tuple<std::string, int, std::string>>{
+           {"theta = 2\nkind = \"curved\"\nradius_theta = 5\n", 19, "radius_theta 5 mm is smaller than half of facet 1's chord"},
+           {"radius_theta = 5\ntheta = 2\nkind = \"curved\"\n", 17, "radius_theta 5 mm is smaller than half of facet 1's chord"},
+           {"azimuth = 8\nkind = \"curved\"\nradius_theta = 1e6\ntheta = 4\nradius_azimuth = -5\n", 21,
+            "radius_azimuth -5 mm is smaller than half of the widest sector's chord"}}) {
+    Result<sim::SceneDesc> s = scene_of(faceted_dish("") + "[reflectors.facets]\n" + table);
+    ASSERT_FALSE(s.ok()) << table;
+    const std::string shown = to_string(s.error());
+    EXPECT_EQ(s.error().where.line, line) << shown;
+    // The printed "FILE:LINE: message" reads the same line.
+    const std::size_t colon = shown.find(".design.toml:");
+    EXPECT_NE(colon, std::string::npos) << shown;
+    if (colon != std::string::npos) {
+      EXPECT_EQ(std::atoi(shown.c_str() + colon + std::string(".design.toml:").size()), line) << shown;
+    }
+    EXPECT_NE(shown.find("facets (line " + std::to_string(line) + "): " + says), std::string::npos) << shown;
+    EXPECT_NE(shown.find("[[reflectors]] at line 8 (dish)"), std::string::npos) << shown;
+    // The glTF and STEP exports name the same line, and write nothing.
+    test::TempDir dir;
+    Result<Design> d = parse_design(faceted_dish("") + "[reflectors.facets]\n" + table,
+                                    (dir / "lamp.design.toml").string());
+    ASSERT_TRUE(d.ok()) << to_string(d.error());
+    Status gltf = write_design_gltf(*d, (dir / "lamp.gltf").string(), options(2.0).tessellation);
+    ASSERT_FALSE(gltf.ok()) << table;
+    EXPECT_EQ(gltf.error().where.line, line) << to_string(gltf.error());
+    EXPECT_NE(gltf.error().message.find(says), std::string::npos) << to_string(gltf.error());
+    EXPECT_FALSE(std::filesystem::exists(dir / "lamp.gltf"));
+    Result<StepExportInfo> step = write_design_step(*d, (dir / "lamp.step").string());
+    ASSERT_FALSE(step.ok()) << table;
+    EXPECT_EQ(step.error().where.line, line) << to_string(step.error());
+    EXPECT_NE(step.error().message.find(says), std::string::npos) << to_string(step.error());
+    EXPECT_FALSE(std::filesystem::exists(dir / "lamp.step"));
+  }
 }
 
 // A radius → ∞ is the flat facet: the same vertices and normals, one way or both.
@@ -1433,13 +1477,14 @@ TEST(DesignPartsExport, OneWayAndCurvedFacetsStepReadBackOnTheirSurfaces) {
     EXPECT_GT(vertices, 100u) << stem;
     EXPECT_LT(worst, 2e-6) << stem;
   }
-  // A radius too small for a facet: the reflector's line, nothing written.
+  // A radius too small for a facet: the radius's line (the facets table's,
+  // 16, here; DesignFacets.RadiusTooSmallNamesItsOwnLine), nothing written.
   Result<Design> d = parse_design(faceted_dish("{ theta = 2, kind = \"curved\", radius_theta = 5 }"),
                                   (dir / "small.design.toml").string());
   ASSERT_TRUE(d.ok());
   Result<StepExportInfo> info = write_design_step(*d, (dir / "small.step").string());
   ASSERT_FALSE(info.ok());
-  EXPECT_EQ(info.error().where.line, 8) << to_string(info.error());
+  EXPECT_EQ(info.error().where.line, 16) << to_string(info.error());
   EXPECT_FALSE(std::filesystem::exists(dir / "small.step"));
 }
 
