@@ -7,6 +7,7 @@
 
 #include "design/part_mesh.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::design {
@@ -14,10 +15,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr int kMaxFacets = 100000;
-
-Error fail(const std::string& file, int line, std::string message) {
-  return Error{{file, line, 0}, std::move(message)};
-}
 
 
 // Curved facets (kind = "curved"): per facet a grid of sub-rows and
@@ -102,7 +99,7 @@ Result<io::CadSurface> revolve_curved(const FacetSurface& surface, const Profile
 
 Result<Facets> read_facets(const io::TomlNode& t, const std::string& path, const std::string& what, double unit_m) {
   const std::string where = what + ": facets";
-  if (!t.is_table()) return fail(path, t.line, where + " must be a table { theta = N, azimuth = M, kind = \"flat\" }");
+  if (!t.is_table()) return make_error(path, t.line, where + " must be a table { theta = N, azimuth = M, kind = \"flat\" }");
   if (Status s = io::check_keys(t, {"theta", "azimuth", "kind", "radius_theta", "radius_azimuth"}, where, path); !s.ok())
     return s.error();
   Facets f;
@@ -113,33 +110,33 @@ Result<Facets> read_facets(const io::TomlNode& t, const std::string& path, const
     const std::optional<double> v = n->number();
     const int least = std::string(key) == "azimuth" ? 3 : 1;
     if (!v || *v != std::trunc(*v) || (*v != 0.0 && (*v < least || *v > kMaxFacets)))
-      return fail(path, n->line, where + ": '" + key + "' must be 0 (smooth) or a whole number " + std::to_string(least) +
-                                     " … " + std::to_string(kMaxFacets));
+      return make_error(path, n->line, where + ": '" + key + "' must be 0 (smooth) or a whole number " + std::to_string(least) +
+                                           " … " + std::to_string(kMaxFacets));
     *out = static_cast<int>(*v);
   }
   if (const io::TomlNode* k = t.get("kind")) {
     if (!k->is_string() || (k->string != "flat" && k->string != "curved"))
-      return fail(path, k->line, where + ": kind " + (k->is_string() ? io::shown(k->string) : std::string("(not a string)")) +
-                                     " is not one Gonio makes (flat, curved)");
+      return make_error(path, k->line, where + ": kind " + (k->is_string() ? io::shown(k->string) : std::string("(not a string)")) +
+                                           " is not one Gonio makes (flat, curved)");
     f.curved = k->string == "curved";
   }
-  if (f.theta == 0 && f.azimuth == 0) return fail(path, t.line, where + ": give 'theta' or 'azimuth' (or both) facets");
+  if (f.theta == 0 && f.azimuth == 0) return make_error(path, t.line, where + ": give 'theta' or 'azimuth' (or both) facets");
   for (auto [key, out, count] : {std::tuple{"radius_theta", &f.radius_theta, f.theta},
                                  std::tuple{"radius_azimuth", &f.radius_azimuth, f.azimuth}}) {
     const io::TomlNode* n = t.get(key);
     if (!n) continue;
-    if (!f.curved) return fail(path, n->line, where + ": '" + key + "' bends curved facets: add kind = \"curved\"");
+    if (!f.curved) return make_error(path, n->line, where + ": '" + key + "' bends curved facets: add kind = \"curved\"");
     if (count == 0)
-      return fail(path, n->line, where + ": '" + key + "' without " + (std::string(key) == "radius_theta" ? "'theta'" : "'azimuth'") +
-                                     " facets (smooth that way) bends nothing");
+      return make_error(path, n->line, where + ": '" + key + "' without " + (std::string(key) == "radius_theta" ? "'theta'" : "'azimuth'") +
+                                           " facets (smooth that way) bends nothing");
     const std::optional<double> v = n->number();
     if (!v || std::isnan(*v) || *v == 0.0)
-      return fail(path, n->line, where + ": '" + key + "' must be a signed radius (> 0 concave, < 0 convex seen from the lit side; inf: flat)");
+      return make_error(path, n->line, where + ": '" + key + "' must be a signed radius (> 0 concave, < 0 convex seen from the lit side; inf: flat)");
     *out = *v * unit_m;
   }
   if (f.curved && std::isinf(f.radius_theta) && std::isinf(f.radius_azimuth) && !t.get("radius_theta") &&
       !t.get("radius_azimuth"))
-    return fail(path, t.line, where + ": curved facets need 'radius_theta' or 'radius_azimuth'");
+    return make_error(path, t.line, where + ": curved facets need 'radius_theta' or 'radius_azimuth'");
   return f;
 }
 
