@@ -11,6 +11,7 @@
 
 #include "io/materials/bsdf_file.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::io {
@@ -83,7 +84,7 @@ Result<sim::TabulatedBsdf> read_bsdf_csv(std::string_view bytes, const std::stri
     if (const auto hash = text.find('#'); hash != std::string_view::npos) text = text.substr(0, hash);
     if (text.find_first_not_of(" \t\r,;") == std::string_view::npos) continue;
     const std::vector<std::string_view> f = fields_of(text);
-    const auto fail = [&](std::string m) { return Error{SourceLoc{name, l.number, 0}, std::move(m)}; };
+    const auto fail = [&](std::string m) { return make_error(name, l.number, std::move(m)); };
     if (!header) {
       for (std::size_t i = 0; i < f.size(); ++i) {
         std::string k = lower(f[i]);

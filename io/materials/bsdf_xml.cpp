@@ -10,6 +10,7 @@
 #include "io/materials/bsdf_file.h"
 #include "io/support/text.h"
 #include "io/support/xml.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::io {
@@ -63,7 +64,7 @@ class Reader {
 
  private:
   Error fail(const XmlElement* at, std::string message) const {
-    return Error{SourceLoc{name_, at ? at->line : 0, 0}, std::move(message)};
+    return make_error(name_, at ? at->line : 0, std::move(message));
   }
   void note(Severity s, const char* code, std::string message, const XmlElement* at) {
     findings_.push_back({s, code, std::move(message), SourceLoc{name_, at ? at->line : 0, 0}});
