@@ -169,9 +169,9 @@ Result<sim::TabulatedBsdf> read_bsdf_csv(std::string_view bytes, const std::stri
         if ((s.theta_out > 90.0) != (hemi == 1)) continue;
         const double to = hemi ? 180.0 - s.theta_out : s.theta_out;
         if (!grid.emplace(std::tuple{s.theta_in, to, s.phi}, &s).second)
-          return Error{SourceLoc{name, s.line, 0}, "the same angles (theta_in " + format_number(s.theta_in) +
-                                                       ", theta_out " + format_number(s.theta_out) + ", phi_out " +
-                                                       format_number(s.phi) + ") appear twice"};
+          return make_error(name, s.line, "the same angles (theta_in " + format_number(s.theta_in) +
+                                              ", theta_out " + format_number(s.theta_out) + ", phi_out " +
+                                              format_number(s.phi) + ") appear twice");
         tin.push_back(s.theta_in);
         tout.push_back(to);
         ph.push_back(s.phi);
