@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string_view>
 #include <utility>
@@ -43,20 +44,15 @@ std::string serialize(const sim::GlossyEnergy& t) {
   io::append_bytes(out, t.mx);
   io::append_bytes(out, t.my);
   io::append_bytes(out, t.e);
-  io::ContentHash all;
-  all.bytes(out.data(), out.size());
-  io::append_bytes(out, all.digest());
+  io::append_digest(out);
   return out;
 }
 
 std::shared_ptr<const sim::GlossyEnergy> deserialize(std::string_view bytes, double mx, double my) {
   if (bytes.size() != kFileBytes || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return nullptr;
-  std::uint64_t stored_digest = 0;
-  std::memcpy(&stored_digest, bytes.data() + bytes.size() - 8, 8);
-  io::ContentHash all;
-  all.bytes(bytes.data(), bytes.size() - 8);
-  if (all.digest() != stored_digest) return nullptr;
-  io::ByteReader in(bytes);
+  const std::optional<std::string_view> sealed = io::without_digest(bytes);
+  if (!sealed) return nullptr;
+  io::ByteReader in(*sealed);
   in.skip(sizeof kMagic);
   std::uint64_t key = 0;
   double file_mx = 0.0, file_my = 0.0;

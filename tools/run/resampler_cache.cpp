@@ -54,9 +54,7 @@ std::string serialize(const sim::Resampler& r, const photometry::PhotometricFram
   io::append_all_bytes(out, rows.texel);
   io::append_all_bytes(out, rows.fraction);
   io::append_all_bytes(out, rows.solid_angle_sr);
-  io::ContentHash all;
-  all.bytes(out.data(), out.size());
-  io::append_bytes(out, all.digest());
+  io::append_digest(out);
   return out;
 }
 
@@ -65,12 +63,9 @@ std::optional<sim::Resampler> deserialize(std::string_view bytes, int face_size,
                                           const sim::CGammaGrid& grid) {
   if (bytes.size() < sizeof kMagic + 8 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     return std::nullopt;
-  std::uint64_t stored_digest = 0;
-  std::memcpy(&stored_digest, bytes.data() + bytes.size() - 8, 8);
-  io::ContentHash all;
-  all.bytes(bytes.data(), bytes.size() - 8);
-  if (all.digest() != stored_digest) return std::nullopt;
-  io::ByteReader in(bytes.substr(0, bytes.size() - 8));
+  const std::optional<std::string_view> sealed = io::without_digest(bytes);
+  if (!sealed) return std::nullopt;
+  io::ByteReader in(*sealed);
   in.skip(sizeof kMagic);
   std::uint64_t parameters_digest = 0, bins = 0, nonzeros = 0;
   io::ContentHash parameters;
@@ -81,7 +76,7 @@ std::optional<sim::Resampler> deserialize(std::string_view bytes, int face_size,
   if (!in.get_all(&rows.row_start, bins + 1) || !in.get_all(&rows.texel, nonzeros) ||
       !in.get_all(&rows.fraction, nonzeros) || !in.get_all(&rows.solid_angle_sr, bins))
     return std::nullopt;
-  if (in.at() != bytes.size() - 8) return std::nullopt;
+  if (in.at() != sealed->size()) return std::nullopt;
   Result<sim::Resampler> r = sim::Resampler::from_rows(face_size, grid, std::move(rows));
   if (!r.ok()) return std::nullopt;
   return std::move(r.value());
