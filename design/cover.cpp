@@ -9,6 +9,7 @@
 #include "io/model/gltf_material.h"
 #include "io/model/material_extras.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 #include "sim/bsdfs/library.h"
 
@@ -16,10 +17,6 @@ namespace gonio::design {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-Error fail(const std::string& file, int line, std::string message) {
-  return Error{{file, line, 0}, std::move(message)};
-}
 
 // Points on a circle of radius r: as many as the angular deflection and the
 // chordal one ask, at least 8.
@@ -88,8 +85,8 @@ Result<Cover> read_cover(const io::TomlNode& t, const std::string& path, double 
   c.line = t.line;
   auto text = [&](const char* key) -> Result<std::string> {
     const io::TomlNode* n = t.get(key);
-    if (!n) return fail(path, t.line, what + ": '" + key + "' is missing");
-    if (!n->is_string() || n->string.empty()) return fail(path, n->line, what + ": '" + key + "' must be a non-empty string");
+    if (!n) return make_error(path, t.line, what + ": '" + key + "' is missing");
+    if (!n->is_string() || n->string.empty()) return make_error(path, n->line, what + ": '" + key + "' must be a non-empty string");
     return n->string;
   };
   auto length = [&](const char* key, bool positive) -> Result<std::optional<double>> {
@@ -97,14 +94,14 @@ Result<Cover> read_cover(const io::TomlNode& t, const std::string& path, double 
     if (!n) return std::optional<double>();
     const std::optional<double> v = n->number();
     if (!v || !std::isfinite(*v) || (positive && !(*v > 0.0)))
-      return fail(path, n->line, what + ": '" + key + "' must be a " + (positive ? "number > 0" : "finite number"));
+      return make_error(path, n->line, what + ": '" + key + "' must be a " + (positive ? "number > 0" : "finite number"));
     return std::optional<double>(*v * unit_m);
   };
   Result<std::string> name = text("name");
   if (!name.ok()) return name.error();
   c.name = *name;
   if (c.name.find_first_of("*?[]/\\") != std::string::npos)
-    return fail(path, t.get("name")->line, what + ": 'name' must be without * ? [ ] / \\");
+    return make_error(path, t.get("name")->line, what + ": 'name' must be without * ? [ ] / \\");
   Result<std::string> material = text("material");
   if (!material.ok()) return material.error();
   c.material = *material;
@@ -116,10 +113,10 @@ Result<Cover> read_cover(const io::TomlNode& t, const std::string& path, double 
   else if (*shape == "dome")
     c.shape = Cover::Shape::Dome;
   else
-    return fail(path, shape_line, what + ": shape " + io::shown(*shape) + " is not one Gonio knows (plate, dome)");
+    return make_error(path, shape_line, what + ": shape " + io::shown(*shape) + " is not one Gonio knows (plate, dome)");
   Result<std::optional<double>> height = length("height", false);
   if (!height.ok()) return height.error();
-  if (!*height) return fail(path, t.line, what + ": 'height' is missing (z of the face toward the luminaire)");
+  if (!*height) return make_error(path, t.line, what + ": 'height' is missing (z of the face toward the luminaire)");
   c.height = **height;
   Result<std::optional<double>> thickness = length("thickness", true);
   if (!thickness.ok()) return thickness.error();
@@ -129,30 +126,30 @@ Result<Cover> read_cover(const io::TomlNode& t, const std::string& path, double 
   if (!diameter.ok()) return diameter.error();
   c.diameter = *diameter;
   if (const io::TomlNode* size = t.get("size")) {
-    if (c.shape == Cover::Shape::Dome) return fail(path, size->line, what + ": a dome takes 'diameter', not 'size'");
-    if (c.diameter) return fail(path, size->line, what + ": give 'size' (a rectangle) or 'diameter' (a disc), not both");
+    if (c.shape == Cover::Shape::Dome) return make_error(path, size->line, what + ": a dome takes 'diameter', not 'size'");
+    if (c.diameter) return make_error(path, size->line, what + ": give 'size' (a rectangle) or 'diameter' (a disc), not both");
     const bool ok = size->is_array() && size->array.size() == 2 && size->array[0].number() && size->array[1].number() &&
                     *size->array[0].number() > 0.0 && *size->array[1].number() > 0.0 &&
                     std::isfinite(*size->array[0].number()) && std::isfinite(*size->array[1].number());
-    if (!ok) return fail(path, size->line, what + ": 'size' must be [x, y], two numbers > 0");
+    if (!ok) return make_error(path, size->line, what + ": 'size' must be [x, y], two numbers > 0");
     c.width = *size->array[0].number() * unit_m;
     c.depth = *size->array[1].number() * unit_m;
   } else if (!c.diameter) {
-    return fail(path, t.line, what + (c.shape == Cover::Shape::Dome ? ": 'diameter' is missing (the dome's base)"
-                                                                     : ": give 'size' (a rectangle) or 'diameter' (a disc)"));
+    return make_error(path, t.line, what + (c.shape == Cover::Shape::Dome ? ": 'diameter' is missing (the dome's base)"
+                                                                           : ": give 'size' (a rectangle) or 'diameter' (a disc)"));
   }
   const io::TomlNode* sag = t.get("sag");
   if (c.shape == Cover::Shape::Plate) {
-    if (sag) return fail(path, sag->line, what + ": a plate has no 'sag' (shape = \"dome\" has)");
+    if (sag) return make_error(path, sag->line, what + ": a plate has no 'sag' (shape = \"dome\" has)");
   } else {
-    if (!sag) return fail(path, t.line, what + ": 'sag' is missing (the dome's depth below its base)");
+    if (!sag) return make_error(path, t.line, what + ": 'sag' is missing (the dome's depth below its base)");
     Result<std::optional<double>> s = length("sag", false);
     if (!s.ok()) return s.error();
     c.sag = **s;
     if (!(std::abs(c.sag) > 0.0 && std::abs(c.sag) < 0.5 * *c.diameter))
-      return fail(path, sag->line, what + ": 'sag' must be non-zero and smaller in size than the base's radius (" +
-                                       format_number(0.5 * *c.diameter / unit_m) +
-                                       "): a dome of a hemisphere or more is not a spherical cap Gonio makes");
+      return make_error(path, sag->line, what + ": 'sag' must be non-zero and smaller in size than the base's radius (" +
+                                             format_number(0.5 * *c.diameter / unit_m) +
+                                             "): a dome of a hemisphere or more is not a spherical cap Gonio makes");
   }
   return c;
 }

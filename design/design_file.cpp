@@ -8,6 +8,7 @@
 
 #include "io/support/file_io.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::design {
@@ -18,10 +19,6 @@ using io::TomlNode;
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
-}
-
-Error fail(const std::string& file, int line, std::string message) {
-  return Error{{file, line, 0}, std::move(message)};
 }
 
 // A table that stands for a number: its keys among value, min, max and name,
@@ -72,7 +69,7 @@ class VariableFinder {
   Result<double> number(const TomlNode& v, const char* key, const std::string& what) const {
     const TomlNode* n = v.get(key);
     const std::optional<double> x = n ? n->number() : std::nullopt;
-    if (!x || !std::isfinite(*x)) return fail(file_, n ? n->line : v.line, what + ": '" + key + "' must be a finite number");
+    if (!x || !std::isfinite(*x)) return make_error(file_, n ? n->line : v.line, what + ": '" + key + "' must be a finite number");
     return *x;
   }
 
@@ -83,7 +80,7 @@ class VariableFinder {
     v.name = path_text(path);
     if (const TomlNode* name = n.get("name")) {
       if (!name->is_string() || name->string.empty())
-        return fail(file_, name->line, "variable " + io::shown(v.name) + ": 'name' must be a non-empty string");
+        return make_error(file_, name->line, "variable " + io::shown(v.name) + ": 'name' must be a non-empty string");
       v.name = name->string;
     }
     const std::string what = "variable " + io::shown(v.name);
@@ -97,15 +94,15 @@ class VariableFinder {
         *bound = *b;
       }
     if (v.min && v.max && !(*v.min <= *v.max))
-      return fail(file_, v.line, what + ": min " + format_number(*v.min) + " is above max " + format_number(*v.max));
+      return make_error(file_, v.line, what + ": min " + format_number(*v.min) + " is above max " + format_number(*v.max));
     if ((v.min && v.value < *v.min) || (v.max && v.value > *v.max))
-      return fail(file_, v.line,
-                  what + ": value " + format_number(v.value) + " is outside its bounds [" +
-                      (v.min ? format_number(*v.min) : std::string("-inf")) + ", " +
-                      (v.max ? format_number(*v.max) : std::string("inf")) + "]");
+      return make_error(file_, v.line,
+                        what + ": value " + format_number(v.value) + " is outside its bounds [" +
+                            (v.min ? format_number(*v.min) : std::string("-inf")) + ", " +
+                            (v.max ? format_number(*v.max) : std::string("inf")) + "]");
     for (const Variable& other : variables)
       if (other.name == v.name)
-        return fail(file_, v.line, what + ": the name is taken by the variable at line " + std::to_string(other.line));
+        return make_error(file_, v.line, what + ": the name is taken by the variable at line " + std::to_string(other.line));
     variables.push_back(std::move(v));
     return Ok{};
   }

@@ -10,6 +10,7 @@
 #include "design/table_reader.h"
 #include "io/model/parts_file.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::design {
@@ -19,10 +20,6 @@ using io::TomlNode;
 namespace fs = std::filesystem;
 
 constexpr std::size_t kMaxPartTriangles = 16'000'000;  // as a glTF scene's (io::kMaxTriangles)
-
-Error fail(const std::string& file, int line, std::string message) {
-  return Error{{file, line, 0}, std::move(message)};
-}
 
 class PartsReader : public TableReader {
  public:
@@ -40,7 +37,7 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t, const std::string& t
   if (!name.ok()) return name.error();
   r.name = *name;
   if (r.name.empty() || r.name.find_first_of("*?[]/\\") != std::string::npos)
-    return fail(path_, t.get("name")->line, what + ": 'name' must be non-empty, without * ? [ ] / \\");
+    return make_error(path_, t.get("name")->line, what + ": 'name' must be non-empty, without * ? [ ] / \\");
   Result<std::string> material = string(t, "material", what);
   if (!material.ok()) return material.error();
   r.material = *material;
@@ -63,7 +60,7 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t, const std::string& t
     Result<std::vector<double>> aperture = numbers(t, "aperture", what, true);
     if (!aperture.ok()) return aperture.error();
     if (aperture->size() != 2)
-      return fail(path_, t.get("aperture")->line, what + ": 'aperture' must be [inner, outer], ρ from the axis");
+      return make_error(path_, t.get("aperture")->line, what + ": 'aperture' must be [inner, outer], ρ from the axis");
     c.radius = radius->value_or(0.0) * unit_;
     c.conic = conic->value_or(0.0);
     c.vertex = vertex->value_or(0.0) * unit_;
@@ -87,11 +84,11 @@ Result<Reflector> PartsReader::reflector(const TomlNode& t, const std::string& t
     if (Status st = points(t, what, b); !st.ok()) return st.error();
     r.profile = b;
   } else {
-    return fail(path_, profile_line,
-                what + ": profile " + io::shown(*kind) + " is not one Gonio knows (conic, polar, bspline)");
+    return make_error(path_, profile_line,
+                      what + ": profile " + io::shown(*kind) + " is not one Gonio knows (conic, polar, bspline)");
   }
   Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
-  if (!curve.ok()) return fail(path_, profile_line, what + " (" + r.name + "): " + curve.error().message);
+  if (!curve.ok()) return make_error(path_, profile_line, what + " (" + r.name + "): " + curve.error().message);
   return r;
 }
 
@@ -128,25 +125,25 @@ int line_of_name(const DesignParts& parts, const std::string& name) {
 // The part kinds beside the reflectors: [[troughs]] (design/trough.h).
 Status read_other_parts(const TomlNode& resolved, const std::string& path, DesignParts& out) {
   if (const TomlNode* r = resolved.get("troughs")) {
-    if (!r->is_array_of_tables()) return fail(path, r->line, "'troughs' must be an array of tables ([[troughs]])");
+    if (!r->is_array_of_tables()) return make_error(path, r->line, "'troughs' must be an array of tables ([[troughs]])");
     for (const TomlNode& t : r->array) {
       Result<Trough> one = read_trough(t, path, out.unit_m);
       if (!one.ok()) return one.error();
       for (const std::string& name : {one->name, one->name + " caps"})
         if (const int other = line_of_name(out, name))
-          return fail(path, t.line, "[[troughs]] at line " + std::to_string(t.line) + ": the name " + io::shown(name) +
-                                        " is taken by the part at line " + std::to_string(other));
+          return make_error(path, t.line, "[[troughs]] at line " + std::to_string(t.line) + ": the name " + io::shown(name) +
+                                              " is taken by the part at line " + std::to_string(other));
       out.troughs.push_back(std::move(*one));
     }
   }
   if (const TomlNode* r = resolved.get("covers")) {
-    if (!r->is_array_of_tables()) return fail(path, r->line, "'covers' must be an array of tables ([[covers]])");
+    if (!r->is_array_of_tables()) return make_error(path, r->line, "'covers' must be an array of tables ([[covers]])");
     for (const TomlNode& t : r->array) {
       Result<Cover> one = read_cover(t, path, out.unit_m);
       if (!one.ok()) return one.error();
       if (const int other = line_of_name(out, one->name))
-        return fail(path, t.line, "[[covers]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
-                                      " is taken by the part at line " + std::to_string(other));
+        return make_error(path, t.line, "[[covers]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
+                                            " is taken by the part at line " + std::to_string(other));
       out.covers.push_back(std::move(*one));
     }
   }
@@ -156,8 +153,8 @@ Status read_other_parts(const TomlNode& resolved, const std::string& path, Desig
       Result<FixedPart> one = read_fixed_part(t, path, out.unit_m);
       if (!one.ok()) return one.error();
       if (const int other = line_of_name(out, one->name))
-        return fail(path, t.line, "[[parts]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
-                                      " is taken by the part at line " + std::to_string(other));
+        return make_error(path, t.line, "[[parts]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
+                                            " is taken by the part at line " + std::to_string(other));
       out.fixed_parts.push_back(std::move(*one));
     }
   return Ok{};
@@ -191,16 +188,16 @@ Status add_troughs(const DesignParts& parts, const std::string& path, const io::
     const std::string what = "[[troughs]] at line " + std::to_string(t.line) + " (" + t.name + ")";
     for (const auto& [material, line] : {std::pair{t.material, t.line}, std::pair{t.caps, t.caps_line}})
       if (!material.empty() && !sidecar.material(material))
-        return fail(path, line, what + ": material " + io::shown(material) + " is not defined ([materials." + material + "])");
+        return make_error(path, line, what + ": material " + io::shown(material) + " is not defined ([materials." + material + "])");
     Result<TroughMesh> mesh = tessellate_trough(t, tess, kMaxPartTriangles);
-    if (!mesh.ok()) return fail(path, t.line, what + ": " + mesh.error().message);
+    if (!mesh.ok()) return make_error(path, t.line, what + ": " + mesh.error().message);
     for (const io::PartsEmitter& e : sidecar.emitters) {
       if (!e.at.empty() || !e.position) continue;
       const double d = distance_to_trough(t, *e.position * parts.unit_m);
       if (d <= mesh->chordal_m)
-        return fail(path, t.line, what + ": the profile passes through the emitter " + io::shown(e.name) + " (line " +
-                                      std::to_string(e.line) + "; " + format_number(d * 1e3) +
-                                      " mm from it, within the chordal deflection " + format_number(mesh->chordal_m * 1e3) + " mm)");
+        return make_error(path, t.line, what + ": the profile passes through the emitter " + io::shown(e.name) + " (line " +
+                                            std::to_string(e.line) + "; " + format_number(d * 1e3) +
+                                            " mm from it, within the chordal deflection " + format_number(mesh->chordal_m * 1e3) + " mm)");
     }
     add_design_part(model, sidecar, t.name, t.material, t.line, std::move(mesh->reflector), mesh->size_m, mesh->chordal_m);
     if (mesh->caps)
@@ -218,7 +215,7 @@ Status add_covers(const DesignParts& parts, const std::string& path, const io::C
     const std::string what = "[[covers]] at line " + std::to_string(c.line) + " (" + c.name + ")";
     const io::PartsMaterial* material = sidecar.material(c.material);
     if (!material)
-      return fail(path, c.line, what + ": material " + io::shown(c.material) + " is not defined ([materials." + c.material + "])");
+      return make_error(path, c.line, what + ": material " + io::shown(c.material) + " is not defined ([materials." + c.material + "])");
     double preset_thickness = 0.0;
     Result<bool> volume = is_volume_material(*material, path, &preset_thickness);
     if (!volume.ok()) return volume.error();
@@ -226,18 +223,18 @@ Status add_covers(const DesignParts& parts, const std::string& path, const io::C
     if (*volume) {
       thickness = c.thickness.value_or(preset_thickness);
       if (!(thickness > 0.0))
-        return fail(path, c.line, what + ": material " + io::shown(c.material) +
-                                      " is a volume (a dielectric or a medium): give the cover a 'thickness'");
+        return make_error(path, c.line, what + ": material " + io::shown(c.material) +
+                                            " is a volume (a dielectric or a medium): give the cover a 'thickness'");
     } else if (c.thickness) {
-      return fail(path, c.thickness_line, what + ": material " + io::shown(c.material) +
-                                              " is a thin sheet's (one surface): a 'thickness' would mean nothing");
+      return make_error(path, c.thickness_line, what + ": material " + io::shown(c.material) +
+                                                    " is a thin sheet's (one surface): a 'thickness' would mean nothing");
     }
     Result<CoverMesh> mesh = tessellate_cover(c, thickness, tess, kMaxPartTriangles);
-    if (!mesh.ok()) return fail(path, c.line, what + ": " + mesh.error().message);
+    if (!mesh.ok()) return make_error(path, c.line, what + ": " + mesh.error().message);
     for (const io::PartsEmitter& e : sidecar.emitters)
       if (e.at.empty() && e.position && cover_holds(c, thickness, mesh->chordal_m, *e.position * parts.unit_m))
-        return fail(path, c.line, what + ": the emitter " + io::shown(e.name) + " (line " + std::to_string(e.line) +
-                                      ") lies " + (thickness > 0.0 ? "inside the cover's solid" : "on the cover"));
+        return make_error(path, c.line, what + ": the emitter " + io::shown(e.name) + " (line " + std::to_string(e.line) +
+                                            ") lies " + (thickness > 0.0 ? "inside the cover's solid" : "on the cover"));
     add_design_part(model, sidecar, c.name, c.material, c.line, std::move(mesh->surface), mesh->size_m, mesh->chordal_m);
   }
   return Ok{};
@@ -247,13 +244,13 @@ Status add_covers(const DesignParts& parts, const std::string& path, const io::C
 Status read_lenses(const TomlNode& resolved, const std::string& path, DesignParts& out) {
   const TomlNode* l = resolved.get("lenses");
   if (!l) return Ok{};
-  if (!l->is_array_of_tables()) return fail(path, l->line, "'lenses' must be an array of tables ([[lenses]])");
+  if (!l->is_array_of_tables()) return make_error(path, l->line, "'lenses' must be an array of tables ([[lenses]])");
   for (const TomlNode& t : l->array) {
     Result<Lens> one = read_lens(t, path, out.unit_m);
     if (!one.ok()) return one.error();
     if (const int other = line_of_name(out, one->name))
-      return fail(path, t.line, "[[lenses]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
-                                    " is taken by the part at line " + std::to_string(other));
+      return make_error(path, t.line, "[[lenses]] at line " + std::to_string(t.line) + ": the name " + io::shown(one->name) +
+                                          " is taken by the part at line " + std::to_string(other));
     out.lenses.push_back(std::move(*one));
   }
   return Ok{};
@@ -265,16 +262,16 @@ Status add_lens(const Lens& lens, const std::string& path, const io::CadLoadOpti
                 io::PartsFile& sidecar, io::CadModel& model) {
   const std::string what = "[[lenses]] at line " + std::to_string(lens.line) + " (" + lens.name + ")";
   if (!sidecar.material(lens.material))
-    return fail(path, lens.line, what + ": material " + io::shown(lens.material) + " is not defined ([materials." +
-                                     lens.material + "])");
+    return make_error(path, lens.line, what + ": material " + io::shown(lens.material) + " is not defined ([materials." +
+                                           lens.material + "])");
   Result<io::CadPart> part = lens_part(lens, options.tessellation, kMaxPartTriangles);
-  if (!part.ok()) return fail(path, lens.line, what + ": " + part.error().message);
+  if (!part.ok()) return make_error(path, lens.line, what + ": " + part.error().message);
   for (const io::PartsEmitter& e : sidecar.emitters) {
     if (!e.at.empty() || !e.position) continue;
     const std::string problem = lens_emitter_problem(lens, *e.position * unit_m, part->chordal_m);
     if (!problem.empty())
-      return fail(path, lens.line, what + ": emitter " + io::shown(e.name) + " (line " + std::to_string(e.line) +
-                                       "): " + problem);
+      return make_error(path, lens.line, what + ": emitter " + io::shown(e.name) + " (line " + std::to_string(e.line) +
+                                             "): " + problem);
   }
   io::CadPlacement placement;
   placement.part = static_cast<std::uint32_t>(model.parts.size());
@@ -305,27 +302,27 @@ Result<DesignParts> read_design_parts(const TomlNode& resolved, const std::strin
   DesignParts out;
   if (const TomlNode* u = resolved.get("length_unit")) {
     const std::optional<double> m = u->is_string() ? io::length_unit_m(u->string) : std::nullopt;
-    if (!m) return fail(path, u->line, "length_unit must be a unit Gonio knows (mm, cm, m, in, ft, µm)");
+    if (!m) return make_error(path, u->line, "length_unit must be a unit Gonio knows (mm, cm, m, in, ft, µm)");
     out.unit_m = *m;
   }
   PartsReader reader(path, out.unit_m);
   if (const TomlNode* r = resolved.get("reflectors")) {
-    if (!r->is_array_of_tables()) return fail(path, r->line, "'reflectors' must be an array of tables ([[reflectors]])");
+    if (!r->is_array_of_tables()) return make_error(path, r->line, "'reflectors' must be an array of tables ([[reflectors]])");
     for (const TomlNode& t : r->array) {
       Result<Reflector> one = read_faceted_reflector(reader, t, path, out.unit_m);
       if (!one.ok()) return one.error();
       for (const Reflector& other : out.reflectors)
         if (other.name == one->name)
-          return fail(path, t.line, "[[reflectors]] at line " + std::to_string(t.line) + ": the name " +
-                                        io::shown(one->name) + " is taken by the reflector at line " +
-                                        std::to_string(other.line));
+          return make_error(path, t.line, "[[reflectors]] at line " + std::to_string(t.line) + ": the name " +
+                                              io::shown(one->name) + " is taken by the reflector at line " +
+                                              std::to_string(other.line));
       out.reflectors.push_back(std::move(*one));
     }
   }
   if (Status s = read_lenses(resolved, path, out); !s.ok()) return s.error();
   if (Status s = read_other_parts(resolved, path, out); !s.ok()) return s.error();
   if (out.reflectors.empty() && out.lenses.empty() && out.troughs.empty() && out.covers.empty() && out.fixed_parts.empty())
-    return fail(path, 0, "the design has no parts: add [[reflectors]], [[lenses]], [[troughs]], [[covers]] or [[parts]]");
+    return make_error(path, 0, "the design has no parts: add [[reflectors]], [[lenses]], [[troughs]], [[covers]] or [[parts]]");
   return out;
 }
 
@@ -347,18 +344,18 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
   model.tessellation = options.tessellation;
   for (const Reflector& r : parts->reflectors) {
     if (!sidecar->material(r.material))
-      return fail(design.path, r.line, "[[reflectors]] at line " + std::to_string(r.line) + ": material " +
-                                           io::shown(r.material) + " is not defined ([materials." + r.material + "])");
+      return make_error(design.path, r.line, "[[reflectors]] at line " + std::to_string(r.line) + ": material " +
+                                                 io::shown(r.material) + " is not defined ([materials." + r.material + "])");
     Result<ProfileCurve> curve = ProfileCurve::make(r.profile);
-    if (!curve.ok()) return fail(design.path, r.line, curve.error().message);
+    if (!curve.ok()) return make_error(design.path, r.line, curve.error().message);
     io::CadPart part;
     part.name = r.name;
     Result<io::CadSurface> meshed =
         r.facets ? revolve_faceted(*curve, *r.facets, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m)
                  : revolve(*curve, options.tessellation, kMaxPartTriangles, &part.size_m, &part.chordal_m);
     if (!meshed.ok())  // at the facet entry's line where it names one (a radius too small)
-      return fail(design.path, meshed.error().where.line > 0 ? meshed.error().where.line : r.line,
-                  "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " + meshed.error().message);
+      return make_error(design.path, meshed.error().where.line > 0 ? meshed.error().where.line : r.line,
+                        "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): " + meshed.error().message);
     io::CadSurface surface = std::move(*meshed);
     // An emitter on the profile (within the chordal deflection) would sit on the mesh's either side.
     for (const io::PartsEmitter& e : sidecar->emitters) {
@@ -366,10 +363,10 @@ Result<sim::SceneDesc> design_scene(const Design& design, const io::CadLoadOptio
       const Vec3 p = *e.position * parts->unit_m;
       const double d = distance_to_profile(*curve, std::hypot(p.x, p.y), p.z);
       if (d <= part.chordal_m)
-        return fail(design.path, r.line,
-                    "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): the profile passes through the emitter " +
-                        io::shown(e.name) + " (line " + std::to_string(e.line) + "; " + format_number(d * 1e3) +
-                        " mm from it, within the chordal deflection " + format_number(part.chordal_m * 1e3) + " mm)");
+        return make_error(design.path, r.line,
+                          "[[reflectors]] at line " + std::to_string(r.line) + " (" + r.name + "): the profile passes through the emitter " +
+                              io::shown(e.name) + " (line " + std::to_string(e.line) + "; " + format_number(d * 1e3) +
+                              " mm from it, within the chordal deflection " + format_number(part.chordal_m * 1e3) + " mm)");
     }
     part.surfaces.push_back(std::move(surface));
     io::CadPlacement placement;

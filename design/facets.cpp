@@ -7,6 +7,7 @@
 
 #include "design/part_mesh.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::design {
@@ -14,10 +15,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr int kMaxFacets = 100000;
-
-Error fail(const std::string& file, int line, std::string message) {
-  return Error{{file, line, 0}, std::move(message)};
-}
 
 
 // Curved facets (kind = "curved"): per facet a grid of sub-rows and
@@ -102,7 +99,7 @@ Result<io::CadSurface> revolve_curved(const FacetSurface& surface, const Profile
 
 Result<Facets> read_facets(const io::TomlNode& t, const std::string& path, const std::string& what, double unit_m) {
   const std::string where = what + ": facets";
-  if (!t.is_table()) return fail(path, t.line, where + " must be a table { theta = N, azimuth = M, kind = \"flat\" }");
+  if (!t.is_table()) return make_error(path, t.line, where + " must be a table { theta = N, azimuth = M, kind = \"flat\" }");
   if (Status s = io::check_keys(t, {"theta", "azimuth", "kind", "radius_theta", "radius_azimuth"}, where, path); !s.ok())
     return s.error();
   Facets f;
@@ -113,35 +110,35 @@ Result<Facets> read_facets(const io::TomlNode& t, const std::string& path, const
     const std::optional<double> v = n->number();
     const int least = std::string(key) == "azimuth" ? 3 : 1;
     if (!v || *v != std::trunc(*v) || (*v != 0.0 && (*v < least || *v > kMaxFacets)))
-      return fail(path, n->line, where + ": '" + key + "' must be 0 (smooth) or a whole number " + std::to_string(least) +
-                                     " … " + std::to_string(kMaxFacets));
+      return make_error(path, n->line, where + ": '" + key + "' must be 0 (smooth) or a whole number " + std::to_string(least) +
+                                           " … " + std::to_string(kMaxFacets));
     *out = static_cast<int>(*v);
   }
   if (const io::TomlNode* k = t.get("kind")) {
     if (!k->is_string() || (k->string != "flat" && k->string != "curved"))
-      return fail(path, k->line, where + ": kind " + (k->is_string() ? io::shown(k->string) : std::string("(not a string)")) +
-                                     " is not one Gonio makes (flat, curved)");
+      return make_error(path, k->line, where + ": kind " + (k->is_string() ? io::shown(k->string) : std::string("(not a string)")) +
+                                           " is not one Gonio makes (flat, curved)");
     f.curved = k->string == "curved";
   }
-  if (f.theta == 0 && f.azimuth == 0) return fail(path, t.line, where + ": give 'theta' or 'azimuth' (or both) facets");
+  if (f.theta == 0 && f.azimuth == 0) return make_error(path, t.line, where + ": give 'theta' or 'azimuth' (or both) facets");
   for (auto [key, out, count, line] :
        {std::tuple{"radius_theta", &f.radius_theta, f.theta, &f.radius_theta_line},
         std::tuple{"radius_azimuth", &f.radius_azimuth, f.azimuth, &f.radius_azimuth_line}}) {
     const io::TomlNode* n = t.get(key);
     if (!n) continue;
     *line = n->line;
-    if (!f.curved) return fail(path, n->line, where + ": '" + key + "' bends curved facets: add kind = \"curved\"");
+    if (!f.curved) return make_error(path, n->line, where + ": '" + key + "' bends curved facets: add kind = \"curved\"");
     if (count == 0)
-      return fail(path, n->line, where + ": '" + key + "' without " + (std::string(key) == "radius_theta" ? "'theta'" : "'azimuth'") +
-                                     " facets (smooth that way) bends nothing");
+      return make_error(path, n->line, where + ": '" + key + "' without " + (std::string(key) == "radius_theta" ? "'theta'" : "'azimuth'") +
+                                           " facets (smooth that way) bends nothing");
     const std::optional<double> v = n->number();
     if (!v || std::isnan(*v) || *v == 0.0)
-      return fail(path, n->line, where + ": '" + key + "' must be a signed radius (> 0 concave, < 0 convex seen from the lit side; inf: flat)");
+      return make_error(path, n->line, where + ": '" + key + "' must be a signed radius (> 0 concave, < 0 convex seen from the lit side; inf: flat)");
     *out = *v * unit_m;
   }
   if (f.curved && std::isinf(f.radius_theta) && std::isinf(f.radius_azimuth) && !t.get("radius_theta") &&
       !t.get("radius_azimuth"))
-    return fail(path, t.line, where + ": curved facets need 'radius_theta' or 'radius_azimuth'");
+    return make_error(path, t.line, where + ": curved facets need 'radius_theta' or 'radius_azimuth'");
   return f;
 }
 
@@ -167,10 +164,10 @@ Result<FacetSurface> FacetSurface::make(const ProfileCurve& curve, const Facets&
         const double ar = s.row_rho_[i], az = s.row_z_[i], br = s.row_rho_[i + 1], bz = s.row_z_[i + 1];
         const double c = std::hypot(br - ar, bz - az);
         if (2.0 * r < c)
-          return fail({}, facets.radius_theta_line,
-                      "facets (line " + std::to_string(facets.radius_theta_line) + "): radius_theta " +
-                          format_number(R * 1e3) + " mm is smaller than half of facet " + std::to_string(i + 1) +
-                          "'s chord (" + format_number(0.5 * c * 1e3) + " mm)");
+          return make_error({}, facets.radius_theta_line,
+                            "facets (line " + std::to_string(facets.radius_theta_line) + "): radius_theta " +
+                                format_number(R * 1e3) + " mm is smaller than half of facet " + std::to_string(i + 1) +
+                                "'s chord (" + format_number(0.5 * c * 1e3) + " mm)");
         // The chord's normal toward the lit side, the centre on it (R > 0) or behind it.
         const double nr = s.side_ * (bz - az) / c, nz = -s.side_ * (br - ar) / c;
         s.mr_.push_back(0.5 * (ar + br));
@@ -189,10 +186,10 @@ Result<FacetSurface> FacetSurface::make(const ProfileCurve& curve, const Facets&
     for (double r : s.row_rho_) rho_max = std::max(rho_max, r);
     const double half_chord = rho_max * std::sin(kPi / facets.azimuth);
     if (std::abs(facets.radius_azimuth) < half_chord)
-      return fail({}, facets.radius_azimuth_line,
-                  "facets (line " + std::to_string(facets.radius_azimuth_line) + "): radius_azimuth " +
-                      format_number(facets.radius_azimuth * 1e3) + " mm is smaller than half of the widest sector's chord (" +
-                      format_number(half_chord * 1e3) + " mm)");
+      return make_error({}, facets.radius_azimuth_line,
+                        "facets (line " + std::to_string(facets.radius_azimuth_line) + "): radius_azimuth " +
+                            format_number(facets.radius_azimuth * 1e3) + " mm is smaller than half of the widest sector's chord (" +
+                            format_number(half_chord * 1e3) + " mm)");
   }
   return s;
 }

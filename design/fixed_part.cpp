@@ -9,16 +9,13 @@
 #include "io/model/gltf.h"
 #include "io/model/gltf_files.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::design {
 namespace {
 
 namespace fs = std::filesystem;
-
-Error fail(const std::string& file, int line, std::string message) {
-  return Error{{file, line, 0}, std::move(message)};
-}
 
 std::string extension(const std::string& file) {
   std::string e = fs::path(file).extension().string();
@@ -54,27 +51,27 @@ Result<FixedPart> read_fixed_part(const io::TomlNode& t, const std::string& path
     const io::TomlNode* n = t.get(key);
     if (!n) {
       if (std::string(key) == "material") continue;
-      return fail(path, t.line, what + ": '" + key + "' is missing");
+      return make_error(path, t.line, what + ": '" + key + "' is missing");
     }
-    if (!n->is_string() || n->string.empty()) return fail(path, n->line, what + ": '" + key + "' must be a non-empty string");
+    if (!n->is_string() || n->string.empty()) return make_error(path, n->line, what + ": '" + key + "' must be a non-empty string");
     *out = n->string;
   }
   p.file_line = t.get("file")->line;
   if (p.name.find_first_of("*?[]/\\") != std::string::npos)
-    return fail(path, t.get("name")->line, what + ": 'name' must be without * ? [ ] / \\");
+    return make_error(path, t.get("name")->line, what + ": 'name' must be without * ? [ ] / \\");
   if (!is_gltf(p.file) && !io::is_cad_path(p.file))
-    return fail(path, p.file_line, what + ": file " + io::shown(p.file) +
-                                       " is not a model Gonio reads as a part (.gltf, .glb, .step, .stp, .iges, .igs)");
+    return make_error(path, p.file_line, what + ": file " + io::shown(p.file) +
+                                             " is not a model Gonio reads as a part (.gltf, .glb, .step, .stp, .iges, .igs)");
   for (auto [key, out, scale] : {std::tuple{"position", &p.position, unit_m}, std::tuple{"rotate_deg", &p.rotate_deg, 1.0}}) {
     const io::TomlNode* n = t.get(key);
     if (!n) continue;
     const std::optional<std::array<double, 3>> v = n->three_numbers();
-    if (!v) return fail(path, n->line, what + ": '" + key + "' must be an array of three finite numbers");
+    if (!v) return make_error(path, n->line, what + ": '" + key + "' must be an array of three finite numbers");
     *out = Vec3{(*v)[0], (*v)[1], (*v)[2]} * scale;
   }
   if (const io::TomlNode* n = t.get("scale")) {
     const std::optional<double> s = n->number();
-    if (!s || !std::isfinite(*s) || !(*s > 0.0)) return fail(path, n->line, what + ": 'scale' must be a number > 0");
+    if (!s || !std::isfinite(*s) || !(*s > 0.0)) return make_error(path, n->line, what + ": 'scale' must be a number > 0");
     p.scale = *s;
   }
   return p;
@@ -94,7 +91,7 @@ Status add_fixed_part(const FixedPart& part, const std::string& design_path, con
   const std::string dir = fs::absolute(fs::path(design_path)).parent_path().lexically_normal().string();
   if (!options.allow_outside_paths)
     if (std::optional<std::string> why = io::outside_the_folder(dir, part.file))
-      return fail(design_path, part.file_line, what + ": " + io::outside_message("file " + io::shown(part.file), *why));
+      return make_error(design_path, part.file_line, what + ": " + io::outside_message("file " + io::shown(part.file), *why));
   const std::string file = (fs::path(dir) / part.file).string();
   const sim::Affine place = fixed_part_transform(part);
   const auto first_part = static_cast<std::uint32_t>(model.parts.size());
@@ -104,7 +101,7 @@ Status add_fixed_part(const FixedPart& part, const std::string& design_path, con
     o.require_emitters = false;
     std::vector<Finding> local;
     Result<sim::SceneDesc> scene = io::load_gltf(file, findings ? findings : &local, o);
-    if (!scene.ok()) return fail(design_path, part.file_line, what + ": " + to_string(scene.error()));
+    if (!scene.ok()) return make_error(design_path, part.file_line, what + ": " + to_string(scene.error()));
     if (!scene->emitters.empty() && findings)
       findings->push_back(Finding{Severity::Info, "fixed-part-lights",
                                   what + ": the lights of " + io::shown(part.file) +
@@ -148,7 +145,7 @@ Status add_fixed_part(const FixedPart& part, const std::string& design_path, con
   } else {
     io::CadLoadOptions o = options;
     Result<io::CadModel> cad = io::tessellate_cad(file, o);
-    if (!cad.ok()) return fail(design_path, part.file_line, what + ": " + to_string(cad.error()));
+    if (!cad.ok()) return make_error(design_path, part.file_line, what + ": " + to_string(cad.error()));
     for (io::CadPart& p : cad->parts) model.parts.push_back(std::move(p));
     for (io::CadPlacement& pl : cad->placements) {
       pl.part += first_part;
@@ -161,8 +158,8 @@ Status add_fixed_part(const FixedPart& part, const std::string& design_path, con
   }
   if (!part.material.empty()) {
     if (!sidecar.material(part.material))
-      return fail(design_path, part.line, what + ": material " + io::shown(part.material) + " is not defined ([materials." +
-                                              part.material + "])");
+      return make_error(design_path, part.line, what + ": material " + io::shown(part.material) + " is not defined ([materials." +
+                                                    part.material + "])");
     io::PartsRule rule;
     rule.match = part.name + "/*";
     rule.material = part.material;

@@ -9,6 +9,7 @@
 #include "design/table_reader.h"
 #include "sim/scene.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::design {
@@ -16,10 +17,6 @@ namespace {
 
 using io::TomlNode;
 
-
-Error fail(const std::string& file, int line, std::string message) {
-  return Error{{file, line, 0}, std::move(message)};
-}
 
 std::string mm(double m) { return format_number(m * 1e3, 4); }
 
@@ -30,17 +27,17 @@ class LensReader : public TableReader {
   // A surface: `vertex_z` its vertex's height (conic and B-spline), `aperture` the conic's rim.
   Result<Profile> surface(const TomlNode& t, const std::string& what, std::optional<double> vertex_z,
                           std::optional<double> aperture, const char* vertex_needs) const {
-    if (!t.is_table()) return fail(path_, t.line, what + " must be a table, e.g. { profile = \"conic\", radius = 20 }");
+    if (!t.is_table()) return make_error(path_, t.line, what + " must be a table, e.g. { profile = \"conic\", radius = 20 }");
     const TomlNode* kind = t.get("profile");
-    if (!kind || !kind->is_string()) return fail(path_, t.line, what + ": 'profile' (conic, bspline, polar) is missing");
+    if (!kind || !kind->is_string()) return make_error(path_, t.line, what + ": 'profile' (conic, bspline, polar) is missing");
     auto need_vertex = [&]() -> Status {
-      if (!vertex_z) return fail(path_, t.line, what + ": a " + kind->string + " surface needs the lens's " + vertex_needs);
+      if (!vertex_z) return make_error(path_, t.line, what + ": a " + kind->string + " surface needs the lens's " + vertex_needs);
       return Ok{};
     };
     if (kind->string == "conic") {
       if (Status s = io::check_keys(t, {"profile", "radius", "conic", "aspheric"}, what, path_); !s.ok()) return s.error();
       if (Status s = need_vertex(); !s.ok()) return s.error();
-      if (!aperture) return fail(path_, t.line, what + ": a conic surface needs the lens's 'aperture' (its rim's ρ)");
+      if (!aperture) return make_error(path_, t.line, what + ": a conic surface needs the lens's 'aperture' (its rim's ρ)");
       ConicProfile c;
       Result<std::optional<double>> radius = number(t, "radius", what);
       if (!radius.ok()) return radius.error();
@@ -66,8 +63,8 @@ class LensReader : public TableReader {
       b.degree = *deg;
       if (Status s = points(t, what, b); !s.ok()) return s.error();
       if (b.rho.empty() || b.rho[0] != 0.0 || b.z[0] != 0.0)
-        return fail(path_, t.get("points")->line,
-                    what + ": the first point must be the vertex, [0, 0] (points are relative to the surface's vertex)");
+        return make_error(path_, t.get("points")->line,
+                          what + ": the first point must be the vertex, [0, 0] (points are relative to the surface's vertex)");
       for (double& z : b.z) z += *vertex_z;
       return Profile(b);
     }
@@ -77,12 +74,12 @@ class LensReader : public TableReader {
       if (!polar_table.ok()) return polar_table.error();
       const PolarProfile& p = *polar_table;
       if (p.theta.empty() || p.theta[0] != 0.0)
-        return fail(path_, t.get("theta_deg")->line,
-                    what + ": a lens's polar surface starts on the axis below the source: theta_deg[0] must be 0");
+        return make_error(path_, t.get("theta_deg")->line,
+                          what + ": a lens's polar surface starts on the axis below the source: theta_deg[0] must be 0");
       return Profile(p);
     }
-    return fail(path_, kind->line,
-                what + ": profile " + io::shown(kind->string) + " is not one a lens surface takes (conic, bspline, polar)");
+    return make_error(path_, kind->line,
+                      what + ": profile " + io::shown(kind->string) + " is not one a lens surface takes (conic, bspline, polar)");
   }
 };
 
@@ -136,12 +133,12 @@ Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) 
   lens.line = t.line;
   for (auto [key, out] : {std::pair{"name", &lens.name}, std::pair{"material", &lens.material}}) {
     const TomlNode* n = t.get(key);
-    if (!n) return fail(path, t.line, what + ": '" + key + "' is missing");
-    if (!n->is_string()) return fail(path, n->line, what + ": '" + key + "' must be a string");
+    if (!n) return make_error(path, t.line, what + ": '" + key + "' is missing");
+    if (!n->is_string()) return make_error(path, n->line, what + ": '" + key + "' must be a string");
     *out = n->string;
   }
   if (lens.name.empty() || lens.name.find_first_of("*?[]/\\") != std::string::npos)
-    return fail(path, t.get("name")->line, what + ": 'name' must be non-empty, without * ? [ ] / \\");
+    return make_error(path, t.get("name")->line, what + ": 'name' must be non-empty, without * ? [ ] / \\");
   const std::string named = what + " (" + lens.name + ")";
   LensReader r(path, unit);
   Result<std::optional<double>> vertex = r.number(t, "vertex", named);
@@ -151,7 +148,7 @@ Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) 
   Result<std::optional<double>> aperture = r.number(t, "aperture", named);
   if (!aperture.ok()) return aperture.error();
   if (*aperture && !(**aperture > 0.0))
-    return fail(path, t.get("aperture")->line, named + ": 'aperture' (the rims' ρ) must be > 0");
+    return make_error(path, t.get("aperture")->line, named + ": 'aperture' (the rims' ρ) must be > 0");
   std::optional<double> v, a, v_out;
   if (vertex->has_value()) v = vertex->value() * unit;
   if (aperture->has_value()) a = aperture->value() * unit;
@@ -160,11 +157,11 @@ Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) 
     const TomlNode* n = t.get(key);
     if (!n) continue;
     const std::optional<std::array<double, 3>> xyz = n->three_numbers();
-    if (!xyz) return fail(path, n->line, named + ": '" + key + "' must be an array of three finite numbers");
+    if (!xyz) return make_error(path, n->line, named + ": '" + key + "' must be an array of three finite numbers");
     *out = Vec3{(*xyz)[0], (*xyz)[1], (*xyz)[2]} * scale;
   }
   for (const char* key : {"inner", "outer"})
-    if (!t.get(key)) return fail(path, t.line, named + ": '" + key + "' (a surface table) is missing");
+    if (!t.get(key)) return make_error(path, t.line, named + ": '" + key + "' (a surface table) is missing");
   Result<Profile> inner = r.surface(*t.get("inner"), named + ": inner", v, a, "'vertex'");
   if (!inner.ok()) return inner.error();
   Result<Profile> outer = r.surface(*t.get("outer"), named + ": outer", v_out, a, "'vertex' and 'thickness'");
@@ -172,31 +169,31 @@ Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) 
   lens.inner = *inner;
   lens.outer = *outer;
   Result<ProfileCurve> ci = ProfileCurve::make(lens.inner);
-  if (!ci.ok()) return fail(path, t.get("inner")->line, named + ": inner: " + ci.error().message);
+  if (!ci.ok()) return make_error(path, t.get("inner")->line, named + ": inner: " + ci.error().message);
   Result<ProfileCurve> co = ProfileCurve::make(lens.outer);
-  if (!co.ok()) return fail(path, t.get("outer")->line, named + ": outer: " + co.error().message);
+  if (!co.ok()) return make_error(path, t.get("outer")->line, named + ": outer: " + co.error().message);
   double ri = 0, zi = 0, ro = 0, zo = 0;
   for (auto [curve, key] : {std::pair{&*ci, "inner"}, std::pair{&*co, "outer"}}) {
     double rho = 0, z = 0;
     point_at(*curve, curve->t0(), rho, z);
     if (std::abs(rho) > 1e-12)
-      return fail(path, t.get(key)->line, named + ": " + key + ": the surface must start on the axis (ρ = 0), not at ρ = " +
-                                              mm(rho) + " mm");
+      return make_error(path, t.get(key)->line, named + ": " + key + ": the surface must start on the axis (ρ = 0), not at ρ = " +
+                                                    mm(rho) + " mm");
   }
   point_at(*ci, ci->t1(), ri, zi);
   point_at(*co, co->t1(), ro, zo);
-  if (!(ri > 0.0) || !(ro > 0.0)) return fail(path, t.line, named + ": a surface's rim lies on the axis");
+  if (!(ri > 0.0) || !(ro > 0.0)) return make_error(path, t.line, named + ": a surface's rim lies on the axis");
 
   // The side: from the inner rim to the outer rim.
   BSplineProfile side;
   side.degree = 1;
   if (const TomlNode* s = t.get("side")) {
     const std::string sw = named + ": side";
-    if (!s->is_table()) return fail(path, s->line, sw + " must be a table { profile = \"bspline\", points = [...] }");
+    if (!s->is_table()) return make_error(path, s->line, sw + " must be a table { profile = \"bspline\", points = [...] }");
     if (Status st = io::check_keys(*s, {"profile", "degree", "points"}, sw, path); !st.ok()) return st.error();
     const TomlNode* kind = s->get("profile");
     if (!kind || !kind->is_string() || kind->string != "bspline")
-      return fail(path, kind ? kind->line : s->line, sw + ": 'profile' must be \"bspline\" (the rims are its end points)");
+      return make_error(path, kind ? kind->line : s->line, sw + ": 'profile' must be \"bspline\" (the rims are its end points)");
     BSplineProfile between;
     if (Status st = r.points(*s, sw, between); !st.ok()) return st.error();
     side.rho.push_back(ri);
@@ -209,7 +206,7 @@ Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) 
     if (!deg.ok()) return deg.error();
     side.degree = *deg;
     Result<ProfileCurve> cs = ProfileCurve::make(side);
-    if (!cs.ok()) return fail(path, s->line, sw + ": " + cs.error().message);
+    if (!cs.ok()) return make_error(path, s->line, sw + ": " + cs.error().message);
   } else {
     side.rho = {ri, ro};
     side.z = {zi, zo};
@@ -228,16 +225,16 @@ Result<Lens> read_lens(const TomlNode& t, const std::string& path, double unit) 
       const auto& q0 = poly[j];
       const auto& q1 = poly[(j + 1) % n];
       if (segments_cross(p0.first, p0.second, p1.first, p1.second, q0.first, q0.second, q1.first, q1.second))
-        return fail(path, t.line, named + ": the lens is thinner than zero near (ρ, z) = (" + mm(q0.first) + ", " +
-                                      mm(q0.second) + ") mm: its surfaces cross");
+        return make_error(path, t.line, named + ": the lens is thinner than zero near (ρ, z) = (" + mm(q0.first) + ", " +
+                                            mm(q0.second) + ") mm: its surfaces cross");
     }
   double zi0 = 0, zo0 = 0, dummy = 0;
   point_at(*ci, ci->t0(), dummy, zi0);
   point_at(*co, co->t0(), dummy, zo0);
   if (!(zi0 > zo0) || !(signed_area(poly) < 0.0))
-    return fail(path, t.line, named + ": the lens is thinner than zero on the axis (inner vertex at z = " + mm(zi0) +
-                                  " mm, outer at " + mm(zo0) +
-                                  " mm): the inner surface, facing the source, lies above the outer one");
+    return make_error(path, t.line, named + ": the lens is thinner than zero on the axis (inner vertex at z = " + mm(zi0) +
+                                        " mm, outer at " + mm(zo0) +
+                                        " mm): the inner surface, facing the source, lies above the outer one");
   return lens;
 }
 

@@ -12,6 +12,7 @@
 #include "photometry/beam.h"
 #include "photometry/bug_rating.h"
 #include "photometry/ugr.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 #include "photometry/frame.h"
 
@@ -20,10 +21,6 @@ namespace {
 
 using io::TomlNode;
 constexpr double kDeg = std::numbers::pi / 180.0;
-
-Error fail(const std::string& file, int line, std::string message) {
-  return Error{{file, line, 0}, std::move(message)};
-}
 
 // Whether `step` divides `range` into a whole number of steps.
 bool divides(double step, double range) {
@@ -81,9 +78,9 @@ Status read_ugr_cell(const TomlNode& n, const std::string& path, MeritSpec::Ugr*
       if (v.size() == 2 && r[0] == v[0] && r[1] == v[1]) found = true;
     }
     if (!found)
-      return fail(path, room->line ? room->line : n.line,
-                  "[merit]: 'ugr.room' must be one of CIE 190's rooms [X, Y] in H (X across the line of sight, Y "
-                  "along it): " + list);
+      return make_error(path, room->line ? room->line : n.line,
+                        "[merit]: 'ugr.room' must be one of CIE 190's rooms [X, Y] in H (X across the line of sight, Y "
+                        "along it): " + list);
     x->x_h = v[0];
     x->y_h = v[1];
   }
@@ -102,8 +99,8 @@ Status read_ugr_cell(const TomlNode& n, const std::string& path, MeritSpec::Ugr*
       }
     }
     if (!found)
-      return fail(path, refl->line ? refl->line : n.line,
-                  "[merit]: 'ugr.reflectances' must be one of CIE 190's sets [ceiling, walls, floor] in %: " + list);
+      return make_error(path, refl->line ? refl->line : n.line,
+                        "[merit]: 'ugr.reflectances' must be one of CIE 190's sets [ceiling, walls, floor] in %: " + list);
   }
   if (const TomlNode* view = n.get("view")) {
     if (view->is_string() && view->string == "crosswise") {
@@ -111,8 +108,8 @@ Status read_ugr_cell(const TomlNode& n, const std::string& path, MeritSpec::Ugr*
     } else if (view->is_string() && view->string == "endwise") {
       x->view = 2;
     } else {
-      return fail(path, view->line ? view->line : n.line,
-                  "[merit]: 'ugr.view' must be \"crosswise\" or \"endwise\" (without it: the larger of the two)");
+      return make_error(path, view->line ? view->line : n.line,
+                        "[merit]: 'ugr.view' must be \"crosswise\" or \"endwise\" (without it: the larger of the two)");
     }
   }
   return Ok{};
@@ -124,9 +121,9 @@ Status table_number(const TomlNode& t, const char* table, const char* key, doubl
   if (!n) return Ok{};
   const std::optional<double> v = n->number();
   if (!v || !std::isfinite(*v) || *v < lo || *v > hi)
-    return fail(path, n->line ? n->line : t.line,
-                std::string("[merit]: '") + table + "." + key + "' must be a number in [" + format_number(lo) + ", " +
-                    format_number(hi) + "]");
+    return make_error(path, n->line ? n->line : t.line,
+                      std::string("[merit]: '") + table + "." + key + "' must be a number in [" + format_number(lo) + ", " +
+                          format_number(hi) + "]");
   *out = *v;
   return Ok{};
 }
@@ -137,7 +134,7 @@ Status read_merit_limits(const TomlNode& m, const std::string& path, MeritSpec& 
     const TomlNode* t = m.get(key);
     if (!t) return static_cast<const TomlNode*>(nullptr);
     if (!t->is_table())
-      return fail(path, t->line, std::string("[merit]: '") + key + "' must be a table ({ … })");
+      return make_error(path, t->line, std::string("[merit]: '") + key + "' must be a table ({ … })");
     return t;
   };
   std::optional<double> v;
@@ -150,13 +147,13 @@ Status read_merit_limits(const TomlNode& m, const std::string& path, MeritSpec& 
         return s;
       MeritSpec::MaxCdAbove x;
       x.line = n.line;
-      if (!n.get("gamma")) return fail(path, n.line, "[merit]: 'max_cd_above' needs 'gamma' (the cut-off angle [deg])");
+      if (!n.get("gamma")) return make_error(path, n.line, "[merit]: 'max_cd_above' needs 'gamma' (the cut-off angle [deg])");
       if (Status s = table_number(n, "max_cd_above", "gamma", 0.0, 180.0, path, &(v = std::nullopt)); !s.ok()) return s;
       x.gamma_deg = *v;
       if (Status s = table_number(n, "max_cd_above", "to", 0.0, 180.0, path, &(v = std::nullopt)); !s.ok()) return s;
       if (v) x.to_deg = *v;
       if (!(x.to_deg > x.gamma_deg))
-        return fail(path, n.line, "[merit]: 'max_cd_above' needs gamma < to (the range of γ it looks at)");
+        return make_error(path, n.line, "[merit]: 'max_cd_above' needs gamma < to (the range of γ it looks at)");
       if (Status s = table_number(n, "max_cd_above", "limit", 1e-12, 1e12, path, &x.limit_cd); !s.ok()) return s;
       if (Status s = table_number(n, "max_cd_above", "weight", 0.0, 1e6, path, &(v = std::nullopt)); !s.ok()) return s;
       if (v) x.weight = *v;
@@ -192,16 +189,16 @@ Status read_merit_limits(const TomlNode& m, const std::string& path, MeritSpec& 
         const TomlNode* k = n.get(key);
         if (!k) continue;
         if (k->type != TomlNode::Type::Integer || k->integer < 0 || k->integer > 4)
-          return fail(path, k->line ? k->line : n.line,
-                      std::string("[merit]: 'bug.") + key + "' must be a class 0 … 4 (the largest allowed; 5 is no limit)");
+          return make_error(path, k->line ? k->line : n.line,
+                            std::string("[merit]: 'bug.") + key + "' must be a class 0 … 4 (the largest allowed; 5 is no limit)");
         *out = static_cast<int>(k->integer);
       }
       if (x.b < 0 && x.u < 0 && x.g < 0)
-        return fail(path, n.line, "[merit]: 'bug' limits nothing: give b, u or g (the largest class allowed)");
+        return make_error(path, n.line, "[merit]: 'bug' limits nothing: give b, u or g (the largest class allowed)");
       if (const TomlNode* k = n.get("table")) {
         if (!k->is_string() || (k->string != "asymmetric" && k->string != "symmetric"))
-          return fail(path, k->line ? k->line : n.line,
-                      "[merit]: 'bug.table' must be \"asymmetric\" (IES Types I–IV) or \"symmetric\" (Types V, VS)");
+          return make_error(path, k->line ? k->line : n.line,
+                            "[merit]: 'bug.table' must be \"asymmetric\" (IES Types I–IV) or \"symmetric\" (Types V, VS)");
         x.symmetric = k->string == "symmetric";
       }
       if (Status s = table_number(n, "bug", "weight", 0.0, 1e6, path, &(v = std::nullopt)); !s.ok()) return s;
@@ -220,7 +217,7 @@ Status read_merit_limits(const TomlNode& m, const std::string& path, MeritSpec& 
       if (Status s = table_number(n, "size", "radius", 1e-6, 1e9, path, &x.radius_mm); !s.ok()) return s;
       if (Status s = table_number(n, "size", "height", 1e-6, 1e9, path, &x.height_mm); !s.ok()) return s;
       if (!x.radius_mm && !x.height_mm)
-        return fail(path, n.line, "[merit]: 'size' limits nothing: give radius or height [mm]");
+        return make_error(path, n.line, "[merit]: 'size' limits nothing: give radius or height [mm]");
       if (Status s = table_number(n, "size", "weight", 0.0, 1e6, path, &(v = std::nullopt)); !s.ok()) return s;
       if (v) x.weight = *v;
       spec.size = x;
@@ -271,7 +268,7 @@ Result<MeritSpec> read_merit(const io::TomlNode& resolved, const std::string& pa
   MeritSpec spec;
   const TomlNode* m = resolved.get("merit");
   if (!m) return spec;
-  if (!m->is_table()) return fail(path, m->line, "'merit' must be a table ([merit])");
+  if (!m->is_table()) return make_error(path, m->line, "'merit' must be a table ([merit])");
   spec.line = m->line;
   static const std::vector<std::string> known = {"target",    "c_step",          "gamma_step", "normalize",
                                                  "smooth",    "photons_per_bin", "candela",    "gamma_weights",
@@ -280,16 +277,16 @@ Result<MeritSpec> read_merit(const io::TomlNode& resolved, const std::string& pa
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       std::string list;
       for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-      return fail(path, v.line, "[merit]: unknown key " + io::shown(key) + " (known: " + list + ")");
+      return make_error(path, v.line, "[merit]: unknown key " + io::shown(key) + " (known: " + list + ")");
     }
   const auto number = [&](const char* key, double& out, double lo, double hi) -> Status {
     const TomlNode* n = m->get(key);
     if (!n) return Ok{};
     const std::optional<double> v = n->number();
     if (!v || !std::isfinite(*v) || *v < lo || *v > hi)
-      return fail(path, n->line,
-                  std::string("[merit]: '") + key + "' must be a number in [" + format_number(lo) + ", " +
-                      format_number(hi) + "]");
+      return make_error(path, n->line,
+                        std::string("[merit]: '") + key + "' must be a number in [" + format_number(lo) + ", " +
+                            format_number(hi) + "]");
     out = *v;
     return Ok{};
   };
@@ -304,34 +301,34 @@ Result<MeritSpec> read_merit(const io::TomlNode& resolved, const std::string& pa
   if (const TomlNode* n = m->get("beam")) spec.beam_line = n->line;
   if (const TomlNode* n = m->get("field")) spec.field_line = n->line;
   if (!divides(spec.c_step_deg, 360.0))
-    return fail(path, m->get("c_step")->line, "[merit]: c_step must divide 360");
+    return make_error(path, m->get("c_step")->line, "[merit]: c_step must divide 360");
   if (!divides(spec.gamma_step_deg, 180.0))
-    return fail(path, m->get("gamma_step")->line, "[merit]: gamma_step must divide 180");
+    return make_error(path, m->get("gamma_step")->line, "[merit]: gamma_step must divide 180");
   if (const TomlNode* t = m->get("target")) {
-    if (!t->is_string() || t->string.empty()) return fail(path, t->line, "[merit]: 'target' must be a file name");
+    if (!t->is_string() || t->string.empty()) return make_error(path, t->line, "[merit]: 'target' must be a file name");
     const std::filesystem::path p(t->string);
     spec.target = p.is_absolute() ? p.string() : (std::filesystem::path(path).parent_path() / p).string();
   }
   if (const TomlNode* n = m->get("normalize")) {
     if (!n->is_string() || (n->string != "flux" && n->string != "absolute"))
-      return fail(path, n->line, "[merit]: 'normalize' must be \"flux\" or \"absolute\"");
+      return make_error(path, n->line, "[merit]: 'normalize' must be \"flux\" or \"absolute\"");
     spec.absolute = n->string == "absolute";
   }
   if (const TomlNode* n = m->get("smooth")) {
-    if (n->type != TomlNode::Type::Boolean) return fail(path, n->line, "[merit]: 'smooth' must be true or false");
+    if (n->type != TomlNode::Type::Boolean) return make_error(path, n->line, "[merit]: 'smooth' must be true or false");
     spec.smooth = n->boolean;
   }
   if (const TomlNode* n = m->get("gamma_weights")) {
-    if (!n->is_array()) return fail(path, n->line, "[merit]: 'gamma_weights' must be an array of [from, to, weight]");
+    if (!n->is_array()) return make_error(path, n->line, "[merit]: 'gamma_weights' must be an array of [from, to, weight]");
     for (const TomlNode& row : n->array) {
       const int line = row.line ? row.line : n->line;
       if (!row.is_array() || row.array.size() != 3)
-        return fail(path, line, "[merit]: each of 'gamma_weights' must be [from, to, weight]");
+        return make_error(path, line, "[merit]: each of 'gamma_weights' must be [from, to, weight]");
       std::optional<double> v[3];
       for (int k = 0; k < 3; ++k) v[k] = row.array[static_cast<std::size_t>(k)].number();
       if (!v[0] || !v[1] || !v[2] || !(*v[0] >= 0.0 && *v[0] < *v[1] && *v[1] <= 180.0) || !(*v[2] >= 0.0) ||
           !std::isfinite(*v[2]))
-        return fail(path, line, "[merit]: 'gamma_weights' rows need 0 ≤ from < to ≤ 180 and a weight ≥ 0");
+        return make_error(path, line, "[merit]: 'gamma_weights' rows need 0 ≤ from < to ≤ 180 and a weight ≥ 0");
       spec.gamma_weights.push_back({*v[0], *v[1], *v[2]});
     }
   }
@@ -491,19 +488,19 @@ void set_target_ugr(const MeritSpec& spec, const MeritGrid& grid, MeritTarget* t
 Status check_merit_terms(const MeritSpec& spec, const MeritTarget& target, const std::string& design_path,
                          const std::string& target_path) {
   if (spec.ugr && !spec.ugr->limit && !std::isfinite(target.ugr))
-    return fail(design_path, spec.ugr->line,
-                "[merit]: 'ugr' without a limit compares the design's UGR with the target's, but the target " +
-                    io::shown(std::filesystem::path(target_path).filename().string()) + " has none (" +
-                    (target.ugr_undefined.empty() ? std::string("undefined") : target.ugr_undefined) +
-                    "); give the target's luminous opening, or write the term as a limit (ugr = { limit = 19 })");
+    return make_error(design_path, spec.ugr->line,
+                      "[merit]: 'ugr' without a limit compares the design's UGR with the target's, but the target " +
+                          io::shown(std::filesystem::path(target_path).filename().string()) + " has none (" +
+                          (target.ugr_undefined.empty() ? std::string("undefined") : target.ugr_undefined) +
+                          "); give the target's luminous opening, or write the term as a limit (ugr = { limit = 19 })");
   for (auto [weight, angle, key, line, fraction] :
        {std::tuple{spec.beam_weight, target.beam_deg, "beam", spec.beam_line, "50"},
         std::tuple{spec.field_weight, target.field_deg, "field", spec.field_line, "10"}})
     if (weight > 0.0 && !std::isfinite(angle))
-      return fail(design_path, line ? line : spec.line,
-                  std::string("[merit]: '") + key + "' compares with the target's " + key + " angle, but the target " +
-                      io::shown(std::filesystem::path(target_path).filename().string()) +
-                      " has none (its C0–C180 plane never falls to " + fraction + " % of its maximum)");
+      return make_error(design_path, line ? line : spec.line,
+                        std::string("[merit]: '") + key + "' compares with the target's " + key + " angle, but the target " +
+                            io::shown(std::filesystem::path(target_path).filename().string()) +
+                            " has none (its C0–C180 plane never falls to " + fraction + " % of its maximum)");
   return Ok{};
 }
 

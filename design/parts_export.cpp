@@ -11,6 +11,7 @@
 #include "design/fixed_part.h"
 #include "io/model/gltf_files.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 #include "sim/scene.h"
 
@@ -222,7 +223,7 @@ Status add_fixed_parts_to_step(const Design& design, const DesignParts& parts, c
   const std::string dir = fs::absolute(fs::path(design.path)).parent_path().lexically_normal().string();
   for (const FixedPart& f : parts.fixed_parts) {
     const std::string what = "[[parts]] at line " + std::to_string(f.line) + " (" + f.name + ")";
-    auto fail = [&](int line, const std::string& message) { return Error{{design.path, line, 0}, what + ": " + message}; };
+    auto fail = [&](int line, const std::string& message) { return make_error(design.path, line, what + ": " + message); };
     if (std::optional<std::string> why = io::outside_the_folder(dir, f.file))
       return fail(f.file_line, io::outside_message("file " + io::shown(f.file), *why));
     const std::string ext = fs::path(f.file).extension().string();

@@ -16,6 +16,7 @@
 #include "design/revolved.h"
 #include "io/model/toml_tree.h"
 #include "photometry/diagnostics.h"
+#include "photometry/error_at.h"
 
 namespace gonio::design {
 
@@ -23,30 +24,27 @@ class TableReader {
  public:
   TableReader(std::string path, double unit_m) : path_(std::move(path)), unit_(unit_m) {}
 
-  static Error fail_at(const std::string& file, int line, std::string message) {
-    return Error{{file, line, 0}, std::move(message)};
-  }
   Status keys(const io::TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const {
     return io::check_keys(t, known, what, path_);
   }
   Result<std::string> string(const io::TomlNode& t, const char* key, const std::string& what) const {
     const io::TomlNode* n = t.get(key);
-    if (!n) return fail_at(path_, t.line, what + ": '" + key + "' is missing");
-    if (!n->is_string()) return fail_at(path_, n->line, what + ": '" + key + "' must be a string");
+    if (!n) return make_error(path_, t.line, what + ": '" + key + "' is missing");
+    if (!n->is_string()) return make_error(path_, n->line, what + ": '" + key + "' must be a string");
     return n->string;
   }
   Result<std::optional<double>> number(const io::TomlNode& t, const char* key, const std::string& what) const {
     const io::TomlNode* n = t.get(key);
     if (!n) return std::optional<double>();
     const std::optional<double> v = n->number();
-    if (!v || !std::isfinite(*v)) return fail_at(path_, n->line, what + ": '" + key + "' must be a finite number");
+    if (!v || !std::isfinite(*v)) return make_error(path_, n->line, what + ": '" + key + "' must be a finite number");
     return v;
   }
   Result<std::vector<double>> numbers(const io::TomlNode& t, const char* key, const std::string& what,
                                       bool required) const {
     const io::TomlNode* n = t.get(key);
     if (!n) {
-      if (required) return fail_at(path_, t.line, what + ": '" + key + "' is missing");
+      if (required) return make_error(path_, t.line, what + ": '" + key + "' is missing");
       return std::vector<double>();
     }
     std::vector<double> out;
@@ -56,14 +54,14 @@ class TableReader {
       ok = v && std::isfinite(*v);
       if (ok) out.push_back(*v);
     }
-    if (!ok) return fail_at(path_, n->line, what + ": '" + key + "' must be an array of finite numbers");
+    if (!ok) return make_error(path_, n->line, what + ": '" + key + "' must be an array of finite numbers");
     return out;
   }
   // A B-spline's control points [[ρ, z], …] into `b`, in metres.
   Status points(const io::TomlNode& t, const std::string& what, BSplineProfile& b) const {
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     const io::TomlNode* points = t.get("points");
-    if (!points) return fail_at(path_, t.line, what + ": 'points' is missing");
+    if (!points) return make_error(path_, t.line, what + ": 'points' is missing");
     bool ok = points->is_array();
     for (std::size_t i = 0; ok && i < points->array.size(); ++i) {
       const io::TomlNode& pt = points->array[i];
@@ -76,8 +74,8 @@ class TableReader {
         b.z.push_back(pz * unit_);
       }
     }
-    if (!ok) return fail_at(path_, points->line, what + ": 'points' must be an array of [ρ, z] pairs of finite numbers");
-    if (b.rho.size() > 10000) return fail_at(path_, points->line, what + ": more than 10000 points");
+    if (!ok) return make_error(path_, points->line, what + ": 'points' must be an array of [ρ, z] pairs of finite numbers");
+    if (b.rho.size() > 10000) return make_error(path_, points->line, what + ": more than 10000 points");
     return Ok{};
   }
   // A polar table's `theta_deg` (to radians) and `r` (to metres).
@@ -97,7 +95,7 @@ class TableReader {
     if (!d.ok()) return d.error();
     const double wanted = d->value_or(fallback);
     if (!(wanted >= 1.0 && wanted <= 5.0) || wanted != std::trunc(wanted))
-      return fail_at(path_, t.get("degree")->line, what + ": 'degree' must be a whole number, 1 … 5");
+      return make_error(path_, t.get("degree")->line, what + ": 'degree' must be a whole number, 1 … 5");
     return static_cast<int>(wanted);
   }
 

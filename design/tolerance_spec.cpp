@@ -11,19 +11,12 @@
 
 #include "io/support/file_io.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 #include "sim/affine.h"
 
 namespace gonio::design {
 namespace {
-
-Error at(const std::string& path, int line, std::string message) {
-  Error e;
-  e.where.file = path;
-  e.where.line = line;
-  e.message = std::move(message);
-  return e;
-}
 
 constexpr const char* kEmitterQuantities[] = {"x", "y", "z", "tilt_x", "tilt_y", "flux"};
 constexpr const char* kMaterialQuantities[] = {"reflectance", "transmittance", "roughness", "scattering"};
@@ -44,15 +37,15 @@ std::string listed(const char* const (&list)[N]) {
 // A finite number of a law's table.
 Result<double> number_of(const io::TomlNode& node, const std::string& key, const std::string& path) {
   const std::optional<double> v = node.number();
-  if (!v || !std::isfinite(*v)) return at(path, node.line, key + " must be a finite number");
+  if (!v || !std::isfinite(*v)) return make_error(path, node.line, key + " must be a finite number");
   return *v;
 }
 
 Result<ToleranceLaw> parse_law(const io::TomlNode& node, const std::string& what, const std::string& path) {
   if (!node.is_table())
-    return at(path, node.line,
-              what + ": write a law as a table: { normal = SIGMA[, truncate = K] }, { uniform = HALF_WIDTH } or "
-                     "{ values = [V1, V2, …] }");
+    return make_error(path, node.line,
+                      what + ": write a law as a table: { normal = SIGMA[, truncate = K] }, { uniform = HALF_WIDTH } or "
+                             "{ values = [V1, V2, …] }");
   ToleranceLaw law;
   int laws = 0;
   bool truncate = false;
@@ -60,20 +53,20 @@ Result<ToleranceLaw> parse_law(const io::TomlNode& node, const std::string& what
     if (key == "normal") {
       Result<double> s = number_of(value, what + ".normal", path);
       if (!s.ok()) return s.error();
-      if (!(*s >= 0.0)) return at(path, value.line, what + ".normal: σ must be ≥ 0");
+      if (!(*s >= 0.0)) return make_error(path, value.line, what + ".normal: σ must be ≥ 0");
       law.kind = ToleranceLaw::Kind::Normal;
       law.sigma = *s;
       ++laws;
     } else if (key == "uniform") {
       Result<double> a = number_of(value, what + ".uniform", path);
       if (!a.ok()) return a.error();
-      if (!(*a >= 0.0)) return at(path, value.line, what + ".uniform: the half width must be ≥ 0");
+      if (!(*a >= 0.0)) return make_error(path, value.line, what + ".uniform: the half width must be ≥ 0");
       law.kind = ToleranceLaw::Kind::Uniform;
       law.half_width = *a;
       ++laws;
     } else if (key == "values") {
       if (!value.is_array() || value.array.empty())
-        return at(path, value.line, what + ".values must be a non-empty array of numbers");
+        return make_error(path, value.line, what + ".values must be a non-empty array of numbers");
       law.kind = ToleranceLaw::Kind::Values;
       for (const io::TomlNode& v : value.array) {
         Result<double> x = number_of(v, what + ".values", path);
@@ -84,16 +77,16 @@ Result<ToleranceLaw> parse_law(const io::TomlNode& node, const std::string& what
     } else if (key == "truncate") {
       Result<double> k = number_of(value, what + ".truncate", path);
       if (!k.ok()) return k.error();
-      if (!(*k > 0.0 && *k <= 10.0)) return at(path, value.line, what + ".truncate must lie in (0, 10] (σ)");
+      if (!(*k > 0.0 && *k <= 10.0)) return make_error(path, value.line, what + ".truncate must lie in (0, 10] (σ)");
       law.truncate = *k;
       truncate = true;
     } else {
-      return at(path, value.line, what + ": unknown key " + io::shown(key) + " (normal, truncate, uniform, values)");
+      return make_error(path, value.line, what + ": unknown key " + io::shown(key) + " (normal, truncate, uniform, values)");
     }
   }
-  if (laws != 1) return at(path, node.line, what + ": give exactly one of normal, uniform, values");
+  if (laws != 1) return make_error(path, node.line, what + ": give exactly one of normal, uniform, values");
   if (truncate && law.kind != ToleranceLaw::Kind::Normal)
-    return at(path, node.line, what + ": truncate goes with normal only");
+    return make_error(path, node.line, what + ": truncate goes with normal only");
   return law;
 }
 
@@ -217,23 +210,23 @@ void move_extended_emitter(sim::SceneDesc& scene, sim::Emitter& e, const sim::Af
 // mean square is S².
 Result<std::vector<Tolerance>> parse_form(const io::TomlNode& node, const std::string& name, const std::string& what,
                                           const std::string& path) {
-  if (!node.is_table()) return at(path, node.line, what + ": write { modes = K, rms_um = S }");
+  if (!node.is_table()) return make_error(path, node.line, what + ": write { modes = K, rms_um = S }");
   std::optional<double> modes, rms;
   for (const auto& [key, value] : node.table) {
     Result<double> v = number_of(value, what + "." + key, path);
     if (key != "modes" && key != "rms_um")
-      return at(path, value.line, what + ": unknown key " + io::shown(key) + " (modes, rms_um)");
+      return make_error(path, value.line, what + ": unknown key " + io::shown(key) + " (modes, rms_um)");
     if (!v.ok()) return v.error();
     if (key == "modes") {
       if (!(*v >= 1.0 && *v <= kMaxFormModes && *v == std::floor(*v)))
-        return at(path, value.line, what + ".modes must be a whole number from 1 to " + std::to_string(kMaxFormModes));
+        return make_error(path, value.line, what + ".modes must be a whole number from 1 to " + std::to_string(kMaxFormModes));
       modes = *v;
     } else {
-      if (!(*v >= 0.0)) return at(path, value.line, what + ".rms_um must be ≥ 0");
+      if (!(*v >= 0.0)) return make_error(path, value.line, what + ".rms_um must be ≥ 0");
       rms = *v;
     }
   }
-  if (!modes || !rms) return at(path, node.line, what + ": give both modes and rms_um");
+  if (!modes || !rms) return make_error(path, node.line, what + ": give both modes and rms_um");
   std::vector<Tolerance> out;
   for (int k = 1; k <= static_cast<int>(*modes); ++k) {
     Tolerance t;
@@ -276,7 +269,7 @@ Result<Tolerance> parse_bins(const io::TomlNode& node, const std::string& name, 
   const char* form = flux ? "{ factors = [F1, F2, …], probabilities = [P1, P2, …] }"
                           : "{ spectra = [\"FILE\", { blackbody_k = K }, …] or cct = [K1, K2, …], probabilities = "
                             "[P1, P2, …] }";
-  if (!node.is_table()) return at(path, node.line, what + ": write " + std::string(form));
+  if (!node.is_table()) return make_error(path, node.line, what + ": write " + std::string(form));
   Tolerance t;
   t.target = Tolerance::Target::Emitter;
   t.name = name;
@@ -287,7 +280,7 @@ Result<Tolerance> parse_bins(const io::TomlNode& node, const std::string& name, 
   int lists = 0;
   const auto numbers = [&](const io::TomlNode& list, const std::string& key) -> Result<std::vector<double>> {
     if (!list.is_array() || list.array.empty())
-      return at(path, list.line, what + "." + key + " must be a non-empty array of numbers");
+      return make_error(path, list.line, what + "." + key + " must be a non-empty array of numbers");
     std::vector<double> out;
     for (const io::TomlNode& v : list.array) {
       Result<double> x = number_of(v, what + "." + key, path);
@@ -303,7 +296,7 @@ Result<Tolerance> parse_bins(const io::TomlNode& node, const std::string& name, 
       Result<std::vector<double>> f = numbers(value, key);
       if (!f.ok()) return f.error();
       for (double x : *f) {
-        if (!(x > 0.0)) return at(path, value.line, what + ".factors: a factor must be > 0 (" + format_number(x) + ")");
+        if (!(x > 0.0)) return make_error(path, value.line, what + ".factors: a factor must be > 0 (" + format_number(x) + ")");
         t.bin_factors.push_back(x);
         t.bin_names.push_back("×" + format_number(x));
       }
@@ -313,20 +306,20 @@ Result<Tolerance> parse_bins(const io::TomlNode& node, const std::string& name, 
       if (!k.ok()) return k.error();
       for (double x : *k) {
         if (!(x >= 1000.0 && x <= 25000.0))
-          return at(path, value.line, what + ".cct: " + format_number(x) + " K is outside 1000 … 25000 K");
+          return make_error(path, value.line, what + ".cct: " + format_number(x) + " K is outside 1000 … 25000 K");
         t.bin_spectra.push_back(photometry::blackbody_spectrum(x));
         t.bin_names.push_back(format_number(x) + " K");
       }
       ++lists;
     } else if (!flux && key == "spectra") {
       if (!value.is_array() || value.array.empty())
-        return at(path, value.line, what + ".spectra must be a non-empty array of file names or { blackbody_k = K }");
+        return make_error(path, value.line, what + ".spectra must be a non-empty array of file names or { blackbody_k = K }");
       for (const io::TomlNode& v : value.array) {
         if (v.is_string()) {
           // Relative to the tolerance file's folder.
           const std::filesystem::path file = std::filesystem::path(path).parent_path() / v.string;
           if (!std::filesystem::is_regular_file(file))
-            return at(path, v.line, what + ".spectra: no spectrum file " + io::shown(file.string()));
+            return make_error(path, v.line, what + ".spectra: no spectrum file " + io::shown(file.string()));
           Result<photometry::SampledSpectrum> sp = read_spectrum_table(file.string());
           if (!sp.ok()) return sp.error();
           t.bin_spectra.push_back(std::move(sp.value()));
@@ -336,32 +329,32 @@ Result<Tolerance> parse_bins(const io::TomlNode& node, const std::string& name, 
         const io::TomlNode* k = v.is_table() && v.table.size() == 1 ? v.get("blackbody_k") : nullptr;
         const std::optional<double> kelvin = k ? k->number() : std::nullopt;
         if (!kelvin || !(*kelvin >= 1000.0 && *kelvin <= 25000.0))
-          return at(path, v.line, what + ".spectra: each is a file name or { blackbody_k = K }, 1000 ≤ K ≤ 25000");
+          return make_error(path, v.line, what + ".spectra: each is a file name or { blackbody_k = K }, 1000 ≤ K ≤ 25000");
         t.bin_spectra.push_back(photometry::blackbody_spectrum(*kelvin));
         t.bin_names.push_back(format_number(*kelvin) + " K");
       }
       ++lists;
     } else {
-      return at(path, value.line,
-                what + ": unknown key " + io::shown(key) + (flux ? " (factors, probabilities)" : " (spectra, cct, probabilities)"));
+      return make_error(path, value.line,
+                        what + ": unknown key " + io::shown(key) + (flux ? " (factors, probabilities)" : " (spectra, cct, probabilities)"));
     }
   }
-  if (lists != 1) return at(path, node.line, what + ": give exactly one list of bins: " + form);
+  if (lists != 1) return make_error(path, node.line, what + ": give exactly one list of bins: " + form);
   const std::size_t count = flux ? t.bin_factors.size() : t.bin_spectra.size();
   if (probabilities) {
     Result<std::vector<double>> p = numbers(*probabilities, "probabilities");
     if (!p.ok()) return p.error();
     if (p->size() != count)
-      return at(path, probabilities->line, what + ".probabilities: " + std::to_string(p->size()) + " for " +
-                                               std::to_string(count) + " bins");
+      return make_error(path, probabilities->line, what + ".probabilities: " + std::to_string(p->size()) + " for " +
+                                                       std::to_string(count) + " bins");
     double sum = 0.0;
     for (double x : *p) {
-      if (!(x >= 0.0)) return at(path, probabilities->line, what + ".probabilities must be ≥ 0");
+      if (!(x >= 0.0)) return make_error(path, probabilities->line, what + ".probabilities must be ≥ 0");
       sum += x;
     }
     if (!(std::abs(sum - 1.0) <= 1e-6))
-      return at(path, probabilities->line,
-                what + ".probabilities sum to " + format_number(sum) + ", not 1");
+      return make_error(path, probabilities->line,
+                        what + ".probabilities sum to " + format_number(sum) + ", not 1");
     t.law.probabilities = std::move(p.value());
   } else {
     t.law.probabilities.assign(count, 1.0 / static_cast<double>(count));  // equally likely
@@ -534,7 +527,7 @@ Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::
   for (const auto& [section, node] : root.table) {
     const bool emitter = section == "emitter", part = section == "part";
     if (section == "variable") {
-      if (!node.is_table()) return at(path, node.line, "variable must be a table: NAME = { law }");
+      if (!node.is_table()) return make_error(path, node.line, "variable must be a table: NAME = { law }");
       for (const auto& [name, law_node] : node.table)
         if (Status st = variable(name, law_node); !st.ok()) return st.error();
       continue;
@@ -544,16 +537,16 @@ Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::
       continue;
     }
     if (!emitter && !part && section != "material")
-      return at(path, node.line, "unknown section " + io::shown(section) + " (emitter, part, material, variable)");
+      return make_error(path, node.line, "unknown section " + io::shown(section) + " (emitter, part, material, variable)");
     if (!node.is_table())
-      return at(path, node.line, section + " must be tables by name: [" + section + ".NAME]");
+      return make_error(path, node.line, section + " must be tables by name: [" + section + ".NAME]");
     for (const auto& [name, quantities] : node.table) {
       if (!quantities.is_table())
-        return at(path, quantities.line, "[" + section + "." + name + "] must be a table of values");
+        return make_error(path, quantities.line, "[" + section + "." + name + "] must be a table of values");
       // [part.NAME] independent = true: each copy of an instanced mesh draws its own values.
       const io::TomlNode* independent = part ? quantities.get("independent") : nullptr;
       if (independent && independent->type != io::TomlNode::Type::Boolean)
-        return at(path, independent->line, section + "." + name + ".independent must be true or false");
+        return make_error(path, independent->line, section + "." + name + ".independent must be true or false");
       for (const auto& [quantity, law_node] : quantities.table) {
         if (independent && quantity == "independent") continue;
         const std::string what = section + "." + name + "." + quantity;
@@ -573,12 +566,12 @@ Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::
                            : part  ? one_of(quantity, kPartQuantities)
                                    : one_of(quantity, kMaterialQuantities);
         if (!known)
-          return at(path, law_node.line,
-                    "unknown " + section + " value " + io::shown(quantity) + " (" +
-                        (emitter ? listed(kEmitterQuantities) + ", flux_bin, colour_bin"
-                         : part  ? listed(kPartQuantities) + ", form"
-                                 : listed(kMaterialQuantities)) +
-                        ")");
+          return make_error(path, law_node.line,
+                            "unknown " + section + " value " + io::shown(quantity) + " (" +
+                                (emitter ? listed(kEmitterQuantities) + ", flux_bin, colour_bin"
+                                 : part  ? listed(kPartQuantities) + ", form"
+                                         : listed(kMaterialQuantities)) +
+                                ")");
         Result<ToleranceLaw> law = parse_law(law_node, what, path);
         if (!law.ok()) return law.error();
         Tolerance t;
@@ -591,14 +584,14 @@ Result<ToleranceSpec> parse_tolerance_tree(const io::TomlNode& root, const std::
         t.line = law_node.line;
         t.independent = independent && independent->boolean;
         if (t.unit() == std::string("%") && t.law.low() <= -100.0)
-          return at(path, t.line, what + ": a change of −100 % or less leaves nothing (" + t.law.text() + ")");
+          return make_error(path, t.line, what + ": a change of −100 % or less leaves nothing (" + t.law.text() + ")");
         spec.tolerances.push_back(std::move(t));
       }
     }
   }
   if (spec.tolerances.empty())
-    return design ? at(path, root.line, "no tolerances in [tolerances]: give variables or [tolerances.emitter.NAME], "
-                                        "[tolerances.part.NAME], [tolerances.material.NAME] tables")
+    return design ? make_error(path, root.line, "no tolerances in [tolerances]: give variables or [tolerances.emitter.NAME], "
+                                                "[tolerances.part.NAME], [tolerances.material.NAME] tables")
                   : make_error(path, "no tolerances: give [emitter.NAME], [part.NAME] or [material.NAME] tables");
   return spec;
 }
@@ -637,12 +630,12 @@ Result<photometry::SampledSpectrum> read_spectrum_table(const std::string& path)
         header_allowed = false;
         continue;
       }
-      return at(path, line, "write two numbers per line: wavelength [nm] and value");
+      return make_error(path, line, "write two numbers per line: wavelength [nm] and value");
     }
     header_allowed = false;
     if (!s.wavelengths_nm.empty() && !(nm > s.wavelengths_nm.back()))
-      return at(path, line, "wavelengths must increase (" + format_number(nm) + " nm after " +
-                                format_number(s.wavelengths_nm.back()) + " nm)");
+      return make_error(path, line, "wavelengths must increase (" + format_number(nm) + " nm after " +
+                                        format_number(s.wavelengths_nm.back()) + " nm)");
     s.wavelengths_nm.push_back(nm);
     s.values.push_back(value);
     if (end == text->size()) break;
@@ -659,16 +652,16 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
       if (!e) {
         std::string names;
         for (const sim::Emitter& x : scene.emitters) names += (names.empty() ? "" : ", ") + io::shown(x.name);
-        return at(spec.path, t.line, "the model has no emitter " + io::shown(t.name) + " (it has " +
-                                         (names.empty() ? "none" : names) + ")");
+        return make_error(spec.path, t.line, "the model has no emitter " + io::shown(t.name) + " (it has " +
+                                                 (names.empty() ? "none" : names) + ")");
       }
       if (t.quantity == "colour_bin" && e->spectrum.empty())
-        return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
-                                         " has no spectrum in the model: give it one (extras.gonio.spectrum, the "
-                                         "sidecar's spectrum) so that the nominal is a spectral run to compare with");
+        return make_error(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
+                                                 " has no spectrum in the model: give it one (extras.gonio.spectrum, the "
+                                                 "sidecar's spectrum) so that the nominal is a spectral run to compare with");
       if (t.quantity != "flux" && t.law.kind != ToleranceLaw::Kind::Bins && e->kind == sim::Emitter::Kind::RaySet &&
           !e->rays)
-        return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) + " is a ray-set emitter without rays");
+        return make_error(spec.path, t.line, t.label() + ": " + io::shown(t.name) + " is a ray-set emitter without rays");
       continue;
     }
     if (t.target == Tolerance::Target::Part) {
@@ -679,18 +672,18 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
       if (!world && !instanced)
         for (const sim::Mesh& mesh : scene.meshes)
           if (in_part(mesh, t.name) && mesh.instanced)
-            return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
-                                             " is an instanced mesh placed nowhere (it has no instances)");
+            return make_error(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
+                                                     " is an instanced mesh placed nowhere (it has no instances)");
       if (instanced && t.quantity.rfind("form", 0) == 0)
-        return at(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
-                                         " is instanced (placed by its instances); form errors shape world meshes "
-                                         "only (load it with its copies un-instanced)");
+        return make_error(spec.path, t.line, t.label() + ": " + io::shown(t.name) +
+                                                 " is instanced (placed by its instances); form errors shape world meshes "
+                                                 "only (load it with its copies un-instanced)");
       if (!world && !instanced) {
         std::string names;
         for (const sim::Mesh& x : scene.meshes)
           if (names.find(io::shown(x.name)) == std::string::npos) names += (names.empty() ? "" : ", ") + io::shown(x.name);
-        return at(spec.path, t.line, "the model has no part " + io::shown(t.name) + " (it has " +
-                                         (names.empty() ? "none" : names) + ")");
+        return make_error(spec.path, t.line, "the model has no part " + io::shown(t.name) + " (it has " +
+                                                 (names.empty() ? "none" : names) + ")");
       }
       continue;
     }
@@ -698,27 +691,27 @@ Status check_tolerances(const ToleranceSpec& spec, const sim::SceneDesc& scene) 
     if (!m) {
       std::string names;
       for (const sim::Material& x : scene.materials) names += (names.empty() ? "" : ", ") + io::shown(x.name);
-      return at(spec.path, t.line, "the model has no material " + io::shown(t.name) + " (it has " +
-                                       (names.empty() ? "none" : names) + ")");
+      return make_error(spec.path, t.line, "the model has no material " + io::shown(t.name) + " (it has " +
+                                               (names.empty() ? "none" : names) + ")");
     }
     const double r = reflection_peak(*m), tr = transmission_peak(*m);
     if (t.quantity == "reflectance" && !(r > 0.0))
-      return at(spec.path, t.line, t.label() + ": the material reflects nothing (no reflection lobe)");
+      return make_error(spec.path, t.line, t.label() + ": the material reflects nothing (no reflection lobe)");
     if (t.quantity == "transmittance" && !(tr > 0.0))
-      return at(spec.path, t.line, t.label() + ": the material transmits nothing (no transmission lobe)");
+      return make_error(spec.path, t.line, t.label() + ": the material transmits nothing (no transmission lobe)");
     if (t.quantity == "roughness" && !(m->glossy > 0.0))
-      return at(spec.path, t.line, t.label() + ": the material has no glossy lobe to roughen");
+      return make_error(spec.path, t.line, t.label() + ": the material has no glossy lobe to roughen");
     if (t.quantity == "scattering" && !(m->scattering_per_m > 0.0))
-      return at(spec.path, t.line, t.label() + ": the material does not scatter in volume (its scattering "
-                                               "coefficient is 0: a clear or surface-only material)");
+      return make_error(spec.path, t.line, t.label() + ": the material does not scatter in volume (its scattering "
+                                                       "coefficient is 0: a clear or surface-only material)");
     const double grow = 1.0 + t.law.high() / 100.0;
     const double total = t.quantity == "reflectance"     ? total_peak(*m) + r * (grow - 1.0)
                          : t.quantity == "transmittance" ? total_peak(*m) + tr * (grow - 1.0)
                                                          : m->total();
     if (total > 1.0 + 1e-12)
-      return at(spec.path, t.line,
-                t.label() + " at +" + format_number(t.law.high()) + " % would make the material's lobes sum to " +
-                    format_number(total) + " > 1");
+      return make_error(spec.path, t.line,
+                        t.label() + " at +" + format_number(t.law.high()) + " % would make the material's lobes sum to " +
+                            format_number(total) + " > 1");
   }
   return Ok{};
 }
@@ -732,8 +725,8 @@ Status expand_independent_copies(ToleranceSpec& spec, const sim::SceneDesc& scen
     }
     const PartInstances copies = part_instances(scene, t.name);
     if (!copies.copies)
-      return at(spec.path, t.line, t.label() + ": independent = true needs the name of an instanced mesh (its copies "
-                                               "draw their own values); " + io::shown(t.name) + " is not one");
+      return make_error(spec.path, t.line, t.label() + ": independent = true needs the name of an instanced mesh (its copies "
+                                                       "draw their own values); " + io::shown(t.name) + " is not one");
     std::set<std::string> placed;
     for (std::size_t k : copies.instances) {
       Tolerance each = t;
@@ -742,9 +735,9 @@ Status expand_independent_copies(ToleranceSpec& spec, const sim::SceneDesc& scen
       // A copy's tolerance names it by its placed name: two copies of one
       // name could not be told apart (each tolerance would move both).
       if (!placed.insert(each.name).second)
-        return at(spec.path, t.line, t.label() + ": independent = true: two copies of " + io::shown(t.name) +
-                                         " are placed as " + io::shown(each.name) +
-                                         " (the same node name): give their nodes distinct names");
+        return make_error(spec.path, t.line, t.label() + ": independent = true: two copies of " + io::shown(t.name) +
+                                                 " are placed as " + io::shown(each.name) +
+                                                 " (the same node name): give their nodes distinct names");
       out.push_back(std::move(each));
     }
   }
@@ -861,13 +854,13 @@ Status check_variables(const ToleranceSpec& spec, const Design* design) {
   for (const Tolerance& t : spec.tolerances) {
     if (t.target != Tolerance::Target::Variable) continue;
     if (!design)
-      return at(spec.path, t.line, io::shown(t.name) + ": a tolerance on a variable needs a design file as the model");
+      return make_error(spec.path, t.line, io::shown(t.name) + ": a tolerance on a variable needs a design file as the model");
     if (design->variable(t.name)) continue;
     std::string names;
     for (const Variable& v : design->variables) names += (names.empty() ? "" : ", ") + io::shown(v.name);
-    return at(spec.path, t.line, "the design " + design->path + " has no variable " + io::shown(t.name) + " (it has " +
-                                     (names.empty() ? "none: write a number as { value = … } to make it one" : names) +
-                                     ")");
+    return make_error(spec.path, t.line, "the design " + design->path + " has no variable " + io::shown(t.name) + " (it has " +
+                                             (names.empty() ? "none: write a number as { value = … } to make it one" : names) +
+                                             ")");
   }
   return Ok{};
 }

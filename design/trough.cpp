@@ -6,16 +6,10 @@
 
 #include "design/design_scene.h"
 #include "design/part_mesh.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::design {
-namespace {
-
-Error fail(const std::string& file, int line, std::string message) {
-  return Error{{file, line, 0}, std::move(message)};
-}
-
-}  // namespace
 
 Result<Trough> read_trough(const io::TomlNode& t, const std::string& path, double unit_m) {
   const std::string what = "[[troughs]] at line " + std::to_string(t.line);
@@ -32,18 +26,18 @@ Result<Trough> read_trough(const io::TomlNode& t, const std::string& path, doubl
   out.material = r->material;
   out.profile = r->profile;
   const io::TomlNode* length = t.get("length");
-  if (!length) return fail(path, t.line, what + ": 'length' is missing (the trough's extent along Y)");
+  if (!length) return make_error(path, t.line, what + ": 'length' is missing (the trough's extent along Y)");
   const std::optional<double> l = length->number();
   if (!l || !std::isfinite(*l) || !(*l > 0.0))
-    return fail(path, length->line, what + ": 'length' must be a number > 0");
+    return make_error(path, length->line, what + ": 'length' must be a number > 0");
   out.length = *l * unit_m;
   if (const io::TomlNode* s = t.get("symmetric")) {
-    if (s->type != io::TomlNode::Type::Boolean) return fail(path, s->line, what + ": 'symmetric' must be true or false");
+    if (s->type != io::TomlNode::Type::Boolean) return make_error(path, s->line, what + ": 'symmetric' must be true or false");
     out.symmetric = s->boolean;
   }
   if (const io::TomlNode* c = t.get("caps")) {
     if (!c->is_string() || c->string.empty())
-      return fail(path, c->line, what + ": 'caps' must be the name of the end caps' material");
+      return make_error(path, c->line, what + ": 'caps' must be the name of the end caps' material");
     out.caps = c->string;
     out.caps_line = c->line;
   }

@@ -1,4 +1,5 @@
 #include "photometry/diagnostics.h"
+#include "photometry/error_at.h"
 
 #include <algorithm>
 
@@ -27,6 +28,12 @@ Error make_error(const std::string& file, std::string message) {
   Error e;
   e.where.file = file;
   e.message = std::move(message);
+  return e;
+}
+
+Error make_error(const std::string& file, int line, std::string message) {
+  Error e = make_error(file, std::move(message));
+  e.where.line = line;
   return e;
 }
 

@@ -21,37 +21,35 @@ bool strictly_increasing_finite(const std::vector<double>& v) {
 
 bool near(double a, double b) { return std::abs(a - b) <= kAngleTol; }
 
-Status fail(std::string message) { return Error{{}, std::move(message)}; }
-
 Status validate_horizontal_c(const Distribution& d) {
   const auto& h = d.horizontal_deg;
   const double first = h.front(), last = h.back();
   const auto range = [&](double lo, double hi, const char* what) -> Status {
     if (!near(first, lo) || !near(last, hi))
-      return fail(std::string("symmetry ") + what + " needs horizontal angles from " +
-                  format_number(lo) + " to " + format_number(hi) + ", found " +
-                  format_number(first) + " to " + format_number(last));
+      return make_error(std::string("symmetry ") + what + " needs horizontal angles from " +
+                        format_number(lo) + " to " + format_number(hi) + ", found " +
+                        format_number(first) + " to " + format_number(last));
     return Ok{};
   };
   switch (d.symmetry) {
     case Symmetry::Rotational:
       if (h.size() != 1)
-        return fail("a rotationally symmetric distribution has exactly one C-plane, found " +
-                    std::to_string(h.size()));
+        return make_error("a rotationally symmetric distribution has exactly one C-plane, found " +
+                          std::to_string(h.size()));
       if (first < -kAngleTol || first > 360.0 + kAngleTol)
-        return fail("C-plane angle " + format_number(first) + " outside 0..360");
+        return make_error("C-plane angle " + format_number(first) + " outside 0..360");
       return Ok{};
     case Symmetry::Quadrant: return range(0.0, 90.0, "quadrant");
     case Symmetry::C0_C180: return range(0.0, 180.0, "C0-C180");
     case Symmetry::C90_C270: return range(90.0, 270.0, "C90-C270");
     case Symmetry::None:
-      if (h.size() < 2) return fail("a distribution without symmetry needs at least two C-planes");
+      if (h.size() < 2) return make_error("a distribution without symmetry needs at least two C-planes");
       if (first < -kAngleTol || last > 360.0 + kAngleTol)
-        return fail("C-plane angles must lie in 0..360, found " + format_number(first) + " to " +
-                    format_number(last));
+        return make_error("C-plane angles must lie in 0..360, found " + format_number(first) + " to " +
+                          format_number(last));
       return Ok{};
     case Symmetry::Lateral:
-      return fail("lateral symmetry applies to Types A and B, not Type C");
+      return make_error("lateral symmetry applies to Types A and B, not Type C");
   }
   return Ok{};
 }
@@ -60,14 +58,14 @@ Status validate_horizontal_ab(const Distribution& d) {
   const auto& h = d.horizontal_deg;
   if (d.symmetry == Symmetry::Lateral) {
     if (!near(h.front(), 0.0))
-      return fail("lateral symmetry needs horizontal angles starting at 0, found " +
-                  format_number(h.front()));
+      return make_error("lateral symmetry needs horizontal angles starting at 0, found " +
+                        format_number(h.front()));
   } else if (d.symmetry != Symmetry::None) {
-    return fail(std::string("symmetry ") + to_string(d.symmetry) + " applies to Type C only");
+    return make_error(std::string("symmetry ") + to_string(d.symmetry) + " applies to Type C only");
   }
   if (h.front() < -90.0 - kAngleTol || h.back() > 90.0 + kAngleTol)
-    return fail("horizontal angles of Types A and B must lie in -90..90, found " +
-                format_number(h.front()) + " to " + format_number(h.back()));
+    return make_error("horizontal angles of Types A and B must lie in -90..90, found " +
+                      format_number(h.front()) + " to " + format_number(h.back()));
   return Ok{};
 }
 
@@ -183,38 +181,38 @@ void Distribution::set_keyword(std::string_view key, std::string value) {
 }
 
 Status validate(const Distribution& d) {
-  if (d.vertical_deg.empty()) return fail("no vertical angles");
-  if (d.horizontal_deg.empty()) return fail("no horizontal angles");
+  if (d.vertical_deg.empty()) return make_error("no vertical angles");
+  if (d.horizontal_deg.empty()) return make_error("no horizontal angles");
   if (!strictly_increasing_finite(d.vertical_deg))
-    return fail("vertical angles must be finite and strictly increasing");
+    return make_error("vertical angles must be finite and strictly increasing");
   if (!strictly_increasing_finite(d.horizontal_deg))
-    return fail("horizontal angles must be finite and strictly increasing");
+    return make_error("horizontal angles must be finite and strictly increasing");
 
   if (d.type == PhotometricType::C) {
     if (d.vertical_deg.front() < -kAngleTol || d.vertical_deg.back() > 180.0 + kAngleTol)
-      return fail("Type C vertical angles must lie in 0..180, found " +
-                  format_number(d.vertical_deg.front()) + " to " +
-                  format_number(d.vertical_deg.back()));
+      return make_error("Type C vertical angles must lie in 0..180, found " +
+                        format_number(d.vertical_deg.front()) + " to " +
+                        format_number(d.vertical_deg.back()));
     if (Status s = validate_horizontal_c(d); !s.ok()) return s;
   } else {
     if (d.vertical_deg.front() < -90.0 - kAngleTol || d.vertical_deg.back() > 90.0 + kAngleTol)
-      return fail("vertical angles of Types A and B must lie in -90..90, found " +
-                  format_number(d.vertical_deg.front()) + " to " +
-                  format_number(d.vertical_deg.back()));
+      return make_error("vertical angles of Types A and B must lie in -90..90, found " +
+                        format_number(d.vertical_deg.front()) + " to " +
+                        format_number(d.vertical_deg.back()));
     if (Status s = validate_horizontal_ab(d); !s.ok()) return s;
   }
 
   const std::size_t expected = d.vertical_deg.size() * d.horizontal_deg.size();
   if (d.candela.size() != expected)
-    return fail("expected " + std::to_string(expected) + " intensities, found " +
-                std::to_string(d.candela.size()));
+    return make_error("expected " + std::to_string(expected) + " intensities, found " +
+                      std::to_string(d.candela.size()));
   for (double v : d.candela)
-    if (!std::isfinite(v)) return fail("intensities must be finite");
+    if (!std::isfinite(v)) return make_error("intensities must be finite");
 
   for (const LampSet& l : d.lamps) {
-    if (l.count <= 0) return fail("a lamp set needs a positive lamp count");
+    if (l.count <= 0) return make_error("a lamp set needs a positive lamp count");
     if (!d.absolute && !(std::isfinite(l.flux_lm) && l.flux_lm > 0.0))
-      return fail("relative photometry needs a positive rated lamp flux");
+      return make_error("relative photometry needs a positive rated lamp flux");
   }
   return Ok{};
 }

@@ -11,11 +11,6 @@
 #endif
 
 namespace gonio::sim {
-namespace {
-
-Error error(std::string message) { return Error{{}, std::move(message)}; }
-
-}  // namespace
 
 IndexRange rank_share(std::uint64_t count, int rank, int ranks) {
   GONIO_CHECK(ranks >= 1 && rank >= 0 && rank < ranks);
@@ -76,16 +71,16 @@ Result<Ranks> Ranks::join_job() {
   // Only the main thread calls MPI; the tracing threads never do.
   int provided = 0;
   if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
-    return error("MPI could not start (MPI_Init_thread failed)");
+    return make_error("MPI could not start (MPI_Init_thread failed)");
   r.joined_ = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &r.rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &r.size_);
   return r;
 #else
-  return error(
-               "this gonio was built without MPI (GONIO_MPI=OFF) but was started by an MPI "
-               "launcher: every rank would run the whole simulation alone; run it without "
-               "mpirun/srun, or build with MPI (libopenmpi-dev)");
+  return make_error(
+                    "this gonio was built without MPI (GONIO_MPI=OFF) but was started by an MPI "
+                    "launcher: every rank would run the whole simulation alone; run it without "
+                    "mpirun/srun, or build with MPI (libopenmpi-dev)");
 #endif
 }
 

@@ -11,6 +11,7 @@
 
 #include "io/materials/bsdf_file.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::io {
@@ -83,7 +84,7 @@ Result<sim::TabulatedBsdf> read_bsdf_csv(std::string_view bytes, const std::stri
     if (const auto hash = text.find('#'); hash != std::string_view::npos) text = text.substr(0, hash);
     if (text.find_first_not_of(" \t\r,;") == std::string_view::npos) continue;
     const std::vector<std::string_view> f = fields_of(text);
-    const auto fail = [&](std::string m) { return Error{SourceLoc{name, l.number, 0}, std::move(m)}; };
+    const auto fail = [&](std::string m) { return make_error(name, l.number, std::move(m)); };
     if (!header) {
       for (std::size_t i = 0; i < f.size(); ++i) {
         std::string k = lower(f[i]);
@@ -168,9 +169,9 @@ Result<sim::TabulatedBsdf> read_bsdf_csv(std::string_view bytes, const std::stri
         if ((s.theta_out > 90.0) != (hemi == 1)) continue;
         const double to = hemi ? 180.0 - s.theta_out : s.theta_out;
         if (!grid.emplace(std::tuple{s.theta_in, to, s.phi}, &s).second)
-          return Error{SourceLoc{name, s.line, 0}, "the same angles (theta_in " + format_number(s.theta_in) +
-                                                       ", theta_out " + format_number(s.theta_out) + ", phi_out " +
-                                                       format_number(s.phi) + ") appear twice"};
+          return make_error(name, s.line, "the same angles (theta_in " + format_number(s.theta_in) +
+                                              ", theta_out " + format_number(s.theta_out) + ", phi_out " +
+                                              format_number(s.phi) + ") appear twice");
         tin.push_back(s.theta_in);
         tout.push_back(to);
         ph.push_back(s.phi);

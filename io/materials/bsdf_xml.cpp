@@ -10,6 +10,7 @@
 #include "io/materials/bsdf_file.h"
 #include "io/support/text.h"
 #include "io/support/xml.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::io {
@@ -63,7 +64,7 @@ class Reader {
 
  private:
   Error fail(const XmlElement* at, std::string message) const {
-    return Error{SourceLoc{name_, at ? at->line : 0, 0}, std::move(message)};
+    return make_error(name_, at ? at->line : 0, std::move(message));
   }
   void note(Severity s, const char* code, std::string message, const XmlElement* at) {
     findings_.push_back({s, code, std::move(message), SourceLoc{name_, at ? at->line : 0, 0}});
@@ -105,12 +106,12 @@ Result<std::vector<float>> Reader::numbers(const XmlElement& data, std::size_t e
     while (j < t.size() && !(t[j] == ' ' || t[j] == '\t' || t[j] == '\r' || t[j] == '\n' || t[j] == ',')) ++j;
     const std::string_view token(t.data() + i, j - i);
     if (v.size() == expected)
-      return Error{SourceLoc{name_, line, 0}, "ScatteringData holds more than the " + std::to_string(expected) +
-                                                  " values its angle bases call for"};
+      return make_error(name_, line, "ScatteringData holds more than the " + std::to_string(expected) +
+                                         " values its angle bases call for");
     const std::optional<double> x = parse_number(token);
-    if (!x) return Error{SourceLoc{name_, line, 0}, "ScatteringData: " + shown(token) + " is not a number"};
+    if (!x) return make_error(name_, line, "ScatteringData: " + shown(token) + " is not a number");
     if (*x < 0.0 || *x > 1e30)
-      return Error{SourceLoc{name_, line, 0}, "ScatteringData: " + shown(token) + " is negative or too large for a BSDF"};
+      return make_error(name_, line, "ScatteringData: " + shown(token) + " is negative or too large for a BSDF");
     v.push_back(static_cast<float>(*x));
     i = j;
   }
@@ -163,10 +164,10 @@ Result<KlemsBasis> basis_from(const XmlElement& ab, const std::string& file) {
   if (blocks.empty()) {
     k.basis = sim::PatchBasis::klems(name);
     if (k.basis.size() == 0)
-      return Error{SourceLoc{file, ab.line, 0}, "angle basis " + shown(name) + " has no AngleBasisBlock and is not a built-in Klems basis"};
+      return make_error(file, ab.line, "angle basis " + shown(name) + " has no AngleBasisBlock and is not a built-in Klems basis");
   } else {
     if (blocks.size() > 90)
-      return Error{SourceLoc{file, ab.line, 0}, "angle basis " + shown(name) + " has more than 90 rings"};
+      return make_error(file, ab.line, "angle basis " + shown(name) + " has more than 90 rings");
     double last = 0.0;
     std::size_t patches = 0;
     for (const XmlElement* b : blocks) {
@@ -175,16 +176,16 @@ Result<KlemsBasis> basis_from(const XmlElement& ab, const std::string& file) {
       const std::optional<double> hi = parse_number(text_of(child(bounds, "UpperTheta")));
       const std::optional<double> n = parse_number(text_of(child(b, "nPhis")));
       if (!lo || !hi || !n)
-        return Error{SourceLoc{file, b->line, 0}, "AngleBasisBlock needs ThetaBounds (LowerTheta, UpperTheta) and nPhis"};
+        return make_error(file, b->line, "AngleBasisBlock needs ThetaBounds (LowerTheta, UpperTheta) and nPhis");
       if (std::abs(*lo - last) > 1e-6 || !(*hi > *lo) || *hi > 90.0 + 1e-9)
-        return Error{SourceLoc{file, b->line, 0}, "AngleBasisBlock: theta bounds must follow on from " +
-                                                       format_number(last) + " and increase up to 90 degrees"};
+        return make_error(file, b->line, "AngleBasisBlock: theta bounds must follow on from " +
+                                              format_number(last) + " and increase up to 90 degrees");
       if (!(*n >= 1.0 && *n <= 1000.0 && *n == std::floor(*n)))
-        return Error{SourceLoc{file, b->line, 0}, "AngleBasisBlock: nPhis must be a whole number in 1..1000"};
+        return make_error(file, b->line, "AngleBasisBlock: nPhis must be a whole number in 1..1000");
       patches += static_cast<std::size_t>(*n);
       if (patches > kMaxPatches)
-        return Error{SourceLoc{file, b->line, 0}, "angle basis " + shown(name) + " has more than " +
-                                                       std::to_string(kMaxPatches) + " patches"};
+        return make_error(file, b->line, "angle basis " + shown(name) + " has more than " +
+                                              std::to_string(kMaxPatches) + " patches");
       k.basis.ring_theta_deg.push_back(*lo);
       std::vector<double> phi;
       const int count = static_cast<int>(*n);
@@ -193,8 +194,8 @@ Result<KlemsBasis> basis_from(const XmlElement& ab, const std::string& file) {
       last = *hi;
     }
     if (std::abs(last - 90.0) > 1e-6)
-      return Error{SourceLoc{file, ab.line, 0}, "angle basis " + shown(name) + " stops at " + format_number(last) +
-                                                    " degrees, not 90"};
+      return make_error(file, ab.line, "angle basis " + shown(name) + " stops at " + format_number(last) +
+                                           " degrees, not 90");
     k.basis.ring_theta_deg.push_back(90.0);
   }
   std::size_t first = 0;

@@ -26,6 +26,7 @@
 #include "io/support/file_io.h"
 #include "io/support/process.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/flux.h"
 #include "photometry/format.h"
 
@@ -178,12 +179,8 @@ class SceneBuilder {
   std::vector<std::vector<std::uint32_t>> material_of_;
 };
 
-// Out of line: GCC 12 warns falsely of uninitialised strings in Error
-// temporaries built inline (photometry/diagnostics.h).
-[[gnu::noinline]] Error SceneBuilder::fail_sidecar(int line, std::string message) const {
-  Error e = make_error(parts_.path, std::move(message));
-  e.where.line = line;
-  return e;
+Error SceneBuilder::fail_sidecar(int line, std::string message) const {
+  return make_error(parts_.path, line, std::move(message));
 }
 
 Status SceneBuilder::read_sidecar() {

@@ -3,6 +3,8 @@
 #include <cstring>
 #include <type_traits>
 
+#include "io/support/bytes.h"
+
 namespace gonio::io {
 namespace {
 
@@ -11,10 +13,7 @@ constexpr char kMagic[8] = {'G', 'O', 'N', 'I', 'O', 'C', 'A', 'D'};
 class Writer {
  public:
   template <class T>
-  void value(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    out_.append(reinterpret_cast<const char*>(&v), sizeof v);
-  }
+  void value(const T& v) { append_bytes(out_, v); }
   void text(const std::string& s) {
     value(static_cast<std::uint64_t>(s.size()));
     out_ += s;
@@ -22,7 +21,7 @@ class Writer {
   template <class T>
   void values(const std::vector<T>& v) {
     value(static_cast<std::uint64_t>(v.size()));
-    if (!v.empty()) out_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    append_all_bytes(out_, v);
   }
   void colour(const std::optional<sim::Vec3f>& c) {
     value(static_cast<std::uint8_t>(c ? 1 : 0));

@@ -13,8 +13,6 @@
 namespace gonio::io {
 namespace {
 
-Error error(const std::string& file, std::string message) { return Error{{file, 0, 0}, std::move(message)}; }
-
 std::uint32_t u32(std::string_view bytes, std::size_t at) {
   std::uint32_t v = 0;
   std::memcpy(&v, bytes.data() + at, 4);  // glTF is little-endian, as is every target we build for
@@ -74,13 +72,13 @@ Result<std::vector<std::string>> gltf_files(const std::string& model) {
   if (text.size() >= 4 && text.substr(0, 4) == "glTF") {
     // GLB: 12-byte header, then the JSON chunk (length, type "JSON", bytes).
     if (text.size() < 20 || text.substr(16, 4) != "JSON")
-      return error(model, "a .glb file without its JSON chunk (truncated or not glTF)");
+      return make_error(model, "a .glb file without its JSON chunk (truncated or not glTF)");
     const std::uint32_t length = u32(text, 12);
-    if (length > text.size() - 20) return error(model, "the .glb JSON chunk runs past the end of the file (truncated)");
+    if (length > text.size() - 20) return make_error(model, "the .glb JSON chunk runs past the end of the file (truncated)");
     text = text.substr(20, length);
   }
   const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) return error(model, "not valid glTF JSON");
+  if (j.is_discarded() || !j.is_object()) return make_error(model, "not valid glTF JSON");
   const std::filesystem::path folder = std::filesystem::path(model).parent_path();
   std::vector<std::string> files{model};
   auto add = [&](const nlohmann::json& entry) {

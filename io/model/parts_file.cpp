@@ -10,6 +10,7 @@
 
 #include "io/support/file_io.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 
 namespace gonio::io {
 namespace {
@@ -47,7 +48,7 @@ class Parser {
   Result<PartsFile> parse(const TomlNode& root, const std::vector<std::string>& root_keys, const std::string& what);
 
  private:
-  Error fail(int line, std::string message) const { return Error{{name_, line, 0}, std::move(message)}; }
+  Error fail(int line, std::string message) const { return make_error(name_, line, std::move(message)); }
   Status keys(const TomlNode& t, std::initializer_list<const char*> known, const std::string& what) const;
   Result<std::string> string(const TomlNode& t, const char* key, const std::string& what) const;
   Result<std::optional<double>> number(const TomlNode& t, const char* key, const std::string& what) const;

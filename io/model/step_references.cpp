@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "photometry/error_at.h"
+
 namespace gonio::io {
 namespace {
 
@@ -91,11 +93,7 @@ class Scanner {
   }
 
  private:
-  Error error_at(int line, std::string message) const {
-    Error e = make_error(file_, std::move(message));
-    e.where.line = line;
-    return e;
-  }
+  Error error_at(int line, std::string message) const { return make_error(file_, line, std::move(message)); }
 
   // Whitespace and comments.
   Status skip_gap() {
@@ -293,11 +291,7 @@ Result<StepReferenceStats> check_step_references(std::string_view text, const st
             }
             what += " → #" + std::to_string(head.id);
           }
-          if (shape) {
-            Error e = make_error(file, std::move(what));
-            e.where.line = head.line;
-            return e;
-          }
+          if (shape) return make_error(file, head.line, std::move(what));
           // Among entities OpenCASCADE looks up without recursion: the
           // reference that closes the circle is passed over.
           if (stats.harmless_cycles++ == 0) stats.first_harmless_cycle = std::move(what);
@@ -315,11 +309,9 @@ Result<StepReferenceStats> check_step_references(std::string_view text, const st
       colour[k] = 2;
       if (depth[k] > max_depth) {
         const Instance& in = scan.instances[k];
-        Error e = make_error(file, "the references from entity " + named(in) + " nest " +
-                                       std::to_string(depth[k]) + " entities deep; gonio-cad follows at most " +
-                                       std::to_string(max_depth));
-        e.where.line = in.line;
-        return e;
+        return make_error(file, in.line,
+                          "the references from entity " + named(in) + " nest " + std::to_string(depth[k]) +
+                              " entities deep; gonio-cad follows at most " + std::to_string(max_depth));
       }
       stats.depth = std::max<std::size_t>(stats.depth, depth[k]);
       path.pop_back();

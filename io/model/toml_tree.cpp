@@ -7,6 +7,7 @@
 #include <toml++/toml.h>
 
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 
 namespace gonio::io {
 namespace {
@@ -98,11 +99,8 @@ Status check_keys(const TomlNode& t, std::initializer_list<const char*> known, c
     if (std::none_of(known.begin(), known.end(), [&member](const char* n) { return member.first == n; })) {
       std::string list;
       for (const char* n : known) list += (list.empty() ? "" : ", ") + std::string(n);
-      Error e;
-      e.where.file = file;
-      e.where.line = member.second.line;
-      e.message = what + ": unknown key " + shown(member.first) + " (known: " + list + ")";
-      return e;
+      return make_error(file, member.second.line,
+                        what + ": unknown key " + shown(member.first) + " (known: " + list + ")");
     }
   }
   return Ok{};

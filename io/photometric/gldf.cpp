@@ -14,6 +14,7 @@
 #include "gonio/version.h"
 #include "io/support/content_hash.h"
 #include "io/support/xml.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 #include "photometry/summary.h"
 
@@ -120,8 +121,8 @@ std::string structure_xml(const L3dGeometry& g, const std::string& created_with,
 
 Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
   if (bytes.size() > kMaxGldfBytes)
-    return Error{SourceLoc{name, 0, 0}, "GLDF archive too large (" + std::to_string(bytes.size()) +
-                                            " bytes, at most " + std::to_string(kMaxGldfBytes) + " accepted)"};
+    return make_error(name, "GLDF archive too large (" + std::to_string(bytes.size()) +
+                                " bytes, at most " + std::to_string(kMaxGldfBytes) + " accepted)");
   auto entries = read_zip(bytes, name);
   if (!entries.ok()) return entries.error();
   GldfFile out;
@@ -132,12 +133,12 @@ Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
   }
   const auto product = by_name.find(kProductXml);
   if (product == by_name.end())
-    return Error{SourceLoc{name, 0, 0}, "no product.xml in the archive: not a GLDF container"};
+    return make_error(name, "no product.xml in the archive: not a GLDF container");
   const std::string xml_name = name + ":" + kProductXml;
   auto root = parse_xml(*product->second, xml_name);
   if (!root.ok()) return root.error();
   if (root->name != "Root")
-    return Error{SourceLoc{xml_name, root->line, 0}, "root element <" + root->name + "> is not GLDF's <Root>"};
+    return make_error(xml_name, root->line, "root element <" + root->name + "> is not GLDF's <Root>");
   if (const XmlElement* h = root->child("Header"))
     if (const XmlElement* m = h->child("Manufacturer")) out.manufacturer = trimmed(m->text);
   if (const XmlElement* pd = root->child("ProductDefinitions"))
@@ -155,7 +156,7 @@ Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
     if (const XmlElement* fs = general->child("Files"))
       for (const XmlElement* f : fs->children_named("File")) {
         const std::string* id = f->attribute("id");
-        if (!id) return Error{SourceLoc{xml_name, f->line, 0}, "<File> without an id"};
+        if (!id) return make_error(xml_name, f->line, "<File> without an id");
         const std::string* ct = f->attribute("contentType");
         const std::string* type = f->attribute("type");
         files[*id] = FileRef{ct ? *ct : "", type ? *type : "localFileName", trimmed(f->text), f->line};
@@ -167,11 +168,11 @@ Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
       const XmlElement* ref = p->child("PhotometryFileReference");
       const std::string* file_id = ref ? ref->attribute("fileId") : nullptr;
       if (!id || !file_id)
-        return Error{SourceLoc{xml_name, p->line, 0}, "<Photometry> without an id or a <PhotometryFileReference fileId>"};
+        return make_error(xml_name, p->line, "<Photometry> without an id or a <PhotometryFileReference fileId>");
       const auto f = files.find(*file_id);
       if (f == files.end())
-        return Error{SourceLoc{xml_name, ref->line, 0},
-                     "photometry '" + *id + "' refers to file id '" + *file_id + "', which <Files> lacks"};
+        return make_error(xml_name, ref->line,
+                          "photometry '" + *id + "' refers to file id '" + *file_id + "', which <Files> lacks");
       const FileRef& file = f->second;
       if (file.type == "url") {
         out.findings.push_back({Severity::Warning, "gldf-url-not-fetched",
@@ -188,8 +189,8 @@ Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
         continue;
       }
       if (!is_safe_entry_name(file.value))
-        return Error{SourceLoc{xml_name, file.line, 0},
-                     "file '" + file.value + "' is not a relative name inside the archive; refused"};
+        return make_error(xml_name, file.line,
+                          "file '" + file.value + "' is not a relative name inside the archive; refused");
       const std::string folder = file.content_type.substr(0, file.content_type.find('/'));
       std::string entry = folder + "/" + file.value;
       auto found = by_name.find(entry);
@@ -198,13 +199,13 @@ Result<GldfFile> parse_gldf(std::string_view bytes, const std::string& name) {
         found = by_name.find(entry);
       }
       if (found == by_name.end())
-        return Error{SourceLoc{xml_name, file.line, 0}, "photometry '" + *id + "' refers to '" + folder + "/" +
-                                                            file.value + "', which the archive lacks"};
+        return make_error(xml_name, file.line, "photometry '" + *id + "' refers to '" + folder + "/" +
+                                                   file.value + "', which the archive lacks");
       out.photometries.push_back({*id, entry, file.content_type, *found->second, p->line});
     }
   if (out.photometries.empty())
-    return Error{SourceLoc{xml_name, photometries ? photometries->line : root->line, 0},
-                 "no photometry Gonio can read in the archive"};
+    return make_error(xml_name, photometries ? photometries->line : root->line,
+                      "no photometry Gonio can read in the archive");
   return out;
 }
 
@@ -457,7 +458,7 @@ std::string gldf_product_xml(const GldfProduct& p) {
 }
 
 Result<std::string> write_gldf(const GldfProduct& p) {
-  if (p.photometries.empty()) return Error{SourceLoc{}, "a GLDF container needs a photometry"};
+  if (p.photometries.empty()) return make_error("a GLDF container needs a photometry");
   std::vector<ZipEntry> entries;
   entries.push_back({kProductXml, gldf_product_xml(p)});
   for (const GldfPhotometryOut& ph : p.photometries) entries.push_back({"ldc/" + ph.file_name, ph.bytes});

@@ -14,6 +14,7 @@
 #include "gonio/version.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 
 namespace gonio::io {
@@ -186,21 +187,10 @@ class NumberStream {
   int line() const { return last_line_; }  // line of the last token read
   const std::string& file() const { return file_; }
   const Error& error() const { return error_; }
-  Error fail(int line, std::string message) const {
-    Error e;
-    e.where.file = file_;
-    e.where.line = line;
-    e.message = std::move(message);
-    return e;
-  }
+  Error fail(int line, std::string message) const { return make_error(file_, line, std::move(message)); }
 
  private:
-  // Assigned field by field: GCC 12 warns falsely about an aggregate here.
-  void set_error(std::string message) {
-    error_.where.file = file_;
-    error_.where.line = last_line_;
-    error_.message = std::move(message);
-  }
+  void set_error(std::string message) { error_ = make_error(file_, last_line_, std::move(message)); }
 
   std::string_view text_;
   std::size_t pos_ = 0;
@@ -349,9 +339,7 @@ class IesReader {
   Result<IesFile> read();
 
  private:
-  Error fail(int line, std::string message) const {
-    return Error{{name_, line, 0}, std::move(message)};
-  }
+  Error fail(int line, std::string message) const { return make_error(name_, line, std::move(message)); }
   void warn(int line, const char* code, std::string message) {
     result_.findings.push_back({Severity::Warning, code, std::move(message), {name_, line, 0}});
   }

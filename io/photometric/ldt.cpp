@@ -10,6 +10,7 @@
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/direct_ratios.h"
+#include "photometry/error_at.h"
 #include "photometry/flux.h"
 #include "photometry/format.h"
 
@@ -130,7 +131,7 @@ class FieldReader {
   }
 
   bool fail(int line, std::string message) {
-    error_ = Error{SourceLoc{name_, line, 0}, std::move(message)};
+    error_ = make_error(name_, line, std::move(message));
     return false;
   }
 
@@ -232,9 +233,7 @@ class LdtReader {
   }
 
  private:
-  Error fail(int line, std::string message) const {
-    return Error{SourceLoc{name_, line, 0}, std::move(message)};
-  }
+  Error fail(int line, std::string message) const { return make_error(name_, line, std::move(message)); }
 
   // 1-12: identification, symmetry, the counts and steps of the grid.
   Status identification() {
@@ -630,9 +629,7 @@ class LdtReader {
 
 Result<LdtFile> parse_ldt(std::string_view bytes, const std::string& name,
                           const LdtReadOptions& options) {
-  const auto fail = [&](int line, std::string message) {
-    return Error{SourceLoc{name, line, 0}, std::move(message)};
-  };
+  const auto fail = [&](int line, std::string message) { return make_error(name, line, std::move(message)); };
   if (bytes.empty()) return fail(1, "empty file: expected an EULUMDAT file");
   if (looks_binary(bytes))
     return fail(first_binary_line(bytes), "binary data, not an EULUMDAT (.ldt) text file");
@@ -1217,28 +1214,27 @@ class LdtWriter {
 
 Result<std::string> write_ldt(const Distribution& input, const LdtWriteOptions& options,
                               std::vector<Finding>* warnings) {
-  const auto fail = [](std::string message) { return Error{{}, std::move(message)}; };
   if (options.significant_digits < 1 || options.significant_digits > 17)
-    return fail("significant digits must lie in 1-17, found " +
-                std::to_string(options.significant_digits));
+    return make_error("significant digits must lie in 1-17, found " +
+                      std::to_string(options.significant_digits));
   if (options.type_indicator < -1 || options.type_indicator > 3)
-    return fail("the type indicator Ityp must lie in 0-3, found " +
-                std::to_string(options.type_indicator));
+    return make_error("the type indicator Ityp must lie in 0-3, found " +
+                      std::to_string(options.type_indicator));
   if (input.type != photometry::PhotometricType::C)
-    return fail(std::string("EULUMDAT holds Type C photometry only; this distribution is Type ") +
-                photometry::to_string(input.type) + ": resample it to Type C first");
+    return make_error(std::string("EULUMDAT holds Type C photometry only; this distribution is Type ") +
+                      photometry::to_string(input.type) + ": resample it to Type C first");
   if (Status s = photometry::validate(input); !s.ok())
-    return fail("cannot write an invalid distribution: " + s.error().message);
+    return make_error("cannot write an invalid distribution: " + s.error().message);
   for (std::size_t i = 0; i < input.candela.size(); ++i)
     if (input.candela[i] < 0.0) {
       const std::size_t nv = input.vertical_count();
-      return fail("intensity " + format_number(input.candela[i]) + " cd at C " +
-                  format_number(input.horizontal_deg[i / nv]) + ", gamma " +
-                  format_number(input.vertical_deg[i % nv]) +
-                  " is negative; EULUMDAT holds intensities >= 0");
+      return make_error("intensity " + format_number(input.candela[i]) + " cd at C " +
+                        format_number(input.horizontal_deg[i / nv]) + ", gamma " +
+                        format_number(input.vertical_deg[i % nv]) +
+                        " is negative; EULUMDAT holds intensities >= 0");
     }
   if (!input.absolute && input.lamps.empty())
-    return fail("relative photometry needs a lamp set with a rated flux");
+    return make_error("relative photometry needs a lamp set with a rated flux");
 
   return LdtWriter(input, options, warnings).write();
 }

@@ -118,12 +118,12 @@ Result<DetectedFile> read_and_detect(const std::string& path) {
   if (const auto format = photometric_format_for_content(*bytes))
     return DetectedFile{*format, std::move(bytes).value()};
   const std::string ext = lower_extension(path);
-  return Error{SourceLoc{path, 0, 0},
-               (ext.empty() ? std::string("no file extension") : "file extension '" + ext + "'") +
-                   " and content name no photometric format Gonio knows; expected IES LM-63 "
-                   "(.ies, or an IESNA/TILT= line), EULUMDAT (.ldt, or its numeric header), "
-                   "IES TM-33 (.xml, or its root element), GLDF (.gldf, a ZIP archive) or an IES TM-25 ray "
-                   "file (.tm25ray, or 'TM25' at its start)"};
+  return make_error(path,
+                    (ext.empty() ? std::string("no file extension") : "file extension '" + ext + "'") +
+                        " and content name no photometric format Gonio knows; expected IES LM-63 "
+                        "(.ies, or an IESNA/TILT= line), EULUMDAT (.ldt, or its numeric header), "
+                        "IES TM-33 (.xml, or its root element), GLDF (.gldf, a ZIP archive) or an IES TM-25 ray "
+                        "file (.tm25ray, or 'TM25' at its start)");
 }
 
 }  // namespace
@@ -185,7 +185,7 @@ Result<PhotometricFile> parse_photometry(PhotometricFormat format, std::string_v
   // The readers promise a valid model; a broken promise is reported as the
   // file's error rather than passed on to code that relies on it.
   if (Status valid = photometry::validate(out.distribution); !valid.ok())
-    return Error{SourceLoc{name, 0, 0}, valid.error().message};
+    return make_error(name, valid.error().message);
   return out;
 }
 
@@ -214,8 +214,7 @@ Result<std::vector<PhotometricFile>> read_photometric_files(const std::string& p
       ids += (ids.empty() ? "" : ", ") + p.id + " (" + p.entry + ")";
     }
     if (chosen.empty())
-      return Error{SourceLoc{path, 0, 0},
-                   "no photometry '" + options.gldf_photometry + "' in the archive; it holds " + ids};
+      return make_error(path, "no photometry '" + options.gldf_photometry + "' in the archive; it holds " + ids);
     gldf->photometries = std::move(chosen);
   }
   for (const GldfPhotometry& p : gldf->photometries) {
@@ -330,13 +329,12 @@ Status write_photometric_file(const std::string& path, const photometry::Distrib
                               std::vector<Finding>* warnings) {
   const auto format = format_for_path(path);
   if (!format)
-    return Error{SourceLoc{path, 0, 0},
-                 "cannot tell the output format: expected the extension .ies, .ldt, .xml or .gldf"};
+    return make_error(path, "cannot tell the output format: expected the extension .ies, .ldt, .xml or .gldf");
   PhotometricWriteOptions with_stem = options;
   if (*format == PhotometricFormat::Gldf && options.gldf_stem.empty())
     with_stem.gldf_stem = std::filesystem::path(path).stem().string();
   auto bytes = encode_photometric_file(d, *format, with_stem, warnings);
-  if (!bytes.ok()) return Error{SourceLoc{path, 0, 0}, bytes.error().message};
+  if (!bytes.ok()) return make_error(path, bytes.error().message);
   return write_file_atomic(path, *bytes);
 }
 

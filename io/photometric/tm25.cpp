@@ -7,6 +7,7 @@
 #include <cstring>
 #include <tuple>
 
+#include "io/support/bytes.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/format.h"
@@ -386,9 +387,7 @@ class Tm25Writer {
   explicit Tm25Writer(std::string& out) : out_(out) {}
   template <class T>
   void put(T v) {
-    char b[sizeof(T)];
-    std::memcpy(b, &v, sizeof(T));
-    out_.append(b, sizeof(T));
+    append_bytes(out_, v);
   }
   void zeros(std::size_t n) { out_.append(n, '\0'); }
   void text(const std::string& s, std::size_t bytes) {

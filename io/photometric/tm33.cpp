@@ -11,6 +11,7 @@
 
 #include "io/support/text.h"
 #include "io/support/xml.h"
+#include "photometry/error_at.h"
 
 namespace gonio::io {
 namespace {
@@ -252,7 +253,7 @@ class Tm33Reader {
 
  private:
   Error fail(int line, std::string message) {
-    error_ = Error{SourceLoc{name_, line, 0}, std::move(message)};
+    error_ = make_error(name_, line, std::move(message));
     return error_;
   }
   void warn(int line, std::string code, std::string message) {

@@ -1,6 +1,7 @@
 #include "io/support/content_hash.h"
 
 #include <cstdio>
+#include <cstring>
 #include <new>
 
 // Header-only use of Debian's libxxhash-dev: the functions are compiled
@@ -38,6 +39,24 @@ std::string content_hash_hex(std::string_view bytes) {
   ContentHash h;
   h.bytes(bytes.data(), bytes.size());
   return h.hex();
+}
+
+void append_digest(std::string& out) {
+  ContentHash all;
+  all.bytes(out.data(), out.size());
+  const std::uint64_t d = all.digest();
+  out.append(reinterpret_cast<const char*>(&d), sizeof d);
+}
+
+std::optional<std::string_view> without_digest(std::string_view bytes) {
+  std::uint64_t stored = 0;
+  if (bytes.size() < sizeof stored) return std::nullopt;
+  const std::string_view before = bytes.substr(0, bytes.size() - sizeof stored);
+  std::memcpy(&stored, bytes.data() + before.size(), sizeof stored);
+  ContentHash all;
+  all.bytes(before.data(), before.size());
+  if (all.digest() != stored) return std::nullopt;
+  return before;
 }
 
 }  // namespace gonio::io

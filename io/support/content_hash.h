@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -63,5 +64,11 @@ std::string content_hash_hex(std::string_view bytes);
 
 // 16 lower-case hex digits, as hashes are written.
 std::string to_hex(std::uint64_t v);
+
+// A cache file's seal: the digest of all the bytes before it (8 bytes, this
+// machine's order) appended to OUT; without_digest gives back the bytes
+// before a seal that matches them, and nothing for a missing or wrong one.
+void append_digest(std::string& out);
+std::optional<std::string_view> without_digest(std::string_view bytes);
 
 }  // namespace gonio::io

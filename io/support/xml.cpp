@@ -5,6 +5,8 @@
 
 #include <pugixml.hpp>
 
+#include "photometry/error_at.h"
+
 namespace gonio::io {
 namespace {
 
@@ -26,7 +28,7 @@ struct Converter {
   void fail(int line, std::string message) {
     if (failed) return;
     failed = true;
-    error = Error{SourceLoc{name, line, 0}, std::move(message)};
+    error = make_error(name, line, std::move(message));
   }
 
   void convert(const pugi::xml_node& node, XmlElement& out, int depth) {
@@ -96,9 +98,9 @@ XmlElement& XmlElement::set(std::string attribute_name, std::string value) {
 
 Result<XmlElement> parse_xml(std::string_view bytes, const std::string& name) {
   if (bytes.size() > kMaxXmlBytes)
-    return Error{SourceLoc{name, 0, 0}, "XML document too large (" + std::to_string(bytes.size()) +
-                                            " bytes, at most " + std::to_string(kMaxXmlBytes) +
-                                            " accepted)"};
+    return make_error(name, "XML document too large (" + std::to_string(bytes.size()) +
+                                " bytes, at most " + std::to_string(kMaxXmlBytes) +
+                                " accepted)");
   std::vector<std::size_t> newlines;
   for (std::size_t i = 0; i < bytes.size(); ++i)
     if (bytes[i] == '\n') newlines.push_back(i);
@@ -119,7 +121,7 @@ Result<XmlElement> parse_xml(std::string_view bytes, const std::string& name) {
                  std::string("malformed XML: ") + result.description()};
   }
   const pugi::xml_node root = doc.document_element();
-  if (!root) return Error{SourceLoc{name, 0, 0}, "malformed XML: no root element"};
+  if (!root) return make_error(name, "malformed XML: no root element");
   Converter converter{newlines, name, {}, false};
   XmlElement out;
   converter.convert(root, out, 1);

@@ -11,10 +11,6 @@
 namespace gonio::io {
 namespace {
 
-Error zip_failure(const std::string& name, std::string message) {
-  return Error{SourceLoc{name, 0, 0}, std::move(message)};
-}
-
 struct ArchiveCloser {
   void operator()(zip_t* z) const { zip_discard(z); }
 };
@@ -63,22 +59,22 @@ Result<std::vector<ZipEntry>> read_zip(std::string_view bytes, const std::string
   if (!source) {
     const std::string message = zip_error_strerror(&error);
     zip_error_fini(&error);
-    return zip_failure(name, "not a readable ZIP archive: " + message);
+    return make_error(name, "not a readable ZIP archive: " + message);
   }
   std::unique_ptr<zip_t, ArchiveCloser> archive(zip_open_from_source(source, ZIP_RDONLY, &error));
   if (!archive) {
     const std::string message = zip_error_strerror(&error);
     zip_error_fini(&error);
     zip_source_free(source);
-    return zip_failure(name, "not a readable ZIP archive: " + message);
+    return make_error(name, "not a readable ZIP archive: " + message);
   }
   zip_error_fini(&error);
 
   const zip_int64_t count = zip_get_num_entries(archive.get(), 0);
-  if (count < 0) return zip_failure(name, "not a readable ZIP archive");
+  if (count < 0) return make_error(name, "not a readable ZIP archive");
   if (static_cast<std::size_t>(count) > limits.max_entries)
-    return zip_failure(name, "archive has " + std::to_string(count) + " entries, at most " +
-                                 std::to_string(limits.max_entries) + " accepted");
+    return make_error(name, "archive has " + std::to_string(count) + " entries, at most " +
+                                std::to_string(limits.max_entries) + " accepted");
   // Names and declared sizes first: nothing is inflated from an archive
   // that is refused.
   std::set<std::string> seen;
@@ -89,28 +85,28 @@ Result<std::vector<ZipEntry>> read_zip(std::string_view bytes, const std::string
     zip_stat_init(&st);
     if (zip_stat_index(archive.get(), static_cast<zip_uint64_t>(i), 0, &st) != 0 ||
         !(st.valid & ZIP_STAT_NAME) || !(st.valid & ZIP_STAT_SIZE))
-      return zip_failure(name, "entry " + std::to_string(i) + " cannot be read: " +
-                                   zip_strerror(archive.get()));
+      return make_error(name, "entry " + std::to_string(i) + " cannot be read: " +
+                                  zip_strerror(archive.get()));
     const std::string entry = st.name;
     if (!entry.empty() && entry.back() == '/') {
       if (!is_safe_entry_name(entry.substr(0, entry.size() - 1)))
-        return zip_failure(name, "entry " + quoted(entry) +
-                                     " leaves the archive (absolute name or '..'); refused");
+        return make_error(name, "entry " + quoted(entry) +
+                                    " leaves the archive (absolute name or '..'); refused");
       continue;  // a directory
     }
     if (!is_safe_entry_name(entry))
-      return zip_failure(name, "entry " + quoted(entry) +
-                                   " leaves the archive (absolute name or '..'); refused");
+      return make_error(name, "entry " + quoted(entry) +
+                                  " leaves the archive (absolute name or '..'); refused");
     if (!seen.insert(entry).second)
-      return zip_failure(name, "entry " + quoted(entry) + " appears twice");
+      return make_error(name, "entry " + quoted(entry) + " appears twice");
     if (st.size > limits.max_entry_bytes)
-      return zip_failure(name, "entry " + quoted(entry) + " declares " + std::to_string(st.size) +
-                                   " bytes, at most " + std::to_string(limits.max_entry_bytes) +
-                                   " accepted");
+      return make_error(name, "entry " + quoted(entry) + " declares " + std::to_string(st.size) +
+                                  " bytes, at most " + std::to_string(limits.max_entry_bytes) +
+                                  " accepted");
     declared_total += static_cast<std::size_t>(st.size);
     if (declared_total > limits.max_total_bytes)
-      return zip_failure(name, "entries declare more than " + std::to_string(limits.max_total_bytes) +
-                                   " bytes in all; refused");
+      return make_error(name, "entries declare more than " + std::to_string(limits.max_total_bytes) +
+                                  " bytes in all; refused");
     files.emplace_back(static_cast<zip_uint64_t>(i), st);
   }
 
@@ -119,7 +115,7 @@ Result<std::vector<ZipEntry>> read_zip(std::string_view bytes, const std::string
   for (const auto& [index, st] : files) {
     std::unique_ptr<zip_file_t, FileCloser> file(zip_fopen_index(archive.get(), index, 0));
     if (!file)
-      return zip_failure(name, "entry " + quoted(st.name) + " cannot be opened: " + zip_strerror(archive.get()));
+      return make_error(name, "entry " + quoted(st.name) + " cannot be opened: " + zip_strerror(archive.get()));
     ZipEntry entry{st.name, std::string()};
     const std::size_t declared = static_cast<std::size_t>(st.size);
     entry.bytes.resize(declared + 1);  // one byte more shows a lie
@@ -127,16 +123,16 @@ Result<std::vector<ZipEntry>> read_zip(std::string_view bytes, const std::string
     while (got < entry.bytes.size()) {
       const zip_int64_t n = zip_fread(file.get(), entry.bytes.data() + got, entry.bytes.size() - got);
       if (n < 0)
-        return zip_failure(name, "entry " + quoted(st.name) + " is corrupt: " + zip_file_strerror(file.get()));
+        return make_error(name, "entry " + quoted(st.name) + " is corrupt: " + zip_file_strerror(file.get()));
       if (n == 0) break;
       got += static_cast<std::size_t>(n);
     }
     if (got > declared)
-      return zip_failure(name, "entry " + quoted(st.name) + " inflates beyond the " + std::to_string(declared) +
-                                   " bytes it declares (a zip bomb?); refused");
+      return make_error(name, "entry " + quoted(st.name) + " inflates beyond the " + std::to_string(declared) +
+                                  " bytes it declares (a zip bomb?); refused");
     if (got < declared)
-      return zip_failure(name, "entry " + quoted(st.name) + " is truncated: " + std::to_string(got) + " of " +
-                                   std::to_string(declared) + " bytes");
+      return make_error(name, "entry " + quoted(st.name) + " is truncated: " + std::to_string(got) + " of " +
+                                  std::to_string(declared) + " bytes");
     entry.bytes.resize(got);
     out.push_back(std::move(entry));
   }
@@ -146,28 +142,28 @@ Result<std::vector<ZipEntry>> read_zip(std::string_view bytes, const std::string
 Result<std::string> write_zip(const std::vector<ZipEntry>& entries, std::int64_t mtime_unix) {
   std::set<std::string> seen;
   for (const ZipEntry& e : entries) {
-    if (!is_safe_entry_name(e.name)) return zip_failure(e.name, "unsafe archive entry name");
-    if (!seen.insert(e.name).second) return zip_failure(e.name, "archive entry name given twice");
+    if (!is_safe_entry_name(e.name)) return make_error(e.name, "unsafe archive entry name");
+    if (!seen.insert(e.name).second) return make_error(e.name, "archive entry name given twice");
   }
   zip_error_t error;
   zip_error_init(&error);
   zip_source_t* buffer = zip_source_buffer_create(nullptr, 0, 0, &error);
   if (!buffer) {
     zip_error_fini(&error);
-    return zip_failure("", "cannot create an archive in memory");
+    return make_error("", "cannot create an archive in memory");
   }
   zip_source_keep(buffer);
   zip_t* archive = zip_open_from_source(buffer, ZIP_TRUNCATE, &error);
   zip_error_fini(&error);
   if (!archive) {
     zip_source_free(buffer);
-    return zip_failure("", "cannot create an archive in memory");
+    return make_error("", "cannot create an archive in memory");
   }
   const auto fail = [&](const std::string& what) {
     const std::string message = what + ": " + zip_strerror(archive);
     zip_discard(archive);
     zip_source_free(buffer);
-    return zip_failure("", message);
+    return make_error("", message);
   };
   for (const ZipEntry& e : entries) {
     zip_source_t* s = zip_source_buffer(archive, e.bytes.data(), e.bytes.size(), 0);
@@ -186,14 +182,14 @@ Result<std::string> write_zip(const std::vector<ZipEntry>& entries, std::int64_t
   std::string out;
   if (zip_source_open(buffer) != 0) {
     zip_source_free(buffer);
-    return zip_failure("", "cannot read the archive back from memory");
+    return make_error("", "cannot read the archive back from memory");
   }
   char chunk[1 << 16];
   zip_int64_t n = 0;
   while ((n = zip_source_read(buffer, chunk, sizeof chunk)) > 0) out.append(chunk, static_cast<std::size_t>(n));
   zip_source_close(buffer);
   zip_source_free(buffer);
-  if (n < 0) return zip_failure("", "cannot read the archive back from memory");
+  if (n < 0) return make_error("", "cannot read the archive back from memory");
   return out;
 }
 

@@ -1,4 +1,5 @@
 #include "photometry/diagnostics.h"
+#include "photometry/error_at.h"
 
 #include <gtest/gtest.h>
 
@@ -31,6 +32,17 @@ TEST(Diagnostics, WorstSeverity) {
 
 TEST(DiagnosticsDeathTest, CheckStopsOnBrokenInvariant) {
   EXPECT_DEATH(GONIO_CHECK_MSG(1 + 1 == 3, "arithmetic"), "check failed: 1 \\+ 1 == 3: arithmetic");
+}
+
+TEST(Diagnostics, AnErrorAtALineNamesTheFileAndTheLine) {
+  const Error e = make_error("design.toml", 7, "'points' is missing");
+  EXPECT_EQ(e.where.file, "design.toml");
+  EXPECT_EQ(e.where.line, 7);
+  EXPECT_EQ(e.where.column, 0);
+  EXPECT_EQ(e.message, "'points' is missing");
+  EXPECT_EQ(to_string(e), "design.toml:7: 'points' is missing");
+  // Line 0: the whole file, as make_error(file, message).
+  EXPECT_EQ(to_string(make_error("design.toml", 0, "empty")), to_string(make_error("design.toml", "empty")));
 }
 
 }  // namespace

@@ -21,8 +21,6 @@ std::atomic<bool> g_interrupted{false};
 
 extern "C" void on_signal(int) { g_interrupted.store(true); }
 
-Error error(std::string message) { return Error{{}, std::move(message)}; }
-
 std::filesystem::path executable_dir() {
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
@@ -92,11 +90,11 @@ Result<std::unique_ptr<LiveServer>> LiveServer::start(const std::string& host, i
   if (!std::filesystem::is_regular_file(std::filesystem::path(web) / "index.html")) {
     const char* env_dir = std::getenv("GONIO_WEB_DIR");
     const auto candidates = web_dir_candidates();
-    return error("the live page's files are not installed: " +
-                 (env_dir && *env_dir ? web + "/index.html (GONIO_WEB_DIR) is missing"
-                                      : "neither " + candidates.front().string() + "/index.html nor " +
-                                            candidates.back().string() + "/index.html exists") +
-                 " (build the target gonio, install gonio, or set GONIO_WEB_DIR)");
+    return make_error("the live page's files are not installed: " +
+                      (env_dir && *env_dir ? web + "/index.html (GONIO_WEB_DIR) is missing"
+                                           : "neither " + candidates.front().string() + "/index.html nor " +
+                                                 candidates.back().string() + "/index.html exists") +
+                      " (build the target gonio, install gonio, or set GONIO_WEB_DIR)");
   }
   auto impl = std::make_unique<Impl>();
   Impl* s = impl.get();
@@ -150,11 +148,11 @@ Result<std::unique_ptr<LiveServer>> LiveServer::start(const std::string& host, i
   });
   if (port == 0) {
     s->port = server.bind_to_any_port(host);
-    if (s->port <= 0) return error("cannot listen on " + host + " (any port)");
+    if (s->port <= 0) return make_error("cannot listen on " + host + " (any port)");
   } else {
     if (!server.bind_to_port(host, port))
-      return error("cannot listen on " + host + ":" + std::to_string(port) +
-                   " (in use? choose another with --port)");
+      return make_error("cannot listen on " + host + ":" + std::to_string(port) +
+                        " (in use? choose another with --port)");
     s->port = port;
   }
   s->thread = std::thread([s] { s->server.listen_after_bind(); });

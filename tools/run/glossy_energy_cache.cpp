@@ -5,10 +5,12 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string_view>
 #include <utility>
 
+#include "io/support/bytes.h"
 #include "io/support/cache_folder.h"
 #include "io/support/content_hash.h"
 #include "io/support/file_io.h"
@@ -36,41 +38,26 @@ std::uint64_t key_of(double mx, double my) {
   return h.digest();
 }
 
-template <class T>
-void put(std::string& out, const T& v) {
-  out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-
 std::string serialize(const sim::GlossyEnergy& t) {
   std::string out(kMagic, sizeof kMagic);
-  put(out, key_of(t.mx, t.my));
-  put(out, t.mx);
-  put(out, t.my);
-  put(out, t.e);
-  io::ContentHash all;
-  all.bytes(out.data(), out.size());
-  put(out, all.digest());
+  io::append_bytes(out, key_of(t.mx, t.my));
+  io::append_bytes(out, t.mx);
+  io::append_bytes(out, t.my);
+  io::append_bytes(out, t.e);
+  io::append_digest(out);
   return out;
 }
 
 std::shared_ptr<const sim::GlossyEnergy> deserialize(std::string_view bytes, double mx, double my) {
   if (bytes.size() != kFileBytes || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return nullptr;
-  std::uint64_t stored_digest = 0;
-  std::memcpy(&stored_digest, bytes.data() + bytes.size() - 8, 8);
-  io::ContentHash all;
-  all.bytes(bytes.data(), bytes.size() - 8);
-  if (all.digest() != stored_digest) return nullptr;
-  std::size_t at = sizeof kMagic;
+  const std::optional<std::string_view> sealed = io::without_digest(bytes);
+  if (!sealed) return nullptr;
+  io::ByteReader in(*sealed);
+  in.skip(sizeof kMagic);
   std::uint64_t key = 0;
   double file_mx = 0.0, file_my = 0.0;
   Nodes e{};
-  std::memcpy(&key, bytes.data() + at, sizeof key);
-  at += sizeof key;
-  std::memcpy(&file_mx, bytes.data() + at, sizeof file_mx);
-  at += sizeof file_mx;
-  std::memcpy(&file_my, bytes.data() + at, sizeof file_my);
-  at += sizeof file_my;
-  std::memcpy(e.data(), bytes.data() + at, sizeof e);
+  if (!in.get(&key) || !in.get(&file_mx) || !in.get(&file_my) || !in.get(&e)) return nullptr;
   // Bit for bit the roughness asked for (not merely equal: −0.0 and the like).
   if (key != key_of(mx, my) || std::bit_cast<std::uint64_t>(file_mx) != std::bit_cast<std::uint64_t>(mx) ||
       std::bit_cast<std::uint64_t>(file_my) != std::bit_cast<std::uint64_t>(my))

@@ -21,9 +21,11 @@
 #include "io/outputs/intensity_diagram.h"
 #include "io/outputs/plot.h"
 #include "io/photometric/photometric_file.h"
+#include "io/support/bytes.h"
 #include "io/support/file_io.h"
 #include "io/support/text.h"
 #include "photometry/compare.h"
+#include "photometry/error_at.h"
 #include "photometry/format.h"
 #include "photometry/ugr.h"
 #include "sim/distributed_gather.h"
@@ -37,14 +39,6 @@
 
 namespace gonio::app {
 namespace {
-
-// An error at a line of a file (its where, not a prefix of its message:
-// printed "FILE:LINE: message", and GonioError's file and line in Python).
-Error at_line(const std::string& file, int line, std::string message) {
-  Error e = make_error(file, std::move(message));
-  e.where.line = line;
-  return e;
-}
 
 namespace fs = std::filesystem;
 
@@ -157,13 +151,13 @@ struct Traced {
 };
 
 // Over MPI ranks (gonio optimize under mpirun): a shared trace's escapes,
-// each rank's photons, as bytes; every rank's put together in the photons'
-// order (the ranks' shares are contiguous ranges of chunks, in rank order),
-// which is the order one process keeps them in.
-template <class T>
-void put(std::string& bytes, const T& value) {
-  bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
-}
+// each rank's photons, as bytes (io::append_bytes); every rank's put together
+// in the photons' order (the ranks' shares are contiguous ranges of chunks, in
+// rank order), which is the order one process keeps them in.
+//
+// Reads a value back. Unlike io::ByteReader, past the end it gives a zero
+// value and still moves AT on, so that the loops over a message, which stop
+// once AT reaches its end, end on a short message too.
 template <class T>
 T take(const std::string& bytes, std::size_t& at) {
   T value{};
@@ -180,11 +174,11 @@ std::vector<sim::EscapedRay> job_escaped_rays(const sim::Ranks& ranks, const std
   std::string bytes;
   bytes.reserve(mine.size() * each);
   for (const sim::EscapedRay& r : mine) {
-    put(bytes, r.photon);
+    io::append_bytes(bytes, r.photon);
     if (origins)
-      for (double v : {r.origin.x, r.origin.y, r.origin.z}) put(bytes, v);
-    for (double v : {r.direction.x, r.direction.y, r.direction.z}) put(bytes, v);
-    put(bytes, r.power_units);
+      for (double v : {r.origin.x, r.origin.y, r.origin.z}) io::append_bytes(bytes, v);
+    for (double v : {r.direction.x, r.direction.y, r.direction.z}) io::append_bytes(bytes, v);
+    io::append_bytes(bytes, r.power_units);
   }
   const std::vector<std::string> gathered = sim::gather_bytes(ranks, bytes);
   std::size_t count = 0;
@@ -247,10 +241,10 @@ std::vector<Result<double>> job_batch(const sim::Ranks& ranks, std::size_t point
   for (std::size_t j = 0; j < mine.size(); ++j) {
     const Result<double>& m = made[j]->merit;
     const std::string error = m.ok() ? std::string() : m.error().message;
-    put(bytes, static_cast<std::uint64_t>(mine[j]));
-    put(bytes, static_cast<std::uint8_t>(m.ok() ? 1 : 0));
-    put(bytes, m.ok() ? *m : 0.0);
-    put(bytes, static_cast<std::uint64_t>(error.size()));
+    io::append_bytes(bytes, static_cast<std::uint64_t>(mine[j]));
+    io::append_bytes(bytes, static_cast<std::uint8_t>(m.ok() ? 1 : 0));
+    io::append_bytes(bytes, m.ok() ? *m : 0.0);
+    io::append_bytes(bytes, static_cast<std::uint64_t>(error.size()));
     bytes += error;
   }
   std::vector<Result<double>> out(points, Result<double>(make_error("no rank made this evaluation")));
@@ -278,8 +272,8 @@ std::vector<Result<double>> job_batch(const sim::Ranks& ranks, std::size_t point
   bytes.clear();
   for (std::size_t j = 0; j < mine.size(); ++j)
     if (may_lead[mine[j]]) {
-      put(bytes, static_cast<std::uint64_t>(mine[j]));
-      put(bytes, static_cast<std::uint64_t>(made[j]->payload.size()));
+      io::append_bytes(bytes, static_cast<std::uint64_t>(mine[j]));
+      io::append_bytes(bytes, static_cast<std::uint64_t>(made[j]->payload.size()));
       bytes += made[j]->payload;
     }
   const std::vector<std::string> payloads = sim::gather_bytes(ranks, bytes);
@@ -419,10 +413,10 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
   std::vector<design::OptimizeVariable> variables;
   for (const design::Variable& v : design.variables) {
     if (!v.min || !v.max)
-      return at_line(design.path, v.line, "variable '" + v.name + "' has no " + (!v.min ? "min" : "max") +
-                                              ": the optimiser searches between a variable's bounds");
+      return make_error(design.path, v.line, "variable '" + v.name + "' has no " + (!v.min ? "min" : "max") +
+                                                 ": the optimiser searches between a variable's bounds");
     if (!(*v.min < *v.max))
-      return at_line(design.path, v.line, "variable '" + v.name + "': min must be below max to search between them");
+      return make_error(design.path, v.line, "variable '" + v.name + "': min must be below max to search between them");
     variables.push_back({v.name, v.value, *v.min, *v.max});
   }
   if (variables.empty())
@@ -743,8 +737,8 @@ Result<OptimizeRunOutcome> optimize_design(const OptimizeRunOptions& options, co
           fs::remove(path, ignored_own);
           if (!t.merit) return {make_error(t.error), {}};
           BatchPoint made{t.merit->merit, {}};
-          for (double v : {t.merit->lor, t.merit->candela_rms_pct, t.merit->beam_deg}) put(made.payload, v);
-          for (double v : t.binned) put(made.payload, v);
+          for (double v : {t.merit->lor, t.merit->candela_rms_pct, t.merit->beam_deg}) io::append_bytes(made.payload, v);
+          for (double v : t.binned) io::append_bytes(made.payload, v);
           return made;
         };
         const auto on_other = [&](std::size_t i, const std::string& payload) {

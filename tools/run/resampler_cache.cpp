@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/support/bytes.h"
 #include "io/support/cache_folder.h"
 #include "io/support/content_hash.h"
 #include "io/support/file_io.h"
@@ -41,57 +42,19 @@ void hash_parameters(io::ContentHash& h, int face_size, const photometry::Photom
   h.vec(frame.up);
 }
 
-template <class T>
-void put(std::string& out, const T& v) {
-  out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-template <class T>
-void put_all(std::string& out, const std::vector<T>& v) {
-  if (!v.empty()) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-
-// Reads numbers from the file's bytes; fails once past the end.
-class Reader {
- public:
-  explicit Reader(std::string_view bytes) : bytes_(bytes) {}
-  template <class T>
-  bool get(T* v) {
-    if (bytes_.size() - at_ < sizeof(T)) return false;
-    std::memcpy(v, bytes_.data() + at_, sizeof(T));
-    at_ += sizeof(T);
-    return true;
-  }
-  template <class T>
-  bool get_all(std::vector<T>* v, std::uint64_t n) {
-    if (n > (bytes_.size() - at_) / sizeof(T)) return false;
-    v->resize(static_cast<std::size_t>(n));
-    if (n > 0) std::memcpy(v->data(), bytes_.data() + at_, static_cast<std::size_t>(n) * sizeof(T));
-    at_ += static_cast<std::size_t>(n) * sizeof(T);
-    return true;
-  }
-  void skip(std::size_t n) { at_ = std::min(bytes_.size(), at_ + n); }
-  std::size_t at() const { return at_; }
-
- private:
-  std::string_view bytes_;
-  std::size_t at_ = 0;
-};
-
 std::string serialize(const sim::Resampler& r, const photometry::PhotometricFrame& frame) {
   const sim::Resampler::Rows rows = r.rows();
   std::string out(kMagic, sizeof kMagic);
   io::ContentHash parameters;
   hash_parameters(parameters, r.face_size(), frame, r.grid());
-  put(out, parameters.digest());
-  put(out, static_cast<std::uint64_t>(rows.solid_angle_sr.size()));
-  put(out, static_cast<std::uint64_t>(rows.texel.size()));
-  put_all(out, rows.row_start);
-  put_all(out, rows.texel);
-  put_all(out, rows.fraction);
-  put_all(out, rows.solid_angle_sr);
-  io::ContentHash all;
-  all.bytes(out.data(), out.size());
-  put(out, all.digest());
+  io::append_bytes(out, parameters.digest());
+  io::append_bytes(out, static_cast<std::uint64_t>(rows.solid_angle_sr.size()));
+  io::append_bytes(out, static_cast<std::uint64_t>(rows.texel.size()));
+  io::append_all_bytes(out, rows.row_start);
+  io::append_all_bytes(out, rows.texel);
+  io::append_all_bytes(out, rows.fraction);
+  io::append_all_bytes(out, rows.solid_angle_sr);
+  io::append_digest(out);
   return out;
 }
 
@@ -100,12 +63,9 @@ std::optional<sim::Resampler> deserialize(std::string_view bytes, int face_size,
                                           const sim::CGammaGrid& grid) {
   if (bytes.size() < sizeof kMagic + 8 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     return std::nullopt;
-  std::uint64_t stored_digest = 0;
-  std::memcpy(&stored_digest, bytes.data() + bytes.size() - 8, 8);
-  io::ContentHash all;
-  all.bytes(bytes.data(), bytes.size() - 8);
-  if (all.digest() != stored_digest) return std::nullopt;
-  Reader in(bytes.substr(0, bytes.size() - 8));
+  const std::optional<std::string_view> sealed = io::without_digest(bytes);
+  if (!sealed) return std::nullopt;
+  io::ByteReader in(*sealed);
   in.skip(sizeof kMagic);
   std::uint64_t parameters_digest = 0, bins = 0, nonzeros = 0;
   io::ContentHash parameters;
@@ -116,7 +76,7 @@ std::optional<sim::Resampler> deserialize(std::string_view bytes, int face_size,
   if (!in.get_all(&rows.row_start, bins + 1) || !in.get_all(&rows.texel, nonzeros) ||
       !in.get_all(&rows.fraction, nonzeros) || !in.get_all(&rows.solid_angle_sr, bins))
     return std::nullopt;
-  if (in.at() != bytes.size() - 8) return std::nullopt;
+  if (in.at() != sealed->size()) return std::nullopt;
   Result<sim::Resampler> r = sim::Resampler::from_rows(face_size, grid, std::move(rows));
   if (!r.ok()) return std::nullopt;
   return std::move(r.value());

@@ -617,7 +617,6 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   const auto say = [&](const std::string& text) {
     if (hooks.on_output && lead) hooks.on_output(text);
   };
-  const auto failed = [](const std::string& message) { return make_error(message); };
   for (auto [value, option] : {std::pair{&model, "MODEL"}, std::pair{&out_dir, "--out DIR"}})
     if (value->empty()) {
       if (usage) *usage = true;
@@ -645,7 +644,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   std::shared_ptr<const design::Design> base_design = plan.model_input.design;
   if (!base_design && design::is_design_path(model)) {
     Result<design::Design> d = design::read_design_file(model);
-    if (!d.ok()) return failed(to_string(d.error()));
+    if (!d.ok()) return make_error(to_string(d.error()));
     base_design = std::make_shared<const design::Design>(std::move(d.value()));
   }
   const io::TomlNode* own = base_design ? base_design->document.get("tolerances") : nullptr;
@@ -656,16 +655,16 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   }
   Result<design::ToleranceSpec> spec = design::ToleranceSpec{};
   if (!tolerances_path.empty()) spec = design::read_tolerances(tolerances_path);
-  if (!spec.ok()) return failed(to_string(spec.error()));
+  if (!spec.ok()) return make_error(to_string(spec.error()));
   if (own) {
-    if (!own->is_table()) return failed(model + ":" + std::to_string(own->line) + ": tolerances must be a table");
+    if (!own->is_table()) return make_error(model + ":" + std::to_string(own->line) + ": tolerances must be a table");
     Result<design::ToleranceSpec> from_design = design::parse_tolerance_tree(*own, base_design->path, true);
-    if (!from_design.ok()) return failed(to_string(from_design.error()));
+    if (!from_design.ok()) return make_error(to_string(from_design.error()));
     if (spec->tolerances.empty()) spec->path = from_design->path;
     for (design::Tolerance& t : from_design->tolerances) spec->tolerances.push_back(std::move(t));
   }
-  if (Status s = design::check_variables(*spec, base_design.get()); !s.ok()) return failed(to_string(s.error()));
-  if (Status s = expand_copies(*spec, model, plan); !s.ok()) return failed(to_string(s.error()));
+  if (Status s = design::check_variables(*spec, base_design.get()); !s.ok()) return make_error(to_string(s.error()));
+  if (Status s = expand_copies(*spec, model, plan); !s.ok()) return make_error(to_string(s.error()));
   // Nothing is written over an input (the model and the files it reads, the
   // tolerance file) by any file the run writes into DIR: every later trace
   // loads the model again. Under MPI the ranks agree (each may see other
@@ -694,7 +693,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   } else if (!not_over_inputs.ok()) {
     return not_over_inputs.error();
   }
-  if (Status s = io::make_directories(out_dir); !s.ok()) return failed(to_string(s.error()));
+  if (Status s = io::make_directories(out_dir); !s.ok()) return make_error(to_string(s.error()));
 
   const MessageSink rank_messages = lead ? hooks.on_message : MessageSink([&hooks](Severity severity, const std::string& text) {
     if (severity >= Severity::Error) tell(hooks.on_message, severity, text);
@@ -793,7 +792,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
       return out;
     }
   }
-  if (!nominal) return failed(model + ": the nominal model could not be traced (" + tracer.error() + "); nothing was analysed");
+  if (!nominal) return make_error(model + ": the nominal model could not be traced (" + tracer.error() + "); nothing was analysed");
   seconds.push_back(nominal->seconds);
   const photometry::Distribution& nominal_d = nominal->distribution;
   json files = json::array();
@@ -810,7 +809,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     say("noise floor " + std::to_string(k) + "/" + std::to_string(noise_seeds) + ": the nominal with seed " +
         std::to_string(seed + static_cast<std::uint64_t>(k)) + "\n");
     std::optional<Trace> t = tracer.trace(zeros, seed + static_cast<std::uint64_t>(k), &nominal_d);
-    if (!t) return failed("a noise trace failed (" + tracer.error() + "); nothing more was analysed");
+    if (!t) return make_error("a noise trace failed (" + tracer.error() + "); nothing more was analysed");
     seconds.push_back(t->seconds);
     independent.push_back(t->figures);
     noise_runs.push_back({{"seed", seed + static_cast<std::uint64_t>(k)}, {"figures", figures_json(t->figures)}});
@@ -838,7 +837,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
       std::vector<double> values = zeros;
       values[i] = v;
       std::optional<Trace> trace = tracer.trace(values, seed, &nominal_d);
-      if (!trace) return failed("a sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
+      if (!trace) return make_error("a sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
       seconds.push_back(trace->seconds);
       at_limits[i][static_cast<std::size_t>(side)] = trace->figures;
     }
@@ -964,14 +963,14 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
         for (double next = std::min(2.0, cap); std::isinf(bad) && ok > 0.0 && ok < cap;
              next = std::min(2.0 * next, cap)) {
           const std::optional<bool> h = holds_at(next);
-          if (!h) return failed("an inverse-sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
+          if (!h) return make_error("an inverse-sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
           (*h ? ok : bad) = next;
           if (next >= cap) break;
         }
         for (long long step = 0; step < inverse_steps && std::isfinite(bad); ++step) {
           const double mid = 0.5 * (ok + bad);
           const std::optional<bool> h = holds_at(mid);
-          if (!h) return failed("an inverse-sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
+          if (!h) return make_error("an inverse-sensitivity trace failed (" + tracer.error() + "); nothing more was analysed");
           (*h ? ok : bad) = mid;
         }
         entry["traced_scale"] = ok;
@@ -1045,7 +1044,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(worker);
     worker();
     for (std::thread& th : pool) th.join();
-    if (stop) return failed(first_error);
+    if (stop) return make_error(first_error);
   }
   std::vector<double> trial_seconds;
   for (std::size_t n = 0; n < u.size(); ++n) {
@@ -1084,7 +1083,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     for (int k = 0; k < 2; ++k) {
       const std::size_t n = k == 0 ? *best : *worst;
       std::optional<Trace> t = tracer.trace(trial_values[n], seed, &nominal_d, true);
-      if (!t) return failed("the trial " + std::to_string(n + 1) + " traced again failed (" + tracer.error() + ")");
+      if (!t) return make_error("the trial " + std::to_string(n + 1) + " traced again failed (" + tracer.error() + ")");
       kept[static_cast<std::size_t>(k)] = std::move(t->distribution);
     }
   json histograms = json::object();
@@ -1123,7 +1122,7 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
     say("percentile " + c.text() + ": trial " + std::to_string(*n + 1) + " (" +
         format_number(v[*n]) + " " + design::figure_info()[c.figure].unit + "), traced again\n");
     std::optional<Trace> t = tracer.trace(trial_values[*n], seed, &nominal_d, true);
-    if (!t) return failed("the trial " + std::to_string(*n + 1) + " traced again failed (" + tracer.error() + ")");
+    if (!t) return make_error("the trial " + std::to_string(*n + 1) + " traced again failed (" + tracer.error() + ")");
     json written = json::array();
     write_tables(out_dir, c.stem(), t->distribution, written, output_failures);
     for (const json& name : written) files.push_back(name);
@@ -1168,10 +1167,10 @@ Result<ToleranceRunOutcome> tolerance_analysis(const ToleranceRunOptions& option
   std::string not_written;
   for (const std::string& f : output_failures) not_written += "\n  " + f;
   if (Status s = io::write_file_atomic((fs::path(out_dir) / "report.json").string(), report.dump(2) + "\n"); !s.ok())
-    return failed(to_string(s.error()) + (not_written.empty() ? "" : "; nor were:" + not_written));
+    return make_error(to_string(s.error()) + (not_written.empty() ? "" : "; nor were:" + not_written));
   if (!output_failures.empty())
-    return failed(std::to_string(output_failures.size()) + " file(s) could not be written after tracing (every other "
-                  "file and report.json were; report.json lists these under output_failures):" + not_written);
+    return make_error(std::to_string(output_failures.size()) + " file(s) could not be written after tracing (every other "
+                      "file and report.json were; report.json lists these under output_failures):" + not_written);
   ToleranceRunOutcome out;
   out.timing = std::move(timing);
   out.report = std::move(report);

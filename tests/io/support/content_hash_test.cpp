@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gonio::io {
@@ -57,6 +59,31 @@ TEST(ContentHash, CountsAndLengthsSeparateTheirContents) {
   d.text("a");
   d.text("bc");
   EXPECT_NE(c.digest(), d.digest());
+}
+
+TEST(ContentHash, ASealComesOffOnlyWhereItMatches) {
+  std::string bytes = "cache body";
+  append_digest(bytes);
+  ASSERT_EQ(bytes.size(), 10u + 8u);
+  // The seal is the body's digest, in the machine's (little-endian) order.
+  std::uint64_t seal = 0;
+  for (int i = 7; i >= 0; --i) seal = (seal << 8) | static_cast<unsigned char>(bytes[10 + i]);
+  EXPECT_EQ(to_hex(seal), content_hash_hex("cache body"));
+  const std::optional<std::string_view> body = without_digest(bytes);
+  ASSERT_TRUE(body);
+  EXPECT_EQ(*body, "cache body");
+  // One changed byte, of the body or of the seal, and nothing comes back.
+  for (std::size_t at : {std::size_t{0}, std::size_t{9}, std::size_t{10}, bytes.size() - 1}) {
+    std::string damaged = bytes;
+    damaged[at] = static_cast<char>(damaged[at] ^ 1);
+    EXPECT_FALSE(without_digest(damaged)) << at;
+  }
+  EXPECT_FALSE(without_digest(bytes.substr(0, bytes.size() - 1)));
+  EXPECT_FALSE(without_digest("short"));
+  std::string empty;
+  append_digest(empty);
+  ASSERT_TRUE(without_digest(empty));
+  EXPECT_TRUE(without_digest(empty)->empty());
 }
 
 }  // namespace
