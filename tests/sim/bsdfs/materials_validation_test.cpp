@@ -501,6 +501,18 @@ bool segment_meets_mesh(const Mesh& mesh, const Vec3& p, const Vec3& q) {
   return false;
 }
 
+// A uniformly random point of a random triangle of `mesh` (the triangle's
+// corners in *a, *b, *c), for the grid's tests.
+Vec3 random_point_on(const Mesh& mesh, PhotonRandom& rng, Vec3* a, Vec3* b, Vec3* c) {
+  const std::size_t t = static_cast<std::size_t>(rng.uniform() * static_cast<double>(mesh.triangle_count()));
+  *a = to_double(mesh.positions[mesh.indices[3 * t]]);
+  *b = to_double(mesh.positions[mesh.indices[3 * t + 1]]);
+  *c = to_double(mesh.positions[mesh.indices[3 * t + 2]]);
+  double u = rng.uniform(), v = rng.uniform();
+  if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+  return *a + u * (*b - *a) + v * (*c - *a);
+}
+
 TEST(MaterialsValidation, VolumeGridSegmentsCrossNoTriangle) {
   // Random short segments around the shell: wherever the grid says a
   // segment is free, no triangle meets it (an exact segment–triangle test);
@@ -515,12 +527,8 @@ TEST(MaterialsValidation, VolumeGridSegmentsCrossNoTriangle) {
   int free = 0;
   for (int k = 0; k < 20000; ++k) {
     // Near a random point of a random triangle, steps of about a mean free path.
-    const std::size_t t = static_cast<std::size_t>(rng.uniform() * static_cast<double>(mesh.triangle_count()));
-    const Vec3 a = to_double(mesh.positions[mesh.indices[3 * t]]), b = to_double(mesh.positions[mesh.indices[3 * t + 1]]),
-               c = to_double(mesh.positions[mesh.indices[3 * t + 2]]);
-    double u = rng.uniform(), v = rng.uniform();
-    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
-    const Vec3 on = a + u * (b - a) + v * (c - a);
+    Vec3 a, b, c;
+    const Vec3 on = random_point_on(mesh, rng, &a, &b, &c);
     const Vec3 p = on + (0.003 * rng.uniform()) * sample_uniform_sphere(rng);
     const Vec3 q = p + (-std::log(rng.uniform_open0()) / 1500.0) * sample_uniform_sphere(rng);
     if (!grid->segment_free(p, q)) continue;
@@ -553,12 +561,8 @@ TEST(MaterialsValidation, VolumeGridWalksCrossNoTriangle) {
   PhotonRandom rng(7, 0);
   int paths = 0, free = 0, memoryless_free = 0, crossing = 0;
   for (int walk_index = 0; walk_index < 1500; ++walk_index) {
-    const std::size_t t = static_cast<std::size_t>(rng.uniform() * static_cast<double>(mesh.triangle_count()));
-    const Vec3 a = to_double(mesh.positions[mesh.indices[3 * t]]), b = to_double(mesh.positions[mesh.indices[3 * t + 1]]),
-               c = to_double(mesh.positions[mesh.indices[3 * t + 2]]);
-    double u = rng.uniform(), v = rng.uniform();
-    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
-    const Vec3 on = a + u * (b - a) + v * (c - a);
+    Vec3 a, b, c;
+    const Vec3 on = random_point_on(mesh, rng, &a, &b, &c);
     const Vec3 n = normalize(cross(b - a, c - a));  // out of the part
     const double scale = std::max({std::abs(on.x), std::abs(on.y), std::abs(on.z)}) + 0.05;
     Vec3 p = walk_index % 2 == 0 ? on - (0x1.0p-18 * scale) * n
