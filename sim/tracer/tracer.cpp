@@ -281,6 +281,9 @@ Result<Tracer> Tracer::create(const SceneDesc& scene, int face_size, const Trace
   if (const char* mfp = std::getenv("GONIO_VOLUME_GRID_MFP"); mfp && *mfp) grid_mfp = std::atof(mfp);
   if (std::optional<VolumeGrid> grid = VolumeGrid::build(scene, grid_mfp))
     tracer.volume_grid_ = std::make_shared<const VolumeGrid>(std::move(*grid));
+  const auto scatters = [](const Material& m) { return m.scattering_per_m > 0.0; };
+  tracer.scattering_volumes_ = std::any_of(tracer.materials_.begin(), tracer.materials_.end(), scatters) ||
+                               std::any_of(tracer.spectral_materials_.begin(), tracer.spectral_materials_.end(), scatters);
   return tracer;
 }
 
@@ -304,8 +307,19 @@ Vec3 Tracer::offset(const Vec3& p, const Vec3& side_normal, double t) const {
 }
 
 TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
+                           std::vector<RayQuery>* record, std::uint64_t power, PhotonColour* colour) const {
+  return scattering_volumes_ ? follow<true, false>(origin, direction, rng, books, record, power, colour, nullptr)
+                             : follow<false, false>(origin, direction, rng, books, record, power, colour, nullptr);
+}
+
+// (kVolumes false: no material scatters, so no photon enters a medium and
+// the walk's tests below are constant; kConnect false: `connect` is null, so
+// no vertex is covered.)
+template <bool kVolumes, bool kConnect>
+TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
                            std::vector<RayQuery>* record, std::uint64_t power, PhotonColour* colour,
-                           Connections* connect) const {
+                           Connections* connect_in) const {
+  Connections* const connect = kConnect ? connect_in : nullptr;
   TraceResult r;
   RayQuery ray{};
   RayHit hit;
@@ -358,7 +372,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
   VolumeGrid::Walk walk;
   for (;;) {
     const Material* query_medium = nullptr;  // a closed part's, for a bounded query
-    if (medium) {
+    if (kVolumes && medium) {
       const double mu_t = medium->scattering_per_m + medium->attenuation_per_m;
       drawn_s = standard_exponential(rng) / mu_t;
       if (volume_grid_->segment_free(origin, origin + drawn_s * direction, walk)) {
@@ -370,7 +384,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       if (medium_closed) query_medium = medium;
       medium = nullptr;
     }
-    walk.reset();
+    if (kVolumes) walk.reset();
     ray = ray_query(origin, direction);
     // A free path drawn for the grid and not proven free there: the volume
     // branch below takes it (any other hit leaves it unused). The query
@@ -399,7 +413,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
       r.power_units = power;
       r.covered = covered;
       r.covered_slot = covered_slot;
-      if (covered) r.covered_book = covered_at.book(direction, power);
+      if (kConnect && covered) r.covered_book = covered_at.book(direction, power);
       r.image_covered = image_covered;
       return r;
     }
@@ -425,7 +439,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // with μt = μs + μa ends inside it, where the photon is absorbed
     // (chance μa/μt, booked at the part) or scattered by the phase
     // function, or reaches the surface. Otherwise Beer–Lambert.
-    if (from_back && material.scattering_per_m > 0.0) {
+    if (kVolumes && from_back && material.scattering_per_m > 0.0) {
       const double mu_t = material.scattering_per_m + material.attenuation_per_m;
       // Drawn before the query where the walk tried the grid first.
       const double s = pre_drawn_s >= 0.0 ? pre_drawn_s : standard_exponential(rng) / mu_t;
@@ -542,7 +556,7 @@ TraceResult Tracer::follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, Ledge
     // next free path starts inside it, so it is drawn now and tried on the
     // grid as after a volume event (a closed part: the query would have met
     // its back face and drawn this number there).
-    if (volume_grid_ && !to_front && material.scattering_per_m > 0.0 && volume_grid_->closed(hit.mesh)) {
+    if (kVolumes && volume_grid_ && !to_front && material.scattering_per_m > 0.0 && volume_grid_->closed(hit.mesh)) {
       medium = &material;
       medium_closed = true;
     }
@@ -750,6 +764,24 @@ void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t 
 
 void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
                            TracerTally& tally) const {
+  // connections_for's answer is the same for every photon of the call.
+  const bool connections = settings_.next_event.enabled || tally.camera != nullptr;
+  if (scattering_volumes_) {
+    if (connections)
+      trace_photons_as<true, true>(seed, first, count, tally);
+    else
+      trace_photons_as<true, false>(seed, first, count, tally);
+  } else {
+    if (connections)
+      trace_photons_as<false, true>(seed, first, count, tally);
+    else
+      trace_photons_as<false, false>(seed, first, count, tally);
+  }
+}
+
+template <bool kVolumes, bool kConnect>
+void Tracer::trace_photons_as(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
+                              TracerTally& tally) const {
   FloatModeGuard float_mode;
   LedgerTally& books = tally.ledger;
   // Escapes land on random texels: each count is incremented one escape
@@ -799,14 +831,15 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     eb.emitted.add(kPowerUnits);
     const Vec3 origin = e.on_surface ? offset(e.origin, e.surface_normal, 0.0) : e.origin;
     PhotonColour colour = wavelengths_ ? start_colour(e) : PhotonColour{};
-    std::optional<Connections> connect = connections_for(i, tally);
+    std::optional<Connections> connect;
+    if constexpr (kConnect) connect = connections_for(i, tally);
     if (connect) connect->vertex = &covered_vertex;
     if (connect && connect->images && e.on_surface) {
       connect_emission_images(e, *connect);
       connect->image_covered_at_start = true;
     }
-    const TraceResult r = follow(origin, e.direction, rng, &books, nullptr, kPowerUnits,
-                                 wavelengths_ ? &colour : nullptr, connect ? &*connect : nullptr);
+    const TraceResult r = follow<kVolumes, kConnect>(origin, e.direction, rng, &books, nullptr, kPowerUnits,
+                                                     wavelengths_ ? &colour : nullptr, connect ? &*connect : nullptr);
     if (spectral) book_bins(*wavelengths_, colour, r, books.bins);
     if (r.fate == Fate::Escaped && tally.camera && !r.image_covered) {
       std::uint64_t x = 0, z = 0;
@@ -815,7 +848,7 @@ void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_
     }
     if (r.fate == Fate::Escaped && r.hits == 0 && settings_.next_event.enabled)
       tally.next_event.direct_units += r.power_units;
-    if (r.fate == Fate::Escaped && r.covered) {
+    if (kConnect && r.fate == Fate::Escaped && r.covered) {
       // Not binned: it books its share beside the connections (the balance
       // heuristic, sim/tracer/next_event.h).
       tally.next_event.covered_units += r.power_units;

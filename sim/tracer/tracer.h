@@ -238,10 +238,22 @@ class Tracer {
     // outside the photon's own frame).
     ConnectionVertex* vertex = nullptr;
   };
+  // One photon's path. Compiled for what the scene and the run need
+  // (issue 43): kVolumes, a scattering volume may be met (scattering_volumes_:
+  // the volume walk's state); kConnect, connections may be made (`connect`
+  // may be non-null: the balance heuristic's state). Chosen once per call of
+  // trace_photons; a photon without either pays for neither.
+  template <bool kVolumes, bool kConnect>
+  TraceResult follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
+                     std::vector<RayQuery>* record, std::uint64_t power, PhotonColour* colour,
+                     Connections* connect) const;
+  // Without connections, for this tracer's scene.
   TraceResult follow(Vec3 origin, Vec3 direction, PhotonRandom& rng, LedgerTally* books,
                      std::vector<RayQuery>* record = nullptr,
-                     std::uint64_t power = kPowerUnits, PhotonColour* colour = nullptr,
-                     Connections* connect = nullptr) const;
+                     std::uint64_t power = kPowerUnits, PhotonColour* colour = nullptr) const;
+  // trace_photons's loop for one choice of follow's flags.
+  template <bool kVolumes, bool kConnect>
+  void trace_photons_as(std::uint64_t seed, std::uint64_t first, std::uint64_t count, TracerTally& tally) const;
   // The connections from a vertex at p (reached along `t` of `direction`)
   // with the material and frame there (sim/tracer/next_event.h).
   void connect_from(const Vec3& p, double t, const Vec3& direction, const Material& material,
@@ -265,6 +277,9 @@ class Tracer {
   double offset_m(double scale) const { return 0x1.0p-18 * scale + offset_floor_m_; }
   // TracerSettings::volume_grid_mfp's grid (null: none).
   std::shared_ptr<const VolumeGrid> volume_grid_;
+  // Some material (at some wavelength) scatters in its volume
+  // (Material::scattering_per_m > 0): follow<true, ...>.
+  bool scattering_volumes_ = false;
 
   CubeMapGrid grid_;
   std::shared_ptr<const EmbreeScene> embree_;
