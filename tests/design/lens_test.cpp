@@ -16,6 +16,7 @@
 #include "design/design_file.h"
 #include "design/design_scene.h"
 #include "io/model/gltf.h"
+#include "tests/support/rotation.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::design {
@@ -357,23 +358,8 @@ TEST(Lens, APlacedLensTurnsAboutXThenYThenZ) {
   const sim::Mesh a = part_mesh(*axial, "lens"), b = part_mesh(*placed, "lens");
   ASSERT_EQ(a.positions.size(), b.positions.size());
   ASSERT_EQ(a.indices, b.indices);
-  using M = std::array<std::array<double, 3>, 3>;
-  const auto mul = [](const M& x, const M& y) {
-    M c{};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) c[i][j] += x[i][k] * y[k][j];
-    return c;
-  };
-  const double ax = 20 * kPi / 180, ay = 30 * kPi / 180, az = 45 * kPi / 180;
-  const M rx = {{{1, 0, 0}, {0, std::cos(ax), -std::sin(ax)}, {0, std::sin(ax), std::cos(ax)}}};
-  const M ry = {{{std::cos(ay), 0, std::sin(ay)}, {0, 1, 0}, {-std::sin(ay), 0, std::cos(ay)}}};
-  const M rz = {{{std::cos(az), -std::sin(az), 0}, {std::sin(az), std::cos(az), 0}, {0, 0, 1}}};
-  const M r = mul(rz, mul(ry, rx));
-  const auto turn = [&](const Vec3& v) {
-    return Vec3{r[0][0] * v.x + r[0][1] * v.y + r[0][2] * v.z, r[1][0] * v.x + r[1][1] * v.y + r[1][2] * v.z,
-                r[2][0] * v.x + r[2][1] * v.y + r[2][2] * v.z};
-  };
+  const test::Matrix3 r = test::rotation_xyz_deg(20, 30, 45);
+  const auto turn = [&](const Vec3& v) { return test::apply(r, v); };
   double worst = 0.0, worst_normal = 0.0;
   for (std::size_t i = 0; i < a.positions.size(); ++i) {
     const Vec3 expected = turn(sim::to_double(a.positions[i])) + Vec3{0.007, -0.003, 0.012};

@@ -28,6 +28,7 @@
 #include "io/model/step_export.h"
 #include "io/support/file_io.h"
 #include "sim/simulation.h"
+#include "tests/support/rotation.h"
 #include "tests/support/test_support.h"
 
 namespace gonio::design {
@@ -868,23 +869,7 @@ TEST(DesignFixedPart, GltfPartLandsWherePositionAndRotationSay) {
 TEST(DesignFixedPart, ThreeAnglesTurnAboutXThenYThenZ) {
   test::TempDir dir;
   write_board_gltf(dir / "housing.gltf");
-  using M = std::array<std::array<double, 3>, 3>;
-  const auto mul = [](const M& a, const M& b) {
-    M c{};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) c[i][j] += a[i][k] * b[k][j];
-    return c;
-  };
-  const double ax = 20 * kPi / 180, ay = 30 * kPi / 180, az = 45 * kPi / 180;
-  const M rx = {{{1, 0, 0}, {0, std::cos(ax), -std::sin(ax)}, {0, std::sin(ax), std::cos(ax)}}};
-  const M ry = {{{std::cos(ay), 0, std::sin(ay)}, {0, 1, 0}, {-std::sin(ay), 0, std::cos(ay)}}};
-  const M rz = {{{std::cos(az), -std::sin(az), 0}, {std::sin(az), std::cos(az), 0}, {0, 0, 1}}};
-  const M r = mul(rz, mul(ry, rx));
-  const auto apply = [](const M& m, const Vec3& v) {
-    return Vec3{m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
-                m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
-  };
+  const test::Matrix3 r = test::rotation_xyz_deg(20, 30, 45);
   Result<sim::SceneDesc> s = load_in(
       dir, edited(edited(kHousing, "rotate_deg = [0, 0, 90]", "rotate_deg = [20, 30, 45]"), "material = \"black\"",
                   "material = \"black\"\nscale = 2"));
@@ -894,9 +879,9 @@ TEST(DesignFixedPart, ThreeAnglesTurnAboutXThenYThenZ) {
   ASSERT_EQ(m.positions.size(), 3u);
   // The board's corners and normal in the design's frame (glTF (x, y, z) is (x, −z, y)).
   const std::vector<Vec3> board = {{0.01, -0.03, 0.02}, {0.02, -0.03, 0.02}, {0.01, -0.04, 0.02}};
-  const Vec3 normal = apply(r, Vec3{0, 0, 1});
+  const Vec3 normal = test::apply(r, Vec3{0, 0, 1});
   for (std::size_t i = 0; i < 3; ++i) {
-    const Vec3 expected = apply(r, 2.0 * board[i]) + Vec3{0.005, 0.006, 0.007};
+    const Vec3 expected = test::apply(r, 2.0 * board[i]) + Vec3{0.005, 0.006, 0.007};
     double nearest = 1.0;  // in any order
     for (const sim::Vec3f& p : m.positions) nearest = std::min(nearest, length(sim::to_double(p) - expected));
     EXPECT_LT(nearest, 1e-8) << i;
@@ -907,7 +892,7 @@ TEST(DesignFixedPart, ThreeAnglesTurnAboutXThenYThenZ) {
   part.rotate_deg = {20, 30, 45};
   const sim::Affine t = fixed_part_transform(part);
   for (const Vec3& e : {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}})
-    EXPECT_LT(length(t.point(e) - apply(r, e)), 1e-12);
+    EXPECT_LT(length(t.point(e) - test::apply(r, e)), 1e-12);
 }
 
 TEST(DesignFixedPart, MistakesAreErrorsNamingTheLine) {
