@@ -724,9 +724,13 @@ void Tracer::connect_emission_images(const EmittedPhoton& e, Connections& c) con
   }
 }
 
+bool Tracer::connects(const TracerTally& tally) const {
+  return settings_.next_event.enabled || tally.camera != nullptr;
+}
+
 std::optional<Tracer::Connections> Tracer::connections_for(std::uint64_t photon, TracerTally& tally) const {
+  if (!connects(tally)) return std::nullopt;
   const bool far_field = settings_.next_event.enabled, images = tally.camera != nullptr;
-  if (!far_field && !images) return std::nullopt;
   const auto k = static_cast<std::uint64_t>(tally.replicates > 1 ? tally.replicates : 1);
   return Connections{&tally, static_cast<std::uint32_t>(photon % k), far_field, images};
 }
@@ -764,8 +768,8 @@ void Tracer::record_rays(std::uint64_t seed, std::uint64_t first, std::uint64_t 
 
 void Tracer::trace_photons(std::uint64_t seed, std::uint64_t first, std::uint64_t count,
                            TracerTally& tally) const {
-  // connections_for's answer is the same for every photon of the call.
-  const bool connections = settings_.next_event.enabled || tally.camera != nullptr;
+  // Whether photons connect is the same for every photon of the call.
+  const bool connections = connects(tally);
   if (scattering_volumes_) {
     if (connections)
       trace_photons_as<true, true>(seed, first, count, tally);

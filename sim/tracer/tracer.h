@@ -268,6 +268,9 @@ class Tracer {
   void connect_emission_images(const EmittedPhoton& e, Connections& c) const;
   // The X and Z units per photon of Y of a photon's colour now (spectral).
   std::pair<std::uint64_t, std::uint64_t> colour_units(const PhotonColour& colour) const;
+  // Whether photons traced into `tally` make connections: next-event
+  // estimation of the far field is on, or the tally has luminance images.
+  bool connects(const TracerTally& tally) const;
   // Connections for photon i under this tracer's settings (null when off).
   std::optional<Connections> connections_for(std::uint64_t photon, TracerTally& tally) const;
   // A spectral photon's colour state at emission (nothing drawn yet).
