@@ -73,10 +73,6 @@ bool mesh_closed(const Mesh& m) {
 
 constexpr std::uint32_t kMaxPlaneEntries = std::uint32_t{1} << 22;  // 32 bytes each
 
-}  // namespace
-
-namespace {
-
 constexpr std::uint32_t kMaxSides = 64;  // planes a cell may list for Walk::below
 
 }  // namespace
@@ -108,10 +104,7 @@ bool VolumeGrid::walk_free(const Vec3& p, const Vec3& q, Walk& w) const {
   // segment): q against w.cell's planes on the centre's sides (p's), then
   // both ends against c's planes, whose sides at q become w's.
   const std::int64_t from = w.cell;
-  const std::int64_t nx = dims_[0], nxy = dims_[0] * dims_[1];
-  const std::int64_t steps = std::abs(from % nx - c % nx) + std::abs((from / nx) % dims_[1] - (c / nx) % dims_[1]) +
-                             std::abs(from / nxy - c / nxy);
-  if (steps != 1) {
+  if (!face_neighbours(from, c)) {
     w.reset();
     return false;
   }
@@ -192,11 +185,15 @@ bool VolumeGrid::ball_at(const Vec3& q, std::int64_t c, double wall, Walk& w) co
   return w.cell >= 0;
 }
 
-bool VolumeGrid::across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const {
+bool VolumeGrid::face_neighbours(std::int64_t c, std::int64_t d) const {
   const std::int64_t nx = dims_[0], nxy = dims_[0] * dims_[1];
-  const std::int64_t steps =
-      std::abs(c % nx - d % nx) + std::abs((c / nx) % dims_[1] - (d / nx) % dims_[1]) + std::abs(c / nxy - d / nxy);
-  return steps == 1 && planes_free(p, q, static_cast<std::size_t>(c)) && planes_free(p, q, static_cast<std::size_t>(d));
+  return std::abs(c % nx - d % nx) + std::abs((c / nx) % dims_[1] - (d / nx) % dims_[1]) + std::abs(c / nxy - d / nxy) ==
+         1;
+}
+
+bool VolumeGrid::across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const {
+  return face_neighbours(c, d) && planes_free(p, q, static_cast<std::size_t>(c)) &&
+         planes_free(p, q, static_cast<std::size_t>(d));
 }
 
 std::optional<VolumeGrid> VolumeGrid::build(const SceneDesc& scene, double mean_free_paths, std::size_t max_cells) {

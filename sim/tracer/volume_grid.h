@@ -126,6 +126,8 @@ class VolumeGrid {
   // Ends in cells c ≠ d: free where the cells share a face (together one
   // box, which holds the segment) and the planes of both allow it.
   bool across(const Vec3& p, const Vec3& q, std::int64_t c, std::int64_t d) const;
+  // Whether cells c and d share a face (one step along one axis).
+  bool face_neighbours(std::int64_t c, std::int64_t d) const;
   // The cell holding p at least the margin inside it, or −1.
   std::int64_t cell_of(const Vec3& p) const {
     const double f[3] = {(p.x - lower_.x) * inv_cell_, (p.y - lower_.y) * inv_cell_, (p.z - lower_.z) * inv_cell_};
